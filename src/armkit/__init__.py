@@ -1,0 +1,26 @@
+"""armkit: serial robot-arm kinematics for students and engineers.
+
+>>> import armkit, numpy as np
+>>> arm = armkit.load("fighter")
+>>> np.round(armkit.fk(arm, np.radians([30, 45, 60]))[:3, 3], 3)
+array([ 24.861,  14.353, 187.181])
+"""
+
+from __future__ import annotations
+
+from . import spatial
+from .errors import (ArmkitError, JointLimitError, RobotDefinitionError, RobotFileError, ShapeError,
+                     UnknownRobotError, UnreachableError)
+from .kinematics import (condition_number, fk, fk_frames, get_backend, is_singular, jacobian, manipulability,
+                         set_backend)
+from .model import Joint, Robot, bundled_robots, load, save
+
+__version__ = "0.1.0"
+
+__all__ = [
+    "spatial", "Joint", "Robot", "load", "save", "bundled_robots",
+    "fk", "fk_frames", "jacobian", "manipulability", "condition_number", "is_singular",
+    "set_backend", "get_backend",
+    "ArmkitError", "ShapeError", "RobotDefinitionError", "RobotFileError", "UnknownRobotError",
+    "JointLimitError", "UnreachableError",
+]

@@ -1,0 +1,63 @@
+"""Exceptions raised by armkit.
+
+Every error a user can cause derives from :class:`ArmkitError` and also from the
+matching builtin, so ``except ValueError`` keeps working for generic code.
+"""
+
+from __future__ import annotations
+
+__all__ = [
+    "ArmkitError",
+    "ShapeError",
+    "RobotDefinitionError",
+    "RobotFileError",
+    "UnknownRobotError",
+    "JointLimitError",
+    "UnreachableError",
+]
+
+
+class ArmkitError(Exception):
+    """Base class of every armkit error."""
+
+
+class ShapeError(ArmkitError, ValueError):
+    """An array argument has the wrong shape or holds non-finite values."""
+
+
+class RobotDefinitionError(ArmkitError, ValueError):
+    """A robot description is inconsistent (NaN parameter, lower limit > upper, no joints, ...)."""
+
+
+class RobotFileError(RobotDefinitionError):
+    """A robot file is malformed; the message names the file, the line and the field."""
+
+    def __init__(self, path: str, message: str, line: int | None = None, field: str | None = None):
+        self.path = str(path)
+        self.line = line
+        self.field = field
+        where = self.path if line is None else f"{self.path}:{line}"
+        if field:
+            where += f": {field}"
+        super().__init__(f"{where}: {message}")
+
+
+class UnknownRobotError(ArmkitError, KeyError):
+    """A robot name is neither bundled nor an existing file."""
+
+    def __init__(self, name: str, valid: list[str]):
+        self.name = name
+        self.valid = list(valid)
+        super().__init__(name)
+
+    def __str__(self) -> str:  # KeyError would quote the whole message
+        return (f"unknown robot {self.name!r}; bundled robots are: {', '.join(self.valid)} "
+                "(or give the path of a .toml robot file)")
+
+
+class JointLimitError(ArmkitError, ValueError):
+    """A joint value lies outside its limits (raised only in strict mode)."""
+
+
+class UnreachableError(ArmkitError, ValueError):
+    """An IK target cannot be reached; the message says how far outside it lies."""

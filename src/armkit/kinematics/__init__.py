@@ -1,0 +1,220 @@
+r"""Forward kinematics, frames, geometric Jacobians and manipulability, batched.
+
+All functions take ``q`` of shape ``(..., n)`` in radians (prismatic joints in the
+robot's length unit) and broadcast over the leading axes; a single configuration is
+just ``(n,)``.
+
+Two interchangeable back ends compute the same numbers: Numba kernels (compiled once,
+cached on disk) and vectorised NumPy. ``set_backend("auto")`` (the default) uses Numba
+when it imports; the CLI picks ``"numpy"`` so that it starts in a fraction of a second.
+
+Examples
+--------
+>>> import numpy as np, armkit
+>>> arm = armkit.load("planar2")
+>>> T = armkit.fk(arm, [0.0, np.pi / 2])
+>>> np.round(T[:3, 3], 12) + 0.0                    # x = L1 c1 + L2 c12, y = L1 s1 + L2 s12
+array([1. , 0.5, 0. ])
+>>> armkit.jacobian(arm, np.zeros((5, 2))).shape    # batched
+(5, 6, 2)
+"""
+
+from __future__ import annotations
+
+import importlib
+import os
+from typing import Literal
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from ..errors import ArmkitError
+from ..model.robot import Robot
+from . import _numpy
+
+__all__ = ["fk", "fk_frames", "jacobian", "manipulability", "condition_number", "is_singular",
+           "SINGULAR_THRESHOLD", "set_backend", "get_backend"]
+
+Array = NDArray[np.float64]
+
+SINGULAR_THRESHOLD = 1e-6
+"""``is_singular`` is true where the smallest singular value of the (unit-scaled) Jacobian is below this."""
+
+_backend = os.environ.get("ARMKIT_BACKEND", "auto")
+_JIT = None  # the armkit.kinematics._jit module once loaded, False if numba is unavailable
+
+
+def set_backend(name: Literal["auto", "numba", "numpy"]) -> None:
+    """Choose the kernels: ``"numba"``, ``"numpy"`` or ``"auto"`` (Numba when importable)."""
+    global _backend
+    if name not in ("auto", "numba", "numpy"):
+        raise ArmkitError(f"backend must be 'auto', 'numba' or 'numpy', got {name!r}")
+    if name == "numba" and _load_jit() is None:
+        raise ArmkitError("backend 'numba' requested but numba is not installed")
+    _backend = name
+
+
+def get_backend() -> str:
+    """The kernels in use now: ``"numba"`` or ``"numpy"``."""
+    return "numba" if _jit_module() is not None else "numpy"
+
+
+def _load_jit():
+    global _JIT
+    if _JIT is None:
+        try:
+            _JIT = importlib.import_module("armkit.kinematics._jit")
+        except ImportError:  # numba missing or broken: NumPy kernels serve
+            _JIT = False
+    return _JIT or None
+
+
+def _jit_module():
+    if _backend == "numpy":
+        return None
+    return _load_jit()
+
+
+def _flat(robot: Robot, q: ArrayLike) -> tuple[Array, tuple[int, ...]]:
+    arr = robot.check_q(q)
+    return np.ascontiguousarray(arr.reshape(-1, robot.n)), arr.shape[:-1]
+
+
+def fk(robot: Robot, q: ArrayLike) -> Array:
+    r"""Pose of the tool in the world frame, ``T_world_tool``.
+
+    .. math:: T = T_{base} \, A_1(q_1) \cdots A_n(q_n) \, T_{tool}
+
+    Parameters
+    ----------
+    robot : Robot
+    q : array_like, shape (..., n)
+        Joint values (rad for revolute, length units for prismatic joints).
+
+    Returns
+    -------
+    T : ndarray, shape (..., 4, 4)
+
+    Examples
+    --------
+    >>> import armkit, numpy as np
+    >>> T = armkit.fk(armkit.load("fighter"), np.radians([30, 45, 60]))
+    >>> np.round(T[:3, 3], 3)
+    array([ 24.861,  14.353, 187.181])
+    """
+    jit = _jit_module()
+    chain = robot.chain
+    if jit is not None:
+        qa = np.asarray(q, dtype=float)
+        if qa.shape == (robot.n,) and np.isfinite(qa).all():  # the single-call fast path
+            return jit.fk_single(chain.fixed, chain.prismatic, qa)
+    flat, lead = _flat(robot, q)
+    out = jit.fk_batch(chain.fixed, chain.prismatic, flat) if jit is not None else _numpy.fk(chain, flat)
+    return out.reshape(lead + (4, 4))
+
+
+def fk_frames(robot: Robot, q: ArrayLike) -> Array:
+    """Every link frame in the world: ``(..., n + 1, 4, 4)``.
+
+    ``frames[..., 0]`` is the base frame ``T_world_base``; ``frames[..., k]`` for
+    ``k = 1 .. n-1`` is link frame ``k`` of the DH convention in use (standard DH: the
+    frame at the far end of link ``k``, on joint axis ``k + 1``; modified DH: the frame on
+    joint axis ``k``); ``frames[..., n]`` is the last link frame with the tool applied,
+    so it equals :func:`fk`. The origins are the points a plot joins with lines.
+    """
+    flat, lead = _flat(robot, q)
+    c = robot.chain
+    jit = _jit_module()
+    if jit is not None:
+        out = jit.frames_batch(c.base, c.pre, c.post, c.tool, c.prismatic, flat)
+    else:
+        out = _numpy.frames(c, flat)
+    return out.reshape(lead + (robot.n + 1, 4, 4))
+
+
+def jacobian(robot: Robot, q: ArrayLike, frame: Literal["base", "tool"] = "base") -> Array:
+    r"""Geometric Jacobian, rows ``(v, omega)``: ``(..., 6, n)``.
+
+    Column ``i`` of a revolute joint is :math:`(z_i \times (p_e - p_i),\ z_i)`, of a
+    prismatic joint :math:`(z_i, 0)`, where :math:`z_i, p_i` are joint ``i``'s axis and a
+    point on it and :math:`p_e` is the tool origin. ``frame="base"`` expresses both parts
+    in the world frame; ``frame="tool"`` in the tool frame (rotated by :math:`R_e^T`). In
+    both, ``v`` is the velocity of the tool origin.
+
+    Parameters
+    ----------
+    robot : Robot
+    q : array_like, shape (..., n)
+    frame : {"base", "tool"}
+
+    Returns
+    -------
+    J : ndarray, shape (..., 6, n)
+    """
+    if frame not in ("base", "tool"):
+        raise ArmkitError(f"frame must be 'base' or 'tool', got {frame!r}")
+    c = robot.chain
+    tool_frame = frame == "tool"
+    jit = _jit_module()
+    if jit is not None:
+        qa = np.asarray(q, dtype=float)
+        if qa.shape == (robot.n,) and np.isfinite(qa).all():
+            return jit.jacobian_single(c.base, c.pre, c.post, c.tool, c.prismatic, qa, tool_frame)
+    flat, lead = _flat(robot, q)
+    if jit is not None:
+        J = jit.jacobian_batch(c.base, c.pre, c.post, c.tool, c.prismatic, flat, tool_frame)
+    else:
+        J = _numpy.jacobian(c, flat, tool_frame)
+    return J.reshape(lead + (6, robot.n))
+
+
+def _task_rows(J: Array) -> Array:
+    """Drop Jacobian rows that are identically zero for every configuration (planar arms)."""
+    keep = np.any(np.abs(J.reshape(-1, 6, J.shape[-1])) > 1e-12, axis=(0, 2))
+    return J[..., keep, :] if keep.any() else J
+
+
+def _singular_values(robot: Robot, q: ArrayLike, scale: bool = True) -> Array:
+    J = jacobian(robot, q)
+    if scale:  # linear rows in metres so that mm and m arms give the same numbers
+        J = J.copy()
+        J[..., :3, :] *= robot.unit_scale
+        J[..., :, robot.prismatic] /= robot.unit_scale
+    J = _task_rows(J)
+    return np.linalg.svd(J, compute_uv=False)
+
+
+def manipulability(robot: Robot, q: ArrayLike) -> Array:
+    r"""Yoshikawa's manipulability :math:`w = \sqrt{\det(J J^T)}`, shape ``(...)``.
+
+    Uses the rows of the geometric Jacobian that the arm can move at all (a planar arm
+    keeps x, y and the z rotation), with lengths in the robot's own unit; equals the
+    product of the singular values.
+
+    Examples
+    --------
+    >>> import armkit, numpy as np
+    >>> arm = armkit.load("planar2")                     # 2R: w = L1 L2 |sin q2|
+    >>> round(float(armkit.manipulability(arm, [0.3, np.pi / 2])), 12)
+    0.5
+    """
+    J = _task_rows(jacobian(robot, q))
+    s = np.linalg.svd(J, compute_uv=False)
+    m = min(J.shape[-2], J.shape[-1])
+    return np.prod(s[..., :m], axis=-1)
+
+
+def condition_number(robot: Robot, q: ArrayLike) -> Array:
+    """Condition number ``sigma_max / sigma_min`` of the Jacobian (lengths in metres), ``(...)``; inf at a singularity."""
+    s = _singular_values(robot, q)
+    with np.errstate(divide="ignore"):
+        return np.where(s[..., -1] > 0, s[..., 0] / np.where(s[..., -1] > 0, s[..., -1], 1.0), np.inf)
+
+
+def is_singular(robot: Robot, q: ArrayLike, threshold: float = SINGULAR_THRESHOLD) -> NDArray[np.bool_]:
+    """True where the smallest singular value of the Jacobian (lengths in metres) is below ``threshold``.
+
+    The default :data:`SINGULAR_THRESHOLD` = 1e-6 flags configurations within about
+    1e-6 rad of an exact singularity of a metre-sized arm.
+    """
+    return _singular_values(robot, q)[..., -1] < threshold

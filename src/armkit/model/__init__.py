@@ -1,0 +1,6 @@
+"""Robot model: joints, the immutable :class:`Robot`, and robot files."""
+
+from .files import bundled_robots, dumps, load, save
+from .robot import Chain, Joint, Robot
+
+__all__ = ["Joint", "Robot", "Chain", "load", "save", "dumps", "bundled_robots"]

@@ -1,0 +1,334 @@
+"""The immutable robot model: a DH table compiled to one uniform chain form.
+
+Every model, whatever convention it was written in, compiles to the same chain::
+
+    T_base_link_k = base · Π_{i<=k} ( pre_i · M_i(q_i) · post_i )        (tool applied after link n)
+
+where ``M_i`` is a rotation about (revolute) or a translation along (prismatic) the
+local z axis and ``pre_i``/``post_i`` are constant poses. Standard DH puts the constant
+part after the motion (``post``), modified DH before it (``pre``); a URDF importer fills
+``pre`` with the joint origin. The kinematics kernels only ever see this form.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Literal, Sequence
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from ..errors import RobotDefinitionError, ShapeError
+
+__all__ = ["Joint", "Robot", "Chain", "REVOLUTE", "PRISMATIC"]
+
+REVOLUTE: Literal["revolute"] = "revolute"
+PRISMATIC: Literal["prismatic"] = "prismatic"
+CONVENTIONS = ("standard", "modified")
+UNITS = {"m": 1.0, "mm": 1e-3, "cm": 1e-2}
+
+Array = NDArray[np.float64]
+
+
+def _rz(t: float) -> Array:
+    c, s = math.cos(t), math.sin(t)
+    return np.array([[c, -s, 0, 0], [s, c, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1.0]])
+
+
+def _rx(t: float) -> Array:
+    c, s = math.cos(t), math.sin(t)
+    return np.array([[1, 0, 0, 0], [0, c, -s, 0], [0, s, c, 0], [0, 0, 0, 1.0]])
+
+
+def _tz(d: float) -> Array:
+    T = np.eye(4)
+    T[2, 3] = d
+    return T
+
+
+def _tx(a: float) -> Array:
+    T = np.eye(4)
+    T[0, 3] = a
+    return T
+
+
+@dataclass(frozen=True)
+class Joint:
+    """One row of a DH table.
+
+    For a revolute joint ``theta`` is the constant offset added to ``q`` and ``d`` is
+    fixed; for a prismatic joint ``d`` is the offset added to ``q`` and ``theta`` is fixed.
+    ``alpha`` and ``a`` are the link twist and length (standard DH: of this row's link;
+    modified DH: of the previous link, Craig's ``alpha_{i-1}, a_{i-1}``).
+
+    Angles are radians, lengths in the robot's unit. ``lower``/``upper`` are the joint
+    limits in radians (revolute) or length units (prismatic).
+    """
+
+    kind: Literal["revolute", "prismatic"] = REVOLUTE
+    theta: float = 0.0
+    d: float = 0.0
+    a: float = 0.0
+    alpha: float = 0.0
+    lower: float = -math.pi
+    upper: float = math.pi
+    name: str = ""
+
+    def __post_init__(self) -> None:
+        if self.kind not in (REVOLUTE, PRISMATIC):
+            raise RobotDefinitionError(f"joint {self.name!r}: type must be 'revolute' or 'prismatic', got {self.kind!r}")
+        for fname in ("theta", "d", "a", "alpha"):
+            v = getattr(self, fname)
+            if not isinstance(v, (int, float)) or not math.isfinite(v):
+                raise RobotDefinitionError(f"joint {self.name!r}: {fname} must be a finite number, got {v!r}")
+        for fname in ("lower", "upper"):
+            v = getattr(self, fname)
+            if not isinstance(v, (int, float)) or math.isnan(v):
+                raise RobotDefinitionError(f"joint {self.name!r}: {fname} limit must be a number, got {v!r}")
+        if self.lower > self.upper:
+            raise RobotDefinitionError(
+                f"joint {self.name!r}: lower limit {self.lower:g} is greater than upper limit {self.upper:g}")
+
+    @property
+    def is_prismatic(self) -> bool:
+        return self.kind == PRISMATIC
+
+
+@dataclass(frozen=True)
+class Chain:
+    """The uniform compiled form used by every kernel (see the module docstring).
+
+    Attributes
+    ----------
+    pre, post : ndarray, shape (n, 4, 4)
+    prismatic : ndarray of bool, shape (n,)
+    base, tool : ndarray, shape (4, 4)
+    fixed : ndarray, shape (n + 1, 4, 4)
+        ``base·pre_1``, ``post_1·pre_2``, ..., ``post_n·tool``: what plain FK needs.
+    """
+
+    pre: Array
+    post: Array
+    prismatic: NDArray[np.bool_]
+    base: Array
+    tool: Array
+    fixed: Array
+
+    @classmethod
+    def build(cls, pre: Array, post: Array, prismatic: NDArray[np.bool_], base: Array, tool: Array) -> "Chain":
+        n = len(prismatic)
+        fixed = np.empty((n + 1, 4, 4))
+        fixed[0] = base @ pre[0]
+        for k in range(1, n):
+            fixed[k] = post[k - 1] @ pre[k]
+        fixed[n] = post[n - 1] @ tool
+        arrays = [np.ascontiguousarray(x) for x in (pre, post, prismatic, base, tool, fixed)]
+        for x in arrays:
+            x.setflags(write=False)
+        return cls(*arrays)
+
+
+def _pose(value: ArrayLike | None, what: str) -> Array:
+    if value is None:
+        T = np.eye(4)
+    else:
+        T = np.array(value, dtype=float)
+        if T.shape != (4, 4):
+            raise RobotDefinitionError(f"{what} must be a 4x4 pose, got shape {T.shape}")
+        if not np.all(np.isfinite(T)):
+            raise RobotDefinitionError(f"{what} contains NaN or infinite values")
+        R = T[:3, :3]
+        if not np.allclose(R.T @ R, np.eye(3), atol=1e-9) or not np.allclose(T[3], [0, 0, 0, 1]):
+            raise RobotDefinitionError(f"{what} is not a rigid transform (rotation not orthonormal or bad last row)")
+    T.setflags(write=False)
+    return T
+
+
+@dataclass(frozen=True, eq=False)
+class Robot:
+    """An immutable serial arm described by a DH table.
+
+    Parameters
+    ----------
+    joints : sequence of Joint
+        One DH row per joint, base to tip.
+    convention : {"standard", "modified"}
+        ``standard``: ``A_i = Rz(theta_i) Tz(d_i) Tx(a_i) Rx(alpha_i)`` (Denavit-Hartenberg,
+        Spong, seed 000). ``modified``: ``A_i = Rx(alpha_{i-1}) Tx(a_{i-1}) Rz(theta_i) Tz(d_i)``
+        (Craig, seed 004).
+    name, description, source : str
+    unit : {"m", "mm", "cm"}
+        Length unit of ``d``, ``a``, base/tool translations and every result.
+    base, tool : array_like, shape (4, 4), optional
+        ``T_world_base`` and ``T_lastlink_tool``; identity by default.
+
+    Examples
+    --------
+    >>> import math
+    >>> arm = Robot([Joint(a=1.0), Joint(a=0.5)], name="two-link")
+    >>> arm.n, arm.joint_names
+    (2, ('q1', 'q2'))
+    >>> Robot([], name="empty")
+    Traceback (most recent call last):
+    ...
+    armkit.errors.RobotDefinitionError: robot 'empty' has no joints; a serial arm needs at least one
+    """
+
+    joints: tuple[Joint, ...]
+    convention: Literal["standard", "modified"] = "standard"
+    name: str = "robot"
+    unit: str = "m"
+    base: Array = field(default=None)  # type: ignore[assignment]
+    tool: Array = field(default=None)  # type: ignore[assignment]
+    description: str = ""
+    source: str = ""
+    link_names: tuple[str, ...] = ()
+    chain: Chain = field(init=False, repr=False, compare=False)
+
+    def __init__(self, joints: Sequence[Joint], convention: str = "standard", name: str = "robot",
+                 unit: str = "m", base: ArrayLike | None = None, tool: ArrayLike | None = None,
+                 description: str = "", source: str = "", link_names: Sequence[str] = ()) -> None:
+        joints = tuple(joints)
+        if len(joints) == 0:
+            raise RobotDefinitionError(f"robot {name!r} has no joints; a serial arm needs at least one")
+        if not all(isinstance(j, Joint) for j in joints):
+            raise RobotDefinitionError("joints must be armkit.Joint objects")
+        if convention not in CONVENTIONS:
+            raise RobotDefinitionError(f"convention must be one of {CONVENTIONS}, got {convention!r}")
+        if unit not in UNITS:
+            raise RobotDefinitionError(f"unit must be one of {tuple(UNITS)}, got {unit!r}")
+        joints = tuple(j if j.name else Joint(j.kind, j.theta, j.d, j.a, j.alpha, j.lower, j.upper, f"q{i + 1}")
+                       for i, j in enumerate(joints))
+        names = [j.name for j in joints]
+        if len(set(names)) != len(names):
+            raise RobotDefinitionError(f"joint names must be unique, got {names}")
+        link_names = tuple(link_names) or tuple(f"link{i}" for i in range(len(joints) + 1))
+        if len(link_names) != len(joints) + 1:
+            raise RobotDefinitionError(
+                f"link_names needs {len(joints) + 1} names (base link + one per joint), got {len(link_names)}")
+        set_ = object.__setattr__
+        set_(self, "joints", joints)
+        set_(self, "convention", convention)
+        set_(self, "name", name)
+        set_(self, "unit", unit)
+        set_(self, "base", _pose(base, "base"))
+        set_(self, "tool", _pose(tool, "tool"))
+        set_(self, "description", description)
+        set_(self, "source", source)
+        set_(self, "link_names", link_names)
+        set_(self, "chain", self._compile())
+
+    # ------------------------------------------------------------------ compile
+    def _compile(self) -> Chain:
+        n = self.n
+        pre = np.empty((n, 4, 4))
+        post = np.empty((n, 4, 4))
+        for i, j in enumerate(self.joints):
+            # offsets commute with the joint motion (Rz with Rz, Tz with Tz), so they fold into constants
+            if self.convention == "standard":
+                if j.is_prismatic:   # Tz(q) · Rz(theta) Tz(d) Tx(a) Rx(alpha)
+                    pre[i] = np.eye(4)
+                    post[i] = _rz(j.theta) @ _tz(j.d) @ _tx(j.a) @ _rx(j.alpha)
+                else:                # Rz(theta) · Rz(q) · Tz(d) Tx(a) Rx(alpha)
+                    pre[i] = _rz(j.theta)
+                    post[i] = _tz(j.d) @ _tx(j.a) @ _rx(j.alpha)
+            else:                    # Rx(alpha) Tx(a) Rz(theta) Tz(d) · M(q)
+                pre[i] = _rx(j.alpha) @ _tx(j.a) @ _rz(j.theta) @ _tz(j.d)
+                post[i] = np.eye(4)
+        prismatic = np.array([j.is_prismatic for j in self.joints])
+        return Chain.build(pre, post, prismatic, np.asarray(self.base), np.asarray(self.tool))
+
+    # --------------------------------------------------------------- properties
+    @property
+    def n(self) -> int:
+        """Number of joints (degrees of freedom)."""
+        return len(self.joints)
+
+    @property
+    def joint_names(self) -> tuple[str, ...]:
+        return tuple(j.name for j in self.joints)
+
+    @property
+    def joint_types(self) -> str:
+        """One letter per joint, e.g. ``"RRPRRR"``."""
+        return "".join("P" if j.is_prismatic else "R" for j in self.joints)
+
+    @property
+    def prismatic(self) -> NDArray[np.bool_]:
+        return self.chain.prismatic
+
+    @property
+    def lower(self) -> Array:
+        """Lower joint limits, shape ``(n,)`` (rad or length units)."""
+        return np.array([j.lower for j in self.joints])
+
+    @property
+    def upper(self) -> Array:
+        """Upper joint limits, shape ``(n,)``."""
+        return np.array([j.upper for j in self.joints])
+
+    @property
+    def reach(self) -> float:
+        """An upper bound on the distance from the first joint axis to the tool (length units)."""
+        total = float(np.linalg.norm(self.tool[:3, 3]))
+        for j in self.joints:
+            d_max = max(abs(j.lower + j.d), abs(j.upper + j.d)) if j.is_prismatic else abs(j.d)
+            total += math.hypot(j.a, d_max if math.isfinite(d_max) else 0.0)
+        return total
+
+    @property
+    def unit_scale(self) -> float:
+        """Metres per length unit (1 for m, 0.001 for mm)."""
+        return UNITS[self.unit]
+
+    def dh_table(self) -> Array:
+        """The DH table as an ``(n, 4)`` array of columns ``(theta, d, a, alpha)`` (rad, length)."""
+        return np.array([[j.theta, j.d, j.a, j.alpha] for j in self.joints])
+
+    # ------------------------------------------------------------- validation
+    def check_q(self, q: ArrayLike, what: str = "q") -> Array:
+        """``q`` as a float array of shape ``(..., n)``; raise :class:`ShapeError` otherwise."""
+        try:
+            arr = np.asarray(q, dtype=float)
+        except (TypeError, ValueError) as exc:
+            raise ShapeError(f"{what} must be numeric, got {q!r}") from exc
+        if arr.ndim == 0 or arr.shape[-1] != self.n:
+            raise ShapeError(f"{what} must have shape (..., {self.n}) for robot {self.name!r}, got {arr.shape}")
+        if not np.all(np.isfinite(arr)):
+            raise ShapeError(f"{what} contains NaN or infinite values")
+        return arr
+
+    def within_limits(self, q: ArrayLike, tol: float = 1e-12) -> NDArray[np.bool_]:
+        """True where every joint of ``q`` ``(..., n)`` lies inside its limits; shape ``(...)``."""
+        arr = self.check_q(q)
+        return np.all((arr >= self.lower - tol) & (arr <= self.upper + tol), axis=-1)
+
+    def limit_violations(self, q: ArrayLike) -> list[str]:
+        """Readable descriptions of the joints of one configuration ``(n,)`` that break their limits."""
+        arr = self.check_q(q)
+        out = []
+        for j, v in zip(self.joints, arr.reshape(-1, self.n)[0]):
+            if v < j.lower - 1e-12 or v > j.upper + 1e-12:
+                if j.is_prismatic:
+                    out.append(f"{j.name} = {v:g} {self.unit} outside [{j.lower:g}, {j.upper:g}] {self.unit}")
+                else:
+                    out.append(f"{j.name} = {math.degrees(v):.3f} deg outside "
+                               f"[{math.degrees(j.lower):.3f}, {math.degrees(j.upper):.3f}] deg")
+        return out
+
+    def random_q(self, count: int | None = None, rng: np.random.Generator | int | None = None) -> Array:
+        """Uniform random configurations inside the limits, shape ``(count, n)`` or ``(n,)``."""
+        g = np.random.default_rng(rng)
+        lo = np.where(np.isfinite(self.lower), self.lower, -math.pi)
+        hi = np.where(np.isfinite(self.upper), self.upper, math.pi)
+        shape = (self.n,) if count is None else (count, self.n)
+        return g.uniform(lo, hi, size=shape)
+
+    def with_tool(self, tool: ArrayLike) -> "Robot":
+        """A copy of this robot with another tool transform."""
+        return Robot(self.joints, self.convention, self.name, self.unit, self.base, tool,
+                     self.description, self.source, self.link_names)
+
+    def __repr__(self) -> str:
+        return f"Robot({self.name!r}, {self.n} DOF {self.joint_types}, {self.convention} DH, unit={self.unit!r})"

@@ -1,0 +1,317 @@
+"""Rotations and rigid-body poses on NumPy arrays (seed 002's homogeneous transforms).
+
+Every function is batched over leading axes: a rotation is ``(..., 3, 3)``, a pose
+``(..., 4, 4)``, a twist ``(..., 6)`` ordered ``(v, omega)``. Angles are radians.
+
+Examples
+--------
+>>> import numpy as np
+>>> from armkit.spatial import rotz, transl, compose, inverse
+>>> T = compose(transl(1.0, 0.0, 0.0), rotz(np.pi / 2))
+>>> np.round(T @ [1.0, 0.0, 0.0, 1.0], 12)
+array([1., 1., 0., 1.])
+>>> np.allclose(compose(T, inverse(T)), np.eye(4))
+True
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from .errors import ShapeError
+
+__all__ = [
+    "rotx", "roty", "rotz", "transl", "make_pose", "compose", "inverse",
+    "rpy_to_rotation", "rotation_to_rpy", "quaternion_to_rotation", "rotation_to_quaternion",
+    "axis_angle_to_rotation", "rotation_to_axis_angle",
+    "so3_log", "so3_exp", "se3_log", "se3_exp", "pose_error", "skew",
+]
+
+Array = NDArray[np.float64]
+
+
+def _angles(theta: ArrayLike) -> Array:
+    return np.asarray(theta, dtype=float)
+
+
+def _elementary(theta: ArrayLike, i: int, j: int) -> Array:
+    t = _angles(theta)
+    c, s = np.cos(t), np.sin(t)
+    T = np.zeros(t.shape + (4, 4))
+    T[...] = np.eye(4)
+    T[..., i, i] = c
+    T[..., j, j] = c
+    T[..., i, j] = -s
+    T[..., j, i] = s
+    return T
+
+
+def rotx(theta: ArrayLike) -> Array:
+    """Pose of a pure rotation by ``theta`` (rad) about x: seed 002's A(x, t).
+
+    Parameters
+    ----------
+    theta : array_like, shape (...)
+
+    Returns
+    -------
+    T : ndarray, shape (..., 4, 4)
+
+    Examples
+    --------
+    >>> np.round(rotx(np.pi / 2)[:3, :3], 12) + 0.0
+    array([[ 1.,  0.,  0.],
+           [ 0.,  0., -1.],
+           [ 0.,  1.,  0.]])
+    """
+    return _elementary(theta, 1, 2)
+
+
+def roty(theta: ArrayLike) -> Array:
+    """Pose of a pure rotation by ``theta`` (rad) about y, shape ``(..., 4, 4)``."""
+    return _elementary(theta, 2, 0)
+
+
+def rotz(theta: ArrayLike) -> Array:
+    """Pose of a pure rotation by ``theta`` (rad) about z, shape ``(..., 4, 4)``."""
+    return _elementary(theta, 0, 1)
+
+
+def transl(x: ArrayLike, y: ArrayLike | None = None, z: ArrayLike | None = None) -> Array:
+    """Pose of a pure translation.
+
+    Call as ``transl(p)`` with ``p`` of shape ``(..., 3)`` or ``transl(x, y, z)``.
+
+    Returns
+    -------
+    T : ndarray, shape (..., 4, 4)
+    """
+    if y is None and z is None:
+        p = np.asarray(x, dtype=float)
+    else:
+        p = np.stack(np.broadcast_arrays(_angles(x), _angles(y), _angles(z)), axis=-1)
+    if p.shape[-1:] != (3,):
+        raise ShapeError(f"translation must have shape (..., 3), got {p.shape}")
+    T = np.zeros(p.shape[:-1] + (4, 4))
+    T[...] = np.eye(4)
+    T[..., :3, 3] = p
+    return T
+
+
+def make_pose(R: ArrayLike, p: ArrayLike) -> Array:
+    """Pose from rotation ``R`` (..., 3, 3) and position ``p`` (..., 3), shape ``(..., 4, 4)``."""
+    R = np.asarray(R, dtype=float)
+    p = np.asarray(p, dtype=float)
+    shape = np.broadcast_shapes(R.shape[:-2], p.shape[:-1])
+    T = np.zeros(shape + (4, 4))
+    T[..., :3, :3] = R
+    T[..., :3, 3] = p
+    T[..., 3, 3] = 1.0
+    return T
+
+
+def compose(*poses: ArrayLike) -> Array:
+    """Product ``T1 @ T2 @ ...`` of poses, broadcast over leading axes."""
+    out = np.asarray(poses[0], dtype=float)
+    for T in poses[1:]:
+        out = out @ np.asarray(T, dtype=float)
+    return out
+
+
+def inverse(T: ArrayLike) -> Array:
+    """Inverse of a rigid pose using ``R^T`` (exact, no general matrix inverse).
+
+    Parameters
+    ----------
+    T : array_like, shape (..., 4, 4)
+    """
+    T = np.asarray(T, dtype=float)
+    Rt = np.swapaxes(T[..., :3, :3], -1, -2)
+    out = np.zeros_like(T)
+    out[..., :3, :3] = Rt
+    out[..., :3, 3] = -np.einsum("...ij,...j->...i", Rt, T[..., :3, 3])
+    out[..., 3, 3] = 1.0
+    return out
+
+
+def skew(w: ArrayLike) -> Array:
+    """Skew-symmetric matrix ``[w]x`` with ``[w]x v = w x v``; ``(..., 3) -> (..., 3, 3)``."""
+    w = np.asarray(w, dtype=float)
+    S = np.zeros(w.shape[:-1] + (3, 3))
+    S[..., 0, 1], S[..., 0, 2] = -w[..., 2], w[..., 1]
+    S[..., 1, 0], S[..., 1, 2] = w[..., 2], -w[..., 0]
+    S[..., 2, 0], S[..., 2, 1] = -w[..., 1], w[..., 0]
+    return S
+
+
+def _rotation(R: ArrayLike) -> Array:
+    R = np.asarray(R, dtype=float)
+    if R.shape[-2:] == (4, 4):
+        R = R[..., :3, :3]
+    if R.shape[-2:] != (3, 3):
+        raise ShapeError(f"rotation must have shape (..., 3, 3) or (..., 4, 4), got {R.shape}")
+    return R
+
+
+def _scipy_rotation():
+    from scipy.spatial.transform import Rotation  # imported on use: keeps `import armkit` light
+
+    return Rotation
+
+
+def _from_scipy(make, lead: tuple[int, ...]) -> Array:
+    return np.asarray(make.as_matrix()).reshape(lead + (3, 3))
+
+
+def rpy_to_rotation(rpy: ArrayLike, degrees: bool = False) -> Array:
+    """Rotation from roll-pitch-yaw ``(..., 3)``: ``R = Rz(yaw) Ry(pitch) Rx(roll)`` (fixed XYZ).
+
+    Examples
+    --------
+    >>> R = rpy_to_rotation([0.0, 0.0, 90.0], degrees=True)
+    >>> np.round(R @ [1.0, 0.0, 0.0], 12) + 0.0
+    array([0., 1., 0.])
+    """
+    a = np.asarray(rpy, dtype=float)
+    if a.shape[-1:] != (3,):
+        raise ShapeError(f"rpy must have shape (..., 3), got {a.shape}")
+    Rot = _scipy_rotation()
+    return _from_scipy(Rot.from_euler("xyz", a.reshape(-1, 3), degrees=degrees), a.shape[:-1])
+
+
+def rotation_to_rpy(R: ArrayLike, degrees: bool = False) -> Array:
+    """Roll-pitch-yaw ``(..., 3)`` of a rotation, inverse of :func:`rpy_to_rotation`."""
+    R = _rotation(R)
+    Rot = _scipy_rotation()
+    import warnings
+
+    with warnings.catch_warnings():  # gimbal lock: scipy warns and still returns a valid triple
+        warnings.simplefilter("ignore", UserWarning)
+        out = Rot.from_matrix(R.reshape(-1, 3, 3)).as_euler("xyz", degrees=degrees)
+    return out.reshape(R.shape[:-2] + (3,))
+
+
+def quaternion_to_rotation(quat: ArrayLike) -> Array:
+    """Rotation from a unit quaternion in scalar-last order ``(x, y, z, w)``, ``(..., 4)``."""
+    qa = np.asarray(quat, dtype=float)
+    if qa.shape[-1:] != (4,):
+        raise ShapeError(f"quaternion must have shape (..., 4) ordered (x, y, z, w), got {qa.shape}")
+    Rot = _scipy_rotation()
+    return _from_scipy(Rot.from_quat(qa.reshape(-1, 4)), qa.shape[:-1])
+
+
+def rotation_to_quaternion(R: ArrayLike) -> Array:
+    """Unit quaternion ``(x, y, z, w)`` with ``w >= 0`` of a rotation, ``(..., 4)``."""
+    R = _rotation(R)
+    Rot = _scipy_rotation()
+    q = Rot.from_matrix(R.reshape(-1, 3, 3)).as_quat(canonical=True)
+    return q.reshape(R.shape[:-2] + (4,))
+
+
+def axis_angle_to_rotation(axis: ArrayLike, angle: ArrayLike) -> Array:
+    """Rotation by ``angle`` (rad) about ``axis`` (normalised here), ``(..., 3, 3)``."""
+    axis = np.asarray(axis, dtype=float)
+    n = np.linalg.norm(axis, axis=-1, keepdims=True)
+    if np.any(n == 0):
+        raise ShapeError("axis must be a non-zero vector")
+    return so3_exp(axis / n * np.asarray(angle, dtype=float)[..., None])
+
+
+def rotation_to_axis_angle(R: ArrayLike) -> tuple[Array, Array]:
+    """Unit axis ``(..., 3)`` and angle in ``[0, pi]`` ``(...)``; axis is ``(0, 0, 1)`` at angle 0."""
+    w = so3_log(R)
+    angle = np.linalg.norm(w, axis=-1)
+    safe = np.where(angle > 0, angle, 1.0)[..., None]
+    axis = np.where(angle[..., None] > 0, w / safe, [0.0, 0.0, 1.0])
+    return axis, angle
+
+
+def so3_exp(w: ArrayLike) -> Array:
+    """Rodrigues' formula: rotation vector ``(..., 3)`` -> rotation ``(..., 3, 3)``."""
+    w = np.asarray(w, dtype=float)
+    th = np.linalg.norm(w, axis=-1)[..., None, None]
+    K = skew(w)
+    small = th < 1e-8
+    ths = np.where(small, 1.0, th)
+    a = np.where(small, 1.0 - th**2 / 6.0, np.sin(ths) / ths)
+    b = np.where(small, 0.5 - th**2 / 24.0, (1.0 - np.cos(ths)) / ths**2)
+    return np.eye(3) + a * K + b * (K @ K)
+
+
+def so3_log(R: ArrayLike) -> Array:
+    """Rotation ``(..., 3, 3)`` -> rotation vector ``(..., 3)`` with norm in ``[0, pi]``.
+
+    Uses scipy's quaternion route, which stays accurate near 0 and near pi.
+    """
+    R = _rotation(R)
+    Rot = _scipy_rotation()
+    return Rot.from_matrix(R.reshape(-1, 3, 3)).as_rotvec().reshape(R.shape[:-2] + (3,))
+
+
+def _left_jacobian_terms(th: Array) -> tuple[Array, Array]:
+    small = th < 1e-6
+    ths = np.where(small, 1.0, th)
+    b = np.where(small, 0.5 - th**2 / 24.0, (1.0 - np.cos(ths)) / ths**2)
+    c = np.where(small, 1.0 / 6.0 - th**2 / 120.0, (ths - np.sin(ths)) / ths**3)
+    return b, c
+
+
+def se3_exp(xi: ArrayLike) -> Array:
+    """Twist ``(..., 6)`` ordered ``(v, omega)`` -> pose ``(..., 4, 4)``."""
+    xi = np.asarray(xi, dtype=float)
+    if xi.shape[-1:] != (6,):
+        raise ShapeError(f"twist must have shape (..., 6) ordered (v, omega), got {xi.shape}")
+    v, w = xi[..., :3], xi[..., 3:]
+    th = np.linalg.norm(w, axis=-1)[..., None, None]
+    K = skew(w)
+    b, c = _left_jacobian_terms(th)
+    V = np.eye(3) + b * K + c * (K @ K)
+    return make_pose(so3_exp(w), np.einsum("...ij,...j->...i", V, v))
+
+
+def se3_log(T: ArrayLike) -> Array:
+    """Pose ``(..., 4, 4)`` -> twist ``(..., 6)`` ordered ``(v, omega)``, inverse of :func:`se3_exp`."""
+    T = np.asarray(T, dtype=float)
+    w = so3_log(T[..., :3, :3])
+    th = np.linalg.norm(w, axis=-1)[..., None, None]
+    K = skew(w)
+    small = th < 1e-6
+    ths = np.where(small, 1.0, th)
+    # V^-1 = I - K/2 + (1/th^2)(1 - (th sin th) / (2 (1 - cos th))) K^2
+    coef = np.where(small, 1.0 / 12.0 + th**2 / 720.0,
+                    (1.0 - ths * np.sin(ths) / (2.0 * (1.0 - np.cos(ths)))) / ths**2)
+    Vinv = np.eye(3) - 0.5 * K + coef * (K @ K)
+    v = np.einsum("...ij,...j->...i", Vinv, T[..., :3, 3])
+    return np.concatenate([v, w], axis=-1)
+
+
+def pose_error(T_actual: ArrayLike, T_target: ArrayLike) -> tuple[Array, Array]:
+    """Position error (length units) and rotation angle (rad, in ``[0, pi]``) between poses.
+
+    Parameters
+    ----------
+    T_actual, T_target : array_like, shape (..., 4, 4)
+
+    Returns
+    -------
+    position_error : ndarray, shape (...)
+        ``|p_actual - p_target|``.
+    rotation_error : ndarray, shape (...)
+        Angle of ``R_actual^T R_target``.
+
+    Examples
+    --------
+    >>> dp, dr = pose_error(transl(0.0, 0.0, 0.5), rotz(0.25))
+    >>> float(dp), round(float(dr), 12)
+    (0.5, 0.25)
+    """
+    A = np.asarray(T_actual, dtype=float)
+    B = np.asarray(T_target, dtype=float)
+    dp = np.linalg.norm(A[..., :3, 3] - B[..., :3, 3], axis=-1)
+    Rerr = np.swapaxes(A[..., :3, :3], -1, -2) @ B[..., :3, :3]
+    # angle via atan2(|axis part|, trace part): accurate for small and large angles alike
+    s = 0.5 * np.sqrt((Rerr[..., 2, 1] - Rerr[..., 1, 2]) ** 2 + (Rerr[..., 0, 2] - Rerr[..., 2, 0]) ** 2
+                      + (Rerr[..., 1, 0] - Rerr[..., 0, 1]) ** 2)
+    c = 0.5 * (np.trace(Rerr, axis1=-2, axis2=-1) - 1.0)
+    return dp, np.arctan2(s, c)
