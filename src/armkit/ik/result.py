@@ -1,0 +1,120 @@
+"""The result of every IK solver: :class:`IKResult`, batched and honest.
+
+``success`` is only ever true when forward kinematics of the returned ``q`` meets the
+tolerance; this module's :func:`verify` is the one place that decides it.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Optional
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ..model.robot import Robot
+
+__all__ = ["IKResult", "REASONS", "default_tolerance", "verify"]
+
+REASONS = ("converged", "unreachable", "singular", "max iterations", "joint limits")
+"""The values ``IKResult.reason`` can take."""
+
+
+def default_tolerance(robot: Robot) -> tuple[float, float]:
+    """Default ``(position, rotation)`` tolerance: 1e-9 m (1e-6 mm for a mm arm) and 1e-9 rad."""
+    return 1e-9 / robot.unit_scale, 1e-9
+
+
+@dataclass(frozen=True)
+class IKResult:
+    """What an IK solver found, for one target or a batch of targets.
+
+    Attributes (shapes for a batch of targets with leading shape ``(...)``; ``ik_all``
+    adds a branch axis ``m`` before ``n``: ``q`` is ``(..., m, n)``, the others ``(..., m)``)
+
+    q : ndarray, shape (..., n)
+        Joint values (rad / length units): the solution, or for a failure the closest
+        configuration found.
+    success : ndarray of bool, shape (...)
+        True only where FK of ``q`` meets the tolerance (checked, not assumed) and, when
+        limits are enforced, ``q`` is within them.
+    position_error : ndarray, shape (...)
+        ``|p(q) - p_target|`` in the robot's length unit.
+    rotation_error : ndarray, shape (...)
+        Angle of the rotation between ``R(q)`` and the target rotation (rad); 0 for
+        position-only targets.
+    iterations : ndarray of int, shape (...)
+        Iterations used (0 for closed-form solutions).
+    branch : ndarray of str, shape (...)
+        A readable label: ``"elbow-up"``, ``"front/elbow-down"``, ``"lm"``, ...
+    within_limits : ndarray of bool, shape (...)
+    reason : ndarray of str, shape (...)
+        One of :data:`REASONS`.
+    message : ndarray of str, shape (...)
+        A sentence for people: why it failed, and by how much.
+    trace : ndarray or None
+        Per-iteration error norms when the solver was asked for a trace.
+    """
+
+    q: NDArray[np.float64]
+    success: NDArray[np.bool_]
+    position_error: NDArray[np.float64]
+    rotation_error: NDArray[np.float64]
+    iterations: NDArray[np.int64]
+    branch: NDArray[np.str_]
+    within_limits: NDArray[np.bool_]
+    reason: NDArray[np.str_]
+    message: NDArray[np.str_] = field(default=None)  # type: ignore[assignment]
+    trace: Optional[NDArray[np.float64]] = None
+
+    def __post_init__(self) -> None:
+        if self.message is None:
+            object.__setattr__(self, "message", np.full(np.shape(self.success), "", dtype=object))
+
+    @property
+    def shape(self) -> tuple[int, ...]:
+        return tuple(np.shape(self.success))
+
+    def __getitem__(self, index) -> "IKResult":
+        """The result(s) for some targets, e.g. ``res[3]``; branch axis kept for ``ik_all``."""
+        pick = lambda a: None if a is None else np.asarray(a)[index]  # noqa: E731
+        return IKResult(pick(self.q), pick(self.success), pick(self.position_error), pick(self.rotation_error),
+                        pick(self.iterations), pick(self.branch), pick(self.within_limits), pick(self.reason),
+                        pick(self.message), self.trace if self.trace is None or self.shape == () else pick(self.trace))
+
+
+def verify(robot: Robot, q: NDArray[np.float64], target: NDArray[np.float64], position_only: bool,
+           tol: tuple[float, float] | None = None, enforce_limits: bool = True
+           ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.bool_], NDArray[np.bool_]]:
+    """FK check of candidate solutions.
+
+    Parameters
+    ----------
+    q : ndarray, shape (..., n)
+    target : ndarray, shape (..., 4, 4) or (..., 3)
+        Broadcast against ``q``'s leading axes.
+    position_only : bool
+        Compare positions only (``target`` may still be a pose).
+
+    Returns
+    -------
+    position_error, rotation_error, ok, within_limits : ndarrays, shape (...)
+    """
+    from ..kinematics import fk
+    from ..spatial import pose_error
+
+    tol = tol or default_tolerance(robot)
+    T = fk(robot, q)
+    target = np.asarray(target, dtype=float)
+    if target.shape[-2:] == (4, 4):
+        dp, dr = pose_error(T, target)
+    else:
+        dp = np.linalg.norm(T[..., :3, 3] - target, axis=-1)
+        dr = np.zeros_like(dp)
+    if position_only:
+        dr = np.zeros_like(dp)
+    within = robot.within_limits(q)
+    ok = (dp <= tol[0]) & (dr <= tol[1])
+    if enforce_limits:
+        ok &= within
+    return dp, dr, ok, within
