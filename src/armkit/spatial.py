@@ -167,6 +167,9 @@ def _from_scipy(make, lead: tuple[int, ...]) -> Array:
 def rpy_to_rotation(rpy: ArrayLike, degrees: bool = False) -> Array:
     """Rotation from roll-pitch-yaw ``(..., 3)``: ``R = Rz(yaw) Ry(pitch) Rx(roll)`` (fixed XYZ).
 
+    Written out in NumPy rather than through scipy so that loading a robot file and the
+    CLI do not pay scipy's import time.
+
     Examples
     --------
     >>> R = rpy_to_rotation([0.0, 0.0, 90.0], degrees=True)
@@ -176,20 +179,35 @@ def rpy_to_rotation(rpy: ArrayLike, degrees: bool = False) -> Array:
     a = np.asarray(rpy, dtype=float)
     if a.shape[-1:] != (3,):
         raise ShapeError(f"rpy must have shape (..., 3), got {a.shape}")
-    Rot = _scipy_rotation()
-    return _from_scipy(Rot.from_euler("xyz", a.reshape(-1, 3), degrees=degrees), a.shape[:-1])
+    if degrees:
+        a = np.radians(a)
+    cr, cp, cy = np.cos(a[..., 0]), np.cos(a[..., 1]), np.cos(a[..., 2])
+    sr, sp, sy = np.sin(a[..., 0]), np.sin(a[..., 1]), np.sin(a[..., 2])
+    R = np.empty(a.shape[:-1] + (3, 3))
+    R[..., 0, 0], R[..., 0, 1], R[..., 0, 2] = cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr
+    R[..., 1, 0], R[..., 1, 1], R[..., 1, 2] = sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr
+    R[..., 2, 0], R[..., 2, 1], R[..., 2, 2] = -sp, cp * sr, cp * cr
+    return R
 
 
 def rotation_to_rpy(R: ArrayLike, degrees: bool = False) -> Array:
-    """Roll-pitch-yaw ``(..., 3)`` of a rotation, inverse of :func:`rpy_to_rotation`."""
-    R = _rotation(R)
-    Rot = _scipy_rotation()
-    import warnings
+    """Roll-pitch-yaw ``(..., 3)`` of a rotation, inverse of :func:`rpy_to_rotation`.
 
-    with warnings.catch_warnings():  # gimbal lock: scipy warns and still returns a valid triple
-        warnings.simplefilter("ignore", UserWarning)
-        out = Rot.from_matrix(R.reshape(-1, 3, 3)).as_euler("xyz", degrees=degrees)
-    return out.reshape(R.shape[:-2] + (3,))
+    Pitch lies in ``[-pi/2, pi/2]``. At gimbal lock (pitch = +-pi/2) roll and yaw are not
+    unique; roll is set to 0 and yaw carries the whole rotation about z.
+
+    Examples
+    --------
+    >>> np.round(rotation_to_rpy(rpy_to_rotation([10.0, 20.0, 30.0], degrees=True), degrees=True), 9)
+    array([10., 20., 30.])
+    """
+    R = _rotation(R)
+    pitch = np.arctan2(-R[..., 2, 0], np.hypot(R[..., 0, 0], R[..., 1, 0]))
+    lock = np.hypot(R[..., 0, 0], R[..., 1, 0]) < 1e-12
+    roll = np.where(lock, 0.0, np.arctan2(R[..., 2, 1], R[..., 2, 2]))
+    yaw = np.where(lock, np.arctan2(-R[..., 0, 1], R[..., 1, 1]), np.arctan2(R[..., 1, 0], R[..., 0, 0]))
+    out = np.stack([roll, pitch, yaw], axis=-1)
+    return np.degrees(out) if degrees else out
 
 
 def quaternion_to_rotation(quat: ArrayLike) -> Array:

@@ -1,5 +1,6 @@
 """The ``armkit`` command: a thin Typer + Rich front end over the public functions.
 
+Errors: ``_ArmkitGroup`` turns any ArmkitError into a one-line message with exit 2.
 Each module registers its commands (``core``: robots, info, fk, jacobian; ``ik``; ``viz``;
 ``symbolic``). Heavy imports live inside the command bodies so that ``armkit --help``
 starts fast, and the CLI uses the NumPy kernels (no JIT start-up cost).
@@ -13,8 +14,24 @@ import importlib
 import os
 
 import typer
+from typer.core import TyperGroup
 
 __all__ = ["app", "main"]
+
+
+class _ArmkitGroup(TyperGroup):
+    """Turns every armkit error (a user mistake: bad file, bad shape, unknown robot) into one line, exit 2."""
+
+    def invoke(self, ctx):  # type: ignore[no-untyped-def]
+        from ..errors import ArmkitError
+
+        try:
+            return super().invoke(ctx)
+        except ArmkitError as exc:
+            from .common import EXIT_BAD_INPUT, err_console
+
+            err_console.print(f"[bold red]error:[/] {exc}", soft_wrap=True)
+            raise SystemExit(EXIT_BAD_INPUT) from None
 
 _COMMAND_MODULES = ("core", "ik", "viz", "symbolic")
 
@@ -23,6 +40,7 @@ app = typer.Typer(
     help="Serial robot-arm kinematics: DH models, FK, Jacobians, IK, plots.\n\n"
          "Example: armkit fk fighter 30 45 60 --deg",
     no_args_is_help=True,
+    cls=_ArmkitGroup,
     add_completion=False,
     pretty_exceptions_enable=False,
     rich_markup_mode="rich",
@@ -39,18 +57,12 @@ for _name in _COMMAND_MODULES:
 
 
 def main() -> None:
-    """Entry point: run the app; armkit errors become one-line messages with exit code 2."""
-    from ..errors import ArmkitError
-    from .common import EXIT_BAD_INPUT, err_console
-
+    """Entry point of the ``armkit`` command (NumPy kernels unless ARMKIT_BACKEND says otherwise)."""
     os.environ.setdefault("ARMKIT_BACKEND", "numpy")
     from .. import kinematics
 
     kinematics.set_backend(os.environ["ARMKIT_BACKEND"])  # type: ignore[arg-type]
     try:
         app(standalone_mode=True)
-    except ArmkitError as exc:
-        err_console.print(f"[bold red]error:[/] {exc}", soft_wrap=True)
-        raise SystemExit(EXIT_BAD_INPUT) from None
     except KeyboardInterrupt:
         raise SystemExit(130) from None

@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import importlib
 import os
-from typing import Literal
+from typing import Literal, Sequence
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -33,12 +33,14 @@ from ..model.robot import Robot
 from . import _numpy
 
 __all__ = ["fk", "fk_frames", "jacobian", "manipulability", "condition_number", "is_singular",
-           "SINGULAR_THRESHOLD", "set_backend", "get_backend"]
+           "SINGULAR_THRESHOLD", "task_rows", "set_backend", "get_backend"]
 
 Array = NDArray[np.float64]
 
 SINGULAR_THRESHOLD = 1e-6
-"""``is_singular`` is true where the smallest singular value of the (unit-scaled) Jacobian is below this."""
+"""``is_singular`` is true where the smallest singular value of the task Jacobian (lengths in
+metres, see :func:`task_rows`) is below this: about 1e-6 rad from an exact singularity of a
+metre-sized arm."""
 
 _backend = os.environ.get("ARMKIT_BACKEND", "auto")
 _JIT = None  # the armkit.kinematics._jit module once loaded, False if numba is unavailable
@@ -168,28 +170,46 @@ def jacobian(robot: Robot, q: ArrayLike, frame: Literal["base", "tool"] = "base"
     return J.reshape(lead + (6, robot.n))
 
 
-def _task_rows(J: Array) -> Array:
-    """Drop Jacobian rows that are identically zero for every configuration (planar arms)."""
-    keep = np.any(np.abs(J.reshape(-1, 6, J.shape[-1])) > 1e-12, axis=(0, 2))
-    return J[..., keep, :] if keep.any() else J
+def task_rows(robot: Robot) -> tuple[int, ...]:
+    """The Jacobian rows that make up the arm's task, used by the manipulability measures.
+
+    Position first, then as many orientation components as the arm has joints left,
+    counting only components the arm can change at all: all six rows for a 6- or 7-DOF arm,
+    ``(vx, vy, vz)`` for the 3-DOF fighter arm, ``(vx, vy)`` for a 2R planar arm and
+    ``(vx, vy, wz)`` for a 3R planar arm (the x, y, phi task of its closed form).
+
+    Examples
+    --------
+    >>> import armkit
+    >>> [task_rows(armkit.load(n)) for n in ("planar2", "planar3", "fighter")]
+    [(0, 1), (0, 1, 5), (0, 1, 2)]
+    """
+    probe = robot.random_q(8, rng=0)
+    J = np.abs(_numpy.jacobian(robot.chain, probe, False))
+    movable = [r for r in range(6) if J[:, r, :].max() > 1e-12]
+    pos = [r for r in movable if r < 3]
+    rot = [r for r in movable if r >= 3]
+    return tuple(pos + rot[: max(0, robot.n - len(pos))])
 
 
-def _singular_values(robot: Robot, q: ArrayLike, scale: bool = True) -> Array:
-    J = jacobian(robot, q)
-    if scale:  # linear rows in metres so that mm and m arms give the same numbers
-        J = J.copy()
-        J[..., :3, :] *= robot.unit_scale
-        J[..., :, robot.prismatic] /= robot.unit_scale
-    J = _task_rows(J)
-    return np.linalg.svd(J, compute_uv=False)
+def _task_jacobian(robot: Robot, q: ArrayLike, rows: Sequence[int] | None) -> Array:
+    """Task rows of the Jacobian with lengths in metres (prismatic columns per metre), so mm and m arms agree."""
+    J = jacobian(robot, q).copy()
+    J[..., :3, :] *= robot.unit_scale
+    J[..., :, robot.prismatic] /= robot.unit_scale
+    return J[..., list(task_rows(robot) if rows is None else rows), :]
 
 
-def manipulability(robot: Robot, q: ArrayLike) -> Array:
+def _singular_values(robot: Robot, q: ArrayLike, rows: Sequence[int] | None) -> Array:
+    return np.linalg.svd(_task_jacobian(robot, q, rows), compute_uv=False)
+
+
+def manipulability(robot: Robot, q: ArrayLike, rows: Sequence[int] | None = None) -> Array:
     r"""Yoshikawa's manipulability :math:`w = \sqrt{\det(J J^T)}`, shape ``(...)``.
 
-    Uses the rows of the geometric Jacobian that the arm can move at all (a planar arm
-    keeps x, y and the z rotation), with lengths in the robot's own unit; equals the
-    product of the singular values.
+    ``J`` holds the task rows of the geometric Jacobian (:func:`task_rows`, or ``rows``
+    given as indices into ``(vx, vy, vz, wx, wy, wz)``), lengths in metres; ``w`` is the
+    product of its singular values and vanishes exactly at the singularities of that task.
 
     Examples
     --------
@@ -198,23 +218,22 @@ def manipulability(robot: Robot, q: ArrayLike) -> Array:
     >>> round(float(armkit.manipulability(arm, [0.3, np.pi / 2])), 12)
     0.5
     """
-    J = _task_rows(jacobian(robot, q))
-    s = np.linalg.svd(J, compute_uv=False)
-    m = min(J.shape[-2], J.shape[-1])
-    return np.prod(s[..., :m], axis=-1)
+    s = _singular_values(robot, q, rows)
+    return np.prod(s, axis=-1)
 
 
-def condition_number(robot: Robot, q: ArrayLike) -> Array:
-    """Condition number ``sigma_max / sigma_min`` of the Jacobian (lengths in metres), ``(...)``; inf at a singularity."""
-    s = _singular_values(robot, q)
+def condition_number(robot: Robot, q: ArrayLike, rows: Sequence[int] | None = None) -> Array:
+    """Condition number ``sigma_max / sigma_min`` of the task Jacobian (lengths in metres), ``(...)``; inf at a singularity."""
+    s = _singular_values(robot, q, rows)
     with np.errstate(divide="ignore"):
         return np.where(s[..., -1] > 0, s[..., 0] / np.where(s[..., -1] > 0, s[..., -1], 1.0), np.inf)
 
 
-def is_singular(robot: Robot, q: ArrayLike, threshold: float = SINGULAR_THRESHOLD) -> NDArray[np.bool_]:
-    """True where the smallest singular value of the Jacobian (lengths in metres) is below ``threshold``.
+def is_singular(robot: Robot, q: ArrayLike, threshold: float = SINGULAR_THRESHOLD,
+                rows: Sequence[int] | None = None) -> NDArray[np.bool_]:
+    """True where the smallest singular value of the task Jacobian (lengths in metres) is below ``threshold``.
 
     The default :data:`SINGULAR_THRESHOLD` = 1e-6 flags configurations within about
     1e-6 rad of an exact singularity of a metre-sized arm.
     """
-    return _singular_values(robot, q)[..., -1] < threshold
+    return _singular_values(robot, q, rows)[..., -1] < threshold

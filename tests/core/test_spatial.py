@@ -1,0 +1,116 @@
+"""Spatial primitives: elementary transforms by hand (seed 002), conversions, log/exp laws."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import given
+from hypothesis import strategies as st
+from hypothesis.extra.numpy import arrays
+
+from armkit import spatial as sp
+from armkit.errors import ShapeError
+
+angles = st.floats(-np.pi, np.pi, allow_nan=False)
+vec3 = arrays(float, 3, elements=st.floats(-2, 2, allow_nan=False))
+
+
+def test_elementary_rotations_by_hand():
+    c, s = np.cos(0.3), np.sin(0.3)
+    assert np.allclose(sp.rotx(0.3)[:3, :3], [[1, 0, 0], [0, c, -s], [0, s, c]], atol=1e-15)
+    assert np.allclose(sp.roty(0.3)[:3, :3], [[c, 0, s], [0, 1, 0], [-s, 0, c]], atol=1e-15)
+    assert np.allclose(sp.rotz(0.3)[:3, :3], [[c, -s, 0], [s, c, 0], [0, 0, 1]], atol=1e-15)
+    assert np.array_equal(sp.transl(1, 2, 3)[:3, 3], [1, 2, 3])
+
+
+def test_two_link_chain_of_seed_002_by_hand():
+    # 0T1 = Rz(t1) Tx(l1), 1T2 = Rz(t2) Tx(l2); 0T2 translation = (l1 c1 + l2 c12, l1 s1 + l2 s12)
+    l1, l2, t1, t2 = 0.7, 0.4, 0.5, -1.1
+    T = sp.compose(sp.rotz(t1), sp.transl(l1, 0, 0), sp.rotz(t2), sp.transl(l2, 0, 0))
+    expected = [l1 * np.cos(t1) + l2 * np.cos(t1 + t2), l1 * np.sin(t1) + l2 * np.sin(t1 + t2), 0]
+    assert np.allclose(T[:3, 3], expected, atol=1e-15)
+
+
+def test_batched_shapes():
+    t = np.linspace(0, 1, 12).reshape(3, 4)
+    assert sp.rotz(t).shape == (3, 4, 4, 4)
+    assert sp.inverse(sp.rotz(t)).shape == (3, 4, 4, 4)
+    assert sp.rpy_to_rotation(np.zeros((5, 3))).shape == (5, 3, 3)
+    assert sp.se3_log(sp.rotx(t)).shape == (3, 4, 6)
+
+
+@given(angles, angles, angles, vec3)
+def test_inverse_is_inverse(a, b, c, p):
+    T = sp.compose(sp.transl(p), sp.rotz(a), sp.roty(b), sp.rotx(c))
+    assert np.allclose(T @ sp.inverse(T), np.eye(4), atol=1e-12)
+
+
+@given(angles, st.floats(-1.5, 1.5), angles)
+def test_rpy_matches_elementary_product_and_round_trips(r, p, y):
+    R = sp.rpy_to_rotation([r, p, y])
+    assert np.allclose(R, (sp.rotz(y) @ sp.roty(p) @ sp.rotx(r))[:3, :3], atol=1e-14)
+    assert np.allclose(sp.rotation_to_rpy(R), [r, p, y], atol=1e-9)
+
+
+def test_rpy_matches_scipy():
+    from scipy.spatial.transform import Rotation
+
+    a = np.random.default_rng(1).uniform(-1.5, 1.5, (50, 3))
+    assert np.allclose(sp.rpy_to_rotation(a), Rotation.from_euler("xyz", a).as_matrix(), atol=1e-14)
+
+
+@given(arrays(float, 4, elements=st.floats(-1, 1)).filter(lambda q: np.linalg.norm(q) > 0.1))
+def test_quaternion_round_trip(q):
+    q = q / np.linalg.norm(q)
+    R = sp.quaternion_to_rotation(q)
+    q2 = sp.rotation_to_quaternion(R)
+    assert np.allclose(q2, q if q[3] >= 0 else -q, atol=1e-9) or np.isclose(abs(q[3]), 0, atol=1e-9)
+    assert np.allclose(sp.quaternion_to_rotation(q2), R, atol=1e-12)
+
+
+def test_quaternion_order_is_scalar_last():
+    R = sp.quaternion_to_rotation([0, 0, np.sin(np.pi / 4), np.cos(np.pi / 4)])  # 90 deg about z
+    assert np.allclose(R, sp.rotz(np.pi / 2)[:3, :3], atol=1e-15)
+
+
+@given(vec3, st.floats(0.01, 3.1))
+def test_axis_angle_round_trip(axis, angle):
+    if np.linalg.norm(axis) < 1e-3:
+        return
+    R = sp.axis_angle_to_rotation(axis, angle)
+    u, th = sp.rotation_to_axis_angle(R)
+    assert np.isclose(th, angle, atol=1e-9)
+    assert np.allclose(u, axis / np.linalg.norm(axis), atol=1e-7)
+
+
+@given(vec3, vec3)
+def test_se3_exp_log_round_trip(v, w):
+    if np.linalg.norm(w) > 3.0:
+        w = w / np.linalg.norm(w) * 3.0
+    xi = np.concatenate([v, w])
+    assert np.allclose(sp.se3_log(sp.se3_exp(xi)), xi, atol=1e-9)
+
+
+def test_se3_exp_of_pure_rotation_about_offset_axis():
+    # rotating by pi/2 about the z axis through (1, 0, 0): the origin goes to (1, -1, 0); twist v = -w x r
+    w = np.array([0, 0, np.pi / 2])
+    v = -np.cross(w, [1.0, 0, 0])
+    T = sp.se3_exp(np.concatenate([v, w]))
+    assert np.allclose(T[:3, 3], [1, -1, 0], atol=1e-12)
+
+
+def test_pose_error_by_hand():
+    dp, dr = sp.pose_error(sp.transl(3, 4, 0), sp.compose(sp.transl(0, 0, 0), sp.rotx(np.pi)))
+    assert dp == pytest.approx(5.0)
+    assert dr == pytest.approx(np.pi)
+    _, small = sp.pose_error(np.eye(4), sp.rotz(1e-10))
+    assert small == pytest.approx(1e-10, rel=1e-6)
+
+
+def test_bad_shapes_raise():
+    with pytest.raises(ShapeError, match=r"\(\.\.\., 3\)"):
+        sp.transl([1, 2])
+    with pytest.raises(ShapeError, match="x, y, z, w"):
+        sp.quaternion_to_rotation([1, 0, 0])
+    with pytest.raises(ShapeError, match="non-zero"):
+        sp.axis_angle_to_rotation([0, 0, 0], 1.0)
