@@ -91,7 +91,7 @@ def q_display(robot: Robot, q: np.ndarray, deg: bool = True) -> list[str]:
 def pose_table(T: np.ndarray, unit: str, title: str = "pose") -> Table:
     """A 4x4 pose as a Rich table with the translation column labelled with its unit."""
     t = Table(title=title, show_header=True, header_style="bold")
-    for h in ("", "x", "y", "z", f"p [{unit}]"):
+    for h in ("", "x", "y", "z", f"p ({unit})"):
         t.add_column(h, justify="right")
     for i, row in enumerate(T[:3]):
         t.add_row("xyz"[i], *(f"{v: .6f}" for v in row[:3]), f"{row[3]: .6f}")

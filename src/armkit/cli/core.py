@@ -7,6 +7,7 @@ from typing import List, Optional
 
 import numpy as np
 import typer
+from rich.markup import escape
 from rich.table import Table
 
 from .common import NUMERIC_ARGS, console, get_robot, parse_q, pose_table, print_json, q_display
@@ -57,9 +58,9 @@ def info(robot: str = typer.Argument(..., help=ROBOT_HELP),
     conv = ("standard DH: A_i = Rz(theta_i) Tz(d_i) Tx(a_i) Rx(alpha_i)" if r.convention == "standard"
             else "modified (Craig) DH: A_i = Rx(alpha_{i-1}) Tx(a_{i-1}) Rz(theta_i) Tz(d_i)")
     t = Table(title=f"DH table ({conv}); * marks the joint variable", header_style="bold")
-    alpha_h = "alpha [deg]" if r.convention == "standard" else "alpha_{i-1} [deg]"
-    a_h = f"a [{r.unit}]" if r.convention == "standard" else f"a_{{i-1}} [{r.unit}]"
-    for col in ("i", "joint", "type", "theta [deg]", f"d [{r.unit}]", a_h, alpha_h, "limits"):
+    alpha_h = "alpha (deg)" if r.convention == "standard" else "alpha_{i-1} (deg)"
+    a_h = f"a ({r.unit})" if r.convention == "standard" else f"a_{{i-1}} ({r.unit})"
+    for col in ("i", "joint", "type", "theta (deg)", f"d ({r.unit})", a_h, alpha_h, "limits"):
         t.add_column(col, justify="right")
     for i, j in enumerate(r.joints, 1):
         theta = f"q{i}*" + (f" {j.theta * deg:+g}" if j.theta else "") if not j.is_prismatic else f"{j.theta * deg:g}"
@@ -75,7 +76,7 @@ def info(robot: str = typer.Argument(..., help=ROBOT_HELP),
         else:
             console.print(f"{which}: identity")
     if r.source:
-        console.print(f"[dim]source: {r.source}[/]")
+        console.print(f"[dim]source: {escape(' '.join(r.source.split()))}[/]")
 
 
 def fk(robot: str = typer.Argument(..., help=ROBOT_HELP),
@@ -106,7 +107,7 @@ def fk(robot: str = typer.Argument(..., help=ROBOT_HELP),
     console.print(f"end point: ([bold]{p[0]:.3f}, {p[1]:.3f}, {p[2]:.3f}[/]) {r.unit}   "
                   f"roll/pitch/yaw: ({rpy[0]:.3f}, {rpy[1]:.3f}, {rpy[2]:.3f}) deg")
     console.print(pose_table(T, r.unit, title="T_world_tool"))
-    t = Table(title=f"frame origins [{r.unit}]", header_style="bold")
+    t = Table(title=f"frame origins ({r.unit})", header_style="bold")
     for col in ("frame", "link", "x", "y", "z"):
         t.add_column(col, justify="right")
     for k, (name, f) in enumerate(zip(r.link_names, F)):
