@@ -90,7 +90,8 @@ def transl(x: ArrayLike, y: ArrayLike | None = None, z: ArrayLike | None = None)
     if y is None and z is None:
         p = np.asarray(x, dtype=float)
     else:
-        p = np.stack(np.broadcast_arrays(_angles(x), _angles(y), _angles(z)), axis=-1)
+        p = np.stack(np.broadcast_arrays(_angles(x), _angles(0.0 if y is None else y),
+                                         _angles(0.0 if z is None else z)), axis=-1)
     if p.shape[-1:] != (3,):
         raise ShapeError(f"translation must have shape (..., 3), got {p.shape}")
     T = np.zeros(p.shape[:-1] + (4, 4))

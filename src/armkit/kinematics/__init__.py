@@ -82,6 +82,17 @@ def _flat(robot: Robot, q: ArrayLike) -> tuple[Array, tuple[int, ...]]:
     return np.ascontiguousarray(arr.reshape(-1, robot.n)), arr.shape[:-1]
 
 
+def _flat_unchecked(robot: Robot, q: ArrayLike) -> tuple[Array, tuple[int, ...]]:
+    """Like :func:`_flat` but leaves the NaN/inf check to the kernel (it counts them for free)."""
+    try:
+        arr = np.asarray(q, dtype=float)
+    except (TypeError, ValueError):
+        arr = robot.check_q(q)  # raises with the message
+    if arr.ndim == 0 or arr.shape[-1] != robot.n:
+        robot.check_q(arr)
+    return np.ascontiguousarray(arr.reshape(-1, robot.n)), arr.shape[:-1]
+
+
 def fk(robot: Robot, q: ArrayLike) -> Array:
     r"""Pose of the tool in the world frame, ``T_world_tool``.
 
@@ -105,13 +116,22 @@ def fk(robot: Robot, q: ArrayLike) -> Array:
     array([ 24.861,  14.353, 187.181])
     """
     jit = _jit_module()
-    chain = robot.chain
+    c = robot.chain
     if jit is not None:
-        qa = np.asarray(q, dtype=float)
-        if qa.shape == (robot.n,) and np.isfinite(qa).all():  # the single-call fast path
-            return jit.fk_single(chain.fixed, chain.prismatic, qa)
-    flat, lead = _flat(robot, q)
-    out = jit.fk_batch(chain.fixed, chain.prismatic, flat) if jit is not None else _numpy.fk(chain, flat)
+        if type(q) is np.ndarray and q.ndim == 1:  # the single-call fast path: no copy, no extra pass
+            out = np.empty((4, 4))
+            try:
+                jit.fk_one(c.fixed, c.prismatic, q, out)
+                return out
+            except (TypeError, ValueError):  # not float64, wrong length or NaN: the general path says which
+                pass
+        flat, lead = _flat_unchecked(robot, q)
+        out, bad = jit.fk_batch(c.fixed, c.prismatic, flat)
+        if bad:
+            robot.check_q(q)  # raises ShapeError naming the problem
+    else:
+        flat, lead = _flat(robot, q)
+        out = _numpy.fk(c, flat)
     return out.reshape(lead + (4, 4))
 
 
@@ -124,12 +144,15 @@ def fk_frames(robot: Robot, q: ArrayLike) -> Array:
     joint axis ``k``); ``frames[..., n]`` is the last link frame with the tool applied,
     so it equals :func:`fk`. The origins are the points a plot joins with lines.
     """
-    flat, lead = _flat(robot, q)
     c = robot.chain
     jit = _jit_module()
     if jit is not None:
-        out = jit.frames_batch(c.base, c.pre, c.post, c.tool, c.prismatic, flat)
+        flat, lead = _flat_unchecked(robot, q)
+        out, bad = jit.frames_batch(c.base, c.pre, c.post, c.tool, c.prismatic, flat)
+        if bad:
+            robot.check_q(q)
     else:
+        flat, lead = _flat(robot, q)
         out = _numpy.frames(c, flat)
     return out.reshape(lead + (robot.n + 1, 4, 4))
 
@@ -159,13 +182,19 @@ def jacobian(robot: Robot, q: ArrayLike, frame: Literal["base", "tool"] = "base"
     tool_frame = frame == "tool"
     jit = _jit_module()
     if jit is not None:
-        qa = np.asarray(q, dtype=float)
-        if qa.shape == (robot.n,) and np.isfinite(qa).all():
-            return jit.jacobian_single(c.base, c.pre, c.post, c.tool, c.prismatic, qa, tool_frame)
-    flat, lead = _flat(robot, q)
-    if jit is not None:
-        J = jit.jacobian_batch(c.base, c.pre, c.post, c.tool, c.prismatic, flat, tool_frame)
+        if type(q) is np.ndarray and q.ndim == 1:  # the single-call fast path
+            J = np.empty((6, robot.n))
+            try:
+                jit.jacobian_one(c.base, c.pre, c.post, c.tool, c.prismatic, q, tool_frame, J)
+                return J
+            except (TypeError, ValueError):  # not float64 contiguous, wrong length or NaN: general path
+                pass
+        flat, lead = _flat_unchecked(robot, q)
+        J, bad = jit.jacobian_batch(c.base, c.pre, c.post, c.tool, c.prismatic, flat, tool_frame)
+        if bad:
+            robot.check_q(q)
     else:
+        flat, lead = _flat(robot, q)
         J = _numpy.jacobian(c, flat, tool_frame)
     return J.reshape(lead + (6, robot.n))
 
@@ -201,7 +230,7 @@ def _task_jacobian(robot: Robot, q: ArrayLike, rows: Sequence[int] | None) -> Ar
 
 
 def _singular_values(robot: Robot, q: ArrayLike, rows: Sequence[int] | None) -> Array:
-    return np.linalg.svd(_task_jacobian(robot, q, rows), compute_uv=False)
+    return np.asarray(np.linalg.svd(_task_jacobian(robot, q, rows), compute_uv=False), dtype=float)
 
 
 def manipulability(robot: Robot, q: ArrayLike, rows: Sequence[int] | None = None) -> Array:
@@ -219,7 +248,7 @@ def manipulability(robot: Robot, q: ArrayLike, rows: Sequence[int] | None = None
     0.5
     """
     s = _singular_values(robot, q, rows)
-    return np.prod(s, axis=-1)
+    return np.asarray(np.prod(s, axis=-1), dtype=float)
 
 
 def condition_number(robot: Robot, q: ArrayLike, rows: Sequence[int] | None = None) -> Array:

@@ -72,9 +72,10 @@ class _Locator:
         if joint is not None:
             lo, hi = self._joint_block(joint)
         elif table is not None:
-            lo = next((i for i, ln in enumerate(self.lines) if re.match(rf"\s*\[\s*{table}\s*\]", ln)), None)
-            if lo is None:
+            found = next((i for i, ln in enumerate(self.lines) if re.match(rf"\s*\[\s*{table}\s*\]", ln)), None)
+            if found is None:
                 return None
+            lo = found
             hi = next((i for i in range(lo + 1, len(self.lines)) if re.match(r"\s*\[", self.lines[i])),
                       len(self.lines))
         else:

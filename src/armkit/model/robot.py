@@ -123,10 +123,11 @@ class Chain:
         for k in range(1, n):
             fixed[k] = post[k - 1] @ pre[k]
         fixed[n] = post[n - 1] @ tool
-        arrays = [np.ascontiguousarray(x) for x in (pre, post, prismatic, base, tool, fixed)]
-        for x in arrays:
+        pre, post, base, tool, fixed = (np.ascontiguousarray(x, dtype=float) for x in (pre, post, base, tool, fixed))
+        prismatic = np.ascontiguousarray(prismatic, dtype=bool)
+        for x in (pre, post, prismatic, base, tool, fixed):
             x.setflags(write=False)
-        return cls(*arrays)
+        return cls(pre, post, prismatic, base, tool, fixed)
 
 
 def _pose(value: ArrayLike | None, what: str) -> Array:
@@ -179,8 +180,8 @@ class Robot:
     convention: Literal["standard", "modified"] = "standard"
     name: str = "robot"
     unit: str = "m"
-    base: Array = field(default=None)  # type: ignore[assignment]
-    tool: Array = field(default=None)  # type: ignore[assignment]
+    base: Array = field(default_factory=lambda: np.eye(4))
+    tool: Array = field(default_factory=lambda: np.eye(4))
     description: str = ""
     source: str = ""
     link_names: tuple[str, ...] = ()
