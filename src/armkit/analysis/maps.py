@@ -1,0 +1,165 @@
+"""Contour-map data (seed 001): end point over a joint grid, joint values over a target grid.
+
+:func:`fk_maps` evaluates ``x(q1, q2)``, ``y(q1, q2)`` (and ``z``) on a grid of two joints;
+:func:`ik_maps` evaluates every closed-form IK branch on a grid of targets, ``NaN``
+where a branch does not reach. Plotting is separate: :func:`armkit.viz.plot_maps`.
+
+Examples
+--------
+>>> import numpy as np, armkit
+>>> from armkit.analysis import fk_maps
+>>> m = fk_maps(armkit.load("planar2"), np.radians([0, 90]), np.radians([0, 90]))
+>>> np.round(m.x, 6) + 0.0          # x = L1 cos q1 + L2 cos(q1 + q2), rows q1, columns q2
+array([[ 1.5,  1. ],
+       [ 0. , -0.5]])
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Optional, Sequence
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from ..errors import ArmkitError, ShapeError
+from ..kinematics import fk
+from ..model.robot import Robot
+
+__all__ = ["fk_maps", "ik_maps", "FKMaps", "IKMaps"]
+
+Array = NDArray[np.float64]
+
+
+def _grid(values: ArrayLike, what: str) -> Array:
+    g = np.asarray(values, dtype=float)
+    if g.ndim != 1 or len(g) < 1:
+        raise ShapeError(f"{what} must be a 1-D array of grid values, got shape {g.shape}")
+    if not np.all(np.isfinite(g)):
+        raise ShapeError(f"{what} contains NaN or infinite values")
+    return g
+
+
+@dataclass(frozen=True)
+class FKMaps:
+    """End point over a grid of two joints. Arrays are ``(len(q1), len(q2))`` ("ij" indexing).
+
+    Attributes
+    ----------
+    robot : Robot
+    joints : tuple of int
+        The two joints varied (0-based).
+    q1, q2 : ndarray, shapes (A,) and (B,)
+        Grid values (rad, or length units for a prismatic joint).
+    x, y, z : ndarray, shape (A, B)
+        End-point coordinates in the robot's length unit.
+    q_rest : ndarray, shape (n,)
+        Values of the other joints.
+    """
+
+    robot: Robot
+    joints: tuple
+    q1: Array
+    q2: Array
+    x: Array
+    y: Array
+    z: Array
+    q_rest: Array
+
+
+@dataclass(frozen=True)
+class IKMaps:
+    """Joint values of every IK branch over a target grid; ``NaN`` where the branch fails.
+
+    Attributes
+    ----------
+    robot : Robot
+    x, y : ndarray, shapes (A,) and (B,)
+        Target grid (length units); ``z`` the target height for a spatial arm.
+    q : ndarray, shape (A, B, m, n)
+        Joint values of each of ``m`` branches, ``NaN`` where it does not reach (or
+        breaks a joint limit).
+    branches : tuple of str
+        Branch labels, length ``m``.
+    reachable : ndarray of bool, shape (A, B, m)
+    """
+
+    robot: Robot
+    x: Array
+    y: Array
+    z: Optional[float]
+    q: Array
+    branches: tuple
+    reachable: NDArray[np.bool_]
+
+
+def fk_maps(robot: Robot, q1_grid: ArrayLike, q2_grid: ArrayLike, q_rest: ArrayLike | None = None,
+            joints: Sequence[int] = (0, 1)) -> FKMaps:
+    """End point over a grid of two joints.
+
+    Parameters
+    ----------
+    robot : Robot
+    q1_grid, q2_grid : array_like, shapes (A,) and (B,)
+        Values of ``joints[0]`` and ``joints[1]`` (rad / length units).
+    q_rest : array_like, shape (n,), optional
+        The other joints' values (zeros by default).
+    joints : pair of int
+        Which joints vary (0-based; default the first two).
+
+    Returns
+    -------
+    FKMaps
+    """
+    g1, g2 = _grid(q1_grid, "q1_grid"), _grid(q2_grid, "q2_grid")
+    j = tuple(int(i) for i in joints)
+    if len(j) != 2 or j[0] == j[1] or not all(0 <= i < robot.n for i in j):
+        raise ArmkitError(f"joints must be two different joint indices in 0..{robot.n - 1}, got {tuple(joints)}")
+    rest = np.zeros(robot.n) if q_rest is None else robot.check_q(q_rest, "q_rest")
+    if rest.shape != (robot.n,):
+        raise ShapeError(f"q_rest must have shape ({robot.n},), got {rest.shape}")
+    Q = np.broadcast_to(rest, (len(g1), len(g2), robot.n)).copy()
+    Q[..., j[0]] = g1[:, None]
+    Q[..., j[1]] = g2[None, :]
+    p = fk(robot, Q)[..., :3, 3]
+    return FKMaps(robot, j, g1, g2, p[..., 0].copy(), p[..., 1].copy(), p[..., 2].copy(), rest)
+
+
+def ik_maps(robot: Robot, x_grid: ArrayLike, y_grid: ArrayLike, z: float | None = None,
+            phi: float | None = None) -> IKMaps:
+    """Every closed-form IK branch over a grid of targets (seed 001's IK maps).
+
+    Parameters
+    ----------
+    robot : Robot
+        A robot with a closed-form solution for the target kind (``planar2``: positions
+        ``(x, y)``; ``fighter``: positions ``(x, y, z)`` at height ``z``).
+    x_grid, y_grid : array_like, shapes (A,) and (B,)
+        Target coordinates (length units).
+    z : float, optional
+        Target height for a spatial arm (default: the height of the shoulder).
+    phi : float, optional
+        End angle (rad) for planar arms that need one (``planar3``).
+
+    Returns
+    -------
+    IKMaps
+        ``q[i, j, b]`` solves the target ``(x[i], y[j])`` on branch ``b``; NaN where it fails.
+    """
+    from .. import ik_all
+    from .workspace import is_planar, shoulder_point
+
+    gx, gy = _grid(x_grid, "x_grid"), _grid(y_grid, "y_grid")
+    X, Y = np.meshgrid(gx, gy, indexing="ij")
+    if is_planar(robot):
+        target = np.stack([X, Y], axis=-1)
+        zval = None
+    else:
+        zval = float(shoulder_point(robot)[2]) if z is None else float(z)
+        target = np.stack([X, Y, np.full_like(X, zval)], axis=-1)
+    res = ik_all(robot, target, phi=phi) if phi is not None else ik_all(robot, target)
+    ok = np.asarray(res.success, dtype=bool)
+    q = np.where(ok[..., None], np.asarray(res.q, dtype=float), np.nan)
+    labels = np.asarray(res.branch)
+    branches = tuple(str(labels.reshape(-1, labels.shape[-1])[0, b]) for b in range(labels.shape[-1]))
+    return IKMaps(robot, gx, gy, zval, q, branches, ok)

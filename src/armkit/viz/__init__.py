@@ -1,0 +1,28 @@
+"""Plots and animations (matplotlib, imported only when a function runs).
+
+- :func:`plot_arm` — the arm at one or several configurations (2D for planar arms, 3D otherwise)
+- :func:`plot_workspace` — reach cloud, sections and boundaries of :func:`armkit.analysis.workspace`
+- :func:`plot_maps` — FK/IK contour maps of :mod:`armkit.analysis.maps`
+- :func:`track` and :func:`render_animation` — an arm following a moving target, as GIF or MP4
+- :func:`write_demo_pictures` — the pictures ``make demo`` writes
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+__all__ = ["plot_arm", "plot_workspace", "plot_maps", "track", "TrackResult", "render_animation",
+           "write_demo_pictures", "save_figure"]
+
+_WHERE = {"plot_arm": "arm", "plot_workspace": "plots", "plot_maps": "plots", "save_figure": "plots",
+          "track": "track", "TrackResult": "track", "render_animation": "animation",
+          "write_demo_pictures": "demo"}
+
+
+def __getattr__(name: str) -> Any:
+    """Lazy attributes: ``armkit.viz.plot_arm`` imports :mod:`armkit.viz.arm` on first use."""
+    if name in _WHERE:
+        import importlib
+
+        return getattr(importlib.import_module(f"armkit.viz.{_WHERE[name]}"), name)
+    raise AttributeError(f"module 'armkit.viz' has no attribute {name!r}")
