@@ -1,0 +1,313 @@
+r"""Symbolic forward kinematics and geometric Jacobian of an armkit :class:`~armkit.Robot`.
+
+The DH table becomes SymPy matrices:
+
+* joint variables ``q1 .. qn`` (real symbols, radians or length units);
+* every non-zero link length or offset becomes a named parameter symbol
+  (``a2``, ``d1``; Craig's ``a_{i-1}`` for modified DH) whose numeric value is kept in
+  :attr:`Derivation.values`, so that the formulas read like the lecture notes;
+* angles that are simple multiples of pi (``alpha = 90 deg``) become exact
+  (``pi/2``), so ``cos(alpha)`` is exactly 0; other angles become parameters too.
+
+Simplification never calls ``simplify`` on a whole product (slow for 6 joints): each
+entry is expanded, split into coefficients of the parameter monomials, every
+coefficient (a pure trigonometric polynomial in ``q``) goes through ``trigsimp``, and
+common factors are pulled out. The simplified results are cached on disk (pickle,
+keyed by the DH model and the SymPy version), see :func:`cache_dir`.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import math
+import os
+import pickle
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import sympy as sp
+
+from ..model.robot import Robot
+
+__all__ = ["Derivation", "derive", "link_transform", "exact_angle", "simplify_entry", "cache_dir"]
+
+_CACHE_VERSION = 3
+
+
+def exact_angle(x: float) -> sp.Expr | None:
+    """``x`` (rad) as an exact multiple of pi when it is one with a small denominator, else None.
+
+    >>> exact_angle(1.5707963267948966), exact_angle(-math.pi), exact_angle(0.3)
+    (pi/2, -pi, None)
+    """
+    for den in (1, 2, 3, 4, 6, 12):
+        k = x * den / math.pi
+        if abs(k - round(k)) < 1e-9:
+            return sp.Rational(int(round(k)), den) * sp.pi
+    return None
+
+
+def _exact_number(x: float) -> sp.Expr:
+    """A rotation-matrix entry as an exact number when it is a common one (0, 1/2, sqrt(2)/2, ...)."""
+    for cand in (sp.Integer(0), sp.Integer(1), sp.Rational(1, 2), sp.sqrt(2) / 2, sp.sqrt(3) / 2):
+        for sgn in (1, -1):
+            if abs(x - sgn * float(cand)) < 1e-12:
+                return sgn * cand
+    return sp.Float(x, 15)
+
+
+def _rot(axis: str, t: sp.Expr) -> sp.Matrix:
+    c, s = sp.cos(t), sp.sin(t)
+    if axis == "z":
+        return sp.Matrix([[c, -s, 0, 0], [s, c, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]])
+    return sp.Matrix([[1, 0, 0, 0], [0, c, -s, 0], [0, s, c, 0], [0, 0, 0, 1]])
+
+
+def _trans(axis: str, v: sp.Expr) -> sp.Matrix:
+    T = sp.eye(4)
+    T["xyz".index(axis), 3] = v
+    return T
+
+
+def link_transform(convention: str, theta: sp.Expr, d: sp.Expr, a: sp.Expr, alpha: sp.Expr) -> sp.Matrix:
+    r"""One DH link transform as a SymPy 4x4 matrix.
+
+    ``standard``: :math:`A_i = R_z(\theta_i) T_z(d_i) T_x(a_i) R_x(\alpha_i)`;
+    ``modified`` (Craig): :math:`A_i = R_x(\alpha_{i-1}) T_x(a_{i-1}) R_z(\theta_i) T_z(d_i)`,
+    where ``a`` and ``alpha`` are then the previous link's.
+
+    >>> q, a = sp.symbols("q1 a1", real=True)
+    >>> link_transform("standard", q, 0, a, sp.pi / 2)[:, 3].T
+    Matrix([[a1*cos(q1), a1*sin(q1), 0, 1]])
+    """
+    if convention == "standard":
+        return _rot("z", theta) * _trans("z", d) * _trans("x", a) * _rot("x", alpha)
+    return _rot("x", alpha) * _trans("x", a) * _rot("z", theta) * _trans("z", d)
+
+
+def _pose_matrix(T: np.ndarray, prefix: str, params: dict[sp.Symbol, float]) -> sp.Matrix:
+    """A constant base/tool pose with exact rotation entries and named translation parameters."""
+    M = sp.eye(4)
+    for i in range(3):
+        for j in range(3):
+            M[i, j] = _exact_number(float(T[i, j]))
+        v = float(T[i, 3])
+        if v != 0.0:
+            s = sp.Symbol(f"{prefix}_{'xyz'[i]}", real=True)
+            params[s] = v
+            M[i, 3] = s
+    return M
+
+
+def simplify_entry(e: sp.Expr, params: tuple[sp.Symbol, ...] = ()) -> sp.Expr:
+    """Simplify one FK/Jacobian entry: trigsimp the coefficient of every parameter monomial.
+
+    The coefficients are trigonometric polynomials in the joint variables; ``trigsimp``
+    folds ``c1 c2 - s1 s2`` into ``cos(q1 + q2)``. Common factors are then pulled out
+    (``c1 (a2 c2 + a3 c23)``).
+    """
+    e = sp.expand(e)
+    if e.is_number or e == 0:
+        return sp.nsimplify(e) if e.is_Float and abs(float(e)) < 1e-15 else e
+    used = [p for p in params if e.has(p)]
+    if used:
+        poly = sp.Poly(e, *used)
+        terms = [sp.trigsimp(coeff) * sp.Mul(*(p ** k for p, k in zip(used, mon)))
+                 for mon, coeff in poly.terms()]
+        e = sp.Add(*terms)
+    else:
+        e = sp.trigsimp(e)
+    return sp.factor_terms(e)
+
+
+@dataclass(frozen=True)
+class Derivation:
+    """The symbolic kinematics of one robot.
+
+    Attributes
+    ----------
+    robot_name : str
+    convention : {"standard", "modified"}
+    q : tuple of sympy.Symbol, length n
+        ``q1 .. qn``; the joint names of the robot are in :attr:`joint_names`.
+    joint_names : tuple of str
+    values : dict
+        Parameter symbol -> numeric value (robot length unit or rad).
+    links : tuple of sympy.Matrix
+        ``A_1 .. A_n`` (each 4x4), simplified.
+    base, tool : sympy.Matrix
+        Constant 4x4 poses (identity when the robot has none).
+    T : sympy.Matrix
+        ``base · A_1 ··· A_n · tool``, simplified.
+    J : sympy.Matrix
+        Geometric Jacobian ``(6, n)``, rows ``(v, omega)`` in the base frame, ``v`` of the tool origin.
+    frames : tuple of sympy.Matrix
+        Positions and z axes needed for ``J``: ``base · A_1 ··· A_k`` for ``k = 0 .. n`` (not simplified).
+    unit : str
+    """
+
+    robot_name: str
+    convention: str
+    q: tuple[sp.Symbol, ...]
+    joint_names: tuple[str, ...]
+    joint_types: str
+    values: dict[sp.Symbol, float]
+    links: tuple[sp.Matrix, ...]
+    base: sp.Matrix
+    tool: sp.Matrix
+    T: sp.Matrix
+    J: sp.Matrix
+    unit: str = "m"
+    meta: dict[str, Any] = field(default_factory=dict)
+
+    @property
+    def n(self) -> int:
+        return len(self.q)
+
+    @property
+    def params(self) -> tuple[sp.Symbol, ...]:
+        return tuple(self.values)
+
+    def numeric(self, expr: sp.Expr | sp.Matrix) -> Any:
+        """``expr`` with every parameter replaced by its value (exact when it is a simple number)."""
+        return expr.subs({s: sp.nsimplify(v, rational=True) for s, v in self.values.items()})
+
+    def lambdify(self, what: str = "T") -> Any:
+        """A NumPy function of ``q`` (shape ``(n,)``) for ``"T"`` (4x4) or ``"J"`` (6xn), parameters substituted."""
+        expr = getattr(self, what).subs(self.values)
+        return sp.lambdify([list(self.q)], expr, modules="numpy")
+
+
+def _robot_key(robot: Robot) -> str:
+    h = hashlib.sha256()
+    h.update(repr((_CACHE_VERSION, sp.__version__, robot.convention, robot.unit, robot.joint_types)).encode())
+    h.update(np.ascontiguousarray(robot.dh_table()).tobytes())
+    h.update(np.ascontiguousarray(robot.base).tobytes())
+    h.update(np.ascontiguousarray(robot.tool).tobytes())
+    return h.hexdigest()[:24]
+
+
+def cache_dir() -> Path | None:
+    """Where simplified derivations are cached: ``$ARMKIT_CACHE_DIR`` or ``~/.cache/armkit/symbolic``.
+
+    Set ``ARMKIT_CACHE_DIR=off`` to disable the cache.
+    """
+    env = os.environ.get("ARMKIT_CACHE_DIR")
+    if env == "off":
+        return None
+    if env:
+        return Path(env) / "symbolic"
+    base = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
+    return Path(base) / "armkit" / "symbolic"
+
+
+def _symbols_for(robot: Robot) -> tuple[tuple[sp.Symbol, ...], dict[sp.Symbol, float], list[tuple]]:
+    n = robot.n
+    q = tuple(sp.Symbol(f"q{i + 1}", real=True) for i in range(n))
+    params: dict[sp.Symbol, float] = {}
+    rows = []
+    modified = robot.convention == "modified"
+
+    def length(name: str, v: float) -> sp.Expr:
+        if v == 0.0:
+            return sp.Integer(0)
+        s = sp.Symbol(name, real=True)
+        params[s] = float(v)
+        return s
+
+    def angle(name: str, v: float) -> sp.Expr:
+        ex = exact_angle(v)
+        if ex is not None:
+            return ex
+        s = sp.Symbol(name, real=True)
+        params[s] = float(v)
+        return s
+
+    for i, j in enumerate(robot.joints, 1):
+        prev = i - 1 if modified else i   # Craig's a_{i-1}, alpha_{i-1}
+        a = length(f"a{prev}", j.a)
+        alpha = angle(f"alpha{prev}", j.alpha)
+        if j.is_prismatic:
+            theta = angle(f"theta{i}", j.theta)
+            d = q[i - 1] + length(f"d{i}", j.d)
+        else:
+            theta = q[i - 1] + angle(f"theta{i}", j.theta)
+            d = length(f"d{i}", j.d)
+        rows.append((theta, d, a, alpha))
+    return q, params, rows
+
+
+def derive(robot: Robot, simplify: bool = True, cache: bool = True) -> Derivation:
+    """Derive the symbolic link transforms, FK and geometric Jacobian of ``robot``.
+
+    Parameters
+    ----------
+    robot : Robot
+    simplify : bool
+        Simplify every entry (see :func:`simplify_entry`); off gives the raw products.
+    cache : bool
+        Read/write the on-disk cache (:func:`cache_dir`) for simplified derivations.
+
+    Returns
+    -------
+    Derivation
+
+    Examples
+    --------
+    >>> import armkit
+    >>> d = derive(armkit.load("planar2"), cache=False)
+    >>> d.T[0, 3], d.T[1, 3]
+    (a1*cos(q1) + a2*cos(q1 + q2), a1*sin(q1) + a2*sin(q1 + q2))
+    >>> d.J[5, :]
+    Matrix([[1, 1]])
+    """
+    where = cache_dir() if (cache and simplify) else None
+    path = where / f"{robot.name}-{_robot_key(robot)}.pkl" if where is not None else None
+    if path is not None and path.exists():
+        try:
+            with path.open("rb") as f:
+                found = pickle.load(f)
+            if isinstance(found, Derivation):
+                return found
+        except Exception:  # a corrupt or foreign cache file: derive again and overwrite it
+            pass
+    q, params, rows = _symbols_for(robot)
+    base = _pose_matrix(np.asarray(robot.base), "b", params)
+    tool = _pose_matrix(np.asarray(robot.tool), "t", params)
+    psyms = tuple(params)
+    simp = (lambda e: simplify_entry(e, psyms)) if simplify else (lambda e: e)
+    links = tuple(link_transform(robot.convention, *r).applyfunc(simp) for r in rows)
+
+    # cumulative frames base·A1···Ak; simplified step by step so that the products stay small
+    frames = [base]
+    for A in links:
+        frames.append((frames[-1] * A).applyfunc(simp))
+    T = (frames[-1] * tool).applyfunc(simp)
+    p_e = T[:3, 3]
+    cols = []
+    for i in range(robot.n):
+        # joint i+1 moves about/along the z axis of the frame before its motion
+        F = frames[i] if robot.convention == "standard" else frames[i + 1]
+        z = F[:3, 2]
+        p = F[:3, 3]
+        if robot.joints[i].is_prismatic:
+            col = list(z) + [0, 0, 0]
+        else:
+            v = z.cross(p_e - p)
+            col = list(v) + list(z)
+        cols.append([simp(c) for c in col])
+    J = sp.Matrix(6, robot.n, lambda r, c: cols[c][r])
+    d = Derivation(robot.name, robot.convention, q, robot.joint_names, robot.joint_types, params, links,
+                   base, tool, T, J, robot.unit)
+    if path is not None:
+        try:
+            path.parent.mkdir(parents=True, exist_ok=True)
+            tmp = path.with_suffix(f".{os.getpid()}.tmp")
+            with tmp.open("wb") as f:
+                pickle.dump(d, f)
+            tmp.replace(path)
+        except OSError:  # a read-only home: the cache is an optimisation only
+            pass
+    return d
