@@ -1,0 +1,398 @@
+"""Numba kernel of the Levenberg-Marquardt IK loop: one target per call, scalar loops.
+
+The whole solve (FK + Jacobian, residual, damped normal equations by Cholesky, joint
+limit projection, accept/reject, random restarts) runs in compiled code, so a single
+target costs a few microseconds per iteration instead of the ~50 us per iteration that
+NumPy's per-call overhead imposes. :func:`lm_batch` runs many targets in parallel
+threads. Imported lazily by :mod:`armkit.ik.numeric` (never at ``import armkit``).
+
+The algorithm is the same as the NumPy engine in :mod:`armkit.ik.numeric`; read that
+module for the mathematics.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit, prange
+
+
+# Private copies of the affine helpers (the kinematics kernels' private API may change under us):
+# a pose is twelve scalars, the 3x4 affine part, row by row.
+
+
+@njit(cache=True, inline="always")
+def _load(F):
+    return (F[0, 0], F[0, 1], F[0, 2], F[0, 3], F[1, 0], F[1, 1], F[1, 2], F[1, 3],
+            F[2, 0], F[2, 1], F[2, 2], F[2, 3])
+
+
+@njit(cache=True, inline="always")
+def _mul(X, F):
+    a00, a01, a02, a03, a10, a11, a12, a13, a20, a21, a22, a23 = X
+    return (a00 * F[0, 0] + a01 * F[1, 0] + a02 * F[2, 0],
+            a00 * F[0, 1] + a01 * F[1, 1] + a02 * F[2, 1],
+            a00 * F[0, 2] + a01 * F[1, 2] + a02 * F[2, 2],
+            a00 * F[0, 3] + a01 * F[1, 3] + a02 * F[2, 3] + a03,
+            a10 * F[0, 0] + a11 * F[1, 0] + a12 * F[2, 0],
+            a10 * F[0, 1] + a11 * F[1, 1] + a12 * F[2, 1],
+            a10 * F[0, 2] + a11 * F[1, 2] + a12 * F[2, 2],
+            a10 * F[0, 3] + a11 * F[1, 3] + a12 * F[2, 3] + a13,
+            a20 * F[0, 0] + a21 * F[1, 0] + a22 * F[2, 0],
+            a20 * F[0, 1] + a21 * F[1, 1] + a22 * F[2, 1],
+            a20 * F[0, 2] + a21 * F[1, 2] + a22 * F[2, 2],
+            a20 * F[0, 3] + a21 * F[1, 3] + a22 * F[2, 3] + a23)
+
+
+@njit(cache=True, inline="always")
+def _move(X, t, prismatic):
+    """X · Rz(t) (revolute) or X · Tz(t) (prismatic)."""
+    a00, a01, a02, a03, a10, a11, a12, a13, a20, a21, a22, a23 = X
+    if prismatic:
+        return (a00, a01, a02, a03 + t * a02, a10, a11, a12, a13 + t * a12, a20, a21, a22, a23 + t * a22)
+    c = math.cos(t)
+    s = math.sin(t)
+    return (c * a00 + s * a01, c * a01 - s * a00, a02, a03,
+            c * a10 + s * a11, c * a11 - s * a10, a12, a13,
+            c * a20 + s * a21, c * a21 - s * a20, a22, a23)
+
+# status codes written to info[:, 1]
+CONVERGED, EXHAUSTED = 0, 1
+
+
+@njit(cache=True)
+def _pose_jacobian(base, pre, post, tool, prismatic, q, s, J):
+    """Tool pose (12-tuple) and the geometric Jacobian in J (6, n), linear rows in metres."""
+    X = _load(base)
+    n = q.shape[0]
+    for k in range(n):
+        X = _mul(X, pre[k])
+        J[0, k], J[1, k], J[2, k] = X[3], X[7], X[11]
+        J[3, k], J[4, k], J[5, k] = X[2], X[6], X[10]
+        X = _mul(_move(X, q[k], prismatic[k]), post[k])
+    X = _mul(X, tool)
+    ex, ey, ez = X[3], X[7], X[11]
+    for k in range(n):
+        zx, zy, zz = J[3, k], J[4, k], J[5, k]
+        if prismatic[k]:  # d p_m / d q_m = z (q in metres too)
+            J[0, k], J[1, k], J[2, k] = zx, zy, zz
+            J[3, k], J[4, k], J[5, k] = 0.0, 0.0, 0.0
+        else:
+            rx, ry, rz = ex - J[0, k], ey - J[1, k], ez - J[2, k]
+            J[0, k] = (zy * rz - zz * ry) * s
+            J[1, k] = (zz * rx - zx * rz) * s
+            J[2, k] = (zx * ry - zy * rx) * s
+    return X
+
+
+@njit(cache=True)
+def _residual(X, Tt, s, w, e):
+    """e = (position error in metres, world frame; rotation error vector in the target frame).
+
+    Returns the weighted cost 0.5 * sum(w e^2).
+    """
+    e[0] = (Tt[0, 3] - X[3]) * s
+    e[1] = (Tt[1, 3] - X[7]) * s
+    e[2] = (Tt[2, 3] - X[11]) * s
+    if w[3] == 0.0 and w[4] == 0.0 and w[5] == 0.0:
+        e[3] = e[4] = e[5] = 0.0
+    else:
+        # M = R^T R_t; log(M) = R_t^T log(R_t R^T): the rotation still to do, in the target frame
+        m = np.empty((3, 3))
+        for i in range(3):
+            for j in range(3):
+                m[i, j] = X[i] * Tt[0, j] + X[4 + i] * Tt[1, j] + X[8 + i] * Tt[2, j]
+        vx, vy, vz = m[2, 1] - m[1, 2], m[0, 2] - m[2, 0], m[1, 0] - m[0, 1]
+        sn = 0.5 * math.sqrt(vx * vx + vy * vy + vz * vz)
+        c = 0.5 * (m[0, 0] + m[1, 1] + m[2, 2] - 1.0)
+        th = math.atan2(sn, c)
+        if sn > 1e-6 or c > 0.0:
+            f = 0.5 + th * th / 12.0 if th < 1e-6 else th / (2.0 * sn)
+            e[3], e[4], e[5] = f * vx, f * vy, f * vz
+        else:  # angle near pi: axis from the symmetric part
+            i = 0
+            if m[1, 1] > m[i, i]:
+                i = 1
+            if m[2, 2] > m[i, i]:
+                i = 2
+            a = np.empty(3)
+            a[i] = math.sqrt(max(0.0, (m[i, i] - c) / (1.0 - c)))
+            for j in range(3):
+                if j != i:
+                    a[j] = (m[i, j] + m[j, i]) / (2.0 * (1.0 - c) * a[i])
+            if a[0] * vx + a[1] * vy + a[2] * vz < 0.0:
+                a[0], a[1], a[2] = -a[0], -a[1], -a[2]
+            e[3], e[4], e[5] = th * a[0], th * a[1], th * a[2]
+    E = 0.0
+    for i in range(6):
+        E += w[i] * e[i] * e[i]
+    return 0.5 * E
+
+
+@njit(cache=True)
+def _errors(e, w):
+    p = 0.0
+    r = 0.0
+    for i in range(3):
+        if w[i] > 0.0:
+            p += e[i] * e[i]
+        if w[3 + i] > 0.0:
+            r += e[3 + i] * e[3 + i]
+    return math.sqrt(p), math.sqrt(r)
+
+
+@njit(cache=True)
+def _rotate_rows(J, Tt, n):
+    """Angular rows of J from the world frame to the target frame (R_t^T omega)."""
+    for k in range(n):
+        a, b, c = J[3, k], J[4, k], J[5, k]
+        J[3, k] = Tt[0, 0] * a + Tt[1, 0] * b + Tt[2, 0] * c
+        J[4, k] = Tt[0, 1] * a + Tt[1, 1] * b + Tt[2, 1] * c
+        J[5, k] = Tt[0, 2] * a + Tt[1, 2] * b + Tt[2, 2] * c
+
+
+@njit(cache=True)
+def _project(q, lower, upper, prismatic):
+    """Bring revolute joints into their limits by whole turns where possible, then clamp."""
+    two_pi = 2.0 * math.pi
+    for j in range(q.shape[0]):
+        v = q[j]
+        lo, up = lower[j], upper[j]
+        if not prismatic[j]:
+            if v > up:
+                v2 = v - two_pi * math.ceil((v - up) / two_pi)
+                if v2 >= lo:
+                    v = v2
+            elif v < lo:
+                v2 = v + two_pi * math.ceil((lo - v) / two_pi)
+                if v2 <= up:
+                    v = v2
+        if v > up:
+            v = up
+        elif v < lo:
+            v = lo
+        q[j] = v
+
+
+@njit(cache=True)
+def _next_random(state):
+    """splitmix64: a uniform float in [0, 1); state is a one-element uint64 array."""
+    state[0] += np.uint64(0x9E3779B97F4A7C15)
+    z = state[0]
+    z = (z ^ (z >> np.uint64(30))) * np.uint64(0xBF58476D1CE4E5B9)
+    z = (z ^ (z >> np.uint64(27))) * np.uint64(0x94D049BB133111EB)
+    z = z ^ (z >> np.uint64(31))
+    return float(z >> np.uint64(11)) * (1.0 / 9007199254740992.0)
+
+
+@njit(cache=True)
+def _solve_spd(A, g, n, dq):
+    """Solve A dq = g in place by Cholesky (A symmetric positive definite, n x n). False if not SPD."""
+    for j in range(n):
+        d = A[j, j]
+        for k in range(j):
+            d -= A[j, k] * A[j, k]
+        if d <= 0.0:
+            return False
+        d = math.sqrt(d)
+        A[j, j] = d
+        for i in range(j + 1, n):
+            v = A[i, j]
+            for k in range(j):
+                v -= A[i, k] * A[j, k]
+            A[i, j] = v / d
+    for i in range(n):
+        v = g[i]
+        for k in range(i):
+            v -= A[i, k] * dq[k]
+        dq[i] = v / A[i, i]
+    for i in range(n - 1, -1, -1):
+        v = dq[i]
+        for k in range(i + 1, n):
+            v -= A[k, i] * dq[k]
+        dq[i] = v / A[i, i]
+    return True
+
+
+@njit(cache=True)
+def _leaves_range(v, lo, up, prismatic):
+    """True where joint value v lies outside [lo, up] even after whole turns (revolute)."""
+    if lo <= v <= up:
+        return False
+    if prismatic:
+        return True
+    two_pi = 2.0 * math.pi
+    if v > up:
+        return v - two_pi * math.ceil((v - up) / two_pi) < lo
+    return v + two_pi * math.ceil((lo - v) / two_pi) > up
+
+
+@njit(cache=True)
+def _active_set_step(J, w, e, lam, q, lower, upper, prismatic, s, A, g, dq, r6, fixed, dfix, qn):
+    """One damped least-squares step with joint limits as an active set; qn = q + step.
+
+    Solve :math:`(J_f^T W J_f + \\lambda I) \\Delta q_f = J_f^T W (e - J_c \\Delta q_c)` over the
+    free joints f, where the joints c that the step would push out of their limits move
+    exactly to the limit (``dfix``); repeat until no free joint leaves its range.
+    Returns False if the normal matrix is not positive definite.
+    """
+    n = q.shape[0]
+    for j in range(n):
+        fixed[j] = False
+        dfix[j] = 0.0
+    for _ in range(n + 1):
+        for r in range(6):
+            v = e[r]
+            for j in range(n):
+                if fixed[j]:
+                    v -= J[r, j] * dfix[j]
+            r6[r] = w[r] * v
+        for a in range(n):
+            if fixed[a]:
+                for b in range(n):
+                    A[a, b] = 0.0
+                    A[b, a] = 0.0
+                A[a, a] = 1.0
+                g[a] = 0.0
+                continue
+            v = 0.0
+            for r in range(6):
+                v += J[r, a] * r6[r]
+            g[a] = v
+            for b in range(a + 1):
+                if fixed[b]:
+                    continue
+                v = 0.0
+                for r in range(6):
+                    v += J[r, a] * w[r] * J[r, b]
+                A[a, b] = v
+                A[b, a] = v
+            A[a, a] += lam
+        if not _solve_spd(A, g, n, dq):
+            return False
+        moved = False
+        for j in range(n):
+            if fixed[j]:
+                continue
+            v = q[j] + (dq[j] / s if prismatic[j] else dq[j])
+            if _leaves_range(v, lower[j], upper[j], prismatic[j]):
+                fixed[j] = True
+                bound = upper[j] if v > upper[j] else lower[j]
+                dfix[j] = (bound - q[j]) * s if prismatic[j] else bound - q[j]
+                moved = True
+        if not moved:
+            break
+    for j in range(n):
+        d = dfix[j] if fixed[j] else dq[j]
+        qn[j] = q[j] + (d / s if prismatic[j] else d)
+    return True
+
+
+@njit(cache=True)
+def _lm_one(base, pre, post, tool, prismatic, lower, upper, rlo, rhi, Tt, w, s, tol_p, tol_r,
+            max_iterations, first_attempt, attempts, seed, q, trace, info):
+    """Solve one target from q (modified in place to the best configuration found).
+
+    info: [iterations, status, attempts used, best cost]; trace[i] = error norm after iteration i.
+    """
+    n = q.shape[0]
+    J = np.empty((6, n))
+    Jn = np.empty((6, n))
+    e = np.empty(6)
+    en = np.empty(6)
+    A = np.empty((n, n))
+    g = np.empty(n)
+    dq = np.empty(n)
+    qn = np.empty(n)
+    r6 = np.empty(6)
+    fixed = np.zeros(n, np.bool_)
+    dfix = np.zeros(n)
+    best_q = q.copy()
+    best_E = np.inf
+    rotate = w[3] != 0.0 or w[4] != 0.0 or w[5] != 0.0
+    state = np.empty(1, np.uint64)
+    total = 0
+    used = 0
+    status = EXHAUSTED
+    for attempt in range(first_attempt, first_attempt + attempts):
+        used += 1
+        if attempt > 0:
+            state[0] = np.uint64(seed) * np.uint64(1000003) + np.uint64(attempt)
+            for j in range(n):
+                q[j] = rlo[j] + (rhi[j] - rlo[j]) * _next_random(state)
+        _project(q, lower, upper, prismatic)
+        X = _pose_jacobian(base, pre, post, tool, prismatic, q, s, J)
+        if rotate:
+            _rotate_rows(J, Tt, n)
+        E = _residual(X, Tt, s, w, e)
+        mu = 1.0
+        stale = 0
+        attempt_best = E
+        for it in range(max_iterations + 1):
+            if E < best_E:
+                best_E = E
+                best_q[:] = q
+            ep, er = _errors(e, w)
+            if ep <= tol_p and er <= tol_r:
+                status = CONVERGED
+                break
+            if it == max_iterations:
+                break
+            lam = mu * E + 1e-12
+            if not _active_set_step(J, w, e, lam, q, lower, upper, prismatic, s, A, g, dq, r6, fixed, dfix, qn):
+                mu *= 10.0
+                continue
+            _project(qn, lower, upper, prismatic)
+            Xn = _pose_jacobian(base, pre, post, tool, prismatic, qn, s, Jn)
+            if rotate:
+                _rotate_rows(Jn, Tt, n)
+            En = _residual(Xn, Tt, s, w, en)
+            total += 1
+            if trace.shape[0] > 0 and total <= trace.shape[0]:
+                a1, a2 = _errors(en if En < E else e, w)
+                trace[total - 1] = math.sqrt(a1 * a1 + a2 * a2)
+            if En < E:
+                q[:] = qn
+                J[:, :] = Jn
+                e[:] = en
+                E = En
+                mu = max(mu * 0.5, 1e-6)
+            else:
+                mu *= 4.0
+                if mu > 1e10:
+                    break
+            # stall: no 1 % improvement of this attempt's best cost in 12 iterations
+            if E < 0.99 * attempt_best:
+                attempt_best = E
+                stale = 0
+            else:
+                stale += 1
+                if stale >= 12:
+                    break
+        if status == CONVERGED:
+            break
+    if status != CONVERGED:
+        q[:] = best_q
+    info[0] = total
+    info[1] = status
+    info[2] = used
+    info[3] = min(best_E, E) if status == CONVERGED else best_E
+
+
+@njit(cache=True, parallel=True)
+def lm_batch(base, pre, post, tool, prismatic, lower, upper, rlo, rhi, targets, w, s, tol_p, tol_r,
+             max_iterations, first_attempt, attempts, seeds, q, trace, info):
+    """Solve every target ``targets[i]`` (B, 4, 4) from ``q[i]`` in parallel; q, trace, info written in place."""
+    for i in prange(targets.shape[0]):
+        _lm_one(base, pre, post, tool, prismatic, lower, upper, rlo, rhi, targets[i], w, s, tol_p, tol_r,
+                max_iterations, first_attempt, attempts, seeds[i], q[i], trace[i], info[i])
+
+
+@njit(cache=True)
+def lm_serial(base, pre, post, tool, prismatic, lower, upper, rlo, rhi, targets, w, s, tol_p, tol_r,
+              max_iterations, first_attempt, attempts, seeds, q, trace, info):
+    """As :func:`lm_batch` without threads (small batches, single calls)."""
+    for i in range(targets.shape[0]):
+        _lm_one(base, pre, post, tool, prismatic, lower, upper, rlo, rhi, targets[i], w, s, tol_p, tol_r,
+                max_iterations, first_attempt, attempts, seeds[i], q[i], trace[i], info[i])
