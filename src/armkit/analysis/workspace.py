@@ -8,7 +8,7 @@ and the reachable volume (area for a planar arm) with an honest error bar.
 Volume estimate
 ---------------
 The end points are binned on a voxel grid of side ``h`` (pixels for a planar arm),
-chosen so that an occupied voxel holds about 25 samples on average. Voxels with an
+chosen so that an occupied voxel holds about 60 samples on average. Voxels with an
 empty face neighbour are *boundary* voxels: the boundary surface passes through them
 and each is between 0 and 1 full. The estimate counts them as half full,
 
@@ -205,7 +205,7 @@ class WorkspaceResult:
         The shoulder point (:func:`shoulder_point`) the radii are measured from.
     outer_radius, inner_radius : float
         Largest and smallest distance of a sample from ``centre`` (in the x-y plane for a
-        planar arm). ``has_inner_boundary`` is true when the inner radius exceeds two voxels.
+        planar arm). ``has_inner_boundary`` is true when the inner radius exceeds half a voxel.
     volume, volume_error : float
         Reachable volume (area for a planar arm, ``unit**2``) and its error bar.
     voxel_size : float
@@ -251,7 +251,17 @@ class WorkspaceResult:
              f"outer radius {self.outer_radius:.4g} {self.unit}, ")
         s += (f"inner radius {self.inner_radius:.4g} {self.unit}" if self.has_inner_boundary
               else "no inner boundary (reaches its shoulder)")
-        return s + f"; {self.measure_name} {self.volume:.5g} ± {self.volume_error:.2g} {self.measure_unit}"
+        return s + f"; {self.measure_name} {format_measure(self.volume, self.volume_error)} {self.measure_unit}"
+
+
+def format_measure(value: float, error: float) -> str:
+    """``(2.28 ± 0.17) × 10⁷`` style text for a value with its error bar."""
+    e = int(math.floor(math.log10(abs(value)))) if value else 0
+    if -2 <= e <= 3:
+        return f"{value:.4g} ± {error:.2g}"
+    s = 10.0 ** e
+    sup = str(e).translate(str.maketrans("-0123456789", "⁻⁰¹²³⁴⁵⁶⁷⁸⁹"))
+    return f"({value / s:.3f} ± {error / s:.3f}) × 10{sup}"
 
 
 def _moving_points(robot: Robot, exclusion: Exclusion, rng: np.random.Generator) -> NDArray[np.intp]:
@@ -275,22 +285,67 @@ def _occupancy(cells: NDArray[np.intp], shape: tuple[int, ...]) -> NDArray[np.bo
     return (np.bincount(flat, minlength=int(np.prod(shape))) > 0).reshape(shape)
 
 
-def _estimate(occ: NDArray[np.bool_], h: float) -> tuple[float, float]:
-    """(volume, half the boundary volume) of an occupancy grid with cell side ``h``."""
-    padded = np.pad(occ, 1)
-    inner = padded[(slice(1, -1),) * occ.ndim].copy()
+def _erode(occ: NDArray[np.bool_]) -> NDArray[np.bool_]:
+    """Cells whose whole 3x3(x3) neighbourhood is occupied (separable erosion, outside = empty)."""
+    out = occ
     for ax in range(occ.ndim):
-        for shift in (-1, 1):
-            inner &= np.roll(padded, shift, axis=ax)[(slice(1, -1),) * occ.ndim]
-    n_occ = int(occ.sum())
-    n_bnd = n_occ - int(inner.sum())
-    cell = h ** occ.ndim
-    return (n_occ - 0.5 * n_bnd) * cell, 0.5 * n_bnd * cell
+        p = np.pad(out, [(1, 1) if i == ax else (0, 0) for i in range(occ.ndim)])
+        sl = [slice(None)] * occ.ndim
+        lo, mid, hi = (tuple(sl[:ax] + [slice(a, a + occ.shape[ax])] + sl[ax + 1:]) for a in (0, 1, 2))
+        out = p[lo] & p[mid] & p[hi]
+    return out
+
+
+def _fill_pinholes(occ: NDArray[np.bool_]) -> NDArray[np.bool_]:
+    """Mark an empty cell occupied when all its 2d face neighbours are (a sampling gap, not a void)."""
+    p = np.pad(occ, 1)
+    full = np.ones_like(occ)
+    for ax in range(occ.ndim):
+        for a in (0, 2):
+            sl = tuple(slice(a, a + occ.shape[i]) if i == ax else slice(1, 1 + occ.shape[i]) for i in range(occ.ndim))
+            full &= p[sl]
+    return occ | full
+
+
+def _estimate(P: Array, lo: Array, h: float, shape: tuple[int, ...], min_fill: float = 4.0,
+              max_levels: int = 3) -> tuple[float, float]:
+    """Volume of the region the points ``P`` (N, d) sample, and half its boundary-cell volume.
+
+    Cells whose neighbourhood is fully occupied count as full; boundary cells are split in
+    2^d children (as long as they hold enough samples) and the children judged the same way;
+    the boundary cells left at the end count as half full, the returned bound being that half.
+    """
+    d = P.shape[1]
+    total = bound = 0.0
+    region: NDArray[np.bool_] | None = None
+    for level in range(max_levels + 1):
+        hl = h / 2 ** level
+        shp = tuple(int(v) * 2 ** level for v in shape)
+        cells = np.minimum(((P - lo) / hl).astype(np.intp), np.array(shp) - 1)
+        flat = np.ravel_multi_index(tuple(cells.T), shp)
+        counts = np.bincount(flat, minlength=int(np.prod(shp))).reshape(shp)
+        occ = _fill_pinholes(counts > 0)
+        interior = _erode(occ)
+        bnd = occ & ~interior
+        if region is not None:
+            interior &= region
+            bnd &= region
+        total += float(interior.sum()) * hl ** d
+        nb = int(bnd.sum())
+        fill = counts[bnd].mean() / 2 ** d if nb else 0.0
+        if nb == 0 or level == max_levels or fill < min_fill:
+            total += 0.5 * nb * hl ** d
+            bound += 0.5 * nb * hl ** d
+            break
+        region = bnd
+        for ax in range(d):
+            region = np.repeat(region, 2, axis=ax)
+    return total, bound
 
 
 def workspace(robot: Robot, samples: int = 200_000, seed: int | np.random.Generator | None = 0,
               exclusion: Exclusion | None = None, manipulability: bool = False,
-              per_voxel: float = 25.0, chunk: int = 250_000) -> WorkspaceResult:
+              per_voxel: float = 60.0, chunk: int = 250_000) -> WorkspaceResult:
     """Sample the reachable workspace of ``robot``.
 
     Parameters
@@ -356,16 +411,15 @@ def workspace(robot: Robot, samples: int = 200_000, seed: int | np.random.Genera
     occ0 = _occupancy(np.minimum(((P - lo) / h0).astype(np.intp), np.array(shape0) - 1), shape0)
     v0 = occ0.sum() * h0 ** d
     h = float((v0 * per_voxel / len(P)) ** (1.0 / d))
-    h = min(h, h0)
+    h = min(h, float(span.max()) / 6.0)
     shape = tuple(np.floor(span / h).astype(int) + 1)
-    cells = np.minimum(((P - lo) / h).astype(np.intp), np.array(shape) - 1)
-    occ = _occupancy(cells, shape)
-    vol, disc = _estimate(occ, h)
-    half, _ = _estimate(_occupancy(cells[: len(cells) // 2], shape), h)
+    occ = _occupancy(np.minimum(((P - lo) / h).astype(np.intp), np.array(shape) - 1), shape)
+    vol, disc = _estimate(P, lo, h, shape)
+    half, _ = _estimate(P[: len(P) // 2], lo, h, shape)
     error = disc + abs(vol - half)
     w = _manipulability(robot, q) if manipulability else None
     return WorkspaceResult(robot=robot, points=points, q=q, manipulability=w, centre=centre,
-                           outer_radius=outer, inner_radius=inner, has_inner_boundary=bool(inner > 2 * h),
+                           outer_radius=outer, inner_radius=inner, has_inner_boundary=bool(inner > 0.5 * h),
                            volume=float(vol), volume_error=float(error), voxel_size=h, planar=planar,
                            samples=int(samples), excluded=excluded, exclusion=exclusion,
                            occupancy=occ, grid_origin=lo)

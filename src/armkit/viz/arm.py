@@ -37,15 +37,15 @@ def setup_axes(robot: Robot, ax: Any = None, planar: Optional[bool] = None, figs
         if not planar:
             fig.subplots_adjust(left=0.0, right=0.95, bottom=0.03, top=0.9)
     c, R = view_box(robot)
-    ax.set_xlabel(f"x [{robot.unit}]")
-    ax.set_ylabel(f"y [{robot.unit}]")
+    ax.set_xlabel(f"x ({robot.unit})")
+    ax.set_ylabel(f"y ({robot.unit})")
     if planar:
         ax.set_xlim(c[0] - R, c[0] + R)
         ax.set_ylim(c[1] - R, c[1] + R)
         ax.set_aspect("equal", adjustable="box")
         ax.grid(True, alpha=0.3)
     else:
-        ax.set_zlabel(f"z [{robot.unit}]")
+        ax.set_zlabel(f"z ({robot.unit})")
         ax.set_xlim(c[0] - R, c[0] + R)
         ax.set_ylim(c[1] - R, c[1] + R)
         ax.set_zlim(c[2] - R, c[2] + R)
@@ -143,7 +143,7 @@ def plot_arm(robot: Robot, q: ArrayLike, ax: Any = None, frames: bool = True,
     >>> from armkit.viz import plot_arm
     >>> fig = plot_arm(armkit.load("planar2"), np.radians([30, 45]))
     >>> fig.axes[0].get_xlabel()
-    'x [m]'
+    'x (m)'
     """
     Q = robot.check_q(q)
     single = Q.ndim == 1

@@ -1,0 +1,204 @@
+"""Figures of analysis results: :func:`plot_workspace` and :func:`plot_maps`, and :func:`save_figure`."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import Any, Optional
+
+import numpy as np
+
+from ..analysis.maps import FKMaps, IKMaps
+from ..analysis.workspace import WorkspaceResult
+from ._mpl import pyplot
+
+__all__ = ["plot_workspace", "plot_maps", "save_figure"]
+
+
+def save_figure(fig: Any, path: str | Path, dpi: int = 110) -> Path:
+    """Write ``fig`` to ``path`` (format from the extension), create the folder, close the figure."""
+    out = Path(path)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(out, dpi=dpi)
+    pyplot().close(fig)
+    return out
+
+
+def _circle(ax: Any, c: tuple[float, float], r: float, **kw: Any) -> None:
+    t = np.linspace(0, 2 * math.pi, 361)
+    ax.plot(c[0] + r * np.cos(t), c[1] + r * np.sin(t), **kw)
+
+
+def _boundaries(ax: Any, ws: WorkspaceResult, c: tuple[float, float]) -> None:
+    u = ws.unit
+    _circle(ax, c, ws.outer_radius, color="black", lw=1.4, ls="--", label=f"outer boundary r = {ws.outer_radius:.4g} {u}")
+    if ws.has_inner_boundary:
+        _circle(ax, c, ws.inner_radius, color="#d62728", lw=1.4, ls="--",
+                label=f"inner boundary r = {ws.inner_radius:.4g} {u}")
+
+
+def _colouring(ws: WorkspaceResult, idx: np.ndarray) -> tuple[np.ndarray, str]:
+    if ws.manipulability is not None:
+        return ws.manipulability[idx], "manipulability w = sqrt(det J Jᵀ)"
+    dims = [0, 1] if ws.planar else [0, 1, 2]
+    return (np.linalg.norm(ws.points[idx][:, dims] - ws.centre[dims], axis=1),
+            f"distance from the shoulder ({ws.unit})")
+
+
+def plot_workspace(ws: WorkspaceResult, max_points: int = 30_000, seed: int = 0) -> Any:
+    """Reach cloud, sections and boundaries of a :func:`armkit.analysis.workspace` result.
+
+    Spatial arm: the 3D cloud, a horizontal section (slab through the shoulder, seen from
+    above) and a vertical section (slab through the shoulder in the x-z plane), with the
+    inner/outer boundary circles and any exclusion. Planar arm: the cloud in the plane and
+    a histogram of the distance from the shoulder. Points are coloured by manipulability
+    when the result has it, else by distance.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    plt = pyplot()
+    rng = np.random.default_rng(seed)
+    N = len(ws.points)
+    idx = rng.choice(N, size=min(N, max_points), replace=False)
+    colour, clabel = _colouring(ws, idx)
+    P = ws.points[idx]
+    u, c = ws.unit, ws.centre
+    from ..analysis.workspace import format_measure
+
+    title = (f"{ws.robot.name} workspace: {ws.measure_name} {format_measure(ws.volume, ws.volume_error)} {ws.measure_unit}"
+             f"  ({len(ws.points):,} of {ws.samples:,} samples kept")
+    title += f"; excluded: {ws.exclusion.describe(u)})" if ws.exclusion is not None else ")"
+    if ws.planar:
+        fig, (a1, a2) = plt.subplots(1, 2, figsize=(12.5, 5.8), gridspec_kw={"width_ratios": [1.25, 1]})
+        sc = a1.scatter(P[:, 0], P[:, 1], c=colour, s=1.5, cmap="viridis", rasterized=True)
+        _boundaries(a1, ws, (c[0], c[1]))
+        a1.set_aspect("equal", adjustable="datalim")
+        a1.set(xlabel=f"x ({u})", ylabel=f"y ({u})", title="reachable end points")
+        a1.legend(loc="upper right", fontsize=8)
+        fig.colorbar(sc, ax=a1, label=clabel, shrink=0.85)
+        r = np.linalg.norm(ws.points[:, :2] - c[:2], axis=1)
+        a2.hist(r, bins=80, color="#1f77b4", alpha=0.8)
+        a2.axvline(ws.outer_radius, color="black", ls="--", label=f"outer {ws.outer_radius:.4g} {u}")
+        if ws.has_inner_boundary:
+            a2.axvline(ws.inner_radius, color="#d62728", ls="--", label=f"inner {ws.inner_radius:.4g} {u}")
+        a2.set(xlabel=f"distance from the shoulder ({u})", ylabel="samples",
+               title="distance of the samples from the shoulder")
+        a2.legend(fontsize=8)
+        fig.suptitle(title, fontsize=11)
+        fig.tight_layout()
+        return fig
+    fig = plt.figure(figsize=(17, 5.8))
+    fig.subplots_adjust(left=0.01, right=0.9, wspace=0.32, top=0.86, bottom=0.1)
+    a0 = fig.add_subplot(1, 3, 1, projection="3d")
+    sc = a0.scatter(P[:, 0], P[:, 1], P[:, 2], c=colour, s=0.6, cmap="viridis", rasterized=True)
+    R = ws.outer_radius * 1.08
+    a0.set(xlim=(c[0] - R, c[0] + R), ylim=(c[1] - R, c[1] + R), zlim=(c[2] - R, c[2] + R),
+           xlabel=f"x ({u})", ylabel=f"y ({u})", zlabel=f"z ({u})")
+    a0.set_title("reach cloud", fontsize=10)
+    a0.set_box_aspect((1, 1, 1))
+    slab = max(2.0 * ws.voxel_size, 0.02 * ws.outer_radius)
+    sections = [(2, (0, 1), f"horizontal section |z - {c[2]:.4g}| < {slab:.2g} {u} (from above)"),
+                (1, (0, 2), f"vertical section |y - {c[1]:.4g}| < {slab:.2g} {u}")]
+    for k, (axis, (i, j), name) in enumerate(sections):
+        ax = fig.add_subplot(1, 3, 2 + k)
+        sel = np.abs(ws.points[:, axis] - c[axis]) < slab
+        S = ws.points[sel][: 4 * max_points]
+        col = (ws.manipulability[sel][: 4 * max_points] if ws.manipulability is not None
+               else np.linalg.norm(S - c, axis=1))
+        ax.scatter(S[:, i], S[:, j], c=col, s=1.0, cmap="viridis", rasterized=True,
+                   vmin=colour.min(), vmax=colour.max())
+        _boundaries(ax, ws, (c[i], c[j]))
+        if ws.exclusion is not None:
+            _draw_exclusion(ax, ws, i, j)
+        ax.set_aspect("equal", adjustable="datalim")
+        ax.set(xlabel=f"{'xyz'[i]} ({u})", ylabel=f"{'xyz'[j]} ({u})", title=name)
+        ax.title.set_fontsize(9)
+        ax.legend(loc="upper right", fontsize=7, framealpha=0.85)
+    cax = fig.add_axes((0.92, 0.15, 0.012, 0.65))
+    fig.colorbar(sc, cax=cax, label=clabel)
+    fig.suptitle(title, fontsize=11)
+    return fig
+
+
+def _draw_exclusion(ax: Any, ws: WorkspaceResult, i: int, j: int) -> None:
+    from matplotlib.patches import Rectangle
+
+    ex = ws.exclusion
+    assert ex is not None
+    if ex.ground_z is not None and j == 2:
+        ax.axhline(ex.ground_z, color="#8c564b", lw=2, label=f"ground z = {ex.ground_z:g} {ws.unit}")
+    for b, (lo, hi) in enumerate(ex.boxes):
+        ax.add_patch(Rectangle((lo[i], lo[j]), hi[i] - lo[i], hi[j] - lo[j], fill=True, alpha=0.25,
+                               color="#8c564b", label="body (excluded)" if b == 0 else None))
+
+
+def plot_maps(fk: Optional[FKMaps] = None, ik: Optional[IKMaps] = None, levels: int = 21) -> Any:
+    """Contour maps (seed 001): FK maps over the joint grid and IK maps per branch.
+
+    One panel per quantity and branch, each with a colour bar in its unit (degrees for
+    joint angles, the robot's length unit for positions). Unreachable targets are ``NaN``
+    in the data and stay blank.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    if fk is None and ik is None:
+        from ..errors import ArmkitError
+
+        raise ArmkitError("plot_maps needs fk maps, ik maps or both")
+    plt = pyplot()
+    fk_panels: list[tuple[str, np.ndarray]] = []
+    if fk is not None:
+        fk_panels = [("x", fk.x), ("y", fk.y)]
+        if np.ptp(fk.z) > 1e-9 * (fk.robot.reach or 1.0):
+            fk_panels.append(("z", fk.z))
+    m = 0 if ik is None else ik.q.shape[-2]
+    n = 0 if ik is None else ik.q.shape[-1]
+    ncols = max(len(fk_panels), n, 1)
+    nrows = (1 if fk is not None else 0) + m
+    fig, axes = plt.subplots(nrows, ncols, figsize=(4.6 * ncols, 3.9 * nrows), squeeze=False)
+    row = 0
+    if fk is not None:
+        r = fk.robot
+        names = [r.joint_names[k] for k in fk.joints]
+        g = [np.degrees(v) if not r.prismatic[k] else v for v, k in zip((fk.q1, fk.q2), fk.joints)]
+        gu = ["deg" if not r.prismatic[k] else r.unit for k in fk.joints]
+        for col, (what, Z) in enumerate(fk_panels):
+            ax = axes[0, col]
+            cs = ax.contourf(g[1], g[0], Z, levels=levels, cmap="viridis")
+            ax.contour(g[1], g[0], Z, levels=levels, colors="k", linewidths=0.3, alpha=0.5)
+            fig.colorbar(cs, ax=ax, label=f"{what} ({r.unit})")
+            ax.set(xlabel=f"{names[1]} ({gu[1]})", ylabel=f"{names[0]} ({gu[0]})",
+                   title=f"FK: {what}({names[0]}, {names[1]})")
+        for col in range(len(fk_panels), ncols):
+            axes[0, col].axis("off")
+        row = 1
+    if ik is not None:
+        r = ik.robot
+        for b in range(m):
+            for k in range(ncols):
+                ax = axes[row + b, k]
+                if k >= n:
+                    ax.axis("off")
+                    continue
+                Z = ik.q[:, :, b, k]
+                unit = r.unit if r.prismatic[k] else "deg"
+                Z = Z if r.prismatic[k] else np.degrees(Z)
+                if np.all(np.isnan(Z)):
+                    ax.text(0.5, 0.5, "no reachable target", ha="center", va="center", transform=ax.transAxes)
+                else:
+                    cs = ax.contourf(ik.x, ik.y, Z.T, levels=levels, cmap="twilight" if unit == "deg" else "viridis")
+                    fig.colorbar(cs, ax=ax, label=f"{r.joint_names[k]} ({unit})")
+                ax.set_aspect("equal", adjustable="box")
+                ax.set_xlim(ik.x[0], ik.x[-1])
+                ax.set_ylim(ik.y[0], ik.y[-1])
+                where = f" at z = {ik.z:.4g} {r.unit}" if ik.z is not None else ""
+                ax.set(xlabel=f"x ({r.unit})", ylabel=f"y ({r.unit})",
+                       title=f"IK [{ik.branches[b]}]: {r.joint_names[k]}(x, y){where}")
+    robot = (fk or ik).robot  # type: ignore[union-attr]
+    fig.suptitle(f"{robot.name}: contour maps (blank = out of reach)", fontsize=12)
+    fig.tight_layout()
+    return fig
