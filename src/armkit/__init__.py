@@ -14,6 +14,7 @@ from .errors import (ArmkitError, JointLimitError, RobotDefinitionError, RobotFi
 from .kinematics import (condition_number, fk, fk_frames, get_backend, is_singular, jacobian, manipulability,
                          set_backend)
 from .model import Joint, Robot, bundled_robots, load, save
+from .ik import IKResult, ik, ik_all
 
 __version__ = "0.1.0"
 
@@ -23,4 +24,5 @@ __all__ = [
     "set_backend", "get_backend",
     "ArmkitError", "ShapeError", "RobotDefinitionError", "RobotFileError", "UnknownRobotError",
     "JointLimitError", "UnreachableError",
+    "IKResult", "ik", "ik_all",
 ]

@@ -1,0 +1,154 @@
+"""Closed-form inverse kinematics: every branch, detected from the robot's structure.
+
+One module per family of arms:
+
+================  ===========================================  ========  =====================
+family            structure (from the DH model, not the name)  branches  bundled example
+================  ===========================================  ========  =====================
+planar-2r         2R, parallel axes                            2         planar2
+planar-3r         3R, parallel axes, pose target (phi)         2         planar3
+yaw-pitch-pitch   3R, vertical axis then two parallel axes     4         fighter
+spherical-wrist   6R, Puma-like arm, axes 4-6 meet in a point  8         puma560
+ur                6R, axes 2-4 parallel, UR-type offsets       8         ur5
+================  ===========================================  ========  =====================
+
+:func:`closed_form` finds the family of a robot; :func:`solve_all` runs it on a batch of
+targets and turns its raw output into an :class:`~armkit.ik.result.IKResult` with a
+branch axis: joint values wrapped by 2 pi into the limits (the representative nearest
+``q0``), every branch checked by forward kinematics (:func:`~armkit.ik.result.verify`),
+then sorted: successful branches first, each group by distance to ``q0``.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Protocol
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ...model.robot import Robot
+from ..result import IKResult, default_tolerance, verify
+from ._common import Raw, StandardForm, standard_form
+from .planar import Planar2R, Planar3R
+from .spherical_wrist import SphericalWrist
+from .ur import ParallelAxes
+from .yaw_pitch_pitch import YawPitchPitch
+
+__all__ = ["ClosedForm", "closed_form", "solve_all", "wrap_to_limits", "FAMILIES"]
+
+Array = NDArray[np.float64]
+TWO_PI = 2.0 * math.pi
+
+
+class ClosedForm(Protocol):
+    family: str
+    pose_only: bool
+    m: int
+    sf: StandardForm
+
+    def solve(self, target: Array, q0phi: Array) -> Raw: ...
+
+
+FAMILIES = (Planar2R, Planar3R, YawPitchPitch, SphericalWrist, ParallelAxes)
+
+
+def closed_form(robot: Robot) -> ClosedForm | None:
+    """The closed-form solver for ``robot``'s structure, or ``None`` when it has none.
+
+    Examples
+    --------
+    >>> import armkit
+    >>> [getattr(closed_form(armkit.load(n)), "family", None) for n in ("fighter", "puma560", "ur5", "panda")]
+    ['yaw-pitch-pitch', 'spherical-wrist', 'ur', None]
+    """
+    sf = standard_form(robot)
+    if sf is None:
+        return None
+    for cls in FAMILIES:
+        solver = cls.detect(sf, robot)
+        if solver is not None:
+            return solver
+    return None
+
+
+def wrap_to_limits(q: Array, q0: Array, lower: Array, upper: Array, revolute: NDArray[np.bool_]) -> Array:
+    """Shift revolute joint values by multiples of 2 pi: inside the limits and nearest ``q0``.
+
+    Where no shift brings a value inside its limits, the one nearest the middle of the
+    limits is used (it stays outside; the caller reports "joint limits").
+
+    Parameters
+    ----------
+    q, q0 : ndarray, shape (..., n), broadcastable
+    lower, upper : ndarray, shape (n,)
+    revolute : ndarray of bool, shape (n,)
+    """
+    tol = 1e-12
+    with np.errstate(invalid="ignore"):
+        k_near = np.round((q0 - q) / TWO_PI)
+        k_lo = np.ceil((lower - tol - q) / TWO_PI)
+        k_hi = np.floor((upper + tol - q) / TWO_PI)
+        finite = np.isfinite(lower) & np.isfinite(upper)
+        mid = np.where(finite, 0.5 * (np.where(finite, lower, 0) + np.where(finite, upper, 0)), q0)
+        k_mid = np.round((mid - q) / TWO_PI)
+        k = np.where(k_lo <= k_hi, np.clip(k_near, k_lo, k_hi), k_mid)
+    return np.where(revolute, q + TWO_PI * k, q)
+
+
+MAX_DETAILED = 10_000
+"""Above this many failed branches in one call, messages name the cause without the distances (speed)."""
+
+
+def _failure_messages(robot: Robot, message: NDArray[np.object_], ok: NDArray[np.bool_], reason: NDArray[np.str_],
+                      raw: Raw, q: Array, dp: Array, dr: Array, tol: tuple[float, float]) -> None:
+    """Fill ``message`` in place for the failed branches."""
+    limits = (reason == "joint limits") & ~ok
+    if limits.any():   # one message per pattern of violated joints, not per branch
+        lo, hi = robot.lower - 1e-12, robot.upper + 1e-12
+        bits = ((q < lo) | (q > hi)) @ (1 << np.arange(robot.n))
+        for pattern in np.unique(bits[limits]):
+            names = [nm for k, nm in enumerate(robot.joint_names) if int(pattern) >> k & 1]
+            message[limits & (bits == pattern)] = ("outside the joint limits: " + ", ".join(names)
+                                                   + " (see armkit info for the limits).")
+    unreachable = (reason == "unreachable") & ~ok
+    count = int(unreachable.sum())
+    if count == 0:
+        return
+    if count > MAX_DETAILED:
+        message[unreachable & raw.unreachable] = "unreachable: out of this branch's reach."
+        message[unreachable & ~raw.unreachable] = "unreachable: the closest configuration misses the target."
+        return
+    flat_msg, flat_out, flat_dp, flat_dr = message.reshape(-1), raw.unreachable.reshape(-1), dp.reshape(-1), dr.reshape(-1)
+    for i in np.flatnonzero(unreachable.reshape(-1)):
+        if flat_out[i]:
+            flat_msg[i] = "unreachable: " + raw.why(int(i))
+        else:
+            flat_msg[i] = (f"unreachable: the closest configuration of this branch misses the target by "
+                           f"{flat_dp[i]:.3g} {robot.unit} and {math.degrees(flat_dr[i]):.3g} deg"
+                           + (" (this arm cannot turn to that orientation there)." if flat_dp[i] <= tol[0] else "."))
+
+
+def solve_all(robot: Robot, solver: ClosedForm, target: Array, q0: Array, position_only: bool,
+              tol: tuple[float, float] | None = None, enforce_limits: bool = True) -> IKResult:
+    """Every branch of the closed form for targets ``(B, 4, 4)`` or ``(B, 3)``; ``q0`` ``(B, n)``.
+
+    Returns an :class:`IKResult` with fields ``(B, m)`` and ``q`` ``(B, m, n)``.
+    """
+    theta = solver.sf.theta
+    raw = solver.solve(target, q0 + theta)
+    q = wrap_to_limits(raw.q - theta, q0[:, None, :], robot.lower, robot.upper, ~robot.prismatic)
+    if tol is None:
+        tol = default_tolerance(robot)
+    dp, dr, ok, within = verify(robot, q, target[:, None], position_only, tol, enforce_limits)
+    fk_ok = (dp <= tol[0]) & (dr <= tol[1])
+    reason = np.where(ok, "converged", np.where(fk_ok & ~within, "joint limits", "unreachable"))
+    message = np.where(ok, raw.note, "").astype(object)
+    _failure_messages(robot, message, ok, reason, raw, q, dp, dr, tol)
+    dist = np.linalg.norm(np.where(robot.prismatic, 0.0, q - q0[:, None, :]), axis=-1)
+    order = np.argsort(np.where(ok, 0.0, 1e9) + dist, axis=-1, kind="stable")
+    take = lambda a: np.take_along_axis(a, order, axis=1)  # noqa: E731
+    return IKResult(q=np.take_along_axis(q, order[..., None], axis=1), success=take(ok), position_error=take(dp),
+                    rotation_error=take(dr), iterations=np.zeros(ok.shape, dtype=np.int64),
+                    branch=take(raw.label), within_limits=take(within), reason=take(reason),
+                    message=take(message))

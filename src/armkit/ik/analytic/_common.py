@@ -1,0 +1,228 @@
+"""Pieces every closed-form solver shares: the model in standard-DH form, the planar
+two-link problem, elbow labels and the raw-solution container.
+
+Every closed-form family works on the robot rewritten as
+
+.. math:: T_{world\\_tool} = B' \\, \\prod_i R_z(q_i + \\theta_i) T_z(d_i) T_x(a_i) R_x(\\alpha_i) \\, T'
+
+(standard DH), where a modified-DH model moves its first ``Rx(alpha_0) Tx(a_0)`` into
+``B'`` and shifts ``a, alpha`` down one row, and the last row's constant
+``Tx(a_n) Rx(alpha_n)`` (it comes after the last joint's motion) moves into ``T'``.
+A solver then only ever sees ``B'^{-1} T T'^{-1}``, the pose of the frame that turns
+with the last joint, ``R_z(q_n + theta_n) T_z(d_n)`` after link ``n - 1``.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Callable
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ...model.robot import Robot
+
+Array = NDArray[np.float64]
+HALF_PI = 0.5 * math.pi
+ANGLE_TOL = 1e-9     # how close a DH twist must be to 0 or +-90 deg to count as one
+LENGTH_TOL = 1e-12   # relative to the arm's reach: a DH length this small counts as zero
+
+
+def _rx(t: float) -> Array:
+    c, s = math.cos(t), math.sin(t)
+    return np.array([[1, 0, 0, 0], [0, c, -s, 0], [0, s, c, 0], [0, 0, 0, 1.0]])
+
+
+def _txyz(x: float = 0.0, y: float = 0.0, z: float = 0.0) -> Array:
+    T = np.eye(4)
+    T[:3, 3] = (x, y, z)
+    return T
+
+
+def inverse_pose(T: Array) -> Array:
+    """Inverse of one rigid 4x4 pose (``R^T``, exact)."""
+    out = np.eye(4)
+    out[:3, :3] = T[:3, :3].T
+    out[:3, 3] = -T[:3, :3].T @ T[:3, 3]
+    return out
+
+
+@dataclass(frozen=True)
+class StandardForm:
+    """The robot as standard-DH rows with the last row's ``a, alpha`` moved into the tool.
+
+    ``theta, d, a, alpha`` are ``(n,)`` arrays; ``base`` is ``B'`` and ``tool`` is ``T'``
+    (see the module docstring); ``scale`` is a length typical of the arm (its reach).
+    """
+
+    theta: Array
+    d: Array
+    a: Array
+    alpha: Array
+    base: Array
+    tool: Array
+    base_inv: Array
+    tool_inv: Array
+    scale: float
+
+    @property
+    def n(self) -> int:
+        return len(self.theta)
+
+    def is_zero(self, length: float) -> bool:
+        return abs(length) <= LENGTH_TOL * self.scale
+
+    def twist(self, i: int) -> int | None:
+        """``0`` for alpha = 0, ``+1``/``-1`` for alpha = +-90 deg, ``None`` otherwise."""
+        al = math.remainder(float(self.alpha[i]), 2 * math.pi)
+        if abs(al) < ANGLE_TOL:
+            return 0
+        if abs(al - HALF_PI) < ANGLE_TOL:
+            return 1
+        if abs(al + HALF_PI) < ANGLE_TOL:
+            return -1
+        return None
+
+    def to_chain(self, T: Array) -> Array:
+        """World targets ``(..., 4, 4)`` -> poses of the last turning frame in ``B'``."""
+        return self.base_inv @ T @ self.tool_inv
+
+    def point_to_chain(self, p: Array) -> Array:
+        """World points ``(..., 3)`` -> the same points in ``B'``."""
+        return p @ self.base_inv[:3, :3].T + self.base_inv[:3, 3]
+
+
+def standard_form(robot: Robot) -> StandardForm | None:
+    """The robot in :class:`StandardForm`, or ``None`` if it has a prismatic joint."""
+    if robot.prismatic.any():
+        return None
+    js = robot.joints
+    n = len(js)
+    theta = np.array([j.theta for j in js])
+    d = np.array([j.d for j in js])
+    if robot.convention == "standard":
+        a = np.array([j.a for j in js])
+        alpha = np.array([j.alpha for j in js])
+        base = np.asarray(robot.base, dtype=float).copy()
+    else:  # modified: Rx(alpha_{i-1}) Tx(a_{i-1}) Rz Tz  ->  prefix, then standard rows
+        a = np.array([js[i + 1].a if i + 1 < n else 0.0 for i in range(n)])
+        alpha = np.array([js[i + 1].alpha if i + 1 < n else 0.0 for i in range(n)])
+        base = np.asarray(robot.base, dtype=float) @ _rx(js[0].alpha) @ _txyz(js[0].a)
+    tool = _txyz(a[-1]) @ _rx(alpha[-1]) @ np.asarray(robot.tool, dtype=float)
+    a[-1] = 0.0
+    alpha[-1] = 0.0
+    scale = max(robot.reach, 1e-300)
+    return StandardForm(theta, d, a, alpha, base, tool, inverse_pose(base), inverse_pose(tool), scale)
+
+
+def two_link(x: Array, y: Array, l1: float, l2: float) -> tuple[Array, Array, Array, Array]:
+    """Both solutions of the planar two-link problem ``l1 e(t1) + l2 e(t1 + t2) = (x, y)``.
+
+    Lengths may be signed (the UR arms have negative ``a``). Uses
+    ``cos t2 = (x^2 + y^2 - l1^2 - l2^2) / (2 l1 l2)`` and
+    ``t1 = atan2(y, x) - atan2(l2 sin t2, l1 + l2 cos t2)`` (the second ``atan2`` takes
+    the sine part first: seed 002 swaps these arguments, which is wrong).
+
+    Returns
+    -------
+    t1, t2 : ndarray, shape (..., 2)
+        Index 0 has ``sin t2 >= 0``, index 1 ``sin t2 <= 0``. Out of reach, ``cos t2`` is
+        clipped to +-1, which gives the closest configuration (stretched or folded
+        towards the target).
+    c : ndarray, shape (...)
+        The unclipped ``cos t2``: ``> 1`` outside the outer circle, ``< -1`` inside the inner one.
+    r : ndarray, shape (...)
+        Distance of the target from the first axis.
+    """
+    r2 = x * x + y * y
+    c = (r2 - l1 * l1 - l2 * l2) / (2.0 * l1 * l2)
+    cc = np.clip(c, -1.0, 1.0)
+    s = np.sqrt((1.0 - cc) * (1.0 + cc))
+    t2 = np.stack([np.arctan2(s, cc), np.arctan2(-s, cc)], axis=-1)
+    s2 = np.stack([s, -s], axis=-1)
+    t1 = np.arctan2(y, x)[..., None] - np.arctan2(l2 * s2, l1 + l2 * cc[..., None])
+    return t1, t2, c, np.sqrt(r2)
+
+
+def elbow_up(forward: Array, up_sign: float, l1: float, l2: float, elbow_index: Array) -> Array:
+    """True where the elbow lies above the line from the shoulder to the target.
+
+    ``forward`` (+-1) is the sign of the target's coordinate along the plane's horizontal
+    axis, ``up_sign`` (+-1) maps the plane's second axis to "up". With the target
+    ``t = l1 e(t1) + l2 e(t1 + t2)`` and the elbow ``e = l1 e(t1)``, the elbow is above the
+    line when ``forward * up_sign * (t x e) > 0``, and ``t x e = -l1 l2 sin t2``. The sign of
+    ``sin t2`` is taken from the branch index (0: +, 1: -) so that the two branches keep
+    different labels even where they coincide (stretched, folded).
+    """
+    e = np.where(elbow_index == 0, 1.0, -1.0)
+    return -forward * up_sign * math.copysign(1.0, l1 * l2) * e > 0
+
+
+def forward_sign(x: Array, default: Array | float = 1.0) -> Array:
+    """``sign(x)``, with ``default`` where ``x == 0``."""
+    return np.where(x > 0, 1.0, np.where(x < 0, -1.0, default))
+
+
+@dataclass
+class Raw:
+    """What a family solver returns before wrapping, verification and sorting.
+
+    q : (B, m, n) joint values (DH offsets already removed, not yet wrapped)
+    label : (B, m) object array of branch labels
+    unreachable : (B, m) bool, the geometry had to be clipped (target out of reach)
+    why : callable, flat index into (B, m) -> sentence: why that branch is out of reach
+        (called only where ``unreachable``, and only for a moderate number of branches)
+    note : (B, m) object array: what a user should know about a solution (free yaw, ...)
+    """
+
+    q: Array
+    label: NDArray[np.object_]
+    unreachable: NDArray[np.bool_]
+    why: Callable[[int], str]
+    note: NDArray[np.object_]
+
+
+def fmt_len(x: float, unit: str) -> str:
+    return f"{x:.6g} {unit}"
+
+
+def add_messages(message: NDArray[np.object_], where: NDArray[np.bool_], make) -> None:
+    """``message[i] += make(i)`` for the (few) flat indices where ``where`` is true."""
+    flat = message.reshape(-1)
+    for i in np.flatnonzero(where.reshape(-1)):
+        text = make(i)
+        flat[i] = text if not flat[i] else flat[i] + " " + text
+
+
+def rz_rx(phi: Array, alpha: float) -> Array:
+    """``Rz(phi) Rx(alpha)`` for an array of angles ``phi`` ``(...)``: ``(..., 3, 3)``."""
+    c, s = np.cos(phi), np.sin(phi)
+    ca, sa = math.cos(alpha), math.sin(alpha)
+    R = np.empty(np.shape(phi) + (3, 3))
+    R[..., 0, 0], R[..., 0, 1], R[..., 0, 2] = c, -s * ca, s * sa
+    R[..., 1, 0], R[..., 1, 1], R[..., 1, 2] = s, c * ca, -c * sa
+    R[..., 2, 0], R[..., 2, 1], R[..., 2, 2] = 0.0, sa, ca
+    return R
+
+
+def dh_pose(phi: Array, d: float, a: float, alpha: float) -> Array:
+    """Standard-DH link pose ``Rz(phi) Tz(d) Tx(a) Rx(alpha)`` for angles ``phi`` ``(...)``: ``(..., 4, 4)``."""
+    T = np.zeros(np.shape(phi) + (4, 4))
+    T[..., :3, :3] = rz_rx(phi, alpha)
+    T[..., 0, 3] = a * np.cos(phi)
+    T[..., 1, 3] = a * np.sin(phi)
+    T[..., 2, 3] = d
+    T[..., 3, 3] = 1.0
+    return T
+
+
+def dh_pose_inverse(phi: Array, d: float, a: float, alpha: float) -> Array:
+    """Inverse of :func:`dh_pose`, ``Rx(-alpha) Tx(-a) Tz(-d) Rz(-phi)``."""
+    T = dh_pose(phi, d, a, alpha)
+    Rt = np.swapaxes(T[..., :3, :3], -1, -2).copy()
+    out = np.zeros_like(T)
+    out[..., :3, :3] = Rt
+    out[..., :3, 3] = -np.einsum("...ij,...j->...i", Rt, T[..., :3, 3])
+    out[..., 3, 3] = 1.0
+    return out

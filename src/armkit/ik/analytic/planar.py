@@ -1,0 +1,101 @@
+r"""Planar arms: 2R (seeds 001 and 002) and 3R with the end angle phi (seeds 003 and 004).
+
+2R: the tool point ``v`` (fixed in the last turning frame; a tool offset simply makes the
+second link longer or bent) obeys ``(x, y) = a_1 e(q_1') + \ell e(q_1' + q_2' + \beta)``,
+the two-link problem with both elbow branches:
+
+.. math::
+
+    \cos q_2 = \frac{x^2 + y^2 - a_1^2 - \ell^2}{2 a_1 \ell},\qquad
+    q_1 = \operatorname{atan2}(y, x) - \operatorname{atan2}(\ell \sin q_2,\ a_1 + \ell \cos q_2)
+
+(seed 002 writes the second ``atan2`` with its arguments swapped; that is wrong).
+
+3R: the target pose fixes the end angle ``phi = q_1 + q_2 + q_3``; removing the tool and
+the last link gives the wrist point, a 2R problem for the first two links.
+
+Labels: ``elbow-up`` when the elbow lies above the line from the shoulder to the
+target (to the wrist point for 3R), "above" meaning +y of the arm's base frame; for a
+target with ``x >= 0`` that is ``sin q_2 < 0``.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ._common import Array, Raw, StandardForm, add_messages, elbow_up, forward_sign, two_link
+
+_LABELS = np.array(["elbow-down", "elbow-up"], dtype=object)
+
+
+def _explain(c: Array, r: Array, l1: float, l2: float, unit: str, what: str):
+    B = len(c)
+    unreachable = np.repeat(((c > 1.0) | (c < -1.0))[:, None], 2, axis=1)
+    note = np.full((B, 2), "", dtype=object)
+    outer, inner = abs(l1) + abs(l2), abs(abs(l1) - abs(l2))
+    why = lambda i: (  # noqa: E731
+        f"{what} is {r[i // 2]:.6g} {unit} from the shoulder; the arm reaches {outer:.6g} {unit} (outer) "
+        f"and {inner:.6g} {unit} (inner).")
+    edge = np.repeat(((np.abs(np.abs(c) - 1.0) <= 1e-9) & ~unreachable[:, 0])[:, None], 2, axis=1)
+    add_messages(note, edge, lambda i: (
+        "fully stretched: elbow-up and elbow-down coincide." if c[i // 2] > 0
+        else "fully folded: elbow-up and elbow-down coincide."))
+    return unreachable, why, note
+
+
+class Planar2R:
+    """Closed form for 2R arms with parallel axes."""
+
+    family = "planar-2r"
+    pose_only = False
+    m = 2
+
+    def __init__(self, sf: StandardForm, ell: float, beta: float, unit: str):
+        self.sf, self.ell, self.beta, self.unit = sf, ell, beta, unit
+
+    @classmethod
+    def detect(cls, sf: StandardForm, robot) -> "Planar2R | None":
+        if sf.n != 2 or sf.twist(0) != 0 or sf.is_zero(sf.a[0]):
+            return None
+        v = sf.tool[:3, 3]
+        ell = math.hypot(v[0], v[1])
+        return None if sf.is_zero(ell) else cls(sf, ell, math.atan2(v[1], v[0]), robot.unit)
+
+    def solve(self, target: Array, q0phi: Array) -> Raw:
+        p = self.sf.point_to_chain(target[:, :3, 3] if target.ndim == 3 else target)
+        t1, t2, c, r = two_link(p[:, 0], p[:, 1], self.sf.a[0], self.ell)
+        q = np.stack([t1, t2 - self.beta], axis=-1)                          # (B, 2, 2)
+        up = elbow_up(forward_sign(p[:, 0])[:, None], 1.0, self.sf.a[0], self.ell, np.array([0, 1]))
+        unreachable, why, note = _explain(c, r, self.sf.a[0], self.ell, self.unit, "target")
+        return Raw(q, _LABELS[up.astype(int)], unreachable, why, note)
+
+
+class Planar3R:
+    """Closed form for 3R arms with parallel axes; the target fixes the end angle."""
+
+    family = "planar-3r"
+    pose_only = True
+    m = 2
+
+    def __init__(self, sf: StandardForm, unit: str):
+        self.sf, self.unit = sf, unit
+
+    @classmethod
+    def detect(cls, sf: StandardForm, robot) -> "Planar3R | None":
+        if sf.n != 3 or sf.twist(0) != 0 or sf.twist(1) != 0 or sf.is_zero(sf.a[0]) or sf.is_zero(sf.a[1]):
+            return None
+        return cls(sf, robot.unit)
+
+    def solve(self, target: Array, q0phi: Array) -> Raw:
+        Tc = self.sf.to_chain(target)
+        phi = np.arctan2(Tc[:, 1, 0], Tc[:, 0, 0])
+        x, y = Tc[:, 0, 3], Tc[:, 1, 3]
+        l1, l2 = self.sf.a[0], self.sf.a[1]
+        t1, t2, c, r = two_link(x, y, l1, l2)
+        q = np.stack([t1, t2, phi[:, None] - t1 - t2], axis=-1)              # (B, 2, 3)
+        up = elbow_up(forward_sign(x)[:, None], 1.0, l1, l2, np.array([0, 1]))
+        unreachable, why, note = _explain(c, r, l1, l2, self.unit,
+                                          "for this end angle, the wrist point (target minus tool and last link)")
+        return Raw(q, _LABELS[up.astype(int)], unreachable, why, note)

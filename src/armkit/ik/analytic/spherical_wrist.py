@@ -1,0 +1,102 @@
+r"""6R arms with a spherical wrist (Pieper's case; the Puma 560): 8 branches.
+
+Structure (standard DH after :func:`~._common.standard_form`): joint 1 vertical with a
++-90 deg twist, joints 2 and 3 parallel (``alpha_2 = 0``), ``alpha_3, alpha_4, alpha_5 = +-90``
+deg and ``a_4 = a_5 = d_5 = 0``, so that axes 4, 5 and 6 meet in the wrist centre
+``p_w``, the origin of frame 4 (``d_4`` along ``z_3``). Then
+
+1. ``p_w = p - d_6 z`` (``p, z``: position and approach axis of the last turning frame);
+2. joints 1-3 place ``p_w``: a yaw-pitch-pitch problem for the point
+   ``v = (a_3, -s_3 d_4, d_3)`` of frame 2 (see :mod:`.yaw_pitch_pitch`), 4 branches
+   (shoulder right/left x elbow up/down);
+3. joints 4-6 give the rest of the rotation,
+   ``M = R_{03}^T R = R_z(q_4) R_x(\alpha_4) R_z(q_5) R_x(\alpha_5) R_z(q_6)``, whose third column is
+   ``(s_5 \sin q_5 \cos q_4,\ s_5 \sin q_5 \sin q_4,\ -s_4 s_5 \cos q_5)``: two branches (noflip:
+   ``sin q_5 >= 0``; flip: ``sin q_5 <= 0``), and ``q_6`` from what remains.
+
+At the wrist singularity (``sin q_5 = 0``) only ``q_4 +- q_6`` matters: the solver takes
+``q_4`` from ``q0`` and says so.
+
+References
+----------
+D. L. Pieper, "The kinematics of manipulators under computer control", PhD thesis,
+Stanford, 1968. R. P. Paul, B. Shimano and G. E. Mayer, "Kinematic control equations for
+simple manipulators", IEEE Trans. SMC 11(6), 1981.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ._common import Array, Raw, StandardForm, add_messages, rz_rx
+from .yaw_pitch_pitch import Positioner
+
+_LABELS = np.array([f"{s}/elbow-{e}/{w}" for s in ("left", "right") for e in ("down", "up")
+                    for w in ("flip", "noflip")], dtype=object)
+WRIST_SINGULAR = 1e-12
+
+
+class SphericalWrist:
+    """Closed form for 6R arms whose first three joints form a Puma-like arm and whose
+    last three axes meet in a point."""
+
+    family = "spherical-wrist"
+    pose_only = True
+    m = 8
+
+    def __init__(self, sf: StandardForm, pos: Positioner, signs: tuple[int, int, int], unit: str, names):
+        self.sf, self.pos, self.unit, self.names = sf, pos, unit, names
+        self.s3, self.s4, self.s5 = signs
+
+    @classmethod
+    def detect(cls, sf: StandardForm, robot) -> "SphericalWrist | None":
+        if sf.n != 6:
+            return None
+        signs = (sf.twist(2), sf.twist(3), sf.twist(4))
+        if any(s not in (1, -1) for s in signs):
+            return None
+        if not (sf.is_zero(sf.a[3]) and sf.is_zero(sf.a[4]) and sf.is_zero(sf.d[4])):
+            return None
+        v = np.array([sf.a[2], -signs[0] * sf.d[3], sf.d[2]])
+        pos = Positioner.build(sf, v)
+        return None if pos is None else cls(sf, pos, signs, robot.unit, robot.joint_names)  # type: ignore[arg-type]
+
+    def solve(self, target: Array, q0phi: Array) -> Raw:
+        sf = self.sf
+        Tc = sf.to_chain(target)
+        R = Tc[:, :3, :3]
+        pw = Tc[:, :3, 3] - sf.d[5] * R[:, :, 2]
+        sol = self.pos.solve(pw, q0phi[:, 0])
+        phi = sol["phi"]                                                  # (B, 4, 3)
+        R03 = rz_rx(phi[..., 0], sf.alpha[0]) @ rz_rx(phi[..., 1] + phi[..., 2], sf.alpha[2])
+        M = np.swapaxes(R03, -1, -2) @ R[:, None]                         # (B, 4, 3, 3)
+        h = np.hypot(M[..., 0, 2], M[..., 1, 2])
+        w = np.array([1.0, -1.0])                                         # noflip, flip
+        phi5 = np.arctan2(w * h[..., None], (-self.s4 * self.s5 * M[..., 2, 2])[..., None])
+        singular = h <= WRIST_SINGULAR
+        phi4 = np.where(singular[..., None], q0phi[:, None, 3:4],
+                        np.arctan2((w * self.s5) * M[..., 1, 2, None], (w * self.s5) * M[..., 0, 2, None]))
+        P = rz_rx(phi4, sf.alpha[3]) @ rz_rx(phi5, sf.alpha[4])           # (B, 4, 2, 3, 3)
+        Mx = M[:, :, None, :, 0]                                          # first column of M
+        phi6 = np.arctan2(np.einsum("...k,...k->...", P[..., :, 1], Mx), np.einsum("...k,...k->...", P[..., :, 0], Mx))
+        B = len(target)
+        out = np.empty((B, 4, 2, 6))
+        out[..., :3] = phi[:, :, None, :]
+        out[..., 3], out[..., 4], out[..., 5] = phi4, phi5, phi6
+        idx = (4 * sol["front"].astype(int)[None, :, None] + 2 * sol["up"].astype(int)[:, :, None]
+               + (w > 0).astype(int)[None, None, :])
+        why4, note4 = self.pos.explain(sol, self.unit, "the wrist centre", "first joint's")
+        why = lambda i: why4(i // 2)  # noqa: E731  (flat (B, 8) -> flat (B, 4))
+        note = np.repeat(note4, 2, axis=1)
+        unreachable = np.repeat(sol["unreachable"], 2, axis=1)
+        n1, n4 = self.names[0], self.names[3]
+        on_axis = np.repeat(sol["on_axis"][:, None], 8, axis=1)
+        add_messages(note, on_axis & ~unreachable, lambda i: (
+            f"the wrist centre is on the first joint's axis: {n1} is free; giving {n1} from q0."))
+        sing = np.repeat(singular, 2, axis=1) & ~unreachable
+        add_messages(note, sing, lambda i: (
+            f"wrist singularity (axes 4 and 6 aligned): only {n4} +- {self.names[5]} is fixed; "
+            f"giving {n4} from q0, and the flip and noflip branches coincide."))
+        return Raw(out.reshape(B, 8, 6), _LABELS[idx.reshape(B, 8)], unreachable, why, note)

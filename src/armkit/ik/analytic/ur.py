@@ -1,0 +1,138 @@
+r"""6R arms with three parallel middle axes (the Universal Robots family): 8 branches.
+
+Structure (standard DH after :func:`~._common.standard_form`): ``alpha = (+-90, 0, 0, +-90, +-90)``
+deg for joints 1-5 (signs ``s_1, s_4, s_5``), ``a_1 = a_4 = a_5 = 0``, ``a_2, a_3, d_6`` non-zero.
+Joints 2, 3 and 4 turn about parallel axes ``z_1``; every frame from 1 to 5 keeps the same
+offset ``D = d_2 + d_3 + d_4`` along ``z_1``. With ``p`` and ``z`` the position and approach
+axis of the last turning frame and ``p_5 = p - d_6 z`` (origin of frame 5):
+
+1. ``s_1 (x_5 \sin q_1 - y_5 \cos q_1) = D`` gives ``q_1 = \psi + \arcsin(s_1 D / \rho)`` (right) or
+   ``\psi + \pi - \arcsin(s_1 D / \rho)`` (left), ``\psi = atan2(y_5, x_5)``, ``\rho = |(x_5, y_5)|``;
+2. ``z_6 \cdot z_1 = -s_4 s_5 \cos q_5`` and ``p \cdot z_1 = D + d_6 z_6 \cdot z_1`` give
+   ``\cos q_5``: two branches, wrist up (``q_5 >= 0``) and down;
+3. ``z_1`` seen from the last frame is ``(s_4 \sin q_5 \cos q_6, -s_4 \sin q_5 \sin q_6, \cdot)``: ``q_6``;
+4. frame 4 is then known; removing joint 1 and the constant part of link 4 leaves
+   ``R_z(q_2) T_x(a_2) R_z(q_3) T_x(a_3) R_z(q_4)``: a two-link problem (elbow up/down) and
+   ``q_4 = (q_2 + q_3 + q_4) - q_2 - q_3``.
+
+At the wrist singularity (``sin q_5 = 0``) ``q_6`` is taken from ``q0``; on the base axis
+(``rho = 0`` with ``D = 0``) ``q_1`` is.
+
+References
+----------
+K. P. Hawkins, "Analytic inverse kinematics for the Universal Robots UR-5/UR-10 arms",
+Georgia Institute of Technology technical report, 2013.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ...spatial import inverse
+from ._common import (LENGTH_TOL, Array, Raw, StandardForm, add_messages, dh_pose, dh_pose_inverse, elbow_up,
+                      forward_sign, two_link)
+
+_LABELS = np.array([f"{s}/wrist-{w}/elbow-{e}" for s in ("left", "right") for w in ("down", "up")
+                    for e in ("down", "up")], dtype=object)
+WRIST_SINGULAR = 1e-12
+
+
+class ParallelAxes:
+    """Closed form for UR-type 6R arms."""
+
+    family = "ur"
+    pose_only = True
+    m = 8
+
+    def __init__(self, sf: StandardForm, signs: tuple[int, int, int], unit: str, names):
+        self.sf, self.unit, self.names = sf, unit, names
+        self.s1, self.s4, self.s5 = signs
+        self.D = float(sf.d[1] + sf.d[2] + sf.d[3])
+
+    @classmethod
+    def detect(cls, sf: StandardForm, robot) -> "ParallelAxes | None":
+        if sf.n != 6 or sf.twist(1) != 0 or sf.twist(2) != 0:
+            return None
+        signs = (sf.twist(0), sf.twist(3), sf.twist(4))
+        if any(s not in (1, -1) for s in signs):
+            return None
+        zero = [sf.a[0], sf.a[3], sf.a[4]]
+        nonzero = [sf.a[1], sf.a[2], sf.d[5]]
+        if not all(sf.is_zero(x) for x in zero) or any(sf.is_zero(x) for x in nonzero):
+            return None
+        return cls(sf, signs, robot.unit, robot.joint_names)  # type: ignore[arg-type]
+
+    def solve(self, target: Array, q0phi: Array) -> Raw:
+        sf, s1, s4, s5, D = self.sf, self.s1, self.s4, self.s5, self.D
+        d1, d4, d5, d6 = sf.d[0], sf.d[3], sf.d[4], sf.d[5]
+        a2, a3 = sf.a[1], sf.a[2]
+        B = len(target)
+        Tc = sf.to_chain(target)
+        R, p = Tc[:, :3, :3], Tc[:, :3, 3]
+        p5 = p - d6 * R[:, :, 2]
+        rho = np.hypot(p5[:, 0], p5[:, 1])
+        on_axis = (rho <= LENGTH_TOL * sf.scale) & (abs(D) <= LENGTH_TOL * sf.scale)
+        psi = np.where(on_axis, q0phi[:, 0], np.arctan2(p5[:, 1], p5[:, 0]))
+        ratio = np.divide(s1 * D, rho, out=np.zeros_like(rho), where=rho > 0)
+        lateral_out = np.abs(ratio) > 1.0
+        asn = np.arcsin(np.clip(ratio, -1.0, 1.0))
+        phi1 = np.stack([psi + math.pi - asn, psi + asn], axis=-1)         # (B, 2): left, right
+        sin1, cos1 = np.sin(phi1), np.cos(phi1)
+        z1x, z1y = s1 * sin1, -s1 * cos1                                   # z_1 in the base, (B, 2)
+        c5 = -s4 * s5 * (p[:, None, 0] * z1x + p[:, None, 1] * z1y - D) / d6
+        wrist_out = np.abs(c5) > 1.0
+        a5 = np.arccos(np.clip(c5, -1.0, 1.0))
+        wsign = np.array([-1.0, 1.0])                                      # down, up
+        phi5 = a5[..., None] * wsign                                       # (B, 2, 2)
+        wx = R[:, None, 0, 0] * z1x + R[:, None, 1, 0] * z1y               # z_1 in the last frame
+        wy = R[:, None, 0, 1] * z1x + R[:, None, 1, 1] * z1y
+        singular = np.abs(np.sin(phi5)) <= WRIST_SINGULAR
+        k = s4 * wsign
+        phi6 = np.where(singular, q0phi[:, None, None, 5],
+                        np.arctan2(-wy[..., None] * k, wx[..., None] * k))
+        T46 = dh_pose(phi5, d5, 0.0, sf.alpha[4]) @ dh_pose(phi6, d6, 0.0, 0.0)
+        T04 = Tc[:, None, None] @ inverse(T46)                      # (B, 2, 2, 4, 4)
+        T14 = dh_pose_inverse(phi1, d1, 0.0, sf.alpha[0])[:, :, None] @ T04
+        T13 = T14 @ dh_pose_inverse(np.zeros(1), d4, 0.0, sf.alpha[3])[0]
+        x, y = T13[..., 0, 3], T13[..., 1, 3]
+        total = np.arctan2(T13[..., 1, 0], T13[..., 0, 0])
+        t1, t2, c, r = two_link(x, y, a2, a3)                              # (B, 2, 2, 2)
+        out = np.empty((B, 2, 2, 2, 6))
+        out[..., 0] = phi1[:, :, None, None]
+        out[..., 1], out[..., 2] = t1, t2
+        out[..., 3] = total[..., None] - t1 - t2
+        out[..., 4] = phi5[..., None]
+        out[..., 5] = phi6[..., None]
+        up = elbow_up(forward_sign(x)[..., None], s1, a2, a3, np.array([0, 1]))
+        idx = (4 * np.array([0, 1])[None, :, None, None] + 2 * np.array([0, 1])[None, None, :, None]
+               + up.astype(int))
+        elbow_out = (c > 1.0) | (c < -1.0)
+        unreachable = (lateral_out[:, None, None, None] | wrist_out[:, :, None, None] | elbow_out[..., None]
+                       ) & np.ones((1, 1, 2, 2), dtype=bool)
+        note = np.full((B, 2, 2, 2), "", dtype=object)
+        u = self.unit
+        outer, inner = abs(a2) + abs(a3), abs(abs(a2) - abs(a3))
+        full = lambda a: np.broadcast_to(a, (B, 2, 2, 2)).reshape(-1)  # noqa: E731
+        lat, wro, elo = full(lateral_out[:, None, None, None]), full(wrist_out[:, :, None, None]), full(elbow_out[..., None])
+        rho_f, c5_f, r_f = full(rho[:, None, None, None]), full(c5[:, :, None, None]), full(r[..., None])
+
+        def reason(i: int) -> str:
+            if lat[i]:
+                return (f"the wrist point (on joint 5's axis) is {rho_f[i]:.6g} {u} from the base axis, closer "
+                        f"than the shoulder offset {abs(D):.6g} {u}.")
+            if wro[i]:
+                return (f"this orientation cannot be reached at this position (it would need cos q5 = "
+                        f"{c5_f[i]:.6g}).")
+            return (f"the point on joint 4's axis is {r_f[i]:.6g} {u} from the shoulder; the arm reaches "
+                    f"{outer:.6g} {u} (outer) and {inner:.6g} {u} (inner).")
+
+        n1, n6 = self.names[0], self.names[5]
+        add_messages(note, full(on_axis[:, None, None, None]).reshape(B, 2, 2, 2) & ~unreachable, lambda i: (
+            f"the wrist is on the base axis: {n1} is free; giving {n1} from q0."))
+        add_messages(note, full(singular[..., None]).reshape(B, 2, 2, 2) & ~unreachable, lambda i: (
+            f"wrist singularity (q5 = 0 or 180 deg: axes 2, 3, 4 and 6 parallel): {n6} is free here; "
+            f"giving {n6} from q0, and the wrist-up and wrist-down branches coincide."))
+        return Raw(out.reshape(B, 8, 6), _LABELS[idx.reshape(B, 8)], unreachable.reshape(B, 8),
+                   reason, note.reshape(B, 8))

@@ -1,0 +1,147 @@
+r"""Yaw-pitch-pitch arms (seed 000's fighter arm): 4 branches, front/back x elbow-up/down.
+
+Geometry (standard DH after :func:`~._common.standard_form`): joint 1 turns about the
+vertical axis ``z0`` and its twist is +-90 deg (sign ``s``), joints 2 and 3 are parallel
+(``alpha_2 = 0``). A point ``v`` fixed in the last turning frame (the tool point, or the
+Puma's wrist centre) then obeys
+
+.. math::
+
+    p = R_z(\varphi_1) \begin{pmatrix} a_1 + X \\ -s Z \\ d_1 + s Y \end{pmatrix},\qquad
+    (X, Y) = a_2 e(\varphi_2) + \ell e(\varphi_2 + \varphi_3 + \beta)
+
+with the lateral offset ``Z = d_2 + v_z`` and ``(v_x, v_y) = \ell e(\beta)``. So with
+``rho = |(p_x, p_y)|``: ``a_1 + X = +-sqrt(rho^2 - Z^2)`` (front/back),
+``phi_1 = atan2(p_y, p_x) - atan2(-s Z, a_1 + X)``, ``Y = s (p_z - d_1)``, and ``(X, Y)`` is
+a planar two-link problem (:func:`~._common.two_link`).
+
+On the yaw axis (``rho = 0`` with no lateral offset) every yaw angle works: the solver
+returns the family member with the yaw of ``q0`` and says so.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ._common import Array, Raw, StandardForm, add_messages, elbow_up, forward_sign, two_link, LENGTH_TOL
+
+
+@dataclass(frozen=True)
+class Positioner:
+    """The three-joint positioning geometry shared by the fighter arm and Pieper arms."""
+
+    s1: int
+    d1: float
+    a1: float
+    a2: float
+    Z: float
+    ell: float
+    beta: float
+    scale: float
+
+    @classmethod
+    def build(cls, sf: StandardForm, v: Array) -> "Positioner | None":
+        s1 = sf.twist(0)
+        if s1 not in (1, -1) or sf.twist(1) != 0:
+            return None
+        ell = math.hypot(v[0], v[1])
+        if sf.is_zero(sf.a[1]) or sf.is_zero(ell):
+            return None
+        return cls(s1, float(sf.d[0]), float(sf.a[0]), float(sf.a[1]), float(sf.d[1] + v[2]), ell,
+                   math.atan2(v[1], v[0]), sf.scale)
+
+    @property
+    def outer(self) -> float:
+        return abs(self.a2) + self.ell
+
+    @property
+    def inner(self) -> float:
+        return abs(abs(self.a2) - self.ell)
+
+    def solve(self, p: Array, yaw0: Array) -> dict:
+        """Joint angles (DH angles, offsets included) reaching point(s) ``p`` ``(B, 3)``.
+
+        Returns a dict with ``phi`` ``(B, 4, 3)`` ordered (front, e0), (front, e1),
+        (back, e0), (back, e1), ``front`` ``(4,)``, ``up`` ``(B, 4)`` elbow-up flags,
+        ``unreachable`` ``(B, 4)``, ``c`` (the two-link cosine, ``(B, 2)``), ``r`` ``(B, 2)``,
+        ``rho`` ``(B,)``, ``lateral_out`` ``(B,)`` and ``on_axis`` ``(B,)``.
+        """
+        x, y, z = p[:, 0], p[:, 1], p[:, 2]
+        rho = np.hypot(x, y)
+        h2 = rho * rho - self.Z * self.Z
+        lateral_out = h2 < 0.0
+        Xf = np.sqrt(np.maximum(h2, 0.0))
+        on_axis = (rho <= LENGTH_TOL * self.scale) & (abs(self.Z) <= LENGTH_TOL * self.scale)
+        psi = np.where(on_axis, yaw0, np.arctan2(y, x))
+        Xs = Xf[:, None] * np.array([1.0, -1.0])                       # (B, 2): front, back
+        phi1 = psi[:, None] - np.arctan2(-self.s1 * self.Z, Xs)
+        X = Xs - self.a1
+        Y = np.broadcast_to((self.s1 * (z - self.d1))[:, None], X.shape)
+        t1, t2, c, r = two_link(X, Y, self.a2, self.ell)               # (B, 2, 2)
+        B = len(p)
+        phi = np.empty((B, 2, 2, 3))
+        phi[..., 0] = phi1[:, :, None]
+        phi[..., 1] = t1
+        phi[..., 2] = t2 - self.beta
+        fwd = forward_sign(X, np.array([1.0, -1.0]))                   # (B, 2)
+        up = elbow_up(fwd[:, :, None], self.s1, self.a2, self.ell, np.array([0, 1]))
+        unreachable = (c > 1.0) | (c < -1.0) | lateral_out[:, None]    # (B, 2)
+        return {"phi": phi.reshape(B, 4, 3), "front": np.array([True, True, False, False]),
+                "up": up.reshape(B, 4), "unreachable": np.repeat(unreachable, 2, axis=1),
+                "c": c, "r": r, "rho": rho, "lateral_out": lateral_out, "on_axis": on_axis}
+
+    def explain(self, sol: dict, unit: str, what: str, first_axis: str):
+        """``why`` (flat index into ``(B, 4)`` -> sentence) and ``note`` ``(B, 4)`` for a :meth:`solve` result."""
+        B = len(sol["rho"])
+        note = np.full((B, 4), "", dtype=object)
+        c, r, rho = sol["c"], sol["r"], sol["rho"]
+
+        def reach(i: int) -> str:
+            b, k = divmod(i, 4)
+            if sol["lateral_out"][b]:
+                return (f"{what} is {rho[b]:.6g} {unit} from the {first_axis} axis, closer than the arm's "
+                        f"sideways offset of {abs(self.Z):.6g} {unit}.")
+            return (f"{what} is {r[b, k // 2]:.6g} {unit} from the shoulder; the arm reaches "
+                    f"{self.outer:.6g} {unit} (outer) and {self.inner:.6g} {unit} (inner).")
+
+        edge = np.repeat((np.abs(np.abs(c) - 1.0) <= 1e-9) & ~sol["unreachable"][:, ::2], 2, axis=1)
+        add_messages(note, edge, lambda i: (
+            "fully stretched: elbow-up and elbow-down coincide." if c.reshape(-1)[i // 2] > 0
+            else "fully folded: elbow-up and elbow-down coincide."))
+        return reach, note
+
+
+class YawPitchPitch:
+    """Closed form for 3R arms with a yaw joint followed by two parallel pitch joints."""
+
+    family = "yaw-pitch-pitch"
+    pose_only = False
+    m = 4
+
+    def __init__(self, sf: StandardForm, pos: Positioner, robot_unit: str, yaw_name: str):
+        self.sf, self.pos, self.unit, self.yaw_name = sf, pos, robot_unit, yaw_name
+
+    @classmethod
+    def detect(cls, sf: StandardForm, robot) -> "YawPitchPitch | None":
+        if sf.n != 3:
+            return None
+        v = sf.tool[:3, 3] + np.array([0.0, 0.0, sf.d[2]])
+        pos = Positioner.build(sf, v)
+        return None if pos is None else cls(sf, pos, robot.unit, robot.joint_names[0])
+
+    def solve(self, target: Array, q0phi: Array) -> Raw:
+        p = self.sf.point_to_chain(target[:, :3, 3] if target.ndim == 3 else target)
+        sol = self.pos.solve(p, q0phi[:, 0])
+        labels = np.array(["back/elbow-down", "back/elbow-up", "front/elbow-down", "front/elbow-up"], dtype=object)
+        idx = 2 * sol["front"].astype(int) + sol["up"].astype(int)
+        why, note = self.pos.explain(sol, self.unit, "target", "yaw")
+        on_axis = np.repeat(sol["on_axis"][:, None], 4, axis=1)
+        yaw = sol["phi"][:, :, 0] - self.sf.theta[0]
+        add_messages(note, on_axis & ~sol["unreachable"], lambda i: (
+            f"on the yaw axis: any yaw angle works ({self.yaw_name} is free); giving "
+            f"{self.yaw_name} = {math.degrees(math.remainder(yaw.reshape(-1)[i], 2 * math.pi)):.6g} deg "
+            "(from q0, 0 by default)."))
+        return Raw(sol["phi"], labels[idx], sol["unreachable"], why, note)

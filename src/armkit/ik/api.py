@@ -1,0 +1,332 @@
+"""The public IK entry points :func:`ik` and :func:`ik_all`: target normalisation and dispatch.
+
+``method="auto"`` uses the closed form when the robot's *structure* admits one (found
+from the DH model by :func:`armkit.ik.analytic.closed_form`, never from its name) and the
+target fits it, otherwise Levenberg-Marquardt. The numeric solvers live in
+:mod:`armkit.ik.numeric`, :mod:`armkit.ik.ccd` and :mod:`armkit.ik.fabrik` and are
+imported only when asked for.
+"""
+
+from __future__ import annotations
+
+import importlib
+import math
+from typing import Any, Literal, Optional
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from ..errors import ArmkitError, ShapeError, UnreachableError
+from ..model.robot import Robot
+from .result import IKResult, default_tolerance
+
+__all__ = ["ik", "ik_all", "METHODS", "IKInputError", "closed_form_family"]
+
+Array = NDArray[np.float64]
+METHODS = ("auto", "analytic", "lm", "newton", "ccd", "fabrik")
+_NUMERIC = {"lm": ("numeric", "solve_lm"), "newton": ("numeric", "solve_newton"),
+            "ccd": ("ccd", "solve_ccd"), "fabrik": ("fabrik", "solve_fabrik")}
+
+
+class IKInputError(ArmkitError, ValueError):
+    """An IK argument that cannot work: unknown method or branch, a closed form asked of an arm without one, ..."""
+
+
+def closed_form_family(robot: Robot) -> Optional[str]:
+    """Name of the closed-form family of ``robot`` (``"ur"``, ``"spherical-wrist"``, ...) or ``None``.
+
+    Examples
+    --------
+    >>> import armkit
+    >>> closed_form_family(armkit.load("puma560")), closed_form_family(armkit.load("iiwa14"))
+    ('spherical-wrist', None)
+    """
+    from .analytic import closed_form
+
+    solver = closed_form(robot)
+    return None if solver is None else solver.family
+
+
+# ----------------------------------------------------------------------------- targets
+def _planar_plane(robot: Robot) -> tuple[float, Array, float]:
+    """For an arm moving in the world xy plane: its height z, tool rotation at q = 0 and end angle there."""
+    from ..kinematics import fk
+
+    T0 = fk(robot, np.zeros(robot.n))
+    J_axes = robot.chain.base[:3, :3] @ robot.chain.pre[0][:3, 2]
+    if not np.allclose(np.abs(J_axes), [0, 0, 1], atol=1e-9):
+        raise ShapeError(f"2-D targets (x, y) need an arm that moves in the world xy plane; robot {robot.name!r} "
+                         "does not; give (x, y, z) or a pose")
+    return float(T0[2, 3]), T0[:3, :3], math.atan2(T0[1, 0], T0[0, 0])
+
+
+def _normalise_target(robot: Robot, target: ArrayLike, phi: ArrayLike | None
+                      ) -> tuple[Array, tuple[int, ...], bool]:
+    """``target`` -> ``(flat targets (B, 4, 4) or (B, 3), leading shape, position_only)``."""
+    try:
+        t = np.asarray(target, dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise ShapeError(f"target must be numeric, got {target!r}") from exc
+    if t.ndim == 0:
+        raise ShapeError("target must be a pose (..., 4, 4), a position (..., 3) or a planar position (..., 2), "
+                         f"got a scalar {t!r}")
+    if not np.all(np.isfinite(t)):
+        raise ShapeError("target contains NaN or infinite values")
+    if t.ndim >= 2 and t.shape[-2:] == (4, 4):
+        if phi is not None:
+            raise ShapeError("phi= is only for planar (..., 2) position targets; a pose already fixes the end angle")
+        R = t[..., :3, :3]
+        err = np.abs(np.swapaxes(R, -1, -2) @ R - np.eye(3)).max(initial=0.0)
+        if err > 1e-6 or np.any(np.abs(np.linalg.det(R) - 1.0) > 1e-6) or np.any(np.abs(t[..., 3, :] - [0, 0, 0, 1]) > 0):
+            raise ShapeError("target pose is not a rigid transform (rotation not orthonormal with det +1, "
+                             "or last row not (0, 0, 0, 1))")
+        lead = t.shape[:-2]
+        return t.reshape(-1, 4, 4), lead, False
+    if t.shape[-1] == 3:
+        if phi is not None:
+            raise ShapeError("phi= is only for planar (..., 2) position targets; for a 3-D target give a pose")
+        return t.reshape(-1, 3), t.shape[:-1], True
+    if t.shape[-1] == 2:
+        z, R0, phi0 = _planar_plane(robot)
+        lead = t.shape[:-1]
+        if phi is None:
+            p = np.concatenate([t, np.full(lead + (1,), z)], axis=-1)
+            return p.reshape(-1, 3), lead, True
+        if robot.n < 3:
+            raise ShapeError(f"robot {robot.name!r} has {robot.n} joints: it cannot also choose the end angle phi; "
+                             "leave phi out")
+        try:
+            ph = np.broadcast_to(np.asarray(phi, dtype=float), lead)
+        except ValueError as exc:
+            raise ShapeError(f"phi must be a number or broadcast to the target's leading shape {lead}, "
+                             f"got shape {np.shape(phi)}") from exc
+        if not np.all(np.isfinite(ph)):
+            raise ShapeError("phi contains NaN or infinite values")
+        c, s = np.cos(ph - phi0), np.sin(ph - phi0)
+        Rz = np.zeros(lead + (3, 3))
+        Rz[..., 0, 0], Rz[..., 0, 1], Rz[..., 1, 0], Rz[..., 1, 1], Rz[..., 2, 2] = c, -s, s, c, 1.0
+        T = np.zeros(lead + (4, 4))
+        T[..., :3, :3] = Rz @ R0
+        T[..., :2, 3] = t
+        T[..., 2, 3] = z
+        T[..., 3, 3] = 1.0
+        return T.reshape(-1, 4, 4), lead, False
+    raise ShapeError(f"target must be a pose (..., 4, 4), a position (..., 3) or, for planar arms, (..., 2); "
+                     f"got shape {t.shape}")
+
+
+def _normalise_q0(robot: Robot, q0: ArrayLike | None, lead: tuple[int, ...]) -> Array:
+    if q0 is None:
+        base = np.clip(np.zeros(robot.n), robot.lower, robot.upper)
+        return np.broadcast_to(base, (int(np.prod(lead, dtype=int)), robot.n)).copy()
+    q = robot.check_q(q0, "q0")
+    try:
+        q = np.broadcast_to(q, lead + (robot.n,))
+    except ValueError as exc:
+        raise ShapeError(f"q0 must broadcast to the targets' shape {lead + (robot.n,)}, got {q.shape}") from exc
+    return q.reshape(-1, robot.n).copy()
+
+
+def _tolerance(robot: Robot, tol: Any) -> tuple[float, float]:
+    if tol is None:
+        return default_tolerance(robot)
+    if np.ndim(tol) == 0:
+        return float(tol), default_tolerance(robot)[1]
+    p, r = tol
+    return float(p), float(r)
+
+
+def _reshape(res: IKResult, lead: tuple[int, ...]) -> IKResult:
+    """Fields ``(B, ...)`` -> ``lead + (...)``."""
+    def f(a: Any) -> Any:
+        a = np.asarray(a)
+        return a.reshape(lead + a.shape[1:])
+
+    trace = res.trace
+    if trace is not None and lead == () and np.ndim(trace) >= 1 and np.shape(trace)[0] == 1:
+        trace = np.asarray(trace)[0]
+    return IKResult(q=f(res.q), success=f(res.success), position_error=f(res.position_error),
+                    rotation_error=f(res.rotation_error), iterations=f(res.iterations), branch=f(res.branch),
+                    within_limits=f(res.within_limits), reason=f(res.reason), message=f(res.message), trace=trace)
+
+
+def _raise_if_unreachable(res: IKResult) -> None:
+    reason = np.asarray(res.reason)
+    failed = (reason == "unreachable") & ~np.asarray(res.success)
+    if failed.any():
+        idx = np.argwhere(failed)[0]
+        where = "" if failed.ndim == 0 else f" (target {tuple(int(i) for i in idx)})"
+        msg = np.asarray(res.message)[tuple(idx)] if failed.ndim else np.asarray(res.message).item()
+        raise UnreachableError(f"{msg}{where}")
+
+
+# --------------------------------------------------------------------------- solvers
+def _analytic_solver(robot: Robot, position_only: bool, why_not: list[str]):
+    from .analytic import closed_form
+
+    solver = closed_form(robot)
+    if solver is None:
+        why_not.append(f"robot {robot.name!r} ({robot.n} DOF {robot.joint_types}) has no closed form in armkit: "
+                       "it solves 2R and 3R planar, yaw-pitch-pitch 3R, 6R spherical-wrist (Puma-like) and "
+                       "UR-type 6R arms; use method='lm'")
+        return None
+    if position_only and solver.pose_only:
+        why_not.append(f"robot {robot.name!r} ({solver.family}) needs a pose target for its closed form: "
+                       + ("give the end angle with phi=" if solver.family == "planar-3r" else "give a (4, 4) pose")
+                       + ", or use method='lm' for position-only IK")
+        return None
+    return solver
+
+
+def _all_branches(robot: Robot, target: Array, q0: Array, position_only: bool, tol: Any,
+                  enforce_limits: bool) -> IKResult:
+    from .analytic import solve_all
+
+    why: list[str] = []
+    solver = _analytic_solver(robot, position_only, why)
+    if solver is None:
+        raise IKInputError(why[0])
+    return solve_all(robot, solver, target, q0, position_only, _tolerance(robot, tol), enforce_limits)
+
+
+def _numeric(method: str, robot: Robot, target: Array, q0: Array, **kw: Any) -> IKResult:
+    module, func = _NUMERIC[method]
+    try:
+        mod = importlib.import_module(f"armkit.ik.{module}")
+        solve = getattr(mod, func)
+    except (ImportError, AttributeError) as exc:
+        raise IKInputError(f"method {method!r} is not available in this build of armkit ({exc})") from exc
+    kw = {k: v for k, v in kw.items() if v is not None or k in ("mask", "seed", "tol")}
+    return solve(robot, target, q0, **kw)
+
+
+def ik_all(robot: Robot, target: ArrayLike, q0: ArrayLike | None = None, *, phi: ArrayLike | None = None,
+           enforce_limits: bool = True, tol: Any = None) -> IKResult:
+    """Every closed-form solution (branch) for each target.
+
+    Parameters
+    ----------
+    robot : Robot
+        An arm with a closed form (see :mod:`armkit.ik.analytic`); others raise :class:`IKInputError`.
+    target : array_like, shape (..., 4, 4), (..., 3) or (..., 2)
+        Pose, position (position-only IK: the 2R and yaw-pitch-pitch families) or planar
+        position (with ``phi`` for a 3R planar arm). Lengths in the robot's unit.
+    q0 : array_like, shape (n,) or (..., n), optional
+        Reference configuration: branches are sorted by distance to it, 2 pi turns chosen
+        nearest to it, and free joints (singular families) take its values. Zeros if None.
+    phi : float or array_like, shape (...), optional
+        End angle (rad) of a planar arm for ``(..., 2)`` targets.
+    enforce_limits : bool
+        Branches outside the joint limits get ``success=False``, reason "joint limits".
+    tol : float or (float, float), optional
+        Position (robot unit) and rotation (rad) tolerance of the FK check.
+
+    Returns
+    -------
+    IKResult
+        ``q`` ``(..., m, n)``, other fields ``(..., m)``; successful branches first, each
+        group sorted by distance to ``q0``.
+
+    Examples
+    --------
+    >>> import armkit, numpy as np
+    >>> arm = armkit.load("planar2")
+    >>> res = armkit.ik_all(arm, [1.2, 0.3])
+    >>> res.branch.tolist(), res.success.tolist()
+    (['elbow-down', 'elbow-up'], [True, True])
+    >>> bool(np.allclose(armkit.fk(arm, res.q)[..., :2, 3], [1.2, 0.3]))
+    True
+    """
+    flat, lead, position_only = _normalise_target(robot, target, phi)
+    q0f = _normalise_q0(robot, q0, lead)
+    res = _all_branches(robot, flat, q0f, position_only, tol, enforce_limits)
+    return _reshape(res, lead)
+
+
+def ik(robot: Robot, target: ArrayLike, q0: ArrayLike | None = None,
+       method: Literal["auto", "analytic", "lm", "newton", "ccd", "fabrik"] = "auto", *,
+       branch: str | None = None, phi: ArrayLike | None = None, mask: ArrayLike | None = None, tol: Any = None,
+       max_iterations: int | None = None, restarts: int | None = None, seed: Any = None,
+       enforce_limits: bool = True, raise_unreachable: bool = False, trace: bool = False) -> IKResult:
+    """Inverse kinematics: one solution per target, honest about failure.
+
+    Parameters
+    ----------
+    robot : Robot
+    target : array_like, shape (..., 4, 4), (..., 3) or (..., 2)
+        Pose ``T_world_tool``, position (position-only IK) or, for planar arms, ``(x, y)``
+        with the end angle ``phi``. Lengths in the robot's unit; batched over ``(...)``.
+    q0 : array_like, shape (n,) or (..., n), optional
+        Initial guess (numeric methods) or reference (closed form: the branch nearest
+        to it is returned). Zeros (clipped into the limits) if None.
+    method : {"auto", "analytic", "lm", "newton", "ccd", "fabrik"}
+        "auto": the closed form when the robot's structure has one and the target fits it,
+        otherwise "lm".
+    branch : str, optional
+        Closed form only: return this branch (e.g. ``"elbow-up"``, ``"front/elbow-down"``,
+        ``"right/elbow-up/noflip"``) instead of the one nearest ``q0``.
+    phi : float or array_like, optional
+        End angle (rad) for ``(..., 2)`` targets of a 3R planar arm.
+    mask : array_like, shape (6,), optional
+        Numeric methods: weights of (x, y, z, rx, ry, rz) errors (e.g. a 5-DOF arm).
+    tol : float or (float, float), optional
+        Position (robot unit) and rotation (rad) tolerance; default
+        :func:`~armkit.ik.result.default_tolerance`.
+    max_iterations, restarts, seed
+        Numeric methods: budget and reproducible random restarts.
+    enforce_limits : bool
+        A solution outside the joint limits is not a success.
+    raise_unreachable : bool
+        Raise :class:`~armkit.UnreachableError` (with the message saying how far out of
+        reach) instead of returning ``success=False``.
+    trace : bool
+        Numeric methods: keep the per-iteration error in ``IKResult.trace``.
+
+    Returns
+    -------
+    IKResult
+        Fields of shape ``(...)``, ``q`` ``(..., n)``. ``success`` is true only where FK of
+        ``q`` meets the tolerance (and the limits, when enforced).
+
+    Examples
+    --------
+    >>> import armkit, numpy as np
+    >>> arm = armkit.load("fighter")
+    >>> res = armkit.ik(arm, [24.861, 14.353, 187.181], q0=np.radians([25, 40, 65]))
+    >>> bool(res.success), res.branch, np.round(np.degrees(res.q), 2).tolist()
+    (True, 'front/elbow-down', [30.0, 45.0, 60.0])
+    """
+    if method not in METHODS:
+        raise IKInputError(f"method must be one of {', '.join(METHODS)}; got {method!r}")
+    flat, lead, position_only = _normalise_target(robot, target, phi)
+    q0f = _normalise_q0(robot, q0, lead)
+    use_closed = method == "analytic"
+    if method == "auto":
+        why: list[str] = []
+        use_closed = mask is None and _analytic_solver(robot, position_only, why) is not None
+    if branch is not None and not use_closed:
+        raise IKInputError("branch= picks a closed-form solution; "
+                           + (f"method {method!r} is numeric" if method not in ("auto", "analytic")
+                              else f"robot {robot.name!r} has no closed form for this target"))
+    if use_closed:
+        if mask is not None:
+            raise IKInputError("mask= is for the numeric methods; the closed form solves the full target")
+        every = _all_branches(robot, flat, q0f, position_only, tol, enforce_limits)
+        if branch is None:
+            res = every[:, 0]
+        else:
+            hit = every.branch == branch
+            if not hit.any(axis=1).all():
+                valid = sorted(set(np.asarray(every.branch).ravel().tolist()))
+                raise IKInputError(f"unknown branch {branch!r} for robot {robot.name!r}; valid branches: "
+                                   + ", ".join(valid))
+            res = every[np.arange(len(flat)), np.argmax(hit, axis=1)]
+        res = _reshape(res, lead)
+    else:
+        kw: dict[str, Any] = {"mask": mask, "tol": tol, "seed": seed, "enforce_limits": enforce_limits,
+                              "trace": trace, "max_iterations": max_iterations, "restarts": restarts}
+        name = "lm" if method == "auto" else method
+        res = _reshape(_numeric(name, robot, flat, q0f, **kw), lead)
+    if raise_unreachable:
+        _raise_if_unreachable(res)
+    return res
