@@ -99,31 +99,38 @@ def _residual(X, Tt, s, w, e):
         e[3] = e[4] = e[5] = 0.0
     else:
         # M = R^T R_t; log(M) = R_t^T log(R_t R^T): the rotation still to do, in the target frame
-        m = np.empty((3, 3))
-        for i in range(3):
-            for j in range(3):
-                m[i, j] = X[i] * Tt[0, j] + X[4 + i] * Tt[1, j] + X[8 + i] * Tt[2, j]
-        vx, vy, vz = m[2, 1] - m[1, 2], m[0, 2] - m[2, 0], m[1, 0] - m[0, 1]
+        m00 = X[0] * Tt[0, 0] + X[4] * Tt[1, 0] + X[8] * Tt[2, 0]
+        m01 = X[0] * Tt[0, 1] + X[4] * Tt[1, 1] + X[8] * Tt[2, 1]
+        m02 = X[0] * Tt[0, 2] + X[4] * Tt[1, 2] + X[8] * Tt[2, 2]
+        m10 = X[1] * Tt[0, 0] + X[5] * Tt[1, 0] + X[9] * Tt[2, 0]
+        m11 = X[1] * Tt[0, 1] + X[5] * Tt[1, 1] + X[9] * Tt[2, 1]
+        m12 = X[1] * Tt[0, 2] + X[5] * Tt[1, 2] + X[9] * Tt[2, 2]
+        m20 = X[2] * Tt[0, 0] + X[6] * Tt[1, 0] + X[10] * Tt[2, 0]
+        m21 = X[2] * Tt[0, 1] + X[6] * Tt[1, 1] + X[10] * Tt[2, 1]
+        m22 = X[2] * Tt[0, 2] + X[6] * Tt[1, 2] + X[10] * Tt[2, 2]
+        vx, vy, vz = m21 - m12, m02 - m20, m10 - m01
         sn = 0.5 * math.sqrt(vx * vx + vy * vy + vz * vz)
-        c = 0.5 * (m[0, 0] + m[1, 1] + m[2, 2] - 1.0)
+        c = 0.5 * (m00 + m11 + m22 - 1.0)
         th = math.atan2(sn, c)
         if sn > 1e-6 or c > 0.0:
             f = 0.5 + th * th / 12.0 if th < 1e-6 else th / (2.0 * sn)
             e[3], e[4], e[5] = f * vx, f * vy, f * vz
-        else:  # angle near pi: axis from the symmetric part
-            i = 0
-            if m[1, 1] > m[i, i]:
-                i = 1
-            if m[2, 2] > m[i, i]:
-                i = 2
-            a = np.empty(3)
-            a[i] = math.sqrt(max(0.0, (m[i, i] - c) / (1.0 - c)))
-            for j in range(3):
-                if j != i:
-                    a[j] = (m[i, j] + m[j, i]) / (2.0 * (1.0 - c) * a[i])
-            if a[0] * vx + a[1] * vy + a[2] * vz < 0.0:
-                a[0], a[1], a[2] = -a[0], -a[1], -a[2]
-            e[3], e[4], e[5] = th * a[0], th * a[1], th * a[2]
+        else:  # angle near pi: the axis from the symmetric part, a a^T = (M + M^T) / 2 - c I) / (1 - c)
+            k = 1.0 / (1.0 - c)
+            d0, d1, d2 = (m00 - c) * k, (m11 - c) * k, (m22 - c) * k
+            s01, s02, s12 = 0.5 * (m01 + m10) * k, 0.5 * (m02 + m20) * k, 0.5 * (m12 + m21) * k
+            if d0 >= d1 and d0 >= d2:
+                r = math.sqrt(max(d0, 1e-300))
+                ax, ay, az = r, s01 / r, s02 / r
+            elif d1 >= d2:
+                r = math.sqrt(max(d1, 1e-300))
+                ax, ay, az = s01 / r, r, s12 / r
+            else:
+                r = math.sqrt(max(d2, 1e-300))
+                ax, ay, az = s02 / r, s12 / r, r
+            if ax * vx + ay * vy + az * vz < 0.0:
+                ax, ay, az = -ax, -ay, -az
+            e[3], e[4], e[5] = th * ax, th * ay, th * az
     E = 0.0
     for i in range(6):
         E += w[i] * e[i] * e[i]

@@ -55,7 +55,9 @@ inverse kinematics by the Levenberg-Marquardt method", IEEE T-RO 27(5), 2011.
 from __future__ import annotations
 
 import math
+import random
 import time
+import weakref
 from typing import Any, Optional
 
 import numpy as np
@@ -75,6 +77,27 @@ _SINGULAR_SIGMA = 1e-5  # smallest singular value (metres, rad) below which a st
 
 
 # ----------------------------------------------------------------------------------------- inputs
+_CONSTANTS: "weakref.WeakKeyDictionary[Robot, dict]" = weakref.WeakKeyDictionary()
+
+
+def _constants(robot: Robot) -> dict:
+    """Per-robot arrays the solvers need on every call (computed once per robot)."""
+    c = _CONSTANTS.get(robot)
+    if c is None:
+        rev = ~robot.prismatic
+        reach = robot.reach
+        span = 2.0 * reach if np.isfinite(reach) and reach > 0 else 1.0
+        free_lo = np.where(rev, -math.pi, -np.inf)
+        free_hi = np.where(rev, math.pi, np.inf)
+        lo, hi = robot.lower.astype(float), robot.upper.astype(float)
+        c = dict(rev=rev, reach=reach, origin=robot.base[:3, 3].copy(),
+                 limits=(lo, hi, np.where(np.isfinite(lo), lo, np.where(rev, -math.pi, -span)),
+                         np.where(np.isfinite(hi), hi, np.where(rev, math.pi, span))),
+                 free=(free_lo, free_hi, np.where(rev, -math.pi, -span), np.where(rev, math.pi, span)))
+        _CONSTANTS[robot] = c
+    return c
+
+
 class Problem:
     """Normalised inputs shared by the numerical solvers (internal)."""
 
@@ -121,15 +144,9 @@ class Problem:
             raise ShapeError(f"{what}: tol must be (position, rotation) > 0, got {tol!r}")
         self.enforce_limits = bool(enforce_limits)
         self.s = robot.unit_scale
-        rev = ~robot.prismatic
-        if enforce_limits:
-            self.lower, self.upper = robot.lower.astype(float), robot.upper.astype(float)
-        else:  # no limits: revolute joints wrapped into [-pi, pi], prismatic free
-            self.lower = np.where(rev, -math.pi, -np.inf)
-            self.upper = np.where(rev, math.pi, np.inf)
-        span = 2.0 * self.robot.reach if np.isfinite(self.robot.reach) else 1.0
-        self.rand_lo = np.where(np.isfinite(self.lower), self.lower, np.where(rev, -math.pi, -span))
-        self.rand_hi = np.where(np.isfinite(self.upper), self.upper, np.where(rev, math.pi, span))
+        self.const = _constants(robot)
+        # without limits revolute joints are wrapped into [-pi, pi] and prismatic joints are free
+        self.lower, self.upper, self.rand_lo, self.rand_hi = self.const["limits" if enforce_limits else "free"]
         self.full_pose = bool(np.all(w > 0))
         self.position_only = bool(np.all(w[:3] > 0) and not np.any(w[3:] > 0))
 
@@ -139,15 +156,21 @@ class Problem:
 
     def unreachable(self) -> tuple[NDArray[np.bool_], Array]:
         """Targets whose position is provably beyond the reach (distance from the base origin)."""
-        dist = np.linalg.norm(self.poses[:, :3, 3] - self.robot.base[:3, 3], axis=-1)
-        if not np.all(self.w[:3] > 0):
+        d = self.poses[:, :3, 3] - self.const["origin"]
+        dist = np.sqrt(np.einsum("bi,bi->b", d, d))
+        if not (self.w[0] > 0 and self.w[1] > 0 and self.w[2] > 0):
             return np.zeros(self.B, bool), dist
-        return dist > self.robot.reach * (1.0 + 1e-9) + self.tol[0], dist
+        return dist > self.const["reach"] * (1.0 + 1e-9) + self.tol[0], dist
 
 
 def _seeds(seed: Any, B: int) -> NDArray[np.uint64]:
-    g = np.random.default_rng(seed)
-    base = int(g.integers(0, 2**62))
+    """One restart seed per target, reproducible from ``seed``."""
+    if seed is None:
+        base = random.getrandbits(62)
+    elif isinstance(seed, (int, np.integer)) and not isinstance(seed, bool):
+        base = (int(seed) * 0x9E3779B97F4A7C15 + 0x632BE59BD9B4E019) % 2**62
+    else:
+        base = int(np.random.default_rng(seed).integers(0, 2**62))
     return (np.uint64(base) + np.arange(B, dtype=np.uint64)).astype(np.uint64)
 
 
@@ -472,6 +495,9 @@ def _solve(prob: Problem, method: str, max_iterations: Optional[int], restarts: 
     if time_limit is not None:  # attempt by attempt, checking the clock between rounds
         rounds = [(np.flatnonzero(unreachable), 0, 1)] + \
                  [(np.flatnonzero(~unreachable), a, 1) for a in range(total_attempts)]
+    if kernels is not None and time_limit is None and not unreachable.any():  # the common case, no bookkeeping
+        rounds = []
+        q, iters, used, _, _, rows = _run_jit(kernels, prob, q, max_iterations, total_attempts, 0, seeds, trace)
     for idx, first, count in rounds:
         idx = idx[~done[idx]]
         if len(idx) == 0:
@@ -495,7 +521,7 @@ def _solve(prob: Problem, method: str, max_iterations: Optional[int], restarts: 
     unit = prob.robot.unit
     for i in np.flatnonzero(unreachable):
         reasons[int(i)] = ("unreachable", f"target is {_fmt(dist[i])} {unit} from the base origin; the arm reaches "
-                                          f"at most {_fmt(prob.robot.reach)} {unit}; q is the closest configuration found")
+                                          f"at most {_fmt(prob.const['reach'])} {unit}; q is the closest configuration found")
     res = assemble(prob, q, iters, method, reasons, _trace_array(rows))
     failed = np.flatnonzero(~res.success & ~unreachable)
     if diagnose and len(failed):
@@ -518,20 +544,16 @@ def _diagnose(prob: Problem, res: IKResult, failed: NDArray[np.intp], reasons: d
     if prob.enforce_limits:
         free = object.__new__(Problem)
         free.__dict__.update(sub.__dict__)
-        rev = ~prob.robot.prismatic
         free.enforce_limits = False
-        free.lower = np.where(rev, -math.pi, -np.inf)
-        free.upper = np.where(rev, math.pi, np.inf)
-        free.rand_lo = np.where(rev, -math.pi, sub.rand_lo)
-        free.rand_hi = np.where(rev, math.pi, sub.rand_hi)
+        free.lower, free.upper, free.rand_lo, free.rand_hi = prob.const["free"]
         alt = _solve(free, method, max_iterations, min(restarts, 5), seed, False, None, diagnose=False)
     sigma = _smallest_sigma(prob, res.q[failed], failed)
     for j, i in enumerate(failed):
         i = int(i)
         if prob.enforce_limits and alt.success[j]:
             broken = ", ".join(prob.robot.limit_violations(alt.q[j])) or "limits"
-            reasons[i] = ("joint limits", f"a solution exists only outside the joint limits ({broken}); "
-                                          "q is the best configuration inside them")
+            reasons[i] = ("joint limits", f"found solutions only outside the joint limits ({broken}); "
+                                          "q is the best configuration found inside them")
         elif sigma[j] < _SINGULAR_SIGMA:
             reasons[i] = ("singular", f"stalled at a singular configuration (smallest singular value "
                                       f"{sigma[j]:.1e}) after {res.iterations[i]} iterations and {used[i]} starts")
