@@ -1,0 +1,651 @@
+r"""The interactive shell (seed 000's loop, done safely): ``armkit shell fighter``.
+
+A line holds one or more statements separated by ``;``::
+
+    theta1 = 30; theta2 = 45; theta3 = 60     joint by number (theta1, q1, j1) or by name (yaw = 30)
+    q 30 45 60                                every joint at once
+    goto 100 50 80     or    [100 50 80]      move the end point to a target (IK)
+    branch elbow-up    branch auto   branch   pick / list IK branches
+    home   limits   units deg|rad   lang ko|en   show   help   exit | quit (or Ctrl-D)
+
+The grammar is a handful of regular expressions over the words of a statement; numbers
+are parsed with ``float`` after a strict pattern match. Nothing typed is ever evaluated
+as code. A line that does not parse changes nothing and gets one line of explanation.
+After each command that moves the arm, the shell prints the joint values, the end
+point (and orientation) and the IK branch, and redraws the arm: in a window when there
+is a display, else into ``out/shell/step_NNN.png``.
+
+:class:`Shell` does the work and is driven line by line with :meth:`Shell.execute`
+(tests feed it scripts); :meth:`Shell.run` is the read loop (prompt_toolkit with
+history and tab completion on a terminal, plain lines from a pipe).
+
+Examples
+--------
+>>> import armkit, io
+>>> from rich.console import Console
+>>> sh = Shell(armkit.load("fighter"), lang="en", plot="none", console=Console(file=io.StringIO()))
+>>> sh.execute("theta1 = 30; theta2 = 45; theta3 = 60").status
+'ok'
+>>> [round(float(v), 3) for v in sh.end_point]
+[24.861, 14.353, 187.181]
+>>> sh.execute("print(__import__('os'))").status
+'error'
+>>> sh.execute("exit").status
+'exit'
+"""
+
+from __future__ import annotations
+
+import io
+import math
+import os
+import re
+import sys
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Iterable, Optional, TextIO
+
+import numpy as np
+
+from .errors import ArmkitError
+from .i18n import LANGUAGES, default_language, message
+from .kinematics import fk
+from .model.robot import Robot
+
+__all__ = ["Shell", "ShellOutput", "parse_numbers"]
+
+_NUMBER = r"[+-]?(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][+-]?\d+)?"
+_NUMBER_RE = re.compile(rf"^{_NUMBER}$")
+_ASSIGN_RE = re.compile(rf"^([A-Za-z_][A-Za-z_0-9\-]*)\s*=\s*({_NUMBER})\s*(deg|degrees?|°|rad|radians?|mm|cm|m)?$",
+                        re.IGNORECASE)
+_INDEXED_RE = re.compile(r"^(?:theta|q|j|joint)(\d+)$", re.IGNORECASE)
+_WORD_RE = re.compile(r"^([A-Za-z?]+)(?:\s+(.*))?$", re.DOTALL)
+_BRACKET_RE = re.compile(r"^[\[(](.*)[\])]$", re.DOTALL)
+_SPLIT_RE = re.compile(r"[\s,]+")
+EXIT_WORDS = ("exit", "quit", "bye", ":q")
+
+
+class ParseError(ArmkitError, ValueError):
+    """A statement the shell cannot use; its text is the one-line message."""
+
+
+@dataclass(frozen=True)
+class ShellOutput:
+    """What one line did.
+
+    status : {"ok", "info", "error", "empty", "exit"}
+        ``ok`` the arm moved (or was shown), ``info`` text only, ``error`` nothing changed.
+    text : str
+        What was printed, as plain text.
+    picture : Path or None
+        The PNG written for this step.
+    """
+
+    status: str
+    text: str
+    picture: Optional[Path] = None
+
+
+def parse_numbers(words: Iterable[str], lang: str = "en") -> list[float]:
+    """Strictly parse number words (no expressions, no ``nan``/``inf``); raise :class:`ParseError`."""
+    out = []
+    for w in words:
+        if not _NUMBER_RE.match(w):
+            raise ParseError(message("not_number", lang, word=w))
+        x = float(w)
+        if not math.isfinite(x):
+            raise ParseError(message("not_finite", lang, word=w))
+        out.append(x)
+    return out
+
+
+def _split(text: str) -> list[str]:
+    return [w for w in _SPLIT_RE.split(text.strip()) if w]
+
+
+class Shell:
+    """An interactive kinematics session on one robot.
+
+    Parameters
+    ----------
+    robot : Robot
+    lang : {"en", "ko"}, optional
+        Message language; default from the locale.
+    units : {"deg", "rad"}
+        Angle units of input and output (``units`` changes them).
+    plot : {"auto", "window", "png", "none"}
+        ``auto``: a live window when a display exists, else PNG files.
+    out_dir : path
+        Where PNG pictures go (``step_001.png``, ...).
+    console : rich.console.Console, optional
+        Where tables and messages are printed.
+    """
+
+    def __init__(self, robot: Robot, lang: Optional[str] = None, units: str = "deg", plot: str = "auto",
+                 out_dir: str | Path = "out/shell", console: Any = None) -> None:
+        from rich.console import Console
+
+        self.robot = robot
+        self.lang = lang if lang in LANGUAGES else default_language()
+        if units not in ("deg", "rad"):
+            raise ArmkitError(f"units must be 'deg' or 'rad', got {units!r}")
+        self.units = units
+        if plot not in ("auto", "window", "png", "none"):
+            raise ArmkitError(f"plot must be 'auto', 'window', 'png' or 'none', got {plot!r}")
+        if plot == "auto":
+            from .viz._mpl import has_display
+
+            plot = "window" if has_display() else "png"
+        self.plot = plot
+        self.out_dir = Path(out_dir)
+        self.console = console if console is not None else Console(highlight=False)
+        self.q = np.zeros(robot.n)
+        self.branch: Optional[str] = None      # the branch label of the current configuration
+        self.preferred: Optional[str] = None   # the branch goto should use (None: nearest)
+        self.step = 0
+        self._fig: Any = None
+        self._names = {name.lower(): i for i, name in enumerate(robot.joint_names)}
+        self._planar: Optional[bool] = None
+
+    # ------------------------------------------------------------------ helpers
+    def _t(self, key: str, **fields: object) -> str:
+        return message(key, self.lang, **fields)
+
+    @property
+    def end_point(self) -> np.ndarray:
+        """Current end point ``(3,)`` in the robot's unit."""
+        return fk(self.robot, self.q)[:3, 3]
+
+    @property
+    def planar(self) -> bool:
+        if self._planar is None:
+            from .analysis.workspace import is_planar
+
+            self._planar = is_planar(self.robot)
+        return self._planar
+
+    def _angle_in(self, value: float, unit: Optional[str], joint: int) -> float:
+        """A typed value for ``joint`` in internal units (rad / length)."""
+        j = self.robot.joints[joint]
+        u = (unit or "").lower()
+        if j.is_prismatic:
+            if u in ("", self.robot.unit):
+                return value
+            scale = {"m": 1.0, "cm": 1e-2, "mm": 1e-3}
+            if u in scale:
+                return value * scale[u] / self.robot.unit_scale
+            raise ParseError(self._t("bad_unit", unit=unit, joint=j.name, kind=j.kind))
+        if u in ("mm", "cm", "m"):
+            raise ParseError(self._t("bad_unit", unit=unit, joint=j.name, kind=j.kind))
+        if u.startswith("rad"):
+            return value
+        if u:  # deg, degree(s), °
+            return math.radians(value)
+        return math.radians(value) if self.units == "deg" else value
+
+    def _angle_out(self, value: float) -> float:
+        return math.degrees(value) if self.units == "deg" else value
+
+    def _joint_index(self, name: str) -> int:
+        m = _INDEXED_RE.match(name)
+        if name.lower() in self._names:
+            return self._names[name.lower()]
+        if m and 1 <= int(m.group(1)) <= self.robot.n:
+            return int(m.group(1)) - 1
+        raise ParseError(self._t("unknown_joint", name=name, names=", ".join(self.robot.joint_names)))
+
+    def _check_limits(self, q: np.ndarray) -> None:
+        bad = self.robot.limit_violations(q)
+        if bad:
+            raise ParseError(self._t("limit", detail="; ".join(bad)))
+
+    # ------------------------------------------------------------------ parsing
+    def _parse(self, stmt: str) -> tuple[str, Any]:
+        """One statement -> (action, argument). Raises ParseError."""
+        s = stmt.strip()
+        low = s.lower()
+        if low in EXIT_WORDS:
+            return "exit", None
+        if low in ("help", "?", "h"):
+            return "help", None
+        if low in ("limits", "limit"):
+            return "limits", None
+        if low in ("home", "zero"):
+            return "q", np.zeros(self.robot.n)
+        if low in ("show", "where", "state"):
+            return "show", None
+        m = _ASSIGN_RE.match(s)
+        if m:
+            k = self._joint_index(m.group(1))
+            value = parse_numbers([m.group(2)], self.lang)[0]
+            return "set", (k, self._angle_in(value, m.group(3), k))
+        if "=" in s and not s.lower().startswith("q"):
+            name = s.split("=", 1)[0].strip()
+            if re.match(r"^[A-Za-z_][A-Za-z_0-9\-]*$", name):
+                self._joint_index(name)      # unknown joint -> its own message
+            raise ParseError(self._t("not_number", word=s.split("=", 1)[1].strip()))
+        m = _BRACKET_RE.match(s)
+        if m:
+            return "goto", parse_numbers(_split(m.group(1)), self.lang)
+        m = _WORD_RE.match(s)
+        if m:
+            word, rest = m.group(1).lower(), (m.group(2) or "").strip()
+            if word == "q":
+                rest = rest[1:].strip() if rest.startswith("=") else rest
+                values = parse_numbers(_split(rest), self.lang)
+                if len(values) != self.robot.n:
+                    raise ParseError(self._t("count", robot=self.robot.name, n=self.robot.n,
+                                             names=", ".join(self.robot.joint_names), k=len(values)))
+                return "q", np.array([self._angle_in(v, None, i) for i, v in enumerate(values)])
+            if word in ("goto", "go", "target", "ik"):
+                return "goto", parse_numbers(_split(rest), self.lang)
+            if word == "branch":
+                return "branch", rest or None
+            if word in ("units", "unit"):
+                return "units", rest or None
+            if word in ("lang", "language"):
+                return "lang", rest or None
+        words = _split(s)
+        if words and all(_NUMBER_RE.match(w) for w in words):
+            nums = " ".join(words)
+            raise ParseError(self._t("ambiguous", nums=nums))
+        raise ParseError(self._t("unknown", text=s if len(s) <= 60 else s[:57] + "..."))
+
+    # ------------------------------------------------------------------ execute
+    def execute(self, line: str) -> ShellOutput:
+        """Run one input line; print its output and return what happened. Never raises for bad input."""
+        from rich.console import Console
+
+        buffer = io.StringIO()
+        text_console = Console(file=buffer, width=110, no_color=True, highlight=False)
+        outputs: list[Any] = []
+
+        def emit(thing: Any, style: str = "") -> None:
+            outputs.append((thing, style))
+
+        status, picture = self._execute(line, emit)
+        if status == "ok" and self.plot != "none":
+            picture = self._draw(emit)
+        for thing, style in outputs:
+            self.console.print(thing, style=style or None, soft_wrap=isinstance(thing, str))
+            text_console.print(thing, soft_wrap=isinstance(thing, str))
+        return ShellOutput(status, buffer.getvalue(), picture)
+
+    def _execute(self, line: str, emit: Any) -> tuple[str, Optional[Path]]:
+        if not isinstance(line, str):
+            emit(self._t("unknown", text=repr(line)), "red")
+            return "error", None
+        statements = [s for s in line.replace("\x00", " ").split(";") if s.strip() and not s.strip().startswith("#")]
+        if not statements:
+            return "empty", None
+        try:
+            actions = [self._parse(s) for s in statements]
+        except ParseError as exc:
+            emit(str(exc), "red")
+            return "error", None
+        if any(a == "exit" for a, _ in actions[:-1]):
+            emit(self._t("exit_alone"), "red")
+            return "error", None
+        # apply: joint settings first (atomically), then the other commands in order
+        q_new = self.q.copy()
+        moved = False
+        status = "info"
+        for action, arg in actions:
+            if action == "set":
+                q_new[arg[0]] = arg[1]
+                moved = True
+            elif action == "q":
+                q_new = np.array(arg, dtype=float)
+                moved = True
+        if moved:
+            try:
+                self._check_limits(q_new)
+            except ParseError as exc:
+                emit(str(exc), "red")
+                return "error", None
+            self.q = q_new
+            self.branch = self._identify_branch()
+            status = "ok"
+        for action, arg in actions:
+            if action in ("set", "q"):
+                continue
+            try:
+                result = getattr(self, f"_cmd_{action}")(arg, emit)
+            except ParseError as exc:
+                emit(str(exc), "red")
+                return "error", None
+            if result == "exit":
+                emit(self._t("bye"))
+                return "exit", None
+            if result == "error":
+                return "error", None
+            if result == "ok":
+                status = "ok"
+        if status == "ok":
+            self._show(emit)
+        return status, None
+
+    # ------------------------------------------------------------------ commands
+    def _cmd_exit(self, arg: Any, emit: Any) -> str:
+        return "exit"
+
+    def _cmd_help(self, arg: Any, emit: Any) -> str:
+        emit(self._t("help", unit=self.robot.unit, first=self.robot.joint_names[0], goto=self._goto_example()))
+        return "info"
+
+    def _cmd_show(self, arg: Any, emit: Any) -> str:
+        return "ok"
+
+    def _cmd_limits(self, arg: Any, emit: Any) -> str:
+        from rich.table import Table
+
+        t = Table(title=self._t("limits_title", robot=self.robot.name), header_style="bold")
+        for col in (self._t("joint"), self._t("limits")):
+            t.add_column(col)
+        for j in self.robot.joints:
+            if j.is_prismatic:
+                t.add_row(j.name, f"{j.lower:g} .. {j.upper:g} {self.robot.unit}")
+            else:
+                lo, hi = self._angle_out(j.lower), self._angle_out(j.upper)
+                t.add_row(j.name, f"{lo:g} .. {hi:g} {self.units}")
+        emit(t)
+        return "info"
+
+    def _cmd_units(self, arg: Optional[str], emit: Any) -> str:
+        if arg is not None:
+            u = arg.strip().lower()
+            u = {"degree": "deg", "degrees": "deg", "°": "deg", "radian": "rad", "radians": "rad"}.get(u, u)
+            if u not in ("deg", "rad"):
+                raise ParseError(self._t("units_bad", u=arg))
+            self.units = u
+        emit(self._t("units_now", u=self.units))
+        return "info"
+
+    def _cmd_lang(self, arg: Optional[str], emit: Any) -> str:
+        if arg is not None:
+            u = arg.strip().lower()
+            if u not in LANGUAGES:
+                raise ParseError(self._t("lang_bad", u=arg))
+            self.lang = u
+        emit(self._t("lang_now"))
+        return "info"
+
+    def _goto_example(self) -> str:
+        if self.planar:
+            return "x y" if self.robot.n == 2 else "x y [phi]"
+        return "x y z" if self.robot.n < 6 else "x y z [roll pitch yaw]"
+
+    def _branch_target(self, q: np.ndarray) -> np.ndarray:
+        """The target whose closed-form branches name the configurations (position or pose)."""
+        T = fk(self.robot, q)
+        if self.planar:
+            return T if self.robot.n >= 3 else T[:2, 3]
+        return T if self.robot.n >= 6 else T[:3, 3]
+
+    def _all_branches(self, target: np.ndarray) -> Optional[Any]:
+        """``ik_all`` of ``target`` from the current q, or None when the arm has no closed form."""
+        try:
+            from . import ik_all  # type: ignore[attr-defined]
+        except ImportError:
+            return None
+        try:
+            return ik_all(self.robot, target, q0=self.q)
+        except (ArmkitError, ValueError, NotImplementedError):
+            return None
+
+    def _identify_branch(self) -> Optional[str]:
+        res = self._all_branches(self._branch_target(self.q))
+        if res is None:
+            return None
+        d = np.abs(np.angle(np.exp(1j * (np.asarray(res.q) - self.q))))
+        d = np.where(self.robot.prismatic, np.abs(np.asarray(res.q) - self.q), d).max(axis=-1)
+        ok = np.asarray(res.success) & (d < 1e-6)
+        if not ok.any():
+            return None
+        return str(np.asarray(res.branch)[int(np.argmax(ok))])
+
+    def _cmd_branch(self, arg: Optional[str], emit: Any) -> str:
+        res = self._all_branches(self._branch_target(self.q))
+        if res is None:
+            emit(self._t("no_branches", robot=self.robot.name), "yellow")
+            return "info"
+        names = [str(b) for b in np.asarray(res.branch)]
+        if arg is None:
+            from rich.table import Table
+
+            t = Table(title=self._t("branches_title"), header_style="bold")
+            t.add_column(self._t("branch"))
+            for name in self.robot.joint_names:
+                t.add_column(f"{name} ({self.units})", justify="right")
+            t.add_column("ok")
+            for b, name in enumerate(names):
+                qb = np.asarray(res.q)[b]
+                mark = "*" if name == self.branch else ""
+                t.add_row(name + mark, *(self._fmt_joint(i, v) for i, v in enumerate(qb)),
+                          "yes" if bool(np.asarray(res.success)[b]) else str(np.asarray(res.reason)[b]))
+            emit(t)
+            return "info"
+        want = arg.strip()
+        if want.lower() == "auto":
+            self.preferred = None
+            emit(self._t("branch_auto"))
+            return "info"
+        match = [n for n in names if n.lower() == want.lower()]
+        if not match:
+            raise ParseError(self._t("branch_unknown", name=want, names=", ".join(names)))
+        self.preferred = match[0]
+        emit(self._t("branch_set", name=match[0]))
+        b = names.index(match[0])
+        if bool(np.asarray(res.success)[b]):
+            self.q = np.asarray(res.q)[b].astype(float)
+            self.branch = match[0]
+            return "ok"
+        emit(self._t("branch_missing", name=match[0], current=self.branch or self._t("none")), "yellow")
+        return "info"
+
+    def _goto_target(self, values: list[float]) -> tuple[np.ndarray, Optional[float]]:
+        """Target array (and planar end angle) from typed numbers; ParseError on a wrong count."""
+        k = len(values)
+        if self.planar:
+            if k == 2:
+                phi = None
+                if self.robot.n >= 3:  # keep the current end angle
+                    T = fk(self.robot, self.q)
+                    phi = math.atan2(T[1, 0], T[0, 0])
+                return np.array(values, dtype=float), phi
+            if k == 3 and self.robot.n >= 3:
+                return np.array(values[:2], dtype=float), self._angle_in(values[2], None, 0) if not \
+                    self.robot.prismatic[0] else math.radians(values[2])
+            forms = "x y" if self.robot.n < 3 else "x y, or x y phi"
+        else:
+            if k == 3:
+                return np.array(values, dtype=float), None
+            if k == 6:
+                from .spatial import make_pose, rpy_to_rotation
+
+                rpy = [v if self.units == "rad" else math.radians(v) for v in values[3:]]
+                return make_pose(rpy_to_rotation(rpy), values[:3]), None
+            forms = "x y z, or x y z roll pitch yaw"
+        raise ParseError(self._t("goto_count", robot=self.robot.name, forms=forms, k=k))
+
+    def _cmd_goto(self, values: list[float], emit: Any) -> str:
+        target, phi = self._goto_target(values)
+        try:
+            from . import ik, ik_all  # type: ignore[attr-defined]
+        except ImportError as exc:  # the IK package not built yet
+            emit(self._t("ik_error", detail=str(exc)), "red")
+            return "error"
+        kwargs = {"phi": phi} if phi is not None else {}
+        try:
+            try:
+                res = ik_all(self.robot, target, q0=self.q, **kwargs)
+            except (ArmkitError, ValueError, NotImplementedError):
+                res = None
+            if res is not None:
+                ok = np.asarray(res.success)
+                names = [str(b) for b in np.asarray(res.branch)]
+                if not ok.any():
+                    detail = str(np.asarray(res.message)[0]) or str(np.asarray(res.reason)[0])
+                    emit(self._t("unreachable", detail=detail), "red")
+                    return "error"
+                pick = int(np.argmax(ok))                      # sorted by distance to the current q
+                if self.preferred in names and ok[names.index(self.preferred)]:
+                    pick = names.index(self.preferred)
+                self.q = np.asarray(res.q)[pick].astype(float)
+                self.branch = names[pick]
+                return "ok"
+            one = ik(self.robot, target, q0=self.q, **kwargs)
+        except (ArmkitError, ValueError, FloatingPointError) as exc:
+            emit(self._t("ik_error", detail=str(exc)), "red")
+            return "error"
+        if not bool(np.asarray(one.success)):
+            detail = str(np.asarray(one.message)) or str(np.asarray(one.reason))
+            emit(self._t("unreachable", detail=detail), "red")
+            return "error"
+        self.q = np.asarray(one.q, dtype=float)
+        self.branch = str(np.asarray(one.branch)) or None
+        return "ok"
+
+    # ------------------------------------------------------------------ output
+    def _fmt_joint(self, i: int, v: float) -> str:
+        if self.robot.prismatic[i]:
+            return f"{v:.4f}"
+        return f"{self._angle_out(v):.4f}" if self.units == "deg" else f"{v:.6f}"
+
+    def _show(self, emit: Any) -> None:
+        from rich.table import Table
+
+        from .spatial import rotation_to_rpy
+
+        r = self.robot
+        T = fk(r, self.q)
+        t = Table(title=self._t("state_title", robot=r.name), header_style="bold")
+        t.add_column(self._t("joint"))
+        t.add_column(self._t("value"), justify="right")
+        t.add_column(self._t("limits"), justify="right")
+        for i, j in enumerate(r.joints):
+            u = r.unit if j.is_prismatic else self.units
+            lo = j.lower if j.is_prismatic else self._angle_out(j.lower)
+            hi = j.upper if j.is_prismatic else self._angle_out(j.upper)
+            t.add_row(j.name, f"{self._fmt_joint(i, self.q[i])} {u}", f"{lo:g} .. {hi:g} {u}")
+        emit(t)
+        p = T[:3, 3]
+        rpy = [self._angle_out(v) for v in rotation_to_rpy(T[:3, :3])]
+        e = Table(title=None, header_style="bold", caption=f"{self._t('branch')}: {self.branch or self._t('none')}")
+        e.add_column("")
+        for h in ("x / roll", "y / pitch", "z / yaw"):
+            e.add_column(h, justify="right")
+        e.add_row(f"{self._t('end_point')} ({r.unit})", *(f"{v:.4f}" for v in p))
+        e.add_row(f"{self._t('orientation')} ({self.units})", *(f"{v:.4f}" for v in rpy))
+        emit(e)
+        emit(f"end point: ({p[0]:.6f}, {p[1]:.6f}, {p[2]:.6f}) {r.unit}")
+
+    def _draw(self, emit: Any) -> Optional[Path]:
+        """Redraw the arm: update the window or write the next PNG. Returns the PNG path."""
+        try:
+            from .viz._mpl import pyplot
+            from .viz.arm import plot_arm
+
+            plt = pyplot()
+            self.step += 1
+            title = None
+            if self.plot == "window":
+                if self._fig is None or not plt.fignum_exists(self._fig.number):
+                    plt.ion()
+                    self._fig = None
+                if self._fig is not None:
+                    self._fig.clf()
+                    from .analysis.workspace import is_planar
+
+                    ax = self._fig.add_subplot(111) if is_planar(self.robot) else \
+                        self._fig.add_subplot(111, projection="3d")
+                    plot_arm(self.robot, self.q, ax=ax, title=title)
+                else:
+                    self._fig = plot_arm(self.robot, self.q, title=title)
+                self._fig.canvas.draw_idle()
+                plt.pause(0.001)
+                return None
+            fig = plot_arm(self.robot, self.q, title=title)
+            path = self.out_dir / f"step_{self.step:03d}.png"
+            from .viz.plots import save_figure
+
+            save_figure(fig, path, dpi=90)
+            emit(self._t("picture", path=str(path)), "dim")
+            return path
+        except Exception as exc:  # noqa: BLE001 - drawing must never end the session
+            emit(self._t("plot_failed", detail=f"{type(exc).__name__}: {exc}"), "yellow")
+            self.plot = "none"
+            return None
+
+    # ------------------------------------------------------------------ loop
+    def completions(self) -> list[str]:
+        """Words offered by tab completion."""
+        words = ["help", "exit", "quit", "q", "goto", "branch", "limits", "units", "deg", "rad", "home", "show",
+                 "lang", "auto", "en", "ko"]
+        words += [f"theta{i}" for i in range(1, self.robot.n + 1)] + list(self.robot.joint_names)
+        res = self._all_branches(self._branch_target(self.q))
+        if res is not None:
+            words += [str(b) for b in np.asarray(res.branch)]
+        return sorted(set(words))
+
+    def run(self, stdin: Optional[TextIO] = None, history: Optional[str | Path] = None) -> int:
+        """Read and execute lines until exit/quit/EOF. Returns the exit code (0).
+
+        On a terminal, lines come from prompt_toolkit (history in ``history`` or
+        ``~/.local/state/armkit/shell_history``, tab completion); otherwise plain lines
+        from ``stdin``.
+        """
+        stdin = stdin if stdin is not None else sys.stdin
+        self.console.print(self._t("welcome", robot=self.robot.name, n=self.robot.n,
+                                   names=", ".join(self.robot.joint_names), unit=self.robot.unit,
+                                   angles=self.units), soft_wrap=True)
+        self.execute("show")
+        read = self._prompt_reader() if stdin is sys.stdin and _isatty(stdin) else None
+        while True:
+            try:
+                if read is not None:
+                    line = read(f"{self.robot.name}> ")
+                else:
+                    line = stdin.readline()
+                    if line == "":
+                        raise EOFError
+            except EOFError:
+                self.console.print(self._t("bye"))
+                return 0
+            except KeyboardInterrupt:
+                continue
+            try:
+                out = self.execute(line.rstrip("\n"))
+            except Exception as exc:  # noqa: BLE001 - a bug must not end a user's session
+                self.console.print(self._t("internal", detail=f"{type(exc).__name__}: {exc}"), style="red")
+                continue
+            if out.status == "exit":
+                return 0
+
+    def _prompt_reader(self) -> Any:
+        try:
+            from prompt_toolkit import PromptSession
+            from prompt_toolkit.completion import WordCompleter
+            from prompt_toolkit.history import FileHistory, InMemoryHistory
+        except ImportError:
+            return None
+        state = Path(os.environ.get("XDG_STATE_HOME", Path.home() / ".local" / "state")) / "armkit"
+        try:
+            state.mkdir(parents=True, exist_ok=True)
+            hist: Any = FileHistory(str(state / "shell_history"))
+        except OSError:
+            hist = InMemoryHistory()
+        session: Any = PromptSession(history=hist)
+
+        def read(prompt: str) -> str:
+            completer = WordCompleter(self.completions(), ignore_case=True, sentence=False)
+            return session.prompt(prompt, completer=completer)
+
+        return read
+
+
+def _isatty(stream: Any) -> bool:
+    try:
+        return bool(stream.isatty())
+    except (AttributeError, ValueError):
+        return False
