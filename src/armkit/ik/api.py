@@ -50,13 +50,14 @@ def closed_form_family(robot: Robot) -> Optional[str]:
 # ----------------------------------------------------------------------------- targets
 def _planar_plane(robot: Robot) -> tuple[float, Array, float]:
     """For an arm moving in the world xy plane: its height z, tool rotation at q = 0 and end angle there."""
-    from ..kinematics import fk
+    from ..kinematics import fk, jacobian
 
+    J = jacobian(robot, robot.random_q(rng=0))
+    axes_z = np.allclose(J[3:5], 0.0, atol=1e-9) and np.allclose(J[2], 0.0, atol=1e-9 * robot.reach)
+    if not axes_z or robot.prismatic.any():
+        raise ShapeError(f"2-D targets (x, y) are for planar arms moving in the world xy plane; robot "
+                         f"{robot.name!r} is not one: give (x, y, z) or a pose")
     T0 = fk(robot, np.zeros(robot.n))
-    J_axes = robot.chain.base[:3, :3] @ robot.chain.pre[0][:3, 2]
-    if not np.allclose(np.abs(J_axes), [0, 0, 1], atol=1e-9):
-        raise ShapeError(f"2-D targets (x, y) need an arm that moves in the world xy plane; robot {robot.name!r} "
-                         "does not; give (x, y, z) or a pose")
     return float(T0[2, 3]), T0[:3, :3], math.atan2(T0[1, 0], T0[0, 0])
 
 

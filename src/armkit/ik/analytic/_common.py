@@ -187,12 +187,12 @@ def fmt_len(x: float, unit: str) -> str:
     return f"{x:.6g} {unit}"
 
 
-def add_messages(message: NDArray[np.object_], where: NDArray[np.bool_], make) -> None:
-    """``message[i] += make(i)`` for the (few) flat indices where ``where`` is true."""
+def add_messages(message: NDArray[np.object_], where: NDArray[np.bool_], make, first: bool = False) -> None:
+    """``message[i] += make(i)`` (or prepend, with ``first``) for the (few) flat indices where ``where`` is true."""
     flat = message.reshape(-1)
     for i in np.flatnonzero(where.reshape(-1)):
         text = make(i)
-        flat[i] = text if not flat[i] else flat[i] + " " + text
+        flat[i] = text if not flat[i] else (text + " " + flat[i] if first else flat[i] + " " + text)
 
 
 def rz_rx(phi: Array, alpha: float) -> Array:

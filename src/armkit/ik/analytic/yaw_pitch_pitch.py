@@ -143,5 +143,5 @@ class YawPitchPitch:
         add_messages(note, on_axis & ~sol["unreachable"], lambda i: (
             f"on the yaw axis: any yaw angle works ({self.yaw_name} is free); giving "
             f"{self.yaw_name} = {math.degrees(math.remainder(yaw.reshape(-1)[i], 2 * math.pi)):.6g} deg "
-            "(from q0, 0 by default)."))
+            "(from q0, 0 by default)."), first=True)
         return Raw(sol["phi"], labels[idx], sol["unreachable"], why, note)

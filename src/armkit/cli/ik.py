@@ -1,0 +1,202 @@
+"""The ``armkit ik`` command: every closed-form branch as a table, or one numeric solution."""
+
+from __future__ import annotations
+
+import math
+from typing import List, Optional, Tuple
+
+import numpy as np
+import typer
+from rich.table import Table
+
+from .common import (EXIT_BAD_INPUT, EXIT_FAILED, NUMERIC_ARGS, console, fail, get_robot, parse_numbers,
+                     print_json, warn)
+
+ROBOT_HELP = "Bundled robot name (see `armkit robots`) or path of a .toml robot file."
+METHOD_CHOICES = ("auto", "analytic", "lm", "newton", "ccd", "fabrik")
+
+
+def _target(robot, coords: List[str], rpy, quat, deg: bool, phi: Optional[float]):
+    """(target array, phi in rad or None, a short description) from the command-line words."""
+    from ..spatial import make_pose, quaternion_to_rotation, rpy_to_rotation
+
+    p = parse_numbers(coords, "target coordinates")
+    if len(p) not in (2, 3):
+        fail(f"give the target as X Y (planar arms) or X Y Z in {robot.unit}; got {len(p)} number(s)")
+    if rpy is not None and quat is not None:
+        fail("give the orientation with --rpy or with --quat, not both")
+    where = "(" + ", ".join(f"{v:g}" for v in p) + f") {robot.unit}"
+    if len(p) == 2:
+        if rpy is not None or quat is not None:
+            fail("--rpy/--quat need X Y Z; for a planar arm give the end angle with --phi")
+        if phi is None:
+            return p, None, where
+        ph = math.radians(phi) if deg else phi
+        return p, ph, where + f", end angle {math.degrees(ph):g} deg"
+    if phi is not None:
+        fail("--phi is the end angle of a planar X Y target; with X Y Z use --rpy or --quat")
+    if rpy is not None:
+        R = rpy_to_rotation(np.array(rpy, dtype=float), degrees=deg)
+        shown = np.array(rpy) if deg else np.degrees(rpy)
+        return make_pose(R, p), None, where + ", roll/pitch/yaw (" + ", ".join(f"{v:g}" for v in shown) + ") deg"
+    if quat is not None:
+        qv = np.array(quat, dtype=float)
+        if not np.all(np.isfinite(qv)) or np.linalg.norm(qv) < 1e-12:
+            fail(f"--quat must be a non-zero quaternion x y z w, got {tuple(quat)}")
+        return (make_pose(quaternion_to_rotation(qv / np.linalg.norm(qv)), p), None,
+                where + ", quaternion (" + ", ".join(f"{v:g}" for v in qv) + ")")
+    return p, None, where + " (position only)"
+
+
+def _rows(robot, res) -> list[dict]:
+    q = np.atleast_2d(res.q)
+    fields = [np.atleast_1d(np.asarray(getattr(res, f))) for f in
+              ("success", "position_error", "rotation_error", "iterations", "branch", "within_limits", "reason",
+               "message")]
+    out = []
+    for k in range(len(q)):
+        s, dp, dr, it, br, wl, rs, msg = (f[k] for f in fields)
+        out.append({"branch": str(br), "success": bool(s), "q_rad": q[k] + 0.0,
+                    "q_deg": np.where(robot.prismatic, q[k], np.degrees(q[k])) + 0.0,
+                    "position_error": float(dp), "rotation_error": float(dr), "within_limits": bool(wl),
+                    "reason": str(rs), "message": str(msg), "iterations": int(it)})
+    return out
+
+
+def _deg(v: float) -> str:
+    return f"{0.0 if abs(v) < 5e-5 else v:.4f}"
+
+
+def _table(robot, rows: list[dict], title: str, position_only: bool) -> Table:
+    t = Table(title=title, header_style="bold")
+    t.add_column("branch", no_wrap=True)
+    for name, pris in zip(robot.joint_names, robot.prismatic):
+        t.add_column(f"{name} ({robot.unit if pris else 'deg'})", justify="right", overflow="fold")
+    t.add_column(f"pos. error ({robot.unit})", justify="right", overflow="fold")
+    t.add_column("rot. error (deg)", justify="right", overflow="fold")
+    t.add_column("in limits", justify="center")
+    t.add_column("result", overflow="fold")
+    for r in rows:
+        result = "[green]solved[/]" if r["success"] else f"[red]{r['reason']}[/]"
+        t.add_row(r["branch"], *(_deg(v) for v in r["q_deg"]), f"{r['position_error']:.1e}",
+                  "-" if position_only else f"{math.degrees(r['rotation_error']):.1e}",
+                  "yes" if r["within_limits"] else "[red]no[/]", result)
+    return t
+
+
+def _print_wide(renderable) -> None:
+    """Tables are printed at full width into pipes and files (nothing cut); a terminal folds them."""
+    if console.is_terminal:
+        console.print(renderable)
+    else:
+        from rich.console import Console
+
+        Console(highlight=False, width=max(console.width, 150)).print(renderable)
+
+
+def _trace_table(trace) -> Table:
+    tr = np.asarray(trace, dtype=float)
+    if tr.ndim == 2 and tr.shape[0] == 1:
+        tr = tr[0]
+    t = Table(title="iterations (error after each step)", header_style="bold")
+    t.add_column("iteration", justify="right")
+    if tr.ndim == 1:
+        t.add_column("error", justify="right")
+        for i, v in enumerate(tr):
+            if np.isfinite(v):
+                t.add_row(str(i + 1), f"{v:.3e}")
+    else:
+        for j in range(tr.shape[1]):
+            t.add_column(f"error {j + 1}", justify="right")
+        for i, row in enumerate(tr):
+            t.add_row(str(i + 1), *(f"{v:.3e}" for v in row))
+    return t
+
+
+def ik(robot: str = typer.Argument(..., help=ROBOT_HELP),
+       coords: List[str] = typer.Argument(..., help="Target position X Y [Z] in the robot's unit.", metavar="X Y [Z]"),
+       rpy: Optional[Tuple[float, float, float]] = typer.Option(
+           None, "--rpy", help="Target orientation roll pitch yaw (R = Rz(y) Ry(p) Rx(r); rad, or deg with --deg)."),
+       quat: Optional[Tuple[float, float, float, float]] = typer.Option(
+           None, "--quat", help="Target orientation as a quaternion x y z w (scalar last)."),
+       deg: bool = typer.Option(False, "--deg", help="Angles given (--rpy, --phi) are in degrees."),
+       method: str = typer.Option("auto", "--method",
+                                  help="auto (closed form when the arm has one, else lm), analytic, lm, newton, "
+                                       "ccd or fabrik."),
+       branch: Optional[str] = typer.Option(None, "--branch", help="Only this closed-form branch, e.g. elbow-up."),
+       all_branches: bool = typer.Option(False, "--all", help="Every closed-form branch (the default when the "
+                                                              "arm has a closed form)."),
+       seed: Optional[int] = typer.Option(None, "--seed", help="Random seed of the numeric restarts."),
+       phi: Optional[float] = typer.Option(None, "--phi", help="End angle of a planar arm for an X Y target."),
+       trace: bool = typer.Option(False, "--trace", help="Numeric methods: print the error at every iteration."),
+       json_out: bool = typer.Option(False, "--json", help="Print JSON.")) -> None:
+    """Inverse kinematics: joint angles that put the tool at a target.
+
+    For arms with a closed form (planar2, planar3 with --phi, fighter, puma560, ur5) every
+    branch is listed; otherwise, or with --method, a numeric solver gives one answer.
+    Exit code 0: solved, 1: no solution (the reason is printed), 2: bad input.
+
+    Example: armkit ik fighter 24.861 14.353 187.181
+
+    Example: armkit ik planar2 1.2 0.3 --branch elbow-up
+
+    Example: armkit ik panda 0.4 0.1 0.5 --rpy 180 0 0 --deg --method lm --seed 3
+    """
+    from ..errors import ArmkitError
+    from ..ik import ik as solve, ik_all
+    from ..ik.analytic import closed_form
+
+    if method not in METHOD_CHOICES:
+        fail(f"--method must be one of {', '.join(METHOD_CHOICES)}; got {method!r}")
+    try:
+        r = get_robot(robot)
+        target, ph, where = _target(r, coords, rpy, quat, deg, phi)
+        solver = closed_form(r)
+        position_only = target.ndim == 1 and ph is None
+        closed_ok = solver is not None and not (position_only and solver.pose_only)
+        if all_branches and (method not in ("auto", "analytic") or branch is not None):
+            fail("--all lists the closed-form branches; it does not go with --branch or a numeric --method")
+        if all_branches and not closed_ok:
+            fail(f"--all needs a closed form; robot {r.name!r} has none for this target (try --method lm)")
+        listing = method in ("auto", "analytic") and branch is None and closed_ok
+        if seed is not None and (listing or (method in ("auto", "analytic") and closed_ok)):
+            warn("--seed only matters for the numeric methods; the closed form ignores it")
+        if trace and (listing or method == "analytic" or (method == "auto" and closed_ok)):
+            warn("--trace shows the iterations of a numeric method; the closed form has none")
+        if listing:
+            res = ik_all(r, target, phi=ph)
+            used = f"closed form ({solver.family})"  # type: ignore[union-attr]
+        else:
+            res = solve(r, target, method=method, branch=branch, phi=ph, seed=seed, trace=trace)  # type: ignore[arg-type]
+            used = f"closed form ({solver.family})" if method in ("auto", "analytic") and closed_ok else (
+                "lm" if method == "auto" else method)
+    except ArmkitError as exc:
+        fail(str(exc), EXIT_BAD_INPUT)
+    rows = _rows(r, res)
+    solved = any(row["success"] for row in rows)
+    if json_out:
+        print_json({"robot": r.name, "unit": r.unit, "method": used, "target": np.asarray(target),
+                    "phi_rad": ph, "solved": solved, "solutions": rows,
+                    "trace": None if res.trace is None else np.asarray(res.trace)})
+    else:
+        _print_wide(_table(r, rows, f"IK of {r.name} for {where}, {used}", position_only))
+        notes = list(dict.fromkeys(row["message"] for row in rows if row["success"] and row["message"]))
+        for note in notes:
+            console.print(f"note: {note}", soft_wrap=True)
+        if trace and res.trace is not None:
+            console.print(_trace_table(res.trace))
+        if solved:
+            ok_count = sum(row["success"] for row in rows)
+            if len(rows) > 1:
+                console.print(f"{ok_count} of {len(rows)} branches solve the target"
+                              + (" (the first is nearest to q = 0)." if ok_count > 1 else "."))
+    if not solved:
+        first = rows[0]
+        msg = first["message"] or f"FK misses the target by {first['position_error']:.3g} {r.unit}"
+        if not msg.startswith(first["reason"]):
+            msg = f"{first['reason']}: {msg}"
+        fail(msg, EXIT_FAILED)
+
+
+def register(app: typer.Typer) -> None:
+    app.command(context_settings=NUMERIC_ARGS)(ik)
