@@ -23,13 +23,14 @@ from __future__ import annotations
 
 import importlib
 import os
+import weakref
 from typing import Literal, Sequence
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ..errors import ArmkitError
-from ..model.robot import Robot
+from ..model.robot import Chain, Robot
 from . import _numpy
 
 __all__ = ["fk", "fk_frames", "jacobian", "manipulability", "condition_number", "is_singular",
@@ -77,6 +78,24 @@ def _jit_module():
     return _load_jit()
 
 
+_PACKED: dict[int, tuple[Array, Array]] = {}
+
+
+def _packed(chain: Chain) -> tuple[Array, Array]:
+    """The kernels' packed constants of ``chain`` (see ``_jit.pack``), built once per chain.
+
+    Keyed by ``id``; the entry is dropped when the chain is garbage-collected, so an id
+    is never reused while it is in the table.
+    """
+    key = id(chain)
+    p = _PACKED.get(key)
+    if p is None:
+        p = _JIT.pack(chain.fixed, chain.prismatic, chain.base, chain.pre, chain.post, chain.tool)
+        _PACKED[key] = p
+        weakref.finalize(chain, _PACKED.pop, key, None)
+    return p
+
+
 def _flat(robot: Robot, q: ArrayLike) -> tuple[Array, tuple[int, ...]]:
     arr = robot.check_q(q)
     return np.ascontiguousarray(arr.reshape(-1, robot.n)), arr.shape[:-1]
@@ -116,22 +135,22 @@ def fk(robot: Robot, q: ArrayLike) -> Array:
     array([ 24.861,  14.353, 187.181])
     """
     jit = _jit_module()
-    c = robot.chain
     if jit is not None:
+        F, _ = _packed(robot.chain)
         if type(q) is np.ndarray and q.ndim == 1:  # the single-call fast path: no copy, no extra pass
             out = np.empty((4, 4))
             try:
-                jit.fk_one(c.fixed, c.prismatic, q, out)
+                jit.fk_one(F, q, out)
                 return out
             except (TypeError, ValueError):  # not float64, wrong length or NaN: the general path says which
                 pass
         flat, lead = _flat_unchecked(robot, q)
-        out, bad = jit.fk_batch(c.fixed, c.prismatic, flat)
+        out, bad = jit.fk_batch(F, flat)
         if bad:
             robot.check_q(q)  # raises ShapeError naming the problem
     else:
         flat, lead = _flat(robot, q)
-        out = _numpy.fk(c, flat)
+        out = _numpy.fk(robot.chain, flat)
     return out.reshape(lead + (4, 4))
 
 
@@ -148,7 +167,7 @@ def fk_frames(robot: Robot, q: ArrayLike) -> Array:
     jit = _jit_module()
     if jit is not None:
         flat, lead = _flat_unchecked(robot, q)
-        out, bad = jit.frames_batch(c.base, c.pre, c.post, c.tool, c.prismatic, flat)
+        out, bad = jit.frames_batch(_packed(c)[1], flat)
         if bad:
             robot.check_q(q)
     else:
@@ -182,15 +201,16 @@ def jacobian(robot: Robot, q: ArrayLike, frame: Literal["base", "tool"] = "base"
     tool_frame = frame == "tool"
     jit = _jit_module()
     if jit is not None:
+        _, P = _packed(c)
         if type(q) is np.ndarray and q.ndim == 1:  # the single-call fast path
-            J = np.empty((6, robot.n))
+            J = np.empty((6, len(q)))  # the kernel checks len(q) == n
             try:
-                jit.jacobian_one(c.base, c.pre, c.post, c.tool, c.prismatic, q, tool_frame, J)
+                jit.jacobian_one(P, q, tool_frame, J)
                 return J
             except (TypeError, ValueError):  # not float64 contiguous, wrong length or NaN: general path
                 pass
         flat, lead = _flat_unchecked(robot, q)
-        J, bad = jit.jacobian_batch(c.base, c.pre, c.post, c.tool, c.prismatic, flat, tool_frame)
+        J, bad = jit.jacobian_batch(P, flat, tool_frame)
         if bad:
             robot.check_q(q)
     else:

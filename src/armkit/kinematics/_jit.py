@@ -1,7 +1,26 @@
 """Numba kernels over the uniform chain: the fast path for single calls and big batches.
 
-Each pose is kept in twelve scalar locals (the 3x4 affine part), so a joint costs one
-in-place rotation/translation of two columns plus one affine product with a constant.
+How they are fast (numbers in ``docs/performance.md``):
+
+* A pose is twelve scalar locals (the 3x4 affine part, row-major); a joint costs one
+  in-place rotation (or translation) of two columns and one affine product with the
+  constant ``fixed[k]`` of the chain, all in registers. Nothing is allocated per joint.
+* Batches run in blocks of :data:`BLOCK` configurations. For each block the sines and
+  cosines of all its joint values are computed first in one straight, branch-free loop
+  that LLVM turns into SIMD code (:func:`_sincos_poly`: Cody-Waite reduction by pi/2 and
+  Taylor polynomials of degree 17/18 on [-pi/4, pi/4]; error below 2 ulp, checked against
+  ``numpy.sin``/``numpy.cos`` in the tests). Values that are too big for the short
+  reduction (:data:`_SINCOS_MAX`) or not finite fall back to ``math.sin``/``math.cos``
+  and are counted, so the caller can reject NaN/inf without a separate pass.
+* Blocks are spread over threads with ``prange`` from :data:`PARALLEL_MIN` configurations
+  on; below that one thread does it (starting threads costs more than it saves).
+* The single-configuration entry points write into an output array allocated by the
+  caller (a NumPy allocation is cheaper than a Numba-boxed one) and raise ``ValueError``
+  for a wrong length or a non-finite value; :mod:`armkit.kinematics` catches it and lets
+  :meth:`Robot.check_q` produce the real message. Their explicit signatures make a call
+  with any other array type fail at once with ``TypeError`` instead of compiling anew.
+
+No ``fastmath``: results agree with the NumPy back end to about 1e-15.
 Compiled functions are cached on disk (``cache=True``); importing this module is what
 costs time, so :mod:`armkit.kinematics` imports it only on first use.
 """
@@ -11,11 +30,95 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit, prange
+from numba import njit, prange, types
 
-_PARALLEL_MIN = 4096  # below this batch size threads cost more than they save (measured, benchmarks/bench_fk.py)
+BLOCK = 128
+"""Configurations per block of the batched kernels (sin/cos scratch: 2 x BLOCK x n doubles)."""
+
+PARALLEL_MIN = 512
+"""Batches from this size on use all threads (measured with benchmarks/bench_fk.py on 2 cores)."""
 
 
+
+def pack(fixed, prismatic, base, pre, post, tool):
+    """The chain's constants in the two layouts the kernels take: ``(F, P)``.
+
+    ``F`` (n + 1, 4, 4) is ``fixed`` (what plain FK needs) and ``P`` (2n + 2, 4, 4) is
+    ``base, pre_1..pre_n, post_1..post_n, tool`` (what frames and Jacobians need). The
+    bottom rows of these affine matrices are never read, so ``F[k + 1, 3, 0]`` and
+    ``P[1 + k, 3, 0]`` carry joint ``k``'s prismatic flag: one array per call is cheaper
+    to pass than five.
+    """
+    n = prismatic.shape[0]
+    F = np.array(fixed, dtype=np.float64)
+    F[1:, 3, 0] = prismatic
+    P = np.concatenate([base[None], pre, post, tool[None]]).astype(np.float64)
+    P[1:n + 1, 3, 0] = prismatic
+    F.setflags(write=False)
+    P.setflags(write=False)
+    return F, P
+
+
+# --------------------------------------------------------------------------- sin/cos
+# pi/2 split so that n * _PIO2_HI is exact for |n| < 2**20: _PIO2_HI keeps the first 33 bits.
+_PIO2_HI = 1.5707963267341256
+_PIO2_LO = 6.077100506506192e-11
+_TWO_OVER_PI = 0.6366197723675814
+_SINCOS_MAX = 1.0e5  # |x| up to here: the two-part reduction is exact to ~1e-20 absolute
+
+# Taylor coefficients (-1)^k / (2k+1)! and (-1)^k / (2k)!
+_S3, _S5, _S7, _S9 = -1.0 / 6.0, 1.0 / 120.0, -1.0 / 5040.0, 1.0 / 362880.0
+_S11, _S13, _S15, _S17 = -1.0 / 39916800.0, 1.0 / 6227020800.0, -1.0 / 1307674368000.0, 1.0 / 355687428096000.0
+_C4, _C6, _C8, _C10 = 1.0 / 24.0, -1.0 / 720.0, 1.0 / 40320.0, -1.0 / 3628800.0
+_C12, _C14, _C16, _C18 = 1.0 / 479001600.0, -1.0 / 87178291200.0, 1.0 / 20922789888000.0, -1.0 / 6402373705728000.0
+
+
+@njit(cache=True, inline="always")
+def _sincos_poly(x):
+    """(sin x, cos x) for |x| <= _SINCOS_MAX, branch-free so that loops over it vectorise."""
+    k = math.floor(x * _TWO_OVER_PI + 0.5)
+    r = (x - k * _PIO2_HI) - k * _PIO2_LO
+    z = r * r
+    s = r + r * z * (_S3 + z * (_S5 + z * (_S7 + z * (_S9 + z * (_S11 + z * (_S13 + z * (_S15 + z * _S17)))))))
+    c = (1.0 - 0.5 * z) + z * z * (_C4 + z * (_C6 + z * (_C8 + z * (_C10 + z * (_C12 + z * (_C14 + z * (_C16 + z * _C18)))))))
+    m = k - 4.0 * math.floor(k * 0.25)  # quadrant 0..3
+    odd = (m == 1.0) | (m == 3.0)
+    sa = c if odd else s
+    ca = s if odd else c
+    sin_x = -sa if m >= 2.0 else sa
+    cos_x = -ca if (m == 1.0) | (m == 2.0) else ca
+    return sin_x, cos_x
+
+
+@njit(cache=True, inline="always")
+def _sincos(x):
+    if abs(x) <= _SINCOS_MAX:
+        return _sincos_poly(x)
+    return math.sin(x), math.cos(x)
+
+
+@njit(cache=True)
+def sincos_block(x, s, c):
+    """Fill ``s``, ``c`` with sin/cos of the flat array ``x``; return how many were not finite."""
+    bad = 0
+    for j in range(x.shape[0]):
+        sj, cj = _sincos_poly(x[j])
+        s[j] = sj
+        c[j] = cj
+        if not abs(x[j]) <= _SINCOS_MAX:
+            bad += 1
+    if bad:
+        bad = 0
+        for j in range(x.shape[0]):
+            if not math.isfinite(x[j]):
+                bad += 1
+            elif abs(x[j]) > _SINCOS_MAX:
+                s[j] = math.sin(x[j])
+                c[j] = math.cos(x[j])
+    return bad
+
+
+# ------------------------------------------------------------------ 12-scalar poses
 @njit(cache=True, inline="always")
 def _load(F):
     return (F[0, 0], F[0, 1], F[0, 2], F[0, 3], F[1, 0], F[1, 1], F[1, 2], F[1, 3],
@@ -24,147 +127,255 @@ def _load(F):
 
 @njit(cache=True, inline="always")
 def _mul(X, F):
+    """X · F for a 12-scalar pose X and a constant (4, 4) affine F."""
     a00, a01, a02, a03, a10, a11, a12, a13, a20, a21, a22, a23 = X
-    return (a00 * F[0, 0] + a01 * F[1, 0] + a02 * F[2, 0],
-            a00 * F[0, 1] + a01 * F[1, 1] + a02 * F[2, 1],
-            a00 * F[0, 2] + a01 * F[1, 2] + a02 * F[2, 2],
-            a00 * F[0, 3] + a01 * F[1, 3] + a02 * F[2, 3] + a03,
-            a10 * F[0, 0] + a11 * F[1, 0] + a12 * F[2, 0],
-            a10 * F[0, 1] + a11 * F[1, 1] + a12 * F[2, 1],
-            a10 * F[0, 2] + a11 * F[1, 2] + a12 * F[2, 2],
-            a10 * F[0, 3] + a11 * F[1, 3] + a12 * F[2, 3] + a13,
-            a20 * F[0, 0] + a21 * F[1, 0] + a22 * F[2, 0],
-            a20 * F[0, 1] + a21 * F[1, 1] + a22 * F[2, 1],
-            a20 * F[0, 2] + a21 * F[1, 2] + a22 * F[2, 2],
-            a20 * F[0, 3] + a21 * F[1, 3] + a22 * F[2, 3] + a23)
+    f00, f01, f02, f03 = F[0, 0], F[0, 1], F[0, 2], F[0, 3]
+    f10, f11, f12, f13 = F[1, 0], F[1, 1], F[1, 2], F[1, 3]
+    f20, f21, f22, f23 = F[2, 0], F[2, 1], F[2, 2], F[2, 3]
+    return (a00 * f00 + a01 * f10 + a02 * f20,
+            a00 * f01 + a01 * f11 + a02 * f21,
+            a00 * f02 + a01 * f12 + a02 * f22,
+            a00 * f03 + a01 * f13 + a02 * f23 + a03,
+            a10 * f00 + a11 * f10 + a12 * f20,
+            a10 * f01 + a11 * f11 + a12 * f21,
+            a10 * f02 + a11 * f12 + a12 * f22,
+            a10 * f03 + a11 * f13 + a12 * f23 + a13,
+            a20 * f00 + a21 * f10 + a22 * f20,
+            a20 * f01 + a21 * f11 + a22 * f21,
+            a20 * f02 + a21 * f12 + a22 * f22,
+            a20 * f03 + a21 * f13 + a22 * f23 + a23)
 
 
 @njit(cache=True, inline="always")
-def _move(X, t, prismatic):
+def _move(X, t, s, c, prismatic):
+    """X · Rz(t) (given s = sin t, c = cos t) or X · Tz(t)."""
     a00, a01, a02, a03, a10, a11, a12, a13, a20, a21, a22, a23 = X
     if prismatic:
         return (a00, a01, a02, a03 + t * a02, a10, a11, a12, a13 + t * a12, a20, a21, a22, a23 + t * a22)
-    c = math.cos(t)
-    s = math.sin(t)
     return (c * a00 + s * a01, c * a01 - s * a00, a02, a03,
             c * a10 + s * a11, c * a11 - s * a10, a12, a13,
             c * a20 + s * a21, c * a21 - s * a20, a22, a23)
 
 
 @njit(cache=True, inline="always")
-def _store(X, out):
+def _store(X, out, i):
+    out[i, 0, 0], out[i, 0, 1], out[i, 0, 2], out[i, 0, 3] = X[0], X[1], X[2], X[3]
+    out[i, 1, 0], out[i, 1, 1], out[i, 1, 2], out[i, 1, 3] = X[4], X[5], X[6], X[7]
+    out[i, 2, 0], out[i, 2, 1], out[i, 2, 2], out[i, 2, 3] = X[8], X[9], X[10], X[11]
+    out[i, 3, 0], out[i, 3, 1], out[i, 3, 2], out[i, 3, 3] = 0.0, 0.0, 0.0, 1.0
+
+
+@njit(cache=True, inline="always")
+def _store2(X, out):
     out[0, 0], out[0, 1], out[0, 2], out[0, 3] = X[0], X[1], X[2], X[3]
     out[1, 0], out[1, 1], out[1, 2], out[1, 3] = X[4], X[5], X[6], X[7]
     out[2, 0], out[2, 1], out[2, 2], out[2, 3] = X[8], X[9], X[10], X[11]
     out[3, 0], out[3, 1], out[3, 2], out[3, 3] = 0.0, 0.0, 0.0, 1.0
 
 
-@njit(cache=True)
-def _fk_one(fixed, prismatic, q, out):
-    X = _load(fixed[0])
-    for k in range(q.shape[0]):
-        X = _mul(_move(X, q[k], prismatic[k]), fixed[k + 1])
-    _store(X, out)
+@njit(cache=True, inline="always")
+def _store3(X, out, i, f):
+    out[i, f, 0, 0], out[i, f, 0, 1], out[i, f, 0, 2], out[i, f, 0, 3] = X[0], X[1], X[2], X[3]
+    out[i, f, 1, 0], out[i, f, 1, 1], out[i, f, 1, 2], out[i, f, 1, 3] = X[4], X[5], X[6], X[7]
+    out[i, f, 2, 0], out[i, f, 2, 1], out[i, f, 2, 2], out[i, f, 2, 3] = X[8], X[9], X[10], X[11]
+    out[i, f, 3, 0], out[i, f, 3, 1], out[i, f, 3, 2], out[i, f, 3, 3] = 0.0, 0.0, 0.0, 1.0
 
 
-@njit(cache=True)
-def fk_single(fixed, prismatic, q):
-    out = np.empty((4, 4))
-    _fk_one(fixed, prismatic, q, out)
-    return out
+# --------------------------------------------------------------- single configuration
+_RO3 = types.Array(types.float64, 3, "C", readonly=True)
+_OUT2 = types.Array(types.float64, 2, "C")
+_Q1 = [types.Array(types.float64, 1, layout, readonly=ro) for layout in ("C", "A") for ro in (False, True)]
 
 
-@njit(cache=True)
-def _fk_serial(fixed, prismatic, q, out):
-    for i in range(q.shape[0]):
-        _fk_one(fixed, prismatic, q[i], out[i])
-
-
-@njit(cache=True, parallel=True)
-def _fk_parallel(fixed, prismatic, q, out):
-    for i in prange(q.shape[0]):
-        _fk_one(fixed, prismatic, q[i], out[i])
-
-
-def fk_batch(fixed, prismatic, q):
-    out = np.empty((q.shape[0], 4, 4))
-    (_fk_parallel if q.shape[0] >= _PARALLEL_MIN else _fk_serial)(fixed, prismatic, q, out)
-    return out
-
-
-@njit(cache=True)
-def _frames_one(base, pre, post, tool, prismatic, q, out):
-    X = _load(base)
-    _store(X, out[0])
-    n = q.shape[0]
+@njit([types.void(_RO3, q, _OUT2) for q in _Q1], cache=True)
+def fk_one(F, q, out):
+    """FK of one configuration into ``out`` (4, 4); ValueError for a wrong length or NaN/inf."""
+    n = F.shape[0] - 1
+    if q.shape[0] != n:
+        raise ValueError("q has the wrong length")
+    X = _load(F[0])
     for k in range(n):
-        X = _mul(_move(_mul(X, pre[k]), q[k], prismatic[k]), post[k])
-        if k == n - 1:
-            X = _mul(X, tool)
-        _store(X, out[k + 1])
+        t = q[k]
+        if not math.isfinite(t):
+            raise ValueError("q is not finite")
+        s, c = _sincos(t)
+        X = _mul(_move(X, t, s, c, F[k + 1, 3, 0] != 0.0), F[k + 1])
+    _store2(X, out)
 
 
-@njit(cache=True, parallel=True)
-def _frames_batch(base, pre, post, tool, prismatic, q, out):
-    for i in prange(q.shape[0]):
-        _frames_one(base, pre, post, tool, prismatic, q[i], out[i])
+@njit(cache=True, inline="always")
+def _jacobian_cols(P, q, s, c, o, tool_frame, J, i):
+    """Geometric Jacobian of configuration q[i] into J[i].
 
-
-def frames_batch(base, pre, post, tool, prismatic, q):
-    out = np.empty((q.shape[0], q.shape[1] + 1, 4, 4))
-    if q.shape[0] == 1:
-        _frames_one(base, pre, post, tool, prismatic, q[0], out[0])
-    else:
-        _frames_batch(base, pre, post, tool, prismatic, q, out)
-    return out
-
-
-@njit(cache=True)
-def _jacobian_one(base, pre, post, tool, prismatic, q, tool_frame, J):
-    # first pass: J[0:3, k] <- axis origin p_k, J[3:6, k] <- axis direction z_k
-    X = _load(base)
-    n = q.shape[0]
+    Sines/cosines come from s[o:o+n], c[o:o+n] when ``o >= 0``, else are computed here.
+    """
+    n = (P.shape[0] - 2) // 2
+    # first pass: J[i, 0:3, k] <- axis origin p_k, J[i, 3:6, k] <- axis direction z_k
+    X = _load(P[0])
     for k in range(n):
-        X = _mul(X, pre[k])
-        J[0, k], J[1, k], J[2, k] = X[3], X[7], X[11]
-        J[3, k], J[4, k], J[5, k] = X[2], X[6], X[10]
-        X = _mul(_move(X, q[k], prismatic[k]), post[k])
-    X = _mul(X, tool)
+        X = _mul(X, P[1 + k])
+        J[i, 0, k], J[i, 1, k], J[i, 2, k] = X[3], X[7], X[11]
+        J[i, 3, k], J[i, 4, k], J[i, 5, k] = X[2], X[6], X[10]
+        t = q[i, k]
+        if o >= 0:
+            sk, ck = s[o + k], c[o + k]
+        else:
+            sk, ck = _sincos(t)
+        X = _mul(_move(X, t, sk, ck, P[1 + k, 3, 0] != 0.0), P[1 + n + k])
+    X = _mul(X, P[2 * n + 1])
     ex, ey, ez = X[3], X[7], X[11]
     for k in range(n):
-        zx, zy, zz = J[3, k], J[4, k], J[5, k]
-        if prismatic[k]:
-            J[0, k], J[1, k], J[2, k] = zx, zy, zz
-            J[3, k], J[4, k], J[5, k] = 0.0, 0.0, 0.0
+        zx, zy, zz = J[i, 3, k], J[i, 4, k], J[i, 5, k]
+        if P[1 + k, 3, 0] != 0.0:
+            J[i, 0, k], J[i, 1, k], J[i, 2, k] = zx, zy, zz
+            J[i, 3, k], J[i, 4, k], J[i, 5, k] = 0.0, 0.0, 0.0
         else:
-            rx, ry, rz = ex - J[0, k], ey - J[1, k], ez - J[2, k]
-            J[0, k] = zy * rz - zz * ry
-            J[1, k] = zz * rx - zx * rz
-            J[2, k] = zx * ry - zy * rx
+            rx, ry, rz = ex - J[i, 0, k], ey - J[i, 1, k], ez - J[i, 2, k]
+            J[i, 0, k] = zy * rz - zz * ry
+            J[i, 1, k] = zz * rx - zx * rz
+            J[i, 2, k] = zx * ry - zy * rx
     if tool_frame:  # rows become R^T v and R^T w
         r00, r01, r02, r10, r11, r12, r20, r21, r22 = X[0], X[1], X[2], X[4], X[5], X[6], X[8], X[9], X[10]
         for k in range(n):
-            for o in (0, 3):
-                a, b, c = J[o, k], J[o + 1, k], J[o + 2, k]
-                J[o, k] = r00 * a + r10 * b + r20 * c
-                J[o + 1, k] = r01 * a + r11 * b + r21 * c
-                J[o + 2, k] = r02 * a + r12 * b + r22 * c
+            for o3 in (0, 3):
+                a, b, cc = J[i, o3, k], J[i, o3 + 1, k], J[i, o3 + 2, k]
+                J[i, o3, k] = r00 * a + r10 * b + r20 * cc
+                J[i, o3 + 1, k] = r01 * a + r11 * b + r21 * cc
+                J[i, o3 + 2, k] = r02 * a + r12 * b + r22 * cc
+
+
+@njit([types.void(_RO3, q, types.boolean, _OUT2) for q in _Q1[:2]], cache=True)
+def jacobian_one(P, q, tool_frame, out):
+    """Jacobian of one configuration into ``out`` (6, n); ValueError for a wrong length or NaN/inf."""
+    n = (P.shape[0] - 2) // 2
+    if q.shape[0] != n or out.shape[1] != n:
+        raise ValueError("q has the wrong length")
+    for k in range(n):
+        if not math.isfinite(q[k]):
+            raise ValueError("q is not finite")
+    _jacobian_cols(P, q.reshape((1, n)), q, q, -1, tool_frame, out.reshape((1, 6, n)), 0)
+
+
+# ---------------------------------------------------------------------------- batches
+@njit(cache=True, inline="always")
+def _sincos_of_block(q, qflat, b):
+    B, n = q.shape
+    i0 = b * BLOCK
+    i1 = min(i0 + BLOCK, B)
+    s = np.empty((i1 - i0) * n)
+    c = np.empty((i1 - i0) * n)
+    bad = sincos_block(qflat[i0 * n:i1 * n], s, c)
+    return i0, i1, s, c, bad
+
+
+@njit(cache=True, inline="always")
+def _fk_block(F, q, qflat, out, b):
+    n = q.shape[1]
+    i0, i1, s, c, bad = _sincos_of_block(q, qflat, b)
+    for i in range(i0, i1):
+        o = (i - i0) * n
+        X = _load(F[0])
+        for k in range(n):
+            X = _mul(_move(X, q[i, k], s[o + k], c[o + k], F[k + 1, 3, 0] != 0.0), F[k + 1])
+        _store(X, out, i)
+    return bad
 
 
 @njit(cache=True)
-def jacobian_single(base, pre, post, tool, prismatic, q, tool_frame):
-    J = np.empty((6, q.shape[0]))
-    _jacobian_one(base, pre, post, tool, prismatic, q, tool_frame, J)
-    return J
+def _fk_serial(F, q, out):
+    bad = 0
+    qflat = q.reshape(q.size)
+    for b in range((q.shape[0] + BLOCK - 1) // BLOCK):
+        bad += _fk_block(F, q, qflat, out, b)
+    return bad
 
 
 @njit(cache=True, parallel=True)
-def _jacobian_batch(base, pre, post, tool, prismatic, q, tool_frame, out):
-    for i in prange(q.shape[0]):
-        _jacobian_one(base, pre, post, tool, prismatic, q[i], tool_frame, out[i])
+def _fk_parallel(F, q, out):
+    bad = 0
+    qflat = q.reshape(q.size)
+    for b in prange((q.shape[0] + BLOCK - 1) // BLOCK):
+        bad += _fk_block(F, q, qflat, out, b)
+    return bad
 
 
-def jacobian_batch(base, pre, post, tool, prismatic, q, tool_frame):
+def fk_batch(F, q):
+    """FK of ``q`` (B, n), C-contiguous: ``(out (B, 4, 4), number of non-finite values in q)``."""
+    out = np.empty((q.shape[0], 4, 4))
+    bad = (_fk_parallel if q.shape[0] >= PARALLEL_MIN else _fk_serial)(F, q, out)
+    return out, bad
+
+
+@njit(cache=True, inline="always")
+def _jacobian_block(P, q, qflat, tool_frame, out, b):
+    n = q.shape[1]
+    i0, i1, s, c, bad = _sincos_of_block(q, qflat, b)
+    for i in range(i0, i1):
+        _jacobian_cols(P, q, s, c, (i - i0) * n, tool_frame, out, i)
+    return bad
+
+
+@njit(cache=True)
+def _jacobian_serial(P, q, tool_frame, out):
+    bad = 0
+    qflat = q.reshape(q.size)
+    for b in range((q.shape[0] + BLOCK - 1) // BLOCK):
+        bad += _jacobian_block(P, q, qflat, tool_frame, out, b)
+    return bad
+
+
+@njit(cache=True, parallel=True)
+def _jacobian_parallel(P, q, tool_frame, out):
+    bad = 0
+    qflat = q.reshape(q.size)
+    for b in prange((q.shape[0] + BLOCK - 1) // BLOCK):
+        bad += _jacobian_block(P, q, qflat, tool_frame, out, b)
+    return bad
+
+
+def jacobian_batch(P, q, tool_frame):
+    """Jacobians of ``q`` (B, n), C-contiguous: ``(out (B, 6, n), number of non-finite values in q)``."""
     out = np.empty((q.shape[0], 6, q.shape[1]))
-    _jacobian_batch(base, pre, post, tool, prismatic, q, tool_frame, out)
-    return out
+    kernel = _jacobian_parallel if q.shape[0] >= PARALLEL_MIN else _jacobian_serial
+    return out, kernel(P, q, tool_frame, out)
+
+
+@njit(cache=True, inline="always")
+def _frames_block(P, q, qflat, out, b):
+    n = q.shape[1]
+    i0, i1, s, c, bad = _sincos_of_block(q, qflat, b)
+    for i in range(i0, i1):
+        o = (i - i0) * n
+        X = _load(P[0])
+        _store3(X, out, i, 0)
+        for k in range(n):
+            X = _mul(_move(_mul(X, P[1 + k]), q[i, k], s[o + k], c[o + k], P[1 + k, 3, 0] != 0.0), P[1 + n + k])
+            if k == n - 1:
+                X = _mul(X, P[2 * n + 1])
+            _store3(X, out, i, k + 1)
+    return bad
+
+
+@njit(cache=True)
+def _frames_serial(P, q, out):
+    bad = 0
+    qflat = q.reshape(q.size)
+    for b in range((q.shape[0] + BLOCK - 1) // BLOCK):
+        bad += _frames_block(P, q, qflat, out, b)
+    return bad
+
+
+@njit(cache=True, parallel=True)
+def _frames_parallel(P, q, out):
+    bad = 0
+    qflat = q.reshape(q.size)
+    for b in prange((q.shape[0] + BLOCK - 1) // BLOCK):
+        bad += _frames_block(P, q, qflat, out, b)
+    return bad
+
+
+def frames_batch(P, q):
+    """Every link frame of ``q`` (B, n): ``(out (B, n + 1, 4, 4), number of non-finite values in q)``."""
+    out = np.empty((q.shape[0], q.shape[1] + 1, 4, 4))
+    kernel = _frames_parallel if q.shape[0] >= PARALLEL_MIN else _frames_serial
+    return out, kernel(P, q, out)
