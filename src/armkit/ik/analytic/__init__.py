@@ -129,6 +129,49 @@ def _failure_messages(robot: Robot, message: NDArray[np.object_], ok: NDArray[np
                            + (" (this arm cannot turn to that orientation there)." if flat_dp[i] <= tol[0] else "."))
 
 
+POLISH_ABOVE = 1e-13
+"""Branches whose FK error exceeds this (relative to reach, or rad) get a Gauss-Newton touch-up."""
+
+
+def _polish(robot: Robot, q: Array, target: Array, position_only: bool, tol: tuple[float, float],
+            enforce_limits: bool, dp: Array, dr: Array, ok: NDArray[np.bool_], within: NDArray[np.bool_]):
+    """One or two Gauss-Newton steps for the few near-exact branches that rounding left a little off.
+
+    Near a singularity (e.g. the UR wrist at ``sin q5 ~ 1e-5``) a joint angle is ill-conditioned
+    and the closed form can be ~1e-12 off; two Newton steps from there restore full precision.
+    A step is kept only where it makes the FK error smaller.
+    """
+    from ...kinematics import fk, jacobian
+    from ...spatial import so3_log
+
+    scale = robot.reach
+    cand = (dp <= 1e-6 * scale) & (dr <= 1e-6) & ((dp > POLISH_ABOVE * scale) | (dr > POLISH_ABOVE))
+    if not cand.any():
+        return q, dp, dr, ok, within
+    bi, mi = np.nonzero(cand)
+    tgt = target[bi]
+    qc = q[bi, mi].copy()
+    pose = tgt.ndim == 3 and not position_only
+    for _ in range(2):
+        T = fk(robot, qc)
+        J = jacobian(robot, qc)
+        p_t = tgt[:, :3, 3] if tgt.ndim == 3 else tgt
+        e = p_t - T[:, :3, 3]
+        if pose:
+            w = so3_log(tgt[:, :3, :3] @ np.swapaxes(T[:, :3, :3], -1, -2))
+            e = np.concatenate([e, w], axis=-1)
+        else:
+            J = J[:, :3]
+        qc = qc + np.einsum("bij,bj->bi", np.linalg.pinv(J, rcond=1e-10), e)
+    dpn, drn, okn, wn = verify(robot, qc, tgt, position_only, tol, enforce_limits)
+    better = dpn / scale + drn < dp[bi, mi] / scale + dr[bi, mi]
+    bi, mi = bi[better], mi[better]
+    q, dp, dr, ok, within = q.copy(), dp.copy(), dr.copy(), ok.copy(), within.copy()
+    q[bi, mi], dp[bi, mi], dr[bi, mi] = qc[better], dpn[better], drn[better]
+    ok[bi, mi], within[bi, mi] = okn[better], wn[better]
+    return q, dp, dr, ok, within
+
+
 def solve_all(robot: Robot, solver: ClosedForm, target: Array, q0: Array, position_only: bool,
               tol: tuple[float, float] | None = None, enforce_limits: bool = True) -> IKResult:
     """Every branch of the closed form for targets ``(B, 4, 4)`` or ``(B, 3)``; ``q0`` ``(B, n)``.
@@ -141,6 +184,7 @@ def solve_all(robot: Robot, solver: ClosedForm, target: Array, q0: Array, positi
     if tol is None:
         tol = default_tolerance(robot)
     dp, dr, ok, within = verify(robot, q, target[:, None], position_only, tol, enforce_limits)
+    q, dp, dr, ok, within = _polish(robot, q, target, position_only, tol, enforce_limits, dp, dr, ok, within)
     fk_ok = (dp <= tol[0]) & (dr <= tol[1])
     reason = np.where(ok, "converged", np.where(fk_ok & ~within, "joint limits", "unreachable"))
     message = np.where(ok, raw.note, "").astype(object)

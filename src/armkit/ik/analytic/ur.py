@@ -8,8 +8,8 @@ axis of the last turning frame and ``p_5 = p - d_6 z`` (origin of frame 5):
 
 1. ``s_1 (x_5 \sin q_1 - y_5 \cos q_1) = D`` gives ``q_1 = \psi + \arcsin(s_1 D / \rho)`` (right) or
    ``\psi + \pi - \arcsin(s_1 D / \rho)`` (left), ``\psi = atan2(y_5, x_5)``, ``\rho = |(x_5, y_5)|``;
-2. ``z_6 \cdot z_1 = -s_4 s_5 \cos q_5`` and ``p \cdot z_1 = D + d_6 z_6 \cdot z_1`` give
-   ``\cos q_5``: two branches, wrist up (``q_5 >= 0``) and down;
+2. ``z_6 \cdot z_1 = -s_4 s_5 \cos q_5`` and ``|z_6 \times z_1| = |\sin q_5|`` give ``q_5`` up to
+   its sign: two branches, wrist up (``q_5 >= 0``) and down;
 3. ``z_1`` seen from the last frame is ``(s_4 \sin q_5 \cos q_6, -s_4 \sin q_5 \sin q_6, \cdot)``: ``q_6``;
 4. frame 4 is then known; removing joint 1 and the constant part of link 4 leaves
    ``R_z(q_2) T_x(a_2) R_z(q_3) T_x(a_3) R_z(q_4)``: a two-link problem (elbow up/down) and
@@ -81,9 +81,12 @@ class ParallelAxes:
         phi1 = np.stack([psi + math.pi - asn, psi + asn], axis=-1)         # (B, 2): left, right
         sin1, cos1 = np.sin(phi1), np.cos(phi1)
         z1x, z1y = s1 * sin1, -s1 * cos1                                   # z_1 in the base, (B, 2)
-        c5 = -s4 * s5 * (p[:, None, 0] * z1x + p[:, None, 1] * z1y - D) / d6
-        wrist_out = np.abs(c5) > 1.0
-        a5 = np.arccos(np.clip(c5, -1.0, 1.0))
+        # z_6 . z_1 = -s4 s5 cos q5 and |z_6 x z_1| = |sin q5|: atan2 keeps q5 accurate near 0 and pi
+        # (the position form p . z_1 = D + d6 z_6 . z_1 is the same equation once q1 is chosen)
+        z6 = R[:, None, :, 2]
+        cos5 = -s4 * s5 * (z1x * z6[..., 0] + z1y * z6[..., 1])
+        sin5 = np.hypot(z6[..., 2], z1x * z6[..., 1] - z1y * z6[..., 0])
+        a5 = np.arctan2(sin5, cos5)                                        # (B, 2), in [0, pi]
         wsign = np.array([-1.0, 1.0])                                      # down, up
         phi5 = a5[..., None] * wsign                                       # (B, 2, 2)
         wx = R[:, None, 0, 0] * z1x + R[:, None, 1, 0] * z1y               # z_1 in the last frame
@@ -109,22 +112,18 @@ class ParallelAxes:
         idx = (4 * np.array([0, 1])[None, :, None, None] + 2 * np.array([0, 1])[None, None, :, None]
                + up.astype(int))
         elbow_out = (c > 1.0) | (c < -1.0)
-        unreachable = (lateral_out[:, None, None, None] | wrist_out[:, :, None, None] | elbow_out[..., None]
+        unreachable = (lateral_out[:, None, None, None] | elbow_out[..., None]
                        ) & np.ones((1, 1, 2, 2), dtype=bool)
         note = np.full((B, 2, 2, 2), "", dtype=object)
         u = self.unit
         outer, inner = abs(a2) + abs(a3), abs(abs(a2) - abs(a3))
         full = lambda a: np.broadcast_to(a, (B, 2, 2, 2)).reshape(-1)  # noqa: E731
-        lat, wro, elo = full(lateral_out[:, None, None, None]), full(wrist_out[:, :, None, None]), full(elbow_out[..., None])
-        rho_f, c5_f, r_f = full(rho[:, None, None, None]), full(c5[:, :, None, None]), full(r[..., None])
+        lat, rho_f, r_f = full(lateral_out[:, None, None, None]), full(rho[:, None, None, None]), full(r[..., None])
 
         def reason(i: int) -> str:
             if lat[i]:
                 return (f"the wrist point (on joint 5's axis) is {rho_f[i]:.6g} {u} from the base axis, closer "
                         f"than the shoulder offset {abs(D):.6g} {u}.")
-            if wro[i]:
-                return (f"this orientation cannot be reached at this position (it would need cos q5 = "
-                        f"{c5_f[i]:.6g}).")
             return (f"the point on joint 4's axis is {r_f[i]:.6g} {u} from the shoulder; the arm reaches "
                     f"{outer:.6g} {u} (outer) and {inner:.6g} {u} (inner).")
 
