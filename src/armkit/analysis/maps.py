@@ -158,8 +158,25 @@ def ik_maps(robot: Robot, x_grid: ArrayLike, y_grid: ArrayLike, z: float | None 
         zval = float(shoulder_point(robot)[2]) if z is None else float(z)
         target = np.stack([X, Y, np.full_like(X, zval)], axis=-1)
     res = ik_all(robot, target, phi=phi) if phi is not None else ik_all(robot, target)
-    ok = np.asarray(res.success, dtype=bool)
-    q = np.where(ok[..., None], np.asarray(res.q, dtype=float), np.nan)
-    labels = np.asarray(res.branch)
-    branches = tuple(str(labels.reshape(-1, labels.shape[-1])[0, b]) for b in range(labels.shape[-1]))
-    return IKMaps(robot, gx, gy, zval, q, branches, ok)
+    # ik_all sorts the branches of each target by distance to q0; put them in one fixed order by label
+    labels = np.asarray(res.branch).astype(str)
+    order: list[str] = []
+    for lab in labels.reshape(-1, labels.shape[-1])[0]:
+        if lab not in order:
+            order.append(str(lab))
+    for lab in np.unique(labels):
+        if lab not in order:
+            order.append(str(lab))
+    qa = np.asarray(res.q, dtype=float)
+    sa = np.asarray(res.success, dtype=bool)
+    q = np.full(X.shape + (len(order), robot.n), np.nan)
+    ok = np.zeros(X.shape + (len(order),), dtype=bool)
+    for b, lab in enumerate(order):
+        hit = labels == lab                                   # (A, B, m): at most one True per target
+        has = hit.any(axis=-1)
+        idx = np.argmax(hit, axis=-1)
+        qb = np.take_along_axis(qa, idx[..., None, None], axis=-2)[..., 0, :]
+        sb = np.take_along_axis(sa, idx[..., None], axis=-1)[..., 0] & has
+        ok[..., b] = sb
+        q[..., b, :] = np.where(sb[..., None], qb, np.nan)
+    return IKMaps(robot, gx, gy, zval, q, tuple(order), ok)

@@ -171,8 +171,8 @@ def plot_maps(fk: Optional[FKMaps] = None, ik: Optional[IKMaps] = None, levels: 
             cs = ax.contourf(g[1], g[0], Z, levels=levels, cmap="viridis")
             ax.contour(g[1], g[0], Z, levels=levels, colors="k", linewidths=0.3, alpha=0.5)
             fig.colorbar(cs, ax=ax, label=f"{what} ({r.unit})")
-            ax.set(xlabel=f"{names[1]} ({gu[1]})", ylabel=f"{names[0]} ({gu[0]})",
-                   title=f"FK: {what}({names[0]}, {names[1]})")
+            ax.set(xlabel=f"{names[1]} ({gu[1]})", ylabel=f"{names[0]} ({gu[0]})")
+            ax.set_title(f"FK: {what}({names[0]}, {names[1]})", fontsize=10)
         for col in range(len(fk_panels), ncols):
             axes[0, col].axis("off")
         row = 1
@@ -190,15 +190,15 @@ def plot_maps(fk: Optional[FKMaps] = None, ik: Optional[IKMaps] = None, levels: 
                 if np.all(np.isnan(Z)):
                     ax.text(0.5, 0.5, "no reachable target", ha="center", va="center", transform=ax.transAxes)
                 else:
-                    cs = ax.contourf(ik.x, ik.y, Z.T, levels=levels, cmap="twilight" if unit == "deg" else "viridis")
+                    cs = ax.contourf(ik.x, ik.y, Z.T, levels=levels, cmap="viridis")
                     fig.colorbar(cs, ax=ax, label=f"{r.joint_names[k]} ({unit})")
                 ax.set_aspect("equal", adjustable="box")
                 ax.set_xlim(ik.x[0], ik.x[-1])
                 ax.set_ylim(ik.y[0], ik.y[-1])
-                where = f" at z = {ik.z:.4g} {r.unit}" if ik.z is not None else ""
-                ax.set(xlabel=f"x ({r.unit})", ylabel=f"y ({r.unit})",
-                       title=f"IK [{ik.branches[b]}]: {r.joint_names[k]}(x, y){where}")
+                ax.set(xlabel=f"x ({r.unit})", ylabel=f"y ({r.unit})")
+                ax.set_title(f"IK {ik.branches[b]}: {r.joint_names[k]}(x, y)", fontsize=10)
     robot = (fk or ik).robot  # type: ignore[union-attr]
-    fig.suptitle(f"{robot.name}: contour maps (blank = out of reach)", fontsize=12)
-    fig.tight_layout()
+    where = f"; IK targets at z = {ik.z:.4g} {robot.unit}" if ik is not None and ik.z is not None else ""
+    fig.suptitle(f"{robot.name}: contour maps (blank = out of reach{where})", fontsize=12)
+    fig.tight_layout(rect=(0, 0, 1, 0.975))
     return fig
