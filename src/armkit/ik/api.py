@@ -324,7 +324,7 @@ def ik(robot: Robot, target: ArrayLike, q0: ArrayLike | None = None,
             res = every[np.arange(len(flat)), np.argmax(hit, axis=1)]
         res = _reshape(res, lead)
     else:
-        kw: dict[str, Any] = {"mask": mask, "tol": tol, "seed": seed, "enforce_limits": enforce_limits,
+        kw: dict[str, Any] = {"mask": mask, "tol": None if tol is None else _tolerance(robot, tol), "seed": seed, "enforce_limits": enforce_limits,
                               "trace": trace, "max_iterations": max_iterations, "restarts": restarts}
         name = "lm" if method == "auto" else method
         res = _reshape(_numeric(name, robot, flat, q0f, **kw), lead)
