@@ -168,7 +168,8 @@ def ik(robot: str = typer.Argument(..., help=ROBOT_HELP),
             used = f"closed form ({solver.family})"  # type: ignore[union-attr]
         else:
             res = solve(r, target, method=method, branch=branch, phi=ph, seed=seed, trace=trace)  # type: ignore[arg-type]
-            used = f"closed form ({solver.family})" if method in ("auto", "analytic") and closed_ok else (
+            used = f"closed form ({solver.family})" if (  # type: ignore[union-attr]
+                method in ("auto", "analytic") and closed_ok) else (
                 "lm" if method == "auto" else method)
     except ArmkitError as exc:
         fail(str(exc), EXIT_BAD_INPUT)

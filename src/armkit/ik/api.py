@@ -294,7 +294,7 @@ def ik(robot: Robot, target: ArrayLike, q0: ArrayLike | None = None,
     >>> import armkit, numpy as np
     >>> arm = armkit.load("fighter")
     >>> res = armkit.ik(arm, [24.861, 14.353, 187.181], q0=np.radians([25, 40, 65]))
-    >>> bool(res.success), res.branch, np.round(np.degrees(res.q), 2).tolist()
+    >>> bool(res.success), str(res.branch), np.round(np.degrees(res.q), 2).tolist()
     (True, 'front/elbow-down', [30.0, 45.0, 60.0])
     """
     if method not in METHODS:

@@ -145,7 +145,8 @@ def two_link(x: Array, y: Array, l1: float, l2: float) -> tuple[Array, Array, Ar
     return t1, t2, c, np.sqrt(r2)
 
 
-def elbow_up(forward: Array, up_sign: float, l1: float, l2: float, elbow_index: Array) -> Array:
+def elbow_up(forward: Array, up_sign: float, l1: float, l2: float, elbow_index: NDArray[np.int_]
+             ) -> NDArray[np.bool_]:
     """True where the elbow lies above the line from the shoulder to the target.
 
     ``forward`` (+-1) is the sign of the target's coordinate along the plane's horizontal
@@ -156,7 +157,7 @@ def elbow_up(forward: Array, up_sign: float, l1: float, l2: float, elbow_index: 
     different labels even where they coincide (stretched, folded).
     """
     e = np.where(elbow_index == 0, 1.0, -1.0)
-    return -forward * up_sign * math.copysign(1.0, l1 * l2) * e > 0
+    return np.asarray(-forward * up_sign * math.copysign(1.0, l1 * l2) * e > 0)
 
 
 def forward_sign(x: Array, default: Array | float = 1.0) -> Array:

@@ -54,14 +54,15 @@ class SphericalWrist:
     def detect(cls, sf: StandardForm, robot) -> "SphericalWrist | None":
         if sf.n != 6:
             return None
-        signs = (sf.twist(2), sf.twist(3), sf.twist(4))
-        if any(s not in (1, -1) for s in signs):
+        twists = (sf.twist(2), sf.twist(3), sf.twist(4))
+        if any(s not in (1, -1) for s in twists):
             return None
+        signs = (int(twists[0] or 0), int(twists[1] or 0), int(twists[2] or 0))
         if not (sf.is_zero(sf.a[3]) and sf.is_zero(sf.a[4]) and sf.is_zero(sf.d[4])):
             return None
         v = np.array([sf.a[2], -signs[0] * sf.d[3], sf.d[2]])
         pos = Positioner.build(sf, v)
-        return None if pos is None else cls(sf, pos, signs, robot.unit, robot.joint_names)  # type: ignore[arg-type]
+        return None if pos is None else cls(sf, pos, signs, robot.unit, robot.joint_names)
 
     def solve(self, target: Array, q0phi: Array) -> Raw:
         sf = self.sf
