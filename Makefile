@@ -21,9 +21,20 @@ test: $(VENV)/.installed
 	$(PY) -m pytest
 	$(PY) -m mypy
 
-bench: $(VENV)/.installed
-	$(PIP) install --quiet -e '.[bench]'
-	$(PY) benchmarks/bench_fk.py
+# the peers (pin, roboticstoolbox-python, ikpy, pytorch-kinematics, CPU torch) live in their own venv
+BENCH_VENV := .venv-bench
+BENCH_PY   := $(BENCH_VENV)/bin/python
+
+$(BENCH_VENV)/.installed: pyproject.toml
+	$(PYTHON) -m venv $(BENCH_VENV)
+	$(BENCH_PY) -m pip install --quiet --upgrade pip
+	$(BENCH_PY) -m pip install --quiet -e '.[bench,test]'
+	touch $@
+
+bench: $(BENCH_VENV)/.installed
+	$(BENCH_PY) benchmarks/bench_fk.py
+	if [ -f benchmarks/bench_ik.py ]; then $(BENCH_PY) benchmarks/bench_ik.py; fi
+	$(BENCH_PY) -m pytest -q tests/peers
 
 clean:
-	rm -rf $(VENV) out build *.egg-info src/*.egg-info
+	rm -rf $(VENV) $(BENCH_VENV) out build *.egg-info src/*.egg-info

@@ -45,16 +45,18 @@ metre-sized arm."""
 
 _backend = os.environ.get("ARMKIT_BACKEND", "auto")
 _JIT = None  # the armkit.kinematics._jit module once loaded, False if numba is unavailable
+_ACTIVE = None  # the _jit module while it is the back end in use (the single-call fast path reads only this)
 
 
 def set_backend(name: Literal["auto", "numba", "numpy"]) -> None:
     """Choose the kernels: ``"numba"``, ``"numpy"`` or ``"auto"`` (Numba when importable)."""
-    global _backend
+    global _backend, _ACTIVE
     if name not in ("auto", "numba", "numpy"):
         raise ArmkitError(f"backend must be 'auto', 'numba' or 'numpy', got {name!r}")
     if name == "numba" and _load_jit() is None:
         raise ArmkitError("backend 'numba' requested but numba is not installed")
     _backend = name
+    _ACTIVE = None
 
 
 def get_backend() -> str:
@@ -73,9 +75,11 @@ def _load_jit():
 
 
 def _jit_module():
+    global _ACTIVE
     if _backend == "numpy":
         return None
-    return _load_jit()
+    _ACTIVE = _load_jit()
+    return _ACTIVE
 
 
 _PACKED: dict[int, tuple[Array, Array]] = {}
@@ -90,7 +94,9 @@ def _packed(chain: Chain) -> tuple[Array, Array]:
     key = id(chain)
     p = _PACKED.get(key)
     if p is None:
-        p = _JIT.pack(chain.fixed, chain.prismatic, chain.base, chain.pre, chain.post, chain.tool)
+        jit = _load_jit()
+        assert jit is not None, "_packed is only called with the Numba back end"
+        p = jit.pack(chain.fixed, chain.prismatic, chain.base, chain.pre, chain.post, chain.tool)
         _PACKED[key] = p
         weakref.finalize(chain, _PACKED.pop, key, None)
     return p
@@ -134,9 +140,10 @@ def fk(robot: Robot, q: ArrayLike) -> Array:
     >>> np.round(T[:3, 3], 3)
     array([ 24.861,  14.353, 187.181])
     """
-    jit = _jit_module()
+    jit = _ACTIVE or _jit_module()
     if jit is not None:
-        F, _ = _packed(robot.chain)
+        c = robot.chain
+        F = (_PACKED.get(id(c)) or _packed(c))[0]
         if type(q) is np.ndarray and q.ndim == 1:  # the single-call fast path: no copy, no extra pass
             out = np.empty((4, 4))
             try:
@@ -199,18 +206,18 @@ def jacobian(robot: Robot, q: ArrayLike, frame: Literal["base", "tool"] = "base"
         raise ArmkitError(f"frame must be 'base' or 'tool', got {frame!r}")
     c = robot.chain
     tool_frame = frame == "tool"
-    jit = _jit_module()
+    jit = _ACTIVE or _jit_module()
     if jit is not None:
-        _, P = _packed(c)
+        F = (_PACKED.get(id(c)) or _packed(c))[0]
         if type(q) is np.ndarray and q.ndim == 1:  # the single-call fast path
             J = np.empty((6, len(q)))  # the kernel checks len(q) == n
             try:
-                jit.jacobian_one(P, q, tool_frame, J)
+                jit.jacobian_one(F, q, tool_frame, J)
                 return J
             except (TypeError, ValueError):  # not float64 contiguous, wrong length or NaN: general path
                 pass
         flat, lead = _flat_unchecked(robot, q)
-        J, bad = jit.jacobian_batch(P, flat, tool_frame)
+        J, bad = jit.jacobian_batch(F, flat, tool_frame)
         if bad:
             robot.check_q(q)
     else:

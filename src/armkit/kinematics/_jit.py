@@ -35,8 +35,10 @@ from numba import njit, prange, types
 BLOCK = 128
 """Configurations per block of the batched kernels (sin/cos scratch: 2 x BLOCK x n doubles)."""
 
-PARALLEL_MIN = 512
-"""Batches from this size on use all threads (measured with benchmarks/bench_fk.py on 2 cores)."""
+PARALLEL_MIN = 2048
+"""Batches from this size on use all threads. Measured on the shared 2-core machine: below
+~1,000 configurations (~50 µs of work) starting the threads costs more than it saves; from
+2,048 on two threads win when the second core is free (docs/performance.md)."""
 
 
 
@@ -204,16 +206,17 @@ def fk_one(F, q, out):
 
 
 @njit(cache=True, inline="always")
-def _jacobian_cols(P, q, s, c, o, tool_frame, J, i):
+def _jacobian_cols(F, q, s, c, o, tool_frame, J, i):
     """Geometric Jacobian of configuration q[i] into J[i].
 
+    Walking the FK chain ``F``, the pose before joint ``k``'s motion is the frame whose z
+    axis is joint ``k``'s axis, so one affine product per joint gives every axis.
     Sines/cosines come from s[o:o+n], c[o:o+n] when ``o >= 0``, else are computed here.
     """
-    n = (P.shape[0] - 2) // 2
+    n = F.shape[0] - 1
     # first pass: J[i, 0:3, k] <- axis origin p_k, J[i, 3:6, k] <- axis direction z_k
-    X = _load(P[0])
+    X = _load(F[0])
     for k in range(n):
-        X = _mul(X, P[1 + k])
         J[i, 0, k], J[i, 1, k], J[i, 2, k] = X[3], X[7], X[11]
         J[i, 3, k], J[i, 4, k], J[i, 5, k] = X[2], X[6], X[10]
         t = q[i, k]
@@ -221,12 +224,11 @@ def _jacobian_cols(P, q, s, c, o, tool_frame, J, i):
             sk, ck = s[o + k], c[o + k]
         else:
             sk, ck = _sincos(t)
-        X = _mul(_move(X, t, sk, ck, P[1 + k, 3, 0] != 0.0), P[1 + n + k])
-    X = _mul(X, P[2 * n + 1])
+        X = _mul(_move(X, t, sk, ck, F[k + 1, 3, 0] != 0.0), F[k + 1])
     ex, ey, ez = X[3], X[7], X[11]
     for k in range(n):
         zx, zy, zz = J[i, 3, k], J[i, 4, k], J[i, 5, k]
-        if P[1 + k, 3, 0] != 0.0:
+        if F[k + 1, 3, 0] != 0.0:
             J[i, 0, k], J[i, 1, k], J[i, 2, k] = zx, zy, zz
             J[i, 3, k], J[i, 4, k], J[i, 5, k] = 0.0, 0.0, 0.0
         else:
@@ -245,15 +247,15 @@ def _jacobian_cols(P, q, s, c, o, tool_frame, J, i):
 
 
 @njit([types.void(_RO3, q, types.boolean, _OUT2) for q in _Q1[:2]], cache=True)
-def jacobian_one(P, q, tool_frame, out):
+def jacobian_one(F, q, tool_frame, out):
     """Jacobian of one configuration into ``out`` (6, n); ValueError for a wrong length or NaN/inf."""
-    n = (P.shape[0] - 2) // 2
+    n = F.shape[0] - 1
     if q.shape[0] != n or out.shape[1] != n:
         raise ValueError("q has the wrong length")
     for k in range(n):
         if not math.isfinite(q[k]):
             raise ValueError("q is not finite")
-    _jacobian_cols(P, q.reshape((1, n)), q, q, -1, tool_frame, out.reshape((1, 6, n)), 0)
+    _jacobian_cols(F, q.reshape((1, n)), q, q, -1, tool_frame, out.reshape((1, 6, n)), 0)
 
 
 # ---------------------------------------------------------------------------- batches
@@ -307,37 +309,37 @@ def fk_batch(F, q):
 
 
 @njit(cache=True, inline="always")
-def _jacobian_block(P, q, qflat, tool_frame, out, b):
+def _jacobian_block(F, q, qflat, tool_frame, out, b):
     n = q.shape[1]
     i0, i1, s, c, bad = _sincos_of_block(q, qflat, b)
     for i in range(i0, i1):
-        _jacobian_cols(P, q, s, c, (i - i0) * n, tool_frame, out, i)
+        _jacobian_cols(F, q, s, c, (i - i0) * n, tool_frame, out, i)
     return bad
 
 
 @njit(cache=True)
-def _jacobian_serial(P, q, tool_frame, out):
+def _jacobian_serial(F, q, tool_frame, out):
     bad = 0
     qflat = q.reshape(q.size)
     for b in range((q.shape[0] + BLOCK - 1) // BLOCK):
-        bad += _jacobian_block(P, q, qflat, tool_frame, out, b)
+        bad += _jacobian_block(F, q, qflat, tool_frame, out, b)
     return bad
 
 
 @njit(cache=True, parallel=True)
-def _jacobian_parallel(P, q, tool_frame, out):
+def _jacobian_parallel(F, q, tool_frame, out):
     bad = 0
     qflat = q.reshape(q.size)
     for b in prange((q.shape[0] + BLOCK - 1) // BLOCK):
-        bad += _jacobian_block(P, q, qflat, tool_frame, out, b)
+        bad += _jacobian_block(F, q, qflat, tool_frame, out, b)
     return bad
 
 
-def jacobian_batch(P, q, tool_frame):
+def jacobian_batch(F, q, tool_frame):
     """Jacobians of ``q`` (B, n), C-contiguous: ``(out (B, 6, n), number of non-finite values in q)``."""
     out = np.empty((q.shape[0], 6, q.shape[1]))
     kernel = _jacobian_parallel if q.shape[0] >= PARALLEL_MIN else _jacobian_serial
-    return out, kernel(P, q, tool_frame, out)
+    return out, kernel(F, q, tool_frame, out)
 
 
 @njit(cache=True, inline="always")
