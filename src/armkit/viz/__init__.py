@@ -15,7 +15,7 @@ __all__ = ["plot_arm", "plot_workspace", "plot_maps", "track", "TrackResult", "r
            "write_demo_pictures", "save_figure"]
 
 _WHERE = {"plot_arm": "arm", "plot_workspace": "plots", "plot_maps": "plots", "save_figure": "plots",
-          "track": "track", "TrackResult": "track", "render_animation": "animation",
+          "track": "tracking", "TrackResult": "tracking", "render_animation": "animation",
           "write_demo_pictures": "demo"}
 
 
@@ -24,5 +24,7 @@ def __getattr__(name: str) -> Any:
     if name in _WHERE:
         import importlib
 
-        return getattr(importlib.import_module(f"armkit.viz.{_WHERE[name]}"), name)
+        value = getattr(importlib.import_module(f"armkit.viz.{_WHERE[name]}"), name)
+        globals()[name] = value
+        return value
     raise AttributeError(f"module 'armkit.viz' has no attribute {name!r}")

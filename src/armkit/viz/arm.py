@@ -54,7 +54,8 @@ def setup_axes(robot: Robot, ax: Any = None, planar: Optional[bool] = None, figs
 
 
 def draw_arm(ax: Any, robot: Robot, q: np.ndarray, color: str, label: Optional[str], frames: bool,
-             index: int = 0, joint_labels: bool = False, alpha: float = 1.0) -> None:
+             index: int = 0, joint_labels: bool = False, alpha: float = 1.0, lw: float = 3.2,
+             ls: str = "-") -> None:
     """Draw one configuration ``q`` ``(n,)`` on ``ax`` (2D or 3D).
 
     Artists carry gids for tests and tools: ``arm:<index>`` (the link polyline),
@@ -67,7 +68,7 @@ def draw_arm(ax: Any, robot: Robot, q: np.ndarray, color: str, label: Optional[s
     pts = skeleton(robot, F)
     org = F[:, :3, 3]
     dims = (0, 1) if planar else (0, 1, 2)
-    (line,) = ax.plot(*(pts[:, i] for i in dims), "-", color=color, lw=3.2, alpha=alpha,
+    (line,) = ax.plot(*(pts[:, i] for i in dims), ls, color=color, lw=lw, alpha=alpha,
                       solid_capstyle="round", label=label, zorder=3)
     line.set_gid(f"arm:{index}")
     jp, _ = joint_axes(robot, q)
@@ -154,10 +155,23 @@ def plot_arm(robot: Robot, q: ArrayLike, ax: Any = None, frames: bool = True,
         raise ShapeError(f"labels must have one entry per configuration ({len(Q)}), got {len(labels)}")
     ax = setup_axes(robot, ax, figsize=figsize)
     planar = ax.name != "3d"
+    shapes: list[np.ndarray] = []
+    names: list[str] = []
     for i, qi in enumerate(Q):
         lab = labels[i] if labels is not None else (None if single else angle_text(robot, qi, deg, names=False))
+        shape = skeleton(robot, fk_frames(robot, qi))
+        same = [names[k] for k, sh in enumerate(shapes)
+                if sh.shape == shape.shape and np.allclose(sh, shape, atol=1e-9 * (robot.reach or 1.0))]
+        if lab is not None and same:
+            short = same[0].split(":")[0]
+            lab = f"{lab} (same links as {short})"
+        shapes.append(shape)
+        names.append(lab or "")
+        # overlays: each later arm thinner and in another dash pattern, so coinciding arms stay visible
+        lw = 3.2 if single else max(1.4, 5.6 - 1.3 * i)
+        ls = "-" if single else ("-", "--", "-.", ":")[i % 4]
         draw_arm(ax, robot, qi, COLORS[i % len(COLORS)], lab, frames and i == 0, index=i,
-                 joint_labels=single and robot.n <= 4)
+                 joint_labels=single and robot.n <= 4, lw=lw, ls=ls)
     if targets is not None:
         tp = np.asarray(targets, dtype=float).reshape(-1, 3)
         dims = (0, 1) if planar else (0, 1, 2)

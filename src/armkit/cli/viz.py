@@ -1,0 +1,289 @@
+"""Picture commands: plot, shell, workspace, maps, track (matplotlib is imported inside the commands)."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import List, Optional
+
+import numpy as np
+import typer
+
+from .common import (EXIT_FAILED, NUMERIC_ARGS, console, fail, get_robot, parse_numbers, parse_q,
+                     print_json, warn)
+
+ROBOT_HELP = "Bundled robot name (see `armkit robots`) or path of a .toml robot file."
+IMAGE_SUFFIXES = (".png", ".pdf", ".svg", ".jpg")
+
+
+def _out(path: str, allowed: tuple[str, ...], what: str) -> Path:
+    p = Path(path)
+    if p.suffix.lower() not in allowed:
+        fail(f"{what}: the file must end in {', '.join(allowed)}, got {path!r}")
+    return p
+
+
+def plot(robot: str = typer.Argument(..., help=ROBOT_HELP),
+         q: Optional[List[str]] = typer.Argument(None, help="Joint values, one per joint (rad, or deg with --deg).",
+                                                 metavar="[Q...]"),
+         deg: bool = typer.Option(False, "--deg", help="Joint angles are in degrees."),
+         all_branches: Optional[str] = typer.Option(
+             None, "--all-branches", metavar="X,Y[,Z]",
+             help="Instead of joint values: overlay every closed-form IK branch for this target position "
+                  "(comma separated, in the robot's length unit)."),
+         output: str = typer.Option("arm.png", "-o", "--output", help="Picture file (.png, .pdf, .svg)."),
+         no_frames: bool = typer.Option(False, "--no-frames", help="Do not draw the link frames."),
+         strict: bool = typer.Option(False, "--strict", help="A joint outside its limits is an error.")) -> None:
+    """Draw the arm (3D, or 2D for a planar arm) with its joint frames, and write a picture.
+
+    Example: armkit plot fighter 30 45 60 --deg -o arm.png
+
+    Example: armkit plot fighter --all-branches 100,50,80 -o branches.png
+    """
+    from ..viz.arm import plot_arm
+    from ..viz.plots import save_figure
+
+    r = get_robot(robot)
+    out = _out(output, IMAGE_SUFFIXES, "--output")
+    if all_branches is not None:
+        if q:
+            fail("give either joint values or --all-branches, not both")
+        from .. import ik_all
+        from ..analysis.workspace import is_planar
+
+        target = parse_numbers([w for w in all_branches.replace(" ", ",").split(",") if w], "--all-branches")
+        planar = is_planar(r)
+        if len(target) != (2 if planar else 3):
+            fail(f"--all-branches needs {'x,y' if planar else 'x,y,z'} for robot {r.name!r}, got {len(target)} "
+                 "value(s)")
+        res = ik_all(r, target)
+        ok = np.asarray(res.success)
+        if not ok.any():
+            fail(f"no branch reaches the target: {np.asarray(res.message)[0]}", EXIT_FAILED)
+        qs = np.asarray(res.q)[ok]
+        labels = [str(b) for b in np.asarray(res.branch)[ok]]
+        from ..viz._mpl import angle_text
+
+        labels = [f"{b}: {angle_text(r, qq, names=False)}" for b, qq in zip(labels, qs)]
+        tp = np.append(target, 0.0) if planar else target
+        if planar:
+            from ..kinematics import fk
+
+            tp[2] = fk(r, qs[0])[2, 3]
+        unit = r.unit
+        title = (f"{r.name}: {len(qs)} IK branches for target ("
+                 + ", ".join(f"{v:g}" for v in target) + f") {unit}")
+        fig = plot_arm(r, qs, frames=not no_frames, labels=labels, targets=tp, title=title)
+        path = save_figure(fig, out)
+        console.print(f"{len(qs)} branch(es): {', '.join(str(b) for b in np.asarray(res.branch)[ok])}")
+        console.print(f"wrote {path}")
+        return
+    if not q:
+        fail(f"give {r.n} joint values ({', '.join(r.joint_names)}) or --all-branches X,Y,Z")
+    qv = parse_q(r, q, deg, strict)
+    fig = plot_arm(r, qv, frames=not no_frames)
+    path = save_figure(fig, out)
+    console.print(f"wrote {path}")
+
+
+def shell(robot: str = typer.Argument(..., help=ROBOT_HELP),
+          lang: Optional[str] = typer.Option(None, "--lang", help="Message language: ko or en (default: from the "
+                                                                   "locale)."),
+          no_plot: bool = typer.Option(False, "--no-plot", help="Do not draw the arm after each command."),
+          png: bool = typer.Option(False, "--png", help="Write a PNG per step even when a display exists."),
+          out_dir: str = typer.Option("out/shell", "--out-dir", help="Folder for the PNG pictures."),
+          units: str = typer.Option("deg", "--units", help="Angle units: deg or rad.")) -> None:
+    """Interactive shell: set joints, move to targets, see the arm after every command.
+
+    Commands inside: theta1 = 30; theta2 = 45 | q 30 45 60 | goto 100 50 80 | [100 50 80] | branch NAME |
+    limits | units deg|rad | lang ko|en | help | exit. Nothing typed is evaluated as code.
+
+    Example: armkit shell fighter --lang ko
+    """
+    from ..shell import Shell
+
+    if lang is not None and lang not in ("ko", "en"):
+        fail(f"--lang must be ko or en, got {lang!r}")
+    if units not in ("deg", "rad"):
+        fail(f"--units must be deg or rad, got {units!r}")
+    r = get_robot(robot)
+    mode = "none" if no_plot else ("png" if png else "auto")
+    sh = Shell(r, lang=lang, units=units, plot=mode, out_dir=out_dir, console=console)
+    raise typer.Exit(sh.run())
+
+
+def workspace(robot: str = typer.Argument(..., help=ROBOT_HELP),
+              samples: int = typer.Option(200_000, "--samples", "-n", help="Random joint vectors to sample."),
+              seed: int = typer.Option(0, "--seed", help="Random seed."),
+              ground: Optional[float] = typer.Option(None, "--ground", help="Exclude configurations with any link "
+                                                                            "point below this z (length units)."),
+              box: Optional[List[str]] = typer.Option(
+                  None, "--box", metavar="X0,Y0,Z0,X1,Y1,Z1",
+                  help="Exclude configurations with a link inside this box (corners; repeatable)."),
+              manip: bool = typer.Option(False, "--manipulability", help="Colour the points by manipulability."),
+              output: Optional[str] = typer.Option(None, "-o", "--output", help="Picture file (.png, .pdf, .svg)."),
+              json_out: bool = typer.Option(False, "--json", help="Print the numbers as JSON.")) -> None:
+    """Sample the reachable workspace: boundaries, volume (area for planar arms) with its error, picture.
+
+    Example: armkit workspace fighter -o ws.png --ground 0
+    """
+    from ..analysis.workspace import Exclusion, format_measure
+    from ..analysis.workspace import workspace as sample
+
+    r = get_robot(robot)
+    out = _out(output, IMAGE_SUFFIXES, "--output") if output else None
+    if samples < 100:
+        fail(f"--samples must be at least 100, got {samples}")
+    boxes = []
+    for b in box or []:
+        v = parse_numbers([w for w in b.replace(" ", ",").split(",") if w], "--box")
+        if len(v) != 6:
+            fail(f"--box needs 6 numbers x0,y0,z0,x1,y1,z1, got {len(v)}")
+        lo, hi = np.minimum(v[:3], v[3:]), np.maximum(v[:3], v[3:])
+        boxes.append((lo, hi))
+    exclusion = Exclusion(ground_z=ground, boxes=tuple(boxes)) if ground is not None or boxes else None
+    ws = sample(r, samples=samples, seed=seed, exclusion=exclusion, manipulability=manip)
+    data = {"robot": r.name, "unit": r.unit, "samples": ws.samples, "kept": len(ws.points), "excluded": ws.excluded,
+            "centre": ws.centre, "outer_radius": ws.outer_radius, "inner_radius": ws.inner_radius,
+            "has_inner_boundary": ws.has_inner_boundary, ws.measure_name: ws.volume,
+            f"{ws.measure_name}_error": ws.volume_error, "voxel_size": ws.voxel_size}
+    path = None
+    if out is not None:
+        from ..viz.plots import plot_workspace, save_figure
+
+        path = save_figure(plot_workspace(ws), out)
+        data["picture"] = str(path)
+    if json_out:
+        print_json(data)
+        return
+    c = ", ".join(f"{v:.4g}" for v in ws.centre)
+    console.print(f"[bold]{r.name}[/] workspace from {ws.samples:,} samples ({ws.excluded:,} excluded"
+                  + (f": {exclusion.describe(r.unit)}" if exclusion else "") + ")")
+    console.print(f"  outer boundary: {ws.outer_radius:.4g} {r.unit} from the shoulder ({c})")
+    console.print(f"  inner boundary: {ws.inner_radius:.4g} {r.unit}" if ws.has_inner_boundary
+                  else "  inner boundary: none (the end point reaches the shoulder)")
+    console.print(f"  {ws.measure_name}: {format_measure(ws.volume, ws.volume_error)} {ws.measure_unit} "
+                  f"(voxel {ws.voxel_size:.3g} {r.unit}; the ± is a bound, see docs/visualisation.md)")
+    if path is not None:
+        console.print(f"wrote {path}")
+
+
+def maps(robot: str = typer.Argument(..., help=ROBOT_HELP),
+         output: str = typer.Option("maps.png", "-o", "--output", help="Picture file (.png, .pdf, .svg)."),
+         steps: int = typer.Option(121, "--steps", help="Grid points per axis."),
+         joints: Optional[str] = typer.Option(None, "--joints", metavar="I,J",
+                                              help="The two joints of the FK maps (1-based; default 1,2 for planar "
+                                                   "arms, 2,3 otherwise)."),
+         z: Optional[float] = typer.Option(None, "--z", help="Height of the IK target grid for a spatial arm "
+                                                             "(default: the shoulder height)."),
+         no_ik: bool = typer.Option(False, "--no-ik", help="Only the FK maps.")) -> None:
+    """Contour maps (seed 001): FK maps over a joint grid, IK maps per branch over a target grid.
+
+    Example: armkit maps planar2 -o maps.png
+    """
+    from ..analysis.maps import fk_maps, ik_maps
+    from ..analysis.workspace import is_planar, shoulder_point
+    from ..viz.plots import plot_maps, save_figure
+
+    r = get_robot(robot)
+    out = _out(output, IMAGE_SUFFIXES, "--output")
+    if not 5 <= steps <= 1001:
+        fail(f"--steps must be between 5 and 1001, got {steps}")
+    if r.n < 2:
+        fail(f"maps need at least 2 joints; {r.name!r} has {r.n}")
+    planar = is_planar(r)
+    if joints is None:
+        jj = (0, 1) if planar or r.n == 2 else (1, 2)
+    else:
+        v = parse_numbers([w for w in joints.split(",") if w], "--joints")
+        if len(v) != 2 or not all(float(x).is_integer() and 1 <= x <= r.n for x in v) or v[0] == v[1]:
+            fail(f"--joints needs two different joint numbers in 1..{r.n}, got {joints!r}")
+        jj = (int(v[0]) - 1, int(v[1]) - 1)
+    grids = []
+    for k in jj:
+        lo, hi = r.joints[k].lower, r.joints[k].upper
+        lo = lo if math.isfinite(lo) else -math.pi
+        hi = hi if math.isfinite(hi) else math.pi
+        grids.append(np.linspace(lo, hi, steps))
+    fm = fk_maps(r, grids[0], grids[1], joints=jj)
+    im = None
+    if not no_ik:
+        from ..ik import closed_form_family
+
+        if closed_form_family(r) is None or r.n > 3:
+            warn(f"robot {r.name!r} has no closed-form position IK with named branches; drawing the FK maps only")
+        else:
+            c = shoulder_point(r)
+            R = r.reach
+            gx = np.linspace(c[0] - R, c[0] + R, steps)
+            gy = np.linspace(c[1] - R, c[1] + R, steps)
+            im = ik_maps(r, gx, gy, z=z)
+    path = save_figure(plot_maps(fm, im), out)
+    console.print(f"wrote {path}")
+
+
+def track(robot: str = typer.Argument(..., help=ROBOT_HELP),
+          path: str = typer.Option("random", "--path", help="random, circle, figure8 or a CSV file of x,y[,z] rows."),
+          method: str = typer.Option("ccd", "--method", help="IK per frame: ccd, fabrik, lm, newton or analytic."),
+          frames: int = typer.Option(200, "--frames", help="Frames of a generated path."),
+          fps: int = typer.Option(20, "--fps", help="Frames per second of the animation."),
+          seed: int = typer.Option(0, "--seed", help="Seed of the random path."),
+          output: Optional[str] = typer.Option("track.gif", "-o", "--output",
+                                               help="Animation file: .gif or .mp4 (by extension)."),
+          no_animation: bool = typer.Option(False, "--no-animation", help="Only the statistics."),
+          json_out: bool = typer.Option(False, "--json", help="Print the statistics as JSON.")) -> None:
+    """Seed 003: a target moves, the arm follows with one warm-started IK step per frame; writes an animation.
+
+    Example: armkit track planar3 --path random --method ccd -o track.gif
+
+    Example: armkit track fighter --path circle --method analytic -o track.mp4
+    """
+    from ..viz.tracking import PATHS, TRACK_METHODS
+    from ..viz.tracking import track as follow
+
+    r = get_robot(robot)
+    if method not in TRACK_METHODS:
+        fail(f"--method must be one of {', '.join(TRACK_METHODS)}, got {method!r}")
+    if path not in PATHS and not Path(path).is_file():
+        fail(f"--path must be one of {', '.join(PATHS)} or an existing CSV file, got {path!r}")
+    if not 2 <= frames <= 5000:
+        fail(f"--frames must be between 2 and 5000, got {frames}")
+    if not 1 <= fps <= 120:
+        fail(f"--fps must be between 1 and 120, got {fps}")
+    out = None if no_animation or not output else _out(output, (".gif", ".mp4"), "--output")
+    res = follow(r, path=path, method=method, frames=frames, seed=seed)
+    st = res.stats()
+    written = None
+    if out is not None:
+        from ..viz.animation import render_animation
+
+        title = f"{r.name} follows a {res.path} target ({method})"
+        written = render_animation(r, res.q, out, targets=res.targets, fps=fps, title=title,
+                                   progress=not json_out and console.is_terminal, console=console)
+        st["animation"] = str(written)
+    if json_out:
+        print_json(st)
+    else:
+        u = r.unit
+        console.print(f"[bold]{r.name}[/] tracking a {res.path} target with {method}: {st['frames']} frames")
+        console.print(f"  reached: {st['frames_reached']}   out of reach: {st['frames_out_of_reach']}   "
+                      f"not converged: {st['frames_not_converged']}")
+        console.print(f"  error on reached frames: mean {st['mean_error']:.3g} {u}, max {st['max_error']:.3g} {u} "
+                      f"(tolerance {st['tolerance']:.3g} {u}); worst frame {st['max_error_all_frames']:.3g} {u}")
+        console.print(f"  branch changes: {st['branch_changes']}   largest joint step: "
+                      f"{st['largest_joint_step_deg']:.2f} deg   mean iterations: {st['mean_iterations']:.1f}")
+        if written is not None:
+            console.print(f"wrote {written}")
+    if st["frames_reached"] < st["frames"] and path in ("circle", "figure8"):
+        raise typer.Exit(EXIT_FAILED)
+
+
+def register(app: typer.Typer) -> None:
+    app.command(context_settings=NUMERIC_ARGS)(plot)
+    app.command()(shell)
+    app.command()(workspace)
+    app.command()(maps)
+    app.command()(track)
+
+
+__all__ = ["register", "plot", "shell", "workspace", "maps", "track"]

@@ -1,0 +1,266 @@
+"""Target tracking (seed 003): a target moves, the arm follows with one IK solve per frame.
+
+Each frame is warm-started from the previous frame's joints. With the closed form
+(``method="analytic"``) the frame takes the branch nearest the previous frame's joints
+(largest joint change, angles compared modulo 360°), so the arm does not flip between
+elbow-up and elbow-down; its label changes only where the branches meet (a straight
+elbow, a target crossing the first joint axis) and the motion stays continuous. Frames whose target is out of reach keep
+the closest configuration the solver found and are flagged.
+
+Examples
+--------
+>>> import armkit
+>>> from armkit.viz import track
+>>> res = track(armkit.load("planar2"), path="circle", method="analytic", frames=40)
+>>> bool(res.reached.all()), len(set(res.branch))
+(True, 1)
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Optional
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ..errors import ArmkitError, ShapeError
+from ..kinematics import fk
+from ..model.robot import Robot
+
+__all__ = ["track", "TrackResult", "target_path", "PATHS", "TRACK_METHODS"]
+
+PATHS = ("random", "circle", "figure8")
+TRACK_METHODS = ("ccd", "fabrik", "lm", "newton", "analytic")
+Array = NDArray[np.float64]
+
+
+@dataclass(frozen=True)
+class TrackResult:
+    """Per-frame tracking data.
+
+    Attributes
+    ----------
+    robot : Robot
+    method : str
+    path : str
+        ``"random"``, ``"circle"``, ``"figure8"`` or the CSV file name.
+    q : ndarray, shape (F, n)
+        Joint values per frame.
+    targets : ndarray, shape (F, 3)
+    error : ndarray, shape (F,)
+        Distance from the end point to the target (length units).
+    reached : ndarray of bool, shape (F,)
+        The IK solve met the tolerance (and the limits).
+    out_of_reach : ndarray of bool, shape (F,)
+        The target lies outside the workspace (the solver's reason ``"unreachable"``).
+    branch : ndarray of str, shape (F,)
+        The IK branch label per frame (the method name for numeric solvers).
+    iterations : ndarray of int, shape (F,)
+    tol : float
+        Position tolerance used per frame (length units).
+    """
+
+    robot: Robot
+    method: str
+    path: str
+    q: Array
+    targets: Array
+    error: Array
+    reached: NDArray[np.bool_]
+    out_of_reach: NDArray[np.bool_]
+    branch: NDArray[np.str_]
+    iterations: NDArray[np.int64]
+    tol: float
+
+    def stats(self) -> dict[str, Any]:
+        """Tracking statistics: errors over the reached frames, frame counts, branch changes, joint jumps."""
+        dq = np.diff(self.q, axis=0)
+        rev = ~self.robot.prismatic
+        dq[:, rev] = np.angle(np.exp(1j * dq[:, rev]))   # a step across ±180° is the same pose
+        jump = float(np.degrees(np.abs(dq[:, rev]).max())) if len(dq) and rev.any() else 0.0
+        err = self.error[self.reached]
+        return {
+            "frames": int(len(self.q)),
+            "frames_reached": int(self.reached.sum()),
+            "frames_out_of_reach": int(self.out_of_reach.sum()),
+            "frames_not_converged": int((~self.reached & ~self.out_of_reach).sum()),
+            "mean_error": float(err.mean()) if len(err) else float("nan"),
+            "max_error": float(err.max()) if len(err) else float("nan"),
+            "max_error_all_frames": float(self.error.max()),
+            "tolerance": self.tol,
+            "unit": self.robot.unit,
+            "branch_changes": int(np.sum(self.branch[1:] != self.branch[:-1])),
+            "largest_joint_step_deg": jump,
+            "mean_iterations": float(self.iterations.mean()),
+        }
+
+
+def _frame_of_motion(robot: Robot) -> tuple[Array, float, float, bool, Array, Array]:
+    """(centre, inner radius, outer radius, planar, in-plane unit vectors e1, e2) for the paths."""
+    from ..analysis.workspace import is_planar, workspace
+
+    ws = workspace(robot, samples=20_000, seed=0)
+    c = ws.centre.copy()
+    planar = ws.planar
+    if planar:
+        c[2] = float(fk(robot, np.zeros(robot.n))[2, 3])
+        return c, ws.inner_radius, ws.outer_radius, True, np.array([1.0, 0, 0]), np.array([0, 1.0, 0])
+    return c, ws.inner_radius, ws.outer_radius, False, np.array([0, 1.0, 0]), np.array([-1.0, 0, 1.0]) / math.sqrt(2)
+
+
+def target_path(robot: Robot, path: str = "circle", frames: int = 200, seed: Optional[int] = 0) -> Array:
+    """Target positions ``(F, 3)`` for :func:`track`.
+
+    ``circle`` and ``figure8`` lie well inside the workspace (between the inner and outer
+    boundary radii, in the plane of a planar arm, in a tilted plane in front of a spatial
+    arm's shoulder); ``random`` is a smooth random curve (a few random sinusoids) that may
+    leave the workspace now and then; any other string is a CSV file with columns
+    ``x, y[, z]`` (an optional header row), one row per frame.
+    """
+    if not isinstance(frames, (int, np.integer)) or frames < 2:
+        raise ArmkitError(f"frames must be an integer >= 2, got {frames!r}")
+    if path not in PATHS:
+        return _read_csv(robot, Path(path))
+    c, r_in, r_out, planar, e1, e2 = _frame_of_motion(robot)
+    r_mid = 0.5 * (r_in + r_out)
+    rho = 0.35 * (r_out - r_in)
+    radial = np.array([1.0, 0, 0]) if planar else np.array([1.0, 0, 1.0]) / math.sqrt(2)
+    p0 = c + r_mid * radial if planar else c + r_mid * radial
+    if not planar:
+        e1, e2 = np.array([0, 1.0, 0]), np.cross(radial, [0, 1.0, 0])
+    t = np.linspace(0.0, 2 * math.pi, frames, endpoint=False)
+    if path == "circle":
+        pts = p0 + rho * (np.cos(t)[:, None] * e1 + np.sin(t)[:, None] * e2)
+    elif path == "figure8":
+        pts = p0 + rho * (np.sin(t)[:, None] * e1 + (np.sin(t) * np.cos(t))[:, None] * e2 * 1.6)
+    else:
+        rng = np.random.default_rng(seed)
+        amp = 0.62 * r_out
+        dims = 2 if planar else 3
+        offs = np.zeros((frames, 3))
+        for d in range(dims):
+            k = rng.integers(1, 4, size=3)
+            ph = rng.uniform(0, 2 * math.pi, size=3)
+            w = rng.uniform(0.3, 1.0, size=3)
+            wave = (w[:, None] * np.sin(k[:, None] * t[None] + ph[:, None])).sum(axis=0) / w.sum()
+            offs[:, d] = amp * wave
+        base = np.array([c[0] + 0.25 * r_out, c[1], c[2]]) if planar else c + 0.3 * r_out * radial
+        pts = base + offs
+    return pts
+
+
+def _read_csv(robot: Robot, file: Path) -> Array:
+    if not file.is_file():
+        raise ArmkitError(f"path must be one of {', '.join(PATHS)} or a CSV file; {str(file)!r} is neither")
+    try:
+        try:
+            data = np.loadtxt(file, delimiter=",", ndmin=2)
+        except ValueError:
+            data = np.loadtxt(file, delimiter=",", ndmin=2, skiprows=1)
+    except (ValueError, OSError) as exc:
+        raise ArmkitError(f"{file}: cannot read target points as CSV numbers ({exc})") from exc
+    if data.shape[1] not in (2, 3) or len(data) < 2:
+        raise ShapeError(f"{file}: expected at least 2 rows of 2 (x, y) or 3 (x, y, z) columns, got {data.shape}")
+    if not np.all(np.isfinite(data)):
+        raise ShapeError(f"{file}: contains NaN or infinite values")
+    if data.shape[1] == 2:
+        z = float(fk(robot, np.zeros(robot.n))[2, 3])
+        data = np.column_stack([data, np.full(len(data), z)])
+    return data
+
+
+def track(robot: Robot, path: str = "random", method: str = "ccd", frames: int = 200, seed: Optional[int] = 0,
+          tol: Optional[float] = None, max_iterations: Optional[int] = None, q0: Optional[Any] = None) -> TrackResult:
+    """Follow a moving target with one warm-started IK solve per frame.
+
+    Parameters
+    ----------
+    robot : Robot
+    path : {"random", "circle", "figure8"} or str
+        The target's path (see :func:`target_path`), or a CSV file of points.
+    method : {"ccd", "fabrik", "lm", "newton", "analytic"}
+        IK per frame; ``analytic`` uses the closed form and keeps the branch.
+    frames : int
+        Number of frames for the generated paths (a CSV gives its own count).
+    seed : int, optional
+        Seed of the random path.
+    tol : float, optional
+        Position tolerance per frame (length units); default ``1e-6 × reach``.
+    max_iterations : int, optional
+        Per-frame iteration cap for the numeric methods.
+    q0 : array_like, shape (n,), optional
+        Joints before the first frame (default: zeros).
+
+    Returns
+    -------
+    TrackResult
+    """
+    from .. import ik, ik_all  # type: ignore[attr-defined]
+
+    if method not in TRACK_METHODS:
+        raise ArmkitError(f"method must be one of {', '.join(TRACK_METHODS)}, got {method!r}")
+    targets = target_path(robot, path, frames, seed)
+    F = len(targets)
+    tol_p = float(tol) if tol is not None else 1e-6 * (robot.reach or 1.0)
+    from ..analysis.workspace import is_planar
+
+    planar = is_planar(robot)
+    q_prev = np.zeros(robot.n) if q0 is None else robot.check_q(q0).astype(float)
+    Q = np.empty((F, robot.n))
+    reached = np.zeros(F, dtype=bool)
+    out = np.zeros(F, dtype=bool)
+    branch = np.empty(F, dtype=object)
+    iters = np.zeros(F, dtype=np.int64)
+    label: Optional[str] = None
+    for k, p in enumerate(targets):
+        if method == "analytic":
+            kw: dict[str, Any] = {}
+            tgt: Array = p
+            phis: list[Optional[float]] = [None]
+            if planar:
+                tgt = p[:2]
+                if robot.n >= 3:  # redundant for a point: keep the last end angle, or the nearest one that reaches
+                    T = fk(robot, q_prev)
+                    phi0 = math.atan2(T[1, 0], T[0, 0])
+                    steps = np.radians(np.arange(2.0, 181.0, 2.0))
+                    phis = [phi0] + [phi0 + s * d for d in steps for s in (1, -1)]
+            for phi in phis:
+                kw = {} if phi is None else {"phi": phi}
+                res = ik_all(robot, tgt, q0=q_prev, tol=(tol_p, 1e-6), **kw)
+                ok = np.asarray(res.success)
+                if ok.any():
+                    break
+            if not ok.any() and len(phis) > 1:
+                kw = {"phi": phis[0]}
+            names = [str(b) for b in np.asarray(res.branch)]
+            if ok.any():
+                qa = np.asarray(res.q, dtype=float)
+                step = np.where(robot.prismatic, qa - q_prev, np.angle(np.exp(1j * (qa - q_prev))))
+                dist = np.where(ok, np.abs(step).max(axis=-1), np.inf)
+                pick = int(np.argmin(dist))                     # the branch nearest the last frame: no flips
+                q_new = np.asarray(res.q)[pick].astype(float)
+                label, reached[k] = names[pick], True
+            else:
+                one = ik(robot, tgt, q0=q_prev, method="analytic", tol=(tol_p, 1e-6), **kw)
+                out[k] = str(np.asarray(one.reason)) == "unreachable"
+                # stretch towards the target from the last frame (local least squares: no jump to a far branch)
+                near = ik(robot, p, q0=q_prev, method="lm", tol=(tol_p, 1e-6), restarts=0)
+                q_new = np.asarray(near.q, dtype=float)
+            branch[k] = label or "analytic"
+        else:
+            one = ik(robot, p, q0=q_prev, method=method, tol=(tol_p, 1e-6), max_iterations=max_iterations)
+            q_new = np.asarray(one.q, dtype=float)
+            reached[k] = bool(np.asarray(one.success))
+            out[k] = str(np.asarray(one.reason)) == "unreachable"
+            iters[k] = int(np.asarray(one.iterations))
+            branch[k] = method
+        if not np.all(np.isfinite(q_new)):
+            q_new = q_prev
+        Q[k] = q_new
+        q_prev = q_new
+    err = np.linalg.norm(fk(robot, Q)[:, :3, 3] - targets, axis=1)
+    name = path if path in PATHS else Path(path).name
+    return TrackResult(robot, method, name, Q, targets, err, reached, out, branch.astype(str), iters, tol_p)
