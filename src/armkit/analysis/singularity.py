@@ -118,7 +118,8 @@ class SingularityAnalysis:
         return tuple(f for f in self.factors if f.kind != "constant")
 
 
-def factor_trig(expr: sp.Expr, params: Sequence[sp.Symbol] = ()) -> tuple[sp.Expr, list[tuple[sp.Expr, int]]]:
+def factor_trig(expr: sp.Expr, params: Sequence[sp.Symbol] = (), expand_first: bool = True
+                ) -> tuple[sp.Expr, list[tuple[sp.Expr, int]]]:
     """Factor a trigonometric polynomial: ``(constant, [(factor, power), ...])``.
 
     >>> q2, q3, a2, a3 = sp.symbols("q2 q3 a2 a3", real=True)
@@ -128,21 +129,54 @@ def factor_trig(expr: sp.Expr, params: Sequence[sp.Symbol] = ()) -> tuple[sp.Exp
     """
     from ..symbolic import simplify_entry
 
-    poly = sp.expand(sp.expand_trig(expr))
-    if poly == 0:
-        return sp.Integer(0), []
-    const, facs = sp.factor_list(poly)
+    params = tuple(params)
+    const: sp.Expr = sp.Integer(1)
     out: list[tuple[sp.Expr, int]] = []
-    for base, k in facs:
-        tidy = simplify_entry(base, tuple(params))
-        c2, f2 = sp.factor_list(tidy)
-        const *= c2 ** k
-        for b, kk in f2:
-            if b.could_extract_minus_sign():
-                b, const = -b, const * (-1) ** (k * kk)
-            out.append((b, k * kk))
-    out.sort(key=lambda bk: (bool(bk[0].free_symbols - set(params)), sp.default_sort_key(bk[0])))
-    return const, out
+
+    def nonconst(fs: list) -> int:
+        return sum(1 for fb, _ in fs if fb.free_symbols - set(params))
+
+    def split(e: sp.Expr, power: int, depth: int) -> None:
+        nonlocal const
+        c, facs = sp.factor_list(e)
+        const *= c ** power
+        for b, k in facs:
+            kp = k * power
+            if not (b.free_symbols - set(params)):
+                out.append((b, kp)) if b.free_symbols else None
+                const *= 1 if b.free_symbols else b ** kp
+                continue
+            if depth < 4:
+                # a product hidden by the angle-sum identities shows once everything is in c_i, s_i
+                c2, f2 = sp.factor_list(sp.expand(sp.expand_trig(b)))
+                if nonconst(f2) > 1:
+                    const *= c2 ** kp
+                    for fb, fk in f2:
+                        split(simplify_entry(fb, params), fk * kp, depth + 1)
+                    continue
+                for cand in (simplify_entry(b, params), sp.trigsimp(b)):
+                    parts = sp.Mul.make_args(sp.factor_terms(cand))
+                    if sum(1 for p_ in parts if p_.free_symbols - set(params)) > 1:
+                        split(cand, kp, depth + 1)
+                        break
+                else:
+                    b = simplify_entry(b, params)
+                    if b.could_extract_minus_sign():
+                        b, const = -b, const * (-1) ** kp
+                    out.append((b, kp))
+                continue
+            out.append((b, kp))
+
+    # small determinants factor best as polynomials in c_i, s_i; a big 6x6 one is tidied first
+    e = sp.expand(sp.expand_trig(expr)) if expand_first else simplify_entry(sp.expand(expr), params)
+    if e == 0:
+        return sp.Integer(0), []
+    split(e, 1, 0)
+    merged: dict[sp.Expr, int] = {}
+    for b, k in out:
+        merged[b] = merged.get(b, 0) + k
+    res = sorted(merged.items(), key=lambda bk: (bool(bk[0].free_symbols - set(params)), sp.default_sort_key(bk[0])))
+    return const, res
 
 
 def _frame1_jacobian(d: Any) -> sp.Matrix:
@@ -211,23 +245,48 @@ def _dist_to_axis(x: np.ndarray, p: np.ndarray, u: np.ndarray) -> float:
     return float(np.linalg.norm(r - np.dot(r, u) * u))
 
 
-def _classify(robot: Robot, joints: tuple[int, ...], samples: np.ndarray, text: str
+def _points(robot: Robot, q: np.ndarray, spherical: bool) -> list[tuple[str, np.ndarray]]:
+    """Candidate 'wrist points' at ``q``: the spherical-wrist centre or the tool origin, then the axis points."""
+    pts, _ = _axes(robot, q)
+    first = ("wrist point", _wrist_point(robot, q)) if spherical else ("tool point", fk_frames(robot, q)[-1, :3, 3])
+    return [first] + [(f"point on the axis of joint {k + 1}", pts[k]) for k in range(2, robot.n)]
+
+
+def _classify(robot: Robot, joints: tuple[int, ...], samples: np.ndarray, text: str, rng: np.random.Generator
               ) -> tuple[str, str, list[str]]:
     """Kind and words for a factor, from the geometry at configurations on its zero set."""
     scale = max(robot.reach, 1e-9)
-    tol = 1e-6 * scale
+    tol = 1e-7 * scale
     if len(samples) == 0:
         return "other", f"the Jacobian loses rank where {text} = 0", []
-    # wrist point on the axis of joint 1
-    on_axis = []
-    for q in samples:
-        pts, z = _axes(robot, q)
-        on_axis.append(_dist_to_axis(_wrist_point(robot, q), pts[0], z[0]) < tol)
-    if all(on_axis) and (len(joints) > 1 or joints[0] != 1):
-        pts, z = _axes(robot, samples[0])
-        vertical = abs(abs(z[0] @ robot.base[:3, 2]) - 1) < 1e-9
-        axis = "the yaw axis (joint 1)" if vertical else "the axis of joint 1"
-        return "on-axis", f"wrist point on {axis}: {text} = 0", ["on axis"] * len(samples)
+    q_ref = robot.random_q(rng=rng)
+    spherical = robot.n >= 6 and not np.allclose(_wrist_point(robot, q_ref), fk_frames(robot, q_ref)[-1, :3, 3]) \
+        or (robot.n >= 6 and _is_spherical(robot, q_ref))
+    pts0, z0 = _axes(robot, q_ref)
+    vertical = abs(abs(z0[0] @ robot.base[:3, 2]) - 1) < 1e-9 and abs(abs(z0[0] @ np.array([0, 0, 1.0])) - 1) < 1e-9
+
+    # 1. a point of the arm on the axis of joint 1, or in the plane of axis 1 and axis 2 (shoulder offset)
+    if not (len(joints) == 1 and joints[0] == 1):
+        ref = _points(robot, q_ref, spherical)
+        for idx in range(len(ref)):
+            for test in ("axis", "plane"):
+                def holds(q: np.ndarray) -> bool:
+                    pts, z = _axes(robot, q)
+                    x = _points(robot, q, spherical)[idx][1]
+                    if test == "axis":
+                        return _dist_to_axis(x, pts[0], z[0]) < tol
+                    nrm = np.cross(z[0], z[1]) if robot.n > 1 else np.zeros(3)
+                    if np.linalg.norm(nrm) < 1e-9:
+                        return False
+                    return abs((x - pts[0]) @ nrm / np.linalg.norm(nrm)) < tol
+                if all(holds(q) for q in samples) and not holds(q_ref):
+                    what = ref[idx][0]
+                    axis = "the yaw axis (joint 1)" if vertical else "the axis of joint 1"
+                    if test == "axis":
+                        return "on-axis", f"{what} on {axis}: {text} = 0", ["on axis"] * len(samples)
+                    return "on-axis", (f"{what} in the plane through {axis} parallel to the axis of joint 2 "
+                                       f"(shoulder singularity): {text} = 0"), ["shoulder plane"] * len(samples)
+    # 2. one elbow joint: the distance from the previous axis to the next point is extremal
     if len(joints) == 1 and not robot.prismatic[joints[0] - 1] and joints[0] >= 2:
         k = joints[0] - 1
         labels = []
@@ -236,36 +295,46 @@ def _classify(robot: Robot, joints: tuple[int, ...], samples: np.ndarray, text: 
                 qq = q.copy()
                 qq[k] = qk
                 pts, z = _axes(robot, qq)
-                return _dist_to_axis(_wrist_point(robot, qq), pts[k - 1], z[k - 1])
+                if spherical and k < robot.n - 3:
+                    x = _wrist_point(robot, qq)
+                elif k + 1 < robot.n:
+                    x = pts[k + 1]
+                else:
+                    x = fk_frames(robot, qq)[-1, :3, 3]
+                return _dist_to_axis(x, pts[k - 1], z[k - 1])
             h = 1e-3
             d0, dm, dp = dist(q[k]), dist(q[k] - h), dist(q[k] + h)
-            if d0 >= max(dm, dp) - 1e-12 * scale:
-                labels.append("stretched")
-            elif d0 <= min(dm, dp) + 1e-12 * scale:
-                labels.append("folded")
-            else:
+            curv = dm + dp - 2 * d0
+            if abs(curv) < 1e-9 * scale or abs(dp - dm) > 1e-3 * abs(curv):
                 labels = []
                 break
+            labels.append("stretched" if curv < 0 else "folded")
         if labels:
             name = robot.joint_names[k]
             return "elbow", f"stretched or folded elbow ({name}): {text} = 0", labels
-    # two joint axes that line up or become parallel
+    # 3. two joint axes that line up or become parallel (only there)
     for q in samples[:1]:
         pts, z = _axes(robot, q)
         for i in range(robot.n):
             for j in range(i + 1, robot.n):
-                if robot.prismatic[i] or robot.prismatic[j]:
+                if robot.prismatic[i] or robot.prismatic[j] or abs(abs(z[i] @ z[j]) - 1) > 1e-9:
                     continue
-                if abs(abs(z[i] @ z[j]) - 1) < 1e-9:
-                    pts0, z0 = _axes(robot, robot.random_q(rng=7))
-                    if abs(abs(z0[i] @ z0[j]) - 1) < 1e-9:
-                        continue          # parallel everywhere (e.g. shoulder and elbow): not this set
-                    collinear = _dist_to_axis(pts[j], pts[i], z[i]) < tol
-                    words = "line up" if collinear else "become parallel"
-                    ni, nj = robot.joint_names[i], robot.joint_names[j]
-                    return "wrist", f"axes of joints {i + 1} ({ni}) and {j + 1} ({nj}) {words}: {text} = 0", \
-                        ["axes " + ("collinear" if collinear else "parallel")] * len(samples)
+                if abs(abs(z0[i] @ z0[j]) - 1) < 1e-9:
+                    continue          # parallel everywhere (e.g. shoulder and elbow): not this set
+                collinear = _dist_to_axis(pts[j], pts[i], z[i]) < tol
+                words = "line up" if collinear else "become parallel"
+                ni, nj = robot.joint_names[i], robot.joint_names[j]
+                return "wrist", f"axes of joints {i + 1} ({ni}) and {j + 1} ({nj}) {words}: {text} = 0", \
+                    ["axes " + ("collinear" if collinear else "parallel")] * len(samples)
+    if len(joints) == 1 and robot.prismatic[joints[0] - 1]:
+        return "other", f"prismatic joint {robot.joint_names[joints[0] - 1]} at zero extension: {text} = 0", []
     return "other", f"the Jacobian loses rank where {text} = 0", []
+
+
+def _is_spherical(robot: Robot, q: np.ndarray) -> bool:
+    pts, z = _axes(robot, q)
+    c = _wrist_point(robot, q)
+    return all(_dist_to_axis(c, p, u) < 1e-9 * max(1.0, robot.reach) for p, u in zip(pts[-3:], z[-3:]))
 
 
 def _zero_set(f_num: Any, robot: Robot, joints: tuple[int, ...], rng: np.random.Generator,
@@ -351,7 +420,7 @@ def analyze_singularities(robot: Robot, derivation: Any = None, samples: int = 4
     const: sp.Expr = sp.Integer(1)
     facs: list[tuple[sp.Expr, int]] = []
     for B in blocks:
-        c, f = factor_trig(B.det(method="berkowitz"), d.params)
+        c, f = factor_trig(B.det(method="berkowitz"), d.params, expand_first=B.shape[0] <= 3)
         const *= c
         facs.extend(f)
     det = const * sp.Mul(*(b ** k for b, k in facs))
@@ -380,7 +449,7 @@ def analyze_singularities(robot: Robot, derivation: Any = None, samples: int = 4
             pts[:, joints[0] - 1] = sols
         else:
             pts = _zero_set(f_num, robot, joints, g, samples)
-        kind, words, labels = _classify(robot, joints, pts, text)
+        kind, words, labels = _classify(robot, joints, pts, text, g)
         w = manipulability(robot, pts) if len(pts) else np.zeros(0)
         solutions = tuple((v, labels[i] if i < len(labels) else "") for i, v in enumerate(sols))
         out.append(SingularFactor(b, text, joints, kind, words, solutions, pts, np.asarray(w), k))
