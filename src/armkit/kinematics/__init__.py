@@ -82,24 +82,26 @@ def _jit_module():
     return _ACTIVE
 
 
-_PACKED: dict[int, tuple[Array, Array]] = {}
+_FK_CONSTANTS: dict[int, Array] = {}  # id(chain) -> F of _jit.pack (FK and Jacobians)
+_FRAME_CONSTANTS: dict[int, Array] = {}  # id(chain) -> P of _jit.pack (all link frames)
+_ndarray, _empty = np.ndarray, np.empty  # module-level names: the single-call path counts nanoseconds
 
 
-def _packed(chain: Chain) -> tuple[Array, Array]:
+def _packed(chain: Chain) -> Array:
     """The kernels' packed constants of ``chain`` (see ``_jit.pack``), built once per chain.
 
-    Keyed by ``id``; the entry is dropped when the chain is garbage-collected, so an id
-    is never reused while it is in the table.
+    Returns ``F`` and stores both layouts, keyed by ``id(chain)``; the entries are dropped
+    when the chain is garbage-collected, so an id is never reused while it is a key.
     """
     key = id(chain)
-    p = _PACKED.get(key)
-    if p is None:
+    if key not in _FK_CONSTANTS:
         jit = _load_jit()
         assert jit is not None, "_packed is only called with the Numba back end"
-        p = jit.pack(chain.fixed, chain.prismatic, chain.base, chain.pre, chain.post, chain.tool)
-        _PACKED[key] = p
-        weakref.finalize(chain, _PACKED.pop, key, None)
-    return p
+        F, P = jit.pack(chain.fixed, chain.prismatic, chain.base, chain.pre, chain.post, chain.tool)
+        _FK_CONSTANTS[key], _FRAME_CONSTANTS[key] = F, P
+        weakref.finalize(chain, _FK_CONSTANTS.pop, key, None)
+        weakref.finalize(chain, _FRAME_CONSTANTS.pop, key, None)
+    return _FK_CONSTANTS[key]
 
 
 def _flat(robot: Robot, q: ArrayLike) -> tuple[Array, tuple[int, ...]]:
@@ -143,9 +145,11 @@ def fk(robot: Robot, q: ArrayLike) -> Array:
     jit = _ACTIVE or _jit_module()
     if jit is not None:
         c = robot.chain
-        F = (_PACKED.get(id(c)) or _packed(c))[0]
-        if type(q) is np.ndarray and q.ndim == 1:  # the single-call fast path: no copy, no extra pass
-            out = np.empty((4, 4))
+        F = _FK_CONSTANTS.get(id(c))
+        if F is None:
+            F = _packed(c)
+        if type(q) is _ndarray and q.ndim == 1:  # the single-call fast path: no copy, no extra pass
+            out = _empty((4, 4))
             try:
                 jit.fk_one(F, q, out)
                 return out
@@ -174,7 +178,8 @@ def fk_frames(robot: Robot, q: ArrayLike) -> Array:
     jit = _jit_module()
     if jit is not None:
         flat, lead = _flat_unchecked(robot, q)
-        out, bad = jit.frames_batch(_packed(c)[1], flat)
+        _packed(c)
+        out, bad = jit.frames_batch(_FRAME_CONSTANTS[id(c)], flat)
         if bad:
             robot.check_q(q)
     else:
@@ -202,15 +207,17 @@ def jacobian(robot: Robot, q: ArrayLike, frame: Literal["base", "tool"] = "base"
     -------
     J : ndarray, shape (..., 6, n)
     """
-    if frame not in ("base", "tool"):
+    tool_frame = frame == "tool"
+    if not tool_frame and frame != "base":
         raise ArmkitError(f"frame must be 'base' or 'tool', got {frame!r}")
     c = robot.chain
-    tool_frame = frame == "tool"
     jit = _ACTIVE or _jit_module()
     if jit is not None:
-        F = (_PACKED.get(id(c)) or _packed(c))[0]
-        if type(q) is np.ndarray and q.ndim == 1:  # the single-call fast path
-            J = np.empty((6, len(q)))  # the kernel checks len(q) == n
+        F = _FK_CONSTANTS.get(id(c))
+        if F is None:
+            F = _packed(c)
+        if type(q) is _ndarray and q.ndim == 1:  # the single-call fast path
+            J = _empty((6, len(q)))  # the kernel checks len(q) == n
             try:
                 jit.jacobian_one(F, q, tool_frame, J)
                 return J

@@ -206,8 +206,8 @@ def fk_one(F, q, out):
 
 
 @njit(cache=True, inline="always")
-def _jacobian_cols(F, q, s, c, o, tool_frame, J, i):
-    """Geometric Jacobian of configuration q[i] into J[i].
+def _jacobian_cols(F, q, qo, s, c, o, tool_frame, J, i):
+    """Geometric Jacobian of the configuration q[qo:qo+n] (q flat) into J[i].
 
     Walking the FK chain ``F``, the pose before joint ``k``'s motion is the frame whose z
     axis is joint ``k``'s axis, so one affine product per joint gives every axis.
@@ -219,7 +219,7 @@ def _jacobian_cols(F, q, s, c, o, tool_frame, J, i):
     for k in range(n):
         J[i, 0, k], J[i, 1, k], J[i, 2, k] = X[3], X[7], X[11]
         J[i, 3, k], J[i, 4, k], J[i, 5, k] = X[2], X[6], X[10]
-        t = q[i, k]
+        t = q[qo + k]
         if o >= 0:
             sk, ck = s[o + k], c[o + k]
         else:
@@ -246,7 +246,7 @@ def _jacobian_cols(F, q, s, c, o, tool_frame, J, i):
                 J[i, o3 + 2, k] = r02 * a + r12 * b + r22 * cc
 
 
-@njit([types.void(_RO3, q, types.boolean, _OUT2) for q in _Q1[:2]], cache=True)
+@njit([types.void(_RO3, q, types.boolean, _OUT2) for q in _Q1], cache=True)
 def jacobian_one(F, q, tool_frame, out):
     """Jacobian of one configuration into ``out`` (6, n); ValueError for a wrong length or NaN/inf."""
     n = F.shape[0] - 1
@@ -255,7 +255,7 @@ def jacobian_one(F, q, tool_frame, out):
     for k in range(n):
         if not math.isfinite(q[k]):
             raise ValueError("q is not finite")
-    _jacobian_cols(F, q.reshape((1, n)), q, q, -1, tool_frame, out.reshape((1, 6, n)), 0)
+    _jacobian_cols(F, q, 0, q, q, -1, tool_frame, out.reshape((1, 6, n)), 0)
 
 
 # ---------------------------------------------------------------------------- batches
@@ -313,7 +313,7 @@ def _jacobian_block(F, q, qflat, tool_frame, out, b):
     n = q.shape[1]
     i0, i1, s, c, bad = _sincos_of_block(q, qflat, b)
     for i in range(i0, i1):
-        _jacobian_cols(F, q, s, c, (i - i0) * n, tool_frame, out, i)
+        _jacobian_cols(F, qflat, i * n, s, c, (i - i0) * n, tool_frame, out, i)
     return bad
 
 
