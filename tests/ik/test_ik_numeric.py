@@ -1,0 +1,178 @@
+"""LM and Newton IK: fk(ik(T)) == T, limits, masks, batching, honest failures.
+
+Reference values: the targets are FK of known joint vectors, and the checks recompute FK
+and the pose error with the formulas written here (not armkit's verify), so a solver that
+claims success wrongly fails the test.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+import armkit
+from armkit.ik.numeric import solve_lm, solve_newton
+
+ARMS = ("puma560", "ur5", "panda", "stanford")
+
+
+def rotation_angle(Ra: np.ndarray, Rb: np.ndarray) -> np.ndarray:
+    """Angle of Ra^T Rb from the trace (independent of armkit.spatial)."""
+    R = np.swapaxes(Ra, -1, -2) @ Rb
+    return np.arccos(np.clip((np.trace(R, axis1=-2, axis2=-1) - 1.0) / 2.0, -1.0, 1.0))
+
+
+def assert_pose_reached(robot, q, T, pos_tol=1e-8, rot_tol=1e-6):
+    F = armkit.fk(robot, q)
+    assert np.all(np.linalg.norm(F[..., :3, 3] - T[..., :3, 3], axis=-1) <= pos_tol * robot.reach)
+    assert np.all(rotation_angle(F[..., :3, :3], T[..., :3, :3]) <= rot_tol)
+
+
+@pytest.mark.parametrize("name", ARMS)
+@pytest.mark.parametrize("solver", [solve_lm, solve_newton])
+@settings(max_examples=4)
+@given(seed=st.integers(0, 2**31 - 1))
+def test_fk_of_ik_is_target(name, solver, seed):
+    arm = armkit.load(name)
+    q = arm.random_q(3, seed)
+    T = armkit.fk(arm, q)
+    res = solver(arm, T, np.zeros((3, arm.n)), seed=seed)
+    # Newton is the textbook method and may fail honestly; when it claims success it must be right
+    if solver is solve_lm:
+        assert res.success.all(), res.message
+    ok = res.success
+    assert_pose_reached(arm, res.q[ok], T[ok])
+    assert np.all(arm.within_limits(res.q[ok]))
+    assert set(res.reason[ok]) <= {"converged"}
+
+
+def test_mm_arm_position_targets_and_limits():
+    arm = armkit.load("fighter")                       # mm arm: tolerance 1e-6 mm
+    q = arm.random_q(20, 3)
+    p = armkit.fk(arm, q)[:, :3, 3]
+    res = solve_lm(arm, p, np.zeros((20, 3)), seed=3)
+    assert res.success.all()
+    assert np.all(np.linalg.norm(armkit.fk(arm, res.q)[:, :3, 3] - p, axis=-1) <= 1e-6)
+    assert np.all(res.rotation_error == 0)
+
+
+def test_limits_respected_with_narrow_limits():
+    base = armkit.load("puma560")
+    joints = [armkit.Joint(j.kind, j.theta, j.d, j.a, j.alpha, -0.6, 0.6, j.name) for j in base.joints]
+    arm = armkit.Robot(joints, base.convention, name="narrow")
+    q = np.random.default_rng(5).uniform(-0.55, 0.55, size=(10, 6))
+    T = armkit.fk(arm, q)
+    res = solve_lm(arm, T, np.full((10, 6), 0.59), seed=5)
+    assert np.all(res.q >= -0.6 - 1e-12) and np.all(res.q <= 0.6 + 1e-12)
+    assert res.success.all()
+    assert_pose_reached(arm, res.q, T)
+
+
+def test_five_dof_mask_leaves_tool_z_rotation_free():
+    arm = armkit.load("ur5")
+    q = arm.random_q(5, 8)
+    T = armkit.fk(arm, q)
+    twisted = T.copy()
+    c, s = np.cos(0.7), np.sin(0.7)
+    Rz = np.array([[c, -s, 0], [s, c, 0], [0, 0, 1.0]])
+    twisted[:, :3, :3] = T[:, :3, :3] @ Rz               # same tool z axis, turned about it
+    res = solve_lm(arm, twisted, np.zeros((5, 6)), mask=[1, 1, 1, 1, 1, 0], seed=8)
+    assert res.success.all()
+    F = armkit.fk(arm, res.q)
+    assert np.allclose(F[:, :3, 3], T[:, :3, 3], atol=1e-8)
+    assert np.allclose(F[:, :3, 2], T[:, :3, 2], atol=1e-8)  # tool z axis matched
+    # the full-pose check would fail: the rotation about z was left free, not solved
+    full = solve_lm(arm, twisted, res.q, max_iterations=0, restarts=0)
+    assert not full.success.any()
+
+
+def test_position_only_mask_on_pose_target():
+    arm = armkit.load("panda")
+    T = armkit.fk(arm, arm.random_q(4, 9))
+    res = solve_lm(arm, T, np.zeros((4, 7)), mask=[1, 1, 1, 0, 0, 0], seed=9)
+    assert res.success.all()
+    assert np.allclose(armkit.fk(arm, res.q)[:, :3, 3], T[:, :3, 3], atol=1e-8)
+
+
+def test_batched_equals_looped():
+    arm = armkit.load("ur5")
+    T = armkit.fk(arm, arm.random_q(6, 10))
+    q0 = arm.random_q(6, 11)
+    batch = solve_lm(arm, T, q0, restarts=0, seed=1)
+    for i in range(6):
+        one = solve_lm(arm, T[i:i + 1], q0[i:i + 1], restarts=0, seed=1)
+        assert one.success[0] == batch.success[i]
+        assert one.iterations[0] == batch.iterations[i]
+        assert np.allclose(one.q[0], batch.q[i], atol=1e-12)
+
+
+def test_numpy_backend_agrees():
+    arm = armkit.load("puma560")
+    T = armkit.fk(arm, arm.random_q(5, 12))
+    armkit.set_backend("numpy")
+    try:
+        res = solve_lm(arm, T, np.zeros((5, 6)), seed=12)
+    finally:
+        armkit.set_backend("auto")
+    assert res.success.all()
+    assert_pose_reached(arm, res.q, T)
+
+
+def test_unreachable_is_never_success():
+    arm = armkit.load("ur5")
+    far = np.array([[3.0, 0.0, 0.5], [0.0, -2.5, 0.0]])    # UR5 reaches about 1 m
+    res = solve_lm(arm, far, np.zeros((2, 6)), seed=0)
+    assert not res.success.any()
+    assert list(res.reason) == ["unreachable", "unreachable"]
+    assert "reaches at most" in res.message[0]
+    # the closest configuration points the arm at the target: error about distance - reach
+    assert np.all(res.position_error < np.linalg.norm(far, axis=1))
+
+
+def test_warm_start_from_answer_converges_at_once():
+    arm = armkit.load("panda")
+    q = arm.random_q(4, 13)
+    T = armkit.fk(arm, q)
+    res = solve_lm(arm, T, q, seed=0)
+    assert res.success.all()
+    assert np.all(res.iterations <= 1)
+
+
+def test_max_iterations_failure_is_honest():
+    arm = armkit.load("puma560")
+    T = armkit.fk(arm, arm.random_q(1, 14))
+    res = solve_lm(arm, T, np.zeros((1, 6)), max_iterations=1, restarts=0, seed=0)
+    assert not res.success[0]
+    assert res.reason[0] in ("max iterations", "joint limits", "singular")
+    assert "position error" in res.message[0]
+    assert res.position_error[0] > 0
+
+
+def test_rotation_by_pi_target():
+    arm = armkit.load("ur5")
+    q = arm.random_q(rng=15)
+    T = armkit.fk(arm, q)
+    res = solve_lm(arm, T[None], (q + np.array([0, 0, 0, 0, 0, np.pi]))[None], seed=0)  # start 180 deg off
+    assert res.success[0]
+    assert_pose_reached(arm, res.q, T[None])
+
+
+def test_trace_and_seed_reproducible():
+    arm = armkit.load("planar3")
+    p = armkit.fk(arm, arm.random_q(3, 16))[:, :3, 3]
+    a = solve_lm(arm, p, np.zeros((3, 3)), seed=4, trace=True)
+    b = solve_lm(arm, p, np.zeros((3, 3)), seed=4)
+    assert np.array_equal(a.q, b.q)
+    assert a.trace.shape[0] == 3 and a.trace.shape[1] == a.iterations.max()
+
+
+def test_bad_inputs():
+    arm = armkit.load("ur5")
+    with pytest.raises(armkit.ShapeError, match="target must have shape"):
+        solve_lm(arm, np.zeros((2, 2)), np.zeros((2, 6)))
+    with pytest.raises(armkit.ShapeError, match=r"q0 must have shape \(1, 6\)"):
+        solve_lm(arm, np.zeros((1, 3)), np.zeros((2, 6)))
+    with pytest.raises(armkit.ShapeError, match="mask must be 6 non-negative"):
+        solve_lm(arm, np.zeros((1, 3)), np.zeros((1, 6)), mask=[1, 1, 1])
