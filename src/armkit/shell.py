@@ -310,7 +310,8 @@ class Shell:
             if action in ("set", "q"):
                 continue
             try:
-                result = getattr(self, f"_cmd_{action}")(arg, emit)
+                with np.errstate(all="ignore"):  # absurd targets (1e308) overflow inside IK; the result says so
+                    result = getattr(self, f"_cmd_{action}")(arg, emit)
             except ParseError as exc:
                 emit(str(exc), "red")
                 return "error", None

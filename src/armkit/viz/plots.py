@@ -45,7 +45,7 @@ def _colouring(ws: WorkspaceResult, idx: np.ndarray) -> tuple[np.ndarray, str]:
             f"distance from the shoulder ({ws.unit})")
 
 
-def plot_workspace(ws: WorkspaceResult, max_points: int = 30_000, seed: int = 0) -> Any:
+def plot_workspace(ws: WorkspaceResult, max_points: int = 20_000, seed: int = 0) -> Any:
     """Reach cloud, sections and boundaries of a :func:`armkit.analysis.workspace` result.
 
     Spatial arm: the 3D cloud, a horizontal section (slab through the shoulder, seen from
@@ -92,7 +92,8 @@ def plot_workspace(ws: WorkspaceResult, max_points: int = 30_000, seed: int = 0)
     fig = plt.figure(figsize=(17, 5.8))
     fig.subplots_adjust(left=0.01, right=0.9, wspace=0.32, top=0.86, bottom=0.1)
     a0 = fig.add_subplot(1, 3, 1, projection="3d")
-    sc = a0.scatter(P[:, 0], P[:, 1], P[:, 2], c=colour, s=0.6, cmap="viridis", rasterized=True)
+    n3 = max_points // 2
+    sc = a0.scatter(P[:n3, 0], P[:n3, 1], P[:n3, 2], c=colour[:n3], s=0.8, cmap="viridis", rasterized=True)
     R = ws.outer_radius * 1.08
     a0.set(xlim=(c[0] - R, c[0] + R), ylim=(c[1] - R, c[1] + R), zlim=(c[2] - R, c[2] + R),
            xlabel=f"x ({u})", ylabel=f"y ({u})", zlabel=f"z ({u})")
@@ -104,8 +105,8 @@ def plot_workspace(ws: WorkspaceResult, max_points: int = 30_000, seed: int = 0)
     for k, (axis, (i, j), name) in enumerate(sections):
         ax = fig.add_subplot(1, 3, 2 + k)
         sel = np.abs(ws.points[:, axis] - c[axis]) < slab
-        S = ws.points[sel][: 4 * max_points]
-        col = (ws.manipulability[sel][: 4 * max_points] if ws.manipulability is not None
+        S = ws.points[sel][:max_points]
+        col = (ws.manipulability[sel][:max_points] if ws.manipulability is not None
                else np.linalg.norm(S - c, axis=1))
         ax.scatter(S[:, i], S[:, j], c=col, s=1.0, cmap="viridis", rasterized=True,
                    vmin=colour.min(), vmax=colour.max())

@@ -1,0 +1,156 @@
+"""The interactive shell driven by scripts of lines (no terminal, no eval)."""
+
+from __future__ import annotations
+
+import io
+import math
+import re
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+from rich.console import Console
+
+import armkit
+from armkit.shell import EXIT_WORDS, Shell
+
+END = re.compile(r"end point: \(([-\d.e+]+), ([-\d.e+]+), ([-\d.e+]+)\)")
+
+
+def make(name="fighter", lang="en", **kw):
+    return Shell(armkit.load(name), lang=lang, plot="none", console=Console(file=io.StringIO(), width=100), **kw)
+
+
+def printed_end(out):
+    m = END.findall(out.text)
+    assert m, out.text
+    return np.array([float(v) for v in m[-1]])
+
+
+def test_seed_000_syntax_and_short_forms_match_fk():
+    sh = make()
+    r = sh.robot
+    out = sh.execute("theta1 = 30; theta2 = 45; theta3 = 60")
+    assert out.status == "ok"
+    np.testing.assert_allclose(printed_end(out), armkit.fk(r, np.radians([30, 45, 60]))[:3, 3], atol=1e-6)
+    out = sh.execute("q 10 -20 35.5")
+    np.testing.assert_allclose(printed_end(out), armkit.fk(r, np.radians([10, -20, 35.5]))[:3, 3], atol=1e-6)
+    out = sh.execute("q1 = 0.5rad; shoulder = 15; elbow = 20deg")
+    np.testing.assert_allclose(sh.q, [0.5, math.radians(15), math.radians(20)])
+    np.testing.assert_allclose(printed_end(out), armkit.fk(r, sh.q)[:3, 3], atol=1e-6)
+    sh.execute("units rad")
+    sh.execute("q 0.1 0.2 0.3")
+    np.testing.assert_allclose(sh.q, [0.1, 0.2, 0.3])
+
+
+def test_goto_and_brackets_reach_the_target_and_branch_switches():
+    sh = make()
+    for line in ("goto 100 50 80", "[100, 50, 80]", "(100 50 80)"):
+        out = sh.execute(line)
+        assert out.status == "ok", out.text
+        np.testing.assert_allclose(printed_end(out), [100, 50, 80], atol=1e-6)
+        np.testing.assert_allclose(armkit.fk(sh.robot, sh.q)[:3, 3], [100, 50, 80], atol=1e-6)
+    before = sh.q.copy()
+    out = sh.execute("branch")
+    assert out.status == "info" and "elbow-up" in out.text
+    other = "front/elbow-up" if sh.branch != "front/elbow-up" else "front/elbow-down"
+    out = sh.execute(f"branch {other}")
+    assert out.status == "ok" and sh.branch == other
+    assert not np.allclose(sh.q, before)
+    np.testing.assert_allclose(printed_end(out), [100, 50, 80], atol=1e-6)
+    out = sh.execute("goto 300 0 0")                      # outside the 177.2 mm reach
+    assert out.status == "error" and "177.2" in out.text
+    np.testing.assert_allclose(armkit.fk(sh.robot, sh.q)[:3, 3], [100, 50, 80], atol=1e-6)
+
+
+def test_mistakes_get_one_line_and_change_nothing():
+    sh = make()
+    sh.execute("q 10 20 30")
+    q = sh.q.copy()
+    for line in ("theta4 = 3", "yaw = 400", "q 1 2", "100 50 80", "__import__('os').system('echo hi')",
+                 "theta1 = 1e999", "goto 1 2", "branch nowhere", "units furlongs", "q nan 1 2",
+                 "theta1 = 30; theta9 = 1", "exit; q 1 2 3"):
+        out = sh.execute(line)
+        assert out.status == "error", line
+        assert len(out.text.strip().splitlines()) == 1, (line, out.text)
+        np.testing.assert_array_equal(sh.q, q)
+    assert "ambiguous" in sh.execute("100 50 80").text
+    assert sh.execute("").status == "empty" and sh.execute("   # comment").status == "empty"
+
+
+def test_korean_messages():
+    sh = make(lang="ko")
+    assert "관절" in sh.execute("wrist = 3").text
+    assert "명령" in sh.execute("help").text
+    sh.execute("lang en")
+    assert "no joint named" in sh.execute("wrist = 3").text
+
+
+def test_exit_words_and_eof_end_the_loop():
+    for word in ("exit", "quit", "EXIT"):
+        sh = make()
+        assert sh.run(io.StringIO(f"q 1 2 3\n{word}\nq 4 5 6\n")) == 0
+        np.testing.assert_allclose(sh.q, np.radians([1, 2, 3]))
+    sh = make()
+    assert sh.run(io.StringIO("q 1 2 3\n")) == 0            # EOF
+
+
+def test_png_each_step(tmp_path):
+    sh = Shell(armkit.load("planar2"), lang="en", plot="png", out_dir=tmp_path,
+               console=Console(file=io.StringIO()))
+    out = sh.execute("q 30 45")
+    assert out.picture == tmp_path / "step_001.png" and out.picture.is_file()
+    assert str(out.picture) in out.text
+    assert sh.execute("goto 1.2 0.3").picture == tmp_path / "step_002.png"
+    assert sh.execute("limits").picture is None
+
+
+_TOKENS = st.sampled_from(["q", "theta1", "theta2", "theta3", "yaw", "=", ";", "[", "]", "(", ")", ",", "goto",
+                           "branch", "units", "deg", "rad", "lang", "ko", "limits", "help", "home", "show", "1e308",
+                           "-1e-308", "nan", "inf", "0", "30", "-45.5", ".5", "1e999", "\t", "°", "eval(", "'",
+                           "front/elbow-up", "auto", "#", "\\", "\x00", "print"])
+_LINE = st.one_of(st.text(max_size=40),
+                  st.lists(_TOKENS, max_size=12).map(" ".join),
+                  st.lists(st.one_of(_TOKENS, st.floats(allow_nan=True).map(repr)), max_size=8).map("".join))
+
+
+def _is_exit(line: str) -> bool:
+    return any(s.strip().lower() in EXIT_WORDS for s in line.split(";"))
+
+
+_SEEN = []
+
+
+@settings(max_examples=12, deadline=None, suppress_health_check=list(HealthCheck))
+@given(st.lists(_LINE, min_size=100, max_size=100))
+def test_a_thousand_garbage_lines_never_raise_never_exit(lines):
+    """Hypothesis' buffer holds about 100 such lines per example; 12 examples feed the shell > 1,000 lines."""
+    _SEEN.append(len(lines))
+    sh = make()
+    r = sh.robot
+    for line in lines:
+        if _is_exit(line):
+            continue
+        out = sh.execute(line)
+        assert out.status in ("ok", "info", "error", "empty")
+        assert np.all(r.within_limits(sh.q))
+        if out.status == "ok":
+            np.testing.assert_allclose(printed_end(out), armkit.fk(r, sh.q)[:3, 3], atol=1e-5)
+    # after all that the shell still works
+    out = sh.execute("theta1 = 30; theta2 = 45; theta3 = 60")
+    np.testing.assert_allclose(printed_end(out), [24.860765, 14.353369, 187.181226], atol=1e-5)
+    assert sh.execute("quit").status == "exit"
+
+
+def test_the_garbage_test_saw_a_thousand_lines():
+    if not _SEEN:
+        pytest.skip("runs after the garbage-line test")
+    assert sum(_SEEN) >= 1000
+
+
+def test_run_loop_survives_garbage_through_stdin():
+    sh = make()
+    script = "\n".join(["q 1 2 3", "}{", "goto 1e308 0 0", "branch", "q 10 20 30", "exit", "q 4 5 6"]) + "\n"
+    assert sh.run(io.StringIO(script)) == 0
+    np.testing.assert_allclose(sh.q, np.radians([10, 20, 30]))

@@ -1,0 +1,98 @@
+"""Target tracking and animation files."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from typer.testing import CliRunner
+
+import armkit
+from armkit.viz import render_animation, track
+from armkit.viz.tracking import target_path
+
+
+def _wrapped_steps(q):
+    return np.abs(np.angle(np.exp(1j * np.diff(q, axis=0))))
+
+
+@pytest.mark.parametrize("name, method", [("planar2", "analytic"), ("fighter", "analytic"), ("planar3", "ccd"),
+                                          ("planar3", "lm")])
+def test_reachable_circle_is_tracked_without_branch_flips(name, method):
+    r = armkit.load(name)
+    res = track(r, path="circle", method=method, frames=60)
+    # the circle is inside the workspace: every frame reached, within the tolerance (checked by FK here)
+    err = np.linalg.norm(armkit.fk(r, res.q)[:, :3, 3] - res.targets, axis=1)
+    assert res.reached.all() and not res.out_of_reach.any()
+    assert err.max() <= res.tol
+    np.testing.assert_allclose(res.error, err, atol=1e-12)
+    # no flips: one branch label throughout and small joint steps (a 60-frame circle moves a few degrees a frame)
+    assert len(set(res.branch.tolist())) == 1
+    assert _wrapped_steps(res.q).max() < math.radians(25)
+    st = res.stats()
+    assert st["branch_changes"] == 0 and st["frames_reached"] == 60
+
+
+def test_circle_geometry_stays_between_the_boundaries():
+    r = armkit.load("planar2")
+    p = target_path(r, "circle", frames=50)
+    rad = np.hypot(p[:, 0], p[:, 1])
+    assert rad.min() > 0.5 and rad.max() < 1.5 and np.allclose(p[:, 2], 0)
+
+
+def test_csv_path_and_out_of_reach_frames(tmp_path):
+    r = armkit.load("planar2")
+    f = tmp_path / "pts.csv"
+    f.write_text("x,y\n1.0,0.5\n1.2,0.2\n3.0,0.0\n1.1,0.1\n")
+    res = track(r, path=str(f), method="analytic")
+    assert len(res.q) == 4 and res.path == "pts.csv"
+    np.testing.assert_array_equal(res.out_of_reach, [False, False, True, False])
+    assert res.reached.tolist() == [True, True, False, True]
+    with pytest.raises(armkit.ArmkitError, match="CSV file"):
+        track(r, path=str(tmp_path / "missing.csv"))
+    with pytest.raises(armkit.ArmkitError, match="method must be one of"):
+        track(r, path="circle", method="magic")
+
+
+def test_render_gif_and_mp4(tmp_path):
+    from PIL import Image
+
+    r = armkit.load("planar3")
+    q = np.linspace([0, 0, 0], [1.0, 0.5, -0.5], 6)
+    targets = armkit.fk(r, q)[:, :3, 3]
+    gif = render_animation(r, q, tmp_path / "a.gif", targets=targets, fps=10, progress=False)
+    with Image.open(gif) as im:
+        assert im.n_frames == 6
+    mp4 = render_animation(r, q, tmp_path / "a.mp4", progress=False)
+    assert mp4.stat().st_size > 1000
+    with pytest.raises(armkit.ArmkitError, match=r"\.gif or \.mp4"):
+        render_animation(r, q, tmp_path / "a.avi")
+    with pytest.raises(armkit.ShapeError, match="targets must have shape"):
+        render_animation(r, q, tmp_path / "b.gif", targets=targets[:3])
+
+
+def test_cli_picture_commands(tmp_path):
+    from armkit.cli import app
+
+    run = CliRunner().invoke
+    res = run(app, ["plot", "fighter", "30", "45", "60", "--deg", "-o", str(tmp_path / "arm.png")])
+    assert res.exit_code == 0 and (tmp_path / "arm.png").is_file()
+    res = run(app, ["plot", "fighter", "--all-branches", "100,50,80", "-o", str(tmp_path / "b.png")])
+    assert res.exit_code == 0 and "4 branch" in res.output
+    res = run(app, ["plot", "fighter", "--all-branches", "900,0,0", "-o", str(tmp_path / "c.png")])
+    assert res.exit_code == 1
+    res = run(app, ["plot", "fighter", "1", "2", "-o", str(tmp_path / "d.png")])
+    assert res.exit_code == 2 and "3 joints" in res.output
+    res = run(app, ["workspace", "planar2", "-n", "5000", "--json"])
+    assert res.exit_code == 0 and '"area"' in res.output
+    res = run(app, ["maps", "planar2", "--steps", "21", "-o", str(tmp_path / "m.png")])
+    assert res.exit_code == 0 and (tmp_path / "m.png").is_file()
+    res = run(app, ["track", "planar3", "--path", "circle", "--frames", "8", "-o", str(tmp_path / "t.gif")])
+    assert res.exit_code == 0 and "reached: 8" in res.output and (tmp_path / "t.gif").is_file()
+    res = run(app, ["track", "planar3", "--path", "nowhere"])
+    assert res.exit_code == 2
+    res = run(app, ["shell", "fighter", "--no-plot", "--lang", "en"], input="q 30 45 60\nexit\n")
+    assert res.exit_code == 0 and "24.86" in res.output
+    for cmd in ("plot", "shell", "workspace", "maps", "track"):
+        assert "Example: armkit" in run(app, [cmd, "--help"]).output
