@@ -1,0 +1,473 @@
+r"""Trajectories: joint-space profiles through waypoints and Cartesian lines and arcs.
+
+Joint space (:func:`joint_trajectory`): the arm stops at every waypoint (zero velocity
+there) and every joint of a segment starts and finishes together. Profiles of a segment
+of duration :math:`T` from :math:`q_a` to :math:`q_b` (:math:`\Delta = q_b - q_a`, :math:`\tau = t/T`):
+
+* ``cubic``: :math:`q = q_a + \Delta (3\tau^2 - 2\tau^3)`; peak speed :math:`1.5\Delta/T`,
+  peak acceleration :math:`6\Delta/T^2` (acceleration jumps at the ends);
+* ``quintic``: :math:`q = q_a + \Delta (10\tau^3 - 15\tau^4 + 6\tau^5)`; zero velocity and
+  acceleration at both ends; peak speed :math:`1.875\Delta/T`, peak acceleration
+  :math:`(10/\sqrt 3)\Delta/T^2`;
+* ``trapezoid`` (linear segment with parabolic blends): accelerate at :math:`a`, cruise
+  at :math:`v`, decelerate; with only a duration the blends take a third of it each.
+
+Time scaling: give ``duration`` (total, shared out in proportion to the largest joint
+motion of each segment) or ``durations`` (one per segment), and/or the limits
+``qd_max``/``qdd_max``; each segment gets the longest of the asked duration and the
+shortest one that keeps every joint within the limits.
+
+Cartesian (:func:`cartesian_path`, :func:`cartesian_line`, :func:`cartesian_arc`): the
+path parameter follows a quintic time scaling (rest to rest); ``method="ik"`` solves
+:func:`armkit.ik` at every sample starting from the previous solution (the closed-form
+branch nearest the previous frame, so the motion stays on one branch), ``method="rate"``
+integrates resolved-rate control (:func:`armkit.motion.velocity.resolved_rate`).
+"""
+
+from __future__ import annotations
+
+import csv
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Literal, Sequence
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from ..errors import ArmkitError, ShapeError, UnreachableError
+from ..kinematics import fk
+from ..model.robot import Robot
+
+__all__ = ["Trajectory", "PROFILES", "profile", "segment_duration", "joint_trajectory", "cartesian_path",
+           "cartesian_line", "cartesian_arc", "plot_trajectory", "animate_trajectory"]
+
+Array = NDArray[np.float64]
+PROFILES = ("cubic", "quintic", "trapezoid")
+
+
+@dataclass(frozen=True)
+class Trajectory:
+    """A sampled trajectory.
+
+    Attributes
+    ----------
+    t : ndarray, shape (N,)
+        Time (s), increasing from 0.
+    q, qd, qdd : ndarray, shape (N, n)
+        Joint values, rates and accelerations (rad, rad/s, rad/s^2; length units for prismatic joints).
+    positions : ndarray, shape (N, 3) or None
+        Tool point (robot length unit) when known.
+    targets : ndarray, shape (N, 3) or None
+        Desired tool point of a Cartesian path.
+    deviation : ndarray, shape (N,) or None
+        ``|positions - targets|`` (length units).
+    label : str
+    """
+
+    t: Array
+    q: Array
+    qd: Array
+    qdd: Array
+    positions: Array | None = None
+    targets: Array | None = None
+    deviation: Array | None = None
+    label: str = ""
+    notes: tuple[str, ...] = field(default=())
+
+    def __post_init__(self) -> None:
+        for name in ("t", "q", "qd", "qdd", "positions", "targets", "deviation"):
+            v = getattr(self, name)
+            if v is not None:
+                v = np.array(v, dtype=float)
+                v.setflags(write=False)
+                object.__setattr__(self, name, v)
+
+    def __len__(self) -> int:
+        return len(self.t)
+
+    @property
+    def duration(self) -> float:
+        return float(self.t[-1] - self.t[0])
+
+    def to_csv(self, path: str | Path, joint_names: Sequence[str] | None = None) -> Path:
+        """Write ``t, q.., qd.., qdd..`` (and ``x, y, z`` when known) as CSV with a header row."""
+        n = self.q.shape[1]
+        names = list(joint_names) if joint_names is not None else [f"q{i + 1}" for i in range(n)]
+        header = ["t"] + names + [f"{m}_rate" for m in names] + [f"{m}_acc" for m in names]
+        cols = [self.t[:, None], self.q, self.qd, self.qdd]
+        if self.positions is not None:
+            header += ["x", "y", "z"]
+            cols.append(self.positions)
+        data = np.hstack(cols)
+        p = Path(path)
+        with p.open("w", newline="") as f:
+            w = csv.writer(f)
+            w.writerow(header)
+            for row in data:
+                w.writerow([f"{v:.10g}" for v in row])
+        return p
+
+
+# ------------------------------------------------------------------------------------------- profiles
+def profile(kind: str, tau: ArrayLike, blend: float = 1 / 3) -> tuple[Array, Array, Array]:
+    r"""Normalised profile ``s, ds/dtau, d2s/dtau2`` on ``tau`` in [0, 1] (``s`` goes 0 -> 1).
+
+    ``blend`` is the fraction of the time spent accelerating for ``"trapezoid"`` (0 < blend <= 1/2).
+
+    >>> s, v, a = profile("quintic", [0.0, 0.5, 1.0])
+    >>> s.tolist(), v.tolist(), a.tolist()
+    ([0.0, 0.5, 1.0], [0.0, 1.875, 0.0], [0.0, 0.0, 0.0])
+    """
+    x = np.clip(np.asarray(tau, dtype=float), 0.0, 1.0)
+    if kind == "cubic":
+        return 3 * x ** 2 - 2 * x ** 3, 6 * x - 6 * x ** 2, 6 - 12 * x
+    if kind == "quintic":
+        return (10 * x ** 3 - 15 * x ** 4 + 6 * x ** 5, 30 * x ** 2 - 60 * x ** 3 + 30 * x ** 4,
+                60 * x - 180 * x ** 2 + 120 * x ** 3)
+    if kind == "trapezoid":
+        b = float(blend)
+        if not 0 < b <= 0.5:
+            raise ArmkitError(f"blend must be in (0, 1/2], got {b}")
+        v = 1.0 / (1.0 - b)              # cruise speed in s per tau
+        a = v / b
+        s = np.where(x < b, 0.5 * a * x ** 2,
+                     np.where(x <= 1 - b, 0.5 * a * b ** 2 + v * (x - b), 1 - 0.5 * a * (1 - x) ** 2))
+        sd = np.where(x < b, a * x, np.where(x <= 1 - b, v, a * (1 - x)))
+        sdd = np.where(x < b, a, np.where(x <= 1 - b, 0.0, -a))
+        return s, sd, sdd
+    raise ArmkitError(f"profile must be one of {PROFILES}, got {kind!r}")
+
+
+def segment_duration(kind: str, delta: ArrayLike, qd_max: ArrayLike | None = None,
+                     qdd_max: ArrayLike | None = None) -> tuple[float, float]:
+    """Shortest duration (s) that keeps every joint of a rest-to-rest segment within the limits, and the blend.
+
+    ``delta`` ``(n,)`` is the joint motion; the blend fraction is for ``"trapezoid"`` (1/3 otherwise).
+
+    >>> segment_duration("quintic", [1.0], qd_max=1.0)
+    (1.875, 0.3333333333333333)
+    """
+    d = np.abs(np.asarray(delta, dtype=float))
+    v = None if qd_max is None else np.broadcast_to(np.asarray(qd_max, dtype=float), d.shape)
+    a = None if qdd_max is None else np.broadcast_to(np.asarray(qdd_max, dtype=float), d.shape)
+    for lim, nm in ((v, "qd_max"), (a, "qdd_max")):
+        if lim is not None and np.any(lim <= 0):
+            raise ArmkitError(f"{nm} must be positive, got {lim}")
+    if kind in ("cubic", "quintic"):
+        kv, ka = (1.5, 6.0) if kind == "cubic" else (1.875, 10 / math.sqrt(3))
+        T = 0.0
+        if v is not None:
+            T = max(T, float(np.max(kv * d / v)))
+        if a is not None:
+            T = max(T, float(np.max(np.sqrt(ka * d / a))))
+        return T, 1 / 3
+    if kind != "trapezoid":
+        raise ArmkitError(f"profile must be one of {PROFILES}, got {kind!r}")
+    if v is None and a is None:
+        return 0.0, 1 / 3
+    best_T, best_b = 0.0, 1 / 3
+    for j in range(len(d)):
+        if d[j] == 0:
+            continue
+        vj = math.inf if v is None else float(v[j])
+        aj = math.inf if a is None else float(a[j])
+        if aj == math.inf:                     # speed limit only: the 1/3 blends
+            T, b = 1.5 * d[j] / vj, 1 / 3
+        elif vj == math.inf or d[j] < vj ** 2 / aj:   # no cruise: a triangle
+            T, b = 2 * math.sqrt(d[j] / aj), 0.5
+        else:
+            T = d[j] / vj + vj / aj
+            b = (vj / aj) / T
+        if T > best_T:
+            best_T, best_b = T, b
+    return best_T, best_b
+
+
+def joint_trajectory(waypoints: ArrayLike, profile_kind: str = "quintic", duration: float | None = None,
+                     durations: Sequence[float] | None = None, qd_max: ArrayLike | None = None,
+                     qdd_max: ArrayLike | None = None, dt: float = 0.01, robot: Robot | None = None) -> Trajectory:
+    """Joint-space trajectory through ``waypoints``, stopping at each.
+
+    Parameters
+    ----------
+    waypoints : array_like, shape (m, n), m >= 2
+        Joint values (rad / length units).
+    profile_kind : {"cubic", "quintic", "trapezoid"}
+    duration : float, optional
+        Total time (s), shared out in proportion to each segment's largest joint motion.
+    durations : sequence of float, optional
+        One time per segment (s).
+    qd_max, qdd_max : float or array_like of shape (n,), optional
+        Joint speed and acceleration limits; segments are lengthened to honour them.
+    dt : float
+        Sample spacing (s); every waypoint is sampled exactly.
+    robot : Robot, optional
+        Checks the waypoints' shape and limits and fills ``positions``.
+
+    Returns
+    -------
+    Trajectory
+
+    Examples
+    --------
+    >>> tr = joint_trajectory([[0.0, 0.0], [1.0, -1.0]], "quintic", duration=2.0, dt=0.5)
+    >>> tr.t.tolist(), tr.q[:, 0].round(4).tolist()
+    ([0.0, 0.5, 1.0, 1.5, 2.0], [0.0, 0.1035, 0.5, 0.8965, 1.0])
+    """
+    W = np.asarray(waypoints, dtype=float)
+    if W.ndim != 2 or W.shape[0] < 2:
+        raise ShapeError(f"waypoints must have shape (m, n) with m >= 2, got {W.shape}")
+    if not np.all(np.isfinite(W)):
+        raise ShapeError("waypoints contain NaN or infinite values")
+    if robot is not None:
+        robot.check_q(W, "waypoints")
+        for i, w in enumerate(W):
+            bad = robot.limit_violations(w)
+            if bad:
+                raise ArmkitError(f"waypoint {i + 1} is outside the joint limits: " + "; ".join(bad))
+    if profile_kind not in PROFILES:
+        raise ArmkitError(f"profile must be one of {PROFILES}, got {profile_kind!r}")
+    if dt <= 0:
+        raise ArmkitError(f"dt must be positive, got {dt}")
+    m = W.shape[0] - 1
+    deltas = np.diff(W, axis=0)
+    if durations is not None:
+        asked = np.asarray(durations, dtype=float)
+        if asked.shape != (m,) or np.any(asked <= 0):
+            raise ArmkitError(f"durations needs {m} positive values (one per segment), got {list(asked)}")
+    elif duration is not None:
+        if duration <= 0:
+            raise ArmkitError(f"duration must be positive, got {duration}")
+        size = np.max(np.abs(deltas), axis=1)
+        asked = duration * (size / size.sum() if size.sum() > 0 else np.full(m, 1 / m))
+    elif qd_max is None and qdd_max is None:
+        raise ArmkitError("give a duration, per-segment durations or the limits qd_max/qdd_max")
+    else:
+        asked = np.zeros(m)
+    notes = []
+    t_parts, q_parts, qd_parts, qdd_parts = [], [], [], []
+    t0 = 0.0
+    for k in range(m):
+        T_min, blend = segment_duration(profile_kind, deltas[k], qd_max, qdd_max)
+        T = max(float(asked[k]), T_min)
+        if T == 0.0:   # a segment with no motion and no time asked
+            continue
+        if T_min > asked[k] > 0:
+            notes.append(f"segment {k + 1} lengthened from {asked[k]:.3g} s to {T_min:.3g} s to honour the limits")
+        if profile_kind == "trapezoid" and qd_max is None and qdd_max is None:
+            blend = 1 / 3
+        steps = max(1, int(math.ceil(T / dt - 1e-9)))
+        tau = np.linspace(0.0, 1.0, steps + 1)
+        s, sd, sdd = profile(profile_kind, tau, blend)
+        first = 0 if k == 0 else 1
+        t_parts.append(t0 + tau[first:] * T)
+        q_parts.append(W[k] + s[first:, None] * deltas[k])
+        qd_parts.append(sd[first:, None] * deltas[k] / T)
+        qdd_parts.append(sdd[first:, None] * deltas[k] / T ** 2)
+        t0 += T
+    if not t_parts:
+        raise ArmkitError("all waypoints are equal: there is nothing to move")
+    t, q, qd, qdd = (np.concatenate(p) for p in (t_parts, q_parts, qd_parts, qdd_parts))
+    pos = fk(robot, q)[:, :3, 3] if robot is not None else None
+    return Trajectory(t, q, qd, qdd, positions=pos, label=f"joint space, {profile_kind}", notes=tuple(notes))
+
+
+# ------------------------------------------------------------------------------------------ Cartesian
+def _ik_solve(robot: Robot, target: Array, q_prev: Array) -> tuple[Array, bool, str]:
+    import armkit
+
+    res = armkit.ik(robot, target, q0=q_prev)
+    return np.asarray(res.q, dtype=float), bool(res.success), str(res.message)
+
+
+def cartesian_path(robot: Robot, points: ArrayLike, q0: ArrayLike | None = None, duration: float = 2.0,
+                   method: Literal["ik", "rate"] = "ik", qd_max: ArrayLike | None = None, gain: float = 10.0,
+                   label: str = "Cartesian path") -> Trajectory:
+    """Follow a sampled Cartesian path of tool points, rest to rest.
+
+    Parameters
+    ----------
+    robot : Robot
+    points : array_like, shape (N, 2) or (N, 3)
+        Tool points in order (``(N, 2)`` for planar arms), robot length unit; the samples
+        are taken as equally spaced in the path parameter, which follows a quintic time
+        scaling over ``duration``.
+    q0 : array_like, shape (n,), optional
+        Start configuration, or the reference for the first IK (zeros by default).
+    duration : float
+    method : {"ik", "rate"}
+        IK at every sample from the previous solution, or resolved-rate control.
+    qd_max : float or array_like, optional
+        Joint speed limit for ``"rate"``.
+    gain : float
+        Position feedback gain for ``"rate"`` (1/s).
+
+    Returns
+    -------
+    Trajectory
+        With ``targets`` and ``deviation`` (distance from the desired point at each sample).
+
+    Raises
+    ------
+    UnreachableError
+        When IK fails at a sample (the message says which one and why).
+    """
+    P = np.asarray(points, dtype=float)
+    if P.ndim != 2 or P.shape[1] not in (2, 3) or len(P) < 2:
+        raise ShapeError(f"points must have shape (N, 2) or (N, 3) with N >= 2, got {P.shape}")
+    if duration <= 0:
+        raise ArmkitError(f"duration must be positive, got {duration}")
+    N = len(P)
+    k = P.shape[1]
+    u = np.linspace(0.0, 1.0, N)                 # path parameter of each sample
+    # time of each sample: invert the quintic scaling s(t/T) = u
+    grid = np.linspace(0.0, 1.0, 4001)
+    s_grid = profile("quintic", grid)[0]
+    t = np.interp(u, s_grid, grid) * duration
+    qstart = np.zeros(robot.n) if q0 is None else robot.check_q(q0, "q0").astype(float)
+    targets3 = np.hstack([P, np.zeros((N, 1))]) if k == 2 else P
+    if method == "ik":
+        Q = np.empty((N, robot.n))
+        q_prev = qstart
+        for i in range(N):
+            q_i, ok, msg = _ik_solve(robot, P[i], q_prev)
+            if not ok:
+                raise UnreachableError(f"sample {i + 1} of {N} at ({', '.join(f'{v:g}' for v in P[i])}) "
+                                       f"{robot.unit}: {msg}")
+            Q[i] = q_i
+            q_prev = q_i
+        QD = np.gradient(Q, t, axis=0)
+        QD[0] = QD[-1] = 0.0
+        QDD = np.gradient(QD, t, axis=0)
+        pos = fk(robot, Q)[:, :3, 3]
+        dev = np.linalg.norm(pos[:, :k] - P, axis=1)
+        return Trajectory(t, Q, QD, QDD, positions=pos, targets=targets3, deviation=dev, label=f"{label} via IK")
+    if method != "rate":
+        raise ArmkitError(f"method must be 'ik' or 'rate', got {method!r}")
+    from .velocity import resolved_rate
+
+    # desired point and velocity: u(t) follows the quintic scaling, x(u) joins the samples
+    def path(tt: float) -> tuple[Array, Array]:
+        s_, sd_, _ = profile("quintic", tt / duration)
+        uu, du = float(s_), float(sd_) / duration
+        seg = int(np.clip(np.searchsorted(u, uu, side="right") - 1, 0, N - 2))
+        tangent = (P[seg + 1] - P[seg]) / (u[seg + 1] - u[seg])
+        return P[seg] + tangent * (uu - u[seg]), tangent * du
+
+    dt = duration / max(N - 1, 1) / 10
+    tr = resolved_rate(robot, qstart, path, duration, dt=dt, qd_max=qd_max, gain=gain)
+    idx = np.clip(np.round(t / dt).astype(int), 0, len(tr.t) - 1)
+    pos = tr.positions[idx]
+    dev = np.linalg.norm(pos[:, :k] - P, axis=1)
+    return Trajectory(tr.t[idx], tr.q[idx], tr.qd[idx], tr.qdd[idx], positions=pos, targets=targets3,
+                      deviation=dev, label=f"{label} via resolved rate")
+
+
+def cartesian_line(robot: Robot, start: ArrayLike, end: ArrayLike, steps: int = 100, **kwargs: Any) -> Trajectory:
+    """Straight line of the tool point from ``start`` to ``end`` (2 or 3 values each), ``steps + 1`` samples.
+
+    Other keywords go to :func:`cartesian_path`. For ``method="rate"`` the arm must
+    start on the line: pass ``q0`` (when omitted, IK of ``start`` gives it).
+    """
+    a, b = np.asarray(start, dtype=float), np.asarray(end, dtype=float)
+    if a.shape != b.shape or a.shape not in ((2,), (3,)):
+        raise ShapeError(f"start and end must both have 2 or 3 values, got {a.shape} and {b.shape}")
+    if steps < 1:
+        raise ArmkitError(f"steps must be at least 1, got {steps}")
+    u = np.linspace(0.0, 1.0, steps + 1)[:, None]
+    pts = a + u * (b - a)
+    kwargs = dict(kwargs)
+    if kwargs.get("method", "ik") == "rate" and kwargs.get("q0") is None:
+        q, ok, msg = _ik_solve(robot, a, np.zeros(robot.n))
+        if not ok:
+            raise UnreachableError(f"the start point is not reachable: {msg}")
+        kwargs["q0"] = q
+    return cartesian_path(robot, pts, label="straight line", **kwargs)
+
+
+def cartesian_arc(robot: Robot, center: ArrayLike, start: ArrayLike, angle: float,
+                  normal: ArrayLike = (0.0, 0.0, 1.0), steps: int = 100, **kwargs: Any) -> Trajectory:
+    """Circular arc of the tool point: ``start`` turned about ``center`` by ``angle`` (rad) around ``normal``.
+
+    ``center`` and ``start`` have 2 (planar, in the x-y plane) or 3 values.
+    """
+    c, p = np.asarray(center, dtype=float), np.asarray(start, dtype=float)
+    if c.shape != p.shape or c.shape not in ((2,), (3,)):
+        raise ShapeError(f"center and start must both have 2 or 3 values, got {c.shape} and {p.shape}")
+    k = len(c)
+    c3 = np.append(c, 0.0) if k == 2 else c
+    p3 = np.append(p, 0.0) if k == 2 else p
+    nrm = np.asarray(normal, dtype=float)
+    if nrm.shape != (3,) or np.linalg.norm(nrm) == 0:
+        raise ShapeError(f"normal must be a non-zero 3-vector, got {normal!r}")
+    from ..spatial import axis_angle_to_rotation
+
+    u = np.linspace(0.0, 1.0, steps + 1)
+    R = axis_angle_to_rotation(nrm / np.linalg.norm(nrm), angle * u)
+    pts = c3 + np.einsum("nij,j->ni", R, p3 - c3)
+    kwargs = dict(kwargs)
+    if kwargs.get("method", "ik") == "rate" and kwargs.get("q0") is None:
+        q, ok, msg = _ik_solve(robot, pts[0, :k], np.zeros(robot.n))
+        if not ok:
+            raise UnreachableError(f"the start point is not reachable: {msg}")
+        kwargs["q0"] = q
+    return cartesian_path(robot, pts[:, :k], label="arc", **kwargs)
+
+
+# -------------------------------------------------------------------------------------------- output
+def plot_trajectory(traj: Trajectory, robot: Robot | None = None, out_path: str | Path | None = None) -> Any:
+    """Three panels: q(t), qd(t) (degrees for revolute joints) and the tool path. Returns the figure."""
+    import matplotlib
+    if out_path is not None:
+        matplotlib.use("Agg", force=False)
+    import matplotlib.pyplot as plt
+
+    n = traj.q.shape[1]
+    prism = robot.prismatic if robot is not None else np.zeros(n, bool)
+    names = robot.joint_names if robot is not None else tuple(f"q{i + 1}" for i in range(n))
+    conv = np.where(prism, 1.0, 180 / math.pi)
+    fig = plt.figure(figsize=(12, 4))
+    ax1 = fig.add_subplot(1, 3, 1)
+    ax2 = fig.add_subplot(1, 3, 2)
+    for j in range(n):
+        ax1.plot(traj.t, traj.q[:, j] * conv[j], label=names[j])
+        ax2.plot(traj.t, traj.qd[:, j] * conv[j], label=names[j])
+    ax1.set(xlabel="t [s]", ylabel="q [deg]" if not prism.any() else "q [deg | length]", title="joint values")
+    ax2.set(xlabel="t [s]", ylabel="qd [deg/s]", title="joint rates")
+    ax1.legend(fontsize=7)
+    ax1.grid(alpha=0.3)
+    ax2.grid(alpha=0.3)
+    unit = robot.unit if robot is not None else ""
+    if traj.positions is not None:
+        planar = np.allclose(traj.positions[:, 2], traj.positions[0, 2])
+        if planar:
+            ax3 = fig.add_subplot(1, 3, 3)
+            ax3.plot(traj.positions[:, 0], traj.positions[:, 1], "b-", label="tool path")
+            if traj.targets is not None:
+                ax3.plot(traj.targets[:, 0], traj.targets[:, 1], "r--", lw=1, label="desired")
+            ax3.set_aspect("equal", adjustable="datalim")
+            ax3.set(xlabel=f"x [{unit}]", ylabel=f"y [{unit}]", title="tool path")
+        else:
+            ax3 = fig.add_subplot(1, 3, 3, projection="3d")
+            ax3.plot(*traj.positions.T, "b-", label="tool path")
+            if traj.targets is not None:
+                ax3.plot(*traj.targets.T, "r--", lw=1, label="desired")
+            ax3.set(xlabel=f"x [{unit}]", ylabel=f"y [{unit}]", zlabel=f"z [{unit}]", title="tool path")
+        ax3.legend(fontsize=7)
+    fig.suptitle(traj.label)
+    fig.tight_layout()
+    if out_path is not None:
+        fig.savefig(out_path, dpi=110)
+    return fig
+
+
+def animate_trajectory(traj: Trajectory, robot: Robot, out_path: str | Path, fps: int = 20,
+                       title: str | None = None) -> Path:
+    """Render ``traj`` as a GIF/MP4 with :func:`armkit.viz.animation.render_animation` (targets drawn)."""
+    try:
+        from ..viz.animation import render_animation
+    except ImportError as exc:  # the viz package is optional
+        raise ArmkitError(f"animation needs armkit.viz.animation, which could not be imported: {exc}") from exc
+    return render_animation(robot, traj.q, out_path, targets=traj.targets, fps=fps, trail=True,
+                            title=title or f"{robot.name}: {traj.label}", progress=False)
