@@ -205,25 +205,3 @@ def rz_rx(phi: Array, alpha: float) -> Array:
     R[..., 1, 0], R[..., 1, 1], R[..., 1, 2] = s, c * ca, -c * sa
     R[..., 2, 0], R[..., 2, 1], R[..., 2, 2] = 0.0, sa, ca
     return R
-
-
-def dh_pose(phi: Array, d: float, a: float, alpha: float) -> Array:
-    """Standard-DH link pose ``Rz(phi) Tz(d) Tx(a) Rx(alpha)`` for angles ``phi`` ``(...)``: ``(..., 4, 4)``."""
-    T = np.zeros(np.shape(phi) + (4, 4))
-    T[..., :3, :3] = rz_rx(phi, alpha)
-    T[..., 0, 3] = a * np.cos(phi)
-    T[..., 1, 3] = a * np.sin(phi)
-    T[..., 2, 3] = d
-    T[..., 3, 3] = 1.0
-    return T
-
-
-def dh_pose_inverse(phi: Array, d: float, a: float, alpha: float) -> Array:
-    """Inverse of :func:`dh_pose`, ``Rx(-alpha) Tx(-a) Tz(-d) Rz(-phi)``."""
-    T = dh_pose(phi, d, a, alpha)
-    Rt = np.swapaxes(T[..., :3, :3], -1, -2).copy()
-    out = np.zeros_like(T)
-    out[..., :3, :3] = Rt
-    out[..., :3, 3] = -np.einsum("...ij,...j->...i", Rt, T[..., :3, 3])
-    out[..., 3, 3] = 1.0
-    return out

@@ -30,9 +30,7 @@ import math
 
 import numpy as np
 
-from ...spatial import inverse
-from ._common import (LENGTH_TOL, Array, Raw, StandardForm, add_messages, dh_pose, dh_pose_inverse, elbow_up,
-                      forward_sign, two_link)
+from ._common import LENGTH_TOL, Array, Raw, StandardForm, add_messages, elbow_up, forward_sign, two_link
 
 _LABELS = np.array([f"{s}/wrist-{w}/elbow-{e}" for s in ("left", "right") for w in ("down", "up")
                     for e in ("down", "up")], dtype=object)
@@ -95,12 +93,19 @@ class ParallelAxes:
         k = s4 * wsign
         phi6 = np.where(singular, q0phi[:, None, None, 5],
                         np.arctan2(-wy[..., None] * k, wx[..., None] * k))
-        T46 = dh_pose(phi5, d5, 0.0, sf.alpha[4]) @ dh_pose(phi6, d6, 0.0, 0.0)
-        T04 = Tc[:, None, None] @ inverse(T46)                      # (B, 2, 2, 4, 4)
-        T14 = dh_pose_inverse(phi1, d1, 0.0, sf.alpha[0])[:, :, None] @ T04
-        T13 = T14 @ dh_pose_inverse(np.zeros(1), d4, 0.0, sf.alpha[3])[0]
-        x, y = T13[..., 0, 3], T13[..., 1, 3]
-        total = np.arctan2(T13[..., 1, 0], T13[..., 0, 0])
+        # frame 4 seen from the last turning frame: (A5 A6)^-1, written out (no 4x4 products)
+        c5, sn5, c6, sn6 = np.cos(phi5), np.sin(phi5), np.cos(phi6), np.sin(phi6)
+        x4 = (c6 * c5, -sn6 * c5, s5 * sn5)                               # x axis of frame 4
+        y4 = (c6 * sn5, -sn6 * sn5, -s5 * c5)                              # y axis of frame 4
+        o3 = (-s5 * d5 * sn6 - s4 * d4 * y4[0], -s5 * d5 * c6 - s4 * d4 * y4[1], -d6 - s4 * d4 * y4[2])
+        Rb, pb = R[:, None, None], p[:, None, None]                        # (B, 1, 1, 3, 3), (B, 1, 1, 3)
+        xw = [Rb[..., i, 0] * x4[0] + Rb[..., i, 1] * x4[1] + Rb[..., i, 2] * x4[2] for i in range(3)]
+        ow = [pb[..., i] + Rb[..., i, 0] * o3[0] + Rb[..., i, 1] * o3[1] + Rb[..., i, 2] * o3[2] for i in range(3)]
+        # into frame 1 (A1^-1 = Rx(-alpha1) Tz(-d1) Rz(-q1)): in-plane components (cos q1 v0 + sin q1 v1, s1 v2)
+        cq1, sq1 = cos1[:, :, None], sin1[:, :, None]
+        x = cq1 * ow[0] + sq1 * ow[1]
+        y = s1 * (ow[2] - d1)
+        total = np.arctan2(s1 * xw[2], cq1 * xw[0] + sq1 * xw[1])
         t1, t2, c, r = two_link(x, y, a2, a3)                              # (B, 2, 2, 2)
         out = np.empty((B, 2, 2, 2, 6))
         out[..., 0] = phi1[:, :, None, None]
