@@ -356,3 +356,38 @@ def test_modified_dh_2r_with_offsets_is_solved():
     q = np.array([0.4, 1.1])
     res = armkit.ik_all(arm, armkit.fk(arm, q)[:3, 3])
     assert res.success.all() and angle_gap(res.q, q).min() < 1e-9
+
+
+# ------------------------------------------------------------------------- other arms of the same structure
+def _random_arm(kind: str, rng: np.random.Generator) -> Robot:
+    """A random arm of a closed-form family: random lengths, offsets, twist signs and tool."""
+    L = lambda lo=0.05, hi=0.6: float(rng.uniform(lo, hi) * rng.choice([-1, 1]))  # noqa: E731
+    sgn = lambda: float(rng.choice([-1, 1]) * math.pi / 2)  # noqa: E731
+    th = lambda: float(rng.uniform(-math.pi, math.pi))  # noqa: E731
+    if kind == "spherical-wrist":      # e.g. an industrial arm with a shoulder offset a1 (KUKA, ABB, Fanuc)
+        rows = [dict(d=L(), a=L(), alpha=sgn()), dict(d=L(), a=L(0.2, 0.8)), dict(d=L(), a=L(), alpha=sgn()),
+                dict(d=L(0.2, 0.8), alpha=sgn()), dict(alpha=sgn()), dict(d=L(), a=L(), alpha=th())]
+    elif kind == "ur":
+        rows = [dict(d=L(), alpha=sgn()), dict(d=L(), a=L(0.2, 0.8)), dict(d=L(), a=L(0.2, 0.8)),
+                dict(d=L(), alpha=sgn()), dict(d=L(), alpha=sgn()), dict(d=L(), a=L(), alpha=th())]
+    else:                              # yaw-pitch-pitch with offsets
+        rows = [dict(d=L(), a=L(), alpha=sgn()), dict(d=L(), a=L(0.2, 0.8)), dict(d=L(), a=L(0.2, 0.8), alpha=th())]
+    joints = [Joint(theta=th(), lower=-math.pi, upper=math.pi, **row) for row in rows]
+    tool = transl(*rng.uniform(-0.1, 0.1, 3)) @ rotx(th()) @ rotz(th())
+    return Robot(joints, name=f"random {kind}", base=transl(*rng.uniform(-0.5, 0.5, 3)) @ rotz(th()), tool=tool)
+
+
+@pytest.mark.parametrize("kind", ["spherical-wrist", "ur", "yaw-pitch-pitch"])
+@settings(max_examples=15)
+@given(seed=st.integers(0, 2**32 - 1))
+def test_random_arms_of_each_family(kind, seed):
+    rng = np.random.default_rng(seed)
+    arm = _random_arm(kind, rng)
+    assert closed_form(arm).family == kind
+    q = arm.random_q(5, rng=rng)
+    T = armkit.fk(arm, q)
+    target = T if kind != "yaw-pitch-pitch" else T[:, :3, 3]
+    res = armkit.ik_all(arm, target, enforce_limits=False)
+    assert res.success.any(axis=1).all()
+    assert np.all(res.position_error[res.success] <= 1e-12 * arm.reach)
+    assert np.all(angle_gap(res.q, q[:, None]).min(axis=1) < 1e-6)
