@@ -8,6 +8,7 @@ coefficients are abbreviated; anything else stays as it is.
 from __future__ import annotations
 
 import datetime as _dt
+from pathlib import Path
 from typing import Iterable
 
 import sympy as sp
@@ -15,7 +16,7 @@ from sympy.printing.numpy import NumPyPrinter
 
 from .derive import Derivation
 
-__all__ = ["shorthand", "shorthand_symbols", "to_text", "to_latex", "to_numpy_source"]
+__all__ = ["shorthand", "shorthand_symbols", "to_text", "to_latex", "to_numpy_source", "render_png"]
 
 
 def _index_of(arg: sp.Expr, q: tuple[sp.Symbol, ...]) -> str | None:
@@ -200,3 +201,37 @@ def to_numpy_source(d: Derivation) -> str:
     lines += _emit("jacobian", d.J, d.q, printer, "Geometric Jacobian, rows (v, omega), base frame.",
                    f"J : ndarray, shape (..., 6, {d.n})")
     return "\n".join(lines) + "\n"
+
+
+def render_png(d: Derivation, out_path: str | Path, what: tuple[str, ...] = ("T", "J")) -> Path:
+    """Render the non-constant entries of ``T`` and ``J`` as LaTeX lines with Matplotlib mathtext (no TeX needed).
+
+    Mathtext has no matrix environment, so each entry is one line, ``T_{14} = ...``.
+    A quick way to look at the formulas as they will print in a report.
+    """
+    import matplotlib
+    matplotlib.use("Agg", force=False)
+    import matplotlib.pyplot as plt
+
+    exprs: list[sp.Expr] = []
+    for w in what:
+        exprs.extend(list(getattr(d, w)))
+    m = shorthand_symbols(exprs, d.q, latex=True)
+    lines = []
+    for w in what:
+        M = getattr(d, w).xreplace(m)
+        for i in range(M.shape[0]):
+            for j in range(M.shape[1]):
+                e = M[i, j]
+                if e.free_symbols & set(m.values()) or e.free_symbols & set(d.q):
+                    lines.append(f"${w}_{{{i + 1}{j + 1}}} = {sp.latex(e)}$")
+    height = 0.42 * len(lines) + 0.6
+    fig = plt.figure(figsize=(11, height))
+    fig.text(0.01, 1 - 0.25 / height, f"{d.robot_name}: " + ", ".join(f"{s} = {v:g}" for s, v in d.values.items()),
+             fontsize=11, va="top")
+    for k, text in enumerate(lines):
+        fig.text(0.01, 1 - (0.6 + 0.42 * k) / height, text, fontsize=13, va="top")
+    p = Path(out_path)
+    fig.savefig(p, dpi=100)
+    plt.close(fig)
+    return p

@@ -1,0 +1,346 @@
+"""Commands for symbolic derivation, singularities, velocity kinematics and trajectories.
+
+derive, singular, velocity, traj. SymPy, SciPy and Matplotlib load inside the command bodies.
+"""
+
+from __future__ import annotations
+
+import math
+import sys
+import time
+from pathlib import Path
+from typing import List, Optional
+
+import numpy as np
+import typer
+from rich.table import Table
+
+from .common import (EXIT_FAILED, NUMERIC_ARGS, console, fail, get_robot, parse_numbers, parse_q, print_json,
+                     q_display, warn)
+
+ROBOT_HELP = "Bundled robot name (see `armkit robots`) or path of a .toml robot file."
+
+
+def _matrix_table(M, title: str, row_labels=None, col_labels=None) -> Table:
+    t = Table(title=title, show_header=col_labels is not None, header_style="bold", show_lines=False)
+    if row_labels is not None:
+        t.add_column("")
+    for j in range(M.shape[1]):
+        t.add_column(col_labels[j] if col_labels else "", overflow="fold")
+    for i in range(M.shape[0]):
+        cells = [str(M[i, j]) for j in range(M.shape[1])]
+        t.add_row(*(([row_labels[i]] if row_labels is not None else []) + cells))
+    return t
+
+
+def derive(robot: str = typer.Argument(..., help=ROBOT_HELP),
+           latex: bool = typer.Option(False, "--latex", help="Print a LaTeX document (link transforms, FK, J)."),
+           python: bool = typer.Option(False, "--python", help="Print an importable NumPy module (fk, jacobian)."),
+           png: Optional[Path] = typer.Option(None, "--png", help="Also render the FK and Jacobian entries to a PNG."),
+           links: bool = typer.Option(False, "--links", help="Also print every link transform."),
+           no_cache: bool = typer.Option(False, "--no-cache", help="Derive again, ignoring the on-disk cache."),
+           json_out: bool = typer.Option(False, "--json", help="Print JSON (expressions as text).")) -> None:
+    """Symbolic FK, Jacobian (and 2R closed-form IK) with the c12 = cos(q1 + q2) short-hand.
+
+    Example: armkit derive planar2
+    Example: armkit derive fighter --latex > fk.tex
+    Example: armkit derive puma560 --python > puma_fk.py
+    """
+    from ..symbolic import derive as do_derive
+    from ..symbolic.export import to_latex, to_numpy_source, to_text
+
+    if latex and python:
+        fail("choose one of --latex and --python")
+    r = get_robot(robot)
+    t0 = time.perf_counter()
+    d = do_derive(r, cache=not no_cache)
+    elapsed = time.perf_counter() - t0
+    if latex:
+        sys.stdout.write(to_latex(d))
+        return
+    if python:
+        sys.stdout.write(to_numpy_source(d))
+        return
+    if png is not None:
+        from ..symbolic.export import render_png
+        render_png(d, png)
+    txt = to_text(d, ("links", "T", "J") if links else ("T", "J"))
+    ik = _planar_2r_ik(r)
+    if json_out:
+        out = {"robot": r.name, "convention": r.convention, "unit": r.unit, "joint_names": list(r.joint_names),
+               "parameters": {str(k): v for k, v in d.values.items()},
+               "shorthand": {str(s): str(f) for f, s in txt["legend"].items()},
+               "T": [[str(e) for e in row] for row in txt["T"].tolist()],
+               "J": [[str(e) for e in row] for row in txt["J"].tolist()], "seconds": elapsed}
+        if ik is not None:
+            out["ik"] = ik
+        print_json(out)
+        return
+    names = ", ".join(f"q{i + 1} = {n}" for i, n in enumerate(r.joint_names) if n != f"q{i + 1}")
+    console.print(f"[bold]{r.name}[/]: {r.n} joints {r.joint_types}, {r.convention} DH"
+                  + (f" ({names})" if names else ""))
+    if d.values:
+        console.print("parameters: " + ", ".join(
+            f"{s} = {v:g}" + ("" if s.name.startswith(("alpha", "theta")) else f" {r.unit}")
+            for s, v in d.values.items()))
+    if txt["legend"]:
+        console.print("short-hand: " + ", ".join(f"{s} = {f}" for f, s in txt["legend"].items()))
+    if links:
+        for i, A in enumerate(txt["links"], 1):
+            console.print(_matrix_table(A, f"A{i} (frame {i - 1} -> {i})"))
+    console.print(_matrix_table(txt["T"], f"T = base · A1 ··· A{r.n} · tool  (pose of the tool)"))
+    cols = [f"q{i + 1}" for i in range(r.n)]
+    console.print(_matrix_table(txt["J"], "geometric Jacobian J(q), rows (v, w), base frame",
+                                ["vx", "vy", "vz", "wx", "wy", "wz"], cols))
+    if ik is not None:
+        console.print("[bold]closed-form IK[/] (derived with sympy.solve from x = a1 c1 + a2 c12, y = a1 s1 + a2 s12):")
+        console.print(f"  c2 = {ik['c2']}")
+        console.print(f"  q1 = {ik['q1']}")
+        for b in ik["branches"]:
+            console.print(f"  {b['label']}: s2 = {b['s2']},  q2 = atan2(s2, c2)")
+        console.print("  reachable where -1 <= c2 <= 1, i.e. |a1 - a2| <= sqrt(x^2 + y^2) <= a1 + a2")
+    console.print(f"[dim]derived in {elapsed:.2f} s (cached on disk for next time)[/]")
+
+
+def _planar_2r_ik(r) -> Optional[dict]:
+    """The derived 2R IK as text when ``r`` is a planar 2R arm (two revolute joints, parallel axes)."""
+    if r.n != 2 or r.joint_types != "RR":
+        return None
+    if any(abs(math.sin(j.alpha)) > 1e-12 for j in r.joints) or any(j.d != 0 or j.theta != 0 for j in r.joints):
+        return None
+    from ..symbolic.ik2r import derive_planar_2r_ik
+    ik = derive_planar_2r_ik()
+    return {"c2": str(ik.c2), "q1": str(ik.q1_compact),
+            "branches": [{"label": "elbow down (q2 >= 0)", "s2": "+sqrt(1 - c2**2)"},
+                         {"label": "elbow up (q2 <= 0)", "s2": "-sqrt(1 - c2**2)"}],
+            "a1": float(r.joints[0].a), "a2": float(r.joints[1].a)}
+
+
+def singular(robot: str = typer.Argument(..., help=ROBOT_HELP),
+             plot: Optional[Path] = typer.Option(None, "--plot", "-o",
+                                                 help="Save a manipulability map over two joints (PNG)."),
+             json_out: bool = typer.Option(False, "--json", help="Print JSON.")) -> None:
+    """Singularities: det(J) factored, each factor named (stretched, folded, on the yaw axis, wrist) and checked.
+
+    Example: armkit singular fighter
+    Example: armkit singular planar2 --plot manip.png
+    """
+    from ..analysis.singularity import analyze_singularities, plot_manipulability
+
+    r = get_robot(robot)
+    res = analyze_singularities(r)
+    if json_out:
+        print_json({"robot": r.name, "method": res.method, "rows": list(res.rows),
+                    "determinant": str(res.determinant),
+                    "factors": [{"factor": f.text, "kind": f.kind, "description": f.description, "power": f.power,
+                                 "joints": list(f.joints),
+                                 "solutions_deg": [[math.degrees(v) if not r.prismatic[f.joints[0] - 1] else v, lab]
+                                                   for v, lab in f.solutions],
+                                 "max_manipulability_on_set": float(f.manipulability.max()) if len(f.manipulability)
+                                 else None} for f in res.factors],
+                    "typical_manipulability": res.typical_manipulability})
+    else:
+        from ..symbolic.export import shorthand
+        from ..symbolic import derive as do_derive
+        d = do_derive(r)
+        console.print(f"[bold]{r.name}[/]: {res.method} over rows ({', '.join(res.rows)})")
+        console.print(f"  = {shorthand(res.determinant, d.q)[0]}")
+        t = Table(title="singular configurations (where a factor vanishes)", header_style="bold")
+        for col in ("factor", "meaning", "solutions", "check: max manipulability there"):
+            t.add_column(col, overflow="fold")
+        for f in res.singular_factors:
+            if f.solutions:
+                k = f.joints[0] - 1
+                sol = ", ".join((f"{q_display(r, np.eye(r.n)[k] * v)[k]}") + (f" ({lab})" if lab else "")
+                                for v, lab in f.solutions)
+            else:
+                sol = "a curve/surface in joint space"
+            w = f"{f.manipulability.max():.1e}" if len(f.manipulability) else "-"
+            t.add_row(f.text + ("" if f.power == 1 else f" (power {f.power})"), f.description.split(":")[0], sol, w)
+        console.print(t)
+        consts = [f.text for f in res.factors if f.kind == "constant" and f.expr != 1]
+        if consts:
+            console.print(f"constant factors (never zero): {', '.join(consts)}")
+        console.print(f"typical manipulability away from them: {res.typical_manipulability:.3g}")
+    if plot is not None:
+        if r.n > 3:
+            warn(f"the manipulability map is for 2-3 joint arms; {r.name} has {r.n}: plotting joints 2 and 3")
+        joints = (1, 2) if r.n == 2 else (2, 3)
+        plot_manipulability(r, plot, joints=joints, analysis=res)
+        if not json_out:
+            console.print(f"wrote {plot}")
+
+
+def velocity(robot: str = typer.Argument(..., help=ROBOT_HELP),
+             q: List[str] = typer.Argument(..., metavar="Q... [V...]",
+                                           help="Joint values, then (optionally) the rest of --ee-vel/--q-vel."),
+             deg: bool = typer.Option(False, "--deg", help="Joint angles (and --q-vel rates) in degrees."),
+             ee_vel: Optional[str] = typer.Option(None, "--ee-vel",
+                                                  help="Desired tool velocity: 2 (vx vy), 3 (v) or 6 (v, w) values."),
+             q_vel: Optional[str] = typer.Option(None, "--q-vel", help="Joint rates, one per joint: prints the twist."),
+             method: str = typer.Option("pinv", "--method", help="'pinv' (pseudo-inverse) or 'dls' (damped)."),
+             damping: Optional[float] = typer.Option(None, "--damping",
+                                                     help="DLS lambda in metres (default: automatic schedule)."),
+             json_out: bool = typer.Option(False, "--json", help="Print JSON.")) -> None:
+    """Velocity kinematics: joint rates for a tool velocity (pseudo-inverse / DLS), or the twist of joint rates.
+
+    Example: armkit velocity planar2 30 45 --deg --ee-vel 0.1 0
+    Example: armkit velocity fighter 30 45 60 --deg --q-vel 10 0 0
+    """
+    from ..motion.velocity import joint_rates, twist
+
+    r = get_robot(robot)
+    words = list(q)
+    if len(words) < r.n:
+        fail(f"robot {r.name!r} has {r.n} joints ({', '.join(r.joint_names)}); got {len(words)} value(s)")
+    qv = parse_q(r, words[:r.n], deg)
+    extra = [w for v in words[r.n:] for w in v.split(",") if w]
+    if (ee_vel is None) == (q_vel is None):
+        fail("give exactly one of --ee-vel (tool velocity -> joint rates) and --q-vel (joint rates -> twist)")
+    given = ee_vel if ee_vel is not None else q_vel
+    vals = parse_numbers([w for w in given.split(",") if w] + extra, "--ee-vel" if ee_vel is not None else "--q-vel")
+    if method not in ("pinv", "dls"):
+        fail(f"--method must be 'pinv' or 'dls', got {method!r}")
+    if q_vel is not None:
+        if len(vals) != r.n:
+            fail(f"--q-vel needs {r.n} joint rates, got {len(vals)}")
+        qd = np.where(r.prismatic, vals, np.radians(vals)) if deg else vals
+        tw = twist(r, qv, qd)
+        if json_out:
+            print_json({"robot": r.name, "q_rad": qv, "qd_rad_s": qd, "twist": tw, "rows": ["vx", "vy", "vz", "wx",
+                                                                                           "wy", "wz"]})
+            return
+        console.print(f"[bold]{r.name}[/] at q = ({', '.join(q_display(r, qv))}), joint rates "
+                      f"({', '.join(f'{v:g}' for v in vals)}) {'deg/s' if deg else 'rad/s'}")
+        console.print(f"tool velocity v = ({', '.join(f'{v:.6g}' for v in tw[:3])}) {r.unit}/s")
+        console.print(f"angular velocity w = ({', '.join(f'{v:.6g}' for v in tw[3:])}) rad/s"
+                      f" = ({', '.join(f'{math.degrees(v):.6g}' for v in tw[3:])}) deg/s")
+        return
+    if len(vals) not in (2, 3, 6):
+        fail(f"--ee-vel needs 2 (vx vy), 3 (vx vy vz) or 6 (vx vy vz wx wy wz) values, got {len(vals)}")
+    res = joint_rates(r, qv, vals, method=method, damping="auto" if damping is None else damping)  # type: ignore[arg-type]
+    qd_show = np.where(r.prismatic, res.qd, np.degrees(res.qd))
+    if json_out:
+        print_json({"robot": r.name, "q_rad": qv, "requested": vals, "rows": list(res.rows), "qd_rad_s": res.qd,
+                    "achieved": res.achieved, "residual": res.residual, "sigma_min_m": res.sigma_min,
+                    "singular": res.singular, "singular_direction": res.direction, "damping_m2": res.damping,
+                    "method": res.method, "message": res.message})
+        return
+    console.print(f"[bold]{r.name}[/] at q = ({', '.join(q_display(r, qv))}); requested "
+                  f"({', '.join(f'{n} {v:g}' for n, v in zip(res.rows, vals))}) ({r.unit}/s, rad/s)")
+    t = Table(title=f"joint rates ({'pseudo-inverse' if method == 'pinv' else 'damped least squares'})",
+              header_style="bold")
+    for col in ("joint", "rad/s", "deg/s"):
+        t.add_column(col, justify="right")
+    for name, v, p in zip(r.joint_names, res.qd, r.prismatic):
+        t.add_row(name, f"{v:.6g}" + (f" {r.unit}/s" if p else ""), "" if p else f"{math.degrees(v):.6g}")
+    console.print(t)
+    console.print(f"achieved: ({', '.join(f'{v:.6g}' for v in res.achieved)}), residual {res.residual:.3g}"
+                  + (f", damping lambda^2 = {res.damping:.3g} m^2" if res.damping else ""))
+    if res.singular:
+        warn(res.message)
+    else:
+        console.print(f"[dim]{res.message}[/]")
+    del qd_show
+
+
+def _points(words: List[str], what: str) -> np.ndarray:
+    pts = []
+    for w in words:
+        nums = parse_numbers([x for x in w.split(",") if x], what)
+        pts.append(nums)
+    if len({len(p) for p in pts}) > 1:
+        fail(f"{what}: every point needs the same number of values, got {[len(p) for p in pts]}")
+    return np.array(pts)
+
+
+def traj(robot: str = typer.Argument(..., help=ROBOT_HELP),
+         points: List[str] = typer.Argument(..., metavar="POINT...",
+                                            help="Comma-separated waypoints (joint values, or x,y[,z] for --line)."),
+         joint: bool = typer.Option(False, "--joint", help="POINTs are joint-space waypoints."),
+         line: bool = typer.Option(False, "--line", help="Two POINTs: a straight line of the tool point."),
+         arc: Optional[float] = typer.Option(None, "--arc",
+                                             help="Arc angle (deg): POINTs are the centre and the start point."),
+         deg: bool = typer.Option(False, "--deg", help="Joint waypoints in degrees."),
+         profile: str = typer.Option("quintic", "--profile", help="cubic, quintic or trapezoid (joint space)."),
+         duration: float = typer.Option(2.0, "--duration", help="Total time in seconds."),
+         qd_max: Optional[float] = typer.Option(None, "--qd-max", help="Joint speed limit (deg/s with --deg, else rad/s)."),
+         qdd_max: Optional[float] = typer.Option(None, "--qdd-max", help="Joint acceleration limit (deg/s^2 or rad/s^2)."),
+         steps: int = typer.Option(100, "--steps", help="Samples along a Cartesian path."),
+         method: str = typer.Option("ik", "--method", help="Cartesian paths: 'ik' or 'rate' (resolved rate)."),
+         dt: float = typer.Option(0.02, "--dt", help="Sample time for joint-space profiles (s)."),
+         out: Optional[Path] = typer.Option(None, "-o", "--out", help="Write .png (plots), .gif/.mp4 (animation) or .csv."),
+         json_out: bool = typer.Option(False, "--json", help="Print a JSON summary.")) -> None:
+    """Trajectories: joint-space profiles through waypoints, or Cartesian lines and arcs (IK or resolved rate).
+
+    Example: armkit traj fighter --joint 0,0,0 30,45,60 --deg --profile quintic --duration 2 -o traj.png
+    Example: armkit traj planar2 --line 1.2,0.2 0.6,0.9 --steps 100 -o line.gif
+    """
+    from ..errors import UnreachableError
+    from ..motion.trajectory import animate_trajectory, cartesian_arc, cartesian_line, joint_trajectory, plot_trajectory
+
+    r = get_robot(robot)
+    modes = sum([joint, line, arc is not None])
+    if modes != 1:
+        fail("choose exactly one of --joint, --line and --arc")
+    P = _points(points, "POINT")
+    try:
+        if joint:
+            if P.shape[1] != r.n:
+                fail(f"joint waypoints need {r.n} values each for {r.name!r} ({', '.join(r.joint_names)}), "
+                     f"got {P.shape[1]}")
+            W = np.where(r.prismatic, P, np.radians(P)) if deg else P
+            scale = math.pi / 180 if deg else 1.0
+            tr = joint_trajectory(W, profile, duration=duration,
+                                  qd_max=None if qd_max is None else qd_max * scale,
+                                  qdd_max=None if qdd_max is None else qdd_max * scale, dt=dt, robot=r)
+        elif line:
+            if len(P) != 2:
+                fail(f"--line needs two points (start end), got {len(P)}")
+            tr = cartesian_line(r, P[0], P[1], steps=steps, duration=duration, method=method)  # type: ignore[arg-type]
+        else:
+            if len(P) != 2:
+                fail(f"--arc needs two points (centre start), got {len(P)}")
+            tr = cartesian_arc(r, P[0], P[1], math.radians(float(arc)), steps=steps, duration=duration,  # type: ignore[arg-type]
+                               method=method)
+    except UnreachableError as exc:
+        fail(f"unreachable: {exc}", EXIT_FAILED)
+    for note in tr.notes:
+        warn(note)
+    within = bool(np.all(r.within_limits(tr.q)))
+    summary = {"robot": r.name, "label": tr.label, "samples": len(tr), "duration_s": tr.duration,
+               "q_start_rad": tr.q[0], "q_end_rad": tr.q[-1], "max_abs_qd": np.abs(tr.qd).max(axis=0),
+               "max_abs_qdd": np.abs(tr.qdd).max(axis=0), "within_limits": within,
+               "max_deviation": None if tr.deviation is None else float(tr.deviation.max())}
+    if out is not None:
+        suffix = out.suffix.lower()
+        if suffix == ".csv":
+            tr.to_csv(out, r.joint_names)
+        elif suffix in (".gif", ".mp4"):
+            animate_trajectory(tr, r, out)
+        elif suffix in (".png", ".pdf", ".svg"):
+            plot_trajectory(tr, r, out)
+        else:
+            fail(f"-o must end in .png, .pdf, .svg, .gif, .mp4 or .csv, got {out.name!r}")
+        summary["written"] = str(out)
+    if json_out:
+        print_json(summary)
+        return
+    console.print(f"[bold]{r.name}[/]: {tr.label}, {len(tr)} samples over {tr.duration:.3g} s")
+    console.print(f"start q = ({', '.join(q_display(r, tr.q[0]))}), end q = ({', '.join(q_display(r, tr.q[-1]))})")
+    peak = np.where(r.prismatic, summary["max_abs_qd"], np.degrees(summary["max_abs_qd"]))
+    console.print("peak joint speed: " + ", ".join(f"{n} {v:.4g}" for n, v in zip(r.joint_names, peak))
+                  + " (deg/s or unit/s)")
+    if tr.deviation is not None:
+        console.print(f"largest deviation from the path: {tr.deviation.max():.3g} {r.unit}")
+    if not within:
+        warn("the trajectory leaves the joint limits")
+    if out is not None:
+        console.print(f"wrote {out}")
+
+
+def register(app: typer.Typer) -> None:
+    app.command()(derive)
+    app.command()(singular)
+    app.command(context_settings=NUMERIC_ARGS)(velocity)
+    app.command(context_settings=NUMERIC_ARGS)(traj)
