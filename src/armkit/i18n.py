@@ -30,7 +30,7 @@ MESSAGES: dict[str, dict[str, str]] = {
   q 30 45 60                    set every joint at once
   goto {goto}                   move the end point to a target (inverse kinematics); also [{goto}]
   branch [NAME|auto]            list the IK branches, or pick the one goto should use
-  home                          all joints to zero
+  home                          all joints to zero (or their nearest limit)
   limits                        show the joint limits
   units deg|rad                 angle units for input and output
   lang en|ko                    language of the messages
@@ -42,7 +42,7 @@ MESSAGES: dict[str, dict[str, str]] = {
   q 30 45 60                    모든 관절을 한 번에 지정
   goto {goto}                   끝점을 목표 위치로 이동 (역기구학); [{goto}] 도 가능
   branch [이름|auto]            IK 해(branch) 목록 보기, 또는 goto 가 쓸 해 고르기
-  home                          모든 관절을 0 으로
+  home                          모든 관절을 0 으로 (한계 밖이면 가장 가까운 한계로)
   limits                        관절 한계 보기
   units deg|rad                 입력과 출력의 각도 단위
   lang en|ko                    메시지 언어

@@ -139,7 +139,8 @@ class Shell:
         self.plot = plot
         self.out_dir = Path(out_dir)
         self.console = console if console is not None else Console(highlight=False)
-        self.q = np.zeros(robot.n)
+        self.home = np.clip(np.zeros(robot.n), robot.lower, robot.upper)   # zeros, moved inside the limits
+        self.q = self.home.copy()
         self.branch: Optional[str] = None      # the branch label of the current configuration
         self.preferred: Optional[str] = None   # the branch goto should use (None: nearest)
         self.step = 0
@@ -211,7 +212,7 @@ class Shell:
         if low in ("limits", "limit"):
             return "limits", None
         if low in ("home", "zero"):
-            return "q", np.zeros(self.robot.n)
+            return "q", self.home.copy()
         if low in ("show", "where", "state"):
             return "show", None
         m = _ASSIGN_RE.match(s)
