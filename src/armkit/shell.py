@@ -477,7 +477,7 @@ class Shell:
         except ImportError as exc:  # the IK package not built yet
             emit(self._t("ik_error", detail=str(exc)), "red")
             return "error"
-        kwargs = {"phi": phi} if phi is not None else {}
+        kwargs: dict[str, Any] = {"phi": phi} if phi is not None else {}
         try:
             try:
                 res = ik_all(self.robot, target, q0=self.q, **kwargs)

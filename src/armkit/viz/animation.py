@@ -94,7 +94,7 @@ def render_animation(robot: Robot, q: ArrayLike, out_path: str | Path, targets: 
         else:
             artist.set_data_3d(pts[:, 0], pts[:, 1], pts[:, 2])
 
-    empty = [[] for _ in dims]
+    empty: list[list[float]] = [[] for _ in dims]
     (trail_line,) = ax.plot(*empty, "-", color="#ff7f0e", lw=1.3, alpha=0.8, label="end-point trail" if trail else None)
     (arm,) = ax.plot(*empty, "-", color=COLORS[0], lw=3.2, solid_capstyle="round", label=robot.name)
     (jts,) = ax.plot(*empty, "o", color="white", mec=COLORS[0], mew=2.0, ms=7)

@@ -251,7 +251,8 @@ def track(robot: Robot, path: str = "random", method: str = "ccd", frames: int =
                 q_new = np.asarray(near.q, dtype=float)
             branch[k] = label or "analytic"
         else:
-            one = ik(robot, p, q0=q_prev, method=method, tol=(tol_p, 1e-6), max_iterations=max_iterations)
+            one = ik(robot, p, q0=q_prev, method=method, tol=(tol_p, 1e-6),  # type: ignore[arg-type]
+                     max_iterations=max_iterations)
             q_new = np.asarray(one.q, dtype=float)
             reached[k] = bool(np.asarray(one.success))
             out[k] = str(np.asarray(one.reason)) == "unreachable"
