@@ -45,7 +45,8 @@ def main(out_dir: str = "out") -> int:
         res = armkit.ik_all(arm, p)
         t = Table(title=f"Every closed-form IK branch for the target ({p[0]:.3f}, {p[1]:.3f}, {p[2]:.3f}) mm",
                   header_style="bold")
-        for col in ("branch", "theta1 (deg)", "theta2 (deg)", "theta3 (deg)", "position error (mm)", "ok"):
+        t.add_column("branch", no_wrap=True)
+        for col in ("theta1 (deg)", "theta2 (deg)", "theta3 (deg)", "position error (mm)", "ok"):
             t.add_column(col, justify="right")
         for k in range(res.q.shape[0]):
             t.add_row(str(res.branch[k]), *(f"{v:.3f}" for v in np.degrees(res.q[k])),
@@ -56,8 +57,8 @@ def main(out_dir: str = "out") -> int:
         from armkit.viz import write_demo_pictures
     except ImportError:
         return 0
-    console.print("writing pictures ...")
-    paths = write_demo_pictures(out_dir)
+    console.print(f"writing pictures into {out_dir}/ ...")
+    paths = write_demo_pictures(out_dir, progress=False)
     for path in paths:
         console.print(f"  wrote {Path(path)}")
     return 0
