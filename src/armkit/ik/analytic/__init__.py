@@ -39,6 +39,7 @@ __all__ = ["ClosedForm", "closed_form", "solve_all", "wrap_to_limits", "FAMILIES
 
 Array = NDArray[np.float64]
 TWO_PI = 2.0 * math.pi
+_REASON_TEXT = np.array(["converged", "unreachable", "joint limits"])
 
 
 class ClosedForm(Protocol):
@@ -106,11 +107,13 @@ def _failure_messages(robot: Robot, message: NDArray[np.object_], ok: NDArray[np
     limits = (reason == "joint limits") & ~ok
     if limits.any():   # one message per pattern of violated joints, not per branch
         lo, hi = robot.lower - 1e-12, robot.upper + 1e-12
-        bits = ((q < lo) | (q > hi)) @ (1 << np.arange(robot.n))
-        for pattern in np.unique(bits[limits]):
-            names = [nm for k, nm in enumerate(robot.joint_names) if int(pattern) >> k & 1]
-            message[limits & (bits == pattern)] = ("outside the joint limits: " + ", ".join(names)
-                                                   + " (see armkit info for the limits).")
+        bits = ((q[limits] < lo) | (q[limits] > hi)) @ (1 << np.arange(robot.n))
+        patterns, inverse = np.unique(bits, return_inverse=True)
+        texts = np.empty(len(patterns), dtype=object)
+        for k, pattern in enumerate(patterns):
+            names = [nm for j, nm in enumerate(robot.joint_names) if int(pattern) >> j & 1]
+            texts[k] = "outside the joint limits: " + ", ".join(names) + " (see armkit info for the limits)."
+        message[limits] = texts[inverse.ravel()]
     unreachable = (reason == "unreachable") & ~ok
     count = int(unreachable.sum())
     if count == 0:
@@ -186,7 +189,7 @@ def solve_all(robot: Robot, solver: ClosedForm, target: Array, q0: Array, positi
     dp, dr, ok, within = verify(robot, q, target[:, None], position_only, tol, enforce_limits)
     q, dp, dr, ok, within = _polish(robot, q, target, position_only, tol, enforce_limits, dp, dr, ok, within)
     fk_ok = (dp <= tol[0]) & (dr <= tol[1])
-    reason = np.where(ok, "converged", np.where(fk_ok & ~within, "joint limits", "unreachable"))
+    reason = _REASON_TEXT[np.where(ok, 0, np.where(fk_ok & ~within, 2, 1))]
     message = np.where(ok, raw.note, "").astype(object)
     _failure_messages(robot, message, ok, reason, raw, q, dp, dr, tol)
     dist = np.linalg.norm(np.where(robot.prismatic, 0.0, q - q0[:, None, :]), axis=-1)

@@ -196,12 +196,11 @@ def add_messages(message: NDArray[np.object_], where: NDArray[np.bool_], make, f
         flat[i] = text if not flat[i] else (text + " " + flat[i] if first else flat[i] + " " + text)
 
 
-def rz_rx(phi: Array, alpha: float) -> Array:
-    """``Rz(phi) Rx(alpha)`` for an array of angles ``phi`` ``(...)``: ``(..., 3, 3)``."""
+def rotate_back(v: list, phi: Array, alpha: float) -> list:
+    """``Rx(-alpha) Rz(-phi) v`` (the transpose of ``Rz(phi) Rx(alpha)``) for vectors given as a list of
+    three component arrays, broadcast with ``phi``."""
     c, s = np.cos(phi), np.sin(phi)
     ca, sa = math.cos(alpha), math.sin(alpha)
-    R = np.empty(np.shape(phi) + (3, 3))
-    R[..., 0, 0], R[..., 0, 1], R[..., 0, 2] = c, -s * ca, s * sa
-    R[..., 1, 0], R[..., 1, 1], R[..., 1, 2] = s, c * ca, -c * sa
-    R[..., 2, 0], R[..., 2, 1], R[..., 2, 2] = 0.0, sa, ca
-    return R
+    x = c * v[0] + s * v[1]
+    y = -s * v[0] + c * v[1]
+    return [x, ca * y + sa * v[2], -sa * y + ca * v[2]]

@@ -30,7 +30,7 @@ import math
 
 import numpy as np
 
-from ._common import Array, Raw, StandardForm, add_messages, rz_rx
+from ._common import Array, Raw, StandardForm, add_messages, rotate_back
 from .yaw_pitch_pitch import Positioner
 
 _LABELS = np.array([f"{s}/elbow-{e}/{w}" for s in ("left", "right") for e in ("down", "up")
@@ -71,17 +71,21 @@ class SphericalWrist:
         pw = Tc[:, :3, 3] - sf.d[5] * R[:, :, 2]
         sol = self.pos.solve(pw, q0phi[:, 0])
         phi = sol["phi"]                                                  # (B, 4, 3)
-        R03 = rz_rx(phi[..., 0], sf.alpha[0]) @ rz_rx(phi[..., 1] + phi[..., 2], sf.alpha[2])
-        M = np.swapaxes(R03, -1, -2) @ R[:, None]                         # (B, 4, 3, 3)
-        h = np.hypot(M[..., 0, 2], M[..., 1, 2])
+        # M = R03^T R, column by column: R03^T v = Rx(-alpha3) Rz(-(q2 + q3)) Rx(-alpha1) Rz(-q1) v
+        zc = [R[:, None, i, 2] for i in range(3)]
+        xc = [R[:, None, i, 0] for i in range(3)]
+        back = lambda v: rotate_back(rotate_back(v, phi[..., 0], sf.alpha[0]),  # noqa: E731
+                                     phi[..., 1] + phi[..., 2], sf.alpha[2])
+        Mz, Mx = back(zc), back(xc)                                       # third and first columns of M
+        h = np.hypot(Mz[0], Mz[1])
         w = np.array([1.0, -1.0])                                         # noflip, flip
-        phi5 = np.arctan2(w * h[..., None], (-self.s4 * self.s5 * M[..., 2, 2])[..., None])
+        phi5 = np.arctan2(w * h[..., None], (-self.s4 * self.s5 * Mz[2])[..., None])
         singular = h <= WRIST_SINGULAR
         phi4 = np.where(singular[..., None], q0phi[:, None, 3:4],
-                        np.arctan2((w * self.s5) * M[..., 1, 2, None], (w * self.s5) * M[..., 0, 2, None]))
-        P = rz_rx(phi4, sf.alpha[3]) @ rz_rx(phi5, sf.alpha[4])           # (B, 4, 2, 3, 3)
-        Mx = M[:, :, None, :, 0]                                          # first column of M
-        phi6 = np.arctan2(np.einsum("...k,...k->...", P[..., :, 1], Mx), np.einsum("...k,...k->...", P[..., :, 0], Mx))
+                        np.arctan2((w * self.s5) * Mz[1][..., None], (w * self.s5) * Mz[0][..., None]))
+        # q6 from what is left: P^T M e1 = Rz(q6) e1 with P = Rz(q4) Rx(alpha4) Rz(q5) Rx(alpha5)
+        rest = rotate_back(rotate_back([m[..., None] for m in Mx], phi4, sf.alpha[3]), phi5, sf.alpha[4])
+        phi6 = np.arctan2(rest[1], rest[0])
         B = len(target)
         out = np.empty((B, 4, 2, 6))
         out[..., :3] = phi[:, :, None, :]
