@@ -369,13 +369,13 @@ def _lm_one(base, pre, post, tool, prismatic, lower, upper, rlo, rhi, Tt, w, s, 
                 mu *= 4.0
                 if mu > 1e10:
                     break
-            # stall: no 1 % improvement of this attempt's best cost in 12 iterations
+            # stall: no 1 % improvement of this attempt's best cost in 8 iterations
             if E < 0.99 * attempt_best:
                 attempt_best = E
                 stale = 0
             else:
                 stale += 1
-                if stale >= 12:
+                if stale >= 8:
                     break
         if status == CONVERGED:
             break
@@ -387,19 +387,29 @@ def _lm_one(base, pre, post, tool, prismatic, lower, upper, rlo, rhi, Tt, w, s, 
     info[3] = min(best_E, E) if status == CONVERGED else best_E
 
 
+@njit(cache=True)
+def _one(mats, prismatic, limits, params, ints, targets, seeds, q, trace, info, i):
+    n = q.shape[1]
+    _lm_one(mats[0], mats[1:n + 1], mats[n + 1:2 * n + 1], mats[2 * n + 1], prismatic,
+            limits[0], limits[1], limits[2], limits[3], targets[i], params[3:9], params[0], params[1], params[2],
+            ints[0], ints[1], ints[2], seeds[i], q[i], trace[i], info[i])
+
+
 @njit(cache=True, parallel=True)
-def lm_batch(base, pre, post, tool, prismatic, lower, upper, rlo, rhi, targets, w, s, tol_p, tol_r,
-             max_iterations, first_attempt, attempts, seeds, q, trace, info):
-    """Solve every target ``targets[i]`` (B, 4, 4) from ``q[i]`` in parallel; q, trace, info written in place."""
+def lm_batch(mats, prismatic, limits, params, ints, targets, seeds, q, trace, info):
+    """Solve every target ``targets[i]`` (B, 4, 4) from ``q[i]`` in parallel; q, trace, info written in place.
+
+    The arguments are packed to keep the call cheap: ``mats`` (2n + 2, 4, 4) = base, pre[n],
+    post[n], tool; ``limits`` (4, n) = lower, upper, random-start low, random-start high;
+    ``params`` (9,) = metres per unit, position tol (m), rotation tol (rad), weights[6];
+    ``ints`` (3,) = steps per attempt, first attempt index, attempts.
+    """
     for i in prange(targets.shape[0]):
-        _lm_one(base, pre, post, tool, prismatic, lower, upper, rlo, rhi, targets[i], w, s, tol_p, tol_r,
-                max_iterations, first_attempt, attempts, seeds[i], q[i], trace[i], info[i])
+        _one(mats, prismatic, limits, params, ints, targets, seeds, q, trace, info, i)
 
 
 @njit(cache=True)
-def lm_serial(base, pre, post, tool, prismatic, lower, upper, rlo, rhi, targets, w, s, tol_p, tol_r,
-              max_iterations, first_attempt, attempts, seeds, q, trace, info):
+def lm_serial(mats, prismatic, limits, params, ints, targets, seeds, q, trace, info):
     """As :func:`lm_batch` without threads (small batches, single calls)."""
     for i in range(targets.shape[0]):
-        _lm_one(base, pre, post, tool, prismatic, lower, upper, rlo, rhi, targets[i], w, s, tol_p, tol_r,
-                max_iterations, first_attempt, attempts, seeds[i], q[i], trace[i], info[i])
+        _one(mats, prismatic, limits, params, ints, targets, seeds, q, trace, info, i)

@@ -36,7 +36,7 @@ accepted (and :math:`\mu` shrinks), others are rejected (and :math:`\mu` grows),
 Marquardt's method. After each step the joints are projected into their limits (revolute
 joints by whole turns when that brings them inside, then clamping). An attempt stops when
 it converges, after ``max_iterations`` steps, or when its cost has not fallen by 1 % for
-12 steps; the next attempt starts from a random configuration inside the limits, up to
+8 steps; the next attempt starts from a random configuration inside the limits, up to
 ``restarts`` times.
 
 Newton
@@ -72,12 +72,16 @@ __all__ = ["solve_lm", "solve_newton"]
 Array = NDArray[np.float64]
 
 _TOL_FACTOR = 0.25     # iterate to a quarter of the tolerance, so that the FK check has margin
-_STALL_STEPS = 12      # an attempt ends when its cost has not fallen by 1 % in this many steps
+_STALL_STEPS = 8       # an attempt ends when its cost has not fallen by 1 % in this many steps
 _SINGULAR_SIGMA = 1e-5  # smallest singular value (metres, rad) below which a stalled solve is "singular"
 
 
 # ----------------------------------------------------------------------------------------- inputs
 _CONSTANTS: "weakref.WeakKeyDictionary[Robot, dict]" = weakref.WeakKeyDictionary()
+_W_POSE = np.ones(6)
+_W_POSITION = np.array([1, 1, 1, 0, 0, 0.0])
+_W_POSE.setflags(write=False)
+_W_POSITION.setflags(write=False)
 
 
 def _constants(robot: Robot) -> dict:
@@ -90,7 +94,9 @@ def _constants(robot: Robot) -> dict:
         free_lo = np.where(rev, -math.pi, -np.inf)
         free_hi = np.where(rev, math.pi, np.inf)
         lo, hi = robot.lower.astype(float), robot.upper.astype(float)
+        ch = robot.chain
         c = dict(rev=rev, reach=reach, origin=robot.base[:3, 3].copy(),
+                 mats=np.ascontiguousarray(np.concatenate([ch.base[None], ch.pre, ch.post, ch.tool[None]])),
                  limits=(lo, hi, np.where(np.isfinite(lo), lo, np.where(rev, -math.pi, -span)),
                          np.where(np.isfinite(hi), hi, np.where(rev, math.pi, span))),
                  free=(free_lo, free_hi, np.where(rev, -math.pi, -span), np.where(rev, math.pi, span)))
@@ -122,7 +128,7 @@ class Problem:
         if q.shape != (B, robot.n):
             raise ShapeError(f"{what}: q0 must have shape ({B}, {robot.n}) for {B} targets, got {q.shape}")
         if mask is None:
-            w = np.array([1, 1, 1, 0, 0, 0.0]) if self.position_target else np.ones(6)
+            w = _W_POSITION if self.position_target else _W_POSE
         else:
             w = np.asarray(mask, dtype=float)
             if w.shape != (6,) or not np.all(np.isfinite(w)) or np.any(w < 0) or not np.any(w > 0):
@@ -147,8 +153,23 @@ class Problem:
         self.const = _constants(robot)
         # without limits revolute joints are wrapped into [-pi, pi] and prismatic joints are free
         self.lower, self.upper, self.rand_lo, self.rand_hi = self.const["limits" if enforce_limits else "free"]
-        self.full_pose = bool(np.all(w > 0))
-        self.position_only = bool(np.all(w[:3] > 0) and not np.any(w[3:] > 0))
+
+        if w is _W_POSE or w is _W_POSITION:
+            self.full_pose, self.position_only = w is _W_POSE, w is _W_POSITION
+        else:
+            self.full_pose = bool(np.all(w > 0))
+            self.position_only = bool(np.all(w[:3] > 0) and not np.any(w[3:] > 0))
+
+    @property
+    def packed_limits(self) -> Array:
+        """lower, upper, random-start low and high as one (4, n) array for the kernel (cached per robot)."""
+        key = "packed " + ("limits" if self.lower is self.const["limits"][0] else
+                           "free" if self.lower is self.const["free"][0] else "other")
+        if key == "packed other":
+            return np.ascontiguousarray(np.stack([self.lower, self.upper, self.rand_lo, self.rand_hi]))
+        if key not in self.const:
+            self.const[key] = np.ascontiguousarray(np.stack([self.lower, self.upper, self.rand_lo, self.rand_hi]))
+        return self.const[key]
 
     @property
     def internal_tol(self) -> tuple[float, float]:
@@ -374,17 +395,19 @@ def _jit():
 
 def _run_jit(kernels, prob: Problem, q: Array, max_iterations: int, attempts: int, first_attempt: int,
              seeds: NDArray[np.uint64], want_trace: bool):
-    c = prob.robot.chain
     B, n = q.shape
-    q = np.ascontiguousarray(q, dtype=float).copy()
+    q = np.array(q, dtype=float, order="C")
     info = np.zeros((B, 4))
     cap = max_iterations * attempts if want_trace else 0
     trace = np.full((B, cap), np.nan)
     tol_p, tol_r = prob.internal_tol
+    params = np.empty(9)
+    params[0], params[1], params[2] = prob.s, tol_p, tol_r
+    params[3:] = prob.w
+    ints = np.array([max_iterations, first_attempt, attempts], dtype=np.int64)
     run = kernels.lm_batch if B >= 8 else kernels.lm_serial
-    run(c.base, c.pre, c.post, c.tool, c.prismatic, prob.lower, prob.upper, prob.rand_lo, prob.rand_hi,
-        prob.poses, prob.w, prob.s, tol_p, tol_r, int(max_iterations), int(first_attempt), int(attempts),
-        seeds, q, trace, info)
+    run(prob.const["mats"], prob.robot.chain.prismatic, prob.packed_limits, params, ints, prob.poses, seeds, q,
+        trace, info)
     iters = info[:, 0].astype(np.int64)
     rows = [trace[i, :iters[i]].tolist() for i in range(B)] if want_trace else []
     return q, iters, info[:, 2].astype(np.int64), info[:, 1] == 0, info[:, 3], rows
@@ -399,6 +422,11 @@ def check(prob: Problem, q: Array) -> tuple[Array, Array, NDArray[np.bool_], NDA
     """
     robot = prob.robot
     if prob.full_pose or prob.position_only:
+        if len(q) == 1:  # one target: verify's unbatched fast path, results back to shape (1,)
+            out = verify(robot, q[0], prob.target[0], prob.position_only or prob.position_target, prob.tol,
+                         prob.enforce_limits)
+            return (np.array([out[0]]), np.array([out[1]]), np.array([out[2]]),  # type: ignore[return-value]
+                    np.array([out[3]]))
         return verify(robot, q, prob.target, prob.position_only or prob.position_target, prob.tol,
                       prob.enforce_limits)
     e, _, _ = _evaluate(prob, q, np.arange(len(q)))
@@ -430,15 +458,16 @@ def assemble(prob: Problem, q: Array, iterations: ArrayLike, branch: str, failur
     reason = np.empty(B, dtype=object)
     message = np.empty(B, dtype=object)
     rot = not (prob.position_only or prob.position_target)
+    dpl, drl, okl, itl, wl = dp.tolist(), dr.tolist(), ok.tolist(), iterations.tolist(), within.tolist()
     for i in range(B):
-        resid = f"position error {_fmt(dp[i])} {unit}" + (f", rotation error {_fmt(dr[i])} rad" if rot else "")
-        if ok[i]:
+        resid = f"position error {_fmt(dpl[i])} {unit}" + (f", rotation error {_fmt(drl[i])} rad" if rot else "")
+        if okl[i]:
             reason[i] = "converged"
-            message[i] = f"converged in {iterations[i]} iterations: {resid}."
+            message[i] = f"converged in {itl[i]} iterations: {resid}."
         elif i in failure_reasons:
             reason[i], text = failure_reasons[i]
             message[i] = f"{text}; {resid}."
-        elif prob.enforce_limits and not within[i]:
+        elif prob.enforce_limits and not wl[i]:
             reason[i] = "joint limits"
             message[i] = f"the configuration breaks the joint limits; {resid}."
         else:
@@ -481,23 +510,25 @@ def _solve(prob: Problem, method: str, max_iterations: Optional[int], restarts: 
     B, n = prob.B, prob.robot.n
     unreachable, dist = prob.unreachable()
     kernels = None if newton else _jit()
-    rng = np.random.default_rng(seed)
+    rng = np.random.default_rng(seed) if kernels is None else None
     seeds = _seeds(seed, B)
     q = prob.q0.copy()
     iters = np.zeros(B, np.int64)
     used = np.zeros(B, np.int64)
     done = np.zeros(B, bool)
-    rows: list = [[] for _ in range(B)] if trace else []
+    rows = [[] for _ in range(B)] if trace else []
     t0 = time.perf_counter()
     total_attempts = restarts + 1
-    # provably unreachable targets get one attempt (the closest configuration from q0), no restarts
-    rounds = [(np.flatnonzero(unreachable), 0, 1), (np.flatnonzero(~unreachable), 0, total_attempts)]
-    if time_limit is not None:  # attempt by attempt, checking the clock between rounds
+    any_unreachable = bool(unreachable.any())
+    if kernels is not None and time_limit is None and not any_unreachable:  # the common case, no bookkeeping
+        rounds: list = []
+        q, iters, used, _, _, rows = _run_jit(kernels, prob, q, max_iterations, total_attempts, 0, seeds, trace)
+    elif time_limit is None:
+        # provably unreachable targets get one attempt (the closest configuration from q0), no restarts
+        rounds = [(np.flatnonzero(unreachable), 0, 1), (np.flatnonzero(~unreachable), 0, total_attempts)]
+    else:  # attempt by attempt, checking the clock between rounds
         rounds = [(np.flatnonzero(unreachable), 0, 1)] + \
                  [(np.flatnonzero(~unreachable), a, 1) for a in range(total_attempts)]
-    if kernels is not None and time_limit is None and not unreachable.any():  # the common case, no bookkeeping
-        rounds = []
-        q, iters, used, _, _, rows = _run_jit(kernels, prob, q, max_iterations, total_attempts, 0, seeds, trace)
     for idx, first, count in rounds:
         idx = idx[~done[idx]]
         if len(idx) == 0:
@@ -519,12 +550,11 @@ def _solve(prob: Problem, method: str, max_iterations: Optional[int], restarts: 
                 rows[j].extend(r)
     reasons: dict[int, tuple[str, str]] = {}
     unit = prob.robot.unit
-    for i in np.flatnonzero(unreachable):
+    for i in (np.flatnonzero(unreachable) if any_unreachable else ()):
         reasons[int(i)] = ("unreachable", f"target is {_fmt(dist[i])} {unit} from the base origin; the arm reaches "
                                           f"at most {_fmt(prob.const['reach'])} {unit}; q is the closest configuration found")
     res = assemble(prob, q, iters, method, reasons, _trace_array(rows))
-    failed = np.flatnonzero(~res.success & ~unreachable)
-    if diagnose and len(failed):
+    if diagnose and not res.success.all() and len(failed := np.flatnonzero(~res.success & ~unreachable)):
         _diagnose(prob, res, failed, reasons, used, method, max_iterations, restarts, seed)
         res = assemble(prob, q, iters, method, reasons, res.trace)
     return res
