@@ -507,6 +507,13 @@ def plot_manipulability(robot: Robot, out_path: str | Path | None = None, joints
         from ..symbolic import derive
         d = derive(robot)
         for f in analysis.singular_factors:
+            if f.solutions and f.joints[0] in (i, j):      # one-joint factor: straight lines, edges included
+                for v, lab in f.solutions:
+                    line = ax.axhline if f.joints[0] == j else ax.axvline
+                    line(math.degrees(v), color="red", lw=1.2)
+                    for sign in ((-1, 1) if abs(abs(v) - math.pi) < 1e-9 else ()):
+                        line(sign * 180.0, color="red", lw=2.4)
+                continue
             fn = sp.lambdify([list(d.q)], f.expr.subs(d.values), modules="numpy")
             Z = np.broadcast_to(np.asarray(fn(np.moveaxis(Q, -1, 0)), dtype=float), A.shape)
             if np.nanmin(Z) < 0 < np.nanmax(Z):

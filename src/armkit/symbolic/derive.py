@@ -111,7 +111,8 @@ def simplify_entry(e: sp.Expr, params: tuple[sp.Symbol, ...] = ()) -> sp.Expr:
     e = sp.expand(e)
     if e.is_number or e == 0:
         return sp.nsimplify(e) if e.is_Float and abs(float(e)) < 1e-15 else e
-    used = [p for p in params if e.has(p)]
+    funcs = e.atoms(sp.Function)
+    used = [p for p in params if e.has(p) and not any(f.has(p) for f in funcs)]   # angle parameters stay inside
     if used:
         poly = sp.Poly(e, *used)
         terms = [sp.trigsimp(coeff) * sp.Mul(*(p ** k for p, k in zip(used, mon)))

@@ -1,0 +1,96 @@
+"""Singularity analysis: the factored determinant against hand derivations, the named sets, numeric checks."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+import armkit
+
+sp = pytest.importorskip("sympy")
+from armkit.analysis.singularity import analyze_singularities, factor_trig, plot_manipulability  # noqa: E402
+
+
+@pytest.fixture(scope="module")
+def results():
+    return {name: analyze_singularities(armkit.load(name)) for name in ("planar2", "fighter", "puma560")}
+
+
+def _by_kind(res, kind):
+    return [f for f in res.singular_factors if f.kind == kind]
+
+
+def test_planar2_det_and_sets(results):
+    res = results["planar2"]
+    q2, a1, a2 = sp.symbols("q2 a1 a2", real=True)
+    # hand: J_planar = [[-a1 s1 - a2 s12, -a2 s12], [a1 c1 + a2 c12, a2 c12]] -> det = a1 a2 s2
+    assert sp.simplify(res.determinant - a1 * a2 * sp.sin(q2)) == 0
+    (elbow,) = _by_kind(res, "elbow")
+    assert [round(math.degrees(v), 9) for v, _ in elbow.solutions] == [0.0, 180.0]
+    assert [lab for _, lab in elbow.solutions] == ["stretched", "folded"]
+
+
+def test_fighter_stretched_folded_and_yaw_axis(results):
+    res = results["fighter"]
+    assert res.method == "det(J_v)"
+    q2, q3, a2, a3 = sp.symbols("q2 q3 a2 a3", real=True)
+    # hand: det J_v = -a2 a3 s3 (a2 c2 + a3 c23) (r = a2 c2 + a3 c23 is the distance from the yaw axis)
+    assert sp.simplify(res.determinant + a2 * a3 * sp.sin(q3) * (a2 * sp.cos(q2) + a3 * sp.cos(q2 + q3))) == 0
+    (elbow,) = _by_kind(res, "elbow")
+    assert elbow.joints == (3,) and {lab for _, lab in elbow.solutions} == {"stretched", "folded"}
+    (axis,) = _by_kind(res, "on-axis")
+    assert "yaw axis" in axis.description and axis.joints == (2, 3)
+    # independent check: on the samples the tool point is on the z axis (x = y = 0)
+    p = armkit.fk(armkit.load("fighter"), axis.samples)[:, :3, 3]
+    np.testing.assert_allclose(p[:, :2], 0.0, atol=1e-9)
+
+
+def test_puma_wrist_singularity_found(results):
+    res = results["puma560"]
+    wrist = [f for f in res.singular_factors if f.expr == sp.sin(sp.Symbol("q5", real=True))]
+    assert len(wrist) == 1 and wrist[0].kind == "wrist"
+    assert [round(math.degrees(v), 9) for v, _ in wrist[0].solutions] == [0.0, 180.0]
+    assert "4" in wrist[0].description and "6" in wrist[0].description
+    assert {f.kind for f in res.singular_factors} == {"elbow", "on-axis", "wrist"}
+
+
+@pytest.mark.parametrize("name", ["planar2", "fighter", "puma560"])
+def test_factors_vanish_where_manipulability_vanishes(results, name):
+    res = results[name]
+    r = armkit.load(name)
+    for f in res.singular_factors:
+        assert len(f.samples) >= 1
+        w = armkit.manipulability(r, f.samples)
+        assert np.all(w < 1e-9 * max(res.typical_manipulability, 1e-12) + 1e-12), (f.text, w)
+    # and away from every factor the arm is not singular
+    d = __import__("armkit.symbolic", fromlist=["derive"]).derive(r)
+    q = r.random_q(20, rng=5)
+    prod = np.ones(len(q))
+    for f in res.singular_factors:
+        fn = sp.lambdify([list(d.q)], f.expr.subs(d.values), "numpy")
+        prod *= np.array([abs(float(fn(x))) for x in q])
+    keep = prod > 1e-3 * np.max(prod)
+    assert np.all(armkit.manipulability(r, q[keep]) > 0)
+
+
+def test_factor_trig_finds_hidden_products():
+    q2, q3, a2, a3 = sp.symbols("q2 q3 a2 a3", real=True)
+    e = sp.expand(sp.expand_trig(a2 * a3 * sp.sin(q3) * (a2 * sp.cos(q2) + a3 * sp.cos(q2 + q3))))
+    c, fs = factor_trig(e, (a2, a3))
+    got = {str(b) for b, _ in fs}
+    assert "sin(q3)" in got and "a2*cos(q2) + a3*cos(q2 + q3)" in got
+
+
+def test_seven_joints_refused_with_reason():
+    with pytest.raises(armkit.ArmkitError, match="too large"):
+        analyze_singularities(armkit.load("panda"))
+
+
+def test_manipulability_plot(tmp_path, results):
+    out = tmp_path / "m.png"
+    fig = plot_manipulability(armkit.load("planar2"), out, joints=(1, 2), resolution=31, analysis=results["planar2"])
+    assert out.stat().st_size > 1000 and fig.axes
+    with pytest.raises(armkit.ArmkitError, match="revolute joints"):
+        plot_manipulability(armkit.load("planar2"), None, joints=(1, 5))
