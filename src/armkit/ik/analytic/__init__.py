@@ -86,15 +86,21 @@ def wrap_to_limits(q: Array, q0: Array, lower: Array, upper: Array, revolute: ND
     revolute : ndarray of bool, shape (n,)
     """
     tol = 1e-12
-    with np.errstate(invalid="ignore"):
-        k_near = np.round((q0 - q) / TWO_PI)
-        k_lo = np.ceil((lower - tol - q) / TWO_PI)
-        k_hi = np.floor((upper + tol - q) / TWO_PI)
-        finite = np.isfinite(lower) & np.isfinite(upper)
-        mid = np.where(finite, 0.5 * (np.where(finite, lower, 0) + np.where(finite, upper, 0)), q0)
-        k_mid = np.round((mid - q) / TWO_PI)
-        k = np.where(k_lo <= k_hi, np.clip(k_near, k_lo, k_hi), k_mid)
-    return np.where(revolute, q + TWO_PI * k, q)
+    q = np.asarray(q, dtype=float)
+    near = np.where(revolute, q + TWO_PI * np.round((q0 - q) / TWO_PI), q)   # the turn nearest q0
+    lo, hi = lower - tol, upper + tol
+    out = (near < lo) | (near > hi)
+    if out.any():   # nearest-to-q0 is outside: the in-limit turn nearest q0 is the one just inside
+        idx = np.nonzero(out)
+        j = idx[-1]
+        v, lj, hj = near[idx], lo[j], hi[j]
+        with np.errstate(invalid="ignore"):
+            cand = v + TWO_PI * np.where(v < lj, np.ceil((lj - v) / TWO_PI), np.floor((hj - v) / TWO_PI))
+            finite = np.isfinite(lj) & np.isfinite(hj)
+            mid = np.where(finite, 0.5 * (np.where(finite, lj, 0.0) + np.where(finite, hj, 0.0)), v)
+        fallback = v + TWO_PI * np.round((mid - v) / TWO_PI)
+        near[idx] = np.where(~revolute[j], v, np.where((cand >= lj) & (cand <= hj), cand, fallback))
+    return near
 
 
 MAX_DETAILED = 10_000
