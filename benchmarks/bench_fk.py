@@ -102,8 +102,10 @@ def looped(f: Callable[[np.ndarray], object], Q: np.ndarray) -> Callable[[], lis
 # ---------------------------------------------------------------------------- rows
 class Row:
     def __init__(self, library: str, fk: float | None = None, jac: float | None = None,
-                 rate: float | None = None, memory: float | None = None, note: str = ""):
+                 rate: float | None = None, memory: float | None = None, note: str = "",
+                 jac_rate: float | None = None):
         self.library, self.fk, self.jac, self.rate, self.memory, self.note = library, fk, jac, rate, memory, note
+        self.jac_rate = jac_rate
 
 
 def agree(robot, peer: _peers.Peer, rng: np.random.Generator) -> str:
@@ -174,8 +176,11 @@ def bench_robot(name: str, batch: int, loop: int, repeats: int, rounds: int) -> 
         kinematics.set_backend(backend)
         armkit.fk(robot, Q[:5000])  # loads the threaded kernel too, so that no compile is traced
         rate, mem = throughput(lambda: armkit.fk(robot, Q), batch, repeats)
+        QJ = Q[: batch // 4]  # Jacobians are (6, n) each: a quarter of the batch is plenty
+        armkit.jacobian(robot, QJ[:5000])
+        jac_rate, _ = throughput(lambda: armkit.jacobian(robot, QJ), len(QJ), max(1, repeats // 2))
         rows.append(Row(f"armkit ({backend})", lat[f"armkit ({backend}) fk"], lat[f"armkit ({backend}) jac"],
-                        rate, mem, f"batch of {batch:,}"))
+                        rate, mem, f"batch of {batch:,} (Jacobians: {len(QJ):,})", jac_rate))
     kinematics.set_backend("auto")
 
     for peer in peers:
@@ -212,11 +217,14 @@ def table(name: str, rows: list[Row], out_bytes: int) -> list[list[str]]:
                       _us(r.fk) + ("" if r is ref else _ratio(r.fk, ref.fk)),
                       _us(r.jac) + ("" if r is ref else _ratio(r.jac, ref.jac)),
                       ("-" if r.rate is None else f"{r.rate / 1e6:,.3f}") + ("" if r is ref else _ratio(r.rate, ref.rate, True)),
-                      mem, r.note])
+                      mem,
+                      ("-" if r.jac_rate is None else f"{r.jac_rate / 1e6:,.3f}")
+                      + ("" if r is ref or r.jac_rate is None else _ratio(r.jac_rate, ref.jac_rate, True)),
+                      r.note])
     return lines
 
 
-HEADER = ["arm", "library", "FK µs", "Jacobian µs", "batched FK M/s", "extra MiB", "how"]
+HEADER = ["arm", "library", "FK µs", "Jacobian µs", "batched FK M/s", "extra MiB", "batched J M/s", "how"]
 
 
 def print_table(lines: list[list[str]]) -> None:
@@ -245,14 +253,14 @@ def markdown(lines: list[list[str]]) -> str:
 def machine() -> str:
     import numba
 
+    from importlib import metadata
+
     versions = [f"python {platform.python_version()}", f"numpy {np.__version__}", f"numba {numba.__version__}"]
-    for mod, label in (("pinocchio", "pin"), ("roboticstoolbox", "rtb"), ("ikpy", "ikpy"), ("torch", "torch"),
-                       ("pytorch_kinematics", "pytorch_kinematics")):
+    for dist in ("pin", "roboticstoolbox-python", "ikpy", "torch", "pytorch-kinematics"):
         try:
-            m = __import__(mod)
-            versions.append(f"{label} {getattr(m, '__version__', '?')}")
-        except ImportError:
-            versions.append(f"{label} (not installed)")
+            versions.append(f"{dist} {metadata.version(dist)}")
+        except metadata.PackageNotFoundError:
+            versions.append(f"{dist} (not installed)")
     cpu = platform.processor() or platform.machine()
     try:
         with open("/proc/cpuinfo") as fh:

@@ -1,0 +1,99 @@
+"""The Numba kernels against the NumPy reference back end and against numpy.sin/cos.
+
+The NumPy back end is the reference (vectorised matrix products, NumPy's own sin/cos);
+the Numba kernels use their own polynomial sine/cosine, blocks, threads and a
+single-call path with its own input checks, so each of those is checked here.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import armkit
+from armkit import kinematics
+from armkit.errors import ShapeError
+
+jit = pytest.importorskip("armkit.kinematics._jit")
+ROBOTS = sorted(armkit.bundled_robots())
+
+
+def test_polynomial_sincos_matches_numpy():
+    rng = np.random.default_rng(5)
+    x = np.concatenate([np.linspace(-20.0, 20.0, 400_001),                 # every quadrant, many times
+                        np.arange(-64, 65) * (np.pi / 4),                    # the reduction's seams
+                        rng.uniform(-1e5, 1e5, 100_000),                     # the edge of the short reduction
+                        [1e5 + 1.0, -3e7, 1e300, 0.0, -0.0, 5e-324]])        # math.sin/cos fallback
+    s, c = np.empty_like(x), np.empty_like(x)
+    assert jit.sincos_block(x, s, c) == 0
+    assert np.abs(s - np.sin(x)).max() <= 4.5e-16
+    assert np.abs(c - np.cos(x)).max() <= 4.5e-16
+
+
+def test_polynomial_sincos_counts_non_finite_values():
+    x = np.array([0.1, np.nan, np.inf, -np.inf, 2.0])
+    s, c = np.empty_like(x), np.empty_like(x)
+    assert jit.sincos_block(x, s, c) == 3
+    assert s[0] == pytest.approx(np.sin(0.1), abs=1e-16) and c[4] == pytest.approx(np.cos(2.0), abs=1e-16)
+
+
+def _both(f, *args, **kw):
+    kinematics.set_backend("numba")
+    try:
+        a = f(*args, **kw)
+        kinematics.set_backend("numpy")
+        b = f(*args, **kw)
+    finally:
+        kinematics.set_backend("auto")
+    return a, b
+
+
+@pytest.mark.parametrize("name", ROBOTS)
+def test_numba_equals_numpy_batched_and_single(name):
+    robot = armkit.load(name)
+    # around the parallel threshold, beyond +-pi, and one block boundary
+    Q = robot.random_q(jit.PARALLEL_MIN + 1, rng=11) * 2.0
+    scale = max(1.0, robot.reach)
+    for f, kw in ((armkit.fk, {}), (armkit.jacobian, {}), (armkit.jacobian, {"frame": "tool"}), (armkit.fk_frames, {})):
+        for sub in (Q, Q[: jit.PARALLEL_MIN - 1], Q[: jit.BLOCK + 1]):
+            a, b = _both(f, robot, sub, **kw)
+            assert a.shape == b.shape
+            assert np.abs(a - b).max() <= 1e-14 * scale
+        for q in Q[:5]:
+            a, b = _both(f, robot, q, **kw)
+            assert np.abs(a - b).max() <= 1e-14 * scale
+
+
+def test_single_call_accepts_lists_ints_strided_and_readonly():
+    robot = armkit.load("stanford")
+    Q = robot.random_q(3, rng=1)
+    F = np.asfortranarray(Q)                        # rows are strided views
+    R = Q[0].copy()
+    R.setflags(write=False)
+    ref = armkit.fk(robot, Q)
+    refJ = armkit.jacobian(robot, Q)
+    assert np.allclose(armkit.fk(robot, F[1]), ref[1], rtol=0, atol=1e-15 * robot.reach)
+    assert np.allclose(armkit.jacobian(robot, F[1]), refJ[1], rtol=0, atol=1e-15 * robot.reach)
+    assert np.allclose(armkit.fk(robot, R), ref[0], rtol=0, atol=1e-15 * robot.reach)
+    assert np.allclose(armkit.fk(robot, list(Q[2])), ref[2], rtol=0, atol=1e-15 * robot.reach)
+    ints = np.array([1, 0, 2, 0, 1, 0])
+    assert np.allclose(armkit.fk(robot, ints), armkit.fk(robot, ints.astype(float)), rtol=0, atol=0)
+
+
+@pytest.mark.parametrize("bad, message", [
+    (np.array([0.1, np.nan, 0, 0, 0, 0]), "NaN or infinite"),
+    (np.zeros(5), r"shape \(\.\.\., 6\) for robot 'puma560', got \(5,\)"),
+    (np.full((4000, 6), np.inf), "NaN or infinite"),                   # threaded batch
+    (np.vstack([np.zeros((3, 6)), [[0, 0, np.nan, 0, 0, 0]]]), "NaN or infinite"),
+    (np.zeros((2, 7)), r"got \(2, 7\)"),
+    ("abc", "must be numeric"),
+])
+@pytest.mark.parametrize("f", [armkit.fk, armkit.jacobian, armkit.fk_frames])
+def test_bad_input_raises_the_same_message_with_numba(f, bad, message):
+    robot = armkit.load("puma560")
+    kinematics.set_backend("numba")
+    try:
+        with pytest.raises(ShapeError, match=message):
+            f(robot, bad)
+    finally:
+        kinematics.set_backend("auto")
