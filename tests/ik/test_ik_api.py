@@ -170,3 +170,23 @@ def test_closed_form_with_base_and_tool_through_the_api():
     q = np.radians([10.0, 40.0, -80.0, 20.0, 60.0, -30.0])
     res = armkit.ik(moved, armkit.fk(moved, q), q0=q + 0.05)
     assert bool(res.success) and np.allclose(res.q, q, atol=1e-9)
+
+
+@pytest.mark.parametrize("name", ["planar2", "planar3", "fighter", "puma560", "ur5"])
+def test_ik_is_the_first_branch_of_ik_all(name):
+    """ik checks only the branch it returns when it can; the answer must equal ik_all's first."""
+    r = armkit.load(name)
+    rng = np.random.default_rng(4)
+    q = r.random_q(200, rng=rng)
+    T = armkit.fk(r, q)
+    T[:20, :3, 3] *= 4.0                                   # some out of reach
+    target = T if name in ("planar3", "puma560", "ur5") else T[:, :3, 3]
+    q0 = r.random_q(200, rng=rng)
+    for limits in (True, False):
+        one = armkit.ik(r, target, q0=q0, enforce_limits=limits)
+        every = armkit.ik_all(r, target, q0=q0, enforce_limits=limits)
+        assert np.array_equal(one.success, every.success[:, 0])
+        assert np.allclose(one.q, every.q[:, 0], atol=1e-12)
+        assert list(one.branch) == list(every.branch[:, 0])
+        assert list(one.reason) == list(every.reason[:, 0])
+        assert list(one.message) == list(every.message[:, 0])

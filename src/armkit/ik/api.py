@@ -190,6 +190,17 @@ def _all_branches(robot: Robot, target: Array, q0: Array, position_only: bool, t
     return solve_all(robot, solver, target, q0, position_only, _tolerance(robot, tol), enforce_limits)
 
 
+def _nearest_branch(robot: Robot, target: Array, q0: Array, position_only: bool, tol: Any,
+                    enforce_limits: bool) -> IKResult:
+    from .analytic import solve_nearest
+
+    why: list[str] = []
+    solver = _analytic_solver(robot, position_only, why)
+    if solver is None:
+        raise IKInputError(why[0])
+    return solve_nearest(robot, solver, target, q0, position_only, _tolerance(robot, tol), enforce_limits)
+
+
 def _numeric(method: str, robot: Robot, target: Array, q0: Array, **kw: Any) -> IKResult:
     module, func = _NUMERIC[method]
     try:
@@ -312,10 +323,10 @@ def ik(robot: Robot, target: ArrayLike, q0: ArrayLike | None = None,
     if use_closed:
         if mask is not None:
             raise IKInputError("mask= is for the numeric methods; the closed form solves the full target")
-        every = _all_branches(robot, flat, q0f, position_only, tol, enforce_limits)
         if branch is None:
-            res = every[:, 0]
+            res = _nearest_branch(robot, flat, q0f, position_only, tol, enforce_limits)
         else:
+            every = _all_branches(robot, flat, q0f, position_only, tol, enforce_limits)
             hit = every.branch == branch
             if not hit.any(axis=1).all():
                 valid = sorted(set(np.asarray(every.branch).ravel().tolist()))

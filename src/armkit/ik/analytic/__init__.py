@@ -205,3 +205,41 @@ def solve_all(robot: Robot, solver: ClosedForm, target: Array, q0: Array, positi
                     rotation_error=take(dr), iterations=np.zeros(ok.shape, dtype=np.int64),
                     branch=take(raw.label), within_limits=take(within), reason=take(reason),
                     message=take(message))
+
+
+def solve_nearest(robot: Robot, solver: ClosedForm, target: Array, q0: Array, position_only: bool,
+                  tol: tuple[float, float] | None = None, enforce_limits: bool = True) -> IKResult:
+    """The first branch of :func:`solve_all` for each target, checking only that branch by FK.
+
+    Same answer as ``solve_all(...)[:, 0]``: where the branch nearest ``q0`` among those the
+    geometry allows passes its FK check and no branch of that target was out of reach,
+    it is the nearest successful one; every other target goes through :func:`solve_all`.
+    Fields ``(B,)``, ``q`` ``(B, n)``.
+    """
+    if tol is None:
+        tol = default_tolerance(robot)
+    theta = solver.sf.theta
+    raw = solver.solve(target, q0 + theta)
+    q = wrap_to_limits(raw.q - theta, q0[:, None, :], robot.lower, robot.upper, ~robot.prismatic)
+    B = len(target)
+    rows = np.arange(B)
+    cand = ~raw.unreachable
+    if enforce_limits:
+        cand = cand & robot.within_limits(q)
+    dist = np.linalg.norm(np.where(robot.prismatic, 0.0, q - q0[:, None, :]), axis=-1)
+    pick = np.argmin(np.where(cand, dist, np.inf), axis=1)
+    qb = q[rows, pick]
+    dp, dr, ok, within = verify(robot, qb, target, position_only, tol, enforce_limits)
+    scale = robot.reach
+    fine = (ok & cand[rows, pick] & ~raw.unreachable.any(axis=1)
+            & (dp <= POLISH_ABOVE * scale) & (dr <= POLISH_ABOVE))
+    res = IKResult(q=qb, success=ok.copy(), position_error=dp, rotation_error=dr,
+                   iterations=np.zeros(B, dtype=np.int64), branch=raw.label[rows, pick], within_limits=within,
+                   reason=_REASON_TEXT[np.zeros(B, dtype=int)], message=raw.note[rows, pick].copy())
+    redo = np.flatnonzero(~fine)
+    if len(redo):
+        full = solve_all(robot, solver, target[redo], q0[redo], position_only, tol, enforce_limits)[:, 0]
+        for f in ("q", "success", "position_error", "rotation_error", "branch", "within_limits", "reason",
+                  "message"):
+            getattr(res, f)[redo] = getattr(full, f)
+    return res
