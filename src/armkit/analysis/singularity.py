@@ -174,7 +174,8 @@ def factor_trig(expr: sp.Expr, params: Sequence[sp.Symbol] = (), expand_first: b
     split(e, 1, 0)
     merged: dict[sp.Expr, int] = {}
     for b, k in out:
-        merged[b] = merged.get(b, 0) + k
+        if b != 1:
+            merged[b] = merged.get(b, 0) + k
     res = sorted(merged.items(), key=lambda bk: (bool(bk[0].free_symbols - set(params)), sp.default_sort_key(bk[0])))
     return const, res
 
@@ -289,7 +290,7 @@ def _classify(robot: Robot, joints: tuple[int, ...], samples: np.ndarray, text: 
     # 2. one elbow joint: the distance from the previous axis to the next point is extremal
     if len(joints) == 1 and not robot.prismatic[joints[0] - 1] and joints[0] >= 2:
         k = joints[0] - 1
-        labels = []
+        labels: list[str] = []
         for q in samples:
             def dist(qk: float) -> float:
                 qq = q.copy()

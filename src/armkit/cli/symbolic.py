@@ -197,7 +197,7 @@ def velocity(robot: str = typer.Argument(..., help=ROBOT_HELP),
     extra = [w for v in words[r.n:] for w in v.split(",") if w]
     if (ee_vel is None) == (q_vel is None):
         fail("give exactly one of --ee-vel (tool velocity -> joint rates) and --q-vel (joint rates -> twist)")
-    given = ee_vel if ee_vel is not None else q_vel
+    given = ee_vel if ee_vel is not None else (q_vel or "")
     vals = parse_numbers([w for w in given.split(",") if w] + extra, "--ee-vel" if ee_vel is not None else "--q-vel")
     if method not in ("pinv", "dls"):
         fail(f"--method must be 'pinv' or 'dls', got {method!r}")

@@ -65,13 +65,13 @@ class Trajectory:
     label : str
     """
 
-    t: Array
-    q: Array
-    qd: Array
-    qdd: Array
-    positions: Array | None = None
-    targets: Array | None = None
-    deviation: Array | None = None
+    t: np.ndarray
+    q: np.ndarray
+    qd: np.ndarray
+    qdd: np.ndarray
+    positions: np.ndarray | None = None
+    targets: np.ndarray | None = None
+    deviation: np.ndarray | None = None
     label: str = ""
     notes: tuple[str, ...] = field(default=())
 
@@ -337,9 +337,9 @@ def cartesian_path(robot: Robot, points: ArrayLike, q0: ArrayLike | None = None,
                                        f"{robot.unit}: {msg}")
             Q[i] = q_i
             q_prev = q_i
-        QD = np.gradient(Q, t, axis=0)
+        QD = np.asarray(np.gradient(Q, t, axis=0))
         QD[0] = QD[-1] = 0.0
-        QDD = np.gradient(QD, t, axis=0)
+        QDD = np.asarray(np.gradient(QD, t, axis=0))
         pos = fk(robot, Q)[:, :3, 3]
         dev = np.linalg.norm(pos[:, :k] - P, axis=1)
         return Trajectory(t, Q, QD, QDD, positions=pos, targets=targets3, deviation=dev, label=f"{label} via IK")

@@ -74,9 +74,9 @@ def twist(robot: Robot, q: ArrayLike, qd: ArrayLike, frame: Literal["base", "too
     Examples
     --------
     >>> import armkit, numpy as np
-    >>> arm = armkit.load("planar2")            # both joints at 1 rad/s, stretched along x
+    >>> arm = armkit.load("planar2")  # stretched along x, both joints at 1 rad/s: vy = (a1 + a2) + a2
     >>> twist(arm, [0, 0], [1, 1]).round(12) + 0.0
-    array([0. , 1.5, 0. , 0. , 0. , 2. ])
+    array([0., 2., 0., 0., 0., 2.])
     """
     J = jacobian(robot, q, frame=frame)
     qd = robot.check_q(qd, "qd")
@@ -166,9 +166,9 @@ def joint_rates(robot: Robot, q: ArrayLike, xd: ArrayLike, method: Literal["pinv
     Examples
     --------
     >>> import armkit, numpy as np
-    >>> r = joint_rates(armkit.load("planar2"), [0.0, np.pi / 2], [0.0, 0.5])
+    >>> r = joint_rates(armkit.load("planar2"), [0.0, np.pi / 2], [0.0, 0.5])   # J = [[-0.5, -0.5], [1, 0]]
     >>> r.qd.round(6) + 0.0, r.singular
-    (array([ 0.5, -0. ]), False)
+    (array([ 0.5, -0.5]), False)
     """
     qv = robot.check_q(q)
     if qv.shape != (robot.n,):
@@ -294,6 +294,6 @@ def resolved_rate(robot: Robot, q0: ArrayLike, path: Callable[[float], tuple[Arr
         QD[i] = qd
         qv = q_next
     QD[-1] = 0.0
-    QDD = np.gradient(QD, dt, axis=0)
+    QDD = np.asarray(np.gradient(QD, dt, axis=0))
     pos = fk(robot, Q)[..., :3, 3]
     return Trajectory(t, Q, QD, QDD, positions=pos, deviation=dev, label="resolved rate")

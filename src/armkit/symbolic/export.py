@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import datetime as _dt
 from pathlib import Path
-from typing import Iterable
+from typing import Any, Iterable
 
 import sympy as sp
 from sympy.printing.numpy import NumPyPrinter
@@ -70,9 +70,9 @@ def _params_text(d: Derivation) -> str:
                      for s, v in d.values.items())
 
 
-def to_text(d: Derivation, what: Iterable[str] = ("T", "J")) -> dict[str, object]:
+def to_text(d: Derivation, what: Iterable[str] = ("T", "J")) -> dict[str, Any]:
     """Short-hand versions of the requested matrices (``"links"``, ``"T"``, ``"J"``) and the legend."""
-    out: dict[str, object] = {}
+    out: dict[str, Any] = {}
     exprs: list[sp.Expr] = []
     for w in what:
         mats = list(d.links) if w == "links" else [getattr(d, w)]
