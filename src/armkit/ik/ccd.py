@@ -57,7 +57,7 @@ def _rotate(v: np.ndarray, axis: np.ndarray, angle: np.ndarray) -> np.ndarray:
 
 
 def solve_ccd(robot: Robot, target: ArrayLike, q0: ArrayLike, *, mask: Optional[ArrayLike] = None,
-              tol: Optional[tuple[float, float]] = None, max_iterations: Optional[int] = 500,
+              tol: Optional[tuple[float, float]] = None, max_iterations: Optional[int] = 2000,
               restarts: Optional[int] = 20, seed: Any = None, enforce_limits: bool = True,
               trace: bool = False, time_limit: Optional[float] = None) -> IKResult:
     """CCD inverse kinematics for position targets.
@@ -74,8 +74,9 @@ def solve_ccd(robot: Robot, target: ArrayLike, q0: ArrayLike, *, mask: Optional[
         Only position targets: None or weights on x, y, z with zero rotation weights.
     tol : (float, float), optional
         Position tolerance (length units) first; default :func:`~armkit.ik.default_tolerance`.
-    max_iterations : int, default 500
-        Sweeps per attempt (CCD converges linearly, so it needs more sweeps than LM needs steps).
+    max_iterations : int, default 2000
+        Sweeps per attempt. CCD converges linearly and slowly near the workspace boundary
+        (a nearly stretched arm can need hundreds of sweeps), so it needs far more sweeps than LM needs steps.
     restarts : int, default 20
         Further attempts from random configurations when an attempt stalls.
     seed : int, optional
@@ -100,7 +101,7 @@ def solve_ccd(robot: Robot, target: ArrayLike, q0: ArrayLike, *, mask: Optional[
     (True, 1)
     """
     prob, note = _position_problem(robot, target, q0, mask, tol, enforce_limits, "CCD")
-    max_iterations = 500 if max_iterations is None else int(max_iterations)
+    max_iterations = 2000 if max_iterations is None else int(max_iterations)
     restarts = 20 if restarts is None else int(restarts)
     rng = np.random.default_rng(seed)
     c = robot.chain

@@ -19,6 +19,10 @@ Supported structures (detected from the model at ``q = 0``, not from the robot's
 Other arms (spatial wrists, prismatic joints, coincident joint points) raise
 :class:`~armkit.ArmkitError` with a pointer to ``method="ccd"`` or ``"lm"``.
 
+Convergence is linear, and slow near the workspace boundary: a two-segment chain reaching
+for a point near full extension can stall above the 1e-9 m tolerance, and then the result
+says "max iterations" with the residual (use ``method="lm"`` or the closed form there).
+
 Joint limits: after every backward/forward pass the points are converted to angles,
 projected into the limits and recomputed, so the iteration only ever holds feasible
 configurations.
@@ -45,6 +49,7 @@ from .result import IKResult
 __all__ = ["solve_fabrik", "fabrik_structure"]
 
 _EPS = 1e-9
+_STALL_PASSES = 200  # an attempt ends when its error has not fallen by 0.1 % in this many passes
 
 
 def _joint_frames_at_zero(robot: Robot) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -123,6 +128,8 @@ def _fabrik_plane(st: dict, goal: np.ndarray, q: np.ndarray, project, iterations
     err = np.linalg.norm(P[:, -1] - goal, axis=-1)
     used = np.zeros(k, np.int64)
     active = err > tol
+    best = err.copy()
+    stale = np.zeros(k, np.int64)
     for _ in range(iterations):
         idx = np.flatnonzero(active)
         if len(idx) == 0:
@@ -149,12 +156,15 @@ def _fabrik_plane(st: dict, goal: np.ndarray, q: np.ndarray, project, iterations
         if rows is not None:
             for j, v in zip(idx, err[idx]):
                 rows[j].append(v)
-        active[idx] = err[idx] > tol
+        impr = err[idx] < best[idx] * (1.0 - 1e-3)
+        best[idx] = np.minimum(best[idx], err[idx])
+        stale[idx] = np.where(impr, 0, stale[idx] + 1)
+        active[idx] = (err[idx] > tol) & (stale[idx] < _STALL_PASSES)
     return q, used, err
 
 
 def solve_fabrik(robot: Robot, target: ArrayLike, q0: ArrayLike, *, mask: Optional[ArrayLike] = None,
-                 tol: Optional[tuple[float, float]] = None, max_iterations: Optional[int] = 500,
+                 tol: Optional[tuple[float, float]] = None, max_iterations: Optional[int] = 2000,
                  restarts: Optional[int] = 20, seed: Any = None, enforce_limits: bool = True,
                  trace: bool = False, time_limit: Optional[float] = None) -> IKResult:
     """FABRIK inverse kinematics for position targets on planar and yaw + planar arms.
@@ -172,7 +182,7 @@ def solve_fabrik(robot: Robot, target: ArrayLike, q0: ArrayLike, *, mask: Option
         Position targets only.
     tol : (float, float), optional
         Position tolerance first (length units).
-    max_iterations : int, default 500
+    max_iterations : int, default 2000
         Backward/forward passes per attempt.
     restarts : int, default 20
         Further attempts from random configurations for targets not yet solved.
@@ -198,7 +208,7 @@ def solve_fabrik(robot: Robot, target: ArrayLike, q0: ArrayLike, *, mask: Option
     """
     st = _structure(robot)
     prob, note = _position_problem(robot, target, q0, mask, tol, enforce_limits, "FABRIK")
-    iterations = 500 if max_iterations is None else int(max_iterations)
+    iterations = 2000 if max_iterations is None else int(max_iterations)
     restarts = 20 if restarts is None else int(restarts)
     rng = np.random.default_rng(seed)
     B, n, f = prob.B, robot.n, st["first"]
