@@ -212,8 +212,8 @@ def solve_nearest(robot: Robot, solver: ClosedForm, target: Array, q0: Array, po
     """The first branch of :func:`solve_all` for each target, checking only that branch by FK.
 
     Same answer as ``solve_all(...)[:, 0]``: where the branch nearest ``q0`` among those the
-    geometry allows passes its FK check and no branch of that target was out of reach,
-    it is the nearest successful one; every other target goes through :func:`solve_all`.
+    geometry and the limits allow passes its FK check, and no clipped (out-of-reach) branch is
+    nearer, it is the nearest successful one; every other target goes through :func:`solve_all`.
     Fields ``(B,)``, ``q`` ``(B, n)``.
     """
     if tol is None:
@@ -231,8 +231,9 @@ def solve_nearest(robot: Robot, solver: ClosedForm, target: Array, q0: Array, po
     qb = q[rows, pick]
     dp, dr, ok, within = verify(robot, qb, target, position_only, tol, enforce_limits)
     scale = robot.reach
-    fine = (ok & cand[rows, pick] & ~raw.unreachable.any(axis=1)
-            & (dp <= POLISH_ABOVE * scale) & (dr <= POLISH_ABOVE))
+    # a clipped (out-of-reach) branch could still pass FK at a boundary: it matters only if it is nearer
+    nearer_clipped = (raw.unreachable & (dist <= dist[rows, pick][:, None])).any(axis=1)
+    fine = (ok & cand[rows, pick] & ~nearer_clipped & (dp <= POLISH_ABOVE * scale) & (dr <= POLISH_ABOVE))
     res = IKResult(q=qb, success=ok.copy(), position_error=dp, rotation_error=dr,
                    iterations=np.zeros(B, dtype=np.int64), branch=raw.label[rows, pick], within_limits=within,
                    reason=_REASON_TEXT[np.zeros(B, dtype=int)], message=raw.note[rows, pick].copy())
