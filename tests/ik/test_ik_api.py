@@ -190,3 +190,12 @@ def test_ik_is_the_first_branch_of_ik_all(name):
         assert list(one.branch) == list(every.branch[:, 0])
         assert list(one.reason) == list(every.reason[:, 0])
         assert list(one.message) == list(every.message[:, 0])
+
+
+def test_trace_follows_the_target_shape(planar3):
+    targets = armkit.fk(planar3, planar3.random_q(6, rng=1))[:, :3, 3].reshape(2, 3, 3)
+    res = armkit.ik(planar3, targets, method="ccd", trace=True)
+    assert res.trace.shape[:2] == (2, 3)
+    one = armkit.ik(planar3, targets[0, 0], method="ccd", trace=True)
+    assert one.trace.ndim == 1 and len(one.trace) >= 1
+    assert armkit.ik(planar3, targets[0, 0], method="lm").trace is None

@@ -144,8 +144,9 @@ def _reshape(res: IKResult, lead: tuple[int, ...]) -> IKResult:
         return a.reshape(lead + a.shape[1:])
 
     trace = res.trace
-    if trace is not None and lead == () and np.ndim(trace) >= 1 and np.shape(trace)[0] == 1:
-        trace = np.asarray(trace)[0]
+    B = int(np.prod(lead, dtype=int))
+    if trace is not None and np.ndim(trace) >= 1 and np.shape(trace)[0] == B:
+        trace = np.asarray(trace).reshape(lead + np.shape(trace)[1:])   # per-target rows, like the other fields
     return IKResult(q=f(res.q), success=f(res.success), position_error=f(res.position_error),
                     rotation_error=f(res.rotation_error), iterations=f(res.iterations), branch=f(res.branch),
                     within_limits=f(res.within_limits), reason=f(res.reason), message=f(res.message), trace=trace)
