@@ -22,7 +22,7 @@ import hashlib
 import math
 import os
 import pickle
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
@@ -271,7 +271,9 @@ def derive(robot: Robot, simplify: bool = True, cache: bool = True) -> Derivatio
             with path.open("rb") as f:
                 found = pickle.load(f)
             if isinstance(found, Derivation):
-                return found
+                # unpickling rebuilds -(a + b) as -a - b: pull the common factors out again
+                tidy = lambda M: M.applyfunc(sp.factor_terms)  # noqa: E731
+                return replace(found, links=tuple(tidy(A) for A in found.links), T=tidy(found.T), J=tidy(found.J))
         except Exception:  # a corrupt or foreign cache file: derive again and overwrite it
             pass
     q, params, rows = _symbols_for(robot)
