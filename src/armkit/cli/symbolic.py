@@ -263,7 +263,8 @@ def traj(robot: str = typer.Argument(..., help=ROBOT_HELP),
                                              help="Arc angle (deg): POINTs are the centre and the start point."),
          deg: bool = typer.Option(False, "--deg", help="Joint waypoints in degrees."),
          profile: str = typer.Option("quintic", "--profile", help="cubic, quintic or trapezoid (joint space)."),
-         duration: float = typer.Option(2.0, "--duration", help="Total time in seconds."),
+         duration: Optional[float] = typer.Option(None, "--duration",
+                                                  help="Total time in seconds (default 2 s, or from the limits)."),
          qd_max: Optional[float] = typer.Option(None, "--qd-max", help="Joint speed limit (deg/s with --deg, else rad/s)."),
          qdd_max: Optional[float] = typer.Option(None, "--qdd-max", help="Joint acceleration limit (deg/s^2 or rad/s^2)."),
          steps: int = typer.Option(100, "--steps", help="Samples along a Cartesian path."),
@@ -291,17 +292,19 @@ def traj(robot: str = typer.Argument(..., help=ROBOT_HELP),
                      f"got {P.shape[1]}")
             W = np.where(r.prismatic, P, np.radians(P)) if deg else P
             scale = math.pi / 180 if deg else 1.0
+            if duration is None and qd_max is None and qdd_max is None:
+                duration = 2.0
             tr = joint_trajectory(W, profile, duration=duration,
                                   qd_max=None if qd_max is None else qd_max * scale,
                                   qdd_max=None if qdd_max is None else qdd_max * scale, dt=dt, robot=r)
         elif line:
             if len(P) != 2:
                 fail(f"--line needs two points (start end), got {len(P)}")
-            tr = cartesian_line(r, P[0], P[1], steps=steps, duration=duration, method=method)  # type: ignore[arg-type]
+            tr = cartesian_line(r, P[0], P[1], steps=steps, duration=duration or 2.0, method=method)  # type: ignore[arg-type]
         else:
             if len(P) != 2:
                 fail(f"--arc needs two points (centre start), got {len(P)}")
-            tr = cartesian_arc(r, P[0], P[1], math.radians(float(arc)), steps=steps, duration=duration,  # type: ignore[arg-type]
+            tr = cartesian_arc(r, P[0], P[1], math.radians(float(arc)), steps=steps, duration=duration or 2.0,  # type: ignore[arg-type]
                                method=method)
     except UnreachableError as exc:
         fail(f"unreachable: {exc}", EXIT_FAILED)
