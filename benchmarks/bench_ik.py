@@ -21,6 +21,7 @@ Usage::
 
     .venv-bench/bin/python benchmarks/bench_ik.py                 # full run
     .venv-bench/bin/python benchmarks/bench_ik.py --n 1000 --robots ur5 panda
+    .venv-bench/bin/python benchmarks/bench_ik.py --n 2000 --peer-n 100 --pk-n 300   # a few minutes
 """
 
 from __future__ import annotations
@@ -75,6 +76,20 @@ def judge(robot: armkit.Robot, q: np.ndarray, targets: np.ndarray) -> np.ndarray
     return good & (dp <= tp) & (dr <= tr) & robot.within_limits(q, tol=1e-9)
 
 
+def own_fk_note(robot: armkit.Robot, peer_fk: Callable[[np.ndarray], np.ndarray], q: np.ndarray,
+                targets: np.ndarray) -> str:
+    """Success judged by the peer's own FK model (same tolerance): separates solver failures from model drift."""
+    tp, tr = default_tolerance(robot)
+    T = np.stack([peer_fk(np.asarray(x, dtype=float)) for x in q])
+    if targets.ndim == 2:
+        ok = np.linalg.norm(T[:, :3, 3] - targets, axis=-1) <= tp
+    else:
+        dp, dr = pose_error(T, targets)
+        ok = (dp <= tp) & (dr <= tr)
+    ok &= robot.within_limits(np.asarray(q, dtype=float), tol=1e-9)
+    return f"{100 * ok.mean():.1f} % by its own FK"
+
+
 def timed_loop(fn: Callable[[int], Any], count: int) -> tuple[list, np.ndarray]:
     out, times = [], np.empty(count)
     for i in range(count):
@@ -99,6 +114,7 @@ def bench_armkit(robot: armkit.Robot, targets: np.ndarray, single_n: int, seed: 
     else:
         print("  (armkit.ik dispatcher not importable: 'auto' skipped)")
     solvers.append(("armkit lm", lambda t, q0: solve_lm(robot, t, q0, seed=seed)))
+    solvers.append(("armkit lm restarts=50", lambda t, q0: solve_lm(robot, t, q0, seed=seed, restarts=50)))
     for name, solve in solvers:
         solve(targets[:2], zeros[:2])  # compile / warm up
         t0 = time.perf_counter()
@@ -172,7 +188,8 @@ def bench_ikpy(robot: armkit.Robot, targets: np.ndarray, count: int) -> Optional
 
     out, times = timed_loop(one, count)
     ok = judge(robot, np.array(out), targets[:count])
-    return Row(robot.name, "ikpy", count, ok, None, times, None, "no success flag")
+    return Row(robot.name, "ikpy", count, ok, None, times, None,
+               "no success flag; " + own_fk_note(robot, peer.fk, np.array(out), targets[:count]))
 
 
 def bench_pytorch_kinematics(robot: armkit.Robot, targets: np.ndarray, count: int) -> Optional[Row]:
@@ -199,7 +216,8 @@ def bench_pytorch_kinematics(robot: armkit.Robot, targets: np.ndarray, count: in
     pick = np.where(conv.any(1), conv.argmax(1), err.argmin(1))
     q = sol.solutions.numpy()[np.arange(count), pick]
     ok = judge(robot, q, targets[:count])
-    return Row(robot.name, "pytorch_kinematics", count, ok, conv.any(1), None, batch, "PseudoInverseIK, 10 retries")
+    return Row(robot.name, "pytorch_kinematics", count, ok, conv.any(1), None, batch,
+               "PseudoInverseIK, 10 retries; " + own_fk_note(robot, peer.fk, q, targets[:count]))
 
 
 def bench_pinocchio(robot: armkit.Robot, targets: np.ndarray, count: int) -> Optional[Row]:
@@ -231,14 +249,16 @@ def bench_pinocchio(robot: armkit.Robot, targets: np.ndarray, count: int) -> Opt
                 if np.linalg.norm(err) < eps:
                     return q, True
                 J = -pin.Jlog6(iMd.inverse()) @ pin.computeFrameJacobian(model, data, q, fid)
-            v = -J.T @ np.linalg.solve(J @ J.T + 1e-12 * np.eye(J.shape[0]), err)
+            v = -J.T @ np.linalg.solve(J @ J.T + 1e-8 * np.eye(J.shape[0]), err)  # example: 1e-12; 1e-8 so
+            # that the singular start of a position-only 3-DOF arm does not raise
             q = np.clip(pin.integrate(model, q, v * 0.5), lo, hi)
         return q, False
 
     out, times = timed_loop(one, count)
-    ok = judge(robot, np.array([o[0] for o in out]), targets[:count])
+    q = np.array([o[0] for o in out])
+    ok = judge(robot, q, targets[:count])
     return Row(robot.name, "pinocchio DLS loop", count, ok, np.array([o[1] for o in out]), times, None,
-               "Python loop, clamped limits")
+               "Python loop, clamped limits; " + own_fk_note(robot, peer.fk, q, targets[:count]))
 
 
 # -------------------------------------------------------------------------------- report
@@ -247,13 +267,13 @@ def ms(x: Optional[float]) -> str:
 
 
 def print_table(rows: list[Row]) -> None:
-    head = f"{'robot':9} {'solver':22} {'targets':>7} {'success %':>9} {'wrong':>5} {'single med ms':>13} " \
+    head = f"{'robot':9} {'solver':24} {'targets':>7} {'success %':>9} {'wrong':>5} {'single med ms':>13} " \
            f"{'p95 ms':>8} {'batch ms/target':>15}  note"
     print(head)
     print("-" * len(head))
     for r in rows:
         wrong = "-" if r.wrong is None else str(r.wrong)
-        print(f"{r.robot:9} {r.solver:22} {r.n:7d} {100 * r.success:9.2f} {wrong:>5} {ms(r.median):>13} "
+        print(f"{r.robot:9} {r.solver:24} {r.n:7d} {100 * r.success:9.2f} {wrong:>5} {ms(r.median):>13} "
               f"{ms(r.p95):>8} {ms(r.batch):>15}  {r.note}")
     print("\nratios (peer time / armkit lm time; above 1 means armkit is faster):")
     for robot in dict.fromkeys(r.robot for r in rows):
@@ -269,7 +289,7 @@ def print_table(rows: list[Row]) -> None:
             if r.batch is not None and base.batch:
                 parts.append(f"batch {r.batch / base.batch:.2f}x")
             if parts:
-                print(f"  {robot:9} {r.solver:22} " + ", ".join(parts))
+                print(f"  {robot:9} {r.solver:24} " + ", ".join(parts))
 
 
 def main(argv: Optional[list[str]] = None) -> int:
@@ -277,6 +297,7 @@ def main(argv: Optional[list[str]] = None) -> int:
     ap.add_argument("--n", type=int, default=10_000, help="targets per robot (default 10000)")
     ap.add_argument("--single", type=int, default=None, help="targets solved one call at a time (default: all)")
     ap.add_argument("--peer-n", type=int, default=300, help="targets for slow Python-loop peers (ikpy, Pinocchio)")
+    ap.add_argument("--pk-n", type=int, default=1000, help="targets for pytorch_kinematics (slow on CPU)")
     ap.add_argument("--robots", nargs="+", default=list(ROBOTS))
     ap.add_argument("--seed", type=int, default=2026)
     args = ap.parse_args(argv)
@@ -295,7 +316,8 @@ def main(argv: Optional[list[str]] = None) -> int:
         rows += bench_armkit(robot, targets, args.single or args.n, args.seed)
         if _peers is None:
             continue
-        for label, fn, count in (("RTB", bench_rtb, args.n), ("pytorch_kinematics", bench_pytorch_kinematics, args.n),
+        for label, fn, count in (("RTB", bench_rtb, args.n),
+                                 ("pytorch_kinematics", bench_pytorch_kinematics, min(args.pk_n, args.n)),
                                  ("ikpy", bench_ikpy, min(args.peer_n, args.n)),
                                  ("pinocchio", bench_pinocchio, min(args.peer_n, args.n))):
             try:
