@@ -176,3 +176,22 @@ def test_bad_inputs():
         solve_lm(arm, np.zeros((1, 3)), np.zeros((2, 6)))
     with pytest.raises(armkit.ShapeError, match="mask must be 6 non-negative"):
         solve_lm(arm, np.zeros((1, 3)), np.zeros((1, 6)), mask=[1, 1, 1])
+
+
+def test_time_limit_runs_attempt_by_attempt():
+    arm = armkit.load("puma560")
+    T = armkit.fk(arm, arm.random_q(4, 17))
+    res = solve_lm(arm, T, np.zeros((4, 6)), seed=17, time_limit=10.0)
+    assert res.success.all()
+    # no time at all: only the first attempt (from q0) runs, and failures say so honestly
+    quick = solve_lm(arm, T, np.zeros((4, 6)), seed=17, time_limit=0.0)
+    assert np.all(quick.success | (quick.reason != "converged"))
+
+
+def test_newton_trace_and_mm_tolerance():
+    arm = armkit.load("fighter")
+    p = armkit.fk(arm, arm.random_q(2, 18))[:, :3, 3]
+    res = solve_newton(arm, p, np.full((2, 3), 0.3), seed=18, trace=True)
+    assert res.success.all()
+    assert res.trace.shape == (2, res.iterations.max())
+    assert np.all(res.position_error <= 1e-6)           # 1e-6 mm for a mm arm

@@ -219,7 +219,7 @@ def solve_fabrik(robot: Robot, target: ArrayLike, q0: ArrayLike, *, mask: Option
     sub = object.__new__(Problem)
     sub.__dict__.update(prob.__dict__)
     sub.lower, sub.upper = lo, hi
-    sub.robot = _PlanarView(robot.prismatic[f:])
+    sub.robot = _PlanarView(robot.prismatic[f:])  # type: ignore[assignment]
 
     def project(qp: np.ndarray) -> np.ndarray:
         return _project(sub, qp)
@@ -255,7 +255,7 @@ def solve_fabrik(robot: Robot, target: ArrayLike, q0: ArrayLike, *, mask: Option
         rel = g3 - root
         goal2 = np.stack([rel @ xh, rel @ yh], axis=-1)
         off_plane = np.abs(rel @ nrm - st["height"])
-        rows = [[] for _ in range(B)] if trace else None
+        rows: Optional[list] = [[] for _ in range(B)] if trace else None
         qp, used, err = _fabrik_plane(st, goal2, q[:, f:].copy(), project, iterations, tol_p, rows)
         left = np.flatnonzero(err > tol_p)
         for _ in range(restarts):                      # random restarts for the unsolved
@@ -263,7 +263,7 @@ def solve_fabrik(robot: Robot, target: ArrayLike, q0: ArrayLike, *, mask: Option
                 break
             start = rng.uniform(prob.rand_lo[f:], prob.rand_hi[f:], size=(len(left), n - f))
             qr, ur, er = _fabrik_plane(st, goal2[left], start, project, iterations, tol_p,
-                                       [rows[i] for i in left] if trace else None)
+                                       [rows[i] for i in left] if rows is not None else None)
             better = er < err[left]
             qp[left[better]] = qr[better]
             err[left[better]] = er[better]
@@ -273,11 +273,11 @@ def solve_fabrik(robot: Robot, target: ArrayLike, q0: ArrayLike, *, mask: Option
         err = np.hypot(err, off_plane)
         take = err < err_out
         q_out[take], err_out[take], it_out[take] = q[take], err[take], used[take]
-        if trace:
-            for i in np.flatnonzero(take):
-                rows_out[i] = rows[i]
+        if rows is not None:
+            for j in np.flatnonzero(take):
+                rows_out[j] = rows[j]
     unreachable, dist = prob.unreachable()
-    reasons = {}
+    reasons: dict[int, tuple[str, str]] = {}
     unit = robot.unit
     for i in range(B):
         if err_out[i] <= tol_p:

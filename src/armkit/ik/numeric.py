@@ -145,8 +145,9 @@ class Problem:
         self.q0 = np.array(q, dtype=float)
         self.w = w
         self.B = B
-        self.tol = tuple(tol) if tol is not None else default_tolerance(robot)
-        if len(self.tol) != 2 or min(self.tol) <= 0:
+        self.tol: tuple[float, float] = (float(tol[0]), float(tol[1])) if tol is not None and len(tol) == 2 \
+            else default_tolerance(robot) if tol is None else (-1.0, -1.0)
+        if min(self.tol) <= 0 or min(self.tol) <= 0:
             raise ShapeError(f"{what}: tol must be (position, rotation) > 0, got {tol!r}")
         self.enforce_limits = bool(enforce_limits)
         self.s = robot.unit_scale
@@ -454,11 +455,11 @@ def assemble(prob: Problem, q: Array, iterations: ArrayLike, branch: str, failur
     dp, dr, ok, within = check(prob, q)
     B = prob.B
     unit = prob.robot.unit
-    iterations = np.broadcast_to(np.asarray(iterations, np.int64), (B,)).copy()
+    its: NDArray[np.int64] = np.broadcast_to(np.asarray(iterations, np.int64), (B,)).copy()
     reason = np.empty(B, dtype=object)
     message = np.empty(B, dtype=object)
     rot = not (prob.position_only or prob.position_target)
-    dpl, drl, okl, itl, wl = dp.tolist(), dr.tolist(), ok.tolist(), iterations.tolist(), within.tolist()
+    dpl, drl, okl, itl, wl = dp.tolist(), dr.tolist(), ok.tolist(), its.tolist(), within.tolist()
     for i in range(B):
         resid = f"position error {_fmt(dpl[i])} {unit}" + (f", rotation error {_fmt(drl[i])} rad" if rot else "")
         if okl[i]:
@@ -472,10 +473,10 @@ def assemble(prob: Problem, q: Array, iterations: ArrayLike, branch: str, failur
             message[i] = f"the configuration breaks the joint limits; {resid}."
         else:
             reason[i] = "max iterations"
-            message[i] = f"no solution within {iterations[i]} iterations; best {resid}."
+            message[i] = f"no solution within {itl[i]} iterations; best {resid}."
         if note:
             message[i] += " " + note
-    return IKResult(q=q, success=ok, position_error=dp, rotation_error=dr, iterations=iterations,
+    return IKResult(q=q, success=ok, position_error=dp, rotation_error=dr, iterations=its,
                     branch=np.full(B, branch, dtype=object), within_limits=within,
                     reason=reason.astype(str), message=message, trace=trace)
 
@@ -495,8 +496,8 @@ def _trace_array(rows: list) -> Optional[Array]:
 def _smallest_sigma(prob: Problem, q: Array, idx: NDArray[np.intp]) -> Array:
     _, _, J = _evaluate(prob, q, idx)
     J = J * np.sqrt(prob.w)[None, :, None]
-    return np.linalg.svd(J, compute_uv=False)[:, -1] if J.shape[-1] <= 6 else \
-        np.linalg.svd(J, compute_uv=False)[:, min(5, J.shape[-1] - 1)]
+    sv: Array = np.asarray(np.linalg.svd(J, compute_uv=False), dtype=float)
+    return sv[:, min(5, J.shape[-1] - 1)]        # the rank-deciding value (the 6th for redundant arms)
 
 
 # --------------------------------------------------------------------------------- the solvers
@@ -516,7 +517,7 @@ def _solve(prob: Problem, method: str, max_iterations: Optional[int], restarts: 
     iters = np.zeros(B, np.int64)
     used = np.zeros(B, np.int64)
     done = np.zeros(B, bool)
-    rows = [[] for _ in range(B)] if trace else []
+    rows: list = [[] for _ in range(B)] if trace else []
     t0 = time.perf_counter()
     total_attempts = restarts + 1
     any_unreachable = bool(unreachable.any())
@@ -539,7 +540,8 @@ def _solve(prob: Problem, method: str, max_iterations: Optional[int], restarts: 
         if kernels is not None:
             out = _run_jit(kernels, sub, q[idx], max_iterations, count, first, seeds[idx], trace)
         else:
-            out = _run_numpy(sub, q[idx], max_iterations, count, first, rng, newton, trace)
+            out = _run_numpy(sub, q[idx], max_iterations, count, first, rng or np.random.default_rng(seed),
+                             newton, trace)
         q_i, it_i, used_i, conv_i, _, rows_i = out
         q[idx] = q_i
         iters[idx] += it_i
