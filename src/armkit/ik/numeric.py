@@ -178,8 +178,13 @@ class Problem:
 
     def unreachable(self) -> tuple[NDArray[np.bool_], Array]:
         """Targets whose position is provably beyond the reach (distance from the base origin)."""
-        d = self.poses[:, :3, 3] - self.const["origin"]
-        dist = np.sqrt(np.einsum("bi,bi->b", d, d))
+        if self.B == 1:
+            o = self.const["origin"]
+            P = self.poses[0]
+            dist = np.array([math.sqrt((P[0, 3] - o[0]) ** 2 + (P[1, 3] - o[1]) ** 2 + (P[2, 3] - o[2]) ** 2)])
+        else:
+            d = self.poses[:, :3, 3] - self.const["origin"]
+            dist = np.sqrt(np.einsum("bi,bi->b", d, d))
         if not (self.w[0] > 0 and self.w[1] > 0 and self.w[2] > 0):
             return np.zeros(self.B, bool), dist
         return dist > self.const["reach"] * (1.0 + 1e-9) + self.tol[0], dist
@@ -508,23 +513,30 @@ def _solve(prob: Problem, method: str, max_iterations: Optional[int], restarts: 
     if max_iterations < 0 or restarts < 0:
         raise ShapeError(f"max_iterations and restarts must be >= 0, got {max_iterations} and {restarts}")
     newton = method == "newton"
-    B, n = prob.B, prob.robot.n
+    B = prob.B
     unreachable, dist = prob.unreachable()
+    any_unreachable = bool(unreachable.any())
     kernels = None if newton else _jit()
-    rng = np.random.default_rng(seed) if kernels is None else None
     seeds = _seeds(seed, B)
+    total_attempts = restarts + 1
+    if kernels is not None and time_limit is None and not any_unreachable:  # the common case, no bookkeeping
+        q, iters, used, _, _, rows = _run_jit(kernels, prob, prob.q0, max_iterations, total_attempts, 0, seeds,
+                                              trace)
+        res = assemble(prob, q, iters, method, {}, _trace_array(rows))
+        if diagnose and not res.success.all():
+            failed = np.flatnonzero(~res.success)
+            reasons: dict[int, tuple[str, str]] = {}
+            _diagnose(prob, res, failed, reasons, used, method, max_iterations, restarts, seed)
+            res = assemble(prob, q, iters, method, reasons, res.trace)
+        return res
+    rng = np.random.default_rng(seed) if kernels is None else None
     q = prob.q0.copy()
     iters = np.zeros(B, np.int64)
     used = np.zeros(B, np.int64)
     done = np.zeros(B, bool)
-    rows: list = [[] for _ in range(B)] if trace else []
+    rows = [[] for _ in range(B)] if trace else []
     t0 = time.perf_counter()
-    total_attempts = restarts + 1
-    any_unreachable = bool(unreachable.any())
-    if kernels is not None and time_limit is None and not any_unreachable:  # the common case, no bookkeeping
-        rounds: list = []
-        q, iters, used, _, _, rows = _run_jit(kernels, prob, q, max_iterations, total_attempts, 0, seeds, trace)
-    elif time_limit is None:
+    if time_limit is None:
         # provably unreachable targets get one attempt (the closest configuration from q0), no restarts
         rounds = [(np.flatnonzero(unreachable), 0, 1), (np.flatnonzero(~unreachable), 0, total_attempts)]
     else:  # attempt by attempt, checking the clock between rounds
@@ -550,7 +562,7 @@ def _solve(prob: Problem, method: str, max_iterations: Optional[int], restarts: 
         if trace:
             for j, r in zip(idx, rows_i):
                 rows[j].extend(r)
-    reasons: dict[int, tuple[str, str]] = {}
+    reasons = {}
     unit = prob.robot.unit
     for i in (np.flatnonzero(unreachable) if any_unreachable else ()):
         reasons[int(i)] = ("unreachable", f"target is {_fmt(dist[i])} {unit} from the base origin; the arm reaches "
