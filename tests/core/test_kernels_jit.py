@@ -97,3 +97,15 @@ def test_bad_input_raises_the_same_message_with_numba(f, bad, message):
             f(robot, bad)
     finally:
         kinematics.set_backend("auto")
+
+
+def test_long_chain_single_call_matches_numpy():
+    """More than 8 joints: the single-call kernel takes its other branch (no parking in out)."""
+    rng = np.random.default_rng(3)
+    joints = [armkit.Joint("prismatic" if i % 4 == 2 else "revolute", *rng.uniform(-1, 1, 4)) for i in range(10)]
+    for convention in ("standard", "modified"):
+        robot = armkit.Robot(joints, convention, name="snake", tool=armkit.spatial.transl([0.1, 0.0, 0.2]))
+        for q in rng.uniform(-3, 3, (5, 10)):
+            for f, kw in ((armkit.fk, {}), (armkit.jacobian, {}), (armkit.jacobian, {"frame": "tool"})):
+                a, b = _both(f, robot, q, **kw)
+                assert np.abs(a - b).max() <= 1e-14 * robot.reach
