@@ -195,3 +195,12 @@ def test_newton_trace_and_mm_tolerance():
     assert res.success.all()
     assert res.trace.shape == (2, res.iterations.max())
     assert np.all(res.position_error <= 1e-6)           # 1e-6 mm for a mm arm
+
+
+def test_without_limits_angles_wrapped():
+    arm = armkit.load("panda")
+    T = armkit.fk(arm, arm.random_q(4, 19))
+    res = solve_lm(arm, T, np.zeros((4, 7)), seed=19, enforce_limits=False)
+    assert res.success.all()
+    assert np.all(np.abs(res.q) <= np.pi + 1e-12)
+    assert_pose_reached(arm, res.q, T)
