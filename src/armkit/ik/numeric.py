@@ -509,7 +509,7 @@ def _smallest_sigma(prob: Problem, q: Array, idx: NDArray[np.intp]) -> Array:
 def _solve(prob: Problem, method: str, max_iterations: Optional[int], restarts: Optional[int], seed: Any,
            trace: bool, time_limit: Optional[float], diagnose: bool = True) -> IKResult:
     max_iterations = 100 if max_iterations is None else int(max_iterations)
-    restarts = 20 if restarts is None else int(restarts)
+    restarts = 50 if restarts is None else int(restarts)
     if max_iterations < 0 or restarts < 0:
         raise ShapeError(f"max_iterations and restarts must be >= 0, got {max_iterations} and {restarts}")
     newton = method == "newton"
@@ -608,7 +608,7 @@ def _diagnose(prob: Problem, res: IKResult, failed: NDArray[np.intp], reasons: d
 
 def solve_lm(robot: Robot, target: ArrayLike, q0: ArrayLike, *, mask: Optional[ArrayLike] = None,
              tol: Optional[tuple[float, float]] = None, max_iterations: Optional[int] = 100,
-             restarts: Optional[int] = 20, seed: Any = None, enforce_limits: bool = True, trace: bool = False,
+             restarts: Optional[int] = 50, seed: Any = None, enforce_limits: bool = True, trace: bool = False,
              time_limit: Optional[float] = None) -> IKResult:
     r"""Levenberg-Marquardt (damped least squares) IK for a batch of targets.
 
@@ -628,7 +628,7 @@ def solve_lm(robot: Robot, target: ArrayLike, q0: ArrayLike, *, mask: Optional[A
         :func:`~armkit.ik.default_tolerance` (1e-9 m or 1e-6 mm, 1e-9 rad).
     max_iterations : int, default 100
         Steps per attempt.
-    restarts : int, default 20
+    restarts : int, default 50
         Further attempts from random configurations inside the limits.
     seed : int or numpy Generator, optional
         Seeds the restarts: the same seed gives the same answers.

@@ -100,20 +100,33 @@ def verify(robot: Robot, q: NDArray[np.float64], target: NDArray[np.float64], po
     -------
     position_error, rotation_error, ok, within_limits : ndarrays, shape (...)
     """
-    from ..kinematics import fk
+    from ..kinematics import fk, get_backend
     from ..spatial import pose_error
 
     tol = tol or default_tolerance(robot)
     T = fk(robot, q)
     target = np.asarray(target, dtype=float)
-    if target.shape[-2:] == (4, 4):
+    if get_backend() == "numba":
+        from ._jit_verify import errors
+
+        lead = T.shape[:-2]
+        if target.shape[-2:] == (4, 4):
+            tgt, pose = np.broadcast_to(target, lead + (4, 4)), not position_only
+        else:  # a point target: put it in column 3 of an otherwise unused pose array
+            tgt, pose = np.zeros(lead + (4, 4)), False
+            tgt[..., :3, 3] = target
+        dp, dr, within = errors(T.reshape(-1, 4, 4), np.ascontiguousarray(tgt).reshape(-1, 4, 4), pose,
+                                np.ascontiguousarray(q, dtype=float).reshape(-1, robot.n), robot.lower, robot.upper)
+        dp, dr, within = dp.reshape(lead), dr.reshape(lead), within.reshape(lead)
+    elif target.shape[-2:] == (4, 4):
         dp, dr = pose_error(T, target)
     else:
         dp = np.linalg.norm(T[..., :3, 3] - target, axis=-1)
         dr = np.zeros_like(dp)
-    if position_only:
-        dr = np.zeros_like(dp)
-    within = robot.within_limits(q)
+    if get_backend() != "numba":
+        if position_only:
+            dr = np.zeros_like(dp)
+        within = robot.within_limits(q)
     ok = (dp <= tol[0]) & (dr <= tol[1])
     if enforce_limits:
         ok &= within

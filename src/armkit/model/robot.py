@@ -219,6 +219,10 @@ class Robot:
         set_(self, "source", source)
         set_(self, "link_names", link_names)
         set_(self, "chain", self._compile())
+        for attr, vals in (("_lower", [j.lower for j in joints]), ("_upper", [j.upper for j in joints])):
+            arr = np.array(vals, dtype=float)
+            arr.setflags(write=False)
+            set_(self, attr, arr)
 
     # ------------------------------------------------------------------ compile
     def _compile(self) -> Chain:
@@ -261,13 +265,13 @@ class Robot:
 
     @property
     def lower(self) -> Array:
-        """Lower joint limits, shape ``(n,)`` (rad or length units)."""
-        return np.array([j.lower for j in self.joints])
+        """Lower joint limits, shape ``(n,)`` (rad or length units), read-only."""
+        return self._lower  # type: ignore[attr-defined, no-any-return]
 
     @property
     def upper(self) -> Array:
-        """Upper joint limits, shape ``(n,)``."""
-        return np.array([j.upper for j in self.joints])
+        """Upper joint limits, shape ``(n,)``, read-only."""
+        return self._upper  # type: ignore[attr-defined, no-any-return]
 
     @property
     def reach(self) -> float:

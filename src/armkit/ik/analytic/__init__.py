@@ -63,14 +63,20 @@ def closed_form(robot: Robot) -> ClosedForm | None:
     >>> [getattr(closed_form(armkit.load(n)), "family", None) for n in ("fighter", "puma560", "ur5", "panda")]
     ['yaw-pitch-pitch', 'spherical-wrist', 'ur', None]
     """
+    # Detection costs ~40 µs; a Robot is immutable, so the answer is kept on the robot itself.
+    try:
+        return robot.__dict__["_closed_form"]  # type: ignore[no-any-return]
+    except KeyError:
+        pass
+    found: ClosedForm | None = None
     sf = standard_form(robot)
-    if sf is None:
-        return None
-    for cls in FAMILIES:
-        solver = cls.detect(sf, robot)
-        if solver is not None:
-            return solver
-    return None
+    if sf is not None:
+        for cls in FAMILIES:
+            found = cls.detect(sf, robot)
+            if found is not None:
+                break
+    object.__setattr__(robot, "_closed_form", found)
+    return found
 
 
 def wrap_to_limits(q: Array, q0: Array, lower: Array, upper: Array, revolute: NDArray[np.bool_]) -> Array:
