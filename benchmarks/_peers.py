@@ -9,7 +9,7 @@ compiled chain, so that agreement is evidence:
 
 * RTB (``roboticstoolbox-python``): ``DHRobot`` from ``RevoluteDH``/``PrismaticDH`` (or
   the ``MDH`` links for the modified convention), with ``base``/``tool``; its C++ path
-  is ``DHRobot.ets()`` (``ETS.eval``, ``ETS.jacob0``).
+  is ``DHRobot.ets()`` (``ETS.eval``, ``ETS.jacob0``; ``ETS.fkine`` on a batch of rows).
 * Pinocchio, pytorch_kinematics: a URDF written here from the DH rows (one revolute or
   prismatic joint per row about its local z, the constant DH transforms as joint origins,
   the base folded into the first origin, the tool as a fixed joint to a ``tool`` link).
@@ -148,7 +148,11 @@ def build_rtb(robot) -> tuple[Peer, Peer] | None:
                      tool=SE3(np.asarray(robot.tool), check=False))
     ets = dh.ets()
     py = Peer("rtb DHRobot", fk=lambda q: dh.fkine(q).A, jacobian=lambda q: dh.jacob0(q), model=dh)
-    cpp = Peer("rtb ETS (C++)", fk=ets.eval, jacobian=ets.jacob0, model=ets)
+
+    def fk_batch(Q: np.ndarray) -> np.ndarray:  # ETS.fkine loops over the rows in C++, returns an SE3 array
+        return np.asarray(ets.fkine(Q).A)
+
+    cpp = Peer("rtb ETS (C++)", fk=ets.eval, jacobian=ets.jacob0, fk_batch=fk_batch, model=ets)
     return py, cpp
 
 

@@ -186,7 +186,7 @@ def bench_robot(name: str, batch: int, loop: int, repeats: int, rounds: int) -> 
     for peer in peers:
         if peer.fk_batch is not None:
             rate, _ = throughput(lambda: peer.fk_batch(Q), batch, max(1, repeats // 2))
-            note = f"batched call on {batch:,}"  # torch allocations are not seen by tracemalloc
+            note = f"batched call on {batch:,}"  # memory: torch's and RTB's C++ allocations are not traced
         else:
             slow = peer.name in ("rtb DHRobot", "ikpy")
             count = min(batch, loop // 20 if slow else loop)
