@@ -76,6 +76,9 @@ def test_single_call_accepts_lists_ints_strided_and_readonly():
     assert np.allclose(armkit.jacobian(robot, F[1]), refJ[1], rtol=0, atol=1e-15 * robot.reach)
     assert np.allclose(armkit.fk(robot, R), ref[0], rtol=0, atol=1e-15 * robot.reach)
     assert np.allclose(armkit.fk(robot, list(Q[2])), ref[2], rtol=0, atol=1e-15 * robot.reach)
+    for other in (Q[0].astype(">f8"), Q[0].astype(np.float32), Q[0].astype(np.longdouble)):  # general path
+        assert np.allclose(armkit.fk(robot, other), armkit.fk(robot, other.astype(float)), rtol=0, atol=0)
+        assert np.allclose(armkit.jacobian(robot, other), armkit.jacobian(robot, other.astype(float)), rtol=0, atol=0)
     ints = np.array([1, 0, 2, 0, 1, 0])
     assert np.allclose(armkit.fk(robot, ints), armkit.fk(robot, ints.astype(float)), rtol=0, atol=0)
 

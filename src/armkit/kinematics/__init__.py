@@ -85,6 +85,7 @@ def _jit_module():
 _FK_CONSTANTS: dict[int, Array] = {}  # id(chain) -> F of _jit.pack (FK and Jacobians)
 _FRAME_CONSTANTS: dict[int, Array] = {}  # id(chain) -> P of _jit.pack (all link frames)
 _ndarray, _empty = np.ndarray, np.empty  # module-level names: the single-call path counts nanoseconds
+_float64 = np.dtype(np.float64)  # native float64 (a byte-swapped '>f8' is another object: general path)
 
 
 def _packed(chain: Chain) -> Array:
@@ -148,12 +149,12 @@ def fk(robot: Robot, q: ArrayLike) -> Array:
         F = _FK_CONSTANTS.get(id(c))
         if F is None:
             F = _packed(c)
-        if type(q) is _ndarray and q.ndim == 1:  # the single-call fast path: no copy, no extra pass
+        if type(q) is _ndarray and q.ndim == 1 and q.dtype is _float64:  # the single-call fast path
             out = _empty((4, 4))
             try:
-                jit.fk_one(F, q, out)
+                jit.fk_one_float64(F, q, out)  # exactly these types: no dispatch, no copy, no extra pass
                 return out
-            except (TypeError, ValueError):  # not float64, wrong length or NaN: the general path says which
+            except ValueError:  # wrong length or NaN: the general path says which
                 pass
         flat, lead = _flat_unchecked(robot, q)
         out, bad = jit.fk_batch(F, flat)
@@ -216,12 +217,12 @@ def jacobian(robot: Robot, q: ArrayLike, frame: Literal["base", "tool"] = "base"
         F = _FK_CONSTANTS.get(id(c))
         if F is None:
             F = _packed(c)
-        if type(q) is _ndarray and q.ndim == 1:  # the single-call fast path
+        if type(q) is _ndarray and q.ndim == 1 and q.dtype is _float64:  # the single-call fast path
             J = _empty((6, len(q)))  # the kernel checks len(q) == n
             try:
-                jit.jacobian_one(F, q, tool_frame, J)
+                jit.jacobian_one_float64(F, q, tool_frame, J)
                 return J
-            except (TypeError, ValueError):  # not float64 contiguous, wrong length or NaN: general path
+            except ValueError:  # wrong length or NaN: the general path says which
                 pass
         flat, lead = _flat_unchecked(robot, q)
         J, bad = jit.jacobian_batch(F, flat, tool_frame)
