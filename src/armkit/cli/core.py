@@ -22,19 +22,21 @@ def robots(json_out: bool = typer.Option(False, "--json", help="Print JSON inste
     """
     from ..model import bundled_robots, load
 
-    rows = []
+    rows: list[dict[str, str | int]] = []
     for name in bundled_robots():
-        r = load(name)
-        rows.append({"name": name, "dof": r.n, "joints": r.joint_types, "convention": r.convention,
-                     "unit": r.unit, "description": r.description, "source": r.source.split("\n")[0]})
+        robot = load(name)
+        rows.append({"name": name, "dof": robot.n, "joints": robot.joint_types, "convention": robot.convention,
+                     "unit": robot.unit, "description": robot.description, "source": " ".join(robot.source.split())})
     if json_out:
         print_json(rows)
         return
     t = Table(title="Bundled robots (armkit info NAME for details)", header_style="bold")
     for col in ("name", "DOF", "joints", "convention", "unit", "description"):
         t.add_column(col)
-    for r in rows:
-        t.add_row(r["name"], str(r["dof"]), r["joints"], r["convention"] + " DH", r["unit"], r["description"])
+    t.add_column("source (armkit info NAME)", overflow="ellipsis", no_wrap=True, max_width=40)
+    for row in rows:
+        t.add_row(*(str(row[k]) for k in ("name", "dof", "joints")), f"{row['convention']} DH",
+                  str(row["unit"]), str(row["description"]).split(" (")[0], str(row["source"]))
     console.print(t)
 
 

@@ -7,7 +7,7 @@ tolerance; this module's :func:`verify` is the one place that decides it.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Optional
+from typing import Any, Optional
 
 import numpy as np
 from numpy.typing import NDArray
@@ -64,7 +64,7 @@ class IKResult:
     branch: NDArray[np.str_]
     within_limits: NDArray[np.bool_]
     reason: NDArray[np.str_]
-    message: NDArray[np.str_] = field(default=None)  # type: ignore[assignment]
+    message: NDArray[np.str_] = field(default=None)  # type: ignore[assignment, arg-type]
     trace: Optional[NDArray[np.float64]] = None
 
     def __post_init__(self) -> None:
@@ -77,10 +77,13 @@ class IKResult:
 
     def __getitem__(self, index) -> "IKResult":
         """The result(s) for some targets, e.g. ``res[3]``; branch axis kept for ``ik_all``."""
-        pick = lambda a: None if a is None else np.asarray(a)[index]  # noqa: E731
+        def pick(a: Any) -> Any:
+            return np.asarray(a)[index]
+
+        trace = self.trace if self.trace is None or self.shape == () else pick(self.trace)
         return IKResult(pick(self.q), pick(self.success), pick(self.position_error), pick(self.rotation_error),
                         pick(self.iterations), pick(self.branch), pick(self.within_limits), pick(self.reason),
-                        pick(self.message), self.trace if self.trace is None or self.shape == () else pick(self.trace))
+                        pick(self.message), trace)
 
 
 def verify(robot: Robot, q: NDArray[np.float64], target: NDArray[np.float64], position_only: bool,
