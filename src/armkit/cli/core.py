@@ -31,12 +31,14 @@ def robots(json_out: bool = typer.Option(False, "--json", help="Print JSON inste
         print_json(rows)
         return
     t = Table(title="Bundled robots (armkit info NAME for details)", header_style="bold")
-    for col in ("name", "DOF", "joints", "convention", "unit", "description"):
-        t.add_column(col)
-    t.add_column("source (armkit info NAME)", overflow="ellipsis", no_wrap=True, max_width=40)
+    for col in ("name", "DOF", "joints", "convention", "unit"):
+        t.add_column(col, no_wrap=True)
+    t.add_column("description and source (full text: armkit info NAME)")
     for row in rows:
-        t.add_row(*(str(row[k]) for k in ("name", "dof", "joints")), f"{row['convention']} DH",
-                  str(row["unit"]), str(row["description"]).split(" (")[0], str(row["source"]))
+        src = str(row["source"])
+        short = src if len(src) <= 70 else src[:69].rsplit(" ", 1)[0] + " …"
+        t.add_row(*(str(row[k]) for k in ("name", "dof", "joints")), f"{row['convention']} DH", str(row["unit"]),
+                  f"{escape(str(row['description']))}\n[dim]{escape(short)}[/]")
     console.print(t)
 
 
