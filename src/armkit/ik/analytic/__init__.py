@@ -29,7 +29,7 @@ from numpy.typing import NDArray
 
 from ...model.robot import Robot
 from ..result import IKResult, default_tolerance, verify
-from ._common import Raw, StandardForm, standard_form
+from ._common import Raw, StandardForm, jit_kernels, standard_form
 from .planar import Planar2R, Planar3R
 from .spherical_wrist import SphericalWrist
 from .ur import ParallelAxes
@@ -226,20 +226,26 @@ def solve_nearest(robot: Robot, solver: ClosedForm, target: Array, q0: Array, po
         tol = default_tolerance(robot)
     theta = solver.sf.theta
     raw = solver.solve(target, q0 + theta)
-    q = wrap_to_limits(raw.q - theta, q0[:, None, :], robot.lower, robot.upper, ~robot.prismatic)
     B = len(target)
     rows = np.arange(B)
-    cand = ~raw.unreachable
-    if enforce_limits:
-        cand = cand & robot.within_limits(q)
-    dist = np.linalg.norm(np.where(robot.prismatic, 0.0, q - q0[:, None, :]), axis=-1)
-    pick = np.argmin(np.where(cand, dist, np.inf), axis=1)
+    jit = jit_kernels()
+    if jit is not None:
+        q, pick, cand_pick, nearer_clipped = jit.wrap_pick(raw.q, theta, q0, robot.lower, robot.upper,
+                                                           ~robot.prismatic, raw.unreachable, enforce_limits)
+    else:
+        q = wrap_to_limits(raw.q - theta, q0[:, None, :], robot.lower, robot.upper, ~robot.prismatic)
+        cand = ~raw.unreachable
+        if enforce_limits:
+            cand = cand & robot.within_limits(q)
+        dist = np.linalg.norm(np.where(robot.prismatic, 0.0, q - q0[:, None, :]), axis=-1)
+        pick = np.argmin(np.where(cand, dist, np.inf), axis=1)
+        cand_pick = cand[rows, pick]
+        # a clipped (out-of-reach) branch could still pass FK at a boundary: it matters only if it is nearer
+        nearer_clipped = (raw.unreachable & (dist <= dist[rows, pick][:, None])).any(axis=1)
     qb = q[rows, pick]
     dp, dr, ok, within = verify(robot, qb, target, position_only, tol, enforce_limits)
     scale = robot.reach
-    # a clipped (out-of-reach) branch could still pass FK at a boundary: it matters only if it is nearer
-    nearer_clipped = (raw.unreachable & (dist <= dist[rows, pick][:, None])).any(axis=1)
-    fine = (ok & cand[rows, pick] & ~nearer_clipped & (dp <= POLISH_ABOVE * scale) & (dr <= POLISH_ABOVE))
+    fine = (ok & cand_pick & ~nearer_clipped & (dp <= POLISH_ABOVE * scale) & (dr <= POLISH_ABOVE))
     res = IKResult(q=qb, success=ok.copy(), position_error=dp, rotation_error=dr,
                    iterations=np.zeros(B, dtype=np.int64), branch=raw.label[rows, pick], within_limits=within,
                    reason=_REASON_TEXT[np.zeros(B, dtype=int)], message=raw.note[rows, pick].copy())

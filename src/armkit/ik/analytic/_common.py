@@ -29,6 +29,17 @@ ANGLE_TOL = 1e-9     # how close a DH twist must be to 0 or +-90 deg to count as
 LENGTH_TOL = 1e-12   # relative to the arm's reach: a DH length this small counts as zero
 
 
+def jit_kernels():
+    """The module of Numba kernels (:mod:`._jit`) while the Numba back end is in use, else ``None``."""
+    from ...kinematics import _jit_module
+
+    if _jit_module() is None:
+        return None
+    from . import _jit
+
+    return _jit
+
+
 def _rx(t: float) -> Array:
     c, s = math.cos(t), math.sin(t)
     return np.array([[1, 0, 0, 0], [0, c, -s, 0], [0, s, c, 0], [0, 0, 0, 1.0]])

@@ -25,7 +25,7 @@ import math
 
 import numpy as np
 
-from ._common import Array, Raw, StandardForm, add_messages, elbow_up, forward_sign, two_link
+from ._common import Array, Raw, StandardForm, add_messages, elbow_up, forward_sign, jit_kernels, two_link
 
 _LABELS = np.array(["elbow-down", "elbow-up"], dtype=object)
 
@@ -39,9 +39,10 @@ def _explain(c: Array, r: Array, l1: float, l2: float, unit: str, what: str):
         f"{what} is {r[i // 2]:.6g} {unit} from the shoulder; the arm reaches {outer:.6g} {unit} (outer) "
         f"and {inner:.6g} {unit} (inner).")
     edge = np.repeat(((np.abs(np.abs(c) - 1.0) <= 1e-9) & ~unreachable[:, 0])[:, None], 2, axis=1)
-    add_messages(note, edge, lambda i: (
-        "fully stretched: elbow-up and elbow-down coincide." if c[i // 2] > 0
-        else "fully folded: elbow-up and elbow-down coincide."))
+    if edge.any():
+        add_messages(note, edge, lambda i: (
+            "fully stretched: elbow-up and elbow-down coincide." if c[i // 2] > 0
+            else "fully folded: elbow-up and elbow-down coincide."))
     return unreachable, why, note
 
 
@@ -64,10 +65,16 @@ class Planar2R:
         return None if sf.is_zero(ell) else cls(sf, ell, math.atan2(v[1], v[0]), robot.unit)
 
     def solve(self, target: Array, q0phi: Array) -> Raw:
-        p = self.sf.point_to_chain(target[:, :3, 3] if target.ndim == 3 else target)
-        t1, t2, c, r = two_link(p[:, 0], p[:, 1], self.sf.a[0], self.ell)
-        q = np.stack([t1, t2 - self.beta], axis=-1)                          # (B, 2, 2)
-        up = elbow_up(forward_sign(p[:, 0])[:, None], 1.0, self.sf.a[0], self.ell, np.array([0, 1]))
+        pts = target[:, :3, 3] if target.ndim == 3 else target
+        jit = jit_kernels()
+        if jit is not None:
+            q, up, c, r = jit.planar2(np.ascontiguousarray(pts), self.sf.base_inv, float(self.sf.a[0]), self.ell,
+                                      self.beta)
+        else:
+            p = self.sf.point_to_chain(pts)
+            t1, t2, c, r = two_link(p[:, 0], p[:, 1], self.sf.a[0], self.ell)
+            q = np.stack([t1, t2 - self.beta], axis=-1)                      # (B, 2, 2)
+            up = elbow_up(forward_sign(p[:, 0])[:, None], 1.0, self.sf.a[0], self.ell, np.array([0, 1]))
         unreachable, why, note = _explain(c, r, self.sf.a[0], self.ell, self.unit, "target")
         return Raw(q, _LABELS[up.astype(int)], unreachable, why, note)
 
@@ -89,13 +96,17 @@ class Planar3R:
         return cls(sf, robot.unit)
 
     def solve(self, target: Array, q0phi: Array) -> Raw:
-        Tc = self.sf.to_chain(target)
-        phi = np.arctan2(Tc[:, 1, 0], Tc[:, 0, 0])
-        x, y = Tc[:, 0, 3], Tc[:, 1, 3]
-        l1, l2 = self.sf.a[0], self.sf.a[1]
-        t1, t2, c, r = two_link(x, y, l1, l2)
-        q = np.stack([t1, t2, phi[:, None] - t1 - t2], axis=-1)              # (B, 2, 3)
-        up = elbow_up(forward_sign(x)[:, None], 1.0, l1, l2, np.array([0, 1]))
+        l1, l2 = float(self.sf.a[0]), float(self.sf.a[1])
+        jit = jit_kernels()
+        if jit is not None:
+            q, up, c, r = jit.planar3(np.ascontiguousarray(target), self.sf.base_inv, self.sf.tool_inv, l1, l2)
+        else:
+            Tc = self.sf.to_chain(target)
+            phi = np.arctan2(Tc[:, 1, 0], Tc[:, 0, 0])
+            x, y = Tc[:, 0, 3], Tc[:, 1, 3]
+            t1, t2, c, r = two_link(x, y, l1, l2)
+            q = np.stack([t1, t2, phi[:, None] - t1 - t2], axis=-1)          # (B, 2, 3)
+            up = elbow_up(forward_sign(x)[:, None], 1.0, l1, l2, np.array([0, 1]))
         unreachable, why, note = _explain(c, r, l1, l2, self.unit,
                                           "for this end angle, the wrist point (target minus tool and last link)")
         return Raw(q, _LABELS[up.astype(int)], unreachable, why, note)

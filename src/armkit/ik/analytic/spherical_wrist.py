@@ -30,12 +30,13 @@ import math
 
 import numpy as np
 
-from ._common import Array, Raw, StandardForm, add_messages, rotate_back
+from ._common import Array, Raw, StandardForm, add_messages, jit_kernels, rotate_back
 from .yaw_pitch_pitch import Positioner
 
 _LABELS = np.array([f"{s}/elbow-{e}/{w}" for s in ("left", "right") for e in ("down", "up")
                     for w in ("flip", "noflip")], dtype=object)
 WRIST_SINGULAR = 1e-12
+_W = np.array([1.0, -1.0])   # noflip, flip
 
 
 class SphericalWrist:
@@ -64,8 +65,9 @@ class SphericalWrist:
         pos = Positioner.build(sf, v)
         return None if pos is None else cls(sf, pos, signs, robot.unit, robot.joint_names)
 
-    def solve(self, target: Array, q0phi: Array) -> Raw:
+    def _solve_numpy(self, target: Array, q0phi: Array) -> tuple[Array, Array, dict]:
         sf = self.sf
+        B = len(target)
         Tc = sf.to_chain(target)
         R = Tc[:, :3, :3]
         pw = Tc[:, :3, 3] - sf.d[5] * R[:, :, 2]
@@ -78,7 +80,7 @@ class SphericalWrist:
                                      phi[..., 1] + phi[..., 2], sf.alpha[2])
         Mz, Mx = back(zc), back(xc)                                       # third and first columns of M
         h = np.hypot(Mz[0], Mz[1])
-        w = np.array([1.0, -1.0])                                         # noflip, flip
+        w = _W
         phi5 = np.arctan2(w * h[..., None], (-self.s4 * self.s5 * Mz[2])[..., None])
         singular = h <= WRIST_SINGULAR
         phi4 = np.where(singular[..., None], q0phi[:, None, 3:4],
@@ -86,10 +88,24 @@ class SphericalWrist:
         # q6 from what is left: P^T M e1 = Rz(q6) e1 with P = Rz(q4) Rx(alpha4) Rz(q5) Rx(alpha5)
         rest = rotate_back(rotate_back([m[..., None] for m in Mx], phi4, sf.alpha[3]), phi5, sf.alpha[4])
         phi6 = np.arctan2(rest[1], rest[0])
-        B = len(target)
         out = np.empty((B, 4, 2, 6))
         out[..., :3] = phi[:, :, None, :]
         out[..., 3], out[..., 4], out[..., 5] = phi4, phi5, phi6
+        return out, singular, sol
+
+    def solve(self, target: Array, q0phi: Array) -> Raw:
+        sf = self.sf
+        B = len(target)
+        jit = jit_kernels()
+        if jit is not None:
+            alphas = (sf.alpha[0], sf.alpha[2], sf.alpha[3], sf.alpha[4])
+            out, singular, arrays = jit.spherical_wrist(np.ascontiguousarray(target), sf.base_inv, sf.tool_inv,
+                                                        np.ascontiguousarray(q0phi), float(sf.d[5]), alphas,
+                                                        self.s4, self.s5, self.pos)
+            sol = self.pos.as_dict(arrays)
+        else:
+            out, singular, sol = self._solve_numpy(target, q0phi)
+        w = _W
         idx = (4 * sol["front"].astype(int)[None, :, None] + 2 * sol["up"].astype(int)[:, :, None]
                + (w > 0).astype(int)[None, None, :])
         why4, note4 = self.pos.explain(sol, self.unit, "the wrist centre", "first joint's")
@@ -97,11 +113,13 @@ class SphericalWrist:
         note = np.repeat(note4, 2, axis=1)
         unreachable = np.repeat(sol["unreachable"], 2, axis=1)
         n1, n4 = self.names[0], self.names[3]
-        on_axis = np.repeat(sol["on_axis"][:, None], 8, axis=1)
-        add_messages(note, on_axis & ~unreachable, lambda i: (
-            f"the wrist centre is on the first joint's axis: {n1} is free; giving {n1} from q0."))
-        sing = np.repeat(singular, 2, axis=1) & ~unreachable
-        add_messages(note, sing, lambda i: (
-            f"wrist singularity (axes 4 and 6 aligned): only {n4} +- {self.names[5]} is fixed; "
-            f"giving {n4} from q0, and the flip and noflip branches coincide."))
+        if sol["on_axis"].any():
+            on_axis = np.repeat(sol["on_axis"][:, None], 8, axis=1)
+            add_messages(note, on_axis & ~unreachable, lambda i: (
+                f"the wrist centre is on the first joint's axis: {n1} is free; giving {n1} from q0."))
+        if singular.any():
+            sing = np.repeat(singular, 2, axis=1) & ~unreachable
+            add_messages(note, sing, lambda i: (
+                f"wrist singularity (axes 4 and 6 aligned): only {n4} +- {self.names[5]} is fixed; "
+                f"giving {n4} from q0, and the flip and noflip branches coincide."))
         return Raw(out.reshape(B, 8, 6), _LABELS[idx.reshape(B, 8)], unreachable, why, note)

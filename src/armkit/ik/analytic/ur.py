@@ -30,11 +30,12 @@ import math
 
 import numpy as np
 
-from ._common import LENGTH_TOL, Array, Raw, StandardForm, add_messages, elbow_up, forward_sign, two_link
+from ._common import LENGTH_TOL, Array, Raw, StandardForm, add_messages, elbow_up, forward_sign, jit_kernels, two_link
 
 _LABELS = np.array([f"{s}/wrist-{w}/elbow-{e}" for s in ("left", "right") for w in ("down", "up")
                     for e in ("down", "up")], dtype=object)
 WRIST_SINGULAR = 1e-12
+_BRANCH = 4 * np.array([0, 1])[None, :, None, None] + 2 * np.array([0, 1])[None, None, :, None]
 
 
 class ParallelAxes:
@@ -62,7 +63,7 @@ class ParallelAxes:
             return None
         return cls(sf, signs, robot.unit, robot.joint_names)  # type: ignore[arg-type]
 
-    def solve(self, target: Array, q0phi: Array) -> Raw:
+    def _solve_numpy(self, target: Array, q0phi: Array) -> tuple:
         sf, s1, s4, s5, D = self.sf, self.s1, self.s4, self.s5, self.D
         d1, d4, d5, d6 = sf.d[0], sf.d[3], sf.d[4], sf.d[5]
         a2, a3 = sf.a[1], sf.a[2]
@@ -114,11 +115,24 @@ class ParallelAxes:
         out[..., 4] = phi5[..., None]
         out[..., 5] = phi6[..., None]
         up = elbow_up(forward_sign(x)[..., None], s1, a2, a3, np.array([0, 1]))
-        idx = (4 * np.array([0, 1])[None, :, None, None] + 2 * np.array([0, 1])[None, None, :, None]
-               + up.astype(int))
         elbow_out = (c > 1.0) | (c < -1.0)
         unreachable = (lateral_out[:, None, None, None] | elbow_out[..., None]
                        ) & np.ones((1, 1, 2, 2), dtype=bool)
+        return out, up, unreachable, lateral_out, rho, r, on_axis, singular
+
+    def solve(self, target: Array, q0phi: Array) -> Raw:
+        sf, s1, s4, s5, D = self.sf, self.s1, self.s4, self.s5, self.D
+        a2, a3 = sf.a[1], sf.a[2]
+        B = len(target)
+        jit = jit_kernels()
+        if jit is not None:
+            out, up, unreachable, lateral_out, rho, r, on_axis, singular = jit.ur(
+                np.ascontiguousarray(target), sf.base_inv, sf.tool_inv, np.ascontiguousarray(q0phi), s1, s4, s5, D,
+                float(sf.d[0]), float(sf.d[3]), float(sf.d[4]), float(sf.d[5]), float(a2), float(a3),
+                LENGTH_TOL * sf.scale)
+        else:
+            out, up, unreachable, lateral_out, rho, r, on_axis, singular = self._solve_numpy(target, q0phi)
+        idx = _BRANCH + up.astype(int)
         note = np.full((B, 2, 2, 2), "", dtype=object)
         u = self.unit
         outer, inner = abs(a2) + abs(a3), abs(abs(a2) - abs(a3))
@@ -133,10 +147,12 @@ class ParallelAxes:
                     f"{outer:.6g} {u} (outer) and {inner:.6g} {u} (inner).")
 
         n1, n6 = self.names[0], self.names[5]
-        add_messages(note, full(on_axis[:, None, None, None]).reshape(B, 2, 2, 2) & ~unreachable, lambda i: (
-            f"the wrist is on the base axis: {n1} is free; giving {n1} from q0."))
-        add_messages(note, full(singular[..., None]).reshape(B, 2, 2, 2) & ~unreachable, lambda i: (
-            f"wrist singularity (q5 = 0 or 180 deg: axes 2, 3, 4 and 6 parallel): {n6} is free here; "
-            f"giving {n6} from q0, and the wrist-up and wrist-down branches coincide."))
+        if on_axis.any():
+            add_messages(note, full(on_axis[:, None, None, None]).reshape(B, 2, 2, 2) & ~unreachable, lambda i: (
+                f"the wrist is on the base axis: {n1} is free; giving {n1} from q0."))
+        if singular.any():
+            add_messages(note, full(singular[..., None]).reshape(B, 2, 2, 2) & ~unreachable, lambda i: (
+                f"wrist singularity (q5 = 0 or 180 deg: axes 2, 3, 4 and 6 parallel): {n6} is free here; "
+                f"giving {n6} from q0, and the wrist-up and wrist-down branches coincide."))
         return Raw(out.reshape(B, 8, 6), _LABELS[idx.reshape(B, 8)], unreachable.reshape(B, 8),
                    reason, note.reshape(B, 8))

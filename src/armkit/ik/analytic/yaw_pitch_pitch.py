@@ -26,7 +26,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._common import Array, Raw, StandardForm, add_messages, elbow_up, forward_sign, two_link, LENGTH_TOL
+from ._common import (LENGTH_TOL, Array, Raw, StandardForm, add_messages, elbow_up, forward_sign, jit_kernels,
+                      two_link)
+
+_FRONT = np.array([True, True, False, False])
+_LABELS = np.array(["back/elbow-down", "back/elbow-up", "front/elbow-down", "front/elbow-up"], dtype=object)
 
 
 @dataclass(frozen=True)
@@ -89,9 +93,16 @@ class Positioner:
         fwd = forward_sign(X, np.array([1.0, -1.0]))                   # (B, 2)
         up = elbow_up(fwd[:, :, None], self.s1, self.a2, self.ell, np.array([0, 1]))
         unreachable = (c > 1.0) | (c < -1.0) | lateral_out[:, None]    # (B, 2)
-        return {"phi": phi.reshape(B, 4, 3), "front": np.array([True, True, False, False]),
+        return {"phi": phi.reshape(B, 4, 3), "front": _FRONT,
                 "up": up.reshape(B, 4), "unreachable": np.repeat(unreachable, 2, axis=1),
                 "c": c, "r": r, "rho": rho, "lateral_out": lateral_out, "on_axis": on_axis}
+
+    @staticmethod
+    def as_dict(arrays: tuple) -> dict:
+        """The arrays of the Numba kernel (:mod:`._jit`) as :meth:`solve` returns them."""
+        phi, up, unreachable, c, r, rho, lateral_out, on_axis = arrays
+        return {"phi": phi, "front": _FRONT, "up": up, "unreachable": unreachable, "c": c, "r": r, "rho": rho,
+                "lateral_out": lateral_out, "on_axis": on_axis}
 
     def explain(self, sol: dict, unit: str, what: str, first_axis: str):
         """``why`` (flat index into ``(B, 4)`` -> sentence) and ``note`` ``(B, 4)`` for a :meth:`solve` result."""
@@ -108,9 +119,10 @@ class Positioner:
                     f"{self.outer:.6g} {unit} (outer) and {self.inner:.6g} {unit} (inner).")
 
         edge = np.repeat((np.abs(np.abs(c) - 1.0) <= 1e-9) & ~sol["unreachable"][:, ::2], 2, axis=1)
-        add_messages(note, edge, lambda i: (
-            "fully stretched: elbow-up and elbow-down coincide." if c.reshape(-1)[i // 2] > 0
-            else "fully folded: elbow-up and elbow-down coincide."))
+        if edge.any():
+            add_messages(note, edge, lambda i: (
+                "fully stretched: elbow-up and elbow-down coincide." if c.reshape(-1)[i // 2] > 0
+                else "fully folded: elbow-up and elbow-down coincide."))
         return reach, note
 
 
@@ -133,15 +145,21 @@ class YawPitchPitch:
         return None if pos is None else cls(sf, pos, robot.unit, robot.joint_names[0])
 
     def solve(self, target: Array, q0phi: Array) -> Raw:
-        p = self.sf.point_to_chain(target[:, :3, 3] if target.ndim == 3 else target)
-        sol = self.pos.solve(p, q0phi[:, 0])
-        labels = np.array(["back/elbow-down", "back/elbow-up", "front/elbow-down", "front/elbow-up"], dtype=object)
+        pts = target[:, :3, 3] if target.ndim == 3 else target
+        jit = jit_kernels()
+        if jit is not None:
+            sol = self.pos.as_dict(jit.yaw_pitch_pitch(np.ascontiguousarray(pts), self.sf.base_inv,
+                                                       np.ascontiguousarray(q0phi[:, 0]), self.pos))
+        else:
+            sol = self.pos.solve(self.sf.point_to_chain(pts), q0phi[:, 0])
         idx = 2 * sol["front"].astype(int) + sol["up"].astype(int)
         why, note = self.pos.explain(sol, self.unit, "target", "yaw")
+        if not sol["on_axis"].any():
+            return Raw(sol["phi"], _LABELS[idx], sol["unreachable"], why, note)
         on_axis = np.repeat(sol["on_axis"][:, None], 4, axis=1)
         yaw = sol["phi"][:, :, 0] - self.sf.theta[0]
         add_messages(note, on_axis & ~sol["unreachable"], lambda i: (
             f"on the yaw axis: any yaw angle works ({self.yaw_name} is free); giving "
             f"{self.yaw_name} = {math.degrees(math.remainder(yaw.reshape(-1)[i], 2 * math.pi)):.6g} deg "
             "(from q0, 0 by default)."), first=True)
-        return Raw(sol["phi"], labels[idx], sol["unreachable"], why, note)
+        return Raw(sol["phi"], _LABELS[idx], sol["unreachable"], why, note)

@@ -1,0 +1,388 @@
+"""Numba kernels for the closed forms: the same formulas as the NumPy solvers, one target at a time.
+
+Each kernel fills the arrays the family's NumPy code computes (joint values of every branch
+and the flags its labels and messages are made from), for 1 or N targets alike, so that a
+single IK call costs a few microseconds instead of a hundred small NumPy operations. The
+NumPy code stays the reference and serves ``armkit.set_backend("numpy")``; both give the
+same branches, labels and messages, and joint values equal up to the last bits (libm and
+NumPy's SIMD ``arctan2``/``arcsin`` may round differently). Imported lazily, only when the
+Numba back end is in use.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit, prange
+
+TWO_PI = 2.0 * math.pi
+PAR = 4096   # from this many targets on, the kernels run in parallel
+
+
+@njit(cache=True, inline="always")
+def _rint(x):
+    """Round half to even, like ``np.round``."""
+    r = math.floor(x)
+    d = x - r
+    if d > 0.5 or (d == 0.5 and r % 2.0 != 0.0):
+        return r + 1.0
+    return r
+
+
+@njit(cache=True, inline="always")
+def _two_link(x, y, l1, l2, t1, t2, k):
+    """:func:`~._common.two_link` for one point; branches into ``t1[k:k+2]``, ``t2[k:k+2]``; returns ``c, r``."""
+    r2 = x * x + y * y
+    c = (r2 - l1 * l1 - l2 * l2) / (2.0 * l1 * l2)
+    cc = min(max(c, -1.0), 1.0)
+    s = math.sqrt((1.0 - cc) * (1.0 + cc))
+    t2[k] = math.atan2(s, cc)
+    t2[k + 1] = math.atan2(-s, cc)
+    psi = math.atan2(y, x)
+    t1[k] = psi - math.atan2(l2 * s, l1 + l2 * cc)
+    t1[k + 1] = psi - math.atan2(l2 * -s, l1 + l2 * cc)
+    return c, math.sqrt(r2)
+
+
+@njit(cache=True, inline="always")
+def _fwd(x, default):
+    return 1.0 if x > 0 else (-1.0 if x < 0 else default)
+
+
+@njit(cache=True, inline="always")
+def _up(forward, up_sign, l1l2_sign, e):
+    return -forward * up_sign * l1l2_sign * e > 0
+
+
+# ------------------------------------------------------------------------- planar
+@njit(cache=True, inline="always")
+def _planar_one(i, x, y, l1, l2, extra, q, up, c, r):
+    """2R core for target ``i``: ``q[i, :, 0:2]``, elbow flags ``up[i]``, ``c[i]``, ``r[i]``."""
+    t1 = np.empty(2)
+    t2 = np.empty(2)
+    c[i], r[i] = _two_link(x, y, l1, l2, t1, t2, 0)
+    sg = math.copysign(1.0, l1 * l2)
+    f = _fwd(x, 1.0)
+    for k in range(2):
+        q[i, k, 0] = t1[k]
+        q[i, k, 1] = t2[k] - extra
+        up[i, k] = _up(f, 1.0, sg, 1.0 if k == 0 else -1.0)
+    return t1, t2
+
+
+@njit(cache=True)
+def _planar2_run(p, base_inv, l1, ell, beta, q, up, c, r, lo, hi):
+    for i in prange(lo, hi):
+        x = base_inv[0, 0] * p[i, 0] + base_inv[0, 1] * p[i, 1] + base_inv[0, 2] * p[i, 2] + base_inv[0, 3]
+        y = base_inv[1, 0] * p[i, 0] + base_inv[1, 1] * p[i, 1] + base_inv[1, 2] * p[i, 2] + base_inv[1, 3]
+        _planar_one(i, x, y, l1, ell, beta, q, up, c, r)
+
+
+@njit(cache=True, inline="always")
+def _chain(T, i, A, C, out):
+    """``out = A @ T[i] @ C`` (rows 0-2 of 4x4 rigid poses)."""
+    tmp = np.empty((3, 4))
+    for a in range(3):
+        for b in range(4):
+            tmp[a, b] = A[a, 0] * T[i, 0, b] + A[a, 1] * T[i, 1, b] + A[a, 2] * T[i, 2, b] + A[a, 3] * T[i, 3, b]
+    for a in range(3):
+        for b in range(4):
+            out[a, b] = tmp[a, 0] * C[0, b] + tmp[a, 1] * C[1, b] + tmp[a, 2] * C[2, b] + tmp[a, 3] * C[3, b]
+
+
+@njit(cache=True)
+def _planar3_run(T, base_inv, tool_inv, l1, l2, q, up, c, r, lo, hi):
+    for i in prange(lo, hi):
+        Tc = np.empty((3, 4))
+        _chain(T, i, base_inv, tool_inv, Tc)
+        phi = math.atan2(Tc[1, 0], Tc[0, 0])
+        t1, t2 = _planar_one(i, Tc[0, 3], Tc[1, 3], l1, l2, 0.0, q, up, c, r)
+        for k in range(2):
+            q[i, k, 2] = phi - t1[k] - t2[k]
+
+
+def _split(run, B, *args):
+    if B >= PAR:
+        _par(run, B, *args)
+    else:
+        run(*args, 0, B)
+
+
+def _par(run, B, *args):
+    # the parallel version is compiled on the first big batch, not cached on disk (a cache entry is
+    # named after the Python function, which it shares with the serial version)
+    fn = _PARALLEL.get(run)
+    if fn is None:
+        fn = _PARALLEL[run] = njit(parallel=True)(run.py_func)
+    fn(*args, 0, B)
+
+
+_PARALLEL: dict = {}
+
+
+def planar2(p, base_inv, l1, ell, beta):
+    B = p.shape[0]
+    q, up = np.empty((B, 2, 2)), np.empty((B, 2), dtype=np.bool_)
+    c, r = np.empty(B), np.empty(B)
+    _split(_planar2_run, B, p, base_inv, l1, ell, beta, q, up, c, r)
+    return q, up, c, r
+
+
+def planar3(T, base_inv, tool_inv, l1, l2):
+    B = T.shape[0]
+    q, up = np.empty((B, 2, 3)), np.empty((B, 2), dtype=np.bool_)
+    c, r = np.empty(B), np.empty(B)
+    _split(_planar3_run, B, T, base_inv, tool_inv, l1, l2, q, up, c, r)
+    return q, up, c, r
+
+
+# ---------------------------------------------------------------------- positioner
+@njit(cache=True, inline="always")
+def _positioner(i, x, y, z, yaw0, s1, d1, a1, a2, Z, ell, beta, tiny, phi, up, unreach, c, r, rho, lat, on_axis):
+    """:meth:`~.yaw_pitch_pitch.Positioner.solve` for target ``i``."""
+    rh = math.hypot(x, y)
+    rho[i] = rh
+    h2 = rh * rh - Z * Z
+    lat[i] = h2 < 0.0
+    Xf = math.sqrt(max(h2, 0.0))
+    on_axis[i] = (rh <= tiny) and (abs(Z) <= tiny)
+    psi = yaw0 if on_axis[i] else math.atan2(y, x)
+    sg = math.copysign(1.0, a2 * ell)
+    Y = s1 * (z - d1)
+    t1 = np.empty(2)
+    t2 = np.empty(2)
+    for f in range(2):
+        Xs = Xf if f == 0 else -Xf
+        p1 = psi - math.atan2(-s1 * Z, Xs)
+        X = Xs - a1
+        cc, rr = _two_link(X, Y, a2, ell, t1, t2, 0)
+        c[i, f], r[i, f] = cc, rr
+        out = (cc > 1.0) or (cc < -1.0) or lat[i]
+        fw = _fwd(X, 1.0 if f == 0 else -1.0)
+        for e in range(2):
+            b = 2 * f + e
+            phi[i, b, 0] = p1
+            phi[i, b, 1] = t1[e]
+            phi[i, b, 2] = t2[e] - beta
+            up[i, b] = _up(fw, s1, sg, 1.0 if e == 0 else -1.0)
+            unreach[i, b] = out
+
+
+def _pos_arrays(B):
+    return (np.empty((B, 4, 3)), np.empty((B, 4), dtype=np.bool_), np.empty((B, 4), dtype=np.bool_),
+            np.empty((B, 2)), np.empty((B, 2)), np.empty(B), np.empty(B, dtype=np.bool_),
+            np.empty(B, dtype=np.bool_))
+
+
+@njit(cache=True)
+def _ypp_run(p, base_inv, yaw0, s1, d1, a1, a2, Z, ell, beta, tiny, phi, up, unreach, c, r, rho, lat, on_axis,
+             lo, hi):
+    for i in prange(lo, hi):
+        x = base_inv[0, 0] * p[i, 0] + base_inv[0, 1] * p[i, 1] + base_inv[0, 2] * p[i, 2] + base_inv[0, 3]
+        y = base_inv[1, 0] * p[i, 0] + base_inv[1, 1] * p[i, 1] + base_inv[1, 2] * p[i, 2] + base_inv[1, 3]
+        z = base_inv[2, 0] * p[i, 0] + base_inv[2, 1] * p[i, 1] + base_inv[2, 2] * p[i, 2] + base_inv[2, 3]
+        _positioner(i, x, y, z, yaw0[i], s1, d1, a1, a2, Z, ell, beta, tiny, phi, up, unreach, c, r, rho, lat,
+                    on_axis)
+
+
+def yaw_pitch_pitch(p, base_inv, yaw0, pos):
+    """Arrays of ``Positioner.solve`` (phi, up, unreachable, c, r, rho, lateral_out, on_axis) for points ``p``."""
+    B = p.shape[0]
+    arrs = _pos_arrays(B)
+    _split(_ypp_run, B, p, base_inv, yaw0, float(pos.s1), pos.d1, pos.a1, pos.a2, pos.Z, pos.ell, pos.beta,
+           1e-12 * pos.scale, *arrs)
+    return arrs
+
+
+# ------------------------------------------------------------------ spherical wrist
+@njit(cache=True, inline="always")
+def _rotate_back(v0, v1, v2, phi, ca, sa):
+    c, s = math.cos(phi), math.sin(phi)
+    x = c * v0 + s * v1
+    y = -s * v0 + c * v1
+    return x, ca * y + sa * v2, -sa * y + ca * v2
+
+
+@njit(cache=True)
+def _puma_run(T, base_inv, tool_inv, q0phi, d6, cs, s4, s5, s1, d1, a1, a2, Z, ell, beta, tiny,
+              out, singular, phi, up, unreach, c, r, rho, lat, on_axis, lo, hi):
+    for i in prange(lo, hi):
+        Tc = np.empty((3, 4))
+        _chain(T, i, base_inv, tool_inv, Tc)
+        x = Tc[0, 3] - d6 * Tc[0, 2]
+        y = Tc[1, 3] - d6 * Tc[1, 2]
+        z = Tc[2, 3] - d6 * Tc[2, 2]
+        _positioner(i, x, y, z, q0phi[i, 0], s1, d1, a1, a2, Z, ell, beta, tiny, phi, up, unreach, c, r, rho, lat,
+                    on_axis)
+        for b in range(4):
+            p0, p12 = phi[i, b, 0], phi[i, b, 1] + phi[i, b, 2]
+            m0, m1, m2 = _rotate_back(Tc[0, 2], Tc[1, 2], Tc[2, 2], p0, cs[0, 0], cs[0, 1])
+            mz0, mz1, mz2 = _rotate_back(m0, m1, m2, p12, cs[1, 0], cs[1, 1])
+            m0, m1, m2 = _rotate_back(Tc[0, 0], Tc[1, 0], Tc[2, 0], p0, cs[0, 0], cs[0, 1])
+            mx0, mx1, mx2 = _rotate_back(m0, m1, m2, p12, cs[1, 0], cs[1, 1])
+            h = math.hypot(mz0, mz1)
+            sing = h <= 1e-12
+            singular[i, b] = sing
+            for k in range(2):
+                w = 1.0 if k == 0 else -1.0
+                p5 = math.atan2(w * h, -s4 * s5 * mz2)
+                p4 = q0phi[i, 3] if sing else math.atan2((w * s5) * mz1, (w * s5) * mz0)
+                e0, e1, e2 = _rotate_back(mx0, mx1, mx2, p4, cs[2, 0], cs[2, 1])
+                f0, f1, f2 = _rotate_back(e0, e1, e2, p5, cs[3, 0], cs[3, 1])
+                for j in range(3):
+                    out[i, b, k, j] = phi[i, b, j]
+                out[i, b, k, 3] = p4
+                out[i, b, k, 4] = p5
+                out[i, b, k, 5] = math.atan2(f1, f0)
+
+
+def spherical_wrist(T, base_inv, tool_inv, q0phi, d6, alphas, s4, s5, pos):
+    """Joint values ``(B, 4, 2, 6)``, wrist-singular flags ``(B, 4)`` and the positioner's arrays."""
+    B = T.shape[0]
+    arrs = _pos_arrays(B)
+    out, singular = np.empty((B, 4, 2, 6)), np.empty((B, 4), dtype=np.bool_)
+    cs = np.array([[math.cos(a), math.sin(a)] for a in alphas])
+    _split(_puma_run, B, T, base_inv, tool_inv, q0phi, d6, cs, float(s4), float(s5), float(pos.s1), pos.d1, pos.a1,
+           pos.a2, pos.Z, pos.ell, pos.beta, 1e-12 * pos.scale, out, singular, *arrs)
+    return out, singular, arrs
+
+
+# ----------------------------------------------------------------------------- UR
+@njit(cache=True)
+def _ur_run(T, base_inv, tool_inv, q0phi, s1, s4, s5, D, d1, d4, d5, d6, a2, a3, tiny,
+            out, up, unreach, lat, rho, r, on_axis, singular, lo, hi):
+    for i in prange(lo, hi):
+        Tc = np.empty((3, 4))
+        _chain(T, i, base_inv, tool_inv, Tc)
+        p5x = Tc[0, 3] - d6 * Tc[0, 2]
+        p5y = Tc[1, 3] - d6 * Tc[1, 2]
+        rh = math.hypot(p5x, p5y)
+        rho[i] = rh
+        oa = (rh <= tiny) and (abs(D) <= tiny)
+        on_axis[i] = oa
+        psi = q0phi[i, 0] if oa else math.atan2(p5y, p5x)
+        ratio = (s1 * D) / rh if rh > 0 else 0.0
+        lat[i] = abs(ratio) > 1.0
+        asn = math.asin(min(max(ratio, -1.0), 1.0))
+        t1 = np.empty(2)
+        t2 = np.empty(2)
+        for sh in range(2):
+            p1 = psi + math.pi - asn if sh == 0 else psi + asn
+            sin1, cos1 = math.sin(p1), math.cos(p1)
+            z1x, z1y = s1 * sin1, -s1 * cos1
+            cos5 = -s4 * s5 * (z1x * Tc[0, 2] + z1y * Tc[1, 2])
+            sin5 = math.hypot(Tc[2, 2], z1x * Tc[1, 2] - z1y * Tc[0, 2])
+            a5 = math.atan2(sin5, cos5)
+            wx = Tc[0, 0] * z1x + Tc[1, 0] * z1y
+            wy = Tc[0, 1] * z1x + Tc[1, 1] * z1y
+            for wi in range(2):
+                ws = -1.0 if wi == 0 else 1.0
+                p5 = a5 * ws
+                sn5, c5 = math.sin(p5), math.cos(p5)
+                sing = abs(sn5) <= 1e-12
+                singular[i, sh, wi] = sing
+                k = s4 * ws
+                p6 = q0phi[i, 5] if sing else math.atan2(-wy * k, wx * k)
+                c6, sn6 = math.cos(p6), math.sin(p6)
+                x40, x41, x42 = c6 * c5, -sn6 * c5, s5 * sn5
+                y40, y41, y42 = c6 * sn5, -sn6 * sn5, -s5 * c5
+                o0 = -s5 * d5 * sn6 - s4 * d4 * y40
+                o1 = -s5 * d5 * c6 - s4 * d4 * y41
+                o2 = -d6 - s4 * d4 * y42
+                xw0 = Tc[0, 0] * x40 + Tc[0, 1] * x41 + Tc[0, 2] * x42
+                xw1 = Tc[1, 0] * x40 + Tc[1, 1] * x41 + Tc[1, 2] * x42
+                xw2 = Tc[2, 0] * x40 + Tc[2, 1] * x41 + Tc[2, 2] * x42
+                ow0 = Tc[0, 3] + Tc[0, 0] * o0 + Tc[0, 1] * o1 + Tc[0, 2] * o2
+                ow1 = Tc[1, 3] + Tc[1, 0] * o0 + Tc[1, 1] * o1 + Tc[1, 2] * o2
+                ow2 = Tc[2, 3] + Tc[2, 0] * o0 + Tc[2, 1] * o1 + Tc[2, 2] * o2
+                x = cos1 * ow0 + sin1 * ow1
+                y = s1 * (ow2 - d1)
+                total = math.atan2(s1 * xw2, cos1 * xw0 + sin1 * xw1)
+                cc, rr = _two_link(x, y, a2, a3, t1, t2, 0)
+                r[i, sh, wi] = rr
+                out_of = lat[i] or cc > 1.0 or cc < -1.0
+                f = _fwd(x, 1.0)
+                sg = math.copysign(1.0, a2 * a3)
+                for e in range(2):
+                    out[i, sh, wi, e, 0] = p1
+                    out[i, sh, wi, e, 1] = t1[e]
+                    out[i, sh, wi, e, 2] = t2[e]
+                    out[i, sh, wi, e, 3] = total - t1[e] - t2[e]
+                    out[i, sh, wi, e, 4] = p5
+                    out[i, sh, wi, e, 5] = p6
+                    up[i, sh, wi, e] = _up(f, s1, sg, 1.0 if e == 0 else -1.0)
+                    unreach[i, sh, wi, e] = out_of
+
+
+def ur(T, base_inv, tool_inv, q0phi, s1, s4, s5, D, d1, d4, d5, d6, a2, a3, tiny):
+    """Joint values ``(B, 2, 2, 2, 6)``, elbow flags and unreachable ``(B, 2, 2, 2)``, lateral_out, rho ``(B,)``,
+    r ``(B, 2, 2)``, on_axis ``(B,)`` and singular ``(B, 2, 2)``."""
+    B = T.shape[0]
+    out, up, unreach = np.empty((B, 2, 2, 2, 6)), np.empty((B, 2, 2, 2), np.bool_), np.empty((B, 2, 2, 2), np.bool_)
+    lat, rho, r = np.empty(B, np.bool_), np.empty(B), np.empty((B, 2, 2))
+    on_axis, singular = np.empty(B, np.bool_), np.empty((B, 2, 2), np.bool_)
+    _split(_ur_run, B, T, base_inv, tool_inv, q0phi, float(s1), float(s4), float(s5), D, d1, d4, d5, d6, a2, a3,
+           tiny, out, up, unreach, lat, rho, r, on_axis, singular)
+    return out, up, unreach, lat, rho, r, on_axis, singular
+
+
+# ---------------------------------------------------------------- wrap and pick
+@njit(cache=True, inline="always")
+def _wrap_one(v, q0, lo, hi, revolute):
+    """:func:`~armkit.ik.analytic.wrap_to_limits` for one value (``lo, hi``: limits widened by 1e-12)."""
+    if not revolute:
+        return v
+    near = v + TWO_PI * _rint((q0 - v) / TWO_PI)
+    if near >= lo and near <= hi:
+        return near
+    v = near
+    if v < lo:
+        cand = v + TWO_PI * math.ceil((lo - v) / TWO_PI)
+    else:
+        cand = v + TWO_PI * math.floor((hi - v) / TWO_PI)
+    if cand >= lo and cand <= hi:
+        return cand
+    mid = 0.5 * (lo + hi) if (math.isfinite(lo) and math.isfinite(hi)) else v
+    return v + TWO_PI * _rint((mid - v) / TWO_PI)
+
+
+@njit(cache=True)
+def _pick_run(rawq, theta, q0, lo, hi, revolute, unreach, enforce, q, pick, cand_pick, nearer, first, last):
+    m, n = rawq.shape[1], rawq.shape[2]
+    for i in prange(first, last):
+        best, bd = 0, np.inf
+        dist = np.empty(m)
+        cand = np.empty(m, dtype=np.bool_)
+        for b in range(m):
+            inside = True
+            s = 0.0
+            for j in range(n):
+                v = _wrap_one(rawq[i, b, j] - theta[j], q0[i, j], lo[j], hi[j], revolute[j])
+                q[i, b, j] = v
+                if v < lo[j] or v > hi[j]:
+                    inside = False
+                if revolute[j]:
+                    s += (v - q0[i, j]) ** 2
+            dist[b] = math.sqrt(s)
+            cand[b] = (not unreach[i, b]) and (inside or not enforce)
+            if cand[b] and dist[b] < bd:
+                best, bd = b, dist[b]
+        pick[i] = best
+        cand_pick[i] = cand[best]
+        near = False
+        for b in range(m):
+            if unreach[i, b] and dist[b] <= dist[best]:
+                near = True
+        nearer[i] = near
+
+
+def wrap_pick(rawq, theta, q0, lower, upper, revolute, unreachable, enforce):
+    """Wrapped joint values ``(B, m, n)`` and, per target, the branch nearest ``q0`` among those not clipped (and
+    inside the limits when ``enforce``), whether it is such a candidate, and whether a clipped branch is as near."""
+    B, m, n = rawq.shape
+    q = np.empty((B, m, n))
+    pick, cand_pick, nearer = np.empty(B, np.int64), np.empty(B, np.bool_), np.empty(B, np.bool_)
+    _split(_pick_run, B, rawq, theta, q0, lower - 1e-12, upper + 1e-12, revolute, unreachable, enforce, q, pick,
+           cand_pick, nearer)
+    return q, pick, cand_pick, nearer
