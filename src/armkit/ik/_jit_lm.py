@@ -17,45 +17,12 @@ import math
 import numpy as np
 from numba import njit, prange
 
+# The 12-scalar pose helpers of the kinematics kernels (a pose is the 3x4 affine part, row by
+# row): _mul(X, F) = X · F, _move(X, t, sin t, cos t, prismatic) = X · Rz(t) or X · Tz(t).
+# Numba's on-disk cache checks only this file: after changing those helpers, clear the cache
+# (``__pycache__/*.nbi``, ``*.nbc``) so that these kernels are compiled again with them.
+from ..kinematics._jit import _load, _move, _mul
 
-# Private copies of the affine helpers (the kinematics kernels' private API may change under us):
-# a pose is twelve scalars, the 3x4 affine part, row by row.
-
-
-@njit(cache=True, inline="always")
-def _load(F):
-    return (F[0, 0], F[0, 1], F[0, 2], F[0, 3], F[1, 0], F[1, 1], F[1, 2], F[1, 3],
-            F[2, 0], F[2, 1], F[2, 2], F[2, 3])
-
-
-@njit(cache=True, inline="always")
-def _mul(X, F):
-    a00, a01, a02, a03, a10, a11, a12, a13, a20, a21, a22, a23 = X
-    return (a00 * F[0, 0] + a01 * F[1, 0] + a02 * F[2, 0],
-            a00 * F[0, 1] + a01 * F[1, 1] + a02 * F[2, 1],
-            a00 * F[0, 2] + a01 * F[1, 2] + a02 * F[2, 2],
-            a00 * F[0, 3] + a01 * F[1, 3] + a02 * F[2, 3] + a03,
-            a10 * F[0, 0] + a11 * F[1, 0] + a12 * F[2, 0],
-            a10 * F[0, 1] + a11 * F[1, 1] + a12 * F[2, 1],
-            a10 * F[0, 2] + a11 * F[1, 2] + a12 * F[2, 2],
-            a10 * F[0, 3] + a11 * F[1, 3] + a12 * F[2, 3] + a13,
-            a20 * F[0, 0] + a21 * F[1, 0] + a22 * F[2, 0],
-            a20 * F[0, 1] + a21 * F[1, 1] + a22 * F[2, 1],
-            a20 * F[0, 2] + a21 * F[1, 2] + a22 * F[2, 2],
-            a20 * F[0, 3] + a21 * F[1, 3] + a22 * F[2, 3] + a23)
-
-
-@njit(cache=True, inline="always")
-def _move(X, t, prismatic):
-    """X · Rz(t) (revolute) or X · Tz(t) (prismatic)."""
-    a00, a01, a02, a03, a10, a11, a12, a13, a20, a21, a22, a23 = X
-    if prismatic:
-        return (a00, a01, a02, a03 + t * a02, a10, a11, a12, a13 + t * a12, a20, a21, a22, a23 + t * a22)
-    c = math.cos(t)
-    s = math.sin(t)
-    return (c * a00 + s * a01, c * a01 - s * a00, a02, a03,
-            c * a10 + s * a11, c * a11 - s * a10, a12, a13,
-            c * a20 + s * a21, c * a21 - s * a20, a22, a23)
 
 # status codes written to info[:, 1]
 CONVERGED, EXHAUSTED = 0, 1
@@ -70,7 +37,8 @@ def _pose_jacobian(base, pre, post, tool, prismatic, q, s, J):
         X = _mul(X, pre[k])
         J[0, k], J[1, k], J[2, k] = X[3], X[7], X[11]
         J[3, k], J[4, k], J[5, k] = X[2], X[6], X[10]
-        X = _mul(_move(X, q[k], prismatic[k]), post[k])
+        t = q[k]
+        X = _mul(_move(X, t, math.sin(t), math.cos(t), prismatic[k]), post[k])
     X = _mul(X, tool)
     ex, ey, ez = X[3], X[7], X[11]
     for k in range(n):
@@ -413,3 +381,18 @@ def lm_serial(mats, prismatic, limits, params, ints, targets, seeds, q, trace, i
     """As :func:`lm_batch` without threads (small batches, single calls)."""
     for i in range(targets.shape[0]):
         _one(mats, prismatic, limits, params, ints, targets, seeds, q, trace, info, i)
+
+
+@njit(cache=True)
+def lm_single(mats, prismatic, limits, params, ints, targets, seeds, q, trace, info):
+    """:func:`lm_serial` for one target that first checks it: False (nothing solved) if the
+    target ``targets[0]`` or the start ``q[0]`` holds a NaN or an infinity."""
+    for i in range(4):
+        for j in range(4):
+            if not math.isfinite(targets[0, i, j]):
+                return False
+    for j in range(q.shape[1]):
+        if not math.isfinite(q[0, j]):
+            return False
+    _one(mats, prismatic, limits, params, ints, targets, seeds, q, trace, info, 0)
+    return True

@@ -14,27 +14,60 @@ from numba import njit, prange
 
 
 @njit(cache=True, inline="always")
-def _one(T, tgt, pose, q, lower, upper, tol, i, dp, dr, within):
-    ex = T[i, 0, 3] - tgt[i, 0, 3]
-    ey = T[i, 1, 3] - tgt[i, 1, 3]
-    ez = T[i, 2, 3] - tgt[i, 2, 3]
-    dp[i] = math.sqrt(ex * ex + ey * ey + ez * ez)
+def _within(q, lower, upper, tol):
+    ok = True
+    for k in range(q.shape[0]):
+        if q[k] < lower[k] - tol or q[k] > upper[k] + tol:
+            ok = False
+    return ok
+
+
+@njit(cache=True, inline="always")
+def _check(T, tgt, pose, q, lower, upper, tol):
+    """(position error, rotation angle, within limits) of one candidate: T, tgt (4, 4), q (n,)."""
+    ex = T[0, 3] - tgt[0, 3]
+    ey = T[1, 3] - tgt[1, 3]
+    ez = T[2, 3] - tgt[2, 3]
+    dp = math.sqrt(ex * ex + ey * ey + ez * ez)
+    dr = 0.0
     if pose:
         # E = Ra^T Rb; angle = atan2(|vee(E - E^T)| / 2, (trace E - 1) / 2)
-        e = np.empty((3, 3))
-        for r in range(3):
-            for c in range(3):
-                e[r, c] = T[i, 0, r] * tgt[i, 0, c] + T[i, 1, r] * tgt[i, 1, c] + T[i, 2, r] * tgt[i, 2, c]
-        s = 0.5 * math.sqrt((e[2, 1] - e[1, 2]) ** 2 + (e[0, 2] - e[2, 0]) ** 2 + (e[1, 0] - e[0, 1]) ** 2)
-        cth = 0.5 * (e[0, 0] + e[1, 1] + e[2, 2] - 1.0)
-        dr[i] = math.atan2(s, cth)
-    else:
-        dr[i] = 0.0
-    ok = True
-    for k in range(q.shape[1]):
-        if q[i, k] < lower[k] - tol or q[i, k] > upper[k] + tol:
-            ok = False
-    within[i] = ok
+        e00 = T[0, 0] * tgt[0, 0] + T[1, 0] * tgt[1, 0] + T[2, 0] * tgt[2, 0]
+        e01 = T[0, 0] * tgt[0, 1] + T[1, 0] * tgt[1, 1] + T[2, 0] * tgt[2, 1]
+        e02 = T[0, 0] * tgt[0, 2] + T[1, 0] * tgt[1, 2] + T[2, 0] * tgt[2, 2]
+        e10 = T[0, 1] * tgt[0, 0] + T[1, 1] * tgt[1, 0] + T[2, 1] * tgt[2, 0]
+        e11 = T[0, 1] * tgt[0, 1] + T[1, 1] * tgt[1, 1] + T[2, 1] * tgt[2, 1]
+        e12 = T[0, 1] * tgt[0, 2] + T[1, 1] * tgt[1, 2] + T[2, 1] * tgt[2, 2]
+        e20 = T[0, 2] * tgt[0, 0] + T[1, 2] * tgt[1, 0] + T[2, 2] * tgt[2, 0]
+        e21 = T[0, 2] * tgt[0, 1] + T[1, 2] * tgt[1, 1] + T[2, 2] * tgt[2, 1]
+        e22 = T[0, 2] * tgt[0, 2] + T[1, 2] * tgt[1, 2] + T[2, 2] * tgt[2, 2]
+        s = 0.5 * math.sqrt((e21 - e12) ** 2 + (e02 - e20) ** 2 + (e10 - e01) ** 2)
+        cth = 0.5 * (e00 + e11 + e22 - 1.0)
+        dr = math.atan2(s, cth)
+    return dp, dr, _within(q, lower, upper, tol)
+
+
+@njit(cache=True, inline="always")
+def _one(T, tgt, pose, q, lower, upper, tol, i, dp, dr, within):
+    dp[i], dr[i], within[i] = _check(T[i], tgt[i], pose, q[i], lower, upper, tol)
+
+
+@njit(cache=True)
+def check_pose(T, tgt, pose, q, lower, upper, tol):
+    """One candidate: ``T``, ``tgt`` (4, 4) (only column 3 of ``tgt`` read unless ``pose``), ``q`` (n,).
+
+    Returns ``(position error, rotation angle, within limits)``.
+    """
+    return _check(T, tgt, pose, q, lower, upper, tol)
+
+
+@njit(cache=True)
+def check_point(T, p, q, lower, upper, tol):
+    """As :func:`check_pose` for a target position ``p`` (3,); the rotation angle is 0."""
+    ex = T[0, 3] - p[0]
+    ey = T[1, 3] - p[1]
+    ez = T[2, 3] - p[2]
+    return math.sqrt(ex * ex + ey * ey + ez * ez), 0.0, _within(q, lower, upper, tol)
 
 
 @njit(cache=True)

@@ -103,10 +103,14 @@ def verify(robot: Robot, q: NDArray[np.float64], target: NDArray[np.float64], po
     -------
     position_error, rotation_error, ok, within_limits : ndarrays, shape (...)
     """
+    tol = tol or default_tolerance(robot)
+    if type(q) is np.ndarray and type(target) is np.ndarray:
+        one = _verify_one(robot, q, target, position_only, tol, enforce_limits)
+        if one is not None:
+            return one
     from ..kinematics import fk, get_backend
     from ..spatial import pose_error
 
-    tol = tol or default_tolerance(robot)
     T = fk(robot, q)
     target = np.asarray(target, dtype=float)
     if get_backend() == "numba":
@@ -134,3 +138,51 @@ def verify(robot: Robot, q: NDArray[np.float64], target: NDArray[np.float64], po
     if enforce_limits:
         ok &= within
     return dp, dr, ok, within
+
+
+_ONE: dict = {}  # the kernels of the one-candidate path, once imported: "fk", "pose", "point"
+
+
+def _verify_one(robot: Robot, q: NDArray[np.float64], target: NDArray[np.float64], position_only: bool,
+                tol: tuple[float, float], enforce_limits: bool
+                ) -> Optional[tuple[NDArray[np.float64], NDArray[np.float64], Any, NDArray[np.bool_]]]:
+    """:func:`verify` of one candidate on the Numba back end, without the batch machinery.
+
+    ``q`` (n,) with ``target`` (4, 4) or (3,), or ``q`` (1, n) with ``target`` (1, 4, 4) or
+    (1, 3), all float64: the same values and shapes as the general path (~2 µs instead of
+    ~12 µs); ``None`` for anything else (the general path takes it).
+    """
+    nd = q.ndim
+    if q.dtype != np.float64 or target.dtype != np.float64 or nd == 0 or q.shape[-1] != robot.n:
+        return None
+    if nd == 2:
+        if q.shape[0] != 1 or target.ndim < 2 or target.shape[0] != 1:
+            return None
+        q1, t1 = q[0], target[0]
+    elif nd == 1 and 1 <= target.ndim <= 2:
+        q1, t1 = q, target
+    else:
+        return None
+    if not _ONE:
+        from ..kinematics import fk, get_backend
+
+        if get_backend() != "numba":
+            return None
+        from ._jit_verify import check_point, check_pose
+
+        _ONE.update(fk=fk, pose=check_pose, point=check_point, backend=get_backend)
+    elif _ONE["backend"]() != "numba":
+        return None
+    shape = t1.shape
+    if shape == (4, 4):
+        T = _ONE["fk"](robot, q1)
+        dp, dr, within = _ONE["pose"](T, t1, not position_only, q1, robot.lower, robot.upper, 1e-12)
+    elif shape == (3,):
+        T = _ONE["fk"](robot, q1)
+        dp, dr, within = _ONE["point"](T, t1, q1, robot.lower, robot.upper, 1e-12)
+    else:
+        return None
+    ok = dp <= tol[0] and dr <= tol[1] and (within or not enforce_limits)
+    if nd == 1:
+        return np.array(dp), np.array(dr), np.bool_(ok), np.array(within)
+    return np.array([dp]), np.array([dr]), np.array([ok]), np.array([within])
