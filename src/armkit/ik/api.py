@@ -61,6 +61,19 @@ def _planar_plane(robot: Robot) -> tuple[float, Array, float]:
     return float(T0[2, 3]), T0[:3, :3], math.atan2(T0[1, 0], T0[0, 0])
 
 
+def _rigid(T: list) -> bool:
+    """For one pose given as nested lists: ``R^T R = I`` and ``det R = 1`` within 1e-6, last row (0, 0, 0, 1)."""
+    (a, b, c, _), (d, e, f, _), (g, h, k, _), last = T
+    cols = ((a, d, g), (b, e, h), (c, f, k))
+    for i in range(3):
+        for j in range(3):
+            dot = cols[i][0] * cols[j][0] + cols[i][1] * cols[j][1] + cols[i][2] * cols[j][2]
+            if not abs(dot - (1.0 if i == j else 0.0)) <= 1e-6:
+                return False
+    det = a * (e * k - f * h) - b * (d * k - f * g) + c * (d * h - e * g)
+    return abs(det - 1.0) <= 1e-6 and last == [0.0, 0.0, 0.0, 1.0]
+
+
 def _normalise_target(robot: Robot, target: ArrayLike, phi: ArrayLike | None
                       ) -> tuple[Array, tuple[int, ...], bool]:
     """``target`` -> ``(flat targets (B, 4, 4) or (B, 3), leading shape, position_only)``."""
@@ -76,9 +89,14 @@ def _normalise_target(robot: Robot, target: ArrayLike, phi: ArrayLike | None
     if t.ndim >= 2 and t.shape[-2:] == (4, 4):
         if phi is not None:
             raise ShapeError("phi= is only for planar (..., 2) position targets; a pose already fixes the end angle")
-        R = t[..., :3, :3]
-        err = np.abs(np.swapaxes(R, -1, -2) @ R - np.eye(3)).max(initial=0.0)
-        if err > 1e-6 or np.any(np.abs(np.linalg.det(R) - 1.0) > 1e-6) or np.any(np.abs(t[..., 3, :] - [0, 0, 0, 1]) > 0):
+        if t.ndim == 2:   # one pose: the same test on Python floats (a few NumPy calls cost more)
+            rigid = _rigid(t.tolist())
+        else:
+            R = t[..., :3, :3]
+            err = np.abs(np.swapaxes(R, -1, -2) @ R - np.eye(3)).max(initial=0.0)
+            rigid = not (err > 1e-6 or np.any(np.abs(np.linalg.det(R) - 1.0) > 1e-6)
+                         or np.any(np.abs(t[..., 3, :] - [0, 0, 0, 1]) > 0))
+        if not rigid:
             raise ShapeError("target pose is not a rigid transform (rotation not orthonormal with det +1, "
                              "or last row not (0, 0, 0, 1))")
         lead = t.shape[:-2]
@@ -118,7 +136,13 @@ def _normalise_target(robot: Robot, target: ArrayLike, phi: ArrayLike | None
 
 def _normalise_q0(robot: Robot, q0: ArrayLike | None, lead: tuple[int, ...]) -> Array:
     if q0 is None:
-        base = np.clip(np.zeros(robot.n), robot.lower, robot.upper)
+        try:   # a Robot is immutable: its clipped zero vector is kept on it
+            base = robot.__dict__["_ik_q0"]
+        except KeyError:
+            base = np.clip(np.zeros(robot.n), robot.lower, robot.upper)
+            object.__setattr__(robot, "_ik_q0", base)
+        if not lead:
+            return base[None].copy()
         return np.broadcast_to(base, (int(np.prod(lead, dtype=int)), robot.n)).copy()
     q = robot.check_q(q0, "q0")
     try:
@@ -140,8 +164,8 @@ def _tolerance(robot: Robot, tol: Any) -> tuple[float, float]:
 def _reshape(res: IKResult, lead: tuple[int, ...]) -> IKResult:
     """Fields ``(B, ...)`` -> ``lead + (...)``."""
     def f(a: Any) -> Any:
-        a = np.asarray(a)
-        return a.reshape(lead + a.shape[1:])
+        b = a if isinstance(a, np.ndarray) else np.asarray(a)
+        return b.reshape(lead + b.shape[1:])
 
     trace = res.trace
     B = int(np.prod(lead, dtype=int))

@@ -195,16 +195,26 @@ def solve_all(robot: Robot, solver: ClosedForm, target: Array, q0: Array, positi
     """
     theta = solver.sf.theta
     raw = solver.solve(target, q0 + theta)
-    q = wrap_to_limits(raw.q - theta, q0[:, None, :], robot.lower, robot.upper, ~robot.prismatic)
+    jit = jit_kernels()
+    dist = None
+    if jit is not None:
+        q, dist = jit.wrap_dist(raw.q, theta, q0, robot.lower, robot.upper, ~robot.prismatic)
+    else:
+        q = wrap_to_limits(raw.q - theta, q0[:, None, :], robot.lower, robot.upper, ~robot.prismatic)
     if tol is None:
         tol = default_tolerance(robot)
     dp, dr, ok, within = verify(robot, q, target[:, None], position_only, tol, enforce_limits)
+    q_before = q
     q, dp, dr, ok, within = _polish(robot, q, target, position_only, tol, enforce_limits, dp, dr, ok, within)
+    if dist is None:
+        dist = np.linalg.norm(np.where(robot.prismatic, 0.0, q - q0[:, None, :]), axis=-1)
+    elif q is not q_before:   # polished branches: their distances again
+        bi, mi = np.nonzero((q != q_before).any(axis=-1))
+        dist[bi, mi] = np.linalg.norm(np.where(robot.prismatic, 0.0, q[bi, mi] - q0[bi]), axis=-1)
     fk_ok = (dp <= tol[0]) & (dr <= tol[1])
     reason = _REASON_TEXT[np.where(ok, 0, np.where(fk_ok & ~within, 2, 1))]
     message = np.where(ok, raw.note, "").astype(object)
     _failure_messages(robot, message, ok, reason, raw, q, dp, dr, tol)
-    dist = np.linalg.norm(np.where(robot.prismatic, 0.0, q - q0[:, None, :]), axis=-1)
     order = np.argsort(np.where(ok, 0.0, 1e9) + dist, axis=-1, kind="stable")
     take = lambda a: np.take_along_axis(a, order, axis=1)  # noqa: E731
     return IKResult(q=np.take_along_axis(q, order[..., None], axis=1), success=take(ok), position_error=take(dp),
@@ -244,7 +254,7 @@ def solve_nearest(robot: Robot, solver: ClosedForm, target: Array, q0: Array, po
         nearer_clipped = (raw.unreachable & (dist <= dist[rows, pick][:, None])).any(axis=1)
     qb = q[rows, pick]
     dp, dr, ok, within = verify(robot, qb, target, position_only, tol, enforce_limits)
-    scale = robot.reach
+    scale = solver.sf.scale   # robot.reach (computed on every access)
     fine = (ok & cand_pick & ~nearer_clipped & (dp <= POLISH_ABOVE * scale) & (dr <= POLISH_ABOVE))
     res = IKResult(q=qb, success=ok.copy(), position_error=dp, rotation_error=dr,
                    iterations=np.zeros(B, dtype=np.int64), branch=raw.label[rows, pick], within_limits=within,

@@ -12,6 +12,7 @@ Numba back end is in use.
 from __future__ import annotations
 
 import math
+import types
 
 import numpy as np
 from numba import njit, prange
@@ -30,19 +31,16 @@ def _rint(x):
     return r
 
 
-@njit(cache=True, inline="always")
-def _two_link(x, y, l1, l2, t1, t2, k):
-    """:func:`~._common.two_link` for one point; branches into ``t1[k:k+2]``, ``t2[k:k+2]``; returns ``c, r``."""
+@njit(cache=True)
+def _two_link(x, y, l1, l2):
+    """:func:`~._common.two_link` for one point: ``(t1 of branch 0, of branch 1), (t2 ...), c, r``."""
     r2 = x * x + y * y
     c = (r2 - l1 * l1 - l2 * l2) / (2.0 * l1 * l2)
     cc = min(max(c, -1.0), 1.0)
     s = math.sqrt((1.0 - cc) * (1.0 + cc))
-    t2[k] = math.atan2(s, cc)
-    t2[k + 1] = math.atan2(-s, cc)
     psi = math.atan2(y, x)
-    t1[k] = psi - math.atan2(l2 * s, l1 + l2 * cc)
-    t1[k + 1] = psi - math.atan2(l2 * -s, l1 + l2 * cc)
-    return c, math.sqrt(r2)
+    t1 = (psi - math.atan2(l2 * s, l1 + l2 * cc), psi - math.atan2(l2 * -s, l1 + l2 * cc))
+    return t1, (math.atan2(s, cc), math.atan2(-s, cc)), c, math.sqrt(r2)
 
 
 @njit(cache=True, inline="always")
@@ -59,9 +57,7 @@ def _up(forward, up_sign, l1l2_sign, e):
 @njit(cache=True, inline="always")
 def _planar_one(i, x, y, l1, l2, extra, q, up, c, r):
     """2R core for target ``i``: ``q[i, :, 0:2]``, elbow flags ``up[i]``, ``c[i]``, ``r[i]``."""
-    t1 = np.empty(2)
-    t2 = np.empty(2)
-    c[i], r[i] = _two_link(x, y, l1, l2, t1, t2, 0)
+    t1, t2, c[i], r[i] = _two_link(x, y, l1, l2)
     sg = math.copysign(1.0, l1 * l2)
     f = _fwd(x, 1.0)
     for k in range(2):
@@ -110,11 +106,15 @@ def _split(run, B, *args):
 
 
 def _par(run, B, *args):
-    # the parallel version is compiled on the first big batch, not cached on disk (a cache entry is
-    # named after the Python function, which it shares with the serial version)
+    # the parallel version of a kernel, made on the first big batch from a copy of its Python function
+    # under another name (Numba names its disk cache after the function)
     fn = _PARALLEL.get(run)
     if fn is None:
-        fn = _PARALLEL[run] = njit(parallel=True)(run.py_func)
+        py = run.py_func
+        copy = types.FunctionType(py.__code__, py.__globals__, py.__name__ + "_parallel", py.__defaults__,
+                                  py.__closure__)
+        copy.__qualname__ = py.__qualname__ + "_parallel"
+        fn = _PARALLEL[run] = njit(cache=True, parallel=True)(copy)
     fn(*args, 0, B)
 
 
@@ -150,13 +150,11 @@ def _positioner(i, x, y, z, yaw0, s1, d1, a1, a2, Z, ell, beta, tiny, phi, up, u
     psi = yaw0 if on_axis[i] else math.atan2(y, x)
     sg = math.copysign(1.0, a2 * ell)
     Y = s1 * (z - d1)
-    t1 = np.empty(2)
-    t2 = np.empty(2)
     for f in range(2):
         Xs = Xf if f == 0 else -Xf
         p1 = psi - math.atan2(-s1 * Z, Xs)
         X = Xs - a1
-        cc, rr = _two_link(X, Y, a2, ell, t1, t2, 0)
+        t1, t2, cc, rr = _two_link(X, Y, a2, ell)
         c[i, f], r[i, f] = cc, rr
         out = (cc > 1.0) or (cc < -1.0) or lat[i]
         fw = _fwd(X, 1.0 if f == 0 else -1.0)
@@ -197,8 +195,8 @@ def yaw_pitch_pitch(p, base_inv, yaw0, pos):
 
 # ------------------------------------------------------------------ spherical wrist
 @njit(cache=True, inline="always")
-def _rotate_back(v0, v1, v2, phi, ca, sa):
-    c, s = math.cos(phi), math.sin(phi)
+def _rotate_back(v0, v1, v2, c, s, ca, sa):
+    """:func:`~._common.rotate_back` with ``c, s`` the cosine and sine of phi."""
     x = c * v0 + s * v1
     y = -s * v0 + c * v1
     return x, ca * y + sa * v2, -sa * y + ca * v2
@@ -217,10 +215,11 @@ def _puma_run(T, base_inv, tool_inv, q0phi, d6, cs, s4, s5, s1, d1, a1, a2, Z, e
                     on_axis)
         for b in range(4):
             p0, p12 = phi[i, b, 0], phi[i, b, 1] + phi[i, b, 2]
-            m0, m1, m2 = _rotate_back(Tc[0, 2], Tc[1, 2], Tc[2, 2], p0, cs[0, 0], cs[0, 1])
-            mz0, mz1, mz2 = _rotate_back(m0, m1, m2, p12, cs[1, 0], cs[1, 1])
-            m0, m1, m2 = _rotate_back(Tc[0, 0], Tc[1, 0], Tc[2, 0], p0, cs[0, 0], cs[0, 1])
-            mx0, mx1, mx2 = _rotate_back(m0, m1, m2, p12, cs[1, 0], cs[1, 1])
+            c0, s0, c12, s12 = math.cos(p0), math.sin(p0), math.cos(p12), math.sin(p12)
+            m0, m1, m2 = _rotate_back(Tc[0, 2], Tc[1, 2], Tc[2, 2], c0, s0, cs[0, 0], cs[0, 1])
+            mz0, mz1, mz2 = _rotate_back(m0, m1, m2, c12, s12, cs[1, 0], cs[1, 1])
+            m0, m1, m2 = _rotate_back(Tc[0, 0], Tc[1, 0], Tc[2, 0], c0, s0, cs[0, 0], cs[0, 1])
+            mx0, mx1, mx2 = _rotate_back(m0, m1, m2, c12, s12, cs[1, 0], cs[1, 1])
             h = math.hypot(mz0, mz1)
             sing = h <= 1e-12
             singular[i, b] = sing
@@ -228,8 +227,8 @@ def _puma_run(T, base_inv, tool_inv, q0phi, d6, cs, s4, s5, s1, d1, a1, a2, Z, e
                 w = 1.0 if k == 0 else -1.0
                 p5 = math.atan2(w * h, -s4 * s5 * mz2)
                 p4 = q0phi[i, 3] if sing else math.atan2((w * s5) * mz1, (w * s5) * mz0)
-                e0, e1, e2 = _rotate_back(mx0, mx1, mx2, p4, cs[2, 0], cs[2, 1])
-                f0, f1, f2 = _rotate_back(e0, e1, e2, p5, cs[3, 0], cs[3, 1])
+                e0, e1, e2 = _rotate_back(mx0, mx1, mx2, math.cos(p4), math.sin(p4), cs[2, 0], cs[2, 1])
+                f0, f1, f2 = _rotate_back(e0, e1, e2, math.cos(p5), math.sin(p5), cs[3, 0], cs[3, 1])
                 for j in range(3):
                     out[i, b, k, j] = phi[i, b, j]
                 out[i, b, k, 3] = p4
@@ -237,12 +236,12 @@ def _puma_run(T, base_inv, tool_inv, q0phi, d6, cs, s4, s5, s1, d1, a1, a2, Z, e
                 out[i, b, k, 5] = math.atan2(f1, f0)
 
 
-def spherical_wrist(T, base_inv, tool_inv, q0phi, d6, alphas, s4, s5, pos):
-    """Joint values ``(B, 4, 2, 6)``, wrist-singular flags ``(B, 4)`` and the positioner's arrays."""
+def spherical_wrist(T, base_inv, tool_inv, q0phi, d6, cs, s4, s5, pos):
+    """Joint values ``(B, 4, 2, 6)``, wrist-singular flags ``(B, 4)`` and the positioner's arrays;
+    ``cs`` ``(4, 2)``: cosine and sine of the twists alpha 1, 3, 4 and 5."""
     B = T.shape[0]
     arrs = _pos_arrays(B)
     out, singular = np.empty((B, 4, 2, 6)), np.empty((B, 4), dtype=np.bool_)
-    cs = np.array([[math.cos(a), math.sin(a)] for a in alphas])
     _split(_puma_run, B, T, base_inv, tool_inv, q0phi, d6, cs, float(s4), float(s5), float(pos.s1), pos.d1, pos.a1,
            pos.a2, pos.Z, pos.ell, pos.beta, 1e-12 * pos.scale, out, singular, *arrs)
     return out, singular, arrs
@@ -265,8 +264,6 @@ def _ur_run(T, base_inv, tool_inv, q0phi, s1, s4, s5, D, d1, d4, d5, d6, a2, a3,
         ratio = (s1 * D) / rh if rh > 0 else 0.0
         lat[i] = abs(ratio) > 1.0
         asn = math.asin(min(max(ratio, -1.0), 1.0))
-        t1 = np.empty(2)
-        t2 = np.empty(2)
         for sh in range(2):
             p1 = psi + math.pi - asn if sh == 0 else psi + asn
             sin1, cos1 = math.sin(p1), math.cos(p1)
@@ -299,7 +296,7 @@ def _ur_run(T, base_inv, tool_inv, q0phi, s1, s4, s5, D, d1, d4, d5, d6, a2, a3,
                 x = cos1 * ow0 + sin1 * ow1
                 y = s1 * (ow2 - d1)
                 total = math.atan2(s1 * xw2, cos1 * xw0 + sin1 * xw1)
-                cc, rr = _two_link(x, y, a2, a3, t1, t2, 0)
+                t1, t2, cc, rr = _two_link(x, y, a2, a3)
                 r[i, sh, wi] = rr
                 out_of = lat[i] or cc > 1.0 or cc < -1.0
                 f = _fwd(x, 1.0)
@@ -386,3 +383,26 @@ def wrap_pick(rawq, theta, q0, lower, upper, revolute, unreachable, enforce):
     _split(_pick_run, B, rawq, theta, q0, lower - 1e-12, upper + 1e-12, revolute, unreachable, enforce, q, pick,
            cand_pick, nearer)
     return q, pick, cand_pick, nearer
+
+
+@njit(cache=True)
+def _wrap_dist_run(rawq, theta, q0, lo, hi, revolute, q, dist, first, last):
+    m, n = rawq.shape[1], rawq.shape[2]
+    for i in prange(first, last):
+        for b in range(m):
+            s = 0.0
+            for j in range(n):
+                v = _wrap_one(rawq[i, b, j] - theta[j], q0[i, j], lo[j], hi[j], revolute[j])
+                q[i, b, j] = v
+                if revolute[j]:
+                    s += (v - q0[i, j]) ** 2
+            dist[i, b] = math.sqrt(s)
+
+
+def wrap_dist(rawq, theta, q0, lower, upper, revolute):
+    """Wrapped joint values ``(B, m, n)`` (:func:`~armkit.ik.analytic.wrap_to_limits`) and their distances
+    ``(B, m)`` to ``q0`` (revolute joints)."""
+    B, m, n = rawq.shape
+    q, dist = np.empty((B, m, n)), np.empty((B, m))
+    _split(_wrap_dist_run, B, rawq, theta, q0, lower - 1e-12, upper + 1e-12, revolute, q, dist)
+    return q, dist

@@ -38,8 +38,9 @@ def _explain(c: Array, r: Array, l1: float, l2: float, unit: str, what: str):
     why = lambda i: (  # noqa: E731
         f"{what} is {r[i // 2]:.6g} {unit} from the shoulder; the arm reaches {outer:.6g} {unit} (outer) "
         f"and {inner:.6g} {unit} (inner).")
-    edge = np.repeat(((np.abs(np.abs(c) - 1.0) <= 1e-9) & ~unreachable[:, 0])[:, None], 2, axis=1)
+    edge = np.abs(np.abs(c) - 1.0) <= 1e-9
     if edge.any():
+        edge = np.repeat((edge & ~unreachable[:, 0])[:, None], 2, axis=1)
         add_messages(note, edge, lambda i: (
             "fully stretched: elbow-up and elbow-down coincide." if c[i // 2] > 0
             else "fully folded: elbow-up and elbow-down coincide."))

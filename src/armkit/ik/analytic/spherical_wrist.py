@@ -37,6 +37,7 @@ _LABELS = np.array([f"{s}/elbow-{e}/{w}" for s in ("left", "right") for e in ("d
                     for w in ("flip", "noflip")], dtype=object)
 WRIST_SINGULAR = 1e-12
 _W = np.array([1.0, -1.0])   # noflip, flip
+_FRONT_FLIP = 4 * np.array([1, 1, 0, 0])[None, :, None] + (_W > 0).astype(int)[None, None, :]   # label index parts
 
 
 class SphericalWrist:
@@ -50,6 +51,7 @@ class SphericalWrist:
     def __init__(self, sf: StandardForm, pos: Positioner, signs: tuple[int, int, int], unit: str, names):
         self.sf, self.pos, self.unit, self.names = sf, pos, unit, names
         self.s3, self.s4, self.s5 = signs
+        self._cs = np.array([[math.cos(sf.alpha[i]), math.sin(sf.alpha[i])] for i in (0, 2, 3, 4)])
 
     @classmethod
     def detect(cls, sf: StandardForm, robot) -> "SphericalWrist | None":
@@ -98,16 +100,13 @@ class SphericalWrist:
         B = len(target)
         jit = jit_kernels()
         if jit is not None:
-            alphas = (sf.alpha[0], sf.alpha[2], sf.alpha[3], sf.alpha[4])
             out, singular, arrays = jit.spherical_wrist(np.ascontiguousarray(target), sf.base_inv, sf.tool_inv,
-                                                        np.ascontiguousarray(q0phi), float(sf.d[5]), alphas,
+                                                        np.ascontiguousarray(q0phi), float(sf.d[5]), self._cs,
                                                         self.s4, self.s5, self.pos)
             sol = self.pos.as_dict(arrays)
         else:
             out, singular, sol = self._solve_numpy(target, q0phi)
-        w = _W
-        idx = (4 * sol["front"].astype(int)[None, :, None] + 2 * sol["up"].astype(int)[:, :, None]
-               + (w > 0).astype(int)[None, None, :])
+        idx = _FRONT_FLIP + 2 * sol["up"].astype(int)[:, :, None]
         why4, note4 = self.pos.explain(sol, self.unit, "the wrist centre", "first joint's")
         why = lambda i: why4(i // 2)  # noqa: E731  (flat (B, 8) -> flat (B, 4))
         note = np.repeat(note4, 2, axis=1)

@@ -118,8 +118,9 @@ class Positioner:
             return (f"{what} is {r[b, k // 2]:.6g} {unit} from the shoulder; the arm reaches "
                     f"{self.outer:.6g} {unit} (outer) and {self.inner:.6g} {unit} (inner).")
 
-        edge = np.repeat((np.abs(np.abs(c) - 1.0) <= 1e-9) & ~sol["unreachable"][:, ::2], 2, axis=1)
+        edge = np.abs(np.abs(c) - 1.0) <= 1e-9
         if edge.any():
+            edge = np.repeat(edge & ~sol["unreachable"][:, ::2], 2, axis=1)
             add_messages(note, edge, lambda i: (
                 "fully stretched: elbow-up and elbow-down coincide." if c.reshape(-1)[i // 2] > 0
                 else "fully folded: elbow-up and elbow-down coincide."))
