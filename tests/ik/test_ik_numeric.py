@@ -14,6 +14,7 @@ from hypothesis import strategies as st
 
 import armkit
 from armkit.ik.numeric import solve_lm, solve_newton
+from armkit.ik.result import default_tolerance
 
 ARMS = ("puma560", "ur5", "panda", "stanford")
 
@@ -204,3 +205,80 @@ def test_without_limits_angles_wrapped():
     assert res.success.all()
     assert np.all(np.abs(res.q) <= np.pi + 1e-12)
     assert_pose_reached(arm, res.q, T)
+
+
+# ------------------------------------------------------------------ the single-call fast path
+def _fields(res):
+    return {f: np.asarray(getattr(res, f)) for f in ("q", "success", "position_error", "rotation_error",
+                                                      "iterations", "branch", "within_limits", "reason", "message")}
+
+
+def assert_same_result(a, b):
+    fa, fb = _fields(a), _fields(b)
+    for f in fa:
+        assert fa[f].dtype == fb[f].dtype and fa[f].shape == fb[f].shape, f
+        assert np.array_equal(fa[f], fb[f]), (f, fa[f], fb[f])
+    assert a.trace is None and b.trace is None
+
+
+@pytest.mark.parametrize("name", ["puma560", "panda", "stanford", "fighter", "planar3"])
+@pytest.mark.parametrize("point", [False, True])
+def test_single_call_fast_path_equals_general_path(name, point):
+    """One target with the defaults takes a shortcut; an explicit default tolerance takes the
+    general (batched) path: same q, success, errors, reason and message."""
+    arm = armkit.load(name)
+    q = arm.random_q(4, 21)
+    T = armkit.fk(arm, q)
+    targets = T[:, :3, 3].copy() if point else T
+    tol = default_tolerance(arm)
+    for i in range(4):
+        for limits in (True, False):
+            fast = solve_lm(arm, targets[i:i + 1], np.zeros((1, arm.n)), seed=i, enforce_limits=limits)
+            general = solve_lm(arm, targets[i:i + 1], np.zeros((1, arm.n)), seed=i, enforce_limits=limits, tol=tol)
+            assert_same_result(fast, general)
+            if fast.success[0]:             # and a claimed success is real (formulas written here)
+                F = armkit.fk(arm, fast.q[0])
+                assert np.linalg.norm(F[:3, 3] - T[i, :3, 3]) <= tol[0] * (1 + 1e-9)
+                assert point or rotation_angle(F[:3, :3], T[i, :3, :3]) <= 1e-7  # arccos: ~2e-8 resolution
+
+
+def test_single_call_failures_take_the_general_route():
+    arm = armkit.load("puma560")
+    T = armkit.fk(arm, arm.random_q(1, 22))
+    tol = default_tolerance(arm)
+    kw = dict(max_iterations=1, restarts=0, seed=3)
+    fast = solve_lm(arm, T, np.zeros((1, 6)), **kw)
+    assert not fast.success[0] and fast.reason[0] in ("max iterations", "joint limits", "singular")
+    assert_same_result(fast, solve_lm(arm, T, np.zeros((1, 6)), tol=tol, **kw))
+    far = np.array([[3.0, 0.0, 0.5]])                        # beyond the reach: explained as such
+    res = solve_lm(arm, far, np.zeros((1, 6)), seed=0)
+    assert res.reason[0] == "unreachable" and "reaches at most" in res.message[0]
+    with pytest.raises(armkit.ShapeError, match="target contains NaN"):
+        solve_lm(arm, np.full((1, 4, 4), np.nan), np.zeros((1, 6)))
+    with pytest.raises(armkit.ShapeError, match="q0 contains NaN"):
+        solve_lm(arm, T, np.full((1, 6), np.inf))
+
+
+def test_single_call_matches_numpy_backend_verify():
+    """verify's one-candidate shortcut (Numba) against its NumPy path, and against a hand check."""
+    from armkit.ik.result import verify
+
+    arm = armkit.load("ur5")
+    q = arm.random_q(3, 23)
+    T = armkit.fk(arm, q)
+    off = T.copy()
+    off[:, 0, 3] += 1e-6                                     # 1 micrometre off in x
+    for i in range(3):
+        fast = verify(arm, q[i], off[i], False, (1e-9, 1e-9), True)
+        one = verify(arm, q[i:i + 1], off[i:i + 1], False, (1e-9, 1e-9), True)
+        assert np.isclose(fast[0], 1e-6, rtol=1e-6) and not fast[2] and bool(fast[3])
+        assert [np.shape(x) for x in fast] == [(), (), (), ()] and [np.shape(x) for x in one] == [(1,)] * 4
+        armkit.set_backend("numpy")
+        try:
+            slow = verify(arm, q[i], off[i], False, (1e-9, 1e-9), True)
+        finally:
+            armkit.set_backend("auto")
+        for a, b, c in zip(fast, one, slow):
+            assert np.allclose(a, c, rtol=0, atol=1e-12) and np.allclose(b[0], c, rtol=0, atol=1e-12)
+        point = verify(arm, q[i], T[i, :3, 3] + [0, 0, 2e-9], True, (1e-9, 1e-9), True)
+        assert np.isclose(point[0], 2e-9, rtol=1e-3) and point[1] == 0 and not point[2]

@@ -193,7 +193,7 @@ def _seeds(seed: Any, B: int) -> NDArray[np.uint64]:
     """One restart seed per target, reproducible from ``seed``."""
     if seed is None:
         base = random.getrandbits(62)
-    elif isinstance(seed, (int, np.integer)) and not isinstance(seed, bool):
+    elif type(seed) is int or isinstance(seed, (int, np.integer)) and not isinstance(seed, bool):
         base = (int(seed) * 0x9E3779B97F4A7C15 + 0x632BE59BD9B4E019) % 2**62
     else:
         base = int(np.random.default_rng(seed).integers(0, 2**62))
@@ -404,7 +404,7 @@ _INTS: dict[tuple[int, int, int], NDArray[np.int64]] = {}  # the kernel's int pa
 def _kernel_args(const: dict, s: float, tol: tuple[float, float], w: Array, max_iterations: int, attempts: int,
                  first_attempt: int) -> tuple[Array, Any]:
     """The kernel's packed ``params`` (9,) and ``ints`` (3,) (both cached: they repeat from call to call)."""
-    key = ("params", tol, w.tobytes())
+    key = ("params", tol, True if w is _W_POSE else False if w is _W_POSITION else w.tobytes())
     params = const.get(key)
     if params is None:
         params = np.empty(9)
@@ -596,7 +596,10 @@ def _finish(prob: Problem, q: Array, iters: NDArray[np.int64], used: NDArray[np.
 
 
 _EYE_1 = np.eye(4)[None]
-_EYE_1.setflags(write=False)
+_LM_BRANCH = np.full(1, "lm", dtype=object)
+_CONVERGED = np.array(["converged"])      # the dtype of assemble's reason field: "<U9"
+for _a in (_EYE_1, _LM_BRANCH, _CONVERGED):
+    _a.setflags(write=False)
 
 
 def _solve_one(robot: Robot, target: Any, q0: Any, max_iterations: Optional[int], restarts: Optional[int],
@@ -637,20 +640,20 @@ def _solve_one(robot: Robot, target: Any, q0: Any, max_iterations: Optional[int]
     params, ints = _kernel_args(c, robot.unit_scale, tol, _W_POSITION if point else _W_POSE, max_iterations,
                                 restarts + 1, 0)
     info = np.zeros((1, 4))
-    if not kernels.lm_single(c["mats"], robot.chain.prismatic, c["packed limits" if enforce_limits else "packed free"],
-                             params, ints, poses, _seeds(seed, 1), q, np.empty((1, 0)), info):
+    limits = c["packed limits" if enforce_limits else "packed free"]
+    if not kernels.lm_single(c["mats"], robot.chain.prismatic, limits, params, ints, poses, _seeds(seed, 1), q,
+                             np.empty((1, 0)), info):
         return None  # NaN or infinity in the target or q0: the general path says which
     dp, dr, ok, within = verify(robot, q, target, point, tol, enforce_limits)
     iters = int(info[0, 0])
     if not ok[0]:  # a failure: say why, as the general path does
         prob = Problem(robot, target, q0, None, None, enforce_limits)
-        return _finish(prob, q, np.array([iters], dtype=np.int64), info[:, 2].astype(np.int64), "lm", max_iterations, restarts,
-                       seed, None, True)
+        return _finish(prob, q, np.array([iters], dtype=np.int64), info[:, 2].astype(np.int64), "lm",
+                       max_iterations, restarts, seed, None, True)
     message = f"converged in {iters} iterations: position error {_fmt(float(dp[0]))} {robot.unit}" \
               + ("." if point else f", rotation error {_fmt(float(dr[0]))} rad.")
-    return IKResult(q=q, success=ok, position_error=dp, rotation_error=dr, iterations=np.array([iters], dtype=np.int64),
-                    branch=np.array(["lm"], dtype=object), within_limits=within, reason=np.array(["converged"]),
-                    message=np.array([message], dtype=object), trace=None)
+    return IKResult._of(q, ok, dp, dr, np.array([iters], dtype=np.int64), _LM_BRANCH.copy(), within,
+                        _CONVERGED.copy(), np.array([message], dtype=object), None)
 
 
 def _subproblem(prob: Problem, idx: NDArray[np.intp]) -> Problem:
