@@ -391,3 +391,92 @@ def test_random_arms_of_each_family(kind, seed):
     assert res.success.any(axis=1).all()
     assert np.all(res.position_error[res.success] <= 1e-12 * arm.reach)
     assert np.all(angle_gap(res.q, q[:, None]).min(axis=1) < 1e-6)
+
+
+# ------------------------------------------------ Numba kernels against the NumPy reference
+FIELDS_EXACT = ("success", "branch", "within_limits", "reason", "message", "iterations")
+
+
+def _both_backends(fn):
+    """``fn()`` with the Numba kernels and with the NumPy code (the reference)."""
+    from armkit.kinematics import get_backend
+    if get_backend() != "numba":
+        pytest.skip("numba not available")
+    fast = fn()
+    armkit.set_backend("numpy")
+    try:
+        ref = fn()
+    finally:
+        armkit.set_backend("auto")
+    return fast, ref
+
+
+def _assert_same(fast, ref, scale):
+    for f in FIELDS_EXACT:
+        assert np.array_equal(np.asarray(getattr(fast, f)), np.asarray(getattr(ref, f))), f
+    assert np.allclose(fast.q, ref.q, rtol=0, atol=1e-9)
+    assert np.allclose(fast.position_error, ref.position_error, rtol=0, atol=1e-12 * scale)
+    assert np.allclose(fast.rotation_error, ref.rotation_error, rtol=0, atol=1e-12)
+
+
+def _mixed_targets(arm, rng, count):
+    """Reachable targets, targets scaled out of (or deep into) reach, and one per reference q0."""
+    q = arm.random_q(count, rng=rng)
+    T = armkit.fk(arm, q)
+    T[count // 2:, :3, 3] *= rng.uniform(0.0, 2.5, size=(count - count // 2, 1))
+    return T if arm.name in POSE_TARGETS or arm.name.startswith("random") and arm.n != 3 else T[:, :3, 3]
+
+
+@pytest.mark.parametrize("name", sorted(FAMILIES))
+@pytest.mark.parametrize("enforce", [True, False])
+def test_numba_kernels_match_numpy_reference(name, enforce):
+    arm = armkit.load(name)
+    rng = np.random.default_rng(11)
+    target = _mixed_targets(arm, rng, 120)
+    q0 = arm.random_q(120, rng=rng)
+    for call in (lambda: armkit.ik_all(arm, target, q0, enforce_limits=enforce),
+                 lambda: armkit.ik(arm, target, q0, enforce_limits=enforce),
+                 lambda: armkit.ik(arm, target[7], enforce_limits=enforce)):
+        fast, ref = _both_backends(call)
+        _assert_same(fast, ref, arm.reach)
+
+
+@pytest.mark.parametrize("kind", ["spherical-wrist", "ur", "yaw-pitch-pitch"])
+@settings(max_examples=8)
+@given(seed=st.integers(0, 2**32 - 1))
+def test_numba_kernels_match_numpy_on_random_arms(kind, seed):
+    rng = np.random.default_rng(seed)
+    arm = _random_arm(kind, rng)
+    target = _mixed_targets(arm, rng, 8)
+    fast, ref = _both_backends(lambda: armkit.ik_all(arm, target, enforce_limits=False))
+    _assert_same(fast, ref, arm.reach)
+
+
+def test_single_call_equals_batched_row():
+    arm = armkit.load("ur5")
+    T = armkit.fk(arm, arm.random_q(6, rng=3))
+    batch = armkit.ik(arm, T)
+    for i in range(6):
+        one = armkit.ik(arm, T[i])
+        assert one.q.shape == (6,) and one.branch == batch.branch[i]
+        assert np.array_equal(one.q, batch.q[i])
+
+
+@settings(max_examples=40)
+@given(seed=st.integers(0, 2**32 - 1))
+def test_wrap_kernel_matches_wrap_to_limits(seed):
+    pytest.importorskip("numba")
+    from armkit.ik.analytic import _jit
+    rng = np.random.default_rng(seed)
+    B, m, n = 5, 3, 4
+    lower = np.array([-math.pi, -2 * TWO_PI, -np.inf, 0.1])
+    upper = np.array([math.pi, 2 * TWO_PI, np.inf, 0.2])        # the last: a window no turn may reach
+    raw = rng.uniform(-30, 30, (B, m, n))
+    raw[0, 0, 0] = math.pi                                        # a tie: +-pi from q0 = 0
+    q0 = np.clip(rng.uniform(-4, 4, (B, n)), lower, upper)
+    theta = rng.uniform(-1, 1, n)
+    revolute = np.array([True, True, True, True])
+    q, dist = _jit.wrap_dist(raw, theta, q0, lower, upper, revolute)
+    ref = wrap_to_limits(raw - theta, q0[:, None, :], lower, upper, revolute)
+    assert np.array_equal(q, ref)
+    assert np.allclose(dist, np.linalg.norm(ref - q0[:, None, :], axis=-1), rtol=1e-15, atol=0)

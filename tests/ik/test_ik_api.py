@@ -199,3 +199,18 @@ def test_trace_follows_the_target_shape(planar3):
     one = armkit.ik(planar3, targets[0, 0], method="ccd", trace=True)
     assert one.trace.ndim == 1 and len(one.trace) >= 1
     assert armkit.ik(planar3, targets[0, 0], method="lm").trace is None
+
+
+@pytest.mark.parametrize("bad", [
+    lambda T: T @ np.diag([1.0, 1.0, 1.0 + 1e-5, 1.0]),     # axis stretched beyond 1e-6
+    lambda T: T @ np.diag([1.0, 1.0, -1.0, 1.0]),            # a reflection: det -1
+    lambda T: T + np.outer([0, 0, 0, 1.0], [0, 1e-12, 0, 0]),  # last row not exactly (0, 0, 0, 1)
+])
+def test_single_pose_rigidity_check_agrees_with_batched_one(bad):
+    arm = armkit.load("ur5")
+    T = bad(armkit.fk(arm, arm.random_q(rng=2)))
+    for target in (T, T[None]):
+        with pytest.raises(armkit.ShapeError, match="not a rigid transform"):
+            armkit.ik(arm, target)
+    ok = armkit.fk(arm, arm.random_q(rng=2)) @ np.diag([1.0, 1.0, 1.0 + 1e-8, 1.0])   # within 1e-6: accepted
+    assert armkit.ik(arm, ok).q.shape == (6,)

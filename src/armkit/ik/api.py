@@ -143,7 +143,7 @@ def _normalise_q0(robot: Robot, q0: ArrayLike | None, lead: tuple[int, ...]) -> 
             object.__setattr__(robot, "_ik_q0", base)
         if not lead:
             return base[None].copy()
-        return np.broadcast_to(base, (int(np.prod(lead, dtype=int)), robot.n)).copy()
+        return np.broadcast_to(base, (math.prod(lead), robot.n)).copy()
     q = robot.check_q(q0, "q0")
     try:
         q = np.broadcast_to(q, lead + (robot.n,))
@@ -168,8 +168,7 @@ def _reshape(res: IKResult, lead: tuple[int, ...]) -> IKResult:
         return b.reshape(lead + b.shape[1:])
 
     trace = res.trace
-    B = int(np.prod(lead, dtype=int))
-    if trace is not None and np.ndim(trace) >= 1 and np.shape(trace)[0] == B:
+    if trace is not None and np.ndim(trace) >= 1 and np.shape(trace)[0] == math.prod(lead):
         trace = np.asarray(trace).reshape(lead + np.shape(trace)[1:])   # per-target rows, like the other fields
     return IKResult(q=f(res.q), success=f(res.success), position_error=f(res.position_error),
                     rotation_error=f(res.rotation_error), iterations=f(res.iterations), branch=f(res.branch),

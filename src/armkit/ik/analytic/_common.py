@@ -21,6 +21,7 @@ from typing import Callable
 import numpy as np
 from numpy.typing import NDArray
 
+from ... import kinematics as _kinematics
 from ...model.robot import Robot
 
 Array = NDArray[np.float64]
@@ -29,15 +30,18 @@ ANGLE_TOL = 1e-9     # how close a DH twist must be to 0 or +-90 deg to count as
 LENGTH_TOL = 1e-12   # relative to the arm's reach: a DH length this small counts as zero
 
 
+_KERNELS: list = []   # the module ._jit once imported
+
+
 def jit_kernels():
     """The module of Numba kernels (:mod:`._jit`) while the Numba back end is in use, else ``None``."""
-    from ...kinematics import _jit_module
-
-    if _jit_module() is None:
+    if _kinematics._jit_module() is None:
         return None
-    from . import _jit
+    if not _KERNELS:
+        from . import _jit
 
-    return _jit
+        _KERNELS.append(_jit)
+    return _KERNELS[0]
 
 
 def _rx(t: float) -> Array:

@@ -139,7 +139,8 @@ def planar3(T, base_inv, tool_inv, l1, l2):
 
 # ---------------------------------------------------------------------- positioner
 @njit(cache=True, inline="always")
-def _positioner(i, x, y, z, yaw0, s1, d1, a1, a2, Z, ell, beta, tiny, phi, up, unreach, c, r, rho, lat, on_axis):
+def _positioner(i, x, y, z, yaw0, s1, d1, a1, a2, Z, ell, beta, tiny, phi, up, unreach, c, r, rho, lat, on_axis,
+                edge):
     """:meth:`~.yaw_pitch_pitch.Positioner.solve` for target ``i``."""
     rh = math.hypot(x, y)
     rho[i] = rh
@@ -156,6 +157,7 @@ def _positioner(i, x, y, z, yaw0, s1, d1, a1, a2, Z, ell, beta, tiny, phi, up, u
         X = Xs - a1
         t1, t2, cc, rr = _two_link(X, Y, a2, ell)
         c[i, f], r[i, f] = cc, rr
+        edge[i, f] = abs(abs(cc) - 1.0) <= 1e-9
         out = (cc > 1.0) or (cc < -1.0) or lat[i]
         fw = _fwd(X, 1.0 if f == 0 else -1.0)
         for e in range(2):
@@ -170,22 +172,23 @@ def _positioner(i, x, y, z, yaw0, s1, d1, a1, a2, Z, ell, beta, tiny, phi, up, u
 def _pos_arrays(B):
     return (np.empty((B, 4, 3)), np.empty((B, 4), dtype=np.bool_), np.empty((B, 4), dtype=np.bool_),
             np.empty((B, 2)), np.empty((B, 2)), np.empty(B), np.empty(B, dtype=np.bool_),
-            np.empty(B, dtype=np.bool_))
+            np.empty(B, dtype=np.bool_), np.empty((B, 2), dtype=np.bool_))
 
 
 @njit(cache=True)
 def _ypp_run(p, base_inv, yaw0, s1, d1, a1, a2, Z, ell, beta, tiny, phi, up, unreach, c, r, rho, lat, on_axis,
-             lo, hi):
+             edge, lo, hi):
     for i in prange(lo, hi):
         x = base_inv[0, 0] * p[i, 0] + base_inv[0, 1] * p[i, 1] + base_inv[0, 2] * p[i, 2] + base_inv[0, 3]
         y = base_inv[1, 0] * p[i, 0] + base_inv[1, 1] * p[i, 1] + base_inv[1, 2] * p[i, 2] + base_inv[1, 3]
         z = base_inv[2, 0] * p[i, 0] + base_inv[2, 1] * p[i, 1] + base_inv[2, 2] * p[i, 2] + base_inv[2, 3]
         _positioner(i, x, y, z, yaw0[i], s1, d1, a1, a2, Z, ell, beta, tiny, phi, up, unreach, c, r, rho, lat,
-                    on_axis)
+                    on_axis, edge)
 
 
 def yaw_pitch_pitch(p, base_inv, yaw0, pos):
-    """Arrays of ``Positioner.solve`` (phi, up, unreachable, c, r, rho, lateral_out, on_axis) for points ``p``."""
+    """Arrays of ``Positioner.solve`` (phi, up, unreachable, c, r, rho, lateral_out, on_axis) and the
+    stretched-or-folded flags ``(B, 2)`` for points ``p``."""
     B = p.shape[0]
     arrs = _pos_arrays(B)
     _split(_ypp_run, B, p, base_inv, yaw0, float(pos.s1), pos.d1, pos.a1, pos.a2, pos.Z, pos.ell, pos.beta,
@@ -204,7 +207,7 @@ def _rotate_back(v0, v1, v2, c, s, ca, sa):
 
 @njit(cache=True)
 def _puma_run(T, base_inv, tool_inv, q0phi, d6, cs, s4, s5, s1, d1, a1, a2, Z, ell, beta, tiny,
-              out, singular, phi, up, unreach, c, r, rho, lat, on_axis, lo, hi):
+              out, lab, singular, phi, up, unreach, c, r, rho, lat, on_axis, edge, lo, hi):
     for i in prange(lo, hi):
         Tc = np.empty((3, 4))
         _chain(T, i, base_inv, tool_inv, Tc)
@@ -212,7 +215,7 @@ def _puma_run(T, base_inv, tool_inv, q0phi, d6, cs, s4, s5, s1, d1, a1, a2, Z, e
         y = Tc[1, 3] - d6 * Tc[1, 2]
         z = Tc[2, 3] - d6 * Tc[2, 2]
         _positioner(i, x, y, z, q0phi[i, 0], s1, d1, a1, a2, Z, ell, beta, tiny, phi, up, unreach, c, r, rho, lat,
-                    on_axis)
+                    on_axis, edge)
         for b in range(4):
             p0, p12 = phi[i, b, 0], phi[i, b, 1] + phi[i, b, 2]
             c0, s0, c12, s12 = math.cos(p0), math.sin(p0), math.cos(p12), math.sin(p12)
@@ -234,23 +237,25 @@ def _puma_run(T, base_inv, tool_inv, q0phi, d6, cs, s4, s5, s1, d1, a1, a2, Z, e
                 out[i, b, k, 3] = p4
                 out[i, b, k, 4] = p5
                 out[i, b, k, 5] = math.atan2(f1, f0)
+                lab[i, b, k] = (4 if b < 2 else 0) + 2 * (1 if up[i, b] else 0) + (1 if k == 0 else 0)
 
 
 def spherical_wrist(T, base_inv, tool_inv, q0phi, d6, cs, s4, s5, pos):
-    """Joint values ``(B, 4, 2, 6)``, wrist-singular flags ``(B, 4)`` and the positioner's arrays;
+    """Joint values ``(B, 4, 2, 6)``, label indices ``(B, 4, 2)``, wrist-singular flags ``(B, 4)`` and the
+    positioner's arrays;
     ``cs`` ``(4, 2)``: cosine and sine of the twists alpha 1, 3, 4 and 5."""
     B = T.shape[0]
     arrs = _pos_arrays(B)
-    out, singular = np.empty((B, 4, 2, 6)), np.empty((B, 4), dtype=np.bool_)
+    out, lab, singular = np.empty((B, 4, 2, 6)), np.empty((B, 4, 2), np.int64), np.empty((B, 4), dtype=np.bool_)
     _split(_puma_run, B, T, base_inv, tool_inv, q0phi, d6, cs, float(s4), float(s5), float(pos.s1), pos.d1, pos.a1,
-           pos.a2, pos.Z, pos.ell, pos.beta, 1e-12 * pos.scale, out, singular, *arrs)
-    return out, singular, arrs
+           pos.a2, pos.Z, pos.ell, pos.beta, 1e-12 * pos.scale, out, lab, singular, *arrs)
+    return out, lab, singular, arrs
 
 
 # ----------------------------------------------------------------------------- UR
 @njit(cache=True)
 def _ur_run(T, base_inv, tool_inv, q0phi, s1, s4, s5, D, d1, d4, d5, d6, a2, a3, tiny,
-            out, up, unreach, lat, rho, r, on_axis, singular, lo, hi):
+            out, up, lab, unreach, lat, rho, r, on_axis, singular, lo, hi):
     for i in prange(lo, hi):
         Tc = np.empty((3, 4))
         _chain(T, i, base_inv, tool_inv, Tc)
@@ -309,19 +314,21 @@ def _ur_run(T, base_inv, tool_inv, q0phi, s1, s4, s5, D, d1, d4, d5, d6, a2, a3,
                     out[i, sh, wi, e, 4] = p5
                     out[i, sh, wi, e, 5] = p6
                     up[i, sh, wi, e] = _up(f, s1, sg, 1.0 if e == 0 else -1.0)
+                    lab[i, sh, wi, e] = 4 * sh + 2 * wi + (1 if up[i, sh, wi, e] else 0)
                     unreach[i, sh, wi, e] = out_of
 
 
 def ur(T, base_inv, tool_inv, q0phi, s1, s4, s5, D, d1, d4, d5, d6, a2, a3, tiny):
-    """Joint values ``(B, 2, 2, 2, 6)``, elbow flags and unreachable ``(B, 2, 2, 2)``, lateral_out, rho ``(B,)``,
+    """Joint values ``(B, 2, 2, 2, 6)``, label indices and unreachable ``(B, 2, 2, 2)``, lateral_out, rho ``(B,)``,
     r ``(B, 2, 2)``, on_axis ``(B,)`` and singular ``(B, 2, 2)``."""
     B = T.shape[0]
     out, up, unreach = np.empty((B, 2, 2, 2, 6)), np.empty((B, 2, 2, 2), np.bool_), np.empty((B, 2, 2, 2), np.bool_)
+    lab = np.empty((B, 2, 2, 2), np.int64)
     lat, rho, r = np.empty(B, np.bool_), np.empty(B), np.empty((B, 2, 2))
     on_axis, singular = np.empty(B, np.bool_), np.empty((B, 2, 2), np.bool_)
     _split(_ur_run, B, T, base_inv, tool_inv, q0phi, float(s1), float(s4), float(s5), D, d1, d4, d5, d6, a2, a3,
-           tiny, out, up, unreach, lat, rho, r, on_axis, singular)
-    return out, up, unreach, lat, rho, r, on_axis, singular
+           tiny, out, up, lab, unreach, lat, rho, r, on_axis, singular)
+    return out, lab, unreach, lat, rho, r, on_axis, singular
 
 
 # ---------------------------------------------------------------- wrap and pick

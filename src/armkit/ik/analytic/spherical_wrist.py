@@ -100,16 +100,16 @@ class SphericalWrist:
         B = len(target)
         jit = jit_kernels()
         if jit is not None:
-            out, singular, arrays = jit.spherical_wrist(np.ascontiguousarray(target), sf.base_inv, sf.tool_inv,
+            out, idx, singular, arrays = jit.spherical_wrist(np.ascontiguousarray(target), sf.base_inv, sf.tool_inv,
                                                         np.ascontiguousarray(q0phi), float(sf.d[5]), self._cs,
                                                         self.s4, self.s5, self.pos)
             sol = self.pos.as_dict(arrays)
         else:
             out, singular, sol = self._solve_numpy(target, q0phi)
-        idx = _FRONT_FLIP + 2 * sol["up"].astype(int)[:, :, None]
+            idx = _FRONT_FLIP + 2 * sol["up"].astype(int)[:, :, None]
         why4, note4 = self.pos.explain(sol, self.unit, "the wrist centre", "first joint's")
         why = lambda i: why4(i // 2)  # noqa: E731  (flat (B, 8) -> flat (B, 4))
-        note = np.repeat(note4, 2, axis=1)
+        note = np.repeat(note4, 2, axis=1) if note4.any() else np.full((B, 8), "", dtype=object)
         unreachable = np.repeat(sol["unreachable"], 2, axis=1)
         n1, n4 = self.names[0], self.names[3]
         if sol["on_axis"].any():

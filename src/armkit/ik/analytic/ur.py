@@ -126,25 +126,24 @@ class ParallelAxes:
         B = len(target)
         jit = jit_kernels()
         if jit is not None:
-            out, up, unreachable, lateral_out, rho, r, on_axis, singular = jit.ur(
+            out, idx, unreachable, lateral_out, rho, r, on_axis, singular = jit.ur(
                 np.ascontiguousarray(target), sf.base_inv, sf.tool_inv, np.ascontiguousarray(q0phi), s1, s4, s5, D,
                 float(sf.d[0]), float(sf.d[3]), float(sf.d[4]), float(sf.d[5]), float(a2), float(a3),
                 LENGTH_TOL * sf.scale)
         else:
             out, up, unreachable, lateral_out, rho, r, on_axis, singular = self._solve_numpy(target, q0phi)
-        idx = _BRANCH + up.astype(int)
+            idx = _BRANCH + up.astype(int)
         note = np.full((B, 2, 2, 2), "", dtype=object)
         u = self.unit
         outer, inner = abs(a2) + abs(a3), abs(abs(a2) - abs(a3))
         full = lambda a: np.broadcast_to(a, (B, 2, 2, 2)).reshape(-1)  # noqa: E731
-        lat, rho_f, r_f = full(lateral_out[:, None, None, None]), full(rho[:, None, None, None]), full(r[..., None])
 
-        def reason(i: int) -> str:
-            if lat[i]:
-                return (f"the wrist point (on joint 5's axis) is {rho_f[i]:.6g} {u} from the base axis, closer "
+        def reason(i: int) -> str:   # i: flat index into (B, 2, 2, 2) = (target, shoulder, wrist, elbow)
+            if lateral_out[i // 8]:
+                return (f"the wrist point (on joint 5's axis) is {rho[i // 8]:.6g} {u} from the base axis, closer "
                         f"than the shoulder offset {abs(D):.6g} {u}.")
-            return (f"the point on joint 4's axis is {r_f[i]:.6g} {u} from the shoulder; the arm reaches "
-                    f"{outer:.6g} {u} (outer) and {inner:.6g} {u} (inner).")
+            return (f"the point on joint 4's axis is {r.reshape(-1)[i // 2]:.6g} {u} from the shoulder; the arm "
+                    f"reaches {outer:.6g} {u} (outer) and {inner:.6g} {u} (inner).")
 
         n1, n6 = self.names[0], self.names[5]
         if on_axis.any():

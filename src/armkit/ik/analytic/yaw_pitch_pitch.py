@@ -100,9 +100,9 @@ class Positioner:
     @staticmethod
     def as_dict(arrays: tuple) -> dict:
         """The arrays of the Numba kernel (:mod:`._jit`) as :meth:`solve` returns them."""
-        phi, up, unreachable, c, r, rho, lateral_out, on_axis = arrays
+        phi, up, unreachable, c, r, rho, lateral_out, on_axis, edge = arrays
         return {"phi": phi, "front": _FRONT, "up": up, "unreachable": unreachable, "c": c, "r": r, "rho": rho,
-                "lateral_out": lateral_out, "on_axis": on_axis}
+                "lateral_out": lateral_out, "on_axis": on_axis, "edge": edge}
 
     def explain(self, sol: dict, unit: str, what: str, first_axis: str):
         """``why`` (flat index into ``(B, 4)`` -> sentence) and ``note`` ``(B, 4)`` for a :meth:`solve` result."""
@@ -118,7 +118,7 @@ class Positioner:
             return (f"{what} is {r[b, k // 2]:.6g} {unit} from the shoulder; the arm reaches "
                     f"{self.outer:.6g} {unit} (outer) and {self.inner:.6g} {unit} (inner).")
 
-        edge = np.abs(np.abs(c) - 1.0) <= 1e-9
+        edge = sol["edge"] if "edge" in sol else np.abs(np.abs(c) - 1.0) <= 1e-9
         if edge.any():
             edge = np.repeat(edge & ~sol["unreachable"][:, ::2], 2, axis=1)
             add_messages(note, edge, lambda i: (
