@@ -476,7 +476,7 @@ def test_wrap_kernel_matches_wrap_to_limits(seed):
     q0 = np.clip(rng.uniform(-4, 4, (B, n)), lower, upper)
     theta = rng.uniform(-1, 1, n)
     revolute = np.array([True, True, True, True])
-    q, dist = _jit.wrap_dist(raw, theta, q0, lower, upper, revolute)
+    q, dist = _jit.wrap_dist(raw, theta, q0, lower, upper, ~revolute)
     ref = wrap_to_limits(raw - theta, q0[:, None, :], lower, upper, revolute)
     assert np.array_equal(q, ref)
     assert np.allclose(dist, np.linalg.norm(ref - q0[:, None, :], axis=-1), rtol=1e-15, atol=0)

@@ -198,7 +198,7 @@ def solve_all(robot: Robot, solver: ClosedForm, target: Array, q0: Array, positi
     jit = jit_kernels()
     dist = None
     if jit is not None:
-        q, dist = jit.wrap_dist(raw.q, theta, q0, robot.lower, robot.upper, ~robot.prismatic)
+        q, dist = jit.wrap_dist(raw.q, theta, q0, robot.lower, robot.upper, robot.prismatic)
     else:
         q = wrap_to_limits(raw.q - theta, q0[:, None, :], robot.lower, robot.upper, ~robot.prismatic)
     if tol is None:
@@ -240,8 +240,8 @@ def solve_nearest(robot: Robot, solver: ClosedForm, target: Array, q0: Array, po
     rows = np.arange(B)
     jit = jit_kernels()
     if jit is not None:
-        q, pick, cand_pick, nearer_clipped = jit.wrap_pick(raw.q, theta, q0, robot.lower, robot.upper,
-                                                           ~robot.prismatic, raw.unreachable, enforce_limits)
+        q, pick, clean = jit.wrap_pick(raw.q, theta, q0, robot.lower, robot.upper, robot.prismatic,
+                                       raw.unreachable, enforce_limits)
     else:
         q = wrap_to_limits(raw.q - theta, q0[:, None, :], robot.lower, robot.upper, ~robot.prismatic)
         cand = ~raw.unreachable
@@ -249,18 +249,18 @@ def solve_nearest(robot: Robot, solver: ClosedForm, target: Array, q0: Array, po
             cand = cand & robot.within_limits(q)
         dist = np.linalg.norm(np.where(robot.prismatic, 0.0, q - q0[:, None, :]), axis=-1)
         pick = np.argmin(np.where(cand, dist, np.inf), axis=1)
-        cand_pick = cand[rows, pick]
         # a clipped (out-of-reach) branch could still pass FK at a boundary: it matters only if it is nearer
         nearer_clipped = (raw.unreachable & (dist <= dist[rows, pick][:, None])).any(axis=1)
+        clean = cand[rows, pick] & ~nearer_clipped
     qb = q[rows, pick]
     dp, dr, ok, within = verify(robot, qb, target, position_only, tol, enforce_limits)
     scale = solver.sf.scale   # robot.reach (computed on every access)
-    fine = (ok & cand_pick & ~nearer_clipped & (dp <= POLISH_ABOVE * scale) & (dr <= POLISH_ABOVE))
-    res = IKResult(q=qb, success=ok.copy(), position_error=dp, rotation_error=dr,
+    fine = ok & clean & (dp <= POLISH_ABOVE * scale) & (dr <= POLISH_ABOVE)
+    res = IKResult(q=qb, success=ok, position_error=dp, rotation_error=dr,   # fresh arrays: redo writes into them
                    iterations=np.zeros(B, dtype=np.int64), branch=raw.label[rows, pick], within_limits=within,
-                   reason=_REASON_TEXT[np.zeros(B, dtype=int)], message=raw.note[rows, pick].copy())
-    redo = np.flatnonzero(~fine)
-    if len(redo):
+                   reason=_REASON_TEXT[np.zeros(B, dtype=int)], message=raw.note[rows, pick])
+    if not fine.all():
+        redo = np.flatnonzero(~fine)
         full = solve_all(robot, solver, target[redo], q0[redo], position_only, tol, enforce_limits)[:, 0]
         for f in ("q", "success", "position_error", "rotation_error", "branch", "within_limits", "reason",
                   "message"):

@@ -140,7 +140,7 @@ def planar3(T, base_inv, tool_inv, l1, l2):
 # ---------------------------------------------------------------------- positioner
 @njit(cache=True, inline="always")
 def _positioner(i, x, y, z, yaw0, s1, d1, a1, a2, Z, ell, beta, tiny, phi, up, unreach, c, r, rho, lat, on_axis,
-                edge):
+                edge, lab):
     """:meth:`~.yaw_pitch_pitch.Positioner.solve` for target ``i``."""
     rh = math.hypot(x, y)
     rho[i] = rh
@@ -167,28 +167,29 @@ def _positioner(i, x, y, z, yaw0, s1, d1, a1, a2, Z, ell, beta, tiny, phi, up, u
             phi[i, b, 2] = t2[e] - beta
             up[i, b] = _up(fw, s1, sg, 1.0 if e == 0 else -1.0)
             unreach[i, b] = out
+            lab[i, b] = (2 if f == 0 else 0) + (1 if up[i, b] else 0)
 
 
 def _pos_arrays(B):
     return (np.empty((B, 4, 3)), np.empty((B, 4), dtype=np.bool_), np.empty((B, 4), dtype=np.bool_),
             np.empty((B, 2)), np.empty((B, 2)), np.empty(B), np.empty(B, dtype=np.bool_),
-            np.empty(B, dtype=np.bool_), np.empty((B, 2), dtype=np.bool_))
+            np.empty(B, dtype=np.bool_), np.empty((B, 2), dtype=np.bool_), np.empty((B, 4), np.int64))
 
 
 @njit(cache=True)
 def _ypp_run(p, base_inv, yaw0, s1, d1, a1, a2, Z, ell, beta, tiny, phi, up, unreach, c, r, rho, lat, on_axis,
-             edge, lo, hi):
+             edge, lab, lo, hi):
     for i in prange(lo, hi):
         x = base_inv[0, 0] * p[i, 0] + base_inv[0, 1] * p[i, 1] + base_inv[0, 2] * p[i, 2] + base_inv[0, 3]
         y = base_inv[1, 0] * p[i, 0] + base_inv[1, 1] * p[i, 1] + base_inv[1, 2] * p[i, 2] + base_inv[1, 3]
         z = base_inv[2, 0] * p[i, 0] + base_inv[2, 1] * p[i, 1] + base_inv[2, 2] * p[i, 2] + base_inv[2, 3]
         _positioner(i, x, y, z, yaw0[i], s1, d1, a1, a2, Z, ell, beta, tiny, phi, up, unreach, c, r, rho, lat,
-                    on_axis, edge)
+                    on_axis, edge, lab)
 
 
 def yaw_pitch_pitch(p, base_inv, yaw0, pos):
     """Arrays of ``Positioner.solve`` (phi, up, unreachable, c, r, rho, lateral_out, on_axis) and the
-    stretched-or-folded flags ``(B, 2)`` for points ``p``."""
+    stretched-or-folded flags ``(B, 2)`` and label indices ``(B, 4)`` for points ``p``."""
     B = p.shape[0]
     arrs = _pos_arrays(B)
     _split(_ypp_run, B, p, base_inv, yaw0, float(pos.s1), pos.d1, pos.a1, pos.a2, pos.Z, pos.ell, pos.beta,
@@ -207,7 +208,7 @@ def _rotate_back(v0, v1, v2, c, s, ca, sa):
 
 @njit(cache=True)
 def _puma_run(T, base_inv, tool_inv, q0phi, d6, cs, s4, s5, s1, d1, a1, a2, Z, ell, beta, tiny,
-              out, lab, singular, phi, up, unreach, c, r, rho, lat, on_axis, edge, lo, hi):
+              out, lab, singular, phi, up, unreach, c, r, rho, lat, on_axis, edge, lab4, lo, hi):
     for i in prange(lo, hi):
         Tc = np.empty((3, 4))
         _chain(T, i, base_inv, tool_inv, Tc)
@@ -215,7 +216,7 @@ def _puma_run(T, base_inv, tool_inv, q0phi, d6, cs, s4, s5, s1, d1, a1, a2, Z, e
         y = Tc[1, 3] - d6 * Tc[1, 2]
         z = Tc[2, 3] - d6 * Tc[2, 2]
         _positioner(i, x, y, z, q0phi[i, 0], s1, d1, a1, a2, Z, ell, beta, tiny, phi, up, unreach, c, r, rho, lat,
-                    on_axis, edge)
+                    on_axis, edge, lab4)
         for b in range(4):
             p0, p12 = phi[i, b, 0], phi[i, b, 1] + phi[i, b, 2]
             c0, s0, c12, s12 = math.cos(p0), math.sin(p0), math.cos(p12), math.sin(p12)
@@ -352,8 +353,10 @@ def _wrap_one(v, q0, lo, hi, revolute):
 
 
 @njit(cache=True)
-def _pick_run(rawq, theta, q0, lo, hi, revolute, unreach, enforce, q, pick, cand_pick, nearer, first, last):
+def _pick_run(rawq, theta, q0, lower, upper, prismatic, unreach, enforce, q, pick, clean, first, last):
     m, n = rawq.shape[1], rawq.shape[2]
+    lo, hi = lower - 1e-12, upper + 1e-12
+    revolute = ~prismatic
     for i in prange(first, last):
         best, bd = 0, np.inf
         dist = np.empty(m)
@@ -373,28 +376,28 @@ def _pick_run(rawq, theta, q0, lo, hi, revolute, unreach, enforce, q, pick, cand
             if cand[b] and dist[b] < bd:
                 best, bd = b, dist[b]
         pick[i] = best
-        cand_pick[i] = cand[best]
         near = False
         for b in range(m):
             if unreach[i, b] and dist[b] <= dist[best]:
                 near = True
-        nearer[i] = near
+        clean[i] = cand[best] and not near
 
 
-def wrap_pick(rawq, theta, q0, lower, upper, revolute, unreachable, enforce):
+def wrap_pick(rawq, theta, q0, lower, upper, prismatic, unreachable, enforce):
     """Wrapped joint values ``(B, m, n)`` and, per target, the branch nearest ``q0`` among those not clipped (and
-    inside the limits when ``enforce``), whether it is such a candidate, and whether a clipped branch is as near."""
+    inside the limits when ``enforce``), and whether it is such a candidate with no clipped branch as near."""
     B, m, n = rawq.shape
     q = np.empty((B, m, n))
-    pick, cand_pick, nearer = np.empty(B, np.int64), np.empty(B, np.bool_), np.empty(B, np.bool_)
-    _split(_pick_run, B, rawq, theta, q0, lower - 1e-12, upper + 1e-12, revolute, unreachable, enforce, q, pick,
-           cand_pick, nearer)
-    return q, pick, cand_pick, nearer
+    pick, clean = np.empty(B, np.int64), np.empty(B, np.bool_)
+    _split(_pick_run, B, rawq, theta, q0, lower, upper, prismatic, unreachable, enforce, q, pick, clean)
+    return q, pick, clean
 
 
 @njit(cache=True)
-def _wrap_dist_run(rawq, theta, q0, lo, hi, revolute, q, dist, first, last):
+def _wrap_dist_run(rawq, theta, q0, lower, upper, prismatic, q, dist, first, last):
     m, n = rawq.shape[1], rawq.shape[2]
+    lo, hi = lower - 1e-12, upper + 1e-12
+    revolute = ~prismatic
     for i in prange(first, last):
         for b in range(m):
             s = 0.0
@@ -406,10 +409,10 @@ def _wrap_dist_run(rawq, theta, q0, lo, hi, revolute, q, dist, first, last):
             dist[i, b] = math.sqrt(s)
 
 
-def wrap_dist(rawq, theta, q0, lower, upper, revolute):
+def wrap_dist(rawq, theta, q0, lower, upper, prismatic):
     """Wrapped joint values ``(B, m, n)`` (:func:`~armkit.ik.analytic.wrap_to_limits`) and their distances
     ``(B, m)`` to ``q0`` (revolute joints)."""
     B, m, n = rawq.shape
     q, dist = np.empty((B, m, n)), np.empty((B, m))
-    _split(_wrap_dist_run, B, rawq, theta, q0, lower - 1e-12, upper + 1e-12, revolute, q, dist)
+    _split(_wrap_dist_run, B, rawq, theta, q0, lower, upper, prismatic, q, dist)
     return q, dist

@@ -100,9 +100,9 @@ class Positioner:
     @staticmethod
     def as_dict(arrays: tuple) -> dict:
         """The arrays of the Numba kernel (:mod:`._jit`) as :meth:`solve` returns them."""
-        phi, up, unreachable, c, r, rho, lateral_out, on_axis, edge = arrays
+        phi, up, unreachable, c, r, rho, lateral_out, on_axis, edge, label = arrays
         return {"phi": phi, "front": _FRONT, "up": up, "unreachable": unreachable, "c": c, "r": r, "rho": rho,
-                "lateral_out": lateral_out, "on_axis": on_axis, "edge": edge}
+                "lateral_out": lateral_out, "on_axis": on_axis, "edge": edge, "label": label}
 
     def explain(self, sol: dict, unit: str, what: str, first_axis: str):
         """``why`` (flat index into ``(B, 4)`` -> sentence) and ``note`` ``(B, 4)`` for a :meth:`solve` result."""
@@ -153,7 +153,7 @@ class YawPitchPitch:
                                                        np.ascontiguousarray(q0phi[:, 0]), self.pos))
         else:
             sol = self.pos.solve(self.sf.point_to_chain(pts), q0phi[:, 0])
-        idx = 2 * sol["front"].astype(int) + sol["up"].astype(int)
+        idx = sol["label"] if "label" in sol else 2 * sol["front"].astype(int) + sol["up"].astype(int)
         why, note = self.pos.explain(sol, self.unit, "target", "yaw")
         if not sol["on_axis"].any():
             return Raw(sol["phi"], _LABELS[idx], sol["unreachable"], why, note)
