@@ -2,7 +2,9 @@
 
 The NumPy version costs ~20 µs for one target (a dozen small array operations); this one
 costs well under a microsecond per candidate, which matters because every IK answer is
-checked. Imported lazily, only when the Numba back end is in use.
+checked. :func:`check_pose` and :func:`check_point` do one candidate and return scalars
+(the single-call path of ``verify``); :func:`errors` does a batch. Imported lazily, only
+when the Numba back end is in use.
 """
 
 from __future__ import annotations

@@ -4,7 +4,9 @@ Both solvers iterate every target of a batch together (batched FK, Jacobians and
 solves; with Numba, one compiled loop per target run in parallel threads) and report
 honestly: ``success`` comes only from the FK check :func:`armkit.ik.verify` (or its
 masked form, see ``mask``), and a failure says why (``reason``) and by how much
-(``message``).
+(``message``). A single target with the default mask and tolerance takes a short route
+to the same kernel, seeds and check (single-call latency is mostly Python around the
+kernel); its result is the same, field by field.
 
 The task error
 --------------
@@ -99,6 +101,7 @@ def _constants(robot: Robot) -> dict:
                  limits=(lo, hi, np.where(np.isfinite(lo), lo, np.where(rev, -math.pi, -span)),
                          np.where(np.isfinite(hi), hi, np.where(rev, math.pi, span))),
                  free=(free_lo, free_hi, np.where(rev, -math.pi, -span), np.where(rev, math.pi, span)))
+        c["origin xyz"] = tuple(c["origin"].tolist())
         for key in ("limits", "free"):  # lower, upper, random-start low and high as one (4, n) array
             c["packed " + key] = np.ascontiguousarray(np.stack(c[key]))
         object.__setattr__(robot, "_lm_constants", c)
@@ -596,6 +599,7 @@ def _finish(prob: Problem, q: Array, iters: NDArray[np.int64], used: NDArray[np.
 
 
 _EYE_1 = np.eye(4)[None]
+_NO_TRACE = np.empty((1, 0))               # zero-size: the kernel never writes it
 _LM_BRANCH = np.full(1, "lm", dtype=object)
 _CONVERGED = np.array(["converged"])      # the dtype of assemble's reason field: "<U9"
 for _a in (_EYE_1, _LM_BRANCH, _CONVERGED):
@@ -628,7 +632,7 @@ def _solve_one(robot: Robot, target: Any, q0: Any, max_iterations: Optional[int]
     tol = default_tolerance(robot)
     c = _constants(robot)
     x, y, z = (target[0] if point else target[0, :3, 3]).tolist()
-    ox, oy, oz = c["origin"].tolist()
+    ox, oy, oz = c["origin xyz"]
     if math.sqrt((x - ox) ** 2 + (y - oy) ** 2 + (z - oz) ** 2) > c["reach"] * (1.0 + 1e-9) + tol[0]:
         return None  # provably unreachable: the general path explains it
     if point:
@@ -642,7 +646,7 @@ def _solve_one(robot: Robot, target: Any, q0: Any, max_iterations: Optional[int]
     info = np.zeros((1, 4))
     limits = c["packed limits" if enforce_limits else "packed free"]
     if not kernels.lm_single(c["mats"], robot.chain.prismatic, limits, params, ints, poses, _seeds(seed, 1), q,
-                             np.empty((1, 0)), info):
+                             _NO_TRACE, info):
         return None  # NaN or infinity in the target or q0: the general path says which
     dp, dr, ok, within = verify(robot, q, target, point, tol, enforce_limits)
     iters = int(info[0, 0])
