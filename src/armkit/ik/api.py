@@ -215,13 +215,14 @@ def _all_branches(robot: Robot, target: Array, q0: Array, position_only: bool, t
 
 
 def _nearest_branch(robot: Robot, target: Array, q0: Array, position_only: bool, tol: Any,
-                    enforce_limits: bool) -> IKResult:
+                    enforce_limits: bool, solver: Any = None) -> IKResult:
     from .analytic import solve_nearest
 
-    why: list[str] = []
-    solver = _analytic_solver(robot, position_only, why)
     if solver is None:
-        raise IKInputError(why[0])
+        why: list[str] = []
+        solver = _analytic_solver(robot, position_only, why)
+        if solver is None:
+            raise IKInputError(why[0])
     return solve_nearest(robot, solver, target, q0, position_only, _tolerance(robot, tol), enforce_limits)
 
 
@@ -337,9 +338,11 @@ def ik(robot: Robot, target: ArrayLike, q0: ArrayLike | None = None,
     flat, lead, position_only = _normalise_target(robot, target, phi)
     q0f = _normalise_q0(robot, q0, lead)
     use_closed = method == "analytic"
+    solver = None
     if method == "auto":
         why: list[str] = []
-        use_closed = mask is None and _analytic_solver(robot, position_only, why) is not None
+        solver = None if mask is not None else _analytic_solver(robot, position_only, why)
+        use_closed = solver is not None
     if branch is not None and not use_closed:
         raise IKInputError("branch= picks a closed-form solution; "
                            + (f"method {method!r} is numeric" if method not in ("auto", "analytic")
@@ -348,7 +351,7 @@ def ik(robot: Robot, target: ArrayLike, q0: ArrayLike | None = None,
         if mask is not None:
             raise IKInputError("mask= is for the numeric methods; the closed form solves the full target")
         if branch is None:
-            res = _nearest_branch(robot, flat, q0f, position_only, tol, enforce_limits)
+            res = _nearest_branch(robot, flat, q0f, position_only, tol, enforce_limits, solver)
         else:
             every = _all_branches(robot, flat, q0f, position_only, tol, enforce_limits)
             hit = every.branch == branch

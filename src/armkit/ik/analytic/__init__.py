@@ -240,8 +240,8 @@ def solve_nearest(robot: Robot, solver: ClosedForm, target: Array, q0: Array, po
     rows = np.arange(B)
     jit = jit_kernels()
     if jit is not None:
-        q, pick, clean = jit.wrap_pick(raw.q, theta, q0, robot.lower, robot.upper, robot.prismatic,
-                                       raw.unreachable, enforce_limits)
+        qb, pick, clean = jit.wrap_pick(raw.q, theta, q0, robot.lower, robot.upper, robot.prismatic,
+                                        raw.unreachable, enforce_limits)
     else:
         q = wrap_to_limits(raw.q - theta, q0[:, None, :], robot.lower, robot.upper, ~robot.prismatic)
         cand = ~raw.unreachable
@@ -252,7 +252,7 @@ def solve_nearest(robot: Robot, solver: ClosedForm, target: Array, q0: Array, po
         # a clipped (out-of-reach) branch could still pass FK at a boundary: it matters only if it is nearer
         nearer_clipped = (raw.unreachable & (dist <= dist[rows, pick][:, None])).any(axis=1)
         clean = cand[rows, pick] & ~nearer_clipped
-    qb = q[rows, pick]
+        qb = q[rows, pick]
     dp, dr, ok, within = verify(robot, qb, target, position_only, tol, enforce_limits)
     scale = solver.sf.scale   # robot.reach (computed on every access)
     fine = ok & clean & (dp <= POLISH_ABOVE * scale) & (dr <= POLISH_ABOVE)

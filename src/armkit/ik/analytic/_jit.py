@@ -55,24 +55,29 @@ def _up(forward, up_sign, l1l2_sign, e):
 
 # ------------------------------------------------------------------------- planar
 @njit(cache=True, inline="always")
-def _planar_one(i, x, y, l1, l2, extra, q, up, c, r):
-    """2R core for target ``i``: ``q[i, :, 0:2]``, elbow flags ``up[i]``, ``c[i]``, ``r[i]``."""
-    t1, t2, c[i], r[i] = _two_link(x, y, l1, l2)
+def _planar_one(i, x, y, l1, l2, extra, q, up, c, r, unreach, edge):
+    """2R core for target ``i``: ``q[i, :, 0:2]``, label indices (elbow up) ``up[i]``, ``c[i]``, ``r[i]``,
+    ``unreach[i]`` and ``edge[i]`` (stretched or folded)."""
+    t1, t2, cc, r[i] = _two_link(x, y, l1, l2)
+    c[i] = cc
+    out = (cc > 1.0) or (cc < -1.0)
+    edge[i] = abs(abs(cc) - 1.0) <= 1e-9 and not out
     sg = math.copysign(1.0, l1 * l2)
     f = _fwd(x, 1.0)
     for k in range(2):
         q[i, k, 0] = t1[k]
         q[i, k, 1] = t2[k] - extra
-        up[i, k] = _up(f, 1.0, sg, 1.0 if k == 0 else -1.0)
+        up[i, k] = 1 if _up(f, 1.0, sg, 1.0 if k == 0 else -1.0) else 0
+        unreach[i, k] = out
     return t1, t2
 
 
 @njit(cache=True)
-def _planar2_run(p, base_inv, l1, ell, beta, q, up, c, r, lo, hi):
+def _planar2_run(p, base_inv, l1, ell, beta, q, up, c, r, unreach, edge, lo, hi):
     for i in prange(lo, hi):
         x = base_inv[0, 0] * p[i, 0] + base_inv[0, 1] * p[i, 1] + base_inv[0, 2] * p[i, 2] + base_inv[0, 3]
         y = base_inv[1, 0] * p[i, 0] + base_inv[1, 1] * p[i, 1] + base_inv[1, 2] * p[i, 2] + base_inv[1, 3]
-        _planar_one(i, x, y, l1, ell, beta, q, up, c, r)
+        _planar_one(i, x, y, l1, ell, beta, q, up, c, r, unreach, edge)
 
 
 @njit(cache=True, inline="always")
@@ -88,12 +93,12 @@ def _chain(T, i, A, C, out):
 
 
 @njit(cache=True)
-def _planar3_run(T, base_inv, tool_inv, l1, l2, q, up, c, r, lo, hi):
+def _planar3_run(T, base_inv, tool_inv, l1, l2, q, up, c, r, unreach, edge, lo, hi):
     for i in prange(lo, hi):
         Tc = np.empty((3, 4))
         _chain(T, i, base_inv, tool_inv, Tc)
         phi = math.atan2(Tc[1, 0], Tc[0, 0])
-        t1, t2 = _planar_one(i, Tc[0, 3], Tc[1, 3], l1, l2, 0.0, q, up, c, r)
+        t1, t2 = _planar_one(i, Tc[0, 3], Tc[1, 3], l1, l2, 0.0, q, up, c, r, unreach, edge)
         for k in range(2):
             q[i, k, 2] = phi - t1[k] - t2[k]
 
@@ -121,20 +126,24 @@ def _par(run, B, *args):
 _PARALLEL: dict = {}
 
 
+def _planar_arrays(B, n):
+    return (np.empty((B, 2, n)), np.empty((B, 2), np.int64), np.empty(B), np.empty(B), np.empty((B, 2), np.bool_),
+            np.empty(B, np.bool_))
+
+
 def planar2(p, base_inv, l1, ell, beta):
-    B = p.shape[0]
-    q, up = np.empty((B, 2, 2)), np.empty((B, 2), dtype=np.bool_)
-    c, r = np.empty(B), np.empty(B)
-    _split(_planar2_run, B, p, base_inv, l1, ell, beta, q, up, c, r)
-    return q, up, c, r
+    """Points ``p`` (B, 3) -> joint values ``(B, 2, 2)``, label indices ``(B, 2)`` (1: elbow up), the two-link
+    cosine and distance ``(B,)``, unreachable ``(B, 2)`` and stretched-or-folded ``(B,)``."""
+    arrs = _planar_arrays(p.shape[0], 2)
+    _split(_planar2_run, p.shape[0], p, base_inv, l1, ell, beta, *arrs)
+    return arrs
 
 
 def planar3(T, base_inv, tool_inv, l1, l2):
-    B = T.shape[0]
-    q, up = np.empty((B, 2, 3)), np.empty((B, 2), dtype=np.bool_)
-    c, r = np.empty(B), np.empty(B)
-    _split(_planar3_run, B, T, base_inv, tool_inv, l1, l2, q, up, c, r)
-    return q, up, c, r
+    """Poses ``T`` (B, 4, 4) -> the arrays of :func:`planar2`, joint values ``(B, 2, 3)``."""
+    arrs = _planar_arrays(T.shape[0], 3)
+    _split(_planar3_run, T.shape[0], T, base_inv, tool_inv, l1, l2, *arrs)
+    return arrs
 
 
 # ---------------------------------------------------------------------- positioner
@@ -353,7 +362,7 @@ def _wrap_one(v, q0, lo, hi, revolute):
 
 
 @njit(cache=True)
-def _pick_run(rawq, theta, q0, lower, upper, prismatic, unreach, enforce, q, pick, clean, first, last):
+def _pick_run(rawq, theta, q0, lower, upper, prismatic, unreach, enforce, qb, pick, clean, first, last):
     m, n = rawq.shape[1], rawq.shape[2]
     lo, hi = lower - 1e-12, upper + 1e-12
     revolute = ~prismatic
@@ -361,12 +370,13 @@ def _pick_run(rawq, theta, q0, lower, upper, prismatic, unreach, enforce, q, pic
         best, bd = 0, np.inf
         dist = np.empty(m)
         cand = np.empty(m, dtype=np.bool_)
+        q = np.empty((m, n))
         for b in range(m):
             inside = True
             s = 0.0
             for j in range(n):
                 v = _wrap_one(rawq[i, b, j] - theta[j], q0[i, j], lo[j], hi[j], revolute[j])
-                q[i, b, j] = v
+                q[b, j] = v
                 if v < lo[j] or v > hi[j]:
                     inside = False
                 if revolute[j]:
@@ -376,6 +386,7 @@ def _pick_run(rawq, theta, q0, lower, upper, prismatic, unreach, enforce, q, pic
             if cand[b] and dist[b] < bd:
                 best, bd = b, dist[b]
         pick[i] = best
+        qb[i] = q[best]
         near = False
         for b in range(m):
             if unreach[i, b] and dist[b] <= dist[best]:
@@ -384,13 +395,14 @@ def _pick_run(rawq, theta, q0, lower, upper, prismatic, unreach, enforce, q, pic
 
 
 def wrap_pick(rawq, theta, q0, lower, upper, prismatic, unreachable, enforce):
-    """Wrapped joint values ``(B, m, n)`` and, per target, the branch nearest ``q0`` among those not clipped (and
-    inside the limits when ``enforce``), and whether it is such a candidate with no clipped branch as near."""
+    """Per target, the branch nearest ``q0`` among those not clipped (and inside the limits when ``enforce``):
+    its wrapped joint values ``(B, n)``, its index ``(B,)``, and whether it is such a candidate with no clipped
+    branch as near ``(B,)``."""
     B, m, n = rawq.shape
-    q = np.empty((B, m, n))
+    qb = np.empty((B, n))
     pick, clean = np.empty(B, np.int64), np.empty(B, np.bool_)
-    _split(_pick_run, B, rawq, theta, q0, lower, upper, prismatic, unreachable, enforce, q, pick, clean)
-    return q, pick, clean
+    _split(_pick_run, B, rawq, theta, q0, lower, upper, prismatic, unreachable, enforce, qb, pick, clean)
+    return qb, pick, clean
 
 
 @njit(cache=True)

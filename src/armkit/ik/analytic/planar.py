@@ -30,18 +30,22 @@ from ._common import Array, Raw, StandardForm, add_messages, elbow_up, forward_s
 _LABELS = np.array(["elbow-down", "elbow-up"], dtype=object)
 
 
-def _explain(c: Array, r: Array, l1: float, l2: float, unit: str, what: str):
+def _explain(c: Array, r: Array, l1: float, l2: float, unit: str, what: str, flags: tuple | None = None):
+    """``unreachable`` ``(B, 2)``, ``why`` and ``note`` ``(B, 2)``; ``flags``: (unreachable, stretched or
+    folded ``(B,)``) when the Numba kernel has computed them."""
     B = len(c)
-    unreachable = np.repeat(((c > 1.0) | (c < -1.0))[:, None], 2, axis=1)
+    if flags is not None:
+        unreachable, edge1 = flags
+    else:
+        unreachable = np.repeat(((c > 1.0) | (c < -1.0))[:, None], 2, axis=1)
+        edge1 = (np.abs(np.abs(c) - 1.0) <= 1e-9) & ~unreachable[:, 0]
     note = np.full((B, 2), "", dtype=object)
     outer, inner = abs(l1) + abs(l2), abs(abs(l1) - abs(l2))
     why = lambda i: (  # noqa: E731
         f"{what} is {r[i // 2]:.6g} {unit} from the shoulder; the arm reaches {outer:.6g} {unit} (outer) "
         f"and {inner:.6g} {unit} (inner).")
-    edge = np.abs(np.abs(c) - 1.0) <= 1e-9
-    if edge.any():
-        edge = np.repeat((edge & ~unreachable[:, 0])[:, None], 2, axis=1)
-        add_messages(note, edge, lambda i: (
+    if edge1.any():
+        add_messages(note, np.repeat(edge1[:, None], 2, axis=1), lambda i: (
             "fully stretched: elbow-up and elbow-down coincide." if c[i // 2] > 0
             else "fully folded: elbow-up and elbow-down coincide."))
     return unreachable, why, note
@@ -69,13 +73,14 @@ class Planar2R:
         pts = target[:, :3, 3] if target.ndim == 3 else target
         jit = jit_kernels()
         if jit is not None:
-            q, up, c, r = jit.planar2(np.ascontiguousarray(pts), self.sf.base_inv, float(self.sf.a[0]), self.ell,
-                                      self.beta)
-        else:
-            p = self.sf.point_to_chain(pts)
-            t1, t2, c, r = two_link(p[:, 0], p[:, 1], self.sf.a[0], self.ell)
-            q = np.stack([t1, t2 - self.beta], axis=-1)                      # (B, 2, 2)
-            up = elbow_up(forward_sign(p[:, 0])[:, None], 1.0, self.sf.a[0], self.ell, np.array([0, 1]))
+            q, idx, c, r, unreachable, edge = jit.planar2(np.ascontiguousarray(pts), self.sf.base_inv,
+                                                          float(self.sf.a[0]), self.ell, self.beta)
+            _, why, note = _explain(c, r, self.sf.a[0], self.ell, self.unit, "target", (unreachable, edge))
+            return Raw(q, _LABELS[idx], unreachable, why, note)
+        p = self.sf.point_to_chain(pts)
+        t1, t2, c, r = two_link(p[:, 0], p[:, 1], self.sf.a[0], self.ell)
+        q = np.stack([t1, t2 - self.beta], axis=-1)                          # (B, 2, 2)
+        up = elbow_up(forward_sign(p[:, 0])[:, None], 1.0, self.sf.a[0], self.ell, np.array([0, 1]))
         unreachable, why, note = _explain(c, r, self.sf.a[0], self.ell, self.unit, "target")
         return Raw(q, _LABELS[up.astype(int)], unreachable, why, note)
 
@@ -98,16 +103,18 @@ class Planar3R:
 
     def solve(self, target: Array, q0phi: Array) -> Raw:
         l1, l2 = float(self.sf.a[0]), float(self.sf.a[1])
+        what = "for this end angle, the wrist point (target minus tool and last link)"
         jit = jit_kernels()
         if jit is not None:
-            q, up, c, r = jit.planar3(np.ascontiguousarray(target), self.sf.base_inv, self.sf.tool_inv, l1, l2)
-        else:
-            Tc = self.sf.to_chain(target)
-            phi = np.arctan2(Tc[:, 1, 0], Tc[:, 0, 0])
-            x, y = Tc[:, 0, 3], Tc[:, 1, 3]
-            t1, t2, c, r = two_link(x, y, l1, l2)
-            q = np.stack([t1, t2, phi[:, None] - t1 - t2], axis=-1)          # (B, 2, 3)
-            up = elbow_up(forward_sign(x)[:, None], 1.0, l1, l2, np.array([0, 1]))
-        unreachable, why, note = _explain(c, r, l1, l2, self.unit,
-                                          "for this end angle, the wrist point (target minus tool and last link)")
+            q, idx, c, r, unreachable, edge = jit.planar3(np.ascontiguousarray(target), self.sf.base_inv,
+                                                          self.sf.tool_inv, l1, l2)
+            _, why, note = _explain(c, r, l1, l2, self.unit, what, (unreachable, edge))
+            return Raw(q, _LABELS[idx], unreachable, why, note)
+        Tc = self.sf.to_chain(target)
+        phi = np.arctan2(Tc[:, 1, 0], Tc[:, 0, 0])
+        x, y = Tc[:, 0, 3], Tc[:, 1, 3]
+        t1, t2, c, r = two_link(x, y, l1, l2)
+        q = np.stack([t1, t2, phi[:, None] - t1 - t2], axis=-1)              # (B, 2, 3)
+        up = elbow_up(forward_sign(x)[:, None], 1.0, l1, l2, np.array([0, 1]))
+        unreachable, why, note = _explain(c, r, l1, l2, self.unit, what)
         return Raw(q, _LABELS[up.astype(int)], unreachable, why, note)
