@@ -215,7 +215,7 @@ def _all_branches(robot: Robot, target: Array, q0: Array, position_only: bool, t
 
 
 def _nearest_branch(robot: Robot, target: Array, q0: Array, position_only: bool, tol: Any,
-                    enforce_limits: bool, solver: Any = None) -> IKResult:
+                    enforce_limits: bool, solver: Any = None, lead: tuple[int, ...] | None = None) -> IKResult:
     from .analytic import solve_nearest
 
     if solver is None:
@@ -223,7 +223,7 @@ def _nearest_branch(robot: Robot, target: Array, q0: Array, position_only: bool,
         solver = _analytic_solver(robot, position_only, why)
         if solver is None:
             raise IKInputError(why[0])
-    return solve_nearest(robot, solver, target, q0, position_only, _tolerance(robot, tol), enforce_limits)
+    return solve_nearest(robot, solver, target, q0, position_only, _tolerance(robot, tol), enforce_limits, lead)
 
 
 def _numeric(method: str, robot: Robot, target: Array, q0: Array, **kw: Any) -> IKResult:
@@ -350,8 +350,8 @@ def ik(robot: Robot, target: ArrayLike, q0: ArrayLike | None = None,
     if use_closed:
         if mask is not None:
             raise IKInputError("mask= is for the numeric methods; the closed form solves the full target")
-        if branch is None:
-            res = _nearest_branch(robot, flat, q0f, position_only, tol, enforce_limits, solver)
+        if branch is None:   # shaped lead + (...) already
+            res = _nearest_branch(robot, flat, q0f, position_only, tol, enforce_limits, solver, lead)
         else:
             every = _all_branches(robot, flat, q0f, position_only, tol, enforce_limits)
             hit = every.branch == branch
@@ -359,8 +359,7 @@ def ik(robot: Robot, target: ArrayLike, q0: ArrayLike | None = None,
                 valid = sorted(set(np.asarray(every.branch).ravel().tolist()))
                 raise IKInputError(f"unknown branch {branch!r} for robot {robot.name!r}; valid branches: "
                                    + ", ".join(valid))
-            res = every[np.arange(len(flat)), np.argmax(hit, axis=1)]
-        res = _reshape(res, lead)
+            res = _reshape(every[np.arange(len(flat)), np.argmax(hit, axis=1)], lead)
     else:
         kw: dict[str, Any] = {"mask": mask, "tol": None if tol is None else _tolerance(robot, tol), "seed": seed, "enforce_limits": enforce_limits,
                               "trace": trace, "max_iterations": max_iterations, "restarts": restarts}

@@ -224,13 +224,14 @@ def solve_all(robot: Robot, solver: ClosedForm, target: Array, q0: Array, positi
 
 
 def solve_nearest(robot: Robot, solver: ClosedForm, target: Array, q0: Array, position_only: bool,
-                  tol: tuple[float, float] | None = None, enforce_limits: bool = True) -> IKResult:
+                  tol: tuple[float, float] | None = None, enforce_limits: bool = True,
+                  lead: tuple[int, ...] | None = None) -> IKResult:
     """The first branch of :func:`solve_all` for each target, checking only that branch by FK.
 
     Same answer as ``solve_all(...)[:, 0]``: where the branch nearest ``q0`` among those the
     geometry and the limits allow passes its FK check, and no clipped (out-of-reach) branch is
     nearer, it is the nearest successful one; every other target goes through :func:`solve_all`.
-    Fields ``(B,)``, ``q`` ``(B, n)``.
+    Fields ``(B,)``, ``q`` ``(B, n)``; ``lead + (...)`` instead of ``(B, ...)`` when ``lead`` is given.
     """
     if tol is None:
         tol = default_tolerance(robot)
@@ -256,13 +257,15 @@ def solve_nearest(robot: Robot, solver: ClosedForm, target: Array, q0: Array, po
     dp, dr, ok, within = verify(robot, qb, target, position_only, tol, enforce_limits)
     scale = solver.sf.scale   # robot.reach (computed on every access)
     fine = ok & clean & (dp <= POLISH_ABOVE * scale) & (dr <= POLISH_ABOVE)
-    res = IKResult(q=qb, success=ok, position_error=dp, rotation_error=dr,   # fresh arrays: redo writes into them
-                   iterations=np.zeros(B, dtype=np.int64), branch=raw.label[rows, pick], within_limits=within,
-                   reason=_REASON_TEXT[np.zeros(B, dtype=int)], message=raw.note[rows, pick])
+    fields = {"q": qb, "success": ok, "position_error": dp, "rotation_error": dr,   # fresh arrays: redo writes
+              "iterations": np.zeros(B, dtype=np.int64), "branch": raw.label[rows, pick], "within_limits": within,
+              "reason": _REASON_TEXT[np.zeros(B, dtype=int)], "message": raw.note[rows, pick]}
     if not fine.all():
         redo = np.flatnonzero(~fine)
         full = solve_all(robot, solver, target[redo], q0[redo], position_only, tol, enforce_limits)[:, 0]
         for f in ("q", "success", "position_error", "rotation_error", "branch", "within_limits", "reason",
                   "message"):
-            getattr(res, f)[redo] = getattr(full, f)
-    return res
+            fields[f][redo] = getattr(full, f)
+    if lead is not None:
+        fields = {k: a.reshape(lead + a.shape[1:]) for k, a in fields.items()}
+    return IKResult(**fields)
