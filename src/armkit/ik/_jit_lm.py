@@ -384,9 +384,10 @@ def lm_serial(mats, prismatic, limits, params, ints, targets, seeds, q, trace, i
 
 
 @njit(cache=True)
-def lm_single(mats, prismatic, limits, params, ints, targets, seeds, q, trace, info):
-    """:func:`lm_serial` for one target that first checks it: False (nothing solved) if the
-    target ``targets[0]`` or the start ``q[0]`` holds a NaN or an infinity."""
+def lm_single(mats, prismatic, limits, params, ints, targets, seed, q, info):
+    """:func:`lm_serial` for one target (restart seed ``seed``, no trace) that first checks it:
+    False (nothing solved) if the target ``targets[0]`` or the start ``q[0]`` holds a NaN or
+    an infinity. Fewer arguments than :func:`lm_serial`: each costs time to pass."""
     for i in range(4):
         for j in range(4):
             if not math.isfinite(targets[0, i, j]):
@@ -394,5 +395,7 @@ def lm_single(mats, prismatic, limits, params, ints, targets, seeds, q, trace, i
     for j in range(q.shape[1]):
         if not math.isfinite(q[0, j]):
             return False
-    _one(mats, prismatic, limits, params, ints, targets, seeds, q, trace, info, 0)
+    seeds = np.empty(1, np.uint64)
+    seeds[0] = seed
+    _one(mats, prismatic, limits, params, ints, targets, seeds, q, np.empty((1, 0)), info, 0)
     return True

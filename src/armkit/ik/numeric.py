@@ -192,17 +192,18 @@ class Problem:
         return dist > self.const["reach"] * (1.0 + 1e-9) + self.tol[0], dist
 
 
-def _seeds(seed: Any, B: int) -> NDArray[np.uint64]:
-    """One restart seed per target, reproducible from ``seed``."""
+def _seed_base(seed: Any) -> int:
+    """The first target's restart seed (0 <= base < 2**62), reproducible from ``seed``."""
     if seed is None:
-        base = random.getrandbits(62)
-    elif type(seed) is int or isinstance(seed, (int, np.integer)) and not isinstance(seed, bool):
-        base = (int(seed) * 0x9E3779B97F4A7C15 + 0x632BE59BD9B4E019) % 2**62
-    else:
-        base = int(np.random.default_rng(seed).integers(0, 2**62))
-    if B == 1:
-        return np.array([base], dtype=np.uint64)
-    return (np.uint64(base) + np.arange(B, dtype=np.uint64)).astype(np.uint64)
+        return random.getrandbits(62)
+    if type(seed) is int or isinstance(seed, (int, np.integer)) and not isinstance(seed, bool):
+        return (int(seed) * 0x9E3779B97F4A7C15 + 0x632BE59BD9B4E019) % 2**62
+    return int(np.random.default_rng(seed).integers(0, 2**62))
+
+
+def _seeds(seed: Any, B: int) -> NDArray[np.uint64]:
+    """One restart seed per target, reproducible from ``seed``: base, base + 1, ..."""
+    return (np.uint64(_seed_base(seed)) + np.arange(B, dtype=np.uint64)).astype(np.uint64)
 
 
 # ------------------------------------------------------------------------------ NumPy primitives
@@ -599,7 +600,6 @@ def _finish(prob: Problem, q: Array, iters: NDArray[np.int64], used: NDArray[np.
 
 
 _EYE_1 = np.eye(4)[None]
-_NO_TRACE = np.empty((1, 0))               # zero-size: the kernel never writes it
 _LM_BRANCH = np.full(1, "lm", dtype=object)
 _CONVERGED = np.array(["converged"])      # the dtype of assemble's reason field: "<U9"
 for _a in (_EYE_1, _LM_BRANCH, _CONVERGED):
@@ -645,8 +645,8 @@ def _solve_one(robot: Robot, target: Any, q0: Any, max_iterations: Optional[int]
                                 restarts + 1, 0)
     info = np.zeros((1, 4))
     limits = c["packed limits" if enforce_limits else "packed free"]
-    if not kernels.lm_single(c["mats"], robot.chain.prismatic, limits, params, ints, poses, _seeds(seed, 1), q,
-                             _NO_TRACE, info):
+    if not kernels.lm_single(c["mats"], robot.chain.prismatic, limits, params, ints, poses, _seed_base(seed), q,
+                             info):
         return None  # NaN or infinity in the target or q0: the general path says which
     dp, dr, ok, within = verify(robot, q, target, point, tol, enforce_limits)
     iters = int(info[0, 0])
