@@ -251,10 +251,7 @@ def so3_exp(w: ArrayLike) -> Array:
     w = np.asarray(w, dtype=float)
     th = np.linalg.norm(w, axis=-1)[..., None, None]
     K = skew(w)
-    small = th < 1e-8
-    ths = np.where(small, 1.0, th)
-    a = np.where(small, 1.0 - th**2 / 6.0, np.sin(ths) / ths)
-    b = np.where(small, 0.5 - th**2 / 24.0, (1.0 - np.cos(ths)) / ths**2)
+    a, b, _ = _exp_coefficients(th)
     return np.eye(3) + a * K + b * (K @ K)
 
 
@@ -268,12 +265,20 @@ def so3_log(R: ArrayLike) -> Array:
     return Rot.from_matrix(R.reshape(-1, 3, 3)).as_rotvec().reshape(R.shape[:-2] + (3,))
 
 
-def _left_jacobian_terms(th: Array) -> tuple[Array, Array]:
-    small = th < 1e-6
-    ths = np.where(small, 1.0, th)
-    b = np.where(small, 0.5 - th**2 / 24.0, (1.0 - np.cos(ths)) / ths**2)
-    c = np.where(small, 1.0 / 6.0 - th**2 / 120.0, (ths - np.sin(ths)) / ths**3)
-    return b, c
+def _exp_coefficients(th: Array) -> tuple[Array, Array, Array]:
+    """``sin(t)/t``, ``(1 - cos t)/t^2`` and ``(t - sin t)/t^3``, accurate for every ``t >= 0``.
+
+    The second uses ``2 sin^2(t/2)`` (no cancellation); the third switches to its Taylor
+    series below 0.1, where the truncation error is under 1e-16.
+    """
+    small = th < 0.1
+    ths = np.where(th > 0, th, 1.0)
+    a = np.where(th > 0, np.sin(ths) / ths, 1.0)
+    b = np.where(th > 0, 2.0 * np.sin(0.5 * ths) ** 2 / ths**2, 0.5)
+    t2 = th * th
+    c = np.where(small, 1.0 / 6.0 - t2 / 120.0 + t2 * t2 / 5040.0 - t2**3 / 362880.0,
+                 (ths - np.sin(ths)) / ths**3)
+    return a, b, c
 
 
 def se3_exp(xi: ArrayLike) -> Array:
@@ -284,7 +289,7 @@ def se3_exp(xi: ArrayLike) -> Array:
     v, w = xi[..., :3], xi[..., 3:]
     th = np.linalg.norm(w, axis=-1)[..., None, None]
     K = skew(w)
-    b, c = _left_jacobian_terms(th)
+    _, b, c = _exp_coefficients(th)
     V = np.eye(3) + b * K + c * (K @ K)
     return make_pose(so3_exp(w), np.einsum("...ij,...j->...i", V, v))
 
@@ -295,11 +300,13 @@ def se3_log(T: ArrayLike) -> Array:
     w = so3_log(T[..., :3, :3])
     th = np.linalg.norm(w, axis=-1)[..., None, None]
     K = skew(w)
-    small = th < 1e-6
+    # V^-1 = I - K/2 + (1 - (th/2) cot(th/2)) / th^2 K^2; below th = 0.1 the bracket cancels,
+    # so its Taylor series (truncation error < 1e-16 there) takes over
+    small = th < 0.1
     ths = np.where(small, 1.0, th)
-    # V^-1 = I - K/2 + (1/th^2)(1 - (th sin th) / (2 (1 - cos th))) K^2
-    coef = np.where(small, 1.0 / 12.0 + th**2 / 720.0,
-                    (1.0 - ths * np.sin(ths) / (2.0 * (1.0 - np.cos(ths)))) / ths**2)
+    t2 = th * th
+    coef = np.where(small, 1.0 / 12.0 + t2 / 720.0 + t2 * t2 / 30240.0 + t2**3 / 1209600.0,
+                    (1.0 - 0.5 * ths / np.tan(0.5 * ths)) / ths**2)
     Vinv = np.eye(3) - 0.5 * K + coef * (K @ K)
     v = np.einsum("...ij,...j->...i", Vinv, T[..., :3, 3])
     return np.concatenate([v, w], axis=-1)

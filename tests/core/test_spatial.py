@@ -88,7 +88,19 @@ def test_se3_exp_log_round_trip(v, w):
     if np.linalg.norm(w) > 3.0:
         w = w / np.linalg.norm(w) * 3.0
     xi = np.concatenate([v, w])
-    assert np.allclose(sp.se3_log(sp.se3_exp(xi)), xi, atol=1e-9)
+    assert np.allclose(sp.se3_log(sp.se3_exp(xi)), xi, atol=1e-12)
+
+
+@pytest.mark.parametrize("angle", [0.0, 1e-9, 1e-6, 1e-3, 0.0999, 0.1, 0.1001, 1.0, 3.0])
+def test_se3_round_trip_at_small_and_large_angles(angle):
+    # hypothesis found (0, 1, 1, 1e-6, 1e-6, 1e-6) off by 1e-5 when (1 - cos t) cancelled; now exact to rounding
+    w = np.array([0.3, -0.5, 0.8]) / np.linalg.norm([0.3, -0.5, 0.8]) * angle
+    xi = np.concatenate([[0.2, 1.0, -0.7], w])
+    assert np.allclose(sp.se3_log(sp.se3_exp(xi)), xi, atol=1e-14)
+    # the rotation part agrees with Rodrigues' formula written out here
+    K = sp.skew(w)
+    R = np.eye(3) + (np.sinc(angle / np.pi)) * K + (0.5 * np.sinc(angle / (2 * np.pi)) ** 2) * (K @ K)
+    assert np.allclose(sp.se3_exp(xi)[:3, :3], R, atol=1e-15)
 
 
 def test_se3_exp_of_pure_rotation_about_offset_axis():
