@@ -120,11 +120,16 @@ def _failure_messages(robot: Robot, message: NDArray[np.object_], ok: NDArray[np
     if limits.any():   # one message per pattern of violated joints, not per branch
         lo, hi = robot.lower - 1e-12, robot.upper + 1e-12
         bits = ((q[limits] < lo) | (q[limits] > hi)) @ (1 << np.arange(robot.n))
-        patterns, inverse = np.unique(bits, return_inverse=True)
-        texts = np.empty(len(patterns), dtype=object)
+        if robot.n <= 16:   # a table indexed by the pattern (no sorting)
+            texts = np.empty(1 << robot.n, dtype=object)
+            patterns, inverse = np.flatnonzero(np.bincount(bits, minlength=1 << robot.n)), bits
+        else:
+            patterns, inverse = np.unique(bits, return_inverse=True)
+            texts = np.empty(len(patterns), dtype=object)
         for k, pattern in enumerate(patterns):
             names = [nm for j, nm in enumerate(robot.joint_names) if int(pattern) >> j & 1]
-            texts[k] = "outside the joint limits: " + ", ".join(names) + " (see armkit info for the limits)."
+            texts[pattern if robot.n <= 16 else k] = ("outside the joint limits: " + ", ".join(names)
+                                                      + " (see armkit info for the limits).")
         message[limits] = texts[inverse.ravel()]
     unreachable = (reason == "unreachable") & ~ok
     count = int(unreachable.sum())
@@ -215,12 +220,16 @@ def solve_all(robot: Robot, solver: ClosedForm, target: Array, q0: Array, positi
     reason = _REASON_TEXT[np.where(ok, 0, np.where(fk_ok & ~within, 2, 1))]
     message = np.where(ok, raw.note, "").astype(object)
     _failure_messages(robot, message, ok, reason, raw, q, dp, dr, tol)
-    order = np.argsort(np.where(ok, 0.0, 1e9) + dist, axis=-1, kind="stable")
+    if jit is not None:
+        order, q, ok, dp, dr, within = jit.sort_branches(ok, dist, q, dp, dr, within)
+    else:
+        order = np.argsort(np.where(ok, 0.0, 1e9) + dist, axis=-1, kind="stable")
+        q = np.take_along_axis(q, order[..., None], axis=1)
+        ok, dp, dr, within = (np.take_along_axis(a, order, axis=1) for a in (ok, dp, dr, within))
     take = lambda a: np.take_along_axis(a, order, axis=1)  # noqa: E731
-    return IKResult(q=np.take_along_axis(q, order[..., None], axis=1), success=take(ok), position_error=take(dp),
-                    rotation_error=take(dr), iterations=np.zeros(ok.shape, dtype=np.int64),
-                    branch=take(raw.label), within_limits=take(within), reason=take(reason),
-                    message=take(message))
+    return IKResult(q=q, success=ok, position_error=dp, rotation_error=dr,
+                    iterations=np.zeros(ok.shape, dtype=np.int64), branch=take(raw.label), within_limits=within,
+                    reason=take(reason), message=take(message))
 
 
 def solve_nearest(robot: Robot, solver: ClosedForm, target: Array, q0: Array, position_only: bool,

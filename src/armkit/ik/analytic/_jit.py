@@ -428,3 +428,36 @@ def wrap_dist(rawq, theta, q0, lower, upper, prismatic):
     q, dist = np.empty((B, m, n)), np.empty((B, m))
     _split(_wrap_dist_run, B, rawq, theta, q0, lower, upper, prismatic, q, dist)
     return q, dist
+
+
+# ------------------------------------------------------------------------- sort
+@njit(cache=True)
+def _sort_run(ok, dist, q, dp, dr, within, order, qs, oks, dps, drs, ws, first, last):
+    m = ok.shape[1]
+    for i in prange(first, last):
+        key = np.empty(m)
+        idx = np.empty(m, np.int64)
+        for b in range(m):   # successful branches first, each group by distance (a stable insertion sort)
+            k = (0.0 if ok[i, b] else 1e9) + dist[i, b]
+            j = b - 1
+            while j >= 0 and key[j] > k:
+                key[j + 1] = key[j]
+                idx[j + 1] = idx[j]
+                j -= 1
+            key[j + 1] = k
+            idx[j + 1] = b
+        for b in range(m):
+            s = idx[b]
+            order[i, b] = s
+            qs[i, b] = q[i, s]
+            oks[i, b], dps[i, b], drs[i, b], ws[i, b] = ok[i, s], dp[i, s], dr[i, s], within[i, s]
+
+
+def sort_branches(ok, dist, q, dp, dr, within):
+    """``np.argsort(where(ok, 0, 1e9) + dist, kind="stable")`` per target ``(B, m)`` and ``q, ok, dp, dr, within``
+    in that order."""
+    B, m = ok.shape
+    out = (np.empty((B, m), np.int64), np.empty_like(q), np.empty((B, m), np.bool_), np.empty((B, m)),
+           np.empty((B, m)), np.empty((B, m), np.bool_))
+    _split(_sort_run, B, ok, dist, q, dp, dr, within, *out)
+    return out
