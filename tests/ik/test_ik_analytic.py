@@ -480,3 +480,22 @@ def test_wrap_kernel_matches_wrap_to_limits(seed):
     ref = wrap_to_limits(raw - theta, q0[:, None, :], lower, upper, revolute)
     assert np.array_equal(q, ref)
     assert np.allclose(dist, np.linalg.norm(ref - q0[:, None, :], axis=-1), rtol=1e-15, atol=0)
+
+
+@settings(max_examples=40)
+@given(seed=st.integers(0, 2**32 - 1))
+def test_sort_kernel_is_numpys_stable_argsort(seed):
+    pytest.importorskip("numba")
+    from armkit.ik.analytic import _jit
+    rng = np.random.default_rng(seed)
+    B, m = 6, 8
+    ok = rng.random((B, m)) < 0.5
+    dist = rng.choice([0.0, 0.5, 1.0, 2.5], size=(B, m))      # many exact ties: stability matters
+    q, dp, dr = rng.random((B, m, 3)), rng.random((B, m)), rng.random((B, m))
+    within = rng.random((B, m)) < 0.5
+    order, qs, oks, dps, drs, ws = _jit.sort_branches(ok, dist, q, dp, dr, within)
+    ref = np.argsort(np.where(ok, 0.0, 1e9) + dist, axis=-1, kind="stable")
+    assert np.array_equal(order, ref)
+    assert np.array_equal(qs, np.take_along_axis(q, ref[..., None], axis=1))
+    for a, b in ((oks, ok), (dps, dp), (drs, dr), (ws, within)):
+        assert np.array_equal(a, np.take_along_axis(b, ref, axis=1))
