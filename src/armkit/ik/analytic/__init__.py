@@ -113,13 +113,15 @@ MAX_DETAILED = 10_000
 """Above this many failed branches in one call, messages name the cause without the distances (speed)."""
 
 
-def _failure_messages(robot: Robot, message: NDArray[np.object_], ok: NDArray[np.bool_], reason: NDArray[np.str_],
+def _failure_messages(robot: Robot, message: NDArray[np.object_], code: NDArray[np.int_],
                       raw: Raw, q: Array, dp: Array, dr: Array, tol: tuple[float, float]) -> None:
-    """Fill ``message`` in place for the failed branches."""
-    limits = (reason == "joint limits") & ~ok
+    """Fill ``message`` in place for the failed branches (``code``: index into ``_REASON_TEXT``; 0 only where
+    the branch succeeded)."""
+    limits = code == 2
     if limits.any():   # one message per pattern of violated joints, not per branch
         lo, hi = robot.lower - 1e-12, robot.upper + 1e-12
-        bits = ((q[limits] < lo) | (q[limits] > hi)) @ (1 << np.arange(robot.n))
+        ql = q[limits]
+        bits = ((ql < lo) | (ql > hi)) @ (1 << np.arange(robot.n))
         if robot.n <= 16:   # a table indexed by the pattern (no sorting)
             texts = np.empty(1 << robot.n, dtype=object)
             patterns, inverse = np.flatnonzero(np.bincount(bits, minlength=1 << robot.n)), bits
@@ -131,7 +133,7 @@ def _failure_messages(robot: Robot, message: NDArray[np.object_], ok: NDArray[np
             texts[pattern if robot.n <= 16 else k] = ("outside the joint limits: " + ", ".join(names)
                                                       + " (see armkit info for the limits).")
         message[limits] = texts[inverse.ravel()]
-    unreachable = (reason == "unreachable") & ~ok
+    unreachable = code == 1
     count = int(unreachable.sum())
     if count == 0:
         return
@@ -217,9 +219,9 @@ def solve_all(robot: Robot, solver: ClosedForm, target: Array, q0: Array, positi
         bi, mi = np.nonzero((q != q_before).any(axis=-1))
         dist[bi, mi] = np.linalg.norm(np.where(robot.prismatic, 0.0, q[bi, mi] - q0[bi]), axis=-1)
     fk_ok = (dp <= tol[0]) & (dr <= tol[1])
-    reason = _REASON_TEXT[np.where(ok, 0, np.where(fk_ok & ~within, 2, 1))]
-    message = np.where(ok, raw.note, "").astype(object)
-    _failure_messages(robot, message, ok, reason, raw, q, dp, dr, tol)
+    code = np.where(ok, 0, np.where(fk_ok & ~within, 2, 1))
+    message = np.where(ok, raw.note, "").astype(object, copy=False)
+    _failure_messages(robot, message, code, raw, q, dp, dr, tol)
     if jit is not None:
         order, q, ok, dp, dr, within = jit.sort_branches(ok, dist, q, dp, dr, within)
     else:
@@ -229,7 +231,7 @@ def solve_all(robot: Robot, solver: ClosedForm, target: Array, q0: Array, positi
     take = lambda a: np.take_along_axis(a, order, axis=1)  # noqa: E731
     return IKResult(q=q, success=ok, position_error=dp, rotation_error=dr,
                     iterations=np.zeros(ok.shape, dtype=np.int64), branch=take(raw.label), within_limits=within,
-                    reason=take(reason), message=take(message))
+                    reason=_REASON_TEXT[take(code)], message=take(message))
 
 
 def solve_nearest(robot: Robot, solver: ClosedForm, target: Array, q0: Array, position_only: bool,
