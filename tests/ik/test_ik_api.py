@@ -214,3 +214,18 @@ def test_single_pose_rigidity_check_agrees_with_batched_one(bad):
             armkit.ik(arm, target)
     ok = armkit.fk(arm, arm.random_q(rng=2)) @ np.diag([1.0, 1.0, 1.0 + 1e-8, 1.0])   # within 1e-6: accepted
     assert armkit.ik(arm, ok).q.shape == (6,)
+
+
+def test_many_poses_rigidity_check_finds_one_bad_pose():
+    arm = armkit.load("ur5")
+    T = armkit.fk(arm, arm.random_q(300, rng=4))
+    assert armkit.ik(arm, T).q.shape == (300, 6)                    # all rigid: accepted
+    for bad in (np.diag([1.0, 1.0, 1.0 + 1e-5, 1.0]), np.diag([1.0, 1.0, -1.0, 1.0])):
+        T2 = T.copy()
+        T2[123] = T2[123] @ bad
+        with pytest.raises(armkit.ShapeError, match="not a rigid transform"):
+            armkit.ik(arm, T2)
+    T2 = T.copy()
+    T2[7, 3, 0] = 1e-12
+    with pytest.raises(armkit.ShapeError, match="not a rigid transform"):
+        armkit.ik(arm, T2)

@@ -61,6 +61,12 @@ def _planar_plane(robot: Robot) -> tuple[float, Array, float]:
     return float(T0[2, 3]), T0[:3, :3], math.atan2(T0[1, 0], T0[0, 0])
 
 
+def _analytic_kernels() -> Any:
+    from .analytic._common import jit_kernels
+
+    return jit_kernels()
+
+
 def _rigid(T: list) -> bool:
     """For one pose given as nested lists: ``R^T R = I`` and ``det R = 1`` within 1e-6, last row (0, 0, 0, 1)."""
     (a, b, c, _), (d, e, f, _), (g, h, k, _), last = T
@@ -89,8 +95,11 @@ def _normalise_target(robot: Robot, target: ArrayLike, phi: ArrayLike | None
     if t.ndim >= 2 and t.shape[-2:] == (4, 4):
         if phi is not None:
             raise ShapeError("phi= is only for planar (..., 2) position targets; a pose already fixes the end angle")
+        jit = _analytic_kernels() if t.ndim > 2 and t.size >= 1024 else None
         if t.ndim == 2:   # one pose: the same test on Python floats (a few NumPy calls cost more)
             rigid = _rigid(t.tolist())
+        elif jit is not None:   # many poses: the same test in one pass
+            rigid = jit.rigid(np.ascontiguousarray(t).reshape(-1, 4, 4))
         else:
             R = t[..., :3, :3]
             err = np.abs(np.swapaxes(R, -1, -2) @ R - np.eye(3)).max(initial=0.0)

@@ -461,3 +461,27 @@ def sort_branches(ok, dist, q, dp, dr, within):
            np.empty((B, m)), np.empty((B, m), np.bool_))
     _split(_sort_run, B, ok, dist, q, dp, dr, within, *out)
     return out
+
+
+# ------------------------------------------------------------------ target check
+@njit(cache=True)
+def _rigid_run(T, bad, first, last):
+    for i in prange(first, last):
+        ok = T[i, 3, 0] == 0.0 and T[i, 3, 1] == 0.0 and T[i, 3, 2] == 0.0 and T[i, 3, 3] == 1.0
+        for a in range(3):
+            for b in range(3):
+                dot = T[i, 0, a] * T[i, 0, b] + T[i, 1, a] * T[i, 1, b] + T[i, 2, a] * T[i, 2, b]
+                if not abs(dot - (1.0 if a == b else 0.0)) <= 1e-6:
+                    ok = False
+        det = (T[i, 0, 0] * (T[i, 1, 1] * T[i, 2, 2] - T[i, 1, 2] * T[i, 2, 1])
+               - T[i, 0, 1] * (T[i, 1, 0] * T[i, 2, 2] - T[i, 1, 2] * T[i, 2, 0])
+               + T[i, 0, 2] * (T[i, 1, 0] * T[i, 2, 1] - T[i, 1, 1] * T[i, 2, 0]))
+        bad[i] = not (ok and abs(det - 1.0) <= 1e-6)
+
+
+def rigid(T):
+    """True when every pose of ``T`` (B, 4, 4) is rigid: ``R^T R = I`` and ``det R = 1`` within 1e-6, last row
+    exactly (0, 0, 0, 1) (the test of ``armkit.ik.api._rigid``)."""
+    bad = np.empty(T.shape[0], np.bool_)
+    _split(_rigid_run, T.shape[0], T, bad)
+    return not bad.any()
