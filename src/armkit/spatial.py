@@ -268,16 +268,17 @@ def so3_log(R: ArrayLike) -> Array:
 def _exp_coefficients(th: Array) -> tuple[Array, Array, Array]:
     """``sin(t)/t``, ``(1 - cos t)/t^2`` and ``(t - sin t)/t^3``, accurate for every ``t >= 0``.
 
-    The second uses ``2 sin^2(t/2)`` (no cancellation); the third switches to its Taylor
-    series below 0.1, where the truncation error is under 1e-16.
+    The first two come from ``sinc`` (``(1 - cos t)/t^2 = sinc^2(t/2) / 2``: no cancellation,
+    no underflow); the third switches to its Taylor series below 0.1, where the truncation
+    error is under 1e-16.
     """
+    a = np.sinc(th / np.pi)
+    b = 0.5 * np.sinc(th / (2.0 * np.pi)) ** 2
     small = th < 0.1
-    ths = np.where(th > 0, th, 1.0)
-    a = np.where(th > 0, np.sin(ths) / ths, 1.0)
-    b = np.where(th > 0, 2.0 * np.sin(0.5 * ths) ** 2 / ths**2, 0.5)
     t2 = th * th
+    tc = np.where(small, 1.0, th)  # the closed form is only used (and only evaluated safely) above 0.1
     c = np.where(small, 1.0 / 6.0 - t2 / 120.0 + t2 * t2 / 5040.0 - t2**3 / 362880.0,
-                 (ths - np.sin(ths)) / ths**3)
+                 (tc - np.sin(tc)) / tc**3)
     return a, b, c
 
 

@@ -91,7 +91,8 @@ def test_se3_exp_log_round_trip(v, w):
     assert np.allclose(sp.se3_log(sp.se3_exp(xi)), xi, atol=1e-12)
 
 
-@pytest.mark.parametrize("angle", [0.0, 1e-9, 1e-6, 1e-3, 0.0999, 0.1, 0.1001, 1.0, 3.0])
+@pytest.mark.filterwarnings("error")
+@pytest.mark.parametrize("angle", [0.0, 1e-300, 1e-200, 1e-9, 1e-6, 1e-3, 0.0999, 0.1, 0.1001, 1.0, 3.0])
 def test_se3_round_trip_at_small_and_large_angles(angle):
     # hypothesis found (0, 1, 1, 1e-6, 1e-6, 1e-6) off by 1e-5 when (1 - cos t) cancelled; now exact to rounding
     w = np.array([0.3, -0.5, 0.8]) / np.linalg.norm([0.3, -0.5, 0.8]) * angle
