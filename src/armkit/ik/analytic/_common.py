@@ -211,6 +211,18 @@ def add_messages(message: NDArray[np.object_], where: NDArray[np.bool_], make, f
         flat[i] = text if not flat[i] else (text + " " + flat[i] if first else flat[i] + " " + text)
 
 
+def out_of_reach(what: str, r: float, unit: str, outer: float, inner: float) -> str:
+    """The sentence for a target outside the shoulder's reach shell (2R and yaw-pitch-pitch arms)."""
+    return (f"{what} is {r:.6g} {unit} from the shoulder; the arm reaches {outer:.6g} {unit} (outer) "
+            f"and {inner:.6g} {unit} (inner).")
+
+
+def elbow_edge(c: float) -> str:
+    """The note for a target on the reach boundary, from the elbow's cosine ``c`` (+1 stretched, -1 folded)."""
+    return ("fully stretched: elbow-up and elbow-down coincide." if c > 0
+            else "fully folded: elbow-up and elbow-down coincide.")
+
+
 def rotate_back(v: list, phi: Array, alpha: float) -> list:
     """``Rx(-alpha) Rz(-phi) v`` (the transpose of ``Rz(phi) Rx(alpha)``) for vectors given as a list of
     three component arrays, broadcast with ``phi``."""

@@ -25,7 +25,8 @@ import math
 
 import numpy as np
 
-from ._common import Array, Raw, StandardForm, add_messages, elbow_up, forward_sign, jit_kernels, two_link
+from ._common import (Array, Raw, StandardForm, add_messages, elbow_edge, elbow_up, forward_sign, jit_kernels,
+                      out_of_reach, two_link)
 
 _LABELS = np.array(["elbow-down", "elbow-up"], dtype=object)
 
@@ -41,13 +42,9 @@ def _explain(c: Array, r: Array, l1: float, l2: float, unit: str, what: str, fla
         edge1 = (np.abs(np.abs(c) - 1.0) <= 1e-9) & ~unreachable[:, 0]
     note = np.full((B, 2), "", dtype=object)
     outer, inner = abs(l1) + abs(l2), abs(abs(l1) - abs(l2))
-    why = lambda i: (  # noqa: E731
-        f"{what} is {r[i // 2]:.6g} {unit} from the shoulder; the arm reaches {outer:.6g} {unit} (outer) "
-        f"and {inner:.6g} {unit} (inner).")
+    why = lambda i: out_of_reach(what, r[i // 2], unit, outer, inner)  # noqa: E731
     if edge1.any():
-        add_messages(note, np.repeat(edge1[:, None], 2, axis=1), lambda i: (
-            "fully stretched: elbow-up and elbow-down coincide." if c[i // 2] > 0
-            else "fully folded: elbow-up and elbow-down coincide."))
+        add_messages(note, np.repeat(edge1[:, None], 2, axis=1), lambda i: elbow_edge(c[i // 2]))
     return unreachable, why, note
 
 

@@ -26,8 +26,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._common import (LENGTH_TOL, Array, Raw, StandardForm, add_messages, elbow_up, forward_sign, jit_kernels,
-                      two_link)
+from ._common import (LENGTH_TOL, Array, Raw, StandardForm, add_messages, elbow_edge, elbow_up, forward_sign,
+                      jit_kernels, out_of_reach, two_link)
 
 _FRONT = np.array([True, True, False, False])
 _LABELS = np.array(["back/elbow-down", "back/elbow-up", "front/elbow-down", "front/elbow-up"], dtype=object)
@@ -115,15 +115,12 @@ class Positioner:
             if sol["lateral_out"][b]:
                 return (f"{what} is {rho[b]:.6g} {unit} from the {first_axis} axis, closer than the arm's "
                         f"sideways offset of {abs(self.Z):.6g} {unit}.")
-            return (f"{what} is {r[b, k // 2]:.6g} {unit} from the shoulder; the arm reaches "
-                    f"{self.outer:.6g} {unit} (outer) and {self.inner:.6g} {unit} (inner).")
+            return out_of_reach(what, r[b, k // 2], unit, self.outer, self.inner)
 
         edge = sol["edge"] if "edge" in sol else np.abs(np.abs(c) - 1.0) <= 1e-9
         if edge.any():
             edge = np.repeat(edge & ~sol["unreachable"][:, ::2], 2, axis=1)
-            add_messages(note, edge, lambda i: (
-                "fully stretched: elbow-up and elbow-down coincide." if c.reshape(-1)[i // 2] > 0
-                else "fully folded: elbow-up and elbow-down coincide."))
+            add_messages(note, edge, lambda i: elbow_edge(c.reshape(-1)[i // 2]))
         return reach, note
 
 
