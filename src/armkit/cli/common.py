@@ -16,7 +16,7 @@ import numpy as np
 from rich.console import Console
 from rich.table import Table
 
-from ..errors import ArmkitError, JointLimitError
+from ..errors import JointLimitError
 from ..model import Robot, load
 
 console = Console(highlight=False)
@@ -26,10 +26,6 @@ EXIT_OK, EXIT_FAILED, EXIT_BAD_INPUT = 0, 1, 2
 
 # Commands that take numbers as positional arguments let "-1" through as a value, not an option.
 NUMERIC_ARGS = {"ignore_unknown_options": True, "allow_extra_args": False}
-
-
-class UserError(ArmkitError):
-    """A mistake in what the user typed: printed as one line, exit code 2."""
 
 
 def fail(message: str, code: int = EXIT_BAD_INPUT) -> NoReturn:
