@@ -46,6 +46,10 @@ BUNDLED_DIR = Path(__file__).resolve().parent.parent / "robots"
 _TOP_KEYS = {"name", "description", "source", "convention", "unit", "angle_unit", "joints", "base", "tool",
              "link_names", "notes"}
 _JOINT_KEYS = {"name", "type", "theta", "d", "a", "alpha", "limits"}
+# collision keys (read by armkit.collision.robot_file, see docs/scene.md)
+_COLLISION_KEYS = {"link_radius", "allow_collision", "body", "scene"}
+_TOP_KEYS |= _COLLISION_KEYS
+_JOINT_KEYS |= {"link_radius"}
 
 
 def bundled_robots() -> list[str]:
@@ -169,12 +173,17 @@ def _parse(text: str, path: str) -> Robot:
     base = _pose_from_table(data["base"], path, loc, "base", ang) if "base" in data else None
     tool = _pose_from_table(data["tool"], path, loc, "tool", ang) if "tool" in data else None
     try:
-        return Robot(joints, data.get("convention", "standard"), str(data.get("name", Path(path).stem)),
-                     data.get("unit", "m"), base, tool, str(data.get("description", "")),
-                     str(data.get("source", "")), tuple(data.get("link_names", ())))
+        robot = Robot(joints, data.get("convention", "standard"), str(data.get("name", Path(path).stem)),
+                      data.get("unit", "m"), base, tool, str(data.get("description", "")),
+                      str(data.get("source", "")), tuple(data.get("link_names", ())))
     except RobotDefinitionError as exc:
         key = next((k for k in ("convention", "unit", "link_names") if k in str(exc)), None)
         raise RobotFileError(path, str(exc), loc.line(key) if key else None, key) from None
+    if _COLLISION_KEYS & set(data) or any("link_radius" in row for row in rows):
+        from ..collision.robot_file import attach   # NumPy only; coal is never imported here
+
+        attach(robot, data, text, path)
+    return robot
 
 
 def load(name_or_path: str | Path) -> Robot:

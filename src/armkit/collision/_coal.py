@@ -1,0 +1,103 @@
+"""Signed distances through coal (Pinocchio's collision library), one configuration at a time.
+
+Used for the pairs the NumPy kernels do not cover (cylinders, meshes, boxes on the arm against
+boxes) and as the reference in the tests. Imported only when such a pair is checked.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from .shapes import SceneError
+
+__all__ = ["distances", "geometry", "signed_distance"]
+
+Array = NDArray[np.float64]
+_MESHES: dict[tuple[str, tuple[float, ...]], Any] = {}
+
+
+def _coal() -> Any:
+    try:
+        import coal
+    except ImportError as exc:  # pragma: no cover - coal is a dependency
+        raise SceneError("this pair (a cylinder or a mesh) needs the collision library coal: pip install coal") from exc
+    return coal
+
+
+def geometry(kind: str, size: Any, shape: Any = None) -> Any:
+    """A coal geometry for a shape kind in its own frame (a plane: the half-space z <= 0)."""
+    coal = _coal()
+    if kind == "box":
+        return coal.Box(*size)
+    if kind == "sphere":
+        return coal.Sphere(size[0])
+    if kind == "cylinder":
+        return coal.Cylinder(size[0], size[1])
+    if kind == "capsule":
+        return coal.Capsule(size[0], size[1])
+    if kind == "plane":
+        return coal.Halfspace(np.array([0.0, 0.0, 1.0]), 0.0)
+    if kind == "mesh":
+        key = (shape.mesh_path, tuple(shape.scale))
+        if key not in _MESHES:
+            try:
+                model = coal.MeshLoader().load(shape.mesh_path, np.array(shape.scale, dtype=float))
+                model.buildConvexHull(True, "Qt")
+                _MESHES[key] = model.convex
+            except Exception as exc:  # coal raises plain RuntimeErrors for unreadable meshes
+                raise SceneError(f"cannot read mesh {shape.mesh_path!r}: {exc}") from None
+        return _MESHES[key]
+    raise SceneError(f"no collision geometry for shape kind {kind!r}")
+
+
+def _transform(T: Array) -> Any:
+    coal = _coal()
+    return coal.Transform3s(np.ascontiguousarray(T[:3, :3]), np.ascontiguousarray(T[:3, 3]))
+
+
+def _segment_pose(p0: Array, p1: Array) -> tuple[Array, float]:
+    d = p1 - p0
+    length = float(np.linalg.norm(d))
+    T = np.eye(4)
+    T[:3, 3] = 0.5 * (p0 + p1)
+    if length > 0:
+        z = d / length
+        helper = np.eye(3)[int(np.argmin(np.abs(z)))]
+        x = np.cross(helper, z)
+        x /= np.linalg.norm(x)
+        T[:3, :3] = np.column_stack([x, np.cross(z, x), z])
+    return T, length
+
+
+def signed_distance(geom_a: Any, T_a: Array, geom_b: Any, T_b: Array) -> float:
+    """coal's signed distance (negative: penetration depth) between two placed geometries."""
+    coal = _coal()
+    req = coal.DistanceRequest()
+    req.enable_signed_distance = True
+    res = coal.DistanceResult()
+    return float(coal.distance(geom_a, _transform(T_a), geom_b, _transform(T_b), req, res))
+
+
+def _placed(item: tuple[str, Any], row: int) -> tuple[Any, Array]:
+    tag, data = item
+    if tag == "seg":
+        p0, p1, r = data
+        p0 = p0 if p0.ndim == 1 else p0[row]
+        p1 = p1 if p1.ndim == 1 else p1[row]
+        T, length = _segment_pose(p0, p1)
+        return _coal().Capsule(r, length), T
+    kind, T, size, shape = data
+    return geometry(kind, size, shape), (T if T.ndim == 2 else T[row])
+
+
+def distances(a: tuple[str, Any], b: tuple[str, Any], batch: int) -> Array:
+    """Signed distances of two world solids (see ``query._world``) for each of ``batch`` rows."""
+    out = np.empty(batch)
+    for k in range(batch):
+        ga, Ta = _placed(a, k)
+        gb, Tb = _placed(b, k)
+        out[k] = signed_distance(ga, Ta, gb, Tb)
+    return out

@@ -1,0 +1,228 @@
+"""The public queries :func:`collisions` and :func:`clearance`, batched over configurations.
+
+Capsules, spheres, boxes and planes meet through the NumPy kernels of
+:mod:`armkit.collision.kernels`; any other pair (cylinders, meshes, URDF boxes against boxes)
+goes through coal (imported only then).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any, Sequence
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from ..model.robot import Robot
+from . import kernels as K
+from .geometry import ArmGeometry, Solid, arm_geometry, robot_scene
+from .shapes import Scene, SceneError, Shape
+
+__all__ = ["Collisions", "collisions", "clearance", "as_scene"]
+
+Array = NDArray[np.float64]
+
+
+@dataclass(frozen=True)
+class Collisions:
+    """What :func:`collisions` found, for one configuration or a batch ``(...)``.
+
+    Attributes
+    ----------
+    colliding : ndarray of bool, shape (...)
+        True where some checked pair overlaps (signed distance < 0).
+    distance : ndarray, shape (...)
+        The smallest signed distance over all pairs (robot unit): the clearance when positive,
+        minus the deepest penetration when negative; ``inf`` when nothing is checked.
+    pairs : tuple of (str, str)
+        The checked pairs, arm solid first (``("forearm", "ground")``, ``("forearm", "turret")``).
+    distances : ndarray, shape (..., len(pairs))
+        Signed distance of every pair.
+    closest : ndarray of int, shape (...)
+        Index into ``pairs`` of the pair with the smallest distance (-1 when none).
+    unit : str
+    """
+
+    colliding: NDArray[np.bool_]
+    distance: Array
+    pairs: tuple[tuple[str, str], ...]
+    distances: Array
+    closest: NDArray[np.int64]
+    unit: str
+
+    @property
+    def depth(self) -> Array:
+        """Penetration depth of the deepest pair, 0 where nothing collides; shape (...)."""
+        return np.maximum(-self.distance, 0.0)
+
+    def colliding_pairs(self, index: Any = ()) -> list[tuple[str, str, float]]:
+        """``(solid, other, depth)`` of every overlapping pair of one configuration, deepest first."""
+        d = np.asarray(self.distances)[index]
+        if d.ndim != 1:
+            raise SceneError("colliding_pairs(index) needs the index of one configuration, e.g. res.colliding_pairs(3)")
+        order = np.argsort(d, kind="stable")
+        return [(self.pairs[k][0], self.pairs[k][1], float(-d[k])) for k in order if d[k] < 0]
+
+    def message(self, index: Any = ()) -> str:
+        """A sentence for people: "the forearm hits the ground by 12.3 mm" ("" when clear)."""
+        hits = self.colliding_pairs(index)
+        if not hits:
+            return ""
+        a, b, depth = hits[0]
+        more = f" ({len(hits)} pairs in collision)" if len(hits) > 1 else ""
+        a, b = a.replace("_", " "), b.replace("_", " ")
+        return f"the {a} hits the {b} by {depth:.3g} {self.unit}{more}"
+
+
+def as_scene(robot: Robot, scene: Scene | Sequence[Shape] | str | None) -> Scene:
+    """``scene`` as a :class:`Scene` in the robot's unit: ``None``/"robot" the robot's own, a path loads a file."""
+    if scene is None or (isinstance(scene, str) and scene == "robot"):
+        return robot_scene(robot)
+    if isinstance(scene, str):
+        scene = Scene.load(scene)
+    if not isinstance(scene, Scene):
+        scene = Scene(scene)
+    return scene.in_unit(robot.unit)
+
+
+# ------------------------------------------------------------------ solids in the world
+def _world(solid: Solid, frames: Array) -> tuple[str, Any]:
+    """The solid in world coordinates: ("seg", (p0, p1, r)) or ("shape", (kind, T, size, shape))."""
+    if solid.kind == "segment":
+        i, j = solid.ends
+        return "seg", (frames[:, i, :3, 3], frames[:, j, :3, 3], solid.size[0])
+    T = frames[:, solid.frame] @ solid.local
+    if solid.kind == "sphere":
+        return "seg", (T[:, :3, 3], T[:, :3, 3], solid.size[0])
+    if solid.kind == "capsule":
+        h = 0.5 * solid.size[1] * T[:, :3, 2]
+        return "seg", (T[:, :3, 3] - h, T[:, :3, 3] + h, solid.size[0])
+    return "shape", (solid.kind, T, solid.size, solid.shape)
+
+
+def _static(shape: Shape) -> tuple[str, Any]:
+    T = shape.pose
+    if shape.kind == "sphere":
+        return "seg", (T[:3, 3], T[:3, 3], shape.size[0])
+    if shape.kind == "capsule":
+        p0, p1 = shape.segment()
+        return "seg", (p0, p1, shape.size[0])
+    return "shape", (shape.kind, T, shape.size, shape)
+
+
+def _box_plane(T: Array, size: Sequence[float], n: Array, off: float) -> Array:
+    corners = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)]) * (0.5 * np.asarray(size))
+    world = np.einsum("...ij,kj->...ki", T[..., :3, :3], corners) + T[..., None, :3, 3]
+    return np.min(world @ n, axis=-1) - off
+
+
+def _distance(a: tuple[str, Any], b: tuple[str, Any], batch: int) -> Array:
+    """Signed distance between two world solids, shape (batch,)."""
+    if a[0] == "shape" and b[0] == "seg":
+        a, b = b, a
+    if a[0] == "seg":
+        p0, p1, r = a[1]
+        if b[0] == "seg":
+            q0, q1, r2 = b[1]
+            return np.broadcast_to(K.segment_segment(p0, p1, q0, q1) - r - r2, (batch,))
+        kind, T, size, _ = b[1]
+        if kind == "plane":
+            n = T[..., :3, 2]
+            off = np.einsum("...i,...i->...", n, T[..., :3, 3])
+            return np.broadcast_to(K.segment_plane(p0, p1, n, off) - r, (batch,))
+        if kind == "box":
+            return np.broadcast_to(K.segment_box(p0, p1, T, 0.5 * np.asarray(size)) - r, (batch,))
+    elif b[1][0] == "plane" and a[1][0] == "box" or a[1][0] == "plane" and b[1][0] == "box":
+        box, pl = (a, b) if a[1][0] == "box" else (b, a)
+        T = pl[1][1]
+        n = T[..., :3, 2]
+        off = np.einsum("...i,...i->...", n, T[..., :3, 3])
+        return np.broadcast_to(_box_plane(box[1][1], box[1][2], n, off), (batch,))
+    from ._coal import distances
+
+    return distances(a, b, batch)
+
+
+def _pair_distances(geo: ArmGeometry, frames: Array, scene_pairs: list[tuple[int, Shape]],
+                    self_pairs: Sequence[tuple[int, int]]) -> Array:
+    """Signed distances ``(B, P)``: scene pairs first, then self pairs; ``frames`` ``(B, n+1, 4, 4)``."""
+    B = frames.shape[0]
+    out = np.empty((B, len(scene_pairs) + len(self_pairs)))
+    cache: dict[int, tuple[str, Any]] = {}
+
+    def world(i: int) -> tuple[str, Any]:
+        if i not in cache:
+            cache[i] = _world(geo.solids[i], frames)
+        return cache[i]
+
+    k = 0
+    for i, shape in scene_pairs:
+        out[:, k] = _distance(world(i), _static(shape), B)
+        k += 1
+    for i, j in self_pairs:
+        out[:, k] = _distance(world(i), world(j), B)
+        k += 1
+    return out
+
+
+def collisions(robot: Robot, q: ArrayLike, scene: Scene | Sequence[Shape] | str | None = None, *,
+               self_collision: bool = True) -> Collisions:
+    """Collision check of the arm at ``q`` against ``scene`` and itself.
+
+    Parameters
+    ----------
+    robot : Robot
+    q : array_like, shape (..., n)
+    scene : Scene, list of Shape, path of a scene file, or None
+        The surroundings; ``None`` uses the robot's own (its file's ``[[scene]]``, e.g. the
+        fighter's ground). The robot's body (``[[body]]``) is always part of the arm.
+    self_collision : bool
+        Also check the arm's solids against each other (the pairs of :mod:`.geometry`).
+
+    Returns
+    -------
+    Collisions
+        ``colliding`` and ``distance`` of shape ``(...)``, and every pair's distance.
+
+    Examples
+    --------
+    >>> import armkit, numpy as np
+    >>> arm = armkit.load("planar2")
+    >>> floor = armkit.Scene([armkit.Scene.plane([0, 1, 0], -0.2, name="floor")])   # y <= -0.2 is solid
+    >>> res = armkit.collisions(arm, [[0.0, 0.0], [-np.pi / 2, 0.0]], floor)
+    >>> res.colliding.tolist()
+    [False, True]
+    >>> res.message(1)
+    'the link1 hits the floor by 0.845 m'
+    """
+    sc = as_scene(robot, scene)
+    geo = arm_geometry(robot)
+    qa = robot.check_q(q)
+    lead = qa.shape[:-1]
+    from ..kinematics import fk_frames
+
+    frames = fk_frames(robot, qa.reshape(-1, robot.n))
+    scene_pairs = [(i, s) for s in sc for i, sol in enumerate(geo.solids)
+                   if sol.frame != 0 and not geo.allowed(sol.link, s)]
+    self_pairs = list(geo.self_pairs) if self_collision else []
+    d = _pair_distances(geo, frames, scene_pairs, self_pairs)
+    names = tuple((geo.solids[i].name, s.name) for i, s in scene_pairs) + tuple(
+        (geo.solids[j].name, geo.solids[i].name) if geo.solids[j].level > geo.solids[i].level
+        else (geo.solids[i].name, geo.solids[j].name) for i, j in self_pairs)
+    if d.shape[1]:
+        closest = np.argmin(d, axis=1)
+        dist = d[np.arange(len(d)), closest]
+    else:
+        closest = np.full(len(d), -1)
+        dist = np.full(len(d), np.inf)
+    return Collisions(colliding=(dist < 0).reshape(lead), distance=dist.reshape(lead), pairs=names,
+                      distances=d.reshape(lead + (d.shape[1],)), closest=closest.reshape(lead), unit=robot.unit)
+
+
+def clearance(robot: Robot, q: ArrayLike, scene: Scene | Sequence[Shape] | str | None = None, *,
+              self_collision: bool = True) -> Array:
+    """The smallest signed distance between the arm and ``scene`` (and itself), shape ``(...)``.
+
+    Positive: the gap (robot unit); negative: minus the deepest penetration. See :func:`collisions`.
+    """
+    return collisions(robot, q, scene, self_collision=self_collision).distance

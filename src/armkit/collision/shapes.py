@@ -1,0 +1,300 @@
+"""Collision shapes and the :class:`Scene` that holds them.
+
+A :class:`Shape` is a solid primitive with a pose in the world (scene shapes) or in a link
+frame (a robot's own body): a half-space (``plane``), a box, a sphere, a cylinder, a capsule,
+or a convex mesh. Lengths are in the scene's unit (``Scene.unit``; ``None`` means "the robot's
+unit"), angles in radians (``rpy`` as in :func:`armkit.spatial.rpy_to_rotation`).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field, replace
+from typing import Iterable, Iterator, Sequence
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from ..errors import ArmkitError
+
+__all__ = ["Shape", "Scene", "SceneError", "KINDS"]
+
+Array = NDArray[np.float64]
+KINDS = ("plane", "box", "sphere", "cylinder", "capsule", "mesh")
+_UNITS = {"m": 1.0, "cm": 1e-2, "mm": 1e-3}
+
+
+class SceneError(ArmkitError, ValueError):
+    """A shape or scene that cannot work: a negative radius, a zero normal, an unknown unit, ..."""
+
+
+def _vec(value: ArrayLike, n: int, what: str) -> Array:
+    try:
+        v = np.asarray(value, dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise SceneError(f"{what} must be {n} numbers, got {value!r}") from exc
+    if v.shape != (n,):
+        raise SceneError(f"{what} must be {n} numbers, got shape {v.shape}")
+    if not np.all(np.isfinite(v)):
+        raise SceneError(f"{what} contains NaN or infinite values")
+    return v
+
+
+def _positive(value: float, what: str, allow_zero: bool = False) -> float:
+    try:
+        v = float(value)
+    except (TypeError, ValueError) as exc:
+        raise SceneError(f"{what} must be a number, got {value!r}") from exc
+    if not math.isfinite(v) or v < 0 or (v == 0 and not allow_zero):
+        raise SceneError(f"{what} must be a finite number {'>= 0' if allow_zero else '> 0'}, got {value!r}")
+    return v
+
+
+def _pose(center: ArrayLike, rpy: ArrayLike) -> Array:
+    from ..spatial import make_pose, rpy_to_rotation
+
+    return make_pose(rpy_to_rotation(_vec(rpy, 3, "rpy")), _vec(center, 3, "center"))
+
+
+@dataclass(frozen=True, eq=False)
+class Shape:
+    """One solid.
+
+    Attributes
+    ----------
+    kind : {"plane", "box", "sphere", "cylinder", "capsule", "mesh"}
+    pose : ndarray, shape (4, 4)
+        Pose of the shape's own frame (world, or the link it is attached to). A plane's frame
+        has its z axis along the normal and its origin on the plane; the solid is the side
+        behind the normal (a half-space: the ground and everything under it).
+    size : tuple of float
+        box: full extents (x, y, z); sphere: (radius,); cylinder and capsule: (radius, length)
+        along the local z axis, centred on the origin (a capsule's length is that of its
+        segment, without the end caps); plane and mesh: ().
+    name : str
+        Shown in messages ("the forearm would hit the ground by 12 mm").
+    allow : tuple of str
+        Link names allowed to touch this shape (SRDF's disable-collisions).
+    link : str or None
+        For a robot's body: the link the shape moves with (``None``: the world).
+    mesh_path : str or None, scale : (3,)
+        Meshes: the file and its scale; collision uses the convex hull of the vertices.
+    """
+
+    kind: str
+    pose: Array
+    size: tuple[float, ...] = ()
+    name: str = ""
+    allow: tuple[str, ...] = ()
+    link: str | None = None
+    mesh_path: str | None = None
+    scale: tuple[float, float, float] = (1.0, 1.0, 1.0)
+
+    def __post_init__(self) -> None:
+        if self.kind not in KINDS:
+            raise SceneError(f"shape kind must be one of {', '.join(KINDS)}; got {self.kind!r}")
+        T = np.array(self.pose, dtype=float)
+        if T.shape != (4, 4) or not np.all(np.isfinite(T)):
+            raise SceneError(f"shape pose must be a finite 4x4 pose, got shape {T.shape}")
+        T.setflags(write=False)
+        object.__setattr__(self, "pose", T)
+        object.__setattr__(self, "size", tuple(float(s) for s in self.size))
+        object.__setattr__(self, "allow", tuple(self.allow))
+        if not self.name:
+            object.__setattr__(self, "name", self.kind)
+
+    # ---------------------------------------------------------------- views
+    @property
+    def normal(self) -> Array:
+        """A plane's unit normal (the pose's z axis)."""
+        return self.pose[:3, 2]
+
+    @property
+    def offset(self) -> float:
+        """A plane's offset: the plane is ``normal · x = offset``."""
+        return float(self.pose[:3, 2] @ self.pose[:3, 3])
+
+    @property
+    def center(self) -> Array:
+        return self.pose[:3, 3]
+
+    @property
+    def radius(self) -> float:
+        return self.size[0]
+
+    def segment(self) -> tuple[Array, Array]:
+        """A capsule's (or cylinder's) axis end points in the pose's parent frame."""
+        h = 0.5 * self.size[1]
+        z = self.pose[:3, 2]
+        return self.center - h * z, self.center + h * z
+
+    def moved(self, T: ArrayLike) -> "Shape":
+        """The same shape with its pose premultiplied by ``T`` (e.g. into the world)."""
+        return replace(self, pose=np.asarray(T, dtype=float) @ self.pose)
+
+    def scaled(self, factor: float) -> "Shape":
+        """Lengths multiplied by ``factor`` (unit conversion)."""
+        T = self.pose.copy()
+        T[:3, 3] *= factor
+        return replace(self, pose=T, size=tuple(s * factor for s in self.size),
+                       scale=tuple(s * factor for s in self.scale))  # type: ignore[arg-type]
+
+    def describe(self) -> str:
+        c = ", ".join(f"{v:g}" for v in np.round(self.center, 6))
+        if self.kind == "plane":
+            nrm = ", ".join(f"{v:g}" for v in np.round(self.normal, 6))
+            return f"plane normal ({nrm}) offset {self.offset:g}"
+        if self.kind == "box":
+            return f"box at ({c}) size " + " x ".join(f"{v:g}" for v in self.size)
+        if self.kind == "sphere":
+            return f"sphere at ({c}) radius {self.size[0]:g}"
+        if self.kind in ("cylinder", "capsule"):
+            return f"{self.kind} at ({c}) radius {self.size[0]:g} length {self.size[1]:g}"
+        return f"mesh {self.mesh_path}"
+
+    def __repr__(self) -> str:
+        return f"Shape({self.name!r}: {self.describe()})"
+
+
+class Scene:
+    """The arm's surroundings: a list of :class:`Shape` in the world.
+
+    Parameters
+    ----------
+    shapes : iterable of Shape
+    unit : {"m", "cm", "mm"} or None
+        Length unit of the shapes; ``None`` (the default for scenes built in Python) means the
+        unit of the robot they are checked against.
+
+    Examples
+    --------
+    >>> import armkit
+    >>> scene = armkit.Scene([armkit.Scene.plane([0, 0, 1], 0.0, name="ground"),
+    ...                       armkit.Scene.box([0.5, 0, 0.2], [0.4, 0.6, 0.4], name="table")])
+    >>> [s.name for s in scene]
+    ['ground', 'table']
+    """
+
+    def __init__(self, shapes: Iterable[Shape] = (), unit: str | None = None) -> None:
+        shapes = tuple(shapes)
+        for s in shapes:
+            if not isinstance(s, Shape):
+                raise SceneError(f"a Scene holds armkit Shapes (Scene.box(...), Scene.plane(...), ...); got {s!r}")
+        if unit is not None and unit not in _UNITS:
+            raise SceneError(f"unit must be one of {', '.join(_UNITS)} or None, got {unit!r}")
+        self.shapes: tuple[Shape, ...] = shapes
+        self.unit = unit
+
+    # ----------------------------------------------------------- constructors
+    @staticmethod
+    def plane(normal: ArrayLike, offset: float = 0.0, *, name: str = "", allow: Sequence[str] = ()) -> Shape:
+        """The half-space ``normal · x <= offset``: a plane and everything behind it (the ground)."""
+        n = _vec(normal, 3, "plane normal")
+        length = float(np.linalg.norm(n))
+        if length < 1e-12:
+            raise SceneError("plane normal must not be zero")
+        n = n / length
+        off = float(offset) / length
+        if not math.isfinite(off):
+            raise SceneError(f"plane offset must be a finite number, got {offset!r}")
+        # a frame with z along n: x from the axis least aligned with n
+        helper = np.eye(3)[int(np.argmin(np.abs(n)))]
+        x = np.cross(helper, n)
+        x /= np.linalg.norm(x)
+        y = np.cross(n, x)
+        T = np.eye(4)
+        T[:3, 0], T[:3, 1], T[:3, 2], T[:3, 3] = x, y, n, n * off
+        return Shape("plane", T, (), name or "ground" if n[2] > 0.999 else name or "plane", tuple(allow))
+
+    @staticmethod
+    def box(center: ArrayLike, size: ArrayLike, rpy: ArrayLike = (0.0, 0.0, 0.0), *, name: str = "",
+            allow: Sequence[str] = ()) -> Shape:
+        """A box with full extents ``size`` (x, y, z), centred at ``center``, turned by ``rpy`` (rad)."""
+        sz = _vec(size, 3, "box size")
+        for v in sz:
+            _positive(v, "box size")
+        return Shape("box", _pose(center, rpy), tuple(sz), name or "box", tuple(allow))
+
+    @staticmethod
+    def sphere(center: ArrayLike, radius: float, *, name: str = "", allow: Sequence[str] = ()) -> Shape:
+        """A ball."""
+        return Shape("sphere", _pose(center, (0, 0, 0)), (_positive(radius, "sphere radius"),), name or "sphere",
+                     tuple(allow))
+
+    @staticmethod
+    def cylinder(center: ArrayLike, radius: float, length: float, rpy: ArrayLike = (0.0, 0.0, 0.0), *,
+                 name: str = "", allow: Sequence[str] = ()) -> Shape:
+        """A solid cylinder along its local z axis (turned by ``rpy``), centred at ``center`` (as in URDF)."""
+        return Shape("cylinder", _pose(center, rpy),
+                     (_positive(radius, "cylinder radius"), _positive(length, "cylinder length")),
+                     name or "cylinder", tuple(allow))
+
+    @staticmethod
+    def capsule(a: ArrayLike, b: ArrayLike, radius: float, *, name: str = "", allow: Sequence[str] = ()) -> Shape:
+        """The points within ``radius`` of the segment ``a -> b``."""
+        pa, pb = _vec(a, 3, "capsule end a"), _vec(b, 3, "capsule end b")
+        r = _positive(radius, "capsule radius")
+        d = pb - pa
+        length = float(np.linalg.norm(d))
+        if length > 0:
+            z = d / length
+            helper = np.eye(3)[int(np.argmin(np.abs(z)))]
+            x = np.cross(helper, z)
+            x /= np.linalg.norm(x)
+            R = np.column_stack([x, np.cross(z, x), z])
+        else:
+            R = np.eye(3)
+        T = np.eye(4)
+        T[:3, :3], T[:3, 3] = R, 0.5 * (pa + pb)
+        return Shape("capsule", T, (r, length), name or "capsule", tuple(allow))
+
+    @staticmethod
+    def mesh(path: str, pose: ArrayLike | None = None, scale: ArrayLike = (1.0, 1.0, 1.0), *, name: str = "",
+             allow: Sequence[str] = ()) -> Shape:
+        """A mesh file (anything coal/assimp reads: STL, OBJ, DAE); collision uses its convex hull."""
+        T = np.eye(4) if pose is None else np.asarray(pose, dtype=float)
+        sc = _vec(scale, 3, "mesh scale")
+        return Shape("mesh", T, (), name or "mesh", tuple(allow), None, str(path),
+                     (float(sc[0]), float(sc[1]), float(sc[2])))
+
+    @classmethod
+    def load(cls, path: str) -> "Scene":
+        """Read a scene file (TOML, see ``docs/scene.md``); errors name the file, line and field."""
+        from .files import load_scene
+
+        return load_scene(path)
+
+    # ------------------------------------------------------------- editing
+    def __iter__(self) -> Iterator[Shape]:
+        return iter(self.shapes)
+
+    def __len__(self) -> int:
+        return len(self.shapes)
+
+    def __add__(self, other: "Scene | Iterable[Shape]") -> "Scene":
+        if isinstance(other, Scene):
+            if self.unit is not None and other.unit is not None and self.unit != other.unit:
+                other = other.in_unit(self.unit)
+            return Scene(self.shapes + other.shapes, self.unit or other.unit)
+        return Scene(self.shapes + tuple(other), self.unit)
+
+    def with_shape(self, shape: Shape) -> "Scene":
+        """A new scene with ``shape`` added."""
+        return Scene(self.shapes + (shape,), self.unit)
+
+    def without(self, name: str) -> "Scene":
+        """A new scene without the shapes called ``name``."""
+        return Scene([s for s in self.shapes if s.name != name], self.unit)
+
+    def in_unit(self, unit: str) -> "Scene":
+        """The same scene with lengths in ``unit`` (a scene without a unit is taken as already in it)."""
+        if unit not in _UNITS:
+            raise SceneError(f"unit must be one of {', '.join(_UNITS)}, got {unit!r}")
+        if self.unit is None or self.unit == unit:
+            return Scene(self.shapes, unit)
+        f = _UNITS[self.unit] / _UNITS[unit]
+        return Scene([s.scaled(f) for s in self.shapes], unit)
+
+    def __repr__(self) -> str:
+        inner = ", ".join(repr(s) for s in self.shapes)
+        return f"Scene([{inner}]" + (f", unit={self.unit!r})" if self.unit else ")")
