@@ -25,4 +25,15 @@ __all__ = [
     "ArmkitError", "ShapeError", "RobotDefinitionError", "RobotFileError", "UnknownRobotError",
     "JointLimitError", "UnreachableError",
     "IKResult", "ik", "ik_all",
+    "Scene", "Collisions", "collisions", "clearance",
 ]
+
+_LAZY = {"Scene", "Collisions", "collisions", "clearance"}   # armkit.collision, imported on first use
+
+
+def __getattr__(name: str) -> object:
+    if name in _LAZY:
+        from . import collision
+
+        return getattr(collision, name)
+    raise AttributeError(f"module 'armkit' has no attribute {name!r}")
