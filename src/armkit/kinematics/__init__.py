@@ -33,7 +33,7 @@ from ..errors import ArmkitError
 from ..model.robot import Chain, Robot
 from . import _numpy
 
-__all__ = ["fk", "fk_frames", "jacobian", "manipulability", "condition_number", "is_singular",
+__all__ = ["fk", "fk_frames", "link_frames", "jacobian", "manipulability", "condition_number", "is_singular",
            "SINGULAR_THRESHOLD", "task_rows", "set_backend", "get_backend"]
 
 Array = NDArray[np.float64]
@@ -121,8 +121,8 @@ def _flat_unchecked(robot: Robot, q: ArrayLike) -> tuple[Array, tuple[int, ...]]
     return np.ascontiguousarray(arr.reshape(-1, robot.n)), arr.shape[:-1]
 
 
-def fk(robot: Robot, q: ArrayLike) -> Array:
-    r"""Pose of the tool in the world frame, ``T_world_tool``.
+def fk(robot: Robot, q: ArrayLike, link: str | None = None) -> Array:
+    r"""Pose of the tool in the world frame, ``T_world_tool`` (or of the named ``link``).
 
     .. math:: T = T_{base} \, A_1(q_1) \cdots A_n(q_n) \, T_{tool}
 
@@ -131,6 +131,9 @@ def fk(robot: Robot, q: ArrayLike) -> Array:
     robot : Robot
     q : array_like, shape (..., n)
         Joint values (rad for revolute, length units for prismatic joints).
+    link : str, optional
+        A link name (see ``robot.links``: URDF link names, or ``link0 .. linkn`` of a DH
+        arm): the pose of that link instead of the tool.
 
     Returns
     -------
@@ -142,7 +145,13 @@ def fk(robot: Robot, q: ArrayLike) -> Array:
     >>> T = armkit.fk(armkit.load("fighter"), np.radians([30, 45, 60]))
     >>> np.round(T[:3, 3], 3)
     array([ 24.861,  14.353, 187.181])
+    >>> np.round(armkit.fk(armkit.load("planar2"), [0.0, 0.0], link="link1")[:3, 3], 12) + 0.0
+    array([1., 0., 0.])
     """
+    if link is not None:
+        k = robot.link_index(link)
+        lk = robot.links[k]
+        return np.asarray(fk_frames(robot, q)[..., lk.frame, :, :] @ lk.offset)
     jit = _ACTIVE or _jit_module()
     if jit is not None:
         c = robot.chain
@@ -169,6 +178,10 @@ def fk(robot: Robot, q: ArrayLike) -> Array:
 def fk_frames(robot: Robot, q: ArrayLike) -> Array:
     """Every link frame in the world: ``(..., n + 1, 4, 4)``.
 
+    For a URDF arm, ``frames[..., k]`` (``k = 1 .. n-1``) is the child link of moving
+    joint ``k``; other links (fixed ones, named ones) come from :func:`link_frames` or
+    ``fk(robot, q, link=name)``.
+
     ``frames[..., 0]`` is the base frame ``T_world_base``; ``frames[..., k]`` for
     ``k = 1 .. n-1`` is link frame ``k`` of the DH convention in use (standard DH: the
     frame at the far end of link ``k``, on joint axis ``k + 1``; modified DH: the frame on
@@ -187,6 +200,26 @@ def fk_frames(robot: Robot, q: ArrayLike) -> Array:
         flat, lead = _flat(robot, q)
         out = _numpy.frames(c, flat)
     return out.reshape(lead + (robot.n + 1, 4, 4))
+
+
+def link_frames(robot: Robot, q: ArrayLike) -> Array:
+    """World pose of every link in ``robot.links``: ``(..., len(robot.links), 4, 4)``.
+
+    Link ``i`` is ``fk_frames(robot, q)[..., links[i].frame] @ links[i].offset``: for a
+    URDF arm every link of the chain (fixed ones included) and the links hanging off it at
+    their ``q = 0`` place; for a DH arm the ``n + 1`` link frames.
+
+    Examples
+    --------
+    >>> import armkit
+    >>> arm = armkit.load("so101")
+    >>> armkit.link_frames(arm, arm.random_q(4, rng=0)).shape[:2] == (4, len(arm.links))
+    True
+    """
+    frames = fk_frames(robot, q)
+    idx = [lk.frame for lk in robot.links]
+    offsets = np.stack([lk.offset for lk in robot.links])
+    return np.asarray(frames[..., idx, :, :] @ offsets)
 
 
 def jacobian(robot: Robot, q: ArrayLike, frame: Literal["base", "tool"] = "base") -> Array:

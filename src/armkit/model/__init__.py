@@ -1,6 +1,6 @@
 """Robot model: joints, the immutable :class:`Robot`, and robot files."""
 
 from .files import bundled_robots, dumps, load, save
-from .robot import Chain, Joint, Robot
+from .robot import Chain, Joint, Link, Robot, Shape
 
-__all__ = ["Joint", "Robot", "Chain", "load", "save", "dumps", "bundled_robots"]
+__all__ = ["Joint", "Robot", "Chain", "Link", "Shape", "load", "save", "dumps", "bundled_robots"]

@@ -52,9 +52,17 @@ _TOP_KEYS |= _COLLISION_KEYS
 _JOINT_KEYS |= {"link_radius"}
 
 
+# bundled URDF arms whose tree has several leaves: the chain armkit uses by default
+BUNDLED_CHAINS = {"so101": ("base_link", "gripper_frame_link")}
+
+
 def bundled_robots() -> list[str]:
-    """Names of the robots shipped with armkit, sorted."""
-    return sorted(p.stem for p in BUNDLED_DIR.glob("*.toml"))
+    """Names of the robots shipped with armkit (TOML DH tables and URDF files), sorted."""
+    return sorted({p.stem for p in BUNDLED_DIR.glob("*.toml")} | {p.stem for p in BUNDLED_DIR.glob("*.urdf")})
+
+
+def _is_urdf(path: Path) -> bool:
+    return path.suffix.lower() in (".urdf", ".xml")
 
 
 class _Locator:
@@ -91,9 +99,18 @@ class _Locator:
 
 
 def _number(value: Any, path: str, loc: _Locator, key: str, field: str, joint: int | None = None,
-            table: str | None = None) -> float:
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
-        raise RobotFileError(path, f"must be a finite number, got {value!r}", loc.line(key, joint, table), field)
+            table: str | None = None, infinite: bool = False) -> float:
+    """A finite float (``infinite``: +-inf allowed too, for limits); integers beyond float range refused."""
+    ok = not isinstance(value, bool) and isinstance(value, (int, float))
+    if ok and isinstance(value, int) and abs(value) > 2 ** 1023:
+        ok = False
+    if ok and not (math.isfinite(value) or (infinite and not math.isnan(value))):
+        ok = False
+    if not ok:
+        what = "a number (inf allowed)" if infinite else "a finite number"
+        shown = repr(value)
+        raise RobotFileError(path, f"must be {what}, got {shown if len(shown) <= 60 else shown[:57] + '...'}",
+                             loc.line(key, joint, table), field)
     return float(value)
 
 
@@ -118,11 +135,22 @@ def _pose_from_table(data: Any, path: str, loc: _Locator, table: str, angle: flo
 
 def _parse(text: str, path: str) -> Robot:
     loc = _Locator(text)
+    text = text[1:] if text.startswith("\ufeff") else text      # a UTF-8 byte order mark (Windows editors)
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         m = re.search(r"line (\d+)", str(exc))
         raise RobotFileError(path, f"not valid TOML: {exc}", int(m.group(1)) if m else None) from None
+    except RecursionError:
+        raise RobotFileError(path, "not valid TOML: arrays or tables nested too deeply") from None
+    for key in ("name", "description", "source", "convention", "unit", "angle_unit"):
+        if key in data and not isinstance(data[key], str):
+            raise RobotFileError(path, f"must be a string, got {type(data[key]).__name__} {_short(data[key])}",
+                                 loc.line(key), key)
+    if "link_names" in data and (not isinstance(data["link_names"], list)
+                                 or not all(isinstance(x, str) for x in data["link_names"])):
+        raise RobotFileError(path, f"must be a list of strings, got {_short(data['link_names'])}",
+                             loc.line("link_names"), "link_names")
     unknown = set(data) - _TOP_KEYS
     if unknown:
         key = sorted(unknown)[0]
@@ -134,9 +162,15 @@ def _parse(text: str, path: str) -> Robot:
     rows = data.get("joints")
     if not isinstance(rows, list) or not rows:
         raise RobotFileError(path, "the file needs at least one [[joints]] table", None, "joints")
+    if len(rows) > MAX_JOINTS:
+        raise RobotFileError(path, f"{len(rows):,} joints; armkit handles serial arms of at most {MAX_JOINTS:,} joints",
+                             None, "joints")
     joints = []
     for k, row in enumerate(rows):
         where = f"joints[{k + 1}]"
+        if not isinstance(row, dict):
+            raise RobotFileError(path, f"must be a table (write each joint as a [[joints]] table), got {_short(row)}",
+                                 loc.line("joints"), where)
         bad = set(row) - _JOINT_KEYS
         if bad:
             key = sorted(bad)[0]
@@ -160,7 +194,7 @@ def _parse(text: str, path: str) -> Robot:
             if not isinstance(limits, list) or len(limits) != 2:
                 raise RobotFileError(path, f"must be [lower, upper], got {limits!r}", loc.line("limits", k),
                                      f"{where}.limits")
-            lo, hi = (_number(x, path, loc, "limits", f"{where}.limits", k) for x in limits)
+            lo, hi = (_number(x, path, loc, "limits", f"{where}.limits", k, infinite=True) for x in limits)
             if kind == "revolute":
                 lo, hi = lo * ang, hi * ang
             if lo > hi:
@@ -186,8 +220,20 @@ def _parse(text: str, path: str) -> Robot:
     return robot
 
 
-def load(name_or_path: str | Path) -> Robot:
-    """Load a bundled robot by name (``"fighter"``) or a robot file by path.
+def _short(value: Any, limit: int = 60) -> str:
+    text = repr(value)
+    return text if len(text) <= limit else text[:limit - 3] + "..."
+
+
+def load(name_or_path: str | Path, base: str | None = None, tip: str | None = None) -> Robot:
+    """Load a bundled robot by name (``"fighter"``, ``"so101"``) or a robot file by path (``.toml`` or ``.urdf``).
+
+    Parameters
+    ----------
+    name_or_path : str or Path
+    base, tip : str, optional
+        URDF only: the links where the chain starts and ends (default: the root link and
+        the single leaf reached through moving joints; see :mod:`armkit.model.urdf`).
 
     Raises
     ------
@@ -200,47 +246,85 @@ def load(name_or_path: str | Path) -> Robot:
     --------
     >>> load("fighter").joint_types
     'RRR'
+    >>> load("so101").joint_names
+    ('shoulder_pan', 'shoulder_lift', 'elbow_flex', 'wrist_flex', 'wrist_roll')
     """
     text_path = Path(name_or_path)
-    if isinstance(name_or_path, str) and not name_or_path.endswith(".toml") and (BUNDLED_DIR / f"{name_or_path}.toml").is_file():
-        text_path = BUNDLED_DIR / f"{name_or_path}.toml"
+    bundled_chain: tuple[str | None, str | None] = (None, None)
+    if isinstance(name_or_path, str) and "/" not in name_or_path and not text_path.suffix:
+        for suffix in (".toml", ".urdf"):
+            if (BUNDLED_DIR / f"{name_or_path}{suffix}").is_file():
+                text_path = BUNDLED_DIR / f"{name_or_path}{suffix}"
+                bundled_chain = BUNDLED_CHAINS.get(name_or_path, (None, None))
+                break
     if not text_path.is_file():
         raise UnknownRobotError(str(name_or_path), bundled_robots())
+    if _is_urdf(text_path):
+        from .urdf import load_urdf
+
+        bundled = text_path.parent == BUNDLED_DIR
+        return load_urdf(text_path if bundled else name_or_path, base if base is not None else bundled_chain[0],
+                         tip if tip is not None else bundled_chain[1], warn_missing_meshes=not bundled,
+                         name=text_path.stem if bundled else None)
+    if base is not None or tip is not None:
+        raise RobotFileError(str(name_or_path), "base= and tip= choose a chain in a URDF file; a TOML robot file "
+                             "is a single chain already")
     try:
+        size = text_path.stat().st_size
+        if size > MAX_FILE_BYTES:
+            raise RobotFileError(str(name_or_path), f"the file has {size:,} bytes; a robot file may have at most "
+                                 f"{MAX_FILE_BYTES:,}")
         text = text_path.read_text(encoding="utf-8")
     except (OSError, UnicodeDecodeError) as exc:
         raise RobotFileError(str(name_or_path), f"cannot read file: {exc}") from None
     return _parse(text, str(name_or_path))
 
 
-def _fmt(x: float) -> str:
-    return repr(float(round(x, 12)) + 0.0)
+_DEG = math.pi / 180.0            # the loader's degrees -> radians factor
+MAX_FILE_BYTES = 16 * 1024 ** 2   # a robot file larger than this is refused unread
+MAX_JOINTS = 1000                 # joints in one robot file
 
 
 def dumps(robot: Robot) -> str:
-    """The TOML text of a robot (angles in degrees); :func:`load` reads it back."""
+    """The TOML text of a robot; :func:`load` reads the same robot back, value for value.
+
+    Written with tomli_w, so any name or description (quotes, ``\"\"\"``, control
+    characters, backslashes) and infinite limits survive. Angles are in degrees when
+    every one converts back exactly, else in radians (``angle_unit`` says which).
+
+    A URDF chain is written as its standard-DH twin (:meth:`Robot.to_dh`).
+    """
+    if not robot.is_dh:
+        robot = robot.to_dh()
+    import tomli_w
+
     from ..spatial import rotation_to_rpy
 
-    deg = 180.0 / math.pi
-    out = [f"name = {robot.name!r}".replace("'", '"')]
-    for key in ("description", "source"):
-        val = getattr(robot, key)
-        if val:
-            out.append(f'{key} = """{val}"""' if "\n" in val else f"{key} = {_toml_str(val)}")
-    out += [f'convention = "{robot.convention}"', f'unit = "{robot.unit}"', 'angle_unit = "deg"',
-            "link_names = [" + ", ".join(_toml_str(s) for s in robot.link_names) + "]"]
+    poses = {}
     for which in ("base", "tool"):
         T = getattr(robot, which)
-        if not np.allclose(T, np.eye(4), atol=0):
-            rpy = rotation_to_rpy(T[:3, :3]) * deg
-            out += ["", f"[{which}]", "xyz = [" + ", ".join(_fmt(v) for v in T[:3, 3]) + "]",
-                    "rpy = [" + ", ".join(repr(float(v)) for v in rpy) + "]"]
-    for j in robot.joints:
-        lim = [j.lower, j.upper] if j.is_prismatic else [j.lower * deg, j.upper * deg]
-        out += ["", "[[joints]]", f"name = {_toml_str(j.name)}", f'type = "{j.kind}"',
-                f"theta = {j.theta * deg!r}", f"d = {j.d!r}", f"a = {j.a!r}", f"alpha = {j.alpha * deg!r}",
-                f"limits = [{lim[0]!r}, {lim[1]!r}]"]
-    return "\n".join(out).replace("inf", "inf") + "\n"
+        if not np.array_equal(T, np.eye(4)):
+            poses[which] = (T[:3, 3], rotation_to_rpy(T[:3, :3]))
+    # Angles in degrees when every one of them comes back bit for bit (the loader multiplies
+    # by pi/180), else in radians: a save never moves a value (no 2.2e-16 drift per save).
+    angles = [v for j in robot.joints for v in (j.theta, j.alpha) + (() if j.is_prismatic else (j.lower, j.upper))]
+    angles += [float(v) for _, rpy in poses.values() for v in rpy]
+    to_deg = 180.0 / math.pi
+    use_deg = all(not math.isfinite(v) or (v * to_deg) * _DEG == v for v in angles)
+    k = to_deg if use_deg else 1.0
+    data: dict[str, Any] = {"name": robot.name}
+    for key in ("description", "source"):
+        if getattr(robot, key):
+            data[key] = getattr(robot, key)
+    data.update({"convention": robot.convention, "unit": robot.unit, "angle_unit": "deg" if use_deg else "rad",
+                 "link_names": list(robot.link_names)})
+    for which, (xyz, rpy) in poses.items():
+        data[which] = {"xyz": [float(v) for v in xyz], "rpy": [float(v) * k for v in rpy]}
+    data["joints"] = [{"name": j.name, "type": j.kind, "theta": j.theta * k, "d": float(j.d), "a": float(j.a),
+                       "alpha": j.alpha * k,
+                       "limits": [float(j.lower), float(j.upper)] if j.is_prismatic else [j.lower * k, j.upper * k]}
+                      for j in robot.joints]
+    return str(tomli_w.dumps(data))
 
 
 def _toml_str(s: str) -> str:
@@ -248,7 +332,19 @@ def _toml_str(s: str) -> str:
 
 
 def save(robot: Robot, path: str | Path) -> Path:
-    """Write ``robot`` as a TOML robot file; ``load(path)`` gives the same robot back."""
+    """Write ``robot`` as a robot file chosen by the suffix: ``.urdf`` (URDF, metres) or TOML otherwise.
+
+    ``load(path)`` gives a robot with the same FK back (a URDF is always in metres; a TOML
+    file of a URDF chain holds its DH twin).
+    """
     p = Path(path)
-    p.write_text(dumps(robot), encoding="utf-8")
+    if _is_urdf(p):
+        from .urdf import dumps_urdf
+
+        text = dumps_urdf(robot)
+    else:
+        text = dumps(robot)
+    from .._io import atomic_write
+
+    atomic_write(p, text)         # a temporary file renamed into place: a failed save leaves the old file
     return p

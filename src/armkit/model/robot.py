@@ -8,12 +8,20 @@ where ``M_i`` is a rotation about (revolute) or a translation along (prismatic) 
 local z axis and ``pre_i``/``post_i`` are constant poses. Standard DH puts the constant
 part after the motion (``post``), modified DH before it (``pre``); a URDF importer fills
 ``pre`` with the joint origin. The kinematics kernels only ever see this form.
+
+Three ways to write the joints, one compiled form:
+
+* ``convention="standard"`` / ``"modified"``: DH rows (``theta, d, a, alpha``);
+* ``convention="urdf"``: each joint has an ``origin`` (pose of the joint frame in the
+  previous moving link's frame, fixed joints already folded in) and a unit ``axis``; the
+  compiler turns ``origin · Rot(axis, q)`` into ``pre = origin · A``, ``M = Rz(q)``,
+  ``post = A^T`` with ``A`` a rotation taking z to the axis (exact for axis-aligned axes).
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Literal, Sequence
 
 import numpy as np
@@ -21,11 +29,12 @@ from numpy.typing import ArrayLike, NDArray
 
 from ..errors import RobotDefinitionError, ShapeError
 
-__all__ = ["Joint", "Robot", "Chain", "REVOLUTE", "PRISMATIC"]
+__all__ = ["Joint", "Robot", "Chain", "Link", "Shape", "REVOLUTE", "PRISMATIC", "axis_alignment"]
 
 REVOLUTE: Literal["revolute"] = "revolute"
 PRISMATIC: Literal["prismatic"] = "prismatic"
-CONVENTIONS = ("standard", "modified")
+CONVENTIONS = ("standard", "modified", "urdf")
+DH_CONVENTIONS = ("standard", "modified")
 UNITS = {"m": 1.0, "mm": 1e-3, "cm": 1e-2}
 
 Array = NDArray[np.float64]
@@ -74,6 +83,8 @@ class Joint:
     lower: float = -math.pi
     upper: float = math.pi
     name: str = ""
+    origin: tuple[tuple[float, ...], ...] | None = None
+    axis: tuple[float, float, float] | None = None
 
     def __post_init__(self) -> None:
         if self.kind not in (REVOLUTE, PRISMATIC):
@@ -89,10 +100,128 @@ class Joint:
         if self.lower > self.upper:
             raise RobotDefinitionError(
                 f"joint {self.name!r}: lower limit {self.lower:g} is greater than upper limit {self.upper:g}")
+        if self.origin is not None or self.axis is not None:
+            self._check_general()
+
+    def _check_general(self) -> None:
+        """Validate and normalise ``origin``/``axis`` of a joint given as origin + axis (URDF)."""
+        if any(getattr(self, f) != 0.0 for f in ("theta", "d", "a", "alpha")):
+            raise RobotDefinitionError(f"joint {self.name!r}: give either DH parameters or origin + axis, not both")
+        origin = _pose(np.eye(4) if self.origin is None else self.origin, f"joint {self.name!r}: origin")
+        try:
+            axis = np.array((0.0, 0.0, 1.0) if self.axis is None else self.axis, dtype=float)
+        except (TypeError, ValueError):
+            raise RobotDefinitionError(f"joint {self.name!r}: axis must be 3 numbers, got {self.axis!r}") from None
+        if axis.shape != (3,) or not np.all(np.isfinite(axis)):
+            raise RobotDefinitionError(f"joint {self.name!r}: axis must be 3 finite numbers, got {self.axis!r}")
+        norm = float(np.linalg.norm(axis))
+        if norm < 1e-9:
+            raise RobotDefinitionError(f"joint {self.name!r}: axis {tuple(axis.tolist())} has zero length; "
+                                       "a joint needs a direction to turn about or slide along")
+        axis = axis / norm
+        object.__setattr__(self, "origin", tuple(tuple(float(v) for v in row) for row in origin))
+        object.__setattr__(self, "axis", (float(axis[0]), float(axis[1]), float(axis[2])))
 
     @property
     def is_prismatic(self) -> bool:
         return self.kind == PRISMATIC
+
+    @property
+    def is_general(self) -> bool:
+        """True for a joint given as origin + axis (URDF) rather than a DH row."""
+        return self.origin is not None
+
+    @property
+    def is_continuous(self) -> bool:
+        """A revolute joint without limits (URDF ``continuous``)."""
+        return not self.is_prismatic and math.isinf(self.lower) and math.isinf(self.upper)
+
+    def origin_matrix(self) -> Array:
+        """``origin`` as a ``(4, 4)`` array (identity for a DH joint)."""
+        return np.eye(4) if self.origin is None else np.array(self.origin, dtype=float)
+
+    def axis_vector(self) -> Array:
+        """The unit joint axis ``(3,)`` in the joint frame (z for a DH joint)."""
+        return np.array((0.0, 0.0, 1.0) if self.axis is None else self.axis, dtype=float)
+
+
+def axis_alignment(axis: ArrayLike) -> Array:
+    """A rotation ``A`` ``(4, 4)`` whose z column is the unit vector ``axis``.
+
+    Built from coordinate axes so that axis-aligned inputs give exact 0/1 entries
+    (no ``cos(pi/2) = 6e-17``): ``Rot(axis, q) = A Rz(q) A^T``.
+
+    >>> axis_alignment([1.0, 0.0, 0.0])[:3, :3]
+    array([[0., 0., 1.],
+           [1., 0., 0.],
+           [0., 1., 0.]])
+    """
+    z = np.asarray(axis, dtype=float)
+    h = np.array([1.0, 0.0, 0.0]) if abs(z[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
+    x = h - (h @ z) * z
+    x = x / np.linalg.norm(x)
+    y = np.cross(z, x)
+    A = np.eye(4)
+    A[:3, 0], A[:3, 1], A[:3, 2] = x, y, z
+    return A
+
+
+@dataclass(frozen=True, eq=False)
+class Shape:
+    """One piece of visual or collision geometry attached to a link (from URDF).
+
+    Attributes
+    ----------
+    kind : {"box", "cylinder", "sphere", "mesh"}
+    origin : ndarray, shape (4, 4)
+        Pose of the shape in its link's frame.
+    size : tuple of float
+        box: full extents ``(x, y, z)``; cylinder: ``(radius, length)`` along local z;
+        sphere: ``(radius,)``; mesh: ``()``.
+    mesh_path : str or None
+        The mesh file found on disk (absolute), or ``None`` when it could not be found.
+    mesh_uri : str
+        The file name as written in the URDF (``package://...``), empty for primitives.
+    scale : tuple of 3 floats
+    rgba : tuple of 4 floats or None
+    """
+
+    kind: str
+    origin: Array
+    size: tuple[float, ...] = ()
+    mesh_path: str | None = None
+    mesh_uri: str = ""
+    scale: tuple[float, float, float] = (1.0, 1.0, 1.0)
+    rgba: tuple[float, float, float, float] | None = None
+
+
+@dataclass(frozen=True, eq=False)
+class Link:
+    """A named link of the model and where it sits on the chain.
+
+    Attributes
+    ----------
+    name : str
+    frame : int
+        Index into :func:`armkit.fk_frames` (``0`` the base, ``k`` the child link of moving
+        joint ``k``, ``n`` the tool frame) of the frame this link is fixed to.
+    offset : ndarray, shape (4, 4)
+        Pose of the link in that frame: ``T_world_link = fk_frames(q)[frame] @ offset``.
+    parent, joint : str or None
+        The parent link and the joint connecting it (URDF); ``None`` for the root.
+    joint_origin : ndarray, shape (4, 4) or None
+        That joint's origin in the parent link (kept to write the URDF back).
+    visuals, collisions : tuple of Shape
+    """
+
+    name: str
+    frame: int
+    offset: Array
+    parent: str | None = None
+    joint: str | None = None
+    joint_origin: Array | None = None
+    visuals: tuple[Shape, ...] = ()
+    collisions: tuple[Shape, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -185,11 +314,14 @@ class Robot:
     description: str = ""
     source: str = ""
     link_names: tuple[str, ...] = ()
+    links: tuple[Link, ...] = ()
+    ignored_joints: tuple[str, ...] = ()
     chain: Chain = field(init=False, repr=False, compare=False)
 
     def __init__(self, joints: Sequence[Joint], convention: str = "standard", name: str = "robot",
                  unit: str = "m", base: ArrayLike | None = None, tool: ArrayLike | None = None,
-                 description: str = "", source: str = "", link_names: Sequence[str] = ()) -> None:
+                 description: str = "", source: str = "", link_names: Sequence[str] = (),
+                 links: Sequence[Link] = (), ignored_joints: Sequence[str] = ()) -> None:
         joints = tuple(joints)
         if len(joints) == 0:
             raise RobotDefinitionError(f"robot {name!r} has no joints; a serial arm needs at least one")
@@ -199,7 +331,14 @@ class Robot:
             raise RobotDefinitionError(f"convention must be one of {CONVENTIONS}, got {convention!r}")
         if unit not in UNITS:
             raise RobotDefinitionError(f"unit must be one of {tuple(UNITS)}, got {unit!r}")
-        joints = tuple(j if j.name else Joint(j.kind, j.theta, j.d, j.a, j.alpha, j.lower, j.upper, f"q{i + 1}")
+        general = [j.is_general for j in joints]
+        if convention == "urdf" and not all(general):
+            raise RobotDefinitionError("convention 'urdf' needs every joint given as origin + axis")
+        if convention != "urdf" and any(general):
+            raise RobotDefinitionError(f"convention {convention!r} needs DH rows; joints with origin + axis "
+                                       "belong to convention 'urdf'")
+        joints = tuple(j if j.name else Joint(j.kind, j.theta, j.d, j.a, j.alpha, j.lower, j.upper, f"q{i + 1}",
+                                              j.origin, j.axis)
                        for i, j in enumerate(joints))
         names = [j.name for j in joints]
         if len(set(names)) != len(names):
@@ -219,6 +358,20 @@ class Robot:
         set_(self, "source", source)
         set_(self, "link_names", link_names)
         set_(self, "chain", self._compile())
+        links = tuple(links)
+        if not links:   # one link per chain frame; the last one sits before the tool
+            tool_inv = np.array(np.linalg.inv(self.tool), dtype=np.float64)
+            links = tuple(Link(nm, k, np.eye(4) if k < len(joints) else tool_inv, None if k == 0 else link_names[k - 1],
+                               None if k == 0 else joints[k - 1].name)
+                          for k, nm in enumerate(link_names))
+        elif not all(isinstance(lk, Link) and 0 <= lk.frame <= len(joints) for lk in links):
+            raise RobotDefinitionError("links must be armkit.model.Link objects with frame in 0..n")
+        link_index = {lk.name: i for i, lk in enumerate(links)}
+        if len(link_index) != len(links):
+            raise RobotDefinitionError(f"link names must be unique, got {[lk.name for lk in links]}")
+        set_(self, "links", links)
+        set_(self, "_link_index", link_index)
+        set_(self, "ignored_joints", tuple(ignored_joints))
         for attr, vals in (("_lower", [j.lower for j in joints]), ("_upper", [j.upper for j in joints])):
             arr = np.array(vals, dtype=float)
             arr.setflags(write=False)
@@ -230,6 +383,11 @@ class Robot:
         pre = np.empty((n, 4, 4))
         post = np.empty((n, 4, 4))
         for i, j in enumerate(self.joints):
+            if j.is_general:         # origin · A · M(q) · A^T  =  origin · Rot/Trans(axis, q)
+                A = axis_alignment(j.axis_vector())
+                pre[i] = j.origin_matrix() @ A
+                post[i] = A.T
+                continue
             # offsets commute with the joint motion (Rz with Rz, Tz with Tz), so they fold into constants
             if self.convention == "standard":
                 if j.is_prismatic:   # Tz(q) · Rz(theta) Tz(d) Tx(a) Rx(alpha)
@@ -274,9 +432,21 @@ class Robot:
         return self._upper  # type: ignore[attr-defined, no-any-return]
 
     @property
+    def is_dh(self) -> bool:
+        """True for a robot written as a DH table (standard or modified), false for URDF chains."""
+        return self.convention in DH_CONVENTIONS
+
+    @property
     def reach(self) -> float:
         """An upper bound on the distance from the first joint axis to the tool (length units)."""
         total = float(np.linalg.norm(self.tool[:3, 3]))
+        if not self.is_dh:
+            for j in self.joints:
+                total += float(np.linalg.norm(j.origin_matrix()[:3, 3]))
+                if j.is_prismatic:
+                    total += max(abs(v) for v in (j.lower, j.upper) if math.isfinite(v)) if (
+                        math.isfinite(j.lower) or math.isfinite(j.upper)) else 0.0
+            return total
         for j in self.joints:
             d_max = max(abs(j.lower + j.d), abs(j.upper + j.d)) if j.is_prismatic else abs(j.d)
             total += math.hypot(j.a, d_max if math.isfinite(d_max) else 0.0)
@@ -288,8 +458,56 @@ class Robot:
         return UNITS[self.unit]
 
     def dh_table(self) -> Array:
-        """The DH table as an ``(n, 4)`` array of columns ``(theta, d, a, alpha)`` (rad, length)."""
+        """The DH table as an ``(n, 4)`` array of columns ``(theta, d, a, alpha)`` (rad, length).
+
+        For a URDF chain: the table of its standard-DH twin :meth:`to_dh`.
+        """
+        if not self.is_dh:
+            return self.to_dh().dh_table()
         return np.array([[j.theta, j.d, j.a, j.alpha] for j in self.joints])
+
+    def to_dh(self, convention: Literal["standard", "modified"] = "standard") -> "Robot":
+        """An equivalent DH robot: the same FK for every ``q`` (to rounding), base and tool absorbing the rest.
+
+        Works for any serial chain (URDF arms, or a DH arm in the other convention). Joint
+        names, kinds and limits carry over; link frames follow the DH rules. The choices
+        made where DH leaves freedom (parallel axes, intersecting axes, prismatic axes, the
+        last frame) are listed in ``docs/urdf.md``.
+
+        Raises
+        ------
+        RobotDefinitionError
+            If two consecutive axes are so close to parallel (but not parallel) that no DH
+            table reproduces the chain to 1e-9 of its reach.
+
+        Examples
+        --------
+        >>> import armkit, numpy as np
+        >>> ur5 = armkit.load("ur5")
+        >>> twin = ur5.to_dh("modified")
+        >>> q = ur5.random_q(rng=1)
+        >>> bool(np.allclose(armkit.fk(twin, q), armkit.fk(ur5, q), atol=1e-12))
+        True
+        """
+        if convention not in DH_CONVENTIONS:
+            raise RobotDefinitionError(f"convention must be 'standard' or 'modified', got {convention!r}")
+        if convention == self.convention:
+            return self
+        cache = self.__dict__.setdefault("_dh_twins", {})
+        if convention not in cache:
+            from .dh_extract import chain_to_dh
+
+            cache[convention] = chain_to_dh(self, convention)
+        return cache[convention]  # type: ignore[no-any-return]
+
+    def link_index(self, name: str) -> int:
+        """Index of link ``name`` in :attr:`links`; the error lists the link names."""
+        try:
+            return self._link_index[name]  # type: ignore[attr-defined, no-any-return]
+        except KeyError:
+            names = [lk.name for lk in self.links]
+            shown = ", ".join(names[:40]) + (f", ... ({len(names)} links)" if len(names) > 40 else "")
+            raise RobotDefinitionError(f"robot {self.name!r} has no link {name!r}; its links are: {shown}") from None
 
     # ------------------------------------------------------------- validation
     def check_q(self, q: ArrayLike, what: str = "q") -> Array:
@@ -332,8 +550,12 @@ class Robot:
 
     def with_tool(self, tool: ArrayLike) -> "Robot":
         """A copy of this robot with another tool transform."""
-        return Robot(self.joints, self.convention, self.name, self.unit, self.base, tool,
-                     self.description, self.source, self.link_names)
+        new_tool = _pose(tool, "tool")
+        shift = np.linalg.inv(new_tool) @ self.tool    # links fixed to the tool frame keep their world pose
+        links = tuple(lk if lk.frame < self.n else replace(lk, offset=shift @ lk.offset) for lk in self.links)
+        return Robot(self.joints, self.convention, self.name, self.unit, self.base, new_tool,
+                     self.description, self.source, self.link_names, links, self.ignored_joints)
 
     def __repr__(self) -> str:
-        return f"Robot({self.name!r}, {self.n} DOF {self.joint_types}, {self.convention} DH, unit={self.unit!r})"
+        kind = f"{self.convention} DH" if self.is_dh else "URDF chain"
+        return f"Robot({self.name!r}, {self.n} DOF {self.joint_types}, {kind}, unit={self.unit!r})"

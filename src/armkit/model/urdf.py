@@ -1,0 +1,491 @@
+"""URDF robot files: read any serial chain out of a URDF tree, and write any armkit robot as URDF.
+
+Reading (:func:`load_urdf`) checks the XML with lxml (errors carry the line), parses it
+with yourdfpy, then picks the chain ``base -> tip`` out of the tree:
+
+* ``base`` defaults to the root link; ``tip`` to the single leaf reached through moving
+  joints. Several candidates (two gripper jaws, a humanoid's limbs) are an error that
+  lists them and asks for ``tip=``.
+* ``revolute``, ``continuous`` (no limits; IK returns the turn nearest ``q0``),
+  ``prismatic`` and ``fixed`` joints; fixed joints fold into the constant transforms,
+  so a chain of 12 joints of which 6 move has ``n = 6``. ``floating``, ``planar`` and
+  ``mimic`` joints on the chain are errors naming the joint. Joints off the chain are
+  ignored (listed in ``robot.ignored_joints``; their links keep their geometry at
+  ``q = 0`` so that viewers can draw a gripper's jaw).
+* Visual and collision shapes are kept on ``robot.links``; mesh files are found
+  relative to the URDF, through ``package://NAME/...`` in the folders of
+  ``ARMKIT_PACKAGE_PATH`` and ``ROS_PACKAGE_PATH`` (``os.pathsep``-separated), then in
+  the URDF's parent folders. A missing mesh is one warning, never an error.
+
+Writing (:func:`dumps_urdf`) keeps a URDF robot's links, joints, origins, axes and
+geometry; a DH robot becomes one link per joint frame (on the joint axis) plus a
+``tool`` link on a fixed joint.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import warnings
+from pathlib import Path
+from typing import Any
+from xml.sax.saxutils import escape, quoteattr
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ..errors import RobotDefinitionError, RobotFileError
+from .robot import Joint, Link, Robot, Shape
+
+__all__ = ["load_urdf", "dumps_urdf", "resolve_mesh", "PACKAGE_PATH_VARIABLES"]
+
+Array = NDArray[np.float64]
+PACKAGE_PATH_VARIABLES = ("ARMKIT_PACKAGE_PATH", "ROS_PACKAGE_PATH")
+_MOVING = ("revolute", "continuous", "prismatic")
+_KNOWN = _MOVING + ("fixed", "floating", "planar")
+
+
+# ---------------------------------------------------------------------------- reading
+def _numbers(el: Any, attr: str, count: int, default: str, path: str, what: str) -> list[float]:
+    text = el.get(attr, default) if el is not None else default
+    parts = text.split()
+    try:
+        vals = [float(v) for v in parts]
+    except ValueError:
+        raise RobotFileError(path, f"{attr}={text!r} must be {count} numbers", el.sourceline, what) from None
+    if len(vals) != count:
+        raise RobotFileError(path, f"{attr}={text!r} must be {count} numbers, got {len(vals)}", el.sourceline, what)
+    if not all(math.isfinite(v) for v in vals):
+        raise RobotFileError(path, f"{attr}={text!r} holds NaN or infinite values", el.sourceline, what)
+    return vals
+
+
+def _check_xml(root: Any, path: str) -> tuple[dict[str, Any], dict[str, Any]]:
+    """Structural checks with line numbers, before yourdfpy reads the values; the link and joint elements by name."""
+    if root.tag != "robot":
+        raise RobotFileError(path, f"the root element must be <robot>, got <{root.tag}>", root.sourceline)
+    if not root.get("name"):
+        raise RobotFileError(path, "<robot> needs a name attribute", root.sourceline)
+    links: dict[str, Any] = {}
+    for el in root.findall("link"):
+        name = el.get("name")
+        if not name:
+            raise RobotFileError(path, "<link> without a name", el.sourceline)
+        if name in links:
+            raise RobotFileError(path, f"link {name!r} is defined twice (first on line {links[name].sourceline})",
+                                 el.sourceline)
+        links[name] = el
+        for kind in ("visual", "collision"):
+            for sub in el.findall(kind):
+                where = f"link {name!r} {kind}"
+                origin = sub.find("origin")
+                if origin is not None:
+                    _numbers(origin, "xyz", 3, "0 0 0", path, where)
+                    _numbers(origin, "rpy", 3, "0 0 0", path, where)
+                geo = sub.find("geometry")
+                if geo is None or len(geo) == 0:
+                    raise RobotFileError(path, f"<{kind}> needs a <geometry> with a box, cylinder, sphere or mesh",
+                                         sub.sourceline, where)
+                shape = geo[0]
+                if shape.tag == "box":
+                    _numbers(shape, "size", 3, "", path, where)
+                elif shape.tag == "cylinder":
+                    _numbers(shape, "radius", 1, "", path, where)
+                    _numbers(shape, "length", 1, "", path, where)
+                elif shape.tag == "sphere":
+                    _numbers(shape, "radius", 1, "", path, where)
+                elif shape.tag == "mesh":
+                    if not shape.get("filename"):
+                        raise RobotFileError(path, "<mesh> needs a filename", shape.sourceline, where)
+                    if shape.get("scale") is not None:
+                        n = len(shape.get("scale").split())
+                        _numbers(shape, "scale", 1 if n == 1 else 3, "1 1 1", path, where)
+                else:
+                    raise RobotFileError(path, f"unknown geometry <{shape.tag}>; expected box, cylinder, sphere or mesh",
+                                         shape.sourceline, where)
+    if not links:
+        raise RobotFileError(path, "the file has no <link>", root.sourceline)
+    joints: dict[str, Any] = {}
+    for el in root.findall("joint"):
+        name = el.get("name")
+        if not name:
+            raise RobotFileError(path, "<joint> without a name", el.sourceline)
+        where = f"joint {name!r}"
+        if name in joints:
+            raise RobotFileError(path, f"joint {name!r} is defined twice (first on line {joints[name].sourceline})",
+                                 el.sourceline)
+        jtype = el.get("type")
+        if jtype not in _KNOWN:
+            raise RobotFileError(path, f"unknown joint type {jtype!r}; URDF knows {', '.join(_KNOWN)}",
+                                 el.sourceline, where)
+        for tag in ("parent", "child"):
+            sub = el.find(tag)
+            if sub is None or not sub.get("link"):
+                raise RobotFileError(path, f"needs <{tag} link=\"...\"/>", el.sourceline, where)
+            if sub.get("link") not in links:
+                raise RobotFileError(path, f"{tag} link {sub.get('link')!r} does not exist", sub.sourceline, where)
+        if el.find("parent").get("link") == el.find("child").get("link"):
+            raise RobotFileError(path, "parent and child are the same link", el.sourceline, where)
+        origin = el.find("origin")
+        if origin is not None:
+            _numbers(origin, "xyz", 3, "0 0 0", path, where)
+            _numbers(origin, "rpy", 3, "0 0 0", path, where)
+        axis = el.find("axis")
+        if axis is not None:
+            xyz = _numbers(axis, "xyz", 3, "1 0 0", path, where)
+            if jtype in _MOVING and math.hypot(*xyz) < 1e-9:
+                raise RobotFileError(path, "axis has zero length; a joint needs a direction", axis.sourceline, where)
+        limit = el.find("limit")
+        if limit is not None:
+            for attr in ("lower", "upper", "effort", "velocity"):
+                if limit.get(attr) is not None:
+                    v = _numbers(limit, attr, 1, "0", path, where)[0]
+                    del v
+            if jtype in ("revolute", "prismatic") and limit.get("lower") and limit.get("upper"):
+                lo, hi = float(limit.get("lower")), float(limit.get("upper"))
+                if lo > hi:
+                    raise RobotFileError(path, f"lower limit {lo:g} is greater than upper limit {hi:g}",
+                                         limit.sourceline, where)
+        elif jtype == "prismatic":
+            raise RobotFileError(path, "a prismatic joint needs <limit lower=... upper=...>", el.sourceline, where)
+        mimic = el.find("mimic")
+        if mimic is not None and not mimic.get("joint"):
+            raise RobotFileError(path, "<mimic> needs a joint attribute", mimic.sourceline, where)
+    return links, joints
+
+
+def resolve_mesh(filename: str, urdf_path: Path) -> str | None:
+    """The mesh file on disk for a URDF ``filename`` (``package://``, ``file://``, relative or absolute), or None."""
+    folder = urdf_path.resolve().parent
+    if filename.startswith("package://"):
+        rest = filename[len("package://"):]
+        package, _, inner = rest.partition("/")
+        roots: list[Path] = []
+        for var in PACKAGE_PATH_VARIABLES:
+            roots += [Path(p) for p in os.environ.get(var, "").split(os.pathsep) if p]
+        roots += [folder, *folder.parents]
+        for root in roots:
+            for cand in (root / package / inner, root / inner if root.name == package else None):
+                if cand is not None and cand.is_file():
+                    return str(cand.resolve())
+        return None
+    if filename.startswith("file://"):
+        cand = Path(filename[len("file://"):])
+    else:
+        cand = Path(filename)
+        if not cand.is_absolute():
+            cand = folder / cand
+    return str(cand.resolve()) if cand.is_file() else None
+
+
+def _shapes(items: list, urdf_path: Path, missing: list[str], colors: dict[str, Any]) -> tuple[Shape, ...]:
+    out = []
+    for it in items:
+        origin = np.eye(4) if it.origin is None else np.array(it.origin, dtype=float)
+        g = it.geometry
+        rgba = None
+        mat = getattr(it, "material", None)
+        if mat is not None:
+            color = mat.color if mat.color is not None else colors.get(mat.name or "")
+            if color is not None:
+                rgba = tuple(float(v) for v in color.rgba)
+        if g.box is not None:
+            out.append(Shape("box", origin, tuple(float(v) for v in g.box.size), rgba=rgba))  # type: ignore[arg-type]
+        elif g.cylinder is not None:
+            out.append(Shape("cylinder", origin, (float(g.cylinder.radius), float(g.cylinder.length)), rgba=rgba))  # type: ignore[arg-type]
+        elif g.sphere is not None:
+            out.append(Shape("sphere", origin, (float(g.sphere.radius),), rgba=rgba))  # type: ignore[arg-type]
+        elif g.mesh is not None:
+            scale = g.mesh.scale
+            sc = (1.0, 1.0, 1.0) if scale is None else tuple(float(v) for v in np.broadcast_to(scale, (3,)))
+            found = resolve_mesh(g.mesh.filename, urdf_path)
+            if found is None:
+                missing.append(g.mesh.filename)
+            out.append(Shape("mesh", origin, (), found, g.mesh.filename, sc, rgba))  # type: ignore[arg-type]
+    return tuple(out)
+
+
+def _leaf_candidates(base: str, children: dict[str, list], jtype: dict[str, str]) -> list[str]:
+    """Leaves below ``base`` whose path from ``base`` passes a moving joint."""
+    out = []
+    stack = [(base, False)]
+    while stack:
+        link, moved = stack.pop()
+        kids = children.get(link, [])
+        if not kids and moved:
+            out.append(link)
+        for joint, child in kids:
+            stack.append((child, moved or jtype[joint] in _MOVING))
+    return sorted(out)
+
+
+def load_urdf(path: str | Path, base: str | None = None, tip: str | None = None,
+              warn_missing_meshes: bool = True, name: str | None = None) -> Robot:
+    """Read the chain ``base -> tip`` of a URDF file as a :class:`Robot` (``convention="urdf"``, metres).
+
+    Parameters
+    ----------
+    path : str or Path
+    base, tip : str, optional
+        Link names; default the root link and the single leaf reached through moving joints.
+    warn_missing_meshes : bool
+        Warn once when mesh files cannot be found (bundled robots load without meshes quietly).
+    name : str, optional
+        The robot's name (default: the ``name`` attribute of ``<robot>``).
+
+    Raises
+    ------
+    RobotFileError
+        Malformed XML or URDF (the message names the file and line), a chain that cannot be
+        built (several tips, a floating joint on it, ...).
+    """
+    from lxml import etree
+
+    p = Path(path)
+    spath = str(path)
+    try:
+        data = p.read_bytes()
+    except OSError as exc:
+        raise RobotFileError(spath, f"cannot read file: {exc.strerror or exc}") from None
+    try:
+        parser = etree.XMLParser(remove_blank_text=True, resolve_entities=False, no_network=True, huge_tree=False)
+        root = etree.fromstring(data, parser=parser)
+    except etree.XMLSyntaxError as exc:
+        line = exc.lineno if getattr(exc, "lineno", None) else None
+        raise RobotFileError(spath, f"not valid XML: {exc.msg}", line) from None
+    links_el, joints_el = _check_xml(root, spath)
+    notes = [str(c.text).strip() for c in reversed(list(root.itersiblings(preceding=True)))
+             if not isinstance(c.tag, str) and c.text and c.text.strip()]
+    description = notes[0].splitlines()[0].strip() if notes else f"URDF robot {root.get('name')!r}"
+    source = "\n".join(notes) if notes else f"URDF file {spath}"
+
+    import yourdfpy
+
+    for el in root.iter():   # comments and processing instructions are not elements yourdfpy can read
+        if not isinstance(el.tag, str):
+            el.getparent().remove(el)
+    try:
+        model = yourdfpy.URDF._parse_robot(xml_element=root)
+    except Exception as exc:  # noqa: BLE001 - anything the parser raises is a malformed file
+        raise RobotFileError(spath, f"cannot read the URDF: {type(exc).__name__}: {exc}") from None
+    colors = {m.name: m.color for m in model.materials if m.color is not None}
+    jmap = {j.name: j for j in model.joints}
+    parent_of: dict[str, tuple[str, str]] = {}
+    children: dict[str, list] = {}
+    for j in model.joints:
+        if j.child in parent_of:
+            raise RobotFileError(spath, f"link {j.child!r} has two parent joints ({parent_of[j.child][0]!r} and "
+                                 f"{j.name!r}); a URDF must be a tree", joints_el[j.name].sourceline, f"joint {j.name!r}")
+        parent_of[j.child] = (j.name, j.parent)
+        children.setdefault(j.parent, []).append((j.name, j.child))
+    roots = [nm for nm in links_el if nm not in parent_of]
+    if not roots:
+        raise RobotFileError(spath, "no root link: the joints form a cycle", root.sourceline)
+    if len(roots) > 1:
+        raise RobotFileError(spath, f"{len(roots)} root links ({', '.join(roots[:10])}); a URDF tree has exactly one "
+                             "(add a joint that connects them)", links_el[roots[1]].sourceline)
+    reached, stack = {roots[0]}, [roots[0]]
+    while stack:
+        for _, child in children.get(stack.pop(), []):
+            if child not in reached:
+                reached.add(child)
+                stack.append(child)
+    if len(reached) != len(links_el):
+        loop = sorted(set(links_el) - reached)
+        raise RobotFileError(spath, f"the joints form a cycle through links {', '.join(loop[:10])}",
+                             links_el[loop[0]].sourceline)
+    jtype = {j.name: j.type for j in model.joints}
+
+    base = roots[0] if base is None else base
+    if base not in links_el:
+        raise RobotFileError(spath, f"base link {base!r} does not exist; links: {', '.join(list(links_el)[:40])}")
+    if tip is None:
+        cands = _leaf_candidates(base, children, jtype)
+        if not cands:
+            raise RobotFileError(spath, f"no moving joint below link {base!r}: the chain would be empty")
+        if len(cands) > 1:
+            raise RobotFileError(spath, f"the tree has {len(cands)} possible tip links: {', '.join(cands[:20])}; "
+                                 "choose one with tip=... (CLI: --tip)")
+        tip = cands[0]
+    if tip not in links_el:
+        raise RobotFileError(spath, f"tip link {tip!r} does not exist; links: {', '.join(list(links_el)[:40])}")
+    path_joints: list[str] = []
+    link = tip
+    while link != base:
+        if link not in parent_of:
+            raise RobotFileError(spath, f"tip link {tip!r} is not below base link {base!r}")
+        jn, link = parent_of[link]
+        path_joints.append(jn)
+    path_joints.reverse()
+    for jn in path_joints:
+        j = jmap[jn]
+        if j.type in ("floating", "planar"):
+            raise RobotFileError(spath, f"a {j.type} joint on the chain {base} -> {tip} is not a serial-arm joint; "
+                                 "choose base= below it", joints_el[jn].sourceline, f"joint {jn!r}")
+        if j.mimic is not None and j.type in _MOVING:
+            raise RobotFileError(spath, f"joint {jn!r} mimics joint {j.mimic.joint!r}; armkit's chains have "
+                                 "independent joints (choose a tip before it, or remove the mimic)",
+                                 joints_el[jn].sourceline, f"joint {jn!r}")
+    if not any(jtype[jn] in _MOVING for jn in path_joints):
+        raise RobotFileError(spath, f"the chain {base} -> {tip} has no moving joint")
+
+    missing: list[str] = []
+    link_geo = {lk.name: (_shapes(lk.visuals, p, missing, colors), _shapes(lk.collisions, p, missing, colors))
+                for lk in model.links}
+    joints: list[Joint] = []
+    link_names = [base]
+    placed: list[tuple[str, int, Array, str | None, str | None, Array | None]] = [(base, 0, np.eye(4), None, None, None)]
+    acc = np.eye(4)
+    warned_limits = []
+    for jn in path_joints:
+        j = jmap[jn]
+        origin = np.eye(4) if j.origin is None else np.array(j.origin, dtype=float)
+        parent_link = j.parent
+        if j.type in _MOVING:
+            axis = np.array([1.0, 0.0, 0.0]) if j.axis is None else np.array(j.axis, dtype=float)
+            lim = j.limit
+            if j.type == "continuous":
+                lo, hi = -math.inf, math.inf
+            elif lim is None:
+                lo, hi = -math.inf, math.inf
+                warned_limits.append(jn)
+            else:
+                lo = 0.0 if lim.lower is None else float(lim.lower)
+                hi = 0.0 if lim.upper is None else float(lim.upper)
+            try:
+                joints.append(Joint("prismatic" if j.type == "prismatic" else "revolute", lower=lo, upper=hi,
+                                    name=jn, origin=tuple(map(tuple, acc @ origin)), axis=tuple(axis)))  # type: ignore[arg-type]
+            except RobotDefinitionError as exc:
+                raise RobotFileError(spath, str(exc), joints_el[jn].sourceline, f"joint {jn!r}") from None
+            acc = np.eye(4)
+            link_names.append(j.child)
+        else:
+            acc = acc @ origin
+        placed.append((j.child, len(joints), acc.copy(), parent_link, jn, origin))
+    if warned_limits:
+        warnings.warn(f"{spath}: revolute joint(s) {', '.join(warned_limits)} have no <limit>; treated as unlimited",
+                      stacklevel=3)
+    tool = acc                               # from the last moving joint's child link to the tip
+    n = len(joints)
+    tool_inv = np.array(np.linalg.inv(tool), dtype=np.float64)
+    on_path = {nm for nm, *_ in placed}
+    links = [Link(nm, k, tool_inv @ off if k == n else off, par, jn, org, *link_geo[nm])
+             for nm, k, off, par, jn, org in placed]
+    # links hanging off the chain (a gripper's jaw): fixed where they are at q = 0, for the pictures
+    index = {nm: (k, off) for nm, k, off, *_ in placed}
+    stack = [nm for nm in index]
+    ignored = [jn for jn in jmap if jn not in path_joints]
+    while stack:
+        parent = stack.pop()
+        for jn, child in children.get(parent, []):
+            if child in on_path or child in index:
+                continue
+            k, off = index[parent]
+            j = jmap[jn]
+            origin = np.eye(4) if j.origin is None else np.array(j.origin, dtype=float)
+            off_child = off @ origin
+            index[child] = (k, off_child)
+            links.append(Link(child, k, tool_inv @ off_child if k == n else off_child, parent, jn, origin,
+                              *link_geo[child]))
+            stack.append(child)
+    if missing and warn_missing_meshes:
+        warnings.warn(f"{spath}: {len(missing)} mesh file(s) not found (first: {missing[0]}); kinematics are not "
+                      f"affected. Set ARMKIT_PACKAGE_PATH to the folder that holds the package to see the meshes.",
+                      stacklevel=3)
+    try:
+        return Robot(joints, "urdf", name or str(root.get("name")), "m", None, tool, description, source, link_names, links,
+                     ignored)
+    except RobotDefinitionError as exc:
+        raise RobotFileError(spath, str(exc)) from None
+
+
+# ---------------------------------------------------------------------------- writing
+def _f(x: float) -> str:
+    return repr(float(x) + 0.0)
+
+
+def _origin_xml(T: Array, indent: str) -> str:
+    from ..spatial import rotation_to_rpy
+
+    rpy = rotation_to_rpy(T[:3, :3])
+    return (f'{indent}<origin xyz="{" ".join(_f(v) for v in T[:3, 3])}" '
+            f'rpy="{" ".join(_f(v) for v in rpy)}"/>\n')
+
+
+def _shape_xml(kind: str, s: Shape, indent: str) -> str:
+    out = f"{indent}<{kind}>\n" + _origin_xml(s.origin, indent + "  ") + f"{indent}  <geometry>\n"
+    if s.kind == "box":
+        out += f'{indent}    <box size="{" ".join(_f(v) for v in s.size)}"/>\n'
+    elif s.kind == "cylinder":
+        out += f'{indent}    <cylinder radius="{_f(s.size[0])}" length="{_f(s.size[1])}"/>\n'
+    elif s.kind == "sphere":
+        out += f'{indent}    <sphere radius="{_f(s.size[0])}"/>\n'
+    else:
+        out += (f'{indent}    <mesh filename={quoteattr(s.mesh_path or s.mesh_uri)} '
+                f'scale="{" ".join(_f(v) for v in s.scale)}"/>\n')
+    out += f"{indent}  </geometry>\n"
+    if kind == "visual" and s.rgba is not None:
+        out += (f'{indent}  <material name=""><color rgba="{" ".join(_f(v) for v in s.rgba)}"/></material>\n')
+    return out + f"{indent}</{kind}>\n"
+
+
+def _link_xml(name: str, lk: Link | None) -> str:
+    if lk is None or not (lk.visuals or lk.collisions):
+        return f"  <link name={quoteattr(name)}/>\n"
+    body = "".join(_shape_xml("visual", s, "    ") for s in lk.visuals)
+    body += "".join(_shape_xml("collision", s, "    ") for s in lk.collisions)
+    return f"  <link name={quoteattr(name)}>\n{body}  </link>\n"
+
+
+def _joint_xml(name: str, kind: str, parent: str, child: str, origin: Array, axis: Array | None = None,
+               lower: float = 0.0, upper: float = 0.0) -> str:
+    out = (f"  <joint name={quoteattr(name)} type=\"{kind}\">\n    <parent link={quoteattr(parent)}/>\n"
+           f"    <child link={quoteattr(child)}/>\n" + _origin_xml(origin, "    "))
+    if axis is not None:
+        out += f'    <axis xyz="{" ".join(_f(v) for v in axis)}"/>\n'
+    if kind in ("revolute", "prismatic"):
+        out += f'    <limit lower="{_f(lower)}" upper="{_f(upper)}" effort="0" velocity="0"/>\n'
+    return out + "  </joint>\n"
+
+
+def _moving_kind(j: Joint) -> str:
+    if j.is_prismatic:
+        return "prismatic"
+    return "continuous" if j.is_continuous else "revolute"
+
+
+def dumps_urdf(robot: Robot) -> str:
+    """The URDF text of any armkit robot (lengths in metres); :func:`load_urdf` reads it back with the same FK."""
+    s = robot.unit_scale
+    scaled = lambda T: np.vstack([np.hstack([T[:3, :3], T[:3, 3:] * s]), [[0, 0, 0, 1.0]]])  # noqa: E731
+    head = ['<?xml version="1.0"?>\n',
+            f"<!-- written by armkit from robot {escape(robot.name)!s} ({robot.convention}) -->\n"]
+    if robot.description:
+        head.append(f"<!-- {escape(robot.description).replace('--', '- -')} -->\n")
+    out = [f"<robot name={quoteattr(robot.name)}>\n"]
+    if not robot.is_dh:
+        by_joint = {j.name: j for j in robot.joints}
+        for lk in robot.links:
+            out.append(_link_xml(lk.name, lk))
+        for lk in robot.links[1:]:
+            assert lk.parent is not None and lk.joint is not None and lk.joint_origin is not None
+            j = by_joint.get(lk.joint)
+            if j is None:     # fixed (or off-chain, written at its q = 0 place)
+                out.append(_joint_xml(lk.joint, "fixed", lk.parent, lk.name, lk.joint_origin))
+            else:
+                out.append(_joint_xml(j.name, _moving_kind(j), lk.parent, lk.name, lk.joint_origin, j.axis_vector(),
+                                      j.lower, j.upper))
+        return "".join(head + out) + "</robot>\n"
+    # a DH robot: link k on joint axis k (the frame just after joint k's motion), then the tool
+    c = robot.chain
+    names = list(robot.link_names)
+    tool_name = "tool" if "tool" not in names else "tool_frame"
+    for nm in names + [tool_name]:
+        out.append(_link_xml(nm, None))
+    for i, j in enumerate(robot.joints):
+        origin = c.base @ c.pre[0] if i == 0 else c.post[i - 1] @ c.pre[i]
+        lower, upper = (j.lower * s, j.upper * s) if j.is_prismatic else (j.lower, j.upper)
+        out.append(_joint_xml(j.name, _moving_kind(j), names[i], names[i + 1], scaled(origin), np.array([0, 0, 1.0]),
+                              lower, upper))
+    out.append(_joint_xml(f"{tool_name}_joint", "fixed", names[-1], tool_name, scaled(c.post[-1] @ c.tool)))
+    return "".join(head + out) + "</robot>\n"
