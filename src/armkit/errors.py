@@ -14,6 +14,9 @@ __all__ = [
     "UnknownRobotError",
     "JointLimitError",
     "UnreachableError",
+    "WriteError",
+    "WriteInterrupted",
+    "LimitError",
 ]
 
 
@@ -61,3 +64,34 @@ class JointLimitError(ArmkitError, ValueError):
 
 class UnreachableError(ArmkitError, ValueError):
     """An IK target cannot be reached; the message says how far outside it lies."""
+
+
+class WriteError(ArmkitError, OSError):
+    """An output file cannot be written; the message is ``cannot write PATH: reason``.
+
+    Nothing is left behind: armkit writes to a temporary file next to ``PATH`` and renames
+    it into place only when the whole file is written.
+    """
+
+    def __init__(self, path: object, reason: str):
+        self.path = str(path)
+        self.reason = reason
+        super().__init__(f"cannot write {self.path}: {reason}")
+
+    def __str__(self) -> str:  # OSError would format (errno, strerror)
+        return f"cannot write {self.path}: {self.reason}"
+
+
+class WriteInterrupted(KeyboardInterrupt):
+    """Ctrl-C arrived while a file was written; the temporary file was removed, the old file is intact."""
+
+    def __init__(self, path: object):
+        self.path = str(path)
+        super().__init__(f"interrupted; {self.path} not written")
+
+    def __str__(self) -> str:
+        return f"interrupted; {self.path} not written"
+
+
+class LimitError(ArmkitError, ValueError):
+    """A request too large to finish (memory or sample count); the message gives the limit and how to raise it."""

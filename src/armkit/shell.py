@@ -47,6 +47,7 @@ from typing import Any, Iterable, Optional, TextIO
 
 import numpy as np
 
+from ._text import MAX_MESSAGE, esc, name_list, plain, shorten
 from .errors import ArmkitError
 from .i18n import LANGUAGES, default_language, message
 from .kinematics import fk
@@ -63,6 +64,8 @@ _WORD_RE = re.compile(r"^([A-Za-z?]+)(?:\s+(.*))?$", re.DOTALL)
 _BRACKET_RE = re.compile(r"^[\[(](.*)[\])]$", re.DOTALL)
 _SPLIT_RE = re.compile(r"[\s,]+")
 EXIT_WORDS = ("exit", "quit", "bye", ":q")
+MAX_PICTURES = 500        # pictures one session writes before it stops drawing (a note says so)
+MAX_LINE = 100_000        # characters of one input line; a longer line is refused unread
 
 
 class ParseError(ArmkitError, ValueError):
@@ -91,10 +94,10 @@ def parse_numbers(words: Iterable[str], lang: str = "en") -> list[float]:
     out = []
     for w in words:
         if not _NUMBER_RE.match(w):
-            raise ParseError(message("not_number", lang, word=w))
+            raise ParseError(message("not_number", lang, word=_clip(w)))
         x = float(w)
         if not math.isfinite(x):
-            raise ParseError(message("not_finite", lang, word=w))
+            raise ParseError(message("not_finite", lang, word=_clip(w)))
         out.append(x)
     return out
 
@@ -117,12 +120,17 @@ class Shell:
         ``auto``: a live window when a display exists, else PNG files.
     out_dir : path
         Where PNG pictures go (``step_001.png``, ...).
+    session : bool
+        Put the pictures in a subfolder of ``out_dir`` named after this session
+        (``session-YYYYmmdd-HHMMSS-PID``), so two sessions never overwrite each other's
+        pictures (the ``armkit shell`` command does this). A session writes at most
+        :data:`MAX_PICTURES` pictures; past that it says so once and stops drawing.
     console : rich.console.Console, optional
         Where tables and messages are printed.
     """
 
     def __init__(self, robot: Robot, lang: Optional[str] = None, units: str = "deg", plot: str = "auto",
-                 out_dir: str | Path = "out/shell", console: Any = None) -> None:
+                 out_dir: str | Path = "out/shell", console: Any = None, session: bool = False) -> None:
         from rich.console import Console
 
         self.robot = robot
@@ -138,12 +146,17 @@ class Shell:
             plot = "window" if has_display() else "png"
         self.plot = plot
         self.out_dir = Path(out_dir)
+        if session:
+            import time
+
+            self.out_dir = self.out_dir / f"session-{time.strftime('%Y%m%d-%H%M%S')}-{os.getpid()}"
         self.console = console if console is not None else Console(highlight=False)
         self.home = np.clip(np.zeros(robot.n), robot.lower, robot.upper)   # zeros, moved inside the limits
         self.q = self.home.copy()
         self.branch: Optional[str] = None      # the branch label of the current configuration
         self.preferred: Optional[str] = None   # the branch goto should use (None: nearest)
         self.step = 0
+        self.pictures = 0
         self._fig: Any = None
         self._names = {name.lower(): i for i, name in enumerate(robot.joint_names)}
         self._planar: Optional[bool] = None
@@ -193,12 +206,12 @@ class Shell:
             return self._names[name.lower()]
         if m and 1 <= int(m.group(1)) <= self.robot.n:
             return int(m.group(1)) - 1
-        raise ParseError(self._t("unknown_joint", name=name, names=", ".join(self.robot.joint_names)))
+        raise ParseError(self._t("unknown_joint", name=name, names=name_list(self.robot.joint_names)))
 
     def _check_limits(self, q: np.ndarray) -> None:
         bad = self.robot.limit_violations(q)
         if bad:
-            raise ParseError(self._t("limit", detail="; ".join(bad)))
+            raise ParseError(self._t("limit", detail=name_list(bad, limit=6, sep="; ")))
 
     # ------------------------------------------------------------------ parsing
     def _parse(self, stmt: str) -> tuple[str, Any]:
@@ -224,7 +237,7 @@ class Shell:
             name = s.split("=", 1)[0].strip()
             if re.match(r"^[A-Za-z_][A-Za-z_0-9\-]*$", name):
                 self._joint_index(name)      # unknown joint -> its own message
-            raise ParseError(self._t("not_number", word=s.split("=", 1)[1].strip()))
+            raise ParseError(self._t("not_number", word=_clip(s.split("=", 1)[1].strip())))
         m = _BRACKET_RE.match(s)
         if m:
             return "goto", parse_numbers(_split(m.group(1)), self.lang)
@@ -236,7 +249,7 @@ class Shell:
                 values = parse_numbers(_split(rest), self.lang)
                 if len(values) != self.robot.n:
                     raise ParseError(self._t("count", robot=self.robot.name, n=self.robot.n,
-                                             names=", ".join(self.robot.joint_names), k=len(values)))
+                                             names=name_list(self.robot.joint_names), k=len(values)))
                 return "q", np.array([self._angle_in(v, None, i) for i, v in enumerate(values)])
             if word in ("goto", "go", "target", "ik"):
                 return "goto", parse_numbers(_split(rest), self.lang)
@@ -256,6 +269,7 @@ class Shell:
     def execute(self, line: str) -> ShellOutput:
         """Run one input line; print its output and return what happened. Never raises for bad input."""
         from rich.console import Console
+        from rich.text import Text
 
         buffer = io.StringIO()
         text_console = Console(file=buffer, width=110, no_color=True, highlight=False)
@@ -267,14 +281,21 @@ class Shell:
         status, picture = self._execute(line, emit)
         if status == "ok" and self.plot != "none":
             picture = self._draw(emit)
+        if status == "ok" and getattr(self, "view", None) is not None:   # armkit shell --view: the browser follows
+            self.view.set_q(self.q)
         for thing, style in outputs:
-            self.console.print(thing, style=style or None, soft_wrap=isinstance(thing, str))
-            text_console.print(thing, soft_wrap=isinstance(thing, str))
+            if isinstance(thing, str):   # messages are plain text: never markup, no control characters
+                thing = Text(shorten(plain(thing), MAX_MESSAGE), style=style)
+            self.console.print(thing, style=style or None, soft_wrap=isinstance(thing, Text))
+            text_console.print(thing, soft_wrap=isinstance(thing, Text))
         return ShellOutput(status, buffer.getvalue(), picture)
 
     def _execute(self, line: str, emit: Any) -> tuple[str, Optional[Path]]:
         if not isinstance(line, str):
-            emit(self._t("unknown", text=repr(line)), "red")
+            emit(self._t("unknown", text=_clip(repr(line))), "red")
+            return "error", None
+        if len(line) > MAX_LINE:
+            emit(self._t("too_long", n=len(line), limit=MAX_LINE), "red")
             return "error", None
         statements = [s for s in line.replace("\x00", " ").split(";") if s.strip() and not s.strip().startswith("#")]
         if not statements:
@@ -341,15 +362,15 @@ class Shell:
     def _cmd_limits(self, arg: Any, emit: Any) -> str:
         from rich.table import Table
 
-        t = Table(title=self._t("limits_title", robot=self.robot.name), header_style="bold")
+        t = Table(title=esc(self._t("limits_title", robot=self.robot.name)), header_style="bold")
         for col in (self._t("joint"), self._t("limits")):
             t.add_column(col)
         for j in self.robot.joints:
             if j.is_prismatic:
-                t.add_row(j.name, f"{j.lower:g} .. {j.upper:g} {self.robot.unit}")
+                t.add_row(esc(j.name), f"{j.lower:g} .. {j.upper:g} {self.robot.unit}")
             else:
                 lo, hi = self._angle_out(j.lower), self._angle_out(j.upper)
-                t.add_row(j.name, f"{lo:g} .. {hi:g} {self.units}")
+                t.add_row(esc(j.name), f"{lo:g} .. {hi:g} {self.units}")
         emit(t)
         return "info"
 
@@ -418,13 +439,13 @@ class Shell:
             t = Table(title=self._t("branches_title"), header_style="bold")
             t.add_column(self._t("branch"))
             for name in self.robot.joint_names:
-                t.add_column(f"{name} ({self.units})", justify="right")
+                t.add_column(f"{esc(name)} ({self.units})", justify="right")
             t.add_column("ok")
             for b, name in enumerate(names):
                 qb = np.asarray(res.q)[b]
                 mark = "*" if name == self.branch else ""
-                t.add_row(name + mark, *(self._fmt_joint(i, v) for i, v in enumerate(qb)),
-                          "yes" if bool(np.asarray(res.success)[b]) else str(np.asarray(res.reason)[b]))
+                t.add_row(esc(name + mark), *(self._fmt_joint(i, v) for i, v in enumerate(qb)),
+                          "yes" if bool(np.asarray(res.success)[b]) else esc(np.asarray(res.reason)[b]))
             emit(t)
             return "info"
         want = arg.strip()
@@ -434,7 +455,7 @@ class Shell:
             return "info"
         match = [n for n in names if n.lower() == want.lower()]
         if not match:
-            raise ParseError(self._t("branch_unknown", name=want, names=", ".join(names)))
+            raise ParseError(self._t("branch_unknown", name=_clip(want), names=name_list(names)))
         self.preferred = match[0]
         emit(self._t("branch_set", name=match[0]))
         b = names.index(match[0])
@@ -521,7 +542,7 @@ class Shell:
 
         r = self.robot
         T = fk(r, self.q)
-        t = Table(title=self._t("state_title", robot=r.name), header_style="bold")
+        t = Table(title=esc(self._t("state_title", robot=r.name)), header_style="bold")
         t.add_column(self._t("joint"))
         t.add_column(self._t("value"), justify="right")
         t.add_column(self._t("limits"), justify="right")
@@ -529,11 +550,11 @@ class Shell:
             u = r.unit if j.is_prismatic else self.units
             lo = j.lower if j.is_prismatic else self._angle_out(j.lower)
             hi = j.upper if j.is_prismatic else self._angle_out(j.upper)
-            t.add_row(j.name, f"{self._fmt_joint(i, self.q[i])} {u}", f"{lo:g} .. {hi:g} {u}")
+            t.add_row(esc(j.name), f"{self._fmt_joint(i, self.q[i])} {u}", f"{lo:g} .. {hi:g} {u}")
         emit(t)
         p = T[:3, 3]
         rpy = [self._angle_out(v) for v in rotation_to_rpy(T[:3, :3])]
-        e = Table(title=None, header_style="bold", caption=f"{self._t('branch')}: {self.branch or self._t('none')}")
+        e = Table(title=None, header_style="bold", caption=esc(f"{self._t('branch')}: {self.branch or self._t('none')}"))
         e.add_column("")
         for h in ("x / roll", "y / pitch", "z / yaw"):
             e.add_column(h, justify="right")
@@ -567,11 +588,16 @@ class Shell:
                 self._fig.canvas.draw_idle()
                 plt.pause(0.001)
                 return None
+            if self.pictures >= MAX_PICTURES:
+                emit(self._t("picture_cap", limit=MAX_PICTURES), "yellow")
+                self.plot = "none"
+                return None
             fig = plot_arm(self.robot, self.q, title=title)
             path = self.out_dir / f"step_{self.step:03d}.png"
             from .viz.plots import save_figure
 
             save_figure(fig, path, dpi=90)
+            self.pictures += 1
             emit(self._t("picture", path=str(path)), "dim")
             return path
         except Exception as exc:  # noqa: BLE001 - drawing must never end the session
@@ -598,9 +624,11 @@ class Shell:
         from ``stdin``.
         """
         stdin = stdin if stdin is not None else sys.stdin
-        self.console.print(self._t("welcome", robot=self.robot.name, n=self.robot.n,
-                                   names=", ".join(self.robot.joint_names), unit=self.robot.unit,
-                                   angles=self.units), soft_wrap=True)
+        from rich.text import Text
+
+        self.console.print(Text(plain(self._t("welcome", robot=self.robot.name, n=self.robot.n,
+                                              names=name_list(self.robot.joint_names), unit=self.robot.unit,
+                                              angles=self.units))), soft_wrap=True)
         self.execute("show")
         read = self._prompt_reader() if stdin is sys.stdin and _isatty(stdin) else None
         while True:
@@ -616,10 +644,15 @@ class Shell:
                 return 0
             except KeyboardInterrupt:
                 continue
+            except UnicodeDecodeError as exc:   # a pipe that is not UTF-8: say so, keep reading
+                self.console.print(Text(plain(self._t("internal", detail=f"input is not UTF-8: {exc.reason}")),
+                                        style="red"))
+                continue
             try:
                 out = self.execute(line.rstrip("\n"))
             except Exception as exc:  # noqa: BLE001 - a bug must not end a user's session
-                self.console.print(self._t("internal", detail=f"{type(exc).__name__}: {exc}"), style="red")
+                self.console.print(Text(shorten(plain(self._t("internal", detail=f"{type(exc).__name__}: {exc}"))),
+                                        style="red"))
                 continue
             if out.status == "exit":
                 return 0
@@ -644,6 +677,11 @@ class Shell:
             return session.prompt(prompt, completer=completer)
 
         return read
+
+
+def _clip(text: str, limit: int = 60) -> str:
+    """A piece of user input short enough to quote in a message."""
+    return text if len(text) <= limit else text[:limit - 3] + "..."
 
 
 def _isatty(stream: Any) -> bool:

@@ -20,20 +20,47 @@ __all__ = ["app", "main"]
 
 
 class _ArmkitGroup(TyperGroup):
-    """Turns every armkit error (a user mistake: bad file, bad shape, unknown robot) into one line, exit 2."""
+    """Turns every armkit error (a user mistake: bad file, bad shape, unknown robot) into one line, exit 2.
+
+    Also: an unwritable output (``cannot write PATH: reason``) exit 2; Ctrl-C exit 130
+    (``interrupted; PATH not written`` when a file was being written, the old file intact);
+    input too deep or too large for Python (RecursionError, OverflowError, MemoryError)
+    exit 2 with a message instead of a traceback.
+    """
 
     def invoke(self, ctx):  # type: ignore[no-untyped-def]
-        from ..errors import ArmkitError
+        from ..errors import ArmkitError, WriteInterrupted
 
         try:
             return super().invoke(ctx)
         except ArmkitError as exc:
-            from .common import EXIT_BAD_INPUT, err_console
+            from .common import EXIT_BAD_INPUT, say
 
-            err_console.print(f"[bold red]error:[/] {exc}", soft_wrap=True)
+            say("error:", "bold red", exc)
+            raise SystemExit(EXIT_BAD_INPUT) from None
+        except WriteInterrupted as exc:
+            from .common import say
+
+            say("interrupted;", "bold red", f"{exc.path} not written")
+            raise SystemExit(130) from None
+        except KeyboardInterrupt:
+            from .common import say
+
+            say("interrupted", "bold red", "")
+            raise SystemExit(130) from None
+        except RecursionError:
+            from .common import EXIT_BAD_INPUT, say
+
+            say("error:", "bold red", "the input is nested too deeply to process")
+            raise SystemExit(EXIT_BAD_INPUT) from None
+        except (OverflowError, MemoryError) as exc:
+            from .common import EXIT_BAD_INPUT, say
+
+            what = "a number is too large" if isinstance(exc, OverflowError) else "not enough memory"
+            say("error:", "bold red", f"{what} ({type(exc).__name__}: {exc})")
             raise SystemExit(EXIT_BAD_INPUT) from None
 
-_COMMAND_MODULES = ("core", "ik", "viz", "symbolic")
+_COMMAND_MODULES = ("core", "ik", "viz", "symbolic", "view")
 
 app = typer.Typer(
     name="armkit",

@@ -10,17 +10,33 @@ from __future__ import annotations
 import json
 import math
 import sys
+from pathlib import Path
 from typing import Any, NoReturn, Sequence
 
 import numpy as np
 from rich.console import Console
 from rich.table import Table
+from rich.text import Text
 
+from .._text import esc, name_list, plain, shorten
 from ..errors import JointLimitError
 from ..model import Robot, load
 
-console = Console(highlight=False)
-err_console = Console(stderr=True, highlight=False)
+class SafeConsole(Console):
+    """A Rich console that never sends a control character of a string to the terminal.
+
+    Every string printed (messages, table cells, titles) has its control characters
+    (ANSI escape sequences, bell, carriage return, bidi overrides) shown as ``\\xNN``
+    before Rich reads it; user text inside armkit's markup must still go through
+    :func:`esc` so that its brackets print literally.
+    """
+
+    def render_str(self, text: str, **kwargs: Any) -> Text:  # type: ignore[override]
+        return super().render_str(plain(text), **kwargs)
+
+
+console = SafeConsole(highlight=False)
+err_console = SafeConsole(stderr=True, highlight=False)
 
 EXIT_OK, EXIT_FAILED, EXIT_BAD_INPUT = 0, 1, 2
 
@@ -28,14 +44,36 @@ EXIT_OK, EXIT_FAILED, EXIT_BAD_INPUT = 0, 1, 2
 NUMERIC_ARGS = {"ignore_unknown_options": True, "allow_extra_args": False}
 
 
+def say(label: str, style: str, message: object, console_: Console | None = None) -> None:
+    """Print ``label: message`` with only the label styled.
+
+    The message is printed as plain text: never read as Rich markup (so ``[[joints]]`` and
+    a robot named ``[/]`` print as they are), control characters shown as ``\\xNN``, cut
+    after :data:`armkit._text.MAX_MESSAGE` characters. Every error and warning of the
+    command line goes through here.
+    """
+    (console_ or err_console).print(Text.assemble((label, style), " ", shorten(plain(message))), soft_wrap=True)
+
+
 def fail(message: str, code: int = EXIT_BAD_INPUT) -> NoReturn:
     """Print ``message`` to stderr and exit with ``code`` (never a traceback)."""
-    err_console.print(f"[bold red]error:[/] {message}", soft_wrap=True)
+    say("error:", "bold red", message)
     raise SystemExit(code)
 
 
 def warn(message: str) -> None:
-    err_console.print(f"[yellow]warning:[/] {message}", soft_wrap=True)
+    """Print ``warning: message`` to stderr (plain text, see :func:`say`)."""
+    say("warning:", "yellow", message)
+
+
+def output_path(path: str | Path, suffixes: Sequence[str], what: str = "--output") -> Path:
+    """Check an output file before any work: a wrong suffix or an unwritable place exits 2.
+
+    The message is ``cannot write PATH: reason``; see :func:`armkit._io.check_writable`.
+    """
+    from .._io import check_writable
+
+    return check_writable(path, suffixes, what)
 
 
 def get_robot(name: str) -> Robot:
@@ -65,13 +103,13 @@ def parse_q(robot: Robot, values: Sequence[str], deg: bool, strict: bool = False
     """
     q = parse_numbers(values, "joint values")
     if q.shape != (robot.n,):
-        fail(f"robot {robot.name!r} has {robot.n} joints ({', '.join(robot.joint_names)}); "
+        fail(f"robot {robot.name!r} has {robot.n} joints ({name_list(robot.joint_names)}); "
              f"got {len(q)} value(s)")
     if deg:
         q = np.where(robot.prismatic, q, np.radians(q))
     bad = robot.limit_violations(q)
     if bad:
-        msg = "joint limit: " + "; ".join(bad)
+        msg = "joint limit: " + name_list(bad, limit=6, sep="; ")
         if strict:
             raise JointLimitError(msg)
         warn(msg + " (computing anyway; --strict makes this an error)")

@@ -7,10 +7,9 @@ from typing import List, Optional
 
 import numpy as np
 import typer
-from rich.markup import escape
 from rich.table import Table
 
-from .common import NUMERIC_ARGS, console, get_robot, parse_q, pose_table, print_json, q_display
+from .common import NUMERIC_ARGS, console, esc, get_robot, parse_q, pose_table, print_json, q_display
 
 ROBOT_HELP = "Bundled robot name (see `armkit robots`) or path of a .toml robot file."
 
@@ -37,8 +36,8 @@ def robots(json_out: bool = typer.Option(False, "--json", help="Print JSON inste
     for row in rows:
         src = str(row["source"])
         short = src if len(src) <= 70 else src[:69].rsplit(" ", 1)[0] + " …"
-        t.add_row(*(str(row[k]) for k in ("name", "dof", "joints")), f"{row['convention']} DH", str(row["unit"]),
-                  f"{escape(str(row['description']))}\n[dim]{escape(short)}[/]")
+        t.add_row(*(esc(row[k]) for k in ("name", "dof", "joints")), f"{row['convention']} DH", esc(row["unit"]),
+                  f"{esc(row['description'])}\n[dim]{esc(short)}[/]")
     console.print(t)
 
 
@@ -58,7 +57,7 @@ def info(robot: str = typer.Argument(..., help=ROBOT_HELP),
                          "limits": [j.lower, j.upper] if j.is_prismatic else [j.lower * deg, j.upper * deg]}
                         for j in r.joints], "base": r.base, "tool": r.tool})
         return
-    console.print(f"[bold]{r.name}[/]: {r.description}")
+    console.print(f"[bold]{esc(r.name)}[/]: {esc(r.description)}")
     conv = ("standard DH: A_i = Rz(theta_i) Tz(d_i) Tx(a_i) Rx(alpha_i)" if r.convention == "standard"
             else "modified (Craig) DH: A_i = Rx(alpha_{i-1}) Tx(a_{i-1}) Rz(theta_i) Tz(d_i)")
     t = Table(title=f"DH table ({conv}); * marks the joint variable", header_style="bold")
@@ -71,7 +70,7 @@ def info(robot: str = typer.Argument(..., help=ROBOT_HELP),
         d = f"q{i}*" + (f" {j.d:+g}" if j.d else "") if j.is_prismatic else f"{j.d:g}"
         lim = (f"[{j.lower:g}, {j.upper:g}] {r.unit}" if j.is_prismatic
                else f"[{j.lower * deg:g}, {j.upper * deg:g}] deg")
-        t.add_row(str(i), j.name, j.kind, theta, d, f"{j.a:g}", f"{j.alpha * deg:g}", lim)
+        t.add_row(str(i), esc(j.name), j.kind, theta, d, f"{j.a:g}", f"{j.alpha * deg:g}", lim)
     console.print(t)
     for which in ("base", "tool"):
         T = getattr(r, which)
@@ -80,7 +79,7 @@ def info(robot: str = typer.Argument(..., help=ROBOT_HELP),
         else:
             console.print(f"{which}: identity")
     if r.source:
-        console.print(f"[dim]source: {escape(' '.join(r.source.split()))}[/]")
+        console.print(f"[dim]source: {esc(' '.join(r.source.split()))}[/]")
 
 
 def fk(robot: str = typer.Argument(..., help=ROBOT_HELP),
@@ -106,7 +105,7 @@ def fk(robot: str = typer.Argument(..., help=ROBOT_HELP),
                     "rpy_deg": rpy, "frames": [{"name": n, "origin": f[:3, 3]}
                                                for n, f in zip(r.link_names, F)]})
         return
-    console.print(f"[bold]{r.name}[/] at q = ({', '.join(q_display(r, qv))})")
+    console.print(f"[bold]{esc(r.name)}[/] at q = ({', '.join(q_display(r, qv))})")
     p = T[:3, 3]
     console.print(f"end point: ([bold]{p[0]:.3f}, {p[1]:.3f}, {p[2]:.3f}[/]) {r.unit}   "
                   f"roll/pitch/yaw: ({rpy[0]:.3f}, {rpy[1]:.3f}, {rpy[2]:.3f}) deg")
@@ -116,7 +115,7 @@ def fk(robot: str = typer.Argument(..., help=ROBOT_HELP),
         t.add_column(col, justify="right")
     for k, (name, f) in enumerate(zip(r.link_names, F)):
         label = "base" if k == 0 else (f"{k} + tool" if k == r.n else str(k))
-        t.add_row(label, name, *(f"{v:.3f}" for v in f[:3, 3]))
+        t.add_row(label, esc(name), *(f"{v:.3f}" for v in f[:3, 3]))
     console.print(t)
 
 
@@ -143,11 +142,11 @@ def jacobian(robot: str = typer.Argument(..., help=ROBOT_HELP),
         print_json({"robot": r.name, "frame": frame, "q_rad": qv, "jacobian": J, "manipulability": w,
                     "condition_number": c, "singular": s, "singular_threshold": SINGULAR_THRESHOLD})
         return
-    t = Table(title=f"geometric Jacobian of {r.name} in the {frame} frame "
+    t = Table(title=f"geometric Jacobian of {esc(r.name)} in the {frame} frame "
                     f"(v rows in {r.unit}/rad, w rows dimensionless)", header_style="bold")
     t.add_column("row")
     for name, kind in zip(r.joint_names, r.joint_types):
-        t.add_column(f"{name} ({kind})", justify="right")
+        t.add_column(f"{esc(name)} ({kind})", justify="right")
     for label, row in zip(("vx", "vy", "vz", "wx", "wy", "wz"), J):
         t.add_row(label, *(f"{v: .6f}" for v in row))
     console.print(t)

@@ -9,7 +9,7 @@ import numpy as np
 import typer
 from rich.table import Table
 
-from .common import (EXIT_BAD_INPUT, EXIT_FAILED, NUMERIC_ARGS, console, fail, get_robot, parse_numbers,
+from .common import (EXIT_BAD_INPUT, EXIT_FAILED, NUMERIC_ARGS, console, esc, fail, get_robot, parse_numbers,
                      print_json, warn)
 
 ROBOT_HELP = "Bundled robot name (see `armkit robots`) or path of a .toml robot file."
@@ -71,14 +71,14 @@ def _table(robot, rows: list[dict], title: str, position_only: bool) -> Table:
     t = Table(title=title, header_style="bold")
     t.add_column("branch", no_wrap=True)
     for name, pris in zip(robot.joint_names, robot.prismatic):
-        t.add_column(f"{name} ({robot.unit if pris else 'deg'})", justify="right", overflow="fold")
+        t.add_column(f"{esc(name)} ({robot.unit if pris else 'deg'})", justify="right", overflow="fold")
     t.add_column(f"pos. error ({robot.unit})", justify="right", overflow="fold")
     t.add_column("rot. error (deg)", justify="right", overflow="fold")
     t.add_column("in limits", justify="center")
     t.add_column("result", overflow="fold")
     for r in rows:
-        result = "[green]solved[/]" if r["success"] else f"[red]{r['reason']}[/]"
-        t.add_row(r["branch"], *(_deg(v) for v in r["q_deg"]), f"{r['position_error']:.1e}",
+        result = "[green]solved[/]" if r["success"] else f"[red]{esc(r['reason'])}[/]"
+        t.add_row(esc(r["branch"]), *(_deg(v) for v in r["q_deg"]), f"{r['position_error']:.1e}",
                   "-" if position_only else f"{math.degrees(r['rotation_error']):.1e}",
                   "yes" if r["within_limits"] else "[red]no[/]", result)
     return t
@@ -89,9 +89,9 @@ def _print_wide(renderable) -> None:
     if console.is_terminal:
         console.print(renderable)
     else:
-        from rich.console import Console
+        from .common import SafeConsole
 
-        Console(highlight=False, width=max(console.width, 150)).print(renderable)
+        SafeConsole(highlight=False, width=max(console.width, 150)).print(renderable)
 
 
 def _trace_table(trace) -> Table:
@@ -180,10 +180,10 @@ def ik(robot: str = typer.Argument(..., help=ROBOT_HELP),
                     "phi_rad": ph, "solved": solved, "solutions": rows,
                     "trace": None if res.trace is None else np.asarray(res.trace)})
     else:
-        _print_wide(_table(r, rows, f"IK of {r.name} for {where}, {used}", position_only))
+        _print_wide(_table(r, rows, f"IK of {esc(r.name)} for {esc(where)}, {used}", position_only))
         notes = list(dict.fromkeys(row["message"] for row in rows if row["success"] and row["message"]))
         for note in notes:
-            console.print(f"note: {note}", soft_wrap=True)
+            console.print(f"note: {esc(note)}", soft_wrap=True)
         if trace and res.trace is not None:
             console.print(_trace_table(res.trace))
         if solved:

@@ -15,7 +15,7 @@ import numpy as np
 import typer
 from rich.table import Table
 
-from .common import (EXIT_FAILED, NUMERIC_ARGS, console, fail, get_robot, parse_numbers, parse_q, print_json,
+from .common import (EXIT_FAILED, NUMERIC_ARGS, console, esc, fail, name_list, output_path, get_robot, parse_numbers, parse_q, print_json,
                      q_display, warn)
 
 ROBOT_HELP = "Bundled robot name (see `armkit robots`) or path of a .toml robot file."
@@ -26,9 +26,9 @@ def _matrix_table(M, title: str, row_labels=None, col_labels=None) -> Table:
     if row_labels is not None:
         t.add_column("")
     for j in range(M.shape[1]):
-        t.add_column(col_labels[j] if col_labels else "", overflow="fold")
+        t.add_column(esc(col_labels[j]) if col_labels else "", overflow="fold")
     for i in range(M.shape[0]):
-        cells = [str(M[i, j]) for j in range(M.shape[1])]
+        cells = [esc(M[i, j]) for j in range(M.shape[1])]
         t.add_row(*(([row_labels[i]] if row_labels is not None else []) + cells))
     return t
 
@@ -52,6 +52,8 @@ def derive(robot: str = typer.Argument(..., help=ROBOT_HELP),
     if latex and python:
         fail("choose one of --latex and --python")
     r = get_robot(robot)
+    if png is not None:
+        output_path(png, (".png", ".pdf", ".svg"), "--png")
     t0 = time.perf_counter()
     d = do_derive(r, cache=not no_cache)
     elapsed = time.perf_counter() - t0
@@ -62,8 +64,11 @@ def derive(robot: str = typer.Argument(..., help=ROBOT_HELP),
         sys.stdout.write(to_numpy_source(d))
         return
     if png is not None:
+        from .._io import atomic_path
         from ..symbolic.export import render_png
-        render_png(d, png)
+
+        with atomic_path(png, (".png", ".pdf", ".svg"), "--png") as tmp:
+            render_png(d, tmp)
     txt = to_text(d, ("links", "T", "J") if links else ("T", "J"))
     ik = _planar_2r_ik(r)
     if json_out:
@@ -76,8 +81,8 @@ def derive(robot: str = typer.Argument(..., help=ROBOT_HELP),
             out["ik"] = ik
         print_json(out)
         return
-    names = ", ".join(f"q{i + 1} = {n}" for i, n in enumerate(r.joint_names) if n != f"q{i + 1}")
-    console.print(f"[bold]{r.name}[/]: {r.n} joints {r.joint_types}, {r.convention} DH"
+    names = esc(name_list([f"q{i + 1} = {n}" for i, n in enumerate(r.joint_names) if n != f"q{i + 1}"]))
+    console.print(f"[bold]{esc(r.name)}[/]: {r.n} joints {r.joint_types}, {r.convention} DH"
                   + (f" ({names})" if names else ""))
     if d.values:
         console.print("parameters: " + ", ".join(
@@ -128,6 +133,8 @@ def singular(robot: str = typer.Argument(..., help=ROBOT_HELP),
     from ..analysis.singularity import analyze_singularities, plot_manipulability
 
     r = get_robot(robot)
+    if plot is not None:
+        output_path(plot, (".png", ".pdf", ".svg"), "--plot")
     res = analyze_singularities(r)
     if json_out:
         print_json({"robot": r.name, "method": res.method, "rows": list(res.rows),
@@ -143,7 +150,7 @@ def singular(robot: str = typer.Argument(..., help=ROBOT_HELP),
         from ..symbolic.export import shorthand
         from ..symbolic import derive as do_derive
         d = do_derive(r)
-        console.print(f"[bold]{r.name}[/]: {res.method} over rows ({', '.join(res.rows)})")
+        console.print(f"[bold]{esc(r.name)}[/]: {res.method} over rows ({', '.join(res.rows)})")
         console.print(f"  = {shorthand(res.determinant, d.q)[0]}")
         t = Table(title="singular configurations (where a factor vanishes)", header_style="bold")
         for col in ("factor", "meaning", "solutions", "check: max manipulability there"):
@@ -156,7 +163,7 @@ def singular(robot: str = typer.Argument(..., help=ROBOT_HELP),
             else:
                 sol = "a curve/surface in joint space"
             w = f"{f.manipulability.max():.1e}" if len(f.manipulability) else "-"
-            t.add_row(f.text + ("" if f.power == 1 else f" (power {f.power})"), f.description.split(":")[0], sol, w)
+            t.add_row(esc(f.text + ("" if f.power == 1 else f" (power {f.power})")), esc(f.description.split(":")[0]), esc(sol), w)
         console.print(t)
         consts = [f.text for f in res.factors if f.kind == "constant" and f.expr != 1]
         if consts:
@@ -166,9 +173,15 @@ def singular(robot: str = typer.Argument(..., help=ROBOT_HELP),
         if r.n > 3:
             warn(f"the manipulability map is for 2-3 joint arms; {r.name} has {r.n}: plotting joints 2 and 3")
         joints = (1, 2) if r.n == 2 else (2, 3)
-        plot_manipulability(r, plot, joints=joints, analysis=res)
+        from .._io import atomic_path
+
+        with atomic_path(plot, (".png", ".pdf", ".svg"), "--plot") as tmp:
+            fig = plot_manipulability(r, tmp, joints=joints, analysis=res)
+        from ..viz._mpl import pyplot
+
+        pyplot().close(fig)
         if not json_out:
-            console.print(f"wrote {plot}")
+            console.print(f"wrote {esc(plot)}")
 
 
 def velocity(robot: str = typer.Argument(..., help=ROBOT_HELP),
@@ -192,7 +205,7 @@ def velocity(robot: str = typer.Argument(..., help=ROBOT_HELP),
     r = get_robot(robot)
     words = list(q)
     if len(words) < r.n:
-        fail(f"robot {r.name!r} has {r.n} joints ({', '.join(r.joint_names)}); got {len(words)} value(s)")
+        fail(f"robot {r.name!r} has {r.n} joints ({name_list(r.joint_names)}); got {len(words)} value(s)")
     qv = parse_q(r, words[:r.n], deg)
     extra = [w for v in words[r.n:] for w in v.split(",") if w]
     if (ee_vel is None) == (q_vel is None):
@@ -210,7 +223,7 @@ def velocity(robot: str = typer.Argument(..., help=ROBOT_HELP),
             print_json({"robot": r.name, "q_rad": qv, "qd_rad_s": qd, "twist": tw, "rows": ["vx", "vy", "vz", "wx",
                                                                                            "wy", "wz"]})
             return
-        console.print(f"[bold]{r.name}[/] at q = ({', '.join(q_display(r, qv))}), joint rates "
+        console.print(f"[bold]{esc(r.name)}[/] at q = ({', '.join(q_display(r, qv))}), joint rates "
                       f"({', '.join(f'{v:g}' for v in vals)}) {'deg/s' if deg else 'rad/s'}")
         console.print(f"tool velocity v = ({', '.join(f'{v:.6g}' for v in tw[:3])}) {r.unit}/s")
         console.print(f"angular velocity w = ({', '.join(f'{v:.6g}' for v in tw[3:])}) rad/s"
@@ -226,21 +239,21 @@ def velocity(robot: str = typer.Argument(..., help=ROBOT_HELP),
                     "singular": res.singular, "singular_direction": res.direction, "damping_m2": res.damping,
                     "method": res.method, "message": res.message})
         return
-    console.print(f"[bold]{r.name}[/] at q = ({', '.join(q_display(r, qv))}); requested "
+    console.print(f"[bold]{esc(r.name)}[/] at q = ({', '.join(q_display(r, qv))}); requested "
                   f"({', '.join(f'{n} {v:g}' for n, v in zip(res.rows, vals))}) ({r.unit}/s, rad/s)")
     t = Table(title=f"joint rates ({'pseudo-inverse' if method == 'pinv' else 'damped least squares'})",
               header_style="bold")
     for col in ("joint", "rad/s", "deg/s"):
         t.add_column(col, justify="right")
     for name, v, p in zip(r.joint_names, res.qd, r.prismatic):
-        t.add_row(name, f"{v:.6g}" + (f" {r.unit}/s" if p else ""), "" if p else f"{math.degrees(v):.6g}")
+        t.add_row(esc(name), f"{v:.6g}" + (f" {r.unit}/s" if p else ""), "" if p else f"{math.degrees(v):.6g}")
     console.print(t)
     console.print(f"achieved: ({', '.join(f'{v:.6g}' for v in res.achieved)}), residual {res.residual:.3g}"
                   + (f", damping lambda^2 = {res.damping:.3g} m^2" if res.damping else ""))
     if res.singular:
         warn(res.message)
     else:
-        console.print(f"[dim]{res.message}[/]")
+        console.print(f"[dim]{esc(res.message)}[/]")
     del qd_show
 
 
@@ -281,6 +294,8 @@ def traj(robot: str = typer.Argument(..., help=ROBOT_HELP),
     from ..motion.trajectory import animate_trajectory, cartesian_arc, cartesian_line, joint_trajectory, plot_trajectory
 
     r = get_robot(robot)
+    if out is not None:
+        output_path(out, (".png", ".pdf", ".svg", ".gif", ".mp4", ".csv"), "-o")
     modes = sum([joint, line, arc is not None])
     if modes != 1:
         fail("choose exactly one of --joint, --line and --arc")
@@ -288,7 +303,7 @@ def traj(robot: str = typer.Argument(..., help=ROBOT_HELP),
     try:
         if joint:
             if P.shape[1] != r.n:
-                fail(f"joint waypoints need {r.n} values each for {r.name!r} ({', '.join(r.joint_names)}), "
+                fail(f"joint waypoints need {r.n} values each for {r.name!r} ({name_list(r.joint_names)}), "
                      f"got {P.shape[1]}")
             W = np.where(r.prismatic, P, np.radians(P)) if deg else P
             scale = math.pi / 180 if deg else 1.0
@@ -329,17 +344,17 @@ def traj(robot: str = typer.Argument(..., help=ROBOT_HELP),
     if json_out:
         print_json(summary)
         return
-    console.print(f"[bold]{r.name}[/]: {tr.label}, {len(tr)} samples over {tr.duration:.3g} s")
+    console.print(f"[bold]{esc(r.name)}[/]: {esc(tr.label)}, {len(tr)} samples over {tr.duration:.3g} s")
     console.print(f"start q = ({', '.join(q_display(r, tr.q[0]))}), end q = ({', '.join(q_display(r, tr.q[-1]))})")
     peak = np.where(r.prismatic, summary["max_abs_qd"], np.degrees(summary["max_abs_qd"]))
-    console.print("peak joint speed: " + ", ".join(f"{n} {v:.4g}" for n, v in zip(r.joint_names, peak))
+    console.print("peak joint speed: " + esc(name_list([f"{n} {v:.4g}" for n, v in zip(r.joint_names, peak)]))
                   + " (deg/s or unit/s)")
     if tr.deviation is not None:
         console.print(f"largest deviation from the path: {tr.deviation.max():.3g} {r.unit}")
     if not within:
         warn("the trajectory leaves the joint limits")
     if out is not None:
-        console.print(f"wrote {out}")
+        console.print(f"wrote {esc(out)}")
 
 
 def register(app: typer.Typer) -> None:

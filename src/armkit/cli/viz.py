@@ -9,7 +9,7 @@ from typing import List, Optional
 import numpy as np
 import typer
 
-from .common import (EXIT_FAILED, NUMERIC_ARGS, console, fail, get_robot, parse_numbers, parse_q,
+from .common import (EXIT_FAILED, NUMERIC_ARGS, console, esc, fail, get_robot, parse_numbers, parse_q, name_list, output_path,
                      print_json, warn)
 
 ROBOT_HELP = "Bundled robot name (see `armkit robots`) or path of a .toml robot file."
@@ -17,10 +17,8 @@ IMAGE_SUFFIXES = (".png", ".pdf", ".svg", ".jpg")
 
 
 def _out(path: str, allowed: tuple[str, ...], what: str) -> Path:
-    p = Path(path)
-    if p.suffix.lower() not in allowed:
-        fail(f"{what}: the file must end in {', '.join(allowed)}, got {path!r}")
-    return p
+    """The output file, checked before any work (suffix, folder, permissions): exit 2 if it cannot be written."""
+    return output_path(path, allowed, what)
 
 
 def plot(robot: str = typer.Argument(..., help=ROBOT_HELP),
@@ -76,14 +74,14 @@ def plot(robot: str = typer.Argument(..., help=ROBOT_HELP),
         fig = plot_arm(r, qs, frames=not no_frames, labels=labels, targets=tp, title=title)
         path = save_figure(fig, out)
         console.print(f"{len(qs)} branch(es): {', '.join(str(b) for b in np.asarray(res.branch)[ok])}")
-        console.print(f"wrote {path}")
+        console.print(f"wrote {esc(path)}")
         return
     if not q:
-        fail(f"give {r.n} joint values ({', '.join(r.joint_names)}) or --all-branches X,Y,Z")
+        fail(f"give {r.n} joint values ({name_list(r.joint_names)}) or --all-branches X,Y,Z")
     qv = parse_q(r, q, deg, strict)
     fig = plot_arm(r, qv, frames=not no_frames)
     path = save_figure(fig, out)
-    console.print(f"wrote {path}")
+    console.print(f"wrote {esc(path)}")
 
 
 def shell(robot: str = typer.Argument(..., help=ROBOT_HELP),
@@ -92,7 +90,10 @@ def shell(robot: str = typer.Argument(..., help=ROBOT_HELP),
           no_plot: bool = typer.Option(False, "--no-plot", help="Do not draw the arm after each command."),
           png: bool = typer.Option(False, "--png", help="Write a PNG per step even when a display exists."),
           out_dir: str = typer.Option("out/shell", "--out-dir", help="Folder for the PNG pictures."),
-          units: str = typer.Option("deg", "--units", help="Angle units: deg or rad.")) -> None:
+          units: str = typer.Option("deg", "--units", help="Angle units: deg or rad."),
+          view: bool = typer.Option(False, "--view", help="Also serve the live browser view (armkit view) and move "
+                                                          "the arm there after every command; no PNGs unless --png.")
+          ) -> None:
     """Interactive shell: set joints, move to targets, see the arm after every command.
 
     Commands inside: theta1 = 30; theta2 = 45 | q 30 45 60 | goto 100 50 80 | [100 50 80] | branch NAME |
@@ -107,8 +108,13 @@ def shell(robot: str = typer.Argument(..., help=ROBOT_HELP),
     if units not in ("deg", "rad"):
         fail(f"--units must be deg or rad, got {units!r}")
     r = get_robot(robot)
-    mode = "none" if no_plot else ("png" if png else "auto")
-    sh = Shell(r, lang=lang, units=units, plot=mode, out_dir=out_dir, console=console)
+    mode = "none" if no_plot or (view and not png) else ("png" if png else "auto")
+    sh = Shell(r, lang=lang, units=units, plot=mode, out_dir=out_dir, console=console, session=True)
+    if view:
+        from .view import attach_view
+
+        with attach_view(sh, r, lang):
+            raise typer.Exit(sh.run())
     raise typer.Exit(sh.run())
 
 
@@ -157,7 +163,7 @@ def workspace(robot: str = typer.Argument(..., help=ROBOT_HELP),
         print_json(data)
         return
     c = ", ".join(f"{v:.4g}" for v in ws.centre)
-    console.print(f"[bold]{r.name}[/] workspace from {ws.samples:,} samples ({ws.excluded:,} excluded"
+    console.print(f"[bold]{esc(r.name)}[/] workspace from {ws.samples:,} samples ({ws.excluded:,} excluded"
                   + (f": {exclusion.describe(r.unit)}" if exclusion else "") + ")")
     console.print(f"  outer boundary: {ws.outer_radius:.4g} {r.unit} from the shoulder ({c})")
     console.print(f"  inner boundary: {ws.inner_radius:.4g} {r.unit}" if ws.has_inner_boundary
@@ -165,7 +171,7 @@ def workspace(robot: str = typer.Argument(..., help=ROBOT_HELP),
     console.print(f"  {ws.measure_name}: {format_measure(ws.volume, ws.volume_error)} {ws.measure_unit} "
                   f"(voxel {ws.voxel_size:.3g} {r.unit}; the ± is a bound, see docs/visualisation.md)")
     if path is not None:
-        console.print(f"wrote {path}")
+        console.print(f"wrote {esc(path)}")
 
 
 def maps(robot: str = typer.Argument(..., help=ROBOT_HELP),
@@ -219,7 +225,7 @@ def maps(robot: str = typer.Argument(..., help=ROBOT_HELP),
             gy = np.linspace(c[1] - R, c[1] + R, steps)
             im = ik_maps(r, gx, gy, z=z)
     path = save_figure(plot_maps(fm, im), out)
-    console.print(f"wrote {path}")
+    console.print(f"wrote {esc(path)}")
 
 
 def track(robot: str = typer.Argument(..., help=ROBOT_HELP),
@@ -265,7 +271,7 @@ def track(robot: str = typer.Argument(..., help=ROBOT_HELP),
         print_json(st)
     else:
         u = r.unit
-        console.print(f"[bold]{r.name}[/] tracking a {res.path} target with {method}: {st['frames']} frames")
+        console.print(f"[bold]{esc(r.name)}[/] tracking a {res.path} target with {method}: {st['frames']} frames")
         console.print(f"  reached: {st['frames_reached']}   out of reach: {st['frames_out_of_reach']}   "
                       f"not converged: {st['frames_not_converged']}")
         console.print(f"  error on reached frames: mean {st['mean_error']:.3g} {u}, max {st['max_error']:.3g} {u} "
@@ -273,7 +279,7 @@ def track(robot: str = typer.Argument(..., help=ROBOT_HELP),
         console.print(f"  branch changes: {st['branch_changes']}   largest joint step: "
                       f"{st['largest_joint_step_deg']:.2f} deg   mean iterations: {st['mean_iterations']:.1f}")
         if written is not None:
-            console.print(f"wrote {written}")
+            console.print(f"wrote {esc(written)}")
     if st["frames_reached"] < st["frames"] and path in ("circle", "figure8"):
         raise typer.Exit(EXIT_FAILED)
 

@@ -143,10 +143,10 @@ def _parse(text: str, path: str) -> Robot:
         raise RobotFileError(path, f"not valid TOML: {exc}", int(m.group(1)) if m else None) from None
     except RecursionError:
         raise RobotFileError(path, "not valid TOML: arrays or tables nested too deeply") from None
-    for key in ("name", "description", "source", "convention", "unit", "angle_unit"):
-        if key in data and not isinstance(data[key], str):
-            raise RobotFileError(path, f"must be a string, got {type(data[key]).__name__} {_short(data[key])}",
-                                 loc.line(key), key)
+    for top in ("name", "description", "source", "convention", "unit", "angle_unit"):
+        if top in data and not isinstance(data[top], str):
+            raise RobotFileError(path, f"must be a string, got {type(data[top]).__name__} {_short(data[top])}",
+                                 loc.line(top), top)
     if "link_names" in data and (not isinstance(data["link_names"], list)
                                  or not all(isinstance(x, str) for x in data["link_names"])):
         raise RobotFileError(path, f"must be a list of strings, got {_short(data['link_names'])}",

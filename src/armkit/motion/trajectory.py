@@ -99,13 +99,15 @@ class Trajectory:
         if self.positions is not None:
             header += ["x", "y", "z"]
             cols.append(self.positions)
-        data = np.hstack(cols)
+        from .._io import atomic_path
+
         p = Path(path)
-        with p.open("w", newline="") as f:
+        with atomic_path(p, (".csv",), "a CSV file") as tmp, tmp.open("w", newline="") as f:
             w = csv.writer(f)
             w.writerow(header)
-            for row in data:
-                w.writerow([f"{v:.10g}" for v in row])
+            for s in range(0, len(self.t), 10_000):          # row blocks: no second copy of a long trajectory
+                for row in np.hstack([c[s:s + 10_000] for c in cols]):
+                    w.writerow([f"{v:.10g}" for v in row])
         return p
 
 
@@ -458,7 +460,10 @@ def plot_trajectory(traj: Trajectory, robot: Robot | None = None, out_path: str 
     fig.suptitle(traj.label)
     fig.tight_layout()
     if out_path is not None:
-        fig.savefig(out_path, dpi=110)
+        from .._io import atomic_path
+
+        with atomic_path(out_path, (".png", ".pdf", ".svg", ".jpg", ".jpeg"), "a picture file") as tmp:
+            fig.savefig(tmp, dpi=110, format=Path(out_path).suffix.lower().lstrip("."))
     return fig
 
 

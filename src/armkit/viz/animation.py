@@ -113,47 +113,81 @@ def render_animation(robot: Robot, q: ArrayLike, out_path: str | Path, targets: 
     canvas.draw()                                   # the static picture once; frames are blitted on it
     background = canvas.copy_from_bbox(fig.bbox)
 
-    images: list[Any] = []
-    writer = None
-    if suffix == ".mp4":
-        try:
-            import imageio.v2 as imageio
-        except ImportError as exc:  # pragma: no cover - a declared dependency
-            raise ArmkitError("writing MP4 needs imageio and imageio-ffmpeg (pip install imageio imageio-ffmpeg)") from exc
-        out.parent.mkdir(parents=True, exist_ok=True)
-        writer = imageio.get_writer(out, fps=int(fps), codec="libx264", quality=7, macro_block_size=8)
+    from .._io import atomic_path
     from rich.progress import BarColumn, Progress, TextColumn, TimeRemainingColumn
 
     bar = Progress(TextColumn("rendering {task.description}"), BarColumn(), TextColumn("{task.completed}/{task.total}"),
                    TimeRemainingColumn(), transient=True, disable=not progress, console=console)
-    try:
-        with bar:
-            task = bar.add_task(out.name, total=F)
-            for k in range(F):
-                put(arm, sk[k])
-                put(jts, joints[k])
-                put(end, ends[k:k + 1])
-                if trail:
-                    put(trail_line, ends[max(0, k - trail_length):k + 1])
-                if T is not None:
-                    put(tgt, T[k:k + 1] if np.all(np.isfinite(T[k])) else np.empty((0, 3)))
-                info.set_text(f"frame {k + 1}/{F}: {angle_text(robot, Q[k])}")
-                canvas.restore_region(background)
-                for a in dynamic:
-                    if a.get_visible():
-                        fig.draw_artist(a)
-                rgb = np.asarray(canvas.buffer_rgba())[..., :3]
-                if writer is not None:
-                    writer.append_data(np.ascontiguousarray(rgb))
-                else:
-                    from PIL import Image
-
-                    images.append(Image.fromarray(rgb).quantize(colors=128, method=Image.Quantize.FASTOCTREE))
-                bar.advance(task)
-    finally:
-        if writer is not None:
-            writer.close()
-    if writer is None:
-        out.parent.mkdir(parents=True, exist_ok=True)
-        images[0].save(out, save_all=True, append_images=images[1:], duration=max(1, round(1000 / fps)), loop=0)
+    duration = max(1, round(1000 / fps))
+    # Frames are streamed to a temporary file next to ``out`` (one frame in memory at a time)
+    # and the file is renamed into place at the end: Ctrl-C or an error leaves the old file.
+    with atomic_path(out, SUFFIXES, "an animation file") as tmp:
+        writer = None
+        gif = None
+        prev: Optional[np.ndarray] = None
+        try:
+            if suffix == ".mp4":
+                try:
+                    import imageio.v2 as imageio
+                except ImportError as exc:  # pragma: no cover - a declared dependency
+                    raise ArmkitError("writing MP4 needs imageio and imageio-ffmpeg "
+                                      "(pip install imageio imageio-ffmpeg)") from exc
+                writer = imageio.get_writer(tmp, format="FFMPEG", fps=int(fps), codec="libx264", quality=7,
+                                            macro_block_size=8)
+            else:
+                gif = open(tmp, "wb")
+            with bar:
+                task = bar.add_task(out.name, total=F)
+                for k in range(F):
+                    put(arm, sk[k])
+                    put(jts, joints[k])
+                    put(end, ends[k:k + 1])
+                    if trail:
+                        put(trail_line, ends[max(0, k - trail_length):k + 1])
+                    if T is not None:
+                        put(tgt, T[k:k + 1] if np.all(np.isfinite(T[k])) else np.empty((0, 3)))
+                    info.set_text(f"frame {k + 1}/{F}: {angle_text(robot, Q[k])}")
+                    canvas.restore_region(background)
+                    for a in dynamic:
+                        if a.get_visible():
+                            fig.draw_artist(a)
+                    rgb = np.asarray(canvas.buffer_rgba())[..., :3]
+                    if writer is not None:
+                        writer.append_data(np.ascontiguousarray(rgb))
+                    else:
+                        assert gif is not None
+                        _gif_frame(gif, rgb, duration, prev)
+                        prev = rgb.copy()
+                    bar.advance(task)
+            if gif is not None:
+                gif.write(b";")                     # GIF trailer
+        finally:
+            if writer is not None:
+                writer.close()
+            if gif is not None:
+                gif.close()
     return out
+
+
+def _gif_frame(f: Any, rgb: np.ndarray, duration: int, prev: Optional[np.ndarray]) -> None:
+    """Append one frame to an open GIF file (the header before the first frame).
+
+    Only the rectangle that changed since ``prev`` is stored (with its own 128-colour
+    palette), as Pillow's own writer does, so a streamed GIF is as small as a buffered one.
+    """
+    from PIL import GifImagePlugin, Image
+
+    x0 = y0 = 0
+    if prev is not None:
+        changed = np.any(rgb != prev, axis=-1)
+        rows, cols = np.flatnonzero(changed.any(axis=1)), np.flatnonzero(changed.any(axis=0))
+        if len(rows) == 0:
+            rows, cols = np.array([0]), np.array([0])
+        y0, y1, x0, x1 = int(rows[0]), int(rows[-1]) + 1, int(cols[0]), int(cols[-1]) + 1
+        rgb = rgb[y0:y1, x0:x1]
+    im = Image.fromarray(np.ascontiguousarray(rgb)).quantize(colors=128, method=Image.Quantize.FASTOCTREE)
+    if prev is None:
+        header, _ = GifImagePlugin.getheader(im, None, {"loop": 0, "duration": duration})
+        f.write(b"".join(header))
+    for chunk in GifImagePlugin.getdata(im, (x0, y0), duration=duration, include_color_table=True):
+        f.write(chunk)

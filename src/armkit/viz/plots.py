@@ -12,15 +12,26 @@ from ..analysis.maps import FKMaps, IKMaps
 from ..analysis.workspace import WorkspaceResult
 from ._mpl import pyplot
 
-__all__ = ["plot_workspace", "plot_maps", "save_figure"]
+__all__ = ["plot_workspace", "plot_maps", "save_figure", "IMAGE_SUFFIXES"]
+
+IMAGE_SUFFIXES = (".png", ".pdf", ".svg", ".jpg", ".jpeg")
 
 
 def save_figure(fig: Any, path: str | Path, dpi: int = 110) -> Path:
-    """Write ``fig`` to ``path`` (format from the extension), create the folder, close the figure."""
+    """Write ``fig`` to ``path`` (format from the extension), create the folder, close the figure.
+
+    The picture is written to a temporary file in the same folder and renamed into place
+    (:func:`armkit._io.atomic_path`): an error or Ctrl-C leaves any old file intact and
+    raises :class:`~armkit.errors.WriteError` / :class:`~armkit.errors.WriteInterrupted`.
+    """
+    from .._io import atomic_path
+
     out = Path(path)
-    out.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(out, dpi=dpi)
-    pyplot().close(fig)
+    try:
+        with atomic_path(out, IMAGE_SUFFIXES, "a picture file") as tmp:
+            fig.savefig(tmp, dpi=dpi, format=out.suffix.lower().lstrip("."))
+    finally:
+        pyplot().close(fig)
     return out
 
 

@@ -1,0 +1,59 @@
+"""Limits on what one request may allocate, checked before anything is allocated.
+
+armkit streams big jobs in chunks where it can (FK, manipulability, workspace sampling);
+what must be held at once (the samples a workspace result returns, the samples of a
+trajectory, the frames of an animation) is checked against a memory budget first. Past
+it, a :class:`~armkit.errors.LimitError` says how much the request needs, the limit, and
+how to raise it: set ``ARMKIT_MEMORY_LIMIT`` (bytes, or with a suffix: ``8G``, ``500M``).
+The default is 2 GiB.
+
+>>> check_memory(1e6, "a small job")
+>>> parse_size("1.5G")
+1610612736
+"""
+
+from __future__ import annotations
+
+import os
+import re
+
+from .errors import LimitError
+
+__all__ = ["DEFAULT_MEMORY_LIMIT", "memory_limit", "check_memory", "parse_size", "format_size", "CHUNK"]
+
+DEFAULT_MEMORY_LIMIT = 2 * 1024 ** 3
+CHUNK = 100_000          # configurations per chunk in the streamed loops
+_UNITS = {"": 1, "K": 1024, "M": 1024 ** 2, "G": 1024 ** 3, "T": 1024 ** 4}
+
+
+def parse_size(text: str) -> int:
+    """``"8G"``, ``"500M"``, ``"123456"`` -> bytes; LimitError for anything else."""
+    m = re.fullmatch(r"\s*(\d+(?:\.\d*)?)\s*([KMGT]?)i?B?\s*", str(text), re.IGNORECASE)
+    if not m:
+        raise LimitError(f"ARMKIT_MEMORY_LIMIT must be a size like 4G, 500M or 1000000 (bytes), got {text!r}")
+    return int(float(m.group(1)) * _UNITS[m.group(2).upper()])
+
+
+def format_size(n: float) -> str:
+    """Bytes as text with a binary unit: ``1.5 GiB``."""
+    for unit in ("B", "KiB", "MiB", "GiB", "TiB"):
+        if abs(n) < 1024 or unit == "TiB":
+            return f"{n:.3g} {unit}" if unit != "B" else f"{int(n)} B"
+        n /= 1024
+    return f"{n:.3g} PiB"  # pragma: no cover
+
+
+def memory_limit() -> int:
+    """The budget in bytes: ``ARMKIT_MEMORY_LIMIT`` or 2 GiB."""
+    text = os.environ.get("ARMKIT_MEMORY_LIMIT")
+    return DEFAULT_MEMORY_LIMIT if not text else parse_size(text)
+
+
+def check_memory(nbytes: float, what: str, hint: str = "") -> None:
+    """Raise :class:`LimitError` when ``what`` needs more than the budget; ``hint`` says how to ask for less."""
+    limit = memory_limit()
+    if not nbytes <= limit:     # also catches NaN and inf
+        size = "an unbounded amount" if nbytes != nbytes or nbytes == float("inf") else f"about {format_size(nbytes)}"
+        raise LimitError(f"{what} would need {size} of memory, more than the limit of {format_size(limit)}"
+                         + (f"; {hint}" if hint else "")
+                         + "; or raise the limit with ARMKIT_MEMORY_LIMIT (e.g. ARMKIT_MEMORY_LIMIT=16G)")
