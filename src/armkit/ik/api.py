@@ -247,7 +247,7 @@ def _numeric(method: str, robot: Robot, target: Array, q0: Array, **kw: Any) -> 
 
 
 def ik_all(robot: Robot, target: ArrayLike, q0: ArrayLike | None = None, *, phi: ArrayLike | None = None,
-           enforce_limits: bool = True, tol: Any = None) -> IKResult:
+           enforce_limits: bool = True, tol: Any = None, scene: Any = None) -> IKResult:
     """Every closed-form solution (branch) for each target.
 
     Parameters
@@ -266,6 +266,10 @@ def ik_all(robot: Robot, target: ArrayLike, q0: ArrayLike | None = None, *, phi:
         Branches outside the joint limits get ``success=False``, reason "joint limits".
     tol : float or (float, float), optional
         Position (robot unit) and rotation (rad) tolerance of the FK check.
+    scene : armkit.Scene, path of a scene file, "robot" or None
+        With a scene, a branch that collides (with the scene, the robot's body or itself)
+        fails with reason "collision" and a message naming the pair and the depth;
+        ``"robot"`` is the robot's own surroundings (``docs/scene.md``). None: no check.
 
     Returns
     -------
@@ -286,6 +290,10 @@ def ik_all(robot: Robot, target: ArrayLike, q0: ArrayLike | None = None, *, phi:
     flat, lead, position_only = _normalise_target(robot, target, phi)
     q0f = _normalise_q0(robot, q0, lead)
     res = _all_branches(robot, flat, q0f, position_only, tol, enforce_limits)
+    if scene is not None:   # success also means collision-free (armkit.collision)
+        from ..collision.ik_filter import mark, scene_or_none, sort_branches
+
+        res = sort_branches(mark(robot, res, scene_or_none(robot, scene)))  # type: ignore[arg-type]
     return _reshape(res, lead)
 
 
@@ -293,7 +301,8 @@ def ik(robot: Robot, target: ArrayLike, q0: ArrayLike | None = None,
        method: Literal["auto", "analytic", "lm", "newton", "ccd", "fabrik"] = "auto", *,
        branch: str | None = None, phi: ArrayLike | None = None, mask: ArrayLike | None = None, tol: Any = None,
        max_iterations: int | None = None, restarts: int | None = None, seed: Any = None,
-       enforce_limits: bool = True, raise_unreachable: bool = False, trace: bool = False) -> IKResult:
+       enforce_limits: bool = True, raise_unreachable: bool = False, trace: bool = False,
+       scene: Any = None) -> IKResult:
     """Inverse kinematics: one solution per target, honest about failure.
 
     Parameters
@@ -327,6 +336,10 @@ def ik(robot: Robot, target: ArrayLike, q0: ArrayLike | None = None,
         reach) instead of returning ``success=False``.
     trace : bool
         Numeric methods: keep the per-iteration error in ``IKResult.trace``.
+    scene : armkit.Scene, path of a scene file, "robot" or None
+        Success also means collision-free: the closed form returns the nearest branch that
+        does not collide, numeric methods restart from random configurations while the answer
+        collides; what still collides fails with reason "collision" (see :func:`ik_all`).
 
     Returns
     -------
@@ -359,8 +372,14 @@ def ik(robot: Robot, target: ArrayLike, q0: ArrayLike | None = None,
     if use_closed:
         if mask is not None:
             raise IKInputError("mask= is for the numeric methods; the closed form solves the full target")
-        if branch is None:   # shaped lead + (...) already
+        if branch is None and scene is None:   # shaped lead + (...) already
             res = _nearest_branch(robot, flat, q0f, position_only, tol, enforce_limits, solver, lead)
+        elif branch is None:   # with a scene: the nearest branch that does not collide
+            from ..collision.ik_filter import mark, scene_or_none, sort_branches
+
+            every = _all_branches(robot, flat, q0f, position_only, tol, enforce_limits)
+            every = sort_branches(mark(robot, every, scene_or_none(robot, scene)))  # type: ignore[arg-type]
+            res = _reshape(every[np.arange(len(flat)), 0], lead)
         else:
             every = _all_branches(robot, flat, q0f, position_only, tol, enforce_limits)
             hit = every.branch == branch
@@ -369,11 +388,21 @@ def ik(robot: Robot, target: ArrayLike, q0: ArrayLike | None = None,
                 raise IKInputError(f"unknown branch {branch!r} for robot {robot.name!r}; valid branches: "
                                    + ", ".join(valid))
             res = _reshape(every[np.arange(len(flat)), np.argmax(hit, axis=1)], lead)
+            if scene is not None:
+                from ..collision.ik_filter import mark, scene_or_none
+
+                res = mark(robot, res, scene_or_none(robot, scene))  # type: ignore[arg-type]
     else:
         kw: dict[str, Any] = {"mask": mask, "tol": None if tol is None else _tolerance(robot, tol), "seed": seed, "enforce_limits": enforce_limits,
                               "trace": trace, "max_iterations": max_iterations, "restarts": restarts}
         name = "lm" if method == "auto" else method
-        res = _reshape(_numeric(name, robot, flat, q0f, **kw), lead)
+        flat_res = _numeric(name, robot, flat, q0f, **kw)
+        if scene is not None:   # restarts away from collisions (armkit.collision)
+            from ..collision.ik_filter import retry_numeric, scene_or_none
+
+            flat_res = retry_numeric(robot, flat_res, scene_or_none(robot, scene),  # type: ignore[arg-type]
+                                     lambda q0r, rows: _numeric(name, robot, flat[rows], q0r, **kw), seed)
+        res = _reshape(flat_res, lead)
     if raise_unreachable:
         _raise_if_unreachable(res)
     return res

@@ -16,7 +16,7 @@ from ..model.robot import Robot
 
 __all__ = ["IKResult", "REASONS", "default_tolerance", "verify"]
 
-REASONS = ("converged", "unreachable", "singular", "max iterations", "joint limits")
+REASONS = ("converged", "unreachable", "singular", "max iterations", "joint limits", "collision")
 """The values ``IKResult.reason`` can take."""
 
 

@@ -1,0 +1,103 @@
+"""IK with a scene: solutions that collide are not solutions.
+
+:func:`mark` turns successful IK results whose configuration collides into failures with
+``reason="collision"`` and a message naming the pair and the depth; :func:`sort_branches`
+puts the collision-free branches of ``ik_all`` first again. :func:`retry_numeric` restarts a
+numeric solver from random configurations for the targets whose answer collided.
+"""
+
+from __future__ import annotations
+
+from typing import Any, Callable
+
+import numpy as np
+
+from ..ik.result import IKResult
+from ..model.robot import Robot
+from .query import as_scene, collisions
+from .shapes import Scene
+
+__all__ = ["mark", "sort_branches", "retry_numeric", "scene_or_none"]
+
+
+def scene_or_none(robot: Robot, scene: Any) -> Scene | None:
+    """``scene`` as a Scene in the robot's unit (``"robot"``: its own surroundings), ``None`` for none."""
+    if scene is None:
+        return None
+    return as_scene(robot, scene)
+
+
+def mark(robot: Robot, res: IKResult, scene: Scene) -> IKResult:
+    """``res`` with every successful but colliding configuration made a ``"collision"`` failure."""
+    ok = np.asarray(res.success, dtype=bool)
+    if not ok.any():
+        return res
+    q = np.asarray(res.q)
+    hits = collisions(robot, q[ok], scene)
+    bad_rows = np.flatnonzero(hits.colliding)
+    if not len(bad_rows):
+        return res
+    success = ok.copy()
+    reason = np.array(res.reason, dtype=object, copy=True)
+    message = np.array(res.message, dtype=object, copy=True)
+    where = np.argwhere(ok)
+    for k in bad_rows:
+        idx = tuple(where[k])
+        success[idx] = False
+        reason[idx] = "collision"
+        message[idx] = hits.message(k)
+    return IKResult(res.q, success if np.ndim(res.success) else np.bool_(success), res.position_error,
+                    res.rotation_error, res.iterations, res.branch, res.within_limits,
+                    _like(res.reason, reason), _like(res.message, message), res.trace)
+
+
+def _like(old: Any, new: np.ndarray) -> Any:
+    o = np.asarray(old)
+    if o.dtype.kind == "U":
+        return new.astype(str)
+    return new if o.ndim else new[()]
+
+
+def sort_branches(res: IKResult) -> IKResult:
+    """Branches ``(B, m)`` reordered so that successful ones come first (stable: the old order within each group)."""
+    ok = np.asarray(res.success)
+    if ok.ndim != 2:
+        return res
+    order = np.argsort(~ok, axis=1, kind="stable")
+    rows = np.arange(ok.shape[0])[:, None]
+
+    def take(a: Any) -> Any:
+        return np.asarray(a)[rows, order]
+
+    return IKResult(take(res.q), take(res.success), take(res.position_error), take(res.rotation_error),
+                    take(res.iterations), take(res.branch), take(res.within_limits), take(res.reason),
+                    take(res.message), res.trace)
+
+
+def retry_numeric(robot: Robot, res: IKResult, scene: Scene, solve: Callable[[np.ndarray, int], IKResult],
+                  seed: Any = None, rounds: int = 8) -> IKResult:
+    """Numeric IK with a scene: targets whose solution collides are solved again from random starts.
+
+    ``res`` holds flat results ``(B, ...)``; ``solve(q0, rows)`` solves the targets ``rows``
+    from initial guesses ``q0``. A new solution replaces the old one only when it succeeds and
+    is collision-free; what still collides after ``rounds`` restarts fails with reason
+    ``"collision"``.
+    """
+    res = mark(robot, res, scene)
+    rng = np.random.default_rng(seed if isinstance(seed, (int, np.integer)) else None if seed is None else 0)
+    fields = {k: np.array(getattr(res, k), copy=True, dtype=object if k in ("reason", "message", "branch") else None)
+              for k in ("q", "success", "position_error", "rotation_error", "iterations", "branch", "within_limits",
+                        "reason", "message")}
+    for _ in range(rounds):
+        todo = np.flatnonzero(fields["reason"] == "collision")
+        if not len(todo):
+            break
+        new = solve(robot.random_q(len(todo), rng=rng), todo)
+        new = mark(robot, new, scene)
+        good = np.asarray(new.success, dtype=bool)
+        for k in fields:
+            vals = np.asarray(getattr(new, k))
+            fields[k][todo[good]] = vals[good]
+    return IKResult(fields["q"], fields["success"], fields["position_error"], fields["rotation_error"],
+                    fields["iterations"], _like(res.branch, fields["branch"]), fields["within_limits"],
+                    _like(res.reason, fields["reason"]), _like(res.message, fields["message"]), res.trace)
