@@ -18,13 +18,25 @@ from .ik import IKResult, ik, ik_all
 
 __version__ = "0.1.0"
 
+
+def view(robot: "Robot | str", port: "int | None" = None, **kwargs):  # type: ignore[no-untyped-def]
+    """Open a live 3-D view of ``robot`` in the browser; see :func:`armkit.view.view` and docs/view.md.
+
+    Imports viser only when called (``import armkit`` stays light). Returns the handle
+    (``.url``, ``.q``, ``set_q``, ``set_target``, ``show_path``, ``close``).
+    """
+    from .view import view as _open
+
+    return _open(robot, port=port, **kwargs)
+
+
 __all__ = [
     "spatial", "Joint", "Robot", "load", "save", "bundled_robots",
     "fk", "fk_frames", "jacobian", "manipulability", "condition_number", "is_singular",
     "set_backend", "get_backend",
     "ArmkitError", "ShapeError", "RobotDefinitionError", "RobotFileError", "UnknownRobotError",
     "JointLimitError", "UnreachableError",
-    "IKResult", "ik", "ik_all",
+    "IKResult", "ik", "ik_all", "view",
     "Scene", "Collisions", "collisions", "clearance",
 ]
 

@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import math
 import os
+import re
 import warnings
 from pathlib import Path
 from typing import Any
@@ -64,8 +65,6 @@ def _check_xml(root: Any, path: str) -> tuple[dict[str, Any], dict[str, Any]]:
     """Structural checks with line numbers, before yourdfpy reads the values; the link and joint elements by name."""
     if root.tag != "robot":
         raise RobotFileError(path, f"the root element must be <robot>, got <{root.tag}>", root.sourceline)
-    if not root.get("name"):
-        raise RobotFileError(path, "<robot> needs a name attribute", root.sourceline)
     links: dict[str, Any] = {}
     for el in root.findall("link"):
         name = el.get("name")
@@ -253,17 +252,25 @@ def load_urdf(path: str | Path, base: str | None = None, tip: str | None = None,
     except etree.XMLSyntaxError as exc:
         line = exc.lineno if getattr(exc, "lineno", None) else None
         raise RobotFileError(spath, f"not valid XML: {exc.msg}", line) from None
-    links_el, joints_el = _check_xml(root, spath)
     notes = [str(c.text).strip() for c in reversed(list(root.itersiblings(preceding=True)))
              if not isinstance(c.tag, str) and c.text and c.text.strip()]
+    for el in list(root.iter()):   # comments and processing instructions are not URDF elements
+        if not isinstance(el.tag, str):
+            el.getparent().remove(el)
+    if not root.get("name"):     # required by the URDF spec; some files in the wild omit it
+        root.set("name", p.stem)
+    links_el, joints_el = _check_xml(root, spath)
+    for note in notes:   # written by dumps_urdf: the chain this file was saved from
+        m = re.search(r"armkit chain: (\S+) -> (\S+)", note)
+        if m:
+            base = m.group(1) if base is None else base
+            tip = m.group(2) if tip is None else tip
+    notes = [nt for nt in notes if not nt.startswith(("armkit chain:", "written by armkit"))]
     description = notes[0].splitlines()[0].strip() if notes else f"URDF robot {root.get('name')!r}"
     source = "\n".join(notes) if notes else f"URDF file {spath}"
 
     import yourdfpy
 
-    for el in root.iter():   # comments and processing instructions are not elements yourdfpy can read
-        if not isinstance(el.tag, str):
-            el.getparent().remove(el)
     try:
         model = yourdfpy.URDF._parse_robot(xml_element=root)
     except Exception as exc:  # noqa: BLE001 - anything the parser raises is a malformed file
@@ -448,6 +455,11 @@ def _joint_xml(name: str, kind: str, parent: str, child: str, origin: Array, axi
     return out + "  </joint>\n"
 
 
+def _comment(text: str) -> str:
+    """Text safe inside an XML comment (no ``--``)."""
+    return escape(text).replace("--", "- -").replace("\n", " ")
+
+
 def _moving_kind(j: Joint) -> str:
     if j.is_prismatic:
         return "prismatic"
@@ -459,9 +471,9 @@ def dumps_urdf(robot: Robot) -> str:
     s = robot.unit_scale
     scaled = lambda T: np.vstack([np.hstack([T[:3, :3], T[:3, 3:] * s]), [[0, 0, 0, 1.0]]])  # noqa: E731
     head = ['<?xml version="1.0"?>\n',
-            f"<!-- written by armkit from robot {escape(robot.name)!s} ({robot.convention}) -->\n"]
+            f"<!-- written by armkit from robot {_comment(robot.name)} ({robot.convention}) -->\n"]
     if robot.description:
-        head.append(f"<!-- {escape(robot.description).replace('--', '- -')} -->\n")
+        head.append(f"<!-- {_comment(robot.description)} -->\n")
     out = [f"<robot name={quoteattr(robot.name)}>\n"]
     if not robot.is_dh:
         by_joint = {j.name: j for j in robot.joints}
@@ -475,6 +487,9 @@ def dumps_urdf(robot: Robot) -> str:
             else:
                 out.append(_joint_xml(j.name, _moving_kind(j), lk.parent, lk.name, lk.joint_origin, j.axis_vector(),
                                       j.lower, j.upper))
+        ignored = set(robot.ignored_joints)
+        tip = [lk.name for lk in robot.links if lk.joint not in ignored][-1]   # links off the chain come last
+        head.append(f"<!-- armkit chain: {robot.links[0].name} -> {tip} -->\n")
         return "".join(head + out) + "</robot>\n"
     # a DH robot: link k on joint axis k (the frame just after joint k's motion), then the tool
     c = robot.chain

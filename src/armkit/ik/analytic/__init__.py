@@ -153,28 +153,35 @@ def _failure_messages(robot: Robot, message: NDArray[np.object_], code: NDArray[
 
 POLISH_ABOVE = 1e-13
 """Branches whose FK error exceeds this (relative to reach, or rad) get a Gauss-Newton touch-up."""
+POLISH_WINDOW = (1e-6, 6e-3)
+"""Branches this close (relative to reach, and rad) are polished: exact model, and the ideal arm of a real file."""
 
 
 def _polish(robot: Robot, q: Array, target: Array, position_only: bool, tol: tuple[float, float],
-            enforce_limits: bool, dp: Array, dr: Array, ok: NDArray[np.bool_], within: NDArray[np.bool_]):
-    """One or two Gauss-Newton steps for the few near-exact branches that rounding left a little off.
+            enforce_limits: bool, dp: Array, dr: Array, ok: NDArray[np.bool_], within: NDArray[np.bool_],
+            ideal: bool = False):
+    """A few Gauss-Newton steps on the true model for the branches that are close but not exact.
 
     Near a singularity (e.g. the UR wrist at ``sin q5 ~ 1e-5``) a joint angle is ill-conditioned
     and the closed form can be ~1e-12 off; two Newton steps from there restore full precision.
-    A step is kept only where it makes the FK error smaller.
+    When the closed form was solved on the nearby ideal arm of a real file (``ideal``; see
+    :func:`._common.standard_form`), branches within 6e-3 (of the reach, and rad) get up to
+    six steps. A step is kept only where it makes the FK error smaller; success is still
+    judged by FK of the true model.
     """
     from ...kinematics import fk, jacobian
     from ...spatial import so3_log
 
     scale = robot.reach
-    cand = (dp <= 1e-6 * scale) & (dr <= 1e-6) & ((dp > POLISH_ABOVE * scale) | (dr > POLISH_ABOVE))
+    window = POLISH_WINDOW[ideal]
+    cand = (dp <= window * scale) & (dr <= window) & ((dp > POLISH_ABOVE * scale) | (dr > POLISH_ABOVE))
     if not cand.any():
         return q, dp, dr, ok, within
     bi, mi = np.nonzero(cand)
     tgt = target[bi]
     qc = q[bi, mi].copy()
     pose = tgt.ndim == 3 and not position_only
-    for _ in range(2):
+    for _ in range(6 if ideal else 2):
         T = fk(robot, qc)
         J = jacobian(robot, qc)
         p_t = tgt[:, :3, 3] if tgt.ndim == 3 else tgt
@@ -212,7 +219,8 @@ def solve_all(robot: Robot, solver: ClosedForm, target: Array, q0: Array, positi
         tol = default_tolerance(robot)
     dp, dr, ok, within = verify(robot, q, target[:, None], position_only, tol, enforce_limits)
     q_before = q
-    q, dp, dr, ok, within = _polish(robot, q, target, position_only, tol, enforce_limits, dp, dr, ok, within)
+    q, dp, dr, ok, within = _polish(robot, q, target, position_only, tol, enforce_limits, dp, dr, ok, within,
+                                    ideal=not solver.sf.exact)
     if dist is None:
         dist = np.linalg.norm(np.where(robot.prismatic, 0.0, q - q0[:, None, :]), axis=-1)
     elif q is not q_before:   # polished branches: their distances again

@@ -28,6 +28,9 @@ Array = NDArray[np.float64]
 HALF_PI = 0.5 * math.pi
 ANGLE_TOL = 1e-9     # how close a DH twist must be to 0 or +-90 deg to count as one
 LENGTH_TOL = 1e-12   # relative to the arm's reach: a DH length this small counts as zero
+IDEAL_ANGLE_TOL = 1e-4    # rad: a twist this close to a multiple of 90 deg is rounding in the file (rpy 1.5708)
+IDEAL_LENGTH_TOL = 1e-5   # of the reach: a DH length this small is rounding (a 4e-17 offset), not geometry
+IDEAL_PARALLEL_TOL = 1e-4  # axes whose angle has a sine below this are taken as parallel for the ideal arm
 
 
 _KERNELS: list = []   # the module ._jit once imported
@@ -80,6 +83,9 @@ class StandardForm:
     base_inv: Array
     tool_inv: Array
     scale: float
+    exact: bool = True
+    """False when this is the nearby *ideal* arm (values snapped within the IDEAL_* tolerances):
+    branches are then polished by Newton steps on the true model (``solve_all``)."""
 
     @property
     def n(self) -> int:
@@ -108,10 +114,51 @@ class StandardForm:
         return p @ self.base_inv[:3, :3].T + self.base_inv[:3, 3]
 
 
+def _snap(values: Array, step: float, tol: float) -> tuple[Array, bool]:
+    """Values within ``tol`` of a multiple of ``step`` (or of 0 when ``step`` is 0) set exactly there."""
+    if step:
+        k = np.round(values / step)
+        near = np.abs(values - k * step) <= tol
+        exact_multiple = np.where(near, k * step, values)   # k * (pi/2) is exact for the k that occur
+    else:
+        near = np.abs(values) <= tol
+        exact_multiple = np.where(near, 0.0, values)
+    changed = bool(np.any(exact_multiple != values))
+    return exact_multiple, changed
+
+
 def standard_form(robot: Robot) -> StandardForm | None:
-    """The robot in :class:`StandardForm`, or ``None`` if it has a prismatic joint."""
+    """The robot in :class:`StandardForm`, or ``None`` if it has a prismatic joint.
+
+    Real robot files round their numbers (URDF ``rpy="1.5708 0 0"`` for 90 deg, offsets of
+    4e-17): twists within :data:`IDEAL_ANGLE_TOL` of a multiple of 90 deg and lengths within
+    :data:`IDEAL_LENGTH_TOL` of the reach are snapped, giving the nearby ideal arm
+    (``exact=False``) on which the families are detected and solved; every branch is then
+    polished on the true model and judged by its FK. A URDF chain goes through its ideal
+    DH twin (nearly parallel axes, sine below :data:`IDEAL_PARALLEL_TOL`, taken as parallel).
+    """
     if robot.prismatic.any():
         return None
+    exact = True
+    if not robot.is_dh:
+        from ...model.dh_extract import chain_to_dh
+
+        robot_dh = chain_to_dh(robot, "standard", IDEAL_PARALLEL_TOL, IDEAL_LENGTH_TOL, check=False)
+        twin = chain_to_dh(robot, "standard", check=False)
+        exact = bool(np.array_equal(twin.dh_table(), robot_dh.dh_table()))
+        sf = _standard_form_dh(robot_dh, max(robot.reach, 1e-300))
+    else:
+        sf = _standard_form_dh(robot, max(robot.reach, 1e-300))
+    alpha, moved_a = _snap(sf.alpha, HALF_PI, IDEAL_ANGLE_TOL)
+    a, moved_l = _snap(sf.a, 0.0, IDEAL_LENGTH_TOL * sf.scale)
+    d, moved_d = _snap(sf.d, 0.0, IDEAL_LENGTH_TOL * sf.scale)
+    exact = exact and not (moved_a or moved_l or moved_d)
+    if exact:
+        return sf
+    return StandardForm(sf.theta, d, a, alpha, sf.base, sf.tool, sf.base_inv, sf.tool_inv, sf.scale, exact=False)
+
+
+def _standard_form_dh(robot: Robot, scale: float) -> StandardForm:
     js = robot.joints
     n = len(js)
     theta = np.array([j.theta for j in js])
@@ -127,7 +174,6 @@ def standard_form(robot: Robot) -> StandardForm | None:
     tool = _txyz(a[-1]) @ _rx(alpha[-1]) @ np.asarray(robot.tool, dtype=float)
     a[-1] = 0.0
     alpha[-1] = 0.0
-    scale = max(robot.reach, 1e-300)
     return StandardForm(theta, d, a, alpha, base, tool, inverse_pose(base), inverse_pose(tool), scale)
 
 
