@@ -12,7 +12,7 @@ from rich.table import Table
 from .common import (EXIT_BAD_INPUT, EXIT_FAILED, NUMERIC_ARGS, console, esc, fail, get_robot, parse_numbers,
                      print_json, warn)
 
-ROBOT_HELP = "Bundled robot name (see `armkit robots`) or path of a .toml robot file."
+from .common import ROBOT_HELP  # noqa: E402
 METHOD_CHOICES = ("auto", "analytic", "lm", "newton", "ccd", "fabrik")
 
 
@@ -129,6 +129,11 @@ def ik(robot: str = typer.Argument(..., help=ROBOT_HELP),
        seed: Optional[int] = typer.Option(None, "--seed", help="Random seed of the numeric restarts."),
        phi: Optional[float] = typer.Option(None, "--phi", help="End angle of a planar arm for an X Y target."),
        trace: bool = typer.Option(False, "--trace", help="Numeric methods: print the error at every iteration."),
+       scene_file: Optional[str] = typer.Option(
+           None, "--scene", help="Scene file (TOML, docs/scene.md): solutions that collide with it, the robot's "
+                                 "body or the arm itself fail with reason 'collision'. Default: the robot's own "
+                                 "surroundings, if its file has any (the fighter's torso and ground)."),
+       no_scene: bool = typer.Option(False, "--no-scene", help="No collision check."),
        json_out: bool = typer.Option(False, "--json", help="Print JSON.")) -> None:
     """Inverse kinematics: joint angles that put the tool at a target.
 
@@ -159,15 +164,24 @@ def ik(robot: str = typer.Argument(..., help=ROBOT_HELP),
         if all_branches and not closed_ok:
             fail(f"--all needs a closed form; robot {r.name!r} has none for this target (try --method lm)")
         listing = method in ("auto", "analytic") and branch is None and closed_ok
+        if scene_file is not None and no_scene:
+            fail("give --scene FILE or --no-scene, not both")
+        scene = None if no_scene else scene_file if scene_file is not None else (
+            "robot" if getattr(r, "collision", None) is not None else None)
+        if scene is not None:
+            from ..collision import as_scene
+
+            scene = as_scene(r, scene)   # a bad scene file: exit 2 with file:line: field
         if seed is not None and (listing or (method in ("auto", "analytic") and closed_ok)):
             warn("--seed only matters for the numeric methods; the closed form ignores it")
         if trace and (listing or method == "analytic" or (method == "auto" and closed_ok)):
             warn("--trace shows the iterations of a numeric method; the closed form has none")
         if listing:
-            res = ik_all(r, target, phi=ph)
+            res = ik_all(r, target, phi=ph, scene=scene)
             used = f"closed form ({solver.family})"  # type: ignore[union-attr]
         else:
-            res = solve(r, target, method=method, branch=branch, phi=ph, seed=seed, trace=trace)  # type: ignore[arg-type]
+            res = solve(r, target, method=method, branch=branch, phi=ph, seed=seed, trace=trace,  # type: ignore[arg-type]
+                        scene=scene)
             used = f"closed form ({solver.family})" if (  # type: ignore[union-attr]
                 method in ("auto", "analytic") and closed_ok) else (
                 "lm" if method == "auto" else method)
@@ -184,6 +198,10 @@ def ik(robot: str = typer.Argument(..., help=ROBOT_HELP),
         notes = list(dict.fromkeys(row["message"] for row in rows if row["success"] and row["message"]))
         for note in notes:
             console.print(f"note: {esc(note)}", soft_wrap=True)
+        if scene is not None:
+            for row in rows:
+                if row["reason"] == "collision" and solved:
+                    console.print(f"collision: {esc(row['branch'])}: {esc(row['message'])}", soft_wrap=True)
         if trace and res.trace is not None:
             console.print(_trace_table(res.trace))
         if solved:
