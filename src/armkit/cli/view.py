@@ -1,0 +1,103 @@
+"""``armkit view ROBOT``: the live browser view (viser is imported inside the command)."""
+
+from __future__ import annotations
+
+import ipaddress
+import re
+import time
+from typing import Optional
+
+import typer
+
+from .common import console, fail, get_robot
+
+from .common import ROBOT_HELP  # noqa: E402
+_HOSTNAME = re.compile(r"^(?=.{1,253}$)[A-Za-z0-9](?:[A-Za-z0-9-]{0,61}[A-Za-z0-9])?(?:\.[A-Za-z0-9](?:[A-Za-z0-9-]{0,61}"
+                       r"[A-Za-z0-9])?)*$")
+
+
+def check_host(host: str) -> str:
+    """``host`` if it is an IP address or a host name; exit 2 otherwise."""
+    try:
+        ipaddress.ip_address(host)
+        return host
+    except ValueError:
+        pass
+    if not _HOSTNAME.match(host):
+        fail(f"--host must be an IP address or a host name, got {host!r}")
+    return host
+
+
+def check_port(port: Optional[int]) -> Optional[int]:
+    if port is not None and not 1 <= port <= 65535:
+        fail(f"--port must be between 1 and 65535, got {port}")
+    return port
+
+
+def view(robot: str = typer.Argument(..., help=ROBOT_HELP),
+         port: Optional[int] = typer.Option(None, "--port", "-p", help="TCP port (default: a free one)."),
+         host: str = typer.Option("127.0.0.1", "--host",
+                                  help="Address to listen on. The default serves this machine only; 0.0.0.0 lets "
+                                       "anyone on your network move the arm."),
+         lang: Optional[str] = typer.Option(None, "--lang", help="Labels: ko or en (default: from the locale).")
+         ) -> None:
+    """Serve a live 3-D view of the arm in the browser: joint sliders, draggable IK target, tracking, workspace.
+
+    Prints the address and serves until Ctrl-C. Works offline (no internet needed).
+
+    Example: armkit view fighter --lang ko
+
+    Example: armkit view ur5 --port 8080
+    """
+    from rich.markup import escape
+
+    if lang is not None and lang not in ("ko", "en"):
+        fail(f"--lang must be ko or en, got {lang!r}")
+    check_port(port)
+    check_host(host)
+    r = get_robot(robot)
+    from ..view import ViewError
+    from ..view import view as open_view
+
+    try:
+        v = open_view(r, port=port, host=host, lang=lang)
+    except ViewError as exc:
+        fail(escape(str(exc)))
+    try:
+        console.print(f"[bold]{escape(r.name)}[/] live view: {escape(v.url)}   (Ctrl-C to stop)", soft_wrap=True)
+        if host not in ("127.0.0.1", "localhost", "::1"):
+            console.print(f"[yellow]note:[/] listening on {escape(host)}: anyone who can reach this machine "
+                          "on that address can open the view and move the arm", soft_wrap=True)
+        while True:
+            time.sleep(3600)
+    except KeyboardInterrupt:
+        v.close()
+        raise SystemExit(130) from None
+    finally:
+        v.close()
+
+
+def register(app: typer.Typer) -> None:
+    app.command()(view)
+
+
+__all__ = ["register", "view", "check_host", "check_port", "attach_view"]
+
+
+def attach_view(shell: object, robot: object, lang: Optional[str]) -> object:
+    """For ``armkit shell --view``: serve the view, print its address, let the shell move it.
+
+    Returns the :class:`~armkit.view.View` (a context manager that closes it).
+    """
+    from rich.markup import escape
+
+    from ..view import ViewError
+    from ..view import view as open_view
+
+    try:
+        v = open_view(robot, lang=lang, q=getattr(shell, "q", None))  # type: ignore[arg-type]
+    except ViewError as exc:
+        fail(escape(str(exc)))
+    shell.view = v  # type: ignore[attr-defined]
+    console.print(f"live view: {escape(v.url)}", soft_wrap=True)
+    return v

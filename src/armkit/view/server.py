@@ -1,0 +1,480 @@
+"""The live browser view: :func:`view` starts a viser server and returns a :class:`View` handle.
+
+The handle owns the arm's state (``q``), the IK target and the players (tracking,
+trajectories, CCD/FABRIK sweeps); the browser panels (:mod:`armkit.view.panels`) and
+scripts both call its methods, so the page and the handle always agree. Every update
+of the arm goes out in one batch (``server.atomic()``): the link poses, the joint
+sliders and the end-pose text reach the page together.
+
+Nothing typed in the page is ever evaluated: numbers arrive as numbers from viser's
+widgets, an uploaded CSV is parsed by :func:`numpy.loadtxt`.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import io
+import math
+import socket
+import threading
+import time
+from typing import Any, Callable, Optional
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from ..errors import ArmkitError, JointLimitError, ShapeError
+from ..i18n import LANGUAGES, default_language
+from ..kinematics import condition_number, fk, fk_frames, manipulability
+from ..model import Robot, load
+from ..ik import IKResult, ik, ik_all
+
+__all__ = ["View", "ViewError", "view", "IK_METHODS"]
+
+Array = NDArray[np.float64]
+IK_METHODS = ("auto", "lm", "newton", "ccd", "fabrik")
+NEAR_SINGULAR = 100.0        # condition number above which the panel warns
+MAX_SWEEPS = 40              # sweeps animated by "show sweeps"
+
+
+class ViewError(ArmkitError, ValueError):
+    """A view that cannot start or a bad argument to the handle (port in use, bad host, ...)."""
+
+
+def _port_free(host: str, port: int) -> bool:
+    family = socket.AF_INET6 if ":" in host else socket.AF_INET
+    with socket.socket(family, socket.SOCK_STREAM) as s:
+        s.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
+        try:
+            s.bind((host, port))
+        except OSError:
+            return False
+    return True
+
+
+def free_port(host: str = "127.0.0.1") -> int:
+    """A TCP port that is free on ``host`` right now."""
+    family = socket.AF_INET6 if ":" in host else socket.AF_INET
+    with socket.socket(family, socket.SOCK_STREAM) as s:
+        s.bind((host, 0))
+        return int(s.getsockname()[1])
+
+
+class View:
+    """A live 3-D view of one arm in the browser (see :func:`view`).
+
+    Attributes
+    ----------
+    robot : Robot
+    url : str
+        Address to open, e.g. ``http://127.0.0.1:8080/``.
+    lang : {"en", "ko"}
+    last_result : IKResult or None
+        The IK result of the latest target.
+    updates : int
+        Number of arm updates sent so far (for benchmarks).
+    """
+
+    def __init__(self, robot: Robot | str, port: Optional[int] = None, host: str = "127.0.0.1",
+                 lang: Optional[str] = None, q: ArrayLike | None = None) -> None:
+        import viser
+
+        self.robot = robot if isinstance(robot, Robot) else load(robot)
+        if lang is not None and lang not in LANGUAGES:
+            raise ViewError(f"lang must be one of {', '.join(LANGUAGES)}, got {lang!r}")
+        self.lang = lang or default_language()
+        if port is None:
+            port = free_port(host)
+        elif not isinstance(port, (int, np.integer)) or isinstance(port, bool) or not 1 <= int(port) <= 65535:
+            raise ViewError(f"port must be an integer in 1..65535, got {port!r}")
+        elif not _port_free(host, int(port)):
+            raise ViewError(f"port {port} on {host} is in use; choose another port, or leave it out for a free one")
+        r = self.robot
+        self.home = np.clip(np.zeros(r.n), r.lower, r.upper)
+        self._q = self.home.copy() if q is None else self._checked_q(q)
+        self._lock = threading.RLock()
+        self._stop = threading.Event()
+        self._player: Optional[threading.Thread] = None
+        self._player_token = 0
+        self._pending: Optional[Array] = None
+        self._pending_lock = threading.Lock()
+        self._busy = False
+        self._closed_form: dict[bool, bool] = {}
+        self.branch: Optional[str] = None
+        self.branches: dict[str, Array] = {}
+        self.last_result: Optional[IKResult] = None
+        self.target: Optional[Array] = None
+        self.updates = 0
+        self.ik_updates = 0
+        self.track_frame = -1
+        self._closed = False
+        try:
+            with contextlib.redirect_stdout(io.StringIO()):   # viser prints its own banner; we print the URL
+                self.server: Any = viser.ViserServer(host=host, port=int(port), verbose=False)
+        except OSError as exc:
+            raise ViewError(f"cannot serve on {host}:{port}: {exc}") from exc
+        actual = int(self.server.get_port())
+        if actual != int(port):
+            self.server.stop()
+            raise ViewError(f"port {port} on {host} is in use; choose another port, or leave it out for a free one")
+        self.host, self.port = host, actual
+        shown = "127.0.0.1" if host in ("0.0.0.0", "") else ("[::1]" if host == "::" else host)
+        shown = f"[{shown}]" if ":" in shown and not shown.startswith("[") else shown
+        self.url = f"http://{shown}:{actual}/"
+        self._setup_scene()
+        from .drawing import ArmDrawing
+        from .panels import Panels
+
+        self.drawing = ArmDrawing(self.server, r, self._q)
+        self.panels = Panels(self)
+        self._show(self._q)
+        # warm the IK path once so that the first drag is not slow (Numba compiles on first use)
+        try:
+            self._solve(fk(r, self._q), position_only=self.panels.position_only, method="auto")
+        except ArmkitError:
+            pass
+        self.last_result = None
+
+    # ------------------------------------------------------------------ scene
+    def _setup_scene(self) -> None:
+        from ..analysis.workspace import shoulder_point
+
+        r, s = self.robot, self.robot.unit_scale
+        self.server.scene.set_up_direction("+z")
+        self.server.gui.configure_theme(control_width="medium", show_share_button=False, show_logo=False)
+        c = shoulder_point(r) * s
+        R = (r.reach or 1.0) * s
+        cam = self.server.initial_camera
+        cam.position = tuple(c + R * np.array([1.5, -1.9, 1.2]))
+        cam.look_at = tuple(c + R * np.array([0.15, 0.0, 0.1]))
+        cam.up = (0.0, 0.0, 1.0)
+        self._look = (cam.position, cam.look_at)
+
+        @self.server.on_client_connect
+        def _(client: Any) -> None:
+            client.camera.up_direction = (0.0, 0.0, 1.0)
+            client.camera.position = self._look[0]
+            client.camera.look_at = self._look[1]
+            client.camera.near = 0.002 * R
+            client.camera.far = 100.0 * R
+
+    # ------------------------------------------------------------------ state
+    def _checked_q(self, q: ArrayLike) -> Array:
+        r = self.robot
+        arr = r.check_q(q)
+        if arr.shape != (r.n,):
+            raise ShapeError(f"q must have shape ({r.n},) for robot {r.name!r}, got {arr.shape}")
+        bad = r.limit_violations(arr)
+        if bad:
+            raise JointLimitError("joint limit: " + "; ".join(bad))
+        return arr.astype(float).copy()
+
+    @property
+    def q(self) -> Array:
+        """The joint vector shown now, shape ``(n,)`` (rad / length units); a copy."""
+        with self._lock:
+            return self._q.copy()
+
+    def _show(self, q: Array, extra: Optional[Callable[[], None]] = None) -> None:
+        """Draw ``q`` (already checked) and refresh the panels, in one batch."""
+        with self._lock:
+            if self._closed:
+                return
+            self._q = np.array(q, dtype=float)
+            F = fk_frames(self.robot, self._q)
+            with self.server.atomic():
+                self.drawing.update(self._q, F)
+                self.panels.show_state(self._q, F)
+                if extra is not None:
+                    extra()
+            self.updates += 1
+
+    def set_q(self, q: ArrayLike) -> None:
+        """Move the arm to ``q`` ``(n,)`` (rad / length units); outside a limit raises JointLimitError."""
+        qq = self._checked_q(q)
+        self._cancel_player()
+        self.branch = None
+        self._show(qq)
+
+    def state_numbers(self, q: Optional[Array] = None) -> dict[str, Any]:
+        """End point, roll-pitch-yaw (deg), manipulability and condition number of ``q`` (default: now)."""
+        from ..spatial import rotation_to_rpy
+
+        qq = self.q if q is None else q
+        T = fk(self.robot, qq)
+        return {"position": T[:3, 3].copy(), "rpy_deg": rotation_to_rpy(T[:3, :3], degrees=True),
+                "manipulability": float(manipulability(self.robot, qq)),
+                "condition": float(condition_number(self.robot, qq))}
+
+    # ------------------------------------------------------------------ IK
+    def _target_array(self, T: ArrayLike) -> tuple[Array, bool]:
+        try:
+            t = np.asarray(T, dtype=float)
+        except (TypeError, ValueError) as exc:
+            raise ShapeError(f"target must be a 4x4 pose or a 3-vector, got {T!r}") from exc
+        if t.shape not in ((4, 4), (3,)):
+            raise ShapeError(f"target must be a 4x4 pose or a 3-vector (position only), got shape {t.shape}")
+        if not np.all(np.isfinite(t)):
+            raise ShapeError("target contains NaN or infinite values")
+        return t.copy(), t.shape == (3,)
+
+    def _solve(self, T: Array, position_only: bool, method: str) -> IKResult:
+        """One IK solve from the current q; fills ``self.branches`` for closed forms."""
+        from ..ik.api import IKInputError
+
+        r = self.robot
+        tgt = T[:3, 3] if (position_only and T.shape == (4, 4)) else T
+        q0 = self.q
+        self.branches = {}
+        if method == "auto" and self._closed_form.get(tgt.shape == (3,), True):
+            try:
+                every = ik_all(r, tgt, q0=q0)
+                self._closed_form[tgt.shape == (3,)] = True
+            except IKInputError:
+                self._closed_form[tgt.shape == (3,)] = False
+            else:
+                ok = np.asarray(every.success)
+                labels = [str(b) for b in np.asarray(every.branch)]
+                self.branches = {lab: np.asarray(every.q)[i].copy() for i, lab in enumerate(labels) if ok[i]}
+                return every[0]          # successful branches first, nearest to q0 first
+        name = "lm" if method == "auto" else method
+        kw: dict[str, Any] = {"restarts": 3, "seed": 0} if name in ("lm", "newton") else {"seed": 0}
+        if name in ("ccd", "fabrik") and tgt.shape == (4, 4):
+            tgt = tgt[:3, 3]
+        return ik(r, tgt, q0=q0, method=name, **kw)  # type: ignore[arg-type]
+
+    def set_target(self, T: ArrayLike, method: Optional[str] = None) -> IKResult:
+        """Put the target at ``T`` and move the arm there by IK.
+
+        Parameters
+        ----------
+        T : array_like, shape (4, 4) or (3,)
+            Pose ``T_world_tool``, or a position (position-only IK), in the robot's unit.
+        method : {"auto", "lm", "newton", "ccd", "fabrik"}, optional
+            Default: the method chosen in the page (``auto``: closed form where the arm has
+            one, with every branch listed, else Levenberg-Marquardt warm-started from ``q``).
+
+        Returns
+        -------
+        IKResult
+            The solve. On success the arm moves to ``result.q``; otherwise it stays where it
+            was, the target turns red and the page shows ``reason`` and ``message``.
+        """
+        t, pos_only = self._target_array(T)
+        if method is not None and method not in IK_METHODS:
+            raise ViewError(f"method must be one of {', '.join(IK_METHODS)}, got {method!r}")
+        self._cancel_player()
+        if method is not None:
+            self.panels.set_method(method)
+        self.panels.set_position_only(pos_only)
+        return self._target_update(t, pos_only, dragging=False, move_gizmo=True)
+
+    def _target_update(self, t: Array, position_only: bool, dragging: bool, move_gizmo: bool) -> IKResult:
+        method = self.panels.method
+        with self._lock:
+            q_start = self._q.copy()
+            res = self._solve(t, position_only, method)
+            self.ik_updates += 1
+            self.last_result = res
+            self.target = t
+            ok = bool(np.asarray(res.success))
+            self.branch = str(np.asarray(res.branch)) if ok and self.branches else None
+            sweeps = (not dragging and ok is not None and method in ("ccd", "fabrik")
+                      and self.panels.show_sweeps)
+
+            def panel() -> None:
+                self.panels.show_target(t, res, move_gizmo)
+
+            if ok and not sweeps:
+                self._show(np.asarray(res.q, dtype=float), panel)
+            else:
+                with self.server.atomic():
+                    panel()
+        if sweeps:
+            self._play_sweeps(t, q_start, method, res)
+        return res
+
+    def target_from_page(self, t: Array, position_only: bool, dragging: bool) -> None:
+        """A target moved in the page: coalesce fast drags (only the newest pose is solved)."""
+        with self._pending_lock:
+            self._pending = t
+            if self._busy:
+                return
+            self._busy = True
+        try:
+            while not self._stop.is_set():
+                with self._pending_lock:
+                    nxt, self._pending = self._pending, None
+                    if nxt is None:
+                        self._busy = False
+                        return
+                self._cancel_player()
+                self._target_update(nxt, position_only, dragging=dragging, move_gizmo=False)
+        finally:
+            with self._pending_lock:
+                self._busy = False
+
+    def choose_branch(self, label: str) -> None:
+        """Jump to the closed-form branch ``label`` of the current target (listed in ``branches``)."""
+        if label not in self.branches:
+            raise ViewError(f"no branch {label!r} for this target; the branches are "
+                            + (", ".join(self.branches) or "none (no closed form)"))
+        self._cancel_player()
+        self.branch = label
+        self._show(self.branches[label])
+
+    # ------------------------------------------------------------------ players
+    def _cancel_player(self) -> None:
+        with self._lock:
+            self._player_token += 1
+        th = self._player
+        if th is not None and th is not threading.current_thread():
+            th.join(timeout=2.0)
+        self._player = None
+
+    def _start_player(self, body: Callable[[int], None]) -> None:
+        self._cancel_player()
+        with self._lock:
+            token = self._player_token
+        th = threading.Thread(target=body, args=(token,), daemon=True, name="armkit-view-player")
+        self._player = th
+        th.start()
+
+    def _alive(self, token: int) -> bool:
+        return token == self._player_token and not self._stop.is_set()
+
+    def _play_sweeps(self, t: Array, q_start: Array, method: str, final: IKResult) -> None:
+        p = t[:3, 3] if t.shape == (4, 4) else t
+        count = int(min(max(int(np.asarray(final.iterations)), 1), MAX_SWEEPS))
+
+        def body(token: int) -> None:
+            for k in range(1, count + 1):
+                if not self._alive(token):
+                    return
+                step = ik(self.robot, p, q0=q_start, method=method, max_iterations=k,  # type: ignore[arg-type]
+                          restarts=0, seed=0)
+                qk = np.asarray(step.q, dtype=float)
+                if np.all(np.isfinite(qk)) and self.robot.within_limits(qk):
+                    err = float(np.asarray(step.position_error))
+                    self._show(qk, lambda: self.panels.show_sweep(k, count, err))
+                self._stop.wait(0.12)
+            if self._alive(token) and bool(np.asarray(final.success)):
+                self._show(np.asarray(final.q, dtype=float), lambda: self.panels.show_target(t, final, False))
+
+        self._start_player(body)
+
+    def show_path(self, path: Any, *, method: str = "ccd", frames: int = 200, seed: int = 0,
+                  times: ArrayLike | None = None, fps: float = 20.0, play: bool = True) -> Any:
+        """Play a path in the view.
+
+        Parameters
+        ----------
+        path : array_like shape (m, n), Trajectory, TrackResult or str
+            A joint path (rad / length units), a :class:`armkit.motion.trajectory.Trajectory`
+            (played against its time stamps, with the time slider), a
+            :class:`armkit.viz.tracking.TrackResult`, or a tracking path name
+            (``"random"``, ``"circle"``, ``"figure8"``, or a CSV file of x,y[,z] rows)
+            that is tracked here with ``method``.
+        method : {"ccd", "fabrik", "lm", "newton", "analytic"}
+            IK per frame for a tracking path name.
+        frames, seed : int
+            Frames and seed of a generated tracking path.
+        times : array_like, shape (m,), optional
+            Time stamps (s) of a joint path; default ``1 / fps`` apart.
+        fps : float
+            Playback rate (frames per second).
+        play : bool
+            Start playing now (else paused at the first sample).
+
+        Returns
+        -------
+        Trajectory or TrackResult
+            What is being played.
+        """
+        from ..motion.trajectory import Trajectory
+        from ..viz.tracking import TrackResult, track
+
+        if isinstance(path, str):
+            if not 1 <= int(frames) <= 100_000:
+                raise ViewError(f"frames must be between 1 and 100000, got {frames!r}")
+            res = track(self.robot, path=path, method=method, frames=int(frames), seed=seed, q0=self.q)
+            self.panels.play_track(res, fps=fps, play=play)
+            return res
+        if isinstance(path, TrackResult):
+            self.panels.play_track(path, fps=fps, play=play)
+            return path
+        if isinstance(path, Trajectory):
+            traj = path
+        else:
+            Q = self.robot.check_q(path, "path")
+            if Q.ndim != 2 or len(Q) < 1:
+                raise ShapeError(f"path must have shape (m, {self.robot.n}), got {Q.shape}")
+            bad = ~self.robot.within_limits(Q)
+            if bad.any():
+                k = int(np.argmax(bad))
+                raise JointLimitError(f"path row {k}: joint limit: " + "; ".join(self.robot.limit_violations(Q[k])))
+            t = np.arange(len(Q)) / float(fps) if times is None else np.asarray(times, dtype=float)
+            if t.shape != (len(Q),) or not np.all(np.isfinite(t)) or np.any(np.diff(t) < 0):
+                raise ShapeError(f"times must be {len(Q)} increasing finite numbers, got shape {t.shape}")
+            z = np.zeros_like(Q)
+            traj = Trajectory(t=t - t[0], q=Q, qd=z, qdd=z, label="joint path")
+        self.panels.play_trajectory(traj, play=play)
+        return traj
+
+    # ------------------------------------------------------------------ misc
+    def screenshot_png(self, client: Any, width: int = 1280, height: int = 800) -> bytes:
+        """A PNG of what ``client`` (a connected browser) renders now."""
+        from PIL import Image
+
+        img = client.get_render(height=height, width=width, transport_format="png")
+        buf = io.BytesIO()
+        Image.fromarray(np.asarray(img)).save(buf, format="PNG")
+        return buf.getvalue()
+
+    def close(self) -> None:
+        """Stop the players and the server; the port is free again when this returns."""
+        if self._closed:
+            return
+        self._stop.set()
+        self._cancel_player()
+        with self._lock:
+            self._closed = True
+        with contextlib.redirect_stdout(io.StringIO()):       # viser's "Server stopped" line
+            self.server.stop()
+        deadline = time.monotonic() + 5.0
+        while not _port_free(self.host, self.port) and time.monotonic() < deadline:
+            time.sleep(0.05)
+
+    def __enter__(self) -> "View":
+        return self
+
+    def __exit__(self, *exc: Any) -> None:
+        self.close()
+
+    def __repr__(self) -> str:
+        return f"View({self.robot.name!r}, url={self.url!r})"
+
+
+def view(robot: Robot | str, port: Optional[int] = None, host: str = "127.0.0.1", lang: Optional[str] = None,
+         q: ArrayLike | None = None) -> View:
+    """Open a live 3-D view of ``robot`` in the browser and return its handle.
+
+    Parameters
+    ----------
+    robot : Robot or str
+        A robot, or a bundled robot name / robot file path for :func:`armkit.load`.
+    port : int, optional
+        TCP port; None picks a free one. A port in use raises :class:`ViewError`.
+    host : str
+        Address to bind; ``127.0.0.1`` (this machine only) unless you ask otherwise.
+    lang : {"en", "ko"}, optional
+        Labels' language; default from the locale.
+    q : array_like, shape (n,), optional
+        First configuration (default: zeros, moved inside the limits).
+
+    Returns
+    -------
+    View
+        ``.url``, ``.q``, ``set_q``, ``set_target``, ``show_path``, ``close``.
+    """
+    return View(robot, port=port, host=host, lang=lang, q=q)
