@@ -55,7 +55,7 @@ class UnknownRobotError(ArmkitError, KeyError):
 
     def __str__(self) -> str:  # KeyError would quote the whole message
         return (f"unknown robot {self.name!r}; bundled robots are: {', '.join(self.valid)} "
-                "(or give the path of a .toml robot file)")
+                "(or give the path of a .toml or .urdf robot file)")
 
 
 class JointLimitError(ArmkitError, ValueError):

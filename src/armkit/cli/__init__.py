@@ -28,6 +28,28 @@ class _ArmkitGroup(TyperGroup):
     exit 2 with a message instead of a traceback.
     """
 
+    def parse_args(self, ctx, args):  # type: ignore[no-untyped-def]
+        """Take ``--base LINK`` / ``--tip LINK`` from anywhere on the line (every command that reads a robot
+        uses them to choose a URDF chain; see ``common.get_robot``)."""
+        from . import common
+
+        rest, i = [], 0
+        while i < len(args):
+            word = args[i]
+            key = next((k for k in ("--base", "--tip") if word == k or word.startswith(k + "=")), None)
+            if key is None or "--" in args[:i]:
+                rest.append(word)
+                i += 1
+                continue
+            if "=" in word:
+                value, i = word.split("=", 1)[1], i + 1
+            elif i + 1 < len(args):
+                value, i = args[i + 1], i + 2
+            else:
+                common.fail(f"{key} needs a link name (e.g. {key} tool0)")
+            common.CHAIN[key[2:]] = value
+        return super().parse_args(ctx, rest)
+
     def invoke(self, ctx):  # type: ignore[no-untyped-def]
         from ..errors import ArmkitError, WriteInterrupted
 

@@ -76,9 +76,16 @@ def output_path(path: str | Path, suffixes: Sequence[str], what: str = "--output
     return check_writable(path, suffixes, what)
 
 
+CHAIN: dict[str, str | None] = {"base": None, "tip": None}
+"""``--base``/``--tip`` from the command line (taken by the command group, for every command)."""
+
+ROBOT_HELP = ("Bundled robot name (see `armkit robots`) or path of a .toml or .urdf robot file; "
+              "for a URDF, --base LINK and --tip LINK choose the chain.")
+
+
 def get_robot(name: str) -> Robot:
-    """Load a bundled robot or a robot file; bad names and files raise ArmkitError (exit 2)."""
-    return load(name)
+    """Load a bundled robot or a robot file (``--base/--tip`` choose a URDF chain); errors raise ArmkitError (exit 2)."""
+    return load(name, base=CHAIN["base"], tip=CHAIN["tip"])
 
 
 def parse_numbers(values: Sequence[str], what: str) -> np.ndarray:
@@ -133,12 +140,18 @@ def pose_table(T: np.ndarray, unit: str, title: str = "pose") -> Table:
 
 
 def print_json(data: Any) -> None:
-    """Print data as JSON (NumPy arrays become lists) on stdout."""
-    def default(o: Any) -> Any:
+    """Print data as strict JSON on stdout (NumPy arrays become lists, NaN and infinities null)."""
+    def clean(o: Any) -> Any:   # strict JSON: NaN and infinities become null
         if isinstance(o, np.ndarray):
-            return o.tolist()
-        if isinstance(o, (np.floating, np.integer, np.bool_)):
-            return o.item()
-        raise TypeError(type(o))
+            o = o.tolist()
+        elif isinstance(o, (np.floating, np.integer, np.bool_)):
+            o = o.item()
+        if isinstance(o, float):
+            return o if math.isfinite(o) else None
+        if isinstance(o, dict):
+            return {k: clean(v) for k, v in o.items()}
+        if isinstance(o, (list, tuple)):
+            return [clean(v) for v in o]
+        return o
 
-    sys.stdout.write(json.dumps(data, default=default, indent=2, ensure_ascii=False) + "\n")
+    sys.stdout.write(json.dumps(clean(data), indent=2, ensure_ascii=False, allow_nan=False) + "\n")

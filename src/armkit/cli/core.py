@@ -1,4 +1,4 @@
-"""Core commands: robots, info, fk, jacobian."""
+"""Core commands: robots, info, convert, fk, jacobian."""
 
 from __future__ import annotations
 
@@ -9,9 +9,9 @@ import numpy as np
 import typer
 from rich.table import Table
 
-from .common import NUMERIC_ARGS, console, esc, get_robot, parse_q, pose_table, print_json, q_display
-
-ROBOT_HELP = "Bundled robot name (see `armkit robots`) or path of a .toml robot file."
+from ..model.robot import Joint, Robot
+from .common import (NUMERIC_ARGS, ROBOT_HELP, console, esc, fail, get_robot, parse_q, pose_table, print_json,
+                     q_display)
 
 
 def robots(json_out: bool = typer.Option(False, "--json", help="Print JSON instead of a table.")) -> None:
@@ -41,23 +41,9 @@ def robots(json_out: bool = typer.Option(False, "--json", help="Print JSON inste
     console.print(t)
 
 
-def info(robot: str = typer.Argument(..., help=ROBOT_HELP),
-         json_out: bool = typer.Option(False, "--json", help="Print JSON instead of tables.")) -> None:
-    """Show a robot's DH table (degrees), joint limits, base and tool.
-
-    Example: armkit info fighter
-    """
-    r = get_robot(robot)
+def _dh_rows_table(r: Robot) -> Table:
+    """The DH table of a DH robot as a Rich table (degrees, the robot's unit)."""
     deg = 180.0 / math.pi
-    if json_out:
-        print_json({"name": r.name, "description": r.description, "source": r.source, "convention": r.convention,
-                    "unit": r.unit, "joints": [
-                        {"name": j.name, "type": j.kind, "theta_deg": j.theta * deg, "d": j.d, "a": j.a,
-                         "alpha_deg": j.alpha * deg,
-                         "limits": [j.lower, j.upper] if j.is_prismatic else [j.lower * deg, j.upper * deg]}
-                        for j in r.joints], "base": r.base, "tool": r.tool})
-        return
-    console.print(f"[bold]{esc(r.name)}[/]: {esc(r.description)}")
     conv = ("standard DH: A_i = Rz(theta_i) Tz(d_i) Tx(a_i) Rx(alpha_i)" if r.convention == "standard"
             else "modified (Craig) DH: A_i = Rx(alpha_{i-1}) Tx(a_{i-1}) Rz(theta_i) Tz(d_i)")
     t = Table(title=f"DH table ({conv}); * marks the joint variable", header_style="bold")
@@ -66,20 +52,127 @@ def info(robot: str = typer.Argument(..., help=ROBOT_HELP),
     for col in ("i", "joint", "type", "theta (deg)", f"d ({r.unit})", a_h, alpha_h, "limits"):
         t.add_column(col, justify="right")
     for i, j in enumerate(r.joints, 1):
-        theta = f"q{i}*" + (f" {j.theta * deg:+g}" if j.theta else "") if not j.is_prismatic else f"{j.theta * deg:g}"
-        d = f"q{i}*" + (f" {j.d:+g}" if j.d else "") if j.is_prismatic else f"{j.d:g}"
-        lim = (f"[{j.lower:g}, {j.upper:g}] {r.unit}" if j.is_prismatic
-               else f"[{j.lower * deg:g}, {j.upper * deg:g}] deg")
-        t.add_row(str(i), esc(j.name), j.kind, theta, d, f"{j.a:g}", f"{j.alpha * deg:g}", lim)
-    console.print(t)
+        theta = (f"q{i}*" + (f" {j.theta * deg:+.6g}" if abs(j.theta) > 1e-12 else "") if not j.is_prismatic
+                 else _num(j.theta * deg))
+        d = f"q{i}*" + (f" {j.d:+.6g}" if abs(j.d) > 1e-12 else "") if j.is_prismatic else _num(j.d)
+        t.add_row(str(i), esc(j.name), j.kind, theta, d, _num(j.a), _num(j.alpha * deg), _limits_text(r, j))
+    return t
+
+
+def _num(v: float, digits: int = 6) -> str:
+    """A table number: rounding noise below 1e-12 shown as 0."""
+    return f"{(0.0 if abs(v) < 1e-12 else v) + 0.0:.{digits}g}"
+
+
+def _limits_text(r: Robot, j: Joint) -> str:
+    if j.is_continuous:
+        return "continuous"
+    if j.is_prismatic:
+        return f"[{j.lower:g}, {j.upper:g}] {r.unit}"
+    return f"[{math.degrees(j.lower):g}, {math.degrees(j.upper):g}] deg"
+
+
+def _urdf_joints_table(r: Robot) -> Table:
+    """The moving joints of a URDF chain: origin (fixed joints folded in) and axis."""
+    from ..spatial import rotation_to_rpy
+
+    t = Table(title="joints (origin in the previous moving link's frame, fixed joints folded in)",
+              header_style="bold")
+    for col in ("i", "joint", "type", f"origin xyz ({r.unit})", "origin rpy (deg)", "axis", "limits"):
+        t.add_column(col, justify="right")
+    for i, j in enumerate(r.joints, 1):
+        O = j.origin_matrix()
+        rpy = rotation_to_rpy(O[:3, :3], degrees=True)
+        kind = "continuous" if j.is_continuous else j.kind
+        t.add_row(str(i), esc(j.name), kind, " ".join(_num(v, 5) for v in O[:3, 3]),
+                  " ".join(_num(v, 5) for v in rpy), " ".join(_num(v, 4) for v in j.axis_vector()),
+                  _limits_text(r, j))
+    return t
+
+
+def info(robot: str = typer.Argument(..., help=ROBOT_HELP),
+         json_out: bool = typer.Option(False, "--json", help="Print JSON instead of tables."),
+         dh: bool = typer.Option(False, "--dh", help="Show the equivalent DH table of a URDF arm "
+                                 "(or of a DH arm in the other convention, with --convention)."),
+         convention: str = typer.Option("standard", "--convention", help="DH convention for --dh: standard or "
+                                        "modified.")) -> None:
+    """Show a robot's joints (DH table in degrees, or URDF origins and axes), limits, base and tool.
+
+    Example: armkit info fighter;  armkit info arm.urdf --tip tool0 --dh
+    """
+    r = get_robot(robot)
+    if convention not in ("standard", "modified"):
+        fail(f"--convention must be 'standard' or 'modified', got {convention!r}")
+    shown = r.to_dh(convention) if dh else r  # type: ignore[arg-type]
+    deg = 180.0 / math.pi
+    if json_out:
+        joints: list[dict] = []
+        for j in shown.joints:
+            row: dict = {"name": j.name, "type": "continuous" if j.is_continuous else j.kind,
+                         "limits": [j.lower, j.upper] if j.is_prismatic else [j.lower * deg, j.upper * deg]}
+            if shown.is_dh:
+                row.update(theta_deg=j.theta * deg, d=j.d, a=j.a, alpha_deg=j.alpha * deg)
+            else:
+                row.update(origin=j.origin_matrix(), axis=j.axis_vector())
+            joints.append(row)
+        print_json({"name": shown.name, "description": shown.description, "source": shown.source,
+                    "convention": shown.convention, "unit": shown.unit, "joints": joints, "base": shown.base,
+                    "tool": shown.tool, "links": [lk.name for lk in r.links],
+                    "ignored_joints": list(r.ignored_joints)})
+        return
+    console.print(f"[bold]{esc(r.name)}[/]: {esc(r.description)}")
+    if shown.is_dh:
+        if shown is not r:
+            console.print(f"equivalent {convention} DH table (same FK for every q; base and tool absorb the rest):")
+        console.print(_dh_rows_table(shown))
+    else:
+        console.print(_urdf_joints_table(shown))
     for which in ("base", "tool"):
-        T = getattr(r, which)
+        T = getattr(shown, which)
         if not np.allclose(T, np.eye(4)):
-            console.print(pose_table(T, r.unit, title=which))
+            console.print(pose_table(T, shown.unit, title=which))
         else:
             console.print(f"{which}: identity")
+    if not r.is_dh:
+        chain = [lk.name for lk in r.links if lk.joint not in set(r.ignored_joints)]
+        console.print(f"chain: {esc(' -> '.join(chain))}  ({r.n} moving joints, {len(chain) - 1 - r.n} fixed)")
+        with_geo = sum(1 for lk in r.links if lk.visuals or lk.collisions)
+        meshes = [s for lk in r.links for s in lk.visuals + lk.collisions if s.kind == "mesh"]
+        found = sum(1 for s in meshes if s.mesh_path)
+        console.print(f"geometry: {with_geo} links with shapes; meshes found {found} of {len(meshes)}")
+        if r.ignored_joints:
+            console.print(f"joints off the chain (ignored): {esc(', '.join(r.ignored_joints))}")
+        if not dh:
+            console.print("[dim]armkit info ... --dh shows the equivalent DH table[/]")
     if r.source:
         console.print(f"[dim]source: {esc(' '.join(r.source.split()))}[/]")
+
+
+def convert(src: str = typer.Argument(..., help="Robot to read: bundled name, .toml or .urdf (--base/--tip for "
+                                      "a URDF chain)."),
+            dst: str = typer.Argument(..., help="File to write: .urdf (URDF, metres) or .toml (DH table)."),
+            convention: str = typer.Option("standard", "--convention", help="DH convention of a TOML written from "
+                                           "a URDF chain: standard or modified.")) -> None:
+    """Convert a robot between URDF and TOML (a URDF chain becomes its equivalent DH table).
+
+    Example: armkit convert ur5.urdf ur5.toml --tip tool0;  armkit convert fighter fighter.urdf
+    """
+    from ..model import save
+
+    if convention not in ("standard", "modified"):
+        fail(f"--convention must be 'standard' or 'modified', got {convention!r}")
+    r = get_robot(src)
+    out = r
+    if not dst.lower().endswith((".urdf", ".xml")) and not r.is_dh:
+        out = r.to_dh(convention)  # type: ignore[arg-type]
+    path = save(out, dst)
+    what = "URDF (metres)" if dst.lower().endswith((".urdf", ".xml")) else f"TOML ({out.convention} DH)"
+    console.print(f"wrote {esc(str(path))}: {esc(r.name)}, {r.n} joints, as {what}")
+    if not r.is_dh and out is not r:
+        console.print("[dim]the DH table reproduces the URDF chain's FK for every q; link geometry is not kept "
+                      "in TOML[/]")
+    if r.unit != "m" and dst.lower().endswith((".urdf", ".xml")):
+        console.print(f"[dim]lengths converted from {r.unit} to metres (URDF is always in metres)[/]")
 
 
 def fk(robot: str = typer.Argument(..., help=ROBOT_HELP),
@@ -158,5 +251,6 @@ def jacobian(robot: str = typer.Argument(..., help=ROBOT_HELP),
 def register(app: typer.Typer) -> None:
     app.command()(robots)
     app.command()(info)
+    app.command()(convert)
     app.command(context_settings=NUMERIC_ARGS)(fk)
     app.command(context_settings=NUMERIC_ARGS)(jacobian)

@@ -18,7 +18,7 @@ from rich.table import Table
 from .common import (EXIT_FAILED, NUMERIC_ARGS, console, esc, fail, name_list, output_path, get_robot, parse_numbers, parse_q, print_json,
                      q_display, warn)
 
-ROBOT_HELP = "Bundled robot name (see `armkit robots`) or path of a .toml robot file."
+from .common import ROBOT_HELP  # noqa: E402
 
 
 def _matrix_table(M, title: str, row_labels=None, col_labels=None) -> Table:
