@@ -157,6 +157,7 @@ class Shell:
         self.preferred: Optional[str] = None   # the branch goto should use (None: nearest)
         self.step = 0
         self.pictures = 0
+        self.view: Any = None    # armkit shell --view attaches a browser view here
         self._fig: Any = None
         self._names = {name.lower(): i for i, name in enumerate(robot.joint_names)}
         self._planar: Optional[bool] = None

@@ -375,6 +375,11 @@ def workspace(robot: Robot, samples: int = 200_000, seed: int | np.random.Genera
         raise ArmkitError(f"samples must be an integer >= 100, got {samples!r}")
     if exclusion is not None and not isinstance(exclusion, Exclusion):
         raise ArmkitError(f"exclusion must be an armkit.analysis.Exclusion, got {type(exclusion).__name__}")
+    from .._limits import check_memory
+
+    # what the result holds (q, points) and the voxel pass needs at once, checked before any allocation
+    check_memory(float(samples) * 8.0 * (robot.n + 16 + (1 if manipulability else 0)),
+                 f"a workspace of {int(samples):,} samples of {robot.name!r}", "use fewer samples (--samples/-n)")
     rng = np.random.default_rng(seed)
     planar = is_planar(robot)
     q = robot.random_q(int(samples), rng)
@@ -417,7 +422,11 @@ def workspace(robot: Robot, samples: int = 200_000, seed: int | np.random.Genera
     vol, disc = _estimate(P, lo, h, shape)
     half, _ = _estimate(P[: len(P) // 2], lo, h, shape)
     error = disc + abs(vol - half)
-    w = _manipulability(robot, q) if manipulability else None
+    w = None
+    if manipulability:     # in chunks: never a (samples, 6, n) Jacobian array
+        w = np.empty(len(q))
+        for s in range(0, len(q), chunk):
+            w[s:s + chunk] = _manipulability(robot, q[s:s + chunk])
     return WorkspaceResult(robot=robot, points=points, q=q, manipulability=w, centre=centre,
                            outer_radius=outer, inner_radius=inner, has_inner_boundary=bool(inner > 0.5 * h),
                            volume=float(vol), volume_error=float(error), voxel_size=h, planar=planar,

@@ -12,7 +12,7 @@ import typer
 from .common import (EXIT_FAILED, NUMERIC_ARGS, console, esc, fail, get_robot, parse_numbers, parse_q, name_list, output_path,
                      print_json, warn)
 
-ROBOT_HELP = "Bundled robot name (see `armkit robots`) or path of a .toml robot file."
+from .common import ROBOT_HELP  # noqa: E402
 IMAGE_SUFFIXES = (".png", ".pdf", ".svg", ".jpg")
 
 
@@ -140,6 +140,8 @@ def workspace(robot: str = typer.Argument(..., help=ROBOT_HELP),
     out = _out(output, IMAGE_SUFFIXES, "--output") if output else None
     if samples < 100:
         fail(f"--samples must be at least 100, got {samples}")
+    if seed < 0:
+        fail(f"--seed must be a non-negative integer, got {seed}")
     boxes = []
     for b in box or []:
         v = parse_numbers([w for w in b.replace(" ", ",").split(",") if w], "--box")
@@ -256,6 +258,8 @@ def track(robot: str = typer.Argument(..., help=ROBOT_HELP),
         fail(f"--frames must be between 2 and 5000, got {frames}")
     if not 1 <= fps <= 120:
         fail(f"--fps must be between 1 and 120, got {fps}")
+    if seed < 0:
+        fail(f"--seed must be a non-negative integer, got {seed}")
     out = None if no_animation or not output else _out(output, (".gif", ".mp4"), "--output")
     res = follow(r, path=path, method=method, frames=frames, seed=seed)
     st = res.stats()
@@ -274,8 +278,12 @@ def track(robot: str = typer.Argument(..., help=ROBOT_HELP),
         console.print(f"[bold]{esc(r.name)}[/] tracking a {res.path} target with {method}: {st['frames']} frames")
         console.print(f"  reached: {st['frames_reached']}   out of reach: {st['frames_out_of_reach']}   "
                       f"not converged: {st['frames_not_converged']}")
-        console.print(f"  error on reached frames: mean {st['mean_error']:.3g} {u}, max {st['max_error']:.3g} {u} "
-                      f"(tolerance {st['tolerance']:.3g} {u}); worst frame {st['max_error_all_frames']:.3g} {u}")
+        if st["frames_reached"]:
+            console.print(f"  error on reached frames: mean {st['mean_error']:.3g} {u}, max {st['max_error']:.3g} {u} "
+                          f"(tolerance {st['tolerance']:.3g} {u}); worst frame {st['max_error_all_frames']:.3g} {u}")
+        else:
+            console.print(f"  no frame reached its target (tolerance {st['tolerance']:.3g} {u}); "
+                          f"worst frame {st['max_error_all_frames']:.3g} {u}")
         console.print(f"  branch changes: {st['branch_changes']}   largest joint step: "
                       f"{st['largest_joint_step_deg']:.2f} deg   mean iterations: {st['mean_iterations']:.1f}")
         if written is not None:

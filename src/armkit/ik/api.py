@@ -16,6 +16,7 @@ from typing import Any, Literal, Optional
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from .._checks import real_array, short_repr
 from ..errors import ArmkitError, ShapeError, UnreachableError
 from ..model.robot import Robot
 from .result import IKResult, default_tolerance
@@ -83,10 +84,7 @@ def _rigid(T: list) -> bool:
 def _normalise_target(robot: Robot, target: ArrayLike, phi: ArrayLike | None
                       ) -> tuple[Array, tuple[int, ...], bool]:
     """``target`` -> ``(flat targets (B, 4, 4) or (B, 3), leading shape, position_only)``."""
-    try:
-        t = np.asarray(target, dtype=float)
-    except (TypeError, ValueError) as exc:
-        raise ShapeError(f"target must be numeric, got {target!r}") from exc
+    t = real_array(target, "target")
     if t.ndim == 0:
         raise ShapeError("target must be a pose (..., 4, 4), a position (..., 3) or a planar position (..., 2), "
                          f"got a scalar {t!r}")
@@ -124,7 +122,7 @@ def _normalise_target(robot: Robot, target: ArrayLike, phi: ArrayLike | None
             raise ShapeError(f"robot {robot.name!r} has {robot.n} joints: it cannot also choose the end angle phi; "
                              "leave phi out")
         try:
-            ph = np.broadcast_to(np.asarray(phi, dtype=float), lead)
+            ph = np.broadcast_to(real_array(phi, "phi"), lead)
         except ValueError as exc:
             raise ShapeError(f"phi must be a number or broadcast to the target's leading shape {lead}, "
                              f"got shape {np.shape(phi)}") from exc
@@ -153,7 +151,12 @@ def _normalise_q0(robot: Robot, q0: ArrayLike | None, lead: tuple[int, ...]) -> 
         if not lead:
             return base[None].copy()
         return np.broadcast_to(base, (math.prod(lead), robot.n)).copy()
-    q = robot.check_q(q0, "q0")
+    q = robot.check_q(real_array(q0, "q0"), "q0")
+    # A start beyond any meaning (|q| > 1e6 rad) is taken modulo 2 pi for revolute joints and
+    # clipped to the limits for prismatic ones: q0 = 1e308 must not turn a reachable target unreachable.
+    if np.any(np.abs(q) > 1e6):
+        wrapped = np.where(robot.prismatic, np.clip(q, robot.lower, robot.upper), np.remainder(q + math.pi, 2 * math.pi) - math.pi)
+        q = np.where(np.abs(q) > 1e6, wrapped, q)
     try:
         q = np.broadcast_to(q, lead + (robot.n,))
     except ValueError as exc:
@@ -164,10 +167,34 @@ def _normalise_q0(robot: Robot, q0: ArrayLike | None, lead: tuple[int, ...]) -> 
 def _tolerance(robot: Robot, tol: Any) -> tuple[float, float]:
     if tol is None:
         return default_tolerance(robot)
-    if np.ndim(tol) == 0:
-        return float(tol), default_tolerance(robot)[1]
-    p, r = tol
-    return float(p), float(r)
+    t = real_array(tol, "tol")
+    if t.shape == ():
+        p, r = float(t), default_tolerance(robot)[1]
+    elif t.shape == (2,):
+        p, r = float(t[0]), float(t[1])
+    else:
+        raise IKInputError(f"tol must be a number or (position, rotation), got {short_repr(tol)}")
+    if not (0 < p < math.inf and 0 < r < math.inf):
+        raise IKInputError(f"tol must be positive and finite (position in {robot.unit}, rotation in rad), "
+                           f"got {short_repr(tol)}")
+    return p, r
+
+
+def _check_call(robot: Any, seed: Any = None, max_iterations: Any = None, restarts: Any = None) -> None:
+    """The arguments every IK entry point shares: a Robot, a usable seed and counts."""
+    if not isinstance(robot, Robot):
+        if isinstance(robot, str):
+            raise IKInputError(f"robot must be an armkit.Robot, got the string {short_repr(robot)}; "
+                               f"load it first: armkit.load({short_repr(robot)})")
+        raise IKInputError(f"robot must be an armkit.Robot, got {type(robot).__name__}")
+    if seed is not None and not isinstance(seed, np.random.Generator):
+        if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
+            raise IKInputError(f"seed must be a non-negative integer or a numpy Generator, got {short_repr(seed)}")
+    for name, v in (("max_iterations", max_iterations), ("restarts", restarts)):
+        if v is not None and (isinstance(v, bool) or not isinstance(v, (int, np.integer))
+                              or not 0 <= v <= 10_000_000 or (name == "max_iterations" and v < 1)):
+            raise IKInputError(f"{name} must be an integer between {1 if name == 'max_iterations' else 0} and "
+                               f"10,000,000, got {short_repr(v)}")
 
 
 def _reshape(res: IKResult, lead: tuple[int, ...]) -> IKResult:
@@ -287,6 +314,7 @@ def ik_all(robot: Robot, target: ArrayLike, q0: ArrayLike | None = None, *, phi:
     >>> bool(np.allclose(armkit.fk(arm, res.q)[..., :2, 3], [1.2, 0.3]))
     True
     """
+    _check_call(robot)
     flat, lead, position_only = _normalise_target(robot, target, phi)
     q0f = _normalise_q0(robot, q0, lead)
     res = _all_branches(robot, flat, q0f, position_only, tol, enforce_limits)
@@ -356,7 +384,10 @@ def ik(robot: Robot, target: ArrayLike, q0: ArrayLike | None = None,
     (True, 'front/elbow-down', [30.0, 45.0, 60.0])
     """
     if method not in METHODS:
-        raise IKInputError(f"method must be one of {', '.join(METHODS)}; got {method!r}")
+        raise IKInputError(f"method must be one of {', '.join(METHODS)}; got {short_repr(method)}")
+    _check_call(robot, seed, max_iterations, restarts)
+    if tol is not None:
+        _tolerance(robot, tol)
     flat, lead, position_only = _normalise_target(robot, target, phi)
     q0f = _normalise_q0(robot, q0, lead)
     use_closed = method == "analytic"

@@ -103,7 +103,7 @@ def solve_ccd(robot: Robot, target: ArrayLike, q0: ArrayLike, *, mask: Optional[
     prob, note = _position_problem(robot, target, q0, mask, tol, enforce_limits, "CCD")
     max_iterations = 2000 if max_iterations is None else int(max_iterations)
     restarts = 20 if restarts is None else int(restarts)
-    rng = np.random.default_rng(seed)
+    rng = np.random.default_rng(0 if seed is None else seed)   # seeded by default: reproducible
     c = robot.chain
     n, B = robot.n, prob.B
     goal = prob.target

@@ -210,7 +210,7 @@ def solve_fabrik(robot: Robot, target: ArrayLike, q0: ArrayLike, *, mask: Option
     prob, note = _position_problem(robot, target, q0, mask, tol, enforce_limits, "FABRIK")
     iterations = 2000 if max_iterations is None else int(max_iterations)
     restarts = 20 if restarts is None else int(restarts)
-    rng = np.random.default_rng(seed)
+    rng = np.random.default_rng(0 if seed is None else seed)   # seeded by default: reproducible
     B, n, f = prob.B, robot.n, st["first"]
     tol_p = prob.tol[0] * _TOL_FACTOR
     goal = prob.target

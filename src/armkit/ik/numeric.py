@@ -57,7 +57,6 @@ inverse kinematics by the Levenberg-Marquardt method", IEEE T-RO 27(5), 2011.
 from __future__ import annotations
 
 import math
-import random
 import time
 from typing import Any, Optional
 
@@ -194,8 +193,8 @@ class Problem:
 
 def _seed_base(seed: Any) -> int:
     """The first target's restart seed (0 <= base < 2**62), reproducible from ``seed``."""
-    if seed is None:
-        return random.getrandbits(62)
+    if seed is None:   # the default is seeded too: the same call gives the same answer every run
+        seed = 0
     if type(seed) is int or isinstance(seed, (int, np.integer)) and not isinstance(seed, bool):
         return (int(seed) * 0x9E3779B97F4A7C15 + 0x632BE59BD9B4E019) % 2**62
     return int(np.random.default_rng(seed).integers(0, 2**62))
@@ -542,7 +541,7 @@ def _solve(prob: Problem, method: str, max_iterations: Optional[int], restarts: 
         q, iters, used, _, _, rows = _run_jit(kernels, prob, prob.q0, max_iterations, total_attempts, 0, seeds,
                                               trace)
         return _finish(prob, q, iters, used, method, max_iterations, restarts, seed, _trace_array(rows), diagnose)
-    rng = np.random.default_rng(seed) if kernels is None else None
+    rng = np.random.default_rng(0 if seed is None else seed) if kernels is None else None
     q = prob.q0.copy()
     iters = np.zeros(B, np.int64)
     used = np.zeros(B, np.int64)
@@ -565,7 +564,7 @@ def _solve(prob: Problem, method: str, max_iterations: Optional[int], restarts: 
         if kernels is not None:
             out = _run_jit(kernels, sub, q[idx], max_iterations, count, first, seeds[idx], trace)
         else:
-            out = _run_numpy(sub, q[idx], max_iterations, count, first, rng or np.random.default_rng(seed),
+            out = _run_numpy(sub, q[idx], max_iterations, count, first, rng or np.random.default_rng(0 if seed is None else seed),
                              newton, trace)
         q_i, it_i, used_i, conv_i, _, rows_i = out
         q[idx] = q_i
@@ -717,7 +716,8 @@ def solve_lm(robot: Robot, target: ArrayLike, q0: ArrayLike, *, mask: Optional[A
     restarts : int, default 50
         Further attempts from random configurations inside the limits.
     seed : int or numpy Generator, optional
-        Seeds the restarts: the same seed gives the same answers.
+        Seeds the restarts: the same seed gives the same answers. The default (None) is
+        seed 0, so a call without a seed is reproducible too.
     enforce_limits : bool, default True
         Keep joints inside their limits (projection after each step) and require it for success.
     trace : bool, default False

@@ -230,17 +230,17 @@ def joint_trajectory(waypoints: ArrayLike, profile_kind: str = "quintic", durati
                 raise ArmkitError(f"waypoint {i + 1} is outside the joint limits: " + "; ".join(bad))
     if profile_kind not in PROFILES:
         raise ArmkitError(f"profile must be one of {PROFILES}, got {profile_kind!r}")
-    if dt <= 0:
-        raise ArmkitError(f"dt must be positive, got {dt}")
+    if not (isinstance(dt, (int, float, np.integer, np.floating)) and 0 < dt < math.inf):
+        raise ArmkitError(f"dt must be a positive finite number of seconds, got {dt!r}")
     m = W.shape[0] - 1
     deltas = np.diff(W, axis=0)
     if durations is not None:
         asked = np.asarray(durations, dtype=float)
-        if asked.shape != (m,) or np.any(asked <= 0):
+        if asked.shape != (m,) or not np.all((asked > 0) & np.isfinite(asked)):
             raise ArmkitError(f"durations needs {m} positive values (one per segment), got {list(asked)}")
     elif duration is not None:
-        if duration <= 0:
-            raise ArmkitError(f"duration must be positive, got {duration}")
+        if not 0 < duration < math.inf:
+            raise ArmkitError(f"duration must be a positive finite number of seconds, got {duration!r}")
         size = np.max(np.abs(deltas), axis=1)
         asked = duration * (size / size.sum() if size.sum() > 0 else np.full(m, 1 / m))
     elif qd_max is None and qdd_max is None:
@@ -248,21 +248,39 @@ def joint_trajectory(waypoints: ArrayLike, profile_kind: str = "quintic", durati
     else:
         asked = np.zeros(m)
     notes = []
-    t_parts, q_parts, qd_parts, qdd_parts = [], [], [], []
-    t0 = 0.0
+    plan = []
+    total = 1.0
     for k in range(m):
         T_min, blend = segment_duration(profile_kind, deltas[k], qd_max, qdd_max)
         T = max(float(asked[k]), T_min)
         if T == 0.0:   # a segment with no motion and no time asked
             continue
+        if not math.isfinite(T):
+            raise ArmkitError(f"segment {k + 1} would take forever at these limits (qd_max={qd_max}, qdd_max={qdd_max})")
         if T_min > asked[k] > 0:
             notes.append(f"segment {k + 1} lengthened from {asked[k]:.3g} s to {T_min:.3g} s to honour the limits")
         if profile_kind == "trapezoid" and qd_max is None and qdd_max is None:
             blend = 1 / 3
-        steps = max(1, int(math.ceil(T / dt - 1e-9)))
+        # at least 2 steps per segment, so that the samples hold the mid-segment peak speed
+        steps_f = max(2.0, math.ceil(T / dt - 1e-9))
+        total += steps_f
+        plan.append((k, T, blend, steps_f))
+    n = W.shape[1]
+    from .._limits import check_memory
+
+    check_memory(total * 8.0 * (3 * n + 5) * 3, f"a trajectory of {total:,.0f} samples "
+                 f"({sum(p[1] for p in plan):.4g} s at dt = {dt:g} s)",
+                 "use a larger dt (--dt), a shorter duration or larger speed/acceleration limits")
+    t_parts, q_parts, qd_parts, qdd_parts = [], [], [], []
+    t0 = 0.0
+    for k, T, blend, steps_f in plan:
+        steps = int(steps_f)
+        if T / dt < 2 and steps == 2:
+            notes.append(f"dt = {dt:g} s is longer than half of segment {k + 1} ({T:.3g} s): "
+                         "sampled at its start, middle and end")
         tau = np.linspace(0.0, 1.0, steps + 1)
         s, sd, sdd = profile(profile_kind, tau, blend)
-        first = 0 if k == 0 else 1
+        first = 0 if not t_parts else 1
         t_parts.append(t0 + tau[first:] * T)
         q_parts.append(W[k] + s[first:, None] * deltas[k])
         qd_parts.append(sd[first:, None] * deltas[k] / T)
@@ -271,7 +289,11 @@ def joint_trajectory(waypoints: ArrayLike, profile_kind: str = "quintic", durati
     if not t_parts:
         raise ArmkitError("all waypoints are equal: there is nothing to move")
     t, q, qd, qdd = (np.concatenate(p) for p in (t_parts, q_parts, qd_parts, qdd_parts))
-    pos = fk(robot, q)[:, :3, 3] if robot is not None else None
+    pos = None
+    if robot is not None:     # in chunks: no (N, 4, 4) pose array for a long trajectory
+        from .._limits import CHUNK
+
+        pos = np.concatenate([fk(robot, q[i:i + CHUNK])[:, :3, 3] for i in range(0, len(q), CHUNK)])
     return Trajectory(t, q, qd, qdd, positions=pos, label=f"joint space, {profile_kind}", notes=tuple(notes))
 
 

@@ -186,6 +186,10 @@ def joint_rates(robot: Robot, q: ArrayLike, xd: ArrayLike, method: Literal["pinv
     sigma_min = float(S[k - 1]) if len(idx) <= robot.n else 0.0
     if method == "pinv":
         lam2 = 0.0
+        # Singular values below 1e-12 x max(1, sigma_max) (lengths in metres) are dropped: that is
+        # ~4,500 machine epsilons of the largest one, where an SVD's singular values are rounding
+        # noise (their absolute error is about eps * sigma_max), and 1/sigma would turn that noise
+        # into joint rates of 1e12. The damped method (dls) has no cut-off; docs/motion.md.
         cutoff = 1e-12 * max(1.0, float(S[0]))
         inv = np.where(S > cutoff, 1.0 / np.where(S > cutoff, S, 1.0), 0.0)
     else:
@@ -193,11 +197,16 @@ def joint_rates(robot: Robot, q: ArrayLike, xd: ArrayLike, method: Literal["pinv
         if lam2 < 0 or not math.isfinite(lam2):
             raise ArmkitError(f"damping must be a non-negative number of metres or 'auto', got {damping!r}")
         inv = S / (S ** 2 + lam2) if lam2 > 0 else np.where(S > 1e-12, 1.0 / np.where(S > 1e-12, S, 1.0), 0.0)
-    qd_s = Vt[:k].T @ (inv[:k] * (U[:, :k].T @ xs))
+    with np.errstate(over="ignore", invalid="ignore"):   # checked below: overflow is an error, not a warning
+        qd_s = Vt[:k].T @ (inv[:k] * (U[:, :k].T @ xs))
     col_scale = np.where(robot.prismatic, 1.0 / robot.unit_scale, 1.0)
     qd = qd_s * col_scale
-    achieved = (jacobian(robot, qv)[list(idx), :] @ qd)
-    residual = float(np.linalg.norm(achieved - x))
+    with np.errstate(over="ignore", invalid="ignore"):
+        achieved = (jacobian(robot, qv)[list(idx), :] @ qd)
+        residual = float(np.linalg.norm(achieved - x))
+    if not (np.all(np.isfinite(qd)) and np.all(np.isfinite(achieved)) and math.isfinite(residual)):
+        raise ArmkitError(f"the requested velocity (largest component {float(np.max(np.abs(x))):.3g}) is too large: "
+                          "the joint rates overflow float64; ask for a smaller velocity")
     direction = U[:, len(idx) - 1] if len(idx) > robot.n else U[:, k - 1]
     direction = direction * (1 if direction[np.argmax(np.abs(direction))] > 0 else -1)
     names = tuple(ROW_NAMES[i] for i in idx)

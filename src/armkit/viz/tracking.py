@@ -152,9 +152,15 @@ def target_path(robot: Robot, path: str = "circle", frames: int = 200, seed: Opt
     return pts
 
 
+MAX_CSV_BYTES = 8 * 1024 ** 2   # a target path file: about 200,000 rows
+
+
 def _read_csv(robot: Robot, file: Path) -> Array:
     if not file.is_file():
         raise ArmkitError(f"path must be one of {', '.join(PATHS)} or a CSV file; {str(file)!r} is neither")
+    if file.stat().st_size > MAX_CSV_BYTES:
+        raise ArmkitError(f"{file}: {file.stat().st_size:,} bytes; a target CSV may have at most {MAX_CSV_BYTES:,} "
+                          f"bytes (about {MAX_CSV_BYTES // 40:,} rows)")
     try:
         try:
             data = np.loadtxt(file, delimiter=",", ndmin=2)
