@@ -38,9 +38,11 @@ __all__ = [
     "JointLimitError", "UnreachableError",
     "IKResult", "ik", "ik_all", "view",
     "Scene", "Collisions", "collisions", "clearance",
+    "reachability", "ReachabilityMap", "base_placement",
 ]
 
 _LAZY = {"Scene", "Collisions", "collisions", "clearance"}   # armkit.collision, imported on first use
+_REACH = {"reachability", "ReachabilityMap", "base_placement"}   # armkit.reach (dask/zarr only when a map is built)
 
 
 def __getattr__(name: str) -> object:
@@ -48,4 +50,8 @@ def __getattr__(name: str) -> object:
         from . import collision
 
         return getattr(collision, name)
+    if name in _REACH:
+        from . import reach
+
+        return getattr(reach, name)
     raise AttributeError(f"module 'armkit' has no attribute {name!r}")

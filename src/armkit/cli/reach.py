@@ -1,0 +1,412 @@
+"""``armkit reach``: build, show and query reachability maps, and place a base (docs/reachability.md).
+
+Dask, Zarr and matplotlib are imported inside the commands; messages in English or Korean
+(``--lang``, default from the locale like ``armkit shell``).
+"""
+
+from __future__ import annotations
+
+import csv
+import math
+import os
+from pathlib import Path
+from typing import Any, List, Optional
+
+import numpy as np
+import typer
+from rich.markup import escape
+from rich.table import Table
+
+from .common import EXIT_BAD_INPUT, EXIT_FAILED, NUMERIC_ARGS, console, fail, get_robot, parse_numbers, print_json
+
+__all__ = ["register", "MESSAGES"]
+
+reach_app = typer.Typer(help="Reachability maps: where the arm reaches, in which orientations, where its base "
+                             "should go.\n\nExample: armkit reach build ur5 -o ur5.zarr --resolution 0.05",
+                        no_args_is_help=True, rich_markup_mode="rich")
+
+MESSAGES: dict[str, dict[str, str]] = {
+    "building": {"en": "building the {robot} map", "ko": "{robot} 도달 맵 생성 중"},
+    "built": {"en": "map written to {path}: {cells} cells, {reachable} reachable, {seconds:.1f} s",
+              "ko": "맵 저장: {path} — 셀 {cells}개 중 {reachable}개 도달 가능, {seconds:.1f}초"},
+    "resumed": {"en": "resuming: {done} of {total} blocks already done",
+                "ko": "이어서 생성: 블록 {total}개 중 {done}개 완료됨"},
+    "interrupted": {"en": "interrupted; run the same command again to resume from {path}",
+                    "ko": "중단됨. 같은 명령을 다시 실행하면 {path} 에서 이어서 생성합니다"},
+    "reachable": {"en": "reachable", "ko": "도달 가능"},
+    "unreachable": {"en": "not reachable", "ko": "도달 불가"},
+    "index": {"en": "reachability index (fraction of orientations)", "ko": "도달 지수 (도달 가능한 자세 비율)"},
+    "picture": {"en": "picture: {path}", "ko": "그림: {path}"},
+    "base_title": {"en": "best base poses for {k} task poses", "ko": "작업 자세 {k}개에 대한 최적 베이스 위치"},
+    "base_none": {"en": "no candidate base pose reaches any task pose", "ko": "어떤 베이스 위치에서도 작업 자세에 도달할 수 없습니다"},
+    "summary": {"en": "reachability map", "ko": "도달 맵"},
+    "ik_check": {"en": "checked by IK", "ko": "IK 로 확인"},
+    "by_map": {"en": "by the map", "ko": "맵 기준"},
+}
+
+
+def _msg(key: str, lang: str, **kw: Any) -> str:
+    t = MESSAGES[key]
+    return t.get(lang, t["en"]).format(**kw)
+
+
+def _lang(lang: Optional[str]) -> str:
+    if lang is None:
+        from ..i18n import default_language
+
+        return default_language()
+    if lang not in ("en", "ko"):
+        fail(f"--lang must be ko or en, got {lang!r}")
+    return lang
+
+
+LANG_OPT = typer.Option(None, "--lang", help="Message language: ko or en (default: from the locale).")
+
+
+def _open_map(path: str) -> Any:
+    from ..reach import ReachabilityMap
+
+    return ReachabilityMap.open(path)   # MapFileError is an ArmkitError: one line, exit 2
+
+
+# ------------------------------------------------------------------ build
+@reach_app.command()
+def build(robot: str = typer.Argument(..., help="Bundled robot name or robot file."),
+          output: str = typer.Option(..., "-o", "--output", help="Zarr store to write (a folder, e.g. map.zarr)."),
+          resolution: Optional[float] = typer.Option(None, "--resolution", help="Voxel edge in the robot's "
+                                                     "length unit (default reach/20)."),
+          orientations: Optional[int] = typer.Option(None, "--orientations", help="Approach directions per voxel "
+                                                     "(default 64; 1 = position only, the default below 6 joints)."),
+          rolls: Optional[int] = typer.Option(None, "--rolls", help="Roll bins per direction (default 1 when the "
+                                              "last joint rolls the tool freely, else 8)."),
+          method: str = typer.Option("fk", "--method", help="fk (sample joint space, default) or ik (IK per cell)."),
+          samples: Optional[int] = typer.Option(None, "--samples", help="FK samples in all (default 32 per cell)."),
+          seed: int = typer.Option(0, "--seed", help="Seed of every random stream (same seed, same map)."),
+          scheduler: Optional[str] = typer.Option(None, "--scheduler", help="Dask scheduler, e.g. "
+                                                  "tcp://host:8786 (default: ARMKIT_SCHEDULER, else this machine)."),
+          workers: Optional[int] = typer.Option(None, "--workers", help="Local worker processes (default: CPUs)."),
+          overwrite: bool = typer.Option(False, "--overwrite", help="Discard an existing store at --output."),
+          as_json: bool = typer.Option(False, "--json", help="Print the summary as JSON."),
+          lang: Optional[str] = LANG_OPT) -> None:
+    """Build a reachability map and write it as a Zarr store (re-running resumes an interrupted build).
+
+    Example: armkit reach build ur5 -o ur5.zarr --resolution 0.05 --orientations 64
+
+    Example: armkit reach build panda -o panda.zarr --scheduler tcp://10.0.0.5:8786
+    """
+    import time
+
+    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn, \
+        TimeRemainingColumn
+
+    from ..reach import reachability
+
+    lg = _lang(lang)
+    if method not in ("fk", "ik"):
+        fail(f"--method must be fk or ik, got {method!r}")
+    if not output.strip():
+        fail("--output must name a folder for the Zarr store, e.g. map.zarr")
+    out = Path(output)
+    if out.exists() and not out.is_dir():
+        fail(f"--output {output!r} exists and is a file; a Zarr store is a folder")
+    if not out.parent.exists() if str(out.parent) else False:
+        fail(f"--output: folder {str(out.parent)!r} does not exist")
+    r = get_robot(robot)
+    t0 = time.perf_counter()
+    bar = Progress(TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(),
+                   TimeElapsedColumn(), TextColumn("ETA"), TimeRemainingColumn(), console=console,
+                   disable=as_json, transient=False)
+    state: dict[str, Any] = {}
+
+    def progress(done: int, total: int) -> None:
+        if "task" not in state:
+            state["task"] = bar.add_task(escape(_msg("building", lg, robot=r.name)), total=total, completed=done)
+            if done:
+                console.print(escape(_msg("resumed", lg, done=done, total=total)))
+        bar.update(state["task"], completed=done)
+
+    try:
+        with bar:
+            m = reachability(r, resolution=resolution, orientations=orientations, rolls=rolls,
+                             method=method, samples=samples, seed=seed,  # type: ignore[arg-type]
+                             path=output, overwrite=overwrite, scheduler=scheduler, workers=workers,
+                             progress=progress)
+    except KeyboardInterrupt:
+        console.print(escape(_msg("interrupted", lg, path=output)))
+        raise SystemExit(130) from None
+    info = m.summary()
+    if as_json:
+        print_json({**info, "path": output, "seconds": time.perf_counter() - t0})
+        return
+    console.print(escape(_msg("built", lg, path=output, cells=f"{info['cells']:,}",
+                              reachable=f"{info['reachable_cells']:,}", seconds=time.perf_counter() - t0)))
+
+
+# ------------------------------------------------------------------ show
+def _summary_table(m: Any, lg: str) -> Table:
+    t = Table(title=escape(f"{_msg('summary', lg)}: {m.robot.name}"), show_header=False)
+    t.add_column("", style="bold")
+    t.add_column("")
+    for k, v in m.summary().items():
+        t.add_row(escape(str(k)), escape(str(v)))
+    return t
+
+
+def _picture(m: Any, path: Path) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    g = m.grid
+    idx = m.reachability_index                                  # (nx, ny, nz)
+    C = m.voxel_centres()
+    unit = m.robot.unit
+    fig = plt.figure(figsize=(15, 5))
+    ax1 = fig.add_subplot(1, 3, 1)
+    if g.symmetric:
+        sec = idx[:, 0, :]
+        r = np.arange(g.dims[0]) * g.resolution + g.lo[0]
+        z = np.arange(g.dims[2]) * g.resolution + g.lo[2]
+        full = np.concatenate([sec[::-1], sec], axis=0)
+        xs = np.concatenate([-(r[::-1] + g.resolution), r])
+        im = ax1.pcolormesh(xs, z, full.T, cmap="viridis", vmin=0, vmax=1, shading="auto")
+        ax1.set_title("section through the first joint axis (r, z)")
+    else:
+        iy = g.dims[1] // 2
+        sec = idx[:, iy, :]
+        x = np.arange(g.dims[0]) * g.resolution + g.lo[0]
+        z = np.arange(g.dims[2]) * g.resolution + g.lo[2]
+        im = ax1.pcolormesh(x, z, sec.T, cmap="viridis", vmin=0, vmax=1, shading="auto")
+        ax1.set_title("section y = 0 (frame of the first joint)")
+    ax1.set_aspect("equal")
+    ax1.set_xlabel(f"x ({unit})")
+    ax1.set_ylabel(f"z ({unit})")
+    fig.colorbar(im, ax=ax1, label="reachability index")
+    ax2 = fig.add_subplot(1, 3, 2)
+    if g.symmetric:
+        prof = idx[:, 0, :].max(axis=1)
+        ax2.plot(np.arange(g.dims[0]) * g.resolution + g.resolution / 2, prof)
+        ax2.set_xlabel(f"r ({unit})")
+        ax2.set_ylabel("best index over z")
+        ax2.set_title("index against distance from the axis")
+    else:
+        iz = int(np.argmax(idx.sum(axis=(0, 1))))
+        sec = idx[:, :, iz]
+        x = np.arange(g.dims[0]) * g.resolution + g.lo[0]
+        y = np.arange(g.dims[1]) * g.resolution + g.lo[1]
+        im2 = ax2.pcolormesh(x, y, sec.T, cmap="viridis", vmin=0, vmax=1, shading="auto")
+        ax2.set_aspect("equal")
+        ax2.set_xlabel(f"x ({unit})")
+        ax2.set_ylabel(f"y ({unit})")
+        ax2.set_title(f"section z = {g.lo[2] + (iz + 0.5) * g.resolution:.3g} {unit} (frame of joint 1)")
+        fig.colorbar(im2, ax=ax2, label="reachability index")
+    ax3 = fig.add_subplot(1, 3, 3, projection="3d")
+    sel = idx > 0
+    P, V = C[sel], idx[sel]
+    if g.symmetric and len(P):     # revolve the half-plane about the axis
+        A = g.T_world_A
+        local = (P - A[:3, 3]) @ A[:3, :3]
+        th = np.linspace(0, 2 * np.pi, 24, endpoint=False)
+        pts = np.stack([local[:, 0][:, None] * np.cos(th), local[:, 0][:, None] * np.sin(th),
+                        np.repeat(local[:, 2][:, None], len(th), axis=1)], axis=-1).reshape(-1, 3)
+        P = pts @ A[:3, :3].T + A[:3, 3]
+        V = np.repeat(V, len(th))
+    if len(P) > 40_000:
+        keep = np.random.default_rng(0).choice(len(P), 40_000, replace=False)
+        P, V = P[keep], V[keep]
+    ax3.scatter(P[:, 0], P[:, 1], P[:, 2], c=V, cmap="viridis", vmin=0, vmax=1, s=2, alpha=0.5)
+    ax3.set_xlabel(f"x ({unit})")
+    ax3.set_ylabel(f"y ({unit})")
+    ax3.set_zlabel(f"z ({unit})")
+    ax3.set_title("reachable voxels, coloured by index")
+    fig.suptitle(f"{m.robot.name}: {g.n_orient} orientations per voxel, {g.resolution:g} {unit} voxels")
+    fig.tight_layout()
+    tmp = path.with_name(f".{path.stem}.{os.getpid()}.tmp{path.suffix}")
+    try:
+        fig.savefig(tmp, dpi=110)
+        os.replace(tmp, path)
+    finally:
+        plt.close(fig)
+        if tmp.exists():
+            tmp.unlink()
+
+
+@reach_app.command()
+def show(map_path: str = typer.Argument(..., metavar="MAP", help="Zarr store written by armkit reach build."),
+         output: Optional[str] = typer.Option(None, "-o", "--output", help="Picture (.png, .pdf, .svg): sections "
+                                              "and a 3-D view coloured by the reachability index."),
+         as_json: bool = typer.Option(False, "--json", help="Print the summary as JSON."),
+         lang: Optional[str] = LANG_OPT) -> None:
+    """Summary of a map, and a picture of it.
+
+    Example: armkit reach show ur5.zarr -o reach.png
+    """
+    lg = _lang(lang)
+    out = None
+    if output is not None:
+        out = Path(output)
+        if out.suffix.lower() not in (".png", ".pdf", ".svg"):
+            fail(f"--output must end in .png, .pdf or .svg, got {output!r}")
+        if str(out.parent) and not out.parent.is_dir():
+            fail(f"--output: folder {str(out.parent)!r} does not exist")
+    m = _open_map(map_path)
+    if as_json:
+        print_json({**m.summary(), "picture": output})
+    else:
+        console.print(_summary_table(m, lg))
+    if out is not None:
+        _picture(m, out)
+        if not as_json:
+            console.print(escape(_msg("picture", lg, path=str(out))))
+
+
+# ------------------------------------------------------------------ query
+@reach_app.command(context_settings=NUMERIC_ARGS)
+def query(map_path: str = typer.Argument(..., metavar="MAP", help="Zarr store written by armkit reach build."),
+          xyz: List[str] = typer.Argument(..., metavar="X Y Z", help="Tool position in the robot's length unit."),
+          rpy: Optional[str] = typer.Option(None, "--rpy", metavar="R,P,Y",
+                                            help="Tool orientation as roll,pitch,yaw (rad, or deg with --deg); "
+                                                 "default: the identity."),
+          deg: bool = typer.Option(False, "--deg", help="--rpy is in degrees."),
+          as_json: bool = typer.Option(False, "--json", help="Print the answer as JSON."),
+          lang: Optional[str] = LANG_OPT) -> None:
+    """Is this tool pose reachable? Exit 0 if the map says yes, 1 if no.
+
+    Example: armkit reach query ur5.zarr 0.4 0.1 0.3 --rpy 180,0,0 --deg
+    """
+    from ..spatial import rpy_to_rotation
+
+    lg = _lang(lang)
+    p = parse_numbers(xyz, "position")
+    if p.shape != (3,):
+        fail(f"position needs 3 numbers X Y Z, got {len(p)}")
+    T = np.eye(4)
+    T[:3, 3] = p
+    if rpy is not None:
+        ang = parse_numbers([w for w in rpy.replace(" ", ",").split(",") if w], "--rpy")
+        if ang.shape != (3,):
+            fail(f"--rpy needs 3 numbers roll,pitch,yaw, got {len(ang)}")
+        T[:3, :3] = rpy_to_rotation(ang, degrees=deg)
+    m = _open_map(map_path)
+    ok = bool(m.reachable(T))
+    idx = float(m.index(p))
+    if as_json:
+        print_json({"reachable": ok, "index": idx, "position": p, "rotation": T[:3, :3],
+                    "position_only": m.grid.position_only})
+    else:
+        word = _msg("reachable" if ok else "unreachable", lg)
+        console.print(f"[{'green' if ok else 'red'}]{escape(word)}[/]  {escape(_msg('index', lg))}: {idx:.3f}")
+    if not ok:
+        raise SystemExit(EXIT_FAILED)
+
+
+# ------------------------------------------------------------------ base
+def read_tasks(path: str) -> np.ndarray:
+    """Task poses from a CSV file: ``x,y,z`` or ``x,y,z,roll,pitch,yaw`` (degrees) per row.
+
+    A first row that is not numbers is a header; blank lines and ``#`` lines are skipped.
+    Bad rows exit 2 naming the file, the line and the field.
+    """
+    from ..spatial import rpy_to_rotation
+
+    p = Path(path)
+    if not p.is_file():
+        fail(f"task file {path!r} not found")
+    try:
+        text = p.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as exc:
+        fail(f"cannot read task file {path!r}: {exc}")
+    rows: list[np.ndarray] = []
+    names = ("x", "y", "z", "roll", "pitch", "yaw")
+    for lineno, row in enumerate(csv.reader(text.splitlines()), start=1):
+        cells = [c.strip() for c in row]
+        if not cells or not any(cells) or cells[0].startswith("#"):
+            continue
+        vals: list[float] = []
+        for i, c in enumerate(cells):
+            try:
+                v = float(c)
+            except ValueError:
+                if not rows and lineno == 1 or (not rows and all(not _isnum(x) for x in cells)):
+                    vals = []
+                    break
+                fail(f"{path}:{lineno}: field {names[i] if i < 6 else i + 1}: {c!r} is not a number")
+            if not math.isfinite(v):
+                fail(f"{path}:{lineno}: field {names[i] if i < 6 else i + 1}: {c!r} is not a finite number")
+            vals.append(v)
+        if not vals:
+            continue
+        if len(vals) not in (3, 6):
+            fail(f"{path}:{lineno}: a task row has 3 (x,y,z) or 6 (x,y,z,roll,pitch,yaw in degrees) numbers, "
+                 f"got {len(vals)}")
+        T = np.eye(4)
+        T[:3, 3] = vals[:3]
+        if len(vals) == 6:
+            T[:3, :3] = rpy_to_rotation(vals[3:], degrees=True)
+        rows.append(T)
+    if not rows:
+        fail(f"task file {path!r} has no task rows (x,y,z[,roll,pitch,yaw])")
+    return np.stack(rows)
+
+
+def _isnum(s: str) -> bool:
+    try:
+        float(s)
+        return True
+    except ValueError:
+        return False
+
+
+@reach_app.command()
+def base(map_path: str = typer.Argument(..., metavar="MAP", help="Zarr store written by armkit reach build."),
+         tasks: str = typer.Argument(..., metavar="TASKS.csv",
+                                     help="Task poses, one per row: x,y,z or x,y,z,roll,pitch,yaw (degrees)."),
+         top: int = typer.Option(5, "--top", help="How many base poses to check with IK and list."),
+         floor_z: float = typer.Option(0.0, "--floor-z", help="Height of the floor plane the base stands on."),
+         step: Optional[float] = typer.Option(None, "--step", help="Candidate spacing (default: map resolution)."),
+         yaws: Optional[int] = typer.Option(None, "--yaws", help="Base headings tried (default 1 when the map is "
+                                            "yaw-symmetric, else 8)."),
+         as_json: bool = typer.Option(False, "--json", help="Print the ranking as JSON."),
+         lang: Optional[str] = LANG_OPT) -> None:
+    """Where to put the base: rank floor positions by how many task poses the arm reaches, checked by IK.
+
+    Example: armkit reach base ur5.zarr tasks.csv --top 3
+    """
+    from ..reach import base_placement
+
+    lg = _lang(lang)
+    if top < 1:
+        fail(f"--top must be at least 1, got {top}")
+    if step is not None and not (math.isfinite(step) and step > 0):
+        fail(f"--step must be a positive length, got {step}")
+    if yaws is not None and yaws < 1:
+        fail(f"--yaws must be at least 1, got {yaws}")
+    T = read_tasks(tasks)
+    m = _open_map(map_path)
+    best = base_placement(m, T, floor_z=floor_z, step=step, yaws=yaws, top=top)
+    rows = [{"x": b.pose[0, 3], "y": b.pose[1, 3], "z": b.pose[2, 3],
+             "yaw_deg": math.degrees(math.atan2(b.pose[1, 0], b.pose[0, 0])),
+             "map_reached": b.map_count, "ik_reached": b.ik_count, "tasks": len(T)} for b in best]
+    if as_json:
+        print_json(rows)
+    else:
+        t = Table(title=escape(_msg("base_title", lg, k=len(T))))
+        for h in ("#", f"x ({m.robot.unit})", f"y ({m.robot.unit})", "yaw (deg)", _msg("by_map", lg),
+                  _msg("ik_check", lg)):
+            t.add_column(escape(h), justify="right")
+        for i, r in enumerate(rows, 1):
+            t.add_row(str(i), f"{r['x']:.4g}", f"{r['y']:.4g}", f"{r['yaw_deg']:.1f}",
+                      f"{r['map_reached']}/{len(T)}", f"{r['ik_reached']}/{len(T)}")
+        console.print(t)
+    if not best or best[0].ik_count == 0:
+        if not as_json:
+            console.print(escape(_msg("base_none", lg)))
+        raise SystemExit(EXIT_FAILED)
+
+
+def register(app: typer.Typer) -> None:
+    app.add_typer(reach_app, name="reach")
+
+
+_ = EXIT_BAD_INPUT

@@ -1,0 +1,389 @@
+"""Building a reachability map: split into blocks, run them (in-process or on Dask), merge, store.
+
+One *block* is a unit of work that a worker can do alone: FK sampling of ``block_size``
+configurations from the random stream ``(seed, block)``, or IK at the centre of every cell
+of a few x-slabs. A block's answer (cells and sample counts) is a pure function of its
+arguments. The driver adds answers into the map (a saturating sum; manipulability: the
+maximum), marks the block done and, every few seconds, commits the map and the done-list to
+the Zarr store as one new generation (``_map``). Hence
+
+* the map is bit-for-bit the same whether the blocks ran in this process, in local worker
+  processes or on a remote cluster, in whatever order (sum and max do not depend on order);
+* a worker lost mid-block loses nothing: Dask runs the block again elsewhere, the answer is
+  the same, and the driver merges each block's answer once;
+* a build stopped at any point (Ctrl-C, a crash, the driver's machine lost) resumes from
+  the last committed generation: exactly the blocks merged into it are skipped.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import shutil
+import time
+from pathlib import Path
+from typing import Any, Callable, Iterator, Literal, Sequence
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ..errors import ArmkitError
+from ..model.robot import Robot
+from ._grid import Grid
+from ._map import DEFAULT_COVERAGE, FORMAT, ReachabilityMap, decide, robot_to_toml
+from ._symmetry import roll_symmetric, yaw_frame, yaw_symmetric
+from ._work import fk_block, ik_block
+
+__all__ = ["reachability", "ReachabilityError", "default_samples", "FK_BLOCK"]
+
+FK_BLOCK = 1_000_000
+"""Default configurations per FK block (about 0.1-0.3 s of work; memory stays at SUB_BATCH)."""
+
+SAMPLES_PER_CELL = 32
+"""Default FK samples per cell of the map (see docs/reachability.md for the convergence study)."""
+
+MAX_DEFAULT_SAMPLES = 2_000_000_000
+
+Progress = Callable[[int, int], None]
+
+
+class ReachabilityError(ArmkitError, ValueError):
+    """A bad argument to :func:`armkit.reachability` or a store that does not match the build."""
+
+
+def default_samples(grid: Grid) -> int:
+    """FK samples used when ``samples`` is not given: SAMPLES_PER_CELL per cell, in whole blocks."""
+    want = min(MAX_DEFAULT_SAMPLES, SAMPLES_PER_CELL * grid.n_cells)
+    return max(FK_BLOCK, int(math.ceil(want / FK_BLOCK)) * FK_BLOCK)
+
+
+def _positive_int(value: Any, what: str) -> int:
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
+        raise ReachabilityError(f"{what} must be a positive integer, got {value!r}")
+    return int(value)
+
+
+def _make_grid(robot: Robot, resolution: Any, orientations: Any, rolls: Any) -> Grid:
+    if resolution is None:
+        resolution = robot.reach / 20.0
+    if isinstance(resolution, bool) or not isinstance(resolution, (int, float, np.floating, np.integer)) \
+            or not math.isfinite(float(resolution)) or resolution <= 0:
+        raise ReachabilityError(f"resolution must be a positive length in {robot.unit}, got {resolution!r}")
+    if float(resolution) < robot.reach / 1000.0:
+        raise ReachabilityError(f"resolution {float(resolution):g} {robot.unit} is finer than reach/1000 "
+                                f"({robot.reach / 1000:g} {robot.unit}): the map would have over 10^9 voxels")
+    position_only = robot.n < 6
+    if orientations is None:
+        orientations = 1 if position_only else 64
+    orientations = _positive_int(orientations, "orientations")
+    if rolls is None:
+        rolls = 1 if (orientations == 1 or roll_symmetric(robot)) else 8
+    rolls = _positive_int(rolls, "rolls")
+    sym = yaw_symmetric(robot)
+    # every reachable point lies within robot.reach of the first joint frame's origin
+    grid = Grid.build(yaw_frame(robot), sym, robot.reach * (1 + 1e-9), float(resolution), orientations, rolls)
+    if grid.n_cells > 4_000_000_000:
+        raise ReachabilityError(f"the map would have {grid.n_cells:,} cells; use a coarser resolution or "
+                                "fewer orientations")
+    return grid
+
+
+# ------------------------------------------------------------------ executors
+def _client(scheduler: Any) -> tuple[Any, Callable[[], None]]:
+    """A dask.distributed Client for ``scheduler`` (address or Client) and how to let it go."""
+    try:
+        from distributed import Client
+    except ImportError:  # pragma: no cover - a dependency
+        raise ReachabilityError("scheduler= needs dask.distributed: pip install 'dask[distributed]'") from None
+    if isinstance(scheduler, Client):
+        return scheduler, lambda: None
+    if not isinstance(scheduler, str) or "://" not in scheduler:
+        raise ReachabilityError(f"scheduler must be a Dask scheduler address such as tcp://host:8786, "
+                                f"'local', or a distributed.Client; got {scheduler!r}")
+    try:
+        client = Client(scheduler, timeout="10s")
+    except (OSError, TimeoutError) as exc:
+        raise ReachabilityError(f"cannot reach the Dask scheduler at {scheduler}: {exc}") from None
+    return client, client.close
+
+
+def _local_cluster(workers: int) -> tuple[Any, Callable[[], None]]:
+    from distributed import Client, LocalCluster
+
+    cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, host="127.0.0.1",
+                           dashboard_address=None, silence_logs=40)
+    client = Client(cluster)
+
+    def close() -> None:
+        client.close()
+        cluster.close()
+    return client, close
+
+
+def _run_dask(client: Any, fn: Callable[..., Any], args: Sequence[tuple[Any, ...]], blocks: Sequence[int],
+              token: str) -> Iterator[tuple[int, Any]]:
+    from distributed import as_completed
+
+    futures = {client.submit(fn, *a, key=f"armkit-reach-{token}-{b}", pure=False, retries=3): b
+               for a, b in zip(args, blocks)}
+    try:
+        for fut in as_completed(list(futures)):
+            b = futures.pop(fut)
+            yield b, fut.result()
+            fut.release()
+    finally:
+        for fut in futures:
+            fut.cancel()
+
+
+# ------------------------------------------------------------------ store
+class _Store:
+    """The Zarr group of a build, with generation-numbered partial results (see ``_map``)."""
+
+    def __init__(self, path: str, attrs: dict[str, Any], grid: Grid, n_blocks: int, overwrite: bool) -> None:
+        import zarr
+
+        self.grid, self.n_blocks = grid, n_blocks
+        self.group: Any
+        p = Path(path)
+        if p.exists() and overwrite:
+            shutil.rmtree(p) if p.is_dir() else p.unlink()
+        if p.exists():
+            try:
+                g: Any = zarr.open_group(str(p), mode="r+")
+                old: dict[str, Any] = dict(g.attrs)
+            except Exception as exc:
+                raise ReachabilityError(f"{path!r} exists and is not a Zarr reachability map ({exc}); choose "
+                                        "another path or overwrite it") from None
+            if old.get("format") != FORMAT:
+                raise ReachabilityError(f"{path!r} exists and is not an armkit reachability map; choose another path")
+            keys = ("robot_toml", "grid", "parameters")
+            diff = [k for k in keys if _canon(old.get(k)) != _canon(attrs[k])]
+            if diff:
+                raise ReachabilityError(f"{path!r} holds a map built with other settings ({', '.join(diff)} "
+                                        "differ); use another path, or overwrite=True (--overwrite) to start again")
+            self.group = g
+        else:
+            self.group = zarr.open_group(str(p), mode="w")
+            self.group.attrs.update({**attrs, "status": "building", "generation": -1, "blocks_done": ""})
+        nx, ny, nz, no = grid.shape
+        self.cx = max(1, min(nx, 8_000_000 // max(1, ny * nz * no)))
+
+    @property
+    def complete(self) -> bool:
+        return self.group.attrs.get("status") == "complete"
+
+    def load(self, counts: NDArray[np.uint8], manip: NDArray[np.float32], done: NDArray[np.bool_]) -> None:
+        """Fill the accumulators from the last committed generation; drop uncommitted ones."""
+        gen = int(self.group.attrs.get("generation", -1))
+        for name in list(self.group.array_keys()):
+            if name.rsplit("_", 1)[-1].isdigit() and int(name.rsplit("_", 1)[-1]) != gen:
+                del self.group[name]
+        if gen < 0:
+            return
+        counts[:] = np.asarray(self.group[f"counts_{gen}"][...]).reshape(-1)
+        manip[:] = np.asarray(self.group[f"manipulability_{gen}"][...]).reshape(-1)
+        bits = bytes.fromhex(str(self.group.attrs.get("blocks_done", "")))
+        done[:] = np.unpackbits(np.frombuffer(bits, dtype=np.uint8), count=self.n_blocks).astype(bool)
+
+    def _write(self, name: str, data: NDArray[Any], chunks: tuple[int, ...]) -> None:
+        if name in self.group:
+            del self.group[name]
+        arr = self.group.create_array(name, shape=data.shape, chunks=chunks, dtype=data.dtype, fill_value=0)
+        arr[...] = data
+
+    def commit(self, counts: NDArray[np.uint8], manip: NDArray[np.float32], done: NDArray[np.bool_]) -> None:
+        """Write a new generation in full, then switch the attributes to it, then drop the old one."""
+        g = self.grid
+        old = int(self.group.attrs.get("generation", -1))
+        new = old + 1
+        ny, nz, no = g.shape[1:]
+        self._write(f"counts_{new}", counts.reshape(g.shape), (self.cx, ny, nz, no))
+        self._write(f"manipulability_{new}", manip.reshape(g.dims), (self.cx, ny, nz))
+        self.group.attrs.update({"generation": new, "blocks_done": np.packbits(done).tobytes().hex()})
+        for name in (f"counts_{old}", f"manipulability_{old}"):
+            if name in self.group:
+                del self.group[name]
+
+    def finish(self, counts: NDArray[np.uint8], hits: NDArray[np.bool_], manip: NDArray[np.float32],
+               version: str) -> None:
+        g = self.grid
+        ny, nz, no = g.shape[1:]
+        self._write("counts", counts.reshape(g.shape), (self.cx, ny, nz, no))
+        self._write("hits", hits.reshape(g.shape), (self.cx, ny, nz, no))
+        self._write("manipulability", manip.reshape(g.dims), (self.cx, ny, nz))
+        index = hits.reshape(-1, g.n_orient).mean(axis=1).astype(np.float32).reshape(g.dims)
+        self._write("index", index, (self.cx, ny, nz))
+        self.group.attrs.update({"status": "complete", "armkit_version": version})
+        gen = int(self.group.attrs.get("generation", -1))
+        for name in (f"counts_{gen}", f"manipulability_{gen}"):
+            if name in self.group:
+                del self.group[name]
+
+
+def _canon(x: Any) -> Any:
+    import json
+
+    return json.dumps(x, sort_keys=True, default=str)
+
+
+def reachability(robot: Robot | str, resolution: float | None = None, orientations: int | None = None,
+                 scene: Any = None, *, rolls: int | None = None, method: Literal["fk", "ik"] = "fk",
+                 samples: int | None = None, seed: int = 0, path: str | os.PathLike[str] | None = None,
+                 overwrite: bool = False, scheduler: Any = None, workers: int | None = None,
+                 block_size: int | None = None, restarts: int = 2, coverage: float = DEFAULT_COVERAGE,
+                 flush_seconds: float = 10.0,
+                 progress: Progress | None = None) -> ReachabilityMap:
+    """Build a reachability map: which tool poses the arm reaches, cell by cell.
+
+    Parameters
+    ----------
+    robot : Robot or str
+        The arm (or a bundled name / robot file path).
+    resolution : float, optional
+        Voxel edge in the robot's length unit; default ``robot.reach / 20``.
+    orientations : int, optional
+        Approach directions per voxel (Fibonacci sphere); default 64, or 1 (position only)
+        for arms with fewer than 6 joints.
+    scene : armkit.Scene, optional
+        Exclude configurations that collide with it (needs ``armkit.collision``).
+    rolls : int, optional
+        Roll bins about each approach direction; default 1 when the last joint turns the
+        tool about its own z axis through 2 pi (the roll is then free, exactly), else 8.
+    method : {"fk", "ik"}
+        ``"fk"`` (default): sample joint space and bin the poses (RM4D); no solver can
+        miss or invent a pose, and it is ~100x cheaper per cell than IK. ``"ik"``: solve IK
+        at the centre of every cell (closed form where there is one, else LM with
+        ``restarts``): the ground truth at the centres, slow for redundant arms.
+    samples : int, optional
+        FK configurations in all (method "fk"); default 32 per cell (at most 2e9), in whole blocks.
+    seed : int
+        Seeds every random stream: the same arguments give the same map, bit for bit.
+    path : path, optional
+        Zarr store to write (and to resume from when it holds an unfinished build of the
+        same map). ``overwrite`` discards what is there.
+    scheduler : str or distributed.Client, optional
+        ``"tcp://host:8786"`` runs the blocks on that Dask cluster; ``None`` reads the
+        ``ARMKIT_SCHEDULER`` environment variable, and without it runs on this machine:
+        in this process (``workers=1``) or on an embedded Dask LocalCluster of
+        ``workers`` processes (default: the CPU count).
+    block_size : int, optional
+        FK configurations per block (default 1,000,000) or x-slabs per IK block (default 1).
+    restarts : int
+        LM restarts per cell (method "ik" on arms without a closed form).
+    coverage : float
+        Method "fk": a cell with samples is reachable when its sample density is at least
+        this fraction of the densest neighbouring cell (0: any sample will do, as in RM4D).
+    progress : callable, optional
+        Called as ``progress(blocks_done, blocks_total)``.
+
+    Returns
+    -------
+    ReachabilityMap
+    """
+    from .. import __version__
+    from ._scene import check_scene
+
+    if isinstance(robot, str):
+        from ..model import load
+        robot = load(robot)
+    if not isinstance(robot, Robot):
+        raise ReachabilityError(f"robot must be an armkit.Robot or a robot name, got {type(robot).__name__}")
+    if method not in ("fk", "ik"):
+        raise ReachabilityError(f"method must be 'fk' or 'ik', got {method!r}")
+    check_scene(scene)
+    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
+        raise ReachabilityError(f"seed must be a non-negative integer, got {seed!r}")
+    grid = _make_grid(robot, resolution, orientations, rolls)
+    if isinstance(coverage, bool) or not isinstance(coverage, (int, float)) or not 0 <= coverage <= 1:
+        raise ReachabilityError(f"coverage must be a number in [0, 1], got {coverage!r}")
+    if method == "fk":
+        bs = FK_BLOCK if block_size is None else _positive_int(block_size, "block_size")
+        total = default_samples(grid) if samples is None else _positive_int(samples, "samples")
+        n_blocks = int(math.ceil(total / bs))
+        sizes = [min(bs, total - b * bs) for b in range(n_blocks)]
+    else:
+        bs = 1 if block_size is None else _positive_int(block_size, "block_size")
+        total = grid.n_cells
+        n_blocks = int(math.ceil(grid.dims[0] / bs))
+        restarts = int(restarts)
+    if workers is not None:
+        workers = _positive_int(workers, "workers")
+    params: dict[str, Any] = {"method": method, "samples": total if method == "fk" else None, "seed": int(seed),
+                              "block_size": bs, "restarts": restarts if method == "ik" else None,
+                              "scene": None if scene is None else repr(scene),
+                              "coverage": float(coverage) if method == "fk" else None}
+    gattrs = grid.to_attrs()
+    try:
+        toml = robot_to_toml(robot)
+    except Exception as exc:  # a robot the TOML writer cannot express yet
+        raise ReachabilityError(f"robot {robot.name!r} cannot be written to a robot file ({exc})") from None
+    attrs = {"format": FORMAT, "robot": robot.name, "robot_toml": toml, "grid": gattrs, "parameters": params}
+
+    counts = np.zeros(grid.n_cells, dtype=np.uint8)
+    manip = np.zeros(int(np.prod(grid.dims)), dtype=np.float32)
+    done = np.zeros(n_blocks, dtype=bool)
+    store = None
+    if path is not None:
+        store = _Store(os.fspath(path), attrs, grid, n_blocks, overwrite)
+        if store.complete:
+            return ReachabilityMap.open(os.fspath(path))
+        store.load(counts, manip, done)
+
+    todo = [b for b in range(n_blocks) if not done[b]]
+    args: list[tuple[Any, ...]]
+    if method == "fk":
+        fn: Callable[..., Any] = fk_block
+        args = [(robot, gattrs, int(seed), b, sizes[b], scene) for b in todo]
+    else:
+        fn = ik_block
+        args = [(robot, gattrs, int(seed), b, bs, restarts, scene) for b in todo]
+    if scheduler is None:
+        scheduler = os.environ.get("ARMKIT_SCHEDULER") or None
+    if scheduler == "local":
+        scheduler = None
+    n_workers = workers if workers is not None else (os.cpu_count() or 1)
+    close: Callable[[], None] = lambda: None
+    if scheduler is not None:
+        client, close = _client(scheduler)
+        results: Iterator[tuple[int, Any]] = _run_dask(client, fn, args, todo, _token(attrs))
+    elif n_workers > 1 and len(todo) > 1:
+        client, close = _local_cluster(min(n_workers, len(todo)))
+        results = _run_dask(client, fn, args, todo, _token(attrs))
+    else:
+        results = ((b, fn(*a)) for a, b in zip(args, todo))
+    count = int(done.sum())
+    if progress is not None:
+        progress(count, n_blocks)
+    last = time.monotonic()
+    merged_since_commit = False
+    try:
+        for b, (cells, hits_here, vox, man) in results:
+            counts[cells] = np.minimum(counts[cells].astype(np.int64) + hits_here, 255).astype(np.uint8)
+            if len(vox):
+                manip[vox] = np.maximum(manip[vox], man)
+            done[b] = True
+            merged_since_commit = True
+            count += 1
+            if progress is not None:
+                progress(count, n_blocks)
+            if store is not None and time.monotonic() - last > flush_seconds:
+                store.commit(counts, manip, done)
+                merged_since_commit = False
+                last = time.monotonic()
+    finally:
+        close()
+        if store is not None and count < n_blocks and merged_since_commit:
+            store.commit(counts, manip, done)          # keep what is merged; the next run resumes
+    hits = decide(counts.reshape(grid.shape), grid, coverage if method == "fk" else 0.0)
+    if store is not None:
+        store.finish(counts, hits, manip, __version__)
+    params = {**params, "armkit_version": __version__}
+    return ReachabilityMap(robot, grid, hits, manip.reshape(grid.dims), params, counts.reshape(grid.shape),
+                           None if path is None else os.fspath(path))
+
+
+def _token(attrs: dict[str, Any]) -> str:
+    import hashlib
+
+    return hashlib.sha1(_canon(attrs).encode()).hexdigest()[:12]

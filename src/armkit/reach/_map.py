@@ -1,0 +1,270 @@
+"""The :class:`ReachabilityMap`: cells, queries and its Zarr store.
+
+Store layout (a Zarr v3 group, every chunk written atomically: temporary file + rename):
+
+``counts``          uint8 ``(nx, ny, nz, orientations)``: FK samples that fell in the cell (saturating at 255;
+                    method "ik": 1 where IK solved the cell's centre)
+``hits``            bool ``(nx, ny, nz, orientations)``: the cell is reachable (:func:`decide` of the counts)
+``manipulability``  float32 ``(nx, ny, nz)``: largest Yoshikawa manipulability seen in the voxel (0: none)
+``index``           float32 ``(nx, ny, nz)``: reachability index, the fraction of orientation bins reachable
+
+and attributes ``format``, ``armkit_version``, ``robot`` (name), ``robot_toml`` (the robot file
+text), ``grid`` and ``parameters``, ``status`` (``"building"`` or ``"complete"``).
+
+While building, the store holds ``counts_G`` and ``manipulability_G`` of generation ``G`` and the
+attributes ``generation`` and ``blocks_done`` (the finished units of work). A flush writes
+generation ``G + 1`` in full, then commits it by rewriting the attributes (one file, replaced
+atomically), then deletes generation ``G``: a crash at any moment leaves one complete,
+consistent generation, and the resumed build skips exactly the blocks merged into it.
+"""
+
+from __future__ import annotations
+
+import os
+import tempfile
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from ..errors import ArmkitError, ShapeError
+from ..model.robot import Robot
+from ._grid import Grid
+
+__all__ = ["ReachabilityMap", "MapFileError", "FORMAT"]
+
+FORMAT = "armkit.reachability/1"
+Array = NDArray[np.float64]
+
+
+class MapFileError(ArmkitError, ValueError):
+    """A path that is not a readable armkit reachability map (or not a finished one)."""
+
+
+def robot_from_toml(text: str, name: str) -> Robot:
+    from ..model import load
+
+    with tempfile.TemporaryDirectory() as tmp:
+        p = Path(tmp) / f"{name or 'robot'}.toml"
+        p.write_text(text, encoding="utf-8")
+        return load(str(p))
+
+
+def robot_to_toml(robot: Robot) -> str:
+    from ..model import dumps
+
+    return dumps(robot)
+
+
+DEFAULT_COVERAGE = 0.1
+"""A sampled cell counts as reachable when its sample density is at least this fraction of the
+densest cell around it (neighbouring voxels and orientation bins): a cell at the edge of the
+reachable set, only partly inside it, gets fewer samples than its full neighbours, and is
+called reachable only when enough of it is (see docs/reachability.md for the study)."""
+
+
+def decide(counts: NDArray[np.uint8], grid: Grid, coverage: float) -> NDArray[np.bool_]:
+    """Reachable cells from FK hit counts ``(nx, ny, nz, orientations)`` (see ``DEFAULT_COVERAGE``).
+
+    ``coverage = 0`` keeps every cell with a sample (the plain RM4D rule).
+    """
+    c = np.asarray(counts)
+    if coverage <= 0:
+        return c > 0
+    dens = c.astype(np.float32)
+    if grid.symmetric:    # a ring of radius r holds ~ r samples per unit density
+        dens /= (np.arange(grid.dims[0], dtype=np.float32) + 0.5)[:, None, None, None]
+    ref = dens.copy()
+    nb = grid.direction_neighbours()
+    for j in range(nb.shape[1]):
+        np.maximum(ref, dens[..., nb[:, j]], out=ref)
+    for axis in range(3):
+        if c.shape[axis] > 1:
+            out = ref.copy()
+            lo = [slice(None)] * 4
+            hi = [slice(None)] * 4
+            lo[axis], hi[axis] = slice(1, None), slice(None, -1)
+            np.maximum(out[tuple(lo)], ref[tuple(hi)], out=out[tuple(lo)])
+            np.maximum(out[tuple(hi)], ref[tuple(lo)], out=out[tuple(hi)])
+            ref = out
+    return (c > 0) & (dens >= np.float32(coverage) * ref)
+
+
+@dataclass(frozen=True, eq=False)
+class ReachabilityMap:
+    """Where an arm reaches, in which orientations, and how well.
+
+    Built by :func:`armkit.reachability`, reopened with :meth:`open`. Everything is in the
+    robot's world frame (the frame of ``armkit.fk``), lengths in the robot's unit.
+
+    Attributes
+    ----------
+    robot : Robot
+    grid : Grid
+        Voxels, orientation bins, symmetry (see :mod:`armkit.reach._grid`).
+    hits : ndarray of bool, shape (nx, ny, nz, orientations)
+    manipulability : ndarray of float32, shape (nx, ny, nz)
+    parameters : dict
+        How it was built (method, resolution, samples, seed, coverage, ...).
+    counts : ndarray of uint8, shape (nx, ny, nz, orientations), optional
+        FK samples per cell (saturating at 255); ``hits`` is :func:`decide` of them.
+    path : str or None
+        The Zarr store, if any.
+    """
+
+    robot: Robot
+    grid: Grid
+    hits: NDArray[np.bool_]
+    manipulability: NDArray[np.float32]
+    parameters: dict[str, Any]
+    counts: NDArray[np.uint8] | None = None
+    path: str | None = None
+    _flat: NDArray[np.bool_] = field(init=False, repr=False)
+    _voxel_index: NDArray[np.float32] = field(init=False, repr=False)
+
+    def __post_init__(self) -> None:
+        hits = np.ascontiguousarray(self.hits, dtype=bool)
+        hits.setflags(write=False)
+        object.__setattr__(self, "hits", hits)
+        object.__setattr__(self, "_flat", hits.reshape(-1))
+        idx = hits.reshape(-1, self.grid.n_orient).mean(axis=1, dtype=np.float64).astype(np.float32)
+        idx.setflags(write=False)
+        object.__setattr__(self, "_voxel_index", idx)
+
+    # ------------------------------------------------------------------ summary
+    @property
+    def reachability_index(self) -> NDArray[np.float32]:
+        """Fraction of orientation bins reached in each voxel, shape ``(nx, ny, nz)``."""
+        return self._voxel_index.reshape(self.grid.dims)
+
+    @property
+    def orientations(self) -> int:
+        return self.grid.n_orient
+
+    def summary(self) -> dict[str, Any]:
+        """Counts and parameters as plain data (for ``--json`` and the docs)."""
+        g = self.grid
+        vox = int(np.count_nonzero(self._voxel_index))
+        return {"robot": self.robot.name, "unit": self.robot.unit, "method": self.parameters.get("method"),
+                "resolution": g.resolution, "voxels": list(g.dims), "directions": g.directions, "rolls": g.rolls,
+                "orientations": g.n_orient, "yaw_symmetric": g.symmetric, "cells": g.n_cells,
+                "reachable_cells": int(np.count_nonzero(self._flat)), "reachable_voxels": vox,
+                "samples": self.parameters.get("samples"), "seed": self.parameters.get("seed"),
+                "armkit_version": self.parameters.get("armkit_version")}
+
+    def __repr__(self) -> str:
+        g = self.grid
+        return (f"ReachabilityMap({self.robot.name!r}, {g.dims[0]}x{g.dims[1]}x{g.dims[2]} voxels of "
+                f"{g.resolution:g} {self.robot.unit} x {g.n_orient} orientations, "
+                f"{'yaw-symmetric' if g.symmetric else 'full box'}, {int(self._flat.sum())} reachable cells)")
+
+    # ------------------------------------------------------------------ queries
+    def _poses(self, poses: ArrayLike, what: str) -> tuple[Array, tuple[int, ...]]:
+        try:
+            T = np.asarray(poses, dtype=float)
+        except (TypeError, ValueError):
+            raise ShapeError(f"{what} must be numeric, got {poses!r}") from None
+        if T.ndim < 2 or T.shape[-2:] != (4, 4):
+            raise ShapeError(f"{what} must have shape (..., 4, 4), got {T.shape}")
+        if not np.all(np.isfinite(T)):
+            raise ShapeError(f"{what} contains NaN or infinite values")
+        return T.reshape(-1, 4, 4), T.shape[:-2]
+
+    def cells(self, poses: ArrayLike) -> NDArray[np.int64]:
+        """Flat cell index of each pose ``(..., 4, 4)`` (world frame), ``-1`` outside the map; shape ``(...)``."""
+        T, lead = self._poses(poses, "poses")
+        return self.grid.cells(T).reshape(lead)
+
+    def reachable(self, poses: ArrayLike) -> NDArray[np.bool_]:
+        """Whether the map calls each pose reachable.
+
+        Parameters
+        ----------
+        poses : array_like, shape (..., 4, 4)
+            Tool poses ``T_world_tool`` in the robot's world frame and unit. For a
+            position-only map (arms with fewer than 6 joints) only the position counts.
+
+        Returns
+        -------
+        ndarray of bool, shape (...)
+
+        Examples
+        --------
+        >>> import armkit, numpy as np
+        >>> m = armkit.reachability("planar2", resolution=0.05, samples=200_000)
+        >>> T = np.eye(4); T[:3, 3] = [1.2, 0.3, 0.0]
+        >>> bool(m.reachable(T)), bool(m.reachable(np.eye(4)))     # the 2R annulus is 0.5 <= r <= 1.5
+        (True, False)
+        """
+        T, lead = self._poses(poses, "poses")
+        c = self.grid.cells(T)
+        out = np.zeros(len(c), dtype=bool)
+        ok = c >= 0
+        out[ok] = self._flat[c[ok]]
+        return out.reshape(lead)
+
+    def index(self, points: ArrayLike) -> NDArray[np.float32]:
+        """Reachability index (fraction of orientation bins reached) at points ``(..., 3)``; shape ``(...)``.
+
+        0 outside the map. For a position-only map it is 1 where the point is reachable.
+        """
+        try:
+            p = np.asarray(points, dtype=float)
+        except (TypeError, ValueError):
+            raise ShapeError(f"points must be numeric, got {points!r}") from None
+        if p.ndim < 1 or p.shape[-1] != 3:
+            raise ShapeError(f"points must have shape (..., 3), got {p.shape}")
+        if not np.all(np.isfinite(p)):
+            raise ShapeError("points contain NaN or infinite values")
+        lead = p.shape[:-1]
+        T = np.zeros((int(np.prod(lead, dtype=np.int64)), 4, 4))
+        T[:, :3, :3] = np.eye(3)
+        T[:, 3, 3] = 1.0
+        T[:, :3, 3] = p.reshape(-1, 3)
+        c = self.grid.cells(T)
+        out = np.zeros(len(c), dtype=np.float32)
+        ok = c >= 0
+        out[ok] = self._voxel_index[c[ok] // self.grid.n_orient]
+        return out.reshape(lead)
+
+    def voxel_centres(self) -> Array:
+        """Centres of every voxel in the world frame, shape ``(nx, ny, nz, 3)`` (``y = 0`` plane when yaw-symmetric)."""
+        c = self.grid.voxel_centres(np.arange(self.grid.dims[0]))
+        A = self.grid.T_world_A
+        return c @ A[:3, :3].T + A[:3, 3]
+
+    # ------------------------------------------------------------------ storage
+    @classmethod
+    def open(cls, path: str | os.PathLike[str]) -> "ReachabilityMap":
+        """Reopen a map written by :func:`armkit.reachability` (``path=``) or ``armkit reach build``.
+
+        Raises
+        ------
+        MapFileError
+            The path is missing, is not an armkit map, or holds an unfinished build (run the
+            same build again to resume it).
+        """
+        import zarr
+
+        p = str(path)
+        if not Path(p).exists():
+            raise MapFileError(f"no reachability map at {p!r}")
+        try:
+            g: Any = zarr.open_group(p, mode="r")
+            attrs: dict[str, Any] = dict(g.attrs)
+        except Exception as exc:   # zarr raises several types for a non-store
+            raise MapFileError(f"{p!r} is not a Zarr reachability map ({type(exc).__name__}: {exc})") from None
+        if attrs.get("format") != FORMAT:
+            raise MapFileError(f"{p!r} is not an armkit reachability map (format {attrs.get('format')!r}, "
+                               f"expected {FORMAT!r})")
+        if attrs.get("status") != "complete":
+            raise MapFileError(f"{p!r} holds an unfinished build; run the same build again to resume it")
+        robot = robot_from_toml(str(attrs["robot_toml"]), str(attrs.get("robot", "robot")))
+        grid = Grid.from_attrs(attrs["grid"])
+        hits = np.asarray(g["hits"][...], dtype=bool)
+        manip = np.asarray(g["manipulability"][...], dtype=np.float32)
+        counts = np.asarray(g["counts"][...], dtype=np.uint8)
+        params = {**dict(attrs["parameters"]), "armkit_version": attrs.get("armkit_version")}
+        return cls(robot, grid, hits, manip, params, counts, p)
