@@ -121,7 +121,8 @@ def _build(robot: Robot) -> ArmGeometry:
     by_frame: dict[int, list[Any]] = {}
     for lk in links:
         by_frame.setdefault(int(lk.frame), []).append(lk)
-    shaped = {lk.name for lk in links if getattr(lk, "collisions", ())}
+    shaped = {lk.name for lk in links
+              if any(c.kind != "mesh" or c.mesh_path for c in getattr(lk, "collisions", ()))}
     # link-attached shapes (URDF collisions)
     for lk in links:
         for k, s in enumerate(getattr(lk, "collisions", ())):
@@ -142,15 +143,24 @@ def _build(robot: Robot) -> ArmGeometry:
         local = np.asarray(lk.offset, dtype=float) @ s.pose
         solids.append(Solid(s.name, lk.name, s.kind, int(lk.frame), int(lk.frame), local, s.size, shape=s))
     # capsules along the chain for links without their own shapes
+    # frames: 0..n from fk_frames (n with the tool), n + 1 the flange (frame n without the tool)
     radii = _radii(robot, spec)
-    modified = robot.convention == "modified"
+    fixed_before = robot.convention != "standard"   # modified DH, URDF: origin k is fixed in link k - 1
+    has_tool = float(np.linalg.norm(np.asarray(robot.tool)[:3, 3])) > 0
     for s in range(1, n + 1):
-        owner = s - 1 if modified else s
+        owner = s - 1 if fixed_before else s
         cands = by_frame.get(owner, [])
         link = cands[0].name if cands else robot.link_names[min(owner, len(robot.link_names) - 1)]
         if link in shaped or radii[s - 1] <= 0:
             continue
-        solids.append(Solid(link, link, "segment", owner, owner, size=(radii[s - 1],), ends=(s - 1, s)))
+        solids.append(Solid(link, link, "segment", owner, owner, size=(radii[s - 1],),
+                            ends=(s - 1, n + 1 if s == n else s)))
+    if has_tool:   # the tool: from the flange to the tool point, part of the last link
+        cands = by_frame.get(n, [])
+        link = cands[0].name if cands else robot.link_names[-1]
+        if link not in shaped and radii[-1] > 0:
+            solids.append(Solid(f"{link} tool" if any(x.link == link for x in solids) else link, link, "segment", n,
+                                n, size=(radii[-1],), ends=(n + 1, n)))
     allow = frozenset(frozenset(p) for p in spec.allow_collision)
     pairs = []
     for i in range(len(solids)):
@@ -163,12 +173,10 @@ def _build(robot: Robot) -> ArmGeometry:
             pairs.append((i, j))
     geo = ArmGeometry(robot.name, robot.unit, tuple(solids), tuple(pairs), allow, ())
     if pairs:   # pairs that touch in every configuration are part of the design
-        from .query import _pair_distances
-
-        from ..kinematics import fk_frames
+        from .query import _pair_distances, chain_frames
 
         q = np.concatenate([np.clip(np.zeros((1, n)), robot.lower, robot.upper), robot.random_q(255, rng=12345)])
-        d = _pair_distances(geo, fk_frames(robot, q), [], pairs)
+        d = _pair_distances(geo, chain_frames(robot, q), [], pairs)
         always = np.all(d < 0, axis=0)
         if always.any():
             keep = tuple(p for p, a in zip(pairs, always) if not a)

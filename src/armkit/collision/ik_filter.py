@@ -46,7 +46,8 @@ def mark(robot: Robot, res: IKResult, scene: Scene) -> IKResult:
         success[idx] = False
         reason[idx] = "collision"
         message[idx] = hits.message(k)
-    return IKResult(res.q, success if np.ndim(res.success) else np.bool_(success), res.position_error,
+    ok_out: Any = success if np.ndim(res.success) else np.bool_(success[()])
+    return IKResult(res.q, ok_out, res.position_error,
                     res.rotation_error, res.iterations, res.branch, res.within_limits,
                     _like(res.reason, reason), _like(res.message, message), res.trace)
 
@@ -74,7 +75,7 @@ def sort_branches(res: IKResult) -> IKResult:
                     take(res.message), res.trace)
 
 
-def retry_numeric(robot: Robot, res: IKResult, scene: Scene, solve: Callable[[np.ndarray, int], IKResult],
+def retry_numeric(robot: Robot, res: IKResult, scene: Scene, solve: Callable[[np.ndarray, np.ndarray], IKResult],
                   seed: Any = None, rounds: int = 8) -> IKResult:
     """Numeric IK with a scene: targets whose solution collides are solved again from random starts.
 

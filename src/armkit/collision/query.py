@@ -86,6 +86,18 @@ def as_scene(robot: Robot, scene: Scene | Sequence[Shape] | str | None) -> Scene
 
 
 # ------------------------------------------------------------------ solids in the world
+def chain_frames(robot: Robot, q: Array) -> Array:
+    """:func:`armkit.fk_frames` ``(B, n+1, 4, 4)`` of flat ``q`` ``(B, n)``, plus the flange (frame n without the tool)."""
+    from ..kinematics import fk_frames
+
+    frames = fk_frames(robot, q)
+    n = robot.n
+    out = np.empty((frames.shape[0], n + 2, 4, 4))
+    out[:, :n + 1] = frames
+    out[:, n + 1] = frames[:, n] @ np.linalg.inv(np.asarray(robot.tool))
+    return out
+
+
 def _world(solid: Solid, frames: Array) -> tuple[str, Any]:
     """The solid in world coordinates: ("seg", (p0, p1, r)) or ("shape", (kind, T, size, shape))."""
     if solid.kind == "segment":
@@ -132,6 +144,14 @@ def _distance(a: tuple[str, Any], b: tuple[str, Any], batch: int) -> Array:
             return np.broadcast_to(K.segment_plane(p0, p1, n, off) - r, (batch,))
         if kind == "box":
             return np.broadcast_to(K.segment_box(p0, p1, T, 0.5 * np.asarray(size)) - r, (batch,))
+        if kind == "cylinder":   # apart: exact (golden section); overlapping: coal's EPA for the depth
+            d = np.array(np.broadcast_to(K.segment_cylinder(p0, p1, T, size[0], 0.5 * size[1]), (batch,)))
+            for k in np.flatnonzero(d <= 0.0):   # overlapping: the depth by support functions
+                Tk = T if T.ndim == 2 else T[k]
+                ak = Tk[:3, :3].T @ ((p0 if p0.ndim == 1 else p0[k]) - Tk[:3, 3])
+                bk = Tk[:3, :3].T @ ((p1 if p1.ndim == 1 else p1[k]) - Tk[:3, 3])
+                d[k] = -K.capsule_cylinder_depth(ak, bk, 0.0, size[0], 0.5 * size[1])
+            return d - r
     elif b[1][0] == "plane" and a[1][0] == "box" or a[1][0] == "plane" and b[1][0] == "box":
         box, pl = (a, b) if a[1][0] == "box" else (b, a)
         T = pl[1][1]
@@ -143,9 +163,19 @@ def _distance(a: tuple[str, Any], b: tuple[str, Any], batch: int) -> Array:
     return distances(a, b, batch)
 
 
+def _rows(item: tuple[str, Any], rows: NDArray[np.intp]) -> tuple[str, Any]:
+    """A world solid restricted to some batch rows (static parts kept as they are)."""
+    tag, data = item
+    if tag == "seg":
+        p0, p1, r = data
+        return tag, (p0 if p0.ndim == 1 else p0[rows], p1 if p1.ndim == 1 else p1[rows], r)
+    kind, T, size, shape = data
+    return tag, (kind, T if T.ndim == 2 else T[rows], size, shape)
+
+
 def _pair_distances(geo: ArmGeometry, frames: Array, scene_pairs: list[tuple[int, Shape]],
                     self_pairs: Sequence[tuple[int, int]]) -> Array:
-    """Signed distances ``(B, P)``: scene pairs first, then self pairs; ``frames`` ``(B, n+1, 4, 4)``."""
+    """Signed distances ``(B, P)``: scene pairs first, then self pairs; ``frames`` from :func:`chain_frames`."""
     B = frames.shape[0]
     out = np.empty((B, len(scene_pairs) + len(self_pairs)))
     cache: dict[int, tuple[str, Any]] = {}
@@ -199,9 +229,7 @@ def collisions(robot: Robot, q: ArrayLike, scene: Scene | Sequence[Shape] | str 
     geo = arm_geometry(robot)
     qa = robot.check_q(q)
     lead = qa.shape[:-1]
-    from ..kinematics import fk_frames
-
-    frames = fk_frames(robot, qa.reshape(-1, robot.n))
+    frames = chain_frames(robot, qa.reshape(-1, robot.n))
     scene_pairs = [(i, s) for s in sc for i, sol in enumerate(geo.solids)
                    if sol.frame != 0 and not geo.allowed(sol.link, s)]
     self_pairs = list(geo.self_pairs) if self_collision else []
