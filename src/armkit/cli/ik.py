@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import math
-from typing import List, Optional, Tuple
+from typing import Any, List, Optional, Tuple
 
 import numpy as np
 import typer
@@ -166,7 +166,7 @@ def ik(robot: str = typer.Argument(..., help=ROBOT_HELP),
         listing = method in ("auto", "analytic") and branch is None and closed_ok
         if scene_file is not None and no_scene:
             fail("give --scene FILE or --no-scene, not both")
-        scene: object = None if no_scene else scene_file if scene_file is not None else (
+        scene: Any = None if no_scene else scene_file if scene_file is not None else (
             "robot" if getattr(r, "collision", None) is not None else None)
         if scene is not None:
             from ..collision import as_scene

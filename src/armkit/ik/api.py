@@ -222,15 +222,24 @@ def _raise_if_unreachable(res: IKResult) -> None:
 
 
 # --------------------------------------------------------------------------- solvers
-def _analytic_solver(robot: Robot, position_only: bool, why_not: list[str]):
+def _analytic_solver(robot: Robot, position_only: bool, why_not: list[str], pitch: bool = False):
     from .analytic import closed_form
 
     solver = closed_form(robot)
     if solver is None:
         why_not.append(f"robot {robot.name!r} ({robot.n} DOF {robot.joint_types}) has no closed form in armkit: "
-                       "it solves 2R and 3R planar, yaw-pitch-pitch 3R, 6R spherical-wrist (Puma-like) and "
-                       "UR-type 6R arms; use method='lm'")
+                       "it solves 2R and 3R planar, yaw-pitch-pitch 3R, yaw + three pitch joints (+ roll), "
+                       "6R spherical-wrist (Puma-like) and UR-type 6R arms; use method='lm'")
         return None
+    if pitch != (getattr(solver, "target_kind", None) == "pitch"):   # position + tool pitch: armkit.ik.partial
+        why_not.append(f"robot {robot.name!r} ({solver.family}, {robot.n} joints) "
+                       + ("has a closed form for a position and the tool pitch: give pitch= (rad); for a position "
+                          "alone, a pointing direction (direction=) or a pose use method='lm' (armkit.ik's default)"
+                          if not pitch else "has no closed form for a position and a pitch (pitch= is for arms "
+                          "with a yaw joint and three parallel pitch joints, like the SO-101); leave pitch out"))
+        return None
+    if pitch:
+        return solver
     if position_only and solver.pose_only:
         why_not.append(f"robot {robot.name!r} ({solver.family}) needs a pose target for its closed form: "
                        + ("give the end angle with phi=" if solver.family == "planar-3r" else "give a (4, 4) pose")
@@ -274,7 +283,8 @@ def _numeric(method: str, robot: Robot, target: Array, q0: Array, **kw: Any) -> 
 
 
 def ik_all(robot: Robot, target: ArrayLike, q0: ArrayLike | None = None, *, phi: ArrayLike | None = None,
-           enforce_limits: bool = True, tol: Any = None, scene: Any = None) -> IKResult:
+           enforce_limits: bool = True, tol: Any = None, scene: Any = None, pitch: ArrayLike | None = None
+           ) -> IKResult:
     """Every closed-form solution (branch) for each target.
 
     Parameters
@@ -297,6 +307,10 @@ def ik_all(robot: Robot, target: ArrayLike, q0: ArrayLike | None = None, *, phi:
         With a scene, a branch that collides (with the scene, the robot's body or itself)
         fails with reason "collision" and a message naming the pair and the depth;
         ``"robot"`` is the robot's own surroundings (``docs/scene.md``). None: no check.
+    pitch : float or array_like, shape (...), optional
+        Tool pitch (rad) for ``(..., 3)`` position targets of a yaw + three pitch joints
+        (+ roll) arm such as the SO-101 (``docs/so101.md``); the roll joint keeps ``q0``.
+        ``rotation_error`` is then the pitch error.
 
     Returns
     -------
@@ -315,6 +329,11 @@ def ik_all(robot: Robot, target: ArrayLike, q0: ArrayLike | None = None, *, phi:
     True
     """
     _check_call(robot)
+    if pitch is not None:
+        from .partial import ik_pitch
+
+        return ik_pitch(robot, target, q0, pitch, phi=phi, tol=tol, enforce_limits=enforce_limits, scene=scene,
+                        every=True)
     flat, lead, position_only = _normalise_target(robot, target, phi)
     q0f = _normalise_q0(robot, q0, lead)
     res = _all_branches(robot, flat, q0f, position_only, tol, enforce_limits)
@@ -330,7 +349,7 @@ def ik(robot: Robot, target: ArrayLike, q0: ArrayLike | None = None,
        branch: str | None = None, phi: ArrayLike | None = None, mask: ArrayLike | None = None, tol: Any = None,
        max_iterations: int | None = None, restarts: int | None = None, seed: Any = None,
        enforce_limits: bool = True, raise_unreachable: bool = False, trace: bool = False,
-       scene: Any = None) -> IKResult:
+       scene: Any = None, pitch: ArrayLike | None = None, direction: ArrayLike | None = None) -> IKResult:
     """Inverse kinematics: one solution per target, honest about failure.
 
     Parameters
@@ -368,6 +387,13 @@ def ik(robot: Robot, target: ArrayLike, q0: ArrayLike | None = None,
         Success also means collision-free: the closed form returns the nearest branch that
         does not collide, numeric methods restart from random configurations while the answer
         collides; what still collides fails with reason "collision" (see :func:`ik_all`).
+    pitch : float or array_like, shape (...), optional
+        Tool pitch (rad) for a ``(..., 3)`` position: closed form for a yaw + three pitch
+        joints (+ roll) arm such as the SO-101 (``docs/so101.md``); ``rotation_error`` is the
+        pitch error.
+    direction : array_like, shape (..., 3), optional
+        For a ``(..., 3)`` position: the direction the tool's z axis should point, rotation
+        about it free (numeric, the mask ``(1, 1, 1, 1, 1, 0)``).
 
     Returns
     -------
@@ -388,6 +414,19 @@ def ik(robot: Robot, target: ArrayLike, q0: ArrayLike | None = None,
     _check_call(robot, seed, max_iterations, restarts)
     if tol is not None:
         _tolerance(robot, tol)
+    if pitch is not None or direction is not None:   # targets that fix less than a pose (armkit.ik.partial)
+        from .partial import DIRECTION_MASK, direction_target, ik_pitch
+
+        if pitch is not None and direction is not None:
+            raise IKInputError("give pitch= or direction=, not both")
+        if pitch is not None:
+            res = ik_pitch(robot, target, q0, pitch, method=method, branch=branch, phi=phi, mask=mask, tol=tol,
+                           enforce_limits=enforce_limits, scene=scene)
+            if raise_unreachable:
+                _raise_if_unreachable(res)
+            return res
+        target, mask, phi = (direction_target(robot, target, direction, method, mask, phi),  # type: ignore[arg-type]
+                             DIRECTION_MASK, None)
     flat, lead, position_only = _normalise_target(robot, target, phi)
     q0f = _normalise_q0(robot, q0, lead)
     use_closed = method == "analytic"

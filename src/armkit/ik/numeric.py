@@ -677,12 +677,19 @@ def _diagnose(prob: Problem, res: IKResult, failed: NDArray[np.intp], reasons: d
         free.lower, free.upper, free.rand_lo, free.rand_hi = prob.const["free"]
         alt = _solve(free, method, max_iterations, min(restarts, 5), seed, False, None, diagnose=False)
     sigma = _smallest_sigma(prob, res.q[failed], failed)
+    too_many = int(np.count_nonzero(prob.w > 0)) > prob.robot.n and bool(np.any(prob.w[3:] > 0))
+    if too_many:   # more to meet than joints (a pose for a 5-DOF arm): say so, with the nearest pose's miss
+        from .partial import too_few_joints
+
+        short = too_few_joints(prob, res, failed, seed)
     for j, i in enumerate(failed):
         i = int(i)
         if prob.enforce_limits and alt.success[j]:
             broken = ", ".join(prob.robot.limit_violations(alt.q[j])) or "limits"
             reasons[i] = ("joint limits", f"found solutions only outside the joint limits ({broken}); "
                                           "q is the best configuration found inside them")
+        elif too_many:
+            reasons[i] = ("unreachable", short[j])
         elif sigma[j] < _SINGULAR_SIGMA:
             reasons[i] = ("singular", f"stalled at a singular configuration (smallest singular value "
                                       f"{sigma[j]:.1e}) after {res.iterations[i]} iterations and {used[i]} starts")

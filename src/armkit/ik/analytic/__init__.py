@@ -10,6 +10,8 @@ planar-3r         3R, parallel axes, pose target (phi)         2         planar3
 yaw-pitch-pitch   3R, vertical axis then two parallel axes     4         fighter
 spherical-wrist   6R, Puma-like arm, axes 4-6 meet in a point  8         puma560
 ur                6R, axes 2-4 parallel, UR-type offsets       8         ur5
+yaw-pitch3        4R/5R: yaw, 3 parallel pitch axes (+ roll),  4         so101
+                  target: position + tool pitch (pitch=)
 ================  ===========================================  ========  =====================
 
 :func:`closed_form` finds the family of a robot; :func:`solve_all` runs it on a batch of
@@ -33,6 +35,7 @@ from ._common import Raw, StandardForm, jit_kernels, standard_form
 from .planar import Planar2R, Planar3R
 from .spherical_wrist import SphericalWrist
 from .ur import ParallelAxes
+from .yaw_pitch3 import YawPitch3
 from .yaw_pitch_pitch import YawPitchPitch
 
 __all__ = ["ClosedForm", "closed_form", "solve_all", "wrap_to_limits", "FAMILIES"]
@@ -51,7 +54,7 @@ class ClosedForm(Protocol):
     def solve(self, target: Array, q0phi: Array) -> Raw: ...
 
 
-FAMILIES = (Planar2R, Planar3R, YawPitchPitch, SphericalWrist, ParallelAxes)
+FAMILIES = (Planar2R, Planar3R, YawPitchPitch, SphericalWrist, ParallelAxes, YawPitch3)
 
 
 def closed_form(robot: Robot) -> ClosedForm | None:

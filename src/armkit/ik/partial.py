@@ -1,0 +1,156 @@
+"""Targets that fix less than a full pose, for arms with fewer than six joints.
+
+- position + tool pitch (``pitch=``): closed form, every branch, for the yaw + three parallel
+  pitch axes (+ roll) family (the SO-101); see :mod:`armkit.ik.analytic.yaw_pitch3`.
+- position + pointing direction (``direction=``): the tool's z axis (the approach axis) along
+  a given direction, rotation about it free; Levenberg-Marquardt with the weights
+  ``(1, 1, 1, 1, 1, 0)`` over ``(x, y, z, rx, ry, rz)`` (:mod:`armkit.ik.numeric`).
+
+Both are reached through :func:`armkit.ik` and (pitch) :func:`armkit.ik_all`.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from ..errors import ShapeError
+from ..model.robot import Robot
+from .result import IKResult
+
+Array = NDArray[np.float64]
+DIRECTION_MASK = (1.0, 1.0, 1.0, 1.0, 1.0, 0.0)
+"""Weights over (x, y, z, rx, ry, rz) for a position and a pointing direction (rz: about the tool's z axis)."""
+
+
+def _values(value: ArrayLike, name: str, lead: tuple[int, ...], tail: tuple[int, ...] = ()) -> Array:
+    try:
+        v = np.asarray(value, dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise ShapeError(f"{name} must be numeric, got {value!r}"[:300]) from exc
+    try:
+        v = np.broadcast_to(v, lead + tail)
+    except ValueError as exc:
+        want = "a number" if not tail else f"shape {tail}"
+        raise ShapeError(f"{name} must be {want} or broadcast to the target's leading shape {lead}, "
+                         f"got shape {v.shape}") from exc
+    if not np.all(np.isfinite(v)):
+        raise ShapeError(f"{name} contains NaN or infinite values")
+    return v
+
+
+def _positions(target: ArrayLike, what: str) -> tuple[Array, tuple[int, ...]]:
+    try:
+        t = np.asarray(target, dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise ShapeError(f"target must be numeric, got {target!r}"[:300]) from exc
+    if t.ndim == 0 or t.shape[-1] != 3:
+        raise ShapeError(f"{what} goes with a position target (..., 3); got shape {t.shape}")
+    if not np.all(np.isfinite(t)):
+        raise ShapeError("target contains NaN or infinite values")
+    return t.reshape(-1, 3), t.shape[:-1]
+
+
+def direction_target(robot: Robot, target: ArrayLike, direction: ArrayLike, method: str, mask: Any,
+                     phi: Any) -> Array:
+    """Position ``(..., 3)`` and direction ``(..., 3)`` -> poses ``(..., 4, 4)`` whose z axis is the direction.
+
+    The rotation about z is arbitrary (the mask leaves it free).
+    """
+    from .api import IKInputError
+
+    if method not in ("auto", "lm", "newton"):
+        raise IKInputError(f"direction= is solved by the numeric methods 'lm' and 'newton' (or 'auto'); "
+                           f"got method {method!r}")
+    if mask is not None:
+        raise IKInputError("give direction= or mask=, not both (direction= uses the mask (1, 1, 1, 1, 1, 0))")
+    if phi is not None:
+        raise IKInputError("phi= is for planar (x, y) targets; it does not go with direction=")
+    p, lead = _positions(target, "direction=")
+    d = _values(direction, "direction", lead, (3,)).reshape(-1, 3)
+    norm = np.linalg.norm(d, axis=-1)
+    if np.any(norm < 1e-12):
+        raise ShapeError("direction must be a non-zero 3-vector (the way the tool's z axis should point)")
+    z = d / norm[:, None]
+    # any x perpendicular to z: the world axis least aligned with z, made perpendicular
+    helper = np.eye(3)[np.argmin(np.abs(z), axis=-1)]
+    x = helper - np.einsum("bi,bi->b", helper, z)[:, None] * z
+    x /= np.linalg.norm(x, axis=-1)[:, None]
+    y = np.cross(z, x)
+    T = np.zeros((len(p), 4, 4))
+    T[:, :3, 0], T[:, :3, 1], T[:, :3, 2], T[:, :3, 3], T[:, 3, 3] = x, y, z, p, 1.0
+    return T.reshape(lead + (4, 4))
+
+
+def ik_pitch(robot: Robot, target: ArrayLike, q0: ArrayLike | None, pitch: ArrayLike, *, method: str = "auto",
+             branch: str | None = None, phi: Any = None, mask: Any = None, tol: Any = None,
+             enforce_limits: bool = True, scene: Any = None, every: bool = False) -> IKResult:
+    """:func:`armkit.ik` / :func:`armkit.ik_all` (``every``) for a position and the tool pitch (closed form)."""
+    from .analytic.yaw_pitch3 import solve_pitch
+    from .api import IKInputError, _analytic_solver, _normalise_q0, _reshape, _tolerance
+
+    if method not in ("auto", "analytic"):
+        raise IKInputError(f"pitch= is solved in closed form (method 'auto' or 'analytic'), got method {method!r}; "
+                           "for a numeric solve give the pointing direction instead (direction=)")
+    if mask is not None:
+        raise IKInputError("mask= is for the numeric methods; pitch= is solved in closed form")
+    if phi is not None:
+        raise IKInputError("phi= is for planar (x, y) targets; it does not go with pitch=")
+    p, lead = _positions(target, "pitch=")
+    psi = _values(pitch, "pitch", lead).reshape(-1)
+    why: list[str] = []
+    solver = _analytic_solver(robot, True, why, pitch=True)
+    if solver is None:
+        raise IKInputError(why[0])
+    q0f = _normalise_q0(robot, q0, lead)
+    res = solve_pitch(robot, solver, p, psi, q0f, _tolerance(robot, tol), enforce_limits)  # type: ignore[arg-type]
+    if scene is not None:   # success also means collision-free (armkit.collision)
+        from ..collision.ik_filter import mark, scene_or_none, sort_branches
+
+        res = sort_branches(mark(robot, res, scene_or_none(robot, scene)))  # type: ignore[arg-type]
+    if every:
+        return _reshape(res, lead)
+    rows = np.arange(len(p))
+    if branch is None:
+        return _reshape(res[rows, 0], lead)
+    hit = res.branch == branch
+    if not hit.any(axis=1).all():
+        valid = sorted(set(np.asarray(res.branch).ravel().tolist()))
+        raise IKInputError(f"unknown branch {branch!r} for robot {robot.name!r}; valid branches: " + ", ".join(valid))
+    return _reshape(res[rows, np.argmax(hit, axis=1)], lead)
+
+
+def too_few_joints(prob: Any, res: IKResult, failed: NDArray[np.intp], seed: Any) -> list[str]:
+    """Sentences for targets that ask more (``weights``) than the arm's joints can give, one per ``failed``.
+
+    The nearest reachable pose is searched with the position first: Levenberg-Marquardt with
+    the rotation weights cut to 1e-6 (the orientation then only moves where the position
+    leaves freedom), from the configurations found; its rotation error against the target is
+    the miss. Where that search does not meet the position, the sentence gives the best
+    compromise found (``res``) instead.
+    """
+    from .numeric import _solve, _subproblem
+    from .result import verify
+
+    robot = prob.robot
+    n, weights = robot.n, int(np.count_nonzero(prob.w > 0))
+    what = "an arbitrary orientation" if weights == 6 else "this position and pointing direction"
+    sub = _subproblem(prob, failed)
+    sub.q0 = np.asarray(res.q, dtype=float)[failed].copy()
+    sub.w = np.where(np.arange(6) < 3, prob.w, prob.w * 1e-6)
+    sub.full_pose = sub.position_only = False
+    near = _solve(sub, "lm", 100, 5, seed, False, None, diagnose=False)
+    dp, dr, _, _ = verify(robot, near.q, prob.target[failed], False, prob.tol, prob.enforce_limits)
+    out = []
+    for j, i in enumerate(failed):
+        if dp[j] <= 1e3 * prob.tol[0]:
+            out.append(f"{n} joints cannot reach {what}; the nearest reachable pose (with the position met) misses "
+                       f"by {math.degrees(float(dr[j])):.3g} deg")
+        else:
+            out.append(f"{n} joints cannot reach {what}; the nearest pose found misses by "
+                       f"{math.degrees(float(res.rotation_error[i])):.3g} deg and "
+                       f"{float(res.position_error[i]):.3g} {robot.unit}")
+    return out
