@@ -44,6 +44,9 @@ SAMPLES_PER_CELL = 32
 
 MAX_DEFAULT_SAMPLES = 2_000_000_000
 
+CONNECT_TIMEOUT = "10s"
+"""How long to wait for a Dask scheduler given by address before saying it cannot be reached."""
+
 Progress = Callable[[int, int], None]
 
 
@@ -101,7 +104,7 @@ def _client(scheduler: Any) -> tuple[Any, Callable[[], None]]:
         raise ReachabilityError(f"scheduler must be a Dask scheduler address such as tcp://host:8786, "
                                 f"'local', or a distributed.Client; got {scheduler!r}")
     try:
-        client = Client(scheduler, timeout="10s")
+        client = Client(scheduler, timeout=CONNECT_TIMEOUT)
     except (OSError, TimeoutError) as exc:
         raise ReachabilityError(f"cannot reach the Dask scheduler at {scheduler}: {exc}") from None
     return client, client.close
