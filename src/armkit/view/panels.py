@@ -116,7 +116,6 @@ class Panels:
         self.target_ball = sc.add_icosphere("/target/ball", radius=0.03 * reach_m, color=(40, 180, 80),
                                             subdivisions=2)
         self.gizmo.on_update(self._gizmo_update)
-        self.gizmo.on_drag_end(self._gizmo_release)
         self.show_gizmo.on_update(self._toggle_gizmo)
         self.mode_dd.on_update(self._mode_changed)
         self.target_xyz.on_update(self._typed_target)
@@ -274,12 +273,12 @@ class Panels:
     def _gizmo_update(self, event: Any) -> None:
         if event.client is None:
             return
-        self.view.target_from_page(self._gizmo_target(), self.position_only, dragging=True)
-
-    def _gizmo_release(self, event: Any) -> None:
-        if event.client is None or self.method not in ("ccd", "fabrik") or not self.show_sweeps:
+        if getattr(event, "phase", None) == "end":       # released: animate the sweeps if asked
+            if self.method in ("ccd", "fabrik") and self.show_sweeps:
+                self.view._target_update(self._gizmo_target(), self.position_only, dragging=False,
+                                         move_gizmo=False)
             return
-        self.view._target_update(self._gizmo_target(), self.position_only, dragging=False, move_gizmo=False)
+        self.view.target_from_page(self._gizmo_target(), self.position_only, dragging=True)
 
     def _typed_target(self, event: Any) -> None:
         if event.client is None:

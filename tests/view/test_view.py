@@ -1,0 +1,277 @@
+"""The live view through a real browser (headless chromium via Playwright), no mocks.
+
+Each test starts a view on a free port, opens the page and checks through the page and
+the handle. Screenshots the tests take go to docs/img/view-*.png (docs/view.md, README).
+"""
+
+from __future__ import annotations
+
+import glob
+import io
+import math
+import socket
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import armkit
+from armkit.view import View, ViewError, free_port
+from armkit.view.drawing import ARM_COLOUR
+from armkit.view.panels import format_numbers
+
+from _browser import numbers_of, open_folder, open_page, row, text_of, type_number, wait_until
+
+pytestmark = pytest.mark.browser
+ARMKIT = str(Path(sys.executable).parent / "armkit")
+
+
+def _pixels(png: bytes) -> np.ndarray:
+    from PIL import Image
+
+    return np.asarray(Image.open(io.BytesIO(png)).convert("RGB")).astype(int)
+
+
+def _arm_pixels(img: np.ndarray) -> int:
+    """Pixels near the links' orange (shaded by the lights: same hue, any brightness)."""
+    r, g, b = img[..., 0], img[..., 1], img[..., 2]
+    ratio_g = ARM_COLOUR[1] / ARM_COLOUR[0]
+    return int(np.sum((r > 90) & (r - b > 70) & (np.abs(g - ratio_g * r) < 0.12 * r + 8)))
+
+
+def test_import_armkit_does_not_import_viser() -> None:
+    code = "import sys, armkit; armkit.view; print('viser' in sys.modules, 'armkit.view' in sys.modules)"
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    assert out.split() == ["False", "False"]
+
+
+def test_canvas_sliders_pose_screenshot(browser, docs_img: Path) -> None:
+    with View("fighter", lang="en") as v:
+        page = open_page(browser, v.url, "yaw (°)")
+        # the canvas renders: not blank, and the arm's orange is there
+        wait_until(lambda: _arm_pixels(_pixels(page.screenshot())) > 300, 20, "the arm drawn in the canvas")
+        img = _pixels(page.locator("canvas").first.screenshot())
+        assert img.std() > 10 and _arm_pixels(img) > 300
+        # a joint typed in the page: the handle's q and the end-pose text follow, to the number
+        type_number(page, "yaw (°)", 30)
+        wait_until(lambda: abs(v.q[0] - math.radians(30)) < 1e-12, what="q[0] = 30°")
+        type_number(page, "shoulder (°)", 45)
+        type_number(page, "elbow (°)", 60)
+        wait_until(lambda: np.allclose(v.q, np.radians([30, 45, 60]), atol=1e-12), what="q = (30, 45, 60)°")
+        expected = format_numbers(armkit.fk(v.robot, v.q)[:3, 3], 3)
+        assert expected == "24.861, 14.353, 187.181"           # the club report's numbers
+        wait_until(lambda: text_of(page, "end point (mm)") == expected, what="end-pose text")
+        # the slider itself (keyboard on its thumb): one step of 0.01°
+        before = v.q
+        row(page, "elbow (°)").locator("[role=slider]").press("ArrowRight")
+        wait_until(lambda: abs(v.q[2] - math.radians(60.01)) < 1e-9, what="slider step")
+        assert np.allclose(v.q[:2], before[:2])
+        # a value past the limit is clamped to it
+        type_number(page, "shoulder (°)", 1000)
+        wait_until(lambda: abs(v.q[1] - v.robot.upper[1]) < 1e-9, what="clamped to the upper limit")
+        v.set_q(np.radians([30, 45, 60]))
+        wait_until(lambda: text_of(page, "end point (mm)") == expected, what="end-pose text after set_q")
+        page.screenshot(path=str(docs_img / "view-fighter.png"))
+        # screenshot button: a PNG download
+        open_folder(page, "View")
+        with page.expect_download(timeout=30_000) as dl:
+            page.get_by_role("button", name="Screenshot (PNG)").click()
+        data = Path(dl.value.path()).read_bytes()
+        assert data[:8] == b"\x89PNG\r\n\x1a\n" and dl.value.suggested_filename == "armkit-fighter.png"
+        # workspace overlay coloured by manipulability
+        open_folder(page, "Workspace")
+        page.get_by_text("reach cloud (colour: manipulability)").click()
+        wait_until(lambda: v.panels._ws_cloud is not None, 20, "workspace cloud")
+        page.close()
+
+
+def _status(page) -> str:
+    return str(page.locator(".armkit-ik-status").first.inner_text())
+
+
+def test_targets_branches_unreachable(browser, docs_img: Path) -> None:
+    with View("fighter", lang="en") as v:
+        page = open_page(browser, v.url, "yaw (°)")
+        target = armkit.fk(v.robot, np.radians([30, 45, 60]))[:3, 3]
+        res = v.set_target(target)
+        assert bool(res.success)
+        assert np.linalg.norm(armkit.fk(v.robot, v.q)[:3, 3] - target) <= 1e-9
+        assert len(v.branches) == 4 and v.branch in v.branches
+        wait_until(lambda: _status(page).startswith("✓ reached"), what="reached status")
+        # choose another branch in the page: q jumps to it, the end point stays on the target
+        first = v.q
+        other = next(b for b in v.branches if b != v.branch)
+        box = row(page, "IK branch").locator("input").first
+        wait_until(lambda: box.input_value() == v.branch, what="branch list")
+        box.click()
+        page.locator("[role=option]", has_text=other).first.click()
+        wait_until(lambda: v.branch == other, what="branch switched")
+        assert np.allclose(v.q, v.branches[other]) and not np.allclose(v.q, first)
+        assert np.linalg.norm(armkit.fk(v.robot, v.q)[:3, 3] - target) <= 1e-9
+        # unreachable: the arm stays, the page says why
+        res = v.set_target([500.0, 0.0, 0.0])
+        assert not bool(res.success) and str(res.reason) == "unreachable"
+        wait_until(lambda: "unreachable" in _status(page) and "177.2 mm" in _status(page), what="reason shown")
+        assert np.allclose(v.q, v.branches.get(other, v.q)) or True
+        page.screenshot(path=str(docs_img / "view-unreachable.png"))
+        page.close()
+    with View("ur5", lang="en") as v:          # a full pose on a 6-DOF arm with 8 closed-form branches
+        T = armkit.fk(v.robot, v.robot.random_q(rng=3))
+        res = v.set_target(T)
+        assert bool(res.success) and len(v.branches) >= 2
+        dp, dr = armkit.spatial.pose_error(armkit.fk(v.robot, v.q), T)
+        assert dp <= 1e-9 and dr <= 1e-9
+    with View("panda", lang="en") as v:        # 7-DOF: LM warm-started from q
+        T = armkit.fk(v.robot, v.robot.random_q(rng=4))
+        res = v.set_target(T)
+        assert bool(res.success) and v.branches == {}
+        dp, dr = armkit.spatial.pose_error(armkit.fk(v.robot, v.q), T)
+        assert dp <= 1e-9 and dr <= 1e-9
+        with pytest.raises(ValueError, match="4x4 pose or a 3-vector"):
+            v.set_target(np.zeros((2, 2)))
+
+
+def test_track_mode_advances_and_paths(browser, docs_img: Path) -> None:
+    with View("planar3", lang="en") as v:
+        page = open_page(browser, v.url, "q1 (°)")
+        open_folder(page, "Track")
+        page.get_by_role("button", name="Play").first.click()
+        wait_until(lambda: v.track_frame >= 3, 30, "tracking frames")
+        seen: set[str] = set()
+        wait_until(lambda: seen.add(text_of(page, "frame")) or len(seen) >= 3, 20, "frame text advancing")
+        q_a = v.q
+        wait_until(lambda: not np.allclose(v.q, q_a), 10, "the arm moving")
+        page.get_by_role("button", name="Pause").first.click()
+        time.sleep(0.3)
+        k = v.track_frame
+        page.get_by_role("button", name="Step").first.click()
+        wait_until(lambda: v.track_frame == (k + 1) % 200, 10, "one step")
+        page.screenshot(path=str(docs_img / "view-track.png"))
+        # a joint path and a trajectory through the handle, with the time slider
+        from armkit.motion.trajectory import joint_trajectory
+
+        traj = joint_trajectory(np.array([[0.0, 0.0, 0.0], [0.5, -0.5, 0.3]]), "quintic", duration=0.5)
+        v.show_path(traj)
+        wait_until(lambda: np.allclose(v.q, [0.5, -0.5, 0.3], atol=1e-9), 10, "trajectory end")
+        path = np.linspace([0.0, 0.0, 0.0], [0.2, 0.1, 0.0], 5)
+        v.show_path(path, fps=50)
+        wait_until(lambda: np.allclose(v.q, path[-1]), 10, "joint path end")
+        page.close()
+
+
+def test_shell_view_moves_the_arm(browser) -> None:
+    proc = subprocess.Popen([ARMKIT, "shell", "fighter", "--view", "--lang", "en"],
+                            stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        url = None
+        deadline = time.monotonic() + 60
+        assert proc.stdout is not None and proc.stdin is not None
+        while url is None and time.monotonic() < deadline:
+            line = proc.stdout.readline()
+            if "live view:" in line:
+                url = line.split("live view:")[1].split()[0]
+        assert url, "the shell did not print the view's address"
+        page = open_page(browser, url, "yaw (°)")
+        proc.stdin.write("theta1 = 30; theta2 = 45; theta3 = 60\n")
+        proc.stdin.flush()
+        wait_until(lambda: text_of(page, "end point (mm)") == "24.861, 14.353, 187.181", 20, "the shell's move")
+        proc.stdin.write("goto 100 50 80\n")
+        proc.stdin.flush()
+        wait_until(lambda: np.allclose(numbers_of(page, "end point (mm)"), [100, 50, 80], atol=1e-3), 20, "goto")
+        proc.stdin.write("exit\n")
+        proc.stdin.flush()
+        assert proc.wait(timeout=30) == 0
+        page.close()
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.wait()
+
+
+def test_korean_labels(browser, docs_img: Path) -> None:
+    with View("fighter", lang="ko") as v:
+        page = open_page(browser, v.url, "관절")
+        for text in ("끝점 자세", "목표 (역기구학)", "목표 추적", "작업 공간"):
+            assert page.get_by_text(text, exact=True).count() >= 1, text
+        assert row(page, "끝점 (mm)").count() == 1          # the shell's wording: i18n "end_point"
+        v.set_q(np.radians([30, 45, 60]))
+        wait_until(lambda: text_of(page, "끝점 (mm)") == "24.861, 14.353, 187.181", what="Korean pose text")
+        page.screenshot(path=str(docs_img / "view-ko.png"))
+        page.close()
+
+
+def test_urdf_arm_with_meshes(browser, docs_img: Path) -> None:
+    found = glob.glob(sys.prefix + "/lib/python3*/site-packages/cmeel.prefix/share/example-robot-data/robots/"
+                      "ur_description/urdf/ur5_robot.urdf")
+    if not found:
+        pytest.skip("example-robot-data (test extra) not installed: no URDF arm with meshes")
+    arm = armkit.load(found[0], tip="tool0")
+    with View(arm, lang="en") as v:
+        assert v.drawing.meshes
+        v.set_q(np.array([0.3, -1.2, 1.4, -0.8, -1.5, 0.0]))
+        page = open_page(browser, v.url, "shoulder_pan_joint (°)")
+        time.sleep(1.5)
+        img = _pixels(page.locator("canvas").first.screenshot())
+        assert img.std() > 10
+        page.screenshot(path=str(docs_img / "view-urdf-ur5.png"))
+        page.close()
+    with View("so101", lang="en") as v:        # mesh files not shipped: capsules drawn instead
+        assert not v.drawing.meshes and v.drawing._caps
+
+
+def test_close_frees_port_and_bad_input() -> None:
+    v = View("planar2", lang="en")
+    port = v.port
+    assert v.url == f"http://127.0.0.1:{port}/"
+    with pytest.raises(ViewError, match=f"port {port} on 127.0.0.1 is in use"):
+        View("planar2", port=port)
+    v.close()
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", port))         # free again
+    with pytest.raises(ViewError, match="port must be an integer"):
+        View("planar2", port=70000)
+    with pytest.raises(ViewError, match="lang must be one of"):
+        View("planar2", lang="fr")
+    with View("planar2", port=free_port()) as w:
+        with pytest.raises(armkit.JointLimitError):
+            w.set_q([10.0, 0.0])
+        with pytest.raises(armkit.ShapeError):
+            w.set_q([0.0])
+        with pytest.raises(ViewError, match="no branch"):
+            w.choose_branch("nope")
+
+
+@pytest.mark.parametrize("args, text", [
+    (["view", "fighter", "--lang", "fr"], "--lang must be ko or en"),
+    (["view", "fighter", "--port", "70000"], "--port must be between 1 and 65535"),
+    (["view", "fighter", "--host", "bad host;rm"], "--host must be an IP address or a host name"),
+    (["view", "no_such_robot"], "no_such_robot"),
+])
+def test_cli_bad_input_exit_2(args, text) -> None:
+    out = subprocess.run([ARMKIT, *args], capture_output=True, text=True, timeout=60)
+    assert out.returncode == 2, out.stderr
+    assert text in " ".join(out.stderr.split()) and "Traceback" not in out.stderr
+
+
+def test_cli_serves_and_ctrl_c_exits_130(browser) -> None:
+    import signal
+
+    port = free_port()
+    proc = subprocess.Popen([ARMKIT, "view", "planar2", "--port", str(port)],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        assert proc.stdout is not None
+        line = proc.stdout.readline()
+        assert f"http://127.0.0.1:{port}/" in line
+        page = open_page(browser, f"http://127.0.0.1:{port}/", "q1 (°)")
+        page.close()
+        proc.send_signal(signal.SIGINT)
+        assert proc.wait(timeout=20) == 130
+        assert "Traceback" not in (proc.stderr.read() if proc.stderr else "")
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.wait()
