@@ -15,8 +15,14 @@ axis of the last turning frame and ``p_5 = p - d_6 z`` (origin of frame 5):
    ``R_z(q_2) T_x(a_2) R_z(q_3) T_x(a_3) R_z(q_4)``: a two-link problem (elbow up/down) and
    ``q_4 = (q_2 + q_3 + q_4) - q_2 - q_3``.
 
-At the wrist singularity (``sin q_5 = 0``) ``q_6`` is taken from ``q0``; on the base axis
-(``rho = 0`` with ``D = 0``) ``q_1`` is.
+At the wrist singularity (``sin q_5 = 0``) axes 2, 3, 4 and 6 are parallel and only
+``q_2 + q_3 + q_4 \pm q_6`` is fixed by the orientation; ``q_6`` is taken from ``q0`` when
+that reaches the target. It does not always: as ``q_6`` turns, the point on joint 4's axis
+moves on a circle of radius ``d_5`` in the arm's plane, so its distance from the shoulder
+changes. Where the ``q0`` choice leaves the two-link reach, ``q_6`` is moved (by the least
+angle) to the edge of the band of ``q_6`` that brings that point within reach
+(:meth:`ParallelAxes._fix_wrist_singular`). On the base axis (``rho = 0`` with ``D = 0``)
+``q_1`` is taken from ``q0``.
 
 References
 ----------
@@ -63,7 +69,7 @@ class ParallelAxes:
             return None
         return cls(sf, signs, robot.unit, robot.joint_names)  # type: ignore[arg-type]
 
-    def _solve_numpy(self, target: Array, q0phi: Array) -> tuple:
+    def _solve_numpy(self, target: Array, q0phi: Array, want_xy: bool = False) -> tuple:
         sf, s1, s4, s5, D = self.sf, self.s1, self.s4, self.s5, self.D
         d1, d4, d5, d6 = sf.d[0], sf.d[3], sf.d[4], sf.d[5]
         a2, a3 = sf.a[1], sf.a[2]
@@ -118,7 +124,57 @@ class ParallelAxes:
         elbow_out = (c > 1.0) | (c < -1.0)
         unreachable = (lateral_out[:, None, None, None] | elbow_out[..., None]
                        ) & np.ones((1, 1, 2, 2), dtype=bool)
+        if want_xy:
+            return x + 1j * y                                              # (B, 2, 2): joint 4's axis point
         return out, up, unreachable, lateral_out, rho, r, on_axis, singular
+
+    def _fix_wrist_singular(self, target: Array, q0phi: Array, out: Array, idx: Array, unreachable: Array,
+                            singular: Array) -> None:
+        """At the wrist singularity, move ``q6`` so that joint 4's axis point comes within the arm's reach.
+
+        ``out`` (B, 2, 2, 2, 6), ``idx`` and ``unreachable`` (B, 2, 2, 2) are updated in place for the
+        (target, shoulder, wrist) branches that are singular and out of reach with ``q6`` from ``q0``.
+        """
+        need = singular & unreachable.any(axis=-1)                         # (B, 2, 2)
+        rows = np.flatnonzero(need.any(axis=(1, 2)))
+        if len(rows) == 0:
+            return
+        a2, a3 = abs(float(self.sf.a[1])), abs(float(self.sf.a[2]))
+        inner2, outer2 = (a2 - a3) ** 2, (a2 + a3) ** 2
+        T, q0 = target[rows], q0phi[rows].copy()
+        samples = []
+        for v in (0.0, 0.5 * math.pi, math.pi):                             # the point is c + A cos q6 + B sin q6
+            q0[:, 5] = v
+            samples.append(self._solve_numpy(T, q0, want_xy=True))
+        c = 0.5 * (samples[0] + samples[2])
+        A, Bv = 0.5 * (samples[0] - samples[2]), samples[1] - c
+        # |c + A cos + B sin|^2 = |c|^2 + rho^2 + 2 m cos(q6 - theta) on a circle (|A| = |B|, A . B = 0)
+        ca, cb = (c.conjugate() * A).real, (c.conjugate() * Bv).real
+        m = np.hypot(ca, cb)
+        theta = np.arctan2(cb, ca)
+        base = np.abs(c) ** 2 + 0.5 * (np.abs(A) ** 2 + np.abs(Bv) ** 2)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            lo = (inner2 * (1 + 1e-12) - base) / (2 * m)
+            hi = (outer2 * (1 - 1e-12) - base) / (2 * m)
+        q6_0 = q0phi[rows, 5][:, None, None]
+        cur = np.cos(q6_0 - theta)
+        feasible = (m > 0) & (lo <= hi) & (hi >= -1.0) & (lo <= 1.0)
+        want = np.clip(np.clip(cur, lo, hi), -1.0, 1.0)
+        side = np.where(np.sin(q6_0 - theta) < 0, -1.0, 1.0)
+        q6 = theta + side * np.arccos(want)                                 # (R, 2, 2)
+        q6 = np.remainder(q6 + math.pi, 2 * math.pi) - math.pi
+        for sh in range(2):
+            for wr in range(2):
+                pick = need[rows, sh, wr] & feasible[:, sh, wr]
+                if not pick.any():
+                    continue
+                sub = rows[pick]
+                q0s = q0phi[sub].copy()
+                q0s[:, 5] = q6[pick, sh, wr]
+                o, up, unr, *_ = self._solve_numpy(target[sub], q0s)
+                out[sub, sh, wr] = o[:, sh, wr]
+                unreachable[sub, sh, wr] = unr[:, sh, wr]
+                idx[sub, sh, wr] = _BRANCH[0, sh, wr] + up[:, sh, wr].astype(int)
 
     def solve(self, target: Array, q0phi: Array) -> Raw:
         sf, s1, s4, s5, D = self.sf, self.s1, self.s4, self.s5, self.D
@@ -133,6 +189,10 @@ class ParallelAxes:
         else:
             out, up, unreachable, lateral_out, rho, r, on_axis, singular = self._solve_numpy(target, q0phi)
             idx = _BRANCH + up.astype(int)
+        if np.any(singular):
+            out, idx, unreachable = (np.array(out).reshape(B, 2, 2, 2, 6), np.array(idx).reshape(B, 2, 2, 2),
+                                     np.array(unreachable).reshape(B, 2, 2, 2))
+            self._fix_wrist_singular(target, q0phi, out, idx, unreachable, np.asarray(singular).reshape(B, 2, 2))
         note = np.full((B, 2, 2, 2), "", dtype=object)
         u = self.unit
         outer, inner = abs(a2) + abs(a3), abs(abs(a2) - abs(a3))
@@ -152,6 +212,7 @@ class ParallelAxes:
         if singular.any():
             add_messages(note, full(singular[..., None]).reshape(B, 2, 2, 2) & ~unreachable, lambda i: (
                 f"wrist singularity (q5 = 0 or 180 deg: axes 2, 3, 4 and 6 parallel): {n6} is free here; "
-                f"giving {n6} from q0, and the wrist-up and wrist-down branches coincide."))
+                f"giving {n6} from q0 (moved where needed to reach the target), and the wrist-up and wrist-down "
+                "branches coincide."))
         return Raw(out.reshape(B, 8, 6), _LABELS[idx.reshape(B, 8)], unreachable.reshape(B, 8),
                    reason, note.reshape(B, 8))
