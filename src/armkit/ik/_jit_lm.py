@@ -15,7 +15,12 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit, prange
+
+from .. import _jit_loader
+
+_jit_loader.install_cache_fallback()  # before the first cache=True: read-only installs cache elsewhere
+
+from numba import njit, prange  # noqa: E402
 
 # The 12-scalar pose helpers of the kinematics kernels (a pose is the 3x4 affine part, row by
 # row): _mul(X, F) = X · F, _move(X, t, sin t, cos t, prismatic) = X · Rz(t) or X · Tz(t).
@@ -26,6 +31,14 @@ from ..kinematics._jit import _load, _move, _mul
 
 # status codes written to info[:, 1]
 CONVERGED, EXHAUSTED = 0, 1
+
+
+@njit(cache=True, inline="always")
+def _copy(src, dst):
+    """dst[:] = src for 1-D arrays of the same length, as a loop: a slice assignment would compile
+    Numba's shape-mismatch error message (integer-to-string formatting), ~3 s on first use."""
+    for j in range(dst.shape[0]):
+        dst[j] = src[j]
 
 
 @njit(cache=True)
@@ -307,7 +320,7 @@ def _lm_one(base, pre, post, tool, prismatic, lower, upper, rlo, rhi, Tt, w, s, 
         for it in range(max_iterations + 1):
             if E < best_E:
                 best_E = E
-                best_q[:] = q
+                _copy(q, best_q)
             ep, er = _errors(e, w)
             if ep <= tol_p and er <= tol_r:
                 status = CONVERGED
@@ -328,9 +341,10 @@ def _lm_one(base, pre, post, tool, prismatic, lower, upper, rlo, rhi, Tt, w, s, 
                 a1, a2 = _errors(en if En < E else e, w)
                 trace[total - 1] = math.sqrt(a1 * a1 + a2 * a2)
             if En < E:
-                q[:] = qn
-                J[:, :] = Jn
-                e[:] = en
+                _copy(qn, q)
+                for r in range(6):
+                    _copy(Jn[r], J[r])
+                _copy(en, e)
                 E = En
                 mu = max(mu * 0.5, 1e-6)
             else:
@@ -348,14 +362,14 @@ def _lm_one(base, pre, post, tool, prismatic, lower, upper, rlo, rhi, Tt, w, s, 
         if status == CONVERGED:
             break
     if status != CONVERGED:
-        q[:] = best_q
+        _copy(best_q, q)
     info[0] = total
     info[1] = status
     info[2] = used
     info[3] = min(best_E, E) if status == CONVERGED else best_E
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")  # inlined: a separate function would add ~0.7 s per caller to the first compile
 def _one(mats, prismatic, limits, params, ints, targets, seeds, q, trace, info, i):
     n = q.shape[1]
     _lm_one(mats[0], mats[1:n + 1], mats[n + 1:2 * n + 1], mats[2 * n + 1], prismatic,
@@ -364,16 +378,22 @@ def _one(mats, prismatic, limits, params, ints, targets, seeds, q, trace, info, 
 
 
 @njit(cache=True, parallel=True)
+def _lm_parallel(mats, prismatic, limits, params, ints, targets, seeds, q, trace, info):
+    for i in prange(targets.shape[0]):
+        _one(mats, prismatic, limits, params, ints, targets, seeds, q, trace, info, i)
+
+
 def lm_batch(mats, prismatic, limits, params, ints, targets, seeds, q, trace, info):
     """Solve every target ``targets[i]`` (B, 4, 4) from ``q[i]`` in parallel; q, trace, info written in place.
 
     The arguments are packed to keep the call cheap: ``mats`` (2n + 2, 4, 4) = base, pre[n],
     post[n], tool; ``limits`` (4, n) = lower, upper, random-start low, random-start high;
     ``params`` (9,) = metres per unit, position tol (m), rotation tol (rad), weights[6];
-    ``ints`` (3,) = steps per attempt, first attempt index, attempts.
+    ``ints`` (3,) = steps per attempt, first attempt index, attempts. One thread (the same
+    results) while the multi-threaded kernel is still being compiled by the warm-up process.
     """
-    for i in prange(targets.shape[0]):
-        _one(mats, prismatic, limits, params, ints, targets, seeds, q, trace, info, i)
+    (_lm_parallel if _jit_loader.parallel_ok() else lm_serial)(mats, prismatic, limits, params, ints, targets,
+                                                                seeds, q, trace, info)
 
 
 @njit(cache=True)
@@ -399,3 +419,8 @@ def lm_single(mats, prismatic, limits, params, ints, targets, seed, q, info):
     seeds[0] = seed
     _one(mats, prismatic, limits, params, ints, targets, seeds, q, np.empty((1, 0)), info, 0)
     return True
+
+
+def parallel_twins():
+    """``(one-thread kernel, multi-threaded kernel)`` pairs taking the same arguments (for the warm-up)."""
+    return [(lm_serial, _lm_parallel)]

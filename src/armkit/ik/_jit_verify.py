@@ -12,7 +12,12 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit, prange
+
+from .. import _jit_loader
+
+_jit_loader.install_cache_fallback()  # before the first cache=True: read-only installs cache elsewhere
+
+from numba import njit, prange  # noqa: E402
 
 
 @njit(cache=True, inline="always")
@@ -88,5 +93,10 @@ def errors(T, tgt, pose, q, lower, upper, tol=1e-12):
     """``T`` (B, 4, 4) actual, ``tgt`` (B, 4, 4) target (only column 3 read unless ``pose``), ``q`` (B, n)."""
     B = T.shape[0]
     dp, dr, within = np.empty(B), np.empty(B), np.empty(B, dtype=np.bool_)
-    (_parallel if B >= 4096 else _serial)(T, tgt, pose, q, lower, upper, tol, dp, dr, within)
+    (_parallel if B >= 4096 and _jit_loader.parallel_ok() else _serial)(T, tgt, pose, q, lower, upper, tol, dp, dr, within)
     return dp, dr, within
+
+
+def parallel_twins():
+    """``(one-thread kernel, multi-threaded kernel)`` pairs taking the same arguments (for the warm-up)."""
+    return [(_serial, _parallel)]

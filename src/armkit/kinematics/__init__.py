@@ -29,6 +29,7 @@ from typing import Literal, Sequence
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from .. import _jit_loader
 from ..errors import ArmkitError
 from ..model.robot import Chain, Robot
 from . import _numpy
@@ -74,10 +75,10 @@ def _load_jit():
     return _JIT or None
 
 
-def _jit_module():
+def _jit_module(poll: bool = False):
     global _ACTIVE
-    if _backend == "numpy":
-        return None
+    if _backend == "numpy" or _backend == "auto" and not _jit_loader.ready(poll):
+        return None  # NumPy serves while the kernels compile in the background (fk, jacobian, fk_frames poll)
     _ACTIVE = _load_jit()
     return _ACTIVE
 
@@ -152,7 +153,7 @@ def fk(robot: Robot, q: ArrayLike, link: str | None = None) -> Array:
         k = robot.link_index(link)
         lk = robot.links[k]
         return np.asarray(fk_frames(robot, q)[..., lk.frame, :, :] @ lk.offset)
-    jit = _ACTIVE or _jit_module()
+    jit = _ACTIVE or _jit_module(True)
     if jit is not None:
         c = robot.chain
         F = _FK_CONSTANTS.get(id(c))
@@ -189,7 +190,7 @@ def fk_frames(robot: Robot, q: ArrayLike) -> Array:
     so it equals :func:`fk`. The origins are the points a plot joins with lines.
     """
     c = robot.chain
-    jit = _jit_module()
+    jit = _jit_module(True)
     if jit is not None:
         flat, lead = _flat_unchecked(robot, q)
         _packed(c)
@@ -245,7 +246,7 @@ def jacobian(robot: Robot, q: ArrayLike, frame: Literal["base", "tool"] = "base"
     if not tool_frame and frame != "base":
         raise ArmkitError(f"frame must be 'base' or 'tool', got {frame!r}")
     c = robot.chain
-    jit = _ACTIVE or _jit_module()
+    jit = _ACTIVE or _jit_module(True)
     if jit is not None:
         F = _FK_CONSTANTS.get(id(c))
         if F is None:

@@ -30,7 +30,12 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit, prange, types
+
+from .. import _jit_loader
+
+_jit_loader.install_cache_fallback()  # before the first cache=True: read-only installs cache elsewhere
+
+from numba import njit, prange, types  # noqa: E402
 
 BLOCK = 128
 """Configurations per block of the batched kernels (sin/cos scratch: 2 x BLOCK x n doubles)."""
@@ -191,10 +196,12 @@ def _store3(X, out, i, f):
 # --------------------------------------------------------------- single configuration
 _RO3 = types.Array(types.float64, 3, "C", readonly=True)
 _OUT2 = types.Array(types.float64, 2, "C")
-_Q1 = [types.Array(types.float64, 1, layout, readonly=ro) for layout in ("C", "A") for ro in (False, True)]
+# q: float64, 1-D, any strides. One signature only (each costs ~1 s to compile on first use); the fast path
+# calls its entry point directly, which also takes read-only or C-contiguous arrays (the kernels never write q).
+_Q1 = types.Array(types.float64, 1, "A")
 
 
-@njit([types.void(_RO3, q, _OUT2) for q in _Q1], cache=True)
+@njit(cache=True)  # compiled for one signature only, on first use: see __getattr__
 def fk_one(F, q, out):
     """FK of one configuration into ``out`` (4, 4); ValueError for a wrong length or NaN/inf."""
     n = F.shape[0] - 1
@@ -264,7 +271,7 @@ def _jacobian_cols(F, q, qo, s, c, o, tool_frame, J, i):
                 J[i, o3 + 2, k] = r02 * a + r12 * b + r22 * cc
 
 
-@njit([types.void(_RO3, q, types.boolean, _OUT2) for q in _Q1], cache=True)
+@njit(cache=True)  # compiled for one signature only, on first use: see __getattr__
 def jacobian_one(F, q, tool_frame, out):
     """Jacobian of one configuration into ``out`` (6, n); ValueError for a wrong length or NaN/inf."""
     n = F.shape[0] - 1
@@ -291,9 +298,20 @@ def _entry_point(dispatcher, signature):
     return entry if callable(entry) else dispatcher
 
 
-# q: float64, 1-D, any strides (writable or not: the kernels never write q)
-fk_one_float64 = _entry_point(fk_one, types.void(_RO3, _Q1[2], _OUT2).args)
-jacobian_one_float64 = _entry_point(jacobian_one, types.void(_RO3, _Q1[2], types.boolean, _OUT2).args)
+_SIGNATURES = {"fk_one_float64": (fk_one, types.void(_RO3, _Q1, _OUT2).args),
+               "jacobian_one_float64": (jacobian_one, types.void(_RO3, _Q1, types.boolean, _OUT2).args)}
+
+
+def __getattr__(name):
+    """``fk_one_float64``, ``jacobian_one_float64``: the entry points, each compiled (or loaded from the
+    cache) on first use, so that the first ``fk`` does not also pay for the Jacobian kernel."""
+    if name not in _SIGNATURES:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    dispatcher, signature = _SIGNATURES[name]
+    dispatcher.compile(signature)
+    dispatcher.disable_compile()  # any other argument types: TypeError at once, never a new compile
+    entry = globals()[name] = _entry_point(dispatcher, signature)
+    return entry
 
 
 # ---------------------------------------------------------------------------- batches
@@ -342,7 +360,7 @@ def _fk_parallel(F, q, out):
 def fk_batch(F, q):
     """FK of ``q`` (B, n), C-contiguous: ``(out (B, 4, 4), number of non-finite values in q)``."""
     out = np.empty((q.shape[0], 4, 4))
-    bad = (_fk_parallel if q.shape[0] >= PARALLEL_MIN else _fk_serial)(F, q, out)
+    bad = (_fk_parallel if q.shape[0] >= PARALLEL_MIN and _jit_loader.parallel_ok() else _fk_serial)(F, q, out)
     return out, bad
 
 
@@ -376,7 +394,7 @@ def _jacobian_parallel(F, q, tool_frame, out):
 def jacobian_batch(F, q, tool_frame):
     """Jacobians of ``q`` (B, n), C-contiguous: ``(out (B, 6, n), number of non-finite values in q)``."""
     out = np.empty((q.shape[0], 6, q.shape[1]))
-    kernel = _jacobian_parallel if q.shape[0] >= PARALLEL_MIN else _jacobian_serial
+    kernel = _jacobian_parallel if q.shape[0] >= PARALLEL_MIN and _jit_loader.parallel_ok() else _jacobian_serial
     return out, kernel(F, q, tool_frame, out)
 
 
@@ -417,5 +435,11 @@ def _frames_parallel(P, q, out):
 def frames_batch(P, q):
     """Every link frame of ``q`` (B, n): ``(out (B, n + 1, 4, 4), number of non-finite values in q)``."""
     out = np.empty((q.shape[0], q.shape[1] + 1, 4, 4))
-    kernel = _frames_parallel if q.shape[0] >= PARALLEL_MIN else _frames_serial
+    kernel = _frames_parallel if q.shape[0] >= PARALLEL_MIN and _jit_loader.parallel_ok() else _frames_serial
     return out, kernel(P, q, out)
+
+
+
+def parallel_twins():
+    """``(one-thread kernel, multi-threaded kernel)`` pairs taking the same arguments (for the warm-up)."""
+    return [(_fk_serial, _fk_parallel), (_jacobian_serial, _jacobian_parallel), (_frames_serial, _frames_parallel)]

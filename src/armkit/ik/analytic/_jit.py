@@ -15,7 +15,12 @@ import math
 import types
 
 import numpy as np
-from numba import njit, prange
+
+from ... import _jit_loader
+
+_jit_loader.install_cache_fallback()  # before the first cache=True: read-only installs cache elsewhere
+
+from numba import njit, prange  # noqa: E402
 
 TWO_PI = 2.0 * math.pi
 PAR = 4096   # from this many targets on, the kernels run in parallel
@@ -104,13 +109,13 @@ def _planar3_run(T, base_inv, tool_inv, l1, l2, q, up, c, r, unreach, edge, lo, 
 
 
 def _split(run, B, *args):
-    if B >= PAR:
-        _par(run, B, *args)
+    if B >= PAR and _jit_loader.parallel_ok():
+        _par(run)(*args, 0, B)
     else:
         run(*args, 0, B)
 
 
-def _par(run, B, *args):
+def _par(run):
     # the parallel version of a kernel, made on the first big batch from a copy of its Python function
     # under another name (Numba names its disk cache after the function)
     fn = _PARALLEL.get(run)
@@ -120,7 +125,7 @@ def _par(run, B, *args):
                                   py.__closure__)
         copy.__qualname__ = py.__qualname__ + "_parallel"
         fn = _PARALLEL[run] = njit(cache=True, parallel=True)(copy)
-    fn(*args, 0, B)
+    return fn
 
 
 _PARALLEL: dict = {}
@@ -361,11 +366,23 @@ def _wrap_one(v, q0, lo, hi, revolute):
     return v + TWO_PI * _rint((mid - v) / TWO_PI)
 
 
+@njit(cache=True, inline="always")
+def _widened(lower, upper, prismatic):
+    """``lower - 1e-12, upper + 1e-12, ~prismatic`` as loops. Array expressions and slice assignments make
+    Numba compile its shape-mismatch error message (integer-to-string formatting): ~3 s on first use."""
+    n = lower.shape[0]
+    lo, hi, revolute = np.empty(n), np.empty(n), np.empty(n, np.bool_)
+    for j in range(n):
+        lo[j] = lower[j] - 1e-12
+        hi[j] = upper[j] + 1e-12
+        revolute[j] = not prismatic[j]
+    return lo, hi, revolute
+
+
 @njit(cache=True)
 def _pick_run(rawq, theta, q0, lower, upper, prismatic, unreach, enforce, qb, pick, clean, first, last):
     m, n = rawq.shape[1], rawq.shape[2]
-    lo, hi = lower - 1e-12, upper + 1e-12
-    revolute = ~prismatic
+    lo, hi, revolute = _widened(lower, upper, prismatic)
     for i in prange(first, last):
         best, bd = 0, np.inf
         dist = np.empty(m)
@@ -386,7 +403,8 @@ def _pick_run(rawq, theta, q0, lower, upper, prismatic, unreach, enforce, qb, pi
             if cand[b] and dist[b] < bd:
                 best, bd = b, dist[b]
         pick[i] = best
-        qb[i] = q[best]
+        for j in range(n):   # not qb[i] = q[best]: see _widened
+            qb[i, j] = q[best, j]
         near = False
         for b in range(m):
             if unreach[i, b] and dist[b] <= dist[best]:
@@ -408,8 +426,7 @@ def wrap_pick(rawq, theta, q0, lower, upper, prismatic, unreachable, enforce):
 @njit(cache=True)
 def _wrap_dist_run(rawq, theta, q0, lower, upper, prismatic, q, dist, first, last):
     m, n = rawq.shape[1], rawq.shape[2]
-    lo, hi = lower - 1e-12, upper + 1e-12
-    revolute = ~prismatic
+    lo, hi, revolute = _widened(lower, upper, prismatic)
     for i in prange(first, last):
         for b in range(m):
             s = 0.0
@@ -449,7 +466,8 @@ def _sort_run(ok, dist, q, dp, dr, within, order, qs, oks, dps, drs, ws, first, 
         for b in range(m):
             s = idx[b]
             order[i, b] = s
-            qs[i, b] = q[i, s]
+            for j in range(q.shape[2]):   # not qs[i, b] = q[i, s]: see _widened
+                qs[i, b, j] = q[i, s, j]
             oks[i, b], dps[i, b], drs[i, b], ws[i, b] = ok[i, s], dp[i, s], dr[i, s], within[i, s]
 
 
@@ -485,3 +503,9 @@ def rigid(T):
     bad = np.empty(T.shape[0], np.bool_)
     _split(_rigid_run, T.shape[0], T, bad)
     return not bad.any()
+
+
+def parallel_twins():
+    """``(one-thread kernel, multi-threaded kernel)`` pairs taking the same arguments (for the warm-up)."""
+    return [(run, _par(run)) for run in (_planar2_run, _planar3_run, _ypp_run, _puma_run, _ur_run, _pick_run,
+                                         _wrap_dist_run, _sort_run, _rigid_run)]

@@ -1,0 +1,450 @@
+"""When armkit's Numba kernels are compiled, where they are cached, and what serves until then.
+
+Compiling every kernel takes tens of seconds; a compiled kernel is cached on disk and loads in
+milliseconds afterwards. So that the first call of a fresh install does not wait for that,
+the back end ``"auto"`` (the default, see :func:`armkit.set_backend`) works like this:
+
+* **The kernels are known to be cached** (a marker file next to the cache says that this
+  build's kernels were all compiled there): they are used at once, as before.
+* **They are not**: the first kinematics call starts one *warm-up process*
+  (:func:`_worker_main` in a new Python process) that compiles them into the cache, says so
+  once on stderr, and the NumPy back end answers meanwhile (the same results, to about
+  1e-15 for kinematics; IK gives the same branches and messages, and for targets that need
+  random restarts possibly another valid solution). When the warm-up process has written
+  its first marker, the next ``fk``/``jacobian``/``fk_frames`` call switches to the
+  compiled kernels. Large batches run on one thread until the multi-threaded kernels are
+  cached too (second marker). The process keeps going if the caller exits, so the next
+  run finds the cache warm. One warm-up process per cache at a time (a lock file).
+* ``ARMKIT_JIT=wait`` restores compiling on first use in the calling process;
+  ``armkit.set_backend("numba")`` and :func:`warmup` also compile in the calling process.
+
+The cache goes where Numba puts it (``NUMBA_CACHE_DIR``, else the package's
+``__pycache__``, else ``~/.cache/numba``); where none of those is writable (a read-only
+install without a writable home) it goes to a private directory under the temp directory
+(:func:`fallback_cache_dir`). This module imports only the standard library at
+``import armkit``; Numba is imported on the first kinematics call.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import os
+import subprocess
+import sys
+import tempfile
+import time
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Optional
+
+__all__ = ["warmup", "Warmup", "ready", "parallel_ok", "cache_dir", "fallback_cache_dir", "install_cache_fallback"]
+
+_PKG = Path(__file__).resolve().parent
+_SOURCES = ("kinematics/_jit.py", "ik/_jit_lm.py", "ik/_jit_verify.py", "ik/analytic/_jit.py", "_jit_loader.py")
+COMPILE_SECONDS = 40
+"""About how long compiling every kernel takes (measured on the project's 2-core machine: 25-45 s);
+the figure of the stderr note."""
+
+_mode = os.environ.get("ARMKIT_JIT", "background")  # "background" or "wait"
+_state: Optional[str] = None   # None: not decided yet; "ready"; "warming"; "sync" (compile in this process)
+_parallel = False              # the multi-threaded kernels may be used (cached, or compiled here on demand)
+_next_poll = 0.0
+_next_parallel_poll = 0.0
+_serial_only = False           # the warm-up's first phase: compile only the one-thread kernels
+_worker: Any = None            # the warm-up process this process started
+_told = False
+
+
+# ---------------------------------------------------------------------------------------- cache
+def fallback_cache_dir() -> Path:
+    """The cache used when neither Numba's in-tree nor its user-wide cache is writable:
+    ``<temp dir>/armkit-numba-<uid>``, created private (mode 0700) and used only if it is ours."""
+    uid = os.getuid() if hasattr(os, "getuid") else 0
+    path = Path(tempfile.gettempdir()) / f"armkit-numba-{uid}"
+    path.mkdir(mode=0o700, exist_ok=True)
+    st = path.stat()
+    if hasattr(os, "getuid") and (st.st_uid != uid or st.st_mode & 0o022):
+        raise OSError(f"{path} belongs to another user or is writable by others")  # never load foreign pickles
+    return path
+
+
+_installed = False
+
+
+def install_cache_fallback() -> None:
+    """Add a last Numba cache locator, for armkit's files only, that writes to :func:`fallback_cache_dir`.
+
+    Numba tries ``NUMBA_CACHE_DIR``, the source's ``__pycache__`` and ``~/.cache/numba`` first;
+    when none is writable it refuses to decorate a ``cache=True`` function at all, so this
+    runs before armkit's kernel modules are imported (they call it first thing).
+    """
+    global _installed
+    if _installed:
+        return
+    _installed = True
+    from numba.core import caching
+
+    impl = getattr(caching, "_CacheImpl", None)
+    base = getattr(caching, "UserWideCacheLocator", None) or getattr(caching, "_UserWideCacheLocator", None)
+    if impl is None or base is None or not hasattr(impl, "_locator_classes"):  # another Numba: its own rules
+        return
+
+    class ArmkitFallbackLocator(base):  # type: ignore[misc, valid-type]
+        def __init__(self, py_func: Any, py_file: str) -> None:
+            self._py_file = py_file
+            self._lineno = py_func.__code__.co_firstlineno
+            self._cache_path = str(fallback_cache_dir() / self.get_suitable_cache_subpath(py_file))
+
+        @classmethod
+        def from_function(cls, py_func: Any, py_file: str) -> Any:
+            try:
+                if not Path(py_file).resolve().is_relative_to(_PKG):
+                    return None
+            except (OSError, ValueError):
+                return None
+            try:
+                return super().from_function(py_func, py_file)
+            except OSError:
+                return None
+
+    impl._locator_classes = list(impl._locator_classes) + [ArmkitFallbackLocator]
+
+
+def cache_dir() -> Optional[Path]:
+    """The directory where the kinematics kernels are cached (imports Numba), or None if caching is off."""
+    from .kinematics import _jit
+
+    cache = getattr(_jit._fk_serial, "_cache", None)
+    path = getattr(cache, "_cache_path", None)
+    return Path(path) if path else None
+
+
+def _key() -> str:
+    """This build's kernels: their sources, the Numba and Python versions, the machine."""
+    import numba
+
+    h = hashlib.sha1()
+    for rel in _SOURCES:
+        h.update((_PKG / rel).read_bytes())
+    h.update(f"{numba.__version__} {sys.version} {sys.platform} {os.uname().machine if hasattr(os, 'uname') else ''}"
+             .encode())
+    return h.hexdigest()[:16]
+
+
+def _marker(suffix: str) -> Optional[Path]:
+    d = cache_dir()
+    return None if d is None else d / f"armkit-kernels-{_key()}.{suffix}"
+
+
+# ------------------------------------------------------------------------------------ the state
+def _say(text: str) -> None:
+    global _told
+    if not _told:
+        _told = True
+        print(f"armkit: {text}", file=sys.stderr, flush=True)
+
+
+def ready(poll: bool = False) -> bool:
+    """True when the compiled kernels may be used now; False while the warm-up process compiles them.
+
+    Called by :mod:`armkit.kinematics` for the back end ``"auto"``. The first call decides
+    (and starts the warm-up process if needed). Later calls with ``poll`` look for its
+    marker at most every 0.1 s (the NumPy calls meanwhile pay ~0.1 µs); only ``fk``,
+    ``jacobian`` and ``fk_frames`` poll, so the back end changes only at their start, never
+    between two reads of :func:`armkit.get_backend` inside one computation.
+    """
+    global _state, _next_poll, _parallel
+    if _state in ("ready", "sync"):
+        return True
+    if _state is None:
+        _state = _decide()
+        return _state != "warming"
+    if not poll:
+        return False
+    now = time.monotonic()
+    if now < _next_poll:
+        return False
+    _next_poll = now + 0.1
+    m = _marker("ready")
+    if m is not None and m.exists():
+        _state = "ready"
+        _parallel = bool((p := _marker("parallel")) and p.exists())
+        return True
+    if _worker is not None and _worker.poll() is not None or _worker is None and not _lock_alive():
+        # the warm-up process ended without its marker: compile here, on first use, as without it
+        _state, _parallel = "sync", True
+        _say_compiling(f"the warm-up process failed (see {_log_path()}); ")
+        return True
+    return False
+
+
+def parallel_ok() -> bool:
+    """True when big batches may use the multi-threaded kernels: they are cached (second marker), or
+    compiled here on demand (``ARMKIT_JIT=wait``, ``set_backend("numba")``, no cache)."""
+    global _parallel, _next_parallel_poll
+    if _parallel:
+        return True
+    if _state == "ready":
+        now = time.monotonic()
+        if now >= _next_parallel_poll:
+            _next_parallel_poll = now + 0.5
+            p = _marker("parallel")
+            _parallel = bool(p and p.exists())
+        return _parallel
+    return not _serial_only
+
+
+def _say_compiling(prefix: str = "") -> None:
+    _say(f"{prefix}compiling armkit's kernels once, about {COMPILE_SECONDS} s (each is cached on disk for the "
+         "next runs; `armkit warmup` does all of it ahead of time)")
+
+
+def _decide() -> str:
+    global _parallel, _worker
+    install_cache_fallback()
+    ready_marker = _marker("ready")
+    if ready_marker is not None and ready_marker.exists():
+        p = _marker("parallel")
+        _parallel = bool(p and p.exists())
+        return "ready"
+    if _mode == "wait" or ready_marker is None:
+        _parallel = True
+        _say_compiling()
+        return "sync"
+    if _take_lock():
+        try:
+            _worker = _spawn()
+        except OSError:
+            _release_lock()
+            _parallel = True
+            _say_compiling()
+            return "sync"
+    _say(f"compiling armkit's kernels once in the background, about {COMPILE_SECONDS} s; the NumPy back end "
+         "answers meanwhile (`armkit warmup` does this ahead of time)")
+    return "warming"
+
+
+# ------------------------------------------------------------------------- the warm-up process
+def _lock_path() -> Path:
+    m = _marker("lock")
+    assert m is not None
+    return m
+
+
+def _log_path() -> Path:
+    m = _marker("log")
+    assert m is not None
+    return m
+
+
+def _take_lock() -> bool:
+    """Create the lock file (False if a live warm-up process holds it); a stale lock (dead owner,
+    or older than 15 minutes) is replaced."""
+    path = _lock_path()
+    for _ in range(2):
+        try:
+            fd = os.open(path, os.O_CREAT | os.O_EXCL | os.O_WRONLY, 0o600)
+        except FileExistsError:
+            if _lock_alive():
+                return False
+            path.unlink(missing_ok=True)
+            continue
+        except OSError:
+            return False
+        with os.fdopen(fd, "w") as f:
+            f.write(str(os.getpid()))
+        return True
+    return False
+
+
+def _lock_alive() -> bool:
+    path = _lock_path()
+    try:
+        pid = int(path.read_text() or "0")
+        age = time.time() - path.stat().st_mtime
+    except (OSError, ValueError):
+        return False
+    if age > 900:
+        return False
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except OSError:
+        pass
+    return True
+
+
+def _release_lock() -> None:
+    try:
+        _lock_path().unlink(missing_ok=True)
+    except OSError:
+        pass
+
+
+_WORKER = "import sys; from armkit._jit_loader import _worker_main; sys.exit(_worker_main(sys.argv[1]))"
+
+
+def _spawn() -> Any:
+    env = dict(os.environ, ARMKIT_JIT="wait", ARMKIT_BACKEND="auto")
+    env["PYTHONPATH"] = os.pathsep.join([str(_PKG.parent)] + [p for p in env.get("PYTHONPATH", "").split(os.pathsep)
+                                                              if p])
+    log = open(_log_path(), "w")
+    try:
+        proc = subprocess.Popen([sys.executable, "-c", _WORKER, str(os.getpid())],
+                                stdin=subprocess.DEVNULL, stdout=log, stderr=subprocess.STDOUT, env=env,
+                                start_new_session=True, close_fds=True)
+    finally:
+        log.close()
+    # the lock now belongs to the worker
+    _lock_path().write_text(str(proc.pid))
+    return proc
+
+
+def _exercise_serial() -> None:
+    """Call every kernel the public functions use, with the argument types they pass, on small inputs
+    (below the thresholds of the multi-threaded kernels)."""
+    import numpy as np
+
+    from . import fk, fk_frames, ik, ik_all, jacobian, load
+    from .ik.api import closed_form_family
+
+    for name in ("puma560", "ur5", "panda", "fighter", "planar2", "planar3"):
+        arm = load(name)
+        q = arm.random_q(rng=0)
+        T = fk(arm, q)
+        jacobian(arm, q)
+        jacobian(arm, q, frame="tool")
+        fk_frames(arm, q)
+        Q = arm.random_q(16, rng=1)
+        for batch in (Q, Q.copy()):
+            fk(arm, batch)
+            jacobian(arm, batch)
+            fk_frames(arm, batch)
+            batch.setflags(write=False)  # the second round: read-only input
+        TT = fk(arm, arm.random_q(64, rng=2))
+        pose = arm.n >= 6 or name == "planar3"
+        one, many = (T, TT) if pose else (T[:3, 3], TT[:, :3, 3])
+        family = closed_form_family(arm)
+        if family is not None:
+            ik(arm, one)
+            ik(arm, many[:16])
+            ik(arm, many)
+            ik_all(arm, one)
+            ik_all(arm, many[:16])
+        far = np.array(one)
+        if pose:
+            far[:3, 3] *= 4.0
+        else:
+            far *= 4.0
+        for target in (one, many[:4], many[:16], far):  # single, < 8 and >= 8 targets, unreachable
+            ik(arm, target, method="lm", restarts=2)
+
+
+def _exercise_parallel() -> None:
+    """Compile the multi-threaded twin of every serial kernel for the signatures the serial one got."""
+    from .ik import _jit_lm, _jit_verify
+    from .ik.analytic import _jit as _analytic
+    from .kinematics import _jit as _kinematics
+
+    for module in (_kinematics, _jit_verify, _analytic, _jit_lm):
+        for serial, parallel in module.parallel_twins():
+            for sig in list(serial.signatures):
+                parallel.compile(sig)
+
+
+@dataclass(frozen=True)
+class Warmup:
+    """What :func:`warmup` did: ``seconds`` it took, the ``cache`` directory (None: not cached),
+    and whether anything had to be ``compiled`` (False: everything was cached already)."""
+    seconds: float
+    cache: Optional[Path]
+    compiled: bool
+
+
+def warmup(*, parallel: bool = True) -> Warmup:
+    """Compile (or load from the cache) every Numba kernel armkit uses, now, in this process.
+
+    For images and CI: run it (or ``armkit warmup``) once after installing, and later
+    processes compile nothing. If a warm-up process is already at work, waits for it first.
+    Afterwards the compiled kernels serve this process (back end ``"auto"``).
+
+    Parameters
+    ----------
+    parallel : bool
+        Also the multi-threaded kernels of big batches (about half of the time).
+
+    Returns
+    -------
+    Warmup
+    """
+    global _state, _parallel
+    t0 = time.perf_counter()
+    install_cache_fallback()
+    first, second = _marker("ready"), _marker("parallel")
+
+    def done() -> bool:
+        return first is not None and first.exists() and (not parallel or (second is not None and second.exists()))
+
+    if first is not None and not done():
+        while _lock_alive() and not done():  # a warm-up process is at work: let it finish
+            time.sleep(0.2)
+    compiled = not done()
+    if compiled:
+        _say_compiling()
+    from . import kinematics
+
+    backend = kinematics._backend
+    _state, _parallel = "sync", True
+    kinematics.set_backend("numba")
+    try:
+        if compiled:
+            if first is None or not first.exists():
+                _run_serial_phase()
+                if first is not None:
+                    first.touch()
+            if parallel:
+                _exercise_parallel()
+                if second is not None:
+                    second.touch()
+    finally:
+        kinematics.set_backend(backend)  # type: ignore[arg-type]
+        if first is not None:
+            _state = "ready"
+            _parallel = bool(second is not None and second.exists())
+    return Warmup(seconds=time.perf_counter() - t0, cache=cache_dir(), compiled=compiled)
+
+
+def _run_serial_phase() -> None:
+    global _serial_only
+    _serial_only = True
+    try:
+        _exercise_serial()
+    finally:
+        _serial_only = False
+
+
+def _worker_main(parent: str) -> int:
+    """The warm-up process: the one-thread kernels first (first marker), then the multi-threaded ones."""
+    global _state, _parallel
+    t0 = time.perf_counter()
+    try:
+        _state, _parallel = "sync", False
+        if hasattr(os, "nice"):
+            os.nice(10)  # the caller's own work comes first on a busy machine
+        install_cache_fallback()
+        first, second = _marker("ready"), _marker("parallel")
+        if first is None or second is None:
+            print("Numba's cache is off: nothing to warm up", flush=True)
+            return 1
+        _run_serial_phase()
+        first.touch()
+        print(f"one-thread kernels compiled in {time.perf_counter() - t0:.1f} s (for process {parent})", flush=True)
+        _exercise_parallel()
+        second.touch()
+        print(f"all kernels compiled in {time.perf_counter() - t0:.1f} s", flush=True)
+        return 0
+    finally:
+        _release_lock()
+
+
