@@ -25,7 +25,7 @@ import math
 
 import numpy as np
 
-from ._common import (Array, Raw, StandardForm, add_messages, elbow_edge, elbow_up, forward_sign, jit_kernels,
+from ._common import (ANGLE_TOL, Array, Raw, StandardForm, add_messages, elbow_edge, elbow_up, forward_sign, jit_kernels,
                       out_of_reach, two_link)
 
 _LABELS = np.array(["elbow-down", "elbow-up"], dtype=object)
@@ -55,16 +55,23 @@ class Planar2R:
     pose_only = False
     m = 2
 
-    def __init__(self, sf: StandardForm, ell: float, beta: float, unit: str):
+    def __init__(self, sf: StandardForm, ell: float, beta: float, unit: str, sign: int = 1):
         self.sf, self.ell, self.beta, self.unit = sf, ell, beta, unit
+        self.sign = sign     # -1: antiparallel axes (alpha_1 = 180 deg), joint 2 turns the other way
 
     @classmethod
     def detect(cls, sf: StandardForm, robot) -> "Planar2R | None":
-        if sf.n != 2 or sf.twist(0) != 0 or sf.is_zero(sf.a[0]):
+        if sf.n != 2 or sf.is_zero(sf.a[0]):
+            return None
+        # parallel axes (alpha_1 = 0), or antiparallel (alpha_1 = 180 deg): Rx(pi) Rz(q2) = Rz(-q2) Rx(pi),
+        # so it is the same 2R arm with q2 negated and the tool point mirrored (x, -y)
+        anti = abs(abs(math.remainder(float(sf.alpha[0]), 2 * math.pi)) - math.pi) < ANGLE_TOL
+        if sf.twist(0) != 0 and not anti:
             return None
         v = sf.tool[:3, 3]
         ell = math.hypot(v[0], v[1])
-        return None if sf.is_zero(ell) else cls(sf, ell, math.atan2(v[1], v[0]), robot.unit)
+        sign = -1 if anti else 1
+        return None if sf.is_zero(ell) else cls(sf, ell, math.atan2(sign * v[1], v[0]), robot.unit, sign)
 
     def solve(self, target: Array, q0phi: Array) -> Raw:
         pts = target[:, :3, 3] if target.ndim == 3 else target
@@ -72,11 +79,14 @@ class Planar2R:
         if jit is not None:
             q, idx, c, r, unreachable, edge = jit.planar2(np.ascontiguousarray(pts), self.sf.base_inv,
                                                           float(self.sf.a[0]), self.ell, self.beta)
+            if self.sign < 0:
+                q = np.array(q)
+                q[..., 1] *= -1.0
             _, why, note = _explain(c, r, self.sf.a[0], self.ell, self.unit, "target", (unreachable, edge))
             return Raw(q, _LABELS[idx], unreachable, why, note)
         p = self.sf.point_to_chain(pts)
         t1, t2, c, r = two_link(p[:, 0], p[:, 1], self.sf.a[0], self.ell)
-        q = np.stack([t1, t2 - self.beta], axis=-1)                          # (B, 2, 2)
+        q = np.stack([t1, self.sign * (t2 - self.beta)], axis=-1)            # (B, 2, 2)
         up = elbow_up(forward_sign(p[:, 0])[:, None], 1.0, self.sf.a[0], self.ell, np.array([0, 1]))
         unreachable, why, note = _explain(c, r, self.sf.a[0], self.ell, self.unit, "target")
         return Raw(q, _LABELS[up.astype(int)], unreachable, why, note)
