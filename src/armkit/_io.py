@@ -60,19 +60,19 @@ def check_writable(path: str | os.PathLike[str], suffixes: Optional[Sequence[str
     file there, so a folder that exists but refuses files is found before any work is done.
     """
     p = Path(os.fspath(path))
-    if suffixes is not None and p.suffix.lower() not in tuple(s.lower() for s in suffixes):
-        raise WriteError(p, f"{what} must end in {', '.join(suffixes)}, got {p.suffix or 'no suffix'!r}")
     if not p.name or p.name in (".", ".."):
         raise WriteError(p, "it is a folder; give a file name")
     try:
         st = p.stat()
-    except FileNotFoundError:
+    except (FileNotFoundError, NotADirectoryError):
         st = None
     except OSError as exc:
         raise WriteError(p, _reason(exc)) from None
+    if st is not None and stat.S_ISDIR(st.st_mode):
+        raise WriteError(p, "it is a folder; give a file name")
+    if suffixes is not None and p.suffix.lower() not in tuple(s.lower() for s in suffixes):
+        raise WriteError(p, f"{what} must end in {', '.join(suffixes)}, got {p.suffix or 'no suffix'!r}")
     if st is not None:
-        if stat.S_ISDIR(st.st_mode):
-            raise WriteError(p, "it is a folder; give a file name")
         if not stat.S_ISREG(st.st_mode):
             raise WriteError(p, "it is not a regular file")
         if not st.st_mode & (stat.S_IWUSR | stat.S_IWGRP | stat.S_IWOTH) or not os.access(p, os.W_OK):
