@@ -15,6 +15,7 @@ from .kinematics import (condition_number, fk, fk_frames, get_backend, is_singul
                          set_backend)
 from .model import Joint, Robot, bundled_robots, load, save
 from .ik import IKResult, ik, ik_all
+from ._jit_loader import warmup
 
 __version__ = "0.1.0"
 
@@ -33,7 +34,7 @@ def view(robot: "Robot | str", port: "int | None" = None, **kwargs):  # type: ig
 __all__ = [
     "spatial", "Joint", "Robot", "load", "save", "bundled_robots",
     "fk", "fk_frames", "jacobian", "manipulability", "condition_number", "is_singular",
-    "set_backend", "get_backend",
+    "set_backend", "get_backend", "warmup",
     "ArmkitError", "ShapeError", "RobotDefinitionError", "RobotFileError", "UnknownRobotError",
     "JointLimitError", "UnreachableError",
     "IKResult", "ik", "ik_all", "view",

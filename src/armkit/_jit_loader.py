@@ -84,7 +84,7 @@ def install_cache_fallback() -> None:
     _installed = True
     from numba.core import caching
 
-    impl = getattr(caching, "_CacheImpl", None)
+    impl = getattr(caching, "CacheImpl", None) or getattr(caching, "_CacheImpl", None)
     base = getattr(caching, "UserWideCacheLocator", None) or getattr(caching, "_UserWideCacheLocator", None)
     if impl is None or base is None or not hasattr(impl, "_locator_classes"):  # another Numba: its own rules
         return

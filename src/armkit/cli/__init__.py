@@ -82,7 +82,7 @@ class _ArmkitGroup(TyperGroup):
             say("error:", "bold red", f"{what} ({type(exc).__name__}: {exc})")
             raise SystemExit(EXIT_BAD_INPUT) from None
 
-_COMMAND_MODULES = ("core", "ik", "viz", "symbolic", "view", "reach")
+_COMMAND_MODULES = ("core", "ik", "viz", "symbolic", "view", "reach", "warmup")
 
 app = typer.Typer(
     name="armkit",

@@ -1,0 +1,38 @@
+"""``armkit warmup``: compile and cache every Numba kernel now (for images and CI)."""
+
+from __future__ import annotations
+
+import typer
+
+from .common import EXIT_FAILED, console, esc, print_json
+
+
+def warmup(parallel: bool = typer.Option(True, "--parallel/--no-parallel",
+                                         help="Also the multi-threaded kernels of big batches (about half the time)."),
+           json_out: bool = typer.Option(False, "--json", help="Print JSON instead of a sentence.")) -> None:
+    """Compile armkit's Numba kernels once and cache them on disk, so that no later run waits for it.
+
+    Run it after installing armkit into an image or a CI environment. The cache goes to
+    NUMBA_CACHE_DIR if set, else next to the package, else ~/.cache/numba, else a private
+    directory in the temp directory (read-only installs).
+
+    Example: armkit warmup
+    """
+    from .._jit_loader import warmup as run
+
+    try:
+        done = run(parallel=parallel)
+    except ImportError as exc:
+        console.print(f"cannot compile armkit's kernels: {esc(exc)} (the NumPy back end works without them)")
+        raise SystemExit(EXIT_FAILED) from None
+    if json_out:
+        print_json({"seconds": round(done.seconds, 3), "cache": None if done.cache is None else str(done.cache),
+                    "compiled": done.compiled})
+        return
+    where = "not cached (Numba's cache is off)" if done.cache is None else f"cached in {esc(done.cache)}"
+    what = "compiled" if done.compiled else "already compiled; loaded"
+    console.print(f"armkit's kernels {what} in {done.seconds:.1f} s, {where}")
+
+
+def register(app: typer.Typer) -> None:
+    app.command("warmup")(warmup)
