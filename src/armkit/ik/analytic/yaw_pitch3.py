@@ -219,29 +219,44 @@ def _solver_of(robot: Robot) -> "YawPitch3 | None":
     return s if isinstance(s, YawPitch3) else None
 
 
-def pitch_of(robot: Robot, T: Array, target_point: Array | None = None) -> Array:
-    """The tool pitch (rad) of tool poses ``T`` ``(..., 4, 4)`` of a yaw-pitch3 arm (see the module docstring).
+def pitch_of(robot: Robot, q: Array, target_point: Array | None = None) -> Array:
+    """The tool pitch (rad) of configurations ``q`` ``(..., n)`` of a yaw-pitch3 arm.
 
-    ``target_point`` ``(..., 3)`` decides which way is "outward" (default: the poses' own
-    positions).
+    The angle of the approach axis in the arm's vertical plane (the plane perpendicular to
+    the second joint's axis, the first pitch axis): ``atan2(a . up, a . h)`` with ``h`` the
+    plane's horizontal direction pointing outward, towards ``target_point`` ``(..., 3)``
+    (default: the tool position). See the module docstring.
 
     Examples
     --------
     >>> import armkit, numpy as np
     >>> arm = armkit.load("so101")
-    >>> T = armkit.fk(arm, np.radians([0, 0, 0, 90, 0]))
-    >>> round(float(np.degrees(pitch_of(arm, T))), 3)
+    >>> round(float(np.degrees(pitch_of(arm, np.radians([0, 0, 0, 90, 0])))), 3)   # wrist bent down
     -90.0
     """
+    from ...kinematics import fk
+
+    q = np.asarray(q, dtype=float)
+    return _pitch_parts(robot, q, fk(robot, q), target_point)[0]
+
+
+def _pitch_parts(robot: Robot, q: Array, T: Array, target_point: Array | None = None):
+    """``pitch, a, u, h, s, c`` for configurations ``q`` with tool poses ``T``: approach axis ``a``,
+    up ``u``, outward horizontal ``h`` (perpendicular to the pitch axis), ``s = a.u``, ``c = a.h``."""
     u, o, a_tool = _geometry(robot)
-    T = np.asarray(T, dtype=float)
-    a = T[..., :3, :3] @ a_tool
+    f0, f1 = robot.chain.fixed[0], robot.chain.fixed[1]
+    c1, s1 = np.cos(q[..., 0]), np.sin(q[..., 0])
+    k1 = f1[:3, 2]                                    # joint 2's axis in joint 1's turning frame
+    k_local = np.stack([c1 * k1[0] - s1 * k1[1], s1 * k1[0] + c1 * k1[1], np.broadcast_to(k1[2], c1.shape)], -1)
+    k = k_local @ f0[:3, :3].T                        # joint 2's axis (the pitch axis) in the world
+    h = np.cross(k, u)
+    h /= np.linalg.norm(h, axis=-1, keepdims=True)
     p = (T[..., :3, 3] if target_point is None else np.asarray(target_point, dtype=float)) - o
-    au = a @ u
-    a_h = a - au[..., None] * u
-    p_h = p - (p @ u)[..., None] * u
-    side = np.where(np.einsum("...i,...i->...", a_h, p_h) < 0, -1.0, 1.0)
-    return np.arctan2(au, side * np.linalg.norm(a_h, axis=-1))     # type: ignore[no-any-return]
+    side = np.where(np.einsum("...i,...i->...", h, p) < 0, -1.0, 1.0)
+    h = h * side[..., None]
+    a = T[..., :3, :3] @ a_tool
+    s, c = a @ u, np.einsum("...i,...i->...", a, h)
+    return np.arctan2(s, c), a, u, h, s, c
 
 
 def _check(robot: Robot, q: Array, pts: Array, psi: Array, tol: tuple[float, float], enforce_limits: bool):
@@ -249,7 +264,7 @@ def _check(robot: Robot, q: Array, pts: Array, psi: Array, tol: tuple[float, flo
     from ...kinematics import fk
 
     dp, _, ok, within = verify(robot, q, pts, True, tol, enforce_limits)
-    dr = np.abs(np.remainder(pitch_of(robot, fk(robot, q), pts) - psi + math.pi, 2 * math.pi) - math.pi)
+    dr = np.abs(np.remainder(_pitch_parts(robot, q, fk(robot, q), pts)[0] - psi + math.pi, 2 * math.pi) - math.pi)
     return dp, dr, ok & (dr <= tol[1]), within
 
 
@@ -271,21 +286,30 @@ def _polish(robot: Robot, q: Array, pts: Array, psi: Array, tol: tuple[float, fl
         return q, dp, dr, ok, within
     bi, mi = np.nonzero(cand)
     qc, tp, tpsi = (q if start is None else start)[bi, mi].copy(), pts[bi], psi[bi]
-    h = 1e-6
     k = 4
+    eye = np.eye(k)
+    active = np.arange(len(qc))
     for _ in range(steps):
-        T = fk(robot, qc)
-        e = np.empty((len(qc), 4))
-        e[:, :3] = tp - T[:, :3, 3]
-        e[:, 3] = np.remainder(tpsi - pitch_of(robot, T, tp) + math.pi, 2 * math.pi) - math.pi
-        J = np.empty((len(qc), 4, k))
-        J[:, :3] = jacobian(robot, qc)[:, :3, :k]
-        for j in range(k):
-            dq = np.zeros(robot.n)
-            dq[j] = h
-            up_, dn_ = pitch_of(robot, fk(robot, qc + dq), tp), pitch_of(robot, fk(robot, qc - dq), tp)
-            J[:, 3, j] = (np.remainder(up_ - dn_ + math.pi, 2 * math.pi) - math.pi) / (2 * h)
-        qc[:, :k] += np.einsum("bij,bj->bi", np.linalg.pinv(J, rcond=1e-10), e)
+        T = fk(robot, qc[active])
+        e = np.empty((len(active), 4))
+        e[:, :3] = tp[active] - T[:, :3, 3]
+        pitch, a, u, h, sa, ca = _pitch_parts(robot, qc[active], T, tp[active])
+        e[:, 3] = np.remainder(tpsi[active] - pitch + math.pi, 2 * math.pi) - math.pi
+        still = (np.abs(e[:, :3]).max(axis=1) > 1e-15 * scale) | (np.abs(e[:, 3]) > 1e-15)
+        active, e = active[still], e[still]
+        a, h, sa, ca = a[still], h[still], sa[still], ca[still]
+        if len(active) == 0:
+            break
+        Jfull = jacobian(robot, qc[active])
+        J = np.empty((len(active), 4, k))
+        J[:, :3] = Jfull[:, :3, :k]
+        # d pitch = (c ds - s dc) / (s^2 + c^2), ds = w.(a x u), dc = w.(a x h) (+ w0.(h x a): h turns with the yaw)
+        n2 = (sa * sa + ca * ca)[:, None]
+        g = (ca[:, None] * np.cross(a, u) - sa[:, None] * np.cross(a, h)) / n2
+        J[:, 3] = np.einsum("bi,bij->bj", g, Jfull[:, 3:, :k])
+        J[:, 3, 0] -= sa * np.einsum("bi,bi->b", Jfull[:, 3:, 0], np.cross(h, a)) / n2[:, 0]
+        JT = np.swapaxes(J, 1, 2)   # damped (1e-14) normal equations: Newton, safe at a fold
+        qc[active, :k] += np.linalg.solve(JT @ J + 1e-14 * eye, (JT @ e[..., None]))[..., 0]
     dpn, drn, okn, wn = _check(robot, qc, tp, tpsi, tol, enforce_limits)
     better = dpn / scale + drn < dp[bi, mi] / scale + dr[bi, mi]
     bi, mi = bi[better], mi[better]
@@ -314,27 +338,27 @@ def solve_pitch(robot: Robot, solver: YawPitch3, pts: Array, psi: Array, q0: Arr
     q = wrap_to_limits(raw.q - theta, q0[:, None, :], robot.lower, robot.upper, ~robot.prismatic)
     dp, dr, ok, within = _check(robot, q, pts[:, None], psi[:, None], tol, enforce_limits)
     q, dp, dr, ok, within = _polish(robot, q, pts, psi, tol, enforce_limits, dp, dr, ok, within,
-                                    2 if solver.sf.exact else 6)
+                                    2 if solver.sf.exact else 8)
     # At a stretched or folded elbow the ideal arm's answer sits on the fold, where Newton cannot move
     # outwards; the true arm may still reach (its solution has the elbow bent by ~sqrt(error)).
     elbow = q[..., 2] + theta[2]
-    stuck = ~ok & (dp <= 6e-3 * robot.reach) & (dr <= 6e-3) & (np.abs(np.sin(elbow)) < 1e-3)
+    stuck = ~ok & (dp <= 6e-3 * robot.reach) & (dr <= 6e-3) & (np.abs(np.sin(elbow)) < 1e-2)
     if stuck.any():
         a2, a3 = abs(float(solver.sf.a[1])), abs(float(solver.sf.a[2]))
         bend = np.sqrt(2.0 * dp * (a2 + a3) / (a2 * a3)) + 1e-4
         sign = np.where(_ELBOW == 0, 1.0, -1.0)[None, :]          # branch order of Raw: elbow index
         start = q.copy()
         start[..., 2] = np.where(np.cos(elbow) > 0, sign * bend, math.pi - sign * bend) - theta[2]
-        q, dp, dr, ok, within = _polish(robot, q, pts, psi, tol, enforce_limits, dp, dr, ok, within, 10,
+        q, dp, dr, ok, within = _polish(robot, q, pts, psi, tol, enforce_limits, dp, dr, ok, within, 16,
                                         cand=stuck, start=start)
     dist = np.linalg.norm(q - q0[:, None, :], axis=-1)
     fk_ok = (dp <= tol[0]) & (dr <= tol[1])
     code = np.where(ok, 0, np.where(fk_ok & ~within, 2, 1))
     message = np.where(ok, raw.note, "").astype(object, copy=False)
     _failure_messages(robot, message, code, raw, q, dp, dr, tol)
-    message = np.where((code == 1) & ~raw.unreachable & (dp <= tol[0]),
-                       np.char.replace(message.astype(str), "this arm cannot turn to that orientation there",
-                                       "this branch cannot reach that pitch there").astype(object), message)
+    for i in np.flatnonzero(((code == 1) & ~raw.unreachable & (dp <= tol[0])).ravel()):   # pitch, not orientation
+        message.flat[i] = str(message.flat[i]).replace("this arm cannot turn to that orientation there",
+                                                       "this branch cannot reach that pitch there")
     order = np.argsort(np.where(ok, 0.0, 1e9) + dist, axis=-1, kind="stable")
     take = lambda a: np.take_along_axis(a, order, axis=1)  # noqa: E731
     return IKResult(q=np.take_along_axis(q, order[..., None], axis=1), success=take(ok), position_error=take(dp),
