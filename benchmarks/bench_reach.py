@@ -86,11 +86,19 @@ def accuracy(m: ReachabilityMap, n: int, seed: int) -> dict[str, Any]:
     fp = said & ~truth
     fn = ~said & truth
     neg = max(1, int((~truth).sum()))
+    t = time.perf_counter()
+    ref = m.reachable(T, refine=True, seed=seed)
+    t_ref = time.perf_counter() - t
+    c = m.cells(T)
+    doubt = (c >= 0) & m.boundary.reshape(-1)[np.maximum(c, 0)]
     return {"poses": n, "truth_reachable": int(truth.sum()), "accuracy": float(np.mean(said == truth)),
             "fp_rate_all": float(fp.mean()), "fp_rate_of_unreachable": float(fp.sum() / neg),
             "fn_rate_all": float(fn.mean()), "fn_rate_fk_poses": float(fn[from_fk].mean()),
             "accuracy_box_poses": float(np.mean(said[~from_fk] == truth[~from_fk])),
-            "fk_poses_truth_ok": float(truth[from_fk].mean()), "ground_truth_seconds": t_ik}
+            "fk_poses_truth_ok": float(truth[from_fk].mean()), "ground_truth_seconds": t_ik,
+            "refine_accuracy": float(np.mean(ref == truth)), "refine_fp_rate_all": float((ref & ~truth).mean()),
+            "refine_fn_rate_all": float((~ref & truth).mean()), "refine_fraction_ik": float(doubt.mean()),
+            "refine_us_per_query": t_ref / n * 1e6}
 
 
 def query_times(m: ReachabilityMap, seed: int) -> dict[str, float]:
@@ -172,6 +180,9 @@ def main() -> None:
                   f"({row['fp_rate_of_unreachable'] * 100:.2f} % of unreachable), FN {row['fn_rate_all'] * 100:.2f} % "
                   f"(FK poses {row['fn_rate_fk_poses'] * 100:.2f} %); truth reachable {row['truth_reachable']}/{args.n}; "
                   f"query {row['query_us_batched']:.2f} us batched, {row['query_us_single_median']:.1f} us single", flush=True)
+            print(f"  refine=True: accuracy {row['refine_accuracy'] * 100:.2f} %, FP {row['refine_fp_rate_all'] * 100:.2f} %, "
+                  f"FN {row['refine_fn_rate_all'] * 100:.2f} %, IK on {row['refine_fraction_ik'] * 100:.1f} % of poses, "
+                  f"{row['refine_us_per_query']:.1f} us per query", flush=True)
             if args.scaling:
                 print(f"  1 worker {row['scaling_1_worker_s']:.1f} s, 2 workers {row['scaling_2_workers_s']:.1f} s, "
                       f"efficiency {row['scaling_efficiency'] * 100:.0f} %", flush=True)

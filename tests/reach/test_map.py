@@ -139,11 +139,23 @@ def test_build_errors(kw: dict, match: str) -> None:
         reachability("planar2", **{"workers": 1, **kw})
 
 
-def test_unknown_robot_and_scene() -> None:
+def test_unknown_robot_and_bad_scene() -> None:
     with pytest.raises(armkit.UnknownRobotError):
         reachability("no-such-arm")
-    with pytest.raises(armkit.ArmkitError, match="scene"):
+    with pytest.raises(armkit.ArmkitError):
         reachability("planar2", scene=object(), samples=1000, workers=1)
+
+
+def test_scene_removes_colliding_samples() -> None:
+    # the fighter arm ships its torso box and the ground: reaching into them no longer counts
+    free = reachability("fighter", samples=60_000, workers=1, coverage=0.0)
+    clear = reachability("fighter", samples=60_000, workers=1, coverage=0.0, scene="robot")
+    assert clear.parameters["scene"] is not None
+    assert not (clear.hits & ~free.hits).any()                 # only removes cells
+    assert clear.hits.sum() < 0.9 * free.hits.sum()
+    below = armkit.fk(free.robot, free.robot.random_q(5000, rng=2))
+    below = below[below[:, 2, 3] < -40.0]                      # the ground plane is z = -25 mm
+    assert len(below) > 50 and not clear.reachable(below).any() and free.reachable(below).mean() > 0.9
 
 
 def test_same_seed_same_map_other_seed_other_samples() -> None:

@@ -248,8 +248,9 @@ def reachability(robot: Robot | str, resolution: float | None = None, orientatio
     orientations : int, optional
         Approach directions per voxel (Fibonacci sphere); default 64, or 1 (position only)
         for arms with fewer than 6 joints.
-    scene : armkit.Scene, optional
-        Exclude configurations that collide with it (needs ``armkit.collision``).
+    scene : armkit.Scene, sequence of shapes, path or "robot", optional
+        Exclude configurations that collide with it or with the arm itself (``armkit.clearance``
+        > 0); anything :func:`armkit.collision.as_scene` reads. Costs a collision check per sample.
     rolls : int, optional
         Roll bins about each approach direction; default 1 when the last joint turns the
         tool about its own z axis through 2 pi (the roll is then free, exactly), else 8.
@@ -294,7 +295,7 @@ def reachability(robot: Robot | str, resolution: float | None = None, orientatio
         raise ReachabilityError(f"robot must be an armkit.Robot or a robot name, got {type(robot).__name__}")
     if method not in ("fk", "ik"):
         raise ReachabilityError(f"method must be 'fk' or 'ik', got {method!r}")
-    check_scene(scene)
+    scene = check_scene(robot, scene)
     if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
         raise ReachabilityError(f"seed must be a non-negative integer, got {seed!r}")
     grid = _make_grid(robot, resolution, orientations, rolls)
@@ -314,13 +315,14 @@ def reachability(robot: Robot | str, resolution: float | None = None, orientatio
         workers = _positive_int(workers, "workers")
     params: dict[str, Any] = {"method": method, "samples": total if method == "fk" else None, "seed": int(seed),
                               "block_size": bs, "restarts": restarts if method == "ik" else None,
-                              "scene": None if scene is None else repr(scene),
+                              "scene": None if scene is None else _digest(repr(scene)),
                               "coverage": float(coverage) if method == "fk" else None}
     gattrs = grid.to_attrs()
     try:
         toml = robot_to_toml(robot)
     except Exception as exc:  # a robot the TOML writer cannot express yet
         raise ReachabilityError(f"robot {robot.name!r} cannot be written to a robot file ({exc})") from None
+    _check_round_trip(robot, toml)
     attrs = {"format": FORMAT, "robot": robot.name, "robot_toml": toml, "grid": gattrs, "parameters": params}
 
     counts = np.zeros(grid.n_cells, dtype=np.uint8)
@@ -386,7 +388,23 @@ def reachability(robot: Robot | str, resolution: float | None = None, orientatio
                            None if path is None else os.fspath(path))
 
 
-def _token(attrs: dict[str, Any]) -> str:
+def _check_round_trip(robot: Robot, toml: str) -> None:
+    """The stored robot file must give the same FK, or a reopened map would answer for another arm."""
+    from ..kinematics import fk
+    from ._map import robot_from_toml
+
+    back = robot_from_toml(toml, robot.name)
+    q = robot.random_q(16, rng=7)
+    if back.n != robot.n or not np.allclose(fk(back, q), fk(robot, q), atol=1e-9 * max(1.0, robot.reach)):
+        raise ReachabilityError(f"robot {robot.name!r} does not survive being written to a robot file "
+                                "(its FK changes); it cannot be stored in a map")
+
+
+def _digest(text: str) -> str:
     import hashlib
 
-    return hashlib.sha1(_canon(attrs).encode()).hexdigest()[:12]
+    return hashlib.sha1(text.encode()).hexdigest()[:12]
+
+
+def _token(attrs: dict[str, Any]) -> str:
+    return _digest(_canon(attrs))

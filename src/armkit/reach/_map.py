@@ -76,20 +76,27 @@ def decide(counts: NDArray[np.uint8], grid: Grid, coverage: float) -> NDArray[np
     dens = c.astype(np.float32)
     if grid.symmetric:    # a ring of radius r holds ~ r samples per unit density
         dens /= (np.arange(grid.dims[0], dtype=np.float32) + 0.5)[:, None, None, None]
-    ref = dens.copy()
+    ref = neighbourhood(dens, grid, np.maximum)
+    return (c > 0) & (dens >= np.float32(coverage) * ref)
+
+
+def neighbourhood(a: NDArray[Any], grid: Grid, op: Any) -> NDArray[Any]:
+    """``op`` (``np.maximum`` or ``np.minimum``) of ``a`` over each cell's neighbourhood: the 3x3x3
+    voxels around it (edges: those that exist) times its orientation bin and the neighbouring bins."""
+    ref = a.copy()
     nb = grid.direction_neighbours()
     for j in range(nb.shape[1]):
-        np.maximum(ref, dens[..., nb[:, j]], out=ref)
+        op(ref, a[..., nb[:, j]], out=ref)
     for axis in range(3):
-        if c.shape[axis] > 1:
+        if a.shape[axis] > 1:
             out = ref.copy()
             lo = [slice(None)] * 4
             hi = [slice(None)] * 4
             lo[axis], hi[axis] = slice(1, None), slice(None, -1)
-            np.maximum(out[tuple(lo)], ref[tuple(hi)], out=out[tuple(lo)])
-            np.maximum(out[tuple(hi)], ref[tuple(lo)], out=out[tuple(hi)])
+            op(out[tuple(lo)], ref[tuple(hi)], out=out[tuple(lo)])
+            op(out[tuple(hi)], ref[tuple(lo)], out=out[tuple(hi)])
             ref = out
-    return (c > 0) & (dens >= np.float32(coverage) * ref)
+    return ref
 
 
 @dataclass(frozen=True, eq=False)
@@ -177,7 +184,32 @@ class ReachabilityMap:
         T, lead = self._poses(poses, "poses")
         return self.grid.cells(T).reshape(lead)
 
-    def reachable(self, poses: ArrayLike) -> NDArray[np.bool_]:
+    @property
+    def boundary(self) -> NDArray[np.bool_]:
+        """Cells whose neighbourhood (see :func:`neighbourhood`) holds both reachable and unreachable
+        cells: there the answer may differ from one pose to another inside the cell. Shape as ``hits``."""
+        b = self.__dict__.get("_boundary")
+        if b is None:
+            h = self.hits.view(np.uint8)
+            b = neighbourhood(h, self.grid, np.maximum) != neighbourhood(h, self.grid, np.minimum)
+            b.setflags(write=False)
+            object.__setattr__(self, "_boundary", b)
+        return b  # type: ignore[no-any-return]
+
+    def _ik_reachable(self, T: Array, seed: int) -> NDArray[np.bool_]:
+        from ..ik import ik, ik_all
+        from ..ik.api import closed_form_family
+
+        target = T[:, :3, 3] if self.grid.position_only else T
+        if closed_form_family(self.robot) is not None:
+            try:
+                return np.asarray(ik_all(self.robot, target).success, dtype=bool).reshape(len(T), -1).any(axis=1)
+            except ArmkitError:     # the closed form does not take this kind of target: numeric below
+                pass
+        res = ik(self.robot, target, method="lm", seed=np.random.default_rng(seed), restarts=20)
+        return np.asarray(res.success, dtype=bool).reshape(len(T))
+
+    def reachable(self, poses: ArrayLike, refine: bool = False, seed: int = 0) -> NDArray[np.bool_]:
         """Whether the map calls each pose reachable.
 
         Parameters
@@ -185,6 +217,12 @@ class ReachabilityMap:
         poses : array_like, shape (..., 4, 4)
             Tool poses ``T_world_tool`` in the robot's world frame and unit. For a
             position-only map (arms with fewer than 6 joints) only the position counts.
+        refine : bool
+            Poses in :attr:`boundary` cells (where a cell is only partly reachable) are
+            decided by IK instead (every closed-form branch, or LM with 20 seeded restarts):
+            the map answers the clear cases in microseconds, IK the doubtful ones.
+        seed : int
+            Seeds the LM restarts of ``refine``.
 
         Returns
         -------
@@ -203,6 +241,11 @@ class ReachabilityMap:
         out = np.zeros(len(c), dtype=bool)
         ok = c >= 0
         out[ok] = self._flat[c[ok]]
+        if refine:
+            doubt = np.zeros(len(c), dtype=bool)
+            doubt[ok] = self.boundary.reshape(-1)[c[ok]]
+            if doubt.any():
+                out[doubt] = self._ik_reachable(T[doubt], seed)
         return out.reshape(lead)
 
     def index(self, points: ArrayLike) -> NDArray[np.float32]:

@@ -1,9 +1,9 @@
 """Excluding configurations that collide with a scene (``scene=`` of :func:`armkit.reachability`).
 
 The collision module (``armkit.collision``) provides ``clearance(robot, q, scene)``: the
-signed distance between the arm and the scene, batched over ``q`` ``(..., n)``. A sample
-counts only where the clearance is positive. Until that module is present, a scene is
-refused with a clear message rather than ignored.
+signed distance between the arm and the scene (and itself), batched over ``q`` ``(..., n)``.
+A sample (FK method) or an IK solution (IK method) counts only where the clearance is
+positive. Without that module a scene is refused with a clear message, never ignored.
 """
 
 from __future__ import annotations
@@ -36,17 +36,26 @@ def clearance_function() -> Callable[..., Any]:
     return fn  # type: ignore[no-any-return]
 
 
-def check_scene(scene: Any) -> None:
-    """Raise early when a scene is given but cannot be used."""
+def check_scene(robot: Robot, scene: Any) -> Any:
+    """The scene as ``armkit.collision`` takes it (a :class:`armkit.Scene` in the robot's unit), or None.
+
+    Raises :class:`SceneNotSupportedError` when collision checking is missing, and the collision
+    module's own error for a scene it cannot read.
+    """
     if scene is None:
-        return
+        return None
     clearance_function()
+    mod = importlib.import_module("armkit.collision")
+    as_scene = getattr(mod, "as_scene", None)
+    if as_scene is None:
+        return scene
     try:
-        Scene = getattr(importlib.import_module("armkit"), "Scene")
-    except AttributeError:
-        return
-    if not isinstance(scene, Scene):
-        raise ArmkitError(f"scene must be an armkit.Scene or None, got {type(scene).__name__}")
+        return as_scene(robot, scene)
+    except ArmkitError:
+        raise
+    except (TypeError, ValueError, AttributeError) as exc:
+        raise ArmkitError(f"scene must be an armkit.Scene, a sequence of shapes, a scene file or 'robot'; got "
+                          f"{type(scene).__name__} ({exc})") from None
 
 
 def collision_free(robot: Robot, q: NDArray[np.float64], scene: Any) -> NDArray[np.bool_]:
