@@ -33,6 +33,7 @@ class _ArmkitGroup(TyperGroup):
         uses them to choose a URDF chain; see ``common.get_robot``)."""
         from . import common
 
+        common.CHAIN.update(base=None, tip=None)
         rest, i = [], 0
         while i < len(args):
             word = args[i]

@@ -79,20 +79,25 @@ def _frame(origin: Array, x: Array, z: Array) -> Array:
 def _normal(o_a: Array, u_a: Array, p_b: Array, u_b: Array, x_prev: Array, ptol: float, ltol: float
             ) -> tuple[Array, Array, Array]:
     """The common normal of line ``a`` (through ``o_a``) and line ``b``: foot on a, foot on b, direction x."""
-    c = np.cross(u_a, u_b)
+    # u_a x u_b, written so that nearly parallel axes keep full relative precision (u_b -+ u_a is small
+    # and exact): the normal then stays perpendicular to both axes to rounding, not to 1e-16 / angle
+    c = np.cross(u_a, u_b - u_a if u_a @ u_b >= 0 else u_b + u_a)
     s = float(np.linalg.norm(c))
     if s > ptol:                                      # skew or intersecting
+        x = c / s
+        gap = float((p_b - o_a) @ x)                  # distance between the lines (well conditioned)
+        if abs(gap) <= ltol and np.linalg.norm(_perp(p_b - o_a, u_a)) <= ltol:
+            return p_b, p_b, (x if x @ x_prev >= 0 else -x)   # b's point lies on a: that is where they meet
         w = o_a - p_b
         b_, d_, e_ = float(u_a @ u_b), float(u_a @ w), float(u_b @ w)
         denom = s * s
         foot_a = o_a + ((b_ * e_ - d_) / denom) * u_a
         foot_b = p_b + ((e_ - b_ * d_) / denom) * u_b
-        x = c / s
-        gap = float((foot_b - foot_a) @ x)
         if abs(gap) > ltol:
             x = x if gap > 0 else -x
-        elif x @ x_prev < 0:                          # intersecting: the sign nearest the previous x
-            x = -x
+        else:                                         # intersecting: one point, the sign nearest the previous x
+            foot_b = foot_a
+            x = x if x @ x_prev >= 0 else -x
         return foot_a, foot_b, x
     foot_a = o_a                                      # parallel: the normal through the previous origin
     foot_b = p_b + float((o_a - p_b) @ u_b) * u_b
@@ -114,9 +119,8 @@ def _frames(robot: Robot, ptol: float, ltol: float) -> tuple[list[Array], list[A
         if robot.prismatic[i]:
             if i == 0:
                 p[0] = o_ref
-            else:
-                _, foot, _ = _normal(p[i], u[i], p[i - 1], u[i - 1], x_ref, ptol, ltol)
-                p[i] = foot
+            else:   # the foot of its origin on the previous axis: the two lines meet there exactly
+                p[i] = p[i - 1] + float((p[i] - p[i - 1]) @ u[i - 1]) * u[i - 1]
     o0 = p[0] + float((o_ref - p[0]) @ u[0]) * u[0]
     x0 = _perp(x_ref, u[0])
     if np.linalg.norm(x0) < 1e-6:

@@ -113,6 +113,7 @@ def _check_xml(root: Any, path: str) -> tuple[dict[str, Any], dict[str, Any]]:
         if name in joints:
             raise RobotFileError(path, f"joint {name!r} is defined twice (first on line {joints[name].sourceline})",
                                  el.sourceline)
+        joints[name] = el
         jtype = el.get("type")
         if jtype not in _KNOWN:
             raise RobotFileError(path, f"unknown joint type {jtype!r}; URDF knows {', '.join(_KNOWN)}",
