@@ -203,7 +203,8 @@ class ReachabilityMap:
         target = T[:, :3, 3] if self.grid.position_only else T
         if closed_form_family(self.robot) is not None:
             try:
-                return np.asarray(ik_all(self.robot, target).success, dtype=bool).reshape(len(T), -1).any(axis=1)
+                ok: NDArray[np.bool_] = np.asarray(ik_all(self.robot, target).success, dtype=bool)
+                return np.asarray(ok.reshape(len(T), -1).any(axis=1), dtype=bool)
             except ArmkitError:     # the closed form does not take this kind of target: numeric below
                 pass
         res = ik(self.robot, target, method="lm", seed=np.random.default_rng(seed), restarts=20)
