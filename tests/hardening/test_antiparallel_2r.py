@@ -24,3 +24,11 @@ def test_antiparallel_2r_closed_form(tool, alpha):
     np.testing.assert_allclose(armkit.fk(arm, every.q)[..., :3, 3], np.repeat(p[:, None], 2, axis=1), atol=1e-9)
     one = armkit.ik(arm, p, q0=q)
     np.testing.assert_allclose(np.asarray(one.q), q, atol=1e-7)     # the branch nearest q0 is q itself
+
+
+def test_planar_target_off_the_plane_says_so():
+    res = armkit.ik(armkit.load("planar2"), [1.0, 2.0, 3.0])
+    assert not bool(res.success)
+    assert "3 m off the arm's plane" in str(res.message)
+    res = armkit.ik(armkit.load("planar2"), [1.0, 2.0, 0.0])
+    assert "off the arm's plane" not in str(res.message)

@@ -71,7 +71,29 @@ class Planar2R:
         v = sf.tool[:3, 3]
         ell = math.hypot(v[0], v[1])
         sign = -1 if anti else 1
-        return None if sf.is_zero(ell) else cls(sf, ell, math.atan2(sign * v[1], v[0]), robot.unit, sign)
+        if sf.is_zero(ell):
+            return None
+        solver = cls(sf, ell, math.atan2(sign * v[1], v[0]), robot.unit, sign)
+        from ...kinematics import fk
+
+        solver.z_plane = float(sf.point_to_chain(fk(robot, np.zeros(robot.n))[:3, 3])[2])   # the arm's plane in B'
+        return solver
+
+    z_plane: float | None = None
+
+    def _with_offset(self, why, pts: Array):
+        """``why(i)`` plus how far target ``i // 2`` lies off the arm's plane, when it does."""
+        if self.z_plane is None:
+            return why
+
+        def explain(i: int) -> str:
+            text = why(i)
+            off = abs(float(self.sf.point_to_chain(pts[i // 2])[2]) - self.z_plane)
+            if off > 1e-9 * max(1.0, self.sf.scale):
+                text += f" The target is also {off:.6g} {self.unit} off the arm's plane."
+            return text
+
+        return explain
 
     def solve(self, target: Array, q0phi: Array) -> Raw:
         pts = target[:, :3, 3] if target.ndim == 3 else target
@@ -83,13 +105,13 @@ class Planar2R:
                 q = np.array(q)
                 q[..., 1] *= -1.0
             _, why, note = _explain(c, r, self.sf.a[0], self.ell, self.unit, "target", (unreachable, edge))
-            return Raw(q, _LABELS[idx], unreachable, why, note)
+            return Raw(q, _LABELS[idx], unreachable, self._with_offset(why, pts), note)
         p = self.sf.point_to_chain(pts)
         t1, t2, c, r = two_link(p[:, 0], p[:, 1], self.sf.a[0], self.ell)
         q = np.stack([t1, self.sign * (t2 - self.beta)], axis=-1)            # (B, 2, 2)
         up = elbow_up(forward_sign(p[:, 0])[:, None], 1.0, self.sf.a[0], self.ell, np.array([0, 1]))
         unreachable, why, note = _explain(c, r, self.sf.a[0], self.ell, self.unit, "target")
-        return Raw(q, _LABELS[up.astype(int)], unreachable, why, note)
+        return Raw(q, _LABELS[up.astype(int)], unreachable, self._with_offset(why, pts), note)
 
 
 class Planar3R:
