@@ -27,6 +27,7 @@ install without a writable home) it goes to a private directory under the temp d
 
 from __future__ import annotations
 
+import functools
 import hashlib
 import os
 import subprocess
@@ -52,7 +53,7 @@ _next_poll = 0.0
 _next_parallel_poll = 0.0
 _serial_only = False           # the warm-up's first phase: compile only the one-thread kernels
 _worker: Any = None            # the warm-up process this process started
-_told = False
+_told: set[str] = set()
 
 
 # ---------------------------------------------------------------------------------------- cache
@@ -110,6 +111,7 @@ def install_cache_fallback() -> None:
     impl._locator_classes = list(impl._locator_classes) + [ArmkitFallbackLocator]
 
 
+@functools.lru_cache(maxsize=None)
 def cache_dir() -> Optional[Path]:
     """The directory where the kinematics kernels are cached (imports Numba), or None if caching is off."""
     from .kinematics import _jit
@@ -119,6 +121,7 @@ def cache_dir() -> Optional[Path]:
     return Path(path) if path else None
 
 
+@functools.lru_cache(maxsize=None)
 def _key() -> str:
     """This build's kernels: their sources, the Numba and Python versions, the machine."""
     import numba
@@ -137,10 +140,10 @@ def _marker(suffix: str) -> Optional[Path]:
 
 
 # ------------------------------------------------------------------------------------ the state
-def _say(text: str) -> None:
-    global _told
-    if not _told:
-        _told = True
+def _say(text: str, what: str = "compiling") -> None:
+    """Print ``armkit: text`` on stderr, once per process for each ``what``."""
+    if what not in _told:
+        _told.add(what)
         print(f"armkit: {text}", file=sys.stderr, flush=True)
 
 
@@ -170,10 +173,13 @@ def ready(poll: bool = False) -> bool:
         _state = "ready"
         _parallel = bool((p := _marker("parallel")) and p.exists())
         return True
-    if _worker is not None and _worker.poll() is not None or _worker is None and not _lock_alive():
+    if _worker is not None:
+        _worker.poll()  # reap our own warm-up process if it ended (a zombie's pid would look alive)
+    if not _lock_alive():
         # the warm-up process ended without its marker: compile here, on first use, as without it
         _state, _parallel = "sync", True
-        _say_compiling(f"the warm-up process failed (see {_log_path()}); ")
+        _say(f"the warm-up process failed (see {_log_path()}); compiling armkit's kernels here, on first use, "
+             f"about {COMPILE_SECONDS} s in all", "failed")
         return True
     return False
 
@@ -194,9 +200,9 @@ def parallel_ok() -> bool:
     return not _serial_only
 
 
-def _say_compiling(prefix: str = "") -> None:
-    _say(f"{prefix}compiling armkit's kernels once, about {COMPILE_SECONDS} s (each is cached on disk for the "
-         "next runs; `armkit warmup` does all of it ahead of time)")
+def _say_compiling(hint: bool = True) -> None:
+    _say(f"compiling armkit's kernels once, about {COMPILE_SECONDS} s in all (cached on disk for the next runs"
+         + ("; `armkit warmup` does it ahead of time)" if hint else ")"))
 
 
 def _decide() -> str:
@@ -391,7 +397,7 @@ def warmup(*, parallel: bool = True) -> Warmup:
             time.sleep(0.2)
     compiled = not done()
     if compiled:
-        _say_compiling()
+        _say_compiling(hint=False)
     from . import kinematics
 
     backend = kinematics._backend

@@ -12,9 +12,7 @@ def warmup(parallel: bool = typer.Option(True, "--parallel/--no-parallel",
            json_out: bool = typer.Option(False, "--json", help="Print JSON instead of a sentence.")) -> None:
     """Compile armkit's Numba kernels once and cache them on disk, so that no later run waits for it.
 
-    Run it after installing armkit into an image or a CI environment. The cache goes to
-    NUMBA_CACHE_DIR if set, else next to the package, else ~/.cache/numba, else a private
-    directory in the temp directory (read-only installs).
+    Run it after installing armkit into an image or a CI environment. The cache goes to NUMBA_CACHE_DIR if set, else next to the package, else ~/.cache/numba, else a private directory in the temp directory (read-only installs).
 
     Example: armkit warmup
     """
