@@ -23,7 +23,7 @@ INSTALL_HINT = ("cannot start chromium for the browser tests ({why}). Install De
 
 
 @contextmanager
-def browser_context(width: int = 1280, height: int = 800) -> Iterator[Any]:
+def browser_context(width: int = 1000, height: int = 640) -> Iterator[Any]:
     """A persistent Chromium context with a fresh user-data dir, removed afterwards."""
     from playwright.sync_api import sync_playwright
 

@@ -117,7 +117,7 @@ class ArmDrawing:
         cell, section, width = nice_grid(reach)
         self.grid_text = f"{cell:g} {robot.unit}"
         sc.add_grid("/ground", width=width * self.s, height=width * self.s, cell_size=cell * self.s,
-                    section_size=section * self.s, plane="xy")
+                    section_size=section * self.s, plane="xy", shadow_opacity=0.0)
         base = np.asarray(robot.base)
         sc.add_cylinder("/arm/base", radius=2.2 * self.radius, height=0.6 * self.radius, color=BASE_COLOUR,
                         position=tuple(base[:3, 3] * self.s - base[:3, 2] * 0.3 * self.radius),
@@ -128,13 +128,16 @@ class ArmDrawing:
             m = skeleton_batch(robot, fk_frames(robot, q)[None]).shape[1]
             self._lengths = [-1.0] * (m - 1)
             self._links = [None] * (m - 1)
-            self._caps = [sc.add_icosphere(f"/arm/caps/{i}", radius=self.radius, color=ARM_COLOUR, subdivisions=2)
+            self._caps = [sc.add_icosphere(f"/arm/caps/{i}", radius=self.radius, color=ARM_COLOUR, subdivisions=2,
+                                         cast_shadow=False, receive_shadow=False)
                           for i in range(m)]
         for k in range(n):
             self._joints.append(sc.add_icosphere(f"/arm/joints/{k}", radius=1.35 * self.radius,
-                                                 color=JOINT_COLOUR, subdivisions=2))
+                                                 color=JOINT_COLOUR, subdivisions=2, cast_shadow=False,
+                                                 receive_shadow=False))
             self._axes.append(sc.add_cylinder(f"/arm/axes/{k}", radius=0.45 * self.radius,
-                                              height=5.0 * self.radius, color=AXIS_COLOUR))
+                                              height=5.0 * self.radius, color=AXIS_COLOUR, cast_shadow=False,
+                                              receive_shadow=False))
         for k in range(n + 1):
             self._frames.append(sc.add_frame(f"/frames/{k}", axes_length=0.18 * self.reach_m,
                                              axes_radius=0.012 * self.reach_m, visible=False))
@@ -217,7 +220,7 @@ class ArmDrawing:
                     continue
                 if self._links[i] is None or abs(length - self._lengths[i]) > 1e-9 * self.reach_m:
                     self._links[i] = sc.add_cylinder(f"/arm/links/{i}", radius=self.radius, height=length,
-                                                     color=ARM_COLOUR)
+                                                     color=ARM_COLOUR, cast_shadow=False, receive_shadow=False)
                     self._lengths[i] = length
                 link = self._links[i]
                 link.visible = True

@@ -12,6 +12,7 @@ widgets, an uploaded CSV is parsed by :func:`numpy.loadtxt`.
 
 from __future__ import annotations
 
+import collections
 import contextlib
 import io
 import math
@@ -105,6 +106,7 @@ class View:
         self.last_result: Optional[IKResult] = None
         self.target: Optional[Array] = None
         self.updates = 0
+        self.update_ms: collections.deque[float] = collections.deque(maxlen=1000)   # server time per update
         self.ik_updates = 0
         self.track_frame = -1
         self._closed = False
@@ -141,6 +143,10 @@ class View:
 
         r, s = self.robot, self.robot.unit_scale
         self.server.scene.set_up_direction("+z")
+        # no shadows and no HDRI environment: far cheaper to draw (a laptop without a GPU, SSH, CI),
+        # with the default lights doing the shading
+        self.server.scene.configure_environment_map(hdri=None)
+        self.server.scene.configure_default_lights(enabled=True, cast_shadow=False)
         self.server.gui.configure_theme(control_width="medium", show_share_button=False, show_logo=False)
         c = shoulder_point(r) * s
         R = (r.reach or 1.0) * s
@@ -180,6 +186,7 @@ class View:
         with self._lock:
             if self._closed:
                 return
+            t0 = time.perf_counter()
             self._q = np.array(q, dtype=float)
             F = fk_frames(self.robot, self._q)
             with self.server.atomic():
@@ -188,6 +195,7 @@ class View:
                 if extra is not None:
                     extra()
             self.updates += 1
+            self.update_ms.append(1e3 * (time.perf_counter() - t0))
 
     def set_q(self, q: ArrayLike) -> None:
         """Move the arm to ``q`` ``(n,)`` (rad / length units); outside a limit raises JointLimitError."""

@@ -1,0 +1,213 @@
+"""Benchmarks of the live view, measured through a real browser (headless chromium via Playwright).
+
+1. Latency from a slider move in the page (a key press on a joint slider's thumb) to the
+   updated arm: the time, on the page's own clock, from the keydown event to the end-pose
+   text showing the new value. The link poses travel in the same websocket batch as that
+   text (``server.atomic()``), so this is the time until the page holds the moved arm
+   (drawing the next frame adds at most one display frame). Goal: median < 50 ms.
+2. Live IK while dragging the target gizmo with the mouse (6-DOF ur5: closed form with every
+   branch; 7-DOF panda: LM warm-started): arm updates per second seen by the page (distinct
+   end-pose values) and IK solves per second on the server. Goal: >= 30 updates/s.
+3. Memory over a tracking run (looping a circle path at 60 frames/s with a page connected):
+   RSS of this process at the start and the end. Goal: flat over 10 minutes (``--minutes``).
+
+Run: .venv/bin/python benchmarks/bench_view.py [--minutes 10] [--skip-memory]
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import statistics
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests" / "view"))
+
+import armkit  # noqa: E402
+from armkit.view import View  # noqa: E402
+
+from _browser import browser_context, open_page, row, text_of  # noqa: E402
+
+WATCH_JS = """
+([label]) => {
+  const lab = [...document.querySelectorAll('label')].find(l => l.textContent.trim() === label);
+  const input = lab.closest('.mantine-Flex-root').querySelector('input');
+  window.__input = input;
+  window.__changes = [];
+  let last = input.value;
+  const poll = () => {                       // 1 ms polling of the end-pose text (React sets .value)
+    const v = window.__input.value;
+    if (v !== last) { last = v; window.__changes.push(performance.now()); }
+    if (window.__watching) setTimeout(poll, 1);
+  };
+  window.__watching = true;
+  poll();
+  document.addEventListener('keydown', () => { window.__keydown = performance.now(); }, true);
+}
+"""
+
+
+def rss_mb() -> float:
+    for line in Path("/proc/self/status").read_text().splitlines():
+        if line.startswith("VmRSS:"):
+            return int(line.split()[1]) / 1024
+    return float("nan")
+
+
+def slider_latency(ctx, name: str, presses: int = 40) -> list[float]:
+    with View(name, lang="en") as v:
+        first = f"{v.robot.joint_names[1]} (°)"
+        page = open_page(ctx, v.url, first)
+        pose_label = f"end point ({v.robot.unit})"
+        page.evaluate(WATCH_JS, [pose_label])
+        thumb = row(page, first).locator("[role=slider]")
+        thumb.focus()
+        out = []
+        for i in range(presses):
+            before = page.evaluate("window.__changes.length")
+            thumb.press("ArrowRight" if (i // 10) % 2 == 0 else "ArrowLeft")
+            page.wait_for_function(f"window.__changes.length > {before}", timeout=10_000)
+            out.append(page.evaluate(f"window.__changes[{before}] - window.__keydown"))
+            time.sleep(0.05)
+        page.close()
+        slider_latency.server_ms = statistics.median(list(v.update_ms)[-presses:])  # type: ignore[attr-defined]
+    return out
+
+
+def _project(cam_pos, look_at, up, fov, width, height, p):
+    f = np.asarray(look_at, float) - cam_pos
+    f /= np.linalg.norm(f)
+    r = np.cross(f, up)
+    r /= np.linalg.norm(r)
+    u = np.cross(r, f)
+    d = np.asarray(p, float) - cam_pos
+    x, y, z = d @ r, d @ u, d @ f
+    t = math.tan(fov / 2)
+    return width / 2 + (x / z) / (t * width / height) * width / 2, height / 2 - (y / z) / t * height / 2
+
+
+def drag_rate(ctx, name: str, seconds: float = 4.0, width: int = 1280, height: int = 800) -> dict:
+    """Drag the gizmo's axis arrows with the mouse; count arm updates in the page and IK solves."""
+    with View(name, lang="en") as v:
+        r = v.robot
+        q0 = np.clip(np.array([0.3, -1.0, 1.2, -1.2, -1.4, 0.4, 0.5][:r.n]), r.lower, r.upper)
+        if name == "panda":
+            q0 = np.array([0.0, -0.3, 0.0, -2.0, 0.0, 1.8, 0.8])
+        v.set_q(q0)
+        T = armkit.fk(r, q0)
+        v.set_target(T)
+        page = open_page(ctx, v.url, f"{r.joint_names[0]} (°)")
+        client = list(v.server.get_clients().values())[0]
+        s = r.unit_scale
+        cam = client.camera
+        centre = T[:3, 3] * s
+        R = (r.reach or 1) * s
+        cam.position = tuple(centre + R * np.array([0.0, -1.6, 0.25]))
+        cam.look_at = tuple(centre)
+        cam.up_direction = (0.0, 0.0, 1.0)
+        time.sleep(1.0)
+        fov = float(cam.fov)
+        page.evaluate(WATCH_JS, [f"end point ({r.unit})"])
+        gizmo_scale = 0.22 * R
+        best = None
+        for axis in (0, 2, 1):
+            for frac in (0.75, 0.55, 0.9, 0.4):
+                a = T[:3, axis]
+                p0 = _project(np.asarray(cam.position), cam.look_at, (0, 0, 1), fov, width, height,
+                              centre + frac * gizmo_scale * a)
+                p1 = _project(np.asarray(cam.position), cam.look_at, (0, 0, 1), fov, width, height,
+                              centre + (frac + 0.3) * gizmo_scale * a)
+                direction = np.subtract(p1, p0)
+                if np.linalg.norm(direction) < 1:
+                    continue
+                direction /= np.linalg.norm(direction)
+                ik0, changes0 = v.ik_updates, page.evaluate("window.__changes.length")
+                page.mouse.move(*p0)
+                page.mouse.down()
+                t0 = time.perf_counter()
+                k = 0
+                while time.perf_counter() - t0 < seconds:
+                    k += 1
+                    amp = 40 * math.sin(k * 0.15)
+                    page.mouse.move(p0[0] + amp * direction[0], p0[1] + amp * direction[1])
+                    time.sleep(0.004)
+                page.mouse.up()
+                dt = time.perf_counter() - t0
+                time.sleep(0.3)
+                solves = v.ik_updates - ik0
+                server_ms = statistics.median(list(v.update_ms)[-max(solves, 1):])
+                seen = page.evaluate("window.__changes.length") - changes0
+                if solves > 5:
+                    best = {"robot": name, "seconds": dt, "page_updates_per_s": seen / dt,
+                            "ik_solves_per_s": solves / dt, "mouse_moves_per_s": k / dt, "server_ms": server_ms,
+                            "reached_last": bool(np.asarray(v.last_result.success)) if v.last_result else None}
+                    break
+            if best:
+                break
+        page.close()
+    return best or {"robot": name, "error": "the drag did not hit the gizmo"}
+
+
+def memory_run(ctx, minutes: float) -> dict:
+    with View("planar3", lang="en") as v:
+        page = open_page(ctx, v.url, "q1 (°)")
+        v.show_path("circle", method="lm", frames=200, fps=60)
+        start = rss_mb()
+        samples = [(0.0, start)]
+        t0 = time.perf_counter()
+        frames0 = v.updates
+        while time.perf_counter() - t0 < minutes * 60:
+            time.sleep(10)
+            samples.append((time.perf_counter() - t0, rss_mb()))
+            print(f"  memory: {samples[-1][0]:6.0f} s  RSS {samples[-1][1]:.1f} MB  frames {v.updates - frames0}",
+                  flush=True)
+        dt = time.perf_counter() - t0
+        frames = v.updates - frames0
+        text = text_of(page, "frame")
+        page.close()
+    rs = [m for _, m in samples]
+    half = rs[len(rs) // 2]
+    return {"minutes": dt / 60, "frames": frames, "frames_per_s": frames / dt, "rss_start_mb": start,
+            "rss_mid_mb": half, "rss_end_mb": rs[-1], "rss_max_mb": max(rs), "last_frame_text": text}
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--minutes", type=float, default=10.0, help="length of the tracking run for memory")
+    ap.add_argument("--skip-memory", action="store_true")
+    ap.add_argument("--presses", type=int, default=40)
+    ap.add_argument("--latency-robots", default="fighter,ur5,panda")
+    ap.add_argument("--skip-drag", action="store_true")
+    args = ap.parse_args()
+    with browser_context() as ctx:
+        for name in args.latency_robots.split(","):
+            lat = slider_latency(ctx, name, args.presses)
+            print(f"slider -> arm latency, {name}: median {statistics.median(lat):.1f} ms, "
+                  f"p90 {np.percentile(lat, 90):.1f} ms, min {min(lat):.1f} ms over {len(lat)} key presses "
+                  f"(server side {slider_latency.server_ms:.2f} ms per update; "
+                  f"goal < 50 ms: {'met' if statistics.median(lat) < 50 else 'NOT met'}, "
+                  f"ratio goal/median {50 / statistics.median(lat):.1f}x)", flush=True)
+        for name in () if args.skip_drag else ("ur5", "panda"):
+            d = drag_rate(ctx, name)
+            if "error" in d:
+                print(f"live IK while dragging, {name}: {d['error']}")
+                continue
+            print(f"live IK while dragging, {name}: {d['page_updates_per_s']:.1f} arm updates/s in the page, "
+                  f"{d['ik_solves_per_s']:.1f} IK solves/s, {d['mouse_moves_per_s']:.0f} mouse moves/s over "
+                  f"{d['seconds']:.1f} s; server {d['server_ms']:.2f} ms per IK + update, i.e. "
+                  f"{1000 / d['server_ms']:.0f}/s possible; "
+                  f"(goal >= 30/s: {'met' if d['page_updates_per_s'] >= 30 else 'NOT met'}, "
+                  f"ratio {d['page_updates_per_s'] / 30:.1f}x)", flush=True)
+        if not args.skip_memory:
+            m = memory_run(ctx, args.minutes)
+            print(f"memory over {m['minutes']:.1f} min of tracking ({m['frames']} frames, {m['frames_per_s']:.1f}/s): "
+                  f"RSS start {m['rss_start_mb']:.1f} MB, middle {m['rss_mid_mb']:.1f} MB, end {m['rss_end_mb']:.1f} MB, "
+                  f"max {m['rss_max_mb']:.1f} MB (end/start {m['rss_end_mb'] / m['rss_start_mb']:.3f})")
+
+
+if __name__ == "__main__":
+    main()
