@@ -11,9 +11,9 @@ from __future__ import annotations
 from . import spatial
 from .errors import (ArmkitError, JointLimitError, RobotDefinitionError, RobotFileError, ShapeError,
                      UnknownRobotError, UnreachableError)
-from .kinematics import (condition_number, fk, fk_frames, get_backend, is_singular, jacobian, manipulability,
-                         set_backend)
-from .model import Joint, Robot, bundled_robots, load, save
+from .kinematics import (condition_number, fk, fk_frames, get_backend, is_singular, jacobian, link_frames,
+                         manipulability, set_backend)
+from .model import Joint, Link, Robot, Shape, bundled_robots, load, save
 from .ik import IKResult, ik, ik_all
 from ._jit_loader import warmup
 
@@ -32,8 +32,8 @@ def view(robot: "Robot | str", port: "int | None" = None, **kwargs):  # type: ig
 
 
 __all__ = [
-    "spatial", "Joint", "Robot", "load", "save", "bundled_robots",
-    "fk", "fk_frames", "jacobian", "manipulability", "condition_number", "is_singular",
+    "spatial", "Joint", "Robot", "Link", "Shape", "load", "save", "bundled_robots",
+    "fk", "fk_frames", "link_frames", "jacobian", "manipulability", "condition_number", "is_singular",
     "set_backend", "get_backend", "warmup",
     "ArmkitError", "ShapeError", "RobotDefinitionError", "RobotFileError", "UnknownRobotError",
     "JointLimitError", "UnreachableError",
