@@ -89,7 +89,10 @@ angle = st.floats(-math.pi, math.pi)
 def test_box_against_coal(p0, p1, r, c, size, rpy):
     box = Scene.box(c, size, rpy)
     mine = K.segment_box(p0, p1, box.pose, 0.5 * np.array(box.size)) - r
-    assert mine == pytest.approx(capsule_to(p0, p1, r, box), abs=1e-9)
+    ref = capsule_to(p0, p1, r, box)
+    # apart: exact; overlapping: coal's EPA stops within its tolerance on degenerate cases (a point at the
+    # centre of a unit box: depth 0.5 + r exactly, coal says 8.6e-7 more)
+    assert mine == pytest.approx(ref, abs=1e-9 if ref > 0 else 1e-6)
 
 
 @settings(max_examples=300, deadline=None)

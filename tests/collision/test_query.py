@@ -8,10 +8,11 @@ import numpy as np
 import pytest
 
 import armkit
-from armkit.collision import Scene, arm_geometry, clearance, collisions
+from armkit.collision import Scene, arm_geometry, clearance, collisions, in_collision
 from armkit.collision.query import chain_frames
 
-from coal_reference import capsule_capsule, capsule_to, coal_distance, coal_shape
+import coal
+from coal_reference import capsule_capsule, capsule_pose, capsule_to, coal_distance, coal_shape
 
 ROBOTS = armkit.bundled_robots()
 
@@ -28,26 +29,57 @@ def every_primitive(robot):
     ])
 
 
+_HULLS = {}
+
+
+def _solid_in_coal(solid, F):
+    """coal geometry + transform of an arm solid (capsule from the frames, or a link shape), built here."""
+    import coal
+
+    if solid.kind == "segment":
+        return None
+    T = F[solid.frame] @ solid.local
+    tf = coal.Transform3s(np.ascontiguousarray(T[:3, :3]), np.ascontiguousarray(T[:3, 3]))
+    if solid.kind == "box":
+        return coal.Box(*solid.size), tf
+    if solid.kind == "mesh":
+        key = solid.shape.mesh_path
+        if key not in _HULLS:
+            model = coal.MeshLoader().load(key, np.array(solid.shape.scale, dtype=float))
+            model.buildConvexHull(True, "Qt")
+            _HULLS[key] = model.convex
+        return _HULLS[key], tf
+    raise AssertionError(solid.kind)
+
+
 def reference(robot, q, scene):
-    """Every pair's signed distance from coal, built here from the arm's capsules (not through armkit.collision)."""
+    """Every pair's signed distance from coal, built here from the arm's solids (not through armkit.collision)."""
     geo = arm_geometry(robot)
     F = chain_frames(robot, q[None])[0]
     caps = {}
     for k, s in enumerate(geo.solids):
         if s.kind == "segment":
             caps[k] = (F[s.ends[0], :3, 3], F[s.ends[1], :3, 3], s.size[0])
+
+    def placed(k):
+        if k in caps:
+            tf, length = capsule_pose(caps[k][0], caps[k][1])
+            return coal.Capsule(caps[k][2], length), tf
+        return _solid_in_coal(geo.solids[k], F)
+
     out = []
     for sh in scene:
         for k, s in enumerate(geo.solids):
-            if s.frame != 0 and k in caps:
-                out.append(capsule_to(*caps[k], sh))
+            if s.frame != 0 and not geo.allowed(s.link, sh):
+                if k in caps:
+                    out.append(capsule_to(*caps[k], sh))
+                else:
+                    out.append(coal_distance(*placed(k), *coal_shape(sh)))
     for i, j in geo.self_pairs:
         if i in caps and j in caps:
             out.append(capsule_capsule(*caps[i], *caps[j]))
-        else:   # the fighter's torso (a box fixed to the base) against a capsule
-            box = geo.solids[i] if i not in caps else geo.solids[j]
-            cap = caps[j] if i not in caps else caps[i]
-            out.append(capsule_to(*cap, Scene.box(box.local[:3, 3], box.size)))
+        else:
+            out.append(coal_distance(*placed(i), *placed(j)))
     return np.array(out)
 
 
@@ -55,7 +87,7 @@ def reference(robot, q, scene):
 def test_every_pair_against_coal(name):
     robot = armkit.load(name)
     scene = every_primitive(robot)
-    q = robot.random_q(150, rng=7)
+    q = robot.random_q(40 if name == "so101" else 150, rng=7)   # so101: convex hulls of its meshes, through coal
     res = collisions(robot, q, scene)
     ref = np.array([reference(robot, qk, scene) for qk in q])
     assert res.distances.shape == ref.shape
@@ -106,7 +138,7 @@ def test_batched_like_fk_and_looped():
     assert res.distances.shape == (2, 3, 4, len(res.pairs))
     flat = q.reshape(-1, 6)
     looped = np.array([clearance(arm, qk, scene) for qk in flat]).reshape(2, 3, 4)
-    np.testing.assert_array_equal(res.distance, looped)
+    np.testing.assert_allclose(res.distance, looped, rtol=0, atol=1e-14)   # Numba (batch) and NumPy (one) kernels
     assert np.shape(clearance(arm, flat[0], scene)) == ()
 
 
@@ -151,3 +183,25 @@ def test_cylinder_depth_is_the_smallest_separating_translation():
 
         cyl = Scene.cylinder([0, 0, 0], 0.2, 0.8)
         assert depth <= -capsule_to(a, b, 0.05, cyl) + 1e-9
+
+
+@pytest.mark.parametrize("name", ["fighter", "puma560", "panda", "stanford"])   # so101: coal (meshes) both ways
+def test_numba_kernels_equal_numpy(name):
+    robot = armkit.load(name)
+    scene = every_primitive(robot)
+    q = robot.random_q(400, rng=5)
+    before = armkit.get_backend()
+    try:
+        armkit.set_backend("numpy")
+        ref = collisions(robot, q, scene)
+        armkit.set_backend("numba")
+        res = collisions(robot, q, scene)
+        fast = clearance(robot, q, scene)
+        yes = in_collision(robot, q, scene)
+    finally:
+        armkit.set_backend(before)
+    np.testing.assert_allclose(res.distances, ref.distances, rtol=0, atol=1e-12 * robot.reach)
+    np.testing.assert_allclose(fast, ref.distance, rtol=0, atol=1e-12 * robot.reach)
+    np.testing.assert_array_equal(yes, ref.colliding)
+    np.testing.assert_array_equal(res.closest[~np.isclose(ref.distance, np.sort(ref.distances, axis=1)[:, 1])],
+                                  ref.closest[~np.isclose(ref.distance, np.sort(ref.distances, axis=1)[:, 1])])

@@ -14,8 +14,8 @@ meshes) is imported when a pair needs it.
 from __future__ import annotations
 
 from .geometry import ArmGeometry, RobotCollision, arm_geometry, robot_collision, robot_scene
-from .query import Collisions, as_scene, clearance, collisions
+from .query import Collisions, as_scene, clearance, collisions, in_collision
 from .shapes import KINDS, Scene, SceneError, Shape
 
-__all__ = ["Scene", "Shape", "SceneError", "KINDS", "Collisions", "collisions", "clearance", "as_scene",
+__all__ = ["Scene", "Shape", "SceneError", "KINDS", "Collisions", "collisions", "clearance", "in_collision", "as_scene",
            "ArmGeometry", "RobotCollision", "arm_geometry", "robot_collision", "robot_scene"]

@@ -154,7 +154,7 @@ def _build(robot: Robot) -> ArmGeometry:
         if link in shaped or radii[s - 1] <= 0:
             continue
         solids.append(Solid(link, link, "segment", owner, owner, size=(radii[s - 1],),
-                            ends=(s - 1, n + 1 if s == n else s)))
+                            ends=(s - 1, n + 1 if s == n and has_tool else s)))
     if has_tool:   # the tool: from the flange to the tool point, part of the last link
         cands = by_frame.get(n, [])
         link = cands[0].name if cands else robot.link_names[-1]

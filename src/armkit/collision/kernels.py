@@ -108,7 +108,7 @@ def segment_box(p0: Array, p1: Array, T_world_box: Array, half: Array) -> Array:
     qa = np.sum(v * v, axis=-1)
     qb = np.sum(u * v, axis=-1)
     with np.errstate(divide="ignore", invalid="ignore"):
-        tstar = np.where(qa > 0, -qb / qa, lo)
+        tstar = np.where(qa > 0, -qb / qa, mid)   # no coordinate outside at the midpoint: f(mid) = 0 exactly
     tstar = np.clip(tstar, lo, hi)
     x = A + tstar[..., None] * B
     excess = np.maximum(np.abs(x) - H, 0.0)

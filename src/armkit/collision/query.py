@@ -18,7 +18,7 @@ from . import kernels as K
 from .geometry import ArmGeometry, Solid, arm_geometry, robot_scene
 from .shapes import Scene, SceneError, Shape
 
-__all__ = ["Collisions", "collisions", "clearance", "as_scene"]
+__all__ = ["Collisions", "collisions", "clearance", "in_collision", "as_scene"]
 
 Array = NDArray[np.float64]
 
@@ -92,6 +92,8 @@ def chain_frames(robot: Robot, q: Array) -> Array:
 
     frames = fk_frames(robot, q)
     n = robot.n
+    if not np.any(np.asarray(robot.tool)[:3, 3]):   # the flange point is the tool point: no copy
+        return frames
     out = np.empty((frames.shape[0], n + 2, 4, 4))
     out[:, :n + 1] = frames
     out[:, n + 1] = frames[:, n] @ np.linalg.inv(np.asarray(robot.tool))
@@ -195,6 +197,106 @@ def _pair_distances(geo: ArmGeometry, frames: Array, scene_pairs: list[tuple[int
     return out
 
 
+_JIT_KINDS = {"segment": 0, "sphere": 1, "capsule": 1, "box": 2, "plane": 3}
+
+
+def _jit_item(kind: str, frame: int, local: Array, size: Sequence[float], ends: tuple[int, int]) -> tuple:
+    """One item of the Numba kernels: (kind code, frame, end a, end b, L (4, 4), radius, half (3,))."""
+    L = np.zeros((4, 4))
+    rad, half = 0.0, np.zeros(3)
+    code = _JIT_KINDS[kind]
+    if kind == "segment":
+        rad = size[0]
+    elif kind in ("sphere", "capsule"):
+        h = 0.5 * size[1] if kind == "capsule" else 0.0
+        L[0, :3] = local[:3, 3] - h * local[:3, 2]
+        L[1, :3] = local[:3, 3] + h * local[:3, 2]
+        rad = size[0]
+    else:
+        L[:] = local
+        if kind == "box":
+            half = 0.5 * np.asarray(size, dtype=float)
+    return code, frame, ends[0], ends[1], L, rad, half
+
+
+def _jit_pack(geo: ArmGeometry, scene_pairs: list[tuple[int, Shape]], self_pairs: Sequence[tuple[int, int]]
+              ) -> tuple[tuple, NDArray[np.int64], NDArray[np.int64]]:
+    """The kernels' item arrays, the supported pairs ``(P', 2)`` and their columns in the full pair list."""
+    items = [_jit_item(s.kind, s.frame, s.local, s.size, s.ends) if s.kind in _JIT_KINDS else None
+             for s in geo.solids]
+    shape_index: dict[int, int] = {}
+    pairs, cols = [], []
+    for col, (i, shape) in enumerate(scene_pairs):
+        if items[i] is None or shape.kind not in _JIT_KINDS:
+            continue
+        if id(shape) not in shape_index:
+            shape_index[id(shape)] = len(items)
+            items.append(_jit_item(shape.kind, -1, shape.pose, shape.size, (0, 0)))
+        pairs.append((i, shape_index[id(shape)]))
+        cols.append(col)
+    for col, (i, j) in enumerate(self_pairs, start=len(scene_pairs)):
+        if items[i] is None or items[j] is None or (geo.solids[i].kind == "box" and geo.solids[j].kind == "box"):
+            continue
+        pairs.append((i, j))
+        cols.append(col)
+    dummy = (3, -1, 0, 0, np.eye(4), 0.0, np.zeros(3))
+    full = [it if it is not None else dummy for it in items]
+    kind = np.array([it[0] for it in full], dtype=np.int64)
+    half = np.array([it[6] for it in full], dtype=float).reshape(-1, 3)
+    packed = (kind, np.array([it[1] for it in full], dtype=np.int64), np.array([it[2] for it in full], dtype=np.int64),
+              np.array([it[3] for it in full], dtype=np.int64), np.array([it[4] for it in full], dtype=float).reshape(-1, 4, 4),
+              np.array([it[5] for it in full], dtype=float), half, np.linalg.norm(half, axis=1))
+    return packed, np.array(pairs, dtype=np.int64).reshape(-1, 2), np.array(cols, dtype=np.int64)
+
+
+def _use_jit() -> bool:
+    from ..kinematics import get_backend
+
+    return get_backend() == "numba"
+
+
+def _evaluate(geo: ArmGeometry, frames: Array, scene_pairs: list[tuple[int, Shape]],
+              self_pairs: Sequence[tuple[int, int]], only_min: bool = False, stop: float = -np.inf
+              ) -> tuple[Array | None, Array, NDArray[np.int64]]:
+    """``(distances (B, P) or None, min (B,), argmin (B,))`` by the Numba kernels where they apply, NumPy/coal otherwise."""
+    B = frames.shape[0]
+    P = len(scene_pairs) + len(self_pairs)
+    if P == 0:
+        return np.empty((B, 0)), np.full(B, np.inf), np.full(B, -1, dtype=np.int64)
+    if not _use_jit() or B < 8:
+        d = _pair_distances(geo, frames, scene_pairs, self_pairs)
+        arg = np.argmin(d, axis=1)
+        return d, d[np.arange(B), arg], arg
+    from . import _jit
+
+    packed, pairs, cols = _jit_pack(geo, scene_pairs, self_pairs)
+    rest = np.setdiff1d(np.arange(P), cols)
+    frames = np.ascontiguousarray(frames)
+    if only_min:
+        dist, arg = _jit.min_distance(frames, packed, pairs, stop) if len(pairs) else (
+            np.full(B, np.inf), np.full(B, -1, dtype=np.int64))
+        arg = np.where(arg >= 0, cols[np.maximum(arg, 0)] if len(cols) else -1, -1)
+        if len(rest):
+            sp = [scene_pairs[c] for c in rest if c < len(scene_pairs)]
+            selfp = [self_pairs[c - len(scene_pairs)] for c in rest if c >= len(scene_pairs)]
+            d2 = _pair_distances(geo, frames, sp, selfp)
+            a2 = np.argmin(d2, axis=1)
+            m2 = d2[np.arange(B), a2]
+            better = m2 < dist
+            dist = np.where(better, m2, dist)
+            arg = np.where(better, rest[a2], arg)
+        return None, dist, arg
+    d = np.empty((B, P))
+    if len(pairs):
+        d[:, cols] = _jit.all_distances(frames, packed, pairs)
+    if len(rest):
+        sp = [scene_pairs[c] for c in rest if c < len(scene_pairs)]
+        selfp = [self_pairs[c - len(scene_pairs)] for c in rest if c >= len(scene_pairs)]
+        d[:, rest] = _pair_distances(geo, frames, sp, selfp)
+    arg = np.argmin(d, axis=1)
+    return d, d[np.arange(B), arg], arg
+
+
 def collisions(robot: Robot, q: ArrayLike, scene: Scene | Sequence[Shape] | str | None = None, *,
                self_collision: bool = True) -> Collisions:
     """Collision check of the arm at ``q`` against ``scene`` and itself.
@@ -230,19 +332,12 @@ def collisions(robot: Robot, q: ArrayLike, scene: Scene | Sequence[Shape] | str 
     qa = robot.check_q(q)
     lead = qa.shape[:-1]
     frames = chain_frames(robot, qa.reshape(-1, robot.n))
-    scene_pairs = [(i, s) for s in sc for i, sol in enumerate(geo.solids)
-                   if sol.frame != 0 and not geo.allowed(sol.link, s)]
-    self_pairs = list(geo.self_pairs) if self_collision else []
-    d = _pair_distances(geo, frames, scene_pairs, self_pairs)
+    scene_pairs, self_pairs = _pairs(geo, sc, self_collision)
+    d, dist, closest = _evaluate(geo, frames, scene_pairs, self_pairs)
+    assert d is not None
     names = tuple((geo.solids[i].name, s.name) for i, s in scene_pairs) + tuple(
         (geo.solids[j].name, geo.solids[i].name) if geo.solids[j].level > geo.solids[i].level
         else (geo.solids[i].name, geo.solids[j].name) for i, j in self_pairs)
-    if d.shape[1]:
-        closest = np.argmin(d, axis=1)
-        dist = d[np.arange(len(d)), closest]
-    else:
-        closest = np.full(len(d), -1)
-        dist = np.full(len(d), np.inf)
     return Collisions(colliding=(dist < 0).reshape(lead), distance=dist.reshape(lead), pairs=names,
                       distances=d.reshape(lead + (d.shape[1],)), closest=closest.reshape(lead), unit=robot.unit)
 
@@ -253,4 +348,32 @@ def clearance(robot: Robot, q: ArrayLike, scene: Scene | Sequence[Shape] | str |
 
     Positive: the gap (robot unit); negative: minus the deepest penetration. See :func:`collisions`.
     """
-    return collisions(robot, q, scene, self_collision=self_collision).distance
+    sc = as_scene(robot, scene)
+    geo = arm_geometry(robot)
+    qa = robot.check_q(q)
+    scene_pairs, self_pairs = _pairs(geo, sc, self_collision)
+    _, dist, _ = _evaluate(geo, chain_frames(robot, qa.reshape(-1, robot.n)), scene_pairs, self_pairs, only_min=True)
+    return dist.reshape(qa.shape[:-1])
+
+
+def in_collision(robot: Robot, q: ArrayLike, scene: Scene | Sequence[Shape] | str | None = None, *,
+                 self_collision: bool = True) -> NDArray[np.bool_]:
+    """True where the arm at ``q`` overlaps ``scene`` or itself, shape ``(...)``: the fast yes/no check.
+
+    The same answer as ``collisions(...).colliding``; on the Numba back end each configuration
+    stops at its first overlapping pair and skips pairs whose bounding spheres are apart.
+    """
+    sc = as_scene(robot, scene)
+    geo = arm_geometry(robot)
+    qa = robot.check_q(q)
+    scene_pairs, self_pairs = _pairs(geo, sc, self_collision)
+    _, dist, _ = _evaluate(geo, chain_frames(robot, qa.reshape(-1, robot.n)), scene_pairs, self_pairs,
+                           only_min=True, stop=0.0)
+    return (dist < 0).reshape(qa.shape[:-1])
+
+
+def _pairs(geo: ArmGeometry, scene: Scene, self_collision: bool
+           ) -> tuple[list[tuple[int, Shape]], list[tuple[int, int]]]:
+    scene_pairs = [(i, s) for s in scene for i, sol in enumerate(geo.solids)
+                   if sol.frame != 0 and not geo.allowed(sol.link, s)]
+    return scene_pairs, (list(geo.self_pairs) if self_collision else [])
