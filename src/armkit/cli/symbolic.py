@@ -111,6 +111,7 @@ def _planar_2r_ik(r) -> Optional[dict]:
     """The derived 2R IK as text when ``r`` is a planar 2R arm (two revolute joints, parallel axes)."""
     if r.n != 2 or r.joint_types != "RR":
         return None
+    r = r if r.is_dh else r.to_dh()
     if any(abs(math.sin(j.alpha)) > 1e-12 for j in r.joints) or any(j.d != 0 or j.theta != 0 for j in r.joints):
         return None
     from ..symbolic.ik2r import derive_planar_2r_ik

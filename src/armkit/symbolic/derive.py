@@ -263,7 +263,12 @@ def derive(robot: Robot, simplify: bool = True, cache: bool = True) -> Derivatio
     (a1*cos(q1) + a2*cos(q1 + q2), a1*sin(q1) + a2*sin(q1 + q2))
     >>> d.J[5, :]
     Matrix([[1, 1]])
+
+    A URDF arm is derived through its exact standard-DH twin (:meth:`Robot.to_dh`): the
+    same FK for every ``q``, written as DH rows.
     """
+    if not robot.is_dh:
+        robot = robot.to_dh()
     where = cache_dir() if (cache and simplify) else None
     path = where / f"{robot.name}-{_robot_key(robot)}.pkl" if where is not None else None
     if path is not None and path.exists():
