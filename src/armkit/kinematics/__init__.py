@@ -113,10 +113,10 @@ def _flat(robot: Robot, q: ArrayLike) -> tuple[Array, tuple[int, ...]]:
 
 def _flat_unchecked(robot: Robot, q: ArrayLike) -> tuple[Array, tuple[int, ...]]:
     """Like :func:`_flat` but leaves the NaN/inf check to the kernel (it counts them for free)."""
-    try:
-        arr = np.asarray(q, dtype=float)
-    except (TypeError, ValueError):
-        arr = robot.check_q(q)  # raises with the message
+    if type(q) is np.ndarray and q.dtype.kind in "fiu":
+        arr = q.astype(float, copy=False)
+    else:   # lists, complex, masked, object arrays: the one validator (never drop a mask or an imaginary part)
+        arr = robot.check_q(q)
     if arr.ndim == 0 or arr.shape[-1] != robot.n:
         robot.check_q(arr)
     return np.ascontiguousarray(arr.reshape(-1, robot.n)), arr.shape[:-1]
@@ -298,8 +298,21 @@ def _task_jacobian(robot: Robot, q: ArrayLike, rows: Sequence[int] | None) -> Ar
     return J[..., list(task_rows(robot) if rows is None else rows), :]
 
 
+_SVD_CHUNK = 100_000   # configurations per chunk: a (chunk, 6, n) Jacobian, never one for the whole batch
+
+
 def _singular_values(robot: Robot, q: ArrayLike, rows: Sequence[int] | None) -> Array:
-    return np.asarray(np.linalg.svd(_task_jacobian(robot, q, rows), compute_uv=False), dtype=float)
+    qa = robot.check_q(q)
+    count = qa.size // robot.n
+    if count <= _SVD_CHUNK:
+        return np.asarray(np.linalg.svd(_task_jacobian(robot, qa, rows), compute_uv=False), dtype=float)
+    flat = qa.reshape(count, robot.n)       # many configurations: in chunks, memory bounded by one chunk
+    first = np.asarray(np.linalg.svd(_task_jacobian(robot, flat[:_SVD_CHUNK], rows), compute_uv=False), dtype=float)
+    out = np.empty((count,) + first.shape[1:])
+    out[:_SVD_CHUNK] = first
+    for s in range(_SVD_CHUNK, count, _SVD_CHUNK):
+        out[s:s + _SVD_CHUNK] = np.linalg.svd(_task_jacobian(robot, flat[s:s + _SVD_CHUNK], rows), compute_uv=False)
+    return out.reshape(qa.shape[:-1] + first.shape[1:])
 
 
 def manipulability(robot: Robot, q: ArrayLike, rows: Sequence[int] | None = None) -> Array:

@@ -62,6 +62,16 @@ def _tx(a: float) -> Array:
     return T
 
 
+def _real(v: object) -> float:
+    """A real number as a float; NaN for anything else (bools, strings, complex, ints beyond float range)."""
+    if isinstance(v, (bool, np.bool_)) or not isinstance(v, (int, float, np.integer, np.floating)):
+        return math.nan
+    try:
+        return float(v)
+    except OverflowError:
+        return math.nan
+
+
 @dataclass(frozen=True)
 class Joint:
     """One row of a DH table.
@@ -89,14 +99,15 @@ class Joint:
     def __post_init__(self) -> None:
         if self.kind not in (REVOLUTE, PRISMATIC):
             raise RobotDefinitionError(f"joint {self.name!r}: type must be 'revolute' or 'prismatic', got {self.kind!r}")
-        for fname in ("theta", "d", "a", "alpha"):
-            v = getattr(self, fname)
-            if not isinstance(v, (int, float)) or not math.isfinite(v):
-                raise RobotDefinitionError(f"joint {self.name!r}: {fname} must be a finite number, got {v!r}")
-        for fname in ("lower", "upper"):
-            v = getattr(self, fname)
-            if not isinstance(v, (int, float)) or math.isnan(v):
-                raise RobotDefinitionError(f"joint {self.name!r}: {fname} limit must be a number, got {v!r}")
+        for fname in ("theta", "d", "a", "alpha", "lower", "upper"):
+            v = getattr(self, fname)   # NumPy scalars are numbers too; stored as Python floats
+            x = _real(v)
+            if fname in ("lower", "upper"):
+                if math.isnan(x):
+                    raise RobotDefinitionError(f"joint {self.name!r}: {fname} limit must be a number, got {v!r:.60}")
+            elif not math.isfinite(x):
+                raise RobotDefinitionError(f"joint {self.name!r}: {fname} must be a finite number, got {v!r:.60}")
+            object.__setattr__(self, fname, x)
         if self.lower > self.upper:
             raise RobotDefinitionError(
                 f"joint {self.name!r}: lower limit {self.lower:g} is greater than upper limit {self.upper:g}")
@@ -327,9 +338,12 @@ class Robot:
             raise RobotDefinitionError(f"robot {name!r} has no joints; a serial arm needs at least one")
         if not all(isinstance(j, Joint) for j in joints):
             raise RobotDefinitionError("joints must be armkit.Joint objects")
-        if convention not in CONVENTIONS:
+        for what, text in (("name", name), ("description", description), ("source", source)):
+            if not isinstance(text, str):
+                raise RobotDefinitionError(f"{what} must be a string, got {type(text).__name__}")
+        if not isinstance(convention, str) or convention not in CONVENTIONS:
             raise RobotDefinitionError(f"convention must be one of {CONVENTIONS}, got {convention!r}")
-        if unit not in UNITS:
+        if not isinstance(unit, str) or unit not in UNITS:
             raise RobotDefinitionError(f"unit must be one of {tuple(UNITS)}, got {unit!r}")
         general = [j.is_general for j in joints]
         if convention == "urdf" and not all(general):
@@ -343,6 +357,9 @@ class Robot:
         names = [j.name for j in joints]
         if len(set(names)) != len(names):
             raise RobotDefinitionError(f"joint names must be unique, got {names}")
+        if isinstance(link_names, str) or not all(isinstance(x, str) for x in link_names):
+            raise RobotDefinitionError(f"link_names must be a sequence of strings (base link + one per joint), "
+                                       f"got {link_names!r:.80}")
         link_names = tuple(link_names) or tuple(f"link{i}" for i in range(len(joints) + 1))
         if len(link_names) != len(joints) + 1:
             raise RobotDefinitionError(
@@ -512,10 +529,9 @@ class Robot:
     # ------------------------------------------------------------- validation
     def check_q(self, q: ArrayLike, what: str = "q") -> Array:
         """``q`` as a float array of shape ``(..., n)``; raise :class:`ShapeError` otherwise."""
-        try:
-            arr = np.asarray(q, dtype=float)
-        except (TypeError, ValueError) as exc:
-            raise ShapeError(f"{what} must be numeric, got {q!r}") from exc
+        from .._checks import real_array
+
+        arr = real_array(q, what)    # complex, masked, non-numeric and too-large values are errors, not dropped
         if arr.ndim == 0 or arr.shape[-1] != self.n:
             raise ShapeError(f"{what} must have shape (..., {self.n}) for robot {self.name!r}, got {arr.shape}")
         if not np.all(np.isfinite(arr)):

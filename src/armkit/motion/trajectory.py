@@ -256,7 +256,7 @@ def joint_trajectory(waypoints: ArrayLike, profile_kind: str = "quintic", durati
         if T == 0.0:   # a segment with no motion and no time asked
             continue
         if not math.isfinite(T):
-            raise ArmkitError(f"segment {k + 1} would take forever at these limits (qd_max={qd_max}, qdd_max={qdd_max})")
+            raise ArmkitError(f"segment {k + 1} would take forever at these limits (qd_max={qd_max!r}, qdd_max={qdd_max!r})")
         if T_min > asked[k] > 0:
             notes.append(f"segment {k + 1} lengthened from {asked[k]:.3g} s to {T_min:.3g} s to honour the limits")
         if profile_kind == "trapezoid" and qd_max is None and qdd_max is None:
@@ -271,7 +271,10 @@ def joint_trajectory(waypoints: ArrayLike, profile_kind: str = "quintic", durati
     check_memory(total * 8.0 * (3 * n + 5) * 3, f"a trajectory of {total:,.0f} samples "
                  f"({sum(p[1] for p in plan):.4g} s at dt = {dt:g} s)",
                  "use a larger dt (--dt), a shorter duration or larger speed/acceleration limits")
-    t_parts, q_parts, qd_parts, qdd_parts = [], [], [], []
+    t_parts: list[np.ndarray] = []
+    q_parts: list[np.ndarray] = []
+    qd_parts: list[np.ndarray] = []
+    qdd_parts: list[np.ndarray] = []
     t0 = 0.0
     for k, T, blend, steps_f in plan:
         steps = int(steps_f)

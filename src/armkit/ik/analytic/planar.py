@@ -83,12 +83,13 @@ class Planar2R:
 
     def _with_offset(self, why, pts: Array):
         """``why(i)`` plus how far target ``i // 2`` lies off the arm's plane, when it does."""
-        if self.z_plane is None:
+        z_plane = self.z_plane
+        if z_plane is None:
             return why
 
         def explain(i: int) -> str:
             text = why(i)
-            off = abs(float(self.sf.point_to_chain(pts[i // 2])[2]) - self.z_plane)
+            off = abs(float(self.sf.point_to_chain(pts[i // 2])[2]) - z_plane)
             if off > 1e-9 * max(1.0, self.sf.scale):
                 text += f" The target is also {off:.6g} {self.unit} off the arm's plane."
             return text

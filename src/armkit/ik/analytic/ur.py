@@ -135,17 +135,17 @@ class ParallelAxes:
         ``out`` (B, 2, 2, 2, 6), ``idx`` and ``unreachable`` (B, 2, 2, 2) are updated in place for the
         (target, shoulder, wrist) branches that are singular and out of reach with ``q6`` from ``q0``.
         """
-        need = singular & unreachable.any(axis=-1)                         # (B, 2, 2)
+        need = np.asarray(singular, dtype=bool) & unreachable.any(axis=-1)  # (B, 2, 2)
         rows = np.flatnonzero(need.any(axis=(1, 2)))
         if len(rows) == 0:
             return
         a2, a3 = abs(float(self.sf.a[1])), abs(float(self.sf.a[2]))
         inner2, outer2 = (a2 - a3) ** 2, (a2 + a3) ** 2
         T, q0 = target[rows], q0phi[rows].copy()
-        samples = []
+        samples: list[np.ndarray] = []
         for v in (0.0, 0.5 * math.pi, math.pi):                             # the point is c + A cos q6 + B sin q6
             q0[:, 5] = v
-            samples.append(self._solve_numpy(T, q0, want_xy=True))
+            samples.append(np.asarray(self._solve_numpy(T, q0, want_xy=True)))
         c = 0.5 * (samples[0] + samples[2])
         A, Bv = 0.5 * (samples[0] - samples[2]), samples[1] - c
         # |c + A cos + B sin|^2 = |c|^2 + rho^2 + 2 m cos(q6 - theta) on a circle (|A| = |B|, A . B = 0)
