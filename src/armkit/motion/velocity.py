@@ -153,6 +153,9 @@ def joint_rates(robot: Robot, q: ArrayLike, xd: ArrayLike, method: Literal["pinv
         Requested velocity in the task rows (length units per second, rad/s).
     method : {"pinv", "dls"}
         Moore-Penrose pseudo-inverse (least squares, minimum norm) or damped least squares.
+        The pseudo-inverse drops singular values below ``1e-12 * max(1, sigma_max)`` of the
+        Jacobian with lengths in metres: below that they are rounding noise of the SVD
+        (about ``eps * sigma_max``), and inverting them would give rates of order 1e12.
     damping : float or "auto"
         For ``"dls"``: constant lambda in metres, or the automatic schedule
         (:func:`damping_schedule`).
@@ -189,7 +192,7 @@ def joint_rates(robot: Robot, q: ArrayLike, xd: ArrayLike, method: Literal["pinv
         # Singular values below 1e-12 x max(1, sigma_max) (lengths in metres) are dropped: that is
         # ~4,500 machine epsilons of the largest one, where an SVD's singular values are rounding
         # noise (their absolute error is about eps * sigma_max), and 1/sigma would turn that noise
-        # into joint rates of 1e12. The damped method (dls) has no cut-off; docs/motion.md.
+        # into joint rates of 1e12. The damped method (dls) needs no cut-off: damping bounds 1/sigma.
         cutoff = 1e-12 * max(1.0, float(S[0]))
         inv = np.where(S > cutoff, 1.0 / np.where(S > cutoff, S, 1.0), 0.0)
     else:
