@@ -1,0 +1,112 @@
+"""IK with a scene: success means collision-free; failures say which pair collides and by how much."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+import armkit
+from armkit.collision import Scene, collisions
+
+from test_query import reference
+
+
+def table_and_wall(robot):
+    R = robot.reach
+    return Scene([Scene.box([0.45 * R, 0.0, -0.05 * R], [0.5 * R, 0.8 * R, 0.1 * R], name="table"),
+                  Scene.box([0.0, -0.55 * R, 0.3 * R], [2 * R, 0.04 * R, 1.2 * R], name="wall")])
+
+
+def _targets(robot, count, seed):
+    q = robot.random_q(count, rng=seed)
+    T = armkit.fk(robot, q)
+    return T[..., :3, 3] if robot.name in ("fighter", "planar2") else T
+
+
+@pytest.mark.parametrize("name", ["fighter", "planar2", "puma560", "ur5"])
+def test_ik_all_success_means_collision_free(name):
+    robot = armkit.load(name)
+    scene = table_and_wall(robot)
+    target = _targets(robot, 60, 1)
+    res = armkit.ik_all(robot, target, scene=scene)
+    plain = armkit.ik_all(robot, target)
+    ok = np.asarray(res.success)
+    assert ok.any() and (np.asarray(res.reason) == "collision").any()
+    # wrong = a success that collides (checked with coal, built independently) or misses the target
+    for b, k in zip(*np.nonzero(ok)):
+        assert reference(robot, res.q[b, k], scene).min() >= 0
+    assert np.all(res.position_error[ok] <= 1e-9 / robot.unit_scale)
+    # a collision failure is a branch that solved without the scene, with the pair and depth in the message
+    for b, k in zip(*np.nonzero(np.asarray(res.reason) == "collision")):
+        assert reference(robot, res.q[b, k], scene).min() < 0
+        assert " hits the " in res.message[b, k] and robot.unit in res.message[b, k]
+    assert ok.sum(axis=1).tolist() <= plain.success.sum(axis=1).tolist()
+    # successful branches first
+    assert np.all(np.diff(ok.astype(int), axis=1) <= 0)
+
+
+@pytest.mark.parametrize("name", ["fighter", "puma560"])
+def test_ik_nearest_branch_is_collision_free(name):
+    robot = armkit.load(name)
+    scene = table_and_wall(robot)
+    target = _targets(robot, 40, 2)
+    res = armkit.ik(robot, target, scene=scene)
+    every = armkit.ik_all(robot, target, scene=scene)
+    np.testing.assert_array_equal(res.success, every.success.any(axis=1))
+    for b in np.nonzero(res.success)[0]:
+        assert not collisions(robot, res.q[b], scene).colliding
+
+
+@pytest.mark.parametrize("name", ["panda", "iiwa14", "fighter"])
+def test_lm_restarts_away_from_collisions(name):
+    robot = armkit.load(name)
+    scene = table_and_wall(robot)
+    target = _targets(robot, 20, 3)
+    free = ~collisions(robot, robot.random_q(20, rng=3), scene).colliding   # targets with a known free answer
+    res = armkit.ik(robot, target, method="lm", seed=4, scene=scene)
+    for b in range(len(target)):
+        if res.success[b]:
+            assert reference(robot, res.q[b], scene).min() >= 0
+        else:
+            assert res.reason[b] in ("collision", "max iterations", "unreachable", "joint limits", "singular")
+            if res.reason[b] == "collision":
+                assert reference(robot, res.q[b], scene).min() < 0
+    assert res.success.sum() >= 0.7 * free.sum() and free.sum() >= 5
+
+
+def test_fighter_under_the_floor():
+    arm = armkit.load("fighter")
+    every = armkit.ik_all(arm, [100, 0, -30], scene="robot")
+    assert not every.success.any() and set(every.reason.tolist()) == {"collision"}
+    assert "the forearm hits the ground by 13 mm" in every.message.tolist()
+    one = armkit.ik(arm, [100, 0, -30], scene="robot")
+    assert not one.success and one.reason == "collision"
+    # without a scene the old answer stands (four branches under the floor)
+    assert armkit.ik_all(arm, [100, 0, -30]).success.all()
+
+
+def _cli(*args):
+    return subprocess.run([sys.executable, "-c", "from armkit.cli import main; main()", *args], capture_output=True,
+                          text=True, timeout=300)
+
+
+def test_cli_ik_fighter_collides_with_its_ground():
+    out = _cli("ik", "fighter", "100", "0", "-30")
+    assert out.returncode == 1
+    assert "collision: the forearm hits the ground by 13 mm" in " ".join(out.stderr.split())
+    assert _cli("ik", "fighter", "100", "0", "-30", "--no-scene").returncode == 0
+
+
+def test_cli_scene_file_errors_exit_2(tmp_path):
+    bad = tmp_path / "scene.toml"
+    bad.write_text('unit = "mm"\n\n[[shapes]]\ntype = "box"\ncenter = [0, 0, 0]\nsize = [10, -1, 10]\n')
+    out = _cli("ik", "fighter", "100", "0", "60", "--scene", str(bad))
+    assert out.returncode == 2
+    assert "scene.toml:6: shapes[1].size" in " ".join(out.stderr.split())
+    good = tmp_path / "ok.toml"
+    good.write_text('unit = "mm"\n\n[[shapes]]\ntype = "plane"\nnormal = [0, 0, 1]\noffset = -30\n')
+    out = _cli("ik", "fighter", "100", "0", "60", "--scene", str(good), "--json")
+    assert out.returncode == 0
