@@ -415,7 +415,7 @@ def ik(robot: Robot, target: ArrayLike, q0: ArrayLike | None = None,
     if tol is not None:
         _tolerance(robot, tol)
     if pitch is not None or direction is not None:   # targets that fix less than a pose (armkit.ik.partial)
-        from .partial import DIRECTION_MASK, direction_target, ik_pitch
+        from .partial import ik_direction, ik_pitch
 
         if pitch is not None and direction is not None:
             raise IKInputError("give pitch= or direction=, not both")
@@ -425,8 +425,13 @@ def ik(robot: Robot, target: ArrayLike, q0: ArrayLike | None = None,
             if raise_unreachable:
                 _raise_if_unreachable(res)
             return res
-        target, mask, phi = (direction_target(robot, target, direction, method, mask, phi),  # type: ignore[arg-type]
-                             DIRECTION_MASK, None)
+        res = ik_direction(robot, target, q0, direction, method=method, mask=mask, phi=phi, branch=branch,
+                           scene=scene, tol=None if tol is None else _tolerance(robot, tol), seed=seed,
+                           enforce_limits=enforce_limits, trace=trace, max_iterations=max_iterations,
+                           restarts=restarts)
+        if raise_unreachable:
+            _raise_if_unreachable(res)
+        return res
     flat, lead, position_only = _normalise_target(robot, target, phi)
     q0f = _normalise_q0(robot, q0, lead)
     use_closed = method == "analytic"

@@ -54,35 +54,87 @@ def _positions(target: ArrayLike, what: str) -> tuple[Array, tuple[int, ...]]:
     return t.reshape(-1, 3), t.shape[:-1]
 
 
-def direction_target(robot: Robot, target: ArrayLike, direction: ArrayLike, method: str, mask: Any,
-                     phi: Any) -> Array:
-    """Position ``(..., 3)`` and direction ``(..., 3)`` -> poses ``(..., 4, 4)`` whose z axis is the direction.
+def _frames(robot: Robot, p: Array, z: Array, q: Array) -> Array:
+    """Target poses ``(B, 4, 4)`` at ``p`` with z axis ``z`` and x as near as possible to the tool's x at ``q``.
 
-    The rotation about z is arbitrary (the mask leaves it free).
+    The rotation about z is free (masked), but the rotation-vector error the solvers use is
+    well-behaved only while that rotation stays below ~90 deg; starting it at 0 keeps it so.
     """
-    from .api import IKInputError
+    from ..kinematics import fk
+
+    x = fk(robot, q)[:, :3, 0]
+    x = x - np.einsum("bi,bi->b", x, z)[:, None] * z
+    norm = np.linalg.norm(x, axis=-1)
+    helper = np.eye(3)[np.argmin(np.abs(z), axis=-1)]        # the tool's x along z: any perpendicular
+    alt = helper - np.einsum("bi,bi->b", helper, z)[:, None] * z
+    x = np.where((norm > 1e-6)[:, None], x, alt)
+    x /= np.linalg.norm(x, axis=-1, keepdims=True)
+    T = np.zeros((len(p), 4, 4))
+    T[:, :3, 0], T[:, :3, 1], T[:, :3, 2], T[:, :3, 3], T[:, 3, 3] = x, np.cross(z, x), z, p, 1.0
+    return T
+
+
+def ik_direction(robot: Robot, target: ArrayLike, q0: ArrayLike | None, direction: Any, *,
+                 method: str = "auto", mask: Any = None, phi: Any = None, branch: Any = None, scene: Any = None,
+                 **numeric: Any) -> IKResult:
+    """:func:`armkit.ik` for a position and a pointing direction of the tool's z axis (numeric).
+
+    Levenberg-Marquardt (or Newton) on the target frame with z along ``direction`` and the
+    weights :data:`DIRECTION_MASK`. The frame's free x axis starts at the tool's x of ``q0``;
+    targets that fail are tried again from the configuration found, with the frame's x
+    turned to that configuration's tool x (twice at most), so the free rotation never
+    reaches the far side of the rotation-vector error.
+    """
+    from .api import IKInputError, _normalise_q0, _numeric, _reshape
 
     if method not in ("auto", "lm", "newton"):
         raise IKInputError(f"direction= is solved by the numeric methods 'lm' and 'newton' (or 'auto'); "
                            f"got method {method!r}")
-    if mask is not None:
-        raise IKInputError("give direction= or mask=, not both (direction= uses the mask (1, 1, 1, 1, 1, 0))")
-    if phi is not None:
-        raise IKInputError("phi= is for planar (x, y) targets; it does not go with direction=")
+    for name, value, text in (("mask", mask, "direction= uses the mask (1, 1, 1, 1, 1, 0)"),
+                              ("phi", phi, "phi= is for planar (x, y) targets"),
+                              ("branch", branch, "branch= picks a closed-form solution; direction= is numeric"),
+                              ("scene", scene, "scene= is not available with direction= yet")):
+        if value is not None:
+            raise IKInputError(f"{name}= does not go with direction=: {text}")
     p, lead = _positions(target, "direction=")
     d = _values(direction, "direction", lead, (3,)).reshape(-1, 3)
     norm = np.linalg.norm(d, axis=-1)
     if np.any(norm < 1e-12):
         raise ShapeError("direction must be a non-zero 3-vector (the way the tool's z axis should point)")
     z = d / norm[:, None]
-    # any x perpendicular to z: the world axis least aligned with z, made perpendicular
-    helper = np.eye(3)[np.argmin(np.abs(z), axis=-1)]
-    x = helper - np.einsum("bi,bi->b", helper, z)[:, None] * z
-    x /= np.linalg.norm(x, axis=-1)[:, None]
-    y = np.cross(z, x)
-    T = np.zeros((len(p), 4, 4))
-    T[:, :3, 0], T[:, :3, 1], T[:, :3, 2], T[:, :3, 3], T[:, 3, 3] = x, y, z, p, 1.0
-    return T.reshape(lead + (4, 4))
+    q = _normalise_q0(robot, q0, lead)
+    name = "lm" if method == "auto" else method
+    frames = _frames(robot, p, z, q)
+    budget = numeric.get("restarts")
+    quick = dict(numeric, restarts=min(3, 50 if budget is None else budget))   # a short first try; turned frames: full budget
+    res = _numeric(name, robot, frames, q, mask=DIRECTION_MASK, **quick)
+    # the free rotation of a solution is unknown: frames turned by 180, 90 and 270 deg put every solution
+    # within 45 deg of one of them; then the frame of the configuration found
+    for turn in (math.pi, 0.5 * math.pi, 1.5 * math.pi, None):
+        redo = np.flatnonzero(~np.asarray(res.success) & ((np.asarray(res.reason) != "unreachable") | (turn is None)))
+        if len(redo) == 0:
+            break
+        if turn is None:
+            start, T = res.q[redo].copy(), _frames(robot, p[redo], z[redo], res.q[redo])
+        else:
+            c, s_ = math.cos(turn), math.sin(turn)
+            start, T = q[redo], frames[redo].copy()
+            T[:, :3, 0], T[:, :3, 1] = c * frames[redo, :3, 0] + s_ * frames[redo, :3, 1], \
+                -s_ * frames[redo, :3, 0] + c * frames[redo, :3, 1]
+        again = _numeric(name, robot, T, start, mask=DIRECTION_MASK, **numeric)
+        good = np.asarray(again.success)
+        take = redo[good]
+        if len(take) == 0:
+            continue
+        fields = {f: np.array(getattr(res, f), dtype=object if f in ("reason", "message", "branch") else None)
+                  for f in ("q", "success", "position_error", "rotation_error", "iterations", "branch",
+                            "within_limits", "reason", "message")}
+        for f in fields:
+            src = np.asarray(getattr(again, f))[good]
+            fields[f][take] = src + fields[f][take] if f == "iterations" else src
+        fields["reason"] = fields["reason"].astype(str)
+        res = IKResult(**fields, trace=res.trace)
+    return _reshape(res, lead)
 
 
 def ik_pitch(robot: Robot, target: ArrayLike, q0: ArrayLike | None, pitch: ArrayLike, *, method: str = "auto",
@@ -128,8 +180,8 @@ def too_few_joints(prob: Any, res: IKResult, failed: NDArray[np.intp], seed: Any
 
     The nearest reachable pose is searched with the position first: Levenberg-Marquardt with
     the rotation weights cut to 1e-6 (the orientation then only moves where the position
-    leaves freedom), from the configurations found; its rotation error against the target is
-    the miss. Where that search does not meet the position, the sentence gives the best
+    leaves freedom), from the configurations found, then position-only steps from there to
+    meet the position exactly; the rotation error against the target is the miss. Where that search does not meet the position, the sentence gives the best
     compromise found (``res``) instead.
     """
     from .numeric import _solve, _subproblem
@@ -142,11 +194,14 @@ def too_few_joints(prob: Any, res: IKResult, failed: NDArray[np.intp], seed: Any
     sub.q0 = np.asarray(res.q, dtype=float)[failed].copy()
     sub.w = np.where(np.arange(6) < 3, prob.w, prob.w * 1e-6)
     sub.full_pose = sub.position_only = False
-    near = _solve(sub, "lm", 100, 5, seed, False, None, diagnose=False)
-    dp, dr, _, _ = verify(robot, near.q, prob.target[failed], False, prob.tol, prob.enforce_limits)
+    near = _solve(sub, "lm", 100, 20, seed, False, None, diagnose=False)
+    sub.q0, sub.w = np.asarray(near.q, dtype=float).copy(), np.where(np.arange(6) < 3, prob.w, 0.0)
+    sub.position_only = True   # then the position exactly, from there (the orientation moves ~1e-6 rad)
+    met = _solve(sub, "lm", 100, 0, seed, False, None, diagnose=False)
+    dp, dr, _, _ = verify(robot, met.q, prob.target[failed], False, prob.tol, prob.enforce_limits)
     out = []
     for j, i in enumerate(failed):
-        if dp[j] <= 1e3 * prob.tol[0]:
+        if dp[j] <= prob.tol[0]:
             out.append(f"{n} joints cannot reach {what}; the nearest reachable pose (with the position met) misses "
                        f"by {math.degrees(float(dr[j])):.3g} deg")
         else:
