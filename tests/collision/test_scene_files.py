@@ -141,7 +141,7 @@ def test_robot_file_collision_keys(tmp_path):
     (("link_radius = 0.05", "link_radius = -1"), "two.toml:3: link_radius"),
     (("link_radius = 0.02", 'link_radius = "thin"'), "two.toml:11: joints[2].link_radius"),
     (('allow_collision = [["link1", "link2"]]', 'allow_collision = [["link1", "elbow"]]'), "two.toml:4: allow_collision"),
-    ((('type = "box"', 'type = "plane"'), "two.toml:16: body[1].center: unknown key for a plane"),
+    (('type = "box"', 'type = "plane"'), "two.toml:16: body[1].center: unknown key for a plane"),
     (('size = [0.4, 0.4, 0.5]', 'size = [0.4, 0.4]'), "two.toml:17: body[1].size"),
     (('offset = -0.5', 'offset = "low"'), "two.toml:23: scene[1].offset"),
 ])
