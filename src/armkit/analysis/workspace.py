@@ -36,7 +36,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import Optional, Sequence
+from typing import Any, Optional, Sequence
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -345,7 +345,7 @@ def _estimate(P: Array, lo: Array, h: float, shape: tuple[int, ...], min_fill: f
 
 def workspace(robot: Robot, samples: int = 200_000, seed: int | np.random.Generator | None = 0,
               exclusion: Exclusion | None = None, manipulability: bool = False,
-              per_voxel: float = 60.0, chunk: int = 250_000) -> WorkspaceResult:
+              per_voxel: float = 60.0, chunk: int = 250_000, scene: Any = None) -> WorkspaceResult:
     """Sample the reachable workspace of ``robot``.
 
     Parameters
@@ -364,6 +364,9 @@ def workspace(robot: Robot, samples: int = 200_000, seed: int | np.random.Genera
         voxels, coarser boundary).
     chunk : int
         Samples per FK batch (bounds the memory).
+    scene : armkit.Scene, path of a scene file, "robot" or None
+        Drop the samples where the arm collides with the scene, the robot's body or itself
+        (:func:`armkit.collision.in_collision`, the same check as IK with a scene).
 
     Returns
     -------
@@ -395,10 +398,14 @@ def workspace(robot: Robot, samples: int = 200_000, seed: int | np.random.Genera
             points[s:s + chunk] = F[:, -1, :3, 3]
             lp = _link_points(robot, F, exclusion.points_per_link)[:, moving]
             keep[s:s + chunk] = ~exclusion.inside(lp).any(axis=-1)
+        if scene is not None:   # the same collision check as IK with a scene (armkit.collision)
+            from ..collision import in_collision
+
+            keep[s:s + chunk] &= ~in_collision(robot, qs, scene)
     excluded = int((~keep).sum())
     if excluded == len(q):
         raise ArmkitError(f"every sample of {robot.name!r} enters the exclusion "
-                          f"({exclusion.describe(robot.unit) if exclusion else ''}); nothing is reachable")
+                          f"({exclusion.describe(robot.unit) if exclusion else 'the scene'}); nothing is reachable")
     q, points = q[keep], points[keep]
     centre = shoulder_point(robot)
     dims = [0, 1] if planar else [0, 1, 2]
