@@ -115,6 +115,25 @@ def query_times(m: ReachabilityMap, seed: int) -> dict[str, float]:
     return {"query_us_batched": batched * 1e6, "query_us_single_median": float(np.median(single)) * 1e6}
 
 
+def memory(robot: str, sizes: tuple[int, ...] = (100_000, 1_000_000, 4_000_000)) -> dict[str, float]:
+    """Peak memory (MB, NumPy allocations traced by tracemalloc) of one FK block of each size (5 cm, 64)."""
+    import tracemalloc
+
+    from armkit.reach._build import _make_grid
+    from armkit.reach._work import fk_block
+
+    r = armkit.load(robot)
+    g = _make_grid(r, 0.05, 64, 1)
+    fk_block(r, g.to_attrs(), 0, 0, 1000)
+    out = {}
+    for n in sizes:
+        tracemalloc.start()
+        fk_block(r, g.to_attrs(), 0, 1, n)
+        out[f"block_{n}_MB"] = tracemalloc.get_traced_memory()[1] / 2**20
+        tracemalloc.stop()
+    return out
+
+
 def build(robot: str, args: argparse.Namespace, workers: int) -> tuple[ReachabilityMap, float]:
     t = time.perf_counter()
     kw: dict[str, Any] = {"seed": args.seed, "workers": workers}
@@ -141,6 +160,8 @@ def main() -> None:
     ap.add_argument("--workers", type=int, default=1)
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--scaling", action="store_true", help="also time 1 and 2 workers (embedded Dask cluster)")
+    ap.add_argument("--memory", action="store_true", help="worker memory per FK block size (fresh processes)")
+    ap.add_argument("--no-accuracy", action="store_true", help="skip the accuracy and query measurements")
     ap.add_argument("--json", action="store_true")
     args = ap.parse_args()
     rows = []
@@ -158,10 +179,13 @@ def main() -> None:
         samples = m.parameters.get("samples") or m.grid.n_cells
         row: dict[str, Any] = {"robot": name, **m.summary(), "build_seconds": t_build,
                                "samples_per_second": samples / t_build}
-        row.update(accuracy(m, args.n, args.seed + 1))
-        row.update(query_times(m, args.seed))
+        if not args.no_accuracy:
+            row.update(accuracy(m, args.n, args.seed + 1))
+            row.update(query_times(m, args.seed))
+        if args.memory:
+            row.update(memory(name))
         if args.scaling:
-            times = {}
+            times: dict[int, float] = {}
             for w in (1, 2):
                 t = time.perf_counter()
                 m2, _ = build(name, args_r, w)
@@ -173,7 +197,7 @@ def main() -> None:
         rows.append(row)
         if args.json:
             print(json.dumps(row), flush=True)
-        else:
+        elif not args.no_accuracy:
             print(f"{name}: {m!r}")
             print(f"  build {t_build:.1f} s, {row['samples_per_second'] / 1e6:.2f} M samples/s; "
                   f"accuracy {row['accuracy'] * 100:.2f} %, FP {row['fp_rate_all'] * 100:.2f} % of all "

@@ -22,8 +22,9 @@ from ._grid import Grid
 __all__ = ["fk_block", "ik_block", "SUB_BATCH"]
 
 SUB_BATCH = 65_536
-"""Configurations evaluated at once inside a block: bounds a worker's memory (about 12 MB for a
-7-joint arm) whatever the block size."""
+"""Configurations evaluated at once inside a block. A worker's memory is this batch (about 12 MB
+for a 7-joint arm) plus the distinct cells the block has hit so far (16 bytes each, folded every
+8 batches): it follows the map's reachable cells, not the number of samples."""
 
 MANIP_EVERY = 16
 """Manipulability (a Jacobian and an SVD, ~30x the cost of FK) is computed on every 16th sample."""
@@ -37,6 +38,14 @@ def _clearance_filter(robot: Robot, q: NDArray[np.float64], scene: Any) -> NDArr
     from ._scene import collision_free
 
     return collision_free(robot, q, scene)
+
+
+def _fold(found: list[NDArray[np.int64]], found_n: list[NDArray[np.int64]]
+          ) -> tuple[list[NDArray[np.int64]], list[NDArray[np.int64]]]:
+    """Many (cells, counts) pieces -> one, counts summed and capped at 255."""
+    cells_u, inverse = np.unique(np.concatenate(found), return_inverse=True)
+    cnt = np.bincount(inverse, weights=np.concatenate(found_n), minlength=len(cells_u))
+    return [cells_u], [np.minimum(cnt, 255).astype(np.int64)]
 
 
 def fk_block(robot: Robot, grid_attrs: dict[str, Any], seed: int, block: int, samples: int,
@@ -68,15 +77,15 @@ def fk_block(robot: Robot, grid_attrs: dict[str, Any], seed: int, block: int, sa
         u, n = np.unique(cells[keep], return_counts=True)
         found.append(u)
         found_n.append(n)
+        if sum(len(f) for f in found) > 8 * SUB_BATCH:      # fold: memory follows the cells hit, not the samples
+            found, found_n = list(_fold(found, found_n))
         sub = np.arange(0, len(q), MANIP_EVERY)
         sub = sub[keep[sub]]
         if len(sub):
             vox_all.append(cells[sub] // grid.n_orient)
             man_all.append(manipulability(robot, q[sub]))
     if found:
-        cells_u, inverse = np.unique(np.concatenate(found), return_inverse=True)
-        cnt = np.bincount(inverse, weights=np.concatenate(found_n), minlength=len(cells_u))
-        cnt = np.minimum(cnt, 255).astype(np.int64)
+        (cells_u,), (cnt,) = _fold(found, found_n)
     else:
         cells_u, cnt = np.zeros(0, np.int64), np.zeros(0, np.int64)
     if vox_all:
