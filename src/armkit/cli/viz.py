@@ -128,6 +128,10 @@ def workspace(robot: str = typer.Argument(..., help=ROBOT_HELP),
                   help="Exclude configurations with a link inside this box (corners; repeatable)."),
               manip: bool = typer.Option(False, "--manipulability", help="Colour the points by manipulability."),
               output: Optional[str] = typer.Option(None, "-o", "--output", help="Picture file (.png, .pdf, .svg)."),
+              scene_file: Optional[str] = typer.Option(
+                  None, "--scene", help="Scene file (docs/scene.md): drop samples where the arm collides with it, "
+                                        "the robot's body or itself. Default: the robot's own surroundings, if any."),
+              no_scene: bool = typer.Option(False, "--no-scene", help="No collision check."),
               json_out: bool = typer.Option(False, "--json", help="Print the numbers as JSON.")) -> None:
     """Sample the reachable workspace: boundaries, volume (area for planar arms) with its error, picture.
 
@@ -150,7 +154,15 @@ def workspace(robot: str = typer.Argument(..., help=ROBOT_HELP),
         lo, hi = np.minimum(v[:3], v[3:]), np.maximum(v[:3], v[3:])
         boxes.append((lo, hi))
     exclusion = Exclusion(ground_z=ground, boxes=tuple(boxes)) if ground is not None or boxes else None
-    ws = sample(r, samples=samples, seed=seed, exclusion=exclusion, manipulability=manip)
+    if scene_file is not None and no_scene:
+        fail("give --scene FILE or --no-scene, not both")
+    scene = None if no_scene else scene_file if scene_file is not None else (
+        "robot" if getattr(r, "collision", None) is not None else None)
+    if scene is not None:
+        from ..collision import as_scene
+
+        scene = as_scene(r, scene)   # a bad file: ArmkitError, exit 2 with file:line: field
+    ws = sample(r, samples=samples, seed=seed, exclusion=exclusion, manipulability=manip, scene=scene)
     data = {"robot": r.name, "unit": r.unit, "samples": ws.samples, "kept": len(ws.points), "excluded": ws.excluded,
             "centre": ws.centre, "outer_radius": ws.outer_radius, "inner_radius": ws.inner_radius,
             "has_inner_boundary": ws.has_inner_boundary, ws.measure_name: ws.volume,
@@ -166,7 +178,10 @@ def workspace(robot: str = typer.Argument(..., help=ROBOT_HELP),
         return
     c = ", ".join(f"{v:.4g}" for v in ws.centre)
     console.print(f"[bold]{esc(r.name)}[/] workspace from {ws.samples:,} samples ({ws.excluded:,} excluded"
-                  + (f": {exclusion.describe(r.unit)}" if exclusion else "") + ")")
+                  + (f": {exclusion.describe(r.unit)}" if exclusion else "")
+                  + (f"{'; ' if exclusion else ': '}collisions with "
+                     + esc(", ".join([s.name for s in scene] + ["its body and itself"]))
+                     if scene is not None else "") + ")")
     console.print(f"  outer boundary: {ws.outer_radius:.4g} {r.unit} from the shoulder ({c})")
     console.print(f"  inner boundary: {ws.inner_radius:.4g} {r.unit}" if ws.has_inner_boundary
                   else "  inner boundary: none (the end point reaches the shoulder)")
