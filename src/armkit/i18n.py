@@ -32,6 +32,9 @@ MESSAGES: dict[str, dict[str, str]] = {
   branch [NAME|auto]            list the IK branches, or pick the one goto should use
   home                          all joints to zero (or their nearest limit)
   limits                        show the joint limits
+  ground Z   box X0 Y0 Z0 X1 Y1 Z1   clear   scene
+                                the arm's surroundings: a floor, a box (corners), remove all, list; moves
+                                into them (or into the arm's own body) are refused
   units deg|rad                 angle units for input and output
   lang en|ko                    language of the messages
   show                          print the current state again
@@ -44,6 +47,9 @@ MESSAGES: dict[str, dict[str, str]] = {
   branch [이름|auto]            IK 해(branch) 목록 보기, 또는 goto 가 쓸 해 고르기
   home                          모든 관절을 0 으로 (한계 밖이면 가장 가까운 한계로)
   limits                        관절 한계 보기
+  ground Z   box X0 Y0 Z0 X1 Y1 Z1   clear   scene
+                                팔 주변 환경: 바닥, 상자 (모서리), 모두 지우기, 목록; 그 안으로 (또는 팔 자체의
+                                몸체 안으로) 들어가는 이동은 거부됩니다
   units deg|rad                 입력과 출력의 각도 단위
   lang en|ko                    메시지 언어
   show                          현재 상태 다시 출력
@@ -62,6 +68,18 @@ MESSAGES: dict[str, dict[str, str]] = {
                  "ko": "단위 {unit!r} 는 관절 {joint} ({kind}) 에 맞지 않습니다"},
     "limit": {"en": "joint limit: {detail}; the arm did not move",
               "ko": "관절 한계 초과: {detail}; 팔을 움직이지 않았습니다"},
+    "collision": {"en": "the {a} would hit the {b} by {depth}; the arm did not move",
+                  "ko": "{a} 이(가) {b} 에 {depth} 만큼 부딪힙니다; 팔을 움직이지 않았습니다"},
+    "scene_now": {"en": "around the arm: {shapes} (and its own body; moves into them are refused)",
+                  "ko": "팔 주변: {shapes} (팔 자체의 몸체 포함; 이 안으로의 이동은 거부됩니다)"},
+    "scene_none": {"en": "nothing around the arm; only its own body and self-collision are checked",
+                   "ko": "팔 주변에 아무것도 없습니다. 팔 자체의 몸체와 자기 충돌만 검사합니다"},
+    "scene_hit": {"en": "note: the arm is in collision now: {detail}",
+                  "ko": "참고: 팔이 지금 충돌 상태입니다: {detail}"},
+    "box_count": {"en": "box needs 6 numbers: the corners x0 y0 z0 x1 y1 z1 in {unit}; got {k}",
+                  "ko": "box 에는 숫자 6개 (모서리 x0 y0 z0 x1 y1 z1, 단위 {unit}) 가 필요합니다. {k}개를 받았습니다"},
+    "ground_count": {"en": "ground needs one number: the floor height z in {unit}; got {k}",
+                     "ko": "ground 에는 숫자 1개 (바닥 높이 z, 단위 {unit}) 가 필요합니다. {k}개를 받았습니다"},
     "ambiguous": {"en": "numbers alone are ambiguous: write q {nums} for joint values, or goto {nums} / [{nums}] "
                         "for a target",
                   "ko": "숫자만으로는 모호합니다: 관절 값은 q {nums}, 목표 위치는 goto {nums} 또는 [{nums}] 로 쓰세요"},

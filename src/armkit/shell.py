@@ -161,6 +161,12 @@ class Shell:
         self._fig: Any = None
         self._names = {name.lower(): i for i, name in enumerate(robot.joint_names)}
         self._planar: Optional[bool] = None
+        # the arm's surroundings (armkit.collision): the robot's own when its file has them, else none
+        self.scene: Any = None
+        if getattr(robot, "collision", None) is not None:
+            from .collision import as_scene
+
+            self.scene = as_scene(robot, "robot")
 
     # ------------------------------------------------------------------ helpers
     def _t(self, key: str, **fields: object) -> str:
@@ -214,6 +220,18 @@ class Shell:
         if bad:
             raise ParseError(self._t("limit", detail=name_list(bad, limit=6, sep="; ")))
 
+    def _check_collision(self, q: np.ndarray) -> None:
+        """Refuse ``q`` when the arm would collide with the scene, its body or itself."""
+        if self.scene is None:
+            return
+        from .collision import collisions
+
+        hits = collisions(self.robot, q, self.scene).colliding_pairs()
+        if hits:
+            a, b, depth = hits[0]
+            raise ParseError(self._t("collision", a=a.replace("_", " "), b=b.replace("_", " "),
+                                     depth=f"{depth:.3g} {self.robot.unit}"))
+
     # ------------------------------------------------------------------ parsing
     def _parse(self, stmt: str) -> tuple[str, Any]:
         """One statement -> (action, argument). Raises ParseError."""
@@ -260,6 +278,12 @@ class Shell:
                 return "units", rest or None
             if word in ("lang", "language"):
                 return "lang", rest or None
+            if word in ("ground", "floor"):
+                return "ground", parse_numbers(_split(rest), self.lang)
+            if word == "box":
+                return "box", parse_numbers(_split(rest), self.lang)
+            if word in ("clear", "scene"):
+                return word, None
         words = _split(s)
         if words and all(_NUMBER_RE.match(w) for w in words):
             nums = " ".join(words)
@@ -323,6 +347,7 @@ class Shell:
         if moved:
             try:
                 self._check_limits(q_new)
+                self._check_collision(q_new)
             except ParseError as exc:
                 emit(str(exc), "red")
                 return "error", None
@@ -352,6 +377,53 @@ class Shell:
     # ------------------------------------------------------------------ commands
     def _cmd_exit(self, arg: Any, emit: Any) -> str:
         return "exit"
+
+    def _set_scene(self, scene: Any, emit: Any) -> str:
+        from .collision import collisions
+
+        self.scene = scene
+        names = ", ".join(s.describe() if s.name in (s.kind, "ground") else f"{s.name} ({s.describe()})"
+                          for s in scene)
+        emit(self._t("scene_now", shapes=names) if names else self._t("scene_none"))
+        now = collisions(self.robot, self.q, scene).message()
+        if now:
+            emit(self._t("scene_hit", detail=now), "yellow")
+        return "info"
+
+    def _empty_scene(self) -> Any:
+        from .collision import Scene
+
+        return self.scene if self.scene is not None else Scene([], self.robot.unit)
+
+    def _cmd_scene(self, arg: Any, emit: Any) -> str:
+        return self._set_scene(self._empty_scene(), emit)
+
+    def _cmd_clear(self, arg: Any, emit: Any) -> str:
+        from .collision import Scene
+
+        return self._set_scene(Scene([], self.robot.unit), emit)
+
+    def _cmd_ground(self, values: list[float], emit: Any) -> str:
+        from .collision import Scene
+
+        if len(values) != 1:
+            raise ParseError(self._t("ground_count", unit=self.robot.unit, k=len(values)))
+        floor = Scene.plane([0.0, 0.0, 1.0], values[0], name="ground")
+        return self._set_scene(self._empty_scene().without("ground").with_shape(floor), emit)
+
+    def _cmd_box(self, values: list[float], emit: Any) -> str:
+        from .collision import Scene, SceneError
+
+        if len(values) != 6:
+            raise ParseError(self._t("box_count", unit=self.robot.unit, k=len(values)))
+        lo, hi = np.minimum(values[:3], values[3:]), np.maximum(values[:3], values[3:])
+        scene = self._empty_scene()
+        name = f"box {sum(s.kind == 'box' for s in scene) + 1}"
+        try:
+            box = Scene.box(0.5 * (lo + hi), hi - lo, name=name)
+        except SceneError as exc:
+            raise ParseError(str(exc)) from None
+        return self._set_scene(scene.with_shape(box), emit)
 
     def _cmd_help(self, arg: Any, emit: Any) -> str:
         emit(self._t("help", unit=self.robot.unit, first=self.robot.joint_names[0], goto=self._goto_example()))
@@ -502,7 +574,7 @@ class Shell:
         kwargs: dict[str, Any] = {"phi": phi} if phi is not None else {}
         try:
             try:
-                res = ik_all(self.robot, target, q0=self.q, **kwargs)
+                res = ik_all(self.robot, target, q0=self.q, scene=self.scene, **kwargs)
             except (ArmkitError, ValueError, NotImplementedError):
                 res = None
             if res is not None:
@@ -518,7 +590,7 @@ class Shell:
                 self.q = np.asarray(res.q)[pick].astype(float)
                 self.branch = names[pick]
                 return "ok"
-            one = ik(self.robot, target, q0=self.q, **kwargs)
+            one = ik(self.robot, target, q0=self.q, scene=self.scene, **kwargs)
         except (ArmkitError, ValueError, FloatingPointError) as exc:
             emit(self._t("ik_error", detail=str(exc)), "red")
             return "error"
@@ -610,6 +682,7 @@ class Shell:
     def completions(self) -> list[str]:
         """Words offered by tab completion."""
         words = ["help", "exit", "quit", "q", "goto", "branch", "limits", "units", "deg", "rad", "home", "show",
+                 "ground", "box", "clear", "scene",
                  "lang", "auto", "en", "ko"]
         words += [f"theta{i}" for i in range(1, self.robot.n + 1)] + list(self.robot.joint_names)
         res = self._all_branches(self._branch_target(self.q))

@@ -203,7 +203,8 @@ def too_few_joints(prob: Any, res: IKResult, failed: NDArray[np.intp], seed: Any
     for j, i in enumerate(failed):
         if dp[j] <= prob.tol[0]:
             out.append(f"{n} joints cannot reach {what}; the nearest reachable pose (with the position met) misses "
-                       f"by {math.degrees(float(dr[j])):.3g} deg")
+                       f"by {math.degrees(float(dr[j])):.3g} deg; q is the least-squares compromise found "
+                       "(1 m weighs as 1 rad)")
         else:
             out.append(f"{n} joints cannot reach {what}; the nearest pose found misses by "
                        f"{math.degrees(float(res.rotation_error[i])):.3g} deg and "
