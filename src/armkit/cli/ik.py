@@ -158,7 +158,8 @@ def ik(robot: str = typer.Argument(..., help=ROBOT_HELP),
         target, ph, where = _target(r, coords, rpy, quat, deg, phi)
         solver = closed_form(r)
         position_only = target.ndim == 1 and ph is None
-        closed_ok = solver is not None and not (position_only and solver.pose_only)
+        closed_ok = solver is not None and not (position_only and solver.pose_only) \
+            and getattr(solver, "target_kind", None) != "pitch"   # yaw-pitch3 needs pitch= (docs/so101.md)
         if all_branches and (method not in ("auto", "analytic") or branch is not None):
             fail("--all lists the closed-form branches; it does not go with --branch or a numeric --method")
         if all_branches and not closed_ok:
