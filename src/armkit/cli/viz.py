@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
-from typing import List, Optional
+from typing import Any, List, Optional
 
 import numpy as np
 import typer
@@ -156,7 +156,7 @@ def workspace(robot: str = typer.Argument(..., help=ROBOT_HELP),
     exclusion = Exclusion(ground_z=ground, boxes=tuple(boxes)) if ground is not None or boxes else None
     if scene_file is not None and no_scene:
         fail("give --scene FILE or --no-scene, not both")
-    scene = None if no_scene else scene_file if scene_file is not None else (
+    scene: Any = None if no_scene else scene_file if scene_file is not None else (
         "robot" if getattr(r, "collision", None) is not None else None)
     if scene is not None:
         from ..collision import as_scene

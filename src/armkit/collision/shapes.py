@@ -142,6 +142,8 @@ class Shape:
     def describe(self) -> str:
         c = ", ".join(f"{v:g}" for v in np.round(self.center, 6))
         if self.kind == "plane":
+            if np.allclose(self.normal, [0, 0, 1], atol=1e-12):
+                return f"floor at z = {self.offset:g}"
             nrm = ", ".join(f"{v:g}" for v in np.round(self.normal, 6))
             return f"plane normal ({nrm}) offset {self.offset:g}"
         if self.kind == "box":
