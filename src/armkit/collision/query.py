@@ -324,8 +324,8 @@ def collisions(robot: Robot, q: ArrayLike, scene: Scene | Sequence[Shape] | str 
     >>> res = armkit.collisions(arm, [[0.0, 0.0], [-np.pi / 2, 0.0]], floor)
     >>> res.colliding.tolist()
     [False, True]
-    >>> res.message(1)
-    'the link1 hits the floor by 0.845 m'
+    >>> res.message(1)      # link 2 reaches y = -1.5, its capsule (radius 0.045 m) 1.345 m past y = -0.2
+    'the link2 hits the floor by 1.34 m (2 pairs in collision)'
     """
     sc = as_scene(robot, scene)
     geo = arm_geometry(robot)
