@@ -254,6 +254,12 @@ def track(robot: str = typer.Argument(..., help=ROBOT_HELP),
           output: Optional[str] = typer.Option("track.gif", "-o", "--output",
                                                help="Animation file: .gif or .mp4 (by extension)."),
           no_animation: bool = typer.Option(False, "--no-animation", help="Only the statistics."),
+          scene_file: Optional[str] = typer.Option(
+              None, "--scene", help="Scene file (docs/scene.md): frames where the arm collides with it, its body "
+                                    "or itself are counted. Default: the robot's own surroundings, if any."),
+          no_scene: bool = typer.Option(False, "--no-scene", help="No collision check."),
+          refuse_collisions: bool = typer.Option(False, "--refuse-collisions",
+                                                 help="Exit 1 (and write nothing) when a frame collides."),
           json_out: bool = typer.Option(False, "--json", help="Print the statistics as JSON.")) -> None:
     """Seed 003: a target moves, the arm follows with one warm-started IK step per frame; writes an animation.
 
@@ -276,8 +282,24 @@ def track(robot: str = typer.Argument(..., help=ROBOT_HELP),
     if seed < 0:
         fail(f"--seed must be a non-negative integer, got {seed}")
     out = None if no_animation or not output else _out(output, (".gif", ".mp4"), "--output")
-    res = follow(r, path=path, method=method, frames=frames, seed=seed)
+    if scene_file is not None and no_scene:
+        fail("give --scene FILE or --no-scene, not both")
+    scene: Any = None if no_scene else scene_file if scene_file is not None else (
+        "robot" if getattr(r, "collision", None) is not None else None)
+    if scene is not None:
+        from ..collision import as_scene
+
+        scene = as_scene(r, scene)   # a bad file: ArmkitError, exit 2 with file:line: field
+    res = follow(r, path=path, method=method, frames=frames, seed=seed, scene=scene)
     st = res.stats()
+    if res.colliding is not None and res.colliding.any():
+        from ..collision import collisions
+
+        k = int(np.argmax(res.colliding))
+        st["first_collision"] = {"frame": k, "message": collisions(r, res.q[k], scene).message()}
+        if refuse_collisions:
+            fail(f"{int(res.colliding.sum())} of {len(res.q)} frames collide; the first, frame {k}: "
+                 f"{st['first_collision']['message']} (nothing written)", EXIT_FAILED)
     written = None
     if out is not None:
         from ..viz.animation import render_animation
@@ -301,6 +323,10 @@ def track(robot: str = typer.Argument(..., help=ROBOT_HELP),
                           f"worst frame {st['max_error_all_frames']:.3g} {u}")
         console.print(f"  branch changes: {st['branch_changes']}   largest joint step: "
                       f"{st['largest_joint_step_deg']:.2f} deg   mean iterations: {st['mean_iterations']:.1f}")
+        if "frames_in_collision" in st:
+            first = st.get("first_collision")
+            console.print(f"  in collision: {st['frames_in_collision']} frames"
+                          + (f" (first: frame {first['frame']}, {esc(first['message'])})" if first else ""))
         if written is not None:
             console.print(f"wrote {esc(written)}")
     if st["frames_reached"] < st["frames"] and path in ("circle", "figure8"):

@@ -61,6 +61,8 @@ class TrackResult:
     iterations : ndarray of int, shape (F,)
     tol : float
         Position tolerance used per frame (length units).
+    colliding : ndarray of bool, shape (F,), or None
+        With a scene: the frames where the arm collides (with the scene, its body or itself).
     """
 
     robot: Robot
@@ -74,6 +76,7 @@ class TrackResult:
     branch: NDArray[np.str_]
     iterations: NDArray[np.int64]
     tol: float
+    colliding: Optional[NDArray[np.bool_]] = None
 
     def stats(self) -> dict[str, Any]:
         """Tracking statistics: errors over the reached frames, frame counts, branch changes, joint jumps."""
@@ -95,6 +98,7 @@ class TrackResult:
             "branch_changes": int(np.sum(self.branch[1:] != self.branch[:-1])),
             "largest_joint_step_deg": jump,
             "mean_iterations": float(self.iterations.mean()),
+            **({} if self.colliding is None else {"frames_in_collision": int(self.colliding.sum())}),
         }
 
 
@@ -179,7 +183,8 @@ def _read_csv(robot: Robot, file: Path) -> Array:
 
 
 def track(robot: Robot, path: str = "random", method: str = "ccd", frames: int = 200, seed: Optional[int] = 0,
-          tol: Optional[float] = None, max_iterations: Optional[int] = None, q0: Optional[Any] = None) -> TrackResult:
+          tol: Optional[float] = None, max_iterations: Optional[int] = None, q0: Optional[Any] = None,
+          scene: Any = None) -> TrackResult:
     """Follow a moving target with one warm-started IK solve per frame.
 
     Parameters
@@ -199,6 +204,9 @@ def track(robot: Robot, path: str = "random", method: str = "ccd", frames: int =
         Per-frame iteration cap for the numeric methods.
     q0 : array_like, shape (n,), optional
         Joints before the first frame (default: zeros).
+    scene : armkit.Scene, path of a scene file, "robot" or None
+        IK per frame avoids collisions with it (and the robot's body and itself) where it can;
+        the frames that still collide are flagged in ``colliding``.
 
     Returns
     -------
@@ -235,7 +243,7 @@ def track(robot: Robot, path: str = "random", method: str = "ccd", frames: int =
                     phis = [phi0] + [phi0 + s * d for d in steps for s in (1, -1)]
             for phi in phis:
                 kw = {} if phi is None else {"phi": phi}
-                res = ik_all(robot, tgt, q0=q_prev, tol=(tol_p, 1e-6), **kw)
+                res = ik_all(robot, tgt, q0=q_prev, tol=(tol_p, 1e-6), scene=scene, **kw)
                 ok = np.asarray(res.success)
                 if ok.any():
                     break
@@ -270,4 +278,10 @@ def track(robot: Robot, path: str = "random", method: str = "ccd", frames: int =
         q_prev = q_new
     err = np.linalg.norm(fk(robot, Q)[:, :3, 3] - targets, axis=1)
     name = path if path in PATHS else Path(path).name
-    return TrackResult(robot, method, name, Q, targets, err, reached, out, branch.astype(str), iters, tol_p)
+    colliding = None
+    if scene is not None:   # flag the frames where the arm collides (armkit.collision)
+        from ..collision import in_collision
+
+        colliding = in_collision(robot, Q, scene)
+    return TrackResult(robot, method, name, Q, targets, err, reached, out, branch.astype(str), iters, tol_p,
+                       colliding)
