@@ -9,7 +9,7 @@ import math
 import sys
 import time
 from pathlib import Path
-from typing import List, Optional
+from typing import Any, List, Optional
 
 import numpy as np
 import typer
@@ -285,6 +285,12 @@ def traj(robot: str = typer.Argument(..., help=ROBOT_HELP),
          method: str = typer.Option("ik", "--method", help="Cartesian paths: 'ik' or 'rate' (resolved rate)."),
          dt: float = typer.Option(0.02, "--dt", help="Sample time for joint-space profiles (s)."),
          out: Optional[Path] = typer.Option(None, "-o", "--out", help="Write .png (plots), .gif/.mp4 (animation) or .csv."),
+         scene_file: Optional[str] = typer.Option(
+             None, "--scene", help="Scene file (docs/scene.md): samples where the arm collides with it, its body or "
+                                   "itself are counted. Default: the robot's own surroundings, if any."),
+         no_scene: bool = typer.Option(False, "--no-scene", help="No collision check."),
+         refuse_collisions: bool = typer.Option(False, "--refuse-collisions",
+                                                help="Exit 1 (and write nothing) when a sample collides."),
          json_out: bool = typer.Option(False, "--json", help="Print a JSON summary.")) -> None:
     """Trajectories: joint-space profiles through waypoints, or Cartesian lines and arcs (IK or resolved rate).
 
@@ -331,6 +337,24 @@ def traj(robot: str = typer.Argument(..., help=ROBOT_HELP),
                "q_start_rad": tr.q[0], "q_end_rad": tr.q[-1], "max_abs_qd": np.abs(tr.qd).max(axis=0),
                "max_abs_qdd": np.abs(tr.qdd).max(axis=0), "within_limits": within,
                "max_deviation": None if tr.deviation is None else float(tr.deviation.max())}
+    if scene_file is not None and no_scene:
+        fail("give --scene FILE or --no-scene, not both")
+    scene: Any = None if no_scene else scene_file if scene_file is not None else (
+        "robot" if getattr(r, "collision", None) is not None else None)
+    hit_note = None
+    if scene is not None:   # flag the samples where the arm collides (armkit.collision)
+        from ..collision import as_scene, collisions, in_collision
+
+        scene = as_scene(r, scene)   # a bad file: ArmkitError, exit 2 with file:line: field
+        hits = in_collision(r, tr.q, scene)
+        summary["samples_in_collision"] = int(hits.sum())
+        if hits.any():
+            k = int(np.argmax(hits))
+            hit_note = (f"{int(hits.sum())} of {len(tr)} samples collide; the first at t = {tr.t[k]:.3g} s: "
+                        + collisions(r, tr.q[k], scene).message())
+            summary["first_collision"] = {"sample": k, "t": float(tr.t[k]), "message": hit_note}
+            if refuse_collisions:
+                fail(hit_note + " (nothing written)", EXIT_FAILED)
     if out is not None:
         suffix = out.suffix.lower()
         if suffix == ".csv":
@@ -354,6 +378,8 @@ def traj(robot: str = typer.Argument(..., help=ROBOT_HELP),
         console.print(f"largest deviation from the path: {tr.deviation.max():.3g} {r.unit}")
     if not within:
         warn("the trajectory leaves the joint limits")
+    if hit_note is not None:
+        warn(hit_note)
     if out is not None:
         console.print(f"wrote {esc(out)}")
 
