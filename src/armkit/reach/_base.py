@@ -127,14 +127,19 @@ def base_placement(map: ReachabilityMap, task_poses: ArrayLike, candidates: Arra
         if not np.all(np.isfinite(B)):
             raise ShapeError("candidates contain NaN or infinite values")
     Binv = np.linalg.inv(B)
-    local = Binv[:, None] @ T[None]                                    # (M, K, 4, 4)
-    reached = map.reachable(local)                                     # (M, K)
-    index = map.index(local[..., :3, 3])
+    reached = np.zeros((len(B), len(T)), dtype=bool)
+    index = np.zeros(len(B))
+    step_m = max(1, 2_000_000 // len(T))                               # poses per pass: bounded memory
+    for s in range(0, len(B), step_m):
+        local = Binv[s:s + step_m, None] @ T[None]                     # (m, K, 4, 4)
+        reached[s:s + step_m] = map.reachable(local)
+        index[s:s + step_m] = map.index(local[..., :3, 3]).mean(axis=1)
     count = reached.sum(axis=1)
-    order = np.lexsort((np.arange(len(B)), -index.mean(axis=1), -count))[:int(top)]
+    order = np.lexsort((np.arange(len(B)), -index, -count))[:int(top)]
     out = []
     for i in order:
-        target = local[i][..., :3, 3] if map.grid.position_only else local[i]
+        local_i = Binv[i] @ T
+        target = local_i[..., :3, 3] if map.grid.position_only else local_i
         res = ik(map.robot, target, seed=seed)
         out.append(BasePlacement(B[i], reached[i].copy(), np.asarray(res.success, dtype=bool).reshape(-1)))
     rank = {id(p): r for r, p in enumerate(out)}
