@@ -59,3 +59,27 @@ def test_arms_without_surroundings_are_unchanged_until_asked():
     sh.execute("box -2 -2 -1 2 -0.3 1")          # everything at y < -0.3
     out = sh.execute("q -90 0")
     assert out.status == "error" and "hit the box 1" in out.text
+
+
+def _cli(*args):
+    import subprocess
+    import sys
+
+    return subprocess.run([sys.executable, "-c", "from armkit.cli import main; main()", *args], capture_output=True,
+                          text=True, timeout=300)
+
+
+def test_track_and_traj_flag_or_refuse_collisions(tmp_path):
+    from armkit.viz.tracking import track
+
+    res = track(armkit.load("fighter"), path="random", method="lm", frames=30, seed=1, scene="robot")
+    assert res.colliding is not None and res.colliding.shape == (30,)
+    assert res.stats()["frames_in_collision"] == int(res.colliding.sum())
+    np.testing.assert_array_equal(res.colliding, armkit.collisions(res.robot, res.q).colliding)
+    out = _cli("traj", "fighter", "--joint", "0,0,0", "0,-40,0", "--deg", "--json")
+    assert out.returncode == 0 and '"samples_in_collision": 54' in out.stdout
+    pic = tmp_path / "t.png"
+    out = _cli("traj", "fighter", "--joint", "0,0,0", "0,-40,0", "--deg", "--refuse-collisions", "-o", str(pic))
+    assert out.returncode == 1 and "the forearm hits the ground" in out.stderr and not pic.exists()
+    out = _cli("traj", "fighter", "--joint", "0,0,0", "0,-40,0", "--deg", "--no-scene", "--json")
+    assert out.returncode == 0 and "samples_in_collision" not in out.stdout
