@@ -27,14 +27,15 @@ pointing from the wrist to the tool; for four joints the tool's z axis) makes th
 
 The pitch convention
 --------------------
-``pitch`` is the angle between the approach axis and the horizontal plane (the plane
-perpendicular to the yaw axis; "up" is the yaw axis' direction that points up in the
-world, i.e. has a non-negative world z), measured in the arm's vertical plane:
-``0`` = pointing horizontally *outward* (away from the yaw axis, towards the target's side),
-``+90 deg`` = straight up, ``-90 deg`` = straight down, ``+-180 deg`` = horizontally back
-towards the base. "Outward" is judged from the target: the approach axis' horizontal part
-points the way the target lies from the foot of the arm's plane. So the same pitch means
-the same pointing direction for the front and the back branches (exactly so when the arm
+``pitch`` is the angle of the approach axis ``a`` in the arm's vertical plane (the plane
+perpendicular to the first pitch axis), ``atan2(a . u, a . h)``: ``u`` is the yaw axis
+pointing up (the direction with a non-negative world z), ``h`` the plane's horizontal
+direction pointing *outward*, the way the target lies from the foot of the plane on the
+yaw axis. ``0`` = pointing horizontally outward, ``+90 deg`` = straight up, ``-90 deg`` =
+straight down, ``+-180 deg`` = horizontally back towards the base. On a real file whose
+roll axis is not exactly perpendicular to the pitch axes (rounding), the part of ``a``
+along the pitch axis is left out, so straight down stays reachable. The same pitch means
+the same pointing direction on the front and the back branches (exactly so when the arm
 has no sideways offset), and :func:`pitch_of` measures it on any configuration.
 """
 
