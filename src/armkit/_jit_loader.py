@@ -220,7 +220,7 @@ def _decide() -> str:
     if _take_lock():
         try:
             _worker = _spawn()
-        except OSError:
+        except (OSError, ValueError, TypeError):  # no usable interpreter to start (embedded Python)
             _release_lock()
             _parallel = True
             _say_compiling()

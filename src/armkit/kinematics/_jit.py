@@ -17,12 +17,15 @@ How they are fast (numbers in ``docs/performance.md``):
 * The single-configuration entry points write into an output array allocated by the
   caller (a NumPy allocation is cheaper than a Numba-boxed one) and raise ``ValueError``
   for a wrong length or a non-finite value; :mod:`armkit.kinematics` catches it and lets
-  :meth:`Robot.check_q` produce the real message. Their explicit signatures make a call
-  with any other array type fail at once with ``TypeError`` instead of compiling anew.
+  :meth:`Robot.check_q` produce the real message. Each is compiled for one signature on
+  first use (module ``__getattr__``), after which any other argument type fails at once
+  with ``TypeError`` instead of compiling anew.
 
 No ``fastmath``: results agree with the NumPy back end to about 1e-15.
-Compiled functions are cached on disk (``cache=True``); importing this module is what
-costs time, so :mod:`armkit.kinematics` imports it only on first use.
+Compiled functions are cached on disk (``cache=True``). Importing this module compiles
+nothing (it costs Numba's import, ~0.2 s); each kernel compiles, or loads from the cache,
+on its first call. On a fresh install a background process compiles them all while the
+NumPy kernels answer (:mod:`armkit._jit_loader`, docs/performance.md "First use").
 """
 
 from __future__ import annotations
