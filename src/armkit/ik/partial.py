@@ -106,7 +106,8 @@ def ik_direction(robot: Robot, target: ArrayLike, q0: ArrayLike | None, directio
     name = "lm" if method == "auto" else method
     frames = _frames(robot, p, z, q)
     budget = numeric.get("restarts")
-    quick = dict(numeric, restarts=min(3, 50 if budget is None else budget))   # a short first try; turned frames: full budget
+    # a short first try (3 restarts); the turned frames get the full budget
+    quick = dict(numeric, restarts=min(3, 50 if budget is None else budget))
     res = _numeric(name, robot, frames, q, mask=DIRECTION_MASK, **quick)
     # the free rotation of a solution is unknown: frames turned by 180, 90 and 270 deg put every solution
     # within 45 deg of one of them; then the frame of the configuration found
@@ -181,8 +182,8 @@ def too_few_joints(prob: Any, res: IKResult, failed: NDArray[np.intp], seed: Any
     The nearest reachable pose is searched with the position first: Levenberg-Marquardt with
     the rotation weights cut to 1e-6 (the orientation then only moves where the position
     leaves freedom), from the configurations found, then position-only steps from there to
-    meet the position exactly; the rotation error against the target is the miss. Where that search does not meet the position, the sentence gives the best
-    compromise found (``res``) instead.
+    meet the position exactly; the rotation error against the target is the miss. Where that
+    search does not meet the position, the sentence gives the best compromise found (``res``).
     """
     from .numeric import _solve, _subproblem
     from .result import verify
