@@ -121,7 +121,7 @@ def test_environment_variable_picks_the_cluster(cluster, reference: Reachability
 
 
 def test_killing_a_worker_mid_run_gives_the_same_map(cluster, tmp_path: Path) -> None:
-    kw = dict(resolution=20.0, samples=1_200_000, block_size=50_000, seed=5)
+    kw = dict(resolution=20.0, samples=600_000, block_size=30_000, seed=5)
     ref = reachability("fighter", workers=1, **kw)
     killed = threading.Event()
 

@@ -82,6 +82,11 @@ def build(robot: str = typer.Argument(..., help="Bundled robot name or robot fil
           method: str = typer.Option("fk", "--method", help="fk (sample joint space, default) or ik (IK per cell)."),
           samples: Optional[int] = typer.Option(None, "--samples", help="FK samples in all (default 32 per cell)."),
           seed: int = typer.Option(0, "--seed", help="Seed of every random stream (same seed, same map)."),
+          coverage: float = typer.Option(0.1, "--coverage", help="A sampled cell is reachable when its sample "
+                                         "density is at least this fraction of its densest neighbour (0: any "
+                                         "sample)."),
+          block_size: Optional[int] = typer.Option(None, "--block-size", help="FK samples per unit of work "
+                                                   "(default 1,000,000); IK: x-slabs per unit."),
           scheduler: Optional[str] = typer.Option(None, "--scheduler", help="Dask scheduler, e.g. "
                                                   "tcp://host:8786 (default: ARMKIT_SCHEDULER, else this machine)."),
           workers: Optional[int] = typer.Option(None, "--workers", help="Local worker processes (default: CPUs)."),
@@ -129,6 +134,7 @@ def build(robot: str = typer.Argument(..., help="Bundled robot name or robot fil
         with bar:
             m = reachability(r, resolution=resolution, orientations=orientations, rolls=rolls,
                              method=method, samples=samples, seed=seed,  # type: ignore[arg-type]
+                             coverage=coverage, block_size=block_size,
                              path=output, overwrite=overwrite, scheduler=scheduler, workers=workers,
                              progress=progress)
     except KeyboardInterrupt:
