@@ -476,3 +476,27 @@ def test_cli_info_dh_and_convert(tmp_path):
     assert res.exit_code == 0, res.output
     res = run(app, ["fk", str(p), "0", "0"])
     assert res.exit_code == 2 and "possible tip links" in res.output
+
+
+def test_cli_ik_pitch_and_direction_on_the_so101():
+    from typer.testing import CliRunner
+
+    from armkit.cli import app
+
+    r = armkit.load("so101")
+    q = np.radians([20, 10, 30, 40, 10])
+    T = armkit.fk(r, q)
+    run = CliRunner().invoke
+    res = run(app, ["ik", "so101", *map(repr, T[:3, 3].tolist()), "--direction", *map(repr, T[:3, 2].tolist()),
+                    "--json"])
+    assert res.exit_code == 0, res.output
+    import json
+
+    sol = json.loads(res.output)["solutions"][0]
+    qs = np.array(sol["q_rad"] if "q_rad" in sol else sol["q"])
+    T2 = armkit.fk(r, qs)
+    assert np.allclose(T2[:3, 3], T[:3, 3], atol=1e-9) and np.allclose(T2[:3, 2], T[:3, 2], atol=1e-8)
+    res = run(app, ["ik", "so101", "0.25", "0.05", "0.1", "--pitch", "-60", "--deg"])
+    assert res.exit_code == 0 and "branches solve the target" in res.output
+    res = run(app, ["ik", "so101", "0.25", "0.05", "0.1", "--direction", "0", "0", "0"])
+    assert res.exit_code == 2 and "non-zero" in res.output

@@ -113,6 +113,43 @@ def _trace_table(trace) -> Table:
     return t
 
 
+def _partial_target(r, target, where: str, pitch: Optional[float], direction, deg: bool, method: str,
+                    seed: Optional[int], json_out: bool) -> None:
+    """``--pitch`` (every closed-form branch) or ``--direction`` (LM): a position plus part of an orientation."""
+    from ..ik import ik as solve, ik_all
+
+    if target.ndim != 1 or len(target) != 3:
+        fail("--pitch and --direction go with an X Y Z position (no --rpy/--quat/--phi)")
+    if pitch is not None and direction is not None:
+        fail("give --pitch or --direction, not both")
+    if pitch is not None:
+        p = math.radians(pitch) if deg else pitch
+        where += f", tool pitch {math.degrees(p):g} deg"
+        if method in ("auto", "analytic"):
+            res, used = ik_all(r, target, pitch=p), "closed form (position + pitch)"
+        else:
+            res, used = solve(r, target, method=method, pitch=p, seed=seed), method  # type: ignore[arg-type]
+    else:
+        d = np.asarray(direction, dtype=float)
+        if not np.all(np.isfinite(d)) or np.linalg.norm(d) == 0:
+            fail(f"--direction must be a non-zero finite vector, got {tuple(float(v) for v in d)}")
+        where += f", tool z along ({', '.join(f'{v:g}' for v in d)})"
+        res = solve(r, target, method="lm" if method in ("auto", "analytic") else method, direction=d,  # type: ignore[arg-type]
+                    seed=seed)
+        used = "lm (position + direction)"
+    rows = _rows(r, res)
+    solved = any(row["success"] for row in rows)
+    if json_out:
+        print_json({"robot": r.name, "unit": r.unit, "method": used, "target": np.asarray(target),
+                    "solved": solved, "solutions": rows})
+    else:
+        _print_wide(_table(r, rows, f"IK of {esc(r.name)} for {esc(where)}, {used}", False))
+        if solved and len(rows) > 1:
+            console.print(f"{sum(row['success'] for row in rows)} of {len(rows)} branches solve the target.")
+    if not solved:
+        fail(rows[0]["message"] or "no solution", EXIT_FAILED)
+
+
 def ik(robot: str = typer.Argument(..., help=ROBOT_HELP),
        coords: List[str] = typer.Argument(..., help="Target position X Y [Z] in the robot's unit.", metavar="X Y [Z]"),
        rpy: Optional[Tuple[float, float, float]] = typer.Option(
@@ -128,6 +165,12 @@ def ik(robot: str = typer.Argument(..., help=ROBOT_HELP),
                                                               "arm has a closed form)."),
        seed: Optional[int] = typer.Option(None, "--seed", help="Random seed of the numeric restarts."),
        phi: Optional[float] = typer.Option(None, "--phi", help="End angle of a planar arm for an X Y target."),
+       pitch: Optional[float] = typer.Option(None, "--pitch", help="Tool pitch for an X Y Z target of a yaw + "
+                                             "three pitch joints arm such as the SO-101 (0 level, -90 straight "
+                                             "down; rad, or deg with --deg): every closed-form branch."),
+       direction: Optional[Tuple[float, float, float]] = typer.Option(
+           None, "--direction", help="Point the tool's z axis along DX DY DZ at an X Y Z target (rotation about it "
+                                     "free; numeric): what a 5-joint arm can do instead of a full pose."),
        trace: bool = typer.Option(False, "--trace", help="Numeric methods: print the error at every iteration."),
        scene_file: Optional[str] = typer.Option(
            None, "--scene", help="Scene file (TOML, docs/scene.md): solutions that collide with it, the robot's "
@@ -146,6 +189,10 @@ def ik(robot: str = typer.Argument(..., help=ROBOT_HELP),
     Example: armkit ik planar2 1.2 0.3 --branch elbow-up
 
     Example: armkit ik panda 0.4 0.1 0.5 --rpy 180 0 0 --deg --method lm --seed 3
+
+    Example: armkit ik so101 0.25 0.05 0.1 --pitch -60 --deg   (position + tool pitch, every branch)
+
+    Example: armkit ik so101 0.25 0.05 0.1 --direction 0 0 -1   (position + pointing direction)
     """
     from ..errors import ArmkitError
     from ..ik import ik as solve, ik_all
@@ -157,6 +204,8 @@ def ik(robot: str = typer.Argument(..., help=ROBOT_HELP),
         r = get_robot(robot)
         target, ph, where = _target(r, coords, rpy, quat, deg, phi)
         solver = closed_form(r)
+        if pitch is not None or direction is not None:
+            return _partial_target(r, target, where, pitch, direction, deg, method, seed, json_out)
         position_only = target.ndim == 1 and ph is None
         closed_ok = solver is not None and not (position_only and solver.pose_only) \
             and getattr(solver, "target_kind", None) != "pitch"   # yaw-pitch3 needs pitch= (docs/so101.md)
