@@ -36,7 +36,7 @@ def robots(json_out: bool = typer.Option(False, "--json", help="Print JSON inste
     for row in rows:
         src = str(row["source"])
         short = src if len(src) <= 70 else src[:69].rsplit(" ", 1)[0] + " …"
-        t.add_row(*(esc(row[k]) for k in ("name", "dof", "joints")), f"{row['convention']} DH", esc(row["unit"]),
+        t.add_row(*(esc(row[k]) for k in ("name", "dof", "joints")), "URDF" if row["convention"] == "urdf" else f"{row['convention']} DH", esc(row["unit"]),
                   f"{esc(row['description'])}\n[dim]{esc(short)}[/]")
     console.print(t)
 

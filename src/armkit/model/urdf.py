@@ -268,7 +268,8 @@ def load_urdf(path: str | Path, base: str | None = None, tip: str | None = None,
             tip = m.group(2) if tip is None else tip
     notes = [nt for nt in notes if not nt.startswith(("armkit chain:", "written by armkit"))]
     description = notes[0].splitlines()[0].strip() if notes else f"URDF robot {root.get('name')!r}"
-    source = "\n".join(notes) if notes else f"URDF file {spath}"
+    rest = "\n".join(notes[0].splitlines()[1:] + notes[1:]).strip() if notes else ""
+    source = f"{rest}\n(URDF file {spath})" if rest else f"URDF file {spath}"
 
     import yourdfpy
 
