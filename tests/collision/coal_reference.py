@@ -40,14 +40,15 @@ def coal_shape(shape):
 def coal_distance(g1, t1, g2, t2):
     req = coal.DistanceRequest()
     req.enable_signed_distance = True
-    req.gjk_tolerance = req.epa_tolerance = 1e-12   # coal's default 1e-6 limits GJK pairs (cylinders) to ~1e-6
+    req.gjk_tolerance = req.epa_tolerance = 1e-9   # tighter than the default 1e-6; 1e-12 makes EPA fail on some boxes
     req.gjk_max_iterations = req.epa_max_iterations = 1000
-    res = coal.DistanceResult()
-    d = coal.distance(g1, t1, g2, t2, req, res)
-    if d > 0 and (isinstance(g2, coal.Cylinder) or isinstance(g1, coal.Cylinder)):
-        # the default GJK stalls ~1e-7 off on curved cylinders; Nesterov's variant gets ~1e-11 when apart
-        # (it fails on boxes, and its EPA can pick a wrong face when the two overlap)
-        req.gjk_variant = coal.GJKVariant.NesterovAcceleration
+    d = coal.distance(g1, t1, g2, t2, req, coal.DistanceResult())
+    if d > 0:   # apart: GJK alone, run again to 1e-12
+        req.gjk_tolerance = 1e-12
+        if isinstance(g2, coal.Cylinder) or isinstance(g1, coal.Cylinder):
+            # the default GJK stalls ~1e-7 off on curved cylinders; Nesterov's variant gets ~1e-11 when apart
+            # (it fails on boxes, and its EPA can pick a wrong face when the two overlap)
+            req.gjk_variant = coal.GJKVariant.NesterovAcceleration
         d = coal.distance(g1, t1, g2, t2, req, coal.DistanceResult())
     return d
 

@@ -77,10 +77,14 @@ def signed_distance(geom_a: Any, T_a: Array, geom_b: Any, T_b: Array) -> float:
     coal = _coal()
     req = coal.DistanceRequest()
     req.enable_signed_distance = True
-    req.gjk_tolerance = req.epa_tolerance = 1e-12   # GJK/EPA (cylinders, meshes) to 1e-12 instead of 1e-6
+    req.gjk_tolerance = req.epa_tolerance = 1e-9   # tighter than the default 1e-6 (1e-12 makes EPA fail on some boxes)
     req.gjk_max_iterations = req.epa_max_iterations = 1000
-    res = coal.DistanceResult()
-    return float(coal.distance(geom_a, _transform(T_a), geom_b, _transform(T_b), req, res))
+    ta, tb = _transform(T_a), _transform(T_b)
+    d = float(coal.distance(geom_a, ta, geom_b, tb, req, coal.DistanceResult()))
+    if d > 0:   # apart: GJK alone, run again to 1e-12
+        req.gjk_tolerance = 1e-12
+        d = float(coal.distance(geom_a, ta, geom_b, tb, req, coal.DistanceResult()))
+    return d
 
 
 def _placed(item: tuple[str, Any], row: int) -> tuple[Any, Array]:

@@ -154,12 +154,31 @@ def _seg_box(p, q, T, h, ts):
     return -depth
 
 
+@njit(cache=True, inline="always")
+def _point_box(x, y, z, T, h):
+    """Distance from a point to a solid box (pose T, half extents h); 0 inside."""
+    dx = x - T[0, 3]
+    dy = y - T[1, 3]
+    dz = z - T[2, 3]
+    f = 0.0
+    for i in range(3):
+        u = abs(T[0, i] * dx + T[1, i] * dy + T[2, i] * dz) - h[i]
+        if u > 0.0:
+            f += u * u
+    return math.sqrt(f)
+
+
 @njit(cache=True)
-def _place(frames, kind, fr, ia, ib, L, P0, P1, W, C, R):
-    """World data of every item for one configuration: segment ends P0/P1, poses W, bounding spheres C/R."""
+def _place(frames, kind, fr, ia, ib, L, P0, P1, W, C, R, moving_only=False):
+    """World data of every item for one configuration: segment ends P0/P1, poses W, bounding spheres C/R.
+
+    ``moving_only``: skip the static items (frame -1, not a chain segment), placed once per chunk.
+    """
     for i in range(kind.shape[0]):
         k = kind[i]
         f = fr[i]
+        if moving_only and f < 0 and k != SEGF:
+            continue
         if k == SEGF:
             for j in range(3):
                 P0[i, j] = frames[ia[i], j, 3]
@@ -245,8 +264,10 @@ def _chunk_all(frames, kind, fr, ia, ib, L, rad, half, pairs, out, c):
     C = np.empty((I, 3))
     R = np.empty(I)
     ts = np.empty(8)
+    first = True
     for b in range(c * CHUNK, min((c + 1) * CHUNK, frames.shape[0])):
-        _place(frames[b], kind, fr, ia, ib, L, P0, P1, W, C, R)
+        _place(frames[b], kind, fr, ia, ib, L, P0, P1, W, C, R, not first)
+        first = False
         for p in range(pairs.shape[0]):
             out[b, p] = _pair(pairs[p, 0], pairs[p, 1], kind, rad, half, P0, P1, W, ts)
 
@@ -272,24 +293,38 @@ def _chunk_min(frames, kind, fr, ia, ib, L, rad, half, bound, pairs, dist, arg, 
     C = np.empty((I, 3))
     R = np.empty(I)
     ts = np.empty(8)
+    stop_lb = np.inf if stop == -np.inf else stop
+    first = True
     for b in range(c * CHUNK, min((c + 1) * CHUNK, frames.shape[0])):
-        _place(frames[b], kind, fr, ia, ib, L, P0, P1, W, C, R)
+        _place(frames[b], kind, fr, ia, ib, L, P0, P1, W, C, R, not first)
         for i in range(I):
+            if not first and fr[i] < 0 and kind[i] != SEGF:
+                continue
             if kind[i] == BOX:
                 R[i] = bound[i]
             elif kind[i] != PLANE:
                 R[i] += rad[i]
+        first = False
         best = np.inf
         barg = -1
         for p in range(pairs.shape[0]):
             i = pairs[p, 0]
             j = pairs[p, 1]
-            if kind[i] != PLANE and kind[j] != PLANE:
-                dx = C[i, 0] - C[j, 0]
-                dy = C[i, 1] - C[j, 1]
-                dz = C[i, 2] - C[j, 2]
-                lb = math.sqrt(dx * dx + dy * dy + dz * dz) - R[i] - R[j]
-                if lb >= best:
+            ki = kind[i]
+            kj = kind[j]
+            if ki != PLANE and kj != PLANE:
+                if kj == BOX or ki == BOX:   # a lower bound: the segment's bounding ball against the box itself
+                    s_ = i if kj == BOX else j
+                    b_ = j if kj == BOX else i
+                    lb = _point_box(C[s_, 0], C[s_, 1], C[s_, 2], W[b_], half[b_]) - R[s_]
+                    if ki == BOX and kj == BOX or lb <= 0.0:
+                        lb = -np.inf   # overlapping: the depth can be anything (a segment deep in a big box)
+                else:
+                    dx = C[i, 0] - C[j, 0]
+                    dy = C[i, 1] - C[j, 1]
+                    dz = C[i, 2] - C[j, 2]
+                    lb = math.sqrt(dx * dx + dy * dy + dz * dz) - R[i] - R[j]
+                if lb >= best or lb > stop_lb:
                     continue
             d = _pair(i, j, kind, rad, half, P0, P1, W, ts)
             if d < best:

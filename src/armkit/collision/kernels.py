@@ -90,7 +90,7 @@ def segment_box(p0: Array, p1: Array, T_world_box: Array, half: Array) -> Array:
     b = np.einsum("...ji,...j->...i", R, p1 - p0)
     h = np.broadcast_to(half, a.shape)
     # breakpoints where some |a_i + t b_i| = h_i, with 0 and 1
-    with np.errstate(divide="ignore", invalid="ignore"):
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         bs = np.where(np.abs(b) > 0, b, np.inf)
         cand = np.concatenate([(h - a) / bs, (-h - a) / bs], axis=-1)
     cand = np.where(np.isfinite(cand), np.clip(cand, 0.0, 1.0), 0.0)

@@ -255,23 +255,32 @@ def _use_jit() -> bool:
     return get_backend() == "numba"
 
 
-def _evaluate(geo: ArmGeometry, frames: Array, scene_pairs: list[tuple[int, Shape]],
+BLOCK = 16384
+"""Configurations per block on the Numba path: frames of a block stay in cache between FK and the check."""
+
+
+def _evaluate(robot: Robot, geo: ArmGeometry, q: Array, scene_pairs: list[tuple[int, Shape]],
               self_pairs: Sequence[tuple[int, int]], only_min: bool = False, stop: float = -np.inf
               ) -> tuple[Array | None, Array, NDArray[np.int64]]:
     """``(distances (B, P) or None, min (B,), argmin (B,))`` by the Numba kernels where they apply, NumPy/coal otherwise."""
-    B = frames.shape[0]
+    B = q.shape[0]
     P = len(scene_pairs) + len(self_pairs)
     if P == 0:
         return np.empty((B, 0)), np.full(B, np.inf), np.full(B, -1, dtype=np.int64)
     if not _use_jit() or B < 8:
-        d = _pair_distances(geo, frames, scene_pairs, self_pairs)
+        d = _pair_distances(geo, chain_frames(robot, q), scene_pairs, self_pairs)
         arg = np.argmin(d, axis=1)
         return d, d[np.arange(B), arg], arg
+    if B > BLOCK:   # block by block: FK frames and the check while the frames are in cache
+        parts = [_evaluate(robot, geo, q[s:s + BLOCK], scene_pairs, self_pairs, only_min, stop)
+                 for s in range(0, B, BLOCK)]
+        d_all = None if only_min else np.concatenate([p_[0] for p_ in parts])  # type: ignore[misc]
+        return d_all, np.concatenate([p_[1] for p_ in parts]), np.concatenate([p_[2] for p_ in parts])
     from . import _jit
 
+    frames = np.ascontiguousarray(chain_frames(robot, q))
     packed, pairs, cols = _jit_pack(geo, scene_pairs, self_pairs)
     rest = np.setdiff1d(np.arange(P), cols)
-    frames = np.ascontiguousarray(frames)
     if only_min:
         dist, arg = _jit.min_distance(frames, packed, pairs, stop) if len(pairs) else (
             np.full(B, np.inf), np.full(B, -1, dtype=np.int64))
@@ -331,9 +340,8 @@ def collisions(robot: Robot, q: ArrayLike, scene: Scene | Sequence[Shape] | str 
     geo = arm_geometry(robot)
     qa = robot.check_q(q)
     lead = qa.shape[:-1]
-    frames = chain_frames(robot, qa.reshape(-1, robot.n))
     scene_pairs, self_pairs = _pairs(geo, sc, self_collision)
-    d, dist, closest = _evaluate(geo, frames, scene_pairs, self_pairs)
+    d, dist, closest = _evaluate(robot, geo, qa.reshape(-1, robot.n), scene_pairs, self_pairs)
     assert d is not None
     names = tuple((geo.solids[i].name, s.name) for i, s in scene_pairs) + tuple(
         (geo.solids[j].name, geo.solids[i].name) if geo.solids[j].level > geo.solids[i].level
@@ -352,7 +360,7 @@ def clearance(robot: Robot, q: ArrayLike, scene: Scene | Sequence[Shape] | str |
     geo = arm_geometry(robot)
     qa = robot.check_q(q)
     scene_pairs, self_pairs = _pairs(geo, sc, self_collision)
-    _, dist, _ = _evaluate(geo, chain_frames(robot, qa.reshape(-1, robot.n)), scene_pairs, self_pairs, only_min=True)
+    _, dist, _ = _evaluate(robot, geo, qa.reshape(-1, robot.n), scene_pairs, self_pairs, only_min=True)
     return dist.reshape(qa.shape[:-1])
 
 
@@ -367,7 +375,7 @@ def in_collision(robot: Robot, q: ArrayLike, scene: Scene | Sequence[Shape] | st
     geo = arm_geometry(robot)
     qa = robot.check_q(q)
     scene_pairs, self_pairs = _pairs(geo, sc, self_collision)
-    _, dist, _ = _evaluate(geo, chain_frames(robot, qa.reshape(-1, robot.n)), scene_pairs, self_pairs,
+    _, dist, _ = _evaluate(robot, geo, qa.reshape(-1, robot.n), scene_pairs, self_pairs,
                            only_min=True, stop=0.0)
     return (dist < 0).reshape(qa.shape[:-1])
 
