@@ -114,7 +114,7 @@ def _local_cluster(workers: int) -> tuple[Any, Callable[[], None]]:
     from distributed import Client, LocalCluster
 
     cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, host="127.0.0.1",
-                           dashboard_address=None, silence_logs=40)
+                           dashboard_address=":0", silence_logs=40)
     client = Client(cluster)
 
     def close() -> None:
