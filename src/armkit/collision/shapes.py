@@ -46,7 +46,7 @@ def _positive(value: float, what: str, allow_zero: bool = False) -> float:
     except (TypeError, ValueError) as exc:
         raise SceneError(f"{what} must be a number, got {value!r}") from exc
     if not math.isfinite(v) or v < 0 or (v == 0 and not allow_zero):
-        raise SceneError(f"{what} must be a finite number {'>= 0' if allow_zero else '> 0'}, got {value!r}")
+        raise SceneError(f"{what} must be a finite number {'>= 0' if allow_zero else '> 0'}, got {v!r}")
     return v
 
 
