@@ -28,7 +28,7 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-from numba import njit, prange
+from numba import njit
 from numpy.typing import NDArray
 
 __all__ = ["Grid", "bin_poses", "fibonacci_directions", "tangent_frames"]
@@ -61,35 +61,38 @@ def tangent_frames(dirs: Array) -> tuple[Array, Array]:
     return e1, e2
 
 
-@njit(cache=True, parallel=False, nogil=True)
+@njit(cache=True, nogil=True)
 def _bin_kernel(T, Ainv, symmetric, lo, h, dims, dirs, e1, e2, n_roll, out):  # pragma: no cover - compiled
     nx, ny, nz = dims[0], dims[1], dims[2]
     nd = dirs.shape[0]
     n_orient = nd * n_roll
     two_pi = 2.0 * math.pi
-    for k in prange(T.shape[0]):
-        # p_A = Ainv @ p, R_A = Ainv[:3,:3] @ R
-        p = np.empty(3)
-        R = np.empty((3, 3))
-        for i in range(3):
-            p[i] = Ainv[i, 0] * T[k, 0, 3] + Ainv[i, 1] * T[k, 1, 3] + Ainv[i, 2] * T[k, 2, 3] + Ainv[i, 3]
-            for j in range(3):
-                R[i, j] = Ainv[i, 0] * T[k, 0, j] + Ainv[i, 1] * T[k, 1, j] + Ainv[i, 2] * T[k, 2, j]
-        if symmetric:
-            r = math.hypot(p[0], p[1])
+    for k in range(T.shape[0]):
+        # p_A = Ainv @ p;  x_A, z_A = Ainv[:3, :3] @ (tool x, tool z axes)
+        t0, t1, t2 = T[k, 0, 3], T[k, 1, 3], T[k, 2, 3]
+        px = Ainv[0, 0] * t0 + Ainv[0, 1] * t1 + Ainv[0, 2] * t2 + Ainv[0, 3]
+        py = Ainv[1, 0] * t0 + Ainv[1, 1] * t1 + Ainv[1, 2] * t2 + Ainv[1, 3]
+        pz = Ainv[2, 0] * t0 + Ainv[2, 1] * t1 + Ainv[2, 2] * t2 + Ainv[2, 3]
+        a0, a1, a2 = T[k, 0, 0], T[k, 1, 0], T[k, 2, 0]
+        xx = Ainv[0, 0] * a0 + Ainv[0, 1] * a1 + Ainv[0, 2] * a2
+        xy = Ainv[1, 0] * a0 + Ainv[1, 1] * a1 + Ainv[1, 2] * a2
+        xz = Ainv[2, 0] * a0 + Ainv[2, 1] * a1 + Ainv[2, 2] * a2
+        a0, a1, a2 = T[k, 0, 2], T[k, 1, 2], T[k, 2, 2]
+        zx = Ainv[0, 0] * a0 + Ainv[0, 1] * a1 + Ainv[0, 2] * a2
+        zy = Ainv[1, 0] * a0 + Ainv[1, 1] * a1 + Ainv[1, 2] * a2
+        zz = Ainv[2, 0] * a0 + Ainv[2, 1] * a1 + Ainv[2, 2] * a2
+        if symmetric:   # turn by -atan2(py, px) about z: position to (r, 0, z), both axes with it
+            r = math.hypot(px, py)
             if r > 0.0:
-                c, s = p[0] / r, p[1] / r
+                c, s = px / r, py / r
             else:
                 c, s = 1.0, 0.0
-            # rotate by -phi about z: rows 0, 1 of R
-            for j in range(3):
-                a0, a1 = R[0, j], R[1, j]
-                R[0, j] = c * a0 + s * a1
-                R[1, j] = -s * a0 + c * a1
-            p[0], p[1] = r, 0.0
-        fx = (p[0] - lo[0]) / h
-        fy = (p[1] - lo[1]) / h
-        fz = (p[2] - lo[2]) / h
+            xx, xy = c * xx + s * xy, -s * xx + c * xy
+            zx, zy = c * zx + s * zy, -s * zx + c * zy
+            px, py = r, 0.0
+        fx = (px - lo[0]) / h
+        fy = (py - lo[1]) / h
+        fz = (pz - lo[2]) / h
         if not (fx >= 0.0 and fy >= 0.0 and fz >= 0.0):
             out[k] = -1
             continue
@@ -101,14 +104,14 @@ def _bin_kernel(T, Ainv, symmetric, lo, h, dims, dirs, e1, e2, n_roll, out):  # 
         if nd > 1:
             best, bd = -2.0, 0
             for d in range(nd):
-                v = dirs[d, 0] * R[0, 2] + dirs[d, 1] * R[1, 2] + dirs[d, 2] * R[2, 2]
+                v = dirs[d, 0] * zx + dirs[d, 1] * zy + dirs[d, 2] * zz
                 if v > best:
                     best, bd = v, d
             io = bd * n_roll
         if n_roll > 1:
             d = io // n_roll
-            u = e1[d, 0] * R[0, 0] + e1[d, 1] * R[1, 0] + e1[d, 2] * R[2, 0]
-            w = e2[d, 0] * R[0, 0] + e2[d, 1] * R[1, 0] + e2[d, 2] * R[2, 0]
+            u = e1[d, 0] * xx + e1[d, 1] * xy + e1[d, 2] * xz
+            w = e2[d, 0] * xx + e2[d, 1] * xy + e2[d, 2] * xz
             ang = math.atan2(w, u) + math.pi        # [0, 2 pi]
             ir = int(ang / two_pi * n_roll)
             if ir >= n_roll:
