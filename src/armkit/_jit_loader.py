@@ -134,6 +134,19 @@ def _key() -> str:
     return h.hexdigest()[:16]
 
 
+def _forget_other_builds() -> None:
+    """Remove the marker, lock and log files of other builds (older sources) from the cache directory."""
+    d = cache_dir()
+    if d is None:
+        return
+    for old in d.glob("armkit-kernels-*.*"):
+        if not old.name.startswith(f"armkit-kernels-{_key()}."):
+            try:
+                old.unlink()
+            except OSError:
+                pass
+
+
 def _marker(suffix: str) -> Optional[Path]:
     d = cache_dir()
     return None if d is None else d / f"armkit-kernels-{_key()}.{suffix}"
@@ -409,6 +422,7 @@ def warmup(*, parallel: bool = True) -> Warmup:
                 _run_serial_phase()
                 if first is not None:
                     first.touch()
+                    _forget_other_builds()
             if parallel:
                 _exercise_parallel()
                 if second is not None:
@@ -445,6 +459,7 @@ def _worker_main(parent: str) -> int:
             return 1
         _run_serial_phase()
         first.touch()
+        _forget_other_builds()
         print(f"one-thread kernels compiled in {time.perf_counter() - t0:.1f} s (for process {parent})", flush=True)
         _exercise_parallel()
         second.touch()
