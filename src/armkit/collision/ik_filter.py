@@ -14,7 +14,7 @@ import numpy as np
 
 from ..ik.result import IKResult
 from ..model.robot import Robot
-from .query import as_scene, collisions
+from .query import as_scene, collisions, in_collision
 from .shapes import Scene
 
 __all__ = ["mark", "sort_branches", "retry_numeric", "scene_or_none"]
@@ -33,19 +33,20 @@ def mark(robot: Robot, res: IKResult, scene: Scene) -> IKResult:
     if not ok.any():
         return res
     q = np.asarray(res.q)
-    hits = collisions(robot, q[ok], scene)
-    bad_rows = np.flatnonzero(hits.colliding)
+    candidates = q[ok]
+    bad_rows = np.flatnonzero(in_collision(robot, candidates, scene))   # the fast yes/no check first
     if not len(bad_rows):
         return res
+    hits = collisions(robot, candidates[bad_rows], scene)               # pairs and depths for the messages
     success = ok.copy()
     reason = np.array(res.reason, dtype=object, copy=True)
     message = np.array(res.message, dtype=object, copy=True)
     where = np.argwhere(ok)
-    for k in bad_rows:
+    for m, k in enumerate(bad_rows):
         idx = tuple(where[k])
         success[idx] = False
         reason[idx] = "collision"
-        message[idx] = hits.message(k)
+        message[idx] = hits.message(m)
     ok_out: Any = success if np.ndim(res.success) else np.bool_(success[()])
     return IKResult(res.q, ok_out, res.position_error,
                     res.rotation_error, res.iterations, res.branch, res.within_limits,
