@@ -175,44 +175,59 @@ def segment_cylinder(p0: Array, p1: Array, T_world_cyl: Array, radius: Array | f
     return np.minimum(np.minimum(f1, f2), np.minimum(f(np.zeros(lead)), f(np.ones(lead))))
 
 
-def _fibonacci_sphere(count: int) -> Array:
-    k = np.arange(count) + 0.5
-    z = 1.0 - 2.0 * k / count
-    phi = k * math.pi * (3.0 - math.sqrt(5.0))
-    rho = np.sqrt(1.0 - z * z)
-    return np.column_stack([rho * np.cos(phi), rho * np.sin(phi), z])
+def _circle_min(g, u: Array, v: Array, samples: int = 2048, iterations: int = 100) -> float:
+    """Minimum of ``g(n)`` over the unit circle ``n = u cos t + v sin t``: dense samples, then golden section."""
+    t = np.linspace(0.0, 2.0 * math.pi, samples, endpoint=False)
+    vals = g(np.cos(t)[:, None] * u + np.sin(t)[:, None] * v)
+    k = int(np.argmin(vals))
+    step = 2.0 * math.pi / samples
+    lo, hi = t[k] - step, t[k] + step
+    gr = 0.5 * (math.sqrt(5.0) - 1.0)
+
+    def at(x: float) -> float:
+        return float(g((math.cos(x) * u + math.sin(x) * v)[None])[0])
+
+    x1, x2 = hi - gr * (hi - lo), lo + gr * (hi - lo)
+    f1, f2 = at(x1), at(x2)
+    for _ in range(iterations):
+        if f1 <= f2:
+            hi, x2, f2 = x2, x1, f1
+            x1 = hi - gr * (hi - lo)
+            f1 = at(x1)
+        else:
+            lo, x1, f1 = x1, x2, f2
+            x2 = lo + gr * (hi - lo)
+            f2 = at(x2)
+    return min(float(vals[k]), f1, f2)
 
 
 def capsule_cylinder_depth(a: Array, b: Array, r: float, radius: float, half: float) -> float:
-    """Penetration depth of the capsule ``a -> b`` (radius ``r``, in the cylinder's frame) into a solid cylinder.
+    r"""Penetration depth of the capsule ``a -> b`` (radius ``r``, in the cylinder's frame) into a solid cylinder.
 
-    The smallest translation that separates two convex solids is along the direction ``n``
-    minimising the overlap of their projections (support functions). The overlap is
-    evaluated on 4,000 directions, then the 6 best are refined by Nelder-Mead on the sphere.
-    Used only for overlapping capsule-cylinder pairs (coal's EPA gives different depths for
-    the same pair placed with different frames there).
+    The shortest separating translation of two convex solids is along the direction ``n``
+    minimising :math:`g(n) = h_C(n) + \max(n \cdot a, n \cdot b) + r` over the unit sphere, with
+    :math:`h_C(n) = R |n_{xy}| + h |n_z|` the cylinder's support function. Inside a region where
+    ``g`` is smooth it is the support function of the cylinder seen from one end point, whose
+    only minima are the side and cap normals; so the minimum lies on one of the sets where ``g``
+    is not smooth: the poles ``n = ±z``, the equator ``n_z = 0``, or the great circle
+    ``n ⟂ b - a`` where the two end points tie. Each circle is searched densely, then by golden
+    section (about 1e-15 of the answer).
     """
-    from scipy.optimize import minimize
+    a = np.asarray(a, dtype=float)
+    b = np.asarray(b, dtype=float)
 
-    def overlap(n: Array) -> Array:
-        n = n / np.linalg.norm(n, axis=-1, keepdims=True)
-        pa, pb = n @ a, n @ b
+    def g(n: Array) -> Array:
         hc = radius * np.hypot(n[..., 0], n[..., 1]) + half * np.abs(n[..., 2])
-        return np.minimum(np.maximum(pa, pb) + r + hc, hc - np.minimum(pa, pb) + r)
+        return hc + np.maximum(n @ a, n @ b) + r
 
-    dirs = _fibonacci_sphere(4000)
-    vals = overlap(dirs)
-    best = float(vals.min())
-    for i in np.argsort(vals)[:6]:
-        d = dirs[i]
-        th0, ph0 = math.acos(max(-1.0, min(1.0, d[2]))), math.atan2(d[1], d[0])
-
-        def f(x: Array) -> float:
-            st = math.sin(x[0])
-            return float(overlap(np.array([st * math.cos(x[1]), st * math.sin(x[1]), math.cos(x[0])])))
-
-        res = minimize(f, [th0, ph0], method="Nelder-Mead",
-                       options={"xatol": 1e-13, "fatol": 1e-15, "maxiter": 4000, "initial_simplex":
-                                [[th0, ph0], [th0 + 0.02, ph0], [th0, ph0 + 0.02]]})
-        best = min(best, float(res.fun))
+    ez = np.array([0.0, 0.0, 1.0])
+    best = float(min(g(ez[None])[0], g(-ez[None])[0]))
+    best = min(best, _circle_min(g, np.array([1.0, 0.0, 0.0]), np.array([0.0, 1.0, 0.0])))
+    d = b - a
+    dn = float(np.linalg.norm(d))
+    if dn > 0:
+        w = d / dn
+        u = np.cross(w, np.eye(3)[int(np.argmin(np.abs(w)))])
+        u /= np.linalg.norm(u)
+        best = min(best, _circle_min(g, u, np.cross(w, u)))
     return best
