@@ -35,11 +35,11 @@ def _custom() -> armkit.Robot:
 
 @pytest.fixture(scope="module")
 def derived():
-    """One derivation and its lambdified T, J per robot (simplified up to 6 joints, raw products for 7)."""
+    """One derivation and its lambdified T, J per robot (simplified up to 6 joints, raw products for 7 and URDF arms)."""
     out = {}
     for name in ROBOTS + ["custom"]:
         r = _custom() if name == "custom" else armkit.load(name)
-        d = derive(r, simplify=r.n <= 6)
+        d = derive(r, simplify=r.n <= 6 and r.is_dh)   # URDF arms (so101: offsets like -76.03 deg) raw
         out[name] = (r, d, d.lambdify("T"), d.lambdify("J"))
     return out
 

@@ -44,7 +44,7 @@ def exact_angle(x: float) -> sp.Expr | None:
     """
     for den in (1, 2, 3, 4, 6, 12):
         k = x * den / math.pi
-        if abs(k - round(k)) < 1e-9:
+        if abs(k - round(k)) < 1e-12:   # typed angles (radians(90)) are exact to ~1e-16; 1e-11 off is geometry
             return sp.Rational(int(round(k)), den) * sp.pi
     return None
 
