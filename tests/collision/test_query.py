@@ -215,7 +215,7 @@ def test_segment_cylinder_against_dense_sampling():
     from armkit.collision import kernels as K
 
     rng = np.random.default_rng(21)
-    t = np.linspace(0.0, 1.0, 200_001)
+    t = np.linspace(0.0, 1.0, 20_001)
     for _ in range(30):
         cyl = Scene.cylinder(rng.uniform(-1, 1, 3), rng.uniform(0.1, 0.5), rng.uniform(0.2, 1.5), rng.uniform(-3, 3, 3))
         p0, p1 = rng.uniform(-2.5, 2.5, 3), rng.uniform(-2.5, 2.5, 3)
@@ -225,4 +225,5 @@ def test_segment_cylinder_against_dense_sampling():
                          np.maximum(np.abs(x[:, 2]) - 0.5 * cyl.size[1], 0)).min()
         d = K.segment_cylinder(p0, p1, T, cyl.size[0], 0.5 * cyl.size[1])
         assert d <= dense + 1e-15                      # never above a sampled point's exact distance
-        assert d >= dense - 1e-9 * np.linalg.norm(p1 - p0)   # and at most the sampling's own error below it
+        # and below it by at most the sampling's error: the distance is |p1 - p0|-Lipschitz in t
+        assert d >= dense - 0.5 * (t[1] - t[0]) * np.linalg.norm(p1 - p0)
