@@ -42,9 +42,10 @@ __all__ = ["warmup", "Warmup", "ready", "parallel_ok", "cache_dir", "fallback_ca
 
 _PKG = Path(__file__).resolve().parent
 _SOURCES = ("kinematics/_jit.py", "ik/_jit_lm.py", "ik/_jit_verify.py", "ik/analytic/_jit.py", "_jit_loader.py")
-COMPILE_SECONDS = 40
-"""About how long compiling every kernel takes (measured on the project's 2-core machine: 25-45 s);
-the figure of the stderr note."""
+COMPILE_SECONDS = 45
+"""About how long compiling the one-thread kernels takes, the figure of the stderr note (the warm-up
+process switched the caller to them after 44-53 s in benchmarks/bench_first_call.py on the shared
+2-core machine at load average 8-11; the multi-threaded ones take about as long again)."""
 
 _mode = os.environ.get("ARMKIT_JIT", "background")  # "background" or "wait"
 _state: Optional[str] = None   # None: not decided yet; "ready"; "warming"; "sync" (compile in this process)
