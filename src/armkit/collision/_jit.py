@@ -15,7 +15,12 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit, prange
+
+from .. import _jit_loader
+
+_jit_loader.install_cache_fallback()  # before the first cache=True: read-only installs cache elsewhere
+
+from numba import njit, prange  # noqa: E402
 
 SEGF, SEGL, BOX, PLANE = 0, 1, 2, 3
 PARALLEL_MIN = 2048
@@ -351,7 +356,7 @@ def _min_serial(frames, kind, fr, ia, ib, L, rad, half, bound, pairs, dist, arg,
 def all_distances(frames, items, pairs):
     """Every pair's signed distance ``(B, P)``; ``items`` from :func:`armkit.collision.query._jit_items`."""
     out = np.empty((frames.shape[0], pairs.shape[0]))
-    kernel = _all_parallel if frames.shape[0] >= PARALLEL_MIN else _all_serial
+    kernel = _all_parallel if frames.shape[0] >= PARALLEL_MIN and _jit_loader.parallel_ok() else _all_serial
     kernel(frames, *items[:7], pairs, out)
     return out
 
@@ -365,6 +370,6 @@ def min_distance(frames, items, pairs, stop=-np.inf):
     B = frames.shape[0]
     dist = np.empty(B)
     arg = np.empty(B, dtype=np.int64)
-    kernel = _min_parallel if B >= PARALLEL_MIN else _min_serial
+    kernel = _min_parallel if B >= PARALLEL_MIN and _jit_loader.parallel_ok() else _min_serial
     kernel(frames, *items, pairs, dist, arg, float(stop))
     return dist, arg
