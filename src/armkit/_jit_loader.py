@@ -33,6 +33,7 @@ import os
 import subprocess
 import sys
 import tempfile
+import threading
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -55,6 +56,7 @@ _next_parallel_poll = 0.0
 _serial_only = False           # the warm-up's first phase: compile only the one-thread kernels
 _worker: Any = None            # the warm-up process this process started
 _told: set[str] = set()
+_decide_lock = threading.Lock()
 
 
 # ---------------------------------------------------------------------------------------- cache
@@ -174,7 +176,9 @@ def ready(poll: bool = False) -> bool:
     if _state in ("ready", "sync"):
         return True
     if _state is None:
-        _state = _decide()
+        with _decide_lock:  # two threads' first calls: one decision, one warm-up process
+            if _state is None:
+                _state = _decide()
         return _state != "warming"
     if not poll:
         return False

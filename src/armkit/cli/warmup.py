@@ -28,8 +28,10 @@ def warmup(parallel: bool = typer.Option(True, "--parallel/--no-parallel",
                     "compiled": done.compiled})
         return
     where = "not cached (Numba's cache is off)" if done.cache is None else f"cached in {esc(done.cache)}"
-    what = "compiled" if done.compiled else "already compiled; loaded"
-    console.print(f"armkit's kernels {what} in {done.seconds:.1f} s, {where}")
+    if done.compiled:
+        console.print(f"armkit's kernels compiled in {done.seconds:.1f} s, {where}")
+    else:
+        console.print(f"armkit's kernels were already compiled, {where}: nothing to do")
 
 
 def register(app: typer.Typer) -> None:
