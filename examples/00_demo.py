@@ -25,7 +25,7 @@ def main(out_dir: str = "out") -> int:
     console.print(arm.description)
     from armkit.cli.core import info
 
-    info(arm.name, json_out=False)
+    info(arm.name, json_out=False, dh=False, convention="standard")
 
     t = Table(title="Forward kinematics: end point (mm) for joint angles (deg)", header_style="bold")
     for col in ("theta1", "theta2", "theta3", "x", "y", "z", "manipulability (m³)"):
