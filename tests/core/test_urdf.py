@@ -500,3 +500,20 @@ def test_cli_ik_pitch_and_direction_on_the_so101():
     assert res.exit_code == 0 and "branches solve the target" in res.output
     res = run(app, ["ik", "so101", "0.25", "0.05", "0.1", "--direction", "0", "0", "0"])
     assert res.exit_code == 2 and "non-zero" in res.output
+
+
+def test_cli_fk_link(tmp_path):
+    import json
+
+    from typer.testing import CliRunner
+
+    from armkit.cli import app
+
+    r = armkit.load("so101")
+    q = np.radians([10, 20, 30, 40, 50])
+    res = CliRunner().invoke(app, ["fk", "so101", "10", "20", "30", "40", "50", "--deg", "--link", "wrist_link",
+                                   "--json"])
+    assert res.exit_code == 0, res.output
+    assert np.allclose(json.loads(res.output)["pose"], armkit.fk(r, q, link="wrist_link"), atol=1e-12)
+    res = CliRunner().invoke(app, ["fk", "so101", "0", "0", "0", "0", "0", "--link", "nope"])
+    assert res.exit_code == 2 and "its links are: base_link" in res.output

@@ -180,26 +180,33 @@ def fk(robot: str = typer.Argument(..., help=ROBOT_HELP),
                                      metavar="Q..."),
        deg: bool = typer.Option(False, "--deg", help="Joint angles are in degrees."),
        strict: bool = typer.Option(False, "--strict", help="A joint outside its limits is an error."),
+       link: Optional[str] = typer.Option(None, "--link", help="Pose of this link instead of the tool (a URDF "
+                                          "link name, or link0..linkN of a DH arm; `armkit info` lists them)."),
        json_out: bool = typer.Option(False, "--json", help="Print JSON.")) -> None:
     """Forward kinematics: the tool pose and every joint origin.
 
-    Example: armkit fk fighter 30 45 60 --deg
+    Example: armkit fk fighter 30 45 60 --deg;  armkit fk so101 0 0 0 0 0 --link wrist_link
     """
-    from ..kinematics import fk_frames
+    from ..kinematics import fk as fk_pose, fk_frames
     from ..spatial import rotation_to_rpy
 
     r = get_robot(robot)
     qv = parse_q(r, q, deg, strict)
     F = fk_frames(r, qv)
-    T = F[-1]
+    T = F[-1] if link is None else fk_pose(r, qv, link=link)
     rpy = np.degrees(rotation_to_rpy(T[:3, :3]))
     if json_out:
-        print_json({"robot": r.name, "unit": r.unit, "q_rad": qv, "pose": T, "position": T[:3, 3],
+        print_json({"robot": r.name, "unit": r.unit, "q_rad": qv, "link": link, "pose": T, "position": T[:3, 3],
                     "rpy_deg": rpy, "frames": [{"name": n, "origin": f[:3, 3]}
                                                for n, f in zip(r.link_names, F)]})
         return
     console.print(f"[bold]{esc(r.name)}[/] at q = ({', '.join(q_display(r, qv))})")
     p = T[:3, 3]
+    if link is not None:
+        console.print(f"link {esc(link)}: origin ([bold]{p[0]:.3f}, {p[1]:.3f}, {p[2]:.3f}[/]) {r.unit}   "
+                      f"roll/pitch/yaw: ({rpy[0]:.3f}, {rpy[1]:.3f}, {rpy[2]:.3f}) deg")
+        console.print(pose_table(T, r.unit, title=f"T_world_{esc(link)}"))
+        return
     console.print(f"end point: ([bold]{p[0]:.3f}, {p[1]:.3f}, {p[2]:.3f}[/]) {r.unit}   "
                   f"roll/pitch/yaw: ({rpy[0]:.3f}, {rpy[1]:.3f}, {rpy[2]:.3f}) deg")
     console.print(pose_table(T, r.unit, title="T_world_tool"))
