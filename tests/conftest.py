@@ -6,6 +6,9 @@ import os
 from pathlib import Path
 
 os.environ.setdefault("MPLBACKEND", "Agg")
+# compile Numba kernels in the test process on first use (no background warm-up process), so that the tests
+# that compare the NumPy and Numba back ends always run both (docs/performance.md, "First use")
+os.environ.setdefault("ARMKIT_JIT", "wait")
 
 import numpy as np
 import pytest
