@@ -51,14 +51,14 @@ def _fold(found: list[NDArray[np.int64]], found_n: list[NDArray[np.int64]]
 
 
 def fk_block(robot: Robot, grid_attrs: dict[str, Any], seed: int, block: int, samples: int,
-             scene: Any = None) -> tuple[NDArray[np.int64], NDArray[np.int64], NDArray[np.int64], NDArray[np.float32]]:
+             scene: Any = None) -> tuple[NDArray[Any], NDArray[Any], NDArray[Any], NDArray[np.float32]]:
     """Sample ``samples`` configurations (stream ``(seed, block)``), bin their poses.
 
     Returns
     -------
-    cells, hits : int64 (k,)
+    cells, hits : int32 (int64 for maps over 2**31 cells), uint8 (k,)
         Sorted unique flat cell indices hit, and how many samples hit each (at most 255).
-    voxels, manip : int64 (m,), float32 (m,)
+    voxels, manip : int32 or int64 (m,), float32 (m,)
         Voxels where manipulability was sampled and the largest value there.
     """
     grid = Grid.from_attrs(grid_attrs)
@@ -90,6 +90,8 @@ def fk_block(robot: Robot, grid_attrs: dict[str, Any], seed: int, block: int, sa
         (cells_u,), (cnt,) = _fold(found, found_n)
     else:
         cells_u, cnt = np.zeros(0, np.int64), np.zeros(0, np.int64)
+    small = np.int32 if grid.n_cells < 2**31 else np.int64      # a block's answer travels: keep it small
+    cells_u, cnt = cells_u.astype(small), cnt.astype(np.uint8)
     if vox_all:
         vox = np.concatenate(vox_all)
         man = np.concatenate(man_all)
@@ -97,8 +99,8 @@ def fk_block(robot: Robot, grid_attrs: dict[str, Any], seed: int, block: int, sa
         vox, man = vox[order], man[order]
         first = np.ones(len(vox), dtype=bool)
         first[1:] = vox[1:] != vox[:-1]
-        return cells_u, cnt, vox[first], man[first].astype(np.float32)
-    return cells_u, cnt, np.zeros(0, np.int64), np.zeros(0, np.float32)
+        return cells_u, cnt, vox[first].astype(small), man[first].astype(np.float32)
+    return cells_u, cnt, np.zeros(0, small), np.zeros(0, np.float32)
 
 
 def ik_block(robot: Robot, grid_attrs: dict[str, Any], seed: int, block: int, slabs: int,
