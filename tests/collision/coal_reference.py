@@ -48,7 +48,10 @@ def coal_distance(g1, t1, g2, t2):
         if isinstance(g2, coal.Cylinder) or isinstance(g1, coal.Cylinder):
             # the default GJK stalls ~1e-7 off on curved cylinders; Nesterov's variant gets ~1e-11 when apart
             # (it fails on boxes, and its EPA can pick a wrong face when the two overlap)
+            # both are distances between points of the two solids (upper bounds): the smaller is the better
+            d2 = coal.distance(g1, t1, g2, t2, req, coal.DistanceResult())
             req.gjk_variant = coal.GJKVariant.NesterovAcceleration
+            return min(d2, coal.distance(g1, t1, g2, t2, req, coal.DistanceResult()))
         d = coal.distance(g1, t1, g2, t2, req, coal.DistanceResult())
     return d
 
