@@ -160,6 +160,20 @@ def _seg_box(p, q, T, h, ts):
 
 
 @njit(cache=True, inline="always")
+def _point_box_sq(x, y, z, T, h):
+    """Squared distance from a point to a solid box (pose T, half extents h); 0 inside."""
+    dx = x - T[0, 3]
+    dy = y - T[1, 3]
+    dz = z - T[2, 3]
+    f = 0.0
+    for i in range(3):
+        u = abs(T[0, i] * dx + T[1, i] * dy + T[2, i] * dz) - h[i]
+        if u > 0.0:
+            f += u * u
+    return f
+
+
+@njit(cache=True, inline="always")
 def _point_box(x, y, z, T, h):
     """Distance from a point to a solid box (pose T, half extents h); 0 inside."""
     dx = x - T[0, 3]
@@ -298,7 +312,7 @@ def _chunk_min(frames, kind, fr, ia, ib, L, rad, half, bound, pairs, dist, arg, 
     C = np.empty((I, 3))
     R = np.empty(I)
     ts = np.empty(8)
-    stop_lb = np.inf if stop == -np.inf else stop
+    yes_no = stop == 0.0
     first = True
     for b in range(c * CHUNK, min((c + 1) * CHUNK, frames.shape[0])):
         _place(frames[b], kind, fr, ia, ib, L, P0, P1, W, C, R, not first)
@@ -317,20 +331,27 @@ def _chunk_min(frames, kind, fr, ia, ib, L, rad, half, bound, pairs, dist, arg, 
             j = pairs[p, 1]
             ki = kind[i]
             kj = kind[j]
-            if ki != PLANE and kj != PLANE:
-                if kj == BOX or ki == BOX:   # a lower bound: the segment's bounding ball against the box itself
+            if ki != PLANE and kj != PLANE and not (ki == BOX and kj == BOX):
+                # lower bounds from squared distances (no square root unless needed)
+                if kj == BOX or ki == BOX:   # the segment's bounding ball against the box itself
                     s_ = i if kj == BOX else j
                     b_ = j if kj == BOX else i
-                    lb = _point_box(C[s_, 0], C[s_, 1], C[s_, 2], W[b_], half[b_]) - R[s_]
-                    if ki == BOX and kj == BOX or lb <= 0.0:
-                        lb = -np.inf   # overlapping: the depth can be anything (a segment deep in a big box)
-                else:
+                    f = _point_box_sq(C[s_, 0], C[s_, 1], C[s_, 2], W[b_], half[b_])
+                    rs = R[s_]
+                    if f > rs * rs:            # apart: the distance is at least sqrt(f) - rs > 0
+                        if yes_no or math.sqrt(f) - rs >= best:
+                            continue
+                else:                          # two capsules: their bounding balls (valid overlapping too)
                     dx = C[i, 0] - C[j, 0]
                     dy = C[i, 1] - C[j, 1]
                     dz = C[i, 2] - C[j, 2]
-                    lb = math.sqrt(dx * dx + dy * dy + dz * dz) - R[i] - R[j]
-                if lb >= best or lb > stop_lb:
-                    continue
+                    dsq = dx * dx + dy * dy + dz * dz
+                    rr = R[i] + R[j]
+                    if dsq > rr * rr:
+                        if yes_no:
+                            continue
+                    if math.sqrt(dsq) - rr >= best:
+                        continue
             d = _pair(i, j, kind, rad, half, P0, P1, W, ts)
             if d < best:
                 best = d
