@@ -113,7 +113,8 @@ def shell(robot: str = typer.Argument(..., help=ROBOT_HELP),
     if view:
         from .view import attach_view
 
-        with attach_view(sh, r, lang):
+        viewing: Any = attach_view(sh, r, lang)   # a context manager (typed object in cli.view)
+        with viewing:
             raise typer.Exit(sh.run())
     raise typer.Exit(sh.run())
 
