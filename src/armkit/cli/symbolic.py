@@ -39,6 +39,8 @@ def derive(robot: str = typer.Argument(..., help=ROBOT_HELP),
            png: Optional[Path] = typer.Option(None, "--png", help="Also render the FK and Jacobian entries to a PNG."),
            links: bool = typer.Option(False, "--links", help="Also print every link transform."),
            no_cache: bool = typer.Option(False, "--no-cache", help="Derive again, ignoring the on-disk cache."),
+           budget: float = typer.Option(60.0, "--budget", help="Seconds of simplification at most; past it the "
+                                        "remaining entries stay raw (exact) products. 0: no limit."),
            json_out: bool = typer.Option(False, "--json", help="Print JSON (expressions as text).")) -> None:
     """Symbolic FK, Jacobian (and 2R closed-form IK) with the c12 = cos(q1 + q2) short-hand.
 
@@ -51,12 +53,16 @@ def derive(robot: str = typer.Argument(..., help=ROBOT_HELP),
 
     if latex and python:
         fail("choose one of --latex and --python")
+    if not budget >= 0 or budget == float("inf"):
+        fail(f"--budget must be a number of seconds >= 0 (0: no limit), got {budget}")
     r = get_robot(robot)
     if png is not None:
         output_path(png, (".png", ".pdf", ".svg"), "--png")
     t0 = time.perf_counter()
-    d = do_derive(r, cache=not no_cache)
+    d = do_derive(r, cache=not no_cache, simplify_budget=budget if budget > 0 else None)
     elapsed = time.perf_counter() - t0
+    if d.meta.get("note"):
+        warn(d.meta["note"])
     if latex:
         sys.stdout.write(to_latex(d))
         return

@@ -240,7 +240,60 @@ def _symbols_for(robot: Robot) -> tuple[tuple[sp.Symbol, ...], dict[sp.Symbol, f
     return q, params, rows
 
 
-def derive(robot: Robot, simplify: bool = True, cache: bool = True) -> Derivation:
+SIMPLIFY_BUDGET = 60.0
+"""Seconds :func:`derive` spends simplifying before it keeps the remaining entries as raw products."""
+
+
+class _Timeout(Exception):
+    pass
+
+
+class _Simplifier:
+    """``simplify_entry`` under a time budget: past it (or when one entry overruns it), entries stay raw.
+
+    A single slow entry is interrupted with ``SIGALRM`` where that is available (the main thread of
+    a Unix process); elsewhere the budget is checked between entries.
+    """
+
+    def __init__(self, params: tuple[sp.Symbol, ...], budget: float | None):
+        import time
+
+        self.params = params
+        self.clock = time.monotonic
+        self.deadline = None if budget is None else self.clock() + budget
+        self.skipped = 0
+
+    def __call__(self, e: sp.Expr) -> sp.Expr:
+        if self.deadline is None:
+            return simplify_entry(e, self.params)
+        left = self.deadline - self.clock()
+        if left <= 0:
+            self.skipped += 1
+            return e
+        import signal
+        import threading
+
+        if not hasattr(signal, "setitimer") or threading.current_thread() is not threading.main_thread():
+            return simplify_entry(e, self.params)
+
+        def _alarm(signum: int, frame: Any) -> None:
+            raise _Timeout
+
+        old = signal.signal(signal.SIGALRM, _alarm)
+        signal.setitimer(signal.ITIMER_REAL, left)
+        try:
+            return simplify_entry(e, self.params)
+        except _Timeout:
+            self.skipped += 1
+            self.deadline = self.clock()
+            return e
+        finally:
+            signal.setitimer(signal.ITIMER_REAL, 0)
+            signal.signal(signal.SIGALRM, old)
+
+
+def derive(robot: Robot, simplify: bool = True, cache: bool = True,
+           simplify_budget: float | None = SIMPLIFY_BUDGET) -> Derivation:
     """Derive the symbolic link transforms, FK and geometric Jacobian of ``robot``.
 
     Parameters
@@ -250,6 +303,10 @@ def derive(robot: Robot, simplify: bool = True, cache: bool = True) -> Derivatio
         Simplify every entry (see :func:`simplify_entry`); off gives the raw products.
     cache : bool
         Read/write the on-disk cache (:func:`cache_dir`) for simplified derivations.
+    simplify_budget : float or None
+        Seconds of simplification at most (default :data:`SIMPLIFY_BUDGET`, None: no bound).
+        Arms with arbitrary offsets can take sympy very long; past the budget the remaining
+        entries stay raw products (still exact), ``meta["note"]`` says so and nothing is cached.
 
     Returns
     -------
@@ -285,7 +342,8 @@ def derive(robot: Robot, simplify: bool = True, cache: bool = True) -> Derivatio
     base = _pose_matrix(np.asarray(robot.base), "b", params)
     tool = _pose_matrix(np.asarray(robot.tool), "t", params)
     psyms = tuple(params)
-    simp = (lambda e: simplify_entry(e, psyms)) if simplify else (lambda e: e)
+    simplifier = _Simplifier(psyms, simplify_budget) if simplify else None
+    simp = simplifier if simplifier is not None else (lambda e: e)
     links = tuple(link_transform(robot.convention, *r).applyfunc(simp) for r in rows)
 
     # cumulative frames base·A1···Ak; simplified step by step so that the products stay small
@@ -309,6 +367,11 @@ def derive(robot: Robot, simplify: bool = True, cache: bool = True) -> Derivatio
     J = sp.Matrix(6, robot.n, lambda r, c: cols[c][r])
     d = Derivation(robot.name, robot.convention, q, robot.joint_names, robot.joint_types, params, links,
                    base, tool, T, J, robot.unit)
+    if simplifier is not None and simplifier.skipped:
+        d.meta["note"] = (f"simplification stopped after its {simplify_budget:g} s budget: {simplifier.skipped} "
+                          "entries are raw (exact, longer) products; derive(..., simplify_budget=None) or "
+                          "`armkit derive --budget 0` waits for all")
+        path = None   # a partial simplification is not cached
     if path is not None:
         try:
             path.parent.mkdir(parents=True, exist_ok=True)

@@ -1,0 +1,38 @@
+"""derive() under a time budget: an arm whose simplification runs long still returns, exact, with a note."""
+
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+
+import armkit
+from armkit.symbolic import derive
+
+
+def _awkward_arm() -> armkit.Robot:
+    """Five joints with arbitrary (not multiples of 90 deg) twists and offsets: slow for sympy's simplifier."""
+    J = armkit.Joint
+    return armkit.Robot([J(theta=0.1, d=0.3, a=0.05, alpha=0.7), J(theta=-0.4, d=0.02, a=0.4, alpha=1.1),
+                         J(theta=0.25, d=-0.03, a=0.35, alpha=-0.6), J(theta=0.9, d=0.01, a=0.02, alpha=1.3),
+                         J(theta=-0.2, d=0.1, a=0.01, alpha=0.4)], name="awkward")
+
+
+def test_budget_bounds_the_time_and_the_result_stays_exact():
+    r = _awkward_arm()
+    t0 = time.perf_counter()
+    d = derive(r, cache=False, simplify_budget=1.0)
+    elapsed = time.perf_counter() - t0
+    assert "budget" in d.meta.get("note", "")
+    assert elapsed < 60, elapsed              # the unbounded derivation ran past 900 s in the hostile-user test
+    f_T = d.lambdify("T")
+    for q in r.random_q(5, rng=1):
+        assert np.allclose(np.array(f_T(q), dtype=float), armkit.fk(r, q), atol=1e-12)
+
+
+def test_a_quick_arm_is_fully_simplified_with_no_note():
+    d = derive(armkit.load("planar2"), cache=False, simplify_budget=30.0)
+    assert "note" not in d.meta
+    assert str(d.T[0, 3]) == "a1*cos(q1) + a2*cos(q1 + q2)"
+    assert math.isclose(float(d.values[next(s for s in d.values if s.name == "a1")]), 1.0)
