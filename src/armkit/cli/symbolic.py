@@ -110,7 +110,9 @@ def derive(robot: str = typer.Argument(..., help=ROBOT_HELP),
         for b in ik["branches"]:
             console.print(f"  {b['label']}: s2 = {b['s2']},  q2 = atan2(s2, c2)")
         console.print("  reachable where -1 <= c2 <= 1, i.e. |a1 - a2| <= sqrt(x^2 + y^2) <= a1 + a2")
-    console.print(f"[dim]derived in {elapsed:.2f} s (cached on disk for next time)[/]")
+    cached = "partly simplified, not cached" if d.meta.get("note") else (
+        "not cached" if no_cache else "cached on disk for next time")
+    console.print(f"[dim]derived in {elapsed:.2f} s ({cached})[/]")
 
 
 def _planar_2r_ik(r) -> Optional[dict]:
