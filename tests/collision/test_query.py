@@ -97,7 +97,7 @@ def test_every_pair_against_coal(name):
     post = np.broadcast_to(np.array([p[1] == "post" for p in res.pairs])[None, :], ref.shape)
     epa = post & (ref < 0)
     # capsule-cylinder pairs apart: coal's GJK is not a reference there (on 10,000 UR5 configurations it is
-    # up to 5 % of the reach short of the true distance); armkit's exact value is checked against dense
+    # up to 5 % of the reach off the true distance); armkit's exact value is checked against dense
     # sampling of the exact point-cylinder distance in test_segment_cylinder_against_dense_sampling
     np.testing.assert_allclose(res.distances[~post], ref[~post], rtol=0, atol=1e-9 * robot.reach)
     assert np.all((res.distances[post] > 0) == (ref[post] > 0))
