@@ -47,10 +47,10 @@ _REACH = {"reachability", "ReachabilityMap", "base_placement"}   # armkit.reach 
 
 
 def __getattr__(name: str) -> object:
-    if name in _LAZY:
+    if name in _LAZY or name == "collision":
         from . import collision
 
-        return getattr(collision, name)
+        return collision if name == "collision" else getattr(collision, name)
     if name in _REACH:
         from . import reach
 
