@@ -48,8 +48,9 @@ _REACH = {"reachability", "ReachabilityMap", "base_placement"}   # armkit.reach 
 
 def __getattr__(name: str) -> object:
     if name in _LAZY or name == "collision":
-        from . import collision
+        import importlib
 
+        collision = importlib.import_module("armkit.collision")   # not "from . import": that asks __getattr__ again
         return collision if name == "collision" else getattr(collision, name)
     if name in _REACH:
         from . import reach
