@@ -270,7 +270,9 @@ def reachability(robot: Robot | str, resolution: float | None = None, orientatio
         ``"tcp://host:8786"`` runs the blocks on that Dask cluster; ``None`` reads the
         ``ARMKIT_SCHEDULER`` environment variable, and without it runs on this machine:
         in this process (``workers=1``) or on an embedded Dask LocalCluster of
-        ``workers`` processes (default: the CPU count).
+        ``workers`` processes. Default: the CPU count, or this process on a machine with
+        at most 2 cores (there Numba's multi-threaded FK already uses both, and a cluster
+        only adds its start-up; measured in docs/reachability.md).
     block_size : int, optional
         FK configurations per block (default 1,000,000) or x-slabs per IK block (default 1).
     restarts : int
@@ -347,7 +349,11 @@ def reachability(robot: Robot | str, resolution: float | None = None, orientatio
         scheduler = os.environ.get("ARMKIT_SCHEDULER") or None
     if scheduler == "local":
         scheduler = None
-    n_workers = workers if workers is not None else (os.cpu_count() or 1)
+    if workers is None:     # up to 2 cores, this process is fastest: Numba's threaded FK already uses both
+        cpus = os.cpu_count() or 1
+        n_workers = 1 if cpus <= 2 else cpus
+    else:
+        n_workers = workers
     close: Callable[[], None] = lambda: None
     if scheduler is not None:
         client, close = _client(scheduler)
