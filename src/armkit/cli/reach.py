@@ -35,10 +35,13 @@ MESSAGES: dict[str, dict[str, str]] = {
                     "ko": "중단됨. 같은 명령을 다시 실행하면 {path} 에서 이어서 생성합니다"},
     "reachable": {"en": "reachable", "ko": "도달 가능"},
     "unreachable": {"en": "not reachable", "ko": "도달 불가"},
-    "index": {"en": "reachability index (fraction of orientations)", "ko": "도달 지수 (도달 가능한 자세 비율)"},
+    "index": {"en": "reachability index (fraction of orientations)",
+              "ko": "도달 지수 (도달 가능한 자세 비율)"},
     "picture": {"en": "picture: {path}", "ko": "그림: {path}"},
-    "base_title": {"en": "best base poses for {k} task poses", "ko": "작업 자세 {k}개에 대한 최적 베이스 위치"},
-    "base_none": {"en": "no candidate base pose reaches any task pose", "ko": "어떤 베이스 위치에서도 작업 자세에 도달할 수 없습니다"},
+    "base_title": {"en": "best base poses for {k} task poses",
+                   "ko": "작업 자세 {k}개에 대한 최적 베이스 위치"},
+    "base_none": {"en": "no candidate base pose reaches any task pose",
+                  "ko": "어떤 베이스 위치에서도 작업 자세에 도달할 수 없습니다"},
     "summary": {"en": "reachability map", "ko": "도달 맵"},
     "ik_check": {"en": "checked by IK", "ko": "IK 로 확인"},
     "by_map": {"en": "by the map", "ko": "맵 기준"},
@@ -89,7 +92,8 @@ def build(robot: str = typer.Argument(..., help="Bundled robot name or robot fil
                                                    "(default 1,000,000); IK: x-slabs per unit."),
           scheduler: Optional[str] = typer.Option(None, "--scheduler", help="Dask scheduler, e.g. "
                                                   "tcp://host:8786 (default: ARMKIT_SCHEDULER, else this machine)."),
-          workers: Optional[int] = typer.Option(None, "--workers", help="Local worker processes (default: CPUs)."),
+          workers: Optional[int] = typer.Option(None, "--workers", help="Local worker processes (default: one per "
+                                                "CPU; this process on a machine of at most 2 cores)."),
           overwrite: bool = typer.Option(False, "--overwrite", help="Discard an existing store at --output."),
           as_json: bool = typer.Option(False, "--json", help="Print the summary as JSON."),
           lang: Optional[str] = LANG_OPT) -> None:

@@ -68,7 +68,8 @@ def _floor_candidates(m: ReachabilityMap, tasks: Array, floor_z: float, step: fl
 
 
 def _yaw_free(m: ReachabilityMap) -> bool:
-    """Turning the base about the floor normal changes nothing: yaw-symmetric about a vertical axis through the origin."""
+    """Turning the base about the floor normal changes nothing: yaw-symmetric about a vertical axis
+    through the origin."""
     A = m.grid.T_world_A
     return m.grid.symmetric and bool(np.allclose(A[:3, 2], [0, 0, 1], atol=1e-12)) \
         and bool(np.allclose(A[:2, 3], 0.0, atol=1e-12 * max(1.0, m.robot.reach)))
