@@ -44,6 +44,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import _peers  # noqa: E402
 
+os.environ.setdefault("ARMKIT_JIT", "wait")   # compile in this process: time compiled kernels, never the NumPy stand-in
 import armkit  # noqa: E402
 from armkit import kinematics  # noqa: E402
 

@@ -35,7 +35,11 @@ from typing import Any, Callable, Optional
 
 import numpy as np
 
-import armkit
+import os
+
+os.environ.setdefault("ARMKIT_JIT", "wait")   # compile in this process: time compiled kernels, never the NumPy stand-in
+
+import armkit  # noqa: E402
 from armkit.ik.numeric import solve_lm
 from armkit.ik.result import default_tolerance
 from armkit.spatial import pose_error

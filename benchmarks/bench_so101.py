@@ -29,7 +29,11 @@ import time
 
 import numpy as np
 
-import armkit
+import os
+
+os.environ.setdefault("ARMKIT_JIT", "wait")   # compile in this process: time compiled kernels, never the NumPy stand-in
+
+import armkit  # noqa: E402
 from armkit.ik.analytic.yaw_pitch3 import pitch_of
 
 

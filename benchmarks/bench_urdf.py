@@ -22,7 +22,11 @@ from pathlib import Path
 
 import numpy as np
 
-import armkit
+import os
+
+os.environ.setdefault("ARMKIT_JIT", "wait")   # compile in this process: time compiled kernels, never the NumPy stand-in
+
+import armkit  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "tests" / "core"))
