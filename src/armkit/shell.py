@@ -1,4 +1,4 @@
-r"""The interactive shell (seed 000's loop, done safely): ``armkit shell fighter``.
+r"""The interactive shell (the typed loop of the club's fighting-robot report, done safely): ``armkit shell fighter``.
 
 A line holds one or more statements separated by ``;``::
 

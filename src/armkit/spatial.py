@@ -1,4 +1,4 @@
-"""Rotations and rigid-body poses on NumPy arrays (seed 002's homogeneous transforms).
+"""Rotations and rigid-body poses on NumPy arrays (the homogeneous-transform seminar's transforms).
 
 Every function is batched over leading axes: a rotation is ``(..., 3, 3)``, a pose
 ``(..., 4, 4)``, a twist ``(..., 6)`` ordered ``(v, omega)``. Angles are radians.
@@ -48,7 +48,7 @@ def _elementary(theta: ArrayLike, i: int, j: int) -> Array:
 
 
 def rotx(theta: ArrayLike) -> Array:
-    """Pose of a pure rotation by ``theta`` (rad) about x: seed 002's A(x, t).
+    """Pose of a pure rotation by ``theta`` (rad) about x: the homogeneous-transform seminar's A(x, t).
 
     Parameters
     ----------

@@ -1,7 +1,7 @@
 """Forward kinematics and Jacobians against independent references.
 
 References used here, none of them armkit's own output:
-- seed 000's report: the fighter arm at (30, 45, 60) deg ends at (24.861, 14.353, 187.181) mm;
+- the club's fighting-robot report: the fighter arm at (30, 45, 60) deg ends at (24.861, 14.353, 187.181) mm;
 - P. Corke, "Robotics, Vision and Control" (2011), sec. 7.1: Puma 560 at qz = 0 has the tool at
   (0.4521, -0.1500, 0.4318) m with identity rotation, at qr = (0, 90, -90, 0, 0, 0) deg at
   (0.0203, -0.1500, 0.8636) m, identity rotation;

@@ -1,4 +1,4 @@
-"""Spatial primitives: elementary transforms by hand (seed 002), conversions, log/exp laws."""
+"""Spatial primitives: elementary transforms by hand (the homogeneous-transform seminar), conversions, log/exp laws."""
 
 from __future__ import annotations
 

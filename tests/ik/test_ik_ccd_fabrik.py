@@ -1,4 +1,4 @@
-"""CCD and FABRIK on seed 003's planar arm and the fighter arm.
+"""CCD and FABRIK on the CCD graphics assignment's planar arm and the fighter arm.
 
 The targets are hand-derived positions of planar3 (L1 = 1, L2 = 0.8, tool 0.3 m):
 x = L1 c1 + L2 c12 + L3 c123, y = L1 s1 + L2 s12 + L3 s123.

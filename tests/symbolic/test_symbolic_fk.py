@@ -157,7 +157,7 @@ def test_derived_branches_equal_hand_formula_and_solver(ik2r, r, phi):
     arm = armkit.load("planar2")
     L1, L2 = 1.0, 0.5
     x, y = r * math.cos(phi), r * math.sin(phi)
-    # hand formula (seed 002, with the atan2 arguments in the right order)
+    # hand formula (the homogeneous-transform seminar's, with the atan2 arguments in the right order)
     c2 = (x * x + y * y - L1 ** 2 - L2 ** 2) / (2 * L1 * L2)
     hand = []
     for sgn in (1, -1):

@@ -1,4 +1,4 @@
-"""FK/IK contour-map data for planar2 (seed 001): formulas, NaN exactly outside the annulus."""
+"""FK/IK contour-map data for planar2 (the symbolic 2-link tutorial's arm): formulas, NaN exactly outside the annulus."""
 
 from __future__ import annotations
 

@@ -58,7 +58,7 @@ def test_plotted_origins_are_fk_frames(name, q):
 
 
 def test_fighter_hand_derived_points():
-    """Seed 000's geometry: shoulder at (0, 0, 36), elbow at 77.2 (c1 c2, s1 c2, ...) above it."""
+    """The fighting-robot report's geometry: shoulder at (0, 0, 36), elbow at 77.2 (c1 c2, s1 c2, ...) above it."""
     r = armkit.load("fighter")
     t1, t2, t3 = np.radians([30, 45, 60])
     fig = plot_arm(r, [t1, t2, t3])

@@ -26,7 +26,7 @@ def test_planar2_annulus_area_within_reported_error():
 
 
 def test_fighter_spherical_shell_volume_within_reported_error():
-    # seed 000's arm: yaw about z, then a 77.2/100 mm two-link pitch arm whose shoulder is 36 mm up the yaw axis.
+    # the fighting-robot report's arm: yaw about z, then a 77.2/100 mm two-link pitch arm whose shoulder is 36 mm up the yaw axis.
     # From the shoulder the end point reaches every distance in [100 - 77.2, 100 + 77.2] in every direction
     # (pitch over +-180 deg, yaw over +-180 deg): a spherical shell 4/3 pi (R^3 - r^3).
     R, r = 177.2, 22.8

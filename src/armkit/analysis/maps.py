@@ -1,4 +1,4 @@
-"""Contour-map data (seed 001): end point over a joint grid, joint values over a target grid.
+"""Contour-map data (as in the symbolic 2-link tutorial): end point over a joint grid, joint values over a target grid.
 
 :func:`fk_maps` evaluates ``x(q1, q2)``, ``y(q1, q2)`` (and ``z``) on a grid of two joints;
 :func:`ik_maps` evaluates every closed-form IK branch on a grid of targets, ``NaN``
@@ -127,7 +127,7 @@ def fk_maps(robot: Robot, q1_grid: ArrayLike, q2_grid: ArrayLike, q_rest: ArrayL
 
 def ik_maps(robot: Robot, x_grid: ArrayLike, y_grid: ArrayLike, z: float | None = None,
             phi: float | None = None) -> IKMaps:
-    """Every closed-form IK branch over a grid of targets (seed 001's IK maps).
+    """Every closed-form IK branch over a grid of targets (the symbolic 2-link tutorial's IK maps).
 
     Parameters
     ----------

@@ -201,7 +201,7 @@ def maps(robot: str = typer.Argument(..., help=ROBOT_HELP),
          z: Optional[float] = typer.Option(None, "--z", help="Height of the IK target grid for a spatial arm "
                                                              "(default: the shoulder height)."),
          no_ik: bool = typer.Option(False, "--no-ik", help="Only the FK maps.")) -> None:
-    """Contour maps (seed 001): FK maps over a joint grid, IK maps per branch over a target grid.
+    """Contour maps (as in the symbolic 2-link tutorial): FK maps over a joint grid, IK maps per branch over a target grid.
 
     Example: armkit maps planar2 -o maps.png
     """
@@ -262,7 +262,7 @@ def track(robot: str = typer.Argument(..., help=ROBOT_HELP),
           refuse_collisions: bool = typer.Option(False, "--refuse-collisions",
                                                  help="Exit 1 (and write nothing) when a frame collides."),
           json_out: bool = typer.Option(False, "--json", help="Print the statistics as JSON.")) -> None:
-    """Seed 003: a target moves, the arm follows with one warm-started IK step per frame; writes an animation.
+    """Target tracking (as in the CCD graphics assignment): a target moves, the arm follows with one warm-started IK step per frame; writes an animation.
 
     Example: armkit track planar3 --path random --method ccd -o track.gif
 

@@ -12,7 +12,7 @@ joint slides by :math:`z_i \cdot (p_{target} - p_{tool})`. Each update is projec
 the joint limits. Joints before joint ``i`` do not move during its update, so one FK of
 all frames per sweep suffices: the tool point is turned with each joint.
 
-Unlike seed 003's version this works in radians, stops when the position error is below
+Unlike the CCD graphics assignment's version this works in radians, stops when the position error is below
 the tolerance (not after a fixed number of sweeps), respects joint limits, restarts from
 random configurations when it stalls, and records the error after every sweep.
 """

@@ -9,10 +9,10 @@ points are then turned back into joint angles.
 Supported structures (detected from the model at ``q = 0``, not from the robot's name):
 
 * **planar arms**: every joint revolute and every joint axis parallel (planar2, planar3,
-  seed 003's arm). FABRIK runs in the plane perpendicular to the axes; a target off that
+  the CCD graphics assignment's arm). FABRIK runs in the plane perpendicular to the axes; a target off that
   plane is unreachable.
 * **a yaw joint followed by a planar arm**: joint 1 revolute, joints 2..n revolute and
-  parallel to each other and perpendicular to joint 1 (the fighter arm, seed 000). The
+  parallel to each other and perpendicular to joint 1 (the fighter arm of the club's fighting-robot report). The
   yaw angle that brings the target into the arm's plane is computed first (both
   solutions are tried), then planar FABRIK solves the rest.
 

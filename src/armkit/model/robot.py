@@ -296,8 +296,8 @@ class Robot:
         One DH row per joint, base to tip.
     convention : {"standard", "modified"}
         ``standard``: ``A_i = Rz(theta_i) Tz(d_i) Tx(a_i) Rx(alpha_i)`` (Denavit-Hartenberg,
-        Spong, seed 000). ``modified``: ``A_i = Rx(alpha_{i-1}) Tx(a_{i-1}) Rz(theta_i) Tz(d_i)``
-        (Craig, seed 004).
+        Spong, the club's fighting-robot report). ``modified``: ``A_i = Rx(alpha_{i-1}) Tx(a_{i-1}) Rz(theta_i) Tz(d_i)``
+        (Craig, the modified-DH lecture).
     name, description, source : str
     unit : {"m", "mm", "cm"}
         Length unit of ``d``, ``a``, base/tool translations and every result.

@@ -16,7 +16,7 @@ def write_demo_pictures(out_dir: str | Path = "out", progress: bool = False) -> 
     - ``fighter_ik_branches.png``: every closed-form IK branch for the target (100, 50, 80) mm
     - ``fighter_workspace.png``: reach cloud, sections, boundaries, volume with its error
     - ``fighter_track.gif``: the arm following a circle with the closed form (60 frames)
-    - ``planar2_maps.png``: seed 001's FK and IK contour maps
+    - ``planar2_maps.png``: the symbolic 2-link tutorial's FK and IK contour maps
 
     Takes a few seconds (well under 20 s on a laptop).
     """

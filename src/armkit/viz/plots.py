@@ -147,7 +147,7 @@ def _draw_exclusion(ax: Any, ws: WorkspaceResult, i: int, j: int) -> None:
 
 
 def plot_maps(fk: Optional[FKMaps] = None, ik: Optional[IKMaps] = None, levels: int = 21) -> Any:
-    """Contour maps (seed 001): FK maps over the joint grid and IK maps per branch.
+    """Contour maps (as in the symbolic 2-link tutorial): FK maps over the joint grid and IK maps per branch.
 
     One panel per quantity and branch, each with a colour bar in its unit (degrees for
     joint angles, the robot's length unit for positions). Unreachable targets are ``NaN``

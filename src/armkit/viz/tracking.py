@@ -1,4 +1,4 @@
-"""Target tracking (seed 003): a target moves, the arm follows with one IK solve per frame.
+"""Target tracking (as in the CCD graphics assignment): a target moves, the arm follows with one IK solve per frame.
 
 Each frame is warm-started from the previous frame's joints. With the closed form
 (``method="analytic"``) the frame takes the branch nearest the previous frame's joints

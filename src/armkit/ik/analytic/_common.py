@@ -183,7 +183,7 @@ def two_link(x: Array, y: Array, l1: float, l2: float) -> tuple[Array, Array, Ar
     Lengths may be signed (the UR arms have negative ``a``). Uses
     ``cos t2 = (x^2 + y^2 - l1^2 - l2^2) / (2 l1 l2)`` and
     ``t1 = atan2(y, x) - atan2(l2 sin t2, l1 + l2 cos t2)`` (the second ``atan2`` takes
-    the sine part first: seed 002 swaps these arguments, which is wrong).
+    the sine part first: the homogeneous-transform seminar swaps these arguments, which is wrong).
 
     Returns
     -------

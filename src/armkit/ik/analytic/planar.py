@@ -1,4 +1,7 @@
-r"""Planar arms: 2R (seeds 001 and 002) and 3R with the end angle phi (seeds 003 and 004).
+r"""Planar arms: 2R, and 3R with the end angle phi.
+
+The 2R arm is the one of the symbolic 2-link tutorial and the homogeneous-transform seminar;
+the 3R arm that of the CCD graphics assignment and the modified-DH lecture.
 
 2R: the tool point ``v`` (fixed in the last turning frame; a tool offset simply makes the
 second link longer or bent) obeys ``(x, y) = a_1 e(q_1') + \ell e(q_1' + q_2' + \beta)``,
@@ -9,7 +12,7 @@ the two-link problem with both elbow branches:
     \cos q_2 = \frac{x^2 + y^2 - a_1^2 - \ell^2}{2 a_1 \ell},\qquad
     q_1 = \operatorname{atan2}(y, x) - \operatorname{atan2}(\ell \sin q_2,\ a_1 + \ell \cos q_2)
 
-(seed 002 writes the second ``atan2`` with its arguments swapped; that is wrong).
+(the homogeneous-transform seminar writes the second ``atan2`` with its arguments swapped; that is wrong).
 
 3R: the target pose fixes the end angle ``phi = q_1 + q_2 + q_3``; removing the tool and
 the last link gives the wrist point, a 2R problem for the first two links.

@@ -1,4 +1,4 @@
-r"""Yaw-pitch-pitch arms (seed 000's fighter arm): 4 branches, front/back x elbow-up/down.
+r"""Yaw-pitch-pitch arms (the fighter arm of the club's fighting-robot report): 4 branches, front/back x elbow-up/down.
 
 Geometry (standard DH after :func:`~._common.standard_form`): joint 1 turns about the
 vertical axis ``z0`` and its twist is +-90 deg (sign ``s``), joints 2 and 3 are parallel
