@@ -129,6 +129,56 @@ def q_display(robot: Robot, q: np.ndarray, deg: bool = True) -> list[str]:
             for v, p in zip(q, robot.prismatic)]
 
 
+def out_width() -> int:
+    """Columns to print tables in: the terminal's, or COLUMNS when set; else at least 150 for pipes and files
+    (nothing cut)."""
+    import os
+
+    if console.is_terminal or os.environ.get("COLUMNS", "").isdigit():
+        return console.width
+    return max(console.width, 150)
+
+
+def natural_width(table: Table) -> int:
+    """Columns a table needs with nothing cut or wrapped (rendered once without its title, wide, and measured)."""
+    import copy
+    import io
+
+    bare = copy.copy(table)
+    bare.title = bare.caption = None
+    buf = io.StringIO()
+    Console(file=buf, width=1000, no_color=True, highlight=False).print(bare)
+    return max((len(line.rstrip()) for line in buf.getvalue().splitlines()), default=0)
+
+
+def print_fitted(*tables: Table) -> None:
+    """Print the first table that fits :func:`out_width` (the last one when none does)."""
+    width = out_width()
+    out = console if width == console.width else SafeConsole(highlight=False, width=width)
+    for t in tables[:-1]:
+        if natural_width(t) <= width:
+            out.print(t)
+            return
+    out.print(tables[-1])
+
+
+def print_records(title: str, records: Sequence[tuple[str, Sequence[str]]], width: int | None = None) -> None:
+    """A table too wide for the terminal, one record per row: a bold head line, then its ``name value`` items
+    wrapped between items (never inside a number). All text is printed plain (never read as markup)."""
+    width = width or out_width()
+    out = console if width == console.width else SafeConsole(highlight=False, width=width)
+    out.print(Text(title, style="bold"))
+    for head, items in records:
+        out.print(Text(head, style="bold"), soft_wrap=True)
+        line = "  "
+        for item in items:
+            if line.strip() and len(line) + len(item) > width:
+                out.print(Text(line.rstrip()), soft_wrap=True)
+                line = "  "
+            line += item + "  "
+        out.print(Text(line.rstrip()), soft_wrap=True)
+
+
 def pose_table(T: np.ndarray, unit: str, title: str = "pose") -> Table:
     """A 4x4 pose as a Rich table with the translation column labelled with its unit."""
     t = Table(title=title, show_header=True, header_style="bold")

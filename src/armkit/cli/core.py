@@ -10,8 +10,8 @@ import typer
 from rich.table import Table
 
 from ..model.robot import Joint, Robot
-from .common import (NUMERIC_ARGS, ROBOT_HELP, console, esc, fail, get_robot, parse_q, pose_table, print_json,
-                     q_display)
+from .common import (NUMERIC_ARGS, ROBOT_HELP, console, esc, fail, get_robot, natural_width, out_width, parse_q,
+                     pose_table, print_fitted, print_json, print_records, q_display)
 
 
 def robots(json_out: bool = typer.Option(False, "--json", help="Print JSON instead of a table.")) -> None:
@@ -29,33 +29,50 @@ def robots(json_out: bool = typer.Option(False, "--json", help="Print JSON inste
     if json_out:
         print_json(rows)
         return
+    print_fitted(_robots_table(rows, wide=True), _robots_table(rows, wide=False))
+
+
+def _robots_table(rows: list[dict], wide: bool) -> Table:
+    """The bundled robots; ``wide=False`` (narrow terminals): the description without the source."""
     t = Table(title="Bundled robots (armkit info NAME for details)", header_style="bold")
-    for col in ("name", "DOF", "joints", "convention", "unit"):
+    for col in ("name", "DOF", "joints", "convention" if wide else "model", "unit"):
         t.add_column(col, no_wrap=True)
-    t.add_column("description and source (full text: armkit info NAME)")
+    t.add_column("description and source (full text: armkit info NAME)" if wide else "description", ratio=1)
     for row in rows:
         src = str(row["source"])
         short = src if len(src) <= 70 else src[:69].rsplit(" ", 1)[0] + " …"
-        t.add_row(*(esc(row[k]) for k in ("name", "dof", "joints")), "URDF" if row["convention"] == "urdf" else f"{row['convention']} DH", esc(row["unit"]),
-                  f"{esc(row['description'])}\n[dim]{esc(short)}[/]")
-    console.print(t)
+        conv = "URDF" if row["convention"] == "urdf" else (f"{row['convention']} DH" if wide else
+                                                          {"standard": "std DH", "modified": "mod DH"}.get(
+                                                              str(row["convention"]), str(row["convention"])))
+        t.add_row(*(esc(row[k]) for k in ("name", "dof", "joints")), conv, esc(row["unit"]),
+                  f"{esc(row['description'])}\n[dim]{esc(short)}[/]" if wide else esc(row["description"]))
+    return t
 
 
-def _dh_rows_table(r: Robot) -> Table:
-    """The DH table of a DH robot as a Rich table (degrees, the robot's unit)."""
+def _dh_rows_table(r: Robot, wide: bool = True) -> Table:
+    """The DH table of a DH robot as a Rich table (degrees, the robot's unit; units in the title).
+
+    ``wide=False`` leaves out the type column (the ``*`` already marks the joint variable).
+    """
     deg = 180.0 / math.pi
     conv = ("standard DH: A_i = Rz(theta_i) Tz(d_i) Tx(a_i) Rx(alpha_i)" if r.convention == "standard"
             else "modified (Craig) DH: A_i = Rx(alpha_{i-1}) Tx(a_{i-1}) Rz(theta_i) Tz(d_i)")
-    t = Table(title=f"DH table ({conv}); * marks the joint variable", header_style="bold")
-    alpha_h = "alpha (deg)" if r.convention == "standard" else "alpha_{i-1} (deg)"
-    a_h = f"a ({r.unit})" if r.convention == "standard" else f"a_{{i-1}} ({r.unit})"
-    for col in ("i", "joint", "type", "theta (deg)", f"d ({r.unit})", a_h, alpha_h, "limits"):
-        t.add_column(col, justify="right")
+    t = Table(title=f"DH table ({conv}); angles in deg, lengths in {esc(r.unit)}; * marks the joint variable",
+              header_style="bold")
+    alpha_h = "alpha" if r.convention == "standard" else "alpha_{i-1}"
+    a_h = "a" if r.convention == "standard" else "a_{i-1}"
+    t.add_column("i", justify="right", no_wrap=True)
+    t.add_column("joint", no_wrap=True)
+    if wide:
+        t.add_column("type", no_wrap=True)
+    for col in ("theta", "d", a_h, alpha_h, "limits"):
+        t.add_column(col, justify="right", no_wrap=True)
     for i, j in enumerate(r.joints, 1):
         theta = (f"q{i}*" + (f" {j.theta * deg:+.6g}" if abs(j.theta) > 1e-12 else "") if not j.is_prismatic
                  else _num(j.theta * deg))
         d = f"q{i}*" + (f" {j.d:+.6g}" if abs(j.d) > 1e-12 else "") if j.is_prismatic else _num(j.d)
-        t.add_row(str(i), esc(j.name), j.kind, theta, d, _num(j.a), _num(j.alpha * deg), _limits_text(r, j))
+        t.add_row(str(i), esc(j.name), *((j.kind,) if wide else ()), theta, d, _num(j.a), _num(j.alpha * deg),
+                  _limits_text(r, j, units=False))
     return t
 
 
@@ -64,12 +81,13 @@ def _num(v: float, digits: int = 6) -> str:
     return f"{(0.0 if abs(v) < 1e-12 else v) + 0.0:.{digits}g}"
 
 
-def _limits_text(r: Robot, j: Joint) -> str:
+def _limits_text(r: Robot, j: Joint, units: bool = True) -> str:
+    """A joint's limits; ``units=False``: revolute limits without "deg" (a table whose title gives the units)."""
     if j.is_continuous:
         return "continuous"
     if j.is_prismatic:
         return f"[{j.lower:g}, {j.upper:g}] {r.unit}"
-    return f"[{math.degrees(j.lower):g}, {math.degrees(j.upper):g}] deg"
+    return f"[{math.degrees(j.lower):g}, {math.degrees(j.upper):g}]" + (" deg" if units else "")
 
 
 def _urdf_joints_table(r: Robot) -> Table:
@@ -88,6 +106,37 @@ def _urdf_joints_table(r: Robot) -> Table:
                   " ".join(_num(v, 5) for v in rpy), " ".join(_num(v, 4) for v in j.axis_vector()),
                   _limits_text(r, j))
     return t
+
+
+def _urdf_joints_records(r: Robot) -> None:
+    """The joints of a URDF chain one record each (terminals too narrow for the table)."""
+    from ..spatial import rotation_to_rpy
+
+    records = []
+    for i, j in enumerate(r.joints, 1):
+        O = j.origin_matrix()
+        rpy = rotation_to_rpy(O[:3, :3], degrees=True)
+        kind = "continuous" if j.is_continuous else j.kind
+        records.append((f"{i} {j.name} ({kind})",
+                        [f"origin xyz ({', '.join(_num(v, 5) for v in O[:3, 3])}) {r.unit}",
+                         f"rpy ({', '.join(_num(v, 5) for v in rpy)}) deg",
+                         f"axis ({' '.join(_num(v, 4) for v in j.axis_vector())})", f"limits {_limits_text(r, j)}"]))
+    print_records("joints (origin in the previous moving link's frame, fixed joints folded in)", records)
+
+
+def _dh_records(r: Robot) -> None:
+    """The DH rows one record each (terminals too narrow for the table)."""
+    deg = 180.0 / math.pi
+    m = "" if r.convention == "standard" else "_{i-1}"
+    records = []
+    for i, j in enumerate(r.joints, 1):
+        theta = f"q{i}*" + (f" {j.theta * deg:+.6g}" if abs(j.theta) > 1e-12 else "") if not j.is_prismatic \
+            else f"{_num(j.theta * deg)} deg"
+        d = f"q{i}*" + (f" {j.d:+.6g}" if abs(j.d) > 1e-12 else "") if j.is_prismatic else f"{_num(j.d)} {r.unit}"
+        records.append((f"{i} {j.name} ({j.kind})",
+                        [f"theta {theta}", f"d {d}", f"a{m} {_num(j.a)} {r.unit}", f"alpha{m} {_num(j.alpha * deg)} deg",
+                         f"limits {_limits_text(r, j)}"]))
+    print_records(f"DH table ({r.convention} DH); * marks the joint variable", records)
 
 
 def info(robot: str = typer.Argument(..., help=ROBOT_HELP),
@@ -124,9 +173,17 @@ def info(robot: str = typer.Argument(..., help=ROBOT_HELP),
     if shown.is_dh:
         if shown is not r:
             console.print(f"equivalent {convention} DH table (same FK for every q; base and tool absorb the rest):")
-        console.print(_dh_rows_table(shown))
+        narrow = _dh_rows_table(shown, wide=False)
+        if natural_width(narrow) <= out_width():
+            print_fitted(_dh_rows_table(shown), narrow)
+        else:
+            _dh_records(shown)
     else:
-        console.print(_urdf_joints_table(shown))
+        table = _urdf_joints_table(shown)
+        if natural_width(table) <= out_width():
+            console.print(table)
+        else:
+            _urdf_joints_records(shown)
     for which in ("base", "tool"):
         T = getattr(shown, which)
         if not np.allclose(T, np.eye(4)):

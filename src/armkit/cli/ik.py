@@ -67,31 +67,81 @@ def _deg(v: float) -> str:
     return f"{0.0 if abs(v) < 5e-5 else v:.4f}"
 
 
-def _table(robot, rows: list[dict], title: str, position_only: bool) -> Table:
-    t = Table(title=title, header_style="bold")
-    t.add_column("branch", no_wrap=True)
-    for name, pris in zip(robot.joint_names, robot.prismatic):
-        t.add_column(f"{esc(name)} ({robot.unit if pris else 'deg'})", justify="right", overflow="fold")
-    t.add_column(f"pos. error ({robot.unit})", justify="right", overflow="fold")
-    t.add_column("rot. error (deg)", justify="right", overflow="fold")
-    t.add_column("in limits", justify="center")
-    t.add_column("result", overflow="fold")
+def _table(robot, rows: list[dict], title: Optional[str], position_only: bool, compact: bool = False) -> Table:
+    """The branches as a table: joint names as headers (the units are in the title), numbers never wrapped.
+
+    Text columns (branch, result) are cut with an ellipsis rather than wrapped; the rotation
+    error of a position target (always 0) is left out. ``compact``: no outer edge and no
+    vertical lines, and no limits column when every branch is within them, for narrow terminals.
+    """
+    from rich import box
+
+    t = Table(title=title, header_style="bold", box=box.SIMPLE_HEAD if compact else box.HEAVY_HEAD,
+              show_edge=not compact, pad_edge=not compact)
+    limits = not compact or not all(r["within_limits"] for r in rows)   # compact: no column of all "ok"
+    t.add_column("branch", no_wrap=True, overflow="ellipsis", min_width=6)
+    for name in robot.joint_names:
+        t.add_column(esc(name), justify="right", no_wrap=True)
+    t.add_column("pos. error", justify="right", no_wrap=True)
+    if not position_only:
+        t.add_column("rot. error", justify="right", no_wrap=True)
+    if limits:
+        t.add_column("limits", justify="center", no_wrap=True)
+    t.add_column("result", no_wrap=True, overflow="ellipsis", min_width=6)
     for r in rows:
         result = "[green]solved[/]" if r["success"] else f"[red]{esc(r['reason'])}[/]"
         t.add_row(esc(r["branch"]), *(_deg(v) for v in r["q_deg"]), f"{r['position_error']:.1e}",
-                  "-" if position_only else f"{math.degrees(r['rotation_error']):.1e}",
-                  "yes" if r["within_limits"] else "[red]no[/]", result)
+                  *(() if position_only else (f"{math.degrees(r['rotation_error']):.1e}",)),
+                  *(("ok" if r["within_limits"] else "[red]no[/]",) if limits else ()), result)
     return t
 
 
-def _print_wide(renderable) -> None:
-    """Tables are printed at full width into pipes and files (nothing cut); a terminal folds them."""
-    if console.is_terminal:
-        console.print(renderable)
-    else:
-        from .common import SafeConsole
+def _units_title(robot, title: str, position_only: bool) -> str:
+    """``title`` followed by the units of the table's columns (kept out of the headers so that they stay short)."""
+    ang = "joint angles in deg" if not robot.prismatic.any() else f"joints in deg or {robot.unit}"
+    rot = "" if position_only else ", rotation error in deg"
+    return f"{title}; {ang}, position error in {robot.unit}{rot}"
 
-        SafeConsole(highlight=False, width=max(console.width, 150)).print(renderable)
+
+def _records(robot, rows: list[dict], title: str, position_only: bool, width: int) -> Any:
+    """The branches one record each (for terminals too narrow for the table): every number whole."""
+    from rich.console import Group
+    from rich.text import Text
+
+    lines: list[Any] = [Text.from_markup(title, style="bold")]
+    for r in rows:
+        head = Text.assemble((r["branch"], "bold"), ": ",
+                             ("solved", "green") if r["success"] else (r["reason"], "red"),
+                             "" if r["within_limits"] or r["reason"] == "joint limits"
+                             else ("  (outside the joint limits)", "red"))
+        lines.append(head)
+        items = [f"{name} {_deg(v)}{' ' + robot.unit if pris else '°'}"
+                 for name, v, pris in zip(robot.joint_names, r["q_deg"], robot.prismatic)]
+        items.append(f"position error {r['position_error']:.1e} {robot.unit}")
+        if not position_only:
+            items.append(f"rotation error {math.degrees(r['rotation_error']):.1e}°")
+        line = "  "
+        for item in items:          # wrap between items, never inside one
+            if line.strip() and len(line) + 2 + len(item) > width:
+                lines.append(Text(line.rstrip()))
+                line = "  "
+            line += item + "  "
+        lines.append(Text(line.rstrip()))
+    return Group(*lines)
+
+
+def _print_rows(robot, rows: list[dict], title: str, position_only: bool) -> None:
+    """The branches as the widest layout that fits: a table, a compact table, or one record per branch."""
+    from .common import SafeConsole, natural_width, out_width
+
+    width = out_width()
+    out = console if width == console.width else SafeConsole(highlight=False, width=width)
+    full = _units_title(robot, title, position_only)
+    for compact in (False, True):
+        if natural_width(_table(robot, rows, None, position_only, compact)) <= width:
+            out.print(_table(robot, rows, full, position_only, compact))
+            return
+    out.print(_records(robot, rows, title, position_only, width), soft_wrap=False)
 
 
 def _trace_table(trace) -> Table:
@@ -143,7 +193,7 @@ def _partial_target(r, target, where: str, pitch: Optional[float], direction, de
         print_json({"robot": r.name, "unit": r.unit, "method": used, "target": np.asarray(target),
                     "solved": solved, "solutions": rows})
     else:
-        _print_wide(_table(r, rows, f"IK of {esc(r.name)} for {esc(where)}, {used}", False))
+        _print_rows(r, rows, f"IK of {esc(r.name)} for {esc(where)}, {used}", False)
         if solved and len(rows) > 1:
             console.print(f"{sum(row['success'] for row in rows)} of {len(rows)} branches solve the target.")
     if not solved:
@@ -244,7 +294,7 @@ def ik(robot: str = typer.Argument(..., help=ROBOT_HELP),
                     "phi_rad": ph, "solved": solved, "solutions": rows,
                     "trace": None if res.trace is None else np.asarray(res.trace)})
     else:
-        _print_wide(_table(r, rows, f"IK of {esc(r.name)} for {esc(where)}, {used}", position_only))
+        _print_rows(r, rows, f"IK of {esc(r.name)} for {esc(where)}, {used}", position_only)
         notes = list(dict.fromkeys(row["message"] for row in rows if row["success"] and row["message"]))
         for note in notes:
             console.print(f"note: {esc(note)}", soft_wrap=True)
