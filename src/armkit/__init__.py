@@ -9,8 +9,9 @@ array([ 24.861,  14.353, 187.181])
 from __future__ import annotations
 
 from . import spatial
-from .errors import (ArmkitError, JointLimitError, RobotDefinitionError, RobotFileError, ShapeError,
-                     UnknownRobotError, UnreachableError)
+from .errors import (ArgumentError, ArmkitError, IKInputError, JointLimitError, LimitError, ParseError,
+                     RobotDefinitionError, RobotFileError, ShapeError, UnknownRobotError, UnreachableError, WriteError,
+                     WriteInterrupted)
 from .kinematics import (condition_number, fk, fk_frames, get_backend, is_singular, jacobian, link_frames,
                          manipulability, set_backend)
 from .model import Joint, Link, Robot, Shape, bundled_robots, load, save
@@ -35,8 +36,8 @@ __all__ = [
     "spatial", "Joint", "Robot", "Link", "Shape", "load", "save", "bundled_robots",
     "fk", "fk_frames", "link_frames", "jacobian", "manipulability", "condition_number", "is_singular",
     "set_backend", "get_backend", "warmup",
-    "ArmkitError", "ShapeError", "RobotDefinitionError", "RobotFileError", "UnknownRobotError",
-    "JointLimitError", "UnreachableError",
+    "ArmkitError", "ArgumentError", "ShapeError", "RobotDefinitionError", "RobotFileError", "UnknownRobotError",
+    "JointLimitError", "UnreachableError", "IKInputError", "ParseError", "LimitError", "WriteError", "WriteInterrupted",
     "IKResult", "ik", "ik_all", "view",
     "Scene", "Collisions", "collisions", "clearance",
     "reachability", "ReachabilityMap", "base_placement",

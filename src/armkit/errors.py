@@ -8,6 +8,7 @@ from __future__ import annotations
 
 __all__ = [
     "ArmkitError",
+    "ArgumentError",
     "ShapeError",
     "RobotDefinitionError",
     "RobotFileError",
@@ -17,11 +18,21 @@ __all__ = [
     "WriteError",
     "WriteInterrupted",
     "LimitError",
+    "IKInputError",
+    "ParseError",
 ]
 
 
 class ArmkitError(Exception):
     """Base class of every armkit error."""
+
+
+class ArgumentError(ArmkitError, ValueError):
+    """An argument has a value the function cannot use (an unknown option, a non-positive count, ...).
+
+    The message names the argument, the valid values and what was given:
+    ``frame must be 'base' or 'tool', got 'world'``.
+    """
 
 
 class ShapeError(ArmkitError, ValueError):
@@ -95,3 +106,11 @@ class WriteInterrupted(KeyboardInterrupt):
 
 class LimitError(ArmkitError, ValueError):
     """A request too large to finish (memory or sample count); the message gives the limit and how to raise it."""
+
+
+class IKInputError(ArgumentError):
+    """An IK argument that cannot work: unknown method or branch, a closed form asked of an arm without one, ..."""
+
+
+class ParseError(ArgumentError):
+    """A statement the interactive shell cannot use; its text is the one-line message."""

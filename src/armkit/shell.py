@@ -48,12 +48,12 @@ from typing import Any, Iterable, Optional, TextIO
 import numpy as np
 
 from ._text import MAX_MESSAGE, esc, name_list, plain, shorten
-from .errors import ArmkitError
+from .errors import ArgumentError, ArmkitError, ParseError
 from .i18n import LANGUAGES, default_language, message
 from .kinematics import fk
 from .model.robot import Robot
 
-__all__ = ["Shell", "ShellOutput", "parse_numbers"]
+__all__ = ["Shell", "ShellOutput", "parse_numbers", "ParseError"]   # ParseError lives in armkit.errors
 
 _NUMBER = r"[+-]?(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][+-]?\d+)?"
 _NUMBER_RE = re.compile(rf"^{_NUMBER}$")
@@ -66,10 +66,6 @@ _SPLIT_RE = re.compile(r"[\s,]+")
 EXIT_WORDS = ("exit", "quit", "bye", ":q")
 MAX_PICTURES = 500        # pictures one session writes before it stops drawing (a note says so)
 MAX_LINE = 100_000        # characters of one input line; a longer line is refused unread
-
-
-class ParseError(ArmkitError, ValueError):
-    """A statement the shell cannot use; its text is the one-line message."""
 
 
 @dataclass(frozen=True)
@@ -136,10 +132,10 @@ class Shell:
         self.robot = robot
         self.lang = lang if lang in LANGUAGES else default_language()
         if units not in ("deg", "rad"):
-            raise ArmkitError(f"units must be 'deg' or 'rad', got {units!r}")
+            raise ArgumentError(f"units must be 'deg' or 'rad', got {units!r}")
         self.units = units
         if plot not in ("auto", "window", "png", "none"):
-            raise ArmkitError(f"plot must be 'auto', 'window', 'png' or 'none', got {plot!r}")
+            raise ArgumentError(f"plot must be 'auto', 'window', 'png' or 'none', got {plot!r}")
         if plot == "auto":
             from .viz._mpl import has_display
 

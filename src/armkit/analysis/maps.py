@@ -22,7 +22,7 @@ from typing import Optional, Sequence
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ..errors import ArmkitError, ShapeError
+from ..errors import ArgumentError, ShapeError
 from ..kinematics import fk
 from ..model.robot import Robot
 
@@ -114,7 +114,7 @@ def fk_maps(robot: Robot, q1_grid: ArrayLike, q2_grid: ArrayLike, q_rest: ArrayL
     g1, g2 = _grid(q1_grid, "q1_grid"), _grid(q2_grid, "q2_grid")
     j = tuple(int(i) for i in joints)
     if len(j) != 2 or j[0] == j[1] or not all(0 <= i < robot.n for i in j):
-        raise ArmkitError(f"joints must be two different joint indices in 0..{robot.n - 1}, got {tuple(joints)}")
+        raise ArgumentError(f"joints must be two different joint indices in 0..{robot.n - 1}, got {tuple(joints)}")
     rest = np.zeros(robot.n) if q_rest is None else robot.check_q(q_rest, "q_rest")
     if rest.shape != (robot.n,):
         raise ShapeError(f"q_rest must have shape ({robot.n},), got {rest.shape}")

@@ -408,12 +408,12 @@ def analyze_singularities(robot: Robot, derivation: Any = None, samples: int = 4
     >>> [(round(float(np.degrees(v))), label) for v, label in res.singular_factors[0].solutions]
     [(0, 'stretched'), (180, 'folded')]
     """
-    from ..errors import ArmkitError
+    from ..errors import ArgumentError
     from ..symbolic import derive
     from ..symbolic.export import shorthand
 
     if robot.n >= 7:
-        raise ArmkitError(f"robot {robot.name!r} has {robot.n} joints: det(J J^T) of a 6x{robot.n} Jacobian is "
+        raise ArgumentError(f"robot {robot.name!r} has {robot.n} joints: det(J J^T) of a 6x{robot.n} Jacobian is "
                           "too large to factor symbolically; use armkit.manipulability numerically")
     g = np.random.default_rng(rng)
     d = derivation if derivation is not None else derive(robot)
@@ -486,14 +486,14 @@ def plot_manipulability(robot: Robot, out_path: str | Path | None = None, joints
         matplotlib.use("Agg", force=False)
     import matplotlib.pyplot as plt
 
-    from ..errors import ArmkitError
+    from ..errors import ArgumentError
 
     if robot.n < 2:
-        raise ArmkitError(f"robot {robot.name!r} has one joint; the manipulability map needs two")
+        raise ArgumentError(f"robot {robot.name!r} has one joint; the manipulability map needs two")
     i, j = joints if joints is not None else (robot.n - 1, robot.n)
     for k in (i, j):
         if not 1 <= k <= robot.n or robot.prismatic[k - 1]:
-            raise ArmkitError(f"joints must be two revolute joints in 1..{robot.n}, got {(i, j)}")
+            raise ArgumentError(f"joints must be two revolute joints in 1..{robot.n}, got {(i, j)}")
     base = np.zeros(robot.n) if q_fixed is None else robot.check_q(q_fixed, "q_fixed")
     ax_vals = np.linspace(-math.pi, math.pi, resolution)
     A, B = np.meshgrid(ax_vals, ax_vals)

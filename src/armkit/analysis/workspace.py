@@ -41,7 +41,7 @@ from typing import Any, Optional, Sequence
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ..errors import ArmkitError, ShapeError
+from ..errors import ArgumentError, ArmkitError, ShapeError
 from ..kinematics import fk, fk_frames, manipulability as _manipulability
 from ..model.robot import Robot
 
@@ -156,7 +156,7 @@ class Exclusion:
 
     def __post_init__(self) -> None:
         if self.ground_z is not None and not math.isfinite(float(self.ground_z)):
-            raise ArmkitError(f"exclusion ground_z must be a finite number, got {self.ground_z!r}")
+            raise ArgumentError(f"exclusion ground_z must be a finite number, got {self.ground_z!r}")
         boxes = []
         for i, box in enumerate(self.boxes):
             try:
@@ -168,7 +168,7 @@ class Exclusion:
             boxes.append((tuple(lo.tolist()), tuple(hi.tolist())))
         object.__setattr__(self, "boxes", tuple(boxes))
         if int(self.points_per_link) < 2:
-            raise ArmkitError(f"points_per_link must be at least 2, got {self.points_per_link}")
+            raise ArgumentError(f"points_per_link must be at least 2, got {self.points_per_link}")
 
     def inside(self, points: Array) -> NDArray[np.bool_]:
         """True where a point ``(..., 3)`` is in the excluded space; shape ``(...)``."""
@@ -375,7 +375,7 @@ def workspace(robot: Robot, samples: int = 200_000, seed: int | np.random.Genera
         docstring for how the error is made.
     """
     if not isinstance(samples, (int, np.integer)) or samples < 100:
-        raise ArmkitError(f"samples must be an integer >= 100, got {samples!r}")
+        raise ArgumentError(f"samples must be an integer >= 100, got {samples!r}")
     if exclusion is not None and not isinstance(exclusion, Exclusion):
         raise ArmkitError(f"exclusion must be an armkit.analysis.Exclusion, got {type(exclusion).__name__}")
     from .._limits import check_memory

@@ -4,7 +4,7 @@
 return an :class:`IKResult` whose ``success`` was checked by forward kinematics.
 """
 
-from .api import IKInputError, closed_form_family, ik, ik_all
+from .api import IKInputError, closed_form_family, ik, ik_all   # IKInputError lives in armkit.errors
 from .result import IKResult, default_tolerance, verify
 
 __all__ = ["IKResult", "default_tolerance", "verify", "ik", "ik_all", "IKInputError", "closed_form_family"]

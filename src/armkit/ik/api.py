@@ -17,7 +17,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from .._checks import real_array, short_repr
-from ..errors import ArmkitError, ShapeError, UnreachableError
+from ..errors import IKInputError, ShapeError, UnreachableError
 from ..model.robot import Robot
 from .result import IKResult, default_tolerance
 
@@ -27,10 +27,6 @@ Array = NDArray[np.float64]
 METHODS = ("auto", "analytic", "lm", "newton", "ccd", "fabrik")
 _NUMERIC = {"lm": ("numeric", "solve_lm"), "newton": ("numeric", "solve_newton"),
             "ccd": ("ccd", "solve_ccd"), "fabrik": ("fabrik", "solve_fabrik")}
-
-
-class IKInputError(ArmkitError, ValueError):
-    """An IK argument that cannot work: unknown method or branch, a closed form asked of an arm without one, ..."""
 
 
 def closed_form_family(robot: Robot) -> Optional[str]:

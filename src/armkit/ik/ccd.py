@@ -24,7 +24,7 @@ from typing import Any, Optional
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..errors import ArmkitError
+from ..errors import IKInputError
 from ..model.robot import Robot
 from .numeric import _TOL_FACTOR, Problem, _project, _trace_array, assemble
 from .result import IKResult
@@ -45,7 +45,7 @@ def _position_problem(robot: Robot, target: ArrayLike, q0: ArrayLike, mask: Opti
     if mask is not None:
         m = np.asarray(mask, dtype=float)
         if m.shape != (6,) or np.any(m[3:] != 0) or not np.all(m[:3] > 0):
-            raise ArmkitError(f"{what} solves position targets only: mask must be None or weight x, y and z "
+            raise IKInputError(f"{what} solves position targets only: mask must be None or weight x, y and z "
                               f"with zero rotation weights, got {mask!r}; use method 'lm' for orientation masks")
     return Problem(robot, t, q0, None, tol, enforce_limits, what), note
 

@@ -17,7 +17,7 @@ Supported structures (detected from the model at ``q = 0``, not from the robot's
   solutions are tried), then planar FABRIK solves the rest.
 
 Other arms (spatial wrists, prismatic joints, coincident joint points) raise
-:class:`~armkit.ArmkitError` with a pointer to ``method="ccd"`` or ``"lm"``.
+:class:`~armkit.IKInputError` with a pointer to ``method="ccd"`` or ``"lm"``.
 
 Convergence is linear, and slow near the workspace boundary: a two-segment chain reaching
 for a point near full extension can stall above the 1e-9 m tolerance, and then the result
@@ -40,7 +40,7 @@ from typing import Any, Optional
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..errors import ArmkitError
+from ..errors import IKInputError
 from ..model.robot import Robot
 from .ccd import _position_problem
 from .numeric import _TOL_FACTOR, Problem, _project, _trace_array, assemble
@@ -62,13 +62,13 @@ def _joint_frames_at_zero(robot: Robot) -> tuple[np.ndarray, np.ndarray, np.ndar
 
 
 def fabrik_structure(robot: Robot) -> str:
-    """``"planar"``, ``"yaw+planar"``, or raise :class:`ArmkitError` saying why FABRIK does not apply."""
+    """``"planar"``, ``"yaw+planar"``, or raise :class:`~armkit.IKInputError` saying why FABRIK does not apply."""
     return _structure(robot)["kind"]
 
 
 def _structure(robot: Robot) -> dict:
     if robot.prismatic.any():
-        raise ArmkitError(f"FABRIK in armkit supports revolute planar arms and yaw + planar arms; robot "
+        raise IKInputError(f"FABRIK in armkit supports revolute planar arms and yaw + planar arms; robot "
                           f"{robot.name!r} has prismatic joints ({robot.joint_types}); use method 'ccd' or 'lm'")
     z, p, e = _joint_frames_at_zero(robot)
     scale = max(robot.reach, 1e-12)
@@ -84,7 +84,7 @@ def _structure(robot: Robot) -> dict:
         first = 1
         kind = "yaw+planar"
     else:
-        raise ArmkitError(f"FABRIK in armkit supports planar arms (all joint axes parallel) and a yaw joint "
+        raise IKInputError(f"FABRIK in armkit supports planar arms (all joint axes parallel) and a yaw joint "
                           f"followed by a planar arm; robot {robot.name!r} is neither; use method 'ccd' or 'lm'")
     nrm = z[first] / np.linalg.norm(z[first])
     pts = np.vstack([p[first:], e[None]])
@@ -92,7 +92,7 @@ def _structure(robot: Robot) -> dict:
     seg = np.diff(flat, axis=0)
     lengths = np.linalg.norm(seg, axis=1)
     if np.any(lengths < _EPS * scale):
-        raise ArmkitError(f"FABRIK needs distinct joint points in the plane; robot {robot.name!r} has a zero-length "
+        raise IKInputError(f"FABRIK needs distinct joint points in the plane; robot {robot.name!r} has a zero-length "
                           "segment (coincident joint axes); use method 'ccd' or 'lm'")
     xh = seg[0] / lengths[0]
     yh = np.cross(nrm, xh)
@@ -173,7 +173,7 @@ def solve_fabrik(robot: Robot, target: ArrayLike, q0: ArrayLike, *, mask: Option
     ----------
     robot : Robot
         A planar arm or a yaw joint followed by a planar arm (see the module docstring);
-        anything else raises :class:`~armkit.ArmkitError`.
+        anything else raises :class:`~armkit.IKInputError`.
     target : array_like, shape (B, 3) or (B, 4, 4)
         Target positions (length units); of a pose only the position is used.
     q0 : array_like, shape (B, n)

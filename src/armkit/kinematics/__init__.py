@@ -30,7 +30,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from .. import _jit_loader
-from ..errors import ArmkitError
+from ..errors import ArgumentError, ArmkitError
 from ..model.robot import Chain, Robot
 from . import _numpy
 
@@ -53,7 +53,7 @@ def set_backend(name: Literal["auto", "numba", "numpy"]) -> None:
     """Choose the kernels: ``"numba"``, ``"numpy"`` or ``"auto"`` (Numba when importable)."""
     global _backend, _ACTIVE
     if name not in ("auto", "numba", "numpy"):
-        raise ArmkitError(f"backend must be 'auto', 'numba' or 'numpy', got {name!r}")
+        raise ArgumentError(f"backend must be 'auto', 'numba' or 'numpy', got {name!r}")
     if name == "numba" and _load_jit() is None:
         raise ArmkitError("backend 'numba' requested but numba is not installed")
     _backend = name
@@ -244,7 +244,7 @@ def jacobian(robot: Robot, q: ArrayLike, frame: Literal["base", "tool"] = "base"
     """
     tool_frame = frame == "tool"
     if not tool_frame and frame != "base":
-        raise ArmkitError(f"frame must be 'base' or 'tool', got {frame!r}")
+        raise ArgumentError(f"frame must be 'base' or 'tool', got {frame!r}")
     c = robot.chain
     jit = _ACTIVE or _jit_module(True)
     if jit is not None:

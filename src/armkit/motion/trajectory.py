@@ -35,7 +35,7 @@ from typing import Any, Literal, Sequence
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ..errors import ArmkitError, ShapeError, UnreachableError
+from ..errors import ArgumentError, ArmkitError, ShapeError, UnreachableError
 from ..kinematics import fk
 from ..model.robot import Robot
 
@@ -130,7 +130,7 @@ def profile(kind: str, tau: ArrayLike, blend: float = 1 / 3) -> tuple[Array, Arr
     if kind == "trapezoid":
         b = float(blend)
         if not 0 < b <= 0.5:
-            raise ArmkitError(f"blend must be in (0, 1/2], got {b}")
+            raise ArgumentError(f"blend must be in (0, 1/2], got {b}")
         v = 1.0 / (1.0 - b)              # cruise speed in s per tau
         a = v / b
         s = np.where(x < b, 0.5 * a * x ** 2,
@@ -138,7 +138,7 @@ def profile(kind: str, tau: ArrayLike, blend: float = 1 / 3) -> tuple[Array, Arr
         sd = np.where(x < b, a * x, np.where(x <= 1 - b, v, a * (1 - x)))
         sdd = np.where(x < b, a, np.where(x <= 1 - b, 0.0, -a))
         return s, sd, sdd
-    raise ArmkitError(f"profile must be one of {PROFILES}, got {kind!r}")
+    raise ArgumentError(f"profile must be one of {PROFILES}, got {kind!r}")
 
 
 def segment_duration(kind: str, delta: ArrayLike, qd_max: ArrayLike | None = None,
@@ -155,7 +155,7 @@ def segment_duration(kind: str, delta: ArrayLike, qd_max: ArrayLike | None = Non
     a = None if qdd_max is None else np.broadcast_to(np.asarray(qdd_max, dtype=float), d.shape)
     for lim, nm in ((v, "qd_max"), (a, "qdd_max")):
         if lim is not None and np.any(lim <= 0):
-            raise ArmkitError(f"{nm} must be positive, got {lim}")
+            raise ArgumentError(f"{nm} must be positive, got {lim}")
     if kind in ("cubic", "quintic"):
         kv, ka = (1.5, 6.0) if kind == "cubic" else (1.875, 10 / math.sqrt(3))
         T = 0.0
@@ -165,7 +165,7 @@ def segment_duration(kind: str, delta: ArrayLike, qd_max: ArrayLike | None = Non
             T = max(T, float(np.max(np.sqrt(ka * d / a))))
         return T, 1 / 3
     if kind != "trapezoid":
-        raise ArmkitError(f"profile must be one of {PROFILES}, got {kind!r}")
+        raise ArgumentError(f"profile must be one of {PROFILES}, got {kind!r}")
     if v is None and a is None:
         return 0.0, 1 / 3
     best_T, best_b = 0.0, 1 / 3
@@ -227,24 +227,24 @@ def joint_trajectory(waypoints: ArrayLike, profile_kind: str = "quintic", durati
         for i, w in enumerate(W):
             bad = robot.limit_violations(w)
             if bad:
-                raise ArmkitError(f"waypoint {i + 1} is outside the joint limits: " + "; ".join(bad))
+                raise ArgumentError(f"waypoint {i + 1} is outside the joint limits: " + "; ".join(bad))
     if profile_kind not in PROFILES:
-        raise ArmkitError(f"profile must be one of {PROFILES}, got {profile_kind!r}")
+        raise ArgumentError(f"profile must be one of {PROFILES}, got {profile_kind!r}")
     if not (isinstance(dt, (int, float, np.integer, np.floating)) and 0 < dt < math.inf):
-        raise ArmkitError(f"dt must be a positive finite number of seconds, got {dt!r}")
+        raise ArgumentError(f"dt must be a positive finite number of seconds, got {dt!r}")
     m = W.shape[0] - 1
     deltas = np.diff(W, axis=0)
     if durations is not None:
         asked = np.asarray(durations, dtype=float)
         if asked.shape != (m,) or not np.all((asked > 0) & np.isfinite(asked)):
-            raise ArmkitError(f"durations needs {m} positive values (one per segment), got {list(asked)}")
+            raise ArgumentError(f"durations needs {m} positive values (one per segment), got {list(asked)}")
     elif duration is not None:
         if not 0 < duration < math.inf:
-            raise ArmkitError(f"duration must be a positive finite number of seconds, got {duration!r}")
+            raise ArgumentError(f"duration must be a positive finite number of seconds, got {duration!r}")
         size = np.max(np.abs(deltas), axis=1)
         asked = duration * (size / size.sum() if size.sum() > 0 else np.full(m, 1 / m))
     elif qd_max is None and qdd_max is None:
-        raise ArmkitError("give a duration, per-segment durations or the limits qd_max/qdd_max")
+        raise ArgumentError("give a duration, per-segment durations or the limits qd_max/qdd_max")
     else:
         asked = np.zeros(m)
     notes = []
@@ -256,7 +256,7 @@ def joint_trajectory(waypoints: ArrayLike, profile_kind: str = "quintic", durati
         if T == 0.0:   # a segment with no motion and no time asked
             continue
         if not math.isfinite(T):
-            raise ArmkitError(f"segment {k + 1} would take forever at these limits (qd_max={qd_max!r}, qdd_max={qdd_max!r})")
+            raise ArgumentError(f"segment {k + 1} would take forever at these limits (qd_max={qd_max!r}, qdd_max={qdd_max!r})")
         if T_min > asked[k] > 0:
             notes.append(f"segment {k + 1} lengthened from {asked[k]:.3g} s to {T_min:.3g} s to honour the limits")
         if profile_kind == "trapezoid" and qd_max is None and qdd_max is None:
@@ -290,7 +290,7 @@ def joint_trajectory(waypoints: ArrayLike, profile_kind: str = "quintic", durati
         qdd_parts.append(sdd[first:, None] * deltas[k] / T ** 2)
         t0 += T
     if not t_parts:
-        raise ArmkitError("all waypoints are equal: there is nothing to move")
+        raise ArgumentError("all waypoints are equal: there is nothing to move")
     t, q, qd, qdd = (np.concatenate(p) for p in (t_parts, q_parts, qd_parts, qdd_parts))
     pos = None
     if robot is not None:     # in chunks: no (N, 4, 4) pose array for a long trajectory
@@ -344,7 +344,7 @@ def cartesian_path(robot: Robot, points: ArrayLike, q0: ArrayLike | None = None,
     if P.ndim != 2 or P.shape[1] not in (2, 3) or len(P) < 2:
         raise ShapeError(f"points must have shape (N, 2) or (N, 3) with N >= 2, got {P.shape}")
     if duration <= 0:
-        raise ArmkitError(f"duration must be positive, got {duration}")
+        raise ArgumentError(f"duration must be positive, got {duration}")
     N = len(P)
     k = P.shape[1]
     u = np.linspace(0.0, 1.0, N)                 # path parameter of each sample
@@ -371,7 +371,7 @@ def cartesian_path(robot: Robot, points: ArrayLike, q0: ArrayLike | None = None,
         dev = np.linalg.norm(pos[:, :k] - P, axis=1)
         return Trajectory(t, Q, QD, QDD, positions=pos, targets=targets3, deviation=dev, label=f"{label} via IK")
     if method != "rate":
-        raise ArmkitError(f"method must be 'ik' or 'rate', got {method!r}")
+        raise ArgumentError(f"method must be 'ik' or 'rate', got {method!r}")
     from .velocity import resolved_rate
 
     # desired point and velocity: u(t) follows the quintic scaling, x(u) joins the samples
@@ -401,7 +401,7 @@ def cartesian_line(robot: Robot, start: ArrayLike, end: ArrayLike, steps: int = 
     if a.shape != b.shape or a.shape not in ((2,), (3,)):
         raise ShapeError(f"start and end must both have 2 or 3 values, got {a.shape} and {b.shape}")
     if steps < 1:
-        raise ArmkitError(f"steps must be at least 1, got {steps}")
+        raise ArgumentError(f"steps must be at least 1, got {steps}")
     u = np.linspace(0.0, 1.0, steps + 1)[:, None]
     pts = a + u * (b - a)
     kwargs = dict(kwargs)

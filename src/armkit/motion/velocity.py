@@ -28,7 +28,7 @@ from typing import Any, Callable, Literal, Sequence
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ..errors import ArmkitError, ShapeError
+from ..errors import ArgumentError, ArmkitError, ShapeError
 from ..kinematics import fk, jacobian
 from ..model.robot import Robot
 
@@ -181,7 +181,7 @@ def joint_rates(robot: Robot, q: ArrayLike, xd: ArrayLike, method: Literal["pinv
         raise ShapeError(f"xd must be a finite vector of 2, 3 or 6 values, got shape {x.shape}")
     idx = task_rows(len(x), rows)
     if method not in ("pinv", "dls"):
-        raise ArmkitError(f"method must be 'pinv' or 'dls', got {method!r}")
+        raise ArgumentError(f"method must be 'pinv' or 'dls', got {method!r}")
     Js, row_scale = _scaled_task_jacobian(robot, qv, idx)
     xs = x * row_scale
     U, S, Vt = np.linalg.svd(Js)
@@ -198,7 +198,7 @@ def joint_rates(robot: Robot, q: ArrayLike, xd: ArrayLike, method: Literal["pinv
     else:
         lam2 = float(damping_schedule(sigma_min)) if damping == "auto" else float(damping) ** 2
         if lam2 < 0 or not math.isfinite(lam2):
-            raise ArmkitError(f"damping must be a non-negative number of metres or 'auto', got {damping!r}")
+            raise ArgumentError(f"damping must be a non-negative number of metres or 'auto', got {damping!r}")
         inv = S / (S ** 2 + lam2) if lam2 > 0 else np.where(S > 1e-12, 1.0 / np.where(S > 1e-12, S, 1.0), 0.0)
     with np.errstate(over="ignore", invalid="ignore"):   # checked below: overflow is an error, not a warning
         qd_s = Vt[:k].T @ (inv[:k] * (U[:, :k].T @ xs))
@@ -273,7 +273,7 @@ def resolved_rate(robot: Robot, q0: ArrayLike, path: Callable[[float], tuple[Arr
 
     qv = robot.check_q(q0, "q0").astype(float).copy()
     if duration <= 0 or dt <= 0:
-        raise ArmkitError(f"duration and dt must be positive, got {duration}, {dt}")
+        raise ArgumentError(f"duration and dt must be positive, got {duration}, {dt}")
     steps = int(round(duration / dt))
     x0, _ = path(0.0)
     k = len(np.atleast_1d(x0))

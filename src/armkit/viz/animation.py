@@ -9,7 +9,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ..analysis.workspace import skeleton_batch
-from ..errors import ArmkitError, ShapeError
+from ..errors import ArgumentError, ArmkitError, ShapeError
 from ..kinematics import fk_frames
 from ..model.robot import Robot
 from ._mpl import COLORS, angle_text
@@ -55,7 +55,7 @@ def render_animation(robot: Robot, q: ArrayLike, out_path: str | Path, targets: 
     out = Path(out_path)
     suffix = out.suffix.lower()
     if suffix not in SUFFIXES:
-        raise ArmkitError(f"animation file must end in .gif or .mp4, got {out.name!r}")
+        raise ArgumentError(f"animation file must end in .gif or .mp4, got {out.name!r}")
     Q = robot.check_q(q, "q")
     if Q.ndim != 2 or len(Q) == 0:
         raise ShapeError(f"q must have shape (frames, {robot.n}), got {Q.shape}")
@@ -66,7 +66,7 @@ def render_animation(robot: Robot, q: ArrayLike, out_path: str | Path, targets: 
         if T.shape != (F, 3):
             raise ShapeError(f"targets must have shape ({F}, 3) to match q, got {T.shape}")
     if not isinstance(fps, (int, np.integer)) or fps < 1:
-        raise ArmkitError(f"fps must be a positive integer, got {fps!r}")
+        raise ArgumentError(f"fps must be a positive integer, got {fps!r}")
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 

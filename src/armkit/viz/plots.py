@@ -158,9 +158,9 @@ def plot_maps(fk: Optional[FKMaps] = None, ik: Optional[IKMaps] = None, levels: 
     matplotlib.figure.Figure
     """
     if fk is None and ik is None:
-        from ..errors import ArmkitError
+        from ..errors import ArgumentError
 
-        raise ArmkitError("plot_maps needs fk maps, ik maps or both")
+        raise ArgumentError("plot_maps needs fk maps, ik maps or both")
     plt = pyplot()
     fk_panels: list[tuple[str, np.ndarray]] = []
     if fk is not None:

@@ -26,7 +26,7 @@ from typing import Any, Optional
 import numpy as np
 from numpy.typing import NDArray
 
-from ..errors import ArmkitError, ShapeError
+from ..errors import ArgumentError, ArmkitError, ShapeError
 from ..kinematics import fk
 from ..model.robot import Robot
 
@@ -125,7 +125,7 @@ def target_path(robot: Robot, path: str = "circle", frames: int = 200, seed: Opt
     ``x, y[, z]`` (an optional header row), one row per frame.
     """
     if not isinstance(frames, (int, np.integer)) or frames < 2:
-        raise ArmkitError(f"frames must be an integer >= 2, got {frames!r}")
+        raise ArgumentError(f"frames must be an integer >= 2, got {frames!r}")
     if path not in PATHS:
         return _read_csv(robot, Path(path))
     c, r_in, r_out, planar, e1, e2 = _frame_of_motion(robot)
@@ -161,7 +161,7 @@ MAX_CSV_BYTES = 8 * 1024 ** 2   # a target path file: about 200,000 rows
 
 def _read_csv(robot: Robot, file: Path) -> Array:
     if not file.is_file():
-        raise ArmkitError(f"path must be one of {', '.join(PATHS)} or a CSV file; {str(file)!r} is neither")
+        raise ArgumentError(f"path must be one of {', '.join(PATHS)} or a CSV file; {str(file)!r} is neither")
     if file.stat().st_size > MAX_CSV_BYTES:
         raise ArmkitError(f"{file}: {file.stat().st_size:,} bytes; a target CSV may have at most {MAX_CSV_BYTES:,} "
                           f"bytes (about {MAX_CSV_BYTES // 40:,} rows)")
@@ -215,7 +215,7 @@ def track(robot: Robot, path: str = "random", method: str = "ccd", frames: int =
     from .. import ik, ik_all  # type: ignore[attr-defined]
 
     if method not in TRACK_METHODS:
-        raise ArmkitError(f"method must be one of {', '.join(TRACK_METHODS)}, got {method!r}")
+        raise ArgumentError(f"method must be one of {', '.join(TRACK_METHODS)}, got {method!r}")
     targets = target_path(robot, path, frames, seed)
     F = len(targets)
     tol_p = float(tol) if tol is not None else 1e-6 * (robot.reach or 1.0)
