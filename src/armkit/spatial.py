@@ -35,8 +35,8 @@ def _angles(theta: ArrayLike) -> Array:
     return np.asarray(theta, dtype=float)
 
 
-def _elementary(theta: ArrayLike, i: int, j: int) -> Array:
-    t = _angles(theta)
+def _elementary(theta: ArrayLike, i: int, j: int, degrees: bool = False) -> Array:
+    t = np.radians(_angles(theta)) if degrees else _angles(theta)
     c, s = np.cos(t), np.sin(t)
     T = np.zeros(t.shape + (4, 4))
     T[...] = np.eye(4)
@@ -47,12 +47,14 @@ def _elementary(theta: ArrayLike, i: int, j: int) -> Array:
     return T
 
 
-def rotx(theta: ArrayLike) -> Array:
+def rotx(theta: ArrayLike, degrees: bool = False) -> Array:
     """Pose of a pure rotation by ``theta`` (rad) about x: the homogeneous-transform seminar's A(x, t).
 
     Parameters
     ----------
     theta : array_like, shape (...)
+    degrees : bool, optional
+        ``theta`` is in degrees (default radians), as in :func:`rpy_to_rotation`.
 
     Returns
     -------
@@ -64,18 +66,20 @@ def rotx(theta: ArrayLike) -> Array:
     array([[ 1.,  0.,  0.],
            [ 0.,  0., -1.],
            [ 0.,  1.,  0.]])
+    >>> bool(np.allclose(rotx(30, degrees=True), rotx(np.pi / 6)))
+    True
     """
-    return _elementary(theta, 1, 2)
+    return _elementary(theta, 1, 2, degrees)
 
 
-def roty(theta: ArrayLike) -> Array:
-    """Pose of a pure rotation by ``theta`` (rad) about y, shape ``(..., 4, 4)``."""
-    return _elementary(theta, 2, 0)
+def roty(theta: ArrayLike, degrees: bool = False) -> Array:
+    """Pose of a pure rotation by ``theta`` (rad, or deg with ``degrees=True``) about y, shape ``(..., 4, 4)``."""
+    return _elementary(theta, 2, 0, degrees)
 
 
-def rotz(theta: ArrayLike) -> Array:
-    """Pose of a pure rotation by ``theta`` (rad) about z, shape ``(..., 4, 4)``."""
-    return _elementary(theta, 0, 1)
+def rotz(theta: ArrayLike, degrees: bool = False) -> Array:
+    """Pose of a pure rotation by ``theta`` (rad, or deg with ``degrees=True``) about z, shape ``(..., 4, 4)``."""
+    return _elementary(theta, 0, 1, degrees)
 
 
 def transl(x: ArrayLike, y: ArrayLike | None = None, z: ArrayLike | None = None) -> Array:

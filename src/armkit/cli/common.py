@@ -112,15 +112,40 @@ def parse_q(robot: Robot, values: Sequence[str], deg: bool, strict: bool = False
     if q.shape != (robot.n,):
         fail(f"robot {robot.name!r} has {robot.n} joints ({name_list(robot.joint_names)}); "
              f"got {len(q)} value(s)")
+    typed = q
     if deg:
         q = np.where(robot.prismatic, q, np.radians(q))
     bad = robot.limit_violations(q)
+    hint = "" if deg else _deg_hint(robot, typed)
     if bad:
         msg = "joint limit: " + name_list(bad, limit=6, sep="; ")
         if strict:
-            raise JointLimitError(msg)
-        warn(msg + " (computing anyway; --strict makes this an error)")
+            raise JointLimitError(msg + hint)
+        warn(msg + " (computing anyway; --strict makes this an error)" + hint)
+    elif hint:
+        warn("joint values in radians" + hint)
     return q
+
+
+def _deg_hint(robot: Robot, typed: np.ndarray) -> str:
+    """``"; did you mean --deg? ..."`` when radian values look like degrees, else ``""``.
+
+    They look like degrees when every non-zero revolute value is beyond a full turn (|q| > 2 pi), or
+    when the values break a joint limit in radians but are inside every limit read as degrees.
+    """
+    rev = ~np.asarray(robot.prismatic, dtype=bool)
+    values = typed[rev]
+    if not rev.any() or not np.any(values):
+        return ""
+    as_deg = np.where(robot.prismatic, typed, np.radians(typed))
+    beyond_turn = bool(np.all(np.abs(values[values != 0]) > 2 * math.pi))
+    fits_as_deg = bool(robot.limit_violations(typed)) and not robot.limit_violations(as_deg)
+    if not (beyond_turn or fits_as_deg):
+        return ""
+    if fits_as_deg:
+        shown = " ".join(f"{v:g}" for v in typed)
+        return f"; did you mean --deg? ({shown} read as degrees are inside the limits)"
+    return "; did you mean --deg? (every angle is beyond a full turn, 2 pi rad)"
 
 
 def q_display(robot: Robot, q: np.ndarray, deg: bool = True) -> list[str]:

@@ -292,7 +292,8 @@ def traj(robot: str = typer.Argument(..., help=ROBOT_HELP),
          steps: int = typer.Option(100, "--steps", help="Samples along a Cartesian path."),
          method: str = typer.Option("ik", "--method", help="Cartesian paths: 'ik' or 'rate' (resolved rate)."),
          dt: float = typer.Option(0.02, "--dt", help="Sample time for joint-space profiles (s)."),
-         out: Optional[Path] = typer.Option(None, "-o", "--out", help="Write .png (plots), .gif/.mp4 (animation) or .csv."),
+         out: Optional[Path] = typer.Option(None, "-o", "--output", "--out",
+                                          help="Write .png (plots), .gif/.mp4 (animation) or .csv."),
          scene_file: Optional[str] = typer.Option(
              None, "--scene", help="Scene file (docs/scene.md): samples where the arm collides with it, its body or "
                                    "itself are counted. Default: the robot's own surroundings, if any."),
@@ -310,7 +311,7 @@ def traj(robot: str = typer.Argument(..., help=ROBOT_HELP),
 
     r = get_robot(robot)
     if out is not None:
-        output_path(out, (".png", ".pdf", ".svg", ".gif", ".mp4", ".csv"), "-o")
+        output_path(out, (".png", ".pdf", ".svg", ".gif", ".mp4", ".csv"), "--output")
     modes = sum([joint, line, arc is not None])
     if modes != 1:
         fail("choose exactly one of --joint, --line and --arc")

@@ -50,8 +50,9 @@ class IKResult:
     within_limits : ndarray of bool, shape (...)
     reason : ndarray of str, shape (...)
         One of :data:`REASONS`.
-    message : ndarray of str, shape (...)
-        A sentence for people: why it failed, and by how much.
+    message : str, or ndarray of str with shape (...) for a batch
+        A sentence for people: why it failed, and by how much. A plain ``str`` for a
+        single target (``shape == ()``).
     trace : ndarray or None
         Per-iteration error norms when the solver was asked for a trace.
     """
@@ -64,12 +65,11 @@ class IKResult:
     branch: NDArray[np.str_]
     within_limits: NDArray[np.bool_]
     reason: NDArray[np.str_]
-    message: NDArray[np.str_] = field(default=None)  # type: ignore[assignment, arg-type]
+    message: Any = field(default=None)   # str for a single target, ndarray of str for a batch
     trace: Optional[NDArray[np.float64]] = None
 
     def __post_init__(self) -> None:
-        if self.message is None:
-            object.__setattr__(self, "message", np.full(np.shape(self.success), "", dtype=object))
+        object.__setattr__(self, "message", _message(self.message, np.shape(self.success)))
 
     @classmethod
     def _of(cls, q: Any, success: Any, position_error: Any, rotation_error: Any, iterations: Any, branch: Any,
@@ -79,7 +79,7 @@ class IKResult:
         self = object.__new__(cls)
         self.__dict__.update(q=q, success=success, position_error=position_error, rotation_error=rotation_error,
                              iterations=iterations, branch=branch, within_limits=within_limits, reason=reason,
-                             message=message, trace=trace)
+                             message=_message(message, np.shape(success)), trace=trace)
         return self
 
     @property
@@ -95,6 +95,15 @@ class IKResult:
         return IKResult(pick(self.q), pick(self.success), pick(self.position_error), pick(self.rotation_error),
                         pick(self.iterations), pick(self.branch), pick(self.within_limits), pick(self.reason),
                         pick(self.message), trace)
+
+
+def _message(message: Any, shape: tuple[int, ...]) -> Any:
+    """``message`` as a ``str`` for a single result, an array of str for a batch ("" where none was given)."""
+    if message is None:
+        return "" if shape == () else np.full(shape, "", dtype=object)
+    if np.ndim(message) == 0:
+        return str(np.asarray(message, dtype=object).item())
+    return message
 
 
 def verify(robot: Robot, q: NDArray[np.float64], target: NDArray[np.float64], position_only: bool,
