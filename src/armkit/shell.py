@@ -57,8 +57,8 @@ __all__ = ["Shell", "ShellOutput", "parse_numbers", "ParseError"]   # ParseError
 
 _NUMBER = r"[+-]?(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][+-]?\d+)?"
 _NUMBER_RE = re.compile(rf"^{_NUMBER}$")
-_ASSIGN_RE = re.compile(rf"^([A-Za-z_][A-Za-z_0-9\-]*)\s*=\s*({_NUMBER})\s*(deg|degrees?|°|rad|radians?|mm|cm|m)?$",
-                        re.IGNORECASE)
+_ASSIGN_RE = re.compile(r"^([A-Za-z_][A-Za-z_0-9\-]*)\s*=\s*(\S.*?)\s*(deg|degrees?|°|rad|radians?|mm|cm|m)?$",
+                        re.IGNORECASE | re.DOTALL)   # the value: a number or simple arithmetic (armkit._arith)
 _INDEXED_RE = re.compile(r"^(?:theta|q|j|joint)(\d+)$", re.IGNORECASE)
 _WORD_RE = re.compile(r"^([A-Za-z?]+)(?:\s+(.*))?$", re.DOTALL)
 _BRACKET_RE = re.compile(r"^[\[(](.*)[\])]$", re.DOTALL)
@@ -86,12 +86,21 @@ class ShellOutput:
 
 
 def parse_numbers(words: Iterable[str], lang: str = "en") -> list[float]:
-    """Strictly parse number words (no expressions, no ``nan``/``inf``); raise :class:`ParseError`."""
+    """Strictly parse number words, or simple arithmetic such as ``90/2`` (:mod:`armkit._arith`: numbers, pi,
+    ``+ - * /``, parentheses; never ``eval``); no ``nan``/``inf``. Raise :class:`ParseError`."""
+    from ._arith import evaluate, looks_arithmetic
+
     out = []
     for w in words:
-        if not _NUMBER_RE.match(w):
+        if _NUMBER_RE.match(w):
+            x = float(w)
+        elif looks_arithmetic(w):
+            try:
+                x = evaluate(w)
+            except ValueError:
+                raise ParseError(message("not_number", lang, word=_clip(w))) from None
+        else:
             raise ParseError(message("not_number", lang, word=_clip(w)))
-        x = float(w)
         if not math.isfinite(x):
             raise ParseError(message("not_finite", lang, word=_clip(w)))
         out.append(x)
@@ -282,8 +291,7 @@ class Shell:
                 return word, None
         words = _split(s)
         if words and all(_NUMBER_RE.match(w) for w in words):
-            nums = " ".join(words)
-            raise ParseError(self._t("ambiguous", nums=nums))
+            return "goto", parse_numbers(words, self.lang)   # bare "100 50 80": a target, as in the club's IK program
         raise ParseError(self._t("unknown", text=s if len(s) <= 60 else s[:57] + "..."))
 
     # ------------------------------------------------------------------ execute
@@ -627,10 +635,9 @@ class Shell:
         e.add_column("")
         for h in ("x / roll", "y / pitch", "z / yaw"):
             e.add_column(h, justify="right")
-        e.add_row(f"{self._t('end_point')} ({r.unit})", *(f"{v:.4f}" for v in p))
+        e.add_row(f"{self._t('end_point')} ({r.unit})", *(f"{v:.6f}" for v in p))   # the one end-point line
         e.add_row(f"{self._t('orientation')} ({self.units})", *(f"{v:.4f}" for v in rpy))
         emit(e)
-        emit(f"end point: ({p[0]:.6f}, {p[1]:.6f}, {p[2]:.6f}) {r.unit}")
 
     def _draw(self, emit: Any) -> Optional[Path]:
         """Redraw the arm: update the window or write the next PNG. Returns the PNG path."""

@@ -15,7 +15,7 @@ from rich.console import Console
 import armkit
 from armkit.shell import EXIT_WORDS, Shell
 
-END = re.compile(r"end point: \(([-\d.e+]+), ([-\d.e+]+), ([-\d.e+]+)\)")
+END = re.compile(r"(?:end point|끝점) \([^)]*\)\s*│\s*([-\d.e+]+)\s*│\s*([-\d.e+]+)\s*│\s*([-\d.e+]+)")
 
 
 def make(name="fighter", lang="en", **kw):
@@ -68,14 +68,15 @@ def test_mistakes_get_one_line_and_change_nothing():
     sh = make()
     sh.execute("q 10 20 30")
     q = sh.q.copy()
-    for line in ("theta4 = 3", "yaw = 400", "q 1 2", "100 50 80", "__import__('os').system('echo hi')",
+    for line in ("theta4 = 3", "yaw = 400", "q 1 2", "1000 50 80", "__import__('os').system('echo hi')",
                  "theta1 = 1e999", "goto 1 2", "branch nowhere", "units furlongs", "q nan 1 2",
                  "theta1 = 30; theta9 = 1", "exit; q 1 2 3"):
         out = sh.execute(line)
         assert out.status == "error", line
         assert len(out.text.strip().splitlines()) == 1, (line, out.text)
         np.testing.assert_array_equal(sh.q, q)
-    assert "ambiguous" in sh.execute("100 50 80").text
+    assert sh.execute("theta2 = 90/0").status == "error" and sh.execute("theta2 = 2**9").status == "error"
+    np.testing.assert_array_equal(sh.q, q)
     assert sh.execute("").status == "empty" and sh.execute("   # comment").status == "empty"
 
 
