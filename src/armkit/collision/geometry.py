@@ -186,10 +186,8 @@ def _build(robot: Robot) -> ArmGeometry:
 
 
 def arm_geometry(robot: Robot) -> ArmGeometry:
-    """The :class:`ArmGeometry` of ``robot`` (built once, kept on the immutable robot)."""
-    try:
-        return robot.__dict__["_arm_geometry"]  # type: ignore[no-any-return]
-    except KeyError:
-        geo = _build(robot)
-        object.__setattr__(robot, "_arm_geometry", geo)
-        return geo
+    """The :class:`ArmGeometry` of ``robot`` (built once, kept in the immutable robot's cache)."""
+    geo = robot.cache.get("arm_geometry")
+    if geo is None:
+        geo = robot.cache["arm_geometry"] = _build(robot)
+    return geo  # type: ignore[no-any-return]

@@ -139,11 +139,9 @@ def _normalise_target(robot: Robot, target: ArrayLike, phi: ArrayLike | None
 
 def _normalise_q0(robot: Robot, q0: ArrayLike | None, lead: tuple[int, ...]) -> Array:
     if q0 is None:
-        try:   # a Robot is immutable: its clipped zero vector is kept on it
-            base = robot.__dict__["_ik_q0"]
-        except KeyError:
-            base = np.clip(np.zeros(robot.n), robot.lower, robot.upper)
-            object.__setattr__(robot, "_ik_q0", base)
+        base = robot.cache.get("ik_q0")   # a Robot is immutable: its clipped zero vector is kept in its cache
+        if base is None:
+            base = robot.cache["ik_q0"] = np.clip(np.zeros(robot.n), robot.lower, robot.upper)
         if not lead:
             return base[None].copy()
         return np.broadcast_to(base, (math.prod(lead), robot.n)).copy()

@@ -85,8 +85,8 @@ _W_POSITION.setflags(write=False)
 
 
 def _constants(robot: Robot) -> dict:
-    """Per-robot arrays the solvers need on every call (computed once, kept on the immutable robot)."""
-    c = getattr(robot, "_lm_constants", None)
+    """Per-robot arrays the solvers need on every call (computed once, kept in the robot's cache)."""
+    c = robot.cache.get("lm_constants")
     if c is None:
         rev = ~robot.prismatic
         reach = robot.reach
@@ -103,7 +103,7 @@ def _constants(robot: Robot) -> dict:
         c["origin xyz"] = tuple(c["origin"].tolist())
         for key in ("limits", "free"):  # lower, upper, random-start low and high as one (4, n) array
             c["packed " + key] = np.ascontiguousarray(np.stack(c[key]))
-        object.__setattr__(robot, "_lm_constants", c)
+        robot.cache["lm_constants"] = c
     return c
 
 

@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field, replace
-from typing import Literal, Sequence
+from typing import Any, Literal, Sequence
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -286,6 +286,24 @@ def _pose(value: ArrayLike | None, what: str) -> Array:
     return T
 
 
+def _array_value(a: ArrayLike | None) -> tuple[Any, ...] | None:
+    """An array as (shape, values): equal exactly when the arrays are (``-0.0 == 0.0``), hashable."""
+    if a is None:
+        return None
+    arr = np.asarray(a)
+    return (arr.shape, tuple(arr.ravel().tolist()))
+
+
+def _shape_value(s: Shape) -> tuple[Any, ...]:
+    return (s.kind, _array_value(s.origin), tuple(s.size), s.mesh_path, s.mesh_uri, tuple(s.scale),
+            None if s.rgba is None else tuple(s.rgba))
+
+
+def _link_value(lk: Link) -> tuple[Any, ...]:
+    return (lk.name, lk.frame, _array_value(lk.offset), lk.parent, lk.joint, _array_value(lk.joint_origin),
+            tuple(_shape_value(s) for s in lk.visuals), tuple(_shape_value(s) for s in lk.collisions))
+
+
 @dataclass(frozen=True, eq=False)
 class Robot:
     """An immutable serial arm described by a DH table.
@@ -304,10 +322,30 @@ class Robot:
     base, tool : array_like, shape (4, 4), optional
         ``T_world_base`` and ``T_lastlink_tool``; identity by default.
 
+    Attributes
+    ----------
+    cache : dict
+        The one per-robot cache: data *derived* from the fields above and kept so that it is
+        computed once per robot (the closed-form solver, the LM constants, the DH twins,
+        collision geometry, ...). Keys are short names chosen by the module that fills them
+        (``"closed_form"``, ``"lm_constants"``, ...). It is never stale because a Robot is
+        immutable; clearing it only costs recomputation. It takes no part in equality,
+        hashing or ``repr``. Nothing but derived data belongs in it.
+
+    Notes
+    -----
+    Two robots are equal (and hash equal) when their values are: joints, convention, name,
+    unit, base and tool (exactly, element by element), description, source, link names,
+    links (name, frame, offset, parent, joint, joint origin and shapes) and ignored joints.
+    The ``collision`` attribute that a robot file's ``[collision]`` table attaches (see
+    :mod:`armkit.collision.robot_file`) is not part of the value.
+
     Examples
     --------
     >>> import math
     >>> arm = Robot([Joint(a=1.0), Joint(a=0.5)], name="two-link")
+    >>> arm == Robot([Joint(a=1.0), Joint(a=0.5)], name="two-link")
+    True
     >>> arm.n, arm.joint_names
     (2, ('q1', 'q2'))
     >>> Robot([], name="empty")
@@ -328,6 +366,7 @@ class Robot:
     links: tuple[Link, ...] = ()
     ignored_joints: tuple[str, ...] = ()
     chain: Chain = field(init=False, repr=False, compare=False)
+    cache: dict[str, Any] = field(init=False, repr=False, compare=False)
 
     def __init__(self, joints: Sequence[Joint], convention: str = "standard", name: str = "robot",
                  unit: str = "m", base: ArrayLike | None = None, tool: ArrayLike | None = None,
@@ -365,6 +404,7 @@ class Robot:
             raise RobotDefinitionError(
                 f"link_names needs {len(joints) + 1} names (base link + one per joint), got {len(link_names)}")
         set_ = object.__setattr__
+        set_(self, "cache", {})
         set_(self, "joints", joints)
         set_(self, "convention", convention)
         set_(self, "name", name)
@@ -387,7 +427,7 @@ class Robot:
         if len(link_index) != len(links):
             raise RobotDefinitionError(f"link names must be unique, got {[lk.name for lk in links]}")
         set_(self, "links", links)
-        set_(self, "_link_index", link_index)
+        self.cache["link_index"] = link_index
         set_(self, "ignored_joints", tuple(ignored_joints))
         for attr, vals in (("_lower", [j.lower for j in joints]), ("_upper", [j.upper for j in joints])):
             arr = np.array(vals, dtype=float)
@@ -510,17 +550,21 @@ class Robot:
             raise RobotDefinitionError(f"convention must be 'standard' or 'modified', got {convention!r}")
         if convention == self.convention:
             return self
-        cache = self.__dict__.setdefault("_dh_twins", {})
-        if convention not in cache:
+        key = "dh twin " + convention
+        twin = self.cache.get(key)
+        if twin is None:
             from .dh_extract import chain_to_dh
 
-            cache[convention] = chain_to_dh(self, convention)
-        return cache[convention]  # type: ignore[no-any-return]
+            twin = self.cache[key] = chain_to_dh(self, convention)
+        return twin  # type: ignore[no-any-return]
 
     def link_index(self, name: str) -> int:
         """Index of link ``name`` in :attr:`links`; the error lists the link names."""
+        index = self.cache.get("link_index")
+        if index is None:
+            index = self.cache["link_index"] = {lk.name: i for i, lk in enumerate(self.links)}
         try:
-            return self._link_index[name]  # type: ignore[attr-defined, no-any-return]
+            return index[name]  # type: ignore[no-any-return]
         except KeyError:
             names = [lk.name for lk in self.links]
             shown = ", ".join(names[:40]) + (f", ... ({len(names)} links)" if len(names) > 40 else "")
@@ -571,6 +615,36 @@ class Robot:
         links = tuple(lk if lk.frame < self.n else replace(lk, offset=shift @ lk.offset) for lk in self.links)
         return Robot(self.joints, self.convention, self.name, self.unit, self.base, new_tool,
                      self.description, self.source, self.link_names, links, self.ignored_joints)
+
+    # ------------------------------------------------------------- value semantics
+    def _value(self) -> tuple[Any, ...]:
+        """Everything that makes this robot what it is, as nested tuples of plain values (kept in the cache)."""
+        key = self.cache.get("value")
+        if key is None:
+            key = self.cache["value"] = (
+                self.joints, self.convention, self.name, self.unit, _array_value(self.base),
+                _array_value(self.tool), self.description, self.source, self.link_names,
+                tuple(_link_value(lk) for lk in self.links), self.ignored_joints)
+        return key  # type: ignore[no-any-return]
+
+    def __eq__(self, other: object) -> bool:
+        if self is other:
+            return True
+        if not isinstance(other, Robot):
+            return NotImplemented
+        return self._value() == other._value()
+
+    def __hash__(self) -> int:
+        h = self.cache.get("hash")
+        if h is None:
+            h = self.cache["hash"] = hash(self._value())
+        return h  # type: ignore[no-any-return]
+
+    def __getstate__(self) -> dict[str, Any]:
+        # the memoised hash depends on this process's string hashing: another process recomputes it
+        state = dict(self.__dict__)
+        state["cache"] = {k: v for k, v in self.cache.items() if k != "hash"}
+        return state
 
     def __repr__(self) -> str:
         kind = f"{self.convention} DH" if self.is_dh else "URDF chain"

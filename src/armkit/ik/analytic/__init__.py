@@ -66,9 +66,9 @@ def closed_form(robot: Robot) -> ClosedForm | None:
     >>> [getattr(closed_form(armkit.load(n)), "family", None) for n in ("fighter", "puma560", "ur5", "panda")]
     ['yaw-pitch-pitch', 'spherical-wrist', 'ur', None]
     """
-    # Detection costs ~40 µs; a Robot is immutable, so the answer is kept on the robot itself.
+    # Detection costs ~40 µs; a Robot is immutable, so the answer is kept in its cache.
     try:
-        return robot.__dict__["_closed_form"]  # type: ignore[no-any-return]
+        return robot.cache["closed_form"]  # type: ignore[no-any-return]
     except KeyError:
         pass
     found: ClosedForm | None = None
@@ -78,7 +78,7 @@ def closed_form(robot: Robot) -> ClosedForm | None:
             found = cls.detect(sf, robot)
             if found is not None:
                 break
-    object.__setattr__(robot, "_closed_form", found)
+    robot.cache["closed_form"] = found
     return found
 
 

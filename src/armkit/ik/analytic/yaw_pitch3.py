@@ -203,7 +203,7 @@ class YawPitch3:
 # --------------------------------------------------------------------------------- on the true model
 def _geometry(robot: Robot) -> tuple[Array, Array, Array]:
     """The true model's yaw axis ``u`` (pointing up), a point on it, and the approach axis in the tool frame."""
-    geo = robot.__dict__.get("_yaw_pitch3_geometry")
+    geo = robot.cache.get("yaw_pitch3_geometry")
     if geo is None:
         first = robot.chain.fixed[0]
         u = first[:3, 2].copy()
@@ -218,7 +218,7 @@ def _geometry(robot: Robot) -> tuple[Array, Array, Array]:
         else:
             a_tool = np.array([0.0, 0.0, 1.0])
         geo = (u, first[:3, 3].copy(), a_tool)
-        object.__setattr__(robot, "_yaw_pitch3_geometry", geo)
+        robot.cache["yaw_pitch3_geometry"] = geo
     return geo
 
 
