@@ -221,9 +221,22 @@ class Shell:
         raise ParseError(self._t("unknown_joint", name=name, names=name_list(self.robot.joint_names)))
 
     def _check_limits(self, q: np.ndarray) -> None:
-        bad = self.robot.limit_violations(q)
-        if bad:
-            raise ParseError(self._t("limit", detail=name_list(bad, limit=6, sep="; ")))
+        if not self.robot.limit_violations(q):
+            return
+        bad = []
+        for j, v in zip(self.robot.joints, q):    # the same test as Robot.limit_violations, in the shell's units
+            if v < j.lower - 1e-12 or v > j.upper + 1e-12:
+                conv = (lambda x: x) if j.is_prismatic else self._angle_out
+                bad.append(self._t("limit_item", joint=j.name, value=f"{conv(v):.6g}", lower=f"{conv(j.lower):g}",
+                                   upper=f"{conv(j.upper):g}", unit=self.robot.unit if j.is_prismatic else self.units))
+        raise ParseError(self._t("limit", detail=name_list(bad, limit=6, sep="; ")))
+
+    def _unreachable(self, message_: str, reason: str, error: float) -> str:
+        """Why a target was not reached: the solver's sentence in English; in Korean the reason and the
+        position error of the closest configuration (the solvers' sentences are English)."""
+        if self.lang == "en":
+            return message_ or reason
+        return self._t("unreachable_detail", reason=reason, error=f"{error:.4g} {self.robot.unit}", message=message_)
 
     def _check_collision(self, q: np.ndarray) -> None:
         """Refuse ``q`` when the arm would collide with the scene, its body or itself."""
@@ -517,12 +530,13 @@ class Shell:
             t.add_column(self._t("branch"))
             for name in self.robot.joint_names:
                 t.add_column(f"{esc(name)} ({self.units})", justify="right")
-            t.add_column("ok")
+            t.add_column(self._t("ok"))
             for b, name in enumerate(names):
                 qb = np.asarray(res.q)[b]
                 mark = "*" if name == self.branch else ""
                 t.add_row(esc(name + mark), *(self._fmt_joint(i, v) for i, v in enumerate(qb)),
-                          "yes" if bool(np.asarray(res.success)[b]) else esc(np.asarray(res.reason)[b]))
+                          self._t("yes") if bool(np.asarray(res.success)[b])
+                          else esc(self._t("term", term=str(np.asarray(res.reason)[b]))))
             emit(t)
             return "info"
         want = arg.strip()
@@ -556,7 +570,7 @@ class Shell:
             if k == 3 and self.robot.n >= 3:
                 return np.array(values[:2], dtype=float), self._angle_in(values[2], None, 0) if not \
                     self.robot.prismatic[0] else math.radians(values[2])
-            forms = "x y" if self.robot.n < 3 else "x y, or x y phi"
+            forms = self._t("forms_planar" if self.robot.n < 3 else "forms_planar_phi")
         else:
             if k == 3:
                 return np.array(values, dtype=float), None
@@ -565,7 +579,7 @@ class Shell:
 
                 rpy = [v if self.units == "rad" else math.radians(v) for v in values[3:]]
                 return make_pose(rpy_to_rotation(rpy), values[:3]), None
-            forms = "x y z, or x y z roll pitch yaw"
+            forms = self._t("forms_spatial")
         raise ParseError(self._t("goto_count", robot=self.robot.name, forms=forms, k=k))
 
     def _cmd_goto(self, values: list[float], emit: Any) -> str:
@@ -585,7 +599,8 @@ class Shell:
                 ok = np.asarray(res.success)
                 names = [str(b) for b in np.asarray(res.branch)]
                 if not ok.any():
-                    detail = str(np.asarray(res.message)[0]) or str(np.asarray(res.reason)[0])
+                    detail = self._unreachable(str(np.asarray(res.message)[0]), str(np.asarray(res.reason)[0]),
+                                               float(np.asarray(res.position_error)[0]))
                     emit(self._t("unreachable", detail=detail), "red")
                     return "error"
                 pick = int(np.argmax(ok))                      # sorted by distance to the current q
@@ -599,7 +614,8 @@ class Shell:
             emit(self._t("ik_error", detail=str(exc)), "red")
             return "error"
         if not bool(np.asarray(one.success)):
-            detail = str(np.asarray(one.message)) or str(np.asarray(one.reason))
+            detail = self._unreachable(str(one.message), str(np.asarray(one.reason)),
+                                       float(np.asarray(one.position_error)))
             emit(self._t("unreachable", detail=detail), "red")
             return "error"
         self.q = np.asarray(one.q, dtype=float)
