@@ -6,7 +6,7 @@ VENV   := .venv
 PY     := $(VENV)/bin/python
 PIP    := $(PY) -m pip
 
-.PHONY: demo test bench clean chromium
+.PHONY: demo test bench clean chromium locale locale-update
 
 $(VENV)/.installed: pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -14,8 +14,20 @@ $(VENV)/.installed: pyproject.toml
 	$(PIP) install --quiet -e '.[test]'
 	touch $@
 
-demo: $(VENV)/.installed
+demo: $(VENV)/.installed locale
 	$(PY) examples/00_demo.py
+
+# the command line's messages in Korean: gettext catalogues compiled by Babel (docs/ko.md)
+LOCALE_PO := $(wildcard src/armkit/locale/*/LC_MESSAGES/armkit.po)
+LOCALE_MO := $(LOCALE_PO:.po=.mo)
+locale: $(LOCALE_MO)
+src/armkit/locale/%/LC_MESSAGES/armkit.mo: src/armkit/locale/%/LC_MESSAGES/armkit.po $(VENV)/.installed
+	$(VENV)/bin/pybabel compile --use-fuzzy -d src/armkit/locale -D armkit -l $*
+# after adding or changing _("...") messages: re-extract them and merge into every .po (then translate)
+locale-update: $(VENV)/.installed
+	$(VENV)/bin/pybabel extract -F babel.cfg -k _ -k N_ --no-location --project armkit \
+		-o src/armkit/locale/armkit.pot .
+	$(VENV)/bin/pybabel update -i src/armkit/locale/armkit.pot -d src/armkit/locale -D armkit
 
 # the browser tests (tests/view) drive Debian's chromium headless through Playwright;
 # never `playwright install` (it downloads a browser). apt installs it when missing.
@@ -24,7 +36,7 @@ chromium:
 	@command -v chromium >/dev/null 2>&1 || [ -x /usr/bin/chromium ] || \
 		($(SUDO) apt-get update && $(SUDO) apt-get install -y chromium)
 
-test: $(VENV)/.installed chromium
+test: $(VENV)/.installed chromium locale
 	$(PY) -m pytest
 	$(PY) -m mypy
 

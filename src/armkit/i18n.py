@@ -20,12 +20,20 @@ message's language. Particles are attached without a space, as Korean is written
 
 from __future__ import annotations
 
+import gettext
 import os
 import re
 import string
+from functools import lru_cache
+from pathlib import Path
 from typing import Any
 
-__all__ = ["LANGUAGES", "default_language", "message", "MESSAGES", "josa", "final_consonant"]
+__all__ = ["LANGUAGES", "default_language", "message", "MESSAGES", "josa", "final_consonant", "cli_language",
+           "translate", "LOCALE_DIR"]
+
+LOCALE_DIR = Path(__file__).parent / "locale"
+"""gettext catalogues of the command line: ``ko/LC_MESSAGES/armkit.po`` (source) and ``.mo`` (built by
+``make locale``, which ``make test`` runs; see docs/ko.md)."""
 
 LANGUAGES = ("en", "ko")
 
@@ -253,6 +261,54 @@ def default_language() -> str:
         if value:
             return "ko" if value.lower().startswith("ko") else "en"
     return "en"
+
+
+def cli_language(flag: str | None = None) -> str:
+    """The command line's language: ``--lang``, else ``ARMKIT_LANG``, else the locale (:func:`default_language`).
+
+    >>> cli_language("ko"), cli_language("en")
+    ('ko', 'en')
+    """
+    for value in (flag, os.environ.get("ARMKIT_LANG")):
+        if value:
+            return "ko" if value.lower().startswith("ko") else "en"
+    return default_language()
+
+
+@lru_cache(maxsize=None)
+def _catalogue(lang: str) -> gettext.NullTranslations:
+    """The compiled catalogue of ``lang``. ``make locale`` (run by ``make test``) builds the ``.mo`` from the
+    ``.po``; when the ``.mo`` is missing or older than the ``.po`` (an install without make, a ``.po`` just
+    edited) and Babel is installed, the ``.po`` is compiled in memory instead; else English."""
+    po = LOCALE_DIR / lang / "LC_MESSAGES" / "armkit.po"
+    mo = po.with_suffix(".mo")
+    if po.is_file() and (not mo.is_file() or mo.stat().st_mtime < po.stat().st_mtime):
+        try:
+            import io
+
+            from babel.messages.mofile import write_mo
+            from babel.messages.pofile import read_po
+        except ImportError:
+            pass
+        else:
+            buf = io.BytesIO()
+            with po.open("rb") as f:
+                write_mo(buf, read_po(f))
+            buf.seek(0)
+            return gettext.GNUTranslations(buf)
+    return gettext.translation("armkit", localedir=str(LOCALE_DIR), languages=[lang], fallback=True)
+
+
+def translate(text: str, lang: str = "en", **fields: object) -> str:
+    """``text`` (an English message of the command line) from the gettext catalogue of ``lang``, formatted with
+    ``fields`` (``{x:j:을/를}`` attaches a Korean particle, see :func:`josa`). English, or a message the
+    catalogue lacks, stays as written.
+
+    >>> translate("{what}: {value!r} is not a number", "en", what="joint values", value="x")
+    "joint values: 'x' is not a number"
+    """
+    template = text if lang == "en" else _catalogue(lang).gettext(text)
+    return _Formatter(lang).format(template, **fields)
 
 
 def message(key: str, lang: str = "en", **fields: object) -> str:

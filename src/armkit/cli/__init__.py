@@ -34,10 +34,15 @@ class _ArmkitGroup(TyperGroup):
         from . import common
 
         common.CHAIN.update(base=None, tip=None)
-        rest, i = [], 0
+        common.LANG.update(lang=None)
+        words = [a for k, a in enumerate(args)
+                 if not a.startswith("-") and (k == 0 or args[k - 1] not in ("--base", "--tip", "--lang"))]
+        command = self.commands.get(words[0]) if words else None
+        own_lang = command is not None and any("--lang" in getattr(p, "opts", ()) for p in command.params)
+        rest, lang_words, i = [], [], 0
         while i < len(args):
             word = args[i]
-            key = next((k for k in ("--base", "--tip") if word == k or word.startswith(k + "=")), None)
+            key = next((k for k in ("--base", "--tip", "--lang") if word == k or word.startswith(k + "=")), None)
             if key is None or "--" in args[:i]:
                 rest.append(word)
                 i += 1
@@ -46,9 +51,19 @@ class _ArmkitGroup(TyperGroup):
                 value, i = word.split("=", 1)[1], i + 1
             elif i + 1 < len(args):
                 value, i = args[i + 1], i + 2
+            elif key == "--lang":
+                common.fail(common._("--lang needs a language: en or ko"))
             else:
-                common.fail(f"{key} needs a link name (e.g. {key} tool0)")
+                common.fail(common._("{key} needs a link name (e.g. {key} tool0)", key=key))
+            if key == "--lang":
+                if value.lower() not in ("en", "ko"):
+                    common.fail(common._("--lang must be en or ko, got {value!r}", value=value))
+                common.LANG["lang"] = value.lower()
+                lang_words = ["--lang", value]
+                continue
             common.CHAIN[key[2:]] = value
+        if own_lang and lang_words and "--" not in rest:   # commands with their own --lang (shell, view ...)
+            rest += lang_words
         return super().parse_args(ctx, rest)
 
     def invoke(self, ctx):  # type: ignore[no-untyped-def]
@@ -57,9 +72,9 @@ class _ArmkitGroup(TyperGroup):
         try:
             return super().invoke(ctx)
         except ArmkitError as exc:
-            from .common import EXIT_BAD_INPUT, say
+            from .common import EXIT_BAD_INPUT, _, say
 
-            say("error:", "bold red", exc)
+            say(_("error:"), "bold red", exc)
             raise SystemExit(EXIT_BAD_INPUT) from None
         except WriteInterrupted as exc:
             from .common import say
@@ -72,15 +87,15 @@ class _ArmkitGroup(TyperGroup):
             say("interrupted", "bold red", "")
             raise SystemExit(130) from None
         except RecursionError:
-            from .common import EXIT_BAD_INPUT, say
+            from .common import EXIT_BAD_INPUT, _, say
 
-            say("error:", "bold red", "the input is nested too deeply to process")
+            say(_("error:"), "bold red", _("the input is nested too deeply to process"))
             raise SystemExit(EXIT_BAD_INPUT) from None
         except (OverflowError, MemoryError) as exc:
-            from .common import EXIT_BAD_INPUT, say
+            from .common import EXIT_BAD_INPUT, _, say
 
-            what = "a number is too large" if isinstance(exc, OverflowError) else "not enough memory"
-            say("error:", "bold red", f"{what} ({type(exc).__name__}: {exc})")
+            what = _("a number is too large") if isinstance(exc, OverflowError) else _("not enough memory")
+            say(_("error:"), "bold red", f"{what} ({type(exc).__name__}: {exc})")
             raise SystemExit(EXIT_BAD_INPUT) from None
 
 _COMMAND_MODULES = ("core", "ik", "viz", "symbolic", "view", "reach", "warmup")

@@ -40,6 +40,22 @@ err_console = SafeConsole(stderr=True, highlight=False)
 
 EXIT_OK, EXIT_FAILED, EXIT_BAD_INPUT = 0, 1, 2
 
+LANG: dict[str, str | None] = {"lang": None}
+"""``--lang`` from the command line (taken by the command group for every command); see :func:`_`."""
+
+
+def _(text: str, **fields: object) -> str:
+    """A message of the command line in the user's language (``--lang``, ``ARMKIT_LANG``, the locale), from
+    the gettext catalogue in ``armkit/locale`` (``make locale`` builds it), formatted with ``fields``."""
+    from ..i18n import cli_language, translate
+
+    return translate(text, cli_language(LANG["lang"]), **fields)
+
+
+def N_(text: str) -> str:
+    """Mark ``text`` for the catalogue without translating it here (it is translated where it is printed)."""
+    return text
+
 # Commands that take numbers as positional arguments let "-1" through as a value, not an option.
 NUMERIC_ARGS = {"ignore_unknown_options": True, "allow_extra_args": False}
 
@@ -57,13 +73,13 @@ def say(label: str, style: str, message: object, console_: Console | None = None
 
 def fail(message: str, code: int = EXIT_BAD_INPUT) -> NoReturn:
     """Print ``message`` to stderr and exit with ``code`` (never a traceback)."""
-    say("error:", "bold red", message)
+    say(_("error:"), "bold red", message)
     raise SystemExit(code)
 
 
 def warn(message: str) -> None:
     """Print ``warning: message`` to stderr (plain text, see :func:`say`)."""
-    say("warning:", "yellow", message)
+    say(_("warning:"), "yellow", message)
 
 
 def output_path(path: str | Path, suffixes: Sequence[str], what: str = "--output") -> Path:
@@ -95,9 +111,9 @@ def parse_numbers(values: Sequence[str], what: str) -> np.ndarray:
         try:
             x = float(v)
         except ValueError:
-            fail(f"{what}: {v!r} is not a number")
+            fail(_("{what}: {value!r} is not a number", what=_(what), value=v))
         if not math.isfinite(x):
-            fail(f"{what}: {v!r} is not a finite number")
+            fail(_("{what}: {value!r} is not a finite number", what=_(what), value=v))
         out.append(x)
     return np.array(out, dtype=float)
 
@@ -108,23 +124,40 @@ def parse_q(robot: Robot, values: Sequence[str], deg: bool, strict: bool = False
     ``deg`` converts revolute joints only (prismatic joints are always lengths).
     Outside a limit: a warning, or exit 2 with ``strict``.
     """
-    q = parse_numbers(values, "joint values")
+    q = parse_numbers(values, N_("joint values"))
     if q.shape != (robot.n,):
-        fail(f"robot {robot.name!r} has {robot.n} joints ({name_list(robot.joint_names)}); "
-             f"got {len(q)} value(s)")
+        fail(_("robot {robot!r} has {n} joints ({names}); got {k} value(s)", robot=robot.name, n=robot.n,
+               names=name_list(robot.joint_names), k=len(q)))
     typed = q
     if deg:
         q = np.where(robot.prismatic, q, np.radians(q))
-    bad = robot.limit_violations(q)
+    bad = _limit_violations(robot, q)
     hint = "" if deg else _deg_hint(robot, typed)
     if bad:
-        msg = "joint limit: " + name_list(bad, limit=6, sep="; ")
+        msg = _("joint limit: {detail}", detail=name_list(bad, limit=6, sep="; "))
         if strict:
             raise JointLimitError(msg + hint)
-        warn(msg + " (computing anyway; --strict makes this an error)" + hint)
+        warn(_("{message} (computing anyway; --strict makes this an error)", message=msg) + hint)
     elif hint:
-        warn("joint values in radians" + hint)
+        warn(_("joint values in radians") + hint)
     return q
+
+
+def _limit_violations(robot: Robot, q: np.ndarray) -> list[str]:
+    """:meth:`Robot.limit_violations` in the user's language."""
+    if not robot.limit_violations(q):
+        return []
+    out = []
+    for j, v in zip(robot.joints, q):
+        if v < j.lower - 1e-12 or v > j.upper + 1e-12:
+            if j.is_prismatic:
+                out.append(_("{joint} = {value} {unit} outside [{lower}, {upper}] {unit}", joint=j.name,
+                             value=f"{v:g}", lower=f"{j.lower:g}", upper=f"{j.upper:g}", unit=robot.unit))
+            else:
+                out.append(_("{joint} = {value} {unit} outside [{lower}, {upper}] {unit}", joint=j.name,
+                             value=f"{math.degrees(v):.3f}", lower=f"{math.degrees(j.lower):.3f}",
+                             upper=f"{math.degrees(j.upper):.3f}", unit="deg"))
+    return out
 
 
 def _deg_hint(robot: Robot, typed: np.ndarray) -> str:
@@ -144,8 +177,8 @@ def _deg_hint(robot: Robot, typed: np.ndarray) -> str:
         return ""
     if fits_as_deg:
         shown = " ".join(f"{v:g}" for v in typed)
-        return f"; did you mean --deg? ({shown} read as degrees are inside the limits)"
-    return "; did you mean --deg? (every angle is beyond a full turn, 2 pi rad)"
+        return _("; did you mean --deg? ({values} read as degrees are inside the limits)", values=shown)
+    return _("; did you mean --deg? (every angle is beyond a full turn, 2 pi rad)")
 
 
 def q_display(robot: Robot, q: np.ndarray, deg: bool = True) -> list[str]:

@@ -9,7 +9,7 @@ import numpy as np
 import typer
 from rich.table import Table
 
-from .common import (EXIT_BAD_INPUT, EXIT_FAILED, NUMERIC_ARGS, console, esc, fail, get_robot, parse_numbers,
+from .common import (EXIT_BAD_INPUT, EXIT_FAILED, NUMERIC_ARGS, N_, console, esc, fail, get_robot, parse_numbers,
                      print_json, warn)
 
 from .common import ROBOT_HELP  # noqa: E402
@@ -20,7 +20,7 @@ def _target(robot, coords: List[str], rpy, quat, deg: bool, phi: Optional[float]
     """(target array, phi in rad or None, a short description) from the command-line words."""
     from ..spatial import make_pose, quaternion_to_rotation, rpy_to_rotation
 
-    p = parse_numbers(coords, "target coordinates")
+    p = parse_numbers(coords, N_("target coordinates"))
     if len(p) not in (2, 3):
         fail(f"give the target as X Y (planar arms) or X Y Z in {robot.unit}; got {len(p)} number(s)")
     if rpy is not None and quat is not None:
