@@ -4,13 +4,15 @@ A line holds one or more statements separated by ``;``::
 
     theta1 = 30; theta2 = 45; theta3 = 60     joint by number (theta1, q1, j1) or by name (yaw = 30)
     q 30 45 60                                every joint at once
-    goto 100 50 80     or    [100 50 80]      move the end point to a target (IK)
+    goto 100 50 80  or  [100 50 80]  or  100 50 80    move the end point to a target (IK)
+    theta2 = 90/2      theta1 = pi/4 rad      values may be simple arithmetic
     branch elbow-up    branch auto   branch   pick / list IK branches
     home   limits   units deg|rad   lang ko|en   show   help   exit | quit (or Ctrl-D)
 
 The grammar is a handful of regular expressions over the words of a statement; numbers
-are parsed with ``float`` after a strict pattern match. Nothing typed is ever evaluated
-as code. A line that does not parse changes nothing and gets one line of explanation.
+are parsed with ``float`` after a strict pattern match, and values that are arithmetic
+(numbers, ``pi``, ``+ - * /``, parentheses) by the small hand-written parser in
+:mod:`armkit._arith`. Nothing typed is ever evaluated as code. A line that does not parse changes nothing and gets one line of explanation.
 After each command that moves the arm, the shell prints the joint values, the end
 point (and orientation) and the IK branch, and redraws the arm: in a window when there
 is a display, else into ``out/shell/step_NNN.png``.
