@@ -44,6 +44,9 @@ solvers' own error, for both engines). Near a solution this costs nothing: a Jac
 of order :math:`\theta` times a step of order :math:`\theta` is of second order, so the
 convergence stays quadratic; far from the target the step differs from the Gauss-Newton
 step by up to that factor, which the damping and the accept/reject rule below absorb.
+The exact rows were tried (NumPy engine, 1,000 random reachable poses per arm, default
+restarts) and do not pay: mean iterations 19.3 -> 20.4 (UR5), 28.7 -> 29.0 (Panda),
+26.4 -> 27.6 (Puma 560, and one failure more), so the solvers keep the simpler rows.
 A weight vector ``w`` (the ``mask``) over ``(x, y, z, rx, ry, rz)`` selects what
 matters: position-only is ``(1, 1, 1, 0, 0, 0)``; a 5-DOF arm that cannot choose the
 rotation about its tool axis uses ``(1, 1, 1, 1, 1, 0)``. Masked position axes are world
