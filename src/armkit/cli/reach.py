@@ -59,7 +59,7 @@ def _lang(lang: Optional[str]) -> str:
 
         return default_language()
     if lang not in ("en", "ko"):
-        fail(f"--lang must be ko or en, got {lang!r}")
+        fail(f"--lang must be en or ko, got {lang!r}")
     return lang
 
 

@@ -52,7 +52,7 @@ def view(robot: str = typer.Argument(..., help=ROBOT_HELP),
     from rich.markup import escape
 
     if lang is not None and lang not in ("ko", "en"):
-        fail(f"--lang must be ko or en, got {lang!r}")
+        fail(f"--lang must be en or ko, got {lang!r}")
     check_port(port)
     check_host(host)
     r = get_robot(robot)

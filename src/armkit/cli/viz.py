@@ -104,7 +104,7 @@ def shell(robot: str = typer.Argument(..., help=ROBOT_HELP),
     from ..shell import Shell
 
     if lang is not None and lang not in ("ko", "en"):
-        fail(f"--lang must be ko or en, got {lang!r}")
+        fail(f"--lang must be en or ko, got {lang!r}")
     if units not in ("deg", "rad"):
         fail(f"--units must be deg or rad, got {units!r}")
     r = get_robot(robot)
