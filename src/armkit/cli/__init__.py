@@ -29,8 +29,8 @@ class _ArmkitGroup(TyperGroup):
     """
 
     def parse_args(self, ctx, args):  # type: ignore[no-untyped-def]
-        """Take ``--base LINK`` / ``--tip LINK`` from anywhere on the line (every command that reads a robot
-        uses them to choose a URDF chain; see ``common.get_robot``)."""
+        """Take ``--base LINK`` / ``--tip LINK`` (the chain of a URDF, see ``common.get_robot``) and ``--lang``
+        from anywhere on the line; commands (and subcommands) with their own ``--lang`` still get it."""
         from . import common
 
         common.CHAIN.update(base=None, tip=None)
@@ -38,6 +38,8 @@ class _ArmkitGroup(TyperGroup):
         words = [a for k, a in enumerate(args)
                  if not a.startswith("-") and (k == 0 or args[k - 1] not in ("--base", "--tip", "--lang"))]
         command = self.commands.get(words[0]) if words else None
+        if command is not None and hasattr(command, "commands") and len(words) > 1:   # a group: `reach build`
+            command = command.commands.get(words[1], command)  # type: ignore[attr-defined]
         own_lang = command is not None and any("--lang" in getattr(p, "opts", ()) for p in command.params)
         rest, lang_words, i = [], [], 0
         while i < len(args):
