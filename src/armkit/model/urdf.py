@@ -205,6 +205,12 @@ def _shapes(items: list, urdf_path: Path, missing: list[str], colors: dict[str, 
     return tuple(out)
 
 
+def _names(names: list[str], limit: int) -> str:
+    """``a, b, c`` for a message, at most ``limit`` names and then how many more."""
+    shown = ", ".join(names[:limit])
+    return shown + (f", ... ({len(names) - limit} more)" if len(names) > limit else "")
+
+
 def _leaf_candidates(base: str, children: dict[str, list], jtype: dict[str, str]) -> list[str]:
     """Leaves below ``base`` whose path from ``base`` passes a moving joint."""
     out = []
@@ -291,7 +297,7 @@ def load_urdf(path: str | Path, base: str | None = None, tip: str | None = None,
     if not roots:
         raise RobotFileError(spath, "no root link: the joints form a cycle", root.sourceline)
     if len(roots) > 1:
-        raise RobotFileError(spath, f"{len(roots)} root links ({', '.join(roots[:10])}); a URDF tree has exactly one "
+        raise RobotFileError(spath, f"{len(roots)} root links ({_names(roots, 10)}); a URDF tree has exactly one "
                              "(add a joint that connects them)", links_el[roots[1]].sourceline)
     reached, stack = {roots[0]}, [roots[0]]
     while stack:
@@ -301,23 +307,23 @@ def load_urdf(path: str | Path, base: str | None = None, tip: str | None = None,
                 stack.append(child)
     if len(reached) != len(links_el):
         loop = sorted(set(links_el) - reached)
-        raise RobotFileError(spath, f"the joints form a cycle through links {', '.join(loop[:10])}",
+        raise RobotFileError(spath, f"the joints form a cycle through links {_names(loop, 10)}",
                              links_el[loop[0]].sourceline)
     jtype = {j.name: j.type for j in model.joints}
 
     base = roots[0] if base is None else base
     if base not in links_el:
-        raise RobotFileError(spath, f"base link {base!r} does not exist; links: {', '.join(list(links_el)[:40])}")
+        raise RobotFileError(spath, f"base link {base!r} does not exist; links: {_names(list(links_el), 40)}")
     if tip is None:
         cands = _leaf_candidates(base, children, jtype)
         if not cands:
             raise RobotFileError(spath, f"no moving joint below link {base!r}: the chain would be empty")
         if len(cands) > 1:
-            raise RobotFileError(spath, f"the tree has {len(cands)} possible tip links: {', '.join(cands[:20])}; "
+            raise RobotFileError(spath, f"the tree has {len(cands)} possible tip links: {_names(cands, 20)}; "
                                  "choose one with tip=... (CLI: --tip)")
         tip = cands[0]
     if tip not in links_el:
-        raise RobotFileError(spath, f"tip link {tip!r} does not exist; links: {', '.join(list(links_el)[:40])}")
+        raise RobotFileError(spath, f"tip link {tip!r} does not exist; links: {_names(list(links_el), 40)}")
     path_joints: list[str] = []
     link = tip
     while link != base:
