@@ -344,9 +344,13 @@ def load_urdf(path: str | Path, base: str | None = None, tip: str | None = None,
     if not any(jtype[jn] in _MOVING for jn in path_joints):
         raise RobotFileError(spath, f"the chain {base} -> {tip} has no moving joint")
 
-    missing: list[str] = []
-    link_geo = {lk.name: (_shapes(lk.visuals, p, missing, colors), _shapes(lk.collisions, p, missing, colors))
-                for lk in model.links}
+    missing: list[str] = []   # mesh files not found, among the links kept (the chain and what hangs off it)
+    by_name = {lk.name: lk for lk in model.links}
+
+    def geometry(name: str) -> tuple[tuple[Shape, ...], tuple[Shape, ...]]:
+        lk = by_name[name]
+        return _shapes(lk.visuals, p, missing, colors), _shapes(lk.collisions, p, missing, colors)
+
     joints: list[Joint] = []
     link_names = [base]
     placed: list[tuple[str, int, Array, str | None, str | None, Array | None]] = [(base, 0, np.eye(4), None, None, None)]
@@ -384,7 +388,7 @@ def load_urdf(path: str | Path, base: str | None = None, tip: str | None = None,
     n = len(joints)
     tool_inv = np.array(np.linalg.inv(tool), dtype=np.float64)
     on_path = {nm for nm, *_ in placed}
-    links = [Link(nm, k, tool_inv @ off if k == n else off, par, jn, org, *link_geo[nm])
+    links = [Link(nm, k, tool_inv @ off if k == n else off, par, jn, org, *geometry(nm))
              for nm, k, off, par, jn, org in placed]
     # links hanging off the chain (a gripper's jaw): fixed where they are at q = 0, for the pictures
     index = {nm: (k, off) for nm, k, off, *_ in placed}
@@ -401,7 +405,7 @@ def load_urdf(path: str | Path, base: str | None = None, tip: str | None = None,
             off_child = off @ origin
             index[child] = (k, off_child)
             links.append(Link(child, k, tool_inv @ off_child if k == n else off_child, parent, jn, origin,
-                              *link_geo[child]))
+                              *geometry(child)))
             stack.append(child)
     if missing and warn_missing_meshes:
         warnings.warn(f"{spath}: {len(missing)} mesh file(s) not found (first: {missing[0]}); kinematics are not "
