@@ -30,7 +30,7 @@ import armkit  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "tests" / "core"))
-from test_urdf import REAL, urdf_text  # noqa: E402
+from test_urdf import REAL, load_real, urdf_text  # noqa: E402
 
 
 def _chain(n: int) -> str:
@@ -108,12 +108,8 @@ def main() -> None:
     from test_urdf_pinocchio import _compare  # noqa: E402 (tests/peers)
 
     print("\nagainst Pinocchio (1,000 random q each): max |FK diff|, max |Jacobian diff|")
-    for name, (path, base, tip) in list(REAL.items()) + [
-            ("so101", (Path(armkit.model.files.BUNDLED_DIR) / "so101.urdf", "base_link", "gripper_frame_link"))]:
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            r = armkit.load(path, base=base, tip=tip)
-        tip = tip or [lk.name for lk in r.links if lk.joint not in r.ignored_joints][-1]
+    for name in REAL:
+        path, r, _, tip = load_real(name)
         fk_err, jac_err = _compare(path, r, tip, 1000, seed=3)
         print(f"  {name:6} {fk_err:.2e} {jac_err:.2e}")
 

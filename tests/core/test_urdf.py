@@ -26,6 +26,7 @@ from armkit.model.robot import Joint, Robot
 from armkit.spatial import rpy_to_rotation
 
 yourdfpy = pytest.importorskip("yourdfpy")
+from test_kinematics import _fd_jacobian as numeric_jacobian  # noqa: E402  (central differences of FK)
 
 ERD = Path(sys.prefix) / "lib" / f"python{sys.version_info[0]}.{sys.version_info[1]}" / "site-packages" / \
     "cmeel.prefix" / "share" / "example-robot-data" / "robots"
@@ -33,6 +34,7 @@ REAL = {   # name: (file, base, tip) from the example-robot-data wheel (a test e
     "ur5": (ERD / "ur_description/urdf/ur5_robot.urdf", None, "tool0"),
     "panda": (ERD / "panda_description/urdf/panda.urdf", None, "panda_hand_tcp"),
     "z1": (ERD / "z1_description/urdf/z1.urdf", None, None),
+    "so101": (Path(armkit.model.files.BUNDLED_DIR) / "so101.urdf", "base_link", "gripper_frame_link"),
 }
 
 
@@ -50,17 +52,15 @@ def yourdfpy_fk(path, robot: Robot, q: np.ndarray, base: str, tip: str) -> np.nd
     return out
 
 
-def numeric_jacobian(robot: Robot, q: np.ndarray, h: float = 1e-6) -> np.ndarray:
-    """Central differences of FK: linear rows from the position, angular rows from R' R^T."""
-    J = np.zeros((6, robot.n))
-    for i in range(robot.n):
-        dq = np.zeros(robot.n)
-        dq[i] = h
-        Tp, Tm = armkit.fk(robot, q + dq), armkit.fk(robot, q - dq)
-        J[:3, i] = (Tp[:3, 3] - Tm[:3, 3]) / (2 * h)
-        W = (Tp[:3, :3] - Tm[:3, :3]) / (2 * h) @ armkit.fk(robot, q)[:3, :3].T
-        J[3:, i] = (W[2, 1], W[0, 2], W[1, 0])
-    return J
+def load_real(name: str) -> tuple[Path, Robot, str, str]:
+    """A real URDF arm of :data:`REAL`: its file, the robot, and the base and tip links (skips when absent)."""
+    path, base, tip = REAL[name]
+    if not path.is_file():
+        pytest.skip("example-robot-data is not installed (test extra)")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")     # meshes are not needed for kinematics
+        r = armkit.load(path, base=base, tip=tip)
+    return path, r, base or r.links[0].name, tip or [lk.name for lk in r.links if lk.joint not in r.ignored_joints][-1]
 
 
 def urdf_text(joints: list[dict], name: str = "random_arm") -> str:
@@ -169,19 +169,9 @@ def test_hand_derived_chain_with_x_axis_and_fixed_joint_in_the_middle(tmp_path):
 
 
 # ------------------------------------------------------------------ real files
-@pytest.mark.parametrize("name", sorted(REAL) + ["so101"])
+@pytest.mark.parametrize("name", sorted(REAL))
 def test_real_urdf_fk_and_jacobian_match_yourdfpy(name):
-    if name == "so101":
-        path, base, tip = Path(armkit.model.files.BUNDLED_DIR) / "so101.urdf", "base_link", "gripper_frame_link"
-    else:
-        path, base, tip = REAL[name]
-        if not path.is_file():
-            pytest.skip("example-robot-data is not installed (test extra)")
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")     # meshes are not needed for kinematics
-        r = armkit.load(path, base=base, tip=tip)
-    base = base or r.links[0].name
-    tip = tip or [lk.name for lk in r.links if lk.joint not in r.ignored_joints][-1]
+    path, r, base, tip = load_real(name)
     q = r.random_q(1000, rng=7)
     assert np.abs(armkit.fk(r, q) - yourdfpy_fk(path, r, q, base, tip)).max() <= 1e-12
     J = armkit.jacobian(r, q[:20])
@@ -192,12 +182,7 @@ def test_real_urdf_fk_and_jacobian_match_yourdfpy(name):
 
 
 def test_ur5_from_its_description_gives_all_eight_branches():
-    path, base, tip = REAL["ur5"]
-    if not path.is_file():
-        pytest.skip("example-robot-data is not installed (test extra)")
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        r = armkit.load(path, tip=tip)
+    _, r, _, _ = load_real("ur5")
     assert closed_form_family(r) == "ur"
     q = r.random_q(300, rng=3)
     T = armkit.fk(r, q)

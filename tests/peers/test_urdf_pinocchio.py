@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import math
 import sys
-import warnings
 from pathlib import Path
 
 import numpy as np
@@ -22,7 +21,7 @@ import armkit
 pin = pytest.importorskip("pinocchio")
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "core"))
-from test_urdf import ERD, REAL, chain_strategy, urdf_text  # noqa: E402
+from test_urdf import ERD, REAL, chain_strategy, load_real, urdf_text  # noqa: E402
 
 
 def _pin_q(model, robot: armkit.Robot, q: np.ndarray) -> np.ndarray:
@@ -55,18 +54,9 @@ def _compare(path: Path, robot: armkit.Robot, tip: str, count: int, seed: int) -
     return fk_err, jac_err
 
 
-@pytest.mark.parametrize("name", sorted(REAL) + ["so101"])
+@pytest.mark.parametrize("name", sorted(REAL))
 def test_real_urdf_fk_and_jacobian_match_pinocchio(name):
-    if name == "so101":
-        path, base, tip = Path(armkit.model.files.BUNDLED_DIR) / "so101.urdf", "base_link", "gripper_frame_link"
-    else:
-        path, base, tip = REAL[name]
-        if not path.is_file():
-            pytest.skip("example-robot-data is not installed")
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        r = armkit.load(path, base=base, tip=tip)
-    tip = tip or [lk.name for lk in r.links if lk.joint not in r.ignored_joints][-1]
+    path, r, _, tip = load_real(name)
     fk_err, jac_err = _compare(path, r, tip, 1000, seed=3)
     assert fk_err <= 1e-12 and jac_err <= 1e-12, (fk_err, jac_err)
 
