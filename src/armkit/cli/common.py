@@ -104,6 +104,23 @@ def get_robot(name: str) -> Robot:
     return load(name, base=CHAIN["base"], tip=CHAIN["tip"])
 
 
+def scene_option(robot: Robot, scene_file: str | None, no_scene: bool) -> Any:
+    """The scene a command checks collisions against, from ``--scene FILE`` / ``--no-scene``.
+
+    Default: the robot's own surroundings when its file has any (the fighter's torso and
+    ground), else none. A bad scene file raises ArmkitError (exit 2 with ``file:line: field``).
+    """
+    if scene_file is not None and no_scene:
+        fail("give --scene FILE or --no-scene, not both")
+    scene: Any = None if no_scene else scene_file if scene_file is not None else (
+        "robot" if getattr(robot, "collision", None) is not None else None)
+    if scene is None:
+        return None
+    from ..collision import as_scene
+
+    return as_scene(robot, scene)
+
+
 def parse_numbers(values: Sequence[str], what: str) -> np.ndarray:
     """Turn command-line words into finite floats, or fail with a one-line message."""
     out = []

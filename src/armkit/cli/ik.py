@@ -10,7 +10,7 @@ import typer
 from rich.table import Table
 
 from .common import (EXIT_BAD_INPUT, EXIT_FAILED, NUMERIC_ARGS, N_, console, esc, fail, get_robot, parse_numbers,
-                     print_json, warn)
+                     print_json, scene_option, warn)
 
 from .common import ROBOT_HELP  # noqa: E402
 METHOD_CHOICES = ("auto", "analytic", "lm", "newton", "ccd", "fabrik")
@@ -264,14 +264,7 @@ def ik(robot: str = typer.Argument(..., help=ROBOT_HELP),
         if all_branches and not closed_ok:
             fail(f"--all needs a closed form; robot {r.name!r} has none for this target (try --method lm)")
         listing = method in ("auto", "analytic") and branch is None and closed_ok
-        if scene_file is not None and no_scene:
-            fail("give --scene FILE or --no-scene, not both")
-        scene: Any = None if no_scene else scene_file if scene_file is not None else (
-            "robot" if getattr(r, "collision", None) is not None else None)
-        if scene is not None:
-            from ..collision import as_scene
-
-            scene = as_scene(r, scene)   # a bad scene file: exit 2 with file:line: field
+        scene = scene_option(r, scene_file, no_scene)
         if seed is not None and (listing or (method in ("auto", "analytic") and closed_ok)):
             warn("--seed only matters for the numeric methods; the closed form ignores it")
         if trace and (listing or method == "analytic" or (method == "auto" and closed_ok)):

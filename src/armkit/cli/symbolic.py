@@ -9,14 +9,14 @@ import math
 import sys
 import time
 from pathlib import Path
-from typing import Any, List, Optional
+from typing import List, Optional
 
 import numpy as np
 import typer
 from rich.table import Table
 
 from .common import (EXIT_FAILED, NUMERIC_ARGS, console, esc, fail, name_list, output_path, get_robot, parse_numbers, parse_q, print_json,
-                     q_display, warn)
+                     q_display, scene_option, warn)
 
 from .common import ROBOT_HELP  # noqa: E402
 
@@ -346,15 +346,11 @@ def traj(robot: str = typer.Argument(..., help=ROBOT_HELP),
                "q_start_rad": tr.q[0], "q_end_rad": tr.q[-1], "max_abs_qd": np.abs(tr.qd).max(axis=0),
                "max_abs_qdd": np.abs(tr.qdd).max(axis=0), "within_limits": within,
                "max_deviation": None if tr.deviation is None else float(tr.deviation.max())}
-    if scene_file is not None and no_scene:
-        fail("give --scene FILE or --no-scene, not both")
-    scene: Any = None if no_scene else scene_file if scene_file is not None else (
-        "robot" if getattr(r, "collision", None) is not None else None)
+    scene = scene_option(r, scene_file, no_scene)
     hit_note = None
     if scene is not None:   # flag the samples where the arm collides (armkit.collision)
-        from ..collision import as_scene, collisions, in_collision
+        from ..collision import collisions, in_collision
 
-        scene = as_scene(r, scene)   # a bad file: ArmkitError, exit 2 with file:line: field
         hits = in_collision(r, tr.q, scene)
         summary["samples_in_collision"] = int(hits.sum())
         if hits.any():

@@ -10,7 +10,7 @@ import numpy as np
 import typer
 
 from .common import (EXIT_FAILED, NUMERIC_ARGS, console, esc, fail, get_robot, parse_numbers, parse_q, name_list, output_path,
-                     print_json, warn)
+                     print_json, scene_option, warn)
 
 from .common import ROBOT_HELP  # noqa: E402
 IMAGE_SUFFIXES = (".png", ".pdf", ".svg", ".jpg")
@@ -155,14 +155,7 @@ def workspace(robot: str = typer.Argument(..., help=ROBOT_HELP),
         lo, hi = np.minimum(v[:3], v[3:]), np.maximum(v[:3], v[3:])
         boxes.append((lo, hi))
     exclusion = Exclusion(ground_z=ground, boxes=tuple(boxes)) if ground is not None or boxes else None
-    if scene_file is not None and no_scene:
-        fail("give --scene FILE or --no-scene, not both")
-    scene: Any = None if no_scene else scene_file if scene_file is not None else (
-        "robot" if getattr(r, "collision", None) is not None else None)
-    if scene is not None:
-        from ..collision import as_scene
-
-        scene = as_scene(r, scene)   # a bad file: ArmkitError, exit 2 with file:line: field
+    scene = scene_option(r, scene_file, no_scene)
     ws = sample(r, samples=samples, seed=seed, exclusion=exclusion, manipulability=manip, scene=scene)
     data = {"robot": r.name, "unit": r.unit, "samples": ws.samples, "kept": len(ws.points), "excluded": ws.excluded,
             "centre": ws.centre, "outer_radius": ws.outer_radius, "inner_radius": ws.inner_radius,
@@ -283,14 +276,7 @@ def track(robot: str = typer.Argument(..., help=ROBOT_HELP),
     if seed < 0:
         fail(f"--seed must be a non-negative integer, got {seed}")
     out = None if no_animation or not output else _out(output, (".gif", ".mp4"), "--output")
-    if scene_file is not None and no_scene:
-        fail("give --scene FILE or --no-scene, not both")
-    scene: Any = None if no_scene else scene_file if scene_file is not None else (
-        "robot" if getattr(r, "collision", None) is not None else None)
-    if scene is not None:
-        from ..collision import as_scene
-
-        scene = as_scene(r, scene)   # a bad file: ArmkitError, exit 2 with file:line: field
+    scene = scene_option(r, scene_file, no_scene)
     res = follow(r, path=path, method=method, frames=frames, seed=seed, scene=scene)
     st = res.stats()
     if res.colliding is not None and res.colliding.any():
