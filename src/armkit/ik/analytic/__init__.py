@@ -31,7 +31,7 @@ from numpy.typing import NDArray
 
 from ...model.robot import Robot
 from ..result import IKResult, default_tolerance, verify
-from ._common import Raw, StandardForm, jit_kernels, standard_form
+from ._common import Raw, StandardForm, jit_kernels, keep_better, standard_form
 from .planar import Planar2R, Planar3R
 from .spherical_wrist import SphericalWrist
 from .ur import ParallelAxes
@@ -196,12 +196,7 @@ def _polish(robot: Robot, q: Array, target: Array, position_only: bool, tol: tup
             J = J[:, :3]
         qc = qc + np.einsum("bij,bj->bi", np.linalg.pinv(J, rcond=1e-10), e)
     dpn, drn, okn, wn = verify(robot, qc, tgt, position_only, tol, enforce_limits)
-    better = dpn / scale + drn < dp[bi, mi] / scale + dr[bi, mi]
-    bi, mi = bi[better], mi[better]
-    q, dp, dr, ok, within = q.copy(), dp.copy(), dr.copy(), ok.copy(), within.copy()
-    q[bi, mi], dp[bi, mi], dr[bi, mi] = qc[better], dpn[better], drn[better]
-    ok[bi, mi], within[bi, mi] = okn[better], wn[better]
-    return q, dp, dr, ok, within
+    return keep_better((q, dp, dr, ok, within), bi, mi, (qc, dpn, drn, okn, wn), scale)
 
 
 def solve_all(robot: Robot, solver: ClosedForm, target: Array, q0: Array, position_only: bool,

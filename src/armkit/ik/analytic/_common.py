@@ -177,6 +177,25 @@ def _standard_form_dh(robot: Robot, scale: float) -> StandardForm:
     return StandardForm(theta, d, a, alpha, base, tool, inverse_pose(base), inverse_pose(tool), scale)
 
 
+def keep_better(branches: tuple[Array, Array, Array, NDArray[np.bool_], NDArray[np.bool_]], bi: NDArray[np.intp],
+                mi: NDArray[np.intp], polished: tuple[Array, Array, Array, NDArray[np.bool_], NDArray[np.bool_]],
+                scale: float) -> tuple[Array, Array, Array, NDArray[np.bool_], NDArray[np.bool_]]:
+    """Put polished branches back where they lower the FK error (position / ``scale`` + rotation).
+
+    ``branches`` is ``(q, dp, dr, ok, within)`` of every branch, ``(B, m, ...)``; ``polished``
+    the same fields for the branches ``[bi, mi]`` after Newton steps. Returns new arrays
+    (the inputs are not changed).
+    """
+    q, dp, dr, ok, within = branches
+    qc, dpn, drn, okn, wn = polished
+    better = dpn / scale + drn < dp[bi, mi] / scale + dr[bi, mi]
+    bi, mi = bi[better], mi[better]
+    q, dp, dr, ok, within = q.copy(), dp.copy(), dr.copy(), ok.copy(), within.copy()
+    q[bi, mi], dp[bi, mi], dr[bi, mi] = qc[better], dpn[better], drn[better]
+    ok[bi, mi], within[bi, mi] = okn[better], wn[better]
+    return q, dp, dr, ok, within
+
+
 def two_link(x: Array, y: Array, l1: float, l2: float) -> tuple[Array, Array, Array, Array]:
     """Both solutions of the planar two-link problem ``l1 e(t1) + l2 e(t1 + t2) = (x, y)``.
 

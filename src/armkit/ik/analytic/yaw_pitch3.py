@@ -49,7 +49,7 @@ from numpy.typing import NDArray
 from ...model.robot import Robot
 from ..result import IKResult, default_tolerance, verify
 from ._common import (LENGTH_TOL, Array, Raw, StandardForm, add_messages, elbow_edge, elbow_up, forward_sign,
-                      out_of_reach, two_link)
+                      keep_better, out_of_reach, two_link)
 
 __all__ = ["YawPitch3", "pitch_of", "solve_pitch"]
 
@@ -321,12 +321,7 @@ def _polish(robot: Robot, q: Array, pts: Array, psi: Array, tol: tuple[float, fl
         JT = np.swapaxes(J, 1, 2)   # damped (1e-14) normal equations: Newton, safe at a fold
         qc[active, :k] += np.linalg.solve(JT @ J + 1e-14 * eye, (JT @ e[..., None]))[..., 0]
     dpn, drn, okn, wn = _check(robot, qc, tp, tpsi, tol, enforce_limits)
-    better = dpn / scale + drn < dp[bi, mi] / scale + dr[bi, mi]
-    bi, mi = bi[better], mi[better]
-    q, dp, dr, ok, within = q.copy(), dp.copy(), dr.copy(), ok.copy(), within.copy()
-    q[bi, mi], dp[bi, mi], dr[bi, mi] = qc[better], dpn[better], drn[better]
-    ok[bi, mi], within[bi, mi] = okn[better], wn[better]
-    return q, dp, dr, ok, within
+    return keep_better((q, dp, dr, ok, within), bi, mi, (qc, dpn, drn, okn, wn), scale)
 
 
 def solve_pitch(robot: Robot, solver: YawPitch3, pts: Array, psi: Array, q0: Array,
