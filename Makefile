@@ -29,7 +29,7 @@ locale-update: $(VENV)/.installed
 		-o src/armkit/locale/armkit.pot .
 	$(VENV)/bin/pybabel update -i src/armkit/locale/armkit.pot -d src/armkit/locale -D armkit
 
-# the browser tests (tests/view) drive Debian's chromium headless through Playwright;
+# the browser tests (tests/viz/view) drive Debian's chromium headless through Playwright;
 # never `playwright install` (it downloads a browser). apt installs it when missing.
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 chromium:

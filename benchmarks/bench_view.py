@@ -28,7 +28,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests" / "view"))
 
 import armkit  # noqa: E402
-from armkit.view import View  # noqa: E402
+from armkit.viz.view import View  # noqa: E402
 
 from _browser import browser_context, open_page, row, text_of  # noqa: E402
 

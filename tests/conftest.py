@@ -26,3 +26,12 @@ DATA = Path(__file__).parent / "data"
 @pytest.fixture
 def rng() -> np.random.Generator:
     return np.random.default_rng(20261121)
+
+
+@pytest.fixture(scope="session", autouse=True)
+def _symbolic_cache(tmp_path_factory):
+    """One on-disk cache of symbolic derivations for the whole test session (each robot is derived once)."""
+    mp = pytest.MonkeyPatch()
+    mp.setenv("ARMKIT_CACHE_DIR", str(tmp_path_factory.mktemp("armkit-cache")))
+    yield
+    mp.undo()

@@ -22,12 +22,12 @@ __version__ = "0.1.0"
 
 
 def view(robot: "Robot | str", port: "int | None" = None, **kwargs):  # type: ignore[no-untyped-def]
-    """Open a live 3-D view of ``robot`` in the browser; see :func:`armkit.view.view` and docs/view.md.
+    """Open a live 3-D view of ``robot`` in the browser; see :func:`armkit.viz.view.view` and docs/view.md.
 
     Imports viser only when called (``import armkit`` stays light). Returns the handle
     (``.url``, ``.q``, ``set_q``, ``set_target``, ``show_path``, ``close``).
     """
-    from .view import view as _open
+    from .viz.view import view as _open
 
     return _open(robot, port=port, **kwargs)
 

@@ -8,7 +8,7 @@ import numpy as np
 from rich.console import Console
 
 import armkit
-from armkit.shell import Shell
+from armkit.cli.shell import Shell
 
 
 def shell(name="fighter", lang="en"):

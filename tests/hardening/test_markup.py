@@ -9,7 +9,7 @@ from rich.console import Console
 
 import armkit
 from armkit._text import esc, name_list, plain, shorten
-from armkit.shell import Shell
+from armkit.cli.shell import Shell
 
 from hardening_helpers import invoke
 

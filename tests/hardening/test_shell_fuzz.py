@@ -16,7 +16,7 @@ from pathlib import Path
 from rich.console import Console
 
 import armkit
-from armkit.shell import Shell
+from armkit.cli.shell import Shell
 
 WORDS = ["theta1", "theta2", "theta3", "q", "q1", "j2", "yaw", "shoulder", "elbow", "goto", "go", "ik", "branch",
          "auto", "units", "deg", "rad", "lang", "ko", "en", "limits", "home", "show", "help", "?", "exit", "quit",

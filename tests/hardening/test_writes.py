@@ -166,7 +166,7 @@ def test_written_files_get_normal_permissions(tmp_path):
 
 
 def test_shell_pictures_go_to_a_folder_per_session(tmp_path):
-    from armkit.shell import Shell
+    from armkit.cli.shell import Shell
 
     a = Shell(armkit.load("planar2"), lang="en", plot="png", out_dir=tmp_path, session=True)
     import time
@@ -179,7 +179,7 @@ def test_shell_pictures_go_to_a_folder_per_session(tmp_path):
 
 
 def test_shell_stops_drawing_after_its_picture_cap(tmp_path, monkeypatch):
-    import armkit.shell as shell_mod
+    import armkit.cli.shell as shell_mod
 
     monkeypatch.setattr(shell_mod, "MAX_PICTURES", 2)
     sh = shell_mod.Shell(armkit.load("planar2"), lang="en", plot="png", out_dir=tmp_path)

@@ -20,7 +20,7 @@ import armkit
 
 pin = pytest.importorskip("pinocchio")
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "core"))
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "model"))
 from test_urdf import ERD, REAL, chain_strategy, load_real, urdf_text  # noqa: E402
 
 

@@ -47,7 +47,7 @@ LANG: dict[str, str | None] = {"lang": None}
 def _(text: str, **fields: object) -> str:
     """A message of the command line in the user's language (``--lang``, ``ARMKIT_LANG``, the locale), from
     the gettext catalogue in ``armkit/locale`` (``make locale`` builds it), formatted with ``fields``."""
-    from ..i18n import cli_language, translate
+    from ..locale import cli_language, translate
 
     return translate(text, cli_language(LANG["lang"]), **fields)
 

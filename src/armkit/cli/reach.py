@@ -55,7 +55,7 @@ def _msg(key: str, lang: str, **kw: Any) -> str:
 
 def _lang(lang: Optional[str]) -> str:
     if lang is None:
-        from ..i18n import default_language
+        from ..locale import default_language
 
         return default_language()
     if lang not in ("en", "ko"):

@@ -56,8 +56,8 @@ def view(robot: str = typer.Argument(..., help=ROBOT_HELP),
     check_port(port)
     check_host(host)
     r = get_robot(robot)
-    from ..view import ViewError
-    from ..view import view as open_view
+    from ..viz.view import ViewError
+    from ..viz.view import view as open_view
 
     try:
         v = open_view(r, port=port, host=host, lang=lang)
@@ -87,12 +87,12 @@ __all__ = ["register", "view", "check_host", "check_port", "attach_view"]
 def attach_view(shell: object, robot: object, lang: Optional[str]) -> object:
     """For ``armkit shell --view``: serve the view, print its address, let the shell move it.
 
-    Returns the :class:`~armkit.view.View` (a context manager that closes it).
+    Returns the :class:`~armkit.viz.view.View` (a context manager that closes it).
     """
     from rich.markup import escape
 
-    from ..view import ViewError
-    from ..view import view as open_view
+    from ..viz.view import ViewError
+    from ..viz.view import view as open_view
 
     try:
         v = open_view(robot, lang=lang, q=getattr(shell, "q", None))  # type: ignore[arg-type]

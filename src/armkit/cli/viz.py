@@ -101,7 +101,7 @@ def shell(robot: str = typer.Argument(..., help=ROBOT_HELP),
 
     Example: armkit shell fighter --lang ko
     """
-    from ..shell import Shell
+    from .shell import Shell
 
     if lang is not None and lang not in ("ko", "en"):
         fail(f"--lang must be en or ko, got {lang!r}")

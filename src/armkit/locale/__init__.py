@@ -31,7 +31,7 @@ from typing import Any
 __all__ = ["LANGUAGES", "default_language", "message", "MESSAGES", "josa", "final_consonant", "cli_language",
            "translate", "LOCALE_DIR"]
 
-LOCALE_DIR = Path(__file__).parent / "locale"
+LOCALE_DIR = Path(__file__).parent
 """gettext catalogues of the command line: ``ko/LC_MESSAGES/armkit.po`` (source) and ``.mo`` (built by
 ``make locale``, which ``make test`` runs; see docs/ko.md)."""
 

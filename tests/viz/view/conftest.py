@@ -18,11 +18,11 @@ sys.path.insert(0, str(Path(__file__).parent))
 
 from _browser import INSTALL_HINT, browser_context  # noqa: E402
 
-DOCS_IMG = Path(__file__).resolve().parents[2] / "docs" / "img"
+DOCS_IMG = Path(__file__).resolve().parents[3] / "docs" / "img"
 
 
 def pytest_configure(config: Any) -> None:
-    config.addinivalue_line("markers", "browser: drives headless chromium through Playwright (tests/view)")
+    config.addinivalue_line("markers", "browser: drives headless chromium through Playwright (tests/viz/view)")
 
 
 @pytest.fixture(scope="session")

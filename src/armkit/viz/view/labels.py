@@ -1,6 +1,6 @@
 """Korean and English labels of the browser view.
 
-Wording shared with the shell comes from :mod:`armkit.i18n` (``joint``, ``end_point``,
+Wording shared with the shell comes from :mod:`armkit.locale` (``joint``, ``end_point``,
 ``branch``, ...); the view's own labels live in :data:`LABELS`.
 
 >>> label("track", "ko"), label("end_point", "en")
@@ -9,7 +9,7 @@ Wording shared with the shell comes from :mod:`armkit.i18n` (``joint``, ``end_po
 
 from __future__ import annotations
 
-from ..i18n import MESSAGES
+from ...locale import MESSAGES
 
 __all__ = ["LABELS", "label"]
 
@@ -69,7 +69,7 @@ def label(key: str, lang: str = "en", **fields: object) -> str:
     """The label ``key`` in ``lang`` (``"en"`` or ``"ko"``), formatted with ``fields``.
 
     Keys of the shell's wording (``joint``, ``end_point``, ``branch``, ...) come from
-    :data:`armkit.i18n.MESSAGES`, so the view and the CLI say the same thing.
+    :data:`armkit.locale.MESSAGES`, so the view and the CLI say the same thing.
     """
     texts = MESSAGES[key] if key in _SHARED else LABELS[key]
     text = texts.get(lang, texts["en"])

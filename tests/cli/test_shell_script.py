@@ -13,7 +13,7 @@ from hypothesis import strategies as st
 from rich.console import Console
 
 import armkit
-from armkit.shell import EXIT_WORDS, Shell
+from armkit.cli.shell import EXIT_WORDS, Shell
 
 END = re.compile(r"(?:end point|끝점) \([^)]*\)\s*│\s*([-\d.e+]+)\s*│\s*([-\d.e+]+)\s*│\s*([-\d.e+]+)")
 

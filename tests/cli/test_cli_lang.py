@@ -93,7 +93,7 @@ def test_catalogue_is_complete_and_korean():
 
 def test_compiled_catalogue_is_current():
     """make locale (run by make test) compiles the .po; without it the .po is compiled in memory (never stale)."""
-    from armkit.i18n import _catalogue
+    from armkit.locale import _catalogue
 
     _catalogue.cache_clear()
     assert _catalogue("ko").gettext("error:") == "오류:"

@@ -1,7 +1,7 @@
 """The live browser view: :func:`view` starts a viser server and returns a :class:`View` handle.
 
 The handle owns the arm's state (``q``), the IK target and the players (tracking,
-trajectories, CCD/FABRIK sweeps); the browser panels (:mod:`armkit.view.panels`) and
+trajectories, CCD/FABRIK sweeps); the browser panels (:mod:`armkit.viz.view.panels`) and
 scripts both call its methods, so the page and the handle always agree. Every update
 of the arm goes out in one batch (``server.atomic()``): the link poses, the joint
 sliders and the end-pose text reach the page together.
@@ -24,11 +24,11 @@ from typing import Any, Callable, Optional
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ..errors import ArmkitError, JointLimitError, ShapeError
-from ..i18n import LANGUAGES, default_language
-from ..kinematics import condition_number, fk, fk_frames, manipulability
-from ..model import Robot, load
-from ..ik import IKResult, ik, ik_all
+from ...errors import ArmkitError, JointLimitError, ShapeError
+from ...locale import LANGUAGES, default_language
+from ...kinematics import condition_number, fk, fk_frames, manipulability
+from ...model import Robot, load
+from ...ik import IKResult, ik, ik_all
 
 __all__ = ["View", "ViewError", "view", "IK_METHODS"]
 
@@ -139,7 +139,7 @@ class View:
 
     # ------------------------------------------------------------------ scene
     def _setup_scene(self) -> None:
-        from ..analysis.workspace import shoulder_point
+        from ...analysis.workspace import shoulder_point
 
         r, s = self.robot, self.robot.unit_scale
         self.server.scene.set_up_direction("+z")
@@ -206,7 +206,7 @@ class View:
 
     def state_numbers(self, q: Optional[Array] = None) -> dict[str, Any]:
         """End point, roll-pitch-yaw (deg), manipulability and condition number of ``q`` (default: now)."""
-        from ..spatial import rotation_to_rpy
+        from ...spatial import rotation_to_rpy
 
         qq = self.q if q is None else q
         T = fk(self.robot, qq)
@@ -228,7 +228,7 @@ class View:
 
     def _solve(self, T: Array, position_only: bool, method: str) -> IKResult:
         """One IK solve from the current q; fills ``self.branches`` for closed forms."""
-        from ..ik.api import IKInputError
+        from ...ik.api import IKInputError
 
         r = self.robot
         tgt = T[:3, 3] if (position_only and T.shape == (4, 4)) else T
@@ -399,8 +399,8 @@ class View:
         Trajectory or TrackResult
             What is being played.
         """
-        from ..motion.trajectory import Trajectory
-        from ..viz.tracking import TrackResult, track
+        from ...motion.trajectory import Trajectory
+        from ..tracking import TrackResult, track
 
         if isinstance(path, str):
             if not 1 <= int(frames) <= 100_000:

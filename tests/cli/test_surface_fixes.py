@@ -14,7 +14,7 @@ from typer.testing import CliRunner
 import armkit
 from armkit._arith import evaluate, looks_arithmetic
 from armkit.cli import app
-from armkit.shell import Shell
+from armkit.cli.shell import Shell
 from armkit.spatial import rotx, roty, rotz
 
 runner = CliRunner()

@@ -9,26 +9,13 @@ array(True)
 >>> v.close()                                       # doctest: +SKIP
 
 See docs/view.md. This package is imported only when asked for: ``import armkit``
-does not import viser.
+does not import viser. It lives under :mod:`armkit.viz` with the other pictures;
+``armkit.view(robot)`` is the front door.
 """
 
 from __future__ import annotations
-
-import sys
-import types
-from typing import Any, Optional
 
 from .server import IK_METHODS, View, ViewError, free_port, view
 
 __all__ = ["view", "View", "ViewError", "IK_METHODS", "free_port"]
 
-
-class _CallableModule(types.ModuleType):
-    """``armkit.view(robot)`` keeps working after ``import armkit.view`` replaced the lazy wrapper
-    in ``armkit``'s namespace with this package (a package attribute and a function share the name)."""
-
-    def __call__(self, robot: Any, port: Optional[int] = None, **kwargs: Any) -> View:
-        return view(robot, port=port, **kwargs)
-
-
-sys.modules[__name__].__class__ = _CallableModule

@@ -1,4 +1,4 @@
-"""The browser panels of :class:`armkit.view.View`: joints, end pose, target/IK, track, workspace,
+"""The browser panels of :class:`armkit.viz.view.View`: joints, end pose, target/IK, track, workspace,
 trajectory, view options.
 
 Every widget callback checks ``event.client``: an update that the server itself made
@@ -19,9 +19,9 @@ from typing import TYPE_CHECKING, Any, Optional
 import numpy as np
 from numpy.typing import NDArray
 
-from ..errors import ArmkitError
-from ..ik import IKResult
-from ..kinematics import fk
+from ...errors import ArmkitError
+from ...ik import IKResult
+from ...kinematics import fk
 from .drawing import rotation_from_wxyz, wxyz_from_rotation
 from .labels import label
 
@@ -104,7 +104,7 @@ class Panels:
                                             initial_value=self._modes[0 if self.position_only else 1])
             self.target_xyz = gui.add_vector3(f"xyz ({r.unit})", tuple(np.round(T0[:3, 3], self.dec)),
                                               step=10.0 ** -self.dec)
-            from ..spatial import rotation_to_rpy
+            from ...spatial import rotation_to_rpy
 
             self.target_rpy = gui.add_vector3(L("rpy"), tuple(np.round(rotation_to_rpy(T0[:3, :3], degrees=True),
                                                                         3)), step=0.001)
@@ -123,7 +123,7 @@ class Panels:
         self.branch_dd.on_update(self._branch_chosen)
 
         # ---------------------------------------------------------------- track
-        from ..viz.tracking import PATHS, TRACK_METHODS
+        from ..tracking import PATHS, TRACK_METHODS
 
         with gui.add_folder(L("track"), expand_by_default=False):
             self.path_dd = gui.add_dropdown(L("path"), list(PATHS), initial_value="circle")
@@ -189,8 +189,8 @@ class Panels:
     # ------------------------------------------------------------------ state
     def show_state(self, q: Array, F: Array) -> None:
         """Sliders, end pose and manipulability for ``q`` (frames ``F``); called inside ``server.atomic()``."""
-        from ..kinematics import condition_number, manipulability
-        from ..spatial import rotation_to_rpy
+        from ...kinematics import condition_number, manipulability
+        from ...spatial import rotation_to_rpy
 
         r = self.robot
         for k, s in enumerate(self.sliders):
@@ -211,7 +211,7 @@ class Panels:
 
     def show_target(self, t: Array, res: IKResult, move_gizmo: bool) -> None:
         """Target marker colour, branch list and the IK status line for result ``res``."""
-        from ..spatial import rotation_to_rpy
+        from ...spatial import rotation_to_rpy
 
         r = self.robot
         ok = bool(np.asarray(res.success))
@@ -283,7 +283,7 @@ class Panels:
     def _typed_target(self, event: Any) -> None:
         if event.client is None:
             return
-        from ..spatial import rpy_to_rotation
+        from ...spatial import rpy_to_rotation
 
         p = np.asarray(self.target_xyz.value, dtype=float)
         if self.position_only:
@@ -323,7 +323,7 @@ class Panels:
         q0 = self.view.q
 
         def body(token: int) -> None:          # tracking is computed off the callback thread
-            from ..viz.tracking import track
+            from ..tracking import track
 
             try:
                 res = track(self.robot, path=key[0], method=key[1], frames=key[2], seed=0, q0=q0)
@@ -408,7 +408,7 @@ class Panels:
     def _csv_uploaded(self, event: Any) -> None:
         if event.client is None:
             return
-        from ..viz.tracking import target_path
+        from ..tracking import target_path
 
         data = self.upload.value.content
         tmp = Path(tempfile.mkdtemp(prefix="armkit-view-")) / "path.csv"
@@ -430,7 +430,7 @@ class Panels:
         if on and self._ws_cloud is None:
             from matplotlib import colormaps
 
-            from ..analysis.workspace import workspace
+            from ...analysis.workspace import workspace
 
             ws = workspace(self.robot, samples=20_000, seed=0, manipulability=True)
             w = np.asarray(ws.manipulability, dtype=float)
@@ -507,7 +507,7 @@ class Panels:
     def _plan_home(self, event: Any) -> None:
         if event.client is None:
             return
-        from ..motion.trajectory import joint_trajectory
+        from ...motion.trajectory import joint_trajectory
 
         q = self.view.q
         try:

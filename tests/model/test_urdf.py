@@ -26,6 +26,7 @@ from armkit.model.robot import Joint, Robot
 from armkit.spatial import rpy_to_rotation
 
 yourdfpy = pytest.importorskip("yourdfpy")
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "kinematics"))
 from test_kinematics import _fd_jacobian as numeric_jacobian  # noqa: E402  (central differences of FK)
 
 ERD = Path(sys.prefix) / "lib" / f"python{sys.version_info[0]}.{sys.version_info[1]}" / "site-packages" / \

@@ -19,9 +19,9 @@ import numpy as np
 import pytest
 
 import armkit
-from armkit.view import View, ViewError, free_port
-from armkit.view.drawing import ARM_COLOUR
-from armkit.view.panels import format_numbers
+from armkit.viz.view import View, ViewError, free_port
+from armkit.viz.view.drawing import ARM_COLOUR
+from armkit.viz.view.panels import format_numbers
 
 from _browser import numbers_of, open_folder, open_page, row, text_of, type_number, wait_until
 
@@ -43,7 +43,7 @@ def _arm_pixels(img: np.ndarray) -> int:
 
 
 def test_import_armkit_does_not_import_viser() -> None:
-    code = "import sys, armkit; armkit.view; print('viser' in sys.modules, 'armkit.view' in sys.modules)"
+    code = "import sys, armkit; armkit.view; print('viser' in sys.modules, 'armkit.viz.view' in sys.modules)"
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
     assert out.split() == ["False", "False"]
 

@@ -19,9 +19,9 @@ from typing import Any, Optional, Sequence
 import numpy as np
 from numpy.typing import NDArray
 
-from ..analysis.workspace import skeleton_batch
-from ..kinematics import fk_frames
-from ..model.robot import Robot
+from ...analysis.workspace import skeleton_batch
+from ...kinematics import fk_frames
+from ...model.robot import Robot
 
 __all__ = ["ArmDrawing", "ARM_COLOUR", "nice_grid", "wxyz_from_rotation", "rotation_from_wxyz",
            "z_to_direction"]
@@ -201,7 +201,7 @@ class ArmDrawing:
         robot, s, sc = self.robot, self.s, self.server.scene
         F = fk_frames(robot, q) if frames is None else frames
         if self.meshes:
-            from .. import link_frames  # type: ignore[attr-defined]
+            from ... import link_frames  # type: ignore[attr-defined]
 
             L = np.asarray(link_frames(robot, q))
             for node, T in zip(self._mesh_links, L):

@@ -10,8 +10,8 @@ import pytest
 from rich.console import Console
 
 import armkit
-from armkit.i18n import MESSAGES, final_consonant, josa, message
-from armkit.shell import Shell
+from armkit.locale import MESSAGES, final_consonant, josa, message
+from armkit.cli.shell import Shell
 
 
 @pytest.mark.parametrize("word, pair, expected", [

@@ -49,11 +49,11 @@ from typing import Any, Iterable, Optional, TextIO
 
 import numpy as np
 
-from ._text import MAX_MESSAGE, esc, name_list, plain, shorten
-from .errors import ArgumentError, ArmkitError, ParseError
-from .i18n import LANGUAGES, default_language, message
-from .kinematics import fk
-from .model.robot import Robot
+from .._text import MAX_MESSAGE, esc, name_list, plain, shorten
+from ..errors import ArgumentError, ArmkitError, ParseError
+from ..locale import LANGUAGES, default_language, message
+from ..kinematics import fk
+from ..model.robot import Robot
 
 __all__ = ["Shell", "ShellOutput", "parse_numbers", "ParseError"]   # ParseError lives in armkit.errors
 
@@ -90,7 +90,7 @@ class ShellOutput:
 def parse_numbers(words: Iterable[str], lang: str = "en") -> list[float]:
     """Strictly parse number words, or simple arithmetic such as ``90/2`` (:mod:`armkit._arith`: numbers, pi,
     ``+ - * /``, parentheses; never ``eval``); no ``nan``/``inf``. Raise :class:`ParseError`."""
-    from ._arith import evaluate, looks_arithmetic
+    from .._arith import evaluate, looks_arithmetic
 
     out = []
     for w in words:
@@ -148,7 +148,7 @@ class Shell:
         if plot not in ("auto", "window", "png", "none"):
             raise ArgumentError(f"plot must be 'auto', 'window', 'png' or 'none', got {plot!r}")
         if plot == "auto":
-            from .viz._mpl import has_display
+            from ..viz._mpl import has_display
 
             plot = "window" if has_display() else "png"
         self.plot = plot
@@ -171,7 +171,7 @@ class Shell:
         # the arm's surroundings (armkit.collision): the robot's own when its file has them, else none
         self.scene: Any = None
         if getattr(robot, "collision", None) is not None:
-            from .collision import as_scene
+            from ..collision import as_scene
 
             self.scene = as_scene(robot, "robot")
 
@@ -187,7 +187,7 @@ class Shell:
     @property
     def planar(self) -> bool:
         if self._planar is None:
-            from .analysis.workspace import is_planar
+            from ..analysis.workspace import is_planar
 
             self._planar = is_planar(self.robot)
         return self._planar
@@ -244,7 +244,7 @@ class Shell:
         """Refuse ``q`` when the arm would collide with the scene, its body or itself."""
         if self.scene is None:
             return
-        from .collision import collisions
+        from ..collision import collisions
 
         hits = collisions(self.robot, q, self.scene).colliding_pairs()
         if hits:
@@ -398,7 +398,7 @@ class Shell:
         return "exit"
 
     def _set_scene(self, scene: Any, emit: Any) -> str:
-        from .collision import collisions
+        from ..collision import collisions
 
         self.scene = scene
         names = ", ".join(s.describe() if s.name in (s.kind, "ground") else f"{s.name} ({s.describe()})"
@@ -410,7 +410,7 @@ class Shell:
         return "info"
 
     def _empty_scene(self) -> Any:
-        from .collision import Scene
+        from ..collision import Scene
 
         return self.scene if self.scene is not None else Scene([], self.robot.unit)
 
@@ -418,12 +418,12 @@ class Shell:
         return self._set_scene(self._empty_scene(), emit)
 
     def _cmd_clear(self, arg: Any, emit: Any) -> str:
-        from .collision import Scene
+        from ..collision import Scene
 
         return self._set_scene(Scene([], self.robot.unit), emit)
 
     def _cmd_ground(self, values: list[float], emit: Any) -> str:
-        from .collision import Scene
+        from ..collision import Scene
 
         if len(values) != 1:
             raise ParseError(self._t("ground_count", unit=self.robot.unit, k=len(values)))
@@ -431,7 +431,7 @@ class Shell:
         return self._set_scene(self._empty_scene().without("ground").with_shape(floor), emit)
 
     def _cmd_box(self, values: list[float], emit: Any) -> str:
-        from .collision import Scene, SceneError
+        from ..collision import Scene, SceneError
 
         if len(values) != 6:
             raise ParseError(self._t("box_count", unit=self.robot.unit, k=len(values)))
@@ -500,7 +500,7 @@ class Shell:
     def _all_branches(self, target: np.ndarray) -> Optional[Any]:
         """``ik_all`` of ``target`` from the current q, or None when the arm has no closed form."""
         try:
-            from . import ik_all  # type: ignore[attr-defined]
+            from .. import ik_all  # type: ignore[attr-defined]
         except ImportError:
             return None
         try:
@@ -577,7 +577,7 @@ class Shell:
             if k == 3:
                 return np.array(values, dtype=float), None
             if k == 6:
-                from .spatial import make_pose, rpy_to_rotation
+                from ..spatial import make_pose, rpy_to_rotation
 
                 rpy = [v if self.units == "rad" else math.radians(v) for v in values[3:]]
                 return make_pose(rpy_to_rotation(rpy), values[:3]), None
@@ -587,7 +587,7 @@ class Shell:
     def _cmd_goto(self, values: list[float], emit: Any) -> str:
         target, phi = self._goto_target(values)
         try:
-            from . import ik, ik_all  # type: ignore[attr-defined]
+            from .. import ik, ik_all  # type: ignore[attr-defined]
         except ImportError as exc:  # the IK package not built yet
             emit(self._t("ik_error", detail=str(exc)), "red")
             return "error"
@@ -633,7 +633,7 @@ class Shell:
     def _show(self, emit: Any) -> None:
         from rich.table import Table
 
-        from .spatial import rotation_to_rpy
+        from ..spatial import rotation_to_rpy
 
         r = self.robot
         T = fk(r, self.q)
@@ -660,8 +660,8 @@ class Shell:
     def _draw(self, emit: Any) -> Optional[Path]:
         """Redraw the arm: update the window or write the next PNG. Returns the PNG path."""
         try:
-            from .viz._mpl import pyplot
-            from .viz.arm import plot_arm
+            from ..viz._mpl import pyplot
+            from ..viz.arm import plot_arm
 
             plt = pyplot()
             self.step += 1
@@ -672,7 +672,7 @@ class Shell:
                     self._fig = None
                 if self._fig is not None:
                     self._fig.clf()
-                    from .analysis.workspace import is_planar
+                    from ..analysis.workspace import is_planar
 
                     ax = self._fig.add_subplot(111) if is_planar(self.robot) else \
                         self._fig.add_subplot(111, projection="3d")
@@ -688,7 +688,7 @@ class Shell:
                 return None
             fig = plot_arm(self.robot, self.q, title=title)
             path = self.out_dir / f"step_{self.step:03d}.png"
-            from .viz.plots import save_figure
+            from ..viz.plots import save_figure
 
             save_figure(fig, path, dpi=90)
             self.pictures += 1
