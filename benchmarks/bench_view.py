@@ -25,7 +25,7 @@ from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests" / "view"))
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests" / "viz" / "view"))
 
 import armkit  # noqa: E402
 from armkit.viz.view import View  # noqa: E402
