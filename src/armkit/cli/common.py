@@ -20,6 +20,8 @@ from rich.text import Text
 
 from .._text import esc, name_list, plain, shorten
 from ..errors import JointLimitError
+from ..locale import LANG, N_, _  # noqa: F401  (re-exported: every command module takes them from here)
+
 from ..model import Robot, load
 
 class SafeConsole(Console):
@@ -40,21 +42,9 @@ err_console = SafeConsole(stderr=True, highlight=False)
 
 EXIT_OK, EXIT_FAILED, EXIT_BAD_INPUT = 0, 1, 2
 
-LANG: dict[str, str | None] = {"lang": None}
-"""``--lang`` from the command line (taken by the command group for every command); see :func:`_`."""
+# The user's language: --lang (taken by the command group for every command, kept in LANG), ARMKIT_LANG, the
+# locale. _("...") translates a message from the gettext catalogue in armkit/locale (docs/ko.md); N_ marks one.
 
-
-def _(text: str, **fields: object) -> str:
-    """A message of the command line in the user's language (``--lang``, ``ARMKIT_LANG``, the locale), from
-    the gettext catalogue in ``armkit/locale`` (``make locale`` builds it), formatted with ``fields``."""
-    from ..locale import cli_language, translate
-
-    return translate(text, cli_language(LANG["lang"]), **fields)
-
-
-def N_(text: str) -> str:
-    """Mark ``text`` for the catalogue without translating it here (it is translated where it is printed)."""
-    return text
 
 # Commands that take numbers as positional arguments let "-1" through as a value, not an option.
 NUMERIC_ARGS = {"ignore_unknown_options": True, "allow_extra_args": False}
@@ -227,14 +217,40 @@ def natural_width(table: Table) -> int:
 
 
 def print_fitted(*tables: Table) -> None:
-    """Print the first table that fits :func:`out_width` (the last one when none does)."""
+    """Print the first table that fits :func:`out_width`; when none does, the last one as one record per row
+    (:func:`table_records`), so that no number is cut or broken across lines."""
     width = out_width()
     out = console if width == console.width else SafeConsole(highlight=False, width=width)
-    for t in tables[:-1]:
+    for t in tables:
         if natural_width(t) <= width:
             out.print(t)
             return
-    out.print(tables[-1])
+    title, records = table_records(tables[-1])
+    print_records(title, records, width)
+
+
+def print_table(table: Table) -> None:
+    """Print a table as it is when it fits :func:`out_width`, else one record per row."""
+    print_fitted(table)
+
+
+def _cell_text(cell: Any) -> str:
+    return cell.plain if isinstance(cell, Text) else Text.from_markup(str(cell)).plain
+
+
+def table_records(table: Table) -> tuple[str, list[tuple[str, list[str]]]]:
+    """A Rich table as ``(title, [(head, ["header value", ...]), ...])`` for :func:`print_records`: the first
+    cell of a row is its head, each other non-empty cell an item led by its column header."""
+    title = _cell_text(table.title) if table.title is not None else ""
+    headers = [" ".join(_cell_text(c.header).split()) for c in table.columns]
+    cells = [[_cell_text(v) for v in c.cells] for c in table.columns]
+    records = []
+    for i in range(table.row_count):
+        row = [" ".join(col[i].split()) if i < len(col) else "" for col in cells]
+        head = f"{headers[0]} {row[0]}".strip() if headers[0] and row[0] and not row[0][:1].isalpha() else row[0]
+        items = [f"{h}: {v}" if h else v for h, v in zip(headers[1:], row[1:]) if v]
+        records.append((head, items))
+    return title, records
 
 
 def print_records(title: str, records: Sequence[tuple[str, Sequence[str]]], width: int | None = None) -> None:
@@ -247,11 +263,27 @@ def print_records(title: str, records: Sequence[tuple[str, Sequence[str]]], widt
         out.print(Text(head, style="bold"), soft_wrap=True)
         line = "  "
         for item in items:
-            if line.strip() and len(line) + len(item) > width:
+            pieces = _split_long(item, width - 4)
+            if line.strip() and (len(pieces) > 1 or len(line) + len(item) > width):
                 out.print(Text(line.rstrip()), soft_wrap=True)
                 line = "  "
-            line += item + "  "
-        out.print(Text(line.rstrip()), soft_wrap=True)
+            for piece in pieces[:-1]:       # an item too long for one line: its own lines, broken at spaces
+                out.print(Text("  " + piece), soft_wrap=True)
+            line += pieces[-1] + "  "
+            if len(pieces) > 1:
+                out.print(Text(line.rstrip()), soft_wrap=True)
+                line = "  "
+        if line.strip():
+            out.print(Text(line.rstrip()), soft_wrap=True)
+
+
+def _split_long(item: str, room: int) -> list[str]:
+    """An item longer than ``room`` broken at its spaces (a number never holds one)."""
+    import textwrap
+
+    if len(item) <= room:
+        return [item]
+    return textwrap.wrap(item, max(room, 20), break_long_words=False, break_on_hyphens=False) or [item]
 
 
 def pose_table(T: np.ndarray, unit: str, title: str = "pose") -> Table:

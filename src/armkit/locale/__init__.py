@@ -1,7 +1,12 @@
-"""Korean and English messages for the interactive front ends (the shell).
+"""Every text armkit shows a user, in English and Korean, from one gettext catalogue (Babel).
 
-``message(key, lang, **fields)`` formats one message; ``default_language()`` reads the
-locale (``LC_ALL``, ``LC_MESSAGES``, ``LANG``): Korean when it starts with ``ko``.
+The English is written in the code, marked ``_("...")`` (translated where it is used) or
+``N_("...")`` (marked only); the Korean lives in ``ko/LC_MESSAGES/armkit.po`` (docs/ko.md).
+The command line, the shell, the plots' labels and the browser view all read it:
+``_(text, **fields)`` in the current language (``--lang``, ``ARMKIT_LANG``, the locale),
+``translate(text, lang, **fields)`` in a given one, ``message(key, lang, **fields)`` for the
+shell's messages by key. ``default_language()`` reads the locale (``LC_ALL``, ``LC_MESSAGES``,
+``LANG``): Korean when it starts with ``ko``.
 
 Korean particles that follow a placeholder are chosen by the word they follow:
 ``{name!r:j:이라는/라는}`` formats ``name`` and attaches 이라는 after a final consonant,
@@ -26,10 +31,10 @@ import re
 import string
 from functools import lru_cache
 from pathlib import Path
-from typing import Any
+from typing import Any, Dict, Iterator, Mapping
 
-__all__ = ["LANGUAGES", "default_language", "message", "MESSAGES", "josa", "final_consonant", "cli_language",
-           "translate", "LOCALE_DIR"]
+__all__ = ["LANGUAGES", "LANG", "default_language", "message", "MESSAGES", "josa", "final_consonant",
+           "cli_language", "current_language", "translate", "LOCALE_DIR", "TERMS", "_", "N_"]
 
 LOCALE_DIR = Path(__file__).parent
 """gettext catalogues of the command line: ``ko/LC_MESSAGES/armkit.po`` (source) and ``.mo`` (built by
@@ -37,15 +42,18 @@ LOCALE_DIR = Path(__file__).parent
 
 LANGUAGES = ("en", "ko")
 
-MESSAGES: dict[str, dict[str, str]] = {
-    "welcome": {
-        "en": "armkit shell for {robot}: {n} joints ({names}), lengths in {unit}, angles in {angles}. "
-              "Type help for the commands, exit to leave.",
-        "ko": "armkit 셸 — {robot}: 관절 {n}개({names}), 길이 단위 {unit}, 각도 단위 {angles}. "
-              "명령 목록은 help, 끝내려면 exit를 입력하세요.",
-    },
-    "help": {
-        "en": """commands (angles in the current units, lengths in {unit}):
+LANG: dict[str, str | None] = {"lang": None}
+"""``--lang`` of the command line (the command group sets it for every command); see :func:`current_language`."""
+
+
+def N_(text: str) -> str:
+    """Mark ``text`` for the catalogue without translating it here (it is translated where it is shown)."""
+    return text
+
+_SOURCE: dict[str, str] = {     # the shell's and the view's shared wording; Korean in ko/LC_MESSAGES/armkit.po
+    "welcome": N_("armkit shell for {robot}: {n} joints ({names}), lengths in {unit}, angles in {angles}. "
+                  "Type help for the commands, exit to leave."),
+    "help": N_("""commands (angles in the current units, lengths in {unit}):
   theta1 = 30; theta2 = 45      set joints by number (also q1 = 30, or by name: {first} = 30; 30deg, 0.5rad,
                                 and simple arithmetic such as 90/2 or pi/4 rad work)
   q 30 45 60                    set every joint at once
@@ -61,101 +69,79 @@ MESSAGES: dict[str, dict[str, str]] = {
   lang en|ko                    language of the messages
   show                          print the current state again
   help                          this text
-  exit, quit, Ctrl-D            leave""",
-        "ko": """명령 (각도는 현재 단위, 길이는 {unit}):
-  theta1 = 30; theta2 = 45      관절 번호로 값 지정 (q1 = 30처럼 쓰거나 관절 이름으로 {first} = 30처럼
-                                써도 됩니다. 30deg, 0.5rad 같은 단위와 90/2, pi/4 rad 같은 간단한 계산식도 됩니다)
-  q 30 45 60                    모든 관절 값을 한 번에 지정
-  goto {goto}                   끝점을 목표 위치로 이동 (역기구학). [{goto}] 형식이나 숫자만 입력해도 됩니다
-  branch [이름|auto]            역기구학 해(branch) 목록 보기, 또는 goto에 쓸 해 고르기
-  home                          모든 관절을 0으로 (0이 한계 밖이면 가장 가까운 한계값으로)
-  limits                        관절 한계 보기
-  ground Z   box X0 Y0 Z0 X1 Y1 Z1   clear   scene
-                                팔 주변 환경: 바닥 높이, 상자(두 모서리), 모두 지우기, 목록 보기. 이것들이나
-                                팔 자신의 몸체와 부딪히는 이동은 거부됩니다
-  units deg|rad                 입력과 출력의 각도 단위
-  lang en|ko                    메시지 언어
-  show                          현재 상태 다시 보기
-  help                          이 도움말
-  exit, quit, Ctrl-D            종료""",
-    },
-    "unknown": {"en": "cannot understand {text!r}; type help for the commands",
-                "ko": "{text!r:j:을/를} 이해할 수 없습니다. help로 명령 목록을 확인하세요"},
-    "not_number": {"en": "{word!r} is not a number", "ko": "{word!r:j:은/는} 숫자가 아닙니다"},
-    "not_finite": {"en": "{word!r} is not a finite number", "ko": "{word!r:j:은/는} 유한한 숫자가 아닙니다"},
-    "count": {"en": "{robot} has {n} joints ({names}); got {k} value(s)",
-              "ko": "{robot}의 관절은 {n}개({names})인데 값은 {k}개입니다"},
-    "unknown_joint": {"en": "no joint named {name!r}; the joints are {names}",
-                      "ko": "{name!r:j:이라는/라는} 관절이 없습니다. 관절: {names}"},
-    "bad_unit": {"en": "unit {unit!r} does not fit joint {joint} ({kind:t})",
-                 "ko": "단위 {unit!r:j:은/는} {joint} 관절({kind:t} 관절)에 맞지 않습니다"},
-    "limit": {"en": "joint limit: {detail}; the arm did not move",
-              "ko": "관절 한계를 벗어납니다: {detail}. 팔을 움직이지 않았습니다"},
-    "collision": {"en": "the {a} would hit the {b} by {depth}; the arm did not move",
-                  "ko": "이 자세로 가면 {a:j:이/가} {b}에 부딪힙니다(겹침 {depth}). 팔을 움직이지 않았습니다"},
-    "scene_now": {"en": "around the arm: {shapes} (and its own body; moves into them are refused)",
-                  "ko": "팔 주변: {shapes}. 이것들이나 팔 자신의 몸체와 부딪히는 이동은 거부됩니다"},
-    "scene_none": {"en": "nothing around the arm; only its own body and self-collision are checked",
-                   "ko": "팔 주변에 아무것도 없습니다. 팔 자신의 몸체와 자기 충돌만 검사합니다"},
-    "scene_hit": {"en": "note: the arm is in collision now: {detail}",
-                  "ko": "참고: 팔이 지금 충돌 상태입니다: {detail}"},
-    "box_count": {"en": "box needs 6 numbers: the corners x0 y0 z0 x1 y1 z1 in {unit}; got {k}",
-                  "ko": "box에는 숫자 6개(두 모서리 x0 y0 z0 x1 y1 z1, 단위 {unit})가 필요한데 {k}개가 입력되었습니다"},
-    "ground_count": {"en": "ground needs one number: the floor height z in {unit}; got {k}",
-                     "ko": "ground에는 숫자 1개(바닥 높이 z, 단위 {unit})가 필요한데 {k}개가 입력되었습니다"},
-    "ambiguous": {"en": "numbers alone are ambiguous: write q {nums} for joint values, or goto {nums} / [{nums}] "
-                        "for a target",
-                  "ko": "숫자만으로는 모호합니다. 관절 값은 q {nums}, 목표 위치는 goto {nums} 또는 [{nums}] 형식으로 쓰세요"},
-    "goto_count": {"en": "a target for {robot} is {forms}; got {k} number(s)",
-                   "ko": "{robot}의 목표 위치는 {forms} 형식인데 숫자 {k}개가 입력되었습니다"},
-    "unreachable": {"en": "target not reached ({detail}); the arm did not move",
-                    "ko": "목표 위치에 도달할 수 없습니다({detail}). 팔을 움직이지 않았습니다"},
-    "ik_error": {"en": "inverse kinematics failed: {detail}", "ko": "역기구학 실패: {detail}"},
-    "no_branches": {"en": "{robot} has no closed-form IK, so no named branches (goto uses a numerical solver)",
-                    "ko": "{robot:j:은/는} 해석적 역기구학 해가 없어서 이름 붙은 해(branch)도 없습니다. goto는 수치 해법을 씁니다"},
-    "branch_unknown": {"en": "no branch {name!r}; the branches are {names} (or auto)",
-                       "ko": "{name!r:j:이라는/라는} 해가 없습니다. 해 목록: {names} (또는 auto)"},
-    "branch_set": {"en": "goto will use branch {name}", "ko": "이제 goto는 {name} 해를 씁니다"},
-    "branch_auto": {"en": "goto will use the branch nearest the current pose",
-                    "ko": "이제 goto는 현재 자세에 가장 가까운 해를 씁니다"},
-    "branch_missing": {"en": "branch {name} cannot reach the current end point here; kept {current}",
-                       "ko": "{name} 해로는 현재 끝점에 갈 수 없어서 지금의 해({current})를 그대로 둡니다"},
-    "branches_title": {"en": "IK branches for the current end point", "ko": "현재 끝점의 역기구학 해"},
-    "units_now": {"en": "angles are in {u}", "ko": "각도 단위: {u}"},
-    "units_bad": {"en": "units must be deg or rad, got {u!r}", "ko": "각도 단위는 deg 또는 rad이어야 합니다(입력: {u!r})"},
-    "lang_now": {"en": "messages in English", "ko": "메시지를 한국어로 표시합니다"},
-    "lang_bad": {"en": "language must be en or ko, got {u!r}", "ko": "언어는 en 또는 ko여야 합니다(입력: {u!r})"},
-    "picture": {"en": "picture: {path}", "ko": "그림: {path}"},
-    "plot_failed": {"en": "could not draw the arm ({detail}); continuing without pictures",
-                    "ko": "팔을 그리지 못했습니다({detail}). 그림 없이 계속합니다"},
-    "too_long": {"en": "the line has {n:,} characters, more than {limit:,}; it was not read",
-                 "ko": "줄이 {n:,}자로 {limit:,}자를 넘어 읽지 않았습니다"},
-    "picture_cap": {"en": "this session has written {limit} pictures; no more are drawn (start a new session for more)",
-                    "ko": "이 세션에서 그림 {limit}장을 저장해서 더는 그리지 않습니다. 그림이 더 필요하면 새 세션을 시작하세요"},
-    "bye": {"en": "bye", "ko": "종료합니다."},
-    "internal": {"en": "internal error ({detail}); the shell goes on — please report this",
-                 "ko": "내부 오류가 났습니다({detail}). 셸은 계속 동작합니다. 이 오류를 알려 주세요"},
-    "exit_alone": {"en": "exit must be the last command of a line", "ko": "exit는 줄의 마지막 명령이어야 합니다"},
-    "joint": {"en": "joint", "ko": "관절"},
-    "value": {"en": "value", "ko": "값"},
-    "limits": {"en": "limits", "ko": "한계"},
-    "state_title": {"en": "{robot}: joint values", "ko": "{robot}: 관절 값"},
-    "limits_title": {"en": "{robot}: joint limits", "ko": "{robot}: 관절 한계"},
-    "end_point": {"en": "end point", "ko": "끝점"},
-    "orientation": {"en": "orientation (roll, pitch, yaw)", "ko": "자세 (roll, pitch, yaw)"},
-    "branch": {"en": "IK branch", "ko": "역기구학 해"},
-    "none": {"en": "—", "ko": "—"},
-    "limit_item": {"en": "{joint} = {value} outside [{lower}, {upper}] {unit}",
-                   "ko": "{joint} = {value} (한계 {lower} ~ {upper} {unit})"},
-    "forms_planar": {"en": "x y", "ko": "x y"},
-    "forms_planar_phi": {"en": "x y, or x y phi", "ko": "x y 또는 x y phi"},
-    "forms_spatial": {"en": "x y z, or x y z roll pitch yaw", "ko": "x y z 또는 x y z roll pitch yaw"},
-    "unreachable_detail": {"en": "{reason}: {message}",
-                           "ko": "{reason:t}, 가장 가까운 자세의 위치 오차 {error}"},
-    "yes": {"en": "yes", "ko": "예"},
-    "term": {"en": "{term}", "ko": "{term:t}"},
-    "ok": {"en": "ok", "ko": "가능"},
+  exit, quit, Ctrl-D            leave"""),
+    "unknown": N_("cannot understand {text!r}; type help for the commands"),
+    "not_number": N_("{word!r} is not a number"),
+    "not_finite": N_("{word!r} is not a finite number"),
+    "count": N_("{robot} has {n} joints ({names}); got {k} value(s)"),
+    "unknown_joint": N_("no joint named {name!r}; the joints are {names}"),
+    "bad_unit": N_("unit {unit!r} does not fit joint {joint} ({kind:t})"),
+    "limit": N_("joint limit: {detail}; the arm did not move"),
+    "collision": N_("the {a} would hit the {b} by {depth}; the arm did not move"),
+    "scene_now": N_("around the arm: {shapes} (and its own body; moves into them are refused)"),
+    "scene_none": N_("nothing around the arm; only its own body and self-collision are checked"),
+    "scene_hit": N_("note: the arm is in collision now: {detail}"),
+    "box_count": N_("box needs 6 numbers: the corners x0 y0 z0 x1 y1 z1 in {unit}; got {k}"),
+    "ground_count": N_("ground needs one number: the floor height z in {unit}; got {k}"),
+    "ambiguous": N_("numbers alone are ambiguous: write q {nums} for joint values, or goto {nums} / [{nums}] "
+                    "for a target"),
+    "goto_count": N_("a target for {robot} is {forms}; got {k} number(s)"),
+    "unreachable": N_("target not reached ({detail}); the arm did not move"),
+    "ik_error": N_("inverse kinematics failed: {detail}"),
+    "no_branches": N_("{robot} has no closed-form IK, so no named branches (goto uses a numerical solver)"),
+    "branch_unknown": N_("no branch {name!r}; the branches are {names} (or auto)"),
+    "branch_set": N_("goto will use branch {name}"),
+    "branch_auto": N_("goto will use the branch nearest the current pose"),
+    "branch_missing": N_("branch {name} cannot reach the current end point here; kept {current}"),
+    "branches_title": N_("IK branches for the current end point"),
+    "units_now": N_("angles are in {u}"),
+    "units_bad": N_("units must be deg or rad, got {u!r}"),
+    "lang_now": N_("messages in English"),
+    "lang_bad": N_("language must be en or ko, got {u!r}"),
+    "picture": N_("picture: {path}"),
+    "plot_failed": N_("could not draw the arm ({detail}); continuing without pictures"),
+    "too_long": N_("the line has {n:,} characters, more than {limit:,}; it was not read"),
+    "picture_cap": N_("this session has written {limit} pictures; no more are drawn (start a new session for "
+                      "more)"),
+    "bye": N_("bye"),
+    "internal": N_("internal error ({detail}); the shell goes on — please report this"),
+    "exit_alone": N_("exit must be the last command of a line"),
+    "joint": N_("joint"),
+    "value": N_("value"),
+    "limits": N_("limits"),
+    "state_title": N_("{robot}: joint values"),
+    "limits_title": N_("{robot}: joint limits"),
+    "end_point": N_("end point"),
+    "orientation": N_("orientation (roll, pitch, yaw)"),
+    "branch": N_("IK branch"),
+    "none": N_("—"),
+    "limit_item": N_("{joint} = {value} outside [{lower}, {upper}] {unit}"),
+    "forms_planar": N_("x y"),
+    "forms_planar_phi": N_("x y, or x y phi"),
+    "forms_spatial": N_("x y z, or x y z roll pitch yaw"),
+    "unreachable_detail": N_("{reason}: {message}"),
+    "yes": N_("yes"),
+    "term": N_("{term}"),
+    "ok": N_("ok"),
 }
+
+
+class _Messages(Mapping[str, Dict[str, str]]):
+    """``MESSAGES[key]``: ``{"en": English, "ko": Korean}``, the Korean read from the catalogue."""
+
+    def __getitem__(self, key: str) -> dict[str, str]:
+        return {lang: _template(_SOURCE[key], lang) for lang in LANGUAGES}
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(_SOURCE)
+
+    def __len__(self) -> int:
+        return len(_SOURCE)
+
+
+MESSAGES: Mapping[str, dict[str, str]] = _Messages()
+"""The messages of the shell (and the wording the browser view shares with it) by key, each ``{"en": ..., "ko":
+...}``: the English is written here, the Korean comes from the catalogue (``ko/LC_MESSAGES/armkit.po``)."""
 
 
 # ---------------------------------------------------------------- Korean particles
@@ -233,15 +219,15 @@ def josa(word: object, pair: str) -> str:
     return f"{word}{consonant if final else vowel}"
 
 
-_TERMS: dict[str, dict[str, str]] = {
-    "revolute": {"ko": "회전"}, "prismatic": {"ko": "직동"}, "continuous": {"ko": "연속 회전"},
-    "unreachable": {"ko": "작업 공간 밖"}, "singular": {"ko": "특이점"}, "max iterations": {"ko": "반복 횟수 초과"},
-    "joint limits": {"ko": "관절 한계"}, "collision": {"ko": "충돌"}, "converged": {"ko": "수렴"},
-}
+TERMS = (N_("revolute"), N_("prismatic"), N_("continuous"), N_("unreachable"), N_("singular"),
+         N_("max iterations"), N_("joint limits"), N_("collision"), N_("converged"), N_("solved"),
+         N_("not converged"), N_("bad input"), N_("unsupported"))
+"""Words written by ``{x:t}`` in the message's language: joint kinds and the IK results' ``reason`` codes."""
 
 
 class _Formatter(string.Formatter):
-    """``str.format`` plus two specs: ``j:을/를`` attaches a particle (:func:`josa`), ``t`` translates a term."""
+    """``str.format`` plus two specs: ``j:을/를`` attaches a particle (:func:`josa`), ``t`` translates a term
+    (a word of :data:`TERMS`, from the catalogue)."""
 
     def __init__(self, lang: str) -> None:
         self.lang = lang
@@ -250,7 +236,7 @@ class _Formatter(string.Formatter):
         if format_spec.startswith("j:"):
             return josa(value, format_spec[2:])
         if format_spec == "t":
-            return _TERMS.get(str(value), {}).get(self.lang, str(value))
+            return _template(str(value), self.lang)
         return super().format_field(value, format_spec)
 
 
@@ -261,6 +247,12 @@ def default_language() -> str:
         if value:
             return "ko" if value.lower().startswith("ko") else "en"
     return "en"
+
+
+def current_language() -> str:
+    """The language of what armkit prints now: the command line's ``--lang`` (:data:`LANG`), else
+    ``ARMKIT_LANG``, else the locale."""
+    return cli_language(LANG["lang"])
 
 
 def cli_language(flag: str | None = None) -> str:
@@ -299,7 +291,7 @@ def _catalogue(lang: str) -> gettext.NullTranslations:
     return gettext.translation("armkit", localedir=str(LOCALE_DIR), languages=[lang], fallback=True)
 
 
-def translate(text: str, lang: str = "en", **fields: object) -> str:
+def translate(text: str, lang: str = "en", /, **fields: object) -> str:
     """``text`` (an English message of the command line) from the gettext catalogue of ``lang``, formatted with
     ``fields`` (``{x:j:을/를}`` attaches a Korean particle, see :func:`josa`). English, or a message the
     catalogue lacks, stays as written.
@@ -307,11 +299,20 @@ def translate(text: str, lang: str = "en", **fields: object) -> str:
     >>> translate("{what}: {value!r} is not a number", "en", what="joint values", value="x")
     "joint values: 'x' is not a number"
     """
-    template = text if lang == "en" else _catalogue(lang).gettext(text)
-    return _Formatter(lang).format(template, **fields)
+    return _Formatter(lang).format(_template(text, lang), **fields)
 
 
-def message(key: str, lang: str = "en", **fields: object) -> str:
-    """The message ``key`` in ``lang`` (``"en"`` or ``"ko"``), formatted with ``fields``."""
-    texts = MESSAGES[key]
-    return _Formatter(lang).format(texts.get(lang, texts["en"]), **fields)
+def _template(text: str, lang: str) -> str:
+    """The catalogue's translation of ``text`` (unformatted); English, or a missing entry, stays as written."""
+    return text if lang == "en" or not text else _catalogue(lang).gettext(text)
+
+
+def _(text: str, /, **fields: object) -> str:
+    """``text`` in the current language (:func:`current_language`), formatted with ``fields``."""
+    return translate(text, current_language(), **fields)
+
+
+def message(key: str, lang: str = "en", /, **fields: object) -> str:
+    """The shell's message ``key`` in ``lang`` (``"en"`` or ``"ko"``), formatted with ``fields``."""
+    return translate(_SOURCE[key], lang, **fields)
+
