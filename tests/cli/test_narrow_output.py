@@ -91,3 +91,87 @@ def test_ik_table_renders_in_an_80_column_console() -> None:
     Console(file=buf, width=80, no_color=True).print(t)
     check_lines(buf.getvalue(), 80)
     assert "…" not in buf.getvalue()
+
+
+# ---- every other table the CLI prints, at 60, 80 and 120 columns -------------------------------------------
+
+NUMBER = re.compile(r"(?<![\w.])[-+]?\d+(?:\.\d+)?(?:e[-+]\d+)?(?![\w.])")
+
+
+def numbers_in(text: str) -> list[float]:
+    """Every whole number token of the output."""
+    return [float(m) for m in NUMBER.findall(text)]
+
+
+def check_no_cut(text: str, cols: int) -> None:
+    """Nothing is cut (no ellipsis), no line is wider than ``cols``, no table cell holds a piece of a number and no
+    line ends inside a number that the next line continues (a digit, '.' or 'e' followed by a line starting with
+    a digit)."""
+    check_lines(text, cols)
+    assert "…" not in text, text
+    lines = text.splitlines()
+    for a, b in zip(lines, lines[1:]):
+        if a.startswith("│") or b.startswith("│"):
+            continue
+        assert not (re.search(r"[\d.e]$", a) and re.match(r"\d", b)), f"number broken across lines: {a!r} / {b!r}"
+
+
+def has_value(text: str, value: float, rel: float = 5e-4, abs_: float = 5e-4) -> bool:
+    return any(abs(v - value) <= max(abs_, rel * abs(value)) for v in numbers_in(text))
+
+
+WIDTHS = [60, 80, 120]
+Q_PUMA = ("10", "20", "30", "40", "50", "60")
+
+
+@pytest.mark.parametrize("cols", WIDTHS)
+@pytest.mark.parametrize("robot,q", [("fighter", ("30", "45", "60")), ("puma560", Q_PUMA), ("so101", ("10",) * 5)],
+                         ids=lambda v: v if isinstance(v, str) else "q")
+def test_fk_fits_and_shows_every_coordinate(cols: int, robot: str, q: tuple[str, ...]) -> None:
+    out = run(cols, "fk", robot, *q, "--deg")
+    check_no_cut(out, cols)
+    r = armkit.load(robot)
+    qv = np.radians([float(v) for v in q])
+    T = armkit.fk(r, qv)
+    for v in T[:3, :].ravel():                                  # the pose, whole, 6 decimals
+        assert has_value(out, v, abs_=2e-6), (v, out)
+    for f in armkit.kinematics.fk_frames(r, qv):                # every joint origin, 3 decimals
+        for v in f[:3, 3]:
+            assert has_value(out, v, abs_=2e-3), (v, out)
+
+
+@pytest.mark.parametrize("cols", WIDTHS)
+@pytest.mark.parametrize("robot,q", [("fighter", ("30", "45", "60")), ("puma560", Q_PUMA), ("ur5", Q_PUMA),
+                                     ("panda", ("10", "-20", "30", "-90", "50", "60", "70"))],
+                         ids=lambda v: v if isinstance(v, str) else "q")
+def test_jacobian_fits_and_every_entry_is_whole(cols: int, robot: str, q: tuple[str, ...]) -> None:
+    out = run(cols, "jacobian", robot, *q, "--deg")
+    check_no_cut(out, cols)
+    r = armkit.load(robot)
+    J = armkit.jacobian(r, np.radians([float(v) for v in q]))
+    for v in J.ravel():                                          # 4 significant digits at least
+        assert has_value(out, v, rel=6e-4, abs_=1e-6), (v, out)
+
+
+@pytest.mark.parametrize("cols", WIDTHS)
+@pytest.mark.parametrize("args", [("singular", "fighter"), ("singular", "puma560"), ("singular", "planar2"),
+                                  ("velocity", "fighter", "30", "45", "60", "--deg", "--ee-vel", "10,0,0"),
+                                  ("velocity", "panda", "0", "-20", "0", "-90", "0", "70", "0", "--deg",
+                                   "--ee-vel", "0.1,0,0,0,0,0.2"),
+                                  ("traj", "fighter", "--joint", "0,0,0", "30,45,60", "--deg"),
+                                  ("traj", "planar2", "--line", "1.2,0.2", "0.6,0.9", "--steps", "20"),
+                                  ("workspace", "planar2", "--samples", "2000"),
+                                  ("derive", "planar2"), ("derive", "fighter"),
+                                  ("ik", "ur5", "0.4", "0.1", "0.5", "--method", "lm", "--trace")],
+                         ids=lambda a: "-".join(a[:2]))
+def test_other_tables_fit(cols: int, args: tuple[str, ...]) -> None:
+    out = run(cols, *args)
+    check_no_cut(out, cols)
+    if args[0] == "velocity" and args[1] == "fighter":
+        r = armkit.load("fighter")
+        qd = np.linalg.pinv(armkit.jacobian(r, np.radians([30, 45, 60]))[:3]) @ [10, 0, 0]
+        for v in qd:
+            assert has_value(out, v, rel=1e-5), (v, out)
+            assert has_value(out, np.degrees(v), rel=1e-5), (v, out)
+    if args[0] == "singular" and args[1] == "fighter":
+        assert "180.0000°" in out and "0.0000°" in out

@@ -11,7 +11,7 @@ from rich.table import Table
 
 from ..model.robot import Joint, Robot
 from .common import (NUMERIC_ARGS, ROBOT_HELP, console, esc, fail, get_robot, natural_width, out_width, parse_q,
-                     pose_table, print_fitted, print_json, print_records, q_display)
+                     pose_table, print_fitted, print_json, print_records, print_table, q_display)
 
 
 def robots(json_out: bool = typer.Option(False, "--json", help="Print JSON instead of a table.")) -> None:
@@ -181,13 +181,13 @@ def info(robot: str = typer.Argument(..., help=ROBOT_HELP),
     else:
         table = _urdf_joints_table(shown)
         if natural_width(table) <= out_width():
-            console.print(table)
+            print_table(table)
         else:
             _urdf_joints_records(shown)
     for which in ("base", "tool"):
         T = getattr(shown, which)
         if not np.allclose(T, np.eye(4)):
-            console.print(pose_table(T, shown.unit, title=which))
+            print_table(pose_table(T, shown.unit, title=which))
         else:
             console.print(f"{which}: identity")
     if not r.is_dh:
@@ -262,18 +262,31 @@ def fk(robot: str = typer.Argument(..., help=ROBOT_HELP),
     if link is not None:
         console.print(f"link {esc(link)}: origin ([bold]{p[0]:.3f}, {p[1]:.3f}, {p[2]:.3f}[/]) {r.unit}   "
                       f"roll/pitch/yaw: ({rpy[0]:.3f}, {rpy[1]:.3f}, {rpy[2]:.3f}) deg")
-        console.print(pose_table(T, r.unit, title=f"T_world_{esc(link)}"))
+        print_table(pose_table(T, r.unit, title=f"T_world_{esc(link)}"))
         return
     console.print(f"end point: ([bold]{p[0]:.3f}, {p[1]:.3f}, {p[2]:.3f}[/]) {r.unit}   "
                   f"roll/pitch/yaw: ({rpy[0]:.3f}, {rpy[1]:.3f}, {rpy[2]:.3f}) deg")
-    console.print(pose_table(T, r.unit, title="T_world_tool"))
+    print_table(pose_table(T, r.unit, title="T_world_tool"))
     t = Table(title=f"frame origins ({r.unit})", header_style="bold")
     for col in ("frame", "link", "x", "y", "z"):
         t.add_column(col, justify="right")
     for k, (name, f) in enumerate(zip(r.link_names, F)):
         label = "base" if k == 0 else (f"{k} + tool" if k == r.n else str(k))
         t.add_row(label, esc(name), *(f"{v:.3f}" for v in f[:3, 3]))
-    console.print(t)
+    print_table(t)
+
+
+def _jacobian_table(r: Robot, J: np.ndarray, frame: str, compact: bool) -> Table:
+    """The Jacobian as a table: joint names and 6 decimals, or (compact) q1..qn and 4 significant digits."""
+    t = Table(title=f"geometric Jacobian of {esc(r.name)} in the {frame} frame "
+                    f"(v rows in {r.unit}/rad, w rows dimensionless)", header_style="bold")
+    t.add_column("row")
+    for i, (name, kind) in enumerate(zip(r.joint_names, r.joint_types), 1):
+        t.add_column(f"q{i}" if compact else f"{esc(name)} ({kind})", justify="right")
+    for label, row in zip(("vx", "vy", "vz", "wx", "wy", "wz"), J):
+        row = np.where(np.abs(row) < 5e-13, 0.0, row)         # no "-0.000000" from rounding noise
+        t.add_row(label, *((f"{v:.4g}" if compact else f"{v: .6f}") for v in row))
+    return t
 
 
 def jacobian(robot: str = typer.Argument(..., help=ROBOT_HELP),
@@ -299,14 +312,7 @@ def jacobian(robot: str = typer.Argument(..., help=ROBOT_HELP),
         print_json({"robot": r.name, "frame": frame, "q_rad": qv, "jacobian": J, "manipulability": w,
                     "condition_number": c, "singular": s, "singular_threshold": SINGULAR_THRESHOLD})
         return
-    t = Table(title=f"geometric Jacobian of {esc(r.name)} in the {frame} frame "
-                    f"(v rows in {r.unit}/rad, w rows dimensionless)", header_style="bold")
-    t.add_column("row")
-    for name, kind in zip(r.joint_names, r.joint_types):
-        t.add_column(f"{esc(name)} ({kind})", justify="right")
-    for label, row in zip(("vx", "vy", "vz", "wx", "wy", "wz"), J):
-        t.add_row(label, *(f"{v: .6f}" for v in row))
-    console.print(t)
+    print_fitted(_jacobian_table(r, J, frame, compact=False), _jacobian_table(r, J, frame, compact=True))
     console.print(f"manipulability sqrt(det(J J^T)) = {w:.6g}   condition number = {c:.6g}   "
                   + ("[bold red]SINGULAR[/]" if s else "not singular")
                   + f" (threshold: smallest singular value < {SINGULAR_THRESHOLD:g}, lengths in m)")

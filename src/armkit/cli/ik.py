@@ -13,6 +13,7 @@ from .common import (EXIT_BAD_INPUT, EXIT_FAILED, NUMERIC_ARGS, N_, console, esc
                      print_json, scene_option, warn)
 
 from .common import ROBOT_HELP  # noqa: E402
+from .common import print_table  # noqa: E402
 METHOD_CHOICES = ("auto", "analytic", "lm", "newton", "ccd", "fabrik")
 
 
@@ -296,7 +297,7 @@ def ik(robot: str = typer.Argument(..., help=ROBOT_HELP),
                 if row["reason"] == "collision" and solved:
                     console.print(f"collision: {esc(row['branch'])}: {esc(row['message'])}", soft_wrap=True)
         if trace and res.trace is not None:
-            console.print(_trace_table(res.trace))
+            print_table(_trace_table(res.trace))
         if solved:
             ok_count = sum(row["success"] for row in rows)
             if len(rows) > 1:

@@ -18,6 +18,7 @@ from rich.markup import escape
 from rich.table import Table
 
 from .common import EXIT_BAD_INPUT, EXIT_FAILED, NUMERIC_ARGS, console, fail, get_robot, parse_numbers, print_json
+from .common import print_table
 
 __all__ = ["register", "MESSAGES"]
 
@@ -163,7 +164,9 @@ def _summary_table(m: Any, lg: str) -> Table:
 
 
 def _picture(m: Any, path: Path) -> None:
-    import matplotlib
+    from .._extras import require
+
+    matplotlib = require("matplotlib", "armkit reach pictures")
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -264,7 +267,7 @@ def show(map_path: str = typer.Argument(..., metavar="MAP", help="Zarr store wri
     if as_json:
         print_json({**m.summary(), "picture": output})
     else:
-        console.print(_summary_table(m, lg))
+        print_table(_summary_table(m, lg))
     if out is not None:
         _picture(m, out)
         if not as_json:
@@ -408,7 +411,7 @@ def base(map_path: str = typer.Argument(..., metavar="MAP", help="Zarr store wri
         for i, r in enumerate(rows, 1):
             t.add_row(str(i), f"{r['x']:.4g}", f"{r['y']:.4g}", f"{r['yaw_deg']:.1f}",
                       f"{r['map_reached']}/{len(T)}", f"{r['ik_reached']}/{len(T)}")
-        console.print(t)
+        print_table(t)
     if not best or best[0].ik_count == 0:
         if not as_json:
             console.print(escape(_msg("base_none", lg)))

@@ -19,6 +19,7 @@ from .common import (EXIT_FAILED, NUMERIC_ARGS, console, esc, fail, name_list, o
                      q_display, scene_option, warn)
 
 from .common import ROBOT_HELP  # noqa: E402
+from .common import print_table  # noqa: E402
 
 
 def _matrix_table(M, title: str, row_labels=None, col_labels=None) -> Table:
@@ -98,10 +99,10 @@ def derive(robot: str = typer.Argument(..., help=ROBOT_HELP),
         console.print("short-hand: " + ", ".join(f"{s} = {f}" for f, s in txt["legend"].items()))
     if links:
         for i, A in enumerate(txt["links"], 1):
-            console.print(_matrix_table(A, f"A{i} (frame {i - 1} -> {i})"))
-    console.print(_matrix_table(txt["T"], f"T = base · A1 ··· A{r.n} · tool  (pose of the tool)"))
+            print_table(_matrix_table(A, f"A{i} (frame {i - 1} -> {i})"))
+    print_table(_matrix_table(txt["T"], f"T = base · A1 ··· A{r.n} · tool  (pose of the tool)"))
     cols = [f"q{i + 1}" for i in range(r.n)]
-    console.print(_matrix_table(txt["J"], "geometric Jacobian J(q), rows (v, w), base frame",
+    print_table(_matrix_table(txt["J"], "geometric Jacobian J(q), rows (v, w), base frame",
                                 ["vx", "vy", "vz", "wx", "wy", "wz"], cols))
     if ik is not None:
         console.print("[bold]closed-form IK[/] (derived with sympy.solve from x = a1 c1 + a2 c12, y = a1 s1 + a2 s12):")
@@ -131,19 +132,21 @@ def _planar_2r_ik(r) -> Optional[dict]:
 
 
 def singular(robot: str = typer.Argument(..., help=ROBOT_HELP),
-             plot: Optional[Path] = typer.Option(None, "--plot", "-o",
+             plot: Optional[Path] = typer.Option(None, "-o", "--output",
                                                  help="Save a manipulability map over two joints (PNG)."),
+             plot_alias: Optional[Path] = typer.Option(None, "--plot", hidden=True),
              json_out: bool = typer.Option(False, "--json", help="Print JSON.")) -> None:
     """Singularities: det(J) factored, each factor named (stretched, folded, on the yaw axis, wrist) and checked.
 
     Example: armkit singular fighter
-    Example: armkit singular planar2 --plot manip.png
+    Example: armkit singular planar2 -o manip.png
     """
     from ..analysis.singularity import analyze_singularities, plot_manipulability
 
     r = get_robot(robot)
+    plot = plot if plot is not None else plot_alias     # --plot: the old spelling of --output
     if plot is not None:
-        output_path(plot, (".png", ".pdf", ".svg"), "--plot")
+        output_path(plot, (".png", ".pdf", ".svg"), "--output")
     res = analyze_singularities(r)
     if json_out:
         print_json({"robot": r.name, "method": res.method, "rows": list(res.rows),
@@ -173,7 +176,7 @@ def singular(robot: str = typer.Argument(..., help=ROBOT_HELP),
                 sol = "a curve/surface in joint space"
             w = f"{f.manipulability.max():.1e}" if len(f.manipulability) else "-"
             t.add_row(esc(f.text + ("" if f.power == 1 else f" (power {f.power})")), esc(f.description.split(":")[0]), esc(sol), w)
-        console.print(t)
+        print_table(t)
         consts = [f.text for f in res.factors if f.kind == "constant" and f.expr != 1]
         if consts:
             console.print(f"constant factors (never zero): {', '.join(consts)}")
@@ -184,7 +187,7 @@ def singular(robot: str = typer.Argument(..., help=ROBOT_HELP),
         joints = (1, 2) if r.n == 2 else (2, 3)
         from .._io import atomic_path
 
-        with atomic_path(plot, (".png", ".pdf", ".svg"), "--plot") as tmp:
+        with atomic_path(plot, (".png", ".pdf", ".svg"), "--output") as tmp:
             fig = plot_manipulability(r, tmp, joints=joints, analysis=res)
         from ..viz._mpl import pyplot
 
@@ -256,7 +259,7 @@ def velocity(robot: str = typer.Argument(..., help=ROBOT_HELP),
         t.add_column(col, justify="right")
     for name, v, p in zip(r.joint_names, res.qd, r.prismatic):
         t.add_row(esc(name), f"{v:.6g}" + (f" {r.unit}/s" if p else ""), "" if p else f"{math.degrees(v):.6g}")
-    console.print(t)
+    print_table(t)
     console.print(f"achieved: ({', '.join(f'{v:.6g}' for v in res.achieved)}), residual {res.residual:.3g}"
                   + (f", damping lambda^2 = {res.damping:.3g} m^2" if res.damping else ""))
     if res.singular:
@@ -292,8 +295,9 @@ def traj(robot: str = typer.Argument(..., help=ROBOT_HELP),
          steps: int = typer.Option(100, "--steps", help="Samples along a Cartesian path."),
          method: str = typer.Option("ik", "--method", help="Cartesian paths: 'ik' or 'rate' (resolved rate)."),
          dt: float = typer.Option(0.02, "--dt", help="Sample time for joint-space profiles (s)."),
-         out: Optional[Path] = typer.Option(None, "-o", "--output", "--out",
+         out: Optional[Path] = typer.Option(None, "-o", "--output",
                                           help="Write .png (plots), .gif/.mp4 (animation) or .csv."),
+         out_alias: Optional[Path] = typer.Option(None, "--out", hidden=True),
          scene_file: Optional[str] = typer.Option(
              None, "--scene", help="Scene file (docs/scene.md): samples where the arm collides with it, its body or "
                                    "itself are counted. Default: the robot's own surroundings, if any."),
@@ -310,6 +314,7 @@ def traj(robot: str = typer.Argument(..., help=ROBOT_HELP),
     from ..motion.trajectory import animate_trajectory, cartesian_arc, cartesian_line, joint_trajectory, plot_trajectory
 
     r = get_robot(robot)
+    out = out if out is not None else out_alias         # --out: the old spelling of --output
     if out is not None:
         output_path(out, (".png", ".pdf", ".svg", ".gif", ".mp4", ".csv"), "--output")
     modes = sum([joint, line, arc is not None])
