@@ -6,15 +6,16 @@ VENV   := .venv
 PY     := $(VENV)/bin/python
 PIP    := $(PY) -m pip
 
-.PHONY: demo test bench clean chromium locale locale-update
+.PHONY: demo test bench clean chromium locale locale-update fonts
+
 
 $(VENV)/.installed: pyproject.toml
 	$(PYTHON) -m venv $(VENV)
 	$(PIP) install --quiet --upgrade pip
-	$(PIP) install --quiet -e '.[test]'
+	$(PIP) install --quiet -e '.[test]'   # [test] pulls armkit[all]: every optional extra
 	touch $@
 
-demo: $(VENV)/.installed locale
+demo: $(VENV)/.installed locale fonts
 	$(PY) examples/00_demo.py
 
 # the command line's messages in Korean: gettext catalogues compiled by Babel (docs/ko.md)
@@ -36,7 +37,13 @@ chromium:
 	@command -v chromium >/dev/null 2>&1 || [ -x /usr/bin/chromium ] || \
 		($(SUDO) apt-get update && $(SUDO) apt-get install -y chromium)
 
-test: $(VENV)/.installed chromium locale
+# Korean labels in the pictures (and the browser view) need a font with Hangul: Debian's fonts-nanum, installed
+# when no such font is found (without it, the pictures fall back to English labels with a warning; docs/ko.md)
+fonts:
+	@fc-list 2>/dev/null | grep -qiE 'nanum|cjk|hangul|malgun|gothic.*kr' || \
+		($(SUDO) apt-get update && $(SUDO) apt-get install -y fonts-nanum)
+
+test: $(VENV)/.installed chromium locale fonts
 	$(PY) -m pytest
 	$(PY) -m mypy
 

@@ -9,9 +9,10 @@ array([ 24.861,  14.353, 187.181])
 from __future__ import annotations
 
 from . import spatial
-from .errors import (ArgumentError, ArmkitError, IKInputError, JointLimitError, LimitError, ParseError,
-                     RobotDefinitionError, RobotFileError, ShapeError, UnknownRobotError, UnreachableError, WriteError,
-                     WriteInterrupted)
+from .errors import (ArgumentError, ArmkitError, IKInputError, JointLimitError, LimitError, MapFileError,
+                     MissingExtraError, ParseError, ReachabilityError, RobotDefinitionError, RobotFileError,
+                     SceneError, SceneFileError, SceneNotSupportedError, ShapeError, UnknownRobotError,
+                     UnreachableError, ViewError, WriteError, WriteInterrupted)
 from .kinematics import (condition_number, fk, fk_frames, get_backend, is_singular, jacobian, link_frames,
                          manipulability, set_backend)
 from .model import Joint, Link, Robot, Shape, bundled_robots, load, save
@@ -38,6 +39,8 @@ __all__ = [
     "set_backend", "get_backend", "warmup",
     "ArmkitError", "ArgumentError", "ShapeError", "RobotDefinitionError", "RobotFileError", "UnknownRobotError",
     "JointLimitError", "UnreachableError", "IKInputError", "ParseError", "LimitError", "WriteError", "WriteInterrupted",
+    "MissingExtraError", "SceneError", "SceneFileError", "SceneNotSupportedError", "ReachabilityError", "MapFileError",
+    "ViewError",
     "IKResult", "ik", "ik_all", "view",
     "Scene", "Collisions", "collisions", "clearance",
     "reachability", "ReachabilityMap", "base_placement",

@@ -20,6 +20,13 @@ __all__ = [
     "LimitError",
     "IKInputError",
     "ParseError",
+    "MissingExtraError",
+    "SceneError",
+    "SceneFileError",
+    "SceneNotSupportedError",
+    "ReachabilityError",
+    "MapFileError",
+    "ViewError",
 ]
 
 
@@ -114,3 +121,41 @@ class IKInputError(ArgumentError):
 
 class ParseError(ArgumentError):
     """A statement the interactive shell cannot use; its text is the one-line message."""
+
+
+class MissingExtraError(ArmkitError, ImportError):
+    """An optional dependency is not installed; the message names the pip extra that brings it.
+
+    ``armkit view needs the 'view' extra (No module named 'viser'): pip install 'armkit[view]'``
+    """
+
+    def __init__(self, what: str, extra: str, module: str, reason: str = ""):
+        self.what = what
+        self.extra = extra
+        self.module = module
+        because = f" ({reason})" if reason else ""
+        super().__init__(f"{what} needs the {extra!r} extra{because}: pip install 'armkit[{extra}]'", name=module)
+
+
+class SceneError(ArmkitError, ValueError):
+    """A shape or scene that cannot work: a negative radius, a zero normal, an unknown unit, ..."""
+
+
+class SceneFileError(RobotFileError):
+    """A malformed scene file: the message names the file, line and field (exit code 2 in the CLI)."""
+
+
+class SceneNotSupportedError(ArmkitError, NotImplementedError):
+    """``scene=`` was given but this build of armkit has no collision checking."""
+
+
+class ReachabilityError(ArmkitError, ValueError):
+    """A bad argument to :func:`armkit.reachability` or a store that does not match the build."""
+
+
+class MapFileError(ArmkitError, ValueError):
+    """A path that is not a readable armkit reachability map (or not a finished one)."""
+
+
+class ViewError(ArmkitError, ValueError):
+    """A view that cannot start or a bad argument to the handle (port in use, bad host, ...)."""

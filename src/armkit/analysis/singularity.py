@@ -33,7 +33,11 @@ from pathlib import Path
 from typing import Any, Sequence
 
 import numpy as np
-import sympy as sp
+
+from .._extras import require
+
+require("sympy", "singularity analysis")
+import sympy as sp  # noqa: E402 - after the check that names the missing extra
 
 from ..kinematics import fk_frames, jacobian, manipulability
 from ..model.robot import Robot
@@ -481,7 +485,7 @@ def plot_manipulability(robot: Robot, out_path: str | Path | None = None, joints
     -------
     matplotlib.figure.Figure
     """
-    import matplotlib
+    matplotlib = require("matplotlib", "plotting manipulability")
     if out_path is not None:
         matplotlib.use("Agg", force=False)
     import matplotlib.pyplot as plt

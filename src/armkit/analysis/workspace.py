@@ -41,7 +41,7 @@ from typing import Any, Optional, Sequence
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ..errors import ArgumentError, ArmkitError, ShapeError
+from ..errors import ArgumentError, ShapeError
 from ..kinematics import fk, fk_frames, manipulability as _manipulability
 from ..model.robot import Robot
 
@@ -377,7 +377,7 @@ def workspace(robot: Robot, samples: int = 200_000, seed: int | np.random.Genera
     if not isinstance(samples, (int, np.integer)) or samples < 100:
         raise ArgumentError(f"samples must be an integer >= 100, got {samples!r}")
     if exclusion is not None and not isinstance(exclusion, Exclusion):
-        raise ArmkitError(f"exclusion must be an armkit.analysis.Exclusion, got {type(exclusion).__name__}")
+        raise ArgumentError(f"exclusion must be an armkit.analysis.Exclusion, got {type(exclusion).__name__}")
     from .._limits import check_memory
 
     # what the result holds (q, points) and the voxel pass needs at once, checked before any allocation
@@ -404,7 +404,7 @@ def workspace(robot: Robot, samples: int = 200_000, seed: int | np.random.Genera
             keep[s:s + chunk] &= ~in_collision(robot, qs, scene)
     excluded = int((~keep).sum())
     if excluded == len(q):
-        raise ArmkitError(f"every sample of {robot.name!r} enters the exclusion "
+        raise ArgumentError(f"every sample of {robot.name!r} enters the exclusion "
                           f"({exclusion.describe(robot.unit) if exclusion else 'the scene'}); nothing is reachable")
     q, points = q[keep], points[keep]
     centre = shoulder_point(robot)

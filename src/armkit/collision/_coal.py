@@ -11,6 +11,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from .._extras import require
 from .shapes import SceneError
 
 __all__ = ["distances", "geometry", "signed_distance"]
@@ -20,11 +21,7 @@ _MESHES: dict[tuple[str, tuple[float, ...]], Any] = {}
 
 
 def _coal() -> Any:
-    try:
-        import coal
-    except ImportError as exc:  # pragma: no cover - coal is a dependency
-        raise SceneError("this pair (a cylinder or a mesh) needs the collision library coal: pip install coal") from exc
-    return coal
+    return require("coal", "collision checking of this pair (a cylinder or a mesh)")
 
 
 def geometry(kind: str, size: Any, shape: Any = None) -> Any:

@@ -28,7 +28,7 @@ import sys
 from pathlib import Path
 from typing import Any, Callable
 
-from ..errors import RobotFileError
+from ..errors import SceneFileError
 from .shapes import Scene, SceneError, Shape
 
 if sys.version_info >= (3, 11):
@@ -48,10 +48,6 @@ SHAPE_KEYS = {
     "mesh": {"path", "xyz", "rpy", "scale"},
 }
 _COMMON = {"type", "name", "allow"}
-
-
-class SceneFileError(RobotFileError):
-    """A malformed scene file: the message names the file, line and field (exit code 2 in the CLI)."""
 
 
 def block_line(lines: list[str], header: str, index: int, key: str | None) -> int | None:

@@ -15,17 +15,13 @@ from typing import Iterable, Iterator, Sequence
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ..errors import ArmkitError
+from ..errors import SceneError
 
 __all__ = ["Shape", "Scene", "SceneError", "KINDS"]
 
 Array = NDArray[np.float64]
 KINDS = ("plane", "box", "sphere", "cylinder", "capsule", "mesh")
 _UNITS = {"m": 1.0, "cm": 1e-2, "mm": 1e-3}
-
-
-class SceneError(ArmkitError, ValueError):
-    """A shape or scene that cannot work: a negative radius, a zero normal, an unknown unit, ..."""
 
 
 def _vec(value: ArrayLike, n: int, what: str) -> Array:

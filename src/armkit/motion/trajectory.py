@@ -35,7 +35,8 @@ from typing import Any, Literal, Sequence
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ..errors import ArgumentError, ArmkitError, ShapeError, UnreachableError
+from .._extras import require
+from ..errors import ArgumentError, ShapeError, UnreachableError
 from ..kinematics import fk
 from ..model.robot import Robot
 
@@ -445,7 +446,7 @@ def cartesian_arc(robot: Robot, center: ArrayLike, start: ArrayLike, angle: floa
 # -------------------------------------------------------------------------------------------- output
 def plot_trajectory(traj: Trajectory, robot: Robot | None = None, out_path: str | Path | None = None) -> Any:
     """Three panels: q(t), qd(t) (degrees for revolute joints) and the tool path. Returns the figure."""
-    import matplotlib
+    matplotlib = require("matplotlib", "plotting a trajectory")
     if out_path is not None:
         matplotlib.use("Agg", force=False)
     import matplotlib.pyplot as plt
@@ -495,9 +496,7 @@ def plot_trajectory(traj: Trajectory, robot: Robot | None = None, out_path: str 
 def animate_trajectory(traj: Trajectory, robot: Robot, out_path: str | Path, fps: int = 20,
                        title: str | None = None) -> Path:
     """Render ``traj`` as a GIF/MP4 with :func:`armkit.viz.animation.render_animation` (targets drawn)."""
-    try:
-        from ..viz.animation import render_animation
-    except ImportError as exc:  # the viz package is optional
-        raise ArmkitError(f"animation needs armkit.viz.animation, which could not be imported: {exc}") from exc
+    from ..viz.animation import render_animation   # says which extra is missing (armkit._extras)
+
     return render_animation(robot, traj.q, out_path, targets=traj.targets, fps=fps, trail=True,
                             title=title or f"{robot.name}: {traj.label}", progress=False)

@@ -28,7 +28,7 @@ from typing import Any, Callable, Literal, Sequence
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ..errors import ArgumentError, ArmkitError, ShapeError
+from ..errors import ArgumentError, LimitError, ShapeError
 from ..kinematics import fk, jacobian
 from ..model.robot import Robot
 
@@ -208,7 +208,7 @@ def joint_rates(robot: Robot, q: ArrayLike, xd: ArrayLike, method: Literal["pinv
         achieved = (jacobian(robot, qv)[list(idx), :] @ qd)
         residual = float(np.linalg.norm(achieved - x))
     if not (np.all(np.isfinite(qd)) and np.all(np.isfinite(achieved)) and math.isfinite(residual)):
-        raise ArmkitError(f"the requested velocity (largest component {float(np.max(np.abs(x))):.3g}) is too large: "
+        raise LimitError(f"the requested velocity (largest component {float(np.max(np.abs(x))):.3g}) is too large: "
                           "the joint rates overflow float64; ask for a smaller velocity")
     direction = U[:, len(idx) - 1] if len(idx) > robot.n else U[:, k - 1]
     direction = direction * (1 if direction[np.argmax(np.abs(direction))] > 0 else -1)

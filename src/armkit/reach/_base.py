@@ -16,7 +16,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ..errors import ArmkitError, ShapeError
+from ..errors import ArgumentError, ShapeError
 from ._map import ReachabilityMap
 
 __all__ = ["BasePlacement", "base_placement"]
@@ -103,7 +103,7 @@ def base_placement(map: ReachabilityMap, task_poses: ArrayLike, candidates: Arra
     from ..ik import ik
 
     if not isinstance(map, ReachabilityMap):
-        raise ArmkitError(f"map must be an armkit.ReachabilityMap, got {type(map).__name__}")
+        raise ArgumentError(f"map must be an armkit.ReachabilityMap, got {type(map).__name__}")
     T = np.asarray(task_poses, dtype=float)
     if T.ndim == 2 and T.shape == (4, 4):
         T = T[None]
@@ -112,14 +112,14 @@ def base_placement(map: ReachabilityMap, task_poses: ArrayLike, candidates: Arra
     if not np.all(np.isfinite(T)):
         raise ShapeError("task_poses contain NaN or infinite values")
     if isinstance(top, bool) or not isinstance(top, (int, np.integer)) or top < 1:
-        raise ArmkitError(f"top must be a positive integer, got {top!r}")
+        raise ArgumentError(f"top must be a positive integer, got {top!r}")
     if candidates is None:
         h = map.grid.resolution if step is None else float(step)
         if not (math.isfinite(h) and h > 0):
-            raise ArmkitError(f"step must be a positive length, got {step!r}")
+            raise ArgumentError(f"step must be a positive length, got {step!r}")
         ny = (1 if _yaw_free(map) else 8) if yaws is None else int(yaws)
         if ny < 1:
-            raise ArmkitError(f"yaws must be a positive integer, got {yaws!r}")
+            raise ArgumentError(f"yaws must be a positive integer, got {yaws!r}")
         B = _floor_candidates(map, T, float(floor_z), h, ny)
     else:
         B = np.asarray(candidates, dtype=float)

@@ -27,7 +27,8 @@ from typing import Any, Callable, Iterator, Literal, Sequence
 import numpy as np
 from numpy.typing import NDArray
 
-from ..errors import ArmkitError
+from .._extras import require
+from ..errors import ReachabilityError
 from ..model.robot import Robot
 from ._grid import Grid
 from ._map import DEFAULT_COVERAGE, FORMAT, ReachabilityMap, decide, robot_to_toml
@@ -48,10 +49,6 @@ CONNECT_TIMEOUT = "10s"
 """How long to wait for a Dask scheduler given by address before saying it cannot be reached."""
 
 Progress = Callable[[int, int], None]
-
-
-class ReachabilityError(ArmkitError, ValueError):
-    """A bad argument to :func:`armkit.reachability` or a store that does not match the build."""
 
 
 def default_samples(grid: Grid) -> int:
@@ -94,10 +91,7 @@ def _make_grid(robot: Robot, resolution: Any, orientations: Any, rolls: Any) -> 
 # ------------------------------------------------------------------ executors
 def _client(scheduler: Any) -> tuple[Any, Callable[[], None]]:
     """A dask.distributed Client for ``scheduler`` (address or Client) and how to let it go."""
-    try:
-        from distributed import Client
-    except ImportError:  # pragma: no cover - a dependency
-        raise ReachabilityError("scheduler= needs dask.distributed: pip install 'dask[distributed]'") from None
+    Client = require("distributed", "a Dask scheduler (scheduler=)").Client
     if isinstance(scheduler, Client):
         return scheduler, lambda: None
     if not isinstance(scheduler, str) or "://" not in scheduler:
@@ -111,8 +105,8 @@ def _client(scheduler: Any) -> tuple[Any, Callable[[], None]]:
 
 
 def _local_cluster(workers: int) -> tuple[Any, Callable[[], None]]:
-    from distributed import Client, LocalCluster
-
+    distributed = require("distributed", "a reachability map built by several workers")
+    Client, LocalCluster = distributed.Client, distributed.LocalCluster
     cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, host="127.0.0.1",
                            dashboard_address=":0", silence_logs=40)
     client = Client(cluster)
@@ -144,8 +138,7 @@ class _Store:
     """The Zarr group of a build, with generation-numbered partial results (see ``_map``)."""
 
     def __init__(self, path: str, attrs: dict[str, Any], grid: Grid, n_blocks: int, overwrite: bool) -> None:
-        import zarr
-
+        zarr = require("zarr", "building a reachability map")
         self.grid, self.n_blocks = grid, n_blocks
         self.group: Any
         p = Path(path)

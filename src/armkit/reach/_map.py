@@ -29,7 +29,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ..errors import ArmkitError, ShapeError
+from .._extras import require
+from ..errors import ArmkitError, MapFileError, ShapeError
 from ..model.robot import Robot
 from ._grid import Grid
 
@@ -37,10 +38,6 @@ __all__ = ["ReachabilityMap", "MapFileError", "FORMAT"]
 
 FORMAT = "armkit.reachability/1"
 Array = NDArray[np.float64]
-
-
-class MapFileError(ArmkitError, ValueError):
-    """A path that is not a readable armkit reachability map (or not a finished one)."""
 
 
 def robot_from_toml(text: str, name: str) -> Robot:
@@ -290,8 +287,7 @@ class ReachabilityMap:
             The path is missing, is not an armkit map, or holds an unfinished build (run the
             same build again to resume it).
         """
-        import zarr
-
+        zarr = require("zarr", "reading a reachability map")
         p = str(path)
         if not Path(p).exists():
             raise MapFileError(f"no reachability map at {p!r}")

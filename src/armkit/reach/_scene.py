@@ -14,14 +14,10 @@ from typing import Any, Callable
 import numpy as np
 from numpy.typing import NDArray
 
-from ..errors import ArmkitError
+from ..errors import ArmkitError, SceneError, SceneNotSupportedError
 from ..model.robot import Robot
 
 __all__ = ["SceneNotSupportedError", "clearance_function", "collision_free"]
-
-
-class SceneNotSupportedError(ArmkitError, NotImplementedError):
-    """``scene=`` was given but this build of armkit has no collision checking."""
 
 
 def clearance_function() -> Callable[..., Any]:
@@ -54,7 +50,7 @@ def check_scene(robot: Robot, scene: Any) -> Any:
     except ArmkitError:
         raise
     except (TypeError, ValueError, AttributeError) as exc:
-        raise ArmkitError(f"scene must be an armkit.Scene, a sequence of shapes, a scene file or 'robot'; got "
+        raise SceneError(f"scene must be an armkit.Scene, a sequence of shapes, a scene file or 'robot'; got "
                           f"{type(scene).__name__} ({exc})") from None
 
 

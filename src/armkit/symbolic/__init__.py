@@ -6,6 +6,10 @@ This package imports SymPy; ``import armkit`` never imports it (load it with
 
 from __future__ import annotations
 
-from .derive import Derivation, cache_dir, derive, exact_angle, link_transform, simplify_entry
+from .._extras import require
+
+require("sympy", "armkit.symbolic")
+from .derive import (Derivation, cache_dir, derive, exact_angle, link_transform,  # noqa: E402 - after the check
+                     simplify_entry)
 
 __all__ = ["Derivation", "derive", "link_transform", "exact_angle", "simplify_entry", "cache_dir"]

@@ -14,6 +14,7 @@ from typing import Any, Iterable
 import sympy as sp
 from sympy.printing.numpy import NumPyPrinter
 
+from .._extras import require
 from .derive import Derivation
 
 __all__ = ["shorthand", "shorthand_symbols", "to_text", "to_latex", "to_numpy_source", "render_png"]
@@ -209,7 +210,7 @@ def render_png(d: Derivation, out_path: str | Path, what: tuple[str, ...] = ("T"
     Mathtext has no matrix environment, so each entry is one line, ``T_{14} = ...``.
     A quick way to look at the formulas as they will print in a report.
     """
-    import matplotlib
+    matplotlib = require("matplotlib", "rendering formulas as a picture")
     matplotlib.use("Agg", force=False)
     import matplotlib.pyplot as plt
 

@@ -9,6 +9,7 @@ from typing import Any
 
 import numpy as np
 
+from .._extras import require
 from ..model.robot import Robot
 
 __all__ = ["pyplot", "has_display", "angle_text", "COLORS", "AXIS_COLORS"]
@@ -26,7 +27,7 @@ def has_display() -> bool:
 
 def pyplot() -> Any:
     """``matplotlib.pyplot``, imported on first use; Agg when there is no display and no MPLBACKEND."""
-    import matplotlib
+    matplotlib = require("matplotlib", "drawing pictures")
 
     if not has_display() and "MPLBACKEND" not in os.environ and "matplotlib.pyplot" not in sys.modules:
         matplotlib.use("Agg")

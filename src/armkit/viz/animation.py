@@ -9,7 +9,8 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ..analysis.workspace import skeleton_batch
-from ..errors import ArgumentError, ArmkitError, ShapeError
+from .._extras import require
+from ..errors import ArgumentError, ShapeError
 from ..kinematics import fk_frames
 from ..model.robot import Robot
 from ._mpl import COLORS, angle_text
@@ -67,6 +68,7 @@ def render_animation(robot: Robot, q: ArrayLike, out_path: str | Path, targets: 
             raise ShapeError(f"targets must have shape ({F}, 3) to match q, got {T.shape}")
     if not isinstance(fps, (int, np.integer)) or fps < 1:
         raise ArgumentError(f"fps must be a positive integer, got {fps!r}")
+    require("matplotlib", "writing an animation")
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
@@ -127,11 +129,8 @@ def render_animation(robot: Robot, q: ArrayLike, out_path: str | Path, targets: 
         prev: Optional[np.ndarray] = None
         try:
             if suffix == ".mp4":
-                try:
-                    import imageio.v2 as imageio
-                except ImportError as exc:  # pragma: no cover - a declared dependency
-                    raise ArmkitError("writing MP4 needs imageio and imageio-ffmpeg "
-                                      "(pip install imageio imageio-ffmpeg)") from exc
+                require("imageio_ffmpeg", "writing MP4")
+                imageio = require("imageio.v2", "writing MP4")
                 writer = imageio.get_writer(tmp, format="FFMPEG", fps=int(fps), codec="libx264", quality=7,
                                             macro_block_size=8)
             else:
@@ -175,6 +174,7 @@ def _gif_frame(f: Any, rgb: np.ndarray, duration: int, prev: Optional[np.ndarray
     Only the rectangle that changed since ``prev`` is stored (with its own 128-colour
     palette), as Pillow's own writer does, so a streamed GIF is as small as a buffered one.
     """
+    require("PIL", "writing a GIF")
     from PIL import GifImagePlugin, Image
 
     x0 = y0 = 0

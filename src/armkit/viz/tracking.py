@@ -26,7 +26,7 @@ from typing import Any, Optional
 import numpy as np
 from numpy.typing import NDArray
 
-from ..errors import ArgumentError, ArmkitError, ShapeError
+from ..errors import ArgumentError, LimitError, ShapeError
 from ..kinematics import fk
 from ..model.robot import Robot
 
@@ -163,7 +163,7 @@ def _read_csv(robot: Robot, file: Path) -> Array:
     if not file.is_file():
         raise ArgumentError(f"path must be one of {', '.join(PATHS)} or a CSV file; {str(file)!r} is neither")
     if file.stat().st_size > MAX_CSV_BYTES:
-        raise ArmkitError(f"{file}: {file.stat().st_size:,} bytes; a target CSV may have at most {MAX_CSV_BYTES:,} "
+        raise LimitError(f"{file}: {file.stat().st_size:,} bytes; a target CSV may have at most {MAX_CSV_BYTES:,} "
                           f"bytes (about {MAX_CSV_BYTES // 40:,} rows)")
     try:
         try:
@@ -171,7 +171,7 @@ def _read_csv(robot: Robot, file: Path) -> Array:
         except ValueError:
             data = np.loadtxt(file, delimiter=",", ndmin=2, skiprows=1)
     except (ValueError, OSError) as exc:
-        raise ArmkitError(f"{file}: cannot read target points as CSV numbers ({exc})") from exc
+        raise ArgumentError(f"{file}: cannot read target points as CSV numbers ({exc})") from exc
     if data.shape[1] not in (2, 3) or len(data) < 2:
         raise ShapeError(f"{file}: expected at least 2 rows of 2 (x, y) or 3 (x, y, z) columns, got {data.shape}")
     if not np.all(np.isfinite(data)):

@@ -24,7 +24,8 @@ from typing import Any, Callable, Optional
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ...errors import ArmkitError, JointLimitError, ShapeError
+from ..._extras import require
+from ...errors import ArmkitError, JointLimitError, ShapeError, ViewError
 from ...locale import LANGUAGES, default_language
 from ...kinematics import condition_number, fk, fk_frames, manipulability
 from ...model import Robot, load
@@ -36,10 +37,6 @@ Array = NDArray[np.float64]
 IK_METHODS = ("auto", "lm", "newton", "ccd", "fabrik")
 NEAR_SINGULAR = 100.0        # condition number above which the panel warns
 MAX_SWEEPS = 40              # sweeps animated by "show sweeps"
-
-
-class ViewError(ArmkitError, ValueError):
-    """A view that cannot start or a bad argument to the handle (port in use, bad host, ...)."""
 
 
 def _port_free(host: str, port: int) -> bool:
@@ -78,7 +75,7 @@ class View:
 
     def __init__(self, robot: Robot | str, port: Optional[int] = None, host: str = "127.0.0.1",
                  lang: Optional[str] = None, q: ArrayLike | None = None) -> None:
-        import viser
+        viser = require("viser", "armkit view")
 
         self.robot = robot if isinstance(robot, Robot) else load(robot)
         if lang is not None and lang not in LANGUAGES:
@@ -432,8 +429,7 @@ class View:
     # ------------------------------------------------------------------ misc
     def screenshot_png(self, client: Any, width: int = 1280, height: int = 800) -> bytes:
         """A PNG of what ``client`` (a connected browser) renders now."""
-        from PIL import Image
-
+        Image = require("PIL.Image", "a screenshot of the view")
         img = client.get_render(height=height, width=width, transport_format="png")
         buf = io.BytesIO()
         Image.fromarray(np.asarray(img)).save(buf, format="PNG")
