@@ -51,3 +51,93 @@ def test_map_input_errors():
         fk_maps(r, np.zeros((2, 2)), [0.0])
     with pytest.raises(armkit.ArmkitError, match="two different joint indices"):
         fk_maps(r, [0.0], [0.0], joints=(0, 0))
+
+
+# ---- the CLI draws the symbolic 2-link tutorial's maps (issue 11) -----------------------------------------------
+
+def capture_maps(monkeypatch: pytest.MonkeyPatch, *args: str, code: int = 0) -> tuple:
+    """Run ``armkit maps ...`` in-process and keep the map data handed to the plot (the picture is drawn too)."""
+    from typer.testing import CliRunner
+
+    import armkit.viz.plots as plots
+    from armkit.cli import app
+
+    seen: dict = {}
+    real = plots.plot_maps
+
+    def keep(fk=None, ik=None, **kw):
+        seen["fk"], seen["ik"] = fk, ik
+        fig = real(fk, ik, **kw)
+        seen["fig"] = fig
+        return fig
+
+    monkeypatch.setattr(plots, "plot_maps", keep)
+    res = CliRunner().invoke(app, ["maps", *args])
+    assert res.exit_code == code, res.output
+    return seen.get("fk"), seen.get("ik"), seen.get("fig"), res.output
+
+
+def test_cli_maps_are_the_tutorials_formulas(monkeypatch: pytest.MonkeyPatch, tmp_path) -> None:
+    out = tmp_path / "m.png"
+    fm, im, _fig, _ = capture_maps(monkeypatch, "planar2", "--q1", "0:90", "--x", "0:1.5:0.01", "--y", "0:1.5:0.01",
+                                   "-o", str(out))
+    assert out.stat().st_size > 10_000
+    # FK: theta1 0..90 (the tutorial's first quadrant) x theta2 -180..180 (the default)
+    t1, t2 = np.degrees(fm.q1), np.degrees(fm.q2)
+    assert t1[0] == 0 and abs(t1[-1] - 90) < 1e-12 and abs(t2[0] + 180) < 1e-12 and abs(t2[-1] - 180) < 1e-12
+    Q1, Q2 = np.meshgrid(fm.q1, fm.q2, indexing="ij")
+    np.testing.assert_allclose(fm.x, L1 * np.cos(Q1) + L2 * np.cos(Q1 + Q2), atol=1e-12)
+    np.testing.assert_allclose(fm.y, L1 * np.sin(Q1) + L2 * np.sin(Q1 + Q2), atol=1e-12)
+    # IK: x, y = 0, 0.01, ..., 1.5; one panel row per solution q2 = +-acos(c2)
+    assert len(im.x) == len(im.y) == 151
+    np.testing.assert_allclose(im.x, np.arange(151) * 0.01, atol=1e-12)
+    assert im.branches == ("q2+", "q2-")
+    X, Y = np.meshgrid(im.x, im.y, indexing="ij")
+    rr = X**2 + Y**2
+    inside = (rr >= (L1 - L2) ** 2) & (rr <= (L1 + L2) ** 2)
+    clear = (np.abs(rr - (L1 - L2) ** 2) > 1e-9) & (np.abs(rr - (L1 + L2) ** 2) > 1e-9)
+    c2 = (rr - L1**2 - L2**2) / (2 * L1 * L2)
+    for b, sign in enumerate((+1, -1)):
+        q = im.q[:, :, b, :]
+        finite = np.isfinite(q).all(axis=-1)
+        assert np.array_equal(finite[clear], inside[clear])          # NaN exactly where out of reach
+        ok = inside & clear
+        q2 = sign * np.arccos(np.clip(c2[ok], -1, 1))
+        q1 = np.arctan2(Y[ok], X[ok]) - np.arctan2(L2 * np.sin(q2), L1 + L2 * np.cos(q2))
+        np.testing.assert_allclose(q[ok][:, 1], q2, atol=1e-7)
+        np.testing.assert_allclose(q[ok][:, 0], q1, atol=1e-7)
+        # no seam: neighbours inside the annulus (off its edges, where acos is steep) differ by little
+        away = (rr > 0.55**2) & (rr < 1.45**2)
+        for axis in (0, 1):
+            both = np.logical_and(np.take(away, range(150), axis), np.take(away, range(1, 151), axis))
+            step = np.abs(np.diff(q, axis=axis))[both]
+            assert step.max() < np.radians(6), np.degrees(step.max())
+
+
+def test_cli_maps_planar2_default_is_the_tutorial_layout(monkeypatch: pytest.MonkeyPatch, tmp_path) -> None:
+    fm, im, fig, _ = capture_maps(monkeypatch, "planar2", "-o", str(tmp_path / "m.png"), "--branch", "q2-")
+    assert np.degrees(fm.q1[[0, -1]]).round(9).tolist() == [0, 90]
+    assert np.degrees(fm.q2[[0, -1]]).round(9).tolist() == [-180, 180]
+    assert im.x[0] == 0 and abs(im.x[-1] - 1.5) < 1e-12 and abs(im.x[1] - 0.01) < 1e-12
+    assert im.branches == ("q2-",) and im.q.shape[2] == 1
+    ax = fig.axes[0]                            # q1 on the horizontal axis
+    assert ax.get_xlabel().startswith("q1") and ax.get_ylabel().startswith("q2")
+
+
+def test_cli_maps_constant_panel_and_colour_bars_span_the_data(monkeypatch: pytest.MonkeyPatch, tmp_path) -> None:
+    fm, im, fig, _ = capture_maps(monkeypatch, "fighter", "--steps", "41", "-o", str(tmp_path / "m.png"))
+    assert np.abs(fm.y).max() < 1e-9                 # y(shoulder, elbow) at yaw 0: rounding noise only
+    texts = [t.get_text() for ax in fig.axes for t in ax.texts]
+    assert "y constant = 0 mm" in texts
+    bars = [ax for ax in fig.axes if ax.get_label() == "<colorbar>"]
+    assert len(bars) >= 4
+    lo, hi = bars[0].get_ylim()                      # FK x: exactly the data's range
+    assert abs(lo - fm.x.min()) < 1e-9 and abs(hi - fm.x.max()) < 1e-9
+
+
+@pytest.mark.parametrize("args,msg", [(("--q1", "90:0"), "stop must be larger"), (("--x", "0:1.5:0"), "step"),
+                                      (("--q2", "a:b"), "--q2"), (("--branch", "sideways"), "--branch must name"),
+                                      (("--x", "1"), "start:stop")])
+def test_cli_maps_bad_ranges_exit_2(monkeypatch: pytest.MonkeyPatch, tmp_path, args, msg) -> None:
+    _, _, _, out = capture_maps(monkeypatch, "planar2", *args, "-o", str(tmp_path / "m.png"), code=2)
+    assert msg in out and "Traceback" not in out

@@ -125,8 +125,12 @@ def fk_maps(robot: Robot, q1_grid: ArrayLike, q2_grid: ArrayLike, q_rest: ArrayL
     return FKMaps(robot, j, g1, g2, p[..., 0].copy(), p[..., 1].copy(), p[..., 2].copy(), rest)
 
 
+ELBOW_JOINT = {"planar-2r": 1, "planar-3r": 1}
+"""Closed-form families whose branches :func:`ik_maps` names by the sign of one joint (0-based index)."""
+
+
 def ik_maps(robot: Robot, x_grid: ArrayLike, y_grid: ArrayLike, z: float | None = None,
-            phi: float | None = None) -> IKMaps:
+            phi: float | None = None, continuous: bool = True) -> IKMaps:
     """Every closed-form IK branch over a grid of targets (the symbolic 2-link tutorial's IK maps).
 
     Parameters
@@ -140,6 +144,15 @@ def ik_maps(robot: Robot, x_grid: ArrayLike, y_grid: ArrayLike, z: float | None 
         Target height for a spatial arm (default: the height of the shoulder).
     phi : float, optional
         End angle (rad) for planar arms that need one (``planar3``).
+    continuous : bool
+        Name the branches of a planar arm by the sign of its elbow angle, ``"q2+"``
+        (:math:`q_2 \\ge 0`) and ``"q2-"``, as the tutorial's two closed forms
+        :math:`q_2 = \\pm\\arccos c_2` do: each map is then continuous over the reachable
+        annulus (the solver's own names, elbow up/down seen from above, swap where the
+        target crosses the line through the shoulder, which draws a seam). Where both
+        solutions coincide (the elbow stretched or folded) the larger elbow angle is ``+``.
+        Other arms keep the solver's names (front/back, elbow up/down), continuous away
+        from their singularities.
 
     Returns
     -------
@@ -147,6 +160,7 @@ def ik_maps(robot: Robot, x_grid: ArrayLike, y_grid: ArrayLike, z: float | None 
         ``q[i, j, b]`` solves the target ``(x[i], y[j])`` on branch ``b``; NaN where it fails.
     """
     from .. import ik_all
+    from ..ik import closed_form_family
     from .workspace import is_planar, shoulder_point
 
     gx, gy = _grid(x_grid, "x_grid"), _grid(y_grid, "y_grid")
@@ -158,8 +172,14 @@ def ik_maps(robot: Robot, x_grid: ArrayLike, y_grid: ArrayLike, z: float | None 
         zval = float(shoulder_point(robot)[2]) if z is None else float(z)
         target = np.stack([X, Y, np.full_like(X, zval)], axis=-1)
     res = ik_all(robot, target, phi=phi) if phi is not None else ik_all(robot, target)
-    # ik_all sorts the branches of each target by distance to q0; put them in one fixed order by label
     labels = np.asarray(res.branch).astype(str)
+    qa = np.asarray(res.q, dtype=float)
+    sa = np.asarray(res.success, dtype=bool)
+    elbow = ELBOW_JOINT.get(closed_form_family(robot) or "") if continuous else None
+    if elbow is not None and labels.shape[-1] == 2:
+        labels = _sign_labels(qa[..., elbow], robot.joint_names[elbow] if robot.joint_names[elbow].startswith("q")
+                              else f"q{elbow + 1}")
+    # ik_all sorts the branches of each target by distance to q0; put them in one fixed order by label
     order: list[str] = []
     for lab in labels.reshape(-1, labels.shape[-1])[0]:
         if lab not in order:
@@ -167,8 +187,6 @@ def ik_maps(robot: Robot, x_grid: ArrayLike, y_grid: ArrayLike, z: float | None 
     for lab in np.unique(labels):
         if lab not in order:
             order.append(str(lab))
-    qa = np.asarray(res.q, dtype=float)
-    sa = np.asarray(res.success, dtype=bool)
     q = np.full(X.shape + (len(order), robot.n), np.nan)
     ok = np.zeros(X.shape + (len(order),), dtype=bool)
     for b, lab in enumerate(order):
@@ -180,3 +198,17 @@ def ik_maps(robot: Robot, x_grid: ArrayLike, y_grid: ArrayLike, z: float | None 
         ok[..., b] = sb
         q[..., b, :] = np.where(sb[..., None], qb, np.nan)
     return IKMaps(robot, gx, gy, zval, q, tuple(order), ok)
+
+
+def _sign_labels(elbow: Array, name: str) -> NDArray[np.str_]:
+    """Two solutions per target named ``name+`` (the larger elbow angle) and ``name-``.
+
+    ``elbow`` has shape ``(..., 2)``; a NaN (failed) solution is named after the other one.
+    """
+    e = np.where(np.isnan(elbow), np.where(np.isnan(elbow[..., ::-1]), 0.0, -elbow[..., ::-1]), elbow)
+    first_plus = e[..., 0] >= e[..., 1]
+    plus, minus = f"{name}+", f"{name}-"
+    out = np.empty(elbow.shape, dtype=object)
+    out[..., 0] = np.where(first_plus, plus, minus)
+    out[..., 1] = np.where(first_plus, minus, plus)
+    return out.astype(str)

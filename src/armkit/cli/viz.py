@@ -13,6 +13,7 @@ from .common import (EXIT_FAILED, NUMERIC_ARGS, console, esc, fail, get_robot, p
                      print_json, scene_option, warn)
 
 from .common import ROBOT_HELP  # noqa: E402
+from .common import _  # noqa: E402
 IMAGE_SUFFIXES = (".png", ".pdf", ".svg", ".jpg")
 
 
@@ -185,18 +186,54 @@ def workspace(robot: str = typer.Argument(..., help=ROBOT_HELP),
         console.print(f"wrote {esc(path)}")
 
 
+def _range(text: str, what: str, scale: float, steps: int) -> np.ndarray:
+    """``start:stop`` (``steps`` values) or ``start:stop:step`` (both ends included) as a grid, times ``scale``."""
+    parts = [w.strip() for w in text.split(":")]
+    if len(parts) not in (2, 3) or not all(parts):
+        fail(_("{what} takes start:stop or start:stop:step, got {text!r}", what=what, text=text))
+    v = parse_numbers(parts, what)
+    if not v[1] > v[0]:
+        fail(_("{what}: stop must be larger than start, got {text!r}", what=what, text=text))
+    if len(v) == 2:
+        return np.linspace(v[0], v[1], steps) * scale
+    count = math.floor((v[1] - v[0]) / v[2] + 1e-9) + 1 if v[2] > 0 else 0
+    if not 2 <= count <= 2001:
+        fail(_("{what}: the step must give 2 to 2001 values from start to stop, got {text!r}", what=what, text=text))
+    return (v[0] + v[2] * np.arange(count)) * scale
+
+
+def _tutorial_layout(r: Any) -> bool:
+    """planar2-like arms (two revolute joints in the xy plane) get the symbolic 2-link tutorial's maps by default."""
+    from ..analysis.workspace import is_planar
+
+    return r.n == 2 and is_planar(r) and not r.prismatic.any()
+
+
 def maps(robot: str = typer.Argument(..., help=ROBOT_HELP),
          output: str = typer.Option("maps.png", "-o", "--output", help="Picture file (.png, .pdf, .svg)."),
-         steps: int = typer.Option(121, "--steps", help="Grid points per axis."),
+         steps: int = typer.Option(121, "--steps", help="Grid points per axis (where no :step is given)."),
          joints: Optional[str] = typer.Option(None, "--joints", metavar="I,J",
                                               help="The two joints of the FK maps (1-based; default 1,2 for planar "
                                                    "arms, 2,3 otherwise)."),
+         q1: Optional[str] = typer.Option(None, "--q1", metavar="START:STOP[:STEP]",
+                                          help="Grid of the first FK joint (deg; length unit if prismatic); "
+                                               "planar2 default 0:90, else its limits."),
+         q2: Optional[str] = typer.Option(None, "--q2", metavar="START:STOP[:STEP]",
+                                          help="Grid of the second FK joint; planar2 default -180:180."),
+         x: Optional[str] = typer.Option(None, "--x", metavar="START:STOP[:STEP]",
+                                         help="IK target grid along x (length unit); planar2 default 0:1.5:0.01, "
+                                              "else the reach around the shoulder."),
+         y: Optional[str] = typer.Option(None, "--y", metavar="START:STOP[:STEP]", help="IK target grid along y."),
+         branch: Optional[str] = typer.Option(None, "--branch", help="Only this IK branch (e.g. q2+ or q2- for "
+                                                                     "planar2, front/elbow-up for fighter)."),
          z: Optional[float] = typer.Option(None, "--z", help="Height of the IK target grid for a spatial arm "
                                                              "(default: the shoulder height)."),
          no_ik: bool = typer.Option(False, "--no-ik", help="Only the FK maps.")) -> None:
     """Contour maps (as in the symbolic 2-link tutorial): FK maps over a joint grid, IK maps per branch over a target grid.
 
     Example: armkit maps planar2 -o maps.png
+
+    Example: armkit maps planar2 --q1 0:90 --q2=-180:180 --x 0:1.5:0.01 --y 0:1.5:0.01 --branch q2+
     """
     from ..analysis.maps import fk_maps, ik_maps
     from ..analysis.workspace import is_planar, shoulder_point
@@ -205,38 +242,61 @@ def maps(robot: str = typer.Argument(..., help=ROBOT_HELP),
     r = get_robot(robot)
     out = _out(output, IMAGE_SUFFIXES, "--output")
     if not 5 <= steps <= 1001:
-        fail(f"--steps must be between 5 and 1001, got {steps}")
+        fail(_("--steps must be between 5 and 1001, got {steps}", steps=steps))
     if r.n < 2:
-        fail(f"maps need at least 2 joints; {r.name!r} has {r.n}")
-    planar = is_planar(r)
+        fail(_("maps need at least 2 joints; {name!r} has {n}", name=r.name, n=r.n))
+    planar, tutorial = is_planar(r), _tutorial_layout(r)
     if joints is None:
         jj = (0, 1) if planar or r.n == 2 else (1, 2)
     else:
         v = parse_numbers([w for w in joints.split(",") if w], "--joints")
         if len(v) != 2 or not all(float(x).is_integer() and 1 <= x <= r.n for x in v) or v[0] == v[1]:
-            fail(f"--joints needs two different joint numbers in 1..{r.n}, got {joints!r}")
+            fail(_("--joints needs two different joint numbers in 1..{n}, got {joints!r}", n=r.n, joints=joints))
         jj = (int(v[0]) - 1, int(v[1]) - 1)
     grids = []
-    for k in jj:
-        lo, hi = r.joints[k].lower, r.joints[k].upper
-        lo = lo if math.isfinite(lo) else -math.pi
-        hi = hi if math.isfinite(hi) else math.pi
-        grids.append(np.linspace(lo, hi, steps))
+    for k, text, what, default in zip(jj, (q1, q2), ("--q1", "--q2"), ("0:90", "-180:180")):
+        scale = 1.0 if r.prismatic[k] else math.pi / 180
+        if text is None and tutorial:
+            text = default
+        if text is None:
+            lo, hi = r.joints[k].lower, r.joints[k].upper
+            lo = lo if math.isfinite(lo) else -math.pi
+            hi = hi if math.isfinite(hi) else math.pi
+            grids.append(np.linspace(lo, hi, steps))
+        else:
+            grids.append(_range(text, what, scale, steps))
     fm = fk_maps(r, grids[0], grids[1], joints=jj)
     im = None
     if not no_ik:
         from ..ik import closed_form_family
 
         if closed_form_family(r) is None or r.n > 3:
-            warn(f"robot {r.name!r} has no closed-form position IK with named branches; drawing the FK maps only")
+            warn(_("robot {name!r} has no closed-form position IK with named branches; drawing the FK maps only",
+                   name=r.name))
         else:
-            c = shoulder_point(r)
-            R = r.reach
-            gx = np.linspace(c[0] - R, c[0] + R, steps)
-            gy = np.linspace(c[1] - R, c[1] + R, steps)
+            c, R = shoulder_point(r), r.reach
+            default = [f"0:{R:g}:{R / 150:g}"] * 2 if tutorial else [f"{c[i] - R:g}:{c[i] + R:g}" for i in (0, 1)]
+            gx = _range(x if x is not None else default[0], "--x", 1.0, steps)
+            gy = _range(y if y is not None else default[1], "--y", 1.0, steps)
             im = ik_maps(r, gx, gy, z=z)
+            if branch is not None:
+                im = _one_branch(im, branch)
+    elif branch is not None:
+        fail(_("--branch is for the IK maps; drop --no-ik"))
     path = save_figure(plot_maps(fm, im), out)
-    console.print(f"wrote {esc(path)}")
+    console.print(_("wrote {path}", path=esc(path)))
+
+
+def _one_branch(im: Any, branch: str) -> Any:
+    """The IK maps of one branch: its exact name, or the one name that contains ``branch``."""
+    import dataclasses
+
+    names = list(im.branches)
+    hits = [b for b in names if b == branch] or [b for b in names if branch.lower() in b.lower()]
+    if len(hits) != 1:
+        fail(_("--branch must name one of {names}, got {branch!r}", names=name_list(names), branch=branch))
+    b = names.index(hits[0])
+    return dataclasses.replace(im, q=im.q[:, :, b:b + 1], branches=(hits[0],), reachable=im.reachable[:, :, b:b + 1])
 
 
 def track(robot: str = typer.Argument(..., help=ROBOT_HELP),

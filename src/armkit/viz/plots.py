@@ -146,12 +146,51 @@ def _draw_exclusion(ax: Any, ws: WorkspaceResult, i: int, j: int) -> None:
                                color="#8c564b", label="body (excluded)" if b == 0 else None))
 
 
+def _panel(fig: Any, ax: Any, gx: np.ndarray, gy: np.ndarray, Z: np.ndarray, label: str, unit: str, scale: float,
+           levels: int) -> None:
+    """One contour panel of ``Z`` (shape ``(len(gx), len(gy))``): filled contours with levels and a colour bar
+    over the data's own range; a constant panel (spread within ``1e-9 * scale``, rounding noise) as text; an
+    empty one (all NaN) as text."""
+    finite = Z[np.isfinite(Z)]
+    if finite.size == 0:
+        ax.text(0.5, 0.5, "no reachable target", ha="center", va="center", transform=ax.transAxes)
+        return
+    lo, hi = float(finite.min()), float(finite.max())
+    if hi - lo <= 1e-9 * max(scale, 1e-12):
+        value = 0.0 if abs(0.5 * (lo + hi)) <= 1e-9 * max(scale, 1e-12) else 0.5 * (lo + hi)
+        ax.pcolormesh(gx, gy, np.where(np.isfinite(Z.T), 0.0, np.nan), cmap="Greys", vmin=-1, vmax=8,
+                      shading="nearest")
+        ax.text(0.5, 0.5, f"{label} constant = {value:.6g} {unit}", ha="center", va="center",
+                transform=ax.transAxes, fontsize=10, bbox={"facecolor": "white", "alpha": 0.85, "edgecolor": "0.6"})
+        return
+    if unit == "deg" and hi - lo > 270 and _wraps(Z):
+        # an angle that wraps at +-180 deg (the yaw around the base): a cyclic colour map, cells not contours,
+        # so that the wrap draws no seam
+        cs = ax.pcolormesh(gx, gy, Z.T, cmap="twilight", vmin=-180, vmax=180, shading="nearest")
+        fig.colorbar(cs, ax=ax, label=f"{label} ({unit}, cyclic)", ticks=[-180, -90, 0, 90, 180])
+        return
+    lv = np.linspace(lo, hi, levels)
+    cs = ax.contourf(gx, gy, Z.T, levels=lv, cmap="viridis")
+    ax.contour(gx, gy, Z.T, levels=lv, colors="k", linewidths=0.3, alpha=0.5)
+    bar = fig.colorbar(cs, ax=ax, label=f"{label} ({unit})")
+    bar.ax.set_ylim(lo, hi)
+
+
+def _wraps(Z: np.ndarray) -> bool:
+    """Neighbouring cells differ by more than 180 deg: the angle wraps around inside the panel."""
+    jumps = [np.abs(np.diff(Z, axis=a)) for a in (0, 1)]
+    return any(bool(np.nanmax(j, initial=0.0) > 180.0) for j in jumps)
+
+
 def plot_maps(fk: Optional[FKMaps] = None, ik: Optional[IKMaps] = None, levels: int = 21) -> Any:
     """Contour maps (as in the symbolic 2-link tutorial): FK maps over the joint grid and IK maps per branch.
 
     One panel per quantity and branch, each with a colour bar in its unit (degrees for
-    joint angles, the robot's length unit for positions). Unreachable targets are ``NaN``
-    in the data and stay blank.
+    joint angles, the robot's length unit for positions) that spans the panel's data. The
+    FK maps put the first joint on the horizontal axis (the tutorial's layout). A panel
+    whose values do not vary (beyond rounding noise, 1e-9 of the reach or of 360 deg) says
+    "constant = value" instead of contouring the noise. Unreachable targets are ``NaN`` in
+    the data and stay blank.
 
     Returns
     -------
@@ -180,10 +219,8 @@ def plot_maps(fk: Optional[FKMaps] = None, ik: Optional[IKMaps] = None, levels: 
         gu = ["deg" if not r.prismatic[k] else r.unit for k in fk.joints]
         for col, (what, Z) in enumerate(fk_panels):
             ax = axes[0, col]
-            cs = ax.contourf(g[1], g[0], Z, levels=levels, cmap="viridis")
-            ax.contour(g[1], g[0], Z, levels=levels, colors="k", linewidths=0.3, alpha=0.5)
-            fig.colorbar(cs, ax=ax, label=f"{what} ({r.unit})")
-            ax.set(xlabel=f"{names[1]} ({gu[1]})", ylabel=f"{names[0]} ({gu[0]})")
+            _panel(fig, ax, g[0], g[1], Z, what, r.unit, r.reach or 1.0, levels)
+            ax.set(xlabel=f"{names[0]} ({gu[0]})", ylabel=f"{names[1]} ({gu[1]})")
             ax.set_title(f"FK: {what}({names[0]}, {names[1]})", fontsize=10)
         for col in range(len(fk_panels), ncols):
             axes[0, col].axis("off")
@@ -199,16 +236,13 @@ def plot_maps(fk: Optional[FKMaps] = None, ik: Optional[IKMaps] = None, levels: 
                 Z = ik.q[:, :, b, k]
                 unit = r.unit if r.prismatic[k] else "deg"
                 Z = Z if r.prismatic[k] else np.degrees(Z)
-                if np.all(np.isnan(Z)):
-                    ax.text(0.5, 0.5, "no reachable target", ha="center", va="center", transform=ax.transAxes)
-                else:
-                    cs = ax.contourf(ik.x, ik.y, Z.T, levels=levels, cmap="viridis")
-                    fig.colorbar(cs, ax=ax, label=f"{r.joint_names[k]} ({unit})")
+                _panel(fig, ax, ik.x, ik.y, Z, r.joint_names[k], unit, (r.reach or 1.0) if r.prismatic[k] else 360.0,
+                       levels)
                 ax.set_aspect("equal", adjustable="box")
                 ax.set_xlim(ik.x[0], ik.x[-1])
                 ax.set_ylim(ik.y[0], ik.y[-1])
                 ax.set(xlabel=f"x ({r.unit})", ylabel=f"y ({r.unit})")
-                ax.set_title(f"IK {ik.branches[b]}: {r.joint_names[k]}(x, y)", fontsize=10)
+                ax.set_title(f"IK {ik.branches[b]}: {r.joint_names[k]}(x, y)", fontsize=9)
     robot = (fk or ik).robot  # type: ignore[union-attr]
     where = f"; IK targets at z = {ik.z:.4g} {robot.unit}" if ik is not None and ik.z is not None else ""
     fig.suptitle(f"{robot.name}: contour maps (blank = out of reach{where})", fontsize=12)
