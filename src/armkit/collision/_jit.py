@@ -8,6 +8,21 @@ computes every pair. Imported only when the Numba back end is in use.
 
 Item kinds: 0 a segment between two frame origins, 1 a segment given by two points in a frame
 (or the world, frame -1), 2 a box, 3 a half-space (``normal · x <= offset``).
+
+Packed arguments (so no kernel takes more than 8): ``items`` is the tuple
+``(kind, fr, ia, ib, L, rad, half, bound)`` built by :func:`armkit.collision.query._jit_pack`
+(per item: its kind, frame, the two frame indices of a chain segment, local data (4, 4), capsule
+radius, box half extents (3,), box bounding radius), and ``placed`` is the per-configuration
+scratch ``(P0, P1, W, C, R)``: segment ends (I, 3), item poses (I, 3, 4), bounding-sphere
+centres (I, 3) and radii (I,). Numba passes a tuple of arrays as a struct: no copy, no cost
+(benchmarks/bench_collision.py speed, before and after packing: the same within noise).
+
+Each driver has a parallel and a serial twin (``_all_parallel``/``_all_serial``,
+``_min_parallel``/``_min_serial``) on purpose: a ``parallel=True`` function pays a thread-pool
+launch on every call and must not run inside another parallel region (IK restarts and the
+reachability workers call these per sample), so small batches and nested callers use the
+serial twin (:func:`armkit._jit_loader.parallel_ok`). Both are three lines around the same
+chunk body.
 """
 
 from __future__ import annotations
@@ -27,8 +42,12 @@ PARALLEL_MIN = 2048
 
 
 @njit(cache=True, inline="always")
-def _seg_seg(a0, a1, a2, b0, b1, b2, c0, c1, c2, d0, d1, d2):
-    """Distance between segments a->b and c->d (Ericson 5.1.9)."""
+def _seg_seg(P0, P1, i, j):
+    """Distance between segments a->b = P0[i]->P1[i] and c->d = P0[j]->P1[j] (Ericson 5.1.9)."""
+    a0, a1, a2 = P0[i, 0], P0[i, 1], P0[i, 2]
+    b0, b1, b2 = P1[i, 0], P1[i, 1], P1[i, 2]
+    c0, c1, c2 = P0[j, 0], P0[j, 1], P0[j, 2]
+    d0, d1, d2 = P1[j, 0], P1[j, 1], P1[j, 2]
     e10, e11, e12 = b0 - a0, b1 - a1, b2 - a2
     e20, e21, e22 = d0 - c0, d1 - c1, d2 - c2
     r0, r1, r2 = a0 - c0, a1 - c1, a2 - c2
@@ -188,11 +207,13 @@ def _point_box(x, y, z, T, h):
 
 
 @njit(cache=True)
-def _place(frames, kind, fr, ia, ib, L, P0, P1, W, C, R, moving_only=False):
+def _place(frames, items, placed, moving_only=False):
     """World data of every item for one configuration: segment ends P0/P1, poses W, bounding spheres C/R.
 
     ``moving_only``: skip the static items (frame -1, not a chain segment), placed once per chunk.
     """
+    kind, fr, ia, ib, L = items[0], items[1], items[2], items[3], items[4]
+    P0, P1, W, C, R = placed
     for i in range(kind.shape[0]):
         k = kind[i]
         f = fr[i]
@@ -238,15 +259,17 @@ def _place(frames, kind, fr, ia, ib, L, P0, P1, W, C, R, moving_only=False):
 
 
 @njit(cache=True)
-def _pair(i, j, kind, rad, half, P0, P1, W, ts):
+def _pair(i, j, items, placed, ts):
+    """Signed distance of items i and j (placed for this configuration); ``ts`` scratch (8,)."""
+    kind, rad, half = items[0], items[5], items[6]
+    P0, P1, W = placed[0], placed[1], placed[2]
     ki = kind[i]
     kj = kind[j]
     if ki == BOX or ki == PLANE:
         i, j = j, i
         ki, kj = kj, ki
     if kj == SEGF or kj == SEGL:
-        return _seg_seg(P0[i, 0], P0[i, 1], P0[i, 2], P1[i, 0], P1[i, 1], P1[i, 2],
-                        P0[j, 0], P0[j, 1], P0[j, 2], P1[j, 0], P1[j, 1], P1[j, 2]) - rad[i] - rad[j]
+        return _seg_seg(P0, P1, i, j) - rad[i] - rad[j]
     if kj == BOX:
         if ki == PLANE:   # box against a plane (an arm box on the ground): the lowest corner
             n0, n1, n2 = W[i, 0, 2], W[i, 1, 2], W[i, 2, 2]
@@ -275,47 +298,46 @@ CHUNK = 64
 
 
 @njit(cache=True)
-def _chunk_all(frames, kind, fr, ia, ib, L, rad, half, pairs, out, c):
-    I = kind.shape[0]
-    P0 = np.empty((I, 3))
-    P1 = np.empty((I, 3))
-    W = np.empty((I, 3, 4))
-    C = np.empty((I, 3))
-    R = np.empty(I)
+def _scratch(I):
+    """The per-configuration ``placed`` tuple for I items: P0, P1 (I, 3), W (I, 3, 4), C (I, 3), R (I,)."""
+    return np.empty((I, 3)), np.empty((I, 3)), np.empty((I, 3, 4)), np.empty((I, 3)), np.empty(I)
+
+
+@njit(cache=True)
+def _chunk_all(frames, items, pairs, out, c):
+    placed = _scratch(items[0].shape[0])
     ts = np.empty(8)
     first = True
     for b in range(c * CHUNK, min((c + 1) * CHUNK, frames.shape[0])):
-        _place(frames[b], kind, fr, ia, ib, L, P0, P1, W, C, R, not first)
+        _place(frames[b], items, placed, not first)
         first = False
         for p in range(pairs.shape[0]):
-            out[b, p] = _pair(pairs[p, 0], pairs[p, 1], kind, rad, half, P0, P1, W, ts)
+            out[b, p] = _pair(pairs[p, 0], pairs[p, 1], items, placed, ts)
 
 
 @njit(cache=True, parallel=True)
-def _all_parallel(frames, kind, fr, ia, ib, L, rad, half, pairs, out):
+def _all_parallel(frames, items, pairs, out):
     for c in prange((frames.shape[0] + CHUNK - 1) // CHUNK):
-        _chunk_all(frames, kind, fr, ia, ib, L, rad, half, pairs, out, c)
+        _chunk_all(frames, items, pairs, out, c)
 
 
 @njit(cache=True)
-def _all_serial(frames, kind, fr, ia, ib, L, rad, half, pairs, out):
+def _all_serial(frames, items, pairs, out):
     for c in range((frames.shape[0] + CHUNK - 1) // CHUNK):
-        _chunk_all(frames, kind, fr, ia, ib, L, rad, half, pairs, out, c)
+        _chunk_all(frames, items, pairs, out, c)
 
 
 @njit(cache=True)
-def _chunk_min(frames, kind, fr, ia, ib, L, rad, half, bound, pairs, dist, arg, stop, c):
+def _chunk_min(frames, items, pairs, dist, arg, stop, c):
+    kind, fr, rad, half, bound = items[0], items[1], items[5], items[6], items[7]
     I = kind.shape[0]
-    P0 = np.empty((I, 3))
-    P1 = np.empty((I, 3))
-    W = np.empty((I, 3, 4))
-    C = np.empty((I, 3))
-    R = np.empty(I)
+    placed = _scratch(I)
+    C, R, W = placed[3], placed[4], placed[2]
     ts = np.empty(8)
     yes_no = stop == 0.0
     first = True
     for b in range(c * CHUNK, min((c + 1) * CHUNK, frames.shape[0])):
-        _place(frames[b], kind, fr, ia, ib, L, P0, P1, W, C, R, not first)
+        _place(frames[b], items, placed, not first)
         for i in range(I):
             if not first and fr[i] < 0 and kind[i] != SEGF:
                 continue
@@ -352,7 +374,7 @@ def _chunk_min(frames, kind, fr, ia, ib, L, rad, half, bound, pairs, dist, arg, 
                             continue
                     if math.sqrt(dsq) - rr >= best:
                         continue
-            d = _pair(i, j, kind, rad, half, P0, P1, W, ts)
+            d = _pair(i, j, items, placed, ts)
             if d < best:
                 best = d
                 barg = p
@@ -363,22 +385,22 @@ def _chunk_min(frames, kind, fr, ia, ib, L, rad, half, bound, pairs, dist, arg, 
 
 
 @njit(cache=True, parallel=True)
-def _min_parallel(frames, kind, fr, ia, ib, L, rad, half, bound, pairs, dist, arg, stop):
+def _min_parallel(frames, items, pairs, dist, arg, stop):
     for c in prange((frames.shape[0] + CHUNK - 1) // CHUNK):
-        _chunk_min(frames, kind, fr, ia, ib, L, rad, half, bound, pairs, dist, arg, stop, c)
+        _chunk_min(frames, items, pairs, dist, arg, stop, c)
 
 
 @njit(cache=True)
-def _min_serial(frames, kind, fr, ia, ib, L, rad, half, bound, pairs, dist, arg, stop):
+def _min_serial(frames, items, pairs, dist, arg, stop):
     for c in range((frames.shape[0] + CHUNK - 1) // CHUNK):
-        _chunk_min(frames, kind, fr, ia, ib, L, rad, half, bound, pairs, dist, arg, stop, c)
+        _chunk_min(frames, items, pairs, dist, arg, stop, c)
 
 
 def all_distances(frames, items, pairs):
     """Every pair's signed distance ``(B, P)``; ``items`` from :func:`armkit.collision.query._jit_items`."""
     out = np.empty((frames.shape[0], pairs.shape[0]))
     kernel = _all_parallel if frames.shape[0] >= PARALLEL_MIN and _jit_loader.parallel_ok() else _all_serial
-    kernel(frames, *items[:7], pairs, out)
+    kernel(frames, items, pairs, out)
     return out
 
 
@@ -392,5 +414,5 @@ def min_distance(frames, items, pairs, stop=-np.inf):
     dist = np.empty(B)
     arg = np.empty(B, dtype=np.int64)
     kernel = _min_parallel if B >= PARALLEL_MIN and _jit_loader.parallel_ok() else _min_serial
-    kernel(frames, *items, pairs, dist, arg, float(stop))
+    kernel(frames, items, pairs, dist, arg, float(stop))
     return dist, arg

@@ -62,7 +62,15 @@ def tangent_frames(dirs: Array) -> tuple[Array, Array]:
 
 
 @njit(cache=True, nogil=True)
-def _bin_kernel(T, Ainv, symmetric, lo, h, dims, dirs, e1, e2, n_roll, out):  # pragma: no cover - compiled
+def _bin_kernel(T, Ainv, box, orient, out):  # pragma: no cover - compiled
+    """Flat cell of each pose ``T[k]`` into ``out[k]`` (-1 outside).
+
+    ``box = (lo (3,), h, dims (3,) int, symmetric)``: the voxel box in frame A (``Ainv`` maps
+    world to A); ``orient = (dirs (nd, 3), e1 (nd, 3), e2 (nd, 3), n_roll)``: the orientation bins.
+    Packed in two tuples (Numba passes them as structs, no copy) to keep the signature short.
+    """
+    lo, h, dims, symmetric = box
+    dirs, e1, e2, n_roll = orient
     nx, ny, nz = dims[0], dims[1], dims[2]
     nd = dirs.shape[0]
     n_orient = nd * n_roll
@@ -195,8 +203,9 @@ class Grid:
         out = np.empty(T.shape[0], dtype=np.int64)
         dirs, e1, e2 = self._tables()
         Ainv = np.ascontiguousarray(np.linalg.inv(self.T_world_A))
-        _bin_kernel(T, Ainv, self.symmetric, self.lo, self.resolution, np.array(self.dims, dtype=np.int64),
-                    dirs, e1, e2, self.rolls, out)
+        box = (np.asarray(self.lo, dtype=float), float(self.resolution), np.array(self.dims, dtype=np.int64),
+               bool(self.symmetric))
+        _bin_kernel(T, Ainv, box, (dirs, e1, e2, int(self.rolls)), out)
         return out
 
     # ------------------------------------------------------------------ centres
