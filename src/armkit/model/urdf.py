@@ -65,6 +65,14 @@ def _check_xml(root: Any, path: str) -> tuple[dict[str, Any], dict[str, Any]]:
     """Structural checks with line numbers, before yourdfpy reads the values; the link and joint elements by name."""
     if root.tag != "robot":
         raise RobotFileError(path, f"the root element must be <robot>, got <{root.tag}>", root.sourceline)
+    links = _check_links(root, path)
+    if not links:
+        raise RobotFileError(path, "the file has no <link>", root.sourceline)
+    return links, _check_joints(root, path, links)
+
+
+def _check_links(root: Any, path: str) -> dict[str, Any]:
+    """The ``<link>`` elements by name: names unique, every visual and collision geometry readable."""
     links: dict[str, Any] = {}
     for el in root.findall("link"):
         name = el.get("name")
@@ -76,34 +84,41 @@ def _check_xml(root: Any, path: str) -> tuple[dict[str, Any], dict[str, Any]]:
         links[name] = el
         for kind in ("visual", "collision"):
             for sub in el.findall(kind):
-                where = f"link {name!r} {kind}"
-                origin = sub.find("origin")
-                if origin is not None:
-                    _numbers(origin, "xyz", 3, "0 0 0", path, where)
-                    _numbers(origin, "rpy", 3, "0 0 0", path, where)
-                geo = sub.find("geometry")
-                if geo is None or len(geo) == 0:
-                    raise RobotFileError(path, f"<{kind}> needs a <geometry> with a box, cylinder, sphere or mesh",
-                                         sub.sourceline, where)
-                shape = geo[0]
-                if shape.tag == "box":
-                    _numbers(shape, "size", 3, "", path, where)
-                elif shape.tag == "cylinder":
-                    _numbers(shape, "radius", 1, "", path, where)
-                    _numbers(shape, "length", 1, "", path, where)
-                elif shape.tag == "sphere":
-                    _numbers(shape, "radius", 1, "", path, where)
-                elif shape.tag == "mesh":
-                    if not shape.get("filename"):
-                        raise RobotFileError(path, "<mesh> needs a filename", shape.sourceline, where)
-                    if shape.get("scale") is not None:
-                        n = len(shape.get("scale").split())
-                        _numbers(shape, "scale", 1 if n == 1 else 3, "1 1 1", path, where)
-                else:
-                    raise RobotFileError(path, f"unknown geometry <{shape.tag}>; expected box, cylinder, sphere or mesh",
-                                         shape.sourceline, where)
-    if not links:
-        raise RobotFileError(path, "the file has no <link>", root.sourceline)
+                _check_geometry(sub, kind, path, f"link {name!r} {kind}")
+    return links
+
+
+def _check_geometry(sub: Any, kind: str, path: str, where: str) -> None:
+    """One ``<visual>`` or ``<collision>``: its origin and its single box, cylinder, sphere or mesh."""
+    origin = sub.find("origin")
+    if origin is not None:
+        _numbers(origin, "xyz", 3, "0 0 0", path, where)
+        _numbers(origin, "rpy", 3, "0 0 0", path, where)
+    geo = sub.find("geometry")
+    if geo is None or len(geo) == 0:
+        raise RobotFileError(path, f"<{kind}> needs a <geometry> with a box, cylinder, sphere or mesh",
+                             sub.sourceline, where)
+    shape = geo[0]
+    if shape.tag == "box":
+        _numbers(shape, "size", 3, "", path, where)
+    elif shape.tag == "cylinder":
+        _numbers(shape, "radius", 1, "", path, where)
+        _numbers(shape, "length", 1, "", path, where)
+    elif shape.tag == "sphere":
+        _numbers(shape, "radius", 1, "", path, where)
+    elif shape.tag == "mesh":
+        if not shape.get("filename"):
+            raise RobotFileError(path, "<mesh> needs a filename", shape.sourceline, where)
+        if shape.get("scale") is not None:
+            n = len(shape.get("scale").split())
+            _numbers(shape, "scale", 1 if n == 1 else 3, "1 1 1", path, where)
+    else:
+        raise RobotFileError(path, f"unknown geometry <{shape.tag}>; expected box, cylinder, sphere or mesh",
+                             shape.sourceline, where)
+
+
+def _check_joints(root: Any, path: str, links: dict[str, Any]) -> dict[str, Any]:
+    """The ``<joint>`` elements by name: type, parent and child links, origin, axis, limits, mimic."""
     joints: dict[str, Any] = {}
     for el in root.findall("joint"):
         name = el.get("name")
@@ -151,7 +166,7 @@ def _check_xml(root: Any, path: str) -> tuple[dict[str, Any], dict[str, Any]]:
         mimic = el.find("mimic")
         if mimic is not None and not mimic.get("joint"):
             raise RobotFileError(path, "<mimic> needs a joint attribute", mimic.sourceline, where)
-    return links, joints
+    return joints
 
 
 def resolve_mesh(filename: str, urdf_path: Path) -> str | None:
@@ -245,10 +260,46 @@ def load_urdf(path: str | Path, base: str | None = None, tip: str | None = None,
         Malformed XML or URDF (the message names the file and line), a chain that cannot be
         built (several tips, a floating joint on it, ...).
     """
-    from lxml import etree
-
     p = Path(path)
     spath = str(path)
+    root, notes = _read_xml(p, spath)
+    links_el, joints_el = _check_xml(root, spath)
+    base, tip, description, source = _read_notes(notes, base, tip, spath, str(root.get("name")))
+
+    import yourdfpy
+
+    try:
+        model = yourdfpy.URDF._parse_robot(xml_element=root)
+    except Exception as exc:  # noqa: BLE001 - anything the parser raises is a malformed file
+        raise RobotFileError(spath, f"cannot read the URDF: {type(exc).__name__}: {exc}") from None
+    parent_of, children, root_link = _tree(model, root, links_el, joints_el, spath)
+    jmap = {j.name: j for j in model.joints}
+    base = root_link if base is None else base
+    tip = _choose_tip(base, tip, links_el, children, {j.name: j.type for j in model.joints}, spath)
+    path_joints = _chain_joints(base, tip, parent_of, jmap, joints_el, spath)
+    joints, link_names, placed, warned_limits = _chain(path_joints, jmap, joints_el, base, spath)
+    if warned_limits:
+        warnings.warn(f"{spath}: revolute joint(s) {', '.join(warned_limits)} have no <limit>; treated as unlimited",
+                      stacklevel=3)
+    tool = placed[-1][2]                     # from the last moving joint's child link to the tip
+    missing: list[str] = []   # mesh files not found, among the links kept (the chain and what hangs off it)
+    links = _links(model, placed, children, jmap, tool, len(joints), p, missing)
+    if missing and warn_missing_meshes:
+        warnings.warn(f"{spath}: {len(missing)} mesh file(s) not found (first: {missing[0]}); kinematics are not "
+                      f"affected. Set ARMKIT_PACKAGE_PATH to the folder that holds the package to see the meshes.",
+                      stacklevel=3)
+    ignored = [jn for jn in jmap if jn not in path_joints]
+    try:
+        return Robot(joints, "urdf", name or str(root.get("name")), "m", None, tool, description, source, link_names, links,
+                     ignored)
+    except RobotDefinitionError as exc:
+        raise RobotFileError(spath, str(exc)) from None
+
+
+def _read_xml(p: Path, spath: str) -> tuple[Any, list[str]]:
+    """The ``<robot>`` element (comments removed, a name set) and the comments written before it."""
+    from lxml import etree
+
     try:
         data = p.read_bytes()
     except OSError as exc:
@@ -266,25 +317,27 @@ def load_urdf(path: str | Path, base: str | None = None, tip: str | None = None,
             el.getparent().remove(el)
     if not root.get("name"):     # required by the URDF spec; some files in the wild omit it
         root.set("name", p.stem)
-    links_el, joints_el = _check_xml(root, spath)
+    return root, notes
+
+
+def _read_notes(notes: list[str], base: str | None, tip: str | None, spath: str,
+                robot_name: str) -> tuple[str | None, str | None, str, str]:
+    """``base``, ``tip`` (from an ``armkit chain:`` note unless given), the description and the source text."""
     for note in notes:   # written by dumps_urdf: the chain this file was saved from
         m = re.search(r"armkit chain: (\S+) -> (\S+)", note)
         if m:
             base = m.group(1) if base is None else base
             tip = m.group(2) if tip is None else tip
     notes = [nt for nt in notes if not nt.startswith(("armkit chain:", "written by armkit"))]
-    description = notes[0].splitlines()[0].strip() if notes else f"URDF robot {root.get('name')!r}"
+    description = notes[0].splitlines()[0].strip() if notes else f"URDF robot {robot_name!r}"
     rest = "\n".join(notes[0].splitlines()[1:] + notes[1:]).strip() if notes else ""
     source = f"{rest}\n(URDF file {spath})" if rest else f"URDF file {spath}"
+    return base, tip, description, source
 
-    import yourdfpy
 
-    try:
-        model = yourdfpy.URDF._parse_robot(xml_element=root)
-    except Exception as exc:  # noqa: BLE001 - anything the parser raises is a malformed file
-        raise RobotFileError(spath, f"cannot read the URDF: {type(exc).__name__}: {exc}") from None
-    colors = {m.name: m.color for m in model.materials if m.color is not None}
-    jmap = {j.name: j for j in model.joints}
+def _tree(model: Any, root: Any, links_el: dict[str, Any], joints_el: dict[str, Any],
+          spath: str) -> tuple[dict[str, tuple[str, str]], dict[str, list], str]:
+    """Parent joint and link of each link, the children of each link, and the root link; checks it is a tree."""
     parent_of: dict[str, tuple[str, str]] = {}
     children: dict[str, list] = {}
     for j in model.joints:
@@ -309,9 +362,12 @@ def load_urdf(path: str | Path, base: str | None = None, tip: str | None = None,
         loop = sorted(set(links_el) - reached)
         raise RobotFileError(spath, f"the joints form a cycle through links {_names(loop, 10)}",
                              links_el[loop[0]].sourceline)
-    jtype = {j.name: j.type for j in model.joints}
+    return parent_of, children, roots[0]
 
-    base = roots[0] if base is None else base
+
+def _choose_tip(base: str, tip: str | None, links_el: dict[str, Any], children: dict[str, list],
+                jtype: dict[str, str], spath: str) -> str:
+    """``tip``, or the single leaf below ``base`` reached through a moving joint; both links must exist."""
     if base not in links_el:
         raise RobotFileError(spath, f"base link {base!r} does not exist; links: {_names(list(links_el), 40)}")
     if tip is None:
@@ -324,6 +380,12 @@ def load_urdf(path: str | Path, base: str | None = None, tip: str | None = None,
         tip = cands[0]
     if tip not in links_el:
         raise RobotFileError(spath, f"tip link {tip!r} does not exist; links: {_names(list(links_el), 40)}")
+    return tip
+
+
+def _chain_joints(base: str, tip: str, parent_of: dict[str, tuple[str, str]], jmap: dict[str, Any],
+                  joints_el: dict[str, Any], spath: str) -> list[str]:
+    """The joints from ``base`` to ``tip`` in order; none floating, planar or mimicking, at least one moving."""
     path_joints: list[str] = []
     link = tip
     while link != base:
@@ -341,19 +403,22 @@ def load_urdf(path: str | Path, base: str | None = None, tip: str | None = None,
             raise RobotFileError(spath, f"joint {jn!r} mimics joint {j.mimic.joint!r}; armkit's chains have "
                                  "independent joints (choose a tip before it, or remove the mimic)",
                                  joints_el[jn].sourceline, f"joint {jn!r}")
-    if not any(jtype[jn] in _MOVING for jn in path_joints):
+    if not any(jmap[jn].type in _MOVING for jn in path_joints):
         raise RobotFileError(spath, f"the chain {base} -> {tip} has no moving joint")
+    return path_joints
 
-    missing: list[str] = []   # mesh files not found, among the links kept (the chain and what hangs off it)
-    by_name = {lk.name: lk for lk in model.links}
 
-    def geometry(name: str) -> tuple[tuple[Shape, ...], tuple[Shape, ...]]:
-        lk = by_name[name]
-        return _shapes(lk.visuals, p, missing, colors), _shapes(lk.collisions, p, missing, colors)
+_Placed = tuple[str, int, Array, "str | None", "str | None", "Array | None"]
 
+
+def _chain(path_joints: list[str], jmap: dict[str, Any], joints_el: dict[str, Any], base: str,
+           spath: str) -> tuple[list[Joint], list[str], list[_Placed], list[str]]:
+    """The moving joints (fixed joints folded into the next origin), the link names, where each link sits
+    (name, moving-joint index, offset, parent, joint, origin; the last offset is the tool) and the joints
+    without a ``<limit>``."""
     joints: list[Joint] = []
     link_names = [base]
-    placed: list[tuple[str, int, Array, str | None, str | None, Array | None]] = [(base, 0, np.eye(4), None, None, None)]
+    placed: list[_Placed] = [(base, 0, np.eye(4), None, None, None)]
     acc = np.eye(4)
     warned_limits = []
     for jn in path_joints:
@@ -381,19 +446,25 @@ def load_urdf(path: str | Path, base: str | None = None, tip: str | None = None,
         else:
             acc = acc @ origin
         placed.append((j.child, len(joints), acc.copy(), parent_link, jn, origin))
-    if warned_limits:
-        warnings.warn(f"{spath}: revolute joint(s) {', '.join(warned_limits)} have no <limit>; treated as unlimited",
-                      stacklevel=3)
-    tool = acc                               # from the last moving joint's child link to the tip
-    n = len(joints)
+    return joints, link_names, placed, warned_limits
+
+
+def _links(model: Any, placed: list[_Placed], children: dict[str, list], jmap: dict[str, Any], tool: Array, n: int,
+           p: Path, missing: list[str]) -> list[Link]:
+    """Every kept link with its shapes: the chain's, then those hanging off it (a gripper's jaw) fixed at q = 0."""
+    colors = {m.name: m.color for m in model.materials if m.color is not None}
+    by_name = {lk.name: lk for lk in model.links}
+
+    def geometry(name: str) -> tuple[tuple[Shape, ...], tuple[Shape, ...]]:
+        lk = by_name[name]
+        return _shapes(lk.visuals, p, missing, colors), _shapes(lk.collisions, p, missing, colors)
+
     tool_inv = np.array(np.linalg.inv(tool), dtype=np.float64)
     on_path = {nm for nm, *_ in placed}
     links = [Link(nm, k, tool_inv @ off if k == n else off, par, jn, org, *geometry(nm))
              for nm, k, off, par, jn, org in placed]
-    # links hanging off the chain (a gripper's jaw): fixed where they are at q = 0, for the pictures
     index = {nm: (k, off) for nm, k, off, *_ in placed}
     stack = [nm for nm in index]
-    ignored = [jn for jn in jmap if jn not in path_joints]
     while stack:
         parent = stack.pop()
         for jn, child in children.get(parent, []):
@@ -407,15 +478,7 @@ def load_urdf(path: str | Path, base: str | None = None, tip: str | None = None,
             links.append(Link(child, k, tool_inv @ off_child if k == n else off_child, parent, jn, origin,
                               *geometry(child)))
             stack.append(child)
-    if missing and warn_missing_meshes:
-        warnings.warn(f"{spath}: {len(missing)} mesh file(s) not found (first: {missing[0]}); kinematics are not "
-                      f"affected. Set ARMKIT_PACKAGE_PATH to the folder that holds the package to see the meshes.",
-                      stacklevel=3)
-    try:
-        return Robot(joints, "urdf", name or str(root.get("name")), "m", None, tool, description, source, link_names, links,
-                     ignored)
-    except RobotDefinitionError as exc:
-        raise RobotFileError(spath, str(exc)) from None
+    return links
 
 
 # ---------------------------------------------------------------------------- writing
