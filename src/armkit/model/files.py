@@ -165,45 +165,7 @@ def _parse(text: str, path: str) -> Robot:
     if len(rows) > MAX_JOINTS:
         raise RobotFileError(path, f"{len(rows):,} joints; armkit handles serial arms of at most {MAX_JOINTS:,} joints",
                              None, "joints")
-    joints = []
-    for k, row in enumerate(rows):
-        where = f"joints[{k + 1}]"
-        if not isinstance(row, dict):
-            raise RobotFileError(path, f"must be a table (write each joint as a [[joints]] table), got {_short(row)}",
-                                 loc.line("joints"), where)
-        bad = set(row) - _JOINT_KEYS
-        if bad:
-            key = sorted(bad)[0]
-            raise RobotFileError(path, f"unknown key; allowed: {', '.join(sorted(_JOINT_KEYS))}",
-                                 loc.line(key, k), f"{where}.{key}")
-        kind = row.get("type", "revolute")
-        if kind not in ("revolute", "prismatic"):
-            raise RobotFileError(path, f"must be 'revolute' or 'prismatic', got {kind!r}", loc.line("type", k),
-                                 f"{where}.type")
-        vals = {key: _number(row.get(key, 0.0), path, loc, key, f"{where}.{key}", k)
-                for key in ("theta", "d", "a", "alpha")}
-        vals["theta"] *= ang
-        vals["alpha"] *= ang
-        limits = row.get("limits")
-        if limits is None:
-            if kind == "prismatic":
-                raise RobotFileError(path, "a prismatic joint needs limits = [lower, upper] in length units",
-                                     loc.line("limits", k), f"{where}.limits")
-            lo, hi = -math.pi, math.pi
-        else:
-            if not isinstance(limits, list) or len(limits) != 2:
-                raise RobotFileError(path, f"must be [lower, upper], got {limits!r}", loc.line("limits", k),
-                                     f"{where}.limits")
-            lo, hi = (_number(x, path, loc, "limits", f"{where}.limits", k, infinite=True) for x in limits)
-            if kind == "revolute":
-                lo, hi = lo * ang, hi * ang
-            if lo > hi:
-                raise RobotFileError(path, f"lower limit {limits[0]} is greater than upper limit {limits[1]}",
-                                     loc.line("limits", k), f"{where}.limits")
-        name = row.get("name", f"q{k + 1}")
-        if not isinstance(name, str):
-            raise RobotFileError(path, f"must be a string, got {name!r}", loc.line("name", k), f"{where}.name")
-        joints.append(Joint(kind, vals["theta"], vals["d"], vals["a"], vals["alpha"], lo, hi, name))
+    joints = [_joint(row, k, path, loc, ang) for k, row in enumerate(rows)]
     base = _pose_from_table(data["base"], path, loc, "base", ang) if "base" in data else None
     tool = _pose_from_table(data["tool"], path, loc, "tool", ang) if "tool" in data else None
     try:
@@ -218,6 +180,47 @@ def _parse(text: str, path: str) -> Robot:
 
         attach(robot, data, text, path)
     return robot
+
+
+def _joint(row: Any, k: int, path: str, loc: _Locator, ang: float) -> Joint:
+    """The ``k``-th ``[[joints]]`` table (0-based) as a Joint; angles times ``ang`` (degrees to radians or 1)."""
+    where = f"joints[{k + 1}]"
+    if not isinstance(row, dict):
+        raise RobotFileError(path, f"must be a table (write each joint as a [[joints]] table), got {_short(row)}",
+                             loc.line("joints"), where)
+    bad = set(row) - _JOINT_KEYS
+    if bad:
+        key = sorted(bad)[0]
+        raise RobotFileError(path, f"unknown key; allowed: {', '.join(sorted(_JOINT_KEYS))}",
+                             loc.line(key, k), f"{where}.{key}")
+    kind = row.get("type", "revolute")
+    if kind not in ("revolute", "prismatic"):
+        raise RobotFileError(path, f"must be 'revolute' or 'prismatic', got {kind!r}", loc.line("type", k),
+                             f"{where}.type")
+    vals = {key: _number(row.get(key, 0.0), path, loc, key, f"{where}.{key}", k)
+            for key in ("theta", "d", "a", "alpha")}
+    vals["theta"] *= ang
+    vals["alpha"] *= ang
+    limits = row.get("limits")
+    if limits is None:
+        if kind == "prismatic":
+            raise RobotFileError(path, "a prismatic joint needs limits = [lower, upper] in length units",
+                                 loc.line("limits", k), f"{where}.limits")
+        lo, hi = -math.pi, math.pi
+    else:
+        if not isinstance(limits, list) or len(limits) != 2:
+            raise RobotFileError(path, f"must be [lower, upper], got {limits!r}", loc.line("limits", k),
+                                 f"{where}.limits")
+        lo, hi = (_number(x, path, loc, "limits", f"{where}.limits", k, infinite=True) for x in limits)
+        if kind == "revolute":
+            lo, hi = lo * ang, hi * ang
+        if lo > hi:
+            raise RobotFileError(path, f"lower limit {limits[0]} is greater than upper limit {limits[1]}",
+                                 loc.line("limits", k), f"{where}.limits")
+    name = row.get("name", f"q{k + 1}")
+    if not isinstance(name, str):
+        raise RobotFileError(path, f"must be a string, got {name!r}", loc.line("name", k), f"{where}.name")
+    return Joint(kind, vals["theta"], vals["d"], vals["a"], vals["alpha"], lo, hi, name)
 
 
 def _short(value: Any, limit: int = 60) -> str:
