@@ -142,3 +142,85 @@ def test_cli_traj_animation(tmp_path):
     res = runner.invoke(app, ["traj", "planar2", "--line", "1.2,0.2", "0.6,0.9", "--steps", "8", "-o", str(out)])
     assert res.exit_code == 0, res.output
     assert out.read_bytes()[:6] in (b"GIF89a", b"GIF87a")
+
+
+# ---- Cartesian paths through any number of waypoints, with blends (issue 11) -------------------------------------
+from hypothesis import given, settings, strategies as st  # noqa: E402
+
+from armkit.motion import blended_polyline, cartesian_waypoints  # noqa: E402
+
+
+def _min_dist(P: np.ndarray, w: np.ndarray) -> float:
+    return float(np.linalg.norm(P - w, axis=1).min())
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.lists(st.tuples(*[st.floats(-2, 2)] * 3), min_size=3, max_size=7),
+       st.floats(0.01, 0.5), st.sampled_from(["circular", "parabolic"]))
+def test_blended_path_ends_exactly_and_passes_within_the_radius(pts, radius, shape):
+    W = np.array(pts)
+    if np.linalg.norm(np.diff(W, axis=0), axis=1).min() < 1e-3:
+        return
+    P = blended_polyline(W, radius, shape, steps=2000)
+    assert np.array_equal(P[0], W[0]) and np.array_equal(P[-1], W[-1])       # exactly through start and end
+    step = np.linalg.norm(np.diff(P, axis=0), axis=1)
+    # equal arc-length samples: no chord longer than its share of the path (one across a tight bend is shorter)
+    assert step.max() <= np.median(step) * (1 + 1e-6) + 1e-12
+    for w in W[1:-1]:
+        assert _min_dist(P, w) <= radius + step.max()                         # within the blend radius
+
+
+def test_circular_blend_hand_values():
+    """A right-angle corner, radius r: the arc (tangent length r, circle radius r) comes to r (sqrt 2 - 1) of the
+    corner (r tan(pi/8)); the parabola (Bezier through the corner's control point) to r sqrt(2)/4 (r sin(pi/4)/2)."""
+    W = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0]])
+    r = 0.2
+    arc = blended_polyline(W, r, "circular", steps=20000)
+    par = blended_polyline(W, r, "parabolic", steps=20000)
+    assert abs(_min_dist(arc, W[1]) - r * (np.sqrt(2) - 1)) < 1e-4
+    assert abs(_min_dist(par, W[1]) - r * np.sqrt(2) / 4) < 1e-4
+    # the arc's points off the straight parts lie on the circle of radius r around (1 - r, r)
+    on_arc = (arc[:, 0] > 1 - r + 1e-9) & (arc[:, 1] < r - 1e-9)
+    np.testing.assert_allclose(np.linalg.norm(arc[on_arc] - [1 - r, r], axis=1), r, atol=1e-6)
+    # radius 0: a sharp corner, and the corner is a sample
+    assert _min_dist(blended_polyline(W, 0.0, steps=7), W[1]) == 0.0
+
+
+def test_blend_radius_clipped_to_half_a_segment():
+    W = np.array([[0.0, 0.0], [0.1, 0.0], [0.1, 1.0]])
+    P = blended_polyline(W, 0.5, steps=4000)            # 0.5 > half of the first segment (0.05)
+    assert _min_dist(P, W[1]) <= 0.05 + 1e-3
+    assert np.all(P[:, 1] >= -1e-12)                    # the arc stays inside the corner
+
+
+def test_waypoints_via_ik_speed_and_joint_limits_kept():
+    r = armkit.load("planar2")
+    W = np.array([[1.2, 0.2], [1.0, 0.8], [0.4, 1.0], [0.3, 0.6]])
+    tr = cartesian_waypoints(r, W, blend=0.1, steps=200, speed=0.3)
+    L = np.linalg.norm(np.diff(tr.targets, axis=0), axis=1).sum()
+    assert abs(tr.duration - 1.875 * L / 0.3) < 1e-9
+    v = np.linalg.norm(np.diff(tr.positions, axis=0), axis=1) / np.diff(tr.t)
+    assert v.max() <= 0.3 * 1.001 and v.max() > 0.3 * 0.97       # the limit is kept and used
+    np.testing.assert_allclose(tr.positions[[0, -1], :2], W[[0, -1]], atol=1e-9)
+    for w in W[1:-1]:
+        assert _min_dist(tr.positions[:, :2], w) <= 0.1
+    assert tr.deviation.max() < 1e-9
+    slow = cartesian_waypoints(r, W, blend=0.1, steps=200, qd_max=0.5)
+    assert np.abs(slow.qd).max() <= 0.5 + 1e-12 and np.abs(slow.qd).max() > 0.49
+    assert slow.duration > 2.0 and slow.notes
+
+
+def test_cli_traj_waypoints_with_blends(tmp_path):
+    import json
+
+    res = runner.invoke(app, ["traj", "planar2", "--line", "1.2,0.2", "1.0,0.8", "0.4,1.0", "--blend", "0.1",
+                              "--steps", "60", "--json"])
+    assert res.exit_code == 0, res.output
+    d = json.loads(res.stdout)
+    assert d["samples"] == 61 and "3 waypoints, circular blends of 0.1" in d["label"]
+    out = tmp_path / "t.csv"               # the old spelling --out still works (hidden)
+    res = runner.invoke(app, ["traj", "planar2", "--line", "1.2,0.2", "0.6,0.9", "--steps", "5", "--out", str(out)])
+    assert res.exit_code == 0 and out.exists(), res.output
+    for bad in (["--blend", "-1"], ["--blend-shape", "square"], ["--speed", "0"]):
+        res = runner.invoke(app, ["traj", "planar2", "--line", "1.2,0.2", "1.0,0.8", "0.4,1.0", *bad])
+        assert res.exit_code == 2 and "Traceback" not in res.output, res.output

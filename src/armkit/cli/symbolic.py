@@ -20,6 +20,7 @@ from .common import (EXIT_FAILED, NUMERIC_ARGS, console, esc, fail, name_list, o
 
 from .common import ROBOT_HELP  # noqa: E402
 from .common import print_table  # noqa: E402
+from .common import _  # noqa: E402
 
 
 def _matrix_table(M, title: str, row_labels=None, col_labels=None) -> Table:
@@ -283,7 +284,13 @@ def traj(robot: str = typer.Argument(..., help=ROBOT_HELP),
          points: List[str] = typer.Argument(..., metavar="POINT...",
                                             help="Comma-separated waypoints (joint values, or x,y[,z] for --line)."),
          joint: bool = typer.Option(False, "--joint", help="POINTs are joint-space waypoints."),
-         line: bool = typer.Option(False, "--line", help="Two POINTs: a straight line of the tool point."),
+         line: bool = typer.Option(False, "--line", help="Two or more POINTs (x,y[,z]): straight lines of the tool "
+                                                         "point through them, start to end."),
+         blend: float = typer.Option(0.0, "--blend", help="--line corners: blend radius (length unit); the path "
+                                                          "passes within it of each interior POINT. 0: sharp."),
+         blend_shape: str = typer.Option("circular", "--blend-shape", help="--line corners: circular or parabolic."),
+         speed: Optional[float] = typer.Option(None, "--speed", help="Cartesian paths: tool speed limit "
+                                                                    "(length unit/s); lengthens the duration."),
          arc: Optional[float] = typer.Option(None, "--arc",
                                              help="Arc angle (deg): POINTs are the centre and the start point."),
          deg: bool = typer.Option(False, "--deg", help="Joint waypoints in degrees."),
@@ -309,9 +316,12 @@ def traj(robot: str = typer.Argument(..., help=ROBOT_HELP),
 
     Example: armkit traj fighter --joint 0,0,0 30,45,60 --deg --profile quintic --duration 2 -o traj.png
     Example: armkit traj planar2 --line 1.2,0.2 0.6,0.9 --steps 100 -o line.gif
+
+    Example: armkit traj planar2 --line 1.2,0.2 1.0,0.8 0.4,1.0 --blend 0.1 -o corners.png
     """
     from ..errors import UnreachableError
-    from ..motion.trajectory import animate_trajectory, cartesian_arc, cartesian_line, joint_trajectory, plot_trajectory
+    from ..motion.trajectory import (animate_trajectory, cartesian_arc, cartesian_waypoints, joint_trajectory,
+                                     plot_trajectory)
 
     r = get_robot(robot)
     out = out if out is not None else out_alias         # --out: the old spelling of --output
@@ -334,14 +344,22 @@ def traj(robot: str = typer.Argument(..., help=ROBOT_HELP),
                                   qd_max=None if qd_max is None else qd_max * scale,
                                   qdd_max=None if qdd_max is None else qdd_max * scale, dt=dt, robot=r)
         elif line:
-            if len(P) != 2:
-                fail(f"--line needs two points (start end), got {len(P)}")
-            tr = cartesian_line(r, P[0], P[1], steps=steps, duration=duration or 2.0, method=method)  # type: ignore[arg-type]
+            if len(P) < 2:
+                fail(_("--line needs at least two points (start ... end), got {n}", n=len(P)))
+            if not blend >= 0 or blend_shape not in ("circular", "parabolic"):
+                fail(_("--blend must be 0 or more and --blend-shape circular or parabolic, got {blend:g} and "
+                       "{shape!r}", blend=blend, shape=blend_shape))
+            if speed is not None and not speed > 0:
+                fail(_("--speed must be positive, got {speed:g}", speed=speed))
+            scale = math.pi / 180 if deg else 1.0
+            tr = cartesian_waypoints(r, P, blend=blend, blend_shape=blend_shape,  # type: ignore[arg-type]
+                                     steps=steps, duration=duration or 2.0, method=method, speed=speed,
+                                     qd_max=None if qd_max is None else qd_max * scale)
         else:
             if len(P) != 2:
                 fail(f"--arc needs two points (centre start), got {len(P)}")
             tr = cartesian_arc(r, P[0], P[1], math.radians(float(arc)), steps=steps, duration=duration or 2.0,  # type: ignore[arg-type]
-                               method=method)
+                               method=method, speed=speed)
     except UnreachableError as exc:
         fail(f"unreachable: {exc}", EXIT_FAILED)
     for note in tr.notes:

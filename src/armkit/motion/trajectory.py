@@ -17,7 +17,8 @@ motion of each segment) or ``durations`` (one per segment), and/or the limits
 ``qd_max``/``qdd_max``; each segment gets the longest of the asked duration and the
 shortest one that keeps every joint within the limits.
 
-Cartesian (:func:`cartesian_path`, :func:`cartesian_line`, :func:`cartesian_arc`): the
+Cartesian (:func:`cartesian_path`, :func:`cartesian_line`, :func:`cartesian_arc`,
+:func:`cartesian_waypoints` through any number of points with rounded corners): the
 path parameter follows a quintic time scaling (rest to rest); ``method="ik"`` solves
 :func:`armkit.ik` at every sample starting from the previous solution (the closed-form
 branch nearest the previous frame, so the motion stays on one branch), ``method="rate"``
@@ -41,7 +42,8 @@ from ..kinematics import fk
 from ..model.robot import Robot
 
 __all__ = ["Trajectory", "PROFILES", "profile", "segment_duration", "joint_trajectory", "cartesian_path",
-           "cartesian_line", "cartesian_arc", "plot_trajectory", "animate_trajectory"]
+           "cartesian_line", "cartesian_arc", "cartesian_waypoints", "blended_polyline", "plot_trajectory",
+           "animate_trajectory"]
 
 Array = NDArray[np.float64]
 PROFILES = ("cubic", "quintic", "trapezoid")
@@ -235,20 +237,8 @@ def joint_trajectory(waypoints: ArrayLike, profile_kind: str = "quintic", durati
         raise ArgumentError(f"dt must be a positive finite number of seconds, got {dt!r}")
     m = W.shape[0] - 1
     deltas = np.diff(W, axis=0)
-    if durations is not None:
-        asked = np.asarray(durations, dtype=float)
-        if asked.shape != (m,) or not np.all((asked > 0) & np.isfinite(asked)):
-            raise ArgumentError(f"durations needs {m} positive values (one per segment), got {list(asked)}")
-    elif duration is not None:
-        if not 0 < duration < math.inf:
-            raise ArgumentError(f"duration must be a positive finite number of seconds, got {duration!r}")
-        size = np.max(np.abs(deltas), axis=1)
-        asked = duration * (size / size.sum() if size.sum() > 0 else np.full(m, 1 / m))
-    elif qd_max is None and qdd_max is None:
-        raise ArgumentError("give a duration, per-segment durations or the limits qd_max/qdd_max")
-    else:
-        asked = np.zeros(m)
-    notes = []
+    asked = _asked_durations(deltas, duration, durations, qd_max is None and qdd_max is None)
+    notes: list[str] = []
     plan = []
     total = 1.0
     for k in range(m):
@@ -272,6 +262,39 @@ def joint_trajectory(waypoints: ArrayLike, profile_kind: str = "quintic", durati
     check_memory(total * 8.0 * (3 * n + 5) * 3, f"a trajectory of {total:,.0f} samples "
                  f"({sum(p[1] for p in plan):.4g} s at dt = {dt:g} s)",
                  "use a larger dt (--dt), a shorter duration or larger speed/acceleration limits")
+    if not plan:
+        raise ArgumentError("all waypoints are equal: there is nothing to move")
+    t, q, qd, qdd = _sample_segments(W, deltas, plan, profile_kind, dt, notes)
+    pos = None
+    if robot is not None:     # in chunks: no (N, 4, 4) pose array for a long trajectory
+        from .._limits import CHUNK
+
+        pos = np.concatenate([fk(robot, q[i:i + CHUNK])[:, :3, 3] for i in range(0, len(q), CHUNK)])
+    return Trajectory(t, q, qd, qdd, positions=pos, label=f"joint space, {profile_kind}", notes=tuple(notes))
+
+
+def _asked_durations(deltas: Array, duration: float | None, durations: Sequence[float] | None,
+                     no_limits: bool) -> Array:
+    """Time asked for each of the ``m`` segments (``deltas`` (m, n)); zeros when only limits set it."""
+    m = deltas.shape[0]
+    if durations is not None:
+        asked = np.asarray(durations, dtype=float)
+        if asked.shape != (m,) or not np.all((asked > 0) & np.isfinite(asked)):
+            raise ArgumentError(f"durations needs {m} positive values (one per segment), got {list(asked)}")
+        return asked
+    if duration is not None:
+        if not 0 < duration < math.inf:
+            raise ArgumentError(f"duration must be a positive finite number of seconds, got {duration!r}")
+        size = np.max(np.abs(deltas), axis=1)
+        return duration * (size / size.sum() if size.sum() > 0 else np.full(m, 1 / m))
+    if no_limits:
+        raise ArgumentError("give a duration, per-segment durations or the limits qd_max/qdd_max")
+    return np.zeros(m)
+
+
+def _sample_segments(W: Array, deltas: Array, plan: list[tuple[int, float, float, float]], profile_kind: str,
+                     dt: float, notes: list[str]) -> tuple[Array, Array, Array, Array]:
+    """``t, q, qd, qdd`` of the planned segments ``(k, T, blend, steps)``, each waypoint sampled once."""
     t_parts: list[np.ndarray] = []
     q_parts: list[np.ndarray] = []
     qd_parts: list[np.ndarray] = []
@@ -290,15 +313,8 @@ def joint_trajectory(waypoints: ArrayLike, profile_kind: str = "quintic", durati
         qd_parts.append(sd[first:, None] * deltas[k] / T)
         qdd_parts.append(sdd[first:, None] * deltas[k] / T ** 2)
         t0 += T
-    if not t_parts:
-        raise ArgumentError("all waypoints are equal: there is nothing to move")
     t, q, qd, qdd = (np.concatenate(p) for p in (t_parts, q_parts, qd_parts, qdd_parts))
-    pos = None
-    if robot is not None:     # in chunks: no (N, 4, 4) pose array for a long trajectory
-        from .._limits import CHUNK
-
-        pos = np.concatenate([fk(robot, q[i:i + CHUNK])[:, :3, 3] for i in range(0, len(q), CHUNK)])
-    return Trajectory(t, q, qd, qdd, positions=pos, label=f"joint space, {profile_kind}", notes=tuple(notes))
+    return t, q, qd, qdd
 
 
 # ------------------------------------------------------------------------------------------ Cartesian
@@ -311,7 +327,7 @@ def _ik_solve(robot: Robot, target: Array, q_prev: Array) -> tuple[Array, bool, 
 
 def cartesian_path(robot: Robot, points: ArrayLike, q0: ArrayLike | None = None, duration: float = 2.0,
                    method: Literal["ik", "rate"] = "ik", qd_max: ArrayLike | None = None, gain: float = 10.0,
-                   label: str = "Cartesian path") -> Trajectory:
+                   label: str = "Cartesian path", speed: float | None = None) -> Trajectory:
     """Follow a sampled Cartesian path of tool points, rest to rest.
 
     Parameters
@@ -324,12 +340,17 @@ def cartesian_path(robot: Robot, points: ArrayLike, q0: ArrayLike | None = None,
     q0 : array_like, shape (n,), optional
         Start configuration, or the reference for the first IK (zeros by default).
     duration : float
+        Seconds; lengthened where a limit below asks for more.
     method : {"ik", "rate"}
         IK at every sample from the previous solution, or resolved-rate control.
     qd_max : float or array_like, optional
-        Joint speed limit for ``"rate"``.
+        Joint speed limit: for ``"ik"`` the time is stretched until every joint keeps it;
+        for ``"rate"`` the commanded rates are clipped to it.
     gain : float
         Position feedback gain for ``"rate"`` (1/s).
+    speed : float, optional
+        Tool speed limit (length unit / s) for equally spaced samples: the duration is at
+        least :math:`1.875 L / v` (the quintic's peak speed, :math:`L` the path length).
 
     Returns
     -------
@@ -346,6 +367,10 @@ def cartesian_path(robot: Robot, points: ArrayLike, q0: ArrayLike | None = None,
         raise ShapeError(f"points must have shape (N, 2) or (N, 3) with N >= 2, got {P.shape}")
     if duration <= 0:
         raise ArgumentError(f"duration must be positive, got {duration}")
+    if speed is not None:
+        if not speed > 0:
+            raise ArgumentError(f"speed must be positive, got {speed}")
+        duration = max(duration, 1.875 * float(np.linalg.norm(np.diff(P, axis=0), axis=1).sum()) / speed)
     N = len(P)
     k = P.shape[1]
     u = np.linspace(0.0, 1.0, N)                 # path parameter of each sample
@@ -356,21 +381,7 @@ def cartesian_path(robot: Robot, points: ArrayLike, q0: ArrayLike | None = None,
     qstart = np.zeros(robot.n) if q0 is None else robot.check_q(q0, "q0").astype(float)
     targets3 = np.hstack([P, np.zeros((N, 1))]) if k == 2 else P
     if method == "ik":
-        Q = np.empty((N, robot.n))
-        q_prev = qstart
-        for i in range(N):
-            q_i, ok, msg = _ik_solve(robot, P[i], q_prev)
-            if not ok:
-                raise UnreachableError(f"sample {i + 1} of {N} at ({', '.join(f'{v:g}' for v in P[i])}) "
-                                       f"{robot.unit}: {msg}")
-            Q[i] = q_i
-            q_prev = q_i
-        QD = np.asarray(np.gradient(Q, t, axis=0))
-        QD[0] = QD[-1] = 0.0
-        QDD = np.asarray(np.gradient(QD, t, axis=0))
-        pos = fk(robot, Q)[:, :3, 3]
-        dev = np.linalg.norm(pos[:, :k] - P, axis=1)
-        return Trajectory(t, Q, QD, QDD, positions=pos, targets=targets3, deviation=dev, label=f"{label} via IK")
+        return _follow_by_ik(robot, P, t, qstart, qd_max, targets3, label)
     if method != "rate":
         raise ArgumentError(f"method must be 'ik' or 'rate', got {method!r}")
     from .velocity import resolved_rate
@@ -390,6 +401,119 @@ def cartesian_path(robot: Robot, points: ArrayLike, q0: ArrayLike | None = None,
     dev = np.linalg.norm(pos[:, :k] - P, axis=1)
     return Trajectory(tr.t[idx], tr.q[idx], tr.qd[idx], tr.qdd[idx], positions=pos, targets=targets3,
                       deviation=dev, label=f"{label} via resolved rate")
+
+
+def _follow_by_ik(robot: Robot, P: Array, t: Array, qstart: Array, qd_max: ArrayLike | None, targets3: Array,
+                  label: str) -> Trajectory:
+    """IK at every sample from the previous solution; the clock stretched (uniformly) to keep ``qd_max``."""
+    N, k = P.shape
+    Q = np.empty((N, robot.n))
+    q_prev = qstart
+    for i in range(N):
+        q_i, ok, msg = _ik_solve(robot, P[i], q_prev)
+        if not ok:
+            raise UnreachableError(f"sample {i + 1} of {N} at ({', '.join(f'{v:g}' for v in P[i])}) "
+                                   f"{robot.unit}: {msg}")
+        Q[i] = q_i
+        q_prev = q_i
+    QD = np.asarray(np.gradient(Q, t, axis=0))
+    QD[0] = QD[-1] = 0.0
+    notes: tuple[str, ...] = ()
+    if qd_max is not None:
+        lim = np.broadcast_to(np.asarray(qd_max, dtype=float), (robot.n,))
+        if not np.all(lim > 0):
+            raise ArgumentError(f"qd_max must be positive, got {qd_max!r}")
+        stretch = float(np.max(np.abs(QD) / lim))
+        if stretch > 1.0:           # the path is fixed: a slower clock divides every rate by the same factor
+            t, QD = t * stretch, QD / stretch
+            notes = (f"duration lengthened to {t[-1]:.3g} s to keep the joint speed limit",)
+    QDD = np.asarray(np.gradient(QD, t, axis=0))
+    pos = fk(robot, Q)[:, :3, 3]
+    dev = np.linalg.norm(pos[:, :k] - P, axis=1)
+    return Trajectory(t, Q, QD, QDD, positions=pos, targets=targets3, deviation=dev, label=f"{label} via IK",
+                      notes=notes)
+
+
+def blended_polyline(waypoints: ArrayLike, radius: float = 0.0, shape: Literal["circular", "parabolic"] = "circular",
+                     steps: int = 100) -> Array:
+    r"""Points along straight segments through ``waypoints``, corners rounded within ``radius`` of each waypoint.
+
+    Parameters
+    ----------
+    waypoints : array_like, shape (m, 2) or (m, 3)
+        Start, interior waypoints, end (length units), ``m >= 2``.
+    radius : float
+        Blend radius: the path leaves a segment where it comes within ``radius`` of an
+        interior waypoint and joins the next one at the same distance (clipped to half of
+        each neighbouring segment, so that blends never overlap). 0: sharp corners.
+    shape : {"circular", "parabolic"}
+        The corner: a circular arc tangent to both segments, or a parabola (quadratic
+        Bezier curve with its control point on the waypoint, the path of a constant
+        acceleration). Both stay within ``radius`` of the waypoint; the arc comes to
+        :math:`r \tan(\varphi/4)` of it, the parabola to :math:`r \sin(\varphi/2)/2`
+        (:math:`\varphi` the turning angle).
+    steps : int
+        The path is returned as ``steps + 1`` points equally spaced in arc length,
+        exactly on the first and last waypoint.
+
+    Returns
+    -------
+    ndarray, shape (steps + 1, 2 or 3)
+    """
+    W = np.asarray(waypoints, dtype=float)
+    if W.ndim != 2 or W.shape[1] not in (2, 3) or len(W) < 2:
+        raise ShapeError(f"waypoints must have shape (m, 2) or (m, 3) with m >= 2, got {W.shape}")
+    if not np.all(np.isfinite(W)):
+        raise ShapeError("waypoints contain NaN or infinite values")
+    if not radius >= 0:
+        raise ArgumentError(f"radius must be zero or positive, got {radius}")
+    if shape not in ("circular", "parabolic"):
+        raise ArgumentError(f"shape must be 'circular' or 'parabolic', got {shape!r}")
+    if steps < 1:
+        raise ArgumentError(f"steps must be at least 1, got {steps}")
+    keep = np.r_[True, np.linalg.norm(np.diff(W, axis=0), axis=1) > 0]   # repeated points add nothing
+    W = W[keep]
+    if len(W) < 2:
+        raise ArgumentError("the waypoints must not all be the same point")
+    seg = np.linalg.norm(np.diff(W, axis=0), axis=1)
+    pieces, sharp = [W[:1]], []
+    for i in range(1, len(W) - 1):
+        r = min(radius, 0.5 * seg[i - 1], 0.5 * seg[i])
+        pieces.append(_corner(W[i - 1], W[i], W[i + 1], r, shape))
+        if len(pieces[-1]) == 1:
+            sharp.append(sum(len(p) for p in pieces) - 1)      # index of the waypoint in the dense points
+    pieces.append(W[-1:])
+    dense = np.concatenate(pieces)
+    arc = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(dense, axis=0), axis=1))]
+    s = np.linspace(0.0, arc[-1], steps + 1)
+    for j in sharp:                          # a sharp corner is a sample: the path goes through the waypoint
+        k = int(np.argmin(np.abs(s - arc[j])))
+        if 0 < k < steps:
+            s[k] = arc[j]
+    out = np.column_stack([np.interp(s, arc, dense[:, j]) for j in range(W.shape[1])])
+    out[0], out[-1] = W[0], W[-1]
+    return out
+
+
+def _corner(a: Array, c: Array, b: Array, r: float, shape: str, samples: int = 513) -> Array:
+    """Points of the rounded corner at ``c`` between segments ``a -> c`` and ``c -> b`` (just ``c`` if sharp)."""
+    d_in = (c - a) / np.linalg.norm(c - a)
+    d_out = (b - c) / np.linalg.norm(b - c)
+    cos_turn = float(np.clip(d_in @ d_out, -1.0, 1.0))
+    if r <= 0 or cos_turn > 1 - 1e-12:
+        return c[None, :]
+    p_in, p_out = c - r * d_in, c + r * d_out          # where the blend leaves and joins the segments
+    s = np.linspace(0.0, 1.0, samples)[:, None]
+    if shape == "parabolic" or cos_turn < -1 + 1e-9:   # a U-turn has no tangent arc: the parabola
+        return (1 - s) ** 2 * p_in + 2 * s * (1 - s) * c + s**2 * p_out
+    turn = math.acos(cos_turn)
+    R = r / math.tan(turn / 2)                         # tangent length r = R tan(turn / 2)
+    normal = d_out - cos_turn * d_in                   # towards the centre, in the plane of the corner
+    centre = p_in + R * normal / np.linalg.norm(normal)
+    e1 = (p_in - centre) / R
+    e2 = d_in                                          # the arc starts moving along d_in
+    ang = turn * s
+    return centre + R * (np.cos(ang) * e1 + np.sin(ang) * e2)
 
 
 def cartesian_line(robot: Robot, start: ArrayLike, end: ArrayLike, steps: int = 100, **kwargs: Any) -> Trajectory:
@@ -412,6 +536,40 @@ def cartesian_line(robot: Robot, start: ArrayLike, end: ArrayLike, steps: int = 
             raise UnreachableError(f"the start point is not reachable: {msg}")
         kwargs["q0"] = q
     return cartesian_path(robot, pts, label="straight line", **kwargs)
+
+
+def cartesian_waypoints(robot: Robot, waypoints: ArrayLike, blend: float = 0.0,
+                        blend_shape: Literal["circular", "parabolic"] = "circular", steps: int = 100,
+                        **kwargs: Any) -> Trajectory:
+    """Straight lines of the tool point through any number of waypoints, corners rounded within ``blend``.
+
+    The path (:func:`blended_polyline`) starts exactly on the first waypoint, ends exactly
+    on the last, and passes within ``blend`` of every waypoint between (through it when
+    ``blend`` is 0; the arm then slows through the corner only as the samples bend). It
+    is sampled at ``steps + 1`` points equally spaced in arc length and followed rest to
+    rest by :func:`cartesian_path` (other keywords: ``duration``, ``speed``, ``qd_max``,
+    ``method``, ``q0``).
+
+    Examples
+    --------
+    >>> import armkit
+    >>> from armkit.motion import cartesian_waypoints
+    >>> tr = cartesian_waypoints(armkit.load("planar2"), [[1.2, 0.2], [1.0, 0.8], [0.4, 1.0]], blend=0.1, steps=40)
+    >>> tr.targets[0, :2].tolist(), tr.targets[-1, :2].tolist()
+    ([1.2, 0.2], [0.4, 1.0])
+    """
+    W = np.asarray(waypoints, dtype=float)
+    pts = blended_polyline(W, blend, blend_shape, steps)
+    kwargs = dict(kwargs)
+    if kwargs.get("method", "ik") == "rate" and kwargs.get("q0") is None:
+        q, ok, msg = _ik_solve(robot, pts[0], np.zeros(robot.n))
+        if not ok:
+            raise UnreachableError(f"the start point is not reachable: {msg}")
+        kwargs["q0"] = q
+    corners = len(W) - 2
+    what = "straight line" if corners == 0 else (
+        f"{len(W)} waypoints" + (f", {blend_shape} blends of {blend:g}" if blend > 0 else ", sharp corners"))
+    return cartesian_path(robot, pts, label=what, **kwargs)
 
 
 def cartesian_arc(robot: Robot, center: ArrayLike, start: ArrayLike, angle: float,
