@@ -29,6 +29,7 @@ from __future__ import annotations
 
 import functools
 import hashlib
+import importlib
 import os
 import subprocess
 import sys
@@ -39,7 +40,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Optional
 
-__all__ = ["warmup", "Warmup", "ready", "parallel_ok", "cache_dir", "fallback_cache_dir", "install_cache_fallback"]
+__all__ = ["warmup", "Warmup", "ready", "parallel_ok", "cache_dir", "fallback_cache_dir", "install_cache_fallback",
+           "module", "kernels", "forget_stale_cache"]
 
 _PKG = Path(__file__).resolve().parent
 _SOURCES = ("kinematics/_jit.py", "ik/_jit_lm.py", "ik/_jit_verify.py", "ik/analytic/_jit.py", "_jit_loader.py")
@@ -112,6 +114,71 @@ def install_cache_fallback() -> None:
                 return None
 
     impl._locator_classes = list(impl._locator_classes) + [ArmkitFallbackLocator]
+
+
+# ------------------------------------------------------------------------------- the modules
+_MODULES: dict[str, Any] = {}
+
+
+def module(name: str) -> Any:
+    """The kernel module ``armkit.<name>`` (``"kinematics._jit"``, ``"ik._jit_lm"``, ``"ik._jit_verify"``,
+    ``"ik.analytic._jit"``), imported on first use; None when Numba is not importable.
+
+    The one way armkit loads its JIT modules lazily; whether they serve a call is the back
+    end's choice (:func:`kernels`).
+    """
+    mod = _MODULES.get(name)
+    if mod is None:
+        try:
+            mod = importlib.import_module(f"armkit.{name}")
+        except ImportError:  # numba missing or broken: the NumPy code serves
+            mod = False
+        _MODULES[name] = mod
+    return mod or None
+
+
+def kernels(name: str) -> Any:
+    """:func:`module` while the Numba back end is in use (:func:`armkit.get_backend`), else None."""
+    from . import kinematics
+
+    if kinematics._jit_module() is None:
+        return None
+    return module(name)
+
+
+def forget_stale_cache(namespace: dict[str, Any], depends_on: tuple[str, ...]) -> None:
+    """Make the on-disk cache of one kernel module follow the other armkit files whose helpers it inlines.
+
+    Numba's cache checks only the file that defines a kernel; a kernel that inlines helpers of
+    another file (``ik/_jit_lm.py`` uses the pose helpers of ``kinematics/_jit.py``) would load
+    stale code after those change. So a stamp file next to the cache holds a hash of those
+    sources; when it differs, this module's cached kernels are deleted (compiled anew on first
+    use) and the stamp rewritten. Call it at the end of the module, before any kernel runs.
+
+    Parameters
+    ----------
+    namespace : dict
+        The module's ``globals()``: its ``cache=True`` kernels are found there.
+    depends_on : tuple of str
+        The files it inlines from, relative to the package (``"kinematics/_jit.py"``).
+    """
+    h = hashlib.sha1()
+    for rel in depends_on:
+        h.update((_PKG / rel).read_bytes())
+    digest = h.hexdigest()
+    stem = Path(namespace["__file__"]).stem
+    dirs = {Path(p) for obj in list(namespace.values())
+            if (p := getattr(getattr(obj, "_cache", None), "_cache_path", None))}
+    for d in dirs:
+        stamp = d / f"{stem}.armkit-deps"
+        try:
+            if stamp.exists() and stamp.read_text() == digest:
+                continue
+            for old in list(d.glob(f"{stem}.*.nbi")) + list(d.glob(f"{stem}.*.nbc")):
+                old.unlink(missing_ok=True)
+            stamp.write_text(digest)
+        except OSError:  # a read-only cache: Numba then cannot write there either
+            pass
 
 
 @functools.lru_cache(maxsize=None)

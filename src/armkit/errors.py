@@ -46,6 +46,12 @@ class ShapeError(ArmkitError, ValueError):
     """An array argument has the wrong shape or holds non-finite values."""
 
 
+class NotRigidError(ShapeError):
+    """A 4x4 matrix given as a pose is not a rigid transform (``R^T R != I``, ``det R != 1`` or a last row
+    other than (0, 0, 0, 1)); the message says by how much. A :class:`ShapeError` (so a ``ValueError``), as
+    every malformed pose argument is."""
+
+
 class RobotDefinitionError(ArmkitError, ValueError):
     """A robot description is inconsistent (NaN parameter, lower limit > upper, no joints, ...)."""
 

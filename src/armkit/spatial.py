@@ -16,13 +16,17 @@ True
 
 from __future__ import annotations
 
+import math
+from typing import Any
+
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from .errors import ShapeError
+from ._checks import real_array
+from .errors import NotRigidError, ShapeError
 
 __all__ = [
-    "rotx", "roty", "rotz", "transl", "make_pose", "compose", "inverse",
+    "check_transform", "rotx", "roty", "rotz", "transl", "make_pose", "compose", "inverse",
     "rpy_to_rotation", "rotation_to_rpy", "quaternion_to_rotation", "rotation_to_quaternion",
     "axis_angle_to_rotation", "rotation_to_axis_angle",
     "so3_log", "so3_exp", "se3_log", "se3_exp", "pose_error", "skew",
@@ -114,6 +118,94 @@ def make_pose(R: ArrayLike, p: ArrayLike) -> Array:
     T[..., :3, 3] = p
     T[..., 3, 3] = 1.0
     return T
+
+
+def _rigidity(R: Any) -> tuple[tuple[Any, ...], Any]:
+    """``(|(R^T R - I)_ij| for the 6 distinct entries, det R)`` of a 3x3 given as nested rows of Python floats
+    (one pose) or of ``(B,)`` arrays (a batch): one formula for both."""
+    (a, b, c), (d, e, f), (g, h, k) = R
+    orth = (abs(a * a + d * d + g * g - 1.0), abs(b * b + e * e + h * h - 1.0), abs(c * c + f * f + k * k - 1.0),
+            abs(a * b + d * e + g * h), abs(a * c + d * f + g * k), abs(b * c + e * f + h * k))
+    return orth, a * (e * k - f * h) - b * (d * k - f * g) + c * (d * h - e * g)
+
+
+def _not_rigid(what: str, orth: float, det: float, last: Any, tol: float) -> str:
+    if not orth <= tol:
+        why = f"its rotation part is not orthonormal (R^T R differs from I by {orth:.3g})"
+    elif not abs(det - 1.0) <= tol:
+        why = f"det R = {det:.6g}" + (" (a reflection)" if det < 0 else "") + ", expected +1"
+    else:
+        why = "its last row is (" + ", ".join(f"{v:.6g}" for v in last) + "), expected exactly (0, 0, 0, 1)"
+    return f"{what} is not a rigid transform: {why} (tolerance {tol:g})"
+
+
+def check_transform(T: ArrayLike, *, what: str = "T", tol: float = 1e-6) -> Array:
+    r"""Validate pose(s) and return them as a float64 array: the one pose validator of armkit.
+
+    A pose is a 4x4 matrix :math:`\begin{pmatrix} R & p \\ 0 & 1 \end{pmatrix}` with
+    :math:`|R^T R - I|_{max} \le tol`, :math:`|\det R - 1| \le tol` and a last row of exactly
+    ``(0, 0, 0, 1)`` (a NumPy-made pose has it; kernels never read it, so anything else is a
+    mistake). Batched over leading axes; the message of a bad batch names the first bad index.
+    Hot loops that built their poses themselves pass ``check=False`` to the functions that call this.
+
+    Parameters
+    ----------
+    T : array_like, shape (..., 4, 4)
+    what : str
+        The argument's name, for the messages (``"target"``, ``"tool"`` ...).
+    tol : float
+        Tolerance of the rotation part.
+
+    Returns
+    -------
+    T : ndarray, shape (..., 4, 4), float64 (``T`` itself when it already is one)
+
+    Raises
+    ------
+    ShapeError
+        Not numeric, not ``(..., 4, 4)``, or NaN/infinite values; the message shows the shape expected and got.
+    NotRigidError
+        Not a rigid transform (a :class:`ShapeError` too); the message says by how much.
+
+    Examples
+    --------
+    >>> check_transform(rotz(0.3)).shape
+    (4, 4)
+    >>> check_transform(np.diag([1.0, 1.0, -1.0, 1.0]), what="tool")
+    Traceback (most recent call last):
+    ...
+    armkit.errors.NotRigidError: tool is not a rigid transform: det R = -1 (a reflection), expected +1 (tolerance 1e-06)
+
+    References
+    ----------
+    pytransform3d's ``check_transform`` (A. Fabisch, JOSS 4(33), 2019) is the model.
+    """
+    A = real_array(T, what)
+    if A.ndim < 2 or A.shape[-2:] != (4, 4):
+        raise ShapeError(f"{what} must have shape (..., 4, 4), got {A.shape}")
+    if A.ndim == 2:   # one pose: the same formula on Python floats (a dozen NumPy calls cost more)
+        rows = A.tolist()
+        if not math.isfinite(math.fsum(v for row in rows for v in row)) and not np.isfinite(A).all():
+            raise ShapeError(f"{what} contains NaN or infinite values")
+        orth, det = _rigidity([r[:3] for r in rows[:3]])
+        worst = max(orth)
+        if not (worst <= tol and abs(det - 1.0) <= tol and rows[3] == [0.0, 0.0, 0.0, 1.0]):
+            raise NotRigidError(_not_rigid(what, worst, det, rows[3], tol))
+        return A
+    if not np.isfinite(A).all():
+        raise ShapeError(f"{what} contains NaN or infinite values")
+    flat = A.reshape(-1, 4, 4)
+    cols = np.moveaxis(flat[:, :3, :3], 0, -1)   # (3, 3, B): entry (i, j) of every pose
+    orth_parts, det = _rigidity(cols)
+    orth = np.maximum.reduce(orth_parts)
+    bad = ~((orth <= tol) & (np.abs(det - 1.0) <= tol) & (flat[:, 3, 0] == 0.0) & (flat[:, 3, 1] == 0.0)
+            & (flat[:, 3, 2] == 0.0) & (flat[:, 3, 3] == 1.0))
+    if bad.any():
+        i = int(np.argmax(bad))
+        index = tuple(int(v) for v in np.unravel_index(i, A.shape[:-2]))
+        raise NotRigidError(_not_rigid(f"{what}[{', '.join(map(str, index))}]", float(orth[i]), float(det[i]),
+                                       flat[i, 3].tolist(), tol))
+    return A
 
 
 def compose(*poses: ArrayLike) -> Array:

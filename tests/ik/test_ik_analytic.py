@@ -467,6 +467,7 @@ def test_single_call_equals_batched_row():
 def test_wrap_kernel_matches_wrap_to_limits(seed):
     pytest.importorskip("numba")
     from armkit.ik.analytic import _jit
+    from armkit.ik.analytic._layout import joint_table
     rng = np.random.default_rng(seed)
     B, m, n = 5, 3, 4
     lower = np.array([-math.pi, -2 * TWO_PI, -np.inf, 0.1])
@@ -476,7 +477,7 @@ def test_wrap_kernel_matches_wrap_to_limits(seed):
     q0 = np.clip(rng.uniform(-4, 4, (B, n)), lower, upper)
     theta = rng.uniform(-1, 1, n)
     revolute = np.array([True, True, True, True])
-    q, dist = _jit.wrap_dist(raw, theta, q0, lower, upper, ~revolute)
+    q, dist = _jit.wrap_dist(raw, joint_table(theta, lower, upper, ~revolute), q0)
     ref = wrap_to_limits(raw - theta, q0[:, None, :], lower, upper, revolute)
     assert np.array_equal(q, ref)
     assert np.allclose(dist, np.linalg.norm(ref - q0[:, None, :], axis=-1), rtol=1e-15, atol=0)

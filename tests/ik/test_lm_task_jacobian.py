@@ -17,6 +17,7 @@ import numpy as np
 import pytest
 
 import armkit
+from armkit import kinematics
 
 numeric = importlib.import_module("armkit.ik.numeric")
 H = 1e-6          # central differences: truncation ~H^2, rounding ~1e-16 / H
@@ -79,14 +80,14 @@ def _numpy_engine(robot, Tt):
 
 def _numba_engine(robot, Tt):
     jit_lm = pytest.importorskip("armkit.ik._jit_lm")
-    c = robot.chain
+    P = kinematics.packed(robot)[1]   # the packed chain the solver's kernel reads
     s = robot.unit_scale
     w = np.ones(6)
 
     def evaluate(q):
         J = np.empty((6, robot.n))
         e = np.empty(6)
-        X = jit_lm._pose_jacobian(c.base, c.pre, c.post, c.tool, c.prismatic, q, s, J)
+        X = jit_lm._pose_jacobian(P, q, s, J)
         jit_lm._rotate_rows(J, Tt, robot.n)
         jit_lm._residual(X, Tt, s, w, e)
         return e, J

@@ -74,20 +74,23 @@ class _ArmkitGroup(TyperGroup):
         try:
             return super().invoke(ctx)
         except ArmkitError as exc:
+            from ..locale import current_language
+            from ..locale.library import localize
             from .common import EXIT_BAD_INPUT, _, say
 
-            say(_("error:"), "bold red", exc)
+            say(_("error:"), "bold red", localize(str(exc), current_language()))
             raise SystemExit(EXIT_BAD_INPUT) from None
         except WriteInterrupted as exc:
-            from .common import say
+            from .common import _, say
 
-            say("interrupted;", "bold red", f"{exc.path} not written")
+            say(_("interrupted;"), "bold red", _("{path} not written", path=exc.path))
             raise SystemExit(130) from None
         except KeyboardInterrupt:
-            from .common import say
+            from .common import _, say
 
-            say("interrupted", "bold red", "")
+            say(_("interrupted"), "bold red", "")
             raise SystemExit(130) from None
+
         except RecursionError:
             from .common import EXIT_BAD_INPUT, _, say
 

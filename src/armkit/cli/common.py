@@ -62,8 +62,13 @@ def say(label: str, style: str, message: object, console_: Console | None = None
 
 
 def fail(message: str, code: int = EXIT_BAD_INPUT) -> NoReturn:
-    """Print ``message`` to stderr and exit with ``code`` (never a traceback)."""
-    say(_("error:"), "bold red", message)
+    """Print ``message`` to stderr and exit with ``code`` (never a traceback); a message of the library (an
+    error's text) is shown in the user's language (:func:`armkit.locale.library.localize`)."""
+    from ..locale import current_language
+    from ..locale.library import localize
+
+    say(_("error:"), "bold red", localize(message, current_language()))
+
     raise SystemExit(code)
 
 

@@ -10,8 +10,8 @@ import typer
 from rich.table import Table
 
 from ..model.robot import Joint, Robot
-from .common import (NUMERIC_ARGS, ROBOT_HELP, console, esc, fail, get_robot, natural_width, out_width, parse_q,
-                     pose_table, print_fitted, print_json, print_records, print_table, q_display)
+from .common import (NUMERIC_ARGS, ROBOT_HELP, N_, _, console, esc, fail, get_robot, natural_width, out_width,
+                     parse_q, pose_table, print_fitted, print_json, print_records, print_table, q_display)
 
 
 def robots(json_out: bool = typer.Option(False, "--json", help="Print JSON instead of a table.")) -> None:
@@ -34,14 +34,14 @@ def robots(json_out: bool = typer.Option(False, "--json", help="Print JSON inste
 
 def _robots_table(rows: list[dict], wide: bool) -> Table:
     """The bundled robots; ``wide=False`` (narrow terminals): the description without the source."""
-    t = Table(title="Bundled robots (armkit info NAME for details)", header_style="bold")
-    for col in ("name", "DOF", "joints", "convention" if wide else "model", "unit"):
-        t.add_column(col, no_wrap=True)
-    t.add_column("description and source (full text: armkit info NAME)" if wide else "description", ratio=1)
+    t = Table(title=_("Bundled robots (armkit info NAME for details)"), header_style="bold")
+    for col in (N_("name"), N_("DOF"), N_("joints"), N_("convention") if wide else N_("model"), N_("unit")):
+        t.add_column(_(col), no_wrap=True)
+    t.add_column(_("description and source (full text: armkit info NAME)") if wide else _("description"), ratio=1)
     for row in rows:
         src = str(row["source"])
         short = src if len(src) <= 70 else src[:69].rsplit(" ", 1)[0] + " …"
-        conv = "URDF" if row["convention"] == "urdf" else (f"{row['convention']} DH" if wide else
+        conv = "URDF" if row["convention"] == "urdf" else (_(str(row["convention"])) + " DH" if wide else
                                                           {"standard": "std DH", "modified": "mod DH"}.get(
                                                               str(row["convention"]), str(row["convention"])))
         t.add_row(*(esc(row[k]) for k in ("name", "dof", "joints")), conv, esc(row["unit"]),
@@ -55,23 +55,24 @@ def _dh_rows_table(r: Robot, wide: bool = True) -> Table:
     ``wide=False`` leaves out the type column (the ``*`` already marks the joint variable).
     """
     deg = 180.0 / math.pi
-    conv = ("standard DH: A_i = Rz(theta_i) Tz(d_i) Tx(a_i) Rx(alpha_i)" if r.convention == "standard"
-            else "modified (Craig) DH: A_i = Rx(alpha_{i-1}) Tx(a_{i-1}) Rz(theta_i) Tz(d_i)")
-    t = Table(title=f"DH table ({conv}); angles in deg, lengths in {esc(r.unit)}; * marks the joint variable",
-              header_style="bold")
+    conv = (_("standard DH: {formula}", formula="A_i = Rz(theta_i) Tz(d_i) Tx(a_i) Rx(alpha_i)")
+            if r.convention == "standard"
+            else _("modified (Craig) DH: {formula}", formula="A_i = Rx(alpha_{i-1}) Tx(a_{i-1}) Rz(theta_i) Tz(d_i)"))
+    t = Table(title=_("DH table ({conv}); angles in deg, lengths in {unit}; * marks the joint variable", conv=conv,
+                      unit=esc(r.unit)), header_style="bold")
     alpha_h = "alpha" if r.convention == "standard" else "alpha_{i-1}"
     a_h = "a" if r.convention == "standard" else "a_{i-1}"
     t.add_column("i", justify="right", no_wrap=True)
-    t.add_column("joint", no_wrap=True)
+    t.add_column(_("joint"), no_wrap=True)
     if wide:
-        t.add_column("type", no_wrap=True)
-    for col in ("theta", "d", a_h, alpha_h, "limits"):
+        t.add_column(_("type"), no_wrap=True)
+    for col in ("theta", "d", a_h, alpha_h, _("limits")):
         t.add_column(col, justify="right", no_wrap=True)
     for i, j in enumerate(r.joints, 1):
         theta = (f"q{i}*" + (f" {j.theta * deg:+.6g}" if abs(j.theta) > 1e-12 else "") if not j.is_prismatic
                  else _num(j.theta * deg))
         d = f"q{i}*" + (f" {j.d:+.6g}" if abs(j.d) > 1e-12 else "") if j.is_prismatic else _num(j.d)
-        t.add_row(str(i), esc(j.name), *((j.kind,) if wide else ()), theta, d, _num(j.a), _num(j.alpha * deg),
+        t.add_row(str(i), esc(j.name), *((_(j.kind),) if wide else ()), theta, d, _num(j.a), _num(j.alpha * deg),
                   _limits_text(r, j, units=False))
     return t
 
@@ -84,7 +85,7 @@ def _num(v: float, digits: int = 6) -> str:
 def _limits_text(r: Robot, j: Joint, units: bool = True) -> str:
     """A joint's limits; ``units=False``: revolute limits without "deg" (a table whose title gives the units)."""
     if j.is_continuous:
-        return "continuous"
+        return _("continuous")
     if j.is_prismatic:
         return f"[{j.lower:g}, {j.upper:g}] {r.unit}"
     return f"[{math.degrees(j.lower):g}, {math.degrees(j.upper):g}]" + (" deg" if units else "")
@@ -94,14 +95,15 @@ def _urdf_joints_table(r: Robot) -> Table:
     """The moving joints of a URDF chain: origin (fixed joints folded in) and axis."""
     from ..spatial import rotation_to_rpy
 
-    t = Table(title="joints (origin in the previous moving link's frame, fixed joints folded in)",
+    t = Table(title=_("joints (origin in the previous moving link's frame, fixed joints folded in)"),
               header_style="bold")
-    for col in ("i", "joint", "type", f"origin xyz ({r.unit})", "origin rpy (deg)", "axis", "limits"):
+    for col in ("i", _("joint"), _("type"), _("origin xyz ({unit})", unit=r.unit), _("origin rpy (deg)"), _("axis"),
+                _("limits")):
         t.add_column(col, justify="right")
     for i, j in enumerate(r.joints, 1):
         O = j.origin_matrix()
         rpy = rotation_to_rpy(O[:3, :3], degrees=True)
-        kind = "continuous" if j.is_continuous else j.kind
+        kind = _("continuous" if j.is_continuous else j.kind)
         t.add_row(str(i), esc(j.name), kind, " ".join(_num(v, 5) for v in O[:3, 3]),
                   " ".join(_num(v, 5) for v in rpy), " ".join(_num(v, 4) for v in j.axis_vector()),
                   _limits_text(r, j))
@@ -116,12 +118,13 @@ def _urdf_joints_records(r: Robot) -> None:
     for i, j in enumerate(r.joints, 1):
         O = j.origin_matrix()
         rpy = rotation_to_rpy(O[:3, :3], degrees=True)
-        kind = "continuous" if j.is_continuous else j.kind
+        kind = _("continuous" if j.is_continuous else j.kind)
         records.append((f"{i} {j.name} ({kind})",
-                        [f"origin xyz ({', '.join(_num(v, 5) for v in O[:3, 3])}) {r.unit}",
+                        [_("origin xyz ({xyz}) {unit}", xyz=", ".join(_num(v, 5) for v in O[:3, 3]), unit=r.unit),
                          f"rpy ({', '.join(_num(v, 5) for v in rpy)}) deg",
-                         f"axis ({' '.join(_num(v, 4) for v in j.axis_vector())})", f"limits {_limits_text(r, j)}"]))
-    print_records("joints (origin in the previous moving link's frame, fixed joints folded in)", records)
+                         _("axis ({xyz})", xyz=" ".join(_num(v, 4) for v in j.axis_vector())),
+                         _("limits {limits}", limits=_limits_text(r, j))]))
+    print_records(_("joints (origin in the previous moving link's frame, fixed joints folded in)"), records)
 
 
 def _dh_records(r: Robot) -> None:
@@ -133,10 +136,10 @@ def _dh_records(r: Robot) -> None:
         theta = f"q{i}*" + (f" {j.theta * deg:+.6g}" if abs(j.theta) > 1e-12 else "") if not j.is_prismatic \
             else f"{_num(j.theta * deg)} deg"
         d = f"q{i}*" + (f" {j.d:+.6g}" if abs(j.d) > 1e-12 else "") if j.is_prismatic else f"{_num(j.d)} {r.unit}"
-        records.append((f"{i} {j.name} ({j.kind})",
+        records.append((f"{i} {j.name} ({_(j.kind)})",
                         [f"theta {theta}", f"d {d}", f"a{m} {_num(j.a)} {r.unit}", f"alpha{m} {_num(j.alpha * deg)} deg",
-                         f"limits {_limits_text(r, j)}"]))
-    print_records(f"DH table ({r.convention} DH); * marks the joint variable", records)
+                         _("limits {limits}", limits=_limits_text(r, j))]))
+    print_records(_("DH table ({convention} DH); * marks the joint variable", convention=_(r.convention)), records)
 
 
 def info(robot: str = typer.Argument(..., help=ROBOT_HELP),
@@ -151,7 +154,7 @@ def info(robot: str = typer.Argument(..., help=ROBOT_HELP),
     """
     r = get_robot(robot)
     if convention not in ("standard", "modified"):
-        fail(f"--convention must be 'standard' or 'modified', got {convention!r}")
+        fail(_("--convention must be 'standard' or 'modified', got {value!r}", value=convention))
     shown = r.to_dh(convention) if dh else r  # type: ignore[arg-type]
     deg = 180.0 / math.pi
     if json_out:
@@ -172,7 +175,8 @@ def info(robot: str = typer.Argument(..., help=ROBOT_HELP),
     console.print(f"[bold]{esc(r.name)}[/]: {esc(r.description)}")
     if shown.is_dh:
         if shown is not r:
-            console.print(f"equivalent {convention} DH table (same FK for every q; base and tool absorb the rest):")
+            console.print(_("equivalent {convention} DH table (same FK for every q; base and tool absorb the rest):",
+                            convention=_(convention)))
         narrow = _dh_rows_table(shown, wide=False)
         if natural_width(narrow) <= out_width():
             print_fitted(_dh_rows_table(shown), narrow)
@@ -187,22 +191,24 @@ def info(robot: str = typer.Argument(..., help=ROBOT_HELP),
     for which in ("base", "tool"):
         T = getattr(shown, which)
         if not np.allclose(T, np.eye(4)):
-            print_table(pose_table(T, shown.unit, title=which))
+            print_table(pose_table(T, shown.unit, title=_(which)))
         else:
-            console.print(f"{which}: identity")
+            console.print(_("{which}: identity", which=_(which)))
     if not r.is_dh:
         chain = [lk.name for lk in r.links if lk.joint not in set(r.ignored_joints)]
-        console.print(f"chain: {esc(' -> '.join(chain))}  ({r.n} moving joints, {len(chain) - 1 - r.n} fixed)")
+        console.print(_("chain: {chain}  ({n} moving joints, {k} fixed)", chain=esc(" -> ".join(chain)), n=r.n,
+                        k=len(chain) - 1 - r.n))
         with_geo = sum(1 for lk in r.links if lk.visuals or lk.collisions)
         meshes = [s for lk in r.links for s in lk.visuals + lk.collisions if s.kind == "mesh"]
         found = sum(1 for s in meshes if s.mesh_path)
-        console.print(f"geometry: {with_geo} links with shapes; meshes found {found} of {len(meshes)}")
+        console.print(_("geometry: {k} links with shapes; meshes found {found} of {n}", k=with_geo, found=found,
+                        n=len(meshes)))
         if r.ignored_joints:
-            console.print(f"joints off the chain (ignored): {esc(', '.join(r.ignored_joints))}")
+            console.print(_("joints off the chain (ignored): {names}", names=esc(", ".join(r.ignored_joints))))
         if not dh:
-            console.print("[dim]armkit info ... --dh shows the equivalent DH table[/]")
+            console.print("[dim]" + _("armkit info ... --dh shows the equivalent DH table") + "[/]")
     if r.source:
-        console.print(f"[dim]source: {esc(' '.join(r.source.split()))}[/]")
+        console.print("[dim]" + _("source: {text}", text=esc(" ".join(r.source.split()))) + "[/]")
 
 
 def convert(src: str = typer.Argument(..., help="Robot to read: bundled name, .toml or .urdf (--base/--tip for "
@@ -217,19 +223,22 @@ def convert(src: str = typer.Argument(..., help="Robot to read: bundled name, .t
     from ..model import save
 
     if convention not in ("standard", "modified"):
-        fail(f"--convention must be 'standard' or 'modified', got {convention!r}")
+        fail(_("--convention must be 'standard' or 'modified', got {value!r}", value=convention))
     r = get_robot(src)
     out = r
     if not dst.lower().endswith((".urdf", ".xml")) and not r.is_dh:
         out = r.to_dh(convention)  # type: ignore[arg-type]
     path = save(out, dst)
-    what = "URDF (metres)" if dst.lower().endswith((".urdf", ".xml")) else f"TOML ({out.convention} DH)"
-    console.print(f"wrote {esc(str(path))}: {esc(r.name)}, {r.n} joints, as {what}")
+    what = _("URDF (metres)") if dst.lower().endswith((".urdf", ".xml")) else _("TOML ({convention} DH)",
+                                                                               convention=_(out.convention))
+    console.print(_("wrote {path}: {robot}, {n} joints, as {what}", path=esc(str(path)), robot=esc(r.name), n=r.n,
+                    what=what))
     if not r.is_dh and out is not r:
-        console.print("[dim]the DH table reproduces the URDF chain's FK for every q; link geometry is not kept "
-                      "in TOML[/]")
+        console.print("[dim]" + _("the DH table reproduces the URDF chain's FK for every q; link geometry is not "
+                                  "kept in TOML") + "[/]")
     if r.unit != "m" and dst.lower().endswith((".urdf", ".xml")):
-        console.print(f"[dim]lengths converted from {r.unit} to metres (URDF is always in metres)[/]")
+        console.print("[dim]" + _("lengths converted from {unit} to metres (URDF is always in metres)",
+                                  unit=r.unit) + "[/]")
 
 
 def fk(robot: str = typer.Argument(..., help=ROBOT_HELP),
@@ -257,30 +266,31 @@ def fk(robot: str = typer.Argument(..., help=ROBOT_HELP),
                     "rpy_deg": rpy, "frames": [{"name": n, "origin": f[:3, 3]}
                                                for n, f in zip(r.link_names, F)]})
         return
-    console.print(f"[bold]{esc(r.name)}[/] at q = ({', '.join(q_display(r, qv))})")
+    console.print(_("{robot} at q = ({q})", robot=f"[bold]{esc(r.name)}[/]", q=", ".join(q_display(r, qv))))
     p = T[:3, 3]
+    rpy_text = f"roll/pitch/yaw: ({rpy[0]:.3f}, {rpy[1]:.3f}, {rpy[2]:.3f}) deg"
     if link is not None:
-        console.print(f"link {esc(link)}: origin ([bold]{p[0]:.3f}, {p[1]:.3f}, {p[2]:.3f}[/]) {r.unit}   "
-                      f"roll/pitch/yaw: ({rpy[0]:.3f}, {rpy[1]:.3f}, {rpy[2]:.3f}) deg")
+        console.print(_("link {link}: origin ({xyz}) {unit}", link=esc(link),
+                        xyz=f"[bold]{p[0]:.3f}, {p[1]:.3f}, {p[2]:.3f}[/]", unit=r.unit) + "   " + rpy_text)
         print_table(pose_table(T, r.unit, title=f"T_world_{esc(link)}"))
         return
-    console.print(f"end point: ([bold]{p[0]:.3f}, {p[1]:.3f}, {p[2]:.3f}[/]) {r.unit}   "
-                  f"roll/pitch/yaw: ({rpy[0]:.3f}, {rpy[1]:.3f}, {rpy[2]:.3f}) deg")
+    console.print(_("end point: ({xyz}) {unit}", xyz=f"[bold]{p[0]:.3f}, {p[1]:.3f}, {p[2]:.3f}[/]", unit=r.unit)
+                  + "   " + rpy_text)
     print_table(pose_table(T, r.unit, title="T_world_tool"))
-    t = Table(title=f"frame origins ({r.unit})", header_style="bold")
-    for col in ("frame", "link", "x", "y", "z"):
+    t = Table(title=_("frame origins ({unit})", unit=r.unit), header_style="bold")
+    for col in (_("frame"), _("link"), "x", "y", "z"):
         t.add_column(col, justify="right")
     for k, (name, f) in enumerate(zip(r.link_names, F)):
-        label = "base" if k == 0 else (f"{k} + tool" if k == r.n else str(k))
+        label = _("base") if k == 0 else (_("{k} + tool", k=k) if k == r.n else str(k))
         t.add_row(label, esc(name), *(f"{v:.3f}" for v in f[:3, 3]))
     print_table(t)
 
 
 def _jacobian_table(r: Robot, J: np.ndarray, frame: str, compact: bool) -> Table:
     """The Jacobian as a table: joint names and 6 decimals, or (compact) q1..qn and 4 significant digits."""
-    t = Table(title=f"geometric Jacobian of {esc(r.name)} in the {frame} frame "
-                    f"(v rows in {r.unit}/rad, w rows dimensionless)", header_style="bold")
-    t.add_column("row")
+    t = Table(title=_("geometric Jacobian of {robot} in the {frame} frame (v rows in {unit}/rad, w rows "
+                      "dimensionless)", robot=esc(r.name), frame=_(frame), unit=r.unit), header_style="bold")
+    t.add_column(_("row"))
     for i, (name, kind) in enumerate(zip(r.joint_names, r.joint_types), 1):
         t.add_column(f"q{i}" if compact else f"{esc(name)} ({kind})", justify="right")
     for label, row in zip(("vx", "vy", "vz", "wx", "wy", "wz"), J):
@@ -303,7 +313,7 @@ def jacobian(robot: str = typer.Argument(..., help=ROBOT_HELP),
     from .common import fail
 
     if frame not in ("base", "tool"):
-        fail(f"--frame must be 'base' or 'tool', got {frame!r}")
+        fail(_("--frame must be 'base' or 'tool', got {value!r}", value=frame))
     r = get_robot(robot)
     qv = parse_q(r, q, deg, strict)
     J = jac(r, qv, frame=frame)  # type: ignore[arg-type]
@@ -313,9 +323,11 @@ def jacobian(robot: str = typer.Argument(..., help=ROBOT_HELP),
                     "condition_number": c, "singular": s, "singular_threshold": SINGULAR_THRESHOLD})
         return
     print_fitted(_jacobian_table(r, J, frame, compact=False), _jacobian_table(r, J, frame, compact=True))
-    console.print(f"manipulability sqrt(det(J J^T)) = {w:.6g}   condition number = {c:.6g}   "
-                  + ("[bold red]SINGULAR[/]" if s else "not singular")
-                  + f" (threshold: smallest singular value < {SINGULAR_THRESHOLD:g}, lengths in m)")
+    console.print(_("manipulability sqrt(det(J J^T)) = {w}   condition number = {c}", w=f"{w:.6g}", c=f"{c:.6g}")
+                  + "   " + ("[bold red]" + _("SINGULAR") + "[/]" if s else _("not singular")) + " "
+                  + _("(threshold: smallest singular value < {threshold}, lengths in m)",
+                      threshold=f"{SINGULAR_THRESHOLD:g}"))
+
 
 
 def register(app: typer.Typer) -> None:

@@ -9,9 +9,10 @@ import numpy as np
 import typer
 from rich.table import Table
 
-from .common import (EXIT_BAD_INPUT, EXIT_FAILED, NUMERIC_ARGS, N_, console, esc, fail, get_robot, parse_numbers,
+from .common import (EXIT_BAD_INPUT, EXIT_FAILED, NUMERIC_ARGS, N_, _, console, esc, fail, get_robot, parse_numbers,
                      print_json, scene_option, warn)
 
+from ..locale import current_language  # noqa: E402
 from .common import ROBOT_HELP  # noqa: E402
 from .common import print_table  # noqa: E402
 METHOD_CHOICES = ("auto", "analytic", "lm", "newton", "ccd", "fabrik")
@@ -23,19 +24,20 @@ def _target(robot, coords: List[str], rpy, quat, deg: bool, phi: Optional[float]
 
     p = parse_numbers(coords, N_("target coordinates"))
     if len(p) not in (2, 3):
-        fail(f"give the target as X Y (planar arms) or X Y Z in {robot.unit}; got {len(p)} number(s)")
+        fail(_("give the target as X Y (planar arms) or X Y Z in {unit}; got {k} number(s)", unit=robot.unit,
+               k=len(p)))
     if rpy is not None and quat is not None:
-        fail("give the orientation with --rpy or with --quat, not both")
+        fail(_("give the orientation with --rpy or with --quat, not both"))
     where = "(" + ", ".join(f"{v:g}" for v in p) + f") {robot.unit}"
     if len(p) == 2:
         if rpy is not None or quat is not None:
-            fail("--rpy/--quat need X Y Z; for a planar arm give the end angle with --phi")
+            fail(_("--rpy/--quat need X Y Z; for a planar arm give the end angle with --phi"))
         if phi is None:
             return p, None, where
         ph = math.radians(phi) if deg else phi
-        return p, ph, where + f", end angle {math.degrees(ph):g} deg"
+        return p, ph, where + _(", end angle {angle} deg", angle=f"{math.degrees(ph):g}")
     if phi is not None:
-        fail("--phi is the end angle of a planar X Y target; with X Y Z use --rpy or --quat")
+        fail(_("--phi is the end angle of a planar X Y target; with X Y Z use --rpy or --quat"))
     if rpy is not None:
         R = rpy_to_rotation(np.array(rpy, dtype=float), degrees=deg)
         shown = np.array(rpy) if deg else np.degrees(rpy)
@@ -43,10 +45,10 @@ def _target(robot, coords: List[str], rpy, quat, deg: bool, phi: Optional[float]
     if quat is not None:
         qv = np.array(quat, dtype=float)
         if not np.all(np.isfinite(qv)) or np.linalg.norm(qv) < 1e-12:
-            fail(f"--quat must be a non-zero quaternion x y z w, got {tuple(quat)}")
+            fail(_("--quat must be a non-zero quaternion x y z w, got {value}", value=tuple(quat)))
         return (make_pose(quaternion_to_rotation(qv / np.linalg.norm(qv)), p), None,
-                where + ", quaternion (" + ", ".join(f"{v:g}" for v in qv) + ")")
-    return p, None, where + " (position only)"
+                where + _(", quaternion ({xyzw})", xyzw=", ".join(f"{v:g}" for v in qv)))
+    return p, None, where + _(" (position only)")
 
 
 def _rows(robot, res) -> list[dict]:
@@ -80,28 +82,30 @@ def _table(robot, rows: list[dict], title: Optional[str], position_only: bool, c
     t = Table(title=title, header_style="bold", box=box.SIMPLE_HEAD if compact else box.HEAVY_HEAD,
               show_edge=not compact, pad_edge=not compact)
     limits = not compact or not all(r["within_limits"] for r in rows)   # compact: no column of all "ok"
-    t.add_column("branch", no_wrap=True, overflow="ellipsis", min_width=6)
+    t.add_column(_("branch"), no_wrap=True, overflow="ellipsis", min_width=6)
     for name in robot.joint_names:
         t.add_column(esc(name), justify="right", no_wrap=True)
-    t.add_column("pos. error", justify="right", no_wrap=True)
+    t.add_column(_("pos. error"), justify="right", no_wrap=True)
     if not position_only:
-        t.add_column("rot. error", justify="right", no_wrap=True)
+        t.add_column(_("rot. error"), justify="right", no_wrap=True)
     if limits:
-        t.add_column("limits", justify="center", no_wrap=True)
-    t.add_column("result", no_wrap=True, overflow="ellipsis", min_width=6)
+        t.add_column(_("limits"), justify="center", no_wrap=True)
+    t.add_column(_("result"), no_wrap=True, overflow="ellipsis", min_width=6)
     for r in rows:
-        result = "[green]solved[/]" if r["success"] else f"[red]{esc(r['reason'])}[/]"
+        result = "[green]" + _("solved") + "[/]" if r["success"] else "[red]" + esc(_(r["reason"])) + "[/]"
         t.add_row(esc(r["branch"]), *(_deg(v) for v in r["q_deg"]), f"{r['position_error']:.1e}",
                   *(() if position_only else (f"{math.degrees(r['rotation_error']):.1e}",)),
-                  *(("ok" if r["within_limits"] else "[red]no[/]",) if limits else ()), result)
+                  *((_("ok") if r["within_limits"] else "[red]" + _("no") + "[/]",) if limits else ()), result)
+
     return t
 
 
 def _units_title(robot, title: str, position_only: bool) -> str:
     """``title`` followed by the units of the table's columns (kept out of the headers so that they stay short)."""
-    ang = "joint angles in deg" if not robot.prismatic.any() else f"joints in deg or {robot.unit}"
-    rot = "" if position_only else ", rotation error in deg"
-    return f"{title}; {ang}, position error in {robot.unit}{rot}"
+    ang = _("joint angles in deg") if not robot.prismatic.any() else _("joints in deg or {unit}", unit=robot.unit)
+    rot = "" if position_only else _(", rotation error in deg")
+    return _("{title}; {angles}, position error in {unit}{rotation}", title=title, angles=ang, unit=robot.unit,
+             rotation=rot)
 
 
 def _records(robot, rows: list[dict], title: str, position_only: bool, width: int) -> Any:
@@ -112,15 +116,15 @@ def _records(robot, rows: list[dict], title: str, position_only: bool, width: in
     lines: list[Any] = [Text.from_markup(title, style="bold")]
     for r in rows:
         head = Text.assemble((r["branch"], "bold"), ": ",
-                             ("solved", "green") if r["success"] else (r["reason"], "red"),
+                             (_("solved"), "green") if r["success"] else (_(r["reason"]), "red"),
                              "" if r["within_limits"] or r["reason"] == "joint limits"
-                             else ("  (outside the joint limits)", "red"))
+                             else ("  " + _("(outside the joint limits)"), "red"))
         lines.append(head)
         items = [f"{name} {_deg(v)}{' ' + robot.unit if pris else '°'}"
                  for name, v, pris in zip(robot.joint_names, r["q_deg"], robot.prismatic)]
-        items.append(f"position error {r['position_error']:.1e} {robot.unit}")
+        items.append(_("position error {error} {unit}", error=f"{r['position_error']:.1e}", unit=robot.unit))
         if not position_only:
-            items.append(f"rotation error {math.degrees(r['rotation_error']):.1e}°")
+            items.append(_("rotation error {error}°", error=f"{math.degrees(r['rotation_error']):.1e}"))
         line = "  "
         for item in items:          # wrap between items, never inside one
             if line.strip() and len(line) + 2 + len(item) > width:
@@ -149,16 +153,16 @@ def _trace_table(trace) -> Table:
     tr = np.asarray(trace, dtype=float)
     if tr.ndim == 2 and tr.shape[0] == 1:
         tr = tr[0]
-    t = Table(title="iterations (error after each step)", header_style="bold")
-    t.add_column("iteration", justify="right")
+    t = Table(title=_("iterations (error after each step)"), header_style="bold")
+    t.add_column(_("iteration"), justify="right")
     if tr.ndim == 1:
-        t.add_column("error", justify="right")
+        t.add_column(_("error"), justify="right")
         for i, v in enumerate(tr):
             if np.isfinite(v):
                 t.add_row(str(i + 1), f"{v:.3e}")
     else:
         for j in range(tr.shape[1]):
-            t.add_column(f"error {j + 1}", justify="right")
+            t.add_column(_("error {k}", k=j + 1), justify="right")
         for i, row in enumerate(tr):
             t.add_row(str(i + 1), *(f"{v:.3e}" for v in row))
     return t
@@ -170,35 +174,37 @@ def _partial_target(r, target, where: str, pitch: Optional[float], direction, de
     from ..ik import ik as solve, ik_all
 
     if target.ndim != 1 or len(target) != 3:
-        fail("--pitch and --direction go with an X Y Z position (no --rpy/--quat/--phi)")
+        fail(_("--pitch and --direction go with an X Y Z position (no --rpy/--quat/--phi)"))
     if pitch is not None and direction is not None:
-        fail("give --pitch or --direction, not both")
+        fail(_("give --pitch or --direction, not both"))
     if pitch is not None:
         p = math.radians(pitch) if deg else pitch
-        where += f", tool pitch {math.degrees(p):g} deg"
+        where += _(", tool pitch {angle} deg", angle=f"{math.degrees(p):g}")
         if method in ("auto", "analytic"):
-            res, used = ik_all(r, target, pitch=p), "closed form (position + pitch)"
+            res, used = ik_all(r, target, pitch=p), _("closed form (position + pitch)")
         else:
             res, used = solve(r, target, method=method, pitch=p, seed=seed), method  # type: ignore[arg-type]
     else:
         d = np.asarray(direction, dtype=float)
         if not np.all(np.isfinite(d)) or np.linalg.norm(d) == 0:
-            fail(f"--direction must be a non-zero finite vector, got {tuple(float(v) for v in d)}")
-        where += f", tool z along ({', '.join(f'{v:g}' for v in d)})"
+            fail(_("--direction must be a non-zero finite vector, got {value}", value=tuple(float(v) for v in d)))
+        where += _(", tool z along ({xyz})", xyz=", ".join(f"{v:g}" for v in d))
         res = solve(r, target, method="lm" if method in ("auto", "analytic") else method, direction=d,  # type: ignore[arg-type]
                     seed=seed)
-        used = "lm (position + direction)"
+        used = _("lm (position + direction)")
     rows = _rows(r, res)
     solved = any(row["success"] for row in rows)
     if json_out:
         print_json({"robot": r.name, "unit": r.unit, "method": used, "target": np.asarray(target),
                     "solved": solved, "solutions": rows})
     else:
-        _print_rows(r, rows, f"IK of {esc(r.name)} for {esc(where)}, {used}", False)
+        _print_rows(r, rows, _("IK of {robot} for {target}, {method}", robot=esc(r.name), target=esc(where),
+                               method=used), False)
         if solved and len(rows) > 1:
-            console.print(f"{sum(row['success'] for row in rows)} of {len(rows)} branches solve the target.")
+            console.print(_("{k} of {n} branches solve the target.", k=sum(row["success"] for row in rows),
+                            n=len(rows)))
     if not solved:
-        fail(rows[0]["message"] or "no solution", EXIT_FAILED)
+        fail(_explain(r, rows[0]), EXIT_FAILED)
 
 
 def ik(robot: str = typer.Argument(..., help=ROBOT_HELP),
@@ -250,7 +256,7 @@ def ik(robot: str = typer.Argument(..., help=ROBOT_HELP),
     from ..ik.analytic import closed_form
 
     if method not in METHOD_CHOICES:
-        fail(f"--method must be one of {', '.join(METHOD_CHOICES)}; got {method!r}")
+        fail(_("--method must be one of {choices}; got {value!r}", choices=", ".join(METHOD_CHOICES), value=method))
     try:
         r = get_robot(robot)
         target, ph, where = _target(r, coords, rpy, quat, deg, phi)
@@ -261,22 +267,23 @@ def ik(robot: str = typer.Argument(..., help=ROBOT_HELP),
         closed_ok = solver is not None and not (position_only and solver.pose_only) \
             and getattr(solver, "target_kind", None) != "pitch"   # yaw-pitch3 needs pitch= (docs/so101.md)
         if all_branches and (method not in ("auto", "analytic") or branch is not None):
-            fail("--all lists the closed-form branches; it does not go with --branch or a numeric --method")
+            fail(_("--all lists the closed-form branches; it does not go with --branch or a numeric --method"))
         if all_branches and not closed_ok:
-            fail(f"--all needs a closed form; robot {r.name!r} has none for this target (try --method lm)")
+            fail(_("--all needs a closed form; robot {robot!r} has none for this target (try --method lm)",
+                   robot=r.name))
         listing = method in ("auto", "analytic") and branch is None and closed_ok
         scene = scene_option(r, scene_file, no_scene)
         if seed is not None and (listing or (method in ("auto", "analytic") and closed_ok)):
-            warn("--seed only matters for the numeric methods; the closed form ignores it")
+            warn(_("--seed only matters for the numeric methods; the closed form ignores it"))
         if trace and (listing or method == "analytic" or (method == "auto" and closed_ok)):
-            warn("--trace shows the iterations of a numeric method; the closed form has none")
+            warn(_("--trace shows the iterations of a numeric method; the closed form has none"))
         if listing:
             res = ik_all(r, target, phi=ph, scene=scene)
-            used = f"closed form ({solver.family})"  # type: ignore[union-attr]
+            used = _("closed form ({family})", family=solver.family)  # type: ignore[union-attr]
         else:
             res = solve(r, target, method=method, branch=branch, phi=ph, seed=seed, trace=trace,  # type: ignore[arg-type]
                         scene=scene)
-            used = f"closed form ({solver.family})" if (  # type: ignore[union-attr]
+            used = _("closed form ({family})", family=solver.family) if (  # type: ignore[union-attr]
                 method in ("auto", "analytic") and closed_ok) else (
                 "lm" if method == "auto" else method)
     except ArmkitError as exc:
@@ -288,27 +295,39 @@ def ik(robot: str = typer.Argument(..., help=ROBOT_HELP),
                     "phi_rad": ph, "solved": solved, "solutions": rows,
                     "trace": None if res.trace is None else np.asarray(res.trace)})
     else:
-        _print_rows(r, rows, f"IK of {esc(r.name)} for {esc(where)}, {used}", position_only)
-        notes = list(dict.fromkeys(row["message"] for row in rows if row["success"] and row["message"]))
+        _print_rows(r, rows, _("IK of {robot} for {target}, {method}", robot=esc(r.name), target=esc(where),
+                               method=used), position_only)
+        notes = list(dict.fromkeys(_explain(r, row) for row in rows if row["success"] and row["message"]))
         for note in notes:
-            console.print(f"note: {esc(note)}", soft_wrap=True)
+            console.print(_("note: {text}", text=esc(note)), soft_wrap=True)
         if scene is not None:
             for row in rows:
                 if row["reason"] == "collision" and solved:
-                    console.print(f"collision: {esc(row['branch'])}: {esc(row['message'])}", soft_wrap=True)
+                    console.print(_("collision: {branch}: {text}", branch=esc(row["branch"]),
+                                    text=esc(_explain(r, row))), soft_wrap=True)
         if trace and res.trace is not None:
             print_table(_trace_table(res.trace))
         if solved:
             ok_count = sum(row["success"] for row in rows)
             if len(rows) > 1:
-                console.print(f"{ok_count} of {len(rows)} branches solve the target"
-                              + (" (the first is nearest to q = 0)." if ok_count > 1 else "."))
+                console.print(_("{k} of {n} branches solve the target (the first is nearest to q = 0).", k=ok_count,
+                                n=len(rows)) if ok_count > 1 else
+                              _("{k} of {n} branches solve the target.", k=ok_count, n=len(rows)))
     if not solved:
         first = rows[0]
-        msg = first["message"] or f"FK misses the target by {first['position_error']:.3g} {r.unit}"
-        if not msg.startswith(first["reason"]):
+        msg = _explain(r, first)
+        if not msg.startswith(first["reason"]) and current_language() == "en":
             msg = f"{first['reason']}: {msg}"
         fail(msg, EXIT_FAILED)
+
+
+def _explain(robot, row: dict) -> str:
+    """A branch's explanation in the user's language: the solver's English sentence, or in Korean the sentence
+    rebuilt from its reason code and numbers (:func:`armkit.locale.library.ik_explanation`)."""
+    from ..locale.library import ik_explanation
+
+    return ik_explanation(row["reason"], row["message"], row["position_error"], robot.unit, current_language())
+
 
 
 def register(app: typer.Typer) -> None:

@@ -22,15 +22,26 @@ _jit_loader.install_cache_fallback()  # before the first cache=True: read-only i
 
 from numba import njit, prange  # noqa: E402
 
-# The 12-scalar pose helpers of the kinematics kernels (a pose is the 3x4 affine part, row by
-# row): _mul(X, F) = X · F, _move(X, t, sin t, cos t, prismatic) = X · Rz(t) or X · Tz(t).
-# Numba's on-disk cache checks only this file: after changing those helpers, clear the cache
-# (``__pycache__/*.nbi``, ``*.nbc``) so that these kernels are compiled again with them.
-from ..kinematics._jit import _load, _move, _mul
-
+# The 12-scalar pose helpers of the kinematics kernels (a pose is the 3x4 affine part, row by row) and
+# their packed chain layout: _load(P, k) = P[k], _mul(X, P, k) = X · P[k], _move(X, t, sin t, cos t,
+# prismatic) = X · Rz(t) or X · Tz(t). The end of this module ties its on-disk cache to that file.
+from ..kinematics._jit import PRISMATIC, _load, _move, _mul  # noqa: E402
 
 # status codes written to info[:, 1]
 CONVERGED, EXHAUSTED = 0, 1
+
+# The packed arguments of the kernels (built by armkit.ik.numeric, once per robot and options):
+#   P       (2n + 2, ROW)  the chain: base, pre[n], post[n], tool; P[1 + k, PRISMATIC] joint k's flag
+#                          (armkit.kinematics.packed(robot)[1])
+#   limits  (4, n)         lower, upper, random-start low, random-start high
+#   params  (N_PARAMS,)    the solver options, at these indices:
+SCALE = 0            # metres per robot length unit
+TOL_P, TOL_R = 1, 2  # position (m) and rotation (rad) tolerance of the iteration
+W = 3                # weights of (x, y, z, rx, ry, rz): params[W:W + 6]
+MAX_ITERATIONS = 9   # steps per attempt
+FIRST_ATTEMPT = 10   # index of the first attempt (0: from q; later ones: random restarts)
+ATTEMPTS = 11        # attempts to make
+N_PARAMS = 12
 
 
 @njit(cache=True, inline="always")
@@ -41,22 +52,27 @@ def _copy(src, dst):
         dst[j] = src[j]
 
 
+@njit(cache=True, inline="always")
+def _prismatic(P, k):
+    return P[1 + k, PRISMATIC] != 0.0
+
+
 @njit(cache=True)
-def _pose_jacobian(base, pre, post, tool, prismatic, q, s, J):
+def _pose_jacobian(P, q, s, J):
     """Tool pose (12-tuple) and the geometric Jacobian in J (6, n), linear rows in metres."""
-    X = _load(base)
+    X = _load(P, 0)
     n = q.shape[0]
     for k in range(n):
-        X = _mul(X, pre[k])
+        X = _mul(X, P, 1 + k)
         J[0, k], J[1, k], J[2, k] = X[3], X[7], X[11]
         J[3, k], J[4, k], J[5, k] = X[2], X[6], X[10]
         t = q[k]
-        X = _mul(_move(X, t, math.sin(t), math.cos(t), prismatic[k]), post[k])
-    X = _mul(X, tool)
+        X = _mul(_move(X, t, math.sin(t), math.cos(t), _prismatic(P, k)), P, 1 + n + k)
+    X = _mul(X, P, 2 * n + 1)
     ex, ey, ez = X[3], X[7], X[11]
     for k in range(n):
         zx, zy, zz = J[3, k], J[4, k], J[5, k]
-        if prismatic[k]:  # d p_m / d q_m = z (q in metres too)
+        if _prismatic(P, k):  # d p_m / d q_m = z (q in metres too)
             J[0, k], J[1, k], J[2, k] = zx, zy, zz
             J[3, k], J[4, k], J[5, k] = 0.0, 0.0, 0.0
         else:
@@ -141,13 +157,13 @@ def _rotate_rows(J, Tt, n):
 
 
 @njit(cache=True)
-def _project(q, lower, upper, prismatic):
+def _project(q, limits, P):
     """Bring revolute joints into their limits by whole turns where possible, then clamp."""
     two_pi = 2.0 * math.pi
     for j in range(q.shape[0]):
         v = q[j]
-        lo, up = lower[j], upper[j]
-        if not prismatic[j]:
+        lo, up = limits[0, j], limits[1, j]
+        if not _prismatic(P, j):
             if v > up:
                 v2 = v - two_pi * math.ceil((v - up) / two_pi)
                 if v2 >= lo:
@@ -217,14 +233,21 @@ def _leaves_range(v, lo, up, prismatic):
 
 
 @njit(cache=True)
-def _active_set_step(J, w, e, lam, q, lower, upper, prismatic, s, A, g, dq, r6, fixed, dfix, qn):
-    """One damped least-squares step with joint limits as an active set; qn = q + step.
+def _active_set_step(J, e, lam, q, P, limits, params, work):
+    """One damped least-squares step with joint limits as an active set; ``qn = q + step``.
+
+    ``work`` holds scratch arrays and the result: ``(A (n, n), g (n,), dq (n,), r6 (6,),
+    fixed (n,) bool, dfix (n,), qn (n,))``.
 
     Solve :math:`(J_f^T W J_f + \\lambda I) \\Delta q_f = J_f^T W (e - J_c \\Delta q_c)` over the
     free joints f, where the joints c that the step would push out of their limits move
     exactly to the limit (``dfix``); repeat until no free joint leaves its range.
     Returns False if the normal matrix is not positive definite.
     """
+    A, g, dq, r6, fixed, dfix, qn = work
+    w = params[W:W + 6]
+    s = params[SCALE]
+    lower, upper = limits[0], limits[1]
     n = q.shape[0]
     for j in range(n):
         fixed[j] = False
@@ -263,39 +286,39 @@ def _active_set_step(J, w, e, lam, q, lower, upper, prismatic, s, A, g, dq, r6, 
         for j in range(n):
             if fixed[j]:
                 continue
-            v = q[j] + (dq[j] / s if prismatic[j] else dq[j])
-            if _leaves_range(v, lower[j], upper[j], prismatic[j]):
+            pj = _prismatic(P, j)
+            v = q[j] + (dq[j] / s if pj else dq[j])
+            if _leaves_range(v, lower[j], upper[j], pj):
                 fixed[j] = True
                 bound = upper[j] if v > upper[j] else lower[j]
-                dfix[j] = (bound - q[j]) * s if prismatic[j] else bound - q[j]
+                dfix[j] = (bound - q[j]) * s if pj else bound - q[j]
                 moved = True
         if not moved:
             break
     for j in range(n):
         d = dfix[j] if fixed[j] else dq[j]
-        qn[j] = q[j] + (d / s if prismatic[j] else d)
+        qn[j] = q[j] + (d / s if _prismatic(P, j) else d)
     return True
 
 
 @njit(cache=True)
-def _lm_one(base, pre, post, tool, prismatic, lower, upper, rlo, rhi, Tt, w, s, tol_p, tol_r,
-            max_iterations, first_attempt, attempts, seed, q, trace, info):
-    """Solve one target from q (modified in place to the best configuration found).
+def _lm_one(P, limits, params, Tt, seed, q, trace, info):
+    """Solve the target ``Tt`` (4, 4) from ``q`` (n,) (modified in place to the best configuration found).
 
-    info: [iterations, status, attempts used, best cost]; trace[i] = error norm after iteration i.
+    ``P``, ``limits``, ``params``: see the top of this module. ``info`` (4,): iterations, status,
+    attempts used, best cost; ``trace[i]`` = error norm after iteration ``i`` (length 0: none).
     """
     n = q.shape[0]
+    s, w = params[SCALE], params[W:W + 6]
+    tol_p, tol_r = params[TOL_P], params[TOL_R]
+    max_iterations, first_attempt = int(params[MAX_ITERATIONS]), int(params[FIRST_ATTEMPT])
+    attempts = int(params[ATTEMPTS])
     J = np.empty((6, n))
     Jn = np.empty((6, n))
     e = np.empty(6)
     en = np.empty(6)
-    A = np.empty((n, n))
-    g = np.empty(n)
-    dq = np.empty(n)
     qn = np.empty(n)
-    r6 = np.empty(6)
-    fixed = np.zeros(n, np.bool_)
-    dfix = np.zeros(n)
+    work = (np.empty((n, n)), np.empty(n), np.empty(n), np.empty(6), np.zeros(n, np.bool_), np.zeros(n), qn)
     best_q = q.copy()
     best_E = np.inf
     rotate = w[3] != 0.0 or w[4] != 0.0 or w[5] != 0.0
@@ -308,9 +331,9 @@ def _lm_one(base, pre, post, tool, prismatic, lower, upper, rlo, rhi, Tt, w, s, 
         if attempt > 0:
             state[0] = np.uint64(seed) * np.uint64(1000003) + np.uint64(attempt)
             for j in range(n):
-                q[j] = rlo[j] + (rhi[j] - rlo[j]) * _next_random(state)
-        _project(q, lower, upper, prismatic)
-        X = _pose_jacobian(base, pre, post, tool, prismatic, q, s, J)
+                q[j] = limits[2, j] + (limits[3, j] - limits[2, j]) * _next_random(state)
+        _project(q, limits, P)
+        X = _pose_jacobian(P, q, s, J)
         if rotate:
             _rotate_rows(J, Tt, n)
         E = _residual(X, Tt, s, w, e)
@@ -328,11 +351,11 @@ def _lm_one(base, pre, post, tool, prismatic, lower, upper, rlo, rhi, Tt, w, s, 
             if it == max_iterations:
                 break
             lam = mu * E + 1e-12
-            if not _active_set_step(J, w, e, lam, q, lower, upper, prismatic, s, A, g, dq, r6, fixed, dfix, qn):
+            if not _active_set_step(J, e, lam, q, P, limits, params, work):
                 mu *= 10.0
                 continue
-            _project(qn, lower, upper, prismatic)
-            Xn = _pose_jacobian(base, pre, post, tool, prismatic, qn, s, Jn)
+            _project(qn, limits, P)
+            Xn = _pose_jacobian(P, qn, s, Jn)
             if rotate:
                 _rotate_rows(Jn, Tt, n)
             En = _residual(Xn, Tt, s, w, en)
@@ -369,45 +392,34 @@ def _lm_one(base, pre, post, tool, prismatic, lower, upper, rlo, rhi, Tt, w, s, 
     info[3] = min(best_E, E) if status == CONVERGED else best_E
 
 
-@njit(cache=True, inline="always")  # inlined: a separate function would add ~0.7 s per caller to the first compile
-def _one(mats, prismatic, limits, params, ints, targets, seeds, q, trace, info, i):
-    n = q.shape[1]
-    _lm_one(mats[0], mats[1:n + 1], mats[n + 1:2 * n + 1], mats[2 * n + 1], prismatic,
-            limits[0], limits[1], limits[2], limits[3], targets[i], params[3:9], params[0], params[1], params[2],
-            ints[0], ints[1], ints[2], seeds[i], q[i], trace[i], info[i])
-
-
 @njit(cache=True, parallel=True)
-def _lm_parallel(mats, prismatic, limits, params, ints, targets, seeds, q, trace, info):
+def _lm_parallel(P, limits, params, targets, seeds, q, trace, info):
     for i in prange(targets.shape[0]):
-        _one(mats, prismatic, limits, params, ints, targets, seeds, q, trace, info, i)
+        _lm_one(P, limits, params, targets[i], seeds[i], q[i], trace[i], info[i])
 
 
-def lm_batch(mats, prismatic, limits, params, ints, targets, seeds, q, trace, info):
+def lm_batch(P, limits, params, targets, seeds, q, trace, info):
     """Solve every target ``targets[i]`` (B, 4, 4) from ``q[i]`` in parallel; q, trace, info written in place.
 
-    The arguments are packed to keep the call cheap: ``mats`` (2n + 2, 4, 4) = base, pre[n],
-    post[n], tool; ``limits`` (4, n) = lower, upper, random-start low, random-start high;
-    ``params`` (9,) = metres per unit, position tol (m), rotation tol (rad), weights[6];
-    ``ints`` (3,) = steps per attempt, first attempt index, attempts. One thread (the same
+    ``P``, ``limits``, ``params``: the packed chain, limits and options (see the top of this
+    module); ``seeds`` (B,) uint64; ``trace`` (B, k); ``info`` (B, 4). One thread (the same
     results) while the multi-threaded kernel is still being compiled by the warm-up process.
     """
-    (_lm_parallel if _jit_loader.parallel_ok() else lm_serial)(mats, prismatic, limits, params, ints, targets,
-                                                                seeds, q, trace, info)
+    (_lm_parallel if _jit_loader.parallel_ok() else lm_serial)(P, limits, params, targets, seeds, q, trace, info)
 
 
 @njit(cache=True)
-def lm_serial(mats, prismatic, limits, params, ints, targets, seeds, q, trace, info):
+def lm_serial(P, limits, params, targets, seeds, q, trace, info):
     """As :func:`lm_batch` without threads (small batches, single calls)."""
     for i in range(targets.shape[0]):
-        _one(mats, prismatic, limits, params, ints, targets, seeds, q, trace, info, i)
+        _lm_one(P, limits, params, targets[i], seeds[i], q[i], trace[i], info[i])
 
 
 @njit(cache=True)
-def lm_single(mats, prismatic, limits, params, ints, targets, seed, q, info):
+def lm_single(P, limits, params, targets, seed, q, info):
     """:func:`lm_serial` for one target (restart seed ``seed``, no trace) that first checks it:
     False (nothing solved) if the target ``targets[0]`` or the start ``q[0]`` holds a NaN or
-    an infinity. Fewer arguments than :func:`lm_serial`: each costs time to pass."""
+    an infinity."""
     for i in range(4):
         for j in range(4):
             if not math.isfinite(targets[0, i, j]):
@@ -415,12 +427,14 @@ def lm_single(mats, prismatic, limits, params, ints, targets, seed, q, info):
     for j in range(q.shape[1]):
         if not math.isfinite(q[0, j]):
             return False
-    seeds = np.empty(1, np.uint64)
-    seeds[0] = seed
-    _one(mats, prismatic, limits, params, ints, targets, seeds, q, np.empty((1, 0)), info, 0)
+    _lm_one(P, limits, params, targets[0], np.uint64(seed), q[0], np.empty(0), info[0])
     return True
 
 
 def parallel_twins():
     """``(one-thread kernel, multi-threaded kernel)`` pairs taking the same arguments (for the warm-up)."""
     return [(lm_serial, _lm_parallel)]
+
+
+# this module's cached kernels inline the pose helpers of kinematics/_jit.py: compiled anew when it changes
+_jit_loader.forget_stale_cache(globals(), ("kinematics/_jit.py",))

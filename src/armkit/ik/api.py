@@ -17,6 +17,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from .._checks import real_array, short_repr
+from ..spatial import check_transform
 from ..errors import IKInputError, ShapeError, UnreachableError
 from ..model.robot import Robot
 from .result import IKResult, default_tolerance
@@ -58,28 +59,10 @@ def _planar_plane(robot: Robot) -> tuple[float, Array, float]:
     return float(T0[2, 3]), T0[:3, :3], math.atan2(T0[1, 0], T0[0, 0])
 
 
-def _analytic_kernels() -> Any:
-    from .analytic._common import jit_kernels
-
-    return jit_kernels()
-
-
-def _rigid(T: list) -> bool:
-    """For one pose given as nested lists: ``R^T R = I`` and ``det R = 1`` within 1e-6, last row (0, 0, 0, 1)."""
-    (a, b, c, _), (d, e, f, _), (g, h, k, _), last = T
-    cols = ((a, d, g), (b, e, h), (c, f, k))
-    for i in range(3):
-        for j in range(3):
-            dot = cols[i][0] * cols[j][0] + cols[i][1] * cols[j][1] + cols[i][2] * cols[j][2]
-            if not abs(dot - (1.0 if i == j else 0.0)) <= 1e-6:
-                return False
-    det = a * (e * k - f * h) - b * (d * k - f * g) + c * (d * h - e * g)
-    return abs(det - 1.0) <= 1e-6 and last == [0.0, 0.0, 0.0, 1.0]
-
-
-def _normalise_target(robot: Robot, target: ArrayLike, phi: ArrayLike | None
+def _normalise_target(robot: Robot, target: ArrayLike, phi: ArrayLike | None, check: bool = True
                       ) -> tuple[Array, tuple[int, ...], bool]:
-    """``target`` -> ``(flat targets (B, 4, 4) or (B, 3), leading shape, position_only)``."""
+    """``target`` -> ``(flat targets (B, 4, 4) or (B, 3), leading shape, position_only)``; poses are checked
+    by :func:`armkit.spatial.check_transform` unless ``check`` is False."""
     t = real_array(target, "target")
     if t.ndim == 0:
         raise ShapeError("target must be a pose (..., 4, 4), a position (..., 3) or a planar position (..., 2), "
@@ -89,19 +72,8 @@ def _normalise_target(robot: Robot, target: ArrayLike, phi: ArrayLike | None
     if t.ndim >= 2 and t.shape[-2:] == (4, 4):
         if phi is not None:
             raise ShapeError("phi= is only for planar (..., 2) position targets; a pose already fixes the end angle")
-        jit = _analytic_kernels() if t.ndim > 2 and t.size >= 1024 else None
-        if t.ndim == 2:   # one pose: the same test on Python floats (a few NumPy calls cost more)
-            rigid = _rigid(t.tolist())
-        elif jit is not None:   # many poses: the same test in one pass
-            rigid = jit.rigid(np.ascontiguousarray(t).reshape(-1, 4, 4))
-        else:
-            R = t[..., :3, :3]
-            err = np.abs(np.swapaxes(R, -1, -2) @ R - np.eye(3)).max(initial=0.0)
-            rigid = not (err > 1e-6 or np.any(np.abs(np.linalg.det(R) - 1.0) > 1e-6)
-                         or np.any(np.abs(t[..., 3, :] - [0, 0, 0, 1]) > 0))
-        if not rigid:
-            raise ShapeError("target pose is not a rigid transform (rotation not orthonormal with det +1, "
-                             "or last row not (0, 0, 0, 1))")
+        if check:
+            check_transform(t, what="target")
         lead = t.shape[:-2]
         return t.reshape(-1, 4, 4), lead, False
     if t.shape[-1] == 3:
@@ -277,8 +249,8 @@ def _numeric(method: str, robot: Robot, target: Array, q0: Array, **kw: Any) -> 
 
 
 def ik_all(robot: Robot, target: ArrayLike, q0: ArrayLike | None = None, *, phi: ArrayLike | None = None,
-           enforce_limits: bool = True, tol: Any = None, scene: Any = None, pitch: ArrayLike | None = None
-           ) -> IKResult:
+           enforce_limits: bool = True, tol: Any = None, scene: Any = None, pitch: ArrayLike | None = None,
+           check: bool = True) -> IKResult:
     """Every closed-form solution (branch) for each target.
 
     Parameters
@@ -305,6 +277,9 @@ def ik_all(robot: Robot, target: ArrayLike, q0: ArrayLike | None = None, *, phi:
         Tool pitch (rad) for ``(..., 3)`` position targets of a yaw + three pitch joints
         (+ roll) arm such as the SO-101 (``docs/so101.md``); the roll joint keeps ``q0``.
         ``rotation_error`` is then the pitch error.
+    check : bool
+        Check that pose targets are rigid transforms (:func:`armkit.spatial.check_transform`);
+        ``False`` skips it for poses a program built itself (hot loops).
 
     Returns
     -------
@@ -328,7 +303,7 @@ def ik_all(robot: Robot, target: ArrayLike, q0: ArrayLike | None = None, *, phi:
 
         return ik_pitch(robot, target, q0, pitch, phi=phi, tol=tol, enforce_limits=enforce_limits, scene=scene,
                         every=True)
-    flat, lead, position_only = _normalise_target(robot, target, phi)
+    flat, lead, position_only = _normalise_target(robot, target, phi, check)
     q0f = _normalise_q0(robot, q0, lead)
     res = _all_branches(robot, flat, q0f, position_only, tol, enforce_limits)
     if scene is not None:   # success also means collision-free (armkit.collision)
@@ -343,7 +318,8 @@ def ik(robot: Robot, target: ArrayLike, q0: ArrayLike | None = None,
        branch: str | None = None, phi: ArrayLike | None = None, mask: ArrayLike | None = None, tol: Any = None,
        max_iterations: int | None = None, restarts: int | None = None, seed: Any = None,
        enforce_limits: bool = True, raise_unreachable: bool = False, trace: bool = False,
-       scene: Any = None, pitch: ArrayLike | None = None, direction: ArrayLike | None = None) -> IKResult:
+       scene: Any = None, pitch: ArrayLike | None = None, direction: ArrayLike | None = None,
+       check: bool = True) -> IKResult:
     """Inverse kinematics: one solution per target, honest about failure.
 
     Parameters
@@ -388,6 +364,9 @@ def ik(robot: Robot, target: ArrayLike, q0: ArrayLike | None = None,
     direction : array_like, shape (..., 3), optional
         For a ``(..., 3)`` position: the direction the tool's z axis should point, rotation
         about it free (numeric, the mask ``(1, 1, 1, 1, 1, 0)``).
+    check : bool
+        Check that pose targets are rigid transforms (:func:`armkit.spatial.check_transform`);
+        ``False`` skips it for poses a program built itself (hot loops).
 
     Returns
     -------
@@ -408,70 +387,76 @@ def ik(robot: Robot, target: ArrayLike, q0: ArrayLike | None = None,
     _check_call(robot, seed, max_iterations, restarts)
     if tol is not None:
         _tolerance(robot, tol)
+    numeric = {"mask": mask, "tol": None if tol is None else _tolerance(robot, tol), "seed": seed,
+               "enforce_limits": enforce_limits, "trace": trace, "max_iterations": max_iterations,
+               "restarts": restarts}
     if pitch is not None or direction is not None:   # targets that fix less than a pose (armkit.ik.partial)
-        from .partial import ik_direction, ik_pitch
-
-        if pitch is not None and direction is not None:
-            raise IKInputError("give pitch= or direction=, not both")
-        if pitch is not None:
-            res = ik_pitch(robot, target, q0, pitch, method=method, branch=branch, phi=phi, mask=mask, tol=tol,
-                           enforce_limits=enforce_limits, scene=scene)
-            if raise_unreachable:
-                _raise_if_unreachable(res)
-            return res
-        res = ik_direction(robot, target, q0, direction, method=method, mask=mask, phi=phi, branch=branch,
-                           scene=scene, tol=None if tol is None else _tolerance(robot, tol), seed=seed,
-                           enforce_limits=enforce_limits, trace=trace, max_iterations=max_iterations,
-                           restarts=restarts)
-        if raise_unreachable:
-            _raise_if_unreachable(res)
-        return res
-    flat, lead, position_only = _normalise_target(robot, target, phi)
-    q0f = _normalise_q0(robot, q0, lead)
-    use_closed = method == "analytic"
-    solver = None
-    if method == "auto":
-        why: list[str] = []
-        solver = None if mask is not None else _analytic_solver(robot, position_only, why)
-        use_closed = solver is not None
-    if branch is not None and not use_closed:
-        raise IKInputError("branch= picks a closed-form solution; "
-                           + (f"method {method!r} is numeric" if method not in ("auto", "analytic")
-                              else f"robot {robot.name!r} has no closed form for this target"))
-    if use_closed:
-        if mask is not None:
-            raise IKInputError("mask= is for the numeric methods; the closed form solves the full target")
-        if branch is None and scene is None:   # shaped lead + (...) already
-            res = _nearest_branch(robot, flat, q0f, position_only, tol, enforce_limits, solver, lead)
-        elif branch is None:   # with a scene: the nearest branch that does not collide
-            from ..collision.ik_filter import mark, scene_or_none, sort_branches
-
-            every = _all_branches(robot, flat, q0f, position_only, tol, enforce_limits)
-            every = sort_branches(mark(robot, every, scene_or_none(robot, scene)))  # type: ignore[arg-type]
-            res = _reshape(every[np.arange(len(flat)), 0], lead)
-        else:
-            every = _all_branches(robot, flat, q0f, position_only, tol, enforce_limits)
-            hit = every.branch == branch
-            if not hit.any(axis=1).all():
-                valid = sorted(set(np.asarray(every.branch).ravel().tolist()))
-                raise IKInputError(f"unknown branch {branch!r} for robot {robot.name!r}; valid branches: "
-                                   + ", ".join(valid))
-            res = _reshape(every[np.arange(len(flat)), np.argmax(hit, axis=1)], lead)
-            if scene is not None:
-                from ..collision.ik_filter import mark, scene_or_none
-
-                res = mark(robot, res, scene_or_none(robot, scene))  # type: ignore[arg-type]
+        res = _partial(robot, target, q0, method, pitch, direction, branch, phi, tol, scene, numeric)
     else:
-        kw: dict[str, Any] = {"mask": mask, "tol": None if tol is None else _tolerance(robot, tol), "seed": seed, "enforce_limits": enforce_limits,
-                              "trace": trace, "max_iterations": max_iterations, "restarts": restarts}
-        name = "lm" if method == "auto" else method
-        flat_res = _numeric(name, robot, flat, q0f, **kw)
-        if scene is not None:   # restarts away from collisions (armkit.collision)
-            from ..collision.ik_filter import retry_numeric, scene_or_none
-
-            flat_res = retry_numeric(robot, flat_res, scene_or_none(robot, scene),  # type: ignore[arg-type]
-                                     lambda q0r, rows: _numeric(name, robot, flat[rows], q0r, **kw), seed)
-        res = _reshape(flat_res, lead)
+        flat, lead, position_only = _normalise_target(robot, target, phi, check)
+        q0f = _normalise_q0(robot, q0, lead)
+        solver = None
+        if method == "auto" and mask is None:
+            solver = _analytic_solver(robot, position_only, [])
+        use_closed = method == "analytic" or solver is not None
+        if branch is not None and not use_closed:
+            raise IKInputError("branch= picks a closed-form solution; "
+                               + (f"method {method!r} is numeric" if method not in ("auto", "analytic")
+                                  else f"robot {robot.name!r} has no closed form for this target"))
+        if use_closed:
+            if mask is not None:
+                raise IKInputError("mask= is for the numeric methods; the closed form solves the full target")
+            res = _closed_one(robot, flat, q0f, lead, position_only, tol, enforce_limits, solver, branch, scene)
+        else:
+            res = _numeric_one(robot, "lm" if method == "auto" else method, flat, q0f, lead, scene, numeric)
     if raise_unreachable:
         _raise_if_unreachable(res)
     return res
+
+
+def _partial(robot: Robot, target: ArrayLike, q0: ArrayLike | None, method: str, pitch: Any, direction: Any,
+             branch: str | None, phi: Any, tol: Any, scene: Any, numeric: dict[str, Any]) -> IKResult:
+    """:func:`ik` for a position with a tool pitch or a pointing direction (:mod:`armkit.ik.partial`)."""
+    from .partial import ik_direction, ik_pitch
+
+    if pitch is not None and direction is not None:
+        raise IKInputError("give pitch= or direction=, not both")
+    if pitch is not None:
+        return ik_pitch(robot, target, q0, pitch, method=method, branch=branch, phi=phi, mask=numeric["mask"],
+                        tol=tol, enforce_limits=numeric["enforce_limits"], scene=scene)
+    return ik_direction(robot, target, q0, direction, method=method, phi=phi, branch=branch, scene=scene, **numeric)
+
+
+def _closed_one(robot: Robot, flat: Array, q0f: Array, lead: tuple[int, ...], position_only: bool, tol: Any,
+                enforce_limits: bool, solver: Any, branch: str | None, scene: Any) -> IKResult:
+    """:func:`ik` by the closed form: the nearest branch, the nearest that does not collide, or ``branch``."""
+    if branch is None and scene is None:   # shaped lead + (...) already
+        return _nearest_branch(robot, flat, q0f, position_only, tol, enforce_limits, solver, lead)
+    every = _all_branches(robot, flat, q0f, position_only, tol, enforce_limits)
+    if branch is None:   # with a scene: the nearest branch that does not collide
+        from ..collision.ik_filter import mark, scene_or_none, sort_branches
+
+        every = sort_branches(mark(robot, every, scene_or_none(robot, scene)))  # type: ignore[arg-type]
+        return _reshape(every[np.arange(len(flat)), 0], lead)
+    hit = every.branch == branch
+    if not hit.any(axis=1).all():
+        valid = sorted(set(np.asarray(every.branch).ravel().tolist()))
+        raise IKInputError(f"unknown branch {branch!r} for robot {robot.name!r}; valid branches: " + ", ".join(valid))
+    res = _reshape(every[np.arange(len(flat)), np.argmax(hit, axis=1)], lead)
+    if scene is not None:
+        from ..collision.ik_filter import mark, scene_or_none
+
+        res = mark(robot, res, scene_or_none(robot, scene))  # type: ignore[arg-type]
+    return res
+
+
+def _numeric_one(robot: Robot, name: str, flat: Array, q0f: Array, lead: tuple[int, ...], scene: Any,
+                 kw: dict[str, Any]) -> IKResult:
+    """:func:`ik` by a numeric method; with a scene, restarts away from collisions (:mod:`armkit.collision`)."""
+    flat_res = _numeric(name, robot, flat, q0f, **kw)
+    if scene is not None:
+        from ..collision.ik_filter import retry_numeric, scene_or_none
+
+        flat_res = retry_numeric(robot, flat_res, scene_or_none(robot, scene),  # type: ignore[arg-type]
+                                 lambda q0r, rows: _numeric(name, robot, flat[rows], q0r, **kw), kw["seed"])
+    return _reshape(flat_res, lead)

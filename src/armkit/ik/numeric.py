@@ -90,6 +90,7 @@ from typing import Any, Optional
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from .. import _jit_loader
 from .. import kinematics as _kinematics
 from ..errors import ArmkitError, ShapeError
 from ..model.robot import Robot
@@ -121,9 +122,7 @@ def _constants(robot: Robot) -> dict:
         free_lo = np.where(rev, -math.pi, -np.inf)
         free_hi = np.where(rev, math.pi, np.inf)
         lo, hi = robot.lower.astype(float), robot.upper.astype(float)
-        ch = robot.chain
         c = dict(rev=rev, reach=reach, origin=robot.base[:3, 3].copy(),
-                 mats=np.ascontiguousarray(np.concatenate([ch.base[None], ch.pre, ch.post, ch.tool[None]])),
                  limits=(lo, hi, np.where(np.isfinite(lo), lo, np.where(rev, -math.pi, -span)),
                          np.where(np.isfinite(hi), hi, np.where(rev, math.pi, span))),
                  free=(free_lo, free_hi, np.where(rev, -math.pi, -span), np.where(rev, math.pi, span)))
@@ -411,46 +410,28 @@ def _run_numpy(prob: Problem, q: Array, max_iterations: int, attempts: int, firs
 
 
 # ------------------------------------------------------------------------------- Numba engine
-_JIT_LM: Any = None
-
-
 def _jit():
     """The compiled kernels, or None when Numba is unavailable or the NumPy backend is chosen."""
-    global _JIT_LM
-    if _kinematics.get_backend() != "numba":
-        return None
-    if _JIT_LM is None:
-        try:
-            from . import _jit_lm
-            _JIT_LM = _jit_lm
-        except ImportError:  # pragma: no cover - numba present for kinematics but kernel fails
-            _JIT_LM = False
-    return _JIT_LM or None
-
-
-_INTS: dict[tuple[int, int, int], NDArray[np.int64]] = {}  # the kernel's int parameters, read only
+    return _jit_loader.kernels("ik._jit_lm")
 
 
 def _kernel_args(const: dict, s: float, tol: tuple[float, float], w: Array, max_iterations: int, attempts: int,
-                 first_attempt: int) -> tuple[Array, Any]:
-    """The kernel's packed ``params`` (9,) and ``ints`` (3,) (both cached: they repeat from call to call)."""
-    key = ("params", tol, True if w is _W_POSE else False if w is _W_POSITION else w.tobytes())
+                 first_attempt: int) -> Array:
+    """The kernel's packed options ``params`` (layout: :mod:`armkit.ik._jit_lm`), cached per robot (they
+    repeat from call to call)."""
+    key = ("params", tol, True if w is _W_POSE else False if w is _W_POSITION else w.tobytes(), max_iterations,
+           attempts, first_attempt)
     params = const.get(key)
     if params is None:
-        params = np.empty(9)
-        params[0], params[1], params[2] = s, tol[0] * s * _TOL_FACTOR, tol[1] * _TOL_FACTOR
-        params[3:] = w
+        k = _jit_loader.module("ik._jit_lm")
+        params = np.empty(k.N_PARAMS)
+        params[k.SCALE], params[k.TOL_P], params[k.TOL_R] = s, tol[0] * s * _TOL_FACTOR, tol[1] * _TOL_FACTOR
+        params[k.W:k.W + 6] = w
+        params[k.MAX_ITERATIONS], params[k.FIRST_ATTEMPT], params[k.ATTEMPTS] = max_iterations, first_attempt, attempts
         params.setflags(write=False)
         if len(const) < 64:
             const[key] = params
-    ikey = (max_iterations, first_attempt, attempts)
-    ints = _INTS.get(ikey)
-    if ints is None:
-        ints = np.array(ikey, dtype=np.int64)
-        ints.setflags(write=False)
-        if len(_INTS) < 256:
-            _INTS[ikey] = ints
-    return params, ints
+    return params
 
 
 def _run_jit(kernels, prob: Problem, q: Array, max_iterations: int, attempts: int, first_attempt: int,
@@ -460,10 +441,9 @@ def _run_jit(kernels, prob: Problem, q: Array, max_iterations: int, attempts: in
     info = np.zeros((B, 4))
     cap = max_iterations * attempts if want_trace else 0
     trace = np.full((B, cap), np.nan) if cap else np.empty((B, 0))
-    params, ints = _kernel_args(prob.const, prob.s, prob.tol, prob.w, max_iterations, attempts, first_attempt)
+    params = _kernel_args(prob.const, prob.s, prob.tol, prob.w, max_iterations, attempts, first_attempt)
     run = kernels.lm_batch if B >= 8 else kernels.lm_serial
-    run(prob.const["mats"], prob.robot.chain.prismatic, prob.packed_limits, params, ints, prob.poses, seeds, q,
-        trace, info)
+    run(_kinematics.packed(prob.robot)[1], prob.packed_limits, params, prob.poses, seeds, q, trace, info)
     iters = info[:, 0].astype(np.int64)
     rows = [trace[i, :iters[i]].tolist() for i in range(B)] if want_trace else []
     return q, iters, info[:, 2].astype(np.int64), info[:, 1] == 0, info[:, 3], rows
@@ -667,12 +647,11 @@ def _solve_one(robot: Robot, target: Any, q0: Any, max_iterations: Optional[int]
     else:
         poses = np.ascontiguousarray(target)
     q = np.array(q0, order="C")
-    params, ints = _kernel_args(c, robot.unit_scale, tol, _W_POSITION if point else _W_POSE, max_iterations,
-                                restarts + 1, 0)
+    params = _kernel_args(c, robot.unit_scale, tol, _W_POSITION if point else _W_POSE, max_iterations,
+                          restarts + 1, 0)
     info = np.zeros((1, 4))
     limits = c["packed limits" if enforce_limits else "packed free"]
-    if not kernels.lm_single(c["mats"], robot.chain.prismatic, limits, params, ints, poses, _seed_base(seed), q,
-                             info):
+    if not kernels.lm_single(_kinematics.packed(robot)[1], limits, params, poses, _seed_base(seed), q, info):
         return None  # NaN or infinity in the target or q0: the general path says which
     dp, dr, ok, within = verify(robot, q, target, point, tol, enforce_limits)
     iters = int(info[0, 0])

@@ -21,9 +21,7 @@ array([1. , 0.5, 0. ])
 
 from __future__ import annotations
 
-import importlib
 import os
-import weakref
 from typing import Literal, Sequence
 
 import numpy as np
@@ -45,7 +43,6 @@ metres, see :func:`task_rows`) is below this: about 1e-6 rad from an exact singu
 metre-sized arm."""
 
 _backend = os.environ.get("ARMKIT_BACKEND", "auto")
-_JIT = None  # the armkit.kinematics._jit module once loaded, False if numba is unavailable
 _ACTIVE = None  # the _jit module while it is the back end in use (the single-call fast path reads only this)
 
 
@@ -66,13 +63,8 @@ def get_backend() -> str:
 
 
 def _load_jit():
-    global _JIT
-    if _JIT is None:
-        try:
-            _JIT = importlib.import_module("armkit.kinematics._jit")
-        except ImportError:  # numba missing or broken: NumPy kernels serve
-            _JIT = False
-    return _JIT or None
+    """The kinematics kernels (:func:`armkit._jit_loader.module`), or None when Numba is unavailable."""
+    return _jit_loader.module("kinematics._jit")
 
 
 def _jit_module(poll: bool = False):
@@ -83,27 +75,23 @@ def _jit_module(poll: bool = False):
     return _ACTIVE
 
 
-_FK_CONSTANTS: dict[int, Array] = {}  # id(chain) -> F of _jit.pack (FK and Jacobians)
-_FRAME_CONSTANTS: dict[int, Array] = {}  # id(chain) -> P of _jit.pack (all link frames)
 _ndarray, _empty = np.ndarray, np.empty  # module-level names: the single-call path counts nanoseconds
 _float64 = np.dtype(np.float64)  # native float64 (a byte-swapped '>f8' is another object: general path)
 
 
-def _packed(chain: Chain) -> Array:
-    """The kernels' packed constants of ``chain`` (see ``_jit.pack``), built once per chain.
+def packed(robot: Robot) -> tuple[Array, Array]:
+    """The kernels' packed chain constants ``(F, P)`` of ``robot`` (layout: ``kinematics._jit.pack``).
 
-    Returns ``F`` and stores both layouts, keyed by ``id(chain)``; the entries are dropped
-    when the chain is garbage-collected, so an id is never reused while it is a key.
+    Built once per robot and kept in its cache (``robot.cache["packed_chain"]``); the FK,
+    Jacobian and frame kernels read ``F`` or ``P``, the LM kernel ``P``.
     """
-    key = id(chain)
-    if key not in _FK_CONSTANTS:
+    FP = robot.cache.get("packed_chain")
+    if FP is None:
         jit = _load_jit()
-        assert jit is not None, "_packed is only called with the Numba back end"
-        F, P = jit.pack(chain.fixed, chain.prismatic, chain.base, chain.pre, chain.post, chain.tool)
-        _FK_CONSTANTS[key], _FRAME_CONSTANTS[key] = F, P
-        weakref.finalize(chain, _FK_CONSTANTS.pop, key, None)
-        weakref.finalize(chain, _FRAME_CONSTANTS.pop, key, None)
-    return _FK_CONSTANTS[key]
+        assert jit is not None, "packed is only called with the Numba back end"
+        c = robot.chain
+        FP = robot.cache["packed_chain"] = jit.pack(c.fixed, c.prismatic, c.base, c.pre, c.post, c.tool)
+    return FP  # type: ignore[no-any-return]
 
 
 def _flat(robot: Robot, q: ArrayLike) -> tuple[Array, tuple[int, ...]]:
@@ -155,16 +143,14 @@ def fk(robot: Robot, q: ArrayLike, link: str | None = None) -> Array:
         return np.asarray(fk_frames(robot, q)[..., lk.frame, :, :] @ lk.offset)
     jit = _ACTIVE or _jit_module(True)
     if jit is not None:
-        c = robot.chain
-        F = _FK_CONSTANTS.get(id(c))
-        if F is None:
-            F = _packed(c)
+        FP = robot.cache.get("packed_chain") or packed(robot)
+        F = FP[0]
         if type(q) is _ndarray and q.ndim == 1 and q.dtype is _float64:  # the single-call fast path
             out = _empty((4, 4))
             try:
-                jit.fk_one_float64(F, q, out)  # exactly these types: no dispatch, no copy, no extra pass
+                jit.fk_one_float64(F, q, out)  # one compiled signature: no copy, no extra pass
                 return out
-            except ValueError:  # wrong length or NaN: the general path says which
+            except (ValueError, TypeError):  # wrong length or NaN (or a read-only q): the general path
                 pass
         flat, lead = _flat_unchecked(robot, q)
         out, bad = jit.fk_batch(F, flat)
@@ -193,8 +179,7 @@ def fk_frames(robot: Robot, q: ArrayLike) -> Array:
     jit = _jit_module(True)
     if jit is not None:
         flat, lead = _flat_unchecked(robot, q)
-        _packed(c)
-        out, bad = jit.frames_batch(_FRAME_CONSTANTS[id(c)], flat)
+        out, bad = jit.frames_batch(packed(robot)[1], flat)
         if bad:
             robot.check_q(q)
     else:
@@ -248,15 +233,14 @@ def jacobian(robot: Robot, q: ArrayLike, frame: Literal["base", "tool"] = "base"
     c = robot.chain
     jit = _ACTIVE or _jit_module(True)
     if jit is not None:
-        F = _FK_CONSTANTS.get(id(c))
-        if F is None:
-            F = _packed(c)
+        FP = robot.cache.get("packed_chain") or packed(robot)
+        F = FP[0]
         if type(q) is _ndarray and q.ndim == 1 and q.dtype is _float64:  # the single-call fast path
             J = _empty((6, len(q)))  # the kernel checks len(q) == n
             try:
                 jit.jacobian_one_float64(F, q, tool_frame, J)
                 return J
-            except ValueError:  # wrong length or NaN: the general path says which
+            except (ValueError, TypeError):  # wrong length or NaN (or a read-only q): the general path
                 pass
         flat, lead = _flat_unchecked(robot, q)
         J, bad = jit.jacobian_batch(F, flat, tool_frame)

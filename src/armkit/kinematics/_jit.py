@@ -50,20 +50,42 @@ PARALLEL_MIN = 2048
 
 
 
-def pack(fixed, prismatic, base, pre, post, tool):
-    """The chain's constants in the two layouts the kernels take: ``(F, P)``.
+ROW = 13
+"""Length of one row of the packed chain constants: a constant affine transform and a joint flag."""
+AFFINE = slice(0, 12)
+"""``row[AFFINE]``: the 3x4 affine part of a constant transform, row by row (the bottom row of a
+rigid transform, (0, 0, 0, 1), is implied)."""
+PRISMATIC = 12
+"""``row[PRISMATIC]``: 1.0 where the joint that moves *before* this row's transform is prismatic, else 0.0."""
 
-    ``F`` (n + 1, 4, 4) is ``fixed`` (what plain FK needs) and ``P`` (2n + 2, 4, 4) is
-    ``base, pre_1..pre_n, post_1..post_n, tool`` (what frames and Jacobians need). The
-    bottom rows of these affine matrices are never read, so ``F[k + 1, 3, 0]`` and
-    ``P[1 + k, 3, 0]`` carry joint ``k``'s prismatic flag: one array per call is cheaper
-    to pass than five.
+
+def pack(fixed, prismatic, base, pre, post, tool):
+    """The chain's constants in the two packed layouts the kernels take: ``(F, P)``, float64, read-only.
+
+    Every row holds one constant transform (``row[AFFINE]``, 12 values) and the joint flag
+    ``row[PRISMATIC]``:
+
+    * ``F`` (n + 1, ROW): row 0 is ``fixed[0]``; row ``k + 1`` is ``fixed[k + 1]``, applied after joint
+      ``k``'s motion, with joint ``k``'s flag (what plain FK and the Jacobian need);
+    * ``P`` (2n + 2, ROW): ``base, pre_1..pre_n, post_1..post_n, tool``; row ``1 + k`` (``pre`` of joint
+      ``k``) carries joint ``k``'s flag (what all frames and the LM solver need).
+
+    Parameters
+    ----------
+    fixed : ndarray, shape (n + 1, 4, 4)
+    prismatic : ndarray of bool, shape (n,)
+    base, tool : ndarray, shape (4, 4)
+    pre, post : ndarray, shape (n, 4, 4)
     """
     n = prismatic.shape[0]
-    F = np.array(fixed, dtype=np.float64)
-    F[1:, 3, 0] = prismatic
-    P = np.concatenate([base[None], pre, post, tool[None]]).astype(np.float64)
-    P[1:n + 1, 3, 0] = prismatic
+    flags = np.asarray(prismatic, dtype=np.float64)
+    F = np.zeros((n + 1, ROW))
+    F[:, AFFINE] = np.asarray(fixed, dtype=np.float64)[:, :3, :].reshape(n + 1, 12)
+    F[1:, PRISMATIC] = flags
+    mats = np.concatenate([base[None], pre, post, tool[None]]).astype(np.float64)
+    P = np.zeros((2 * n + 2, ROW))
+    P[:, AFFINE] = mats[:, :3, :].reshape(2 * n + 2, 12)
+    P[1:n + 1, PRISMATIC] = flags
     F.setflags(write=False)
     P.setflags(write=False)
     return F, P
@@ -135,18 +157,19 @@ def sincos_block(x, s, c):
 
 # ------------------------------------------------------------------ 12-scalar poses
 @njit(cache=True, inline="always")
-def _load(F):
-    return (F[0, 0], F[0, 1], F[0, 2], F[0, 3], F[1, 0], F[1, 1], F[1, 2], F[1, 3],
-            F[2, 0], F[2, 1], F[2, 2], F[2, 3])
+def _load(F, k):
+    """Row ``k`` of packed constants (see :func:`pack`) as a 12-scalar pose."""
+    return (F[k, 0], F[k, 1], F[k, 2], F[k, 3], F[k, 4], F[k, 5], F[k, 6], F[k, 7],
+            F[k, 8], F[k, 9], F[k, 10], F[k, 11])
 
 
 @njit(cache=True, inline="always")
-def _mul(X, F):
-    """X · F for a 12-scalar pose X and a constant (4, 4) affine F."""
+def _mul(X, F, k):
+    """X · F[k] for a 12-scalar pose X and row ``k`` of packed constants (see :func:`pack`)."""
     a00, a01, a02, a03, a10, a11, a12, a13, a20, a21, a22, a23 = X
-    f00, f01, f02, f03 = F[0, 0], F[0, 1], F[0, 2], F[0, 3]
-    f10, f11, f12, f13 = F[1, 0], F[1, 1], F[1, 2], F[1, 3]
-    f20, f21, f22, f23 = F[2, 0], F[2, 1], F[2, 2], F[2, 3]
+    f00, f01, f02, f03 = F[k, 0], F[k, 1], F[k, 2], F[k, 3]
+    f10, f11, f12, f13 = F[k, 4], F[k, 5], F[k, 6], F[k, 7]
+    f20, f21, f22, f23 = F[k, 8], F[k, 9], F[k, 10], F[k, 11]
     return (a00 * f00 + a01 * f10 + a02 * f20,
             a00 * f01 + a01 * f11 + a02 * f21,
             a00 * f02 + a01 * f12 + a02 * f22,
@@ -197,11 +220,11 @@ def _store3(X, out, i, f):
 
 
 # --------------------------------------------------------------- single configuration
-_RO3 = types.Array(types.float64, 3, "C", readonly=True)
+_RO2 = types.Array(types.float64, 2, "C", readonly=True)  # packed constants
 _OUT2 = types.Array(types.float64, 2, "C")
-# q: float64, 1-D, any strides. One signature only (each costs ~1 s to compile on first use); the fast path
-# calls its entry point directly, which also takes read-only or C-contiguous arrays (the kernels never write q).
-_Q1 = types.Array(types.float64, 1, "A")
+# q: float64, 1-D, any strides. One signature only (each costs ~1 s to compile on first use); Numba's dispatcher
+# converts a read-only or C-contiguous q to it (the kernels never write q).
+_Q1 = types.Array(types.float64, 1, "A", readonly=True)
 
 
 @njit(cache=True)  # compiled for one signature only, on first use: see __getattr__
@@ -219,44 +242,44 @@ def fk_one(F, q, out):
             s, c = _sincos(t)
             out[k >> 2, k & 3] = s
             out[2 + (k >> 2), k & 3] = c
-        X = _load(F[0])
+        X = _load(F, 0)
         for k in range(n):
-            X = _mul(_move(X, q[k], out[k >> 2, k & 3], out[2 + (k >> 2), k & 3], F[k + 1, 3, 0] != 0.0), F[k + 1])
+            X = _mul(_move(X, q[k], out[k >> 2, k & 3], out[2 + (k >> 2), k & 3], F[k + 1, PRISMATIC] != 0.0), F, k + 1)
     else:
-        X = _load(F[0])
+        X = _load(F, 0)
         for k in range(n):
             t = q[k]
             if not math.isfinite(t):
                 raise ValueError("q is not finite")
             s, c = _sincos(t)
-            X = _mul(_move(X, t, s, c, F[k + 1, 3, 0] != 0.0), F[k + 1])
+            X = _mul(_move(X, t, s, c, F[k + 1, PRISMATIC] != 0.0), F, k + 1)
     _store2(X, out)
 
 
 @njit(cache=True, inline="always")
-def _jacobian_cols(F, q, qo, s, c, o, tool_frame, J, i):
+def _jacobian_cols(F, q, qo, sc, o, tool_frame, J, i):
     """Geometric Jacobian of the configuration q[qo:qo+n] (q flat) into J[i].
 
     Walking the FK chain ``F``, the pose before joint ``k``'s motion is the frame whose z
     axis is joint ``k``'s axis, so one affine product per joint gives every axis.
-    Sines/cosines come from s[o:o+n], c[o:o+n] when ``o >= 0``, else are computed here.
+    Sines/cosines come from sc[0, o:o+n], sc[1, o:o+n] when ``o >= 0``, else are computed here.
     """
     n = F.shape[0] - 1
     # first pass: J[i, 0:3, k] <- axis origin p_k, J[i, 3:6, k] <- axis direction z_k
-    X = _load(F[0])
+    X = _load(F, 0)
     for k in range(n):
         t = q[qo + k]
         if o >= 0:  # read before J[i, :, k] is written: s and c may be rows of J itself
-            sk, ck = s[o + k], c[o + k]
+            sk, ck = sc[0, o + k], sc[1, o + k]
         else:
             sk, ck = _sincos(t)
         J[i, 0, k], J[i, 1, k], J[i, 2, k] = X[3], X[7], X[11]
         J[i, 3, k], J[i, 4, k], J[i, 5, k] = X[2], X[6], X[10]
-        X = _mul(_move(X, t, sk, ck, F[k + 1, 3, 0] != 0.0), F[k + 1])
+        X = _mul(_move(X, t, sk, ck, F[k + 1, PRISMATIC] != 0.0), F, k + 1)
     ex, ey, ez = X[3], X[7], X[11]
     for k in range(n):
         zx, zy, zz = J[i, 3, k], J[i, 4, k], J[i, 5, k]
-        if F[k + 1, 3, 0] != 0.0:
+        if F[k + 1, PRISMATIC] != 0.0:
             J[i, 0, k], J[i, 1, k], J[i, 2, k] = zx, zy, zz
             J[i, 3, k], J[i, 4, k], J[i, 5, k] = 0.0, 0.0, 0.0
         else:
@@ -284,37 +307,27 @@ def jacobian_one(F, q, tool_frame, out):
         if not math.isfinite(q[k]):
             raise ValueError("q is not finite")
         out[0, k], out[1, k] = _sincos(q[k])
-    _jacobian_cols(F, q, 0, out[0], out[1], 0, tool_frame, out.reshape((1, 6, n)), 0)
+    _jacobian_cols(F, q, 0, out[0:2], 0, tool_frame, out.reshape((1, 6, n)), 0)
 
 
-def _entry_point(dispatcher, signature):
-    """The compiled CPython wrapper of one signature, or the dispatcher if there is none.
-
-    Calling it skips Numba's type dispatch (~0.15 µs of a ~1 µs call) but also its type
-    checks: the caller must pass exactly ``signature``'s types (see
-    :func:`armkit.kinematics.fk`, which checks ``type``, ``ndim`` and ``dtype`` of ``q``).
-    """
-    try:
-        entry = dispatcher.overloads[signature].entry_point
-    except (AttributeError, KeyError):  # a Numba without it: the dispatcher is just slower
-        return dispatcher
-    return entry if callable(entry) else dispatcher
-
-
-_SIGNATURES = {"fk_one_float64": (fk_one, types.void(_RO3, _Q1, _OUT2).args),
-               "jacobian_one_float64": (jacobian_one, types.void(_RO3, _Q1, types.boolean, _OUT2).args)}
+_SIGNATURES = {"fk_one_float64": (fk_one, types.void(_RO2, _Q1, _OUT2).args),
+               "jacobian_one_float64": (jacobian_one, types.void(_RO2, _Q1, types.boolean, _OUT2).args)}
 
 
 def __getattr__(name):
-    """``fk_one_float64``, ``jacobian_one_float64``: the entry points, each compiled (or loaded from the
-    cache) on first use, so that the first ``fk`` does not also pay for the Jacobian kernel."""
+    """``fk_one_float64``, ``jacobian_one_float64``: the kernels, each compiled (or loaded from the cache)
+    for its one signature on first use, so that the first ``fk`` does not also pay for the Jacobian kernel.
+
+    Only Numba's public API: ``dispatcher.compile(signature)`` then ``disable_compile()``, so any other
+    argument types raise ``TypeError`` at once instead of compiling anew.
+    """
     if name not in _SIGNATURES:
         raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
     dispatcher, signature = _SIGNATURES[name]
     dispatcher.compile(signature)
-    dispatcher.disable_compile()  # any other argument types: TypeError at once, never a new compile
-    entry = globals()[name] = _entry_point(dispatcher, signature)
-    return entry
+    dispatcher.disable_compile()
+    globals()[name] = dispatcher
+    return dispatcher
 
 
 # ---------------------------------------------------------------------------- batches
@@ -323,21 +336,20 @@ def _sincos_of_block(q, qflat, b):
     B, n = q.shape
     i0 = b * BLOCK
     i1 = min(i0 + BLOCK, B)
-    s = np.empty((i1 - i0) * n)
-    c = np.empty((i1 - i0) * n)
-    bad = sincos_block(qflat[i0 * n:i1 * n], s, c)
-    return i0, i1, s, c, bad
+    sc = np.empty((2, (i1 - i0) * n))
+    bad = sincos_block(qflat[i0 * n:i1 * n], sc[0], sc[1])
+    return i0, i1, sc, bad
 
 
 @njit(cache=True, inline="always")
 def _fk_block(F, q, qflat, out, b):
     n = q.shape[1]
-    i0, i1, s, c, bad = _sincos_of_block(q, qflat, b)
+    i0, i1, sc, bad = _sincos_of_block(q, qflat, b)
     for i in range(i0, i1):
         o = (i - i0) * n
-        X = _load(F[0])
+        X = _load(F, 0)
         for k in range(n):
-            X = _mul(_move(X, q[i, k], s[o + k], c[o + k], F[k + 1, 3, 0] != 0.0), F[k + 1])
+            X = _mul(_move(X, q[i, k], sc[0, o + k], sc[1, o + k], F[k + 1, PRISMATIC] != 0.0), F, k + 1)
         _store(X, out, i)
     return bad
 
@@ -370,9 +382,9 @@ def fk_batch(F, q):
 @njit(cache=True, inline="always")
 def _jacobian_block(F, q, qflat, tool_frame, out, b):
     n = q.shape[1]
-    i0, i1, s, c, bad = _sincos_of_block(q, qflat, b)
+    i0, i1, sc, bad = _sincos_of_block(q, qflat, b)
     for i in range(i0, i1):
-        _jacobian_cols(F, qflat, i * n, s, c, (i - i0) * n, tool_frame, out, i)
+        _jacobian_cols(F, qflat, i * n, sc, (i - i0) * n, tool_frame, out, i)
     return bad
 
 
@@ -404,15 +416,15 @@ def jacobian_batch(F, q, tool_frame):
 @njit(cache=True, inline="always")
 def _frames_block(P, q, qflat, out, b):
     n = q.shape[1]
-    i0, i1, s, c, bad = _sincos_of_block(q, qflat, b)
+    i0, i1, sc, bad = _sincos_of_block(q, qflat, b)
     for i in range(i0, i1):
         o = (i - i0) * n
-        X = _load(P[0])
+        X = _load(P, 0)
         _store3(X, out, i, 0)
         for k in range(n):
-            X = _mul(_move(_mul(X, P[1 + k]), q[i, k], s[o + k], c[o + k], P[1 + k, 3, 0] != 0.0), P[1 + n + k])
+            X = _mul(_move(_mul(X, P, 1 + k), q[i, k], sc[0, o + k], sc[1, o + k], P[1 + k, PRISMATIC] != 0.0), P, 1 + n + k)
             if k == n - 1:
-                X = _mul(X, P[2 * n + 1])
+                X = _mul(X, P, 2 * n + 1)
             _store3(X, out, i, k + 1)
     return bad
 

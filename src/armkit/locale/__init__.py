@@ -221,8 +221,10 @@ def josa(word: object, pair: str) -> str:
 
 TERMS = (N_("revolute"), N_("prismatic"), N_("continuous"), N_("unreachable"), N_("singular"),
          N_("max iterations"), N_("joint limits"), N_("collision"), N_("converged"), N_("solved"),
-         N_("not converged"), N_("bad input"), N_("unsupported"))
-"""Words written by ``{x:t}`` in the message's language: joint kinds and the IK results' ``reason`` codes."""
+         N_("not converged"), N_("bad input"), N_("unsupported"), N_("base"), N_("tool"), N_("standard"),
+         N_("modified"))
+"""Words written by ``{x:t}`` (or ``_(word)``) in the message's language: joint kinds, the IK results' ``reason``
+codes, frames (base, tool) and DH conventions."""
 
 
 class _Formatter(string.Formatter):

@@ -28,6 +28,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ..errors import RobotDefinitionError, ShapeError
+from .._checks import real_array
+from ..spatial import check_transform
 
 __all__ = ["Joint", "Robot", "Chain", "Link", "Shape", "REVOLUTE", "PRISMATIC", "axis_alignment"]
 
@@ -271,17 +273,18 @@ class Chain:
 
 
 def _pose(value: ArrayLike | None, what: str) -> Array:
+    """A read-only copy of one pose of the robot's definition, checked by :func:`armkit.spatial.check_transform`
+    (its message, as a :class:`RobotDefinitionError`)."""
     if value is None:
         T = np.eye(4)
     else:
-        T = np.array(value, dtype=float)
-        if T.shape != (4, 4):
-            raise RobotDefinitionError(f"{what} must be a 4x4 pose, got shape {T.shape}")
-        if not np.all(np.isfinite(T)):
-            raise RobotDefinitionError(f"{what} contains NaN or infinite values")
-        R = T[:3, :3]
-        if not np.allclose(R.T @ R, np.eye(3), atol=1e-9) or not np.allclose(T[3], [0, 0, 0, 1]):
-            raise RobotDefinitionError(f"{what} is not a rigid transform (rotation not orthonormal or bad last row)")
+        try:
+            T = np.array(real_array(value, what), dtype=float)
+            if T.shape != (4, 4):
+                raise RobotDefinitionError(f"{what} must be a 4x4 pose, got shape {T.shape}")
+            check_transform(T, what=what)
+        except ShapeError as exc:
+            raise RobotDefinitionError(str(exc)) from None
     T.setflags(write=False)
     return T
 

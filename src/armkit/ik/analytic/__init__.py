@@ -32,6 +32,7 @@ from numpy.typing import NDArray
 from ...model.robot import Robot
 from ..result import IKResult, default_tolerance, verify
 from ._common import Raw, StandardForm, jit_kernels, keep_better, standard_form
+from ._layout import joint_table
 from .planar import Planar2R, Planar3R
 from .spherical_wrist import SphericalWrist
 from .ur import ParallelAxes
@@ -110,6 +111,15 @@ def wrap_to_limits(q: Array, q0: Array, lower: Array, upper: Array, revolute: ND
         fallback = v + TWO_PI * np.round((mid - v) / TWO_PI)
         near[idx] = np.where(~revolute[j], v, np.where((cand >= lj) & (cand <= hj), cand, fallback))
     return near
+
+
+def _joint_table(robot: Robot, solver: ClosedForm):
+    """The joint table of the wrap/pick kernels (``_layout.JOINT_*``), kept in the robot's cache."""
+    table = robot.cache.get("closed_form_joints")
+    if table is None:
+        table = robot.cache["closed_form_joints"] = joint_table(solver.sf.theta, robot.lower, robot.upper,
+                                                                robot.prismatic)
+    return table
 
 
 MAX_DETAILED = 10_000
@@ -210,7 +220,7 @@ def solve_all(robot: Robot, solver: ClosedForm, target: Array, q0: Array, positi
     jit = jit_kernels()
     dist = None
     if jit is not None:
-        q, dist = jit.wrap_dist(raw.q, theta, q0, robot.lower, robot.upper, robot.prismatic)
+        q, dist = jit.wrap_dist(raw.q, _joint_table(robot, solver), q0)
     else:
         q = wrap_to_limits(raw.q - theta, q0[:, None, :], robot.lower, robot.upper, ~robot.prismatic)
     if tol is None:
@@ -258,8 +268,7 @@ def solve_nearest(robot: Robot, solver: ClosedForm, target: Array, q0: Array, po
     rows = np.arange(B)
     jit = jit_kernels()
     if jit is not None:
-        qb, pick, clean = jit.wrap_pick(raw.q, theta, q0, robot.lower, robot.upper, robot.prismatic,
-                                        raw.unreachable, enforce_limits)
+        qb, pick, clean = jit.wrap_pick(raw.q, _joint_table(robot, solver), q0, raw.unreachable, enforce_limits)
     else:
         q = wrap_to_limits(raw.q - theta, q0[:, None, :], robot.lower, robot.upper, ~robot.prismatic)
         cand = ~raw.unreachable

@@ -21,7 +21,7 @@ from typing import Callable
 import numpy as np
 from numpy.typing import NDArray
 
-from ... import kinematics as _kinematics
+from ... import _jit_loader
 from ...model.robot import Robot
 
 Array = NDArray[np.float64]
@@ -33,18 +33,9 @@ IDEAL_LENGTH_TOL = 1e-5   # of the reach: a DH length this small is rounding (a 
 IDEAL_PARALLEL_TOL = 1e-4  # axes whose angle has a sine below this are taken as parallel for the ideal arm
 
 
-_KERNELS: list = []   # the module ._jit once imported
-
-
 def jit_kernels():
     """The module of Numba kernels (:mod:`._jit`) while the Numba back end is in use, else ``None``."""
-    if _kinematics._jit_module() is None:
-        return None
-    if not _KERNELS:
-        from . import _jit
-
-        _KERNELS.append(_jit)
-    return _KERNELS[0]
+    return _jit_loader.kernels("ik.analytic._jit")
 
 
 def _rx(t: float) -> Array:

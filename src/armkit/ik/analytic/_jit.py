@@ -22,6 +22,11 @@ _jit_loader.install_cache_fallback()  # before the first cache=True: read-only i
 
 from numba import njit, prange  # noqa: E402
 
+from ._layout import (BASE_INV, JOINT_LOWER, JOINT_PRISMATIC, JOINT_THETA, JOINT_UPPER, P2_BETA,  # noqa: E402
+                      P2_ELL, P2_L1, P3_L1, P3_L2, POS_A1, POS_A2, POS_BETA, POS_D1, POS_ELL, POS_S1, POS_TINY,
+                      POS_Z, SW_CS, SW_D6, SW_S4, SW_S5, TOOL_INV, UR_A2, UR_A3, UR_D, UR_D1, UR_D4, UR_D5, UR_D6,
+                      UR_S1, UR_S4, UR_S5, UR_TINY)
+
 TWO_PI = 2.0 * math.pi
 PAR = 4096   # from this many targets on, the kernels run in parallel
 
@@ -60,9 +65,12 @@ def _up(forward, up_sign, l1l2_sign, e):
 
 # ------------------------------------------------------------------------- planar
 @njit(cache=True, inline="always")
-def _planar_one(i, x, y, l1, l2, extra, q, up, c, r, unreach, edge):
-    """2R core for target ``i``: ``q[i, :, 0:2]``, label indices (elbow up) ``up[i]``, ``c[i]``, ``r[i]``,
-    ``unreach[i]`` and ``edge[i]`` (stretched or folded)."""
+def _planar_one(i, x, y, lengths, outs):
+    """2R core for target ``i``, ``lengths = (l1, l2, extra)``: ``q[i, :, 0:2]``, label indices (elbow up)
+    ``up[i]``, ``c[i]``, ``r[i]``, ``unreach[i]`` and ``edge[i]`` (stretched or folded) of
+    ``outs = (q, up, c, r, unreach, edge)``."""
+    q, up, c, r, unreach, edge = outs
+    l1, l2, extra = lengths
     t1, t2, cc, r[i] = _two_link(x, y, l1, l2)
     c[i] = cc
     out = (cc > 1.0) or (cc < -1.0)
@@ -77,33 +85,46 @@ def _planar_one(i, x, y, l1, l2, extra, q, up, c, r, unreach, edge):
     return t1, t2
 
 
+@njit(cache=True, inline="always")
+def _point(p, i, g):
+    """Point ``p[i]`` (world) in ``B'``: ``B'^-1 p``, with ``B'^-1`` at ``g[BASE_INV]``."""
+    b = BASE_INV
+    x = g[b + 0] * p[i, 0] + g[b + 1] * p[i, 1] + g[b + 2] * p[i, 2] + g[b + 3]
+    y = g[b + 4] * p[i, 0] + g[b + 5] * p[i, 1] + g[b + 6] * p[i, 2] + g[b + 7]
+    z = g[b + 8] * p[i, 0] + g[b + 9] * p[i, 1] + g[b + 10] * p[i, 2] + g[b + 11]
+    return x, y, z
+
+
 @njit(cache=True)
-def _planar2_run(p, base_inv, l1, ell, beta, q, up, c, r, unreach, edge, lo, hi):
+def _planar2_run(p, g, outs, lo, hi):
     for i in prange(lo, hi):
-        x = base_inv[0, 0] * p[i, 0] + base_inv[0, 1] * p[i, 1] + base_inv[0, 2] * p[i, 2] + base_inv[0, 3]
-        y = base_inv[1, 0] * p[i, 0] + base_inv[1, 1] * p[i, 1] + base_inv[1, 2] * p[i, 2] + base_inv[1, 3]
-        _planar_one(i, x, y, l1, ell, beta, q, up, c, r, unreach, edge)
+        x, y, _ = _point(p, i, g)
+        _planar_one(i, x, y, (g[P2_L1], g[P2_ELL], g[P2_BETA]), outs)
 
 
 @njit(cache=True, inline="always")
-def _chain(T, i, A, C, out):
-    """``out = A @ T[i] @ C`` (rows 0-2 of 4x4 rigid poses)."""
+def _chain(T, i, g, out):
+    """``out = B'^-1 @ T[i] @ T'^-1`` (rows 0-2 of 4x4 rigid poses; both frames read from ``g``)."""
     tmp = np.empty((3, 4))
+    A, C = BASE_INV, TOOL_INV
     for a in range(3):
         for b in range(4):
-            tmp[a, b] = A[a, 0] * T[i, 0, b] + A[a, 1] * T[i, 1, b] + A[a, 2] * T[i, 2, b] + A[a, 3] * T[i, 3, b]
+            tmp[a, b] = (g[A + 4 * a] * T[i, 0, b] + g[A + 4 * a + 1] * T[i, 1, b] + g[A + 4 * a + 2] * T[i, 2, b]
+                         + g[A + 4 * a + 3] * T[i, 3, b])
     for a in range(3):
         for b in range(4):
-            out[a, b] = tmp[a, 0] * C[0, b] + tmp[a, 1] * C[1, b] + tmp[a, 2] * C[2, b] + tmp[a, 3] * C[3, b]
+            out[a, b] = (tmp[a, 0] * g[C + b] + tmp[a, 1] * g[C + 4 + b] + tmp[a, 2] * g[C + 8 + b]
+                         + tmp[a, 3] * g[C + 12 + b])
 
 
 @njit(cache=True)
-def _planar3_run(T, base_inv, tool_inv, l1, l2, q, up, c, r, unreach, edge, lo, hi):
+def _planar3_run(T, g, outs, lo, hi):
+    q = outs[0]
     for i in prange(lo, hi):
         Tc = np.empty((3, 4))
-        _chain(T, i, base_inv, tool_inv, Tc)
+        _chain(T, i, g, Tc)
         phi = math.atan2(Tc[1, 0], Tc[0, 0])
-        t1, t2 = _planar_one(i, Tc[0, 3], Tc[1, 3], l1, l2, 0.0, q, up, c, r, unreach, edge)
+        t1, t2 = _planar_one(i, Tc[0, 3], Tc[1, 3], (g[P3_L1], g[P3_L2], 0.0), outs)
         for k in range(2):
             q[i, k, 2] = phi - t1[k] - t2[k]
 
@@ -136,26 +157,31 @@ def _planar_arrays(B, n):
             np.empty(B, np.bool_))
 
 
-def planar2(p, base_inv, l1, ell, beta):
-    """Points ``p`` (B, 3) -> joint values ``(B, 2, 2)``, label indices ``(B, 2)`` (1: elbow up), the two-link
-    cosine and distance ``(B,)``, unreachable ``(B, 2)`` and stretched-or-folded ``(B,)``."""
+def planar2(p, g):
+    """Points ``p`` (B, 3), geometry ``g`` (layout ``P2_*``) -> joint values ``(B, 2, 2)``, label indices
+    ``(B, 2)`` (1: elbow up), the two-link cosine and distance ``(B,)``, unreachable ``(B, 2)`` and
+    stretched-or-folded ``(B,)``."""
     arrs = _planar_arrays(p.shape[0], 2)
-    _split(_planar2_run, p.shape[0], p, base_inv, l1, ell, beta, *arrs)
+    _split(_planar2_run, p.shape[0], p, g, arrs)
     return arrs
 
 
-def planar3(T, base_inv, tool_inv, l1, l2):
-    """Poses ``T`` (B, 4, 4) -> the arrays of :func:`planar2`, joint values ``(B, 2, 3)``."""
+def planar3(T, g):
+    """Poses ``T`` (B, 4, 4), geometry ``g`` (layout ``P3_*``) -> the arrays of :func:`planar2`, joint
+    values ``(B, 2, 3)``."""
     arrs = _planar_arrays(T.shape[0], 3)
-    _split(_planar3_run, T.shape[0], T, base_inv, tool_inv, l1, l2, *arrs)
+    _split(_planar3_run, T.shape[0], T, g, arrs)
     return arrs
 
 
 # ---------------------------------------------------------------------- positioner
 @njit(cache=True, inline="always")
-def _positioner(i, x, y, z, yaw0, s1, d1, a1, a2, Z, ell, beta, tiny, phi, up, unreach, c, r, rho, lat, on_axis,
-                edge, lab):
-    """:meth:`~.yaw_pitch_pitch.Positioner.solve` for target ``i``."""
+def _positioner(i, x, y, z, yaw0, g, outs):
+    """:meth:`~.yaw_pitch_pitch.Positioner.solve` for target ``i`` (geometry ``g``, layout ``POS_*``) into
+    ``outs = (phi, up, unreach, c, r, rho, lat, on_axis, edge, lab)``."""
+    phi, up, unreach, c, r, rho, lat, on_axis, edge, lab = outs
+    s1, d1, a1, a2, Z, ell, beta = g[POS_S1], g[POS_D1], g[POS_A1], g[POS_A2], g[POS_Z], g[POS_ELL], g[POS_BETA]
+    tiny = g[POS_TINY]
     rh = math.hypot(x, y)
     rho[i] = rh
     h2 = rh * rh - Z * Z
@@ -191,23 +217,19 @@ def _pos_arrays(B):
 
 
 @njit(cache=True)
-def _ypp_run(p, base_inv, yaw0, s1, d1, a1, a2, Z, ell, beta, tiny, phi, up, unreach, c, r, rho, lat, on_axis,
-             edge, lab, lo, hi):
+def _ypp_run(p, g, yaw0, outs, lo, hi):
     for i in prange(lo, hi):
-        x = base_inv[0, 0] * p[i, 0] + base_inv[0, 1] * p[i, 1] + base_inv[0, 2] * p[i, 2] + base_inv[0, 3]
-        y = base_inv[1, 0] * p[i, 0] + base_inv[1, 1] * p[i, 1] + base_inv[1, 2] * p[i, 2] + base_inv[1, 3]
-        z = base_inv[2, 0] * p[i, 0] + base_inv[2, 1] * p[i, 1] + base_inv[2, 2] * p[i, 2] + base_inv[2, 3]
-        _positioner(i, x, y, z, yaw0[i], s1, d1, a1, a2, Z, ell, beta, tiny, phi, up, unreach, c, r, rho, lat,
-                    on_axis, edge, lab)
+        x, y, z = _point(p, i, g)
+        _positioner(i, x, y, z, yaw0[i], g, outs)
 
 
-def yaw_pitch_pitch(p, base_inv, yaw0, pos):
+def yaw_pitch_pitch(p, g, yaw0):
     """Arrays of ``Positioner.solve`` (phi, up, unreachable, c, r, rho, lateral_out, on_axis) and the
-    stretched-or-folded flags ``(B, 2)`` and label indices ``(B, 4)`` for points ``p``."""
+    stretched-or-folded flags ``(B, 2)`` and label indices ``(B, 4)`` for points ``p`` (B, 3), geometry
+    ``g`` (layout ``POS_*``) and the yaw ``yaw0`` (B,) used on the axis."""
     B = p.shape[0]
     arrs = _pos_arrays(B)
-    _split(_ypp_run, B, p, base_inv, yaw0, float(pos.s1), pos.d1, pos.a1, pos.a2, pos.Z, pos.ell, pos.beta,
-           1e-12 * pos.scale, *arrs)
+    _split(_ypp_run, B, p, g, yaw0, arrs)
     return arrs
 
 
@@ -221,23 +243,24 @@ def _rotate_back(v0, v1, v2, c, s, ca, sa):
 
 
 @njit(cache=True)
-def _puma_run(T, base_inv, tool_inv, q0phi, d6, cs, s4, s5, s1, d1, a1, a2, Z, ell, beta, tiny,
-              out, lab, singular, phi, up, unreach, c, r, rho, lat, on_axis, edge, lab4, lo, hi):
+def _puma_run(T, g, q0phi, outs, lo, hi):
+    out, lab, singular, pos = outs
+    phi, up = pos[0], pos[1]
+    d6, s4, s5, cs = g[SW_D6], g[SW_S4], g[SW_S5], SW_CS
     for i in prange(lo, hi):
         Tc = np.empty((3, 4))
-        _chain(T, i, base_inv, tool_inv, Tc)
+        _chain(T, i, g, Tc)
         x = Tc[0, 3] - d6 * Tc[0, 2]
         y = Tc[1, 3] - d6 * Tc[1, 2]
         z = Tc[2, 3] - d6 * Tc[2, 2]
-        _positioner(i, x, y, z, q0phi[i, 0], s1, d1, a1, a2, Z, ell, beta, tiny, phi, up, unreach, c, r, rho, lat,
-                    on_axis, edge, lab4)
+        _positioner(i, x, y, z, q0phi[i, 0], g, pos)
         for b in range(4):
             p0, p12 = phi[i, b, 0], phi[i, b, 1] + phi[i, b, 2]
             c0, s0, c12, s12 = math.cos(p0), math.sin(p0), math.cos(p12), math.sin(p12)
-            m0, m1, m2 = _rotate_back(Tc[0, 2], Tc[1, 2], Tc[2, 2], c0, s0, cs[0, 0], cs[0, 1])
-            mz0, mz1, mz2 = _rotate_back(m0, m1, m2, c12, s12, cs[1, 0], cs[1, 1])
-            m0, m1, m2 = _rotate_back(Tc[0, 0], Tc[1, 0], Tc[2, 0], c0, s0, cs[0, 0], cs[0, 1])
-            mx0, mx1, mx2 = _rotate_back(m0, m1, m2, c12, s12, cs[1, 0], cs[1, 1])
+            m0, m1, m2 = _rotate_back(Tc[0, 2], Tc[1, 2], Tc[2, 2], c0, s0, g[cs], g[cs + 1])
+            mz0, mz1, mz2 = _rotate_back(m0, m1, m2, c12, s12, g[cs + 2], g[cs + 3])
+            m0, m1, m2 = _rotate_back(Tc[0, 0], Tc[1, 0], Tc[2, 0], c0, s0, g[cs], g[cs + 1])
+            mx0, mx1, mx2 = _rotate_back(m0, m1, m2, c12, s12, g[cs + 2], g[cs + 3])
             h = math.hypot(mz0, mz1)
             sing = h <= 1e-12
             singular[i, b] = sing
@@ -245,8 +268,8 @@ def _puma_run(T, base_inv, tool_inv, q0phi, d6, cs, s4, s5, s1, d1, a1, a2, Z, e
                 w = 1.0 if k == 0 else -1.0
                 p5 = math.atan2(w * h, -s4 * s5 * mz2)
                 p4 = q0phi[i, 3] if sing else math.atan2((w * s5) * mz1, (w * s5) * mz0)
-                e0, e1, e2 = _rotate_back(mx0, mx1, mx2, math.cos(p4), math.sin(p4), cs[2, 0], cs[2, 1])
-                f0, f1, f2 = _rotate_back(e0, e1, e2, math.cos(p5), math.sin(p5), cs[3, 0], cs[3, 1])
+                e0, e1, e2 = _rotate_back(mx0, mx1, mx2, math.cos(p4), math.sin(p4), g[cs + 4], g[cs + 5])
+                f0, f1, f2 = _rotate_back(e0, e1, e2, math.cos(p5), math.sin(p5), g[cs + 6], g[cs + 7])
                 for j in range(3):
                     out[i, b, k, j] = phi[i, b, j]
                 out[i, b, k, 3] = p4
@@ -255,25 +278,26 @@ def _puma_run(T, base_inv, tool_inv, q0phi, d6, cs, s4, s5, s1, d1, a1, a2, Z, e
                 lab[i, b, k] = (4 if b < 2 else 0) + 2 * (1 if up[i, b] else 0) + (1 if k == 0 else 0)
 
 
-def spherical_wrist(T, base_inv, tool_inv, q0phi, d6, cs, s4, s5, pos):
-    """Joint values ``(B, 4, 2, 6)``, label indices ``(B, 4, 2)``, wrist-singular flags ``(B, 4)`` and the
-    positioner's arrays;
-    ``cs`` ``(4, 2)``: cosine and sine of the twists alpha 1, 3, 4 and 5."""
+def spherical_wrist(T, g, q0phi):
+    """Poses ``T`` (B, 4, 4), geometry ``g`` (layout ``SW_*``), reference joints ``q0phi`` (B, 6) ->
+    joint values ``(B, 4, 2, 6)``, label indices ``(B, 4, 2)``, wrist-singular flags ``(B, 4)`` and the
+    positioner's arrays."""
     B = T.shape[0]
     arrs = _pos_arrays(B)
     out, lab, singular = np.empty((B, 4, 2, 6)), np.empty((B, 4, 2), np.int64), np.empty((B, 4), dtype=np.bool_)
-    _split(_puma_run, B, T, base_inv, tool_inv, q0phi, d6, cs, float(s4), float(s5), float(pos.s1), pos.d1, pos.a1,
-           pos.a2, pos.Z, pos.ell, pos.beta, 1e-12 * pos.scale, out, lab, singular, *arrs)
+    _split(_puma_run, B, T, g, q0phi, (out, lab, singular, arrs))
     return out, lab, singular, arrs
 
 
 # ----------------------------------------------------------------------------- UR
 @njit(cache=True)
-def _ur_run(T, base_inv, tool_inv, q0phi, s1, s4, s5, D, d1, d4, d5, d6, a2, a3, tiny,
-            out, up, lab, unreach, lat, rho, r, on_axis, singular, lo, hi):
+def _ur_run(T, g, q0phi, outs, lo, hi):
+    out, up, lab, unreach, lat, rho, r, on_axis, singular = outs
+    s1, s4, s5, D, tiny = g[UR_S1], g[UR_S4], g[UR_S5], g[UR_D], g[UR_TINY]
+    d1, d4, d5, d6, a2, a3 = g[UR_D1], g[UR_D4], g[UR_D5], g[UR_D6], g[UR_A2], g[UR_A3]
     for i in prange(lo, hi):
         Tc = np.empty((3, 4))
-        _chain(T, i, base_inv, tool_inv, Tc)
+        _chain(T, i, g, Tc)
         p5x = Tc[0, 3] - d6 * Tc[0, 2]
         p5y = Tc[1, 3] - d6 * Tc[1, 2]
         rh = math.hypot(p5x, p5y)
@@ -333,16 +357,17 @@ def _ur_run(T, base_inv, tool_inv, q0phi, s1, s4, s5, D, d1, d4, d5, d6, a2, a3,
                     unreach[i, sh, wi, e] = out_of
 
 
-def ur(T, base_inv, tool_inv, q0phi, s1, s4, s5, D, d1, d4, d5, d6, a2, a3, tiny):
-    """Joint values ``(B, 2, 2, 2, 6)``, label indices and unreachable ``(B, 2, 2, 2)``, lateral_out, rho ``(B,)``,
+
+def ur(T, g, q0phi):
+    """Poses ``T`` (B, 4, 4), geometry ``g`` (layout ``UR_*``), reference joints ``q0phi`` (B, 6) -> joint
+    values ``(B, 2, 2, 2, 6)``, label indices and unreachable ``(B, 2, 2, 2)``, lateral_out, rho ``(B,)``,
     r ``(B, 2, 2)``, on_axis ``(B,)`` and singular ``(B, 2, 2)``."""
     B = T.shape[0]
     out, up, unreach = np.empty((B, 2, 2, 2, 6)), np.empty((B, 2, 2, 2), np.bool_), np.empty((B, 2, 2, 2), np.bool_)
     lab = np.empty((B, 2, 2, 2), np.int64)
     lat, rho, r = np.empty(B, np.bool_), np.empty(B), np.empty((B, 2, 2))
     on_axis, singular = np.empty(B, np.bool_), np.empty((B, 2, 2), np.bool_)
-    _split(_ur_run, B, T, base_inv, tool_inv, q0phi, float(s1), float(s4), float(s5), D, d1, d4, d5, d6, a2, a3,
-           tiny, out, up, lab, unreach, lat, rho, r, on_axis, singular)
+    _split(_ur_run, B, T, g, q0phi, (out, up, lab, unreach, lat, rho, r, on_axis, singular))
     return out, lab, unreach, lat, rho, r, on_axis, singular
 
 
@@ -367,22 +392,25 @@ def _wrap_one(v, q0, lo, hi, revolute):
 
 
 @njit(cache=True, inline="always")
-def _widened(lower, upper, prismatic):
-    """``lower - 1e-12, upper + 1e-12, ~prismatic`` as loops. Array expressions and slice assignments make
-    Numba compile its shape-mismatch error message (integer-to-string formatting): ~3 s on first use."""
-    n = lower.shape[0]
+def _widened(joints):
+    """``lower - 1e-12, upper + 1e-12, ~prismatic`` of the joint table, as loops. Array expressions and slice
+    assignments make Numba compile its shape-mismatch error message (integer-to-string formatting): ~3 s on
+    first use."""
+    n = joints.shape[1]
     lo, hi, revolute = np.empty(n), np.empty(n), np.empty(n, np.bool_)
     for j in range(n):
-        lo[j] = lower[j] - 1e-12
-        hi[j] = upper[j] + 1e-12
-        revolute[j] = not prismatic[j]
+        lo[j] = joints[JOINT_LOWER, j] - 1e-12
+        hi[j] = joints[JOINT_UPPER, j] + 1e-12
+        revolute[j] = joints[JOINT_PRISMATIC, j] == 0.0
     return lo, hi, revolute
 
 
 @njit(cache=True)
-def _pick_run(rawq, theta, q0, lower, upper, prismatic, unreach, enforce, qb, pick, clean, first, last):
+def _pick_run(rawq, joints, q0, unreach, enforce, outs, first, last):
+    qb, pick, clean = outs
+    theta = joints[JOINT_THETA]
     m, n = rawq.shape[1], rawq.shape[2]
-    lo, hi, revolute = _widened(lower, upper, prismatic)
+    lo, hi, revolute = _widened(joints)
     for i in prange(first, last):
         best, bd = 0, np.inf
         dist = np.empty(m)
@@ -412,21 +440,22 @@ def _pick_run(rawq, theta, q0, lower, upper, prismatic, unreach, enforce, qb, pi
         clean[i] = cand[best] and not near
 
 
-def wrap_pick(rawq, theta, q0, lower, upper, prismatic, unreachable, enforce):
+def wrap_pick(rawq, joints, q0, unreachable, enforce):
     """Per target, the branch nearest ``q0`` among those not clipped (and inside the limits when ``enforce``):
     its wrapped joint values ``(B, n)``, its index ``(B,)``, and whether it is such a candidate with no clipped
-    branch as near ``(B,)``."""
+    branch as near ``(B,)``. ``rawq`` (B, m, n) DH angles, ``joints`` the joint table (``_layout.JOINT_*``)."""
     B, m, n = rawq.shape
-    qb = np.empty((B, n))
-    pick, clean = np.empty(B, np.int64), np.empty(B, np.bool_)
-    _split(_pick_run, B, rawq, theta, q0, lower, upper, prismatic, unreachable, enforce, qb, pick, clean)
-    return qb, pick, clean
+    outs = (np.empty((B, n)), np.empty(B, np.int64), np.empty(B, np.bool_))
+    _split(_pick_run, B, rawq, joints, q0, unreachable, enforce, outs)
+    return outs
 
 
 @njit(cache=True)
-def _wrap_dist_run(rawq, theta, q0, lower, upper, prismatic, q, dist, first, last):
+def _wrap_dist_run(rawq, joints, q0, outs, first, last):
+    q, dist = outs
+    theta = joints[JOINT_THETA]
     m, n = rawq.shape[1], rawq.shape[2]
-    lo, hi, revolute = _widened(lower, upper, prismatic)
+    lo, hi, revolute = _widened(joints)
     for i in prange(first, last):
         for b in range(m):
             s = 0.0
@@ -438,18 +467,20 @@ def _wrap_dist_run(rawq, theta, q0, lower, upper, prismatic, q, dist, first, las
             dist[i, b] = math.sqrt(s)
 
 
-def wrap_dist(rawq, theta, q0, lower, upper, prismatic):
+def wrap_dist(rawq, joints, q0):
     """Wrapped joint values ``(B, m, n)`` (:func:`~armkit.ik.analytic.wrap_to_limits`) and their distances
-    ``(B, m)`` to ``q0`` (revolute joints)."""
+    ``(B, m)`` to ``q0`` (revolute joints); ``joints`` the joint table (``_layout.JOINT_*``)."""
     B, m, n = rawq.shape
-    q, dist = np.empty((B, m, n)), np.empty((B, m))
-    _split(_wrap_dist_run, B, rawq, theta, q0, lower, upper, prismatic, q, dist)
-    return q, dist
+    outs = (np.empty((B, m, n)), np.empty((B, m)))
+    _split(_wrap_dist_run, B, rawq, joints, q0, outs)
+    return outs
 
 
 # ------------------------------------------------------------------------- sort
 @njit(cache=True)
-def _sort_run(ok, dist, q, dp, dr, within, order, qs, oks, dps, drs, ws, first, last):
+def _sort_run(ins, outs, first, last):
+    ok, dist, q, dp, dr, within = ins
+    order, qs, oks, dps, drs, ws = outs
     m = ok.shape[1]
     for i in prange(first, last):
         key = np.empty(m)
@@ -477,35 +508,15 @@ def sort_branches(ok, dist, q, dp, dr, within):
     B, m = ok.shape
     out = (np.empty((B, m), np.int64), np.empty_like(q), np.empty((B, m), np.bool_), np.empty((B, m)),
            np.empty((B, m)), np.empty((B, m), np.bool_))
-    _split(_sort_run, B, ok, dist, q, dp, dr, within, *out)
+    _split(_sort_run, B, (ok, dist, q, dp, dr, within), out)
     return out
-
-
-# ------------------------------------------------------------------ target check
-@njit(cache=True)
-def _rigid_run(T, bad, first, last):
-    for i in prange(first, last):
-        ok = T[i, 3, 0] == 0.0 and T[i, 3, 1] == 0.0 and T[i, 3, 2] == 0.0 and T[i, 3, 3] == 1.0
-        for a in range(3):
-            for b in range(3):
-                dot = T[i, 0, a] * T[i, 0, b] + T[i, 1, a] * T[i, 1, b] + T[i, 2, a] * T[i, 2, b]
-                if not abs(dot - (1.0 if a == b else 0.0)) <= 1e-6:
-                    ok = False
-        det = (T[i, 0, 0] * (T[i, 1, 1] * T[i, 2, 2] - T[i, 1, 2] * T[i, 2, 1])
-               - T[i, 0, 1] * (T[i, 1, 0] * T[i, 2, 2] - T[i, 1, 2] * T[i, 2, 0])
-               + T[i, 0, 2] * (T[i, 1, 0] * T[i, 2, 1] - T[i, 1, 1] * T[i, 2, 0]))
-        bad[i] = not (ok and abs(det - 1.0) <= 1e-6)
-
-
-def rigid(T):
-    """True when every pose of ``T`` (B, 4, 4) is rigid: ``R^T R = I`` and ``det R = 1`` within 1e-6, last row
-    exactly (0, 0, 0, 1) (the test of ``armkit.ik.api._rigid``)."""
-    bad = np.empty(T.shape[0], np.bool_)
-    _split(_rigid_run, T.shape[0], T, bad)
-    return not bad.any()
 
 
 def parallel_twins():
     """``(one-thread kernel, multi-threaded kernel)`` pairs taking the same arguments (for the warm-up)."""
     return [(run, _par(run)) for run in (_planar2_run, _planar3_run, _ypp_run, _puma_run, _ur_run, _pick_run,
-                                         _wrap_dist_run, _sort_run, _rigid_run)]
+                                         _wrap_dist_run, _sort_run)]
+
+
+# the kernels read the indices of _layout.py as compile-time constants: compiled anew when it changes
+_jit_loader.forget_stale_cache(globals(), ("ik/analytic/_layout.py",))

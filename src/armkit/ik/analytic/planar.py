@@ -25,8 +25,11 @@ target with ``x >= 0`` that is ``sin q_2 < 0``.
 from __future__ import annotations
 
 import math
+from functools import cached_property
 
 import numpy as np
+
+from . import _layout as L
 
 from ._common import (ANGLE_TOL, Array, Raw, StandardForm, add_messages, elbow_edge, elbow_up, forward_sign, jit_kernels,
                       out_of_reach, two_link)
@@ -55,6 +58,7 @@ class Planar2R:
     """Closed form for 2R arms with parallel axes."""
 
     family = "planar-2r"
+    branch_labels = tuple(_LABELS)
     pose_only = False
     m = 2
 
@@ -84,6 +88,14 @@ class Planar2R:
 
     z_plane: float | None = None
 
+    @cached_property
+    def geometry(self) -> Array:
+        """The packed geometry of the Numba kernel (layout ``_layout.P2_*``), built once."""
+        g = L.header(L.P2_SIZE, self.sf.base_inv, self.sf.tool_inv)
+        g[L.P2_L1], g[L.P2_ELL], g[L.P2_BETA] = self.sf.a[0], self.ell, self.beta
+        g.setflags(write=False)
+        return g
+
     def _with_offset(self, why, pts: Array):
         """``why(i)`` plus how far target ``i // 2`` lies off the arm's plane, when it does."""
         z_plane = self.z_plane
@@ -103,8 +115,7 @@ class Planar2R:
         pts = target[:, :3, 3] if target.ndim == 3 else target
         jit = jit_kernels()
         if jit is not None:
-            q, idx, c, r, unreachable, edge = jit.planar2(np.ascontiguousarray(pts), self.sf.base_inv,
-                                                          float(self.sf.a[0]), self.ell, self.beta)
+            q, idx, c, r, unreachable, edge = jit.planar2(np.ascontiguousarray(pts), self.geometry)
             if self.sign < 0:
                 q = np.array(q)
                 q[..., 1] *= -1.0
@@ -122,6 +133,7 @@ class Planar3R:
     """Closed form for 3R arms with parallel axes; the target fixes the end angle."""
 
     family = "planar-3r"
+    branch_labels = tuple(_LABELS)
     pose_only = True
     m = 2
 
@@ -134,13 +146,20 @@ class Planar3R:
             return None
         return cls(sf, robot.unit)
 
+    @cached_property
+    def geometry(self) -> Array:
+        """The packed geometry of the Numba kernel (layout ``_layout.P3_*``), built once."""
+        g = L.header(L.P3_SIZE, self.sf.base_inv, self.sf.tool_inv)
+        g[L.P3_L1], g[L.P3_L2] = self.sf.a[0], self.sf.a[1]
+        g.setflags(write=False)
+        return g
+
     def solve(self, target: Array, q0phi: Array) -> Raw:
         l1, l2 = float(self.sf.a[0]), float(self.sf.a[1])
         what = "for this end angle, the wrist point (target minus tool and last link)"
         jit = jit_kernels()
         if jit is not None:
-            q, idx, c, r, unreachable, edge = jit.planar3(np.ascontiguousarray(target), self.sf.base_inv,
-                                                          self.sf.tool_inv, l1, l2)
+            q, idx, c, r, unreachable, edge = jit.planar3(np.ascontiguousarray(target), self.geometry)
             _, why, note = _explain(c, r, l1, l2, self.unit, what, (unreachable, edge))
             return Raw(q, _LABELS[idx], unreachable, why, note)
         Tc = self.sf.to_chain(target)

@@ -27,8 +27,11 @@ simple manipulators", IEEE Trans. SMC 11(6), 1981.
 from __future__ import annotations
 
 import math
+from functools import cached_property
 
 import numpy as np
+
+from . import _layout as L
 
 from ._common import Array, Raw, StandardForm, add_messages, jit_kernels, rotate_back
 from .yaw_pitch_pitch import Positioner
@@ -45,6 +48,7 @@ class SphericalWrist:
     last three axes meet in a point."""
 
     family = "spherical-wrist"
+    branch_labels = tuple(_LABELS)
     pose_only = True
     m = 8
 
@@ -66,6 +70,15 @@ class SphericalWrist:
         v = np.array([sf.a[2], -signs[0] * sf.d[3], sf.d[2]])
         pos = Positioner.build(sf, v)
         return None if pos is None else cls(sf, pos, signs, robot.unit, robot.joint_names)
+
+    @cached_property
+    def geometry(self) -> Array:
+        """The packed geometry of the Numba kernel (layout ``_layout.POS_*`` then ``SW_*``), built once."""
+        g = self.pos.geometry(L.SW_SIZE, self.sf)
+        g[L.SW_D6], g[L.SW_S4], g[L.SW_S5] = self.sf.d[5], self.s4, self.s5
+        g[L.SW_CS:L.SW_CS + 8] = self._cs.reshape(8)
+        g.setflags(write=False)
+        return g
 
     def _solve_numpy(self, target: Array, q0phi: Array) -> tuple[Array, Array, dict]:
         sf = self.sf
@@ -100,9 +113,8 @@ class SphericalWrist:
         B = len(target)
         jit = jit_kernels()
         if jit is not None:
-            out, idx, singular, arrays = jit.spherical_wrist(np.ascontiguousarray(target), sf.base_inv, sf.tool_inv,
-                                                        np.ascontiguousarray(q0phi), float(sf.d[5]), self._cs,
-                                                        self.s4, self.s5, self.pos)
+            out, idx, singular, arrays = jit.spherical_wrist(np.ascontiguousarray(target), self.geometry,
+                                                             np.ascontiguousarray(q0phi))
             sol = self.pos.as_dict(arrays)
         else:
             out, singular, sol = self._solve_numpy(target, q0phi)

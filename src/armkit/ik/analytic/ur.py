@@ -33,8 +33,11 @@ Georgia Institute of Technology technical report, 2013.
 from __future__ import annotations
 
 import math
+from functools import cached_property
 
 import numpy as np
+
+from . import _layout as L
 
 from ._common import LENGTH_TOL, Array, Raw, StandardForm, add_messages, elbow_up, forward_sign, jit_kernels, two_link
 
@@ -48,6 +51,7 @@ class ParallelAxes:
     """Closed form for UR-type 6R arms."""
 
     family = "ur"
+    branch_labels = tuple(_LABELS)
     pose_only = True
     m = 8
 
@@ -68,6 +72,17 @@ class ParallelAxes:
         if not all(sf.is_zero(x) for x in zero) or any(sf.is_zero(x) for x in nonzero):
             return None
         return cls(sf, signs, robot.unit, robot.joint_names)  # type: ignore[arg-type]
+
+    @cached_property
+    def geometry(self) -> Array:
+        """The packed geometry of the Numba kernel (layout ``_layout.UR_*``), built once."""
+        sf = self.sf
+        g = L.header(L.UR_SIZE, sf.base_inv, sf.tool_inv)
+        g[L.UR_S1], g[L.UR_S4], g[L.UR_S5], g[L.UR_D] = self.s1, self.s4, self.s5, self.D
+        g[L.UR_D1], g[L.UR_D4], g[L.UR_D5], g[L.UR_D6] = sf.d[0], sf.d[3], sf.d[4], sf.d[5]
+        g[L.UR_A2], g[L.UR_A3], g[L.UR_TINY] = sf.a[1], sf.a[2], LENGTH_TOL * sf.scale
+        g.setflags(write=False)
+        return g
 
     def _solve_numpy(self, target: Array, q0phi: Array, want_xy: bool = False) -> tuple:
         sf, s1, s4, s5, D = self.sf, self.s1, self.s4, self.s5, self.D
@@ -177,15 +192,13 @@ class ParallelAxes:
                 idx[sub, sh, wr] = _BRANCH[0, sh, wr] + up[:, sh, wr].astype(int)
 
     def solve(self, target: Array, q0phi: Array) -> Raw:
-        sf, s1, s4, s5, D = self.sf, self.s1, self.s4, self.s5, self.D
+        sf, D = self.sf, self.D
         a2, a3 = sf.a[1], sf.a[2]
         B = len(target)
         jit = jit_kernels()
         if jit is not None:
             out, idx, unreachable, lateral_out, rho, r, on_axis, singular = jit.ur(
-                np.ascontiguousarray(target), sf.base_inv, sf.tool_inv, np.ascontiguousarray(q0phi), s1, s4, s5, D,
-                float(sf.d[0]), float(sf.d[3]), float(sf.d[4]), float(sf.d[5]), float(a2), float(a3),
-                LENGTH_TOL * sf.scale)
+                np.ascontiguousarray(target), self.geometry, np.ascontiguousarray(q0phi))
         else:
             out, up, unreachable, lateral_out, rho, r, on_axis, singular = self._solve_numpy(target, q0phi)
             idx = _BRANCH + up.astype(int)

@@ -23,8 +23,11 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
+
+from . import _layout as L
 
 from ._common import (LENGTH_TOL, Array, Raw, StandardForm, add_messages, elbow_edge, elbow_up, forward_sign,
                       jit_kernels, out_of_reach, two_link)
@@ -56,6 +59,13 @@ class Positioner:
             return None
         return cls(s1, float(sf.d[0]), float(sf.a[0]), float(sf.a[1]), float(sf.d[1] + v[2]), ell,
                    math.atan2(v[1], v[0]), sf.scale)
+
+    def geometry(self, size: int, sf: StandardForm) -> Array:
+        """A packed geometry array of ``size`` values (``_layout``) with the frames and the ``POS_*`` values."""
+        g = L.header(size, sf.base_inv, sf.tool_inv)
+        g[L.POS_S1], g[L.POS_D1], g[L.POS_A1], g[L.POS_A2] = self.s1, self.d1, self.a1, self.a2
+        g[L.POS_Z], g[L.POS_ELL], g[L.POS_BETA], g[L.POS_TINY] = self.Z, self.ell, self.beta, LENGTH_TOL * self.scale
+        return g
 
     @property
     def outer(self) -> float:
@@ -128,6 +138,7 @@ class YawPitchPitch:
     """Closed form for 3R arms with a yaw joint followed by two parallel pitch joints."""
 
     family = "yaw-pitch-pitch"
+    branch_labels = tuple(_LABELS)
     pose_only = False
     m = 4
 
@@ -142,12 +153,19 @@ class YawPitchPitch:
         pos = Positioner.build(sf, v)
         return None if pos is None else cls(sf, pos, robot.unit, robot.joint_names[0])
 
+    @cached_property
+    def geometry(self) -> Array:
+        """The packed geometry of the Numba kernel (layout ``_layout.POS_*``), built once."""
+        g = self.pos.geometry(L.POS_SIZE, self.sf)
+        g.setflags(write=False)
+        return g
+
     def solve(self, target: Array, q0phi: Array) -> Raw:
         pts = target[:, :3, 3] if target.ndim == 3 else target
         jit = jit_kernels()
         if jit is not None:
-            sol = self.pos.as_dict(jit.yaw_pitch_pitch(np.ascontiguousarray(pts), self.sf.base_inv,
-                                                       np.ascontiguousarray(q0phi[:, 0]), self.pos))
+            sol = self.pos.as_dict(jit.yaw_pitch_pitch(np.ascontiguousarray(pts), self.geometry,
+                                                       np.ascontiguousarray(q0phi[:, 0])))
         else:
             sol = self.pos.solve(self.sf.point_to_chain(pts), q0phi[:, 0])
         idx = sol["label"] if "label" in sol else 2 * sol["front"].astype(int) + sol["up"].astype(int)

@@ -1,0 +1,52 @@
+"""The packed geometry of the closed-form families: one float64 array per robot, read by the Numba kernels.
+
+Each family's ``pack()`` (see :class:`armkit.ik.analytic.ClosedFormFamily`) builds it once per
+robot (the solver is kept in the robot's cache); :mod:`._jit` reads it at the indices named
+here. Every layout starts with the two frames every family needs:
+
+================  =====  ==========================================================
+index             size   value
+================  =====  ==========================================================
+``BASE_INV``      16     ``B'^-1`` row by row (see :mod:`._common`)
+``TOOL_INV``      16     ``T'^-1`` row by row
+================  =====  ==========================================================
+
+followed by the family's lengths and signs (below, each with its own names). The joint
+table of the wrap/pick/sort kernels is a separate ``(4, n)`` array (:data:`JOINT_ROWS`).
+This module imports nothing, so the NumPy path can build the arrays without Numba.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+BASE_INV, TOOL_INV, HEADER = 0, 16, 32
+
+# planar-2r: the link lengths a_1 and ell, and the tool point's angle beta in the last link
+P2_L1, P2_ELL, P2_BETA, P2_SIZE = 32, 33, 34, 35
+# planar-3r: the link lengths a_1, a_2
+P3_L1, P3_L2, P3_SIZE = 32, 33, 34
+# yaw-pitch-pitch positioner (also the first part of spherical-wrist): see yaw_pitch_pitch.Positioner
+POS_S1, POS_D1, POS_A1, POS_A2, POS_Z, POS_ELL, POS_BETA, POS_TINY, POS_SIZE = 32, 33, 34, 35, 36, 37, 38, 39, 40
+# spherical-wrist: the positioner, then d_6, the twist signs s_4, s_5 and cos/sin of alpha 1, 3, 4, 5
+SW_D6, SW_S4, SW_S5, SW_CS, SW_SIZE = 40, 41, 42, 43, 51
+# ur: twist signs s_1, s_4, s_5, the shoulder offset D, lengths d_1, d_4, d_5, d_6, a_2, a_3, and zero length
+UR_S1, UR_S4, UR_S5, UR_D, UR_D1, UR_D4, UR_D5, UR_D6, UR_A2, UR_A3, UR_TINY, UR_SIZE = range(32, 44)
+
+JOINT_THETA, JOINT_LOWER, JOINT_UPPER, JOINT_PRISMATIC, JOINT_ROWS = 0, 1, 2, 3, 4
+"""Rows of the joint table ``(JOINT_ROWS, n)``: DH offset theta, lower and upper limit, 1.0 for prismatic."""
+
+
+def header(size: int, base_inv: np.ndarray, tool_inv: np.ndarray) -> np.ndarray:
+    """A zeroed geometry array of ``size`` values with the two frames written in."""
+    g = np.zeros(size)
+    g[BASE_INV:BASE_INV + 16] = np.asarray(base_inv, dtype=float).reshape(16)
+    g[TOOL_INV:TOOL_INV + 16] = np.asarray(tool_inv, dtype=float).reshape(16)
+    return g
+
+
+def joint_table(theta: np.ndarray, lower: np.ndarray, upper: np.ndarray, prismatic: np.ndarray) -> np.ndarray:
+    """The ``(JOINT_ROWS, n)`` joint table, read-only."""
+    t = np.ascontiguousarray(np.stack([theta, lower, upper, np.asarray(prismatic, dtype=float)]), dtype=float)
+    t.setflags(write=False)
+    return t

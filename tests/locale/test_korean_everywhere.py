@@ -1,0 +1,215 @@
+"""Issue 11: every command, run with --lang ko in typical and failing cases, prints Korean.
+
+The test fails on any English word in a command's output (stdout and stderr) or in the labels
+it gives matplotlib (titles, axis labels, legends, colour-bar labels, texts; read from the
+figure when it is saved, not from pixels) unless the word is
+
+- a name: of a robot, joint, link or IK branch (read from the robots themselves), a file, or
+  user text echoed in quotes;
+- a unit (mm, m, deg, rad, s ...), an option (``--deg``), or an identifier a user types or a
+  formula uses (``q1``, ``theta2``, ``x``, ``vx``, ``J``, ``T_world_tool`` ...): :data:`SYMBOLS`;
+- text of a robot file (a robot's description and source), which is the file author's, not armkit's.
+
+The allow-list is short and holds no common English word; what it holds is said next to it.
+"""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import pytest
+from typer.testing import CliRunner
+
+import armkit
+from armkit.cli import app
+
+runner = CliRunner()
+ENV = {"LC_ALL": None, "LC_MESSAGES": None, "LANG": None, "ARMKIT_LANG": None, "COLUMNS": "1000"}
+
+UNITS = {"mm", "m", "cm", "deg", "rad", "s", "ms", "Hz", "fps"}
+# identifiers a user types or a formula uses: coordinates and their rates, twist rows, DH parameters and
+# conventions, matrix and frame symbols (T_world_tool), functions in formulas, shell commands, file kinds
+SYMBOLS = {"x", "y", "z", "X", "Y", "Z", "vx", "vy", "vz", "wx", "wy", "wz", "v", "w", "d", "a", "alpha", "theta",
+           "phi", "roll", "pitch", "yaw", "pi", "J", "T", "R", "P", "p", "i", "j", "k", "n", "c", "r", "e", "DH",
+           "URDF", "TOML", "CSV", "JSON", "PNG", "GIF", "IK", "FK", "LM", "DLS", "CCD", "FABRIK", "sqrt", "det",
+           "cos", "sin", "atan", "Rz", "Rx", "Tz", "Tx", "A_i", "alpha_i", "theta_i", "d_i", "a_i", "sigma_min",
+           "armkit", "help", "exit", "quit", "goto", "branch", "auto", "home", "limits", "ground", "box", "clear",
+           "scene", "units", "lang", "show", "q", "en", "ko", "Ctrl", "D", "std", "mod", "Craig", "pinv", "dls",
+           "lm", "newton", "ccd", "fabrik", "analytic", "cubic", "quintic", "trapezoid", "numpy", "NumPy", "Numba",
+           "rpy", "xyz", "toml", "urdf", "true", "false", "null"}
+# the commands, as a user types them (armkit info, armkit reach build)
+COMMANDS = {c.name or c.callback.__name__ for c in app.registered_commands} | {
+    g.name for g in app.registered_groups} | {"build", "show", "query", "base"}
+# a symbol with an index (q1, theta_2, alpha_{i-1}, c12, X0, T_world_tool) or a snake_case identifier
+IDENTIFIER = re.compile(r"[A-Za-z]{1,5}(\d+|_\{?[\w-]*\}?)|[a-z]+_[a-z_0-9]+|[RP]+")   # RRPRRR: joint types
+WORD = re.compile(r"[A-Za-z][A-Za-z0-9_]*")
+
+
+def _robot_words(names: tuple[str, ...]) -> tuple[set[str], list[str]]:
+    """Names (robots, joints, links, IK branches) and robot-file texts (description, source) of the robots."""
+    import numpy as np
+
+    from armkit.ik import ik_all
+    from armkit.ik.analytic import closed_form
+    from armkit.kinematics import fk
+
+    words, texts = set(armkit.bundled_robots()), []
+    for name in names:
+        r = armkit.load(name)
+        for n in (*r.joint_names, *r.link_names, *(lk.name for lk in r.links), *r.ignored_joints):
+            words.update(re.split(r"[^A-Za-z0-9_]+", n))
+        texts += [r.description, " ".join(r.source.split())]
+        if closed_form(r) is not None:
+            words.update(re.split(r"[^A-Za-z0-9_]+", closed_form(r).family))   # the solver family's name
+            try:
+                res = ik_all(r, fk(r, np.full(r.n, 0.3)))
+            except Exception:   # a closed form that needs more than a pose (pitch=): no branch names
+                continue
+            for b in np.atleast_1d(res.branch):
+                words.update(w for w in re.split(r"[^A-Za-z0-9_]+", str(b)) if w)
+    return words, texts
+
+
+ROBOTS = ("fighter", "planar2", "planar3", "puma560", "so101", "ur5", "panda", "iiwa14", "stanford")
+NAMES, ROBOT_TEXTS = _robot_words(ROBOTS)
+
+
+def english_words(text: str, extra: set[str] = frozenset()) -> list[str]:
+    """The English words of ``text`` that are not names, units, options, symbols or robot-file text."""
+    for t in sorted(ROBOT_TEXTS, key=len, reverse=True):
+        if t:
+            text = text.replace(t, " ")
+    cells = re.split(r"[│┃\n]", text)   # table cells cut from a robot file's text (a short source ends in …)
+    text = "\n".join(c for c in cells if not (c.strip() and any(c.strip().rstrip("… ") in t for t in ROBOT_TEXTS
+                                                                 if len(c.strip()) > 3)))
+    text = re.sub(r"'[^'\n]*'|\"[^\"\n]*\"", " ", text)            # user text and names echoed in quotes
+    text = re.sub(r"(?<![\w-])--?[A-Za-z][\w-]*", " ", text)      # options
+    text = re.sub(r"\S*[/\\]\S*\.\w+|\b\w+\.(png|gif|mp4|csv|urdf|toml|zarr|svg|pdf|json|py|tex)\b", " ", text)
+    text = re.sub(r"\d+(\.\d+)?e[+-]?\d+", " ", text)              # 1.6e-14
+    out = []
+    for w in WORD.findall(text):
+        if w in NAMES or w in UNITS or w in SYMBOLS or w in COMMANDS or w in extra or IDENTIFIER.fullmatch(w):
+            continue
+        out.append(w)
+    return out
+
+
+@pytest.fixture
+def figure_texts(monkeypatch):
+    """Every text of every figure saved (or animation written) during the test, Korean fonts assumed present."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from matplotlib.animation import Animation
+    from matplotlib.figure import Figure
+    from matplotlib.text import Text
+
+    from armkit.locale import fonts
+
+    monkeypatch.setattr(fonts, "korean_font", lambda: "DejaVu Sans")
+    seen: list[str] = []
+
+    def collect(fig) -> None:
+        seen.extend(t.get_text() for t in fig.findobj(Text) if t.get_visible() and t.get_text())
+
+    save_fig, save_anim = Figure.savefig, Animation.save
+
+    def savefig(self, *a, **kw):
+        collect(self)
+        return save_fig(self, *a, **kw)
+
+    def save(self, *a, **kw):
+        collect(self._fig)
+        return save_anim(self, *a, **kw)
+
+    monkeypatch.setattr(Figure, "savefig", savefig)
+    monkeypatch.setattr(Animation, "save", save)
+    return seen
+
+
+SHELL_SCRIPT = "\n".join(["help", "theta4 = 3", "yaw = 400", "q 1 2", "goto 300 0 0", "theta2 = 90/2",
+                          "goto 100 50 80", "branch", "branch elbow-up", "x = abc", "limits", "show", "exit"]) + "\n"
+
+# (id, arguments, stdin, exit code); PATH is replaced by a temporary folder
+CASES = [
+    ("robots", ["robots"], None, 0),
+    ("info", ["info", "fighter"], None, 0),
+    ("info-urdf", ["info", "so101"], None, 0),
+    ("info-unknown-robot", ["info", "nosuch"], None, 2),
+    ("convert", ["convert", "fighter", "PATH/fighter.urdf"], None, 0),
+    ("convert-unknown-robot", ["convert", "nosuch", "PATH/x.toml"], None, 2),
+    ("fk", ["fk", "fighter", "30", "45", "60", "--deg"], None, 0),
+    ("fk-limits-no-deg", ["fk", "fighter", "30", "45", "60"], None, 0),
+    ("fk-bad-number", ["fk", "fighter", "1", "x", "2"], None, 2),
+    ("fk-unknown-robot", ["fk", "nosuch", "1", "2", "3"], None, 2),
+    ("fk-count", ["fk", "fighter", "1", "2"], None, 2),
+    ("jacobian", ["jacobian", "fighter", "30", "45", "60", "--deg"], None, 0),
+    ("jacobian-bad-frame", ["jacobian", "fighter", "0", "0", "0", "--frame", "world"], None, 2),
+    ("ik", ["ik", "fighter", "24.861", "14.353", "187.181"], None, 0),
+    ("ik-unreachable", ["ik", "fighter", "300", "0", "0"], None, 1),
+    ("ik-branch", ["ik", "planar2", "1.2", "0.3", "--branch", "elbow-up"], None, 0),
+    ("ik-numeric", ["ik", "planar3", "1.2", "0.3", "--method", "lm", "--seed", "1"], None, 0),
+    ("ik-bad-number", ["ik", "fighter", "1", "y", "2"], None, 2),
+    ("plot", ["plot", "fighter", "30", "45", "60", "--deg", "-o", "PATH/arm.png"], None, 0),
+    ("plot-bad-number", ["plot", "fighter", "1", "z", "2", "-o", "PATH/arm.png"], None, 2),
+    ("shell", ["shell", "fighter", "--no-plot"], SHELL_SCRIPT, 0),
+    ("workspace", ["workspace", "planar2", "-n", "3000", "-o", "PATH/ws.png"], None, 0),
+    ("workspace-bad", ["workspace", "planar2", "-n", "0"], None, 2),
+    ("maps", ["maps", "planar2", "--steps", "9", "-o", "PATH/maps.png"], None, 0),
+    ("track", ["track", "planar3", "--frames", "4", "-o", "PATH/track.gif"], None, 0),
+    ("track-bad-path", ["track", "planar3", "--path", "PATH/none.csv"], None, 2),
+    ("derive", ["derive", "planar2"], None, 0),
+    ("singular", ["singular", "planar2"], None, 0),
+    ("singular-fighter", ["singular", "fighter"], None, 0),
+    ("velocity", ["velocity", "planar2", "30", "45", "--deg", "--ee-vel", "0.1", "0"], None, 0),
+    ("velocity-twist", ["velocity", "fighter", "30", "45", "60", "--deg", "--q-vel", "10", "0", "0"], None, 0),
+    ("traj", ["traj", "fighter", "--joint", "0,0,0", "30,45,60", "--deg", "-o", "PATH/traj.png"], None, 0),
+    ("traj-line", ["traj", "planar2", "--line", "1.2,0.2", "0.6,0.9", "--steps", "10"], None, 0),
+    ("view-bad-port", ["view", "fighter", "--port", "0"], None, 2),
+    ("reach-build", ["reach", "build", "planar2", "-o", "PATH/m.zarr", "--resolution", "0.3"], None, 0),
+    ("reach-query-bad", ["reach", "query", "PATH/none.zarr", "1", "2", "x"], None, 2),
+    ("warmup-json", ["warmup", "--no-parallel", "--json"], None, 0),
+]
+
+
+@pytest.mark.parametrize("case, args, stdin, code", CASES, ids=[c[0] for c in CASES])
+def test_every_command_speaks_korean(case, args, stdin, code, tmp_path, figure_texts):
+    argv = [a.replace("PATH", str(tmp_path)) for a in args] + ["--lang", "ko"]
+    res = runner.invoke(app, argv, input=stdin, env=ENV)
+    out = (res.stdout or "") + (res.stderr or "")
+    assert res.exception is None or isinstance(res.exception, SystemExit), (res.exception, out)
+    assert res.exit_code == code, out
+    assert re.search(r"[가-힣]", out) or case.endswith("json"), out
+    out = out.replace(str(tmp_path), "PATH")
+    assert english_words(out) == [], out
+    assert english_words("\n".join(figure_texts)) == [], figure_texts
+
+
+def test_reach_map_show_and_query(tmp_path, figure_texts):
+    m = str(tmp_path / "m.zarr")
+    assert runner.invoke(app, ["reach", "build", "planar2", "-o", m, "--resolution", "0.3"], env=ENV).exit_code == 0
+    for argv in (["reach", "show", m, "-o", str(tmp_path / "m.png")], ["reach", "query", m, "0.5", "0.5", "0"]):
+        res = runner.invoke(app, argv + ["--lang", "ko"], env=ENV)
+        out = (res.stdout or "") + (res.stderr or "")
+        assert res.exit_code in (0, 1), out
+        assert english_words(out.replace(str(tmp_path), "PATH")) == [], out
+    assert figure_texts and english_words("\n".join(figure_texts)) == [], figure_texts
+
+
+def test_view_labels_are_korean():
+    """The browser view (started by `armkit view`, driven in tests/viz/view) draws its labels from the catalogue."""
+    from armkit.viz.view.labels import LABELS, label
+
+    fields = {"c": 12, "method": "lm", "branch": "front", "err": "1e-9", "unit": "mm", "message": "",
+              "k": 1, "m": 2, "state": "", "label": "", "d": 2, "detail": ""}
+    for key in (*LABELS, "joint", "end_point", "orientation", "branch", "limits", "value"):
+        ko = label(key, "ko", **fields)
+        assert english_words(ko) == [], (key, ko)
+
+
+def test_the_check_finds_english():
+    """The check is able to fail: plain English words are found, names and units are not."""
+    assert english_words("target not reached") == ["target", "not", "reached"]
+    assert english_words("관절 yaw = 30 deg, 끝점 (1, 2, 3) mm, q1 --deg 'hello' front/elbow-up") == []
+    assert english_words("오류: end point") == ["end", "point"]
