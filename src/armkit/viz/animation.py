@@ -60,64 +60,100 @@ def render_animation(robot: Robot, q: ArrayLike, out_path: str | Path, targets: 
     Q = robot.check_q(q, "q")
     if Q.ndim != 2 or len(Q) == 0:
         raise ShapeError(f"q must have shape (frames, {robot.n}), got {Q.shape}")
-    F = len(Q)
     T = None
     if targets is not None:
         T = np.asarray(targets, dtype=float)
-        if T.shape != (F, 3):
-            raise ShapeError(f"targets must have shape ({F}, 3) to match q, got {T.shape}")
+        if T.shape != (len(Q), 3):
+            raise ShapeError(f"targets must have shape ({len(Q)}, 3) to match q, got {T.shape}")
     if not isinstance(fps, (int, np.integer)) or fps < 1:
         raise ArgumentError(f"fps must be a positive integer, got {fps!r}")
-    require("matplotlib", "writing an animation")
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from matplotlib.figure import Figure
+    stage = _Stage(robot, Q, T, trail, trail_length, title, size, dpi)
+    _write_frames(out, stage, int(fps), progress, console)
+    return out
 
-    from ..analysis.workspace import is_planar
-    from .arm import setup_axes
 
-    planar = is_planar(robot)
-    fig = Figure(figsize=size, dpi=dpi)
-    canvas = FigureCanvasAgg(fig)
-    ax = fig.add_subplot(111) if planar else fig.add_subplot(111, projection="3d")
-    setup_axes(robot, ax, planar=planar)
-    if not planar:
-        fig.subplots_adjust(left=0.0, right=0.96, bottom=0.04, top=0.86)
-    else:
-        fig.subplots_adjust(left=0.13, right=0.97, bottom=0.1, top=0.86)
-    frames = fk_frames(robot, Q)                                  # (F, n+1, 4, 4)
-    sk = skeleton_batch(robot, frames)                            # (F, m, 3)
-    joints = (frames[:, :-1] @ robot.chain.pre)[..., :3, 3]       # (F, n, 3) points on the joint axes
-    ends = frames[:, -1, :3, 3]
-    dims = (0, 1) if planar else (0, 1, 2)
+class _Stage:
+    """The figure of an animation: the static parts drawn once, the moving artists blitted on them per frame."""
 
-    def put(artist: Any, pts: np.ndarray) -> None:
-        if planar:
+    trail_line: Any
+    arm: Any
+    jts: Any
+    end: Any
+    tgt: Any
+
+    def __init__(self, robot: Robot, Q: np.ndarray, T: Optional[np.ndarray], trail: bool, trail_length: int,
+                 title: Optional[str], size: tuple[float, float], dpi: int) -> None:
+        require("matplotlib", "writing an animation")
+        from matplotlib.backends.backend_agg import FigureCanvasAgg
+        from matplotlib.figure import Figure
+
+        from ..analysis.workspace import is_planar
+        from .arm import setup_axes
+
+        self.robot, self.Q, self.T, self.trail, self.trail_length = robot, Q, T, trail, trail_length
+        self.planar = planar = is_planar(robot)
+        fig = self.fig = Figure(figsize=size, dpi=dpi)
+        self.canvas = FigureCanvasAgg(fig)
+        ax = fig.add_subplot(111) if planar else fig.add_subplot(111, projection="3d")
+        setup_axes(robot, ax, planar=planar)
+        if not planar:
+            fig.subplots_adjust(left=0.0, right=0.96, bottom=0.04, top=0.86)
+        else:
+            fig.subplots_adjust(left=0.13, right=0.97, bottom=0.1, top=0.86)
+        frames = fk_frames(robot, Q)                                  # (F, n+1, 4, 4)
+        self.sk = skeleton_batch(robot, frames)                       # (F, m, 3)
+        self.joints = (frames[:, :-1] @ robot.chain.pre)[..., :3, 3]  # (F, n, 3) points on the joint axes
+        self.ends = frames[:, -1, :3, 3]
+        empty: list[list[float]] = [[] for _ in ((0, 1) if planar else (0, 1, 2))]
+        (self.trail_line,) = ax.plot(*empty, "-", color="#ff7f0e", lw=1.3, alpha=0.8,
+                                     label="end-point trail" if trail else None)
+        (self.arm,) = ax.plot(*empty, "-", color=COLORS[0], lw=3.2, solid_capstyle="round", label=robot.name)
+        (self.jts,) = ax.plot(*empty, "o", color="white", mec=COLORS[0], mew=2.0, ms=7)
+        (self.end,) = ax.plot(*empty, "*", color=COLORS[0], mec="black", mew=0.6, ms=13)
+        (self.tgt,) = ax.plot(*empty, "x", color="red", ms=11, mew=2.5, label="target" if T is not None else None)
+        if not trail:
+            self.trail_line.set_visible(False)
+        if T is None:
+            self.tgt.set_visible(False)
+        ax.legend(loc="upper left", fontsize=8, framealpha=0.85)
+        fig.suptitle(title or f"{robot.name}", fontsize=11)
+        self.info = fig.text(0.5, 0.895, "", ha="center", fontsize=8, color="0.25")
+        self.dynamic = [self.trail_line, self.arm, self.jts, self.end, self.tgt, self.info]
+        for a in self.dynamic:
+            a.set_animated(True)
+        self.canvas.draw()                              # the static picture once; frames are blitted on it
+        self.background = self.canvas.copy_from_bbox(fig.bbox)
+
+    def _put(self, artist: Any, pts: np.ndarray) -> None:
+        if self.planar:
             artist.set_data(pts[:, 0], pts[:, 1])
         else:
             artist.set_data_3d(pts[:, 0], pts[:, 1], pts[:, 2])
 
-    empty: list[list[float]] = [[] for _ in dims]
-    (trail_line,) = ax.plot(*empty, "-", color="#ff7f0e", lw=1.3, alpha=0.8, label="end-point trail" if trail else None)
-    (arm,) = ax.plot(*empty, "-", color=COLORS[0], lw=3.2, solid_capstyle="round", label=robot.name)
-    (jts,) = ax.plot(*empty, "o", color="white", mec=COLORS[0], mew=2.0, ms=7)
-    (end,) = ax.plot(*empty, "*", color=COLORS[0], mec="black", mew=0.6, ms=13)
-    (tgt,) = ax.plot(*empty, "x", color="red", ms=11, mew=2.5, label="target" if T is not None else None)
-    if not trail:
-        trail_line.set_visible(False)
-    if T is None:
-        tgt.set_visible(False)
-    ax.legend(loc="upper left", fontsize=8, framealpha=0.85)
-    fig.suptitle(title or f"{robot.name}", fontsize=11)
-    info = fig.text(0.5, 0.895, "", ha="center", fontsize=8, color="0.25")
-    dynamic = [trail_line, arm, jts, end, tgt, info]
-    for a in dynamic:
-        a.set_animated(True)
-    canvas.draw()                                   # the static picture once; frames are blitted on it
-    background = canvas.copy_from_bbox(fig.bbox)
+    def frame(self, k: int) -> np.ndarray:
+        """The RGB picture ``(H, W, 3)`` of frame ``k`` (a view of the canvas: copy it to keep it)."""
+        T, ends = self.T, self.ends
+        self._put(self.arm, self.sk[k])
+        self._put(self.jts, self.joints[k])
+        self._put(self.end, ends[k:k + 1])
+        if self.trail:
+            self._put(self.trail_line, ends[max(0, k - self.trail_length):k + 1])
+        if T is not None:
+            self._put(self.tgt, T[k:k + 1] if np.all(np.isfinite(T[k])) else np.empty((0, 3)))
+        self.info.set_text(f"frame {k + 1}/{len(self.Q)}: {angle_text(self.robot, self.Q[k])}")
+        self.canvas.restore_region(self.background)
+        for a in self.dynamic:
+            if a.get_visible():
+                self.fig.draw_artist(a)
+        return np.asarray(self.canvas.buffer_rgba())[..., :3]
 
+
+def _write_frames(out: Path, stage: _Stage, fps: int, progress: bool, console: Any) -> None:
+    """Stream every frame of ``stage`` into ``out`` (GIF or MP4), with a progress bar."""
     from .._io import atomic_path
     from rich.progress import BarColumn, Progress, TextColumn, TimeRemainingColumn
 
+    F = len(stage.Q)
     bar = Progress(TextColumn("rendering {task.description}"), BarColumn(), TextColumn("{task.completed}/{task.total}"),
                    TimeRemainingColumn(), transient=True, disable=not progress, console=console)
     duration = max(1, round(1000 / fps))
@@ -128,29 +164,17 @@ def render_animation(robot: Robot, q: ArrayLike, out_path: str | Path, targets: 
         gif = None
         prev: Optional[np.ndarray] = None
         try:
-            if suffix == ".mp4":
+            if out.suffix.lower() == ".mp4":
                 require("imageio_ffmpeg", "writing MP4")
                 imageio = require("imageio.v2", "writing MP4")
-                writer = imageio.get_writer(tmp, format="FFMPEG", fps=int(fps), codec="libx264", quality=7,
+                writer = imageio.get_writer(tmp, format="FFMPEG", fps=fps, codec="libx264", quality=7,
                                             macro_block_size=8)
             else:
                 gif = open(tmp, "wb")
             with bar:
                 task = bar.add_task(out.name, total=F)
                 for k in range(F):
-                    put(arm, sk[k])
-                    put(jts, joints[k])
-                    put(end, ends[k:k + 1])
-                    if trail:
-                        put(trail_line, ends[max(0, k - trail_length):k + 1])
-                    if T is not None:
-                        put(tgt, T[k:k + 1] if np.all(np.isfinite(T[k])) else np.empty((0, 3)))
-                    info.set_text(f"frame {k + 1}/{F}: {angle_text(robot, Q[k])}")
-                    canvas.restore_region(background)
-                    for a in dynamic:
-                        if a.get_visible():
-                            fig.draw_artist(a)
-                    rgb = np.asarray(canvas.buffer_rgba())[..., :3]
+                    rgb = stage.frame(k)
                     if writer is not None:
                         writer.append_data(np.ascontiguousarray(rgb))
                     else:
@@ -165,7 +189,6 @@ def render_animation(robot: Robot, q: ArrayLike, out_path: str | Path, targets: 
                 writer.close()
             if gif is not None:
                 gif.close()
-    return out
 
 
 def _gif_frame(f: Any, rgb: np.ndarray, duration: int, prev: Optional[np.ndarray]) -> None:
