@@ -155,3 +155,71 @@ def test_run_loop_survives_garbage_through_stdin():
     script = "\n".join(["q 1 2 3", "}{", "goto 1e308 0 0", "branch", "q 10 20 30", "exit", "q 4 5 6"]) + "\n"
     assert sh.run(io.StringIO(script)) == 0
     np.testing.assert_allclose(sh.q, np.radians([10, 20, 30]))
+
+
+# ---- issue 11: one end point per step, branch names, the yaw-is-free note, modes -------------------------------
+
+def test_end_point_once_per_step_and_the_first_show_names_the_branch():
+    sh = make()
+    out = sh.execute("show")
+    assert len(END.findall(out.text)) == 1
+    assert "IK branch: front/elbow-down" in out.text and "IK branch: —" not in out.text
+    shown = sh.branch
+    out = sh.execute("home")                          # the same pose: the same name
+    assert sh.branch == shown and f"IK branch: {shown}" in out.text
+    out = sh.execute("theta1 = 30; theta2 = 45; theta3 = 60")
+    assert len(END.findall(out.text)) == 1 and len(re.findall(r"end point", out.text)) == 1
+    # the name show gives is the one goto gives for the same pose, and ik_all's for it
+    res = armkit.ik_all(sh.robot, armkit.fk(sh.robot, sh.q)[:3, 3], q0=sh.q)
+    ok = np.asarray(res.success) & np.all(np.abs(np.asarray(res.q) - sh.q) < 1e-6, axis=-1)
+    assert sh.branch == str(np.asarray(res.branch)[int(np.argmax(ok))])
+
+
+def test_goto_on_the_yaw_axis_prints_the_clis_note():
+    sh = make()
+    out = sh.execute("goto 0 0 213.2")
+    assert out.status == "ok"
+    assert "yaw is free" in out.text
+    np.testing.assert_allclose(armkit.fk(sh.robot, sh.q)[:3, 3], [0, 0, 213.2], atol=1e-6)
+
+
+def test_branch_angles_are_wrapped():
+    sh = make()
+    w = sh._wrapped(np.radians([214.4, -190.0, 540.0]))
+    np.testing.assert_allclose(np.degrees(w), [-145.6, 170.0, 180.0], atol=1e-9)
+    sh.execute("goto 100 50 80")
+    out = sh.execute("branch")
+    for v in re.findall(r"│\s+(-?\d+\.\d{4})\s", out.text):
+        assert -180 < float(v) <= 180, out.text
+
+
+def test_modes_ik_and_fk():
+    sh = make()
+    assert sh.mode == "ik"
+    out = sh.execute("100 50 80")                     # ik: numbers alone are a target
+    np.testing.assert_allclose(printed_end(out), [100, 50, 80], atol=1e-6)
+    assert sh.execute("mode fk").status == "info" and sh.mode == "fk"
+    out = sh.execute("30 45 60")                      # fk: numbers alone are joint values
+    np.testing.assert_allclose(sh.q, np.radians([30, 45, 60]))
+    np.testing.assert_allclose(printed_end(out), armkit.fk(sh.robot, sh.q)[:3, 3], atol=1e-6)
+    assert sh.execute("30 45").status == "error" and sh.mode == "fk"
+    assert sh.execute("mode sideways").status == "error"
+    sh.execute("mode ik")
+    assert sh.mode == "ik"
+    fk_shell = make(mode="fk")
+    fk_shell.execute("10 20 30")
+    np.testing.assert_allclose(fk_shell.q, np.radians([10, 20, 30]))
+
+
+def test_cli_shell_ik_and_fk_flags():
+    from typer.testing import CliRunner
+
+    from armkit.cli import app
+
+    res = CliRunner().invoke(app, ["shell", "fighter", "--no-plot", "--fk", "--lang", "en"], input="10 20 30\nexit\n")
+    assert res.exit_code == 0, res.output
+    T = armkit.fk(armkit.load("fighter"), np.radians([10, 20, 30]))[:3, 3]
+    assert f"{T[0]:.6f}" in res.output
+    res = CliRunner().invoke(app, ["shell", "fighter", "--no-plot", "--ik", "--lang", "en"],
+                             input="100 50 80\nexit\n")
+    assert res.exit_code == 0 and "100.000000" in res.output and "80.000000" in res.output

@@ -51,7 +51,7 @@ import numpy as np
 
 from .._text import MAX_MESSAGE, esc, name_list, plain, shorten
 from ..errors import ArgumentError, ArmkitError, ParseError
-from ..locale import LANGUAGES, default_language, message
+from ..locale import LANGUAGES, N_, default_language, message, translate
 from ..kinematics import fk
 from ..model.robot import Robot
 
@@ -137,8 +137,13 @@ class Shell:
     """
 
     def __init__(self, robot: Robot, lang: Optional[str] = None, units: str = "deg", plot: str = "auto",
-                 out_dir: str | Path = "out/shell", console: Any = None, session: bool = False) -> None:
+                 out_dir: str | Path = "out/shell", console: Any = None, session: bool = False,
+                 mode: str = "ik") -> None:
         from rich.console import Console
+
+        if mode not in ("ik", "fk"):
+            raise ArgumentError(f"mode must be 'ik' or 'fk', got {mode!r}")
+        self.mode = mode          # what numbers typed alone are: an IK target ("ik") or joint values ("fk")
 
         self.robot = robot
         self.lang = lang if lang in LANGUAGES else default_language()
@@ -161,6 +166,7 @@ class Shell:
         self.home = np.clip(np.zeros(robot.n), robot.lower, robot.upper)   # zeros, moved inside the limits
         self.q = self.home.copy()
         self.branch: Optional[str] = None      # the branch label of the current configuration
+        self._branch_known = False             # self.branch computed for the current q
         self.preferred: Optional[str] = None   # the branch goto should use (None: nearest)
         self.step = 0
         self.pictures = 0
@@ -294,6 +300,8 @@ class Shell:
                 return "goto", parse_numbers(_split(rest), self.lang)
             if word == "branch":
                 return "branch", rest or None
+            if word == "mode":
+                return "mode", rest.lower() or None
             if word in ("units", "unit"):
                 return "units", rest or None
             if word in ("lang", "language"):
@@ -306,6 +314,8 @@ class Shell:
                 return word, None
         words = _split(s)
         if words and all(_NUMBER_RE.match(w) for w in words):
+            if self.mode == "fk":                             # bare "30 45 60": joint values (mode fk)
+                return self._parse("q " + " ".join(words))
             return "goto", parse_numbers(words, self.lang)   # bare "100 50 80": a target, as in the club's IK program
         raise ParseError(self._t("unknown", text=s if len(s) <= 60 else s[:57] + "..."))
 
@@ -371,7 +381,7 @@ class Shell:
                 emit(str(exc), "red")
                 return "error", None
             self.q = q_new
-            self.branch = self._identify_branch()
+            self.branch, self._branch_known = self._identify_branch(), True
             status = "ok"
         for action, arg in actions:
             if action in ("set", "q"):
@@ -446,6 +456,8 @@ class Shell:
 
     def _cmd_help(self, arg: Any, emit: Any) -> str:
         emit(self._t("help", unit=self.robot.unit, first=self.robot.joint_names[0], goto=self._goto_example()))
+        emit(esc(translate(N_("  mode ik|fk                    numbers typed alone: a target (ik) or joint values (fk); "
+                              "now {mode}"), self.lang, mode=self.mode)))
         return "info"
 
     def _cmd_show(self, arg: Any, emit: Any) -> str:
@@ -534,7 +546,7 @@ class Shell:
                 t.add_column(f"{esc(name)} ({self.units})", justify="right")
             t.add_column(self._t("ok"))
             for b, name in enumerate(names):
-                qb = np.asarray(res.q)[b]
+                qb = self._wrapped(np.asarray(res.q)[b])
                 mark = "*" if name == self.branch else ""
                 t.add_row(esc(name + mark), *(self._fmt_joint(i, v) for i, v in enumerate(qb)),
                           self._t("yes") if bool(np.asarray(res.success)[b])
@@ -554,7 +566,7 @@ class Shell:
         b = names.index(match[0])
         if bool(np.asarray(res.success)[b]):
             self.q = np.asarray(res.q)[b].astype(float)
-            self.branch = match[0]
+            self.branch, self._branch_known = match[0], True
             return "ok"
         emit(self._t("branch_missing", name=match[0], current=self.branch or self._t("none")), "yellow")
         return "info"
@@ -609,7 +621,14 @@ class Shell:
                 if self.preferred in names and ok[names.index(self.preferred)]:
                     pick = names.index(self.preferred)
                 self.q = np.asarray(res.q)[pick].astype(float)
-                self.branch = names[pick]
+                self.branch, self._branch_known = names[pick], True
+                note = str(np.asarray(res.message)[pick])
+                if note:    # what the CLI's ik prints too: "yaw is free", "elbow-up and elbow-down coincide" ...
+                    from ..locale.library import ik_explanation
+
+                    text = ik_explanation(str(np.asarray(res.reason)[pick]), note,
+                                          float(np.asarray(res.position_error)[pick]), self.robot.unit, self.lang)
+                    emit(esc(translate(N_("note: {text}"), self.lang, text=text)), "dim")
                 return "ok"
             one = ik(self.robot, target, q0=self.q, scene=self.scene, **kwargs)
         except (ArmkitError, ValueError, FloatingPointError) as exc:
@@ -621,14 +640,43 @@ class Shell:
             emit(self._t("unreachable", detail=detail), "red")
             return "error"
         self.q = np.asarray(one.q, dtype=float)
-        self.branch = str(np.asarray(one.branch)) or None
+        self.branch, self._branch_known = str(np.asarray(one.branch)) or None, True
         return "ok"
 
     # ------------------------------------------------------------------ output
     def _fmt_joint(self, i: int, v: float) -> str:
         if self.robot.prismatic[i]:
             return f"{v:.4f}"
-        return f"{self._angle_out(v):.4f}" if self.units == "deg" else f"{v:.6f}"
+        shown = f"{self._angle_out(v):.4f}" if self.units == "deg" else f"{v:.6f}"
+        return shown[1:] if shown.startswith("-") and not shown.strip("-0.") else shown    # no "-0.0000"
+
+    def _wrapped(self, q: np.ndarray) -> np.ndarray:
+        """Revolute angles of a branch (a failed one may come back as 214 deg) in (-180, 180] deg, or shifted by a
+        turn into the joint limits where that fits them."""
+        r = self.robot
+        w = np.where(r.prismatic, q, -np.angle(np.exp(-1j * np.asarray(q, dtype=float))))   # (-pi, pi]
+        for shift in (2 * math.pi, -2 * math.pi):
+            moved = w + shift
+            w = np.where(~r.prismatic & ((w < r.lower) | (w > r.upper)) & (moved >= r.lower) & (moved <= r.upper),
+                         moved, w)
+        return w
+
+    def _cmd_mode(self, arg: Optional[str], emit: Any) -> str:
+        if arg is None:
+            emit(esc(translate(N_("mode {mode}: numbers typed alone are {meaning}"), self.lang, mode=self.mode,
+                               meaning=self._mode_meaning())))
+            return "info"
+        if arg not in ("ik", "fk"):
+            raise ParseError(translate(N_("mode takes ik (numbers alone are a target) or fk (numbers alone are joint "
+                                          "values), got {word!r}"), self.lang, word=_clip(arg)))
+        self.mode = arg
+        emit(esc(translate(N_("mode {mode}: numbers typed alone are {meaning}"), self.lang, mode=self.mode,
+                           meaning=self._mode_meaning())))
+        return "info"
+
+    def _mode_meaning(self) -> str:
+        return translate(N_("a target ({goto})"), self.lang, goto=self._goto_example()) if self.mode == "ik" else \
+            translate(N_("joint values ({n})"), self.lang, n=self.robot.n)
 
     def _show(self, emit: Any) -> None:
         from rich.table import Table
@@ -649,7 +697,10 @@ class Shell:
         emit(t)
         p = T[:3, 3]
         rpy = [self._angle_out(v) for v in rotation_to_rpy(T[:3, :3])]
-        e = Table(title=None, header_style="bold", caption=esc(f"{self._t('branch')}: {self.branch or self._t('none')}"))
+        if not self._branch_known:
+            self.branch, self._branch_known = self._identify_branch(), True
+        caption = esc(f"{self._t('branch')}: {self.branch}") if self.branch else None   # nothing when not known
+        e = Table(title=None, header_style="bold", caption=caption)
         e.add_column("")
         for h in ("x / roll", "y / pitch", "z / yaw"):
             e.add_column(h, justify="right")
@@ -702,7 +753,8 @@ class Shell:
     # ------------------------------------------------------------------ loop
     def completions(self) -> list[str]:
         """Words offered by tab completion."""
-        words = ["help", "exit", "quit", "q", "goto", "branch", "limits", "units", "deg", "rad", "home", "show",
+        words = ["help", "exit", "quit", "q", "goto", "branch", "mode", "ik", "fk", "limits", "units", "deg", "rad",
+                 "home", "show",
                  "ground", "box", "clear", "scene",
                  "lang", "auto", "en", "ko"]
         words += [f"theta{i}" for i in range(1, self.robot.n + 1)] + list(self.robot.joint_names)

@@ -92,6 +92,9 @@ def shell(robot: str = typer.Argument(..., help=ROBOT_HELP),
           png: bool = typer.Option(False, "--png", help="Write a PNG per step even when a display exists."),
           out_dir: str = typer.Option("out/shell", "--out-dir", help="Folder for the PNG pictures."),
           units: str = typer.Option("deg", "--units", help="Angle units: deg or rad."),
+          ik_mode: bool = typer.Option(True, "--ik/--fk", help="Numbers typed alone are an IK target (--ik, the "
+                                                               "club's second program) or joint values (--fk); "
+                                                               "'mode ik' / 'mode fk' switches inside."),
           view: bool = typer.Option(False, "--view", help="Also serve the live browser view (armkit view) and move "
                                                           "the arm there after every command; no PNGs unless --png.")
           ) -> None:
@@ -101,6 +104,8 @@ def shell(robot: str = typer.Argument(..., help=ROBOT_HELP),
     limits | units deg|rad | lang ko|en | help | exit. Nothing typed is evaluated as code.
 
     Example: armkit shell fighter --lang ko
+
+    Example: armkit shell fighter --ik   (then type 100 50 80: the end point goes there)
     """
     from .shell import Shell
 
@@ -110,7 +115,8 @@ def shell(robot: str = typer.Argument(..., help=ROBOT_HELP),
         fail(f"--units must be deg or rad, got {units!r}")
     r = get_robot(robot)
     mode = "none" if no_plot or (view and not png) else ("png" if png else "auto")
-    sh = Shell(r, lang=lang, units=units, plot=mode, out_dir=out_dir, console=console, session=True)
+    sh = Shell(r, lang=lang, units=units, plot=mode, out_dir=out_dir, console=console, session=True,
+               mode="ik" if ik_mode else "fk")
     if view:
         from .view import attach_view
 
