@@ -74,8 +74,10 @@ REBUILT = {"{reason}: {message}"}
 # (identifiers a user types), file suffixes
 KEPT = {"en", "ko", "deg", "rad", "mm", "tool", "lang", "strict", "armkit", "help", "exit", "quit", "goto",
         "branch", "auto", "home", "limits", "ground", "box", "clear", "scene", "units", "show", "q", "theta",
-        "pi", "x", "y", "z", "roll", "pitch", "yaw", "phi", "Ctrl", "D", "X", "Y", "Z", "png", "pdf", "svg",
-        "gif", "mp4", "html", "csv", "json", "toml", "urdf", "output", "o"}
+        "pi", "x", "y", "z", "w", "roll", "pitch", "yaw", "phi", "Ctrl", "D", "X", "Y", "Z", "png", "pdf", "svg",
+        "gif", "mp4", "html", "csv", "json", "toml", "urdf", "output", "o", "elbow", "up", "down",   # + branch names
+        "info", "DH", "Craig", "xyz", "rpy", "URDF", "TOML", "v", "sqrt", "det", "J", "T", "m", "lm", "CCD",
+        "circular", "parabolic", "ik", "fk", "mode"}      # + commands, formats, formulas and their symbols, methods, option values
 
 
 def _marked_messages(root: Path) -> set[str]:
@@ -108,7 +110,8 @@ def test_catalogue_is_complete_and_korean():
         fields = lambda t: set(re.findall(r"\{(\w+)", t))  # noqa: E731
         if msgid not in REBUILT:
             assert fields(ko) <= fields(msgid), (msgid, ko)
-        words = re.findall(r"[A-Za-z]+\d*", re.sub(r"\{[^}]*\}", "", ko))
+        text = re.sub(r"\{[^}]*\}|--?[A-Za-z][\w-]*|'[^']*'", "", ko)   # placeholders, options, values typed
+        words = re.findall(r"[A-Za-z]+\d*", text)
         words = [re.sub(r"\d+$", "", w) for w in words]
         assert set(words) <= KEPT, (msgid, ko, set(words) - KEPT)
 

@@ -72,7 +72,8 @@ ALLOWED = {"armkit", "fighter", "yaw", "shoulder", "elbow", "front", "back", "el
            "deg", "rad", "mm", "help", "exit", "quit", "goto", "branch", "home", "limits", "ground", "box", "clear",
            "scene", "units", "lang", "en", "ko", "show", "q", "theta", "x", "y", "z", "roll", "pitch", "phi", "pi",
            "Ctrl-D", "Ctrl", "D", "X0", "Y0", "Z0", "X1", "Y1", "Z1", "x0", "y0", "z0", "x1", "y1", "z1", "Z",
-           "forearm", "furlongs", "xx", "abc", "hello", "branch", "deg|rad", "en|ko", "auto", "mm", "e"}
+           "forearm", "furlongs", "xx", "abc", "hello", "branch", "deg|rad", "en|ko", "auto", "mm", "e", "mode", "ik",
+           "fk", "ik|fk"}
 
 
 def test_korean_shell_session_reads_as_korean():
