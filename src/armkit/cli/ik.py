@@ -13,7 +13,6 @@ from .common import (EXIT_BAD_INPUT, EXIT_FAILED, NUMERIC_ARGS, N_, _, console, 
                      print_json, scene_option, warn)
 
 from ..locale import current_language  # noqa: E402
-from ..locale import current_language  # noqa: E402
 from .common import ROBOT_HELP  # noqa: E402
 from .common import print_table  # noqa: E402
 METHOD_CHOICES = ("auto", "analytic", "lm", "newton", "ccd", "fabrik")
