@@ -296,16 +296,9 @@ def reachability(robot: Robot | str, resolution: float | None = None, orientatio
     grid = _make_grid(robot, resolution, orientations, rolls)
     if isinstance(coverage, bool) or not isinstance(coverage, (int, float)) or not 0 <= coverage <= 1:
         raise ReachabilityError(f"coverage must be a number in [0, 1], got {coverage!r}")
-    if method == "fk":
-        bs = FK_BLOCK if block_size is None else _positive_int(block_size, "block_size")
-        total = default_samples(grid) if samples is None else _positive_int(samples, "samples")
-        n_blocks = int(math.ceil(total / bs))
-        sizes = [min(bs, total - b * bs) for b in range(n_blocks)]
-    else:
-        bs = 1 if block_size is None else _positive_int(block_size, "block_size")
-        total = grid.n_cells
-        n_blocks = int(math.ceil(grid.dims[0] / bs))
-        restarts = int(restarts)
+    bs, total, sizes = _blocks(method, grid, samples, block_size)
+    n_blocks = len(sizes)
+    restarts = int(restarts) if method == "ik" else restarts
     if workers is not None:
         workers = _positive_int(workers, "workers")
     params: dict[str, Any] = {"method": method, "samples": total if method == "fk" else None, "seed": int(seed),
@@ -338,6 +331,30 @@ def reachability(robot: Robot | str, resolution: float | None = None, orientatio
     else:
         fn = ik_block
         args = [(robot, gattrs, int(seed), b, bs, restarts, scene) for b in todo]
+    results, close = _execute(scheduler, workers, fn, args, todo, _token(attrs))
+    _merge(results, close, counts, manip, done, store, progress, flush_seconds)
+    hits = decide(counts.reshape(grid.shape), grid, coverage if method == "fk" else 0.0)
+    if store is not None:
+        store.finish(counts, hits, manip, __version__)
+    params = {**params, "armkit_version": __version__}
+    return ReachabilityMap(robot, grid, hits, manip.reshape(grid.dims), params, counts.reshape(grid.shape),
+                           None if path is None else os.fspath(path))
+
+
+def _blocks(method: str, grid: Grid, samples: int | None, block_size: int | None) -> tuple[int, int, list[int]]:
+    """Block size, total work (FK samples or cells) and the size of each block."""
+    if method == "fk":
+        bs = FK_BLOCK if block_size is None else _positive_int(block_size, "block_size")
+        total = default_samples(grid) if samples is None else _positive_int(samples, "samples")
+        return bs, total, [min(bs, total - b * bs) for b in range(int(math.ceil(total / bs)))]
+    bs = 1 if block_size is None else _positive_int(block_size, "block_size")
+    return bs, grid.n_cells, [bs] * int(math.ceil(grid.dims[0] / bs))   # ik: blocks of x-slabs
+
+
+def _execute(scheduler: Any, workers: int | None, fn: Callable[..., Any], args: list[tuple[Any, ...]],
+             todo: list[int], token: str) -> tuple[Iterator[tuple[int, Any]], Callable[[], None]]:
+    """``(block, result)`` pairs as they finish, from a Dask scheduler, a local cluster or this process;
+    and how to let the executor go."""
     if scheduler is None:
         scheduler = os.environ.get("ARMKIT_SCHEDULER") or None
     if scheduler == "local":
@@ -347,15 +364,20 @@ def reachability(robot: Robot | str, resolution: float | None = None, orientatio
         n_workers = 1 if cpus <= 2 else cpus
     else:
         n_workers = workers
-    close: Callable[[], None] = lambda: None
     if scheduler is not None:
         client, close = _client(scheduler)
-        results: Iterator[tuple[int, Any]] = _run_dask(client, fn, args, todo, _token(attrs))
-    elif n_workers > 1 and len(todo) > 1:
+        return _run_dask(client, fn, args, todo, token), close
+    if n_workers > 1 and len(todo) > 1:
         client, close = _local_cluster(min(n_workers, len(todo)))
-        results = _run_dask(client, fn, args, todo, _token(attrs))
-    else:
-        results = ((b, fn(*a)) for a, b in zip(args, todo))
+        return _run_dask(client, fn, args, todo, token), close
+    return ((b, fn(*a)) for a, b in zip(args, todo)), lambda: None
+
+
+def _merge(results: Iterator[tuple[int, Any]], close: Callable[[], None], counts: NDArray[np.uint8],
+           manip: NDArray[np.float32], done: NDArray[np.bool_], store: "_Store | None", progress: Progress | None,
+           flush_seconds: float) -> None:
+    """Add each block's hits into ``counts``/``manip`` (in place), committing to ``store`` every ``flush_seconds``."""
+    n_blocks = len(done)
     count = int(done.sum())
     if progress is not None:
         progress(count, n_blocks)
@@ -379,12 +401,6 @@ def reachability(robot: Robot | str, resolution: float | None = None, orientatio
         close()
         if store is not None and count < n_blocks and merged_since_commit:
             store.commit(counts, manip, done)          # keep what is merged; the next run resumes
-    hits = decide(counts.reshape(grid.shape), grid, coverage if method == "fk" else 0.0)
-    if store is not None:
-        store.finish(counts, hits, manip, __version__)
-    params = {**params, "armkit_version": __version__}
-    return ReachabilityMap(robot, grid, hits, manip.reshape(grid.dims), params, counts.reshape(grid.shape),
-                           None if path is None else os.fspath(path))
 
 
 def _check_round_trip(robot: Robot, toml: str) -> None:
