@@ -19,7 +19,7 @@ from .common import (EXIT_FAILED, NUMERIC_ARGS, console, esc, fail, name_list, o
                      q_display, scene_option, warn)
 
 from .common import ROBOT_HELP  # noqa: E402
-from .common import print_table  # noqa: E402
+from .common import err_console, print_table  # noqa: E402
 from .common import _  # noqa: E402
 
 
@@ -38,6 +38,11 @@ def _matrix_table(M, title: str, row_labels=None, col_labels=None) -> Table:
 def derive(robot: str = typer.Argument(..., help=ROBOT_HELP),
            latex: bool = typer.Option(False, "--latex", help="Print a LaTeX document (link transforms, FK, J)."),
            python: bool = typer.Option(False, "--python", help="Print an importable NumPy module (fk, jacobian)."),
+           ik_export: bool = typer.Option(False, "--ik", help="With --python: the closed-form IK instead, one "
+                                                              "function per branch (planar 2R and yaw-pitch-pitch "
+                                                              "arms)."),
+           output: Optional[Path] = typer.Option(None, "-o", "--output", help="Write the --python or --latex text "
+                                                                              "to this file instead of printing it."),
            png: Optional[Path] = typer.Option(None, "--png", help="Also render the FK and Jacobian entries to a PNG."),
            links: bool = typer.Option(False, "--links", help="Also print every link transform."),
            no_cache: bool = typer.Option(False, "--no-cache", help="Derive again, ignoring the on-disk cache."),
@@ -49,27 +54,42 @@ def derive(robot: str = typer.Argument(..., help=ROBOT_HELP),
     Example: armkit derive planar2
     Example: armkit derive fighter --latex > fk.tex
     Example: armkit derive puma560 --python > puma_fk.py
+
+    Example: armkit derive fighter --ik --python -o fighter_ik.py
     """
     from ..symbolic import derive as do_derive
     from ..symbolic.export import to_latex, to_numpy_source, to_text
 
     if latex and python:
         fail("choose one of --latex and --python")
+    if ik_export and not python:
+        fail(_("--ik exports the closed-form IK as Python: add --python"))
+    if output is not None and not (latex or python):
+        fail(_("--output writes the --python or --latex text; give one of them (pictures: --png)"))
+    if output is not None:
+        output_path(output, (".py",) if python else (".tex",), "--output")
     if not budget >= 0 or budget == float("inf"):
         fail(f"--budget must be a number of seconds >= 0 (0: no limit), got {budget}")
     r = get_robot(robot)
     if png is not None:
         output_path(png, (".png", ".pdf", ".svg"), "--png")
+    if ik_export:
+        from ..errors import ArgumentError
+        from ..symbolic.ik_export import to_ik_source
+
+        try:
+            text = to_ik_source(r)
+        except ArgumentError as exc:
+            fail(str(exc))
+        _write_text(text, output)
+        return
     t0 = time.perf_counter()
     d = do_derive(r, cache=not no_cache, simplify_budget=budget if budget > 0 else None)
     elapsed = time.perf_counter() - t0
     if d.meta.get("note"):
         warn(d.meta["note"])
-    if latex:
-        sys.stdout.write(to_latex(d))
-        return
-    if python:
-        sys.stdout.write(to_numpy_source(d))
+    if latex or python:
+        _write_text(to_latex(d) if latex else to_numpy_source(d), output)
         return
     if png is not None:
         from .._io import atomic_path
@@ -115,6 +135,18 @@ def derive(robot: str = typer.Argument(..., help=ROBOT_HELP),
     cached = "partly simplified, not cached" if d.meta.get("note") else (
         "not cached" if no_cache else "cached on disk for next time")
     console.print(f"[dim]derived in {elapsed:.2f} s ({cached})[/]")
+
+
+def _write_text(text: str, output: Optional[Path]) -> None:
+    """Print ``text``, or write it to ``output`` (atomically)."""
+    if output is None:
+        sys.stdout.write(text)
+        return
+    from .._io import atomic_path
+
+    with atomic_path(output, (output.suffix,), "--output") as tmp:
+        tmp.write_text(text, encoding="utf-8")
+    err_console.print(_("wrote {path}", path=esc(output)))
 
 
 def _planar_2r_ik(r) -> Optional[dict]:
