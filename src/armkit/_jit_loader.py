@@ -44,7 +44,8 @@ __all__ = ["warmup", "Warmup", "ready", "parallel_ok", "cache_dir", "fallback_ca
            "module", "kernels", "forget_stale_cache"]
 
 _PKG = Path(__file__).resolve().parent
-_SOURCES = ("kinematics/_jit.py", "ik/_jit_lm.py", "ik/_jit_verify.py", "ik/analytic/_jit.py", "_jit_loader.py")
+_SOURCES = ("kinematics/_jit.py", "ik/_jit_lm.py", "ik/_jit_verify.py", "ik/analytic/_jit.py", "ik/analytic/_layout.py",
+            "_jit_loader.py")
 COMPILE_SECONDS = 45
 """About how long compiling the one-thread kernels takes, the figure of the stderr note (the warm-up
 process switched the caller to them after 44-53 s in benchmarks/bench_first_call.py on the shared

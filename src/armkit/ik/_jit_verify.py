@@ -55,8 +55,10 @@ def _check(T, tgt, pose, q, lower, upper, tol):
 
 
 @njit(cache=True, inline="always")
-def _one(T, tgt, pose, q, lower, upper, tol, i, dp, dr, within):
-    dp[i], dr[i], within[i] = _check(T[i], tgt[i], pose, q[i], lower, upper, tol)
+def _one(T, tgt, q, limits, opts, outs, i):
+    """Candidate ``i`` into ``outs = (dp, dr, within)``; ``opts = (pose, tol)``, ``limits`` (2, n)."""
+    dp, dr, within = outs
+    dp[i], dr[i], within[i] = _check(T[i], tgt[i], opts[0], q[i], limits[0], limits[1], opts[1])
 
 
 @njit(cache=True)
@@ -78,23 +80,24 @@ def check_point(T, p, q, lower, upper, tol):
 
 
 @njit(cache=True)
-def _serial(T, tgt, pose, q, lower, upper, tol, dp, dr, within):
+def _serial(T, tgt, q, limits, opts, outs):
     for i in range(T.shape[0]):
-        _one(T, tgt, pose, q, lower, upper, tol, i, dp, dr, within)
+        _one(T, tgt, q, limits, opts, outs, i)
 
 
 @njit(cache=True, parallel=True)
-def _parallel(T, tgt, pose, q, lower, upper, tol, dp, dr, within):
+def _parallel(T, tgt, q, limits, opts, outs):
     for i in prange(T.shape[0]):
-        _one(T, tgt, pose, q, lower, upper, tol, i, dp, dr, within)
+        _one(T, tgt, q, limits, opts, outs, i)
 
 
-def errors(T, tgt, pose, q, lower, upper, tol=1e-12):
-    """``T`` (B, 4, 4) actual, ``tgt`` (B, 4, 4) target (only column 3 read unless ``pose``), ``q`` (B, n)."""
+def errors(T, tgt, pose, q, limits, tol=1e-12):
+    """``T`` (B, 4, 4) actual, ``tgt`` (B, 4, 4) target (only column 3 read unless ``pose``), ``q`` (B, n),
+    ``limits`` (2, n) lower and upper: position errors, rotation angles and within-limits flags ``(B,)``."""
     B = T.shape[0]
-    dp, dr, within = np.empty(B), np.empty(B), np.empty(B, dtype=np.bool_)
-    (_parallel if B >= 4096 and _jit_loader.parallel_ok() else _serial)(T, tgt, pose, q, lower, upper, tol, dp, dr, within)
-    return dp, dr, within
+    outs = (np.empty(B), np.empty(B), np.empty(B, dtype=np.bool_))
+    (_parallel if B >= 4096 and _jit_loader.parallel_ok() else _serial)(T, tgt, q, limits, (pose, tol), outs)
+    return outs
 
 
 def parallel_twins():

@@ -172,9 +172,7 @@ def _reshape(res: IKResult, lead: tuple[int, ...]) -> IKResult:
     trace = res.trace
     if trace is not None and np.ndim(trace) >= 1 and np.shape(trace)[0] == math.prod(lead):
         trace = np.asarray(trace).reshape(lead + np.shape(trace)[1:])   # per-target rows, like the other fields
-    return IKResult(q=f(res.q), success=f(res.success), position_error=f(res.position_error),
-                    rotation_error=f(res.rotation_error), iterations=f(res.iterations), branch=f(res.branch),
-                    within_limits=f(res.within_limits), reason=f(res.reason), message=f(res.message), trace=trace)
+    return res._map(f, trace)
 
 
 def _raise_if_unreachable(res: IKResult) -> None:

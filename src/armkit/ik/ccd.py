@@ -27,7 +27,7 @@ from numpy.typing import ArrayLike
 from ..errors import IKInputError
 from ..model.robot import Robot
 from .numeric import _TOL_FACTOR, Problem, _project, _trace_array, assemble
-from .result import IKResult
+from .result import DEFAULT_MAX_SWEEPS, DEFAULT_SWEEP_RESTARTS, IKResult
 
 __all__ = ["solve_ccd"]
 
@@ -57,8 +57,8 @@ def _rotate(v: np.ndarray, axis: np.ndarray, angle: np.ndarray) -> np.ndarray:
 
 
 def solve_ccd(robot: Robot, target: ArrayLike, q0: ArrayLike, *, mask: Optional[ArrayLike] = None,
-              tol: Optional[tuple[float, float]] = None, max_iterations: Optional[int] = 2000,
-              restarts: Optional[int] = 20, seed: Any = None, enforce_limits: bool = True,
+              tol: Optional[tuple[float, float]] = None, max_iterations: Optional[int] = DEFAULT_MAX_SWEEPS,
+              restarts: Optional[int] = DEFAULT_SWEEP_RESTARTS, seed: Any = None, enforce_limits: bool = True,
               trace: bool = False, time_limit: Optional[float] = None) -> IKResult:
     """CCD inverse kinematics for position targets.
 
@@ -74,10 +74,10 @@ def solve_ccd(robot: Robot, target: ArrayLike, q0: ArrayLike, *, mask: Optional[
         Only position targets: None or weights on x, y, z with zero rotation weights.
     tol : (float, float), optional
         Position tolerance (length units) first; default :func:`~armkit.ik.default_tolerance`.
-    max_iterations : int, default 2000
+    max_iterations : int, default :data:`~armkit.ik.DEFAULT_MAX_SWEEPS` (2000)
         Sweeps per attempt. CCD converges linearly and slowly near the workspace boundary
         (a nearly stretched arm can need hundreds of sweeps), so it needs far more sweeps than LM needs steps.
-    restarts : int, default 20
+    restarts : int, default :data:`~armkit.ik.DEFAULT_SWEEP_RESTARTS` (20)
         Further attempts from random configurations when an attempt stalls.
     seed : int, optional
         Seeds the restarts.
@@ -101,8 +101,8 @@ def solve_ccd(robot: Robot, target: ArrayLike, q0: ArrayLike, *, mask: Optional[
     (True, 1)
     """
     prob, note = _position_problem(robot, target, q0, mask, tol, enforce_limits, "CCD")
-    max_iterations = 2000 if max_iterations is None else int(max_iterations)
-    restarts = 20 if restarts is None else int(restarts)
+    max_iterations = DEFAULT_MAX_SWEEPS if max_iterations is None else int(max_iterations)
+    restarts = DEFAULT_SWEEP_RESTARTS if restarts is None else int(restarts)
     rng = np.random.default_rng(0 if seed is None else seed)   # seeded by default: reproducible
     c = robot.chain
     n, B = robot.n, prob.B

@@ -44,7 +44,7 @@ from ..errors import IKInputError
 from ..model.robot import Robot
 from .ccd import _position_problem
 from .numeric import _TOL_FACTOR, Problem, _project, _trace_array, assemble
-from .result import IKResult
+from .result import DEFAULT_MAX_SWEEPS, DEFAULT_SWEEP_RESTARTS, IKResult
 
 __all__ = ["solve_fabrik", "fabrik_structure"]
 
@@ -164,8 +164,8 @@ def _fabrik_plane(st: dict, goal: np.ndarray, q: np.ndarray, project, iterations
 
 
 def solve_fabrik(robot: Robot, target: ArrayLike, q0: ArrayLike, *, mask: Optional[ArrayLike] = None,
-                 tol: Optional[tuple[float, float]] = None, max_iterations: Optional[int] = 2000,
-                 restarts: Optional[int] = 20, seed: Any = None, enforce_limits: bool = True,
+                 tol: Optional[tuple[float, float]] = None, max_iterations: Optional[int] = DEFAULT_MAX_SWEEPS,
+                 restarts: Optional[int] = DEFAULT_SWEEP_RESTARTS, seed: Any = None, enforce_limits: bool = True,
                  trace: bool = False, time_limit: Optional[float] = None) -> IKResult:
     """FABRIK inverse kinematics for position targets on planar and yaw + planar arms.
 
@@ -182,9 +182,9 @@ def solve_fabrik(robot: Robot, target: ArrayLike, q0: ArrayLike, *, mask: Option
         Position targets only.
     tol : (float, float), optional
         Position tolerance first (length units).
-    max_iterations : int, default 2000
+    max_iterations : int, default :data:`~armkit.ik.DEFAULT_MAX_SWEEPS` (2000)
         Backward/forward passes per attempt.
-    restarts : int, default 20
+    restarts : int, default :data:`~armkit.ik.DEFAULT_SWEEP_RESTARTS` (20)
         Further attempts from random configurations for targets not yet solved.
     seed : int, optional
     enforce_limits : bool, default True
@@ -208,8 +208,8 @@ def solve_fabrik(robot: Robot, target: ArrayLike, q0: ArrayLike, *, mask: Option
     """
     st = _structure(robot)
     prob, note = _position_problem(robot, target, q0, mask, tol, enforce_limits, "FABRIK")
-    iterations = 2000 if max_iterations is None else int(max_iterations)
-    restarts = 20 if restarts is None else int(restarts)
+    iterations = DEFAULT_MAX_SWEEPS if max_iterations is None else int(max_iterations)
+    restarts = DEFAULT_SWEEP_RESTARTS if restarts is None else int(restarts)
     rng = np.random.default_rng(0 if seed is None else seed)   # seeded by default: reproducible
     B, n, f = prob.B, robot.n, st["first"]
     tol_p = prob.tol[0] * _TOL_FACTOR

@@ -94,7 +94,8 @@ from .. import _jit_loader
 from .. import kinematics as _kinematics
 from ..errors import ArmkitError, ShapeError
 from ..model.robot import Robot
-from .result import IKResult, default_tolerance, verify
+from .result import (DEFAULT_MAX_ITERATIONS, DEFAULT_NEWTON_RESTARTS, DEFAULT_RESTARTS, IKResult, default_tolerance,
+                     verify)
 
 __all__ = ["solve_lm", "solve_newton"]
 
@@ -533,8 +534,8 @@ def _smallest_sigma(prob: Problem, q: Array, idx: NDArray[np.intp]) -> Array:
 # --------------------------------------------------------------------------------- the solvers
 def _solve(prob: Problem, method: str, max_iterations: Optional[int], restarts: Optional[int], seed: Any,
            trace: bool, time_limit: Optional[float], diagnose: bool = True) -> IKResult:
-    max_iterations = 100 if max_iterations is None else int(max_iterations)
-    restarts = 50 if restarts is None else int(restarts)
+    max_iterations = DEFAULT_MAX_ITERATIONS if max_iterations is None else int(max_iterations)
+    restarts = DEFAULT_RESTARTS if restarts is None else int(restarts)
     if max_iterations < 0 or restarts < 0:
         raise ShapeError(f"max_iterations and restarts must be >= 0, got {max_iterations} and {restarts}")
     newton = method == "newton"
@@ -628,8 +629,8 @@ def _solve_one(robot: Robot, target: Any, q0: Any, max_iterations: Optional[int]
     if not (point or target.shape == (1, 4, 4)) or q0.shape != (1, robot.n) \
             or target.dtype != np.float64 or q0.dtype != np.float64:
         return None
-    max_iterations = 100 if max_iterations is None else max_iterations
-    restarts = 50 if restarts is None else restarts
+    max_iterations = DEFAULT_MAX_ITERATIONS if max_iterations is None else max_iterations
+    restarts = DEFAULT_RESTARTS if restarts is None else restarts
     if type(max_iterations) is not int or type(restarts) is not int or max_iterations < 0 or restarts < 0:
         return None
     kernels = _jit()
@@ -661,8 +662,9 @@ def _solve_one(robot: Robot, target: Any, q0: Any, max_iterations: Optional[int]
                        max_iterations, restarts, seed, None, True)
     message = f"converged in {iters} iterations: position error {_fmt(float(dp[0]))} {robot.unit}" \
               + ("." if point else f", rotation error {_fmt(float(dr[0]))} rad.")
-    return IKResult._of(q, ok, dp, dr, np.array([iters], dtype=np.int64), _LM_BRANCH.copy(), within,
-                        _CONVERGED.copy(), np.array([message], dtype=object), None)
+    return IKResult._of(q=q, success=ok, position_error=dp, rotation_error=dr, iterations=np.array([iters], np.int64),
+                        branch=_LM_BRANCH.copy(), within_limits=within, reason=_CONVERGED.copy(),
+                        message=np.array([message], dtype=object))
 
 
 def _subproblem(prob: Problem, idx: NDArray[np.intp]) -> Problem:
@@ -705,8 +707,8 @@ def _diagnose(prob: Problem, res: IKResult, failed: NDArray[np.intp], reasons: d
 
 
 def solve_lm(robot: Robot, target: ArrayLike, q0: ArrayLike, *, mask: Optional[ArrayLike] = None,
-             tol: Optional[tuple[float, float]] = None, max_iterations: Optional[int] = 100,
-             restarts: Optional[int] = 50, seed: Any = None, enforce_limits: bool = True, trace: bool = False,
+             tol: Optional[tuple[float, float]] = None, max_iterations: Optional[int] = DEFAULT_MAX_ITERATIONS,
+             restarts: Optional[int] = DEFAULT_RESTARTS, seed: Any = None, enforce_limits: bool = True, trace: bool = False,
              time_limit: Optional[float] = None) -> IKResult:
     r"""Levenberg-Marquardt (damped least squares) IK for a batch of targets.
 
@@ -724,9 +726,9 @@ def solve_lm(robot: Robot, target: ArrayLike, q0: ArrayLike, *, mask: Optional[A
     tol : (float, float), optional
         Position (length units) and rotation (rad) tolerance; default
         :func:`~armkit.ik.default_tolerance` (1e-9 m or 1e-6 mm, 1e-9 rad).
-    max_iterations : int, default 100
+    max_iterations : int, default :data:`~armkit.ik.DEFAULT_MAX_ITERATIONS` (100)
         Steps per attempt.
-    restarts : int, default 50
+    restarts : int, default :data:`~armkit.ik.DEFAULT_RESTARTS` (50)
         Further attempts from random configurations inside the limits.
     seed : int or numpy Generator, optional
         Seeds the restarts: the same seed gives the same answers. The default (None) is
@@ -767,8 +769,8 @@ def solve_lm(robot: Robot, target: ArrayLike, q0: ArrayLike, *, mask: Optional[A
 
 
 def solve_newton(robot: Robot, target: ArrayLike, q0: ArrayLike, *, mask: Optional[ArrayLike] = None,
-                 tol: Optional[tuple[float, float]] = None, max_iterations: Optional[int] = 100,
-                 restarts: Optional[int] = 20, seed: Any = None, enforce_limits: bool = True,
+                 tol: Optional[tuple[float, float]] = None, max_iterations: Optional[int] = DEFAULT_MAX_ITERATIONS,
+                 restarts: Optional[int] = DEFAULT_NEWTON_RESTARTS, seed: Any = None, enforce_limits: bool = True,
                  trace: bool = False, time_limit: Optional[float] = None) -> IKResult:
     r"""Newton-Raphson IK with the pseudo-inverse: :math:`\Delta q = J^+ e`, full steps, no damping.
 

@@ -6,23 +6,39 @@ tolerance; this module's :func:`verify` is the one place that decides it.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import MISSING, dataclass, field, fields
 from typing import Any, Optional
 
 import numpy as np
 from numpy.typing import NDArray
 
+from .. import _jit_loader
 from ..model.robot import Robot
 
-__all__ = ["IKResult", "REASONS", "default_tolerance", "verify"]
+__all__ = ["IKResult", "REASONS", "default_tolerance", "verify", "DEFAULT_TOLERANCE", "DEFAULT_MAX_ITERATIONS",
+           "DEFAULT_RESTARTS", "DEFAULT_NEWTON_RESTARTS", "DEFAULT_MAX_SWEEPS", "DEFAULT_SWEEP_RESTARTS"]
 
 REASONS = ("converged", "unreachable", "singular", "max iterations", "joint limits", "collision")
 """The values ``IKResult.reason`` can take."""
 
 
+DEFAULT_TOLERANCE = 1e-9
+"""Default tolerance of every solver's FK check: this many metres (whatever the robot's unit) and radians."""
+DEFAULT_MAX_ITERATIONS = 100
+"""Levenberg-Marquardt and Newton: steps per attempt."""
+DEFAULT_RESTARTS = 50
+"""Levenberg-Marquardt (and Newton through :func:`armkit.ik`): attempts from random configurations after the first."""
+DEFAULT_NEWTON_RESTARTS = 20
+""":func:`armkit.ik.numeric.solve_newton` called directly: attempts from random configurations after the first."""
+DEFAULT_MAX_SWEEPS = 2000
+"""CCD sweeps and FABRIK backward/forward passes per attempt (both converge linearly: far more than LM steps)."""
+DEFAULT_SWEEP_RESTARTS = 20
+"""CCD and FABRIK: attempts from random configurations after the first."""
+
+
 def default_tolerance(robot: Robot) -> tuple[float, float]:
-    """Default ``(position, rotation)`` tolerance: 1e-9 m (1e-6 mm for a mm arm) and 1e-9 rad."""
-    return 1e-9 / robot.unit_scale, 1e-9
+    """Default ``(position, rotation)`` tolerance: :data:`DEFAULT_TOLERANCE` m (1e-6 mm for a mm arm) and rad."""
+    return DEFAULT_TOLERANCE / robot.unit_scale, DEFAULT_TOLERANCE
 
 
 @dataclass(frozen=True)
@@ -72,15 +88,22 @@ class IKResult:
         object.__setattr__(self, "message", _message(self.message, np.shape(self.success)))
 
     @classmethod
-    def _of(cls, q: Any, success: Any, position_error: Any, rotation_error: Any, iterations: Any, branch: Any,
-            within_limits: Any, reason: Any, message: Any, trace: Any = None) -> "IKResult":
-        """The same object as ``IKResult(...)`` with every field given, built without the frozen
-        dataclass's ``__init__`` (~1 µs less; for the solvers' single-call paths)."""
+    def _of(cls, **fields: Any) -> "IKResult":
+        """``IKResult(**fields)`` built without the frozen dataclass's ``__init__`` (~1 µs less: the
+        solvers' single-call paths). The fields are the class's own (no list here); ``message`` is
+        normalised as in ``__post_init__``, so both make the same object."""
         self = object.__new__(cls)
-        self.__dict__.update(q=q, success=success, position_error=position_error, rotation_error=rotation_error,
-                             iterations=iterations, branch=branch, within_limits=within_limits, reason=reason,
-                             message=_message(message, np.shape(success)), trace=trace)
+        d = self.__dict__
+        d.update(_OPTIONAL)
+        d.update(fields)
+        if len(d) != len(_FIELDS):
+            raise TypeError(f"IKResult fields are {_FIELDS}, got {tuple(fields)}")
+        d["message"] = _message(d["message"], np.shape(d["success"]))
         return self
+
+    def _map(self, per_target: Any, trace: Any) -> "IKResult":
+        """A result with ``per_target`` applied to every field but ``trace`` (given as is)."""
+        return IKResult._of(**{f: per_target(getattr(self, f)) for f in _FIELDS if f != "trace"}, trace=trace)
 
     @property
     def shape(self) -> tuple[int, ...]:
@@ -91,10 +114,11 @@ class IKResult:
         def pick(a: Any) -> Any:
             return np.asarray(a)[index]
 
-        trace = self.trace if self.trace is None or self.shape == () else pick(self.trace)
-        return IKResult(pick(self.q), pick(self.success), pick(self.position_error), pick(self.rotation_error),
-                        pick(self.iterations), pick(self.branch), pick(self.within_limits), pick(self.reason),
-                        pick(self.message), trace)
+        return self._map(pick, self.trace if self.trace is None or self.shape == () else pick(self.trace))
+
+
+_FIELDS = tuple(f.name for f in fields(IKResult))
+_OPTIONAL = {f.name: f.default for f in fields(IKResult) if f.default is not MISSING}
 
 
 def _message(message: Any, shape: tuple[int, ...]) -> Any:
@@ -128,29 +152,31 @@ def verify(robot: Robot, q: NDArray[np.float64], target: NDArray[np.float64], po
         one = _verify_one(robot, q, target, position_only, tol, enforce_limits)
         if one is not None:
             return one
-    from ..kinematics import fk, get_backend
+    from ..kinematics import fk
     from ..spatial import pose_error
 
     T = fk(robot, q)
     target = np.asarray(target, dtype=float)
-    if get_backend() == "numba":
-        from ._jit_verify import errors
-
+    kernels = _jit_loader.kernels("ik._jit_verify")
+    if kernels is not None:
         lead = T.shape[:-2]
         if target.shape[-2:] == (4, 4):
             tgt, pose = np.broadcast_to(target, lead + (4, 4)), not position_only
         else:  # a point target: put it in column 3 of an otherwise unused pose array
             tgt, pose = np.zeros(lead + (4, 4)), False
             tgt[..., :3, 3] = target
-        dp, dr, within = errors(T.reshape(-1, 4, 4), np.ascontiguousarray(tgt).reshape(-1, 4, 4), pose,
-                                np.ascontiguousarray(q, dtype=float).reshape(-1, robot.n), robot.lower, robot.upper)
+        limits = robot.cache.get("limit_rows")
+        if limits is None:
+            limits = robot.cache["limit_rows"] = np.ascontiguousarray(np.stack([robot.lower, robot.upper]), dtype=float)
+        dp, dr, within = kernels.errors(T.reshape(-1, 4, 4), np.ascontiguousarray(tgt).reshape(-1, 4, 4), pose,
+                                np.ascontiguousarray(q, dtype=float).reshape(-1, robot.n), limits)
         dp, dr, within = dp.reshape(lead), dr.reshape(lead), within.reshape(lead)
     elif target.shape[-2:] == (4, 4):
         dp, dr = pose_error(T, target)
     else:
         dp = np.linalg.norm(T[..., :3, 3] - target, axis=-1)
         dr = np.zeros_like(dp)
-    if get_backend() != "numba":
+    if kernels is None:
         if position_only:
             dr = np.zeros_like(dp)
         within = robot.within_limits(q)
@@ -160,7 +186,7 @@ def verify(robot: Robot, q: NDArray[np.float64], target: NDArray[np.float64], po
     return dp, dr, ok, within
 
 
-_ONE: dict = {}  # the kernels of the one-candidate path, once imported: "fk", "pose", "point"
+_ONE: dict = {}  # the functions of the one-candidate path once resolved (not a data cache: saves ~0.5 µs a call)
 
 
 def _verify_one(robot: Robot, q: NDArray[np.float64], target: NDArray[np.float64], position_only: bool,
@@ -188,9 +214,8 @@ def _verify_one(robot: Robot, q: NDArray[np.float64], target: NDArray[np.float64
 
         if get_backend() != "numba":
             return None
-        from ._jit_verify import check_point, check_pose
-
-        _ONE.update(fk=fk, pose=check_pose, point=check_point, backend=get_backend)
+        kernels = _jit_loader.module("ik._jit_verify")
+        _ONE.update(fk=fk, pose=kernels.check_pose, point=kernels.check_point, backend=get_backend)
     elif _ONE["backend"]() != "numba":
         return None
     shape = t1.shape

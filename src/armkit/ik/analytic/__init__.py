@@ -170,10 +170,11 @@ POLISH_WINDOW = (1e-6, 6e-3)
 """Branches this close (relative to reach, and rad) are polished: exact model, and the ideal arm of a real file."""
 
 
-def _polish(robot: Robot, q: Array, target: Array, position_only: bool, tol: tuple[float, float],
-            enforce_limits: bool, dp: Array, dr: Array, ok: NDArray[np.bool_], within: NDArray[np.bool_],
-            ideal: bool = False):
+def _polish(robot: Robot, branches: tuple, target: Array, position_only: bool, tol: tuple[float, float],
+            enforce_limits: bool, ideal: bool = False):
     """A few Gauss-Newton steps on the true model for the branches that are close but not exact.
+
+    ``branches`` is ``(q, dp, dr, ok, within)`` ``(B, m, ...)``, returned anew (see :func:`._common.keep_better`).
 
     Near a singularity (e.g. the UR wrist at ``sin q5 ~ 1e-5``) a joint angle is ill-conditioned
     and the closed form can be ~1e-12 off; two Newton steps from there restore full precision.
@@ -185,6 +186,7 @@ def _polish(robot: Robot, q: Array, target: Array, position_only: bool, tol: tup
     from ...kinematics import fk, jacobian
     from ...spatial import so3_log
 
+    q, dp, dr, ok, within = branches
     scale = robot.reach
     window = POLISH_WINDOW[ideal]
     cand = (dp <= window * scale) & (dr <= window) & ((dp > POLISH_ABOVE * scale) | (dr > POLISH_ABOVE))
@@ -227,7 +229,7 @@ def solve_all(robot: Robot, solver: ClosedForm, target: Array, q0: Array, positi
         tol = default_tolerance(robot)
     dp, dr, ok, within = verify(robot, q, target[:, None], position_only, tol, enforce_limits)
     q_before = q
-    q, dp, dr, ok, within = _polish(robot, q, target, position_only, tol, enforce_limits, dp, dr, ok, within,
+    q, dp, dr, ok, within = _polish(robot, (q, dp, dr, ok, within), target, position_only, tol, enforce_limits,
                                     ideal=not solver.sf.exact)
     if dist is None:
         dist = np.linalg.norm(np.where(robot.prismatic, 0.0, q - q0[:, None, :]), axis=-1)

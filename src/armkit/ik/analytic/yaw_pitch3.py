@@ -278,17 +278,20 @@ def _check(robot: Robot, q: Array, pts: Array, psi: Array, tol: tuple[float, flo
     return dp, dr, ok & (dr <= tol[1]), within
 
 
-def _polish(robot: Robot, q: Array, pts: Array, psi: Array, tol: tuple[float, float], enforce_limits: bool,
-            dp: Array, dr: Array, ok: NDArray[np.bool_], within: NDArray[np.bool_], steps: int,
-            cand: NDArray[np.bool_] | None = None, start: Array | None = None):
+def _polish(robot: Robot, branches: tuple, target: tuple[Array, Array], tol: tuple[float, float],
+            enforce_limits: bool, steps: int, cand: NDArray[np.bool_] | None = None, start: Array | None = None):
     """Newton steps on (position, pitch) of the true model over the first four joints (the roll stays).
 
-    ``cand`` ``(B, m)``: the branches to polish (default: those within 6e-3 of the reach and
-    rad, not already exact); ``start``: where to start them (default ``q``). A branch takes
-    the result only where it lowers the FK error.
+    ``branches`` is ``(q, dp, dr, ok, within)`` ``(B, m, ...)`` (as :func:`._common.keep_better`
+    takes it), ``target`` the positions ``(B, 3)`` and pitches ``(B,)``. ``cand`` ``(B, m)``: the
+    branches to polish (default: those within 6e-3 of the reach and rad, not already exact);
+    ``start``: where to start them (default ``q``). A branch takes the result only where it
+    lowers the FK error. Returns new ``(q, dp, dr, ok, within)``.
     """
     from ...kinematics import fk, jacobian
 
+    q, dp, dr, ok, within = branches
+    pts, psi = target
     scale = robot.reach
     if cand is None:
         cand = (dp <= 6e-3 * scale) & (dr <= 6e-3) & ((dp > 1e-13 * scale) | (dr > 1e-13))
@@ -342,7 +345,7 @@ def solve_pitch(robot: Robot, solver: YawPitch3, pts: Array, psi: Array, q0: Arr
     raw = solver.solve(np.concatenate([pts, psi[:, None]], axis=1), q0 + theta)
     q = wrap_to_limits(raw.q - theta, q0[:, None, :], robot.lower, robot.upper, ~robot.prismatic)
     dp, dr, ok, within = _check(robot, q, pts[:, None], psi[:, None], tol, enforce_limits)
-    q, dp, dr, ok, within = _polish(robot, q, pts, psi, tol, enforce_limits, dp, dr, ok, within,
+    q, dp, dr, ok, within = _polish(robot, (q, dp, dr, ok, within), (pts, psi), tol, enforce_limits,
                                     2 if solver.sf.exact else 8)
     # At a stretched or folded elbow the ideal arm's answer sits on the fold, where Newton cannot move
     # outwards; the true arm may still reach (its solution has the elbow bent by ~sqrt(error)).
@@ -354,7 +357,7 @@ def solve_pitch(robot: Robot, solver: YawPitch3, pts: Array, psi: Array, q0: Arr
         sign = np.where(_ELBOW == 0, 1.0, -1.0)[None, :]          # branch order of Raw: elbow index
         start = q.copy()
         start[..., 2] = np.where(np.cos(elbow) > 0, sign * bend, math.pi - sign * bend) - theta[2]
-        q, dp, dr, ok, within = _polish(robot, q, pts, psi, tol, enforce_limits, dp, dr, ok, within, 16,
+        q, dp, dr, ok, within = _polish(robot, (q, dp, dr, ok, within), (pts, psi), tol, enforce_limits, 16,
                                         cand=stuck, start=start)
     dist = np.linalg.norm(q - q0[:, None, :], axis=-1)
     fk_ok = (dp <= tol[0]) & (dr <= tol[1])
