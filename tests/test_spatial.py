@@ -9,7 +9,7 @@ from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
 
 from armkit import spatial as sp
-from armkit.errors import ShapeError
+from armkit.errors import NotRigidError, ShapeError
 
 angles = st.floats(-np.pi, np.pi, allow_nan=False)
 vec3 = arrays(float, 3, elements=st.floats(-2, 2, allow_nan=False))
@@ -127,3 +127,77 @@ def test_bad_shapes_raise():
         sp.quaternion_to_rotation([1, 0, 0])
     with pytest.raises(ShapeError, match="non-zero"):
         sp.axis_angle_to_rotation([0, 0, 0], 1.0)
+
+
+# ------------------------------------------------------------------------ check_transform
+quat = arrays(float, 4, elements=st.floats(-1, 1)).filter(lambda q: np.linalg.norm(q) > 0.1)
+
+
+def _pose(q, p):
+    return sp.make_pose(sp.quaternion_to_rotation(q / np.linalg.norm(q)), p)
+
+
+@given(quat, vec3)
+def test_check_transform_accepts_every_rigid_pose(q, p):
+    T = _pose(q, p)
+    out = sp.check_transform(T)
+    assert out.dtype == np.float64 and np.array_equal(out, T)
+    assert np.array_equal(sp.check_transform(T.tolist()), T)          # nested lists too
+
+
+@given(quat, vec3, st.integers(0, 2), st.floats(1e-5, 0.5))
+def test_check_transform_rejects_a_stretched_axis_and_says_by_how_much(q, p, axis, eps):
+    T = _pose(q, p) @ np.diag([1.0 + eps * (axis == 0), 1.0 + eps * (axis == 1), 1.0 + eps * (axis == 2), 1.0])
+    # column `axis` has length 1 + eps: (R^T R)_aa - 1 = 2 eps + eps^2, by hand
+    with pytest.raises(NotRigidError, match="not orthonormal") as info:
+        sp.check_transform(T, what="target")
+    assert f"{2 * eps + eps * eps:.3g}" in str(info.value) and str(info.value).startswith("target ")
+    assert isinstance(info.value, ValueError) and isinstance(info.value, ShapeError)
+
+
+@given(quat, vec3)
+def test_check_transform_rejects_a_reflection(q, p):
+    with pytest.raises(NotRigidError, match=r"det R = -1 \(a reflection\), expected \+1"):
+        sp.check_transform(_pose(q, p) @ np.diag([1.0, 1.0, -1.0, 1.0]))
+
+
+def test_check_transform_last_row_must_be_exact():
+    T = np.eye(4)
+    T[3, 1] = 1e-12
+    with pytest.raises(NotRigidError, match=r"last row is \(0, 1e-12, 0, 1\), expected exactly"):
+        sp.check_transform(T)
+
+
+@given(st.lists(st.tuples(quat, vec3), min_size=1, max_size=6), st.integers(0, 5), st.booleans())
+def test_check_transform_batched_equals_looped(items, bad_at, spoil):
+    T = np.stack([_pose(q, p) for q, p in items])
+    if spoil:
+        T[bad_at % len(T)] = T[bad_at % len(T)] @ np.diag([1.0, 1.0, -1.0, 1.0])
+    looped = []
+    for i, Ti in enumerate(T):
+        try:
+            sp.check_transform(Ti)
+            looped.append(None)
+        except NotRigidError as exc:
+            looped.append(str(exc))
+    first_bad = next((i for i, m in enumerate(looped) if m is not None), None)
+    for batch, index in ((T, lambda i: f"T[{i}]"), (T.reshape(1, len(T), 4, 4), lambda i: f"T[0, {i}]")):
+        if first_bad is None:
+            assert np.array_equal(sp.check_transform(batch), batch)
+        else:       # the same message, naming the first bad index of the batch
+            with pytest.raises(NotRigidError) as info:
+                sp.check_transform(batch)
+            assert str(info.value) == looped[first_bad].replace("T is", index(first_bad) + " is", 1)
+
+
+@pytest.mark.parametrize("bad, message", [
+    (np.eye(3), r"T must have shape \(\.\.\., 4, 4\), got \(3, 3\)"),
+    (np.zeros(4), r"T must have shape \(\.\.\., 4, 4\), got \(4,\)"),
+    (np.full((4, 4), np.nan), "T contains NaN or infinite values"),
+    (np.full((2, 4, 4), np.inf), "T contains NaN or infinite values"),
+    ([[1, 0, 0, 0]] * 3 + [[0, 0, 0, 1j]], "T must be real numbers"),
+    ("pose", "T must be numeric"),
+])
+def test_check_transform_shape_errors_name_the_argument(bad, message):
+    with pytest.raises(ShapeError, match=message):
+        sp.check_transform(bad)
