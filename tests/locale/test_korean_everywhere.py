@@ -16,7 +16,7 @@ The allow-list is short and holds no common English word; what it holds is said 
 from __future__ import annotations
 
 import re
-from pathlib import Path
+import warnings
 
 import pytest
 from typer.testing import CliRunner
@@ -85,7 +85,7 @@ def english_words(text: str, extra: set[str] = frozenset()) -> list[str]:
                                                                  if len(c.strip()) > 3)))
     text = re.sub(r"'[^'\n]*'|\"[^\"\n]*\"", " ", text)            # user text and names echoed in quotes
     text = re.sub(r"(?<![\w-])--?[A-Za-z][\w-]*", " ", text)      # options
-    text = re.sub(r"\S*[/\\]\S*\.\w+|\b\w+\.(png|gif|mp4|csv|urdf|toml|zarr|svg|pdf|json|py|tex)\b", " ", text)
+    text = re.sub(r"\S*[/\\]\S*|\b\w+\.(png|gif|mp4|csv|urdf|toml|zarr|svg|pdf|json|py|tex)\b", " ", text)
     text = re.sub(r"\d+(\.\d+)?e[+-]?\d+", " ", text)              # 1.6e-14
     out = []
     for w in WORD.findall(text):
@@ -107,7 +107,9 @@ def figure_texts(monkeypatch):
 
     from armkit.locale import fonts
 
-    monkeypatch.setattr(fonts, "korean_font", lambda: "DejaVu Sans")
+    if fonts.korean_font() is None:      # no Korean font here (make fonts installs one): pretend, to read the labels
+        monkeypatch.setattr(fonts, "korean_font", lambda: "DejaVu Sans")
+        warnings.filterwarnings("ignore", "Glyph .* missing from font", UserWarning)
     seen: list[str] = []
 
     def collect(fig) -> None:
@@ -169,14 +171,13 @@ CASES = [
     ("view-bad-port", ["view", "fighter", "--port", "0"], None, 2),
     ("reach-build", ["reach", "build", "planar2", "-o", "PATH/m.zarr", "--resolution", "0.3"], None, 0),
     ("reach-query-bad", ["reach", "query", "PATH/none.zarr", "1", "2", "x"], None, 2),
-    ("warmup-json", ["warmup", "--no-parallel", "--json"], None, 0),
+    ("warmup", ["warmup", "--no-parallel"], None, 0),
 ]
 
 
 # commands whose own messages are not in the catalogue yet (see docs/ko.md)
 NOT_YET = {"plot", "workspace", "workspace-bad", "maps", "track", "track-bad-path", "derive", "singular",
-           "singular-fighter", "velocity", "velocity-twist", "traj", "traj-line", "view-bad-port", "reach-build",
-           "reach-query-bad"}
+           "singular-fighter", "velocity", "velocity-twist", "traj", "traj-line"}
 
 
 @pytest.mark.parametrize("case, args, stdin, code", [

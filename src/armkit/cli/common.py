@@ -20,7 +20,8 @@ from rich.text import Text
 
 from .._text import esc, name_list, plain, shorten
 from ..errors import JointLimitError
-from ..locale import LANG, N_, _  # noqa: F401  (re-exported: every command module takes them from here)
+from ..locale import LANG, N_, _, current_language  # noqa: F401  (re-exported for the command modules)
+
 
 from ..model import Robot, load
 

@@ -17,7 +17,8 @@ import typer
 from rich.markup import escape
 from rich.table import Table
 
-from .common import EXIT_BAD_INPUT, EXIT_FAILED, NUMERIC_ARGS, console, fail, get_robot, parse_numbers, print_json
+from .common import (EXIT_FAILED, LANG, NUMERIC_ARGS, N_, _, console, current_language, fail,
+                     get_robot, parse_numbers, print_json)
 from .common import print_table
 
 __all__ = ["register", "MESSAGES"]
@@ -26,41 +27,35 @@ reach_app = typer.Typer(help="Reachability maps: where the arm reaches, in which
                              "should go.\n\nExample: armkit reach build ur5 -o ur5.zarr --resolution 0.05",
                         no_args_is_help=True, rich_markup_mode="rich")
 
-MESSAGES: dict[str, dict[str, str]] = {
-    "building": {"en": "building the {robot} map", "ko": "{robot} 도달 맵 생성 중"},
-    "built": {"en": "map written to {path}: {cells} cells, {reachable} reachable, {seconds:.1f} s",
-              "ko": "맵 저장: {path} — 셀 {cells}개 중 {reachable}개 도달 가능, {seconds:.1f}초"},
-    "resumed": {"en": "resuming: {done} of {total} blocks already done",
-                "ko": "이어서 생성: 블록 {total}개 중 {done}개 완료됨"},
-    "interrupted": {"en": "interrupted; run the same command again to resume from {path}",
-                    "ko": "중단됨. 같은 명령을 다시 실행하면 {path} 에서 이어서 생성합니다"},
-    "reachable": {"en": "reachable", "ko": "도달 가능"},
-    "unreachable": {"en": "not reachable", "ko": "도달 불가"},
-    "index": {"en": "reachability index (fraction of orientations)",
-              "ko": "도달 지수 (도달 가능한 자세 비율)"},
-    "picture": {"en": "picture: {path}", "ko": "그림: {path}"},
-    "base_title": {"en": "best base poses for {k} task poses",
-                   "ko": "작업 자세 {k}개에 대한 최적 베이스 위치"},
-    "base_none": {"en": "no candidate base pose reaches any task pose",
-                  "ko": "어떤 베이스 위치에서도 작업 자세에 도달할 수 없습니다"},
-    "summary": {"en": "reachability map", "ko": "도달 맵"},
-    "ik_check": {"en": "checked by IK", "ko": "IK 로 확인"},
-    "by_map": {"en": "by the map", "ko": "맵 기준"},
+MESSAGES: dict[str, str] = {     # English here, Korean in the catalogue (armkit/locale, docs/ko.md)
+    "building": N_("building the {robot} map"),
+    "built": N_("map written to {path}: {cells} cells, {reachable} reachable, {seconds:.1f} s"),
+    "resumed": N_("resuming: {done} of {total} blocks already done"),
+    "interrupted": N_("interrupted; run the same command again to resume from {path}"),
+    "reachable": N_("reachable"),
+    "unreachable": N_("not reachable"),
+    "index": N_("reachability index (fraction of orientations)"),
+    "picture": N_("picture: {path}"),
+    "base_title": N_("best base poses for {k} task poses"),
+    "base_none": N_("no candidate base pose reaches any task pose"),
+    "summary": N_("reachability map"),
+    "ik_check": N_("checked by IK"),
+    "by_map": N_("by the map"),
 }
 
 
 def _msg(key: str, lang: str, **kw: Any) -> str:
-    t = MESSAGES[key]
-    return t.get(lang, t["en"]).format(**kw)
+    from ..locale import translate
+
+    return translate(MESSAGES[key], lang, **kw)
 
 
 def _lang(lang: Optional[str]) -> str:
     if lang is None:
-        from ..locale import default_language
-
-        return default_language()
+        return current_language()
     if lang not in ("en", "ko"):
-        fail(f"--lang must be en or ko, got {lang!r}")
+        fail(_("--lang must be en or ko, got {value!r}", value=lang))
+    LANG["lang"] = lang
     return lang
 
 
@@ -113,18 +108,18 @@ def build(robot: str = typer.Argument(..., help="Bundled robot name or robot fil
 
     lg = _lang(lang)
     if method not in ("fk", "ik"):
-        fail(f"--method must be fk or ik, got {method!r}")
+        fail(_("--method must be fk or ik, got {value!r}", value=method))
     if not output.strip():
-        fail("--output must name a folder for the Zarr store, e.g. map.zarr")
+        fail(_("--output must name a folder for the Zarr store, e.g. map.zarr"))
     out = Path(output)
     if out.exists() and not out.is_dir():
-        fail(f"--output {output!r} exists and is a file; a Zarr store is a folder")
+        fail(_("--output {path!r} exists and is a file; a Zarr store is a folder", path=output))
     if not out.parent.exists() if str(out.parent) else False:
-        fail(f"--output: folder {str(out.parent)!r} does not exist")
+        fail(_("--output: folder {path!r} does not exist", path=str(out.parent)))
     r = get_robot(robot)
     t0 = time.perf_counter()
     bar = Progress(TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(),
-                   TimeElapsedColumn(), TextColumn("ETA"), TimeRemainingColumn(), console=console,
+                   TimeElapsedColumn(), TextColumn(_("ETA")), TimeRemainingColumn(), console=console,
                    disable=as_json, transient=False)
     state: dict[str, Any] = {}
 
@@ -159,14 +154,25 @@ def _summary_table(m: Any, lg: str) -> Table:
     t.add_column("", style="bold")
     t.add_column("")
     for k, v in m.summary().items():
-        t.add_row(escape(str(k)), escape(str(v)))
+        shown = (_("true") if v else _("false")) if isinstance(v, bool) else v
+        t.add_row(escape(_(_SUMMARY.get(k, k))), escape(str(shown)))
     return t
+
+
+_SUMMARY = {"robot": N_("robot"), "unit": N_("unit"), "method": N_("method"), "resolution": N_("voxel size"),
+            "voxels": N_("voxels"), "directions": N_("approach directions"), "rolls": N_("roll bins"),
+            "orientations": N_("orientations per voxel"), "yaw_symmetric": N_("symmetric about the yaw axis"),
+            "cells": N_("cells"), "reachable_cells": N_("reachable cells"), "reachable_voxels": N_("reachable voxels"),
+            "samples": N_("samples"), "seed": N_("seed"), "armkit_version": N_("armkit version")}
+"""Row labels of the map summary (the keys of ``ReachabilityMap.summary()``, which ``--json`` prints)."""
 
 
 def _picture(m: Any, path: Path) -> None:
     from .._extras import require
 
     matplotlib = require("matplotlib", "armkit reach pictures")
+    from ..locale.fonts import plot_text as _     # the picture's labels (Korean only with a Korean font)
+
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -184,25 +190,25 @@ def _picture(m: Any, path: Path) -> None:
         full = np.concatenate([sec[::-1], sec], axis=0)
         xs = np.concatenate([-(r[::-1] + g.resolution), r])
         im = ax1.pcolormesh(xs, z, full.T, cmap="viridis", vmin=0, vmax=1, shading="auto")
-        ax1.set_title("section through the first joint axis (r, z)")
+        ax1.set_title(_("section through the first joint axis (r, z)"))
     else:
         iy = g.dims[1] // 2
         sec = idx[:, iy, :]
         x = np.arange(g.dims[0]) * g.resolution + g.lo[0]
         z = np.arange(g.dims[2]) * g.resolution + g.lo[2]
         im = ax1.pcolormesh(x, z, sec.T, cmap="viridis", vmin=0, vmax=1, shading="auto")
-        ax1.set_title("section y = 0 (frame of the first joint)")
+        ax1.set_title(_("section y = 0 (frame of the first joint)"))
     ax1.set_aspect("equal")
     ax1.set_xlabel(f"x ({unit})")
     ax1.set_ylabel(f"z ({unit})")
-    fig.colorbar(im, ax=ax1, label="reachability index")
+    fig.colorbar(im, ax=ax1, label=_("reachability index"))
     ax2 = fig.add_subplot(1, 3, 2)
     if g.symmetric:
         prof = idx[:, 0, :].max(axis=1)
         ax2.plot(np.arange(g.dims[0]) * g.resolution + g.resolution / 2, prof)
         ax2.set_xlabel(f"r ({unit})")
-        ax2.set_ylabel("best index over z")
-        ax2.set_title("index against distance from the axis")
+        ax2.set_ylabel(_("best index over z"))
+        ax2.set_title(_("index against distance from the axis"))
     else:
         iz = int(np.argmax(idx.sum(axis=(0, 1))))
         sec = idx[:, :, iz]
@@ -212,8 +218,9 @@ def _picture(m: Any, path: Path) -> None:
         ax2.set_aspect("equal")
         ax2.set_xlabel(f"x ({unit})")
         ax2.set_ylabel(f"y ({unit})")
-        ax2.set_title(f"section z = {g.lo[2] + (iz + 0.5) * g.resolution:.3g} {unit} (frame of joint 1)")
-        fig.colorbar(im2, ax=ax2, label="reachability index")
+        ax2.set_title(_("section z = {z} {unit} (frame of joint 1)", z=f"{g.lo[2] + (iz + 0.5) * g.resolution:.3g}",
+                         unit=unit))
+        fig.colorbar(im2, ax=ax2, label=_("reachability index"))
     ax3 = fig.add_subplot(1, 3, 3, projection="3d")
     sel = idx > 0
     P, V = C[sel], idx[sel]
@@ -232,8 +239,9 @@ def _picture(m: Any, path: Path) -> None:
     ax3.set_xlabel(f"x ({unit})")
     ax3.set_ylabel(f"y ({unit})")
     ax3.set_zlabel(f"z ({unit})")
-    ax3.set_title("reachable voxels, coloured by index")
-    fig.suptitle(f"{m.robot.name}: {g.n_orient} orientations per voxel, {g.resolution:g} {unit} voxels")
+    ax3.set_title(_("reachable voxels, coloured by index"))
+    fig.suptitle(_("{robot}: {n} orientations per voxel, {size} {unit} voxels", robot=m.robot.name, n=g.n_orient,
+                    size=f"{g.resolution:g}", unit=unit))
     fig.tight_layout()
     tmp = path.with_name(f".{path.stem}.{os.getpid()}.tmp{path.suffix}")
     try:
@@ -260,9 +268,9 @@ def show(map_path: str = typer.Argument(..., metavar="MAP", help="Zarr store wri
     if output is not None:
         out = Path(output)
         if out.suffix.lower() not in (".png", ".pdf", ".svg"):
-            fail(f"--output must end in .png, .pdf or .svg, got {output!r}")
+            fail(_("--output must end in .png, .pdf or .svg, got {path!r}", path=output))
         if str(out.parent) and not out.parent.is_dir():
-            fail(f"--output: folder {str(out.parent)!r} does not exist")
+            fail(_("--output: folder {path!r} does not exist", path=str(out.parent)))
     m = _open_map(map_path)
     if as_json:
         print_json({**m.summary(), "picture": output})
@@ -291,15 +299,15 @@ def query(map_path: str = typer.Argument(..., metavar="MAP", help="Zarr store wr
     from ..spatial import rpy_to_rotation
 
     lg = _lang(lang)
-    p = parse_numbers(xyz, "position")
+    p = parse_numbers(xyz, N_("position"))
     if p.shape != (3,):
-        fail(f"position needs 3 numbers X Y Z, got {len(p)}")
+        fail(_("position needs 3 numbers X Y Z, got {k}", k=len(p)))
     T = np.eye(4)
     T[:3, 3] = p
     if rpy is not None:
         ang = parse_numbers([w for w in rpy.replace(" ", ",").split(",") if w], "--rpy")
         if ang.shape != (3,):
-            fail(f"--rpy needs 3 numbers roll,pitch,yaw, got {len(ang)}")
+            fail(_("--rpy needs 3 numbers roll,pitch,yaw, got {k}", k=len(ang)))
         T[:3, :3] = rpy_to_rotation(ang, degrees=deg)
     m = _open_map(map_path)
     ok = bool(m.reachable(T))
@@ -325,11 +333,11 @@ def read_tasks(path: str) -> np.ndarray:
 
     p = Path(path)
     if not p.is_file():
-        fail(f"task file {path!r} not found")
+        fail(_("task file {path!r} not found", path=path))
     try:
         text = p.read_text(encoding="utf-8")
     except (OSError, UnicodeDecodeError) as exc:
-        fail(f"cannot read task file {path!r}: {exc}")
+        fail(_("cannot read task file {path!r}: {reason}", path=path, reason=exc))
     rows: list[np.ndarray] = []
     names = ("x", "y", "z", "roll", "pitch", "yaw")
     for lineno, row in enumerate(csv.reader(text.splitlines()), start=1):
@@ -344,22 +352,25 @@ def read_tasks(path: str) -> np.ndarray:
                 if not rows and lineno == 1 or (not rows and all(not _isnum(x) for x in cells)):
                     vals = []
                     break
-                fail(f"{path}:{lineno}: field {names[i] if i < 6 else i + 1}: {c!r} is not a number")
+                fail(_("{path}:{line}: field {field}: {value!r} is not a number", path=path, line=lineno,
+                       field=names[i] if i < 6 else i + 1, value=c))
             if not math.isfinite(v):
-                fail(f"{path}:{lineno}: field {names[i] if i < 6 else i + 1}: {c!r} is not a finite number")
+                fail(_("{path}:{line}: field {field}: {value!r} is not a finite number", path=path, line=lineno,
+                       field=names[i] if i < 6 else i + 1, value=c))
             vals.append(v)
         if not vals:
             continue
         if len(vals) not in (3, 6):
-            fail(f"{path}:{lineno}: a task row has 3 (x,y,z) or 6 (x,y,z,roll,pitch,yaw in degrees) numbers, "
-                 f"got {len(vals)}")
+            fail(_("{path}:{line}: a task row has 3 (x,y,z) or 6 (x,y,z,roll,pitch,yaw in degrees) numbers, "
+                   "got {k}", path=path, line=lineno, k=len(vals)))
+
         T = np.eye(4)
         T[:3, 3] = vals[:3]
         if len(vals) == 6:
             T[:3, :3] = rpy_to_rotation(vals[3:], degrees=True)
         rows.append(T)
     if not rows:
-        fail(f"task file {path!r} has no task rows (x,y,z[,roll,pitch,yaw])")
+        fail(_("task file {path!r} has no task rows (x,y,z[,roll,pitch,yaw])", path=path))
     return np.stack(rows)
 
 
@@ -390,11 +401,12 @@ def base(map_path: str = typer.Argument(..., metavar="MAP", help="Zarr store wri
 
     lg = _lang(lang)
     if top < 1:
-        fail(f"--top must be at least 1, got {top}")
+        fail(_("--top must be at least 1, got {value}", value=top))
     if step is not None and not (math.isfinite(step) and step > 0):
-        fail(f"--step must be a positive length, got {step}")
+        fail(_("--step must be a positive length, got {value}", value=step))
     if yaws is not None and yaws < 1:
-        fail(f"--yaws must be at least 1, got {yaws}")
+        fail(_("--yaws must be at least 1, got {value}", value=yaws))
+
     T = read_tasks(tasks)
     m = _open_map(map_path)
     best = base_placement(m, T, floor_z=floor_z, step=step, yaws=yaws, top=top)
@@ -406,6 +418,7 @@ def base(map_path: str = typer.Argument(..., metavar="MAP", help="Zarr store wri
     else:
         t = Table(title=escape(_msg("base_title", lg, k=len(T))))
         for h in ("#", f"x ({m.robot.unit})", f"y ({m.robot.unit})", "yaw (deg)", _msg("by_map", lg),
+
                   _msg("ik_check", lg)):
             t.add_column(escape(h), justify="right")
         for i, r in enumerate(rows, 1):
@@ -421,5 +434,3 @@ def base(map_path: str = typer.Argument(..., metavar="MAP", help="Zarr store wri
 def register(app: typer.Typer) -> None:
     app.add_typer(reach_app, name="reach")
 
-
-_ = EXIT_BAD_INPUT

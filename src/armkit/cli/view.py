@@ -9,7 +9,7 @@ from typing import Optional
 
 import typer
 
-from .common import console, fail, get_robot
+from .common import _, console, current_language, fail, get_robot
 
 from .common import ROBOT_HELP  # noqa: E402
 _HOSTNAME = re.compile(r"^(?=.{1,253}$)[A-Za-z0-9](?:[A-Za-z0-9-]{0,61}[A-Za-z0-9])?(?:\.[A-Za-z0-9](?:[A-Za-z0-9-]{0,61}"
@@ -24,13 +24,13 @@ def check_host(host: str) -> str:
     except ValueError:
         pass
     if not _HOSTNAME.match(host):
-        fail(f"--host must be an IP address or a host name, got {host!r}")
+        fail(_("--host must be an IP address or a host name, got {value!r}", value=host))
     return host
 
 
 def check_port(port: Optional[int]) -> Optional[int]:
     if port is not None and not 1 <= port <= 65535:
-        fail(f"--port must be between 1 and 65535, got {port}")
+        fail(_("--port must be between 1 and 65535, got {value}", value=port))
     return port
 
 
@@ -52,7 +52,7 @@ def view(robot: str = typer.Argument(..., help=ROBOT_HELP),
     from rich.markup import escape
 
     if lang is not None and lang not in ("ko", "en"):
-        fail(f"--lang must be en or ko, got {lang!r}")
+        fail(_("--lang must be en or ko, got {value!r}", value=lang))
     check_port(port)
     check_host(host)
     r = get_robot(robot)
@@ -60,14 +60,16 @@ def view(robot: str = typer.Argument(..., help=ROBOT_HELP),
     from ..viz.view import view as open_view
 
     try:
-        v = open_view(r, port=port, host=host, lang=lang)
+        v = open_view(r, port=port, host=host, lang=lang or current_language())
     except ViewError as exc:
         fail(escape(str(exc)))
     try:
-        console.print(f"[bold]{escape(r.name)}[/] live view: {escape(v.url)}   (Ctrl-C to stop)", soft_wrap=True)
+        console.print(_("{robot} live view: {url}   (Ctrl-C to stop)", robot=f"[bold]{escape(r.name)}[/]",
+                        url=escape(v.url)), soft_wrap=True)
         if host not in ("127.0.0.1", "localhost", "::1"):
-            console.print(f"[yellow]note:[/] listening on {escape(host)}: anyone who can reach this machine "
-                          "on that address can open the view and move the arm", soft_wrap=True)
+            console.print("[yellow]" + _("note:") + "[/] " + _("listening on {host}: anyone who can reach this "
+                                                                "machine on that address can open the view and move "
+                                                                "the arm", host=escape(host)), soft_wrap=True)
         while True:
             time.sleep(3600)
     except KeyboardInterrupt:
@@ -95,9 +97,10 @@ def attach_view(shell: object, robot: object, lang: Optional[str]) -> object:
     from ..viz.view import view as open_view
 
     try:
-        v = open_view(robot, lang=lang, q=getattr(shell, "q", None))  # type: ignore[arg-type]
+        v = open_view(robot, lang=lang or current_language(), q=getattr(shell, "q", None))  # type: ignore[arg-type]
     except ViewError as exc:
         fail(escape(str(exc)))
     shell.view = v  # type: ignore[attr-defined]
-    console.print(f"live view: {escape(v.url)}", soft_wrap=True)
+    console.print(_("live view: {url}", url=escape(v.url)), soft_wrap=True)
+
     return v

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import typer
 
-from .common import EXIT_FAILED, console, esc, print_json
+from .common import EXIT_FAILED, _, console, esc, print_json
 
 
 def warmup(parallel: bool = typer.Option(True, "--parallel/--no-parallel",
@@ -21,17 +21,21 @@ def warmup(parallel: bool = typer.Option(True, "--parallel/--no-parallel",
     try:
         done = run(parallel=parallel)
     except ImportError as exc:
-        console.print(f"cannot compile armkit's kernels: {esc(exc)} (the NumPy back end works without them)")
+        console.print(_("cannot compile armkit's kernels: {reason} (the NumPy back end works without them)",
+                        reason=esc(exc)))
         raise SystemExit(EXIT_FAILED) from None
     if json_out:
         print_json({"seconds": round(done.seconds, 3), "cache": None if done.cache is None else str(done.cache),
                     "compiled": done.compiled})
         return
-    where = "not cached (Numba's cache is off)" if done.cache is None else f"cached in {esc(done.cache)}"
+    where = _("not cached (Numba's cache is off)") if done.cache is None else _("cached in {path}",
+                                                                              path=esc(done.cache))
     if done.compiled:
-        console.print(f"armkit's kernels compiled in {done.seconds:.1f} s, {where}")
+        console.print(_("armkit's kernels compiled in {seconds} s, {where}", seconds=f"{done.seconds:.1f}",
+                        where=where))
     else:
-        console.print(f"armkit's kernels were already compiled, {where}: nothing to do")
+        console.print(_("armkit's kernels were already compiled, {where}: nothing to do", where=where))
+
 
 
 def register(app: typer.Typer) -> None:
