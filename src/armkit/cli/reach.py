@@ -433,4 +433,3 @@ def base(map_path: str = typer.Argument(..., metavar="MAP", help="Zarr store wri
 
 def register(app: typer.Typer) -> None:
     app.add_typer(reach_app, name="reach")
-
