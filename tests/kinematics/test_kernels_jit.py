@@ -112,3 +112,73 @@ def test_long_chain_single_call_matches_numpy():
             for f, kw in ((armkit.fk, {}), (armkit.jacobian, {}), (armkit.jacobian, {"frame": "tool"})):
                 a, b = _both(f, robot, q, **kw)
                 assert np.abs(a - b).max() <= 1e-14 * robot.reach
+
+
+def test_packed_chain_has_the_prismatic_flag_in_its_own_field():
+    arm = armkit.load("stanford")   # joint 3 prismatic
+    assert arm.prismatic.any()
+    F, P = kinematics.packed(arm)
+    c, n = arm.chain, arm.n
+    assert F.shape == (n + 1, jit.ROW) and P.shape == (2 * n + 2, jit.ROW)
+    assert np.array_equal(F[:, jit.AFFINE].reshape(n + 1, 3, 4), c.fixed[:, :3])
+    mats = np.concatenate([c.base[None], c.pre, c.post, c.tool[None]])
+    assert np.array_equal(P[:, jit.AFFINE].reshape(2 * n + 2, 3, 4), mats[:, :3])
+    assert np.array_equal(F[1:, jit.PRISMATIC], arm.prismatic.astype(float)) and F[0, jit.PRISMATIC] == 0.0
+    assert np.array_equal(P[1:n + 1, jit.PRISMATIC], arm.prismatic.astype(float))
+    assert not P[n + 1:, jit.PRISMATIC].any() and P[0, jit.PRISMATIC] == 0.0
+    assert kinematics.packed(arm)[0] is F                          # built once, kept in the robot's cache
+    assert not F.flags.writeable and not P.flags.writeable
+
+
+def test_single_call_kernels_are_dispatchers_with_one_signature():
+    armkit.fk(armkit.load("ur5"), np.zeros(6))   # compiles (or loads) fk_one_float64
+    assert jit.fk_one_float64 is jit.fk_one      # the public dispatcher, no internal entry point
+    assert len(jit.fk_one.signatures) == 1
+    with pytest.raises(TypeError):              # any other argument types: refused at once, never compiled
+        jit.fk_one_float64(np.zeros((7, jit.ROW), np.float32), np.zeros(6), np.empty((4, 4)))
+
+
+def test_kernel_cache_that_inlines_another_file_clears_itself(tmp_path, monkeypatch):
+    from armkit import _jit_loader
+
+    pkg, cache = tmp_path / "pkg", tmp_path / "cache"
+    pkg.mkdir()
+    cache.mkdir()
+    (pkg / "helpers.py").write_text("A = 1\n")
+    monkeypatch.setattr(_jit_loader, "_PKG", pkg)
+
+    class Kernel:   # what Numba's cache=True dispatcher offers: the directory of its cache files
+        class _cache:
+            _cache_path = str(cache)
+
+    namespace = {"__file__": str(pkg / "kernels.py"), "kernel": Kernel()}
+
+    def files():
+        return sorted(p.name for p in cache.iterdir() if p.suffix in (".nbi", ".nbc"))
+
+    def compiled():
+        for name in ("kernels.kernel-10.py311.nbi", "kernels.kernel-10.py311.1.nbc", "other.kernel-3.py311.nbi"):
+            (cache / name).write_bytes(b"x")
+
+    compiled()
+    _jit_loader.forget_stale_cache(namespace, ("helpers.py",))   # no stamp yet: this module's files go
+    assert files() == ["other.kernel-3.py311.nbi"]
+    compiled()
+    _jit_loader.forget_stale_cache(namespace, ("helpers.py",))   # helpers unchanged: the cache stays
+    assert len(files()) == 3
+    (pkg / "helpers.py").write_text("A = 2\n")
+    _jit_loader.forget_stale_cache(namespace, ("helpers.py",))   # helpers edited: compiled anew
+    assert files() == ["other.kernel-3.py311.nbi"]
+
+
+def test_lm_kernels_cache_is_tied_to_the_kinematics_kernels():
+    lm = pytest.importorskip("armkit.ik._jit_lm")
+    path = getattr(getattr(lm.lm_serial, "_cache", None), "_cache_path", None)
+    if path is None:
+        pytest.skip("Numba caching is off")
+    import hashlib
+    from pathlib import Path
+
+    stamp = Path(path) / "_jit_lm.armkit-deps"
+    expected = hashlib.sha1((Path(jit.__file__)).read_bytes()).hexdigest()
+    assert stamp.read_text() == expected
