@@ -17,7 +17,7 @@ from sympy.printing.numpy import NumPyPrinter
 from .._extras import require
 from .derive import Derivation
 
-__all__ = ["shorthand", "shorthand_symbols", "to_text", "to_latex", "to_numpy_source", "render_png"]
+__all__ = ["shorthand", "shorthand_symbols", "to_text", "to_latex", "to_numpy_source", "render_png", "matrix_figure"]
 
 
 def _index_of(arg: sp.Expr, q: tuple[sp.Symbol, ...]) -> str | None:
@@ -204,35 +204,107 @@ def to_numpy_source(d: Derivation) -> str:
     return "\n".join(lines) + "\n"
 
 
-def render_png(d: Derivation, out_path: str | Path, what: tuple[str, ...] = ("T", "J")) -> Path:
-    """Render the non-constant entries of ``T`` and ``J`` as LaTeX lines with Matplotlib mathtext (no TeX needed).
+def _units(d: Derivation, w: str) -> tuple[list[str], list[str]]:
+    """Row labels with units and column labels of matrix ``w`` ("T" or "J") as mathtext."""
+    u = d.unit
+    if w == "T":
+        return ([r"$x$", r"$y$", r"$z$", ""],
+                [r"$\hat x$" "\n(1)", r"$\hat y$" "\n(1)", r"$\hat z$" "\n(1)", f"$p$\n({u})"])
+    cols = [f"$q_{{{i + 1}}}$" + (f"\n(per {u})" if t == "P" else "\n(per rad)") for i, t in enumerate(d.joint_types)]
+    return ([f"$v_{a}$ ({u})" for a in "xyz"] + [f"$\\omega_{a}$ (1)" for a in "xyz"], cols)
 
-    Mathtext has no matrix environment, so each entry is one line, ``T_{14} = ...``.
-    A quick way to look at the formulas as they will print in a report.
+
+def render_png(d: Derivation, out_path: str | Path, what: tuple[str, ...] = ("T", "J")) -> Path:
+    """Write :func:`matrix_figure` of ``d`` to ``out_path`` (.png, .pdf or .svg)."""
+    import matplotlib.pyplot as plt
+
+    fig = matrix_figure(d, what)
+    p = Path(out_path)
+    fig.savefig(p, dpi=100)
+    plt.close(fig)
+    return p
+
+
+def matrix_figure(d: Derivation, what: tuple[str, ...] = ("T", "J")) -> Any:
+    """``T`` and ``J`` laid out as matrices, every entry (zeros and ones too), with units (a Matplotlib figure).
+
+    Matplotlib mathtext draws each entry (no TeX needed); the entries are placed in
+    columns measured from their rendered widths, between bracket lines. Row and column
+    labels carry the units: the position column of ``T`` in the robot's length unit, its
+    rotation block dimensionless (1); the rows of ``J`` per unit joint rate, ``v`` in the
+    length unit per rad (per length unit for a prismatic joint), ``omega`` in 1 (rad/s
+    per rad/s). The short-hand (``c_{12} = cos(q_1 + q_2)``) and the parameter values are
+    written on top.
     """
     matplotlib = require("matplotlib", "rendering formulas as a picture")
     matplotlib.use("Agg", force=False)
     import matplotlib.pyplot as plt
+    from matplotlib.lines import Line2D
 
     exprs: list[sp.Expr] = []
     for w in what:
         exprs.extend(list(getattr(d, w)))
     m = shorthand_symbols(exprs, d.q, latex=True)
-    lines = []
+    fig = plt.figure(figsize=(4, 4), dpi=100)
+    renderer = fig.canvas.get_renderer()
+
+    def text(s: str, **kw: Any) -> tuple[Any, float, float]:
+        t = fig.text(0, 0, s, **kw)
+        bb = t.get_window_extent(renderer)
+        return t, bb.width / fig.dpi, bb.height / fig.dpi
+
+    titles = {"T": f"T = base · A1 ··· A{d.n} · tool  (pose of the tool in the base frame)",
+              "J": "J(q): geometric Jacobian, base frame, rows (v, ω) per unit joint rate"}
+    head = [text(f"{d.robot_name}: " + (_params_text(d) or "no length parameters"), fontsize=11),
+            text(("short-hand: " + ", ".join(f"${sp.latex(s)} = {sp.latex(f)}$" for f, s in m.items()))
+                 if m else "", fontsize=10)]
+    blocks = []
     for w in what:
         M = getattr(d, w).xreplace(m)
-        for i in range(M.shape[0]):
-            for j in range(M.shape[1]):
-                e = M[i, j]
-                if e.free_symbols & set(m.values()) or e.free_symbols & set(d.q):
-                    lines.append(f"${w}_{{{i + 1}{j + 1}}} = {sp.latex(e)}$")
-    height = 0.42 * len(lines) + 0.6
-    fig = plt.figure(figsize=(11, height))
-    fig.text(0.01, 1 - 0.25 / height, f"{d.robot_name}: " + ", ".join(f"{s} = {v:g}" for s, v in d.values.items()),
-             fontsize=11, va="top")
-    for k, text in enumerate(lines):
-        fig.text(0.01, 1 - (0.6 + 0.42 * k) / height, text, fontsize=13, va="top")
-    p = Path(out_path)
-    fig.savefig(p, dpi=100)
-    plt.close(fig)
-    return p
+        rows, cols = _units(d, w)
+        cells = [[text(f"${sp.latex(M[i, j])}$", fontsize=13, ha="center", va="center") for j in range(M.shape[1])]
+                 for i in range(M.shape[0])]
+        blocks.append((text(titles.get(w, w), fontsize=12, weight="bold"),
+                       [text(r, fontsize=10, ha="right", va="center") for r in rows],
+                       [text(c, fontsize=10, ha="center", va="bottom", multialignment="center") for c in cols], cells))
+    pad, gap = 0.35, 0.18
+    row_w = max((r[1] for b in blocks for r in b[1]), default=0.0) + 0.25
+    layout, y, width = [], 0.2, 0.0
+    for t, tw, th in head:
+        layout.append((t, 0.15, y + th))
+        y += th + 0.12
+        width = max(width, tw + 0.5)
+    y += 0.15
+    for title, rlabels, clabels, cells in blocks:
+        layout.append((title[0], 0.15, y + title[2]))
+        y += title[2] + 0.2
+        col_w = [max([c[1] for c in col] + [clabels[j][1]]) + pad for j, col in enumerate(zip(*cells))]
+        row_h = [max(c[2] for c in row) + gap for row in cells]
+        y += max(c[2] for c in clabels) + 0.05
+        x0 = 0.15 + row_w
+        xs = [x0 + 0.15 + sum(col_w[:j]) + col_w[j] / 2 for j in range(len(col_w))]
+        for j, c in enumerate(clabels):
+            layout.append((c[0], xs[j], y))
+        top = y
+        for i, row in enumerate(cells):
+            yc = y + row_h[i] / 2
+            layout.append((rlabels[i][0], x0 - 0.1, yc))
+            for j, c in enumerate(row):
+                layout.append((c[0], xs[j], yc))
+            y += row_h[i]
+        right = x0 + 0.3 + sum(col_w)
+        for xb, sgn in ((x0, 1), (right, -1)):        # brackets
+            layout.append((("bracket", xb, sgn, top, y), 0, 0))
+        width = max(width, right + 0.2)
+        y += 0.45
+    height = y
+    fig.set_size_inches(width, height)
+    for item, x, yy in layout:
+        if isinstance(item, tuple):
+            _, xb, sgn, top, bottom = item
+            xs_ = [xb + 0.08 * sgn, xb, xb, xb + 0.08 * sgn]
+            ys_ = [top, top, bottom, bottom]
+            fig.add_artist(Line2D([v / width for v in xs_], [1 - v / height for v in ys_], color="k", lw=1.2))
+        else:
+            item.set_position((x / width, 1 - yy / height))
+    return fig
