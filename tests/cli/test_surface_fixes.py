@@ -130,3 +130,22 @@ def test_traj_takes_output_and_out(tmp_path):
         res = cli("traj", "planar2", "--joint", "0,0", "1,1", flag, str(path))
         assert res.exit_code == 0, res.output
         assert path.is_file() and path.stat().st_size > 0
+
+
+@pytest.mark.parametrize("robot,target", [("fighter", [100, 50, 80]), ("planar2", [1.0, 0.5])])
+def test_branch_picture_legend_does_not_cover_the_axes(robot, target):
+    """Issue 11: the IK-branch picture's legend sits below the plot, not on it."""
+    import matplotlib.pyplot as plt
+
+    from armkit.viz.arm import plot_arm
+
+    r = armkit.load(robot)
+    res = armkit.ik_all(r, target)
+    tp = np.append(target, 0.0)[:3]
+    fig = plot_arm(r, np.asarray(res.q), labels=[str(b) for b in res.branch], targets=[tp])
+    fig.canvas.draw()
+    ax = fig.axes[0]
+    leg = ax.get_legend().get_window_extent()
+    box = ax.get_window_extent()
+    assert leg.y1 <= box.y0 + 1, (leg, box)            # entirely below the axes
+    plt.close(fig)

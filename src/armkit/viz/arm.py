@@ -193,5 +193,6 @@ def plot_arm(robot: Robot, q: ArrayLike, ax: Any = None, frames: bool = True,
         if frames:
             handles += [Line2D([], [], color=c, lw=1.5) for c in AXIS_COLORS[: 2 if planar else 3]]
             labs += ["frame x", "frame y", "frame z"][: 2 if planar else 3]
-        ax.legend(handles, labs, loc="upper left", fontsize=8, framealpha=0.85)
+        ax.legend(handles, labs, loc="upper center", bbox_to_anchor=(0.5, -0.1 if planar else -0.02), fontsize=8,
+                  ncol=1 if max(map(len, labs), default=0) > 40 else 2, framealpha=0.85)   # below: never on the arm
     return ax.figure

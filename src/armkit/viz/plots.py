@@ -29,7 +29,7 @@ def save_figure(fig: Any, path: str | Path, dpi: int = 110) -> Path:
     out = Path(path)
     try:
         with atomic_path(out, IMAGE_SUFFIXES, "a picture file") as tmp:
-            fig.savefig(tmp, dpi=dpi, format=out.suffix.lower().lstrip("."))
+            fig.savefig(tmp, dpi=dpi, format=out.suffix.lower().lstrip("."), bbox_inches="tight", pad_inches=0.15)
     finally:
         pyplot().close(fig)
     return out
