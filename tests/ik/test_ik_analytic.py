@@ -500,3 +500,44 @@ def test_sort_kernel_is_numpys_stable_argsort(seed):
     assert np.array_equal(qs, np.take_along_axis(q, ref[..., None], axis=1))
     for a, b in ((oks, ok), (dps, dp), (drs, dr), (ws, within)):
         assert np.array_equal(a, np.take_along_axis(b, ref, axis=1))
+
+
+# ------------------------------------------------------------------ the family contract
+FAMILY_ROBOTS = {"planar-2r": "planar2", "planar-3r": "planar3", "yaw-pitch-pitch": "fighter",
+                 "spherical-wrist": "puma560", "ur": "ur5", "yaw-pitch3": "so101"}
+
+
+def test_every_family_keeps_the_contract():
+    from armkit.ik import analytic
+
+    assert sorted(cls.family for cls in analytic.FAMILIES) == sorted(FAMILY_ROBOTS)
+    for family, name in FAMILY_ROBOTS.items():
+        robot = armkit.load(name)
+        solver = closed_form(robot)
+        assert isinstance(solver, analytic.ClosedFormFamily) and solver.family == family
+        assert solver.m == len(solver.branch_labels) == len(set(solver.branch_labels))
+        g = solver.geometry
+        assert g is None or (g.dtype == np.float64 and g.ndim == 1 and not g.flags.writeable)
+        if family == "yaw-pitch3":
+            res = armkit.ik_all(robot, armkit.fk(robot, robot.random_q(5, rng=1))[:, :3, 3], pitch=0.2)
+        else:
+            T = armkit.fk(robot, robot.random_q(5, rng=1))
+            res = armkit.ik_all(robot, T[:, :2, 3] if robot.n == 2 else T if solver.pose_only else T[:, :3, 3])
+        assert set(np.asarray(res.branch).ravel()) <= set(solver.branch_labels)   # both paths: one table
+
+
+def test_the_docs_example_of_a_new_family_runs(capsys):
+    import re
+    from pathlib import Path
+
+    from armkit.ik import analytic
+
+    text = (Path(__file__).resolve().parents[2] / "docs" / "ik.md").read_text()
+    section = text[text.index("## Adding a closed-form family"):]
+    code = re.search(r"```python\n(.*?)```", section, re.S).group(1)
+    saved = analytic.FAMILIES
+    try:
+        exec(compile(code, "docs/ik.md", "exec"), {})
+    finally:
+        analytic.FAMILIES = saved
+    assert capsys.readouterr().out.split() == ["reach", "[1.57079633]", "True"]

@@ -24,7 +24,7 @@ then sorted: successful branches first, each group by distance to ``q0``.
 from __future__ import annotations
 
 import math
-from typing import Protocol
+from typing import Protocol, runtime_checkable
 
 import numpy as np
 from numpy.typing import NDArray
@@ -39,20 +39,48 @@ from .ur import ParallelAxes
 from .yaw_pitch3 import YawPitch3
 from .yaw_pitch_pitch import YawPitchPitch
 
-__all__ = ["ClosedForm", "closed_form", "solve_all", "wrap_to_limits", "FAMILIES"]
+__all__ = ["ClosedFormFamily", "ClosedForm", "closed_form", "solve_all", "wrap_to_limits", "FAMILIES"]
 
 Array = NDArray[np.float64]
 TWO_PI = 2.0 * math.pi
 _REASON_TEXT = np.array(["converged", "unreachable", "joint limits"])
 
 
-class ClosedForm(Protocol):
-    family: str
-    pose_only: bool
-    m: int
-    sf: StandardForm
+@runtime_checkable
+class ClosedFormFamily(Protocol):
+    """The contract of a closed-form family: what :func:`closed_form`, :func:`solve_all` and
+    :func:`solve_nearest` use (``docs/ik.md``, "Adding a closed-form family").
 
-    def solve(self, target: Array, q0phi: Array) -> Raw: ...
+    An instance is the solver for one robot (kept in ``robot.cache["closed_form"]``), so what
+    it computes once (``geometry``) is computed once per robot.
+    """
+
+    family: str
+    """The name users see (``"ur"``, ``"planar-2r"``, ...), unique among :data:`FAMILIES`."""
+    branch_labels: tuple[str, ...]
+    """The one label table: the NumPy and the Numba path both give indices into it (``Raw.label``)."""
+    m: int
+    """Branches per target, ``len(branch_labels)``."""
+    pose_only: bool
+    """True when a position alone does not fix the closed form (a pose, ``phi=`` or ``pitch=`` needed)."""
+    sf: StandardForm
+    """The robot in standard-DH form (:func:`._common.standard_form`), on which the family was detected."""
+
+    @classmethod
+    def detect(cls, sf: StandardForm, robot: Robot) -> "ClosedFormFamily | None":
+        """The solver for ``robot`` when its structure is this family's, else None (from the DH model, never the name)."""
+
+    @property
+    def geometry(self) -> Array | None:
+        """The packed float64 geometry of the family's Numba kernel (layout in :mod:`._layout`), built once;
+        None for a family solved by NumPy only."""
+
+    def solve(self, target: Array, q0phi: Array) -> Raw:
+        """Every branch for targets ``(B, 4, 4)`` or ``(B, 3)``; ``q0phi`` ``(B, n)`` is ``q0`` plus the DH
+        offsets theta (free joints take it). Returns DH angles ``(B, m, n)``, labels, clipped flags, notes."""
+
+
+ClosedForm = ClosedFormFamily   # the name used before the contract was written down
 
 
 FAMILIES = (Planar2R, Planar3R, YawPitchPitch, SphericalWrist, ParallelAxes, YawPitch3)

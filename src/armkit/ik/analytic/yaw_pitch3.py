@@ -83,6 +83,8 @@ class YawPitch3:
     """
 
     family = "yaw-pitch3"
+    branch_labels = tuple(_LABELS)
+    geometry = None         # solved by NumPy only (a few targets at a time: the SO-101's teleoperation)
     pose_only = True        # a position alone leaves the pitch free: LM (or give pitch=)
     target_kind = "pitch"   # the closed form needs pitch= (see armkit.ik.api)
     m = 4
