@@ -12,7 +12,9 @@ def capsule_pose(p0, p1):
     d = np.asarray(p1, float) - np.asarray(p0, float)
     length = float(np.linalg.norm(d))
     R = np.eye(3)
-    if length > 0:
+    # below 1e-9 the axis is left alone: a subnormal length (1e-160, found by hypothesis) loses digits, so
+    # d / length is no unit vector and coal gets a rotation that is not one (0.5 came back as 0.49999995)
+    if length > 1e-9:
         z = d / length
         x = np.cross([0.0, 0.0, 1.0] if abs(z[2]) < 0.9 else [1.0, 0.0, 0.0], z)
         x /= np.linalg.norm(x)

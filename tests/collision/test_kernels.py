@@ -99,7 +99,9 @@ def test_box_against_coal(p0, p1, r, c, size, rpy):
 @given(vec, vec, radius, vec, vec, radius)
 def test_capsule_capsule_against_coal(p0, p1, r1, q0, q1, r2):
     mine = K.segment_segment(p0, p1, q0, q1) - r1 - r2
-    assert mine == pytest.approx(capsule_capsule(p0, p1, r1, q0, q1, r2), abs=1e-9)
+    ref = capsule_capsule(p0, p1, r1, q0, q1, r2)
+    # overlapping: coal's EPA stops within its tolerance (two capsules at one point: 2e-8 off)
+    assert mine == pytest.approx(ref, abs=1e-9 if ref > 0 else 1e-6)
 
 
 @settings(max_examples=300, deadline=None)

@@ -146,7 +146,15 @@ def _seg_box(p, q, T, h, ts):
             best = f
     if best > 0.0:
         return math.sqrt(best)
-    # overlapping: the smallest overlap over the separating axes
+    return -_overlap_depth(a, b, hh)
+
+
+@njit(cache=True, inline="always")
+def _overlap_depth(a, b, hh):
+    """Penetration depth of segment a -> a + b (box frame) into the box of half extents hh: the smallest
+    overlap over the separating axes (the box's three, and b crossed with each)."""
+    a0, a1, a2 = a
+    b0, b1, b2 = b
     depth = np.inf
     bn = math.sqrt(b0 * b0 + b1 * b1 + b2 * b2)
     for ax in range(6):
@@ -175,7 +183,7 @@ def _seg_box(p, q, T, h, ts):
         ov = min(max(pa, pb) + rb, rb - min(pa, pb))
         if ov < depth:
             depth = ov
-    return -depth
+    return depth
 
 
 @njit(cache=True, inline="always")
