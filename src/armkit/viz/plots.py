@@ -155,6 +155,9 @@ def _panel(fig: Any, ax: Any, gx: np.ndarray, gy: np.ndarray, Z: np.ndarray, lab
     if finite.size == 0:
         ax.text(0.5, 0.5, "no reachable target", ha="center", va="center", transform=ax.transAxes)
         return
+    if unit == "deg" and _wraps(Z) and not _wraps(np.mod(Z, 360.0)):
+        Z = np.mod(Z, 360.0)             # an angle near +-180 deg: drawn over 0..360 deg, continuous
+        finite = Z[np.isfinite(Z)]
     lo, hi = float(finite.min()), float(finite.max())
     if hi - lo <= 1e-9 * max(scale, 1e-12):
         value = 0.0 if abs(0.5 * (lo + hi)) <= 1e-9 * max(scale, 1e-12) else 0.5 * (lo + hi)
@@ -242,7 +245,10 @@ def plot_maps(fk: Optional[FKMaps] = None, ik: Optional[IKMaps] = None, levels: 
                 ax.set_xlim(ik.x[0], ik.x[-1])
                 ax.set_ylim(ik.y[0], ik.y[-1])
                 ax.set(xlabel=f"x ({r.unit})", ylabel=f"y ({r.unit})")
-                ax.set_title(f"IK {ik.branches[b]}: {r.joint_names[k]}(x, y)", fontsize=9)
+                lab = ik.branches[b]
+                if lab[-1:] in "+-" and lab[:-1]:      # a branch named by the elbow's sign (analysis.maps)
+                    lab = f"{lab[:-1]} {'≥' if lab[-1] == '+' else '≤'} 0"
+                ax.set_title(f"IK {lab}: {r.joint_names[k]}(x, y)", fontsize=9)
     robot = (fk or ik).robot  # type: ignore[union-attr]
     where = f"; IK targets at z = {ik.z:.4g} {robot.unit}" if ik is not None and ik.z is not None else ""
     fig.suptitle(f"{robot.name}: contour maps (blank = out of reach{where})", fontsize=12)
