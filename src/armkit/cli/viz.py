@@ -13,7 +13,9 @@ from .common import (EXIT_FAILED, NUMERIC_ARGS, console, esc, fail, get_robot, p
                      print_json, scene_option, warn)
 
 from .common import ROBOT_HELP  # noqa: E402
-from .common import _  # noqa: E402
+from .common import N_, _  # noqa: E402
+from .ik import _explain  # noqa: E402
+
 IMAGE_SUFFIXES = (".png", ".pdf", ".svg", ".jpg")
 
 
@@ -46,19 +48,21 @@ def plot(robot: str = typer.Argument(..., help=ROBOT_HELP),
     out = _out(output, IMAGE_SUFFIXES, "--output")
     if all_branches is not None:
         if q:
-            fail("give either joint values or --all-branches, not both")
+            fail(_("give either joint values or --all-branches, not both"))
         from .. import ik_all
         from ..analysis.workspace import is_planar
 
         target = parse_numbers([w for w in all_branches.replace(" ", ",").split(",") if w], "--all-branches")
         planar = is_planar(r)
         if len(target) != (2 if planar else 3):
-            fail(f"--all-branches needs {'x,y' if planar else 'x,y,z'} for robot {r.name!r}, got {len(target)} "
-                 "value(s)")
+            fail(_("--all-branches needs {form} for robot {robot!r}, got {k} value(s)", form="x,y" if planar else
+                   "x,y,z", robot=r.name, k=len(target)))
         res = ik_all(r, target)
         ok = np.asarray(res.success)
         if not ok.any():
-            fail(f"no branch reaches the target: {np.asarray(res.message)[0]}", EXIT_FAILED)
+            first = {k: np.asarray(getattr(res, k)).reshape(-1)[0] for k in ("reason", "message", "position_error")}
+            fail(_("no branch reaches the target: {reason}", reason=_explain(r, first)), EXIT_FAILED)
+
         qs = np.asarray(res.q)[ok]
         labels = [str(b) for b in np.asarray(res.branch)[ok]]
         from ..viz._mpl import angle_text
@@ -70,19 +74,22 @@ def plot(robot: str = typer.Argument(..., help=ROBOT_HELP),
 
             tp[2] = fk(r, qs[0])[2, 3]
         unit = r.unit
-        title = (f"{r.name}: {len(qs)} IK branches for target ("
-                 + ", ".join(f"{v:g}" for v in target) + f") {unit}")
+        from ..locale.fonts import plot_text
+
+        title = plot_text(N_("{robot}: {n} IK branches for target ({xyz}) {unit}"), robot=r.name, n=len(qs),
+                          xyz=", ".join(f"{v:g}" for v in target), unit=unit)
         fig = plot_arm(r, qs, frames=not no_frames, labels=labels, targets=tp, title=title)
         path = save_figure(fig, out)
-        console.print(f"{len(qs)} branch(es): {', '.join(str(b) for b in np.asarray(res.branch)[ok])}")
-        console.print(f"wrote {esc(path)}")
+        console.print(_("{n} branch(es): {names}", n=len(qs), names=", ".join(str(b) for b in
+                                                                              np.asarray(res.branch)[ok])))
+        console.print(_("wrote {path}", path=esc(path)))
         return
     if not q:
-        fail(f"give {r.n} joint values ({name_list(r.joint_names)}) or --all-branches X,Y,Z")
+        fail(_("give {n} joint values ({names}) or --all-branches X,Y,Z", n=r.n, names=name_list(r.joint_names)))
     qv = parse_q(r, q, deg, strict)
     fig = plot_arm(r, qv, frames=not no_frames)
     path = save_figure(fig, out)
-    console.print(f"wrote {esc(path)}")
+    console.print(_("wrote {path}", path=esc(path)))
 
 
 def shell(robot: str = typer.Argument(..., help=ROBOT_HELP),
@@ -110,9 +117,9 @@ def shell(robot: str = typer.Argument(..., help=ROBOT_HELP),
     from .shell import Shell
 
     if lang is not None and lang not in ("ko", "en"):
-        fail(f"--lang must be en or ko, got {lang!r}")
+        fail(_("--lang must be en or ko, got {value!r}", value=lang))
     if units not in ("deg", "rad"):
-        fail(f"--units must be deg or rad, got {units!r}")
+        fail(_("--units must be deg or rad, got {value!r}", value=units))
     r = get_robot(robot)
     mode = "none" if no_plot or (view and not png) else ("png" if png else "auto")
     sh = Shell(r, lang=lang, units=units, plot=mode, out_dir=out_dir, console=console, session=True,
@@ -151,14 +158,14 @@ def workspace(robot: str = typer.Argument(..., help=ROBOT_HELP),
     r = get_robot(robot)
     out = _out(output, IMAGE_SUFFIXES, "--output") if output else None
     if samples < 100:
-        fail(f"--samples must be at least 100, got {samples}")
+        fail(_("--samples must be at least 100, got {value}", value=samples))
     if seed < 0:
-        fail(f"--seed must be a non-negative integer, got {seed}")
+        fail(_("--seed must be a non-negative integer, got {value}", value=seed))
     boxes = []
     for b in box or []:
         v = parse_numbers([w for w in b.replace(" ", ",").split(",") if w], "--box")
         if len(v) != 6:
-            fail(f"--box needs 6 numbers x0,y0,z0,x1,y1,z1, got {len(v)}")
+            fail(_("--box needs 6 numbers x0,y0,z0,x1,y1,z1, got {k}", k=len(v)))
         lo, hi = np.minimum(v[:3], v[3:]), np.maximum(v[:3], v[3:])
         boxes.append((lo, hi))
     exclusion = Exclusion(ground_z=ground, boxes=tuple(boxes)) if ground is not None or boxes else None
@@ -178,18 +185,24 @@ def workspace(robot: str = typer.Argument(..., help=ROBOT_HELP),
         print_json(data)
         return
     c = ", ".join(f"{v:.4g}" for v in ws.centre)
-    console.print(f"[bold]{esc(r.name)}[/] workspace from {ws.samples:,} samples ({ws.excluded:,} excluded"
-                  + (f": {exclusion.describe(r.unit)}" if exclusion else "")
-                  + (f"{'; ' if exclusion else ': '}collisions with "
-                     + esc(", ".join([s.name for s in scene] + ["its body and itself"]))
-                     if scene is not None else "") + ")")
-    console.print(f"  outer boundary: {ws.outer_radius:.4g} {r.unit} from the shoulder ({c})")
-    console.print(f"  inner boundary: {ws.inner_radius:.4g} {r.unit}" if ws.has_inner_boundary
-                  else "  inner boundary: none (the end point reaches the shoulder)")
-    console.print(f"  {ws.measure_name}: {format_measure(ws.volume, ws.volume_error)} {ws.measure_unit} "
-                  f"(voxel {ws.voxel_size:.3g} {r.unit}; the ± is a bound, see docs/visualisation.md)")
+    body = _("its body and itself")
+    why = ([exclusion.describe(r.unit)] if exclusion else []) + (
+        [_("collisions with {names}", names=esc(", ".join([s.name for s in scene] + [body])))]
+        if scene is not None else [])
+
+    console.print(_("{robot} workspace from {n} samples ({k} excluded{why})", robot=f"[bold]{esc(r.name)}[/]",
+                    n=f"{ws.samples:,}", k=f"{ws.excluded:,}", why=(": " + "; ".join(why)) if why else ""))
+    console.print("  " + _("outer boundary: {radius} {unit} from the shoulder ({centre})",
+                           radius=f"{ws.outer_radius:.4g}", unit=r.unit, centre=c))
+    console.print("  " + (_("inner boundary: {radius} {unit}", radius=f"{ws.inner_radius:.4g}", unit=r.unit)
+                          if ws.has_inner_boundary else
+                          _("inner boundary: none (the end point reaches the shoulder)")))
+    console.print("  " + _("{measure}: {value} {unit} (voxel {voxel} {length}; the ± is a bound, see "
+                           "docs/visualisation.md)", measure=_(ws.measure_name),
+                           value=format_measure(ws.volume, ws.volume_error), unit=ws.measure_unit,
+                           voxel=f"{ws.voxel_size:.3g}", length=r.unit))
     if path is not None:
-        console.print(f"wrote {esc(path)}")
+        console.print(_("wrote {path}", path=esc(path)))
 
 
 def _range(text: str, what: str, scale: float, steps: int) -> np.ndarray:
@@ -281,9 +294,9 @@ def maps(robot: str = typer.Argument(..., help=ROBOT_HELP),
                    name=r.name))
         else:
             c, R = shoulder_point(r), r.reach
-            default = [f"0:{R:g}:{R / 150:g}"] * 2 if tutorial else [f"{c[i] - R:g}:{c[i] + R:g}" for i in (0, 1)]
-            gx = _range(x if x is not None else default[0], "--x", 1.0, steps)
-            gy = _range(y if y is not None else default[1], "--y", 1.0, steps)
+            span = [f"0:{R:g}:{R / 150:g}"] * 2 if tutorial else [f"{c[i] - R:g}:{c[i] + R:g}" for i in (0, 1)]
+            gx = _range(x if x is not None else span[0], "--x", 1.0, steps)
+            gy = _range(y if y is not None else span[1], "--y", 1.0, steps)
             im = ik_maps(r, gx, gy, z=z)
             if branch is not None:
                 im = _one_branch(im, branch)
@@ -332,15 +345,16 @@ def track(robot: str = typer.Argument(..., help=ROBOT_HELP),
 
     r = get_robot(robot)
     if method not in TRACK_METHODS:
-        fail(f"--method must be one of {', '.join(TRACK_METHODS)}, got {method!r}")
+        fail(_("--method must be one of {choices}; got {value!r}", choices=", ".join(TRACK_METHODS), value=method))
     if path not in PATHS and not Path(path).is_file():
-        fail(f"--path must be one of {', '.join(PATHS)} or an existing CSV file, got {path!r}")
+        fail(_("--path must be one of {choices} or an existing CSV file, got {value!r}", choices=", ".join(PATHS),
+               value=path))
     if not 2 <= frames <= 5000:
-        fail(f"--frames must be between 2 and 5000, got {frames}")
+        fail(_("--frames must be between 2 and 5000, got {value}", value=frames))
     if not 1 <= fps <= 120:
-        fail(f"--fps must be between 1 and 120, got {fps}")
+        fail(_("--fps must be between 1 and 120, got {value}", value=fps))
     if seed < 0:
-        fail(f"--seed must be a non-negative integer, got {seed}")
+        fail(_("--seed must be a non-negative integer, got {value}", value=seed))
     out = None if no_animation or not output else _out(output, (".gif", ".mp4"), "--output")
     scene = scene_option(r, scene_file, no_scene)
     res = follow(r, path=path, method=method, frames=frames, seed=seed, scene=scene)
@@ -351,13 +365,17 @@ def track(robot: str = typer.Argument(..., help=ROBOT_HELP),
         k = int(np.argmax(res.colliding))
         st["first_collision"] = {"frame": k, "message": collisions(r, res.q[k], scene).message()}
         if refuse_collisions:
-            fail(f"{int(res.colliding.sum())} of {len(res.q)} frames collide; the first, frame {k}: "
-                 f"{st['first_collision']['message']} (nothing written)", EXIT_FAILED)
+            fail(_("{k} of {n} frames collide; the first, frame {first}: {message} (nothing written)",
+                   k=int(res.colliding.sum()), n=len(res.q), first=k, message=st["first_collision"]["message"]),
+                 EXIT_FAILED)
     written = None
     if out is not None:
         from ..viz.animation import render_animation
 
-        title = f"{r.name} follows a {res.path} target ({method})"
+        from ..locale.fonts import plot_text
+
+        title = plot_text(N_("{robot} follows a {path} target ({method})"), robot=r.name, path=res.path,
+                          method=method)
         written = render_animation(r, res.q, out, targets=res.targets, fps=fps, title=title,
                                    progress=not json_out and console.is_terminal, console=console)
         st["animation"] = str(written)
@@ -365,23 +383,29 @@ def track(robot: str = typer.Argument(..., help=ROBOT_HELP),
         print_json(st)
     else:
         u = r.unit
-        console.print(f"[bold]{esc(r.name)}[/] tracking a {res.path} target with {method}: {st['frames']} frames")
-        console.print(f"  reached: {st['frames_reached']}   out of reach: {st['frames_out_of_reach']}   "
-                      f"not converged: {st['frames_not_converged']}")
+        console.print(_("{robot} tracking a {path} target with {method}: {n} frames", robot=f"[bold]{esc(r.name)}[/]",
+                        path=res.path, method=method, n=st["frames"]))
+        console.print("  " + _("reached: {reached}   out of reach: {out}   not converged: {failed}",
+                               reached=st["frames_reached"], out=st["frames_out_of_reach"],
+                               failed=st["frames_not_converged"]))
         if st["frames_reached"]:
-            console.print(f"  error on reached frames: mean {st['mean_error']:.3g} {u}, max {st['max_error']:.3g} {u} "
-                          f"(tolerance {st['tolerance']:.3g} {u}); worst frame {st['max_error_all_frames']:.3g} {u}")
+            console.print("  " + _("error on reached frames: mean {mean} {unit}, max {max} {unit} (tolerance {tol} "
+                                   "{unit}); worst frame {worst} {unit}", mean=f"{st['mean_error']:.3g}",
+                                   max=f"{st['max_error']:.3g}", tol=f"{st['tolerance']:.3g}",
+                                   worst=f"{st['max_error_all_frames']:.3g}", unit=u))
         else:
-            console.print(f"  no frame reached its target (tolerance {st['tolerance']:.3g} {u}); "
-                          f"worst frame {st['max_error_all_frames']:.3g} {u}")
-        console.print(f"  branch changes: {st['branch_changes']}   largest joint step: "
-                      f"{st['largest_joint_step_deg']:.2f} deg   mean iterations: {st['mean_iterations']:.1f}")
+            console.print("  " + _("no frame reached its target (tolerance {tol} {unit}); worst frame {worst} {unit}",
+                                   tol=f"{st['tolerance']:.3g}", worst=f"{st['max_error_all_frames']:.3g}", unit=u))
+        console.print("  " + _("branch changes: {k}   largest joint step: {step} deg   mean iterations: {iters}",
+                               k=st["branch_changes"], step=f"{st['largest_joint_step_deg']:.2f}",
+                               iters=f"{st['mean_iterations']:.1f}"))
         if "frames_in_collision" in st:
             first = st.get("first_collision")
-            console.print(f"  in collision: {st['frames_in_collision']} frames"
-                          + (f" (first: frame {first['frame']}, {esc(first['message'])})" if first else ""))
+            console.print("  " + _("in collision: {k} frames", k=st["frames_in_collision"])
+                          + (" " + _("(first: frame {frame}, {message})", frame=first["frame"],
+                                     message=esc(first["message"])) if first else ""))
         if written is not None:
-            console.print(f"wrote {esc(written)}")
+            console.print(_("wrote {path}", path=esc(written)))
     if st["frames_reached"] < st["frames"] and path in ("circle", "figure8"):
         raise typer.Exit(EXIT_FAILED)
 

@@ -246,7 +246,7 @@ def matrix_figure(d: Derivation, what: tuple[str, ...] = ("T", "J")) -> Any:
         exprs.extend(list(getattr(d, w)))
     m = shorthand_symbols(exprs, d.q, latex=True)
     fig = plt.figure(figsize=(4, 4), dpi=100)
-    renderer = fig.canvas.get_renderer()
+    renderer = fig.canvas.get_renderer()  # type: ignore[attr-defined]
 
     def text(s: str, **kw: Any) -> tuple[Any, float, float]:
         t = fig.text(0, 0, s, **kw)
