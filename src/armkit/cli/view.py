@@ -39,7 +39,11 @@ def view(robot: str = typer.Argument(..., help=ROBOT_HELP),
          host: str = typer.Option("127.0.0.1", "--host",
                                   help="Address to listen on. The default serves this machine only; 0.0.0.0 lets "
                                        "anyone on your network move the arm."),
-         lang: Optional[str] = typer.Option(None, "--lang", help="Labels: ko or en (default: from the locale).")
+         lang: Optional[str] = typer.Option(None, "--lang", help="Labels: ko or en (default: from the locale)."),
+         scene_file: Optional[str] = typer.Option(
+             None, "--scene", help="Scene file (TOML, docs/scene.md) drawn translucent, red where the arm "
+                                   "overlaps it; default: the robot's own surroundings (the fighter's ground)."),
+         no_scene: bool = typer.Option(False, "--no-scene", help="Draw no surroundings (the robot's body stays).")
          ) -> None:
     """Serve a live 3-D view of the arm in the browser: joint sliders, draggable IK target, tracking, workspace.
 
@@ -48,6 +52,8 @@ def view(robot: str = typer.Argument(..., help=ROBOT_HELP),
     Example: armkit view fighter --lang ko
 
     Example: armkit view ur5 --port 8080
+
+    Example: armkit view fighter --scene cell.toml
     """
     from rich.markup import escape
 
@@ -56,11 +62,19 @@ def view(robot: str = typer.Argument(..., help=ROBOT_HELP),
     check_port(port)
     check_host(host)
     r = get_robot(robot)
+    from ..collision import Scene
+    from ..errors import ArmkitError
     from ..viz.view import ViewError
     from ..viz.view import view as open_view
+    from .common import scene_option
 
     try:
-        v = open_view(r, port=port, host=host, lang=lang or current_language())
+        scene = scene_option(r, scene_file, no_scene)
+    except ArmkitError as exc:
+        fail(escape(str(exc)))
+    try:
+        v = open_view(r, port=port, host=host, lang=lang or current_language(),
+                      scene=Scene() if scene is None else scene)
     except ViewError as exc:
         fail(escape(str(exc)))
     try:

@@ -48,7 +48,7 @@ def test_import_armkit_does_not_import_viser() -> None:
     assert out.split() == ["False", "False"]
 
 
-def test_canvas_sliders_pose_screenshot(browser, docs_img: Path) -> None:
+def test_canvas_sliders_pose_screenshot(browser, docs_img: Path, tmp_path: Path) -> None:
     with View("fighter", lang="en") as v:
         page = open_page(browser, v.url, "yaw (°)")
         # the canvas renders: not blank, and the arm's orange is there
@@ -75,12 +75,23 @@ def test_canvas_sliders_pose_screenshot(browser, docs_img: Path) -> None:
         v.set_q(np.radians([30, 45, 60]))
         wait_until(lambda: text_of(page, "end point (mm)") == expected, what="end-pose text after set_q")
         page.screenshot(path=str(docs_img / "view-fighter.png"))
-        # screenshot button: a PNG download
+        # screenshot button: a PNG download, and a copy written (temp file + rename) into screenshot_dir
+        v.screenshot_dir = tmp_path
         open_folder(page, "View")
         with page.expect_download(timeout=30_000) as dl:
             page.get_by_role("button", name="Screenshot (PNG)").click()
         data = Path(dl.value.path()).read_bytes()
         assert data[:8] == b"\x89PNG\r\n\x1a\n" and dl.value.suggested_filename == "armkit-fighter.png"
+        wait_until(lambda: len(list(tmp_path.iterdir())) == 1, what="the screenshot file")
+        saved = next(tmp_path.iterdir())
+        assert saved.name.startswith("armkit-fighter-") and saved.suffix == ".png"   # no temporary file left
+        assert saved.read_bytes() == data
+        wait_until(lambda: f"saved to {saved}" in page.locator(".armkit-screenshot").first.inner_text(),
+                   what="the saved path shown")
+        shot = v.save_screenshot(tmp_path / "handle.png", width=320, height=200)
+        from PIL import Image
+
+        assert Image.open(shot).size == (320, 200)
         # workspace overlay coloured by manipulability
         open_folder(page, "Workspace")
         page.get_by_text("reach cloud (colour: manipulability)").click()
@@ -221,6 +232,113 @@ def test_urdf_arm_with_meshes(browser, docs_img: Path) -> None:
     with View("so101", lang="en") as v:        # meshes when its mesh files are found, capsules otherwise
         has_files = any(sh.mesh_path for link in v.robot.links for sh in link.visuals)
         assert v.drawing.meshes == has_files and (has_files or v.drawing._caps)
+
+
+def _red_pixels(img: np.ndarray) -> int:
+    """Pixels of the collision red (HIT_COLOUR, translucent over the page): red, with green close to blue."""
+    r, g, b = img[..., 0], img[..., 1], img[..., 2]
+    return int(np.sum((r > 150) & (r - g > 80) & (r - b > 80) & (np.abs(g - b) < 40)))
+
+
+def test_scene_drawn_and_collisions_turn_red(browser, docs_img: Path) -> None:
+    from armkit.viz.view.obstacles import FREE_COLOUR, HIT_COLOUR
+
+    with View("fighter", lang="en") as v:              # the fighter's own surroundings: ground and torso
+        assert set(v.obstacles.nodes) == {"ground", "torso"}
+        page = open_page(browser, v.url, "yaw (°)")
+        v.set_q(np.radians([0.0, 45.0, 0.0]))          # clear: 17 mm above everything (docs/scene.md)
+        assert v.obstacles.colliding == ()
+        wait_until(lambda: _arm_pixels(_pixels(page.screenshot())) > 300, 20, "the arm drawn")
+        time.sleep(1.0)
+        free = _red_pixels(_pixels(page.screenshot()))
+        assert page.locator(".armkit-collision").count() == 0
+        v.set_q(np.radians([0.0, -30.0, 0.0]))         # the forearm 35.6 mm into the ground, 16.8 mm into the torso
+        assert v.obstacles.colliding == ("ground", "torso")
+        assert all(n.color == HIT_COLOUR for name in ("ground", "torso") for n in v.obstacles.nodes[name])
+        wait_until(lambda: "the forearm hits the ground by 35.6 mm" in page.locator(".armkit-collision").first
+                   .inner_text(), what="the collision message")
+        wait_until(lambda: _red_pixels(_pixels(page.screenshot())) > free + 2000, 20, "the obstacles turned red")
+        page.screenshot(path=str(docs_img / "view-scene.png"))
+        v.set_q(np.radians([0.0, 45.0, 0.0]))          # clear again: back to grey-blue, message gone
+        assert all(n.color == FREE_COLOUR for nodes in v.obstacles.nodes.values() for n in nodes)
+        wait_until(lambda: page.locator(".armkit-collision").count() == 0, what="the message cleared")
+        page.close()
+    # a scene given by the user: every primitive kind is drawn; at home the arm lies along x at z = 36 mm,
+    # through the post and the table (which spans x 90..150, z 30..50), clear of the ball and the pipe
+    scene = armkit.Scene([armkit.Scene.capsule([100, 0, 0], [100, 0, 60], 10, name="post"),
+                          armkit.Scene.sphere([0, 120, 50], 20, name="ball"),
+                          armkit.Scene.cylinder([0, -120, 50], 10, 50, name="pipe"),
+                          armkit.Scene.box([120, 0, 40], [60, 200, 20], name="table")])
+    with View("fighter", lang="en", scene=scene) as v:
+        assert set(v.obstacles.nodes) == {"post", "ball", "pipe", "table", "torso"}
+        assert len(v.obstacles.nodes["post"]) == 3      # a capsule: a cylinder and two spheres
+        assert v.obstacles.colliding == ("post", "table")
+    with View("ur5", lang="en") as v:                   # no collision keys in its file: nothing drawn, no check
+        assert not v.obstacles.active and v.obstacles.update(v.q, armkit.fk_frames(v.robot, v.q)) is None
+
+
+def test_screenshot_write_is_atomic(tmp_path: Path, monkeypatch) -> None:
+    from armkit.errors import WriteError
+
+    with View("planar2", lang="en") as v:
+        with pytest.raises(ViewError, match="no browser shows the view"):
+            v.save_screenshot(tmp_path / "x.png")
+        target = tmp_path / "shot.png"
+        target.write_bytes(b"old picture")
+
+        def half_then_fail(self: Path, data: bytes) -> int:     # a disk that fills up half way
+            with open(self, "wb") as f:
+                f.write(data[: len(data) // 2])
+            raise OSError(28, "No space left on device")
+
+        monkeypatch.setattr(Path, "write_bytes", half_then_fail)
+        with pytest.raises(WriteError, match="no space left"):
+            v.write_png(b"\x89PNG\r\n\x1a\n" + bytes(100), target)
+        monkeypatch.undo()
+        assert target.read_bytes() == b"old picture"        # untouched, and no temporary file left beside it
+        assert sorted(p.name for p in tmp_path.iterdir()) == ["shot.png"]
+        v.screenshot_dir = tmp_path
+        first = v.write_png(b"\x89PNG one")
+        second = v.write_png(b"\x89PNG two")                # same second: a new name, nothing overwritten
+        assert first != second and first.read_bytes() == b"\x89PNG one" and second.read_bytes() == b"\x89PNG two"
+        with pytest.raises(WriteError):
+            v.write_png(b"\x89PNG", tmp_path / "shot.png" / "under-a-file.png")
+
+
+def _erd(path: str) -> str:
+    found = glob.glob(sys.prefix + "/lib/python3*/site-packages/cmeel.prefix/share/example-robot-data/robots/" + path)
+    if not found:
+        pytest.skip("example-robot-data (test extra) not installed: no URDF arm with meshes")
+    return found[0]
+
+
+@pytest.mark.parametrize("name", [*armkit.model.files.bundled_robots(), "erd:ur5", "erd:panda"])
+def test_every_robot_renders(browser, name: str) -> None:
+    """Every bundled robot, and UR5 and Panda from URDF with their meshes: the page draws the arm and moves it."""
+    if name == "erd:ur5":
+        arm = armkit.load(_erd("ur_description/urdf/ur5_robot.urdf"), tip="tool0")
+    elif name == "erd:panda":
+        arm = armkit.load(_erd("panda_description/urdf/panda.urdf"), tip="panda_hand_tcp")
+    else:
+        arm = armkit.load(name)
+    with View(arm, lang="en") as v:
+        if name.startswith("erd:"):
+            assert v.drawing.meshes                       # drawn with its meshes, not capsules
+        label = f"{arm.joint_names[0]} ({arm.unit if arm.joints[0].is_prismatic else '°'})"
+        page = open_page(browser, v.url, label)
+        pose = f"end point ({arm.unit})"
+        time.sleep(1.0)
+        before = _pixels(page.locator("canvas").first.screenshot())
+        assert before.std() > 10
+        q = arm.random_q(rng=7)
+        v.set_q(q)
+        expected = format_numbers(armkit.fk(arm, q)[:3, 3], v.panels.dec)
+        wait_until(lambda: text_of(page, pose) == expected, 20, "the end-pose text of the new q")
+        time.sleep(1.0)
+        after = _pixels(page.locator("canvas").first.screenshot())
+        moved = int(np.sum(np.abs(after - before).sum(axis=-1) > 60))
+        assert moved > 300, f"{name}: only {moved} pixels changed when the arm moved"
+        page.close()
 
 
 def test_close_frees_port_and_bad_input() -> None:

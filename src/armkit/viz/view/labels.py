@@ -21,6 +21,7 @@ LABELS: dict[str, dict[str, str]] = {
     "near_singular": {"en": "⚠ near a singularity (condition number {c})",
                       "ko": "⚠ 특이점 근처입니다 (조건수 {c})"},
     "not_singular": {"en": "not near a singularity", "ko": "특이점에서 멀리 있습니다"},
+    "collision": {"en": "⚠ collision: {message}", "ko": "⚠ 충돌: {message}"},
     "target": {"en": "Target (IK)", "ko": "목표 (역기구학)"},
     "show_target": {"en": "show target gizmo", "ko": "목표 기즈모 보기"},
     "ik_method": {"en": "IK method", "ko": "IK 방법"},
@@ -59,6 +60,7 @@ LABELS: dict[str, dict[str, str]] = {
     "view": {"en": "View", "ko": "보기"},
     "show_frames": {"en": "show link frames", "ko": "링크 좌표계 보기"},
     "screenshot": {"en": "Screenshot (PNG)", "ko": "화면 저장 (PNG)"},
+    "saved_to": {"en": "saved to {path}", "ko": "{path}에 저장했습니다"},
     "home": {"en": "Home", "ko": "원점"},
     "bad_csv": {"en": "cannot use the uploaded file: {detail}", "ko": "올린 파일을 쓸 수 없습니다: {detail}"},
 }

@@ -91,6 +91,7 @@ class Panels:
             self.rpy_text = gui.add_text(L("rpy"), "", disabled=True)
             self.manip_text = gui.add_text(L("manipulability"), "", disabled=True)
             self.singular_html = gui.add_html("")
+            self.collision_html = gui.add_html("")
 
         # ---------------------------------------------------------------- target
         reach_m = (r.reach or 1.0) * r.unit_scale
@@ -159,6 +160,7 @@ class Panels:
         with gui.add_folder(L("view"), expand_by_default=False):
             self.frames_cb = gui.add_checkbox(L("show_frames"), False)
             self.shot_btn = gui.add_button(L("screenshot"))
+            self.shot_html = gui.add_html("")
             gui.add_markdown(f"grid: {html.escape(view.drawing.grid_text)} cells")
         self.frames_cb.on_update(self._toggle_frames)
         self.shot_btn.on_click(self._screenshot)
@@ -208,6 +210,13 @@ class Panels:
                                           f'{html.escape(self._l("near_singular", c=cs))}</div>')
         else:
             self.singular_html.content = ""
+
+    def show_collision(self, res: Any) -> None:
+        """The collision line: what the arm hits and by how much (empty when clear or without a scene)."""
+        msg = res.message() if res is not None else ""
+        self.collision_html.content = (f'<div class="armkit-collision" style="color:#b91c1c;font-size:0.85em;'
+                                       f'padding:0 0.5em">{html.escape(self._l("collision", message=msg))}</div>'
+                                       if msg else "")
 
     def show_target(self, t: Array, res: IKResult, move_gizmo: bool) -> None:
         """Target marker colour, branch list and the IK status line for result ``res``."""
@@ -452,8 +461,15 @@ class Panels:
         if client is None:
             return
         png = self.view.screenshot_png(client)
+        try:                                   # a copy on the machine that serves the view ...
+            path = self.view.write_png(png)
+            text, colour = self._l("saved_to", path=str(path)), "#15803d"
+        except ArmkitError as exc:
+            text, colour = str(exc), "#b91c1c"
+        self.shot_html.content = (f'<div class="armkit-screenshot" style="color:{colour};font-size:0.8em;'
+                                  f'padding:0 0.5em;overflow-wrap:anywhere">{html.escape(text)}</div>')
         name = re.sub(r"[^A-Za-z0-9_.-]", "_", self.robot.name) or "arm"
-        client.send_file_download(f"armkit-{name}.png", png, save_immediately=True)
+        client.send_file_download(f"armkit-{name}.png", png, save_immediately=True)   # ... and in the browser
 
     # ------------------------------------------------------------------ trajectory
     def play_trajectory(self, traj: Any, play: bool = True) -> None:

@@ -17,9 +17,11 @@ import collections
 import contextlib
 import io
 import math
+import re
 import socket
 import threading
 import time
+from pathlib import Path
 from typing import Any, Callable, Optional
 
 import numpy as np
@@ -72,11 +74,16 @@ class View:
         The IK result of the latest target.
     updates : int
         Number of arm updates sent so far (for benchmarks).
+    scene : Scene
+        The surroundings drawn (robot unit); shapes the arm overlaps turn red.
+    screenshot_dir : Path
+        Folder where the page's *Screenshot* button writes its PNG (default: the current folder).
     """
 
     def __init__(self, robot: Robot | str, port: Optional[int] = None, host: str = "127.0.0.1",
-                 lang: Optional[str] = None, q: ArrayLike | None = None) -> None:
+                 lang: Optional[str] = None, q: ArrayLike | None = None, scene: Any = None) -> None:
         viser = require("viser", "armkit view")
+        from ...collision import as_scene
 
         self.robot = robot if isinstance(robot, Robot) else load(robot)
         if lang is not None and lang not in LANGUAGES:
@@ -89,6 +96,7 @@ class View:
         elif not _port_free(host, int(port)):
             raise ViewError(f"port {port} on {host} is in use; choose another port, or leave it out for a free one")
         r = self.robot
+        self.scene = as_scene(r, scene)       # a bad scene file raises SceneError before the server starts
         self.home = np.clip(np.zeros(r.n), r.lower, r.upper)
         self._q = self.home.copy() if q is None else self._checked_q(q)
         self._lock = threading.RLock()
@@ -107,6 +115,7 @@ class View:
         self.update_ms: collections.deque[float] = collections.deque(maxlen=1000)   # server time per update
         self.ik_updates = 0
         self.track_frame = -1
+        self.screenshot_dir = Path.cwd()      # where the page's Screenshot button saves its PNG files
         self._closed = False
         try:
             with contextlib.redirect_stdout(io.StringIO()):   # viser prints its own banner; we print the URL
@@ -122,10 +131,12 @@ class View:
         shown = f"[{shown}]" if ":" in shown and not shown.startswith("[") else shown
         self.url = f"http://{shown}:{actual}/"
         self._setup_scene()
-        from .drawing import ArmDrawing
+        from .drawing import ArmDrawing, nice_grid
+        from .obstacles import ObstacleDrawing
         from .panels import Panels
 
         self.drawing = ArmDrawing(self.server, r, self._q)
+        self.obstacles = ObstacleDrawing(self.server, r, self.scene, nice_grid(r.reach or 1.0)[2] * r.unit_scale)
         self.panels = Panels(self)
         self._show(self._q)
         # warm the IK path once so that the first drag is not slow (Numba compiles on first use)
@@ -190,6 +201,7 @@ class View:
             with self.server.atomic():
                 self.drawing.update(self._q, F)
                 self.panels.show_state(self._q, F)
+                self.panels.show_collision(self.obstacles.update(self._q, F))
                 if extra is not None:
                     extra()
             self.server.flush()      # send now: viser otherwise waits up to 1/60 s to window messages (15 ms measured)
@@ -433,10 +445,58 @@ class View:
     def screenshot_png(self, client: Any, width: int = 1280, height: int = 800) -> bytes:
         """A PNG of what ``client`` (a connected browser) renders now."""
         Image = require("PIL.Image", "a screenshot of the view")
+
         img = client.get_render(height=height, width=width, transport_format="png")
         buf = io.BytesIO()
         Image.fromarray(np.asarray(img)).save(buf, format="PNG")
         return buf.getvalue()
+
+    def save_screenshot(self, path: Any = None, *, client: Any = None, width: int = 1280,
+                        height: int = 800) -> Path:
+        """Write what a connected browser shows to a PNG file and return its path.
+
+        The file is written atomically (a temporary file in the same folder, renamed into
+        place: :func:`armkit._io.atomic_path`), so a reader never sees half a picture.
+
+        Parameters
+        ----------
+        path : str or Path, optional
+            A ``.png`` file; default ``armkit-ROBOT-YYYYmmdd-HHMMSS.png`` in
+            :attr:`screenshot_dir` (the current folder when the view started).
+        client : viser.ClientHandle, optional
+            The browser to render in; default the first one connected.
+        width, height : int
+            Size of the picture in pixels.
+
+        Raises
+        ------
+        ViewError
+            No browser has the view open (nothing renders the scene).
+        WriteError
+            ``path`` cannot be written.
+        """
+        if client is None:
+            clients = list(self.server.get_clients().values())
+            if not clients:
+                raise ViewError(f"no browser shows the view: open {self.url} first, then take the screenshot")
+            client = clients[0]
+        return self.write_png(self.screenshot_png(client, width, height), path)
+
+    def write_png(self, png: bytes, path: Any = None) -> Path:
+        """Write PNG bytes to ``path`` (default: a new name in :attr:`screenshot_dir`) atomically."""
+        from ..._io import atomic_path
+
+        if path is None:
+            safe = re.sub(r"[^A-Za-z0-9_.-]", "_", self.robot.name) or "arm"
+            stem = f"armkit-{safe}-{time.strftime('%Y%m%d-%H%M%S')}"
+            path = Path(self.screenshot_dir) / f"{stem}.png"
+            k = 2
+            while path.exists():
+                path = Path(self.screenshot_dir) / f"{stem}-{k}.png"
+                k += 1
+        with atomic_path(path, suffixes=(".png",), what="screenshot") as tmp:
+            tmp.write_bytes(png)
+        return Path(path)
 
     def close(self) -> None:
         """Stop the players and the server; the port is free again when this returns."""
@@ -463,7 +523,7 @@ class View:
 
 
 def view(robot: Robot | str, port: Optional[int] = None, host: str = "127.0.0.1", lang: Optional[str] = None,
-         q: ArrayLike | None = None) -> View:
+         q: ArrayLike | None = None, scene: Any = None) -> View:
     """Open a live 3-D view of ``robot`` in the browser and return its handle.
 
     Parameters
@@ -478,10 +538,15 @@ def view(robot: Robot | str, port: Optional[int] = None, host: str = "127.0.0.1"
         Labels' language; default from the locale.
     q : array_like, shape (n,), optional
         First configuration (default: zeros, moved inside the limits).
+    scene : Scene, list of Shape, str or None
+        The surroundings drawn (translucent; red while the arm overlaps them): ``None`` the
+        robot's own (its file's ``[[scene]]``, e.g. the fighter's ground), a
+        :class:`armkit.Scene`, a list of shapes, or a scene file; ``armkit.Scene()`` for none.
+        The robot's body (``[[body]]``, the fighter's torso) is always drawn.
 
     Returns
     -------
     View
         ``.url``, ``.q``, ``set_q``, ``set_target``, ``show_path``, ``close``.
     """
-    return View(robot, port=port, host=host, lang=lang, q=q)
+    return View(robot, port=port, host=host, lang=lang, q=q, scene=scene)
