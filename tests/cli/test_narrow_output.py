@@ -14,7 +14,7 @@ import armkit
 from armkit.cli import app
 
 runner = CliRunner()
-FLOAT = re.compile(r"^[-+]?\d+(\.\d+)?(e[-+]\d\d)?$")
+FLOAT = re.compile(r"^([-+]?\d+(\.\d+)?(e[-+]\d\d)?|\d+\.\d+\.\d+)$")     # a number, or a version
 
 
 def run(cols: int, *args: str) -> str:
@@ -175,3 +175,33 @@ def test_other_tables_fit(cols: int, args: tuple[str, ...]) -> None:
             assert has_value(out, np.degrees(v), rel=1e-5), (v, out)
     if args[0] == "singular" and args[1] == "fighter":
         assert "180.0000°" in out and "0.0000°" in out
+
+
+@pytest.fixture(scope="module")
+def ur5_map(tmp_path_factory):
+    d = tmp_path_factory.mktemp("reach")
+    store = d / "ur5.zarr"
+    res = runner.invoke(app, ["reach", "build", "ur5", "-o", str(store), "--resolution", "0.2", "--orientations",
+                              "6", "--samples", "20000"])
+    assert res.exit_code == 0, res.output
+    tasks = d / "tasks.csv"
+    tasks.write_text("0.4,0.1,0.3\n0.3,-0.2,0.4\n0.5,0,0.2\n")
+    return store, tasks
+
+
+@pytest.mark.parametrize("cols", WIDTHS)
+def test_reach_tables_fit(cols: int, ur5_map) -> None:
+    import json
+
+    store, tasks = ur5_map
+    out = run(cols, "reach", "show", str(store))
+    check_no_cut(out, cols)
+    assert "546" in out and "208" in out                          # cells, reachable cells, whole
+    out = run(cols, "reach", "base", str(store), str(tasks), "--top", "3")
+    check_no_cut(out, cols)
+    ranking = json.loads(runner.invoke(app, ["reach", "base", str(store), str(tasks), "--top", "3",
+                                             "--json"]).stdout)
+    rows = ranking["ranking"] if isinstance(ranking, dict) and "ranking" in ranking else ranking
+    for row in rows:
+        assert has_value(out, row["x"], rel=1e-3) and has_value(out, row["y"], rel=1e-3), (row, out)
+    check_no_cut(run(cols, "reach", "query", str(store), "0.4", "0.1", "0.3"), cols)
