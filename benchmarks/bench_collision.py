@@ -5,6 +5,8 @@ and the workspace/IK consistency check (issue 13).
     python benchmarks/bench_collision.py accuracy     # 10,000 configurations per bundled arm against coal
     python benchmarks/bench_collision.py ik           # IK with a table and a wall: flagged-but-wrong counts
     python benchmarks/bench_collision.py consistency  # workspace points vs IK finding a collision-free solution
+    python benchmarks/bench_collision.py kernels --before OLD/src/armkit/collision/_jit.py
+                                                      # this tree's Numba kernels against an older file's, same data
 
 Timing is wall time, best of 3, after a warm-up call of the same size. No assertion here: the numbers go
 into docs/scene.md.
@@ -274,9 +276,58 @@ def consistency(args):
         print(f"| {name} | {scene_name} | {len(pts):,} | {int(found.sum()):,} | {found.mean() * 100:.2f} % |")
 
 
+def kernels(args):
+    """The Numba kernels of this tree and of ``--before`` (an older ``collision/_jit.py``) on the same packed
+    data in one process, timed alternately (best of ``--reps``): on a shared machine the ratio is what holds."""
+    import importlib.util
+    import sys
+
+    from armkit.collision import _jit as now
+
+    if not args.before:
+        raise SystemExit("kernels needs --before PATH (an older src/armkit/collision/_jit.py)")
+    spec = importlib.util.spec_from_file_location("armkit.collision._jit_before", args.before)
+    old = importlib.util.module_from_spec(spec)
+    sys.modules[spec.name] = old
+    spec.loader.exec_module(old)   # its "from .. import _jit_loader" resolves in armkit.collision
+    armkit.set_backend("numba")
+    seen = {}
+    real_min, real_all = now.min_distance, now.all_distances
+    now.min_distance = lambda f, it, pr, stop=-np.inf: seen.setdefault("min", (f, it, pr)) and real_min(f, it, pr, stop)
+    now.all_distances = lambda f, it, pr: seen.setdefault("all", (f, it, pr)) and real_all(f, it, pr)
+
+    def race(label, fn_old, fn_new):
+        fn_old(), fn_new()
+        t_old, t_new = [], []
+        for _ in range(args.reps):
+            for fn, ts in ((fn_old, t_old), (fn_new, t_new)):
+                s = time.perf_counter()
+                fn()
+                ts.append(time.perf_counter() - s)
+        print(f"| {label} | {min(t_old) * 1e3:.2f} ms | {min(t_new) * 1e3:.2f} ms | {min(t_new) / min(t_old):.3f} |")
+
+    print(f"# Numba collision kernels, before ({args.before}) and now, {os.cpu_count()} CPUs")
+    print("| kernel | before | now | now/before |\n|---|---|---|---|")
+    for name in args.robots:
+        robot = armkit.load(name)
+        scene = ten_shapes(robot)
+        seen.clear()
+        q = robot.random_q(4096, rng=1)
+        clearance(robot, q, scene)
+        collisions(robot, q, scene)
+        f, it, pr = seen["min"]
+        for stop, what in ((0.0, "yes/no"), (-np.inf, "clearance")):
+            race(f"{name} {what}, {len(f)} configurations, {len(pr)} pairs",
+                 lambda: old.min_distance(f, it, pr, stop), lambda: real_min(f, it, pr, stop))
+        race(f"{name} every pair", lambda: old.all_distances(*seen["all"]), lambda: real_all(*seen["all"]))
+        race(f"{name} clearance, 512 configurations (serial twin)",
+             lambda: old.min_distance(f[:512], it, pr), lambda: real_min(f[:512], it, pr))
+    now.min_distance, now.all_distances = real_min, real_all
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("what", choices=["speed", "accuracy", "ik", "consistency"])
+    ap.add_argument("what", choices=["speed", "accuracy", "ik", "consistency", "kernels"])
     ap.add_argument("--robots", nargs="+", default=["ur5", "puma560"])
     ap.add_argument("--robots-all", nargs="+", default=armkit.bundled_robots())
     ap.add_argument("-n", type=int, default=1_000_000, help="configurations for the speed runs")
@@ -285,8 +336,11 @@ def main():
     ap.add_argument("--targets", type=int, default=10_000, help="IK targets per arm")
     ap.add_argument("--coal-checks", type=int, default=300, help="IK successes re-checked with coal per arm")
     ap.add_argument("--points", type=int, default=1000, help="workspace points per arm")
+    ap.add_argument("--before", help="kernels: an older collision/_jit.py to compare with")
+    ap.add_argument("--reps", type=int, default=25, help="kernels: alternating repetitions (best of)")
     args = ap.parse_args()
-    {"speed": speed, "accuracy": accuracy, "ik": ik_check, "consistency": consistency}[args.what](args)
+    {"speed": speed, "accuracy": accuracy, "ik": ik_check, "consistency": consistency,
+     "kernels": kernels}[args.what](args)
 
 
 if __name__ == "__main__":

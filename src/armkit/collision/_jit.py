@@ -266,7 +266,7 @@ def _place(frames, items, placed, moving_only=False):
             R[i] = -1.0    # set by the caller's half extents (bounding radius stored in rad)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _pair(i, j, items, placed, ts):
     """Signed distance of items i and j (placed for this configuration); ``ts`` scratch (8,)."""
     kind, rad, half = items[0], items[5], items[6]
