@@ -223,3 +223,22 @@ def test_cli_shell_ik_and_fk_flags():
     res = CliRunner().invoke(app, ["shell", "fighter", "--no-plot", "--ik", "--lang", "en"],
                              input="100 50 80\nexit\n")
     assert res.exit_code == 0 and "100.000000" in res.output and "80.000000" in res.output
+
+
+@pytest.mark.parametrize("cols", [60, 80, 120])
+def test_shell_tables_fit_narrow_terminals(cols):
+    """Tables wider than the terminal come as one record per row: nothing cut, every number whole."""
+    buf = io.StringIO()
+    sh = Shell(armkit.load("fighter"), lang="en", plot="none", console=Console(file=buf, width=cols))
+    sh.execute("goto 100 50 80")
+    sh.execute("branch")
+    text = buf.getvalue()
+    assert "…" not in text
+    assert all(len(line) <= cols for line in text.splitlines()), text
+    for name in ("front/elbow-up", "front/elbow-down", "back/elbow-up", "back/elbow-down"):
+        assert name in text
+    res = armkit.ik_all(sh.robot, [100, 50, 80])
+    for q in np.degrees(np.asarray(res.q)):
+        for v in q:
+            assert f"{v:.4f}" in text
+    assert "IK branch: " in text

@@ -337,10 +337,17 @@ class Shell:
             picture = self._draw(emit)
         if status == "ok" and getattr(self, "view", None) is not None:   # armkit shell --view: the browser follows
             self.view.set_q(self.q)
+        from rich.table import Table
+
+        from .common import natural_width
+
         for thing, style in outputs:
             if isinstance(thing, str):   # messages are plain text: never markup, no control characters
                 thing = Text(shorten(plain(thing), MAX_MESSAGE), style=style)
-            self.console.print(thing, style=style or None, soft_wrap=isinstance(thing, Text))
+            if isinstance(thing, Table) and natural_width(thing) > self.console.width:
+                self._print_records(thing)      # too wide for the terminal: one record per row, nothing cut
+            else:
+                self.console.print(thing, style=style or None, soft_wrap=isinstance(thing, Text))
             text_console.print(thing, soft_wrap=isinstance(thing, Text))
         return ShellOutput(status, buffer.getvalue(), picture)
 
@@ -402,6 +409,31 @@ class Shell:
         if status == "ok":
             self._show(emit)
         return status, None
+
+    def _print_records(self, table: Any) -> None:
+        from rich.text import Text
+
+        from .common import _split_long, table_records
+
+        title, records = table_records(table)
+        width = self.console.width
+        if title:
+            self.console.print(Text(title, style="bold"))
+        for head, items in records:
+            self.console.print(Text(head, style="bold"), soft_wrap=True)
+            line = "  "
+            for item in items:
+                pieces = _split_long(item, width - 4)
+                if line.strip() and (len(pieces) > 1 or len(line) + len(item) > width):
+                    self.console.print(Text(line.rstrip()), soft_wrap=True)
+                    line = "  "
+                for piece in pieces[:-1]:
+                    self.console.print(Text("  " + piece), soft_wrap=True)
+                line += pieces[-1] + "  "
+            if line.strip():
+                self.console.print(Text(line.rstrip()), soft_wrap=True)
+        if table.caption:
+            self.console.print(Text.from_markup(str(table.caption)).plain)
 
     # ------------------------------------------------------------------ commands
     def _cmd_exit(self, arg: Any, emit: Any) -> str:
