@@ -541,3 +541,62 @@ def test_the_docs_example_of_a_new_family_runs(capsys):
     finally:
         analytic.FAMILIES = saved
     assert capsys.readouterr().out.split() == ["reach", "[1.57079633]", "True"]
+
+
+def test_parallel_kernels_equal_the_one_thread_ones():
+    """Every closed-form kernel's multi-threaded copy gives exactly what the one-thread kernel gives (Numba's
+    parfors has dropped writes to arrays reached through a tuple: this would catch it)."""
+    pytest.importorskip("numba")
+    from armkit import _jit_loader
+    from armkit.ik import _jit_verify
+    from armkit.ik.analytic import _jit
+    from armkit.ik.analytic._layout import joint_table
+
+    B = 300
+    rng = np.random.default_rng(7)
+    runs = []
+    for name, kernel in (("planar2", _jit.planar2), ("planar3", _jit.planar3), ("fighter", _jit.yaw_pitch_pitch),
+                         ("puma560", _jit.spherical_wrist), ("ur5", _jit.ur)):
+        robot = armkit.load(name)
+        s = closed_form(robot)
+        T = armkit.fk(robot, robot.random_q(B, rng=rng)) * np.array([1, 1, 1, 1.3])   # some out of reach
+        T[:, 3, 3] = 1.0
+        q0 = robot.random_q(B, rng=rng)
+        if kernel in (_jit.planar2,):
+            args = (np.ascontiguousarray(T[:, :3, 3]), s.geometry)
+        elif kernel is _jit.yaw_pitch_pitch:
+            args = (np.ascontiguousarray(T[:, :3, 3]), s.geometry, np.ascontiguousarray(q0[:, 0]))
+        elif kernel is _jit.planar3:
+            args = (T, s.geometry)
+        else:
+            args = (T, s.geometry, q0)
+        runs.append((kernel, args))
+        raw = rng.uniform(-10, 10, (B, 8, robot.n))
+        joints = joint_table(s.sf.theta, robot.lower, robot.upper, robot.prismatic)
+        runs.append((_jit.wrap_pick, (raw, joints, q0, rng.random((B, 8)) < 0.3, True)))
+        runs.append((_jit.wrap_dist, (raw, joints, q0)))
+    ok, dist = rng.random((B, 8)) < 0.5, rng.choice([0.0, 0.5, 1.0], size=(B, 8))
+    runs.append((_jit.sort_branches, (ok, dist, rng.random((B, 8, 3)), rng.random((B, 8)), rng.random((B, 8)), ok)))
+    T = armkit.fk(armkit.load("ur5"), armkit.load("ur5").random_q(B, rng=rng))
+    runs.append((_jit_verify.errors, (T, T[::-1].copy(), True, rng.random((B, 6)), np.array([[-1.0] * 6, [1.0] * 6]))))
+
+    def flat(x):
+        return [a for v in x for a in (flat(v) if isinstance(v, tuple) else [v])] if isinstance(x, tuple) else [x]
+
+    old_par = _jit.PAR
+    try:
+        for kernel, args in runs:
+            _jit.PAR = 10 ** 9
+            one = flat(kernel(*args))
+            _jit.PAR = 1
+            if kernel is _jit_verify.errors:    # its own threshold: call the parallel kernel itself
+                outs = (np.empty(B), np.empty(B), np.empty(B, bool))
+                _jit_verify._parallel(args[0], args[1], args[3], args[4], (args[2], 1e-12), *outs)
+                many = list(outs)
+            else:
+                assert _jit_loader.parallel_ok()
+                many = flat(kernel(*args))
+            for a, b in zip(one, many):
+                assert np.array_equal(a, b, equal_nan=True), kernel.__name__
+    finally:
+        _jit.PAR = old_par

@@ -302,6 +302,25 @@ def _active_set_step(J, e, lam, q, P, limits, params, work):
 
 
 @njit(cache=True)
+def _evaluate(P, params, Tt, q, J, e):
+    """The task Jacobian of ``q`` into ``J`` (6, n) (rotation rows in the target frame when rotation counts)
+    and the residual into ``e`` (6,); returns the weighted cost."""
+    s, w = params[SCALE], params[W:W + 6]
+    X = _pose_jacobian(P, q, s, J)
+    if w[3] != 0.0 or w[4] != 0.0 or w[5] != 0.0:
+        _rotate_rows(J, Tt, q.shape[0])
+    return _residual(X, Tt, s, w, e)
+
+
+@njit(cache=True)
+def _random_start(q, limits, seed, attempt, state):
+    """``q`` uniform in the random-start box of ``limits``, from the stream of (``seed``, ``attempt``)."""
+    state[0] = np.uint64(seed) * np.uint64(1000003) + np.uint64(attempt)
+    for j in range(q.shape[0]):
+        q[j] = limits[2, j] + (limits[3, j] - limits[2, j]) * _next_random(state)
+
+
+@njit(cache=True)
 def _lm_one(P, limits, params, Tt, seed, q, trace, info):
     """Solve the target ``Tt`` (4, 4) from ``q`` (n,) (modified in place to the best configuration found).
 
@@ -309,7 +328,7 @@ def _lm_one(P, limits, params, Tt, seed, q, trace, info):
     attempts used, best cost; ``trace[i]`` = error norm after iteration ``i`` (length 0: none).
     """
     n = q.shape[0]
-    s, w = params[SCALE], params[W:W + 6]
+    w = params[W:W + 6]
     tol_p, tol_r = params[TOL_P], params[TOL_R]
     max_iterations, first_attempt = int(params[MAX_ITERATIONS]), int(params[FIRST_ATTEMPT])
     attempts = int(params[ATTEMPTS])
@@ -321,7 +340,6 @@ def _lm_one(P, limits, params, Tt, seed, q, trace, info):
     work = (np.empty((n, n)), np.empty(n), np.empty(n), np.empty(6), np.zeros(n, np.bool_), np.zeros(n), qn)
     best_q = q.copy()
     best_E = np.inf
-    rotate = w[3] != 0.0 or w[4] != 0.0 or w[5] != 0.0
     state = np.empty(1, np.uint64)
     total = 0
     used = 0
@@ -329,14 +347,9 @@ def _lm_one(P, limits, params, Tt, seed, q, trace, info):
     for attempt in range(first_attempt, first_attempt + attempts):
         used += 1
         if attempt > 0:
-            state[0] = np.uint64(seed) * np.uint64(1000003) + np.uint64(attempt)
-            for j in range(n):
-                q[j] = limits[2, j] + (limits[3, j] - limits[2, j]) * _next_random(state)
+            _random_start(q, limits, seed, attempt, state)
         _project(q, limits, P)
-        X = _pose_jacobian(P, q, s, J)
-        if rotate:
-            _rotate_rows(J, Tt, n)
-        E = _residual(X, Tt, s, w, e)
+        E = _evaluate(P, params, Tt, q, J, e)
         mu = 1.0
         stale = 0
         attempt_best = E
@@ -355,10 +368,7 @@ def _lm_one(P, limits, params, Tt, seed, q, trace, info):
                 mu *= 10.0
                 continue
             _project(qn, limits, P)
-            Xn = _pose_jacobian(P, qn, s, Jn)
-            if rotate:
-                _rotate_rows(Jn, Tt, n)
-            En = _residual(Xn, Tt, s, w, en)
+            En = _evaluate(P, params, Tt, qn, Jn, en)
             total += 1
             if trace.shape[0] > 0 and total <= trace.shape[0]:
                 a1, a2 = _errors(en if En < E else e, w)

@@ -54,10 +54,9 @@ def _check(T, tgt, pose, q, lower, upper, tol):
     return dp, dr, _within(q, lower, upper, tol)
 
 
-@njit(cache=True, inline="always")
-def _one(T, tgt, q, limits, opts, outs, i):
-    """Candidate ``i`` into ``outs = (dp, dr, within)``; ``opts = (pose, tol)``, ``limits`` (2, n)."""
-    dp, dr, within = outs
+@njit(cache=True, inline="always")  # outputs: one array per argument, never a tuple (Numba 0.68's parfors loses writes through tuples)
+def _one(T, tgt, q, limits, opts, dp, dr, within, i):
+    """Candidate ``i`` into ``dp[i], dr[i], within[i]``; ``opts = (pose, tol)``, ``limits`` (2, n)."""
     dp[i], dr[i], within[i] = _check(T[i], tgt[i], opts[0], q[i], limits[0], limits[1], opts[1])
 
 
@@ -80,15 +79,15 @@ def check_point(T, p, q, lower, upper, tol):
 
 
 @njit(cache=True)
-def _serial(T, tgt, q, limits, opts, outs):
+def _serial(T, tgt, q, limits, opts, dp, dr, within):
     for i in range(T.shape[0]):
-        _one(T, tgt, q, limits, opts, outs, i)
+        _one(T, tgt, q, limits, opts, dp, dr, within, i)
 
 
 @njit(cache=True, parallel=True)
-def _parallel(T, tgt, q, limits, opts, outs):
+def _parallel(T, tgt, q, limits, opts, dp, dr, within):
     for i in prange(T.shape[0]):
-        _one(T, tgt, q, limits, opts, outs, i)
+        _one(T, tgt, q, limits, opts, dp, dr, within, i)
 
 
 def errors(T, tgt, pose, q, limits, tol=1e-12):
@@ -96,7 +95,7 @@ def errors(T, tgt, pose, q, limits, tol=1e-12):
     ``limits`` (2, n) lower and upper: position errors, rotation angles and within-limits flags ``(B,)``."""
     B = T.shape[0]
     outs = (np.empty(B), np.empty(B), np.empty(B, dtype=np.bool_))
-    (_parallel if B >= 4096 and _jit_loader.parallel_ok() else _serial)(T, tgt, q, limits, (pose, tol), outs)
+    (_parallel if B >= 4096 and _jit_loader.parallel_ok() else _serial)(T, tgt, q, limits, (pose, tol), *outs)
     return outs
 
 

@@ -104,7 +104,6 @@ def solve_ccd(robot: Robot, target: ArrayLike, q0: ArrayLike, *, mask: Optional[
     max_iterations = DEFAULT_MAX_SWEEPS if max_iterations is None else int(max_iterations)
     restarts = DEFAULT_SWEEP_RESTARTS if restarts is None else int(restarts)
     rng = np.random.default_rng(0 if seed is None else seed)   # seeded by default: reproducible
-    c = robot.chain
     n, B = robot.n, prob.B
     goal = prob.target
     tol_p = prob.tol[0] * _TOL_FACTOR
@@ -118,7 +117,7 @@ def solve_ccd(robot: Robot, target: ArrayLike, q0: ArrayLike, *, mask: Optional[
     attempt_best = np.full(B, np.inf)
     active = np.ones(B, bool)
     rows: list = [[] for _ in range(B)] if trace else []
-    from ..kinematics import fk, fk_frames
+    from ..kinematics import fk
 
     err = np.linalg.norm(fk(robot, q)[:, :3, 3] - goal, axis=-1)
     while True:
@@ -145,42 +144,58 @@ def solve_ccd(robot: Robot, target: ArrayLike, q0: ArrayLike, *, mask: Optional[
         k = np.flatnonzero(active)
         if len(k) == 0:
             break
-        F = fk_frames(robot, q[k])
-        e = F[:, n, :3, 3].copy()
-        t = goal[k]
-        for j in range(n - 1, -1, -1):
-            Jf = F[:, j] @ c.pre[j]                     # joint j's frame: its axis is the local z
-            z, p = Jf[:, :3, 2], Jf[:, :3, 3]
-            if c.prismatic[j]:
-                step = np.einsum("bi,bi->b", z, t - e)
-            else:
-                u, v = e - p, t - p
-                u = u - np.einsum("bi,bi->b", u, z)[:, None] * z
-                v = v - np.einsum("bi,bi->b", v, z)[:, None] * z
-                step = np.arctan2(np.einsum("bi,bi->b", z, np.cross(u, v)), np.einsum("bi,bi->b", u, v))
-            new = q[k].copy()
-            new[:, j] += step
-            new = _project(prob, new)
-            moved = new[:, j] - q[k, j]
-            q[k, j] = new[:, j]
-            if c.prismatic[j]:
-                e = e + moved[:, None] * z
-            else:
-                e = p + _rotate(e - p, z, moved)
-        err[k] = np.linalg.norm(e - t, axis=-1)
+        err[k] = np.linalg.norm(_sweep(prob, q, k) - goal[k], axis=-1)
         iters[k] += 1
         sweeps[k] += 1
         if trace:
             for i, v in zip(k, err[k]):
                 rows[i].append(v)
     q = np.where((err <= tol_p)[:, None], q, best_q)
+    reasons = _reasons(prob, unreachable, dist, ~unreachable & (best_err > tol_p), iters, used)
+    tr = _trace_array(rows) if trace else None
+    return assemble(prob, q, iters, "ccd", reasons, tr, note)
+
+
+def _sweep(prob: Problem, q: np.ndarray, k: np.ndarray) -> np.ndarray:
+    """One CCD sweep (last joint to first) of the configurations ``q[k]``, in place; their tool points ``(len(k), 3)``."""
+    robot = prob.robot
+    c, n = robot.chain, robot.n
+    from ..kinematics import fk_frames
+
+    F = fk_frames(robot, q[k])
+    e = F[:, n, :3, 3].copy()
+    t = prob.target[k]
+    for j in range(n - 1, -1, -1):
+        Jf = F[:, j] @ c.pre[j]                     # joint j's frame: its axis is the local z
+        z, p = Jf[:, :3, 2], Jf[:, :3, 3]
+        if c.prismatic[j]:
+            step = np.einsum("bi,bi->b", z, t - e)
+        else:
+            u, v = e - p, t - p
+            u = u - np.einsum("bi,bi->b", u, z)[:, None] * z
+            v = v - np.einsum("bi,bi->b", v, z)[:, None] * z
+            step = np.arctan2(np.einsum("bi,bi->b", z, np.cross(u, v)), np.einsum("bi,bi->b", u, v))
+        new = q[k].copy()
+        new[:, j] += step
+        new = _project(prob, new)
+        moved = new[:, j] - q[k, j]
+        q[k, j] = new[:, j]
+        if c.prismatic[j]:
+            e = e + moved[:, None] * z
+        else:
+            e = p + _rotate(e - p, z, moved)
+    return e
+
+
+def _reasons(prob: Problem, unreachable: np.ndarray, dist: np.ndarray, failed: np.ndarray, iters: np.ndarray,
+             used: np.ndarray) -> dict[int, tuple[str, str]]:
+    """Reason and message of every failed target: out of the arm's reach, or no convergence."""
+    unit = prob.robot.unit
     reasons = {}
-    unit = robot.unit
     for i in np.flatnonzero(unreachable):
         reasons[int(i)] = ("unreachable", f"target is {dist[i]:.4g} {unit} from the base origin; the arm reaches at "
                                           f"most {prob.const['reach']:.4g} {unit}; q is the closest configuration found")
-    for i in np.flatnonzero(~unreachable & (best_err > tol_p)):
+    for i in np.flatnonzero(failed):
         reasons[int(i)] = ("max iterations", f"CCD did not converge in {iters[i]} sweeps ({used[i]} starts)")
-    tr = _trace_array(rows) if trace else None
-    return assemble(prob, q, iters, "ccd", reasons, tr, note)
+    return reasons
 

@@ -224,21 +224,7 @@ def solve_fabrik(robot: Robot, target: ArrayLike, q0: ArrayLike, *, mask: Option
     def project(qp: np.ndarray) -> np.ndarray:
         return _project(sub, qp)
 
-    # the yaw candidates (yaw + planar) or none (planar)
-    if st["kind"] == "yaw+planar":
-        z0, p0 = st["z0"], st["p0"]
-        d = goal - p0
-        a = d @ nrm
-        b = d @ np.cross(z0, nrm)
-        r = np.hypot(a, b)
-        h = st["height"]
-        off = np.arccos(np.clip(h / np.maximum(r, 1e-300), -1.0, 1.0))
-        base = np.arctan2(b, a)
-        # turning joint 1 by psi turns the arm's plane normal to n(psi) = cos psi nrm + sin psi (z0 x nrm);
-        # the target lies in the plane when n(psi) . (target - p0) = h: two solutions (front and back)
-        yaws = [np.angle(np.exp(1j * (base + off))), np.angle(np.exp(1j * (base - off)))]
-    else:
-        yaws = [None]
+    yaws = _yaw_candidates(st, goal)
     q_out = prob.q0.copy()
     err_out = np.full(B, np.inf)
     it_out = np.zeros(B, np.int64)
@@ -276,20 +262,41 @@ def solve_fabrik(robot: Robot, target: ArrayLike, q0: ArrayLike, *, mask: Option
         if rows is not None:
             for j in np.flatnonzero(take):
                 rows_out[j] = rows[j]
+    reasons = _reasons(prob, st, err_out > tol_p, it_out)
+    return assemble(prob, q_out, it_out, "fabrik", reasons, _trace_array(rows_out) if trace else None, note)
+
+
+def _yaw_candidates(st: dict, goal: np.ndarray) -> list:
+    """The two yaw angles ``(B,)`` (front and back) that put each target in the arm's plane (yaw + planar
+    arms), or ``[None]`` for a planar arm."""
+    if st["kind"] != "yaw+planar":
+        return [None]
+    z0, p0, nrm = st["z0"], st["p0"], st["nrm"]
+    d = goal - p0
+    a = d @ nrm
+    b = d @ np.cross(z0, nrm)
+    r = np.hypot(a, b)
+    off = np.arccos(np.clip(st["height"] / np.maximum(r, 1e-300), -1.0, 1.0))
+    base = np.arctan2(b, a)
+    # turning joint 1 by psi turns the arm's plane normal to n(psi) = cos psi nrm + sin psi (z0 x nrm);
+    # the target lies in the plane when n(psi) . (target - p0) = h: two solutions (front and back)
+    return [np.angle(np.exp(1j * (base + off))), np.angle(np.exp(1j * (base - off)))]
+
+
+def _reasons(prob: Problem, st: dict, failed: np.ndarray, passes: np.ndarray) -> dict[int, tuple[str, str]]:
+    """Reason and message of every failed target: out of the arm's reach, or no convergence."""
     unreachable, dist = prob.unreachable()
+    unit = prob.robot.unit
     reasons: dict[int, tuple[str, str]] = {}
-    unit = robot.unit
-    for i in range(B):
-        if err_out[i] <= tol_p:
-            continue
+    for i in np.flatnonzero(failed):
+        i = int(i)
         if unreachable[i]:
             reasons[i] = ("unreachable", f"target is {dist[i]:.4g} {unit} from the base origin; the arm reaches at "
                                          f"most {prob.const['reach']:.4g} {unit}; q is the closest configuration found")
         else:
-            reasons[i] = ("max iterations", f"FABRIK did not converge in {it_out[i]} passes "
+            reasons[i] = ("max iterations", f"FABRIK did not converge in {passes[i]} passes "
                                             f"({st['kind']} structure)")
-    out = assemble(prob, q_out, it_out, "fabrik", reasons, _trace_array(rows_out) if trace else None, note)
-    return out
+    return reasons
 
 
 class _PlanarView:

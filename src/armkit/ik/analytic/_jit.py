@@ -64,12 +64,10 @@ def _up(forward, up_sign, l1l2_sign, e):
 
 
 # ------------------------------------------------------------------------- planar
-@njit(cache=True, inline="always")
-def _planar_one(i, x, y, lengths, outs):
+@njit(cache=True, inline="always")  # outputs: one array per argument, never a tuple (Numba 0.68's parfors loses writes through tuples)
+def _planar_one(i, x, y, lengths, q, up, c, r, unreach, edge):
     """2R core for target ``i``, ``lengths = (l1, l2, extra)``: ``q[i, :, 0:2]``, label indices (elbow up)
-    ``up[i]``, ``c[i]``, ``r[i]``, ``unreach[i]`` and ``edge[i]`` (stretched or folded) of
-    ``outs = (q, up, c, r, unreach, edge)``."""
-    q, up, c, r, unreach, edge = outs
+    ``up[i]``, ``c[i]``, ``r[i]``, ``unreach[i]`` and ``edge[i]`` (stretched or folded)."""
     l1, l2, extra = lengths
     t1, t2, cc, r[i] = _two_link(x, y, l1, l2)
     c[i] = cc
@@ -95,11 +93,11 @@ def _point(p, i, g):
     return x, y, z
 
 
-@njit(cache=True)
-def _planar2_run(p, g, outs, lo, hi):
+@njit(cache=True)  # outputs: one array per argument, never a tuple (Numba 0.68's parfors loses writes through tuples)
+def _planar2_run(p, g, q, up, c, r, unreach, edge, lo, hi):
     for i in prange(lo, hi):
         x, y, _ = _point(p, i, g)
-        _planar_one(i, x, y, (g[P2_L1], g[P2_ELL], g[P2_BETA]), outs)
+        _planar_one(i, x, y, (g[P2_L1], g[P2_ELL], g[P2_BETA]), q, up, c, r, unreach, edge)
 
 
 @njit(cache=True, inline="always")
@@ -117,14 +115,13 @@ def _chain(T, i, g, out):
                          + tmp[a, 3] * g[C + 12 + b])
 
 
-@njit(cache=True)
-def _planar3_run(T, g, outs, lo, hi):
-    q = outs[0]
+@njit(cache=True)  # outputs: one array per argument, never a tuple (Numba 0.68's parfors loses writes through tuples)
+def _planar3_run(T, g, q, up, c, r, unreach, edge, lo, hi):
     for i in prange(lo, hi):
         Tc = np.empty((3, 4))
         _chain(T, i, g, Tc)
         phi = math.atan2(Tc[1, 0], Tc[0, 0])
-        t1, t2 = _planar_one(i, Tc[0, 3], Tc[1, 3], (g[P3_L1], g[P3_L2], 0.0), outs)
+        t1, t2 = _planar_one(i, Tc[0, 3], Tc[1, 3], (g[P3_L1], g[P3_L2], 0.0), q, up, c, r, unreach, edge)
         for k in range(2):
             q[i, k, 2] = phi - t1[k] - t2[k]
 
@@ -162,7 +159,7 @@ def planar2(p, g):
     ``(B, 2)`` (1: elbow up), the two-link cosine and distance ``(B,)``, unreachable ``(B, 2)`` and
     stretched-or-folded ``(B,)``."""
     arrs = _planar_arrays(p.shape[0], 2)
-    _split(_planar2_run, p.shape[0], p, g, arrs)
+    _split(_planar2_run, p.shape[0], p, g, *arrs)
     return arrs
 
 
@@ -170,16 +167,14 @@ def planar3(T, g):
     """Poses ``T`` (B, 4, 4), geometry ``g`` (layout ``P3_*``) -> the arrays of :func:`planar2`, joint
     values ``(B, 2, 3)``."""
     arrs = _planar_arrays(T.shape[0], 3)
-    _split(_planar3_run, T.shape[0], T, g, arrs)
+    _split(_planar3_run, T.shape[0], T, g, *arrs)
     return arrs
 
 
 # ---------------------------------------------------------------------- positioner
-@njit(cache=True, inline="always")
-def _positioner(i, x, y, z, yaw0, g, outs):
-    """:meth:`~.yaw_pitch_pitch.Positioner.solve` for target ``i`` (geometry ``g``, layout ``POS_*``) into
-    ``outs = (phi, up, unreach, c, r, rho, lat, on_axis, edge, lab)``."""
-    phi, up, unreach, c, r, rho, lat, on_axis, edge, lab = outs
+@njit(cache=True, inline="always")  # outputs: one array per argument, never a tuple (Numba 0.68's parfors loses writes through tuples)
+def _positioner(i, x, y, z, yaw0, g, phi, up, unreach, c, r, rho, lat, on_axis, edge, lab):
+    """:meth:`~.yaw_pitch_pitch.Positioner.solve` for target ``i`` (geometry ``g``, layout ``POS_*``)."""
     s1, d1, a1, a2, Z, ell, beta = g[POS_S1], g[POS_D1], g[POS_A1], g[POS_A2], g[POS_Z], g[POS_ELL], g[POS_BETA]
     tiny = g[POS_TINY]
     rh = math.hypot(x, y)
@@ -216,11 +211,11 @@ def _pos_arrays(B):
             np.empty(B, dtype=np.bool_), np.empty((B, 2), dtype=np.bool_), np.empty((B, 4), np.int64))
 
 
-@njit(cache=True)
-def _ypp_run(p, g, yaw0, outs, lo, hi):
+@njit(cache=True)  # outputs: one array per argument, never a tuple (Numba 0.68's parfors loses writes through tuples)
+def _ypp_run(p, g, yaw0, phi, up, unreach, c, r, rho, lat, on_axis, edge, lab, lo, hi):
     for i in prange(lo, hi):
         x, y, z = _point(p, i, g)
-        _positioner(i, x, y, z, yaw0[i], g, outs)
+        _positioner(i, x, y, z, yaw0[i], g, phi, up, unreach, c, r, rho, lat, on_axis, edge, lab)
 
 
 def yaw_pitch_pitch(p, g, yaw0):
@@ -229,7 +224,7 @@ def yaw_pitch_pitch(p, g, yaw0):
     ``g`` (layout ``POS_*``) and the yaw ``yaw0`` (B,) used on the axis."""
     B = p.shape[0]
     arrs = _pos_arrays(B)
-    _split(_ypp_run, B, p, g, yaw0, arrs)
+    _split(_ypp_run, B, p, g, yaw0, *arrs)
     return arrs
 
 
@@ -242,10 +237,8 @@ def _rotate_back(v0, v1, v2, c, s, ca, sa):
     return x, ca * y + sa * v2, -sa * y + ca * v2
 
 
-@njit(cache=True)
-def _puma_run(T, g, q0phi, outs, lo, hi):
-    out, lab, singular, pos = outs
-    phi, up = pos[0], pos[1]
+@njit(cache=True)  # outputs: one array per argument, never a tuple (Numba 0.68's parfors loses writes through tuples)
+def _puma_run(T, g, q0phi, out, lab, singular, phi, up, unreach, c, r, rho, lat, on_axis, edge, lab4, lo, hi):
     d6, s4, s5, cs = g[SW_D6], g[SW_S4], g[SW_S5], SW_CS
     for i in prange(lo, hi):
         Tc = np.empty((3, 4))
@@ -253,7 +246,7 @@ def _puma_run(T, g, q0phi, outs, lo, hi):
         x = Tc[0, 3] - d6 * Tc[0, 2]
         y = Tc[1, 3] - d6 * Tc[1, 2]
         z = Tc[2, 3] - d6 * Tc[2, 2]
-        _positioner(i, x, y, z, q0phi[i, 0], g, pos)
+        _positioner(i, x, y, z, q0phi[i, 0], g, phi, up, unreach, c, r, rho, lat, on_axis, edge, lab4)
         for b in range(4):
             p0, p12 = phi[i, b, 0], phi[i, b, 1] + phi[i, b, 2]
             c0, s0, c12, s12 = math.cos(p0), math.sin(p0), math.cos(p12), math.sin(p12)
@@ -285,14 +278,13 @@ def spherical_wrist(T, g, q0phi):
     B = T.shape[0]
     arrs = _pos_arrays(B)
     out, lab, singular = np.empty((B, 4, 2, 6)), np.empty((B, 4, 2), np.int64), np.empty((B, 4), dtype=np.bool_)
-    _split(_puma_run, B, T, g, q0phi, (out, lab, singular, arrs))
+    _split(_puma_run, B, T, g, q0phi, out, lab, singular, *arrs)
     return out, lab, singular, arrs
 
 
 # ----------------------------------------------------------------------------- UR
-@njit(cache=True)
-def _ur_run(T, g, q0phi, outs, lo, hi):
-    out, up, lab, unreach, lat, rho, r, on_axis, singular = outs
+@njit(cache=True)  # outputs: one array per argument, never a tuple (Numba 0.68's parfors loses writes through tuples)
+def _ur_run(T, g, q0phi, out, up, lab, unreach, lat, rho, r, on_axis, singular, lo, hi):
     s1, s4, s5, D, tiny = g[UR_S1], g[UR_S4], g[UR_S5], g[UR_D], g[UR_TINY]
     d1, d4, d5, d6, a2, a3 = g[UR_D1], g[UR_D4], g[UR_D5], g[UR_D6], g[UR_A2], g[UR_A3]
     for i in prange(lo, hi):
@@ -367,7 +359,7 @@ def ur(T, g, q0phi):
     lab = np.empty((B, 2, 2, 2), np.int64)
     lat, rho, r = np.empty(B, np.bool_), np.empty(B), np.empty((B, 2, 2))
     on_axis, singular = np.empty(B, np.bool_), np.empty((B, 2, 2), np.bool_)
-    _split(_ur_run, B, T, g, q0phi, (out, up, lab, unreach, lat, rho, r, on_axis, singular))
+    _split(_ur_run, B, T, g, q0phi, out, up, lab, unreach, lat, rho, r, on_axis, singular)
     return out, lab, unreach, lat, rho, r, on_axis, singular
 
 
@@ -405,9 +397,8 @@ def _widened(joints):
     return lo, hi, revolute
 
 
-@njit(cache=True)
-def _pick_run(rawq, joints, q0, unreach, enforce, outs, first, last):
-    qb, pick, clean = outs
+@njit(cache=True)  # outputs: one array per argument, never a tuple (Numba 0.68's parfors loses writes through tuples)
+def _pick_run(rawq, joints, q0, unreach, enforce, qb, pick, clean, first, last):
     theta = joints[JOINT_THETA]
     m, n = rawq.shape[1], rawq.shape[2]
     lo, hi, revolute = _widened(joints)
@@ -446,13 +437,12 @@ def wrap_pick(rawq, joints, q0, unreachable, enforce):
     branch as near ``(B,)``. ``rawq`` (B, m, n) DH angles, ``joints`` the joint table (``_layout.JOINT_*``)."""
     B, m, n = rawq.shape
     outs = (np.empty((B, n)), np.empty(B, np.int64), np.empty(B, np.bool_))
-    _split(_pick_run, B, rawq, joints, q0, unreachable, enforce, outs)
+    _split(_pick_run, B, rawq, joints, q0, unreachable, enforce, *outs)
     return outs
 
 
 @njit(cache=True)
-def _wrap_dist_run(rawq, joints, q0, outs, first, last):
-    q, dist = outs
+def _wrap_dist_run(rawq, joints, q0, q, dist, first, last):
     theta = joints[JOINT_THETA]
     m, n = rawq.shape[1], rawq.shape[2]
     lo, hi, revolute = _widened(joints)
@@ -472,15 +462,13 @@ def wrap_dist(rawq, joints, q0):
     ``(B, m)`` to ``q0`` (revolute joints); ``joints`` the joint table (``_layout.JOINT_*``)."""
     B, m, n = rawq.shape
     outs = (np.empty((B, m, n)), np.empty((B, m)))
-    _split(_wrap_dist_run, B, rawq, joints, q0, outs)
+    _split(_wrap_dist_run, B, rawq, joints, q0, *outs)
     return outs
 
 
 # ------------------------------------------------------------------------- sort
-@njit(cache=True)
-def _sort_run(ins, outs, first, last):
-    ok, dist, q, dp, dr, within = ins
-    order, qs, oks, dps, drs, ws = outs
+@njit(cache=True)  # outputs: one array per argument, never a tuple (Numba 0.68's parfors loses writes through tuples)
+def _sort_run(ok, dist, q, dp, dr, within, order, qs, oks, dps, drs, ws, first, last):
     m = ok.shape[1]
     for i in prange(first, last):
         key = np.empty(m)
@@ -508,7 +496,7 @@ def sort_branches(ok, dist, q, dp, dr, within):
     B, m = ok.shape
     out = (np.empty((B, m), np.int64), np.empty_like(q), np.empty((B, m), np.bool_), np.empty((B, m)),
            np.empty((B, m)), np.empty((B, m), np.bool_))
-    _split(_sort_run, B, (ok, dist, q, dp, dr, within), out)
+    _split(_sort_run, B, ok, dist, q, dp, dr, within, *out)
     return out
 
 
