@@ -26,7 +26,7 @@ src/armkit/locale/%/LC_MESSAGES/armkit.mo: src/armkit/locale/%/LC_MESSAGES/armki
 	$(VENV)/bin/pybabel compile --use-fuzzy -d src/armkit/locale -D armkit -l $*
 # after adding or changing _("...") messages: re-extract them and merge into every .po (then translate)
 locale-update: $(VENV)/.installed
-	$(VENV)/bin/pybabel extract -F babel.cfg -k _ -k N_ --no-location --project armkit \
+	$(VENV)/bin/pybabel extract -F babel.cfg -k _ -k N_ -k NC_:1c,2 --no-location --project armkit \
 		-o src/armkit/locale/armkit.pot .
 	$(VENV)/bin/pybabel update -i src/armkit/locale/armkit.pot -d src/armkit/locale -D armkit
 

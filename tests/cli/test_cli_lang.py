@@ -77,23 +77,27 @@ KEPT = {"en", "ko", "deg", "rad", "mm", "tool", "lang", "strict", "armkit", "hel
         "pi", "x", "y", "z", "w", "roll", "pitch", "yaw", "phi", "Ctrl", "D", "X", "Y", "Z", "png", "pdf", "svg",
         "gif", "mp4", "html", "csv", "json", "toml", "urdf", "output", "o", "elbow", "up", "down",   # + branch names
         "info", "DH", "Craig", "xyz", "rpy", "URDF", "TOML", "v", "sqrt", "det", "J", "T", "m", "lm", "CCD",
-        "circular", "parabolic", "ik", "fk", "mode"}      # + commands, formats, formulas and their symbols, methods, option values
+        "circular", "parabolic", "ik", "fk", "mode",
+        "s", "r", "A", "vx", "vy", "vz", "wx", "wy", "wz", "lambda",   # + units and symbols of formulas
+        "Zarr", "Python", "NumPy", "Numba", "CSV", "PNG", "IP"}          # + software, formats, protocols      # + commands, formats, formulas and their symbols, methods, option values
 
 
-def _marked_messages(root: Path) -> set[str]:
-    """The msgids `pybabel extract -F babel.cfg` finds: every _() / N_() in the folders babel.cfg names."""
+def _marked_messages(root: Path) -> set[tuple[str | None, str]]:
+    """(context, msgid) of what `pybabel extract -F babel.cfg` finds: every _(), N_() and NC_() in the folders
+    babel.cfg names."""
     from babel.messages.extract import extract_from_dir
 
     patterns = re.findall(r"^\[python: (.+)\]", (root / "babel.cfg").read_text(), re.M)
     method_map = [(p, "python") for p in patterns]
-    return {m[2] for m in extract_from_dir(str(root), method_map=method_map, keywords={"_": None, "N_": None})
+    keywords = {"_": None, "N_": None, "NC_": ((1, "c"), 2)}
+    return {(m[4], m[2]) for m in extract_from_dir(str(root), method_map=method_map, keywords=keywords)
             if isinstance(m[2], str)}
 
 
 def test_catalogue_is_complete_and_korean():
-    """Every message marked _() / N_() (babel.cfg: command line, shell, plots, view) is in the Korean catalogue,
-    translated, with no placeholder the English lacks, and no English word but options, units, commands and
-    placeholders."""
+    """Every message marked _() / N_() / NC_() (babel.cfg: command line, shell, plots, view) is in the Korean
+    catalogue, translated, with no placeholder the English lacks, and no English word but options, units,
+    commands and placeholders."""
     pytest.importorskip("babel.messages")
     from babel.messages.pofile import read_po
 
@@ -102,19 +106,18 @@ def test_catalogue_is_complete_and_korean():
         pytest.skip("not a source checkout")
     marked = _marked_messages(root)
     with (LOCALE / "ko/LC_MESSAGES/armkit.po").open("rb") as f:
-        catalogue = {m.id: m.string for m in read_po(f) if m.id and not m.fuzzy}
-    assert marked <= set(catalogue), sorted(marked - set(catalogue))
-    for msgid in marked:
-        ko = catalogue[msgid]
+        catalogue = {(m.context, m.id): m.string for m in read_po(f) if m.id and not m.fuzzy}
+    assert marked <= set(catalogue), sorted(marked - set(catalogue), key=str)
+    for key in marked:
+        msgid, ko = key[1], catalogue[key]
         assert ko, f"untranslated: {msgid!r}"
         fields = lambda t: set(re.findall(r"\{(\w+)", t))  # noqa: E731
         if msgid not in REBUILT:
             assert fields(ko) <= fields(msgid), (msgid, ko)
-        text = re.sub(r"\{[^}]*\}|--?[A-Za-z][\w-]*|'[^']*'", "", ko)   # placeholders, options, values typed
-        words = re.findall(r"[A-Za-z]+\d*", text)
-        words = [re.sub(r"\d+$", "", w) for w in words]
+        # placeholders, options, values typed, file names and paths
+        text = re.sub(r"\{[^}]*\}|--?[A-Za-z][\w-]*|'[^']*'|[\w/]*\.[a-z0-9]+\b", "", ko)
+        words = [re.sub(r"\d+$", "", w) for w in re.findall(r"[A-Za-z]+\d*", text)]
         assert set(words) <= KEPT, (msgid, ko, set(words) - KEPT)
-
 
 
 def test_compiled_catalogue_is_current():

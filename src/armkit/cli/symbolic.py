@@ -20,7 +20,15 @@ from .common import (EXIT_FAILED, NUMERIC_ARGS, console, esc, fail, name_list, o
 
 from .common import ROBOT_HELP  # noqa: E402
 from .common import err_console, print_table  # noqa: E402
-from .common import _  # noqa: E402
+from .common import N_, _, current_language  # noqa: E402
+
+
+def _local(text: str) -> str:
+    """A sentence or label of the library (a singular set, a trajectory's label) in the user's language."""
+    from ..locale.library import localize
+
+    return localize(text, current_language())
+
 
 
 def _matrix_table(M, title: str, row_labels=None, col_labels=None) -> Table:
@@ -61,7 +69,7 @@ def derive(robot: str = typer.Argument(..., help=ROBOT_HELP),
     from ..symbolic.export import to_latex, to_numpy_source, to_text
 
     if latex and python:
-        fail("choose one of --latex and --python")
+        fail(_("choose one of --latex and --python"))
     if ik_export and not python:
         fail(_("--ik exports the closed-form IK as Python: add --python"))
     if output is not None and not (latex or python):
@@ -69,7 +77,7 @@ def derive(robot: str = typer.Argument(..., help=ROBOT_HELP),
     if output is not None:
         output_path(output, (".py",) if python else (".tex",), "--output")
     if not budget >= 0 or budget == float("inf"):
-        fail(f"--budget must be a number of seconds >= 0 (0: no limit), got {budget}")
+        fail(_("--budget must be a number of seconds >= 0 (0: no limit), got {value}", value=budget))
     r = get_robot(robot)
     if png is not None:
         output_path(png, (".png", ".pdf", ".svg"), "--png")
@@ -110,31 +118,35 @@ def derive(robot: str = typer.Argument(..., help=ROBOT_HELP),
         print_json(out)
         return
     names = esc(name_list([f"q{i + 1} = {n}" for i, n in enumerate(r.joint_names) if n != f"q{i + 1}"]))
-    console.print(f"[bold]{esc(r.name)}[/]: {r.n} joints {r.joint_types}, {r.convention} DH"
-                  + (f" ({names})" if names else ""))
+    console.print(_("{robot}: {n} joints {types}, {convention} DH", robot=f"[bold]{esc(r.name)}[/]", n=r.n,
+                    types=r.joint_types, convention=_(r.convention)) + (f" ({names})" if names else ""))
     if d.values:
-        console.print("parameters: " + ", ".join(
+        console.print(_("parameters:") + " " + ", ".join(
             f"{s} = {v:g}" + ("" if s.name.startswith(("alpha", "theta")) else f" {r.unit}")
             for s, v in d.values.items()))
     if txt["legend"]:
-        console.print("short-hand: " + ", ".join(f"{s} = {f}" for f, s in txt["legend"].items()))
+        console.print(_("short-hand:") + " " + ", ".join(f"{s} = {f}" for f, s in txt["legend"].items()))
     if links:
         for i, A in enumerate(txt["links"], 1):
-            print_table(_matrix_table(A, f"A{i} (frame {i - 1} -> {i})"))
-    print_table(_matrix_table(txt["T"], f"T = base · A1 ··· A{r.n} · tool  (pose of the tool)"))
+            print_table(_matrix_table(A, _("A{i} (frame {a} -> {b})", i=i, a=i - 1, b=i)))
+    print_table(_matrix_table(txt["T"], _("T = base · A1 ··· A{n} · tool  (pose of the tool)", n=r.n)))
     cols = [f"q{i + 1}" for i in range(r.n)]
-    print_table(_matrix_table(txt["J"], "geometric Jacobian J(q), rows (v, w), base frame",
+    print_table(_matrix_table(txt["J"], _("geometric Jacobian J(q), rows (v, w), base frame"),
                                 ["vx", "vy", "vz", "wx", "wy", "wz"], cols))
     if ik is not None:
-        console.print("[bold]closed-form IK[/] (derived with sympy.solve from x = a1 c1 + a2 c12, y = a1 s1 + a2 s12):")
+        console.print("[bold]" + _("closed-form IK") + "[/] " + _("(derived with {function} from {equations}):",
+                                                                   function="sympy.solve",
+                                                                   equations="x = a1 c1 + a2 c12, y = a1 s1 + a2 s12"))
+
         console.print(f"  c2 = {ik['c2']}")
         console.print(f"  q1 = {ik['q1']}")
         for b in ik["branches"]:
             console.print(f"  {b['label']}: s2 = {b['s2']},  q2 = atan2(s2, c2)")
-        console.print("  reachable where -1 <= c2 <= 1, i.e. |a1 - a2| <= sqrt(x^2 + y^2) <= a1 + a2")
-    cached = "partly simplified, not cached" if d.meta.get("note") else (
-        "not cached" if no_cache else "cached on disk for next time")
-    console.print(f"[dim]derived in {elapsed:.2f} s ({cached})[/]")
+        console.print("  " + _("reachable where {condition}", condition="-1 <= c2 <= 1, i.e. |a1 - a2| <= "
+                                                                         "sqrt(x^2 + y^2) <= a1 + a2"))
+    cached = _("partly simplified, not cached") if d.meta.get("note") else (
+        _("not cached") if no_cache else _("cached on disk for next time"))
+    console.print("[dim]" + _("derived in {seconds} s ({cached})", seconds=f"{elapsed:.2f}", cached=cached) + "[/]")
 
 
 def _write_text(text: str, output: Optional[Path]) -> None:
@@ -195,28 +207,32 @@ def singular(robot: str = typer.Argument(..., help=ROBOT_HELP),
         from ..symbolic.export import shorthand
         from ..symbolic import derive as do_derive
         d = do_derive(r)
-        console.print(f"[bold]{esc(r.name)}[/]: {res.method} over rows ({', '.join(res.rows)})")
+        console.print(_("{robot}: {method} over rows ({rows})", robot=f"[bold]{esc(r.name)}[/]", method=res.method,
+                        rows=", ".join(res.rows)))
         console.print(f"  = {shorthand(res.determinant, d.q)[0]}")
-        t = Table(title="singular configurations (where a factor vanishes)", header_style="bold")
-        for col in ("factor", "meaning", "solutions", "check: max manipulability there"):
-            t.add_column(col, overflow="fold")
+        t = Table(title=_("singular configurations (where a factor vanishes)"), header_style="bold")
+        for col in (N_("factor"), N_("meaning"), N_("solutions"), N_("check: max manipulability there")):
+            t.add_column(_(col), overflow="fold")
         for f in res.singular_factors:
             if f.solutions:
                 k = f.joints[0] - 1
-                sol = ", ".join((f"{q_display(r, np.eye(r.n)[k] * v)[k]}") + (f" ({lab})" if lab else "")
+                sol = ", ".join((f"{q_display(r, np.eye(r.n)[k] * v)[k]}") + (f" ({_local(lab)})" if lab else "")
                                 for v, lab in f.solutions)
             else:
-                sol = "a curve/surface in joint space"
+                sol = _("a curve/surface in joint space")
             w = f"{f.manipulability.max():.1e}" if len(f.manipulability) else "-"
-            t.add_row(esc(f.text + ("" if f.power == 1 else f" (power {f.power})")), esc(f.description.split(":")[0]), esc(sol), w)
+            power = "" if f.power == 1 else " " + _("(power {k})", k=f.power)
+            t.add_row(esc(f.text + power), esc(_local(f.description.split(":")[0])), esc(sol), w)
         print_table(t)
         consts = [f.text for f in res.factors if f.kind == "constant" and f.expr != 1]
         if consts:
-            console.print(f"constant factors (never zero): {', '.join(consts)}")
-        console.print(f"typical manipulability away from them: {res.typical_manipulability:.3g}")
+            console.print(_("constant factors (never zero): {factors}", factors=", ".join(consts)))
+        console.print(_("typical manipulability away from them: {value}",
+                        value=f"{res.typical_manipulability:.3g}"))
     if plot is not None:
         if r.n > 3:
-            warn(f"the manipulability map is for 2-3 joint arms; {r.name} has {r.n}: plotting joints 2 and 3")
+            warn(_("the manipulability map is for 2-3 joint arms; {robot} has {n}: plotting joints 2 and 3",
+                   robot=r.name, n=r.n))
         joints = (1, 2) if r.n == 2 else (2, 3)
         from .._io import atomic_path
 
@@ -226,7 +242,7 @@ def singular(robot: str = typer.Argument(..., help=ROBOT_HELP),
 
         pyplot().close(fig)
         if not json_out:
-            console.print(f"wrote {esc(plot)}")
+            console.print(_("wrote {path}", path=esc(plot)))
 
 
 def velocity(robot: str = typer.Argument(..., help=ROBOT_HELP),
@@ -250,32 +266,34 @@ def velocity(robot: str = typer.Argument(..., help=ROBOT_HELP),
     r = get_robot(robot)
     words = list(q)
     if len(words) < r.n:
-        fail(f"robot {r.name!r} has {r.n} joints ({name_list(r.joint_names)}); got {len(words)} value(s)")
+        fail(_("robot {robot!r} has {n} joints ({names}); got {k} value(s)", robot=r.name, n=r.n,
+               names=name_list(r.joint_names), k=len(words)))
     qv = parse_q(r, words[:r.n], deg)
     extra = [w for v in words[r.n:] for w in v.split(",") if w]
     if (ee_vel is None) == (q_vel is None):
-        fail("give exactly one of --ee-vel (tool velocity -> joint rates) and --q-vel (joint rates -> twist)")
+        fail(_("give exactly one of --ee-vel (tool velocity -> joint rates) and --q-vel (joint rates -> twist)"))
     given = ee_vel if ee_vel is not None else (q_vel or "")
     vals = parse_numbers([w for w in given.split(",") if w] + extra, "--ee-vel" if ee_vel is not None else "--q-vel")
     if method not in ("pinv", "dls"):
-        fail(f"--method must be 'pinv' or 'dls', got {method!r}")
+        fail(_("--method must be 'pinv' or 'dls', got {value!r}", value=method))
     if q_vel is not None:
         if len(vals) != r.n:
-            fail(f"--q-vel needs {r.n} joint rates, got {len(vals)}")
+            fail(_("--q-vel needs {n} joint rates, got {k}", n=r.n, k=len(vals)))
         qd = np.where(r.prismatic, vals, np.radians(vals)) if deg else vals
         tw = twist(r, qv, qd)
         if json_out:
             print_json({"robot": r.name, "q_rad": qv, "qd_rad_s": qd, "twist": tw, "rows": ["vx", "vy", "vz", "wx",
                                                                                            "wy", "wz"]})
             return
-        console.print(f"[bold]{esc(r.name)}[/] at q = ({', '.join(q_display(r, qv))}), joint rates "
-                      f"({', '.join(f'{v:g}' for v in vals)}) {'deg/s' if deg else 'rad/s'}")
-        console.print(f"tool velocity v = ({', '.join(f'{v:.6g}' for v in tw[:3])}) {r.unit}/s")
-        console.print(f"angular velocity w = ({', '.join(f'{v:.6g}' for v in tw[3:])}) rad/s"
-                      f" = ({', '.join(f'{math.degrees(v):.6g}' for v in tw[3:])}) deg/s")
+        console.print(_("{robot} at q = ({q}), joint rates ({rates}) {unit}", robot=f"[bold]{esc(r.name)}[/]",
+                        q=", ".join(q_display(r, qv)), rates=", ".join(f"{v:g}" for v in vals),
+                        unit="deg/s" if deg else "rad/s"))
+        console.print(_("tool velocity v = ({v}) {unit}/s", v=", ".join(f"{v:.6g}" for v in tw[:3]), unit=r.unit))
+        console.print(_("angular velocity w = ({w}) rad/s = ({w_deg}) deg/s", w=", ".join(f"{v:.6g}" for v in tw[3:]),
+                        w_deg=", ".join(f"{math.degrees(v):.6g}" for v in tw[3:])))
         return
     if len(vals) not in (2, 3, 6):
-        fail(f"--ee-vel needs 2 (vx vy), 3 (vx vy vz) or 6 (vx vy vz wx wy wz) values, got {len(vals)}")
+        fail(_("--ee-vel needs 2 (vx vy), 3 (vx vy vz) or 6 (vx vy vz wx wy wz) values, got {k}", k=len(vals)))
     res = joint_rates(r, qv, vals, method=method, damping="auto" if damping is None else damping)  # type: ignore[arg-type]
     qd_show = np.where(r.prismatic, res.qd, np.degrees(res.qd))
     if json_out:
@@ -284,21 +302,25 @@ def velocity(robot: str = typer.Argument(..., help=ROBOT_HELP),
                     "singular": res.singular, "singular_direction": res.direction, "damping_m2": res.damping,
                     "method": res.method, "message": res.message})
         return
-    console.print(f"[bold]{esc(r.name)}[/] at q = ({', '.join(q_display(r, qv))}); requested "
-                  f"({', '.join(f'{n} {v:g}' for n, v in zip(res.rows, vals))}) ({r.unit}/s, rad/s)")
-    t = Table(title=f"joint rates ({'pseudo-inverse' if method == 'pinv' else 'damped least squares'})",
+    console.print(_("{robot} at q = ({q}); requested ({values}) ({unit}/s, rad/s)", robot=f"[bold]{esc(r.name)}[/]",
+                    q=", ".join(q_display(r, qv)), values=", ".join(f"{n} {v:g}" for n, v in zip(res.rows, vals)),
+                    unit=r.unit))
+    t = Table(title=_("joint rates ({method})", method=_("pseudo-inverse") if method == "pinv" else
+                      _("damped least squares")),
               header_style="bold")
     for col in ("joint", "rad/s", "deg/s"):
         t.add_column(col, justify="right")
     for name, v, p in zip(r.joint_names, res.qd, r.prismatic):
         t.add_row(esc(name), f"{v:.6g}" + (f" {r.unit}/s" if p else ""), "" if p else f"{math.degrees(v):.6g}")
     print_table(t)
-    console.print(f"achieved: ({', '.join(f'{v:.6g}' for v in res.achieved)}), residual {res.residual:.3g}"
-                  + (f", damping lambda^2 = {res.damping:.3g} m^2" if res.damping else ""))
+    console.print(_("achieved: ({values}), residual {residual}", values=", ".join(f"{v:.6g}" for v in res.achieved),
+                    residual=f"{res.residual:.3g}")
+                  + (_(", damping lambda^2 = {value} m^2", value=f"{res.damping:.3g}") if res.damping else ""))
     if res.singular:
-        warn(res.message)
+        warn(_local(res.message))
     else:
-        console.print(f"[dim]{esc(res.message)}[/]")
+        console.print(f"[dim]{esc(_local(res.message))}[/]")
+
     del qd_show
 
 
@@ -308,7 +330,8 @@ def _points(words: List[str], what: str) -> np.ndarray:
         nums = parse_numbers([x for x in w.split(",") if x], what)
         pts.append(nums)
     if len({len(p) for p in pts}) > 1:
-        fail(f"{what}: every point needs the same number of values, got {[len(p) for p in pts]}")
+        fail(_("{what}: every point needs the same number of values, got {counts}", what=what,
+               counts=[len(p) for p in pts]))
     return np.array(pts)
 
 
@@ -361,13 +384,13 @@ def traj(robot: str = typer.Argument(..., help=ROBOT_HELP),
         output_path(out, (".png", ".pdf", ".svg", ".gif", ".mp4", ".csv"), "--output")
     modes = sum([joint, line, arc is not None])
     if modes != 1:
-        fail("choose exactly one of --joint, --line and --arc")
+        fail(_("choose exactly one of --joint, --line and --arc"))
     P = _points(points, "POINT")
     try:
         if joint:
             if P.shape[1] != r.n:
-                fail(f"joint waypoints need {r.n} values each for {r.name!r} ({name_list(r.joint_names)}), "
-                     f"got {P.shape[1]}")
+                fail(_("joint waypoints need {n} values each for {robot!r} ({names}), got {k}", n=r.n, robot=r.name,
+                       names=name_list(r.joint_names), k=P.shape[1]))
             W = np.where(r.prismatic, P, np.radians(P)) if deg else P
             scale = math.pi / 180 if deg else 1.0
             if duration is None and qd_max is None and qdd_max is None:
@@ -389,11 +412,11 @@ def traj(robot: str = typer.Argument(..., help=ROBOT_HELP),
                                      qd_max=None if qd_max is None else qd_max * scale)
         else:
             if len(P) != 2:
-                fail(f"--arc needs two points (centre start), got {len(P)}")
+                fail(_("--arc needs two points (centre start), got {k}", k=len(P)))
             tr = cartesian_arc(r, P[0], P[1], math.radians(float(arc)), steps=steps, duration=duration or 2.0,  # type: ignore[arg-type]
                                method=method, speed=speed)
     except UnreachableError as exc:
-        fail(f"unreachable: {exc}", EXIT_FAILED)
+        fail(_("unreachable: {reason}", reason=_local(str(exc))), EXIT_FAILED)
     for note in tr.notes:
         warn(note)
     within = bool(np.all(r.within_limits(tr.q)))
@@ -424,24 +447,29 @@ def traj(robot: str = typer.Argument(..., help=ROBOT_HELP),
         elif suffix in (".png", ".pdf", ".svg"):
             plot_trajectory(tr, r, out)
         else:
-            fail(f"-o must end in .png, .pdf, .svg, .gif, .mp4 or .csv, got {out.name!r}")
+            fail(_("-o must end in .png, .pdf, .svg, .gif, .mp4 or .csv, got {name!r}", name=out.name))
         summary["written"] = str(out)
     if json_out:
         print_json(summary)
         return
-    console.print(f"[bold]{esc(r.name)}[/]: {esc(tr.label)}, {len(tr)} samples over {tr.duration:.3g} s")
-    console.print(f"start q = ({', '.join(q_display(r, tr.q[0]))}), end q = ({', '.join(q_display(r, tr.q[-1]))})")
+    console.print(_("{robot}: {label}, {n} samples over {seconds} s", robot=f"[bold]{esc(r.name)}[/]",
+                    label=esc(_local(tr.label)), n=len(tr), seconds=f"{tr.duration:.3g}"))
+    console.print(_("start q = ({start}), end q = ({end})", start=", ".join(q_display(r, tr.q[0])),
+                    end=", ".join(q_display(r, tr.q[-1]))))
     peak = np.where(r.prismatic, summary["max_abs_qd"], np.degrees(summary["max_abs_qd"]))
-    console.print("peak joint speed: " + esc(name_list([f"{n} {v:.4g}" for n, v in zip(r.joint_names, peak)]))
-                  + " (deg/s or unit/s)")
+    console.print(_("peak joint speed:") + " " + esc(name_list([f"{n} {v:.4g}" for n, v in zip(r.joint_names, peak)]))
+                  + " " + _("(deg/s or {unit}/s)", unit=r.unit))
+
     if tr.deviation is not None:
-        console.print(f"largest deviation from the path: {tr.deviation.max():.3g} {r.unit}")
+        console.print(_("largest deviation from the path: {value} {unit}", value=f"{tr.deviation.max():.3g}",
+                        unit=r.unit))
     if not within:
-        warn("the trajectory leaves the joint limits")
+        warn(_("the trajectory leaves the joint limits"))
     if hit_note is not None:
         warn(hit_note)
     if out is not None:
-        console.print(f"wrote {esc(out)}")
+        console.print(_("wrote {path}", path=esc(out)))
+
 
 
 def register(app: typer.Typer) -> None:

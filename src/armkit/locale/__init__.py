@@ -34,7 +34,8 @@ from pathlib import Path
 from typing import Any, Dict, Iterator, Mapping
 
 __all__ = ["LANGUAGES", "LANG", "default_language", "message", "MESSAGES", "josa", "final_consonant",
-           "cli_language", "current_language", "translate", "LOCALE_DIR", "TERMS", "_", "N_"]
+           "cli_language", "current_language", "translate", "translate_in", "LOCALE_DIR", "TERMS", "_", "N_", "NC_"]
+
 
 LOCALE_DIR = Path(__file__).parent
 """gettext catalogues of the command line: ``ko/LC_MESSAGES/armkit.po`` (source) and ``.mo`` (built by
@@ -222,7 +223,7 @@ def josa(word: object, pair: str) -> str:
 TERMS = (N_("revolute"), N_("prismatic"), N_("continuous"), N_("unreachable"), N_("singular"),
          N_("max iterations"), N_("joint limits"), N_("collision"), N_("converged"), N_("solved"),
          N_("not converged"), N_("bad input"), N_("unsupported"), N_("base"), N_("tool"), N_("standard"),
-         N_("modified"))
+         N_("modified"), N_("area"), N_("volume"))
 """Words written by ``{x:t}`` (or ``_(word)``) in the message's language: joint kinds, the IK results' ``reason``
 codes, frames (base, tool) and DH conventions."""
 
@@ -307,6 +308,19 @@ def translate(text: str, lang: str = "en", /, **fields: object) -> str:
 def _template(text: str, lang: str) -> str:
     """The catalogue's translation of ``text`` (unformatted); English, or a missing entry, stays as written."""
     return text if lang == "en" or not text else _catalogue(lang).gettext(text)
+
+
+def NC_(context: str, text: str) -> str:
+    """Mark ``text`` for the catalogue with a ``context`` (``msgctxt``): the same English word with another
+    meaning (an animation's frame, a coordinate frame) gets its own translation."""
+    return text
+
+
+def translate_in(context: str | None, text: str, lang: str = "en", /, **fields: object) -> str:
+    """:func:`translate` of an entry marked with :func:`NC_` (``context=None``: an entry without context)."""
+    if context is None or lang == "en":
+        return translate(text, lang, **fields)
+    return _Formatter(lang).format(_catalogue(lang).pgettext(context, text), **fields)
 
 
 def _(text: str, /, **fields: object) -> str:

@@ -38,6 +38,25 @@ PATTERNS = (
     N_("CCD did not converge in {n} sweeps ({starts} starts)"),
     N_("fully stretched: elbow-up and elbow-down coincide."),
     N_("fully folded: elbow-up and elbow-down coincide."),
+    # analysis: the singular sets in words (armkit singular), their parts and the solutions' labels
+    N_("stretched or folded elbow ({joint})"),
+    N_("{point} on {axis}"),
+    N_("{point} in the plane through {axis} parallel to the axis of joint 2 (shoulder singularity)"),
+    N_("axes of joints {i} ({a}) and {j} ({b}) line up"),
+    N_("axes of joints {i} ({a}) and {j} ({b}) become parallel"),
+    N_("prismatic joint {joint} at zero extension"),
+    N_("the Jacobian loses rank where {expression} = 0"),
+    N_("tool point"), N_("wrist point"), N_("point on the axis of joint {k}"), N_("the yaw axis (joint 1)"),
+    N_("the axis of joint 1"), N_("stretched"), N_("folded"), N_("on axis"), N_("shoulder plane"),
+    N_("axes collinear"), N_("axes parallel"),
+    # motion: velocity kinematics and trajectories
+    N_("well-conditioned (smallest singular value {sigma} m)"),
+    N_("near a singularity (smallest singular value {sigma} m): the arm cannot move along ({direction}); rates are "
+       "damped, the velocity is only approximated"),
+    N_("near a singularity (smallest singular value {sigma} m): the arm cannot move along ({direction}); the "
+       "pseudo-inverse drops that direction"),
+    N_("joint space, {profile}"), N_("{path} via resolved rate"), N_("{path} via IK"), N_("straight line"),
+    N_("arc"),
 )
 """English messages of the library, as the catalogue holds them (``pybabel extract`` finds them here)."""
 
@@ -73,8 +92,8 @@ def localize(text: str, lang: str) -> str:
         return text
     for pattern in PATTERNS:
         m = _regex(pattern).fullmatch(text.strip())
-        if m:
-            return _fill(_template(pattern, lang), lang, m.groupdict())
+        if m:      # the parts are translated too (a point and an axis inside a singular set's description)
+            return _fill(_template(pattern, lang), lang, {k: localize(v, lang) for k, v in m.groupdict().items()})
     return text
 
 

@@ -619,8 +619,12 @@ def plot_trajectory(traj: Trajectory, robot: Robot | None = None, out_path: str 
     for j in range(n):
         ax1.plot(traj.t, traj.q[:, j] * conv[j], label=names[j])
         ax2.plot(traj.t, traj.qd[:, j] * conv[j], label=names[j])
-    ax1.set(xlabel="t [s]", ylabel="q [deg]" if not prism.any() else "q [deg | length]", title="joint values")
-    ax2.set(xlabel="t [s]", ylabel="qd [deg/s]", title="joint rates")
+    from ..locale.fonts import plot_language, plot_text as _      # labels in Korean only with a Korean font
+
+    from ..locale.library import localize
+
+    ax1.set(xlabel="t [s]", ylabel="q [deg]" if not prism.any() else _("q [deg | length]"), title=_("joint values"))
+    ax2.set(xlabel="t [s]", ylabel="qd [deg/s]", title=_("joint rates"))
     ax1.legend(fontsize=7)
     ax1.grid(alpha=0.3)
     ax2.grid(alpha=0.3)
@@ -629,19 +633,19 @@ def plot_trajectory(traj: Trajectory, robot: Robot | None = None, out_path: str 
         planar = np.allclose(traj.positions[:, 2], traj.positions[0, 2])
         if planar:
             ax3 = fig.add_subplot(1, 3, 3)
-            ax3.plot(traj.positions[:, 0], traj.positions[:, 1], "b-", label="tool path")
+            ax3.plot(traj.positions[:, 0], traj.positions[:, 1], "b-", label=_("tool path"))
             if traj.targets is not None:
-                ax3.plot(traj.targets[:, 0], traj.targets[:, 1], "r--", lw=1, label="desired")
+                ax3.plot(traj.targets[:, 0], traj.targets[:, 1], "r--", lw=1, label=_("desired"))
             ax3.set_aspect("equal", adjustable="datalim")
-            ax3.set(xlabel=f"x [{unit}]", ylabel=f"y [{unit}]", title="tool path")
+            ax3.set(xlabel=f"x [{unit}]", ylabel=f"y [{unit}]", title=_("tool path"))
         else:
             ax3 = fig.add_subplot(1, 3, 3, projection="3d")
-            ax3.plot(*traj.positions.T, "b-", label="tool path")
+            ax3.plot(*traj.positions.T, "b-", label=_("tool path"))
             if traj.targets is not None:
-                ax3.plot(*traj.targets.T, "r--", lw=1, label="desired")
-            ax3.set(xlabel=f"x [{unit}]", ylabel=f"y [{unit}]", zlabel=f"z [{unit}]", title="tool path")
+                ax3.plot(*traj.targets.T, "r--", lw=1, label=_("desired"))
+            ax3.set(xlabel=f"x [{unit}]", ylabel=f"y [{unit}]", zlabel=f"z [{unit}]", title=_("tool path"))
         ax3.legend(fontsize=7)
-    fig.suptitle(traj.label)
+    fig.suptitle(localize(traj.label, plot_language()))
     fig.tight_layout()
     if out_path is not None:
         from .._io import atomic_path

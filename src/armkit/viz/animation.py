@@ -13,6 +13,7 @@ from .._extras import require
 from ..errors import ArgumentError, ShapeError
 from ..kinematics import fk_frames
 from ..model.robot import Robot
+from ..locale.fonts import plot_text as _      # the labels, in Korean only with a Korean font
 from ._mpl import COLORS, angle_text
 
 __all__ = ["render_animation", "SUFFIXES"]
@@ -106,11 +107,11 @@ class _Stage:
         self.ends = frames[:, -1, :3, 3]
         empty: list[list[float]] = [[] for _ in ((0, 1) if planar else (0, 1, 2))]
         (self.trail_line,) = ax.plot(*empty, "-", color="#ff7f0e", lw=1.3, alpha=0.8,
-                                     label="end-point trail" if trail else None)
+                                     label=_("end-point trail") if trail else None)
         (self.arm,) = ax.plot(*empty, "-", color=COLORS[0], lw=3.2, solid_capstyle="round", label=robot.name)
         (self.jts,) = ax.plot(*empty, "o", color="white", mec=COLORS[0], mew=2.0, ms=7)
         (self.end,) = ax.plot(*empty, "*", color=COLORS[0], mec="black", mew=0.6, ms=13)
-        (self.tgt,) = ax.plot(*empty, "x", color="red", ms=11, mew=2.5, label="target" if T is not None else None)
+        (self.tgt,) = ax.plot(*empty, "x", color="red", ms=11, mew=2.5, label=_("target") if T is not None else None)
         if not trail:
             self.trail_line.set_visible(False)
         if T is None:
@@ -140,7 +141,9 @@ class _Stage:
             self._put(self.trail_line, ends[max(0, k - self.trail_length):k + 1])
         if T is not None:
             self._put(self.tgt, T[k:k + 1] if np.all(np.isfinite(T[k])) else np.empty((0, 3)))
-        self.info.set_text(f"frame {k + 1}/{len(self.Q)}: {angle_text(self.robot, self.Q[k])}")
+        self.info.set_text(_("frame {k}/{n}: {angles}", k=k + 1, n=len(self.Q), angles=angle_text(self.robot,
+                                                                                              self.Q[k])))
+
         self.canvas.restore_region(self.background)
         for a in self.dynamic:
             if a.get_visible():

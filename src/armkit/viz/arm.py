@@ -11,6 +11,8 @@ from numpy.typing import ArrayLike
 from ..analysis.workspace import is_planar, joint_axes, skeleton
 from ..kinematics import fk_frames
 from ..model.robot import Robot
+from ..locale.fonts import plot_text as _      # the pictures' labels, in Korean only with a Korean font
+
 from ._mpl import AXIS_COLORS, COLORS, angle_text, pyplot
 
 __all__ = ["plot_arm", "draw_arm", "setup_axes"]
@@ -71,7 +73,8 @@ def draw_arm(ax: Any, robot: Robot, q: np.ndarray, color: str, label: Optional[s
     (line,) = ax.plot(*(pts[:, i] for i in dims), ls, color=color, lw=lw, alpha=alpha,
                       solid_capstyle="round", label=label, zorder=3)
     line.set_gid(f"arm:{index}")
-    jp, _ = joint_axes(robot, q)
+    jp = joint_axes(robot, q)[0]
+
     (j,) = ax.plot(*(jp[:, i] for i in dims), "o", color="white", mec=color, mew=2.0, ms=8, alpha=alpha, zorder=4)
     j.set_gid(f"joints:{index}")
     (o,) = ax.plot(*(org[:, i] for i in dims), ".", color="black", ms=4, alpha=alpha, zorder=5)
@@ -95,12 +98,13 @@ def draw_arm(ax: Any, robot: Robot, q: np.ndarray, color: str, label: Optional[s
                     break
             else:
                 groups.append((p, [name]))
-        groups.append((org[-1], ["end"]))
+        end = _("end")
+        groups.append((org[-1], [end]))
         off = 0.04 * (robot.reach or 1.0)
         for p, names in groups:
             text = " / ".join(names)
             if planar:
-                ax.annotate(text, (p[0], p[1]), xytext=(8, 6) if text == "end" else (7, -13),
+                ax.annotate(text, (p[0], p[1]), xytext=(8, 6) if text == end else (7, -13),
                             textcoords="offset points", fontsize=8, color="0.2")
             else:
                 ax.text(p[0] + off, p[1] + off, p[2], text, fontsize=8, color="0.2")
@@ -164,7 +168,7 @@ def plot_arm(robot: Robot, q: ArrayLike, ax: Any = None, frames: bool = True,
                 if sh.shape == shape.shape and np.allclose(sh, shape, atol=1e-9 * (robot.reach or 1.0))]
         if lab is not None and same:
             short = same[0].split(":")[0]
-            lab = f"{lab} (same links as {short})"
+            lab = _("{label} (same links as {other})", label=lab, other=short)
         shapes.append(shape)
         names.append(lab or "")
         # overlays: each later arm thinner and in another dash pattern, so coinciding arms stay visible
@@ -175,16 +179,17 @@ def plot_arm(robot: Robot, q: ArrayLike, ax: Any = None, frames: bool = True,
     if targets is not None:
         tp = np.asarray(targets, dtype=float).reshape(-1, 3)
         dims = (0, 1) if planar else (0, 1, 2)
-        ax.plot(*(tp[:, i] for i in dims), "x", color="red", ms=11, mew=2.5, label="target", zorder=6)
+        ax.plot(*(tp[:, i] for i in dims), "x", color="red", ms=11, mew=2.5, label=_("target"), zorder=6)
     if title is None:
         if single:
             p = fk_frames(robot, Q[0])[-1, :3, 3]
             end = ", ".join(f"{v:.4g}" for v in (p[:2] if planar else p))
             parts = angle_text(robot, Q[0], deg).split(", ")
             lines = [", ".join(parts[i:i + 3]) for i in range(0, len(parts), 3)]
-            title = f"{robot.name}: " + ",\n".join(lines) + f"\nend point ({end}) {robot.unit}"
+            title = f"{robot.name}: " + ",\n".join(lines) + "\n" + _("end point ({xyz}) {unit}", xyz=end,
+                                                                       unit=robot.unit)
         else:
-            title = f"{robot.name}: {len(Q)} configurations"
+            title = _("{robot}: {n} configurations", robot=robot.name, n=len(Q))
     ax.set_title(title, fontsize=11)
     if not single or targets is not None or frames:
         from matplotlib.lines import Line2D
@@ -192,7 +197,8 @@ def plot_arm(robot: Robot, q: ArrayLike, ax: Any = None, frames: bool = True,
         handles, labs = ax.get_legend_handles_labels()
         if frames:
             handles += [Line2D([], [], color=c, lw=1.5) for c in AXIS_COLORS[: 2 if planar else 3]]
-            labs += ["frame x", "frame y", "frame z"][: 2 if planar else 3]
+            labs += [_("frame {axis}", axis=a) for a in "xyz"][: 2 if planar else 3]
+
         ax.legend(handles, labs, loc="upper center", bbox_to_anchor=(0.5, -0.1 if planar else -0.02), fontsize=8,
                   ncol=1 if max(map(len, labs), default=0) > 40 else 2, framealpha=0.85)   # below: never on the arm
     return ax.figure

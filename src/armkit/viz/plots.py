@@ -10,6 +10,7 @@ import numpy as np
 
 from ..analysis.maps import FKMaps, IKMaps
 from ..analysis.workspace import WorkspaceResult
+from ..locale.fonts import plot_text as _      # the pictures' labels, in Korean only with a Korean font
 from ._mpl import pyplot
 
 __all__ = ["plot_workspace", "plot_maps", "save_figure", "IMAGE_SUFFIXES"]
@@ -42,18 +43,19 @@ def _circle(ax: Any, c: tuple[float, float], r: float, **kw: Any) -> None:
 
 def _boundaries(ax: Any, ws: WorkspaceResult, c: tuple[float, float]) -> None:
     u = ws.unit
-    _circle(ax, c, ws.outer_radius, color="black", lw=1.4, ls="--", label=f"outer boundary r = {ws.outer_radius:.4g} {u}")
+    _circle(ax, c, ws.outer_radius, color="black", lw=1.4, ls="--",
+            label=_("outer boundary r = {r} {unit}", r=f"{ws.outer_radius:.4g}", unit=u))
     if ws.has_inner_boundary:
         _circle(ax, c, ws.inner_radius, color="#d62728", lw=1.4, ls="--",
-                label=f"inner boundary r = {ws.inner_radius:.4g} {u}")
+                label=_("inner boundary r = {r} {unit}", r=f"{ws.inner_radius:.4g}", unit=u))
 
 
 def _colouring(ws: WorkspaceResult, idx: np.ndarray) -> tuple[np.ndarray, str]:
     if ws.manipulability is not None:
-        return ws.manipulability[idx], "manipulability w = sqrt(det J Jᵀ)"
+        return ws.manipulability[idx], _("manipulability w = sqrt(det J Jᵀ)")
     dims = [0, 1] if ws.planar else [0, 1, 2]
     return (np.linalg.norm(ws.points[idx][:, dims] - ws.centre[dims], axis=1),
-            f"distance from the shoulder ({ws.unit})")
+            _("distance from the shoulder ({unit})", unit=ws.unit))
 
 
 def plot_workspace(ws: WorkspaceResult, max_points: int = 20_000, seed: int = 0) -> Any:
@@ -78,24 +80,27 @@ def plot_workspace(ws: WorkspaceResult, max_points: int = 20_000, seed: int = 0)
     u, c = ws.unit, ws.centre
     from ..analysis.workspace import format_measure
 
-    title = (f"{ws.robot.name} workspace: {ws.measure_name} {format_measure(ws.volume, ws.volume_error)} {ws.measure_unit}"
-             f"  ({len(ws.points):,} of {ws.samples:,} samples kept")
-    title += f"; excluded: {ws.exclusion.describe(u)})" if ws.exclusion is not None else ")"
+    title = _("{robot} workspace: {measure} {value} {unit}  ({kept} of {n} samples kept{excluded})",
+              robot=ws.robot.name, measure=_(ws.measure_name), value=format_measure(ws.volume, ws.volume_error),
+              unit=ws.measure_unit, kept=f"{len(ws.points):,}", n=f"{ws.samples:,}",
+              excluded=_("; excluded: {what}", what=ws.exclusion.describe(u)) if ws.exclusion is not None else "")
     if ws.planar:
         fig, (a1, a2) = plt.subplots(1, 2, figsize=(12.5, 5.8), gridspec_kw={"width_ratios": [1.25, 1]})
         sc = a1.scatter(P[:, 0], P[:, 1], c=colour, s=1.5, cmap="viridis", rasterized=True)
         _boundaries(a1, ws, (c[0], c[1]))
         a1.set_aspect("equal", adjustable="datalim")
-        a1.set(xlabel=f"x ({u})", ylabel=f"y ({u})", title="reachable end points")
+        a1.set(xlabel=f"x ({u})", ylabel=f"y ({u})", title=_("reachable end points"))
         a1.legend(loc="upper right", fontsize=8)
         fig.colorbar(sc, ax=a1, label=clabel, shrink=0.85)
         r = np.linalg.norm(ws.points[:, :2] - c[:2], axis=1)
         a2.hist(r, bins=80, color="#1f77b4", alpha=0.8)
-        a2.axvline(ws.outer_radius, color="black", ls="--", label=f"outer {ws.outer_radius:.4g} {u}")
+        a2.axvline(ws.outer_radius, color="black", ls="--", label=_("outer {r} {unit}", r=f"{ws.outer_radius:.4g}",
+                                                                     unit=u))
         if ws.has_inner_boundary:
-            a2.axvline(ws.inner_radius, color="#d62728", ls="--", label=f"inner {ws.inner_radius:.4g} {u}")
-        a2.set(xlabel=f"distance from the shoulder ({u})", ylabel="samples",
-               title="distance of the samples from the shoulder")
+            a2.axvline(ws.inner_radius, color="#d62728", ls="--", label=_("inner {r} {unit}",
+                                                                          r=f"{ws.inner_radius:.4g}", unit=u))
+        a2.set(xlabel=_("distance from the shoulder ({unit})", unit=u), ylabel=_("samples"),
+               title=_("distance of the samples from the shoulder"))
         a2.legend(fontsize=8)
         fig.suptitle(title, fontsize=11)
         fig.tight_layout()
@@ -108,11 +113,13 @@ def plot_workspace(ws: WorkspaceResult, max_points: int = 20_000, seed: int = 0)
     R = ws.outer_radius * 1.08
     a0.set(xlim=(c[0] - R, c[0] + R), ylim=(c[1] - R, c[1] + R), zlim=(c[2] - R, c[2] + R),
            xlabel=f"x ({u})", ylabel=f"y ({u})", zlabel=f"z ({u})")
-    a0.set_title("reach cloud", fontsize=10)
+    a0.set_title(_("reach cloud"), fontsize=10)
     a0.set_box_aspect((1, 1, 1))
     slab = max(2.0 * ws.voxel_size, 0.02 * ws.outer_radius)
-    sections = [(2, (0, 1), f"horizontal section |z - {c[2]:.4g}| < {slab:.2g} {u} (from above)"),
-                (1, (0, 2), f"vertical section |y - {c[1]:.4g}| < {slab:.2g} {u}")]
+    sections = [(2, (0, 1), _("horizontal section |z - {z}| < {slab} {unit} (from above)", z=f"{c[2]:.4g}",
+                              slab=f"{slab:.2g}", unit=u)),
+                (1, (0, 2), _("vertical section |y - {y}| < {slab} {unit}", y=f"{c[1]:.4g}", slab=f"{slab:.2g}",
+                              unit=u))]
     for k, (axis, (i, j), name) in enumerate(sections):
         ax = fig.add_subplot(1, 3, 2 + k)
         sel = np.abs(ws.points[:, axis] - c[axis]) < slab
@@ -140,10 +147,11 @@ def _draw_exclusion(ax: Any, ws: WorkspaceResult, i: int, j: int) -> None:
     ex = ws.exclusion
     assert ex is not None
     if ex.ground_z is not None and j == 2:
-        ax.axhline(ex.ground_z, color="#8c564b", lw=2, label=f"ground z = {ex.ground_z:g} {ws.unit}")
+        ax.axhline(ex.ground_z, color="#8c564b", lw=2, label=_("ground z = {z} {unit}", z=f"{ex.ground_z:g}",
+                                                               unit=ws.unit))
     for b, (lo, hi) in enumerate(ex.boxes):
         ax.add_patch(Rectangle((lo[i], lo[j]), hi[i] - lo[i], hi[j] - lo[j], fill=True, alpha=0.25,
-                               color="#8c564b", label="body (excluded)" if b == 0 else None))
+                               color="#8c564b", label=_("body (excluded)") if b == 0 else None))
 
 
 def _panel(fig: Any, ax: Any, gx: np.ndarray, gy: np.ndarray, Z: np.ndarray, label: str, unit: str, scale: float,
@@ -153,7 +161,7 @@ def _panel(fig: Any, ax: Any, gx: np.ndarray, gy: np.ndarray, Z: np.ndarray, lab
     empty one (all NaN) as text."""
     finite = Z[np.isfinite(Z)]
     if finite.size == 0:
-        ax.text(0.5, 0.5, "no reachable target", ha="center", va="center", transform=ax.transAxes)
+        ax.text(0.5, 0.5, _("no reachable target"), ha="center", va="center", transform=ax.transAxes)
         return
     if unit == "deg" and _wraps(Z) and not _wraps(np.mod(Z, 360.0)):
         Z = np.mod(Z, 360.0)             # an angle near +-180 deg: drawn over 0..360 deg, continuous
@@ -163,14 +171,16 @@ def _panel(fig: Any, ax: Any, gx: np.ndarray, gy: np.ndarray, Z: np.ndarray, lab
         value = 0.0 if abs(0.5 * (lo + hi)) <= 1e-9 * max(scale, 1e-12) else 0.5 * (lo + hi)
         ax.pcolormesh(gx, gy, np.where(np.isfinite(Z.T), 0.0, np.nan), cmap="Greys", vmin=-1, vmax=8,
                       shading="nearest")
-        ax.text(0.5, 0.5, f"{label} constant = {value:.6g} {unit}", ha="center", va="center",
+        ax.text(0.5, 0.5, _("{label} constant = {value} {unit}", label=label, value=f"{value:.6g}", unit=unit),
+                ha="center", va="center",
                 transform=ax.transAxes, fontsize=10, bbox={"facecolor": "white", "alpha": 0.85, "edgecolor": "0.6"})
         return
     if unit == "deg" and hi - lo > 270 and _wraps(Z):
         # an angle that wraps at +-180 deg (the yaw around the base): a cyclic colour map, cells not contours,
         # so that the wrap draws no seam
         cs = ax.pcolormesh(gx, gy, Z.T, cmap="twilight", vmin=-180, vmax=180, shading="nearest")
-        fig.colorbar(cs, ax=ax, label=f"{label} ({unit}, cyclic)", ticks=[-180, -90, 0, 90, 180])
+        fig.colorbar(cs, ax=ax, label=_("{label} ({unit}, cyclic)", label=label, unit=unit),
+                     ticks=[-180, -90, 0, 90, 180])
         return
     lv = np.linspace(lo, hi, levels)
     cs = ax.contourf(gx, gy, Z.T, levels=lv, cmap="viridis")
@@ -248,9 +258,12 @@ def plot_maps(fk: Optional[FKMaps] = None, ik: Optional[IKMaps] = None, levels: 
                 lab = ik.branches[b]
                 if lab[-1:] in "+-" and lab[:-1]:      # a branch named by the elbow's sign (analysis.maps)
                     lab = f"{lab[:-1]} {'≥' if lab[-1] == '+' else '≤'} 0"
-                ax.set_title(f"IK {lab}: {r.joint_names[k]}(x, y)", fontsize=9)
+                ax.set_title(_("IK {branch}: {joint}(x, y)", branch=lab, joint=r.joint_names[k]), fontsize=9)
     robot = (fk or ik).robot  # type: ignore[union-attr]
-    where = f"; IK targets at z = {ik.z:.4g} {robot.unit}" if ik is not None and ik.z is not None else ""
-    fig.suptitle(f"{robot.name}: contour maps (blank = out of reach{where})", fontsize=12)
+    where = _("; IK targets at z = {z} {unit}", z=f"{ik.z:.4g}", unit=robot.unit) if ik is not None and \
+        ik.z is not None else ""
+    fig.suptitle(_("{robot}: contour maps (blank = out of reach{where})", robot=robot.name, where=where),
+                 fontsize=12)
+
     fig.tight_layout(rect=(0, 0, 1, 0.975))
     return fig

@@ -9,60 +9,57 @@ Wording shared with the shell comes from :mod:`armkit.locale` (``joint``, ``end_
 
 from __future__ import annotations
 
-from ...locale import MESSAGES
+from ...locale import MESSAGES, N_, NC_, translate_in
 
 __all__ = ["LABELS", "label"]
 
-LABELS: dict[str, dict[str, str]] = {
-    "joints": {"en": "Joints", "ko": "관절"},
-    "pose": {"en": "End pose", "ko": "끝점 자세"},
-    "rpy": {"en": "roll pitch yaw (deg)", "ko": "roll pitch yaw (도)"},
-    "manipulability": {"en": "manipulability", "ko": "조작성"},
-    "near_singular": {"en": "⚠ near a singularity (condition number {c})",
-                      "ko": "⚠ 특이점 근처입니다 (조건수 {c})"},
-    "not_singular": {"en": "not near a singularity", "ko": "특이점에서 멀리 있습니다"},
-    "collision": {"en": "⚠ collision: {message}", "ko": "⚠ 충돌: {message}"},
-    "target": {"en": "Target (IK)", "ko": "목표 (역기구학)"},
-    "show_target": {"en": "show target gizmo", "ko": "목표 기즈모 보기"},
-    "ik_method": {"en": "IK method", "ko": "IK 방법"},
-    "ik_mode": {"en": "target type", "ko": "목표 종류"},
-    "position_only": {"en": "position", "ko": "위치"},
-    "full_pose": {"en": "full pose", "ko": "위치+자세"},
-    "branches": {"en": "branches", "ko": "해 목록"},
-    "no_closed_form": {"en": "no closed form for this target: {method}", "ko": "이 목표에는 닫힌 해가 없습니다: {method}"},
-    "reached": {"en": "✓ reached ({method}, {branch}); error {err} {unit}",
-                "ko": "✓ 도달 ({method}, {branch}); 오차 {err} {unit}"},
-    "not_reached": {"en": "✗ not reached: {message}", "ko": "✗ 도달 실패: {message}"},
-    "show_sweeps": {"en": "show sweeps", "ko": "반복 과정 보기"},
-    "sweep": {"en": "sweep {k} of {m}: error {err} {unit}", "ko": "반복 {k}/{m}: 오차 {err} {unit}"},
-    "track": {"en": "Track", "ko": "목표 추적"},
-    "path": {"en": "path", "ko": "경로"},
-    "method": {"en": "method", "ko": "방법"},
-    "frames": {"en": "frames", "ko": "프레임 수"},
-    "speed": {"en": "speed (frames/s)", "ko": "속도 (프레임/초)"},
-    "play": {"en": "Play", "ko": "재생"},
-    "pause": {"en": "Pause", "ko": "일시정지"},
-    "step": {"en": "Step", "ko": "한 단계"},
-    "upload_csv": {"en": "Upload CSV path", "ko": "CSV 경로 올리기"},
-    "frame": {"en": "frame", "ko": "프레임"},
-    "track_status": {"en": "frame {k}/{m}: {state}, error {err} {unit}",
-                     "ko": "프레임 {k}/{m}: {state}, 오차 {err} {unit}"},
-    "state_reached": {"en": "reached", "ko": "도달"},
-    "state_out": {"en": "out of reach", "ko": "도달 불가"},
-    "state_not_converged": {"en": "not converged", "ko": "수렴 안 됨"},
-    "workspace": {"en": "Workspace", "ko": "작업 공간"},
-    "show_workspace": {"en": "reach cloud (colour: manipulability)", "ko": "도달 영역 (색: 조작성)"},
-    "trajectory": {"en": "Trajectory", "ko": "궤적"},
-    "time": {"en": "time (s)", "ko": "시간 (초)"},
-    "plan_home": {"en": "Plan: home → here", "ko": "계획: 원점 → 현재"},
-    "no_path": {"en": "no trajectory loaded", "ko": "불러온 궤적이 없습니다"},
-    "path_info": {"en": "{label}: {m} samples, {d} s", "ko": "{label}: 샘플 {m}개, {d} 초"},
-    "view": {"en": "View", "ko": "보기"},
-    "show_frames": {"en": "show link frames", "ko": "링크 좌표계 보기"},
-    "screenshot": {"en": "Screenshot (PNG)", "ko": "화면 저장 (PNG)"},
-    "saved_to": {"en": "saved to {path}", "ko": "{path}에 저장했습니다"},
-    "home": {"en": "Home", "ko": "원점"},
-    "bad_csv": {"en": "cannot use the uploaded file: {detail}", "ko": "올린 파일을 쓸 수 없습니다: {detail}"},
+LABELS: dict[str, str] = {     # English here, Korean in the catalogue (armkit/locale, docs/ko.md)
+    "joints": N_("Joints"),
+    "pose": N_("End pose"),
+    "rpy": N_("roll pitch yaw (deg)"),
+    "manipulability": N_("manipulability"),
+    "near_singular": N_("⚠ near a singularity (condition number {c})"),
+    "not_singular": N_("not near a singularity"),
+    "collision": N_("⚠ collision: {message}"),
+    "target": N_("Target (IK)"),
+    "show_target": N_("show target gizmo"),
+    "ik_method": N_("IK method"),
+    "ik_mode": N_("target type"),
+    "position_only": N_("position"),
+    "full_pose": N_("full pose"),
+    "branches": N_("branches"),
+    "no_closed_form": N_("no closed form for this target: {method}"),
+    "reached": N_("✓ reached ({method}, {branch}); error {err} {unit}"),
+    "not_reached": N_("✗ not reached: {message}"),
+    "show_sweeps": N_("show sweeps"),
+    "sweep": N_("sweep {k} of {m}: error {err} {unit}"),
+    "track": N_("Track"),
+    "path": N_("path"),
+    "method": N_("method"),
+    "frames": N_("frames"),
+    "speed": N_("speed (frames/s)"),
+    "play": N_("Play"),
+    "pause": N_("Pause"),
+    "step": N_("Step"),
+    "upload_csv": N_("Upload CSV path"),
+    "frame": NC_("animation", "frame"),   # an animation's frame (a coordinate frame is another word in Korean)
+    "track_status": N_("frame {k}/{m}: {state}, error {err} {unit}"),
+    "state_reached": N_("reached"),
+    "state_out": N_("out of reach"),
+    "state_not_converged": N_("not converged"),
+    "workspace": N_("Workspace"),
+    "show_workspace": N_("reach cloud (colour: manipulability)"),
+    "trajectory": N_("Trajectory"),
+    "time": N_("time (s)"),
+    "plan_home": N_("Plan: home → here"),
+    "no_path": N_("no trajectory loaded"),
+    "path_info": N_("{label}: {m} samples, {d} s"),
+    "view": N_("View"),
+    "show_frames": N_("show link frames"),
+    "screenshot": N_("Screenshot (PNG)"),
+    "saved_to": N_("saved to {path}"),
+    "home": N_("Home"),
+    "bad_csv": N_("cannot use the uploaded file: {detail}"),
 }
 _SHARED = ("joint", "end_point", "orientation", "branch", "limits", "value")
 
@@ -73,6 +70,13 @@ def label(key: str, lang: str = "en", **fields: object) -> str:
     Keys of the shell's wording (``joint``, ``end_point``, ``branch``, ...) come from
     :data:`armkit.locale.MESSAGES`, so the view and the CLI say the same thing.
     """
-    texts = MESSAGES[key] if key in _SHARED else LABELS[key]
-    text = texts.get(lang, texts["en"])
-    return text.format(**fields) if fields else text
+    if key in _SHARED:
+        texts = MESSAGES[key]
+        text = texts.get(lang, texts["en"])
+        return text.format(**fields) if fields else text
+    return translate_in(_CONTEXT.get(key), LABELS[key], lang, **fields)
+
+
+_CONTEXT = {"frame": "animation"}
+"""Labels whose English word means something else elsewhere (their catalogue entries carry this context)."""
+
