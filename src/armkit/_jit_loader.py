@@ -118,7 +118,7 @@ def install_cache_fallback() -> None:
 
 
 # ------------------------------------------------------------------------------- the modules
-_MODULES: dict[str, Any] = {}
+_MODULES: dict[str, Any] = {}  # module name -> module (False: no Numba); process-wide like sys.modules, not per robot
 
 
 def module(name: str) -> Any:
@@ -182,7 +182,7 @@ def forget_stale_cache(namespace: dict[str, Any], depends_on: tuple[str, ...]) -
             pass
 
 
-@functools.lru_cache(maxsize=None)
+@functools.lru_cache(maxsize=None)  # a fact of this process (where Numba caches), not of a robot
 def cache_dir() -> Optional[Path]:
     """The directory where the kinematics kernels are cached (imports Numba), or None if caching is off."""
     from .kinematics import _jit
@@ -192,7 +192,7 @@ def cache_dir() -> Optional[Path]:
     return Path(path) if path else None
 
 
-@functools.lru_cache(maxsize=None)
+@functools.lru_cache(maxsize=None)  # a fact of this build (hash of the kernel sources), not of a robot
 def _key() -> str:
     """This build's kernels: their sources, the Numba and Python versions, the machine."""
     import numba

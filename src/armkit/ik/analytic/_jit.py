@@ -146,7 +146,7 @@ def _par(run):
     return fn
 
 
-_PARALLEL: dict = {}
+_PARALLEL: dict = {}  # one-thread kernel -> its multi-threaded copy: per function, not per robot (robot data: Robot.cache)
 
 
 def _planar_arrays(B, n):
