@@ -46,7 +46,22 @@ def open_page(ctx: Any, url: str, ready_label: str) -> Any:
     page = ctx.new_page()
     page.goto(url)
     page.get_by_text(ready_label, exact=True).first.wait_for(timeout=30_000)
+    dismiss_software_gl_notice(page)
     return page
+
+
+def dismiss_software_gl_notice(page: Any, wait_ms: int = 1500) -> None:
+    """Close viser's "Software WebGL rendering detected" note (headless chromium has no GPU here).
+
+    It is true and harmless, but it covers the top left of the screenshots in the docs.
+    """
+    note = page.locator(".mantine-Notification-root", has_text="Software WebGL rendering detected")
+    try:
+        note.first.wait_for(timeout=wait_ms)
+    except Exception:  # noqa: BLE001 - a browser with a GPU shows no such note
+        return
+    note.first.locator("button").first.click()
+    note.first.wait_for(state="detached", timeout=5_000)
 
 
 def row(page: Any, label: str) -> Any:
