@@ -46,3 +46,20 @@ def test_planar2_png_via_the_cli(tmp_path):
     # T = [[c12, -s12, 0, x], [s12, c12, 0, y], [0, 0, 1, 0], [0, 0, 0, 1]]: 8 zeros; J: rows vz, wx, wy: 6 zeros
     assert texts.count("$0$") == 8 + 6
     assert texts.count("$1$") == 1 + 1 + 2            # T33, T44, J wz row
+
+
+def test_derive_output_spelling(tmp_path):
+    """One -o/--output everywhere: derive -o takes a picture name (as --png) or the --python/--latex file."""
+    runner = CliRunner()
+    pic = tmp_path / "fk.png"
+    res = runner.invoke(app, ["derive", "planar2", "-o", str(pic)])
+    assert res.exit_code == 0 and pic.stat().st_size > 5_000, res.output
+    mod = tmp_path / "fk.py"
+    res = runner.invoke(app, ["derive", "planar2", "--python", "--output", str(mod)])
+    assert res.exit_code == 0 and "def fk(q)" in mod.read_text(), res.output
+    res = runner.invoke(app, ["derive", "planar2", "-o", str(tmp_path / "fk.txt")])
+    assert res.exit_code == 2 and "--output" in res.output
+    res = runner.invoke(app, ["singular", "planar2", "--plot", str(tmp_path / "m.png")])   # old spelling, hidden
+    assert res.exit_code == 0 and (tmp_path / "m.png").exists(), res.output
+    res = runner.invoke(app, ["singular", "planar2", "-o", str(tmp_path / "m2.png")])
+    assert res.exit_code == 0 and (tmp_path / "m2.png").exists(), res.output

@@ -50,7 +50,9 @@ def derive(robot: str = typer.Argument(..., help=ROBOT_HELP),
                                                               "function per branch (planar 2R and yaw-pitch-pitch "
                                                               "arms)."),
            output: Optional[Path] = typer.Option(None, "-o", "--output", help="Write the --python or --latex text "
-                                                                              "to this file instead of printing it."),
+                                                                              "to this file instead of printing it; "
+                                                                              "a .png/.pdf/.svg name: the picture "
+                                                                              "(as --png)."),
            png: Optional[Path] = typer.Option(None, "--png", help="Also render the FK and Jacobian entries to a PNG."),
            links: bool = typer.Option(False, "--links", help="Also print every link transform."),
            no_cache: bool = typer.Option(False, "--no-cache", help="Derive again, ignoring the on-disk cache."),
@@ -72,8 +74,12 @@ def derive(robot: str = typer.Argument(..., help=ROBOT_HELP),
         fail(_("choose one of --latex and --python"))
     if ik_export and not python:
         fail(_("--ik exports the closed-form IK as Python: add --python"))
+    if output is not None and not (latex or python) and png is None and \
+            output.suffix.lower() in (".png", ".pdf", ".svg"):
+        png, output = output, None      # derive ROBOT -o fk.png: the picture, as --png does
     if output is not None and not (latex or python):
-        fail(_("--output writes the --python or --latex text; give one of them (pictures: --png)"))
+        fail(_("--output writes the --python or --latex text, or a picture (.png, .pdf, .svg); got {name!r}",
+               name=output.name))
     if output is not None:
         output_path(output, (".py",) if python else (".tex",), "--output")
     if not budget >= 0 or budget == float("inf"):
