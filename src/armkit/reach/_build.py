@@ -105,7 +105,7 @@ def _client(scheduler: Any) -> tuple[Any, Callable[[], None]]:
 
 
 def _local_cluster(workers: int) -> tuple[Any, Callable[[], None]]:
-    distributed = require("distributed", "a reachability map built by several workers")
+    distributed = require("distributed", "a reachability map built by several workers (workers=1 builds it in this process)")
     Client, LocalCluster = distributed.Client, distributed.LocalCluster
     cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, host="127.0.0.1",
                            dashboard_address=":0", silence_logs=40)
