@@ -201,3 +201,27 @@ def test_check_transform_batched_equals_looped(items, bad_at, spoil):
 def test_check_transform_shape_errors_name_the_argument(bad, message):
     with pytest.raises(ShapeError, match=message):
         sp.check_transform(bad)
+
+
+@pytest.mark.parametrize("backend", ["numpy", "numba"])
+@pytest.mark.parametrize("spoil, message", [
+    (lambda T: T @ np.diag([1.0, 1.0, 1.0 + 1e-5, 1.0]), "not orthonormal"),
+    (lambda T: T @ np.diag([1.0, 1.0, -1.0, 1.0]), "det R = -1"),
+    (lambda T: T + np.outer([0, 0, 0, 1.0], [0, 0, 1e-12, 0]), "last row"),
+])
+def test_check_transform_of_a_big_batch_is_the_same_on_both_back_ends(backend, spoil, message):
+    import armkit
+    if backend == "numba":
+        pytest.importorskip("numba")
+    arm = armkit.load("ur5")
+    T = armkit.fk(arm, arm.random_q(3000, rng=3).reshape(2, 1500, 6))   # 3,000 poses: the compiled pass
+    armkit.set_backend(backend)
+    try:
+        assert sp.check_transform(T) is T
+        T[1, 1234] = spoil(T[1, 1234])
+        with pytest.raises(NotRigidError, match=r"^target\[1, 1234\] is not a rigid transform: .*" + message) as info:
+            sp.check_transform(T, what="target")
+        assert str(info.value) == str(pytest.raises(NotRigidError, sp.check_transform, T[1, 1234], what="x").value
+                                      ).replace("x is", "target[1, 1234] is", 1)
+    finally:
+        armkit.set_backend("auto")

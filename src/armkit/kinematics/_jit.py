@@ -455,6 +455,23 @@ def frames_batch(P, q):
 
 
 
+@njit(cache=True)
+def rigidity(T, orth, det, last_ok):
+    """:func:`armkit.spatial.check_transform`'s measures of every pose of ``T`` (B, 4, 4) in one pass: the
+    largest ``|(R^T R - I)_ij|`` into ``orth``, ``det R`` into ``det``, last row exactly (0, 0, 0, 1) into
+    ``last_ok`` (the formula of ``spatial._rigidity``, written out for the compiler)."""
+    for i in range(T.shape[0]):
+        a, b, c = T[i, 0, 0], T[i, 0, 1], T[i, 0, 2]
+        d, e, f = T[i, 1, 0], T[i, 1, 1], T[i, 1, 2]
+        g, h, k = T[i, 2, 0], T[i, 2, 1], T[i, 2, 2]
+        o = max(abs(a * a + d * d + g * g - 1.0), abs(b * b + e * e + h * h - 1.0),
+                abs(c * c + f * f + k * k - 1.0), abs(a * b + d * e + g * h), abs(a * c + d * f + g * k),
+                abs(b * c + e * f + h * k))
+        orth[i] = o if o == o else np.inf
+        det[i] = a * (e * k - f * h) - b * (d * k - f * g) + c * (d * h - e * g)
+        last_ok[i] = T[i, 3, 0] == 0.0 and T[i, 3, 1] == 0.0 and T[i, 3, 2] == 0.0 and T[i, 3, 3] == 1.0
+
+
 def parallel_twins():
     """``(one-thread kernel, multi-threaded kernel)`` pairs taking the same arguments (for the warm-up)."""
     return [(_fk_serial, _fk_parallel), (_jacobian_serial, _jacobian_parallel), (_frames_serial, _frames_parallel)]
