@@ -433,6 +433,10 @@ def _exercise_serial() -> None:
             far *= 4.0
         for target in (one, many[:4], many[:16], far):  # single, < 8 and >= 8 targets, unreachable
             ik(arm, target, method="lm", restarts=2)
+    from .kinematics import _jit as kinematics_kernels
+
+    poses = np.tile(np.eye(4), (2, 1, 1))   # check_transform's pass over big batches
+    kinematics_kernels.rigidity(poses, np.empty(2), np.empty(2), np.empty(2, dtype=bool))
 
 
 def _exercise_parallel() -> None:
