@@ -343,7 +343,10 @@ def ik(robot: Robot, target: ArrayLike, q0: ArrayLike | None = None,
         Position (robot unit) and rotation (rad) tolerance; default
         :func:`~armkit.ik.result.default_tolerance`.
     max_iterations, restarts, seed
-        Numeric methods: budget and reproducible random restarts.
+        Numeric methods: budget and reproducible random restarts. None: the method's
+        default (LM and Newton :data:`~armkit.ik.DEFAULT_MAX_ITERATIONS` steps and
+        :data:`~armkit.ik.DEFAULT_RESTARTS` restarts; CCD and FABRIK
+        :data:`~armkit.ik.DEFAULT_MAX_SWEEPS` sweeps and :data:`~armkit.ik.DEFAULT_SWEEP_RESTARTS`).
     enforce_limits : bool
         A solution outside the joint limits is not a success.
     raise_unreachable : bool
