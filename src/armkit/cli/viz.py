@@ -247,6 +247,7 @@ def maps(robot: str = typer.Argument(..., help=ROBOT_HELP),
                                                                      "planar2, front/elbow-up for fighter)."),
          z: Optional[float] = typer.Option(None, "--z", help="Height of the IK target grid for a spatial arm "
                                                              "(default: the shoulder height)."),
+         phi: float = typer.Option(0.0, "--phi", help="End angle (deg) of the IK targets of a planar 3R arm."),
          no_ik: bool = typer.Option(False, "--no-ik", help="Only the FK maps.")) -> None:
     """Contour maps (as in the symbolic 2-link tutorial): FK maps over a joint grid, IK maps per branch over a target grid.
 
@@ -297,7 +298,8 @@ def maps(robot: str = typer.Argument(..., help=ROBOT_HELP),
             span = [f"0:{R:g}:{R / 150:g}"] * 2 if tutorial else [f"{c[i] - R:g}:{c[i] + R:g}" for i in (0, 1)]
             gx = _range(x if x is not None else span[0], "--x", 1.0, steps)
             gy = _range(y if y is not None else span[1], "--y", 1.0, steps)
-            im = ik_maps(r, gx, gy, z=z)
+            needs_phi = closed_form_family(r) == "planar-3r"
+            im = ik_maps(r, gx, gy, z=z, phi=math.radians(phi) if needs_phi else None)
             if branch is not None:
                 im = _one_branch(im, branch)
     elif branch is not None:
