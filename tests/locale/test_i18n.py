@@ -92,3 +92,27 @@ def test_korean_shell_session_reads_as_korean():
     assert "목표 위치에 도달할 수 없습니다(작업 공간 밖" in text
     assert "관절 한계를 벗어납니다: yaw = 400 (한계 -180 ~ 180 deg)" in text
     assert "x y z 또는 x y z roll pitch yaw 형식" in text
+
+
+# a particle written right after a placeholder: its form cannot be right for every value ({x:j:을/를} chooses it)
+FIXED_PARTICLE = re.compile(r"\{\w+(?:![rsa])?(?::(?!j:)[^{}]*)?\}(?:을|를|은|는|이|가|과|와|으로|로|이라는|라는)(?![가-힣])")
+
+
+# a particle spaced off the placeholder before it ("{path} 에서")
+SPACED_AFTER_FIELD = re.compile(r"\} (?:을|를|은|는|이|가|과|와|으로|로|이라는|라는|의|에|에서|에는)(?=[\s.,;)]|$)")
+
+
+def test_catalogue_never_hard_codes_a_particle_after_a_placeholder():
+    """Every Korean entry of the catalogue (command line, shell, pictures, view): particles after a placeholder are
+    chosen by josa, and no particle is spaced off the word before it."""
+    from babel.messages.pofile import read_po
+
+    with (armkit.locale.LOCALE_DIR / "ko/LC_MESSAGES/armkit.po").open("rb") as f:
+        entries = [m for m in read_po(f) if m.id and m.string]
+    assert len(entries) > 300
+    for m in entries:
+        assert not FIXED_PARTICLE.search(m.string), (m.id, m.string)
+        assert not SPACED_AFTER_FIELD.search(m.string), (m.id, m.string)
+        assert not OLD_STYLE.search(m.string), (m.id, m.string)
+    assert FIXED_PARTICLE.search("{path!r}를 읽을 수 없습니다") and not FIXED_PARTICLE.search("{path!r:j:을/를} 읽")
+    assert SPACED_AFTER_FIELD.search("{path} 에서 이어서 만듭니다")

@@ -33,6 +33,8 @@ PATTERNS = (
     N_("target is {distance} from the shoulder; the arm reaches {outer} (outer) and {inner} (inner)."),
     N_("target is {distance} from the base origin; the arm reaches at most {reach}; q is the closest configuration "
        "found"),
+    N_("target is {distance} from the base origin; the arm reaches at most {reach}; q is the closest configuration "
+       "found; position error {error}."),
     N_("converged in {n} iterations: position error {error}."),
     N_("converged in {n} iterations: position error {error}, rotation error {rotation}."),
     N_("CCD did not converge in {n} sweeps ({starts} starts)"),
@@ -102,6 +104,8 @@ def ik_explanation(reason: str, message: str, position_error: float, unit: str, 
     a sentence from the ``reason`` code and the residual ``position_error`` (in ``unit``)."""
     if lang == "en":
         return message or f"{reason}: FK misses the target by {position_error:.3g} {unit}"
+    if message.startswith(f"{reason}: "):       # the solver's sentence may repeat the reason in front
+        message = message[len(reason) + 2:]
     text = localize(message, lang) if message else ""
     if message and text != message:
         return _fill(_template(N_("{reason}: {explanation}"), lang), lang,
