@@ -200,20 +200,6 @@ def _point_box_sq(x, y, z, T, h):
     return f
 
 
-@njit(cache=True, inline="always")
-def _point_box(x, y, z, T, h):
-    """Distance from a point to a solid box (pose T, half extents h); 0 inside."""
-    dx = x - T[0, 3]
-    dy = y - T[1, 3]
-    dz = z - T[2, 3]
-    f = 0.0
-    for i in range(3):
-        u = abs(T[0, i] * dx + T[1, i] * dy + T[2, i] * dz) - h[i]
-        if u > 0.0:
-            f += u * u
-    return math.sqrt(f)
-
-
 @njit(cache=True)
 def _place(frames, items, placed, moving_only=False):
     """World data of every item for one configuration: segment ends P0/P1, poses W, bounding spheres C/R.
