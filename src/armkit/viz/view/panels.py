@@ -242,8 +242,12 @@ class Panels:
                            err=f"{float(np.asarray(res.position_error)):.2g}", unit=r.unit)
             colour = "#15803d"
         else:
+            from ...locale.library import ik_explanation
+
             reason, msg = str(np.asarray(res.reason)), str(np.asarray(res.message))
-            msg = msg if msg.startswith(reason) else f"{reason}: {msg}"
+            msg = (msg if msg.startswith(reason) else f"{reason}: {msg}") if self.lang == "en" else \
+                ik_explanation(reason, msg, float(np.asarray(res.position_error)), r.unit, self.lang)
+
             text = self._l("not_reached", message=html.escape(msg))
             colour = "#b91c1c"
         self.ik_html.content = (f'<div class="armkit-ik-status" data-ok="{int(ok)}" '
