@@ -131,7 +131,7 @@ ELBOW_JOINT = {"planar-2r": 1, "planar-3r": 1}
 
 def ik_maps(robot: Robot, x_grid: ArrayLike, y_grid: ArrayLike, z: float | None = None,
             phi: float | None = None, continuous: bool = True) -> IKMaps:
-    """Every closed-form IK branch over a grid of targets (the symbolic 2-link tutorial's IK maps).
+    r"""Every closed-form IK branch over a grid of targets (the symbolic 2-link tutorial's IK maps).
 
     Parameters
     ----------
@@ -146,8 +146,8 @@ def ik_maps(robot: Robot, x_grid: ArrayLike, y_grid: ArrayLike, z: float | None 
         End angle (rad) for planar arms that need one (``planar3``).
     continuous : bool
         Name the branches of a planar arm by the sign of its elbow angle, ``"q2+"``
-        (:math:`q_2 \\ge 0`) and ``"q2-"``, as the tutorial's two closed forms
-        :math:`q_2 = \\pm\\arccos c_2` do: each map is then continuous over the reachable
+        (:math:`q_2 \ge 0`) and ``"q2-"``, as the tutorial's two closed forms
+        :math:`q_2 = \pm\arccos c_2` do: each map is then continuous over the reachable
         annulus (the solver's own names, elbow up/down seen from above, swap where the
         target crosses the line through the shoulder, which draws a seam). Where both
         solutions coincide (the elbow stretched or folded) the larger elbow angle is ``+``.
