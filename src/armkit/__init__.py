@@ -10,9 +10,9 @@ from __future__ import annotations
 
 from . import spatial
 from .errors import (ArgumentError, ArmkitError, IKInputError, JointLimitError, LimitError, MapFileError,
-                     MissingExtraError, ParseError, ReachabilityError, RobotDefinitionError, RobotFileError,
-                     SceneError, SceneFileError, SceneNotSupportedError, ShapeError, UnknownRobotError,
-                     UnreachableError, ViewError, WriteError, WriteInterrupted)
+                     MissingExtraError, NotRigidError, ParseError, ReachabilityError, RobotDefinitionError,
+                     RobotFileError, SceneError, SceneFileError, SceneNotSupportedError, ShapeError,
+                     UnknownRobotError, UnreachableError, ViewError, WriteError, WriteInterrupted)
 from .kinematics import (condition_number, fk, fk_frames, get_backend, is_singular, jacobian, link_frames,
                          manipulability, set_backend)
 from .model import Joint, Link, Robot, Shape, bundled_robots, load, save
@@ -40,7 +40,7 @@ __all__ = [
     "ArmkitError", "ArgumentError", "ShapeError", "RobotDefinitionError", "RobotFileError", "UnknownRobotError",
     "JointLimitError", "UnreachableError", "IKInputError", "ParseError", "LimitError", "WriteError", "WriteInterrupted",
     "MissingExtraError", "SceneError", "SceneFileError", "SceneNotSupportedError", "ReachabilityError", "MapFileError",
-    "ViewError",
+    "ViewError", "NotRigidError",
     "IKResult", "ik", "ik_all", "view",
     "Scene", "Collisions", "collisions", "clearance",
     "reachability", "ReachabilityMap", "base_placement",

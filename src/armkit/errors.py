@@ -10,6 +10,7 @@ __all__ = [
     "ArmkitError",
     "ArgumentError",
     "ShapeError",
+    "NotRigidError",
     "RobotDefinitionError",
     "RobotFileError",
     "UnknownRobotError",
