@@ -193,8 +193,8 @@ def check_transform(T: ArrayLike, *, what: str = "T", tol: float = 1e-6) -> Arra
         rows = A.tolist()
         if not math.isfinite(sum(rows[0]) + sum(rows[1]) + sum(rows[2]) + sum(rows[3])) and not np.isfinite(A).all():
             raise ShapeError(f"{what} contains NaN or infinite values")   # (a finite sum may overflow: checked again)
-        orth, det = _rigidity(rows)
-        worst = max(orth)
+        parts, det = _rigidity(rows)
+        worst = max(parts)
         if not (worst <= tol and abs(det - 1.0) <= tol and rows[3] == [0.0, 0.0, 0.0, 1.0]):
             raise NotRigidError(_not_rigid(what, worst, det, rows[3], tol))
         return A

@@ -288,8 +288,7 @@ def _reasons(prob: Problem, st: dict, failed: np.ndarray, passes: np.ndarray) ->
     unreachable, dist = prob.unreachable()
     unit = prob.robot.unit
     reasons: dict[int, tuple[str, str]] = {}
-    for i in np.flatnonzero(failed):
-        i = int(i)
+    for i in map(int, np.flatnonzero(failed)):
         if unreachable[i]:
             reasons[i] = ("unreachable", f"target is {dist[i]:.4g} {unit} from the base origin; the arm reaches at "
                                          f"most {prob.const['reach']:.4g} {unit}; q is the closest configuration found")
