@@ -130,10 +130,11 @@ def main() -> int:
         proc.wait()
     print(f"\n{args.repeats} repeats, medians; load average at the end {os.getloadavg()[0]:.1f} "
           f"({os.cpu_count()} CPUs)")
-    print(f"{'case':34s} {'before':>12s} {'after':>12s}  after/before")
+    print(f"{'case':30s} {'before':>12s} {'after':>12s}  after/before  (min: before, after, ratio)")
     for name in names:
         b, a = statistics.median(times[name]["before"]), statistics.median(times[name]["after"])
-        print(f"{name:34s} {fmt(b)} {fmt(a)}  {a / b:6.2f}")
+        bm, am = min(times[name]["before"]), min(times[name]["after"])
+        print(f"{name:30s} {fmt(b)} {fmt(a)}  {a / b:6.2f}        {fmt(bm)} {fmt(am)} {am / bm:6.2f}")
     return 0
 
 
