@@ -1,7 +1,7 @@
 """The main job (`make demo`): the bundled fighter arm of the club's fighting-robot report, end to end.
 
 Prints its DH table, forward kinematics at a few configurations (checked against the
-report's point), the Jacobian and manipulability, every closed-form IK branch for a
+point worked out by hand from the report's DH table; the report itself prints no number), the Jacobian and manipulability, every closed-form IK branch for a
 target, and writes pictures into ``out/``.
 """
 
@@ -38,7 +38,7 @@ def main(out_dir: str = "out") -> int:
     console.print(t)
     p = T[1, :3, 3]
     ok = np.allclose(p, [24.861, 14.353, 187.181], atol=5e-4)
-    console.print(f"the club's fighting-robot report: (30, 45, 60) deg -> (24.861, 14.353, 187.181) mm; armkit: "
+    console.print(f"worked out by hand from the report's DH table: (30, 45, 60) deg -> (24.861, 14.353, 187.181) mm; armkit: "
                   f"({p[0]:.3f}, {p[1]:.3f}, {p[2]:.3f}) mm [{'green' if ok else 'red'}]{'match' if ok else 'MISMATCH'}[/]")
 
     if hasattr(armkit, "ik_all"):
