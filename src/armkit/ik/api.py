@@ -17,9 +17,9 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from .._checks import real_array, short_repr
-from ..spatial import check_transform
 from ..errors import IKInputError, ShapeError, UnreachableError
 from ..model.robot import Robot
+from ..spatial import check_transform
 from .result import IKResult, default_tolerance
 
 __all__ = ["ik", "ik_all", "METHODS", "IKInputError", "closed_form_family"]

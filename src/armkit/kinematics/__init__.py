@@ -29,7 +29,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from .. import _jit_loader
 from ..errors import ArgumentError, ArmkitError
-from ..model.robot import Chain, Robot
+from ..model.robot import Robot
 from . import _numpy
 
 __all__ = ["fk", "fk_frames", "link_frames", "jacobian", "manipulability", "condition_number", "is_singular",
