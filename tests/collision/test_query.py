@@ -228,3 +228,24 @@ def test_segment_cylinder_against_dense_sampling():
         assert d <= dense + 1e-15                      # never above a sampled point's exact distance
         # and below it by at most the sampling's error: the distance is |p1 - p0|-Lipschitz in t
         assert d >= dense - 0.5 * (t[1] - t[0]) * np.linalg.norm(p1 - p0)
+
+
+@pytest.mark.parametrize("name", ["fighter", "puma560"])
+def test_parallel_twin_equals_serial_twin(name):
+    # batches of PARALLEL_MIN configurations or more run the parallel=True kernels, smaller ones the serial twins:
+    # both must give the same numbers (the twins share the chunk body; this checks the drivers and the packing)
+    from armkit.collision import _jit
+
+    robot = armkit.load(name)
+    scene = every_primitive(robot)
+    q = robot.random_q(_jit.PARALLEL_MIN + 300, rng=6)
+    before = armkit.get_backend()
+    try:
+        armkit.set_backend("numba")
+        big = collisions(robot, q, scene)
+        big_min = clearance(robot, q, scene)
+        small = [collisions(robot, q[s:s + 500], scene) for s in range(0, len(q), 500)]
+    finally:
+        armkit.set_backend(before)
+    np.testing.assert_array_equal(big.distances, np.concatenate([r.distances for r in small]))
+    np.testing.assert_array_equal(big_min, np.concatenate([r.distance for r in small]))
