@@ -153,6 +153,7 @@ CASES = [
     ("fk-bad-number", ["fk", "fighter", "1", "x", "2"], None, 2),
     ("fk-unknown-robot", ["fk", "nosuch", "1", "2", "3"], None, 2),
     ("fk-count", ["fk", "fighter", "1", "2"], None, 2),
+    ("fk-unknown-link", ["fk", "fighter", "0", "0", "0", "--link", "nosuch"], None, 2),
     ("jacobian", ["jacobian", "fighter", "30", "45", "60", "--deg"], None, 0),
     ("jacobian-bad-frame", ["jacobian", "fighter", "0", "0", "0", "--frame", "world"], None, 2),
     ("ik", ["ik", "fighter", "24.861", "14.353", "187.181"], None, 0),
@@ -160,6 +161,8 @@ CASES = [
     ("ik-branch", ["ik", "planar2", "1.2", "0.3", "--branch", "elbow-up"], None, 0),
     ("ik-numeric", ["ik", "planar3", "1.2", "0.3", "--method", "lm", "--seed", "1"], None, 0),
     ("ik-bad-number", ["ik", "fighter", "1", "y", "2"], None, 2),
+    ("ik-unknown-branch", ["ik", "planar2", "1.2", "0.3", "--branch", "nosuch"], None, 2),
+    ("ik-numeric-unreachable", ["ik", "planar3", "5", "0", "--method", "lm"], None, 1),
     ("plot", ["plot", "fighter", "30", "45", "60", "--deg", "-o", "PATH/arm.png"], None, 0),
     ("plot-bad-number", ["plot", "fighter", "1", "z", "2", "-o", "PATH/arm.png"], None, 2),
     ("shell", ["shell", "fighter", "--no-plot"], SHELL_SCRIPT, 0),
@@ -175,6 +178,7 @@ CASES = [
     ("velocity-twist", ["velocity", "fighter", "30", "45", "60", "--deg", "--q-vel", "10", "0", "0"], None, 0),
     ("traj", ["traj", "fighter", "--joint", "0,0,0", "30,45,60", "--deg", "-o", "PATH/traj.png"], None, 0),
     ("traj-line", ["traj", "planar2", "--line", "1.2,0.2", "0.6,0.9", "--steps", "10"], None, 0),
+    ("traj-one-waypoint", ["traj", "fighter", "--joint", "0,0,0"], None, 2),
     ("view-bad-port", ["view", "fighter", "--port", "0"], None, 2),
     ("reach-build", ["reach", "build", "planar2", "-o", "PATH/m.zarr", "--resolution", "0.3"], None, 0),
     ("reach-query-bad", ["reach", "query", "PATH/none.zarr", "1", "2", "x"], None, 2),
@@ -199,6 +203,16 @@ def test_every_command_speaks_korean(case, args, stdin, code, tmp_path, figure_t
     out = out.replace(str(tmp_path), "PATH")
     assert english_words(out) == [], out
     assert english_words("\n".join(figure_texts)) == [], figure_texts
+
+
+def test_a_bad_robot_file_is_reported_in_korean(tmp_path):
+    bad = tmp_path / "arm.toml"
+    bad.write_text("x = 1\n", encoding="utf-8")
+    res = runner.invoke(app, ["info", str(bad), "--lang", "ko"], env=ENV)
+    assert res.exit_code == 2
+    out = res.stderr.replace(str(tmp_path), "PATH")
+    assert "알 수 없는 키입니다" in out
+    assert english_words(out.split("쓸 수 있는 키:")[0]) == [], out    # the allowed keys are the file's field names
 
 
 def test_reach_map_show_and_query(tmp_path, figure_texts):

@@ -29,6 +29,12 @@ PATTERNS = (
     # model: robots and robot files
     N_("unknown robot {name!r}; bundled robots are: {names} (or give the path of a .toml or .urdf robot file)"),
     N_("{path}: no such file"),
+    N_("robot {robot!r} has no link {link!r}; its links are: {names}"),
+    N_("{where}: unknown key; allowed keys: {keys}"),
+    N_("{what} must have shape (..., {n}) for robot {robot!r}, got {shape}"),
+    N_("{what} contains NaN or infinite values"),
+    N_("unknown branch {name!r} for robot {robot!r}; valid branches: {names}"),
+    N_("waypoints must have shape (m, n) with m >= 2, got {shape}"),
     # ik: the solvers' explanations
     N_("target is {distance} from the shoulder; the arm reaches {outer} (outer) and {inner} (inner)."),
     N_("target is {distance} from the base origin; the arm reaches at most {reach}; q is the closest configuration "
