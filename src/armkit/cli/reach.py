@@ -20,6 +20,7 @@ from rich.table import Table
 from .common import (EXIT_FAILED, LANG, NUMERIC_ARGS, N_, _, console, current_language, fail,
                      get_robot, parse_numbers, print_json)
 from .common import print_table
+from .._extras import require   # optional dependencies, naming the missing extra
 
 __all__ = ["register", "MESSAGES"]
 
@@ -168,8 +169,6 @@ _SUMMARY = {"robot": N_("robot"), "unit": N_("unit"), "method": N_("method"), "r
 
 
 def _picture(m: Any, path: Path) -> None:
-    from .._extras import require
-
     matplotlib = require("matplotlib", "armkit reach pictures")
     from ..locale.fonts import plot_text as _     # the picture's labels (Korean only with a Korean font)
 
