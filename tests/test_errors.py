@@ -233,3 +233,17 @@ def test_every_extra_named_in_the_code_is_declared_in_pyproject():
     core = " ".join(meta["dependencies"])
     for heavy in ("matplotlib", "sympy", "viser", "coal", "zarr", "dask"):
         assert heavy not in core, heavy
+
+
+def test_a_mesh_without_coal_names_the_scene_extra(monkeypatch):
+    from pathlib import Path
+
+    from armkit.collision import Scene, clearance
+
+    arm = armkit.load("puma560")
+    stl = next((Path(armkit.__file__).parent / "robots").glob("*/*.stl"))
+    scene = Scene([Scene.mesh(str(stl), armkit.spatial.transl(0.5, 0.0, 0.3))])   # meshes are checked by coal
+    assert np.isfinite(clearance(arm, np.zeros((2, 6)), scene)).all()
+    _block(monkeypatch, "coal")
+    with pytest.raises(ImportError, match=r"needs the 'scene' extra .*pip install 'armkit\[scene\]'"):
+        clearance(arm, np.zeros((2, 6)), scene)
