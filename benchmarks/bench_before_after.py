@@ -107,6 +107,7 @@ def main() -> int:
     ap.add_argument("--after", type=Path, default=Path(__file__).resolve().parent.parent)
     ap.add_argument("--repeats", type=int, default=5)
     ap.add_argument("--budget", type=float, default=0.3, help="seconds of calls per case and measurement")
+    ap.add_argument("--cases", default="", help="only the cases whose name contains one of these (comma-separated)")
     args = ap.parse_args()
     t0 = time.perf_counter()
     procs = {"before": start(args.before), "after": start(args.after)}
@@ -117,6 +118,8 @@ def main() -> int:
         print(f"{label}: {hello['file']}", flush=True)
         names = hello["ready"]
     assert names is not None
+    if args.cases:
+        names = [n for n in names if any(c.strip() in n for c in args.cases.split(","))]
     print(f"warm-up done in {time.perf_counter() - t0:.0f} s; load average {os.getloadavg()[0]:.1f}", flush=True)
     times: dict[str, dict[str, list[float]]] = {n: {"before": [], "after": []} for n in names}
     for r in range(args.repeats):
