@@ -229,3 +229,16 @@ def test_many_poses_rigidity_check_finds_one_bad_pose():
     T2[7, 3, 0] = 1e-12
     with pytest.raises(armkit.ShapeError, match="not a rigid transform"):
         armkit.ik(arm, T2)
+
+
+def test_check_false_skips_the_pose_check_and_only_it():
+    arm = armkit.load("ur5")
+    T = armkit.fk(arm, arm.random_q(3, rng=5))
+    bad = T @ np.diag([1.0, 1.0, 1.0 + 1e-5, 1.0])         # not rigid: 2e-5 off
+    for f in (armkit.ik, armkit.ik_all):
+        with pytest.raises(armkit.NotRigidError, match=r"target\[0\] is not a rigid transform"):
+            f(arm, bad)
+        assert f(arm, bad, check=False).q.shape[0] == 3     # the caller vouches for its poses
+        assert np.array_equal(f(arm, T, check=False).q, f(arm, T).q)
+        with pytest.raises(armkit.ShapeError, match="NaN"):   # shape and finiteness are still checked
+            f(arm, np.full((4, 4), np.nan), check=False)
