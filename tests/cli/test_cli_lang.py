@@ -78,7 +78,7 @@ KEPT = {"en", "ko", "deg", "rad", "mm", "tool", "lang", "strict", "armkit", "hel
         "gif", "mp4", "html", "csv", "json", "toml", "urdf", "output", "o", "elbow", "up", "down",   # + branch names
         "info", "DH", "Craig", "xyz", "rpy", "URDF", "TOML", "v", "sqrt", "det", "J", "T", "m", "lm", "CCD",
         "circular", "parabolic", "ik", "fk", "mode",
-        "s", "r", "A", "n", "vx", "vy", "vz", "wx", "wy", "wz", "lambda",   # + units and symbols of formulas
+        "s", "r", "t", "A", "n", "vx", "vy", "vz", "wx", "wy", "wz", "lambda",   # + units and symbols of formulas
         "Zarr", "Python", "NumPy", "Numba", "CSV", "PNG", "IP", "NaN"}   # + software, formats, protocols, NaN      # + commands, formats, formulas and their symbols, methods, option values
 
 

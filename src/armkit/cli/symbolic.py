@@ -431,19 +431,23 @@ def traj(robot: str = typer.Argument(..., help=ROBOT_HELP),
                "max_abs_qdd": np.abs(tr.qdd).max(axis=0), "within_limits": within,
                "max_deviation": None if tr.deviation is None else float(tr.deviation.max())}
     scene = scene_option(r, scene_file, no_scene)
-    hit_note = None
+    hit_note, hit_text = None, ""
     if scene is not None:   # flag the samples where the arm collides (armkit.collision)
+
         from ..collision import collisions, in_collision
 
         hits = in_collision(r, tr.q, scene)
         summary["samples_in_collision"] = int(hits.sum())
         if hits.any():
             k = int(np.argmax(hits))
+            what = collisions(r, tr.q[k], scene).message()
             hit_note = (f"{int(hits.sum())} of {len(tr)} samples collide; the first at t = {tr.t[k]:.3g} s: "
-                        + collisions(r, tr.q[k], scene).message())
+                        + what)                                        # JSON: as the library says it
             summary["first_collision"] = {"sample": k, "t": float(tr.t[k]), "message": hit_note}
+            hit_text = _("{k} of {n} samples collide; the first at t = {t} s: {message}", k=int(hits.sum()),
+                         n=len(tr), t=f"{tr.t[k]:.3g}", message=_local(what))
             if refuse_collisions:
-                fail(hit_note + " (nothing written)", EXIT_FAILED)
+                fail(hit_text + " " + _("(nothing written)"), EXIT_FAILED)
     if out is not None:
         suffix = out.suffix.lower()
         if suffix == ".csv":
@@ -472,7 +476,8 @@ def traj(robot: str = typer.Argument(..., help=ROBOT_HELP),
     if not within:
         warn(_("the trajectory leaves the joint limits"))
     if hit_note is not None:
-        warn(hit_note)
+        warn(hit_text)
+
     if out is not None:
         console.print(_("wrote {path}", path=esc(out)))
 

@@ -13,7 +13,9 @@ from .common import (EXIT_FAILED, NUMERIC_ARGS, console, esc, fail, get_robot, p
                      print_json, scene_option, warn)
 
 from .common import ROBOT_HELP  # noqa: E402
-from .common import N_, _  # noqa: E402
+from .common import N_, _, current_language  # noqa: E402
+from ..locale.library import localize  # noqa: E402
+
 from .ik import _explain  # noqa: E402
 
 IMAGE_SUFFIXES = (".png", ".pdf", ".svg", ".jpg")
@@ -368,7 +370,8 @@ def track(robot: str = typer.Argument(..., help=ROBOT_HELP),
         st["first_collision"] = {"frame": k, "message": collisions(r, res.q[k], scene).message()}
         if refuse_collisions:
             fail(_("{k} of {n} frames collide; the first, frame {first}: {message} (nothing written)",
-                   k=int(res.colliding.sum()), n=len(res.q), first=k, message=st["first_collision"]["message"]),
+                   k=int(res.colliding.sum()), n=len(res.q), first=k,
+                   message=localize(st["first_collision"]["message"], current_language())),
                  EXIT_FAILED)
     written = None
     if out is not None:
@@ -405,7 +408,7 @@ def track(robot: str = typer.Argument(..., help=ROBOT_HELP),
             first = st.get("first_collision")
             console.print("  " + _("in collision: {k} frames", k=st["frames_in_collision"])
                           + (" " + _("(first: frame {frame}, {message})", frame=first["frame"],
-                                     message=esc(first["message"])) if first else ""))
+                                     message=esc(localize(first["message"], current_language()))) if first else ""))
         if written is not None:
             console.print(_("wrote {path}", path=esc(written)))
     if st["frames_reached"] < st["frames"] and path in ("circle", "figure8"):

@@ -57,6 +57,9 @@ PATTERNS = (
     N_("tool point"), N_("wrist point"), N_("point on the axis of joint {k}"), N_("the yaw axis (joint 1)"),
     N_("the axis of joint 1"), N_("stretched"), N_("folded"), N_("on axis"), N_("shoulder plane"),
     N_("axes collinear"), N_("axes parallel"),
+    # collision: what hits what
+    N_("the {a} hits the {b} by {depth} ({n} pairs in collision)"),
+    N_("the {a} hits the {b} by {depth}"),
     # motion: velocity kinematics and trajectories
     N_("well-conditioned (smallest singular value {sigma} m)"),
     N_("near a singularity (smallest singular value {sigma} m): the arm cannot move along ({direction}); rates are "
