@@ -13,7 +13,14 @@
 3. Memory over a tracking run (looping a circle path at 60 frames/s with a page connected):
    RSS of this process at the start and the end. Goal: flat over 10 minutes (``--minutes``).
 
+4. ``--breakdown ur5``: one key press split into its parts, on the page's clock and the
+   server's (same machine): page -> server, the server's update, server -> websocket,
+   websocket -> the page's main thread (including the animation frames that were being
+   rendered meanwhile), and the batch -> the end-pose text (one rendered frame and React's commit);
+   ``render_frame_ms`` is the median main-thread cost of a frame that renders WebGL.
+
 Run: .venv/bin/python benchmarks/bench_view.py [--minutes 10] [--skip-memory]
+     [--window 800x600] [--chromium-flag=--use-angle=swiftshader] [--no-flush] [--breakdown ur5]
 """
 
 from __future__ import annotations
@@ -54,6 +61,16 @@ WATCH_JS = """
 """
 
 
+NO_FLUSH = False     # --no-flush: the view before each batch was flushed (viser windows messages for 1/60 s)
+
+
+def _open(name: str) -> View:
+    v = View(name, lang="en")
+    if NO_FLUSH:
+        v.server.flush = lambda: None         # type: ignore[method-assign]
+    return v
+
+
 def rss_mb() -> float:
     for line in Path("/proc/self/status").read_text().splitlines():
         if line.startswith("VmRSS:"):
@@ -62,7 +79,7 @@ def rss_mb() -> float:
 
 
 def slider_latency(ctx, name: str, presses: int = 40) -> list[float]:
-    with View(name, lang="en") as v:
+    with _open(name) as v:
         first = f"{v.robot.joint_names[1]} (°)"
         page = open_page(ctx, v.url, first)
         pose_label = f"end point ({v.robot.unit})"
@@ -79,6 +96,92 @@ def slider_latency(ctx, name: str, presses: int = 40) -> list[float]:
         page.close()
         slider_latency.server_ms = statistics.median(list(v.update_ms)[-presses:])  # type: ignore[attr-defined]
     return out
+
+
+PROBE_JS = """
+(() => {
+  // what the page does between a key press and the moved arm: the websocket worker's traffic
+  // (send: the slider value leaves; recv: a batch from the server reaches the main thread),
+  // the main thread's cost of each animation frame (a WebGL render when the scene changed)
+  window.__log = [];
+  const W = window.Worker;
+  window.Worker = class extends W {
+    constructor(...a) {
+      super(...a);
+      const post = this.postMessage.bind(this);
+      this.postMessage = (m, t) => {
+        if (m && m.type === 'send') window.__log.push(['send', performance.now()]);
+        return t ? post(m, t) : post(m);
+      };
+      this.addEventListener('message', e => {
+        if (e.data && e.data.type === 'message_batch') window.__log.push(['recv', performance.now()]);
+      });
+    }
+  };
+  window.__fcost = [];
+  const ch = new MessageChannel();
+  let start = 0;
+  ch.port1.onmessage = () => { window.__fcost.push([start, performance.now() - start]); };
+  const raf = () => { start = performance.now(); ch.port2.postMessage(0); requestAnimationFrame(raf); };
+  requestAnimationFrame(raf);
+})();
+"""
+
+
+def breakdown(ctx, name: str, presses: int = 20) -> dict:
+    """Where a key press on a slider spends its time (medians, ms), on the page's and the server's clocks."""
+    from websockets.asyncio.server import ServerConnection
+
+    sent: list[float] = []
+    orig_send = ServerConnection.send
+
+    async def send(self, message, *a, **k):        # when the batch goes on the wire
+        sent.append(time.time() * 1e3)
+        return await orig_send(self, message, *a, **k)
+
+    ServerConnection.send = send                   # type: ignore[method-assign]
+    ctx.add_init_script(PROBE_JS)
+    try:
+        with _open(name) as v:
+            stamps: list[tuple[float, float]] = []
+            show = v._show
+
+            def timed(q, extra=None):
+                t0 = time.time() * 1e3
+                show(q, extra)
+                stamps.append((t0, time.time() * 1e3))
+
+            v._show = timed                        # type: ignore[method-assign]
+            first = f"{v.robot.joint_names[1]} (°)"
+            page = open_page(ctx, v.url, first)
+            page.evaluate(WATCH_JS, [f"end point ({v.robot.unit})"])
+            origin = page.evaluate("performance.timeOrigin")
+            thumb = row(page, first).locator("[role=slider]")
+            thumb.focus()
+            rows = []
+            for i in range(presses):
+                n_log, before = page.evaluate("[window.__log.length, window.__changes.length]")
+                thumb.press("ArrowRight" if (i // 10) % 2 == 0 else "ArrowLeft")
+                page.wait_for_function(f"window.__changes.length > {before}", timeout=10_000)
+                kd, done, log = page.evaluate(f"[window.__keydown, window.__changes[{before}], "
+                                              f"window.__log.slice({n_log})]")
+                out = next(t for kind, t in log if kind == "send" and t >= kd)
+                back = next(t for kind, t in log if kind == "recv" and t >= out)
+                s_in, s_out = stamps[-1]
+                wire = next((t for t in sent if t >= s_in), float("nan"))
+                frames = page.evaluate(f"window.__fcost.filter(f => f[0] + f[1] > {kd} - 1 && f[0] < {back})")
+                rows.append({"total": done - kd, "page_to_server": s_in - (origin + out), "server": s_out - s_in,
+                             "server_to_wire": wire - s_out, "wire_to_page": origin + back - wire,
+                             "frames_in_the_way": sum(c for _, c in frames if c > 5),
+                             "batch_to_text": done - back})
+                time.sleep(0.15)
+            costs = [c for _, c in page.evaluate("window.__fcost") if c > 5]
+            page.close()
+    finally:
+        ServerConnection.send = orig_send           # type: ignore[method-assign]
+    res = {k: statistics.median(r[k] for r in rows) for k in rows[0]}
+    res["render_frame_ms"] = statistics.median(costs) if costs else float("nan")
+    return res
 
 
 DRAG_JS = """
@@ -111,7 +214,7 @@ def drag_rate(ctx, name: str, seconds: float = 5.0) -> dict:
     ``scale / (D tan(fov/2))`` half-heights long. A real ``mouse.down`` on the arrow starts the drag, then the page
     itself moves the pointer every animation frame (:data:`DRAG_JS`).
     """
-    with View(name, lang="en") as v:
+    with _open(name) as v:
         r = v.robot
         q0 = np.clip(np.array([0.3, -1.0, 1.2, -1.2, -1.4, 0.4, 0.5][:r.n]), r.lower, r.upper)
         if name == "panda":
@@ -198,11 +301,23 @@ def main() -> None:
     ap.add_argument("--skip-drag", action="store_true")
     ap.add_argument("--window", default="1000x640", help="browser window WxH (the tests use 1000x640)")
     ap.add_argument("--chromium-flag", action="append", default=[],
-                    help="extra chromium flag, e.g. --use-angle=swiftshader (repeatable; stated with the numbers)")
+                    help="extra chromium flag, e.g. --use-angle=swiftshader, or !FLAG to drop one of the tests' flags "
+                         "(repeatable; printed with the numbers)")
+    ap.add_argument("--no-flush", action="store_true", help="A/B: do not flush each update batch (the old view)")
+    ap.add_argument("--drag-robots", default="ur5,panda")
+    ap.add_argument("--breakdown", default="", help="robots whose key-press latency is split into its parts")
     args = ap.parse_args()
+    global NO_FLUSH
+    NO_FLUSH = args.no_flush
     width, height = (int(x) for x in args.window.split("x"))
-    _browser.ARGS.extend(args.chromium_flag)
-    print(f"window {width}x{height}, chromium flags: {' '.join(_browser.ARGS)}", flush=True)
+    for flag in args.chromium_flag:            # "!--disable-gpu" removes a flag of the tests' set
+        if flag.startswith("!"):
+            _browser.ARGS[:] = [a for a in _browser.ARGS if a != flag[1:]]
+        else:
+            _browser.ARGS.append(flag)
+    print(f"window {width}x{height}, chromium flags: {' '.join(_browser.ARGS)}"
+          f"{', batches not flushed (before)' if NO_FLUSH else ''}; load average {Path('/proc/loadavg').read_text().split()[0]}",
+          flush=True)
     with browser_context(width, height) as ctx:
         for name in [n for n in args.latency_robots.split(",") if n]:
             lat = slider_latency(ctx, name, args.presses)
@@ -211,7 +326,11 @@ def main() -> None:
                   f"(server side {slider_latency.server_ms:.2f} ms per update; "
                   f"goal < 50 ms: {'met' if statistics.median(lat) < 50 else 'NOT met'}, "
                   f"ratio goal/median {50 / statistics.median(lat):.1f}x)", flush=True)
-        for name in () if args.skip_drag else ("ur5", "panda"):
+        for name in [n for n in args.breakdown.split(",") if n]:
+            b = breakdown(ctx, name, args.presses)
+            print(f"where a key press goes, {name} (medians over {args.presses}, ms): "
+                  + ", ".join(f"{k} {val:.1f}" for k, val in b.items()), flush=True)
+        for name in () if args.skip_drag else [n for n in args.drag_robots.split(",") if n]:
             d = drag_rate(ctx, name)
             if "error" in d:
                 print(f"live IK while dragging, {name}: {d['error']}")
