@@ -652,7 +652,8 @@ def _solve_one(robot: Robot, target: Any, q0: Any, max_iterations: Optional[int]
                           restarts + 1, 0)
     info = np.zeros((1, 4))
     limits = c["packed limits" if enforce_limits else "packed free"]
-    if not kernels.lm_single(_kinematics.packed(robot)[1], limits, params, poses, _seed_base(seed), q, info):
+    FP = robot.cache.get("packed_chain") or _kinematics.packed(robot)
+    if not kernels.lm_single(FP[1], limits, params, poses, _seed_base(seed), q, info):
         return None  # NaN or infinity in the target or q0: the general path says which
     dp, dr, ok, within = verify(robot, q, target, point, tol, enforce_limits)
     iters = int(info[0, 0])

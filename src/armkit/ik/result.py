@@ -102,8 +102,14 @@ class IKResult:
         return self
 
     def _map(self, per_target: Any, trace: Any) -> "IKResult":
-        """A result with ``per_target`` applied to every field but ``trace`` (given as is)."""
-        return IKResult._of(**{f: per_target(getattr(self, f)) for f in _FIELDS if f != "trace"}, trace=trace)
+        """A result with ``per_target`` applied to every field but ``trace`` (given as is), built as :meth:`_of`."""
+        new = object.__new__(IKResult)
+        d, src = new.__dict__, self.__dict__
+        for f in _PER_TARGET:
+            d[f] = per_target(src[f])
+        d["trace"] = trace
+        d["message"] = _message(d["message"], np.shape(d["success"]))
+        return new
 
     @property
     def shape(self) -> tuple[int, ...]:
@@ -118,6 +124,7 @@ class IKResult:
 
 
 _FIELDS = tuple(f.name for f in fields(IKResult))
+_PER_TARGET = tuple(f for f in _FIELDS if f != "trace")   # the fields with the targets' leading shape
 _OPTIONAL = {f.name: f.default for f in fields(IKResult) if f.default is not MISSING}
 
 
