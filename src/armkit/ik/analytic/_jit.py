@@ -7,6 +7,13 @@ NumPy code stays the reference and serves ``armkit.set_backend("numpy")``; both 
 same branches, labels and messages, and joint values equal up to the last bits (libm and
 NumPy's SIMD ``arctan2``/``arcsin`` may round differently). Imported lazily, only when the
 Numba back end is in use.
+
+Each family kernel takes the targets, the family's packed geometry ``g`` (one float64 array per
+robot, built by the family's ``geometry`` property; indices named in :mod:`._layout`), what it
+needs per target (``q0phi``), then its outputs, one array per argument, and the target range
+``lo, hi``. Outputs are never passed in a tuple: Numba 0.68's parfors loses writes to arrays
+reached through a tuple inside a ``prange`` loop (the threaded copies are tested against the
+one-thread kernels).
 """
 
 from __future__ import annotations
