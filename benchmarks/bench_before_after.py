@@ -82,8 +82,10 @@ for line in sys.stdin:
 '''
 
 
-def start(tree: Path) -> subprocess.Popen:
+def start(tree: Path, threads: int) -> subprocess.Popen:
     env = dict(os.environ, PYTHONPATH=str(tree.resolve() / "src"), ARMKIT_JIT="wait", ARMKIT_BACKEND="auto")
+    if threads:
+        env["NUMBA_NUM_THREADS"] = str(threads)
     return subprocess.Popen([sys.executable, "-c", WORKER], stdin=subprocess.PIPE, stdout=subprocess.PIPE,
                             text=True, env=env)
 
@@ -108,9 +110,11 @@ def main() -> int:
     ap.add_argument("--repeats", type=int, default=5)
     ap.add_argument("--budget", type=float, default=0.3, help="seconds of calls per case and measurement")
     ap.add_argument("--cases", default="", help="only the cases whose name contains one of these (comma-separated)")
+    ap.add_argument("--threads", type=int, default=0,
+                    help="NUMBA_NUM_THREADS of both trees (1: batches without the noise of a shared machine's threads)")
     args = ap.parse_args()
     t0 = time.perf_counter()
-    procs = {"before": start(args.before), "after": start(args.after)}
+    procs = {"before": start(args.before, args.threads), "after": start(args.after, args.threads)}
     names = None
     for label, proc in procs.items():
         assert proc.stdout is not None
@@ -132,7 +136,7 @@ def main() -> int:
         proc.stdin.close()
         proc.wait()
     print(f"\n{args.repeats} repeats, medians; load average at the end {os.getloadavg()[0]:.1f} "
-          f"({os.cpu_count()} CPUs)")
+          f"({os.cpu_count()} CPUs); Numba threads: {args.threads or 'all'}")
     print(f"{'case':30s} {'before':>12s} {'after':>12s}  after/before  (min: before, after, ratio)")
     for name in names:
         b, a = statistics.median(times[name]["before"]), statistics.median(times[name]["after"])
