@@ -185,9 +185,8 @@ def forget_stale_cache(namespace: dict[str, Any], depends_on: tuple[str, ...]) -
 @functools.lru_cache(maxsize=None)  # a fact of this process (where Numba caches), not of a robot
 def cache_dir() -> Optional[Path]:
     """The directory where the kinematics kernels are cached (imports Numba), or None if caching is off."""
-    from .kinematics import _jit
-
-    cache = getattr(_jit._fk_serial, "_cache", None)
+    kernels = module("kinematics._jit")
+    cache = getattr(getattr(kernels, "_fk_serial", None), "_cache", None)
     path = getattr(cache, "_cache_path", None)
     return Path(path) if path else None
 
@@ -293,7 +292,10 @@ def _say_compiling(hint: bool = True) -> None:
 
 def _decide() -> str:
     global _parallel, _worker
-    install_cache_fallback()
+    try:
+        install_cache_fallback()
+    except ImportError:   # no Numba: nothing to compile; module() finds no kernels and NumPy answers
+        return "sync"
     ready_marker = _marker("ready")
     if ready_marker is not None and ready_marker.exists():
         p = _marker("parallel")
@@ -433,20 +435,14 @@ def _exercise_serial() -> None:
             far *= 4.0
         for target in (one, many[:4], many[:16], far):  # single, < 8 and >= 8 targets, unreachable
             ik(arm, target, method="lm", restarts=2)
-    from .kinematics import _jit as kinematics_kernels
-
     poses = np.tile(np.eye(4), (2, 1, 1))   # check_transform's pass over big batches
-    kinematics_kernels.rigidity(poses, np.empty(2), np.empty(2), np.empty(2, dtype=bool))
+    module("kinematics._jit").rigidity(poses, np.empty(2), np.empty(2), np.empty(2, dtype=bool))
 
 
 def _exercise_parallel() -> None:
     """Compile the multi-threaded twin of every serial kernel for the signatures the serial one got."""
-    from .ik import _jit_lm, _jit_verify
-    from .ik.analytic import _jit as _analytic
-    from .kinematics import _jit as _kinematics
-
-    for module in (_kinematics, _jit_verify, _analytic, _jit_lm):
-        for serial, parallel in module.parallel_twins():
+    for name in ("kinematics._jit", "ik._jit_verify", "ik.analytic._jit", "ik._jit_lm"):
+        for serial, parallel in module(name).parallel_twins():
             for sig in list(serial.signatures):
                 parallel.compile(sig)
 

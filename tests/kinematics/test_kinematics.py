@@ -241,3 +241,20 @@ def test_puma_wrist_singularity():
 def test_bad_frame_argument():
     with pytest.raises(armkit.ArmkitError, match="frame must be 'base' or 'tool'"):
         armkit.jacobian(armkit.load("ur5"), np.zeros(6), frame="world")  # type: ignore[arg-type]
+
+
+def test_without_numba_the_numpy_kernels_answer():
+    """Numba not importable: fk, ik and the pose check fall back to NumPy instead of failing."""
+    import os
+    import subprocess
+    import sys
+
+    code = ("import sys; sys.modules['numba'] = None\n"
+            "import armkit, numpy as np\n"
+            "arm = armkit.load('ur5'); T = armkit.fk(arm, arm.random_q(2000, rng=0))\n"
+            "assert armkit.get_backend() == 'numpy'\n"
+            "assert armkit.ik_all(arm, T).success.any() and armkit.ik(arm, T[0], method='lm').success\n"
+            "print('ok')\n")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=600,
+                         env={**os.environ, "ARMKIT_JIT": "background"})
+    assert out.returncode == 0 and out.stdout.strip() == "ok", out.stderr[-2000:]
