@@ -23,7 +23,7 @@ def test_elementary_rotations_by_hand():
     assert np.array_equal(sp.transl(1, 2, 3)[:3, 3], [1, 2, 3])
 
 
-def test_two_link_chain_of_seed_002_by_hand():
+def test_two_link_chain_of_the_transform_seminar_by_hand():
     # 0T1 = Rz(t1) Tx(l1), 1T2 = Rz(t2) Tx(l2); 0T2 translation = (l1 c1 + l2 c12, l1 s1 + l2 s12)
     l1, l2, t1, t2 = 0.7, 0.4, 0.5, -1.1
     T = sp.compose(sp.rotz(t1), sp.transl(l1, 0, 0), sp.rotz(t2), sp.transl(l2, 0, 0))

@@ -28,7 +28,7 @@ def printed_end(out):
     return np.array([float(v) for v in m[-1]])
 
 
-def test_seed_000_syntax_and_short_forms_match_fk():
+def test_club_report_syntax_and_short_forms_match_fk():
     sh = make()
     r = sh.robot
     out = sh.execute("theta1 = 30; theta2 = 45; theta3 = 60")

@@ -117,7 +117,7 @@ def test_planar2_law_of_cosines_by_hand():
     assert math.isclose(expected["elbow-up"][1], -math.acos(0.28), abs_tol=1e-12)
 
 
-def test_seed_002_swapped_atan2_is_wrong_and_ours_is_not():
+def test_the_seminars_swapped_atan2_is_wrong_and_ours_is_not():
     r = armkit.load("planar2")
     x, y = 1.2, 0.3
     c2 = (x * x + y * y - 1.25) / 1.0

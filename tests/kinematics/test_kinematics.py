@@ -33,7 +33,7 @@ def backend(request):
     armkit.set_backend("auto")
 
 
-def test_fighter_seed_000_point(backend):
+def test_fighter_point_from_the_club_report_dh_table(backend):
     T = armkit.fk(armkit.load("fighter"), np.radians([30, 45, 60]))
     assert np.allclose(T[:3, 3], [24.861, 14.353, 187.181], atol=5e-4)
 

@@ -26,7 +26,7 @@ def test_every_bundled_robot_cites_its_source(name):
     assert len(r.source) > 40 and r.description
 
 
-def test_fighter_is_seed_000_arm():
+def test_fighter_is_the_club_report_arm():
     r = armkit.load("fighter")
     assert r.unit == "mm" and r.convention == "standard" and r.joint_types == "RRR"
     assert np.allclose(r.dh_table(), [[0, 36, 0, np.pi / 2], [0, 0, 77.2, 0], [0, 0, 100, 0]])
