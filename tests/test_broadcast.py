@@ -256,13 +256,8 @@ def test_ik_one_q0_row_against_a_batch_of_targets(name):
     assert np.all(batched.success)
 
 
-Q0_WIDER = pytest.mark.xfail(strict=True, raises=armkit.ShapeError,
-                              reason="ik broadcasts q0 to the targets' batch shape only, not both ways: a q0 batch "
-                                     "wider than the targets is refused (ik/_normalise_q0)")
-
-
-@pytest.mark.parametrize("leads", [pytest.param(((2, 1), (1, 3)), marks=Q0_WIDER),
-                                   pytest.param(((1,), (3,)), marks=Q0_WIDER), ((3,), (1,)), ((2, 3), (3,))],
+@pytest.mark.parametrize("leads", [((2, 1), (1, 3)), ((1,), (3,)), ((), (3,)), ((3,), (1,)),
+                                   ((2, 3), (3,))],
                          ids=str)
 def test_ik_closed_form_broadcasts_q0_against_targets(leads):
     arm = armkit.load("puma560")
@@ -276,3 +271,10 @@ def test_ik_closed_form_broadcasts_q0_against_targets(leads):
         single = armkit.ik(arm, T[_pick(index, lead_T)], q0=q0[_pick(index, lead_q)], method="analytic")
         np.testing.assert_allclose(res.q[index], single.q, atol=1e-9)
         assert bool(res.success[index]) == bool(single.success)
+
+
+def test_ik_q0_that_does_not_broadcast_is_refused_with_both_shapes():
+    arm = armkit.load("puma560")
+    T = armkit.fk(arm, _q(arm, (2,), seed=2))
+    with pytest.raises(ValueError, match=r"q0 must broadcast to the targets' shape \(2, 6\), got \(3, 6\)"):
+        armkit.ik(arm, T, q0=_q(arm, (3,), seed=4), method="analytic")

@@ -130,6 +130,24 @@ def _normalise_q0(robot: Robot, q0: ArrayLike | None, lead: tuple[int, ...]) -> 
     return q.reshape(-1, robot.n).copy()
 
 
+def _targets_and_start(robot: Robot, target: ArrayLike, q0: ArrayLike | None, phi: ArrayLike | None,
+                       check: bool) -> tuple[Array, tuple[int, ...], bool, Array]:
+    """Flat targets, their leading shape, position-only, flat starts: the leading axes of ``target`` and
+    ``q0`` broadcast both ways (a (1, n) start for (B, 4, 4) targets, or (3, n) starts for one target)."""
+    flat, lead, position_only = _normalise_target(robot, target, phi, check)
+    if q0 is not None and np.ndim(q0) >= 2:
+        try:
+            full = np.broadcast_shapes(lead, np.shape(q0)[:-1])
+        except ValueError as exc:
+            raise ShapeError(f"q0 must broadcast to the targets' shape {lead + (robot.n,)}, "
+                             f"got {np.shape(q0)}") from exc
+        if full != lead:   # more starts than targets: each target is solved from each of its starts
+            tail = flat.shape[1:]
+            flat = np.broadcast_to(flat.reshape(lead + tail), full + tail).reshape((-1,) + tail)
+            lead = full
+    return flat, lead, position_only, _normalise_q0(robot, q0, lead)
+
+
 def _tolerance(robot: Robot, tol: Any) -> tuple[float, float]:
     if tol is None:
         return default_tolerance(robot)
@@ -301,8 +319,7 @@ def ik_all(robot: Robot, target: ArrayLike, q0: ArrayLike | None = None, *, phi:
 
         return ik_pitch(robot, target, q0, pitch, phi=phi, tol=tol, enforce_limits=enforce_limits, scene=scene,
                         every=True)
-    flat, lead, position_only = _normalise_target(robot, target, phi, check)
-    q0f = _normalise_q0(robot, q0, lead)
+    flat, lead, position_only, q0f = _targets_and_start(robot, target, q0, phi, check)
     res = _all_branches(robot, flat, q0f, position_only, tol, enforce_limits)
     if scene is not None:   # success also means collision-free (armkit.collision)
         from ..collision.ik_filter import mark, scene_or_none, sort_branches
@@ -394,8 +411,7 @@ def ik(robot: Robot, target: ArrayLike, q0: ArrayLike | None = None,
     if pitch is not None or direction is not None:   # targets that fix less than a pose (armkit.ik.partial)
         res = _partial(robot, target, q0, method, pitch, direction, branch, phi, tol, scene, numeric)
     else:
-        flat, lead, position_only = _normalise_target(robot, target, phi, check)
-        q0f = _normalise_q0(robot, q0, lead)
+        flat, lead, position_only, q0f = _targets_and_start(robot, target, q0, phi, check)
         solver = None
         if method == "auto" and mask is None:
             solver = _analytic_solver(robot, position_only, [])
