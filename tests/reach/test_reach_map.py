@@ -118,7 +118,8 @@ def test_queries_shapes_and_outside(ur5_map: ReachabilityMap) -> None:
 
 
 @pytest.mark.parametrize("bad, match", [
-    (np.eye(3), r"shape \(\.\.\., 4, 4\)"), ([[np.nan] * 4] * 4, "NaN"), ("pose", "numeric")])
+    (np.eye(3), r"shape \(\.\.\., 4, 4\)"), ([[np.nan] * 4] * 4, "NaN"), ("pose", "numeric"),
+    (np.diag([1.0, 1.0, -1.0, 1.0]), "not a rigid transform: det R = -1")])
 def test_query_errors(ur5_map: ReachabilityMap, bad: object, match: str) -> None:
     with pytest.raises(armkit.ShapeError, match=match):
         ur5_map.reachable(bad)

@@ -6,6 +6,8 @@ boxes) and as the reference in the tests. Imported only when such a pair is chec
 
 from __future__ import annotations
 
+import os
+
 from typing import Any
 
 import numpy as np
@@ -17,7 +19,10 @@ from .shapes import SceneError
 __all__ = ["distances", "geometry", "signed_distance"]
 
 Array = NDArray[np.float64]
-_MESHES: dict[tuple[str, tuple[float, ...]], Any] = {}
+_MESHES: dict[tuple[str, int, tuple[float, ...]], Any] = {}
+"""Convex hulls of mesh files, shared by every scene and robot that uses the file: keyed by the file's path,
+its modification time (an edited file is read again) and the scale. Module-level on purpose: a hull
+belongs to a file, not to one Robot (so not in ``Robot.cache``)."""
 
 
 def _coal() -> Any:
@@ -38,7 +43,11 @@ def geometry(kind: str, size: Any, shape: Any = None) -> Any:
     if kind == "plane":
         return coal.Halfspace(np.array([0.0, 0.0, 1.0]), 0.0)
     if kind == "mesh":
-        key = (shape.mesh_path, tuple(shape.scale))
+        try:
+            stamp = os.stat(shape.mesh_path).st_mtime_ns
+        except OSError:
+            stamp = -1    # unreadable: the loader below says why
+        key = (shape.mesh_path, stamp, tuple(shape.scale))
         if key not in _MESHES:
             try:
                 model = coal.MeshLoader().load(shape.mesh_path, np.array(shape.scale, dtype=float))

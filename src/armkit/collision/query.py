@@ -249,10 +249,11 @@ def _jit_pack(geo: ArmGeometry, scene_pairs: list[tuple[int, Shape]], self_pairs
     return packed, np.array(pairs, dtype=np.int64).reshape(-1, 2), np.array(cols, dtype=np.int64)
 
 
-def _use_jit() -> bool:
-    from ..kinematics import get_backend
+def _kernels() -> Any:
+    """The Numba kernels (:mod:`armkit.collision._jit`) while the Numba back end is in use, else None."""
+    from .._jit_loader import kernels
 
-    return get_backend() == "numba"
+    return kernels("collision._jit")
 
 
 BLOCK = 16384
@@ -267,7 +268,8 @@ def _evaluate(robot: Robot, geo: ArmGeometry, q: Array, scene_pairs: list[tuple[
     P = len(scene_pairs) + len(self_pairs)
     if P == 0:
         return np.empty((B, 0)), np.full(B, np.inf), np.full(B, -1, dtype=np.int64)
-    if not _use_jit() or B < 8:
+    _jit = _kernels() if B >= 8 else None
+    if _jit is None:
         d = _pair_distances(geo, chain_frames(robot, q), scene_pairs, self_pairs)
         arg = np.argmin(d, axis=1)
         return d, d[np.arange(B), arg], arg
@@ -276,8 +278,6 @@ def _evaluate(robot: Robot, geo: ArmGeometry, q: Array, scene_pairs: list[tuple[
                  for s in range(0, B, BLOCK)]
         d_all = None if only_min else np.concatenate([p_[0] for p_ in parts])  # type: ignore[misc]
         return d_all, np.concatenate([p_[1] for p_ in parts]), np.concatenate([p_[2] for p_ in parts])
-    from . import _jit
-
     frames = np.ascontiguousarray(chain_frames(robot, q))
     packed, pairs, cols = _jit_pack(geo, scene_pairs, self_pairs)
     rest = np.setdiff1d(np.arange(P), cols)

@@ -24,7 +24,7 @@ a query lands in exactly the cell that a sample with that pose would have filled
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
@@ -155,6 +155,8 @@ class Grid:
     dims: tuple[int, int, int]
     directions: int
     rolls: int
+    # the orientation tables, computed on first use: a declared field outside equality and repr
+    _tables_cache: tuple[Array, Array, Array] | None = field(default=None, init=False, repr=False, compare=False)
 
     @property
     def n_orient(self) -> int:
@@ -189,7 +191,7 @@ class Grid:
 
     # ------------------------------------------------------------------ binning
     def _tables(self) -> tuple[Array, Array, Array]:
-        cache = self.__dict__.get("_tables_cache")
+        cache = self._tables_cache
         if cache is None:
             dirs = fibonacci_directions(self.directions)
             e1, e2 = tangent_frames(dirs)

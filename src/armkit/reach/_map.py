@@ -125,8 +125,11 @@ class ReachabilityMap:
     parameters: dict[str, Any]
     counts: NDArray[np.uint8] | None = None
     path: str | None = None
-    _flat: NDArray[np.bool_] = field(init=False, repr=False)
-    _voxel_index: NDArray[np.float32] = field(init=False, repr=False)
+    # derived from ``hits`` (set once in __post_init__) and the boundary, computed on first use: declared
+    # fields outside equality and repr, the one way a frozen armkit value keeps what it derived
+    _flat: NDArray[np.bool_] = field(init=False, repr=False, compare=False)
+    _voxel_index: NDArray[np.float32] = field(init=False, repr=False, compare=False)
+    _boundary: NDArray[np.bool_] | None = field(default=None, init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         hits = np.ascontiguousarray(self.hits, dtype=bool)
@@ -166,14 +169,9 @@ class ReachabilityMap:
 
     # ------------------------------------------------------------------ queries
     def _poses(self, poses: ArrayLike, what: str) -> tuple[Array, tuple[int, ...]]:
-        try:
-            T = np.asarray(poses, dtype=float)
-        except (TypeError, ValueError):
-            raise ShapeError(f"{what} must be numeric, got {poses!r}") from None
-        if T.ndim < 2 or T.shape[-2:] != (4, 4):
-            raise ShapeError(f"{what} must have shape (..., 4, 4), got {T.shape}")
-        if not np.all(np.isfinite(T)):
-            raise ShapeError(f"{what} contains NaN or infinite values")
+        from ..spatial import check_transform   # the one pose validator
+
+        T = check_transform(poses, what=what)
         return T.reshape(-1, 4, 4), T.shape[:-2]
 
     def cells(self, poses: ArrayLike) -> NDArray[np.int64]:
@@ -185,7 +183,7 @@ class ReachabilityMap:
     def boundary(self) -> NDArray[np.bool_]:
         """Cells whose neighbourhood (see :func:`neighbourhood`) holds both reachable and unreachable
         cells: there the answer may differ from one pose to another inside the cell. Shape as ``hits``."""
-        b = self.__dict__.get("_boundary")
+        b = self._boundary
         if b is None:
             h = self.hits.view(np.uint8)
             b = neighbourhood(h, self.grid, np.maximum) != neighbourhood(h, self.grid, np.minimum)
