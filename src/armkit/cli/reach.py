@@ -8,7 +8,6 @@ from __future__ import annotations
 
 import csv
 import math
-import os
 from pathlib import Path
 from typing import Any, List, Optional
 
@@ -168,10 +167,32 @@ _SUMMARY = {"robot": N_("robot"), "unit": N_("unit"), "method": N_("method"), "r
 """Row labels of the map summary (the keys of ``ReachabilityMap.summary()``, which ``--json`` prints)."""
 
 
+def _cloud_panel(ax3: Any, m: Any, C: Any, idx: Any, _: Any) -> None:
+    """The reach map's third panel: the reachable voxels in 3-D, coloured by index (a yaw-symmetric map revolved)."""
+    g, unit = m.grid, m.robot.unit
+    sel = idx > 0
+    P, V = C[sel], idx[sel]
+    if g.symmetric and len(P):     # revolve the half-plane about the axis
+        A = g.T_world_A
+        local = (P - A[:3, 3]) @ A[:3, :3]
+        th = np.linspace(0, 2 * np.pi, 24, endpoint=False)
+        pts = np.stack([local[:, 0][:, None] * np.cos(th), local[:, 0][:, None] * np.sin(th),
+                        np.repeat(local[:, 2][:, None], len(th), axis=1)], axis=-1).reshape(-1, 3)
+        P = pts @ A[:3, :3].T + A[:3, 3]
+        V = np.repeat(V, len(th))
+    if len(P) > 40_000:
+        keep = np.random.default_rng(0).choice(len(P), 40_000, replace=False)
+        P, V = P[keep], V[keep]
+    ax3.scatter(P[:, 0], P[:, 1], P[:, 2], c=V, cmap="viridis", vmin=0, vmax=1, s=2, alpha=0.5)
+    ax3.set_xlabel(f"x ({unit})")
+    ax3.set_ylabel(f"y ({unit})")
+    ax3.set_zlabel(f"z ({unit})")
+    ax3.set_title(_("reachable voxels, coloured by index"))
+
+
 def _picture(m: Any, path: Path) -> None:
     matplotlib = require("matplotlib", "armkit reach pictures")
     from ..locale.fonts import plot_text as _     # the picture's labels (Korean only with a Korean font)
-
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -220,36 +241,17 @@ def _picture(m: Any, path: Path) -> None:
         ax2.set_title(_("section z = {z} {unit} (frame of joint 1)", z=f"{g.lo[2] + (iz + 0.5) * g.resolution:.3g}",
                          unit=unit))
         fig.colorbar(im2, ax=ax2, label=_("reachability index"))
-    ax3 = fig.add_subplot(1, 3, 3, projection="3d")
-    sel = idx > 0
-    P, V = C[sel], idx[sel]
-    if g.symmetric and len(P):     # revolve the half-plane about the axis
-        A = g.T_world_A
-        local = (P - A[:3, 3]) @ A[:3, :3]
-        th = np.linspace(0, 2 * np.pi, 24, endpoint=False)
-        pts = np.stack([local[:, 0][:, None] * np.cos(th), local[:, 0][:, None] * np.sin(th),
-                        np.repeat(local[:, 2][:, None], len(th), axis=1)], axis=-1).reshape(-1, 3)
-        P = pts @ A[:3, :3].T + A[:3, 3]
-        V = np.repeat(V, len(th))
-    if len(P) > 40_000:
-        keep = np.random.default_rng(0).choice(len(P), 40_000, replace=False)
-        P, V = P[keep], V[keep]
-    ax3.scatter(P[:, 0], P[:, 1], P[:, 2], c=V, cmap="viridis", vmin=0, vmax=1, s=2, alpha=0.5)
-    ax3.set_xlabel(f"x ({unit})")
-    ax3.set_ylabel(f"y ({unit})")
-    ax3.set_zlabel(f"z ({unit})")
-    ax3.set_title(_("reachable voxels, coloured by index"))
+    _cloud_panel(fig.add_subplot(1, 3, 3, projection="3d"), m, C, idx, _)
     fig.suptitle(_("{robot}: {n} orientations per voxel, {size} {unit} voxels", robot=m.robot.name, n=g.n_orient,
                     size=f"{g.resolution:g}", unit=unit))
     fig.tight_layout()
-    tmp = path.with_name(f".{path.stem}.{os.getpid()}.tmp{path.suffix}")
+    from .._io import atomic_path
+
     try:
-        fig.savefig(tmp, dpi=110)
-        os.replace(tmp, path)
+        with atomic_path(path, None, "--output") as tmp:
+            fig.savefig(tmp, dpi=110, format=path.suffix.lstrip(".").lower() or None)
     finally:
         plt.close(fig)
-        if tmp.exists():
-            tmp.unlink()
 
 
 @reach_app.command()

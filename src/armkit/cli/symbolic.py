@@ -9,7 +9,7 @@ import math
 import sys
 import time
 from pathlib import Path
-from typing import List, Optional
+from typing import Any, List, Optional
 
 import numpy as np
 import typer
@@ -43,6 +43,26 @@ def _matrix_table(M, title: str, row_labels=None, col_labels=None) -> Table:
     return t
 
 
+def _derive_outputs(latex: bool, python: bool, ik_export: bool, output: Optional[Path], png: Optional[Path],
+                    budget: float) -> tuple[Optional[Path], Optional[Path]]:
+    """Check ``derive``'s options; returns ``(png, output)`` (``-o fk.png`` without a text format is the picture)."""
+    if latex and python:
+        fail(_("choose one of --latex and --python"))
+    if ik_export and not python:
+        fail(_("--ik exports the closed-form IK as Python: add --python"))
+    if output is not None and not (latex or python) and png is None and \
+            output.suffix.lower() in (".png", ".pdf", ".svg"):
+        png, output = output, None      # derive ROBOT -o fk.png: the picture, as --png does
+    if output is not None and not (latex or python):
+        fail(_("--output writes the --python or --latex text, or a picture (.png, .pdf, .svg); got {name!r}",
+               name=output.name))
+    if output is not None:
+        output_path(output, (".py",) if python else (".tex",), "--output")
+    if not budget >= 0 or budget == float("inf"):
+        fail(_("--budget must be a number of seconds >= 0 (0: no limit), got {value}", value=budget))
+    return png, output
+
+
 def derive(robot: str = typer.Argument(..., help=ROBOT_HELP),
            latex: bool = typer.Option(False, "--latex", help="Print a LaTeX document (link transforms, FK, J)."),
            python: bool = typer.Option(False, "--python", help="Print an importable NumPy module (fk, jacobian)."),
@@ -70,20 +90,7 @@ def derive(robot: str = typer.Argument(..., help=ROBOT_HELP),
     from ..symbolic import derive as do_derive
     from ..symbolic.export import to_latex, to_numpy_source, to_text
 
-    if latex and python:
-        fail(_("choose one of --latex and --python"))
-    if ik_export and not python:
-        fail(_("--ik exports the closed-form IK as Python: add --python"))
-    if output is not None and not (latex or python) and png is None and \
-            output.suffix.lower() in (".png", ".pdf", ".svg"):
-        png, output = output, None      # derive ROBOT -o fk.png: the picture, as --png does
-    if output is not None and not (latex or python):
-        fail(_("--output writes the --python or --latex text, or a picture (.png, .pdf, .svg); got {name!r}",
-               name=output.name))
-    if output is not None:
-        output_path(output, (".py",) if python else (".tex",), "--output")
-    if not budget >= 0 or budget == float("inf"):
-        fail(_("--budget must be a number of seconds >= 0 (0: no limit), got {value}", value=budget))
+    png, output = _derive_outputs(latex, python, ik_export, output, png, budget)
     r = get_robot(robot)
     if png is not None:
         output_path(png, (".png", ".pdf", ".svg"), "--png")
@@ -341,6 +348,71 @@ def _points(words: List[str], what: str) -> np.ndarray:
     return np.array(pts)
 
 
+def _compute_traj(r: Any, P: np.ndarray, joint: bool, line: bool, arc: Optional[float], deg: bool, profile: str,
+                  duration: Optional[float], qd_max: Optional[float], qdd_max: Optional[float], dt: float,
+                  cart: dict[str, Any]) -> Any:
+    """The trajectory ``traj`` asked for (``cart``: the Cartesian options blend, blend_shape, speed, steps, method)."""
+    from ..errors import UnreachableError
+    from ..motion.trajectory import cartesian_arc, cartesian_waypoints, joint_trajectory
+
+    try:
+        if joint:
+            if P.shape[1] != r.n:
+                fail(_("joint waypoints need {n} values each for {robot!r} ({names}), got {k}", n=r.n, robot=r.name,
+                       names=name_list(r.joint_names), k=P.shape[1]))
+            W = np.where(r.prismatic, P, np.radians(P)) if deg else P
+            scale = math.pi / 180 if deg else 1.0
+            if duration is None and qd_max is None and qdd_max is None:
+                duration = 2.0
+            tr = joint_trajectory(W, profile, duration=duration,
+                                  qd_max=None if qd_max is None else qd_max * scale,
+                                  qdd_max=None if qdd_max is None else qdd_max * scale, dt=dt, robot=r)
+        elif line:
+            if len(P) < 2:
+                fail(_("--line needs at least two points (start ... end), got {n}", n=len(P)))
+            if not cart["blend"] >= 0 or cart["blend_shape"] not in ("circular", "parabolic"):
+                fail(_("--blend must be 0 or more and --blend-shape circular or parabolic, got {blend:g} and "
+                       "{shape!r}", blend=cart["blend"], shape=cart["blend_shape"]))
+            if cart["speed"] is not None and not cart["speed"] > 0:
+                fail(_("--speed must be positive, got {speed:g}", speed=cart["speed"]))
+            scale = math.pi / 180 if deg else 1.0
+            tr = cartesian_waypoints(r, P, blend=cart["blend"], blend_shape=cart["blend_shape"],
+                                     steps=cart["steps"], duration=duration or 2.0, method=cart["method"],
+                                     speed=cart["speed"],
+                                     qd_max=None if qd_max is None else qd_max * scale)
+        else:
+            if len(P) != 2:
+                fail(_("--arc needs two points (centre start), got {k}", k=len(P)))
+            tr = cartesian_arc(r, P[0], P[1], math.radians(float(arc)), steps=cart["steps"],  # type: ignore[arg-type]
+                               duration=duration or 2.0, method=cart["method"], speed=cart["speed"])
+    except UnreachableError as exc:
+        fail(_("unreachable: {reason}", reason=_local(str(exc))), EXIT_FAILED)
+    return tr
+
+
+def _collision_note(r: Any, tr: Any, scene: Any, refuse: bool, summary: dict[str, Any]) -> tuple[Optional[str], str]:
+    """Flag the samples of ``tr`` where the arm collides (armkit.collision): ``(note for JSON, text to show)``;
+    with ``refuse`` a collision is a failure (exit 1, nothing written). Adds its counts to ``summary``."""
+    hit_note, hit_text = None, ""
+    if scene is not None:   # flag the samples where the arm collides (armkit.collision)
+
+        from ..collision import collisions, in_collision
+
+        hits = in_collision(r, tr.q, scene)
+        summary["samples_in_collision"] = int(hits.sum())
+        if hits.any():
+            k = int(np.argmax(hits))
+            what = collisions(r, tr.q[k], scene).message()
+            hit_note = (f"{int(hits.sum())} of {len(tr)} samples collide; the first at t = {tr.t[k]:.3g} s: "
+                        + what)                                        # JSON: as the library says it
+            summary["first_collision"] = {"sample": k, "t": float(tr.t[k]), "message": hit_note}
+            hit_text = _("{k} of {n} samples collide; the first at t = {t} s: {message}", k=int(hits.sum()),
+                         n=len(tr), t=f"{tr.t[k]:.3g}", message=_local(what))
+            if refuse:
+                fail(hit_text + " " + _("(nothing written)"), EXIT_FAILED)
+    return hit_note, hit_text
+
+
 def traj(robot: str = typer.Argument(..., help=ROBOT_HELP),
          points: List[str] = typer.Argument(..., metavar="POINT...",
                                             help="Comma-separated waypoints (joint values, or x,y[,z] for --line)."),
@@ -380,9 +452,7 @@ def traj(robot: str = typer.Argument(..., help=ROBOT_HELP),
 
     Example: armkit traj planar2 --line 1.2,0.2 1.0,0.8 0.4,1.0 --blend 0.1 -o corners.png
     """
-    from ..errors import UnreachableError
-    from ..motion.trajectory import (animate_trajectory, cartesian_arc, cartesian_waypoints, joint_trajectory,
-                                     plot_trajectory)
+    from ..motion.trajectory import animate_trajectory, plot_trajectory
 
     r = get_robot(robot)
     out = out if out is not None else out_alias         # --out: the old spelling of --output
@@ -392,37 +462,8 @@ def traj(robot: str = typer.Argument(..., help=ROBOT_HELP),
     if modes != 1:
         fail(_("choose exactly one of --joint, --line and --arc"))
     P = _points(points, "POINT")
-    try:
-        if joint:
-            if P.shape[1] != r.n:
-                fail(_("joint waypoints need {n} values each for {robot!r} ({names}), got {k}", n=r.n, robot=r.name,
-                       names=name_list(r.joint_names), k=P.shape[1]))
-            W = np.where(r.prismatic, P, np.radians(P)) if deg else P
-            scale = math.pi / 180 if deg else 1.0
-            if duration is None and qd_max is None and qdd_max is None:
-                duration = 2.0
-            tr = joint_trajectory(W, profile, duration=duration,
-                                  qd_max=None if qd_max is None else qd_max * scale,
-                                  qdd_max=None if qdd_max is None else qdd_max * scale, dt=dt, robot=r)
-        elif line:
-            if len(P) < 2:
-                fail(_("--line needs at least two points (start ... end), got {n}", n=len(P)))
-            if not blend >= 0 or blend_shape not in ("circular", "parabolic"):
-                fail(_("--blend must be 0 or more and --blend-shape circular or parabolic, got {blend:g} and "
-                       "{shape!r}", blend=blend, shape=blend_shape))
-            if speed is not None and not speed > 0:
-                fail(_("--speed must be positive, got {speed:g}", speed=speed))
-            scale = math.pi / 180 if deg else 1.0
-            tr = cartesian_waypoints(r, P, blend=blend, blend_shape=blend_shape,  # type: ignore[arg-type]
-                                     steps=steps, duration=duration or 2.0, method=method, speed=speed,
-                                     qd_max=None if qd_max is None else qd_max * scale)
-        else:
-            if len(P) != 2:
-                fail(_("--arc needs two points (centre start), got {k}", k=len(P)))
-            tr = cartesian_arc(r, P[0], P[1], math.radians(float(arc)), steps=steps, duration=duration or 2.0,  # type: ignore[arg-type]
-                               method=method, speed=speed)
-    except UnreachableError as exc:
-        fail(_("unreachable: {reason}", reason=_local(str(exc))), EXIT_FAILED)
+    tr = _compute_traj(r, P, joint, line, arc, deg, profile, duration, qd_max, qdd_max, dt,
+                       {"blend": blend, "blend_shape": blend_shape, "speed": speed, "steps": steps, "method": method})
     for note in tr.notes:
         warn(note)
     within = bool(np.all(r.within_limits(tr.q)))
@@ -431,23 +472,7 @@ def traj(robot: str = typer.Argument(..., help=ROBOT_HELP),
                "max_abs_qdd": np.abs(tr.qdd).max(axis=0), "within_limits": within,
                "max_deviation": None if tr.deviation is None else float(tr.deviation.max())}
     scene = scene_option(r, scene_file, no_scene)
-    hit_note, hit_text = None, ""
-    if scene is not None:   # flag the samples where the arm collides (armkit.collision)
-
-        from ..collision import collisions, in_collision
-
-        hits = in_collision(r, tr.q, scene)
-        summary["samples_in_collision"] = int(hits.sum())
-        if hits.any():
-            k = int(np.argmax(hits))
-            what = collisions(r, tr.q[k], scene).message()
-            hit_note = (f"{int(hits.sum())} of {len(tr)} samples collide; the first at t = {tr.t[k]:.3g} s: "
-                        + what)                                        # JSON: as the library says it
-            summary["first_collision"] = {"sample": k, "t": float(tr.t[k]), "message": hit_note}
-            hit_text = _("{k} of {n} samples collide; the first at t = {t} s: {message}", k=int(hits.sum()),
-                         n=len(tr), t=f"{tr.t[k]:.3g}", message=_local(what))
-            if refuse_collisions:
-                fail(hit_text + " " + _("(nothing written)"), EXIT_FAILED)
+    hit_note, hit_text = _collision_note(r, tr, scene, refuse_collisions, summary)
     if out is not None:
         suffix = out.suffix.lower()
         if suffix == ".csv":
