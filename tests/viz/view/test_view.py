@@ -368,6 +368,8 @@ def test_close_frees_port_and_bad_input() -> None:
     (["view", "fighter", "--port", "70000"], "--port must be between 1 and 65535"),
     (["view", "fighter", "--host", "bad host;rm"], "--host must be an IP address or a host name"),
     (["view", "no_such_robot"], "no_such_robot"),
+    (["view", "fighter", "--scene", "/no/such/scene.toml"], "no such scene file"),
+    (["view", "fighter", "--scene", "cell.toml", "--no-scene"], "give --scene FILE or --no-scene, not both"),
 ])
 def test_cli_bad_input_exit_2(args, text) -> None:
     out = subprocess.run([ARMKIT, *args], capture_output=True, text=True, timeout=60)
