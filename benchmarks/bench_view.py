@@ -333,10 +333,6 @@ def main() -> None:
                   f"(server side {slider_latency.server_ms:.2f} ms per update; "
                   f"goal < 50 ms: {'met' if statistics.median(lat) < 50 else 'NOT met'}, "
                   f"ratio goal/median {50 / statistics.median(lat):.1f}x)", flush=True)
-        for name in [n for n in args.breakdown.split(",") if n]:
-            b = breakdown(ctx, name, args.presses)
-            print(f"where a key press goes, {name} (medians over {args.presses}, ms): "
-                  + ", ".join(f"{k} {val:.1f}" for k, val in b.items()), flush=True)
         for name in () if args.skip_drag else [n for n in args.drag_robots.split(",") if n]:
             d = drag_rate(ctx, name)
             if "error" in d:
@@ -354,6 +350,10 @@ def main() -> None:
             print(f"memory over {m['minutes']:.1f} min of tracking ({m['frames']} frames, {m['frames_per_s']:.1f}/s): "
                   f"RSS start {m['rss_start_mb']:.1f} MB, middle {m['rss_mid_mb']:.1f} MB, end {m['rss_end_mb']:.1f} MB, "
                   f"max {m['rss_max_mb']:.1f} MB (end/start {m['rss_end_mb'] / m['rss_start_mb']:.3f})")
+        for name in [n for n in args.breakdown.split(",") if n]:   # last: its page script stays in the context
+            b = breakdown(ctx, name, args.presses)
+            print(f"where a key press goes, {name} (medians over {args.presses}, ms): "
+                  + ", ".join(f"{k} {val:.1f}" for k, val in b.items()), flush=True)
 
 
 if __name__ == "__main__":
