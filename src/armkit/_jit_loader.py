@@ -275,6 +275,10 @@ def parallel_ok() -> bool:
     global _parallel, _next_parallel_poll
     if _parallel:
         return True
+    if _serial_only:
+        return False
+    if _mode == "wait":   # kernels are compiled in this process, on first use: the threaded ones too
+        return True
     if _state == "ready":
         now = time.monotonic()
         if now >= _next_parallel_poll:
@@ -282,7 +286,7 @@ def parallel_ok() -> bool:
             p = _marker("parallel")
             _parallel = bool(p and p.exists())
         return _parallel
-    return not _serial_only
+    return True
 
 
 def _say_compiling(hint: bool = True) -> None:
@@ -300,6 +304,13 @@ def _decide() -> str:
     if ready_marker is not None and ready_marker.exists():
         p = _marker("parallel")
         _parallel = bool(p and p.exists())
+        if not _parallel and _mode != "wait" and _take_lock():
+            # a warm-up cut short after its first phase (Ctrl-C, a killed process): finish it in the
+            # background, or big batches would stay on one thread for good
+            try:
+                _worker = _spawn()
+            except (OSError, ValueError, TypeError):
+                _release_lock()
         return "ready"
     if _mode == "wait" or ready_marker is None:
         _parallel = True

@@ -176,3 +176,31 @@ def test_warmup_with_everything_cached_compiles_nothing_and_the_cli_says_so(tmp_
     cli = _run("import sys; from armkit.cli import main; sys.argv = ['armkit', 'warmup', '--json']; main()", env)
     assert cli.returncode == 0, cli.stderr
     assert json.loads(cli.stdout)["compiled"] is False
+
+
+def test_a_warm_up_cut_short_after_its_first_phase_is_finished_in_the_background(tmp_path):
+    # ready marker without the parallel one (a warm-up killed between its phases): the next process
+    # starts a warm-up for the threaded kernels instead of staying on one thread for good; in wait
+    # mode the threaded kernels are compiled in the process on first use
+    code = """
+        import json, armkit
+        from armkit import _jit_loader as L
+        spawned = []
+
+        class Worker:
+            def poll(self):
+                return None
+        L._spawn = lambda: spawned.append(1) or Worker()
+        L._marker("ready").touch()
+        arm = armkit.load("ur5")
+        armkit.fk(arm, arm.random_q(rng=0))
+        print(json.dumps({"spawned": len(spawned), "parallel_ok": L.parallel_ok(), "state": L._state}))
+    """
+    res = _run(code, {"NUMBA_CACHE_DIR": str(tmp_path / "cache")})
+    assert res.returncode == 0, res.stderr
+    out = _last_json(res.stdout)
+    assert out == {"spawned": 1, "parallel_ok": False, "state": "ready"}
+    res = _run(code, {"NUMBA_CACHE_DIR": str(tmp_path / "cache2"), "ARMKIT_JIT": "wait"})
+    assert res.returncode == 0, res.stderr
+    out = _last_json(res.stdout)
+    assert out["spawned"] == 0 and out["parallel_ok"] is True
