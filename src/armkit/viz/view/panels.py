@@ -52,19 +52,24 @@ class Panels:
         self.robot = r = view.robot
         self.lang = view.lang
         self.server: Any = view.server           # viser's handles are used untyped (their setters confuse mypy)
-        gui_server = self.server
         self.dec = _DECIMALS.get(r.unit, 5)
-        gui = gui_server.gui
-        sc = gui_server.scene
-        L = self._l
         self.track: Any = None
         self.track_k = 0
         self.traj: Any = None
         self._csv: Optional[Path] = None
         self._ws_cloud: Any = None
         self.position_only = r.n < 6
+        self._build_joints()
+        self._build_pose()
+        self._build_target()
+        self._build_track()
+        self._build_workspace()
+        self._build_trajectory()
+        self._build_view_folder()
 
-        # ---------------------------------------------------------------- joints
+    def _build_joints(self) -> None:
+        """A slider per joint (degrees, or the robot's unit for a prismatic joint) and Home."""
+        r, view, gui, L = self.robot, self.view, self.server.gui, self._l
         with gui.add_folder(L("joints")):
             self.sliders = []
             for k, j in enumerate(r.joints):
@@ -85,7 +90,9 @@ class Panels:
             home = gui.add_button(label("home", self.lang))
             home.on_click(lambda e: self.view.set_q(self.view.home) if e.client is not None else None)
 
-        # ---------------------------------------------------------------- end pose
+    def _build_pose(self) -> None:
+        """The end pose, manipulability, singularity and collision lines."""
+        r, gui, L = self.robot, self.server.gui, self._l
         with gui.add_folder(L("pose")):
             self.pose_text = gui.add_text(f"{label('end_point', self.lang)} ({r.unit})", "", disabled=True)
             self.rpy_text = gui.add_text(L("rpy"), "", disabled=True)
@@ -93,7 +100,9 @@ class Panels:
             self.singular_html = gui.add_html("")
             self.collision_html = gui.add_html("")
 
-        # ---------------------------------------------------------------- target
+    def _build_target(self) -> None:
+        """The IK target: gizmo, method, mode, typed target, branch list, sweeps."""
+        r, view, gui, sc, L = self.robot, self.view, self.server.gui, self.server.scene, self._l
         reach_m = (r.reach or 1.0) * r.unit_scale
         T0 = fk(r, view.q)
         with gui.add_folder(L("target")):
@@ -123,7 +132,9 @@ class Panels:
         self.target_rpy.on_update(self._typed_target)
         self.branch_dd.on_update(self._branch_chosen)
 
-        # ---------------------------------------------------------------- track
+    def _build_track(self) -> None:
+        """Tracking a moving target: path, method, frames, speed, play/pause/step, CSV upload."""
+        gui, L = self.server.gui, self._l
         from ..tracking import PATHS, TRACK_METHODS
 
         with gui.add_folder(L("track"), expand_by_default=False):
@@ -141,12 +152,16 @@ class Panels:
         self.step_btn.on_click(self._track_step)
         self.upload.on_upload(self._csv_uploaded)
 
-        # ---------------------------------------------------------------- workspace
+    def _build_workspace(self) -> None:
+        """The reach cloud toggle."""
+        gui, L = self.server.gui, self._l
         with gui.add_folder(L("workspace"), expand_by_default=False):
             self.ws_cb = gui.add_checkbox(L("show_workspace"), False)
         self.ws_cb.on_update(self._toggle_workspace)
 
-        # ---------------------------------------------------------------- trajectory
+    def _build_trajectory(self) -> None:
+        """Trajectory playback with a time slider."""
+        gui, L = self.server.gui, self._l
         with gui.add_folder(L("trajectory"), expand_by_default=False):
             self.time_slider = gui.add_slider(L("time"), min=0.0, max=1.0, step=0.001, initial_value=0.0)
             self.traj_play = gui.add_button(L("play"))
@@ -156,12 +171,14 @@ class Panels:
         self.traj_play.on_click(lambda e: self._play_traj_from(self.time_slider.value) if self.traj else None)
         self.traj_plan.on_click(self._plan_home)
 
-        # ---------------------------------------------------------------- view
+    def _build_view_folder(self) -> None:
+        """Frames, screenshot, the grid's cell size."""
+        view, gui, L = self.view, self.server.gui, self._l
         with gui.add_folder(L("view"), expand_by_default=False):
             self.frames_cb = gui.add_checkbox(L("show_frames"), False)
             self.shot_btn = gui.add_button(L("screenshot"))
             self.shot_html = gui.add_html("")
-            gui.add_markdown(f"grid: {html.escape(view.drawing.grid_text)} cells")
+            gui.add_markdown(html.escape(L("grid_cells", size=view.drawing.grid_text)))
         self.frames_cb.on_update(self._toggle_frames)
         self.shot_btn.on_click(self._screenshot)
 
