@@ -186,13 +186,7 @@ CASES = [
 ]
 
 
-# commands whose own messages are not in the catalogue yet (see docs/ko.md)
-NOT_YET: set[str] = set()
-
-
-@pytest.mark.parametrize("case, args, stdin, code", [
-    pytest.param(*c, marks=pytest.mark.xfail(reason="not in Korean yet", strict=True)) if c[0] in NOT_YET else c
-    for c in CASES], ids=[c[0] for c in CASES])
+@pytest.mark.parametrize("case, args, stdin, code", CASES, ids=[c[0] for c in CASES])
 def test_every_command_speaks_korean(case, args, stdin, code, tmp_path, figure_texts):
     argv = [a.replace("PATH", str(tmp_path)) for a in args] + ["--lang", "ko"]
     res = runner.invoke(app, argv, input=stdin, env=ENV)
