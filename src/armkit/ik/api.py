@@ -403,9 +403,7 @@ def ik(robot: Robot, target: ArrayLike, q0: ArrayLike | None = None,
     if method not in METHODS:
         raise IKInputError(f"method must be one of {', '.join(METHODS)}; got {short_repr(method)}")
     _check_call(robot, seed, max_iterations, restarts)
-    if tol is not None:
-        _tolerance(robot, tol)
-    numeric = {"mask": mask, "tol": None if tol is None else _tolerance(robot, tol), "seed": seed,
+    numeric = {"mask": mask, "tol": None if tol is None else _tolerance(robot, tol), "seed": seed,   # tol checked here
                "enforce_limits": enforce_limits, "trace": trace, "max_iterations": max_iterations,
                "restarts": restarts}
     if pitch is not None or direction is not None:   # targets that fix less than a pose (armkit.ik.partial)
