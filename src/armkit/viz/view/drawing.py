@@ -23,7 +23,7 @@ from ...analysis.workspace import skeleton_batch
 from ...kinematics import fk_frames
 from ...model.robot import Robot
 
-__all__ = ["ArmDrawing", "ARM_COLOUR", "nice_grid", "wxyz_from_rotation", "rotation_from_wxyz",
+__all__ = ["ArmDrawing", "ARM_COLOUR", "add_primitive", "nice_grid", "wxyz_from_rotation", "rotation_from_wxyz",
            "z_to_direction"]
 
 Array = NDArray[np.float64]
@@ -80,6 +80,23 @@ def nice_grid(reach: float) -> tuple[float, float, float]:
     section = 5 * cell
     width = 2 * math.ceil(1.3 * reach / section) * section
     return cell, section, width
+
+
+def add_primitive(scene: Any, name: str, kind: str, size: Sequence[float], position: Sequence[float],
+                  wxyz: Sequence[float], **style: Any) -> Any:
+    """The viser node of a box (``size`` x y z), sphere (r) or cylinder (r, h about z), sizes in metres;
+    None for any other kind or a size that does not fit it. ``style``: colour, opacity, shadows.
+
+    The one place both the robot's URDF visuals and the collision scene (:mod:`.obstacles`) draw these.
+    """
+    position, wxyz = tuple(position), tuple(wxyz)
+    if kind == "box" and len(size) == 3:
+        return scene.add_box(name, dimensions=tuple(size), position=position, wxyz=wxyz, **style)
+    if kind == "sphere" and len(size) >= 1:
+        return scene.add_icosphere(name, radius=size[0], position=position, wxyz=wxyz, **style)
+    if kind == "cylinder" and len(size) == 2:
+        return scene.add_cylinder(name, radius=size[0], height=size[1], position=position, wxyz=wxyz, **style)
+    return None
 
 
 def _has_visuals(robot: Robot) -> bool:
@@ -175,13 +192,7 @@ class ArmDrawing:
                     if getattr(shape, "rgba", None) is not None:
                         mesh.visual = trimesh.visual.ColorVisuals(mesh, face_colors=np.array(rgba) * 255)
                     sc.add_mesh_trimesh(name, mesh, position=pos, wxyz=wxyz)
-                elif shape.kind == "box" and len(size) == 3:
-                    sc.add_box(name, color=colour, dimensions=size, position=pos, wxyz=wxyz)
-                elif shape.kind == "cylinder" and len(size) == 2:
-                    sc.add_cylinder(name, radius=size[0], height=size[1], color=colour, position=pos, wxyz=wxyz)
-                elif shape.kind == "sphere" and len(size) >= 1:
-                    sc.add_icosphere(name, radius=size[0], color=colour, position=pos, wxyz=wxyz)
-                else:
+                elif add_primitive(sc, name, shape.kind, size, pos, wxyz, color=colour) is None:
                     continue
                 drawn += 1
         if drawn == 0:

@@ -17,7 +17,7 @@ from numpy.typing import NDArray
 
 from ...collision import Collisions, Scene, Shape, arm_geometry, collisions, robot_collision
 from ...model.robot import Robot
-from .drawing import wxyz_from_rotation
+from .drawing import add_primitive, wxyz_from_rotation
 
 __all__ = ["ObstacleDrawing", "FREE_COLOUR", "HIT_COLOUR"]
 
@@ -76,14 +76,8 @@ class ObstacleDrawing:
             root = sc.add_box(name, dimensions=(self.plane_width, self.plane_width, thick),
                               position=tuple(foot - 0.5 * thick * n), wxyz=wxyz, **common)
             made.append(root)
-        elif shape.kind == "box":
-            root = sc.add_box(name, dimensions=size, position=pos, wxyz=wxyz, **common)
-            made.append(root)
-        elif shape.kind == "sphere":
-            root = sc.add_icosphere(name, radius=size[0], position=pos, wxyz=wxyz, subdivisions=3, **common)
-            made.append(root)
-        elif shape.kind == "cylinder":
-            root = sc.add_cylinder(name, radius=size[0], height=size[1], position=pos, wxyz=wxyz, **common)
+        elif shape.kind in ("box", "sphere", "cylinder"):
+            root = add_primitive(sc, name, shape.kind, size, pos, wxyz, **common)
             made.append(root)
         elif shape.kind == "capsule":
             root = sc.add_frame(name, show_axes=False, position=pos, wxyz=wxyz)
