@@ -21,8 +21,6 @@ from rich.text import Text
 from .._text import esc, name_list, plain, shorten
 from ..errors import JointLimitError
 from ..locale import LANG, N_, _, current_language  # noqa: F401  (re-exported for the command modules)
-
-
 from ..model import Robot, load
 
 class SafeConsole(Console):
@@ -65,11 +63,9 @@ def say(label: str, style: str, message: object, console_: Console | None = None
 def fail(message: str, code: int = EXIT_BAD_INPUT) -> NoReturn:
     """Print ``message`` to stderr and exit with ``code`` (never a traceback); a message of the library (an
     error's text) is shown in the user's language (:func:`armkit.locale.library.localize`)."""
-    from ..locale import current_language
     from ..locale.library import localize
 
     say(_("error:"), "bold red", localize(message, current_language()))
-
     raise SystemExit(code)
 
 
