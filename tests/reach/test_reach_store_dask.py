@@ -34,7 +34,8 @@ def test_store_metadata_and_reopen(tmp_path: Path, reference: ReachabilityMap) -
     m = reachability("fighter", workers=1, path=p, **KW)
     _same(m, reference)
     attrs = dict(zarr.open_group(str(p), mode="r").attrs)
-    assert attrs["format"] == "armkit.reachability/1" and attrs["status"] == "complete"
+    assert attrs["format"] == "armkit.reachability/2" and attrs["status"] == "complete"
+    assert set(attrs["checksums"]) == {"counts", "hits", "manipulability", "index"}
     assert attrs["robot"] == "fighter" and attrs["armkit_version"] == armkit.__version__
     assert attrs["parameters"]["samples"] == 240_000 and attrs["parameters"]["seed"] == 3
     assert "[[joints]]" in attrs["robot_toml"]

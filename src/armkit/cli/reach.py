@@ -90,7 +90,10 @@ def build(robot: str = typer.Argument(..., help="Bundled robot name or robot fil
                                                   "tcp://host:8786 (default: ARMKIT_SCHEDULER, else this machine)."),
           workers: Optional[int] = typer.Option(None, "--workers", help="Local worker processes (default: one per "
                                                 "CPU; this process on a machine of at most 2 cores)."),
-          overwrite: bool = typer.Option(False, "--overwrite", help="Discard an existing store at --output."),
+          overwrite: bool = typer.Option(False, "--overwrite", help="Discard an existing map store at --output "
+                                         "(only an armkit map store is ever deleted)."),
+          dashboard: bool = typer.Option(False, "--dashboard", help="With --workers: serve Dask's dashboard on "
+                                         "127.0.0.1 and print its URL."),
           as_json: bool = typer.Option(False, "--json", help="Print the summary as JSON."),
           lang: Optional[str] = LANG_OPT) -> None:
     """Build a reachability map and write it as a Zarr store (re-running resumes an interrupted build).
@@ -136,7 +139,7 @@ def build(robot: str = typer.Argument(..., help="Bundled robot name or robot fil
                              method=method, samples=samples, seed=seed,  # type: ignore[arg-type]
                              coverage=coverage, block_size=block_size,
                              path=output, overwrite=overwrite, scheduler=scheduler, workers=workers,
-                             progress=progress)
+                             dashboard=dashboard, progress=progress)
     except KeyboardInterrupt:
         console.print(escape(_msg("interrupted", lg, path=output)))
         raise SystemExit(130) from None

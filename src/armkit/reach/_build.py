@@ -20,6 +20,7 @@ from __future__ import annotations
 import math
 import os
 import shutil
+import warnings
 import time
 from pathlib import Path
 from typing import Any, Callable, Iterator, Literal, Sequence
@@ -31,7 +32,8 @@ from .._extras import require
 from ..errors import ReachabilityError
 from ..model.robot import Robot
 from ._grid import Grid
-from ._map import DEFAULT_COVERAGE, FORMAT, ReachabilityMap, decide, robot_to_toml
+from ._map import DEFAULT_COVERAGE, ReachabilityMap, decide, robot_to_toml
+from ._store import FORMAT, OLD_FORMATS, check_overwrite, checksum, clean_partial, robot_sha256
 from ._symmetry import roll_symmetric, yaw_frame, yaw_symmetric
 from ._work import fk_block, ik_block
 
@@ -89,6 +91,23 @@ def _make_grid(robot: Robot, resolution: Any, orientations: Any, rolls: Any) -> 
 
 
 # ------------------------------------------------------------------ executors
+LOCAL_HOSTS = ("127.0.0.1", "localhost", "::1", "[::1]")
+
+
+def _warn_if_remote(scheduler: str) -> None:
+    """Say once, before connecting, that the work (the robot, the grid, the answers) will leave this machine."""
+    from urllib.parse import urlsplit
+
+    try:
+        host = urlsplit(scheduler).hostname or ""
+    except ValueError:
+        host = ""
+    if scheduler.startswith("inproc://") or host in LOCAL_HOSTS or host.startswith("127."):
+        return
+    warnings.warn(f"the Dask scheduler {scheduler} is not on this machine: the robot, the map's settings and "
+                  "its results travel over the network to it (use tls:// for an encrypted link)", stacklevel=4)
+
+
 def _client(scheduler: Any) -> tuple[Any, Callable[[], None]]:
     """A dask.distributed Client for ``scheduler`` (address or Client) and how to let it go."""
     Client = require("distributed", "a Dask scheduler (scheduler=)").Client
@@ -97,19 +116,34 @@ def _client(scheduler: Any) -> tuple[Any, Callable[[], None]]:
     if not isinstance(scheduler, str) or "://" not in scheduler:
         raise ReachabilityError(f"scheduler must be a Dask scheduler address such as tcp://host:8786, "
                                 f"'local', or a distributed.Client; got {scheduler!r}")
+    _warn_if_remote(scheduler)
     try:
         client = Client(scheduler, timeout=CONNECT_TIMEOUT)
     except (OSError, TimeoutError) as exc:
         raise ReachabilityError(f"cannot reach the Dask scheduler at {scheduler}: {exc}") from None
+    except Exception as exc:     # an address Dask cannot parse or a protocol it lacks (inproc://, tls:// without certs)
+        raise ReachabilityError(f"cannot use the Dask scheduler address {scheduler!r}: "
+                                f"{type(exc).__name__}: {str(exc)[:200]}") from None
     return client, client.close
 
 
-def _local_cluster(workers: int) -> tuple[Any, Callable[[], None]]:
+def _local_cluster(workers: int, dashboard: bool = False) -> tuple[Any, Callable[[], None]]:
+    """An embedded Dask cluster on this machine. Every service (scheduler, nannies, workers) listens on
+    127.0.0.1 only; the dashboard is off unless asked for, and then also on 127.0.0.1 (its URL is printed)."""
     distributed = require("distributed", "a reachability map built by several workers (workers=1 builds it in this process)")
     Client, LocalCluster = distributed.Client, distributed.LocalCluster
-    cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, host="127.0.0.1",
-                           dashboard_address=":0", silence_logs=40)
+    import dask
+
+    # Dask's scheduler always runs an HTTP server (identity, workers, logs, metrics); without the dashboard
+    # it serves no route at all, and either way it listens on 127.0.0.1 only
+    quiet = {} if dashboard else {"distributed.scheduler.http.routes": [], "distributed.worker.http.routes": []}
+    with dask.config.set(quiet):
+        cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, host="127.0.0.1",
+                               dashboard_address="127.0.0.1:0" if dashboard else None,
+                               worker_dashboard_address=None, silence_logs=40)
     client = Client(cluster)
+    if dashboard:
+        print(f"Dask dashboard: {client.dashboard_link}", flush=True)
 
     def close() -> None:
         client.close()
@@ -139,18 +173,23 @@ class _Store:
 
     def __init__(self, path: str, attrs: dict[str, Any], grid: Grid, n_blocks: int, overwrite: bool) -> None:
         zarr = require("zarr", "building a reachability map")
-        self.grid, self.n_blocks = grid, n_blocks
+        self.grid, self.n_blocks, self.path = grid, n_blocks, path
         self.group: Any
         p = Path(path)
-        if p.exists() and overwrite:
-            shutil.rmtree(p) if p.is_dir() else p.unlink()
+        if overwrite:
+            check_overwrite(p)      # only an armkit store is ever deleted (never ., home, a file, other folders)
+            if p.exists():
+                shutil.rmtree(p)
         if p.exists():
             try:
                 g: Any = zarr.open_group(str(p), mode="r+")
                 old: dict[str, Any] = dict(g.attrs)
             except Exception as exc:
-                raise ReachabilityError(f"{path!r} exists and is not a Zarr reachability map ({exc}); choose "
-                                        "another path or overwrite it") from None
+                raise ReachabilityError(f"{path!r} exists and is not a Zarr reachability map ({type(exc).__name__}); "
+                                        "choose another path") from None
+            if old.get("format") in OLD_FORMATS:
+                raise ReachabilityError(f"{path!r} holds a map of an older armkit format; use --overwrite "
+                                        "(overwrite=True) to build it again")
             if old.get("format") != FORMAT:
                 raise ReachabilityError(f"{path!r} exists and is not an armkit reachability map; choose another path")
             keys = ("robot_toml", "grid", "parameters")
@@ -158,10 +197,13 @@ class _Store:
             if diff:
                 raise ReachabilityError(f"{path!r} holds a map built with other settings ({', '.join(diff)} "
                                         "differ); use another path, or overwrite=True (--overwrite) to start again")
+            if old.get("status") != "complete":
+                clean_partial(p)    # chunk files a killed build left half-written
             self.group = g
         else:
             self.group = zarr.open_group(str(p), mode="w")
-            self.group.attrs.update({**attrs, "status": "building", "generation": -1, "blocks_done": ""})
+            self.group.attrs.update({**attrs, "status": "building", "generation": -1, "blocks_done": "",
+                                     "generation_checksums": {}})
         nx, ny, nz, no = grid.shape
         self.cx = max(1, min(nx, 8_000_000 // max(1, ny * nz * no)))
 
@@ -177,10 +219,22 @@ class _Store:
                 del self.group[name]
         if gen < 0:
             return
-        counts[:] = np.asarray(self.group[f"counts_{gen}"][...]).reshape(-1)
-        manip[:] = np.asarray(self.group[f"manipulability_{gen}"][...]).reshape(-1)
-        bits = bytes.fromhex(str(self.group.attrs.get("blocks_done", "")))
-        done[:] = np.unpackbits(np.frombuffer(bits, dtype=np.uint8), count=self.n_blocks).astype(bool)
+        sums = self.group.attrs.get("generation_checksums", {})
+        try:
+            c = np.asarray(self.group[f"counts_{gen}"][...])
+            m = np.asarray(self.group[f"manipulability_{gen}"][...])
+            bits = bytes.fromhex(str(self.group.attrs.get("blocks_done", "")))
+            d = np.unpackbits(np.frombuffer(bits, dtype=np.uint8), count=self.n_blocks).astype(bool)
+            ok = (isinstance(sums, dict) and checksum(c) == sums.get("counts")
+                  and checksum(m) == sums.get("manipulability") and c.size == counts.size and m.size == manip.size)
+        except Exception:      # a damaged partial build: missing arrays or chunks, bad hex, wrong sizes
+            ok = False
+        if not ok:
+            raise ReachabilityError(f"the unfinished build in {self.path!r} is damaged (its partial results do not "
+                                    "match their checksums); use --overwrite (overwrite=True) to start again")
+        counts[:] = c.reshape(-1)
+        manip[:] = m.reshape(-1)
+        done[:] = d
 
     def _write(self, name: str, data: NDArray[Any], chunks: tuple[int, ...]) -> None:
         if name in self.group:
@@ -196,7 +250,9 @@ class _Store:
         ny, nz, no = g.shape[1:]
         self._write(f"counts_{new}", counts.reshape(g.shape), (self.cx, ny, nz, no))
         self._write(f"manipulability_{new}", manip.reshape(g.dims), (self.cx, ny, nz))
-        self.group.attrs.update({"generation": new, "blocks_done": np.packbits(done).tobytes().hex()})
+        sums = {"counts": checksum(counts.reshape(g.shape)), "manipulability": checksum(manip.reshape(g.dims))}
+        self.group.attrs.update({"generation": new, "blocks_done": np.packbits(done).tobytes().hex(),
+                                 "generation_checksums": sums})
         for name in (f"counts_{old}", f"manipulability_{old}"):
             if name in self.group:
                 del self.group[name]
@@ -210,7 +266,9 @@ class _Store:
         self._write("manipulability", manip.reshape(g.dims), (self.cx, ny, nz))
         index = hits.reshape(-1, g.n_orient).mean(axis=1).astype(np.float32).reshape(g.dims)
         self._write("index", index, (self.cx, ny, nz))
-        self.group.attrs.update({"status": "complete", "armkit_version": version})
+        sums = {"counts": checksum(counts.reshape(g.shape)), "hits": checksum(hits.reshape(g.shape)),
+                "manipulability": checksum(manip.reshape(g.dims)), "index": checksum(index)}
+        self.group.attrs.update({"status": "complete", "armkit_version": version, "checksums": sums})
         gen = int(self.group.attrs.get("generation", -1))
         for name in (f"counts_{gen}", f"manipulability_{gen}"):
             if name in self.group:
@@ -228,7 +286,7 @@ def reachability(robot: Robot | str, resolution: float | None = None, orientatio
                  samples: int | None = None, seed: int = 0, path: str | os.PathLike[str] | None = None,
                  overwrite: bool = False, scheduler: Any = None, workers: int | None = None,
                  block_size: int | None = None, restarts: int = 2, coverage: float = DEFAULT_COVERAGE,
-                 flush_seconds: float = 10.0,
+                 flush_seconds: float = 10.0, dashboard: bool = False,
                  progress: Progress | None = None) -> ReachabilityMap:
     """Build a reachability map: which tool poses the arm reaches, cell by cell.
 
@@ -273,6 +331,9 @@ def reachability(robot: Robot | str, resolution: float | None = None, orientatio
     coverage : float
         Method "fk": a cell with samples is reachable when its sample density is at least
         this fraction of the densest neighbouring cell (0: any sample will do, as in RM4D).
+    dashboard : bool
+        With a local cluster (``workers`` > 1): serve Dask's dashboard on 127.0.0.1 and print its
+        URL. Off by default; every service of a local cluster listens on 127.0.0.1 only.
     progress : callable, optional
         Called as ``progress(blocks_done, blocks_total)``.
 
@@ -311,7 +372,8 @@ def reachability(robot: Robot | str, resolution: float | None = None, orientatio
     except Exception as exc:  # a robot the TOML writer cannot express yet
         raise ReachabilityError(f"robot {robot.name!r} cannot be written to a robot file ({exc})") from None
     _check_round_trip(robot, toml)
-    attrs = {"format": FORMAT, "robot": robot.name, "robot_toml": toml, "grid": gattrs, "parameters": params}
+    attrs = {"format": FORMAT, "robot": robot.name, "robot_toml": toml, "robot_sha256": robot_sha256(toml),
+             "grid": gattrs, "parameters": params}
 
     counts = np.zeros(grid.n_cells, dtype=np.uint8)
     manip = np.zeros(int(np.prod(grid.dims)), dtype=np.float32)
@@ -331,7 +393,7 @@ def reachability(robot: Robot | str, resolution: float | None = None, orientatio
     else:
         fn = ik_block
         args = [(robot, gattrs, int(seed), b, bs, restarts, scene) for b in todo]
-    results, close = _execute(scheduler, workers, fn, args, todo, _token(attrs))
+    results, close = _execute(scheduler, workers, fn, args, todo, _token(attrs), bool(dashboard))
     _merge(results, close, counts, manip, done, store, progress, flush_seconds)
     hits = decide(counts.reshape(grid.shape), grid, coverage if method == "fk" else 0.0)
     if store is not None:
@@ -352,7 +414,8 @@ def _blocks(method: str, grid: Grid, samples: int | None, block_size: int | None
 
 
 def _execute(scheduler: Any, workers: int | None, fn: Callable[..., Any], args: list[tuple[Any, ...]],
-             todo: list[int], token: str) -> tuple[Iterator[tuple[int, Any]], Callable[[], None]]:
+             todo: list[int], token: str, dashboard: bool = False
+             ) -> tuple[Iterator[tuple[int, Any]], Callable[[], None]]:
     """``(block, result)`` pairs as they finish, from a Dask scheduler, a local cluster or this process;
     and how to let the executor go."""
     if scheduler is None:
@@ -368,7 +431,7 @@ def _execute(scheduler: Any, workers: int | None, fn: Callable[..., Any], args: 
         client, close = _client(scheduler)
         return _run_dask(client, fn, args, todo, token), close
     if n_workers > 1 and len(todo) > 1:
-        client, close = _local_cluster(min(n_workers, len(todo)))
+        client, close = _local_cluster(min(n_workers, len(todo)), dashboard)
         return _run_dask(client, fn, args, todo, token), close
     return ((b, fn(*a)) for a, b in zip(args, todo)), lambda: None
 

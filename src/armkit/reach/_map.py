@@ -9,7 +9,9 @@ Store layout (a Zarr v3 group, every chunk written atomically: temporary file + 
 ``index``           float32 ``(nx, ny, nz)``: reachability index, the fraction of orientation bins reachable
 
 and attributes ``format``, ``armkit_version``, ``robot`` (name), ``robot_toml`` (the robot file
-text), ``grid`` and ``parameters``, ``status`` (``"building"`` or ``"complete"``).
+text) and ``robot_sha256`` (its fingerprint), ``grid`` and ``parameters``, ``status`` (``"building"``
+or ``"complete"``), and ``checksums`` (SHA-256 of each array: a deleted chunk would otherwise
+read as zeros). Opening checks all of it first (:mod:`._store`) and never writes a file.
 
 While building, the store holds ``counts_G`` and ``manipulability_G`` of generation ``G`` and the
 attributes ``generation`` and ``blocks_done`` (the finished units of work). A flush writes
@@ -21,9 +23,7 @@ consistent generation, and the resumed build skips exactly the blocks merged int
 from __future__ import annotations
 
 import os
-import tempfile
 from dataclasses import dataclass, field
-from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -33,20 +33,18 @@ from .._extras import require
 from ..errors import ArmkitError, MapFileError, ShapeError
 from ..model.robot import Robot
 from ._grid import Grid
+from ._store import FORMAT, grid_of, load_arrays, read_attrs, robot_of
 
 __all__ = ["ReachabilityMap", "MapFileError", "FORMAT"]
 
-FORMAT = "armkit.reachability/1"
 Array = NDArray[np.float64]
 
 
 def robot_from_toml(text: str, name: str) -> Robot:
-    from ..model import load
+    """The robot of a robot file's text; no file is written (the text may come from a downloaded map)."""
+    from ..model.files import _parse
 
-    with tempfile.TemporaryDirectory() as tmp:
-        p = Path(tmp) / f"{name or 'robot'}.toml"
-        p.write_text(text, encoding="utf-8")
-        return load(str(p))
+    return _parse(text, f"{name or 'robot'} (stored robot)")
 
 
 def robot_to_toml(robot: Robot) -> str:
@@ -282,27 +280,21 @@ class ReachabilityMap:
         Raises
         ------
         MapFileError
-            The path is missing, is not an armkit map, or holds an unfinished build (run the
-            same build again to resume it).
+            The path is missing, is not an armkit map (or one of an older format), holds an
+            unfinished build (run the same build again to resume it), or is damaged: a stored
+            robot that does not match its fingerprint, a grid that is not valid or needs more than
+            ``ARMKIT_MEMORY_LIMIT``, an array missing, of another dtype or shape, or not matching
+            its checksum (deleted or damaged chunks). The store is never modified.
         """
         zarr = require("zarr", "reading a reachability map")
-        p = str(path)
-        if not Path(p).exists():
-            raise MapFileError(f"no reachability map at {p!r}")
+        p = os.fspath(path)
+        attrs = read_attrs(p)                 # format, status, attribute types; nothing else read yet
+        robot = robot_of(attrs, p)            # parsed from text, checked against its fingerprint
+        grid = grid_of(attrs, p)              # valid, and within the memory budget
         try:
             g: Any = zarr.open_group(p, mode="r")
-            attrs: dict[str, Any] = dict(g.attrs)
-        except Exception as exc:   # zarr raises several types for a non-store
-            raise MapFileError(f"{p!r} is not a Zarr reachability map ({type(exc).__name__}: {exc})") from None
-        if attrs.get("format") != FORMAT:
-            raise MapFileError(f"{p!r} is not an armkit reachability map (format {attrs.get('format')!r}, "
-                               f"expected {FORMAT!r})")
-        if attrs.get("status") != "complete":
-            raise MapFileError(f"{p!r} holds an unfinished build; run the same build again to resume it")
-        robot = robot_from_toml(str(attrs["robot_toml"]), str(attrs.get("robot", "robot")))
-        grid = Grid.from_attrs(attrs["grid"])
-        hits = np.asarray(g["hits"][...], dtype=bool)
-        manip = np.asarray(g["manipulability"][...], dtype=np.float32)
-        counts = np.asarray(g["counts"][...], dtype=np.uint8)
+        except Exception as exc:   # zarr raises several types for a damaged store
+            raise MapFileError(f"{p!r} is not a readable Zarr store ({type(exc).__name__})") from None
+        arrays = load_arrays(g, attrs, grid, p)   # presence, dtype, shape, checksum
         params = {**dict(attrs["parameters"]), "armkit_version": attrs.get("armkit_version")}
-        return cls(robot, grid, hits, manip, params, counts, p)
+        return cls(robot, grid, arrays["hits"], arrays["manipulability"], params, arrays["counts"], p)

@@ -1,0 +1,229 @@
+"""What a reachability store may hold, checked before anything is read, written or deleted.
+
+A map store comes from outside as often as from this machine (a map built on a cluster, a
+download), so nothing in it is trusted:
+
+* :func:`read_attrs` reads the group's ``zarr.json`` itself (size-limited) and checks the
+  format marker, the status and the attribute types;
+* :func:`robot_of` parses the stored robot file *text* without writing a file;
+* :func:`grid_of` checks the grid and the memory a map of that size needs (``ARMKIT_MEMORY_LIMIT``);
+* :func:`load_arrays` checks each array's presence, dtype and shape, then its checksum (a
+  deleted or damaged chunk would otherwise read as zeros: "unreachable");
+* :func:`check_overwrite` lets ``overwrite=True`` delete only a folder that is an armkit store
+  and holds nothing but what a store holds.
+
+Every refusal is a :class:`~armkit.errors.MapFileError` (or ``ReachabilityError`` when building)
+naming the store and what is wrong; the store is never modified by a check.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+import re
+import warnings
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from .._limits import check_memory
+from ..errors import ArmkitError, MapFileError, ReachabilityError
+from ..model.robot import Robot
+from ._grid import Grid
+
+__all__ = ["FORMAT", "OLD_FORMATS", "ARRAYS", "checksum", "read_attrs", "robot_of", "grid_of", "load_arrays",
+           "check_overwrite", "clean_partial", "robot_sha256"]
+
+FORMAT = "armkit.reachability/2"
+"""Version 2 added the checksums of the arrays and the fingerprint of the stored robot."""
+OLD_FORMATS = ("armkit.reachability/1",)
+
+ARRAYS: dict[str, tuple[Any, int]] = {"counts": (np.uint8, 4), "hits": (np.bool_, 4),
+                                      "manipulability": (np.float32, 3), "index": (np.float32, 3)}
+"""The arrays of a complete map: dtype, and 4 (one value per cell) or 3 (one per voxel) dimensions."""
+
+MAX_ATTRS_BYTES = 64 * 1024 ** 2
+"""A group's ``zarr.json`` larger than this is refused unread (a robot file is at most 16 MiB)."""
+
+_GENERATION = re.compile(r"(counts|manipulability)_[0-9]{1,9}")
+
+
+def checksum(a: NDArray[Any]) -> str:
+    """SHA-256 of an array's bytes (C order) with its dtype and shape."""
+    a = np.ascontiguousarray(a)
+    h = hashlib.sha256(f"{a.dtype.str}{a.shape}".encode())
+    h.update(memoryview(a).cast("B"))
+    return h.hexdigest()
+
+
+def robot_sha256(text: str) -> str:
+    return hashlib.sha256(text.encode("utf-8")).hexdigest()
+
+
+def _group_json(path: Path) -> dict[str, Any] | None:
+    """The group's metadata document, or None when ``path`` holds no readable Zarr v3 group."""
+    meta = path / "zarr.json"
+    try:
+        if not meta.is_file() or meta.is_symlink() or meta.stat().st_size > MAX_ATTRS_BYTES:
+            return None
+        doc = json.loads(meta.read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, ValueError, RecursionError):
+        return None
+    if not isinstance(doc, dict) or doc.get("node_type") != "group" or not isinstance(doc.get("attributes"), dict):
+        return None
+    return doc
+
+
+def read_attrs(path: str | os.PathLike[str], *, complete: bool = True) -> dict[str, Any]:
+    """The attributes of the armkit map at ``path``, checked (MapFileError names what is wrong)."""
+    p = Path(path)
+    shown = os.fspath(path)
+    if not p.exists():
+        raise MapFileError(f"no reachability map at {shown!r}")
+    if not p.is_dir():
+        raise MapFileError(f"{shown!r} is a file; a reachability map is a folder (a Zarr store)")
+    doc = _group_json(p)
+    if doc is None:
+        raise MapFileError(f"{shown!r} is not a Zarr reachability map (no readable zarr.json group metadata)")
+    attrs: dict[str, Any] = doc["attributes"]
+    fmt = attrs.get("format")
+    if fmt in OLD_FORMATS:
+        raise MapFileError(f"{shown!r} was written by an older armkit (format {fmt!r}, without checksums); "
+                           "build it again with armkit reach build ... --overwrite")
+    if fmt != FORMAT:
+        raise MapFileError(f"{shown!r} is not an armkit reachability map (format {str(fmt)[:60]!r}, "
+                           f"expected {FORMAT!r})")
+    if complete and attrs.get("status") != "complete":
+        raise MapFileError(f"{shown!r} holds an unfinished build; run the same build again to resume it")
+    for key, kind in (("robot", str), ("robot_toml", str), ("robot_sha256", str), ("grid", dict),
+                      ("parameters", dict)):
+        if not isinstance(attrs.get(key), kind):
+            raise MapFileError(f"{shown!r}: attribute {key!r} is missing or not a {kind.__name__}")
+    if complete and not isinstance(attrs.get("checksums"), dict):
+        raise MapFileError(f"{shown!r}: attribute 'checksums' is missing")
+    return attrs
+
+
+def robot_of(attrs: dict[str, Any], path: str) -> Robot:
+    """The stored robot, parsed from its text (no file is written), checked against its fingerprint and name."""
+    from ..model.files import MAX_FILE_BYTES, _parse
+
+    text = attrs["robot_toml"]
+    if len(text) > MAX_FILE_BYTES:
+        raise MapFileError(f"{path!r}: the stored robot file has {len(text):,} characters (at most {MAX_FILE_BYTES:,})")
+    if robot_sha256(text) != attrs["robot_sha256"]:
+        raise MapFileError(f"{path!r}: the stored robot does not match its fingerprint (robot_sha256); "
+                           "the store was edited or damaged")
+    try:
+        robot = _parse(text, f"{path} (stored robot)")
+    except ArmkitError as exc:
+        raise MapFileError(f"{path!r}: the stored robot cannot be read: {exc}") from None
+    if robot.name != attrs["robot"]:
+        raise MapFileError(f"{path!r}: the store names robot {attrs['robot'][:60]!r} but holds robot "
+                           f"{robot.name[:60]!r}")
+    return robot
+
+
+def grid_of(attrs: dict[str, Any], path: str) -> Grid:
+    """The stored grid, checked, and the memory the map needs checked against the budget."""
+    try:
+        grid = Grid.from_attrs(attrs["grid"])
+        ok = (grid.T_world_A.shape == (4, 4) and bool(np.all(np.isfinite(grid.T_world_A)))
+              and grid.lo.shape == (3,) and bool(np.all(np.isfinite(grid.lo)))
+              and np.isfinite(grid.resolution) and grid.resolution > 0 and len(grid.dims) == 3
+              and all(d >= 1 for d in grid.dims) and grid.directions >= 1 and grid.rolls >= 1
+              and (not grid.symmetric or grid.dims[1] == 1))
+    except (KeyError, TypeError, ValueError, OverflowError):
+        ok = False
+    if not ok:
+        raise MapFileError(f"{path!r}: the stored grid is not valid")
+    cells = float(np.prod([float(d) for d in grid.shape]))
+    voxels = float(np.prod([float(d) for d in grid.dims]))
+    # counts + hits + the flat copy of hits, and the per-voxel manipulability, index and boundary work
+    check_memory(3 * cells + 12 * voxels, f"reading the map {path!r}")
+    return grid
+
+
+def load_arrays(group: Any, attrs: dict[str, Any], grid: Grid, path: str) -> dict[str, NDArray[Any]]:
+    """Read every array of a complete map, checking presence, dtype, shape and checksum."""
+    sums = attrs["checksums"]
+    out: dict[str, NDArray[Any]] = {}
+    for name, (dtype, ndim) in ARRAYS.items():
+        shape = grid.shape if ndim == 4 else grid.dims
+        try:
+            arr = group[name]
+            if tuple(arr.shape) != tuple(shape) or np.dtype(arr.dtype) != np.dtype(dtype):
+                raise MapFileError(f"{path!r}: array {name!r} has shape {tuple(arr.shape)} and dtype {arr.dtype}; "
+                                   f"the grid needs {tuple(shape)} and {np.dtype(dtype)}")
+            data = np.asarray(arr[...])
+        except MapFileError:
+            raise
+        except KeyError:
+            raise MapFileError(f"{path!r}: array {name!r} is missing") from None
+        except Exception as exc:      # zarr and its codecs raise many types for damaged chunks
+            raise MapFileError(f"{path!r}: array {name!r} cannot be read ({type(exc).__name__})") from None
+        if checksum(data) != sums.get(name):
+            raise MapFileError(f"{path!r}: array {name!r} does not match its checksum: chunks are missing or "
+                               "damaged; build the map again")
+        out[name] = data
+    return out
+
+
+def _store_entries_ok(p: Path) -> str | None:
+    """None when every entry of ``p`` is one a store holds; else the first stranger's name."""
+    for entry in sorted(p.iterdir()):
+        name = entry.name
+        if name == "zarr.json" and entry.is_file() and not entry.is_symlink():
+            continue
+        if (name in ARRAYS or _GENERATION.fullmatch(name)) and entry.is_dir() and not entry.is_symlink():
+            continue
+        if name.endswith(".partial") and entry.is_file():
+            continue
+        return name
+    return None
+
+
+def check_overwrite(path: str | os.PathLike[str]) -> None:
+    """Refuse (ReachabilityError, naming it) to let ``overwrite`` delete anything but an armkit map store."""
+    p = Path(path)
+    shown = os.fspath(path)
+    if not os.path.lexists(p):
+        return
+    if p.is_symlink():
+        raise ReachabilityError(f"will not overwrite {shown!r}: it is a symbolic link; remove it yourself")
+    if not p.is_dir():
+        raise ReachabilityError(f"will not overwrite {shown!r}: it is a file, not a reachability map")
+    real = p.resolve()
+    here = Path.cwd().resolve()
+    special = {Path("/"), Path.home().resolve()}
+    if p.name in ("", ".", "..") or real in special or real == here or real in here.parents:
+        raise ReachabilityError(f"will not overwrite {shown!r}: it is the current, home or root folder "
+                                "or one above them; give the map's own folder, e.g. map.zarr")
+    doc = _group_json(p)
+    fmt = None if doc is None else doc["attributes"].get("format")
+    if not (isinstance(fmt, str) and fmt.startswith("armkit.reachability/")):
+        raise ReachabilityError(f"will not overwrite {shown!r}: it is not an armkit reachability map "
+                                "(no armkit format marker); delete it yourself or choose another path")
+    stranger = _store_entries_ok(p)
+    if stranger is not None:
+        raise ReachabilityError(f"will not overwrite {shown!r}: it holds {stranger[:80]!r}, which is not part of "
+                                "a reachability map; move it away or choose another path")
+
+
+def clean_partial(path: str | os.PathLike[str]) -> int:
+    """Remove the ``*.partial`` files a killed write left in a store (the build owns the store); warn once."""
+    removed = 0
+    for f in Path(path).rglob("*.partial"):
+        try:
+            if f.is_file() and not f.is_symlink():
+                f.unlink()
+                removed += 1
+        except OSError:
+            pass
+    if removed:
+        warnings.warn(f"removed {removed} unfinished chunk file(s) left in {os.fspath(path)!r} by an "
+                      "interrupted write", stacklevel=3)
+    return removed
