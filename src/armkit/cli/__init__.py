@@ -69,8 +69,18 @@ class _ArmkitGroup(TyperGroup):
         return super().parse_args(ctx, rest)
 
     def invoke(self, ctx):  # type: ignore[no-untyped-def]
+        import warnings
+
         from ..errors import ArmkitError, WriteInterrupted
 
+        def show(message, category, filename, lineno, file=None, line=None):  # type: ignore[no-untyped-def]
+            from ..locale import current_language
+            from ..locale.library import localize
+            from .common import warn
+
+            warn(localize(str(message), current_language()))   # one line, never a source line or a class name
+
+        warnings.showwarning = show
         try:
             return super().invoke(ctx)
         except ArmkitError as exc:
@@ -103,7 +113,7 @@ class _ArmkitGroup(TyperGroup):
             say(_("error:"), "bold red", f"{what} ({type(exc).__name__}: {exc})")
             raise SystemExit(EXIT_BAD_INPUT) from None
 
-_COMMAND_MODULES = ("core", "ik", "viz", "symbolic", "view", "reach", "warmup")
+_COMMAND_MODULES = ("core", "ik", "viz", "symbolic", "view", "reach", "warmup", "so101")
 
 app = typer.Typer(
     name="armkit",

@@ -142,6 +142,32 @@ def _dh_records(r: Robot) -> None:
     print_records(_("DH table ({convention} DH); * marks the joint variable", convention=_(r.convention)), records)
 
 
+# the phrases of a chain's geometric class line (armkit.ik.geometric.classify.TEXTS), for the catalogue
+_CLASS_TEXTS = (N_("axes {axes} meet"), N_("axes {axes} meet in a point"), N_("spherical wrist"),
+                N_("spherical shoulder"), N_("axes {a} and {b} always meet"), N_("axes {axes}"),
+                N_("no axes meet or are parallel"), N_("closed form"), N_("1-D search"), N_("2-D search"),
+                N_("up to {n} solutions"), N_("no closed form, numeric IK"),
+                N_("degenerate (the axes cannot move the tool in every direction), numeric IK only"),
+                N_("locking joint {k} leaves a closed form ({cls!r}): sweep joint {k}, up to {n} solutions per value"),
+                N_("relations snapped by up to {dev}: polish the solutions"))
+
+
+def _chain_class(r: Robot):
+    """Which axes of ``r`` meet or are parallel, and the closed-form class that follows (see ik/geometric)."""
+    from ..ik.geometric.classify import classify
+
+    return classify(r)
+
+
+def _class_line(r: Robot) -> str:
+    """One line: the class's machine name and which axes meet or are parallel, in the current language."""
+    from ..ik.geometric.classify import describe
+
+    cls = _chain_class(r)
+    return _("geometric class {name!r}: {line}", name=cls.name,
+             line=esc(describe(cls, lambda text, **fields: _(text, **fields))))
+
+
 def info(robot: str = typer.Argument(..., help=ROBOT_HELP),
          json_out: bool = typer.Option(False, "--json", help="Print JSON instead of tables."),
          dh: bool = typer.Option(False, "--dh", help="Show the equivalent DH table of a URDF arm "
@@ -167,10 +193,15 @@ def info(robot: str = typer.Argument(..., help=ROBOT_HELP),
             else:
                 row.update(origin=j.origin_matrix(), axis=j.axis_vector())
             joints.append(row)
+        cls = _chain_class(r)
         print_json({"name": shown.name, "description": shown.description, "source": shown.source,
                     "convention": shown.convention, "unit": shown.unit, "joints": joints, "base": shown.base,
                     "tool": shown.tool, "links": [lk.name for lk in r.links],
-                    "ignored_joints": list(r.ignored_joints)})
+                    "ignored_joints": list(r.ignored_joints),
+                    "class": {"name": cls.name, "solver": cls.solver,
+                              "intersecting": [list(g) for g in cls.intersecting],
+                              "parallel": [list(g) for g in cls.parallel], "max_solutions": cls.max_solutions,
+                              "near": cls.near, "locked": cls.locked}})
         return
     console.print(f"[bold]{esc(r.name)}[/]: {esc(r.description)}")
     if shown.is_dh:
@@ -188,6 +219,7 @@ def info(robot: str = typer.Argument(..., help=ROBOT_HELP),
             print_table(table)
         else:
             _urdf_joints_records(shown)
+    console.print(_class_line(r))
     for which in ("base", "tool"):
         T = getattr(shown, which)
         if not np.allclose(T, np.eye(4)):

@@ -59,15 +59,30 @@ __all__ = ["Shell", "ShellOutput", "parse_numbers", "ParseError"]   # ParseError
 
 _NUMBER = r"[+-]?(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][+-]?\d+)?"
 _NUMBER_RE = re.compile(rf"^{_NUMBER}$")
-_ASSIGN_RE = re.compile(r"^([A-Za-z_][A-Za-z_0-9\-]*)\s*=\s*(\S.*?)\s*(deg|degrees?|°|rad|radians?|mm|cm|m)?$",
+# ``name = value [unit]``. The value is a greedy ``.*`` and its unit is split off in Python (_split_unit): the
+# earlier lazy ``(\S.*?)\s*(unit)?$`` backtracked quadratically on ``theta1 = 1`` + 99,000 spaces + ``x``.
+_ASSIGN_RE = re.compile(r"^([A-Za-z_][A-Za-z_0-9\-]*)\s*=\s*(\S.*)$",
                         re.IGNORECASE | re.DOTALL)   # the value: a number or simple arithmetic (armkit._arith)
+_UNITS = ("radians", "degrees", "radian", "degree", "deg", "rad", "mm", "cm", "°", "m")   # longest first
 _INDEXED_RE = re.compile(r"^(?:theta|q|j|joint)(\d+)$", re.IGNORECASE)
 _WORD_RE = re.compile(r"^([A-Za-z?]+)(?:\s+(.*))?$", re.DOTALL)
 _BRACKET_RE = re.compile(r"^[\[(](.*)[\])]$", re.DOTALL)
 _SPLIT_RE = re.compile(r"[\s,]+")
 EXIT_WORDS = ("exit", "quit", "bye", ":q")
 MAX_PICTURES = 500        # pictures one session writes before it stops drawing (a note says so)
-MAX_LINE = 100_000        # characters of one input line; a longer line is refused unread
+MAX_LINE = 10_000         # characters of one input line; a longer line is refused unread (issue 24)
+
+
+def _split_unit(value: str) -> tuple[str, Optional[str]]:
+    """``"30 deg"`` -> ``("30", "deg")``: the longest unit word that ends ``value`` and leaves a value before it
+    (case-insensitive), else ``(value, None)``. Linear in ``len(value)``."""
+    value = value.rstrip()
+    for unit in _UNITS:
+        if len(value) > len(unit) and value[-len(unit):].lower() == unit:
+            rest = value[:-len(unit)].rstrip()
+            if rest:
+                return rest, value[-len(unit):]
+    return value, None
 
 
 @dataclass(frozen=True)
@@ -276,8 +291,9 @@ class Shell:
         m = _ASSIGN_RE.match(s)
         if m:
             k = self._joint_index(m.group(1))
-            value = parse_numbers([m.group(2)], self.lang)[0]
-            return "set", (k, self._angle_in(value, m.group(3), k))
+            text, unit = _split_unit(m.group(2))
+            value = parse_numbers([text], self.lang)[0]
+            return "set", (k, self._angle_in(value, unit, k))
         if "=" in s and not s.lower().startswith("q"):
             name = s.split("=", 1)[0].strip()
             if re.match(r"^[A-Za-z_][A-Za-z_0-9\-]*$", name):
