@@ -1,0 +1,681 @@
+"""The SO-101 as LeRobot drives it: calibration files, servo readings, and a drop-in ``RobotKinematics``.
+
+Importing this module needs NumPy only (no LeRobot, no placo); the kinematics class loads
+armkit's model and solvers when it is built. See docs/so101.md, "Calibration and LeRobot".
+
+Servo readings and joint angles
+===============================
+LeRobot's ``lerobot-calibrate`` writes one JSON object per robot, keyed by motor name, each
+motor with ``id``, ``drive_mode``, ``homing_offset``, ``range_min`` and ``range_max``
+(LeRobot's ``MotorCalibration``, ``src/lerobot/motors/motors_bus.py``). For the SO-101 follower
+and leader the motors are ``shoulder_pan``, ``shoulder_lift``, ``elbow_flex``, ``wrist_flex``,
+``wrist_roll`` (LeRobot's "body", normalised in ``degrees`` by default or ``range_m100_100``
+with ``use_degrees=False``) and ``gripper`` (always ``range_0_100``).
+
+A *tick* is the STS3215's ``Present_Position``: 0..4095 for one turn. The servo applies the
+homing offset itself (``Present_Position = Actual_Position - Homing_Offset``, LeRobot's
+``feetech.py``, ``_get_half_turn_homings``), and calibration writes the offset that puts the
+pose the user holds ("the middle of the range of motion") at tick 2047. So the ticks are
+read *after* the offset, and the offset never enters the formulas below; it is kept for
+reference. With ``a = range_min``, ``b = range_max``, ``mid = (a + b) / 2``, ``R = 4095``
+(the STS3215's resolution 4096, minus one) and LeRobot's ``MotorsBus._normalize`` /
+``_unnormalize``:
+
+==================  ===========================================  =====================================
+mode                tick ``t`` -> value ``v``                    clamped to ``[a, b]``?  drive_mode
+==================  ===========================================  =====================================
+``degrees``         ``v = (t - mid) * 360 / R``                  no                      not applied
+``range_m100_100``  ``v = (t_c - a) / (b - a) * 200 - 100``      yes (``t_c``)           ``v -> -v``
+``range_0_100``     ``v = (t_c - a) / (b - a) * 100``            yes (``t_c``)           ``v -> 100 - v``
+==================  ===========================================  =====================================
+
+The inverse (a value to ticks) clamps the range modes' values to ``[-100, 100]`` /
+``[0, 100]`` (as ``_unnormalize`` does) and not the degrees. LeRobot truncates the tick it
+writes with ``int()``; :meth:`Calibration.from_q` rounds to the nearest tick instead, so that
+ticks -> q -> ticks is exact (``int()`` turns 2047.9999999 into 2047).
+
+Joint angles: LeRobot feeds its ``degrees`` values unchanged, as URDF joint angles in degrees,
+to its ``RobotKinematics`` with ``so101_new_calib.urdf`` (``robot_kinematic_processor.py``;
+its examples load that file), the URDF whose zero is each joint's calibrated middle. armkit
+bundles that same file (``armkit.load("so101")``, TheRobotStudio/SO-ARM100 commit fda892c).
+So, for every arm joint ``j``::
+
+    q_j [rad] = sign_j * radians(v_j) + radians(offset_j)     v_j: LeRobot's degrees value
+
+with ``sign_j = +1`` and ``offset_j = 0`` by default (LeRobot's own assumption); give
+``signs=`` / ``offsets_deg=`` to :meth:`Calibration.load` when your arm's zero or direction
+differs (e.g. an arm calibrated in another pose). A value in a range mode is first turned
+back into ticks (undoing ``drive_mode``), so a pose gives the same ``q`` in every mode.
+
+The older URDF (``so101_old_calib.urdf``, zero = arm stretched out horizontally; not bundled)
+differs by (armkit's fit of the two files, 5e-6 m): ``q_new = q_old + (0, +90, -90, 0, +2.789) deg``
+(:data:`OLD_TO_NEW_OFFSET_DEG`), with its base frame turned by +90 deg about z.
+
+Readings are checked: a tick outside 0..4095 (or a value that maps outside it) raises
+:class:`~armkit.errors.ArgumentError`; one outside the calibrated range is mapped as LeRobot
+maps it (degrees and q unclamped, range modes clamped to the range's end) with one
+:class:`CalibrationRangeWarning` per call naming every motor concerned.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import warnings
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Mapping
+
+import numpy as np
+
+from .errors import ArgumentError, UnreachableError
+
+__all__ = ["Calibration", "MotorCalibration", "RobotKinematics", "CalibrationRangeWarning", "ARM_MOTORS",
+           "GRIPPER", "MODES", "MAX_TICK", "OLD_TO_NEW_OFFSET_DEG", "old_calib_to_new", "new_calib_to_old"]
+
+ARM_MOTORS = ("shoulder_pan", "shoulder_lift", "elbow_flex", "wrist_flex", "wrist_roll")
+"""The SO-101's arm motors, which are the bundled URDF's chain joints, in chain order."""
+GRIPPER = "gripper"
+MODES = ("ticks", "degrees", "range_m100_100", "range_0_100")
+"""Raw ``Present_Position`` ticks, then LeRobot's ``MotorNormMode`` values in lower case."""
+MAX_TICK = 4095
+"""The STS3215's largest position (resolution 4096); LeRobot's ``max_res``."""
+MAX_FILE_BYTES = 1024 ** 2
+
+OLD_TO_NEW_OFFSET_DEG = (0.0, 90.0, -90.0, 0.0, math.degrees(0.0486795))
+"""``q_new_calib - q_old_calib`` in degrees for (pan, lift, elbow, wrist_flex, wrist_roll); the roll's
+2.789 deg is the ``rpy`` pitch (0.0486795 rad) that ``so101_new_calib.urdf`` adds to the wrist_roll joint."""
+
+
+class CalibrationRangeWarning(UserWarning):
+    """A reading (or joint angle) outside a motor's calibrated range ``[range_min, range_max]``."""
+
+
+def old_calib_to_new(q_old: Any) -> np.ndarray:
+    """Joint angles (rad, ``(..., 5)``) of ``so101_old_calib.urdf`` as angles of the bundled ``so101_new_calib``."""
+    q = np.asarray(q_old, dtype=float)
+    return q + np.radians(OLD_TO_NEW_OFFSET_DEG)
+
+
+def new_calib_to_old(q_new: Any) -> np.ndarray:
+    """The inverse of :func:`old_calib_to_new`."""
+    q = np.asarray(q_new, dtype=float)
+    return q - np.radians(OLD_TO_NEW_OFFSET_DEG)
+
+
+@dataclass(frozen=True)
+class MotorCalibration:
+    """One motor of a LeRobot calibration file (the same fields as LeRobot's ``MotorCalibration``)."""
+
+    id: int
+    drive_mode: int
+    homing_offset: int
+    range_min: int
+    range_max: int
+
+    @property
+    def mid(self) -> float:
+        """The middle of the calibrated range, LeRobot's zero of the degrees mode (ticks)."""
+        return (self.range_min + self.range_max) / 2
+
+    @property
+    def span(self) -> int:
+        return self.range_max - self.range_min
+
+
+_FIELDS = ("id", "drive_mode", "homing_offset", "range_min", "range_max")
+
+
+def _bad(source: str, message: str) -> ArgumentError:
+    return ArgumentError(f"calibration file {source}: {message}")
+
+
+def _motor(source: str, name: str, entry: Any) -> MotorCalibration:
+    if not isinstance(entry, dict):
+        raise _bad(source, f"motor {name!r} must be an object with the fields {', '.join(_FIELDS)}; "
+                           f"got {type(entry).__name__}")
+    values = {}
+    for key in _FIELDS:
+        if key not in entry:
+            raise _bad(source, f"motor {name!r}: missing field {key!r} (a LeRobot calibration has "
+                               f"{', '.join(_FIELDS)})")
+        v = entry[key]
+        if isinstance(v, bool) or not isinstance(v, int):
+            raise _bad(source, f"motor {name!r}: field {key!r} must be an integer, got {v!r}"[:300])
+        values[key] = v
+    extra = sorted(set(entry) - set(_FIELDS))
+    if extra:
+        raise _bad(source, f"motor {name!r}: unknown field {extra[0]!r} (the fields are {', '.join(_FIELDS)})")
+    if values["drive_mode"] not in (0, 1):
+        raise _bad(source, f"motor {name!r}: field 'drive_mode' must be 0 or 1, got {values['drive_mode']}")
+    for key in ("range_min", "range_max"):
+        if not 0 <= values[key] <= MAX_TICK:
+            raise _bad(source, f"motor {name!r}: field {key!r} must be a tick in 0..{MAX_TICK}, got {values[key]}")
+    if values["range_min"] >= values["range_max"]:
+        raise _bad(source, f"motor {name!r}: range_min ({values['range_min']}) must be less than range_max "
+                           f"({values['range_max']})")
+    return MotorCalibration(**values)
+
+
+def _mode(mode: Any, what: str = "mode") -> str:
+    if not isinstance(mode, str) or mode.lower() not in MODES:
+        raise ArgumentError(f"{what} must be one of {', '.join(MODES)}; got {mode!r}"[:300])
+    return mode.lower()
+
+
+def _finite(values: Any, what: str) -> np.ndarray:
+    if isinstance(values, (str, bytes)):
+        raise ArgumentError(f"{what} must be numbers, got the string {values!r}"[:200])
+    try:
+        a = np.asarray(values, dtype=float)
+    except (TypeError, ValueError, OverflowError) as exc:
+        raise ArgumentError(f"{what} must be numbers, got {values!r} ({exc})"[:300]) from None
+    if not np.all(np.isfinite(a)):
+        raise ArgumentError(f"{what} holds NaN or infinite values")
+    return a
+
+
+def _fmt(x: np.ndarray) -> str:
+    flat = np.ravel(x)
+    shown = ", ".join(f"{v:g}" for v in flat[:3])
+    return shown + (f" (and {flat.size - 3} more)" if flat.size > 3 else "")
+
+
+class Calibration:
+    """A LeRobot calibration of an SO-101 (follower or leader): servo readings <-> the bundled URDF's angles.
+
+    Parameters
+    ----------
+    motors : mapping of str to MotorCalibration
+        In the file's order; the five arm motors are required, ``gripper`` is optional.
+    source : str
+        Where it came from (the file), for messages.
+    signs, offsets_deg : mapping of str to float, optional
+        Per arm motor: ``q = sign * radians(degrees value) + radians(offset)``; default +1 and 0
+        (LeRobot's own mapping onto ``so101_new_calib.urdf``).
+
+    Examples
+    --------
+    >>> cal = Calibration.load("examples/so101_calibration.json")      # doctest: +SKIP
+    >>> cal.to_q([2048, 2048, 2048, 2048, 2048, 2048], mode="ticks")    # doctest: +SKIP
+    """
+
+    def __init__(self, motors: Mapping[str, MotorCalibration], source: str = "<dict>",
+                 signs: Mapping[str, float] | None = None, offsets_deg: Mapping[str, float] | None = None):
+        self.source = str(source)
+        self.motors: dict[str, MotorCalibration] = dict(motors)
+        missing = [m for m in ARM_MOTORS if m not in self.motors]
+        if missing:
+            raise _bad(self.source, f"no motor {missing[0]!r}; an SO-101 calibration has the motors "
+                                    f"{', '.join(ARM_MOTORS + (GRIPPER,))}")
+        unknown = [m for m in self.motors if m not in ARM_MOTORS + (GRIPPER,)]
+        if unknown:
+            raise _bad(self.source, f"unknown motor {unknown[0]!r}; an SO-101 calibration has the motors "
+                                    f"{', '.join(ARM_MOTORS + (GRIPPER,))}")
+        ids = [c.id for c in self.motors.values()]
+        if len(set(ids)) != len(ids):
+            dup = next(i for i in ids if ids.count(i) > 1)
+            raise _bad(self.source, f"two motors have the id {dup}")
+        self.motor_names: tuple[str, ...] = tuple(self.motors)
+        self.arm_order: tuple[str, ...] = tuple(m for m in self.motor_names if m != GRIPPER)
+        self.signs = self._per_joint(signs, "signs", 1.0)
+        self.offsets_deg = self._per_joint(offsets_deg, "offsets_deg", 0.0)
+        if any(s not in (1.0, -1.0) for s in self.signs):
+            raise ArgumentError(f"signs must be +1 or -1 per joint, got {dict(zip(ARM_MOTORS, self.signs))}")
+
+    @staticmethod
+    def _per_joint(given: Mapping[str, float] | None, what: str, default: float) -> tuple[float, ...]:
+        if given is None:
+            return (default,) * len(ARM_MOTORS)
+        if not isinstance(given, Mapping):
+            raise ArgumentError(f"{what} must be a dict {{motor name: value}}, got {given!r}"[:200])
+        bad = [k for k in given if k not in ARM_MOTORS]
+        if bad:
+            raise ArgumentError(f"{what}: unknown arm motor {bad[0]!r}; the arm motors are {', '.join(ARM_MOTORS)}")
+        out = tuple(float(_finite(given.get(m, default), f"{what}[{m!r}]")) for m in ARM_MOTORS)
+        return out
+
+    # ------------------------------------------------------------------ reading
+    @classmethod
+    def load(cls, path: str | Path, *, signs: Mapping[str, float] | None = None,
+             offsets_deg: Mapping[str, float] | None = None) -> "Calibration":
+        """Read a calibration JSON written by ``lerobot-calibrate``
+        (``~/.cache/huggingface/lerobot/calibration/robots/so101_follower/<id>.json``).
+
+        Raises :class:`~armkit.errors.ArgumentError` naming the file, the motor and the field.
+        """
+        source = str(path)
+        p = Path(path)
+        try:
+            if not p.is_file():
+                raise _bad(source, "not found" if not p.exists() else "not a file")
+            size = p.stat().st_size
+            if size > MAX_FILE_BYTES:
+                raise _bad(source, f"{size:,} bytes; a calibration file has a few hundred")
+            text = p.read_text(encoding="utf-8")
+        except OSError as exc:
+            raise _bad(source, f"cannot read it ({exc.strerror or exc})") from None
+        except UnicodeDecodeError:
+            raise _bad(source, "not UTF-8 text (a calibration file is JSON)") from None
+        try:
+            data = json.loads(text)
+        except json.JSONDecodeError as exc:
+            raise _bad(source, f"not valid JSON (line {exc.lineno}, column {exc.colno}: {exc.msg})") from None
+        except RecursionError:
+            raise _bad(source, "nested too deeply to be a calibration file") from None
+        return cls.from_dict(data, source, signs=signs, offsets_deg=offsets_deg)
+
+    @classmethod
+    def from_dict(cls, data: Any, source: str = "<dict>", *, signs: Mapping[str, float] | None = None,
+                  offsets_deg: Mapping[str, float] | None = None) -> "Calibration":
+        """A calibration from the parsed JSON: ``{motor name: {"id": .., "drive_mode": .., ...}}``."""
+        if not isinstance(data, dict):
+            raise _bad(source, f"must be a JSON object {{motor name: {{...}}}}, got {type(data).__name__}")
+        motors = {str(name): _motor(source, str(name), entry) for name, entry in data.items()}
+        return cls(motors, source, signs=signs, offsets_deg=offsets_deg)
+
+    def to_dict(self) -> dict[str, dict[str, int]]:
+        """The JSON object LeRobot reads (``json.dump(cal.to_dict(), f, indent=4)`` writes the file back)."""
+        return {m: {k: getattr(c, k) for k in _FIELDS} for m, c in self.motors.items()}
+
+    def __repr__(self) -> str:
+        return f"Calibration({self.source!r}, motors={list(self.motor_names)})"
+
+    # ------------------------------------------------------------------ per-motor formulas (LeRobot's)
+    def normalize(self, motor: str, ticks: Any, mode: str) -> np.ndarray:
+        """LeRobot's ``MotorsBus._normalize`` of one motor: ticks -> ``mode`` value (no checks, no warning)."""
+        c = self.motors[motor]
+        t = np.asarray(ticks, dtype=float)
+        mode = _mode(mode)
+        if mode == "ticks":
+            return t
+        if mode == "degrees":                          # unclamped, drive_mode not applied
+            return (t - c.mid) * 360.0 / MAX_TICK
+        tc = np.clip(t, c.range_min, c.range_max)
+        if mode == "range_m100_100":
+            v = (tc - c.range_min) / c.span * 200.0 - 100.0
+            return -v if c.drive_mode else v
+        v = (tc - c.range_min) / c.span * 100.0
+        return 100.0 - v if c.drive_mode else v
+
+    def unnormalize(self, motor: str, values: Any, mode: str) -> np.ndarray:
+        """LeRobot's ``MotorsBus._unnormalize`` of one motor: ``mode`` value -> ticks, as real numbers (LeRobot
+        then truncates with ``int()``)."""
+        c = self.motors[motor]
+        v = np.asarray(values, dtype=float)
+        mode = _mode(mode)
+        if mode == "ticks":
+            return v
+        if mode == "degrees":
+            return v * MAX_TICK / 360.0 + c.mid
+        if mode == "range_m100_100":
+            v = np.clip(-v if c.drive_mode else v, -100.0, 100.0)
+            return (v + 100.0) / 200.0 * c.span + c.range_min
+        v = np.clip(100.0 - v if c.drive_mode else v, 0.0, 100.0)
+        return v / 100.0 * c.span + c.range_min
+
+    # ------------------------------------------------------------------ readings -> q
+    def _modes(self, mode: Any, gripper_mode: Any) -> tuple[str, str]:
+        m = _mode(mode)
+        g = (m if m == "ticks" else "range_0_100") if gripper_mode is None else _mode(gripper_mode, "gripper_mode")
+        return m, g
+
+    def _columns(self, values: Any) -> dict[str, np.ndarray]:
+        """``values`` (dict or array in the file's motor order) as {motor: array of the leading shape}."""
+        if isinstance(values, Mapping):
+            cols: dict[str, np.ndarray] = {}
+            for key, v in values.items():
+                name = key[:-4] if isinstance(key, str) and key.endswith(".pos") else key
+                if name not in self.motors:
+                    raise ArgumentError(f"unknown motor {key!r}; the motors of {self.source} are "
+                                        f"{', '.join(self.motor_names)}"[:300])
+                cols[name] = _finite(v, f"the value of {name!r}")
+            missing = [m for m in ARM_MOTORS if m not in cols]
+            if missing:
+                raise ArgumentError(f"no value for the motor {missing[0]!r}; give every arm motor: "
+                                    f"{', '.join(ARM_MOTORS)}")
+            try:
+                shape = np.broadcast_shapes(*(c.shape for c in cols.values()))
+            except ValueError:
+                raise ArgumentError("the motors' values have shapes that do not broadcast together: "
+                                    + ", ".join(f"{k} {c.shape}" for k, c in cols.items())) from None
+            return {k: np.broadcast_to(c, shape) for k, c in cols.items()}
+        a = _finite(values, "values")
+        n_all, n_arm = len(self.motor_names), len(self.arm_order)
+        if a.ndim == 0 or a.shape[-1] not in (n_all, n_arm):
+            got = "a scalar" if a.ndim == 0 else f"shape {a.shape}"
+            raise ArgumentError(f"values must be a dict {{motor name: value}} or an array (..., {n_all}) in the "
+                                f"file's motor order ({', '.join(self.motor_names)})"
+                                + (f" or (..., {n_arm}) without the gripper" if n_arm != n_all else "")
+                                + f"; got {got}")
+        names = self.motor_names if a.shape[-1] == n_all else self.arm_order
+        return {m: a[..., i] for i, m in enumerate(names)}
+
+    def _check_ticks(self, ticks: Mapping[str, np.ndarray], modes: Mapping[str, str], given: str) -> None:
+        """ArgumentError for a tick outside 0..4095 (a reading given in ticks: exactly; a tick derived from
+        another unit: after rounding to the nearest tick)."""
+        for m, t in ticks.items():
+            raw = modes[m] == "ticks" and given == "reading"
+            slack = 0.0 if raw else 0.5
+            bad = (t < -slack) | (t > MAX_TICK + slack)
+            if not np.any(bad):
+                continue
+            if raw:
+                raise ArgumentError(
+                    f"{m}: reading {_fmt(t[bad])} is outside 0..{MAX_TICK}, the STS3215's positions (a value "
+                    f"above 32767 is a negative reading in sign-magnitude; LeRobot configures the servos so "
+                    f"that they read 0..{MAX_TICK})")
+            what = "the joint angle" if given == "q" else f"the {modes[m]} value"
+            raise ArgumentError(f"{m}: {what} would be tick {_fmt(np.rint(t[bad]))}, outside 0..{MAX_TICK} "
+                                f"(the STS3215's positions)")
+
+    def _range_notes(self, ticks: Mapping[str, np.ndarray], modes: Mapping[str, str],
+                     values: Mapping[str, np.ndarray] | None = None) -> list[str]:
+        """One note per motor whose tick lies outside its calibrated range (or, given ``values`` in a range
+        mode, whose value lies outside -100..100 / 0..100)."""
+        notes = []
+        for m, t in ticks.items():
+            c, mode = self.motors[m], modes[m]
+            if values is not None and mode.startswith("range"):
+                v = values[m]
+                lo = -100.0 if mode == "range_m100_100" else 0.0
+                out = (v < lo) | (v > 100.0)
+                if np.any(out):
+                    notes.append(f"{m} value {_fmt(v[out])} (mode {mode} covers {lo:g}..100; clamped to the end, "
+                                 f"as LeRobot's _unnormalize does)")
+                continue
+            out = (t < c.range_min - 1e-9) | (t > c.range_max + 1e-9)
+            if np.any(out):
+                far = np.max(np.maximum(c.range_min - t[out], t[out] - c.range_max))
+                hint = "; far outside: did the reading wrap at 4096, or is the calibration stale?" if far > 512 else ""
+                how = ("clamped to the range's end, as LeRobot's range modes do" if mode.startswith("range") else
+                       "mapped without clamping, as LeRobot's degrees mode does")
+                notes.append(f"{m} at tick {_fmt(np.rint(t[out]))} (calibrated {c.range_min}..{c.range_max}; "
+                             f"{how}{hint})")
+        return notes
+
+    def _warn(self, notes: list[str], level: int) -> None:
+        if notes:
+            warnings.warn(f"outside the calibrated range of {self.source}: " + "; ".join(notes),
+                          CalibrationRangeWarning, stacklevel=level + 1)
+
+    def _to_ticks(self, values: Any, mode: str, gripper_mode: str | None) -> tuple[dict[str, np.ndarray], list[str]]:
+        m, g = self._modes(mode, gripper_mode)
+        cols = self._columns(values)
+        modes = {name: (g if name == GRIPPER else m) for name in cols}
+        ticks = {name: self.unnormalize(name, v, modes[name]) for name, v in cols.items()}
+        self._check_ticks(ticks, modes, "reading")
+        return ticks, self._range_notes(ticks, modes, cols)
+
+    def to_ticks(self, values: Any, mode: str, *, gripper_mode: str | None = None) -> dict[str, np.ndarray]:
+        """Readings in ``mode`` as ticks (real numbers) per motor, checked and warned about as in :meth:`to_q`."""
+        ticks, notes = self._to_ticks(values, mode, gripper_mode)
+        self._warn(notes, 2)
+        return ticks
+
+    def to_q(self, values: Any, mode: str, *, gripper_mode: str | None = None,
+             with_gripper: bool = False) -> np.ndarray:
+        """Servo readings -> the bundled URDF's arm joint angles ``q`` (rad).
+
+        Parameters
+        ----------
+        values : dict or array_like
+            ``{motor name: value}`` (LeRobot's ``"shoulder_pan.pos"`` keys work too; values may be
+            arrays of one shape) or an array ``(..., n_motors)`` in the file's motor order
+            (``(..., 5)`` without the gripper also works).
+        mode : {"ticks", "degrees", "range_m100_100", "range_0_100"}
+            The unit of the arm motors' values.
+        gripper_mode : str, optional
+            The gripper's unit; default ``"ticks"`` with ``mode="ticks"``, else ``"range_0_100"`` (LeRobot's).
+        with_gripper : bool
+            Append the jaw angle (rad, the URDF's ``gripper`` joint, by the degrees formula) as a 6th value.
+
+        Returns
+        -------
+        ndarray, shape (..., 5) (or (..., 6) with the jaw)
+            ``(shoulder_pan, shoulder_lift, elbow_flex, wrist_flex, wrist_roll)``.
+
+        Raises ArgumentError for a reading outside 0..4095 (or a value that maps outside it); warns once
+        (:class:`CalibrationRangeWarning`) about every motor outside its calibrated range.
+        """
+        ticks, notes = self._to_ticks(values, mode, gripper_mode)
+        if with_gripper and GRIPPER not in ticks:
+            raise ArgumentError("with_gripper=True needs a gripper value"
+                                + ("" if GRIPPER in self.motors else f", and {self.source} has no gripper motor"))
+        self._warn(notes, 2)
+        q = [self.signs[i] * np.radians(self.normalize(m, ticks[m], "degrees")) + math.radians(self.offsets_deg[i])
+             for i, m in enumerate(ARM_MOTORS)]
+        if with_gripper:
+            q.append(np.radians(self.normalize(GRIPPER, ticks[GRIPPER], "degrees")))
+        return np.stack(q, axis=-1)
+
+    # ------------------------------------------------------------------ q -> readings
+    def from_q(self, q: Any, mode: str, *, gripper_mode: str | None = None,
+               gripper: Any = None) -> dict[str, Any]:
+        """The bundled URDF's joint angles (rad) -> the motors' values in ``mode``: the inverse of :meth:`to_q`.
+
+        ``q`` is ``(..., 5)``, or ``(..., 6)`` with the jaw angle (rad) last; ``gripper=`` gives the
+        gripper's value directly in ``gripper_mode`` instead (default as in :meth:`to_q`). Returns
+        ``{motor name: value}`` in the file's motor order: floats (ints for ticks, rounded to the nearest
+        tick), arrays of the leading shape for a batch. A joint angle whose tick lies outside 0..4095
+        raises ArgumentError; outside the calibrated range it is warned about once, and clamped in the
+        range modes as LeRobot's ``_normalize`` does.
+        """
+        m, g = self._modes(mode, gripper_mode)
+        qa = _finite(q, "q")
+        if qa.ndim == 0 or qa.shape[-1] not in (5, 6):
+            raise ArgumentError(f"q must have 5 joint angles (rad, {', '.join(ARM_MOTORS)}) or 6 with the jaw "
+                                f"last; got {'a scalar' if qa.ndim == 0 else f'shape {qa.shape}'}")
+        jaw = qa.shape[-1] == 6
+        if jaw and gripper is not None:
+            raise ArgumentError("give the jaw angle as q's 6th value or gripper=, not both")
+        if (jaw or gripper is not None) and GRIPPER not in self.motors:
+            raise ArgumentError(f"{self.source} has no gripper motor")
+        ticks = {name: self.unnormalize(name, (np.degrees(qa[..., i]) - self.offsets_deg[i]) * self.signs[i],
+                                        "degrees") for i, name in enumerate(ARM_MOTORS)}
+        modes = {name: m for name in ARM_MOTORS}
+        notes: list[str] = []
+        if jaw:
+            ticks[GRIPPER] = self.unnormalize(GRIPPER, np.degrees(qa[..., 5]), "degrees")
+            modes[GRIPPER] = g
+        self._check_ticks(ticks, modes, "q")
+        if gripper is not None:
+            gv = _finite(gripper, "gripper")
+            gm = {GRIPPER: g}
+            ticks[GRIPPER] = self.unnormalize(GRIPPER, gv, g)
+            modes[GRIPPER] = g
+            self._check_ticks({GRIPPER: ticks[GRIPPER]}, gm, "reading")
+            notes = self._range_notes({GRIPPER: ticks[GRIPPER]}, gm, {GRIPPER: gv})
+        arm = {k: t for k, t in ticks.items() if k != GRIPPER or gripper is None}
+        self._warn(self._range_notes(arm, modes) + notes, 2)
+        out: dict[str, Any] = {}
+        for name in self.motor_names:
+            if name not in ticks:
+                continue
+            mm = modes[name]
+            if name == GRIPPER and gripper is not None and mm != "ticks":   # given in its own unit: as given
+                v = np.clip(gv, -100.0 if mm == "range_m100_100" else 0.0, 100.0) if mm != "degrees" else gv
+            elif mm == "ticks":
+                v = np.rint(ticks[name]).astype(np.int64)
+            else:
+                v = self.normalize(name, ticks[name], mm)
+            out[name] = v.item() if np.ndim(v) == 0 else v
+        return out
+
+
+# ====================================================================== the drop-in kinematics class
+class RobotKinematics:
+    """LeRobot's ``lerobot.model.kinematics.RobotKinematics`` (same constructor, methods and units), solved by
+    armkit, and honest about failure.
+
+    Swap ``from lerobot.model.kinematics import RobotKinematics`` for
+    ``from armkit.lerobot import RobotKinematics``; nothing else changes (docs/so101.md).
+
+    Parameters
+    ----------
+    urdf_path : str
+        A URDF file (LeRobot's examples use ``so101_new_calib.urdf``) or a bundled armkit robot
+        name (``"so101"``).
+    target_frame_name : str
+        The end-effector link: the chain runs from the URDF's root to it.
+    joint_names : list of str, optional
+        The order of the joint values in and out (LeRobot passes its motor names, ``gripper``
+        included). Joints off the chain (the jaw) are carried through unchanged. Default: the
+        chain's joints, then the URDF's other moving joints.
+    strict : bool, keyword only
+        Raise :class:`~armkit.errors.UnreachableError` when IK cannot put the end-effector at the
+        desired position (default False: return the closest configuration, as LeRobot does).
+
+    Attributes
+    ----------
+    robot : armkit.Robot
+    last_result : armkit.IKResult or None
+        The last ``inverse_kinematics`` call's result (success, reason, errors, message).
+    last_stage : str or None
+        What the returned joints meet: ``"pose"`` (the whole 4x4 pose), ``"direction"`` (the position
+        and the gripper's approach axis, the rotation about it free), ``"pitch"`` (the position and
+        the approach axis turned into the arm's vertical plane), ``"position"``, or ``"failed"``.
+    last_pose_error : tuple of float or None
+        ``(position error in m, rotation error in rad)`` of the returned joints against the whole
+        desired pose, measured by FK.
+
+    Notes
+    -----
+    With ``orientation_weight == 0`` IK solves the position only. Otherwise, on a 5-joint arm (which
+    cannot take an arbitrary orientation) it tries, from ``current_joint_pos``: the whole pose (LM with
+    restarts); the position with the desired approach direction (the target's z axis; LM from the
+    current joints only, no restarts, to stay fast when it cannot be met); the position with that
+    direction's pitch (closed form, the roll kept; arms of the SO-101's shape); the position alone.
+    The first that succeeds is returned. The weights only decide whether orientation counts: the position is always
+    met exactly when it can be (LeRobot's placo solver takes one weighted step and reports nothing).
+    """
+
+    def __init__(self, urdf_path: str, target_frame_name: str = "gripper_frame_link",
+                 joint_names: list[str] | None = None, *, strict: bool = False):
+        from .model import load
+
+        if not isinstance(target_frame_name, str):
+            raise ArgumentError(f"target_frame_name must be a link name, got {target_frame_name!r}"[:200])
+        self.urdf_path = str(urdf_path)
+        self.target_frame_name = target_frame_name
+        self.strict = bool(strict)
+        with warnings.catch_warnings():   # a URDF copied without its meshes: kinematics need none
+            warnings.filterwarnings("ignore", message=r".*mesh file\(s\) not found")
+            self.robot = load(urdf_path, tip=target_frame_name)
+        chain = tuple(self.robot.joint_names)
+        known = chain + tuple(self.robot.ignored_joints)
+        if joint_names is None:
+            names = list(known)
+        else:
+            if isinstance(joint_names, str):
+                raise ArgumentError(f"joint_names must be a list of joint names, got the string {joint_names!r}")
+            names = [str(n) for n in joint_names]
+            unknown = [n for n in names if n not in known]
+            if unknown:
+                raise ArgumentError(f"joint_names: no moving joint {unknown[0]!r} in {self.urdf_path}; its joints "
+                                    f"are {', '.join(known)}")
+            missing = [n for n in chain if n not in names]
+            if missing:
+                raise ArgumentError(f"joint_names lacks {missing[0]!r}, a joint of the chain to "
+                                    f"{target_frame_name!r} ({', '.join(chain)})")
+            if len(set(names)) != len(names):
+                raise ArgumentError(f"joint_names names a joint twice: {names}")
+        self.joint_names = names
+        self._index = np.array([names.index(n) for n in chain])
+        self.last_result: Any = None
+        self.last_stage: str | None = None
+        self.last_pose_error: tuple[float, float] | None = None
+        from .ik import closed_form_family
+
+        self._pitch = closed_form_family(self.robot) == "yaw-pitch3"
+        if self._pitch:
+            from .kinematics import fk
+
+            self._pan_point = fk(self.robot, np.zeros(self.robot.n), link=self.robot.links[1].name)[:3, 3]
+
+    def __repr__(self) -> str:
+        return (f"RobotKinematics({self.urdf_path!r}, target_frame_name={self.target_frame_name!r}, "
+                f"joint_names={self.joint_names!r}, strict={self.strict})")
+
+    def _chain_q(self, joint_pos_deg: Any, what: str) -> np.ndarray:
+        a = _finite(joint_pos_deg, what)
+        if a.ndim == 0 or a.shape[-1] < len(self.joint_names):
+            raise ArgumentError(f"{what} must hold at least {len(self.joint_names)} values (degrees, in the order "
+                                f"{', '.join(self.joint_names)}); got "
+                                + ("a scalar" if a.ndim == 0 else f"shape {a.shape}"))
+        return np.radians(a[..., self._index])
+
+    def forward_kinematics(self, joint_pos_deg: Any) -> np.ndarray:
+        """The 4x4 pose of ``target_frame_name`` in the URDF's root frame (metres) for joint values in degrees.
+
+        Extra values beyond ``joint_names`` are ignored, as LeRobot does; ``(..., k)`` input gives ``(..., 4, 4)``.
+        """
+        from .kinematics import fk
+
+        return np.asarray(fk(self.robot, self._chain_q(joint_pos_deg, "joint_pos_deg")))
+
+    def inverse_kinematics(self, current_joint_pos: Any, desired_ee_pose: Any, position_weight: float = 1.0,
+                           orientation_weight: float = 0.01) -> np.ndarray:
+        """Joint values (degrees) that put ``target_frame_name`` at ``desired_ee_pose`` (4x4, metres).
+
+        ``current_joint_pos`` (degrees, in ``joint_names`` order, extra values kept) is the start; the
+        answer has its length, with joints off the chain (the jaw) unchanged. See the class notes for
+        what is solved, ``last_result`` / ``last_stage`` / ``last_pose_error`` for what was reached.
+        """
+        from .ik import ik
+        from .kinematics import fk
+        from .spatial import check_transform
+
+        cur = _finite(current_joint_pos, "current_joint_pos")
+        if cur.ndim != 1:
+            raise ArgumentError(f"current_joint_pos must be one configuration (a 1-D array), got shape {cur.shape}")
+        q0 = np.clip(self._chain_q(cur, "current_joint_pos"), self.robot.lower, self.robot.upper)
+        T = _finite(desired_ee_pose, "desired_ee_pose")
+        if T.shape != (4, 4):
+            raise ArgumentError(f"desired_ee_pose must be a 4x4 pose, got shape {T.shape}")
+        check_transform(T, what="desired_ee_pose")
+        for w, name in ((position_weight, "position_weight"), (orientation_weight, "orientation_weight")):
+            if isinstance(w, bool) or not isinstance(w, (int, float, np.floating, np.integer)) \
+                    or not math.isfinite(w) or w < 0:
+                raise ArgumentError(f"{name} must be a finite number >= 0, got {w!r}"[:200])
+        p, z = T[:3, 3], T[:3, 2]
+        attempts: list[tuple[str, Any]] = []
+        if orientation_weight > 0:
+            attempts.append(("pose", lambda: ik(self.robot, T, q0, seed=0, check=False)))
+            if self.robot.n < 6:
+                attempts.append(("direction", lambda: ik(self.robot, p, q0, direction=z, restarts=0)))
+                if self._pitch:
+                    pitch = self._pitch_of(p, z)
+                    if pitch is not None:
+                        attempts.append(("pitch", lambda: ik(self.robot, p, q0, pitch=pitch)))
+        attempts.append(("position", lambda: ik(self.robot, p, q0)))
+        res, stage = None, "failed"
+        for name, solve in attempts:
+            res = solve()
+            if bool(res.success):
+                stage = name
+                break
+        assert res is not None
+        self.last_result, self.last_stage = res, stage
+        q = np.asarray(res.q, dtype=float)
+        Tq = fk(self.robot, q)
+        E = Tq[:3, :3].T @ T[:3, :3]                       # the rotation angle, precise near 0 and near pi
+        sin = np.linalg.norm([E[2, 1] - E[1, 2], E[0, 2] - E[2, 0], E[1, 0] - E[0, 1]]) / 2.0
+        angle = math.atan2(float(sin), (float(np.trace(E)) - 1.0) / 2.0)
+        self.last_pose_error = (float(np.linalg.norm(Tq[:3, 3] - p)), angle)
+        if stage == "failed" and self.strict:
+            raise UnreachableError(f"IK found no joint values that put {self.target_frame_name} at "
+                                   f"({p[0]:.4f}, {p[1]:.4f}, {p[2]:.4f}) m: {res.message}")
+        out = cur.copy()
+        out[self._index] = np.degrees(q)
+        return out
+
+    def _pitch_of(self, p: np.ndarray, z: np.ndarray) -> float | None:
+        """The pitch (armkit.ik's ``pitch=``) of direction ``z`` at target ``p``: its angle above the horizontal,
+        on the outward side when ``z`` points away from the pan axis; None straight above the pan axis."""
+        out = (p - self._pan_point)[:2]
+        r = float(np.hypot(*out))
+        if r < 1e-9:
+            return None
+        horizontal = float(z[:2] @ out) / r
+        return math.atan2(float(z[2]), horizontal)
