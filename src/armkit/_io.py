@@ -6,8 +6,9 @@ finishes, the file is flushed to disk and renamed over ``path`` with :func:`os.r
 If anything goes wrong the temporary file is removed and the old ``path`` is untouched:
 an ``OSError`` becomes :class:`~armkit.errors.WriteError` (``cannot write PATH: reason``),
 Ctrl-C becomes :class:`~armkit.errors.WriteInterrupted` (``interrupted; PATH not written``).
-A process killed outright (SIGKILL) leaves at most a hidden ``.NAME.XXXX.tmp.SUFFIX`` file,
-never a partial ``path``.
+A process killed outright (SIGKILL) leaves at most a hidden ``.NAME.PID.XXXX.tmp.SUFFIX`` file,
+never a partial ``path``; the next write of ``path`` removes it, with a warning, once no
+process of that PID is alive (:func:`clean_stale`).
 
 :func:`check_writable` answers early, before a long computation: an existing folder, a
 path under a regular file or under ``/proc``, a read-only file or folder, or a suffix the
@@ -35,7 +36,7 @@ from typing import Iterator, Optional, Sequence
 
 from .errors import WriteError, WriteInterrupted
 
-__all__ = ["atomic_path", "atomic_write", "check_writable"]
+__all__ = ["atomic_path", "atomic_write", "check_writable", "clean_stale"]
 
 
 def _reason(exc: OSError) -> str:
@@ -112,8 +113,9 @@ def atomic_path(path: str | os.PathLike[str], suffixes: Optional[Sequence[str]] 
         Ctrl-C during the write; the temporary file is removed, ``path`` is untouched.
     """
     p = check_writable(path, suffixes, what)
+    clean_stale(p)
     try:
-        fd, name = tempfile.mkstemp(dir=p.parent, prefix=f".{p.stem}.", suffix=f".tmp{p.suffix}")
+        fd, name = tempfile.mkstemp(dir=p.parent, prefix=f".{p.stem}.{os.getpid()}.", suffix=f".tmp{p.suffix}")
         os.close(fd)
     except OSError as exc:
         raise WriteError(p, _reason(exc)) from None
@@ -153,3 +155,45 @@ def _remove(tmp: Path) -> None:
         tmp.unlink()
     except OSError:
         pass
+
+
+def _alive(pid: int) -> bool:
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except OSError:         # it exists but is not ours (EPERM)
+        return True
+    return True
+
+
+def clean_stale(path: str | os.PathLike[str]) -> int:
+    """Remove the temporary files that a killed write of ``path`` left beside it; warn once; return how many.
+
+    Only files named as :func:`atomic_path` names them, ``.STEM.PID.XXXX.tmp.SUFFIX``, whose process
+    is gone, are removed: a write still running in another process keeps its file.
+    """
+    import re
+    import warnings
+
+    p = Path(os.fspath(path))
+    pattern = re.compile(re.escape(f".{p.stem}.") + r"([0-9]{1,10})\.[A-Za-z0-9_]{1,16}" + re.escape(f".tmp{p.suffix}"))
+    removed = 0
+    try:
+        entries = list(os.scandir(p.parent))
+    except OSError:
+        return 0
+    for e in entries:
+        m = pattern.fullmatch(e.name)
+        if m is None or int(m.group(1)) == os.getpid() or _alive(int(m.group(1))):
+            continue
+        try:
+            if e.is_file(follow_symlinks=False):
+                os.unlink(e.path)
+                removed += 1
+        except OSError:
+            pass
+    if removed:
+        warnings.warn(f"removed {removed} unfinished temporary file(s) of {p} left by an interrupted write",
+                      stacklevel=3)
+    return removed

@@ -260,3 +260,58 @@ def test_odd_scheduler_addresses_are_one_line_errors(monkeypatch, tmp_path: Path
     monkeypatch.setattr("armkit.reach._build.CONNECT_TIMEOUT", "1s")
     r = runner.invoke(app, ["reach", "build", "planar2", "-o", str(tmp_path / "m.zarr"), "--scheduler", address])
     assert r.exit_code == 2 and "Traceback" not in r.output and "scheduler" in r.output, r.output
+
+
+# ------------------------------------------------------------------ memory: checked before allocating
+@pytest.mark.parametrize("kw, match", [
+    (dict(robot="panda", orientations=2000, resolution=0.05), "cells would need"),
+    (dict(robot="ur5", rolls=100_000), "cells"),
+    (dict(robot="planar2", samples=10 ** 23), "units of work"),
+])
+def test_huge_maps_are_refused_before_allocating(kw, match: str) -> None:
+    import tracemalloc
+
+    robot = kw.pop("robot")
+    tracemalloc.start()
+    try:
+        with pytest.raises((ReachabilityError, LimitError), match=match):
+            reachability(robot, workers=1, **kw)
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    assert peak < 200 * 1024 ** 2, peak
+
+
+def test_an_ik_block_is_checked_against_the_budget(monkeypatch) -> None:
+    """A map that fits (13^3 voxels x 2,000 orientations: 76 MiB) whose IK block does not (one x-slab of
+    169 voxels x 2,000 orientations of 7-joint solutions: about 95 MiB) under an 85 MiB budget."""
+    from armkit import load
+
+    monkeypatch.setenv("ARMKIT_MEMORY_LIMIT", "85M")
+    with pytest.raises(LimitError, match="an IK block"):
+        reachability("panda", method="ik", orientations=2000, rolls=1, resolution=load("panda").reach / 5,
+                     workers=1)
+
+
+def test_many_orientations_need_no_quadratic_table() -> None:
+    """The neighbouring orientation bins come from a k-d tree: 20,000 directions no longer build a 3.2 GB
+    table of dot products. The neighbours are the nearest ones (checked against the brute force on 500)."""
+    from armkit.reach._grid import Grid
+
+    g = Grid.build(np.eye(4), True, 1.0, 0.5, 500, 1)
+    nb = g.direction_neighbours()
+    dirs = g._tables()[0]
+    brute = np.argsort(-(dirs @ dirs.T), axis=1, kind="stable")[:, 1:7]
+    d_nb = np.sort(np.take_along_axis(dirs @ dirs.T, nb, axis=1), axis=1)
+    d_bf = np.sort(np.take_along_axis(dirs @ dirs.T, brute, axis=1), axis=1)
+    assert np.allclose(d_nb, d_bf, atol=1e-12)
+    big = Grid.build(np.eye(4), True, 1.0, 0.5, 20_000, 1)
+    assert big.direction_neighbours().shape == (20_000, 6)
+
+
+@pytest.mark.parametrize("opts", [["--step", "0.0001"], ["--yaws", "100000000"]])
+def test_base_placement_candidates_are_bounded(store: Path, tmp_path: Path, opts: list[str]) -> None:
+    tasks = tmp_path / "t.csv"
+    tasks.write_text("x,y,z\n0.5,0,0\n")
+    r = runner.invoke(app, ["reach", "base", str(store), str(tasks), *opts])
+    assert r.exit_code == 2 and "candidate base poses" in r.output and "Traceback" not in r.output, r.output

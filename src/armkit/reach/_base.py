@@ -52,9 +52,15 @@ class BasePlacement:
 
 
 def _floor_candidates(m: ReachabilityMap, tasks: Array, floor_z: float, step: float, yaws: int) -> Array:
+    from .._limits import check_memory
+
     reach = m.robot.reach
     lo = tasks[:, :2, 3].min(axis=0) - reach
     hi = tasks[:, :2, 3].max(axis=0) + reach
+    n = float(np.prod(np.floor((hi - lo) / step) + 2)) * float(yaws)     # candidates, counted before allocating
+    # each candidate: its pose and inverse (2 x 128 B), the meshgrid (3 x 8 B), its reached row (K B) and index
+    check_memory(n * (3 * 128 + 32 + len(tasks)), f"{n:,.0f} candidate base poses",
+                 "use a larger step= (--step) or fewer yaws= (--yaws)")
     xs = np.arange(lo[0], hi[0] + 0.5 * step, step)
     ys = np.arange(lo[1], hi[1] + 0.5 * step, step)
     th = np.arange(yaws) * (2 * math.pi / yaws)

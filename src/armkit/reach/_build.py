@@ -358,6 +358,7 @@ def reachability(robot: Robot | str, resolution: float | None = None, orientatio
     if isinstance(coverage, bool) or not isinstance(coverage, (int, float)) or not 0 <= coverage <= 1:
         raise ReachabilityError(f"coverage must be a number in [0, 1], got {coverage!r}")
     bs, total, sizes = _blocks(method, grid, samples, block_size)
+    _check_build_memory(robot, grid, method, bs)
     n_blocks = len(sizes)
     restarts = int(restarts) if method == "ik" else restarts
     if workers is not None:
@@ -403,11 +404,33 @@ def reachability(robot: Robot | str, resolution: float | None = None, orientatio
                            None if path is None else os.fspath(path))
 
 
+MAX_BLOCKS = 1_000_000
+"""Units of work in one build (the done-list, the futures): 10^12 FK samples in default blocks."""
+
+
+def _check_build_memory(robot: Robot, grid: Grid, method: str, bs: int) -> None:
+    """The driver's peak (per cell: the counts, the hits and decide()'s float32 density and its three
+    neighbourhood passes, 18 B; per voxel: manipulability and index, 8 B) and, for IK, one block's targets
+    and solutions (per cell of a block: a pose, q, the result's fields, about 128 + 24 n B), against the budget."""
+    from .._limits import check_memory
+
+    cells = float(grid.n_cells)
+    voxels = float(np.prod([float(d) for d in grid.dims]))
+    hint = "use a coarser resolution or fewer orientations/rolls"
+    check_memory(18 * cells + 8 * voxels + 200 * grid.n_orient, f"a map of {cells:,.0f} cells", hint)
+    if method == "ik":
+        block_cells = float(bs) * grid.dims[1] * grid.dims[2] * grid.n_orient
+        check_memory(block_cells * (128 + 24 * robot.n), f"an IK block of {block_cells:,.0f} cells", hint)
+
+
 def _blocks(method: str, grid: Grid, samples: int | None, block_size: int | None) -> tuple[int, int, list[int]]:
     """Block size, total work (FK samples or cells) and the size of each block."""
     if method == "fk":
         bs = FK_BLOCK if block_size is None else _positive_int(block_size, "block_size")
         total = default_samples(grid) if samples is None else _positive_int(samples, "samples")
+        if math.ceil(total / bs) > MAX_BLOCKS:
+            raise ReachabilityError(f"{total:,} samples in blocks of {bs:,} make {math.ceil(total / bs):,} units of "
+                                    f"work; at most {MAX_BLOCKS:,} (use fewer samples or a larger block_size)")
         return bs, total, [min(bs, total - b * bs) for b in range(int(math.ceil(total / bs)))]
     bs = 1 if block_size is None else _positive_int(block_size, "block_size")
     return bs, grid.n_cells, [bs] * int(math.ceil(grid.dims[0] / bs))   # ik: blocks of x-slabs
