@@ -45,6 +45,9 @@ BUILTINS = (ValueError, KeyError, OSError, ImportError, NotImplementedError, Run
 def test_every_error_subclasses_armkit_error_and_a_builtin(cls):
     if cls is errors.ArmkitError:
         return
+    if issubclass(cls, Warning):     # a warning category, raised only through warnings.warn
+        assert issubclass(cls, UserWarning), cls
+        return
     if cls is errors.WriteInterrupted:   # Ctrl-C during a write stays a KeyboardInterrupt (not an Exception)
         assert issubclass(cls, KeyboardInterrupt)
         return

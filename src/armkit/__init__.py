@@ -9,7 +9,7 @@ array([ 24.861,  14.353, 187.181])
 from __future__ import annotations
 
 from . import spatial
-from .errors import (ArgumentError, ArmkitError, IKInputError, JointLimitError, LimitError, MapFileError,
+from .errors import (ArgumentError, ArmkitError, CalibrationRangeWarning, IKInputError, JointLimitError, LimitError, MapFileError,
                      MissingExtraError, NotRigidError, ParseError, ReachabilityError, RobotDefinitionError,
                      RobotFileError, SceneError, SceneFileError, SceneNotSupportedError, ShapeError,
                      UnknownRobotError, UnreachableError, ViewError, WriteError, WriteInterrupted)
@@ -40,7 +40,7 @@ __all__ = [
     "ArmkitError", "ArgumentError", "ShapeError", "RobotDefinitionError", "RobotFileError", "UnknownRobotError",
     "JointLimitError", "UnreachableError", "IKInputError", "ParseError", "LimitError", "WriteError", "WriteInterrupted",
     "MissingExtraError", "SceneError", "SceneFileError", "SceneNotSupportedError", "ReachabilityError", "MapFileError",
-    "ViewError", "NotRigidError",
+    "ViewError", "NotRigidError", "CalibrationRangeWarning",
     "IKResult", "ik", "ik_all", "view",
     "Scene", "Collisions", "collisions", "clearance",
     "reachability", "ReachabilityMap", "base_placement",

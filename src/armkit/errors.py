@@ -28,6 +28,7 @@ __all__ = [
     "ReachabilityError",
     "MapFileError",
     "ViewError",
+    "CalibrationRangeWarning",
 ]
 
 
@@ -166,3 +167,9 @@ class MapFileError(ArmkitError, ValueError):
 
 class ViewError(ArmkitError, ValueError):
     """A view that cannot start or a bad argument to the handle (port in use, bad host, ...)."""
+
+
+# ------------------------------------------------------------------ warnings (categories for warnings.warn)
+class CalibrationRangeWarning(UserWarning):
+    """A servo reading (or joint angle) outside a motor's calibrated range ``[range_min, range_max]``
+    (:mod:`armkit.lerobot`): mapped as LeRobot maps it, and said once per call."""

@@ -68,7 +68,7 @@ from typing import Any, Mapping
 
 import numpy as np
 
-from .errors import ArgumentError, UnreachableError
+from .errors import ArgumentError, CalibrationRangeWarning, UnreachableError
 
 __all__ = ["Calibration", "MotorCalibration", "RobotKinematics", "CalibrationRangeWarning", "ARM_MOTORS",
            "GRIPPER", "MODES", "MAX_TICK", "OLD_TO_NEW_OFFSET_DEG", "old_calib_to_new", "new_calib_to_old"]
@@ -85,10 +85,6 @@ MAX_FILE_BYTES = 1024 ** 2
 OLD_TO_NEW_OFFSET_DEG = (0.0, 90.0, -90.0, 0.0, math.degrees(0.0486795))
 """``q_new_calib - q_old_calib`` in degrees for (pan, lift, elbow, wrist_flex, wrist_roll); the roll's
 2.789 deg is the ``rpy`` pitch (0.0486795 rad) that ``so101_new_calib.urdf`` adds to the wrist_roll joint."""
-
-
-class CalibrationRangeWarning(UserWarning):
-    """A reading (or joint angle) outside a motor's calibrated range ``[range_min, range_max]``."""
 
 
 def old_calib_to_new(q_old: Any) -> np.ndarray:
