@@ -19,7 +19,8 @@ import re
 
 from .errors import LimitError
 
-__all__ = ["DEFAULT_MEMORY_LIMIT", "memory_limit", "check_memory", "parse_size", "format_size", "CHUNK"]
+__all__ = ["DEFAULT_MEMORY_LIMIT", "memory_limit", "check_memory", "parse_size", "format_size", "CHUNK",
+           "DEFAULT_MESH_LIMIT_MB", "mesh_limit", "check_mesh_file"]
 
 DEFAULT_MEMORY_LIMIT = 2 * 1024 ** 3
 CHUNK = 100_000          # configurations per chunk in the streamed loops
@@ -28,7 +29,8 @@ _UNITS = {"": 1, "K": 1024, "M": 1024 ** 2, "G": 1024 ** 3, "T": 1024 ** 4}
 
 def parse_size(text: str) -> int:
     """``"8G"``, ``"500M"``, ``"123456"`` -> bytes; LimitError for anything else."""
-    m = re.fullmatch(r"\s*(\d+(?:\.\d*)?)\s*([KMGT]?)i?B?\s*", str(text), re.IGNORECASE)
+    # stripped first: with \s* at both ends, "1" + 100,000 spaces + "x" backtracked quadratically (issue 24)
+    m = re.fullmatch(r"(\d+(?:\.\d*)?)\s*([KMGT]?)i?B?", str(text).strip(), re.IGNORECASE)
     if not m:
         raise LimitError(f"ARMKIT_MEMORY_LIMIT must be a size like 4G, 500M or 1000000 (bytes), got {text!r}")
     return int(float(m.group(1)) * _UNITS[m.group(2).upper()])
@@ -57,3 +59,36 @@ def check_memory(nbytes: float, what: str, hint: str = "") -> None:
         raise LimitError(f"{what} would need {size} of memory, more than the limit of {format_size(limit)}"
                          + (f"; {hint}" if hint else "")
                          + "; or raise the limit with ARMKIT_MEMORY_LIMIT (e.g. ARMKIT_MEMORY_LIMIT=16G)")
+
+
+DEFAULT_MESH_LIMIT_MB = 200       # the largest mesh file read, in MB (ARMKIT_MESH_LIMIT_MB)
+
+
+def mesh_limit() -> int:
+    """The largest mesh file armkit reads, in bytes: ``ARMKIT_MESH_LIMIT_MB`` (megabytes) or 200 MB."""
+    text = os.environ.get("ARMKIT_MESH_LIMIT_MB", "").strip()
+    if not text:
+        return DEFAULT_MESH_LIMIT_MB * 1024 ** 2
+    try:
+        mb = float(text)
+    except ValueError:
+        mb = float("nan")
+    if not 0 < mb < 1e9:
+        raise LimitError(f"ARMKIT_MESH_LIMIT_MB must be a positive number of megabytes, got {text[:40]!r}")
+    return int(mb * 1024 ** 2)
+
+
+def check_mesh_file(path: str | os.PathLike[str]) -> None:
+    """Raise :class:`LimitError` when the mesh file at ``path`` is larger than :func:`mesh_limit`, before it is read.
+
+    A file that cannot be looked at passes: the mesh loader says why it cannot read it.
+    """
+    limit = mesh_limit()
+    try:
+        size = os.stat(path).st_size
+    except (OSError, ValueError):
+        return
+    if size > limit:
+        raise LimitError(f"mesh file {str(path)[:300]!r} has {format_size(size)}, more than the limit of "
+                         f"{format_size(limit)}; it was not read (raise the limit with ARMKIT_MESH_LIMIT_MB, "
+                         f"e.g. ARMKIT_MESH_LIMIT_MB=1000)")

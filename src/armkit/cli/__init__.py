@@ -29,11 +29,12 @@ class _ArmkitGroup(TyperGroup):
     """
 
     def parse_args(self, ctx, args):  # type: ignore[no-untyped-def]
-        """Take ``--base LINK`` / ``--tip LINK`` (the chain of a URDF, see ``common.get_robot``) and ``--lang``
+        """Take ``--base LINK`` / ``--tip LINK`` (the chain of a URDF, see ``common.get_robot``), ``--allow-outside``
+        (a URDF's mesh files may lie anywhere) and ``--lang``
         from anywhere on the line; commands (and subcommands) with their own ``--lang`` still get it."""
         from . import common
 
-        common.CHAIN.update(base=None, tip=None)
+        common.CHAIN.update(base=None, tip=None, allow_outside=None)
         common.LANG.update(lang=None)
         words = [a for k, a in enumerate(args)
                  if not a.startswith("-") and (k == 0 or args[k - 1] not in ("--base", "--tip", "--lang"))]
@@ -44,6 +45,10 @@ class _ArmkitGroup(TyperGroup):
         rest, lang_words, i = [], [], 0
         while i < len(args):
             word = args[i]
+            if word == "--allow-outside" and "--" not in args[:i]:   # URDF meshes from anywhere (issue 24)
+                common.CHAIN["allow_outside"] = True
+                i += 1
+                continue
             key = next((k for k in ("--base", "--tip", "--lang") if word == k or word.startswith(k + "=")), None)
             if key is None or "--" in args[:i]:
                 rest.append(word)

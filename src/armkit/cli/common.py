@@ -84,16 +84,17 @@ def output_path(path: str | Path, suffixes: Sequence[str], what: str = "--output
     return check_writable(path, suffixes, what)
 
 
-CHAIN: dict[str, str | None] = {"base": None, "tip": None}
+CHAIN: dict[str, Any] = {"base": None, "tip": None, "allow_outside": None}
 """``--base``/``--tip`` from the command line (taken by the command group, for every command)."""
 
 ROBOT_HELP = ("Bundled robot name (see `armkit robots`) or path of a .toml or .urdf robot file; "
-              "for a URDF, --base LINK and --tip LINK choose the chain.")
+              "for a URDF, --base LINK and --tip LINK choose the chain, and --allow-outside reads mesh files outside "
+              "its folder and package.")
 
 
 def get_robot(name: str) -> Robot:
     """Load a bundled robot or a robot file (``--base/--tip`` choose a URDF chain); errors raise ArmkitError (exit 2)."""
-    return load(name, base=CHAIN["base"], tip=CHAIN["tip"])
+    return load(name, base=CHAIN["base"], tip=CHAIN["tip"], allow_outside=bool(CHAIN.get("allow_outside")))
 
 
 def scene_option(robot: Robot, scene_file: str | None, no_scene: bool) -> Any:

@@ -49,6 +49,9 @@ def geometry(kind: str, size: Any, shape: Any = None) -> Any:
             stamp = -1    # unreadable: the loader below says why
         key = (shape.mesh_path, stamp, tuple(shape.scale))
         if key not in _MESHES:
+            from .._limits import check_mesh_file
+
+            check_mesh_file(shape.mesh_path)     # LimitError naming the file, before coal reads it (issue 24)
             try:
                 model = coal.MeshLoader().load(shape.mesh_path, np.array(shape.scale, dtype=float))
                 model.buildConvexHull(True, "Qt")

@@ -110,6 +110,18 @@ def _flat_unchecked(robot: Robot, q: ArrayLike) -> tuple[Array, tuple[int, ...]]
     return np.ascontiguousarray(arr.reshape(-1, robot.n)), arr.shape[:-1]
 
 
+def _not_a_robot(robot: object) -> ArgumentError:
+    """The error for a first argument that is not a Robot (``fk(None, q)``, ``fk("fighter", q)``): an
+    ArgumentError saying a Robot is needed, and for a name how to load it, not an AttributeError from inside."""
+    from .._text import shorten
+
+    if isinstance(robot, str):
+        shown = shorten(repr(robot), 80)
+        return ArgumentError(f"robot must be an armkit.Robot, got the string {shown}; load it first: "
+                             f"armkit.load({shown})")
+    return ArgumentError(f"robot must be an armkit.Robot, got {type(robot).__name__}")
+
+
 def fk(robot: Robot, q: ArrayLike, link: str | None = None) -> Array:
     r"""Pose of the tool in the world frame, ``T_world_tool`` (or of the named ``link``).
 
@@ -137,6 +149,8 @@ def fk(robot: Robot, q: ArrayLike, link: str | None = None) -> Array:
     >>> np.round(armkit.fk(armkit.load("planar2"), [0.0, 0.0], link="link1")[:3, 3], 12) + 0.0
     array([1., 0., 0.])
     """
+    if not isinstance(robot, Robot):   # one check at the entry (issue 24)
+        raise _not_a_robot(robot)
     if link is not None:
         k = robot.link_index(link)
         lk = robot.links[k]
@@ -175,6 +189,8 @@ def fk_frames(robot: Robot, q: ArrayLike) -> Array:
     joint axis ``k``); ``frames[..., n]`` is the last link frame with the tool applied,
     so it equals :func:`fk`. The origins are the points a plot joins with lines.
     """
+    if not isinstance(robot, Robot):   # one check at the entry (issue 24)
+        raise _not_a_robot(robot)
     c = robot.chain
     jit = _jit_module(True)
     if jit is not None:
@@ -227,6 +243,8 @@ def jacobian(robot: Robot, q: ArrayLike, frame: Literal["base", "tool"] = "base"
     -------
     J : ndarray, shape (..., 6, n)
     """
+    if not isinstance(robot, Robot):   # one check at the entry (issue 24)
+        raise _not_a_robot(robot)
     tool_frame = frame == "tool"
     if not tool_frame and frame != "base":
         raise ArgumentError(f"frame must be 'base' or 'tool', got {frame!r}")
@@ -266,6 +284,8 @@ def task_rows(robot: Robot) -> tuple[int, ...]:
     >>> [task_rows(armkit.load(n)) for n in ("planar2", "planar3", "fighter")]
     [(0, 1), (0, 1, 5), (0, 1, 2)]
     """
+    if not isinstance(robot, Robot):   # one check at the entry (issue 24)
+        raise _not_a_robot(robot)
     probe = robot.random_q(8, rng=0)
     J = np.abs(_numpy.jacobian(robot.chain, probe, False))
     movable = [r for r in range(6) if J[:, r, :].max() > 1e-12]
@@ -286,6 +306,8 @@ _SVD_CHUNK = 100_000   # configurations per chunk: a (chunk, 6, n) Jacobian, nev
 
 
 def _singular_values(robot: Robot, q: ArrayLike, rows: Sequence[int] | None) -> Array:
+    if not isinstance(robot, Robot):   # one check at the entry (issue 24)
+        raise _not_a_robot(robot)
     qa = robot.check_q(q)
     count = qa.size // robot.n
     if count <= _SVD_CHUNK:

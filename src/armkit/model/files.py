@@ -228,7 +228,8 @@ def _short(value: Any, limit: int = 60) -> str:
     return text if len(text) <= limit else text[:limit - 3] + "..."
 
 
-def load(name_or_path: str | Path, base: str | None = None, tip: str | None = None) -> Robot:
+def load(name_or_path: str | Path, base: str | None = None, tip: str | None = None, *,
+         allow_outside: bool = False) -> Robot:
     """Load a bundled robot by name (``"fighter"``, ``"so101"``) or a robot file by path (``.toml`` or ``.urdf``).
 
     Parameters
@@ -237,6 +238,10 @@ def load(name_or_path: str | Path, base: str | None = None, tip: str | None = No
     base, tip : str, optional
         URDF only: the links where the chain starts and ends (default: the root link and
         the single leaf reached through moving joints; see :mod:`armkit.model.urdf`).
+    allow_outside : bool
+        URDF only: read mesh files wherever their paths lead. By default a URDF's meshes are read only from
+        its folder, its package and ``ARMKIT_PACKAGE_PATH``/``ROS_PACKAGE_PATH``; other paths are refused
+        with a warning (``ARMKIT_ALLOW_OUTSIDE=1`` lifts this too).
 
     Raises
     ------
@@ -256,11 +261,11 @@ def load(name_or_path: str | Path, base: str | None = None, tip: str | None = No
     bundled_chain: tuple[str | None, str | None] = (None, None)
     if isinstance(name_or_path, str) and "/" not in name_or_path and not text_path.suffix:
         for suffix in (".toml", ".urdf"):
-            if (BUNDLED_DIR / f"{name_or_path}{suffix}").is_file():
+            if _is_file(BUNDLED_DIR / f"{name_or_path}{suffix}"):
                 text_path = BUNDLED_DIR / f"{name_or_path}{suffix}"
                 bundled_chain = BUNDLED_CHAINS.get(name_or_path, (None, None))
                 break
-    if not text_path.is_file():
+    if not _is_file(text_path):
         raise UnknownRobotError(str(name_or_path), bundled_robots())
     if _is_urdf(text_path):
         from .urdf import load_urdf
@@ -268,7 +273,7 @@ def load(name_or_path: str | Path, base: str | None = None, tip: str | None = No
         bundled = text_path.parent == BUNDLED_DIR
         return load_urdf(text_path if bundled else name_or_path, base if base is not None else bundled_chain[0],
                          tip if tip is not None else bundled_chain[1], warn_missing_meshes=not bundled,
-                         name=text_path.stem if bundled else None)
+                         name=text_path.stem if bundled else None, allow_outside=allow_outside)
     if base is not None or tip is not None:
         raise RobotFileError(str(name_or_path), "base= and tip= choose a chain in a URDF file; a TOML robot file "
                              "is a single chain already")
@@ -281,6 +286,14 @@ def load(name_or_path: str | Path, base: str | None = None, tip: str | None = No
     except (OSError, UnicodeDecodeError) as exc:
         raise RobotFileError(str(name_or_path), f"cannot read file: {exc}") from None
     return _parse(text, str(name_or_path))
+
+
+def _is_file(path: Path) -> bool:
+    """``path.is_file()``, False for a name the system cannot look up (too long: ENAMETOOLONG; a NUL byte)."""
+    try:
+        return path.is_file()
+    except (OSError, ValueError):
+        return False
 
 
 _DEG = math.pi / 180.0            # the loader's degrees -> radians factor

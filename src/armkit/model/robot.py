@@ -127,11 +127,16 @@ class Joint:
             raise RobotDefinitionError(f"joint {self.name!r}: axis must be 3 numbers, got {self.axis!r}") from None
         if axis.shape != (3,) or not np.all(np.isfinite(axis)):
             raise RobotDefinitionError(f"joint {self.name!r}: axis must be 3 finite numbers, got {self.axis!r}")
-        norm = float(np.linalg.norm(axis))
-        if norm < 1e-9:
+        # Normalised without overflow (issue 24): divided by its largest component first, so a huge but finite
+        # axis such as (0, 0, 1e200) is the direction it names, (0, 0, 1); np.linalg.norm squared it to inf and
+        # the axis became (0, 0, 0) silently. Only a zero (length under 1e-9), NaN or infinite axis is an error.
+        scale = float(np.max(np.abs(axis)))
+        unit = axis / scale if scale > 0.0 else axis
+        length = float(np.linalg.norm(unit))         # between 1 and sqrt(3): no overflow, no underflow
+        if scale * length < 1e-9:
             raise RobotDefinitionError(f"joint {self.name!r}: axis {tuple(axis.tolist())} has zero length; "
                                        "a joint needs a direction to turn about or slide along")
-        axis = axis / norm
+        axis = unit / length
         object.__setattr__(self, "origin", tuple(tuple(float(v) for v in row) for row in origin))
         object.__setattr__(self, "axis", (float(axis[0]), float(axis[1]), float(axis[2])))
 
@@ -499,10 +504,10 @@ class Robot:
     @property
     def reach(self) -> float:
         """An upper bound on the distance from the first joint axis to the tool (length units)."""
-        total = float(np.linalg.norm(self.tool[:3, 3]))
+        total = math.hypot(*(float(v) for v in self.tool[:3, 3]))     # hypot: no overflow on huge components
         if not self.is_dh:
             for j in self.joints:
-                total += float(np.linalg.norm(j.origin_matrix()[:3, 3]))
+                total += math.hypot(*(float(v) for v in j.origin_matrix()[:3, 3]))
                 if j.is_prismatic:
                     total += max(abs(v) for v in (j.lower, j.upper) if math.isfinite(v)) if (
                         math.isfinite(j.lower) or math.isfinite(j.upper)) else 0.0

@@ -15,7 +15,13 @@ with yourdfpy, then picks the chain ``base -> tip`` out of the tree:
 * Visual and collision shapes are kept on ``robot.links``; mesh files are found
   relative to the URDF, through ``package://NAME/...`` in the folders of
   ``ARMKIT_PACKAGE_PATH`` and ``ROS_PACKAGE_PATH`` (``os.pathsep``-separated), then in
-  the URDF's parent folders. A missing mesh is one warning, never an error.
+  the URDF's own package (a folder above it with that name, or holding a ``package.xml``).
+  A missing mesh is one warning, never an error. Paths that lead out of the URDF's
+  folder, its package and the package path are not read (one warning names them) unless
+  ``allow_outside=True`` or ``ARMKIT_ALLOW_OUTSIDE=1`` (:class:`_MeshLookup`).
+* A joint axis is normalised after dividing by its largest component, so a huge but
+  finite axis such as ``0 0 1e200`` is the direction it names; a zero, NaN or infinite
+  axis, or origins whose lengths add up past 1.8e308, are errors naming the joint.
 
 Writing (:func:`dumps_urdf`) keeps a URDF robot's links, joints, origins, axes and
 geometry; a DH robot becomes one link per joint frame (on the joint axis) plus a
@@ -38,7 +44,7 @@ from numpy.typing import NDArray
 from ..errors import RobotDefinitionError, RobotFileError
 from .robot import Joint, Link, Robot, Shape
 
-__all__ = ["load_urdf", "dumps_urdf", "resolve_mesh", "PACKAGE_PATH_VARIABLES"]
+__all__ = ["load_urdf", "dumps_urdf", "resolve_mesh", "PACKAGE_PATH_VARIABLES", "ALLOW_OUTSIDE_VARIABLE"]
 
 Array = NDArray[np.float64]
 PACKAGE_PATH_VARIABLES = ("ARMKIT_PACKAGE_PATH", "ROS_PACKAGE_PATH")
@@ -143,7 +149,10 @@ def _check_joints(root: Any, path: str, links: dict[str, Any]) -> dict[str, Any]
             raise RobotFileError(path, "parent and child are the same link", el.sourceline, where)
         origin = el.find("origin")
         if origin is not None:
-            _numbers(origin, "xyz", 3, "0 0 0", path, where)
+            xyz = _numbers(origin, "xyz", 3, "0 0 0", path, where)
+            if not math.isfinite(math.hypot(*xyz)):    # hypot scales first: only a length past 1.8e308 overflows
+                raise RobotFileError(path, f"origin xyz={origin.get('xyz')!r} is too long: its length overflows "
+                                     "(above 1.8e308)", origin.sourceline, where)
             _numbers(origin, "rpy", 3, "0 0 0", path, where)
         axis = el.find("axis")
         if axis is not None:
@@ -169,31 +178,127 @@ def _check_joints(root: Any, path: str, links: dict[str, Any]) -> dict[str, Any]
     return joints
 
 
-def resolve_mesh(filename: str, urdf_path: Path) -> str | None:
-    """The mesh file on disk for a URDF ``filename`` (``package://``, ``file://``, relative or absolute), or None."""
-    folder = urdf_path.resolve().parent
-    if filename.startswith("package://"):
-        rest = filename[len("package://"):]
+ALLOW_OUTSIDE_VARIABLE = "ARMKIT_ALLOW_OUTSIDE"
+
+
+def allow_outside_default() -> bool:
+    """True when ``ARMKIT_ALLOW_OUTSIDE`` is set to 1 (or true, yes, on): mesh paths may lead anywhere."""
+    return os.environ.get(ALLOW_OUTSIDE_VARIABLE, "").strip().lower() in ("1", "true", "yes", "on")
+
+
+def _package_roots() -> list[Path]:
+    roots: list[Path] = []
+    for var in PACKAGE_PATH_VARIABLES:
+        roots += [Path(p) for p in os.environ.get(var, "").split(os.pathsep) if p]
+    return roots
+
+
+def _inside(path: Path, root: Path) -> bool:
+    """``path`` lies in ``root`` once both are resolved: no ``..`` and no symbolic link leads out."""
+    try:
+        path.resolve().relative_to(root.resolve())
+        return True
+    except (ValueError, OSError, RuntimeError):
+        return False
+
+
+def _is_file(path: Path) -> bool:
+    try:
+        return path.is_file()
+    except (OSError, ValueError):       # a name too long, a NUL byte
+        return False
+
+
+class _MeshLookup:
+    """Where the mesh files of one URDF may come from (issue 24), and what was missing or refused.
+
+    Without ``allow_outside`` a mesh is read only from
+
+    * the URDF's folder and the folders below it, and its package: the nearest folder above that holds a
+      ``package.xml``, or else the parent of a folder named ``urdf`` (``pkg/urdf/arm.urdf`` reads ``pkg/meshes``);
+    * ``package://NAME/...``: the folder ``NAME`` in a folder of ``ARMKIT_PACKAGE_PATH`` or ``ROS_PACKAGE_PATH``
+      (or such a folder that is itself named ``NAME``), a folder above the URDF named ``NAME``, or a folder
+      ``NAME`` holding a ``package.xml`` next to a folder above the URDF; never out of that package folder;
+    * a folder of ``ARMKIT_PACKAGE_PATH`` or ``ROS_PACKAGE_PATH``.
+
+    Absolute and ``file://`` paths are read when they lie in one of these folders (armkit writes absolute
+    paths itself). Anything else (``package://../../etc/passwd``, ``/etc/passwd``, a symbolic link that
+    leads out) is not even looked at: the mesh counts as refused, and the loader warns once, naming the
+    path. ``allow_outside=True`` (or ``ARMKIT_ALLOW_OUTSIDE=1``, or ``--allow-outside``) reads any path.
+    """
+
+    def __init__(self, urdf_path: Path, allow_outside: bool = False) -> None:
+        self.folder = urdf_path.resolve().parent
+        self.allow_outside = allow_outside or allow_outside_default()
+        self.missing: list[str] = []
+        self.refused: list[str] = []
+        self._homes: list[Path] | None = None
+
+    def homes(self) -> list[Path]:
+        if self._homes is None:
+            homes = [self.folder, *_package_roots()]
+            for anc in (self.folder, *self.folder.parents):
+                if _is_file(anc / "package.xml"):
+                    homes.append(anc)
+                    break
+            else:
+                if self.folder.name.lower() == "urdf":
+                    homes.append(self.folder.parent)
+            self._homes = homes
+        return self._homes
+
+    def find(self, filename: str) -> str | None:
+        """The mesh file for ``filename``; None when it is missing or refused (recorded in either list)."""
+        found, refused = self._locate(filename)
+        if found is None:
+            (self.refused if refused else self.missing).append(filename)
+        return found
+
+    def _locate(self, filename: str) -> tuple[str | None, bool]:
+        if filename.startswith("package://"):
+            return self._package(filename[len("package://"):])
+        if filename.startswith("file://"):
+            cand = Path(filename[len("file://"):])
+        else:
+            cand = Path(filename)
+            if not cand.is_absolute():
+                cand = self.folder / cand
+        if not self.allow_outside and not any(_inside(cand, home) for home in self.homes()):
+            return None, True
+        return (str(cand.resolve()) if _is_file(cand) else None), False
+
+    def _package(self, rest: str) -> tuple[str | None, bool]:
         package, _, inner = rest.partition("/")
-        roots: list[Path] = []
-        for var in PACKAGE_PATH_VARIABLES:
-            roots += [Path(p) for p in os.environ.get(var, "").split(os.pathsep) if p]
-        roots += [folder, *folder.parents]
-        for root in roots:
-            for cand in (root / package / inner, root / inner if root.name == package else None):
-                if cand is not None and cand.is_file():
-                    return str(cand.resolve())
-        return None
-    if filename.startswith("file://"):
-        cand = Path(filename[len("file://"):])
-    else:
-        cand = Path(filename)
-        if not cand.is_absolute():
-            cand = folder / cand
-    return str(cand.resolve()) if cand.is_file() else None
+        if not self.allow_outside and (package in ("", ".", "..") or "\\" in package or not inner):
+            return None, True
+        places: list[tuple[Path, Path]] = []          # (candidate, the package folder it must stay in)
+        for root in _package_roots():
+            places.append((root / package / inner, root / package))
+            if root.name == package:
+                places.append((root / inner, root))
+        for anc in (self.folder, *self.folder.parents):
+            if anc.name == package:
+                places.append((anc / inner, anc))
+            if self.allow_outside or _is_file(anc / package / "package.xml"):
+                places.append((anc / package / inner, anc / package))
+        refused = False
+        for cand, home in places:
+            if not self.allow_outside and not _inside(cand, home):
+                refused = True
+                continue
+            if _is_file(cand):
+                return str(cand.resolve()), False
+        return None, refused
 
 
-def _shapes(items: list, urdf_path: Path, missing: list[str], colors: dict[str, Any]) -> tuple[Shape, ...]:
+def resolve_mesh(filename: str, urdf_path: Path, allow_outside: bool = False) -> str | None:
+    """The mesh file on disk for a URDF ``filename`` (``package://``, ``file://``, relative or absolute), or None
+    when it is not found or lies outside the folders a URDF may read (see :class:`_MeshLookup`; ``allow_outside``
+    lifts that)."""
+    return _MeshLookup(Path(urdf_path), allow_outside).find(filename)
+
+
+def _shapes(items: list, lookup: _MeshLookup, colors: dict[str, Any]) -> tuple[Shape, ...]:
     out = []
     for it in items:
         origin = np.eye(4) if it.origin is None else np.array(it.origin, dtype=float)
@@ -213,11 +318,13 @@ def _shapes(items: list, urdf_path: Path, missing: list[str], colors: dict[str, 
         elif g.mesh is not None:
             scale = g.mesh.scale
             sc = (1.0, 1.0, 1.0) if scale is None else tuple(float(v) for v in np.broadcast_to(scale, (3,)))
-            found = resolve_mesh(g.mesh.filename, urdf_path)
-            if found is None:
-                missing.append(g.mesh.filename)
+            found = lookup.find(g.mesh.filename)
             out.append(Shape("mesh", origin, (), found, g.mesh.filename, sc, rgba))  # type: ignore[arg-type]
     return tuple(out)
+
+
+def _short(text: str, limit: int = 200) -> str:
+    return text if len(text) <= limit else text[:limit - 3] + "..."
 
 
 def _names(names: list[str], limit: int) -> str:
@@ -241,7 +348,7 @@ def _leaf_candidates(base: str, children: dict[str, list], jtype: dict[str, str]
 
 
 def load_urdf(path: str | Path, base: str | None = None, tip: str | None = None,
-              warn_missing_meshes: bool = True, name: str | None = None) -> Robot:
+              warn_missing_meshes: bool = True, name: str | None = None, allow_outside: bool = False) -> Robot:
     """Read the chain ``base -> tip`` of a URDF file as a :class:`Robot` (``convention="urdf"``, metres).
 
     Parameters
@@ -253,6 +360,11 @@ def load_urdf(path: str | Path, base: str | None = None, tip: str | None = None,
         Warn once when mesh files cannot be found (bundled robots load without meshes quietly).
     name : str, optional
         The robot's name (default: the ``name`` attribute of ``<robot>``).
+    allow_outside : bool
+        Read mesh files wherever their paths lead. By default only the URDF's folder, its package and the
+        package path (``ARMKIT_PACKAGE_PATH``, ``ROS_PACKAGE_PATH``) are read; other paths
+        (``package://../../etc/passwd``, ``/etc/passwd``) are refused with one warning naming them. The
+        environment variable ``ARMKIT_ALLOW_OUTSIDE=1`` does the same as ``True``.
 
     Raises
     ------
@@ -282,8 +394,14 @@ def load_urdf(path: str | Path, base: str | None = None, tip: str | None = None,
         warnings.warn(f"{spath}: revolute joint(s) {', '.join(warned_limits)} have no <limit>; treated as unlimited",
                       stacklevel=3)
     tool = placed[-1][2]                     # from the last moving joint's child link to the tip
-    missing: list[str] = []   # mesh files not found, among the links kept (the chain and what hangs off it)
-    links = _links(model, placed, children, jmap, tool, len(joints), p, missing)
+    lookup = _MeshLookup(p, allow_outside)   # mesh files not found or refused, among the links kept
+    links = _links(model, placed, children, jmap, tool, len(joints), lookup)
+    missing = lookup.missing
+    if lookup.refused:
+        warnings.warn(f"{spath}: {len(lookup.refused)} mesh path(s) outside the robot's folder and package path were "
+                      f"not read (first: {_short(lookup.refused[0])}); to read them anyway pass allow_outside=True "
+                      f"(armkit.load), --allow-outside (armkit) or set {ALLOW_OUTSIDE_VARIABLE}=1",
+                      stacklevel=3)
     if missing and warn_missing_meshes:
         warnings.warn(f"{spath}: {len(missing)} mesh file(s) not found (first: {missing[0]}); kinematics are not "
                       f"affected. Set ARMKIT_PACKAGE_PATH to the folder that holds the package to see the meshes.",
@@ -421,9 +539,14 @@ def _chain(path_joints: list[str], jmap: dict[str, Any], joints_el: dict[str, An
     placed: list[_Placed] = [(base, 0, np.eye(4), None, None, None)]
     acc = np.eye(4)
     warned_limits = []
+    length = 0.0           # the chain's length so far: past 1.8e308 FK would give inf silently (issue 24)
     for jn in path_joints:
         j = jmap[jn]
         origin = np.eye(4) if j.origin is None else np.array(j.origin, dtype=float)
+        length += math.hypot(*(float(v) for v in origin[:3, 3]))
+        if not math.isfinite(length):
+            raise RobotFileError(spath, "origin xyz makes the chain from the base longer than 1.8e308: its poses "
+                                 "overflow", joints_el[jn].sourceline, f"joint {jn!r}")
         parent_link = j.parent
         if j.type in _MOVING:
             axis = np.array([1.0, 0.0, 0.0]) if j.axis is None else np.array(j.axis, dtype=float)
@@ -450,14 +573,14 @@ def _chain(path_joints: list[str], jmap: dict[str, Any], joints_el: dict[str, An
 
 
 def _links(model: Any, placed: list[_Placed], children: dict[str, list], jmap: dict[str, Any], tool: Array, n: int,
-           p: Path, missing: list[str]) -> list[Link]:
+           lookup: _MeshLookup) -> list[Link]:
     """Every kept link with its shapes: the chain's, then those hanging off it (a gripper's jaw) fixed at q = 0."""
     colors = {m.name: m.color for m in model.materials if m.color is not None}
     by_name = {lk.name: lk for lk in model.links}
 
     def geometry(name: str) -> tuple[tuple[Shape, ...], tuple[Shape, ...]]:
         lk = by_name[name]
-        return _shapes(lk.visuals, p, missing, colors), _shapes(lk.collisions, p, missing, colors)
+        return _shapes(lk.visuals, lookup, colors), _shapes(lk.collisions, lookup, colors)
 
     tool_inv = np.array(np.linalg.inv(tool), dtype=np.float64)
     on_path = {nm for nm, *_ in placed}

@@ -184,6 +184,9 @@ class ArmDrawing:
                     if not shape.mesh_path:
                         continue
                     try:
+                        from ..._limits import check_mesh_file
+
+                        check_mesh_file(shape.mesh_path)       # too large: not drawn, like a bad file
                         mesh: Any = trimesh.load(shape.mesh_path, force="mesh")
                     except Exception:  # noqa: BLE001 - a bad mesh file: draw the others
                         continue
