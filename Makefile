@@ -6,7 +6,7 @@ VENV   := .venv
 PY     := $(VENV)/bin/python
 PIP    := $(PY) -m pip
 
-.PHONY: demo test bench clean chromium locale locale-update fonts
+.PHONY: demo test fuzz bench clean chromium locale locale-update fonts
 
 
 $(VENV)/.installed: pyproject.toml
@@ -46,6 +46,12 @@ fonts:
 test: $(VENV)/.installed chromium locale fonts
 	$(PY) -m pytest
 	$(PY) -m mypy
+
+# the long fuzz and corruption run (issue 24): reach stores, URDF and scene files, CLI arguments, 10 minutes;
+# it prints its seed first and a table of outcomes per surface (exit 1 on any traceback, hang or wrong value).
+# Rerun a run with `make fuzz SEED=<seed>`; the quick Hypothesis part is tests/hardening/test_fuzz_quick.py.
+fuzz: $(VENV)/.installed
+	$(PY) tests/hardening/fuzz_long.py $(if $(SEED),--seed $(SEED))
 
 # the peers (pin, roboticstoolbox-python, ikpy, pytorch-kinematics, CPU torch) live in their own venv
 BENCH_VENV := .venv-bench

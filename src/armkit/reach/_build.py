@@ -33,7 +33,7 @@ from ..errors import ReachabilityError
 from ..model.robot import Robot
 from ._grid import Grid
 from ._map import DEFAULT_COVERAGE, ReachabilityMap, decide, robot_to_toml
-from ._store import FORMAT, OLD_FORMATS, check_overwrite, checksum, clean_partial, robot_sha256
+from ._store import FORMAT, OLD_FORMATS, check_overwrite, checksum, clean_partial, robot_sha256, settings_sha256
 from ._symmetry import roll_symmetric, yaw_frame, yaw_symmetric
 from ._work import fk_block, ik_block
 
@@ -374,7 +374,7 @@ def reachability(robot: Robot | str, resolution: float | None = None, orientatio
         raise ReachabilityError(f"robot {robot.name!r} cannot be written to a robot file ({exc})") from None
     _check_round_trip(robot, toml)
     attrs = {"format": FORMAT, "robot": robot.name, "robot_toml": toml, "robot_sha256": robot_sha256(toml),
-             "grid": gattrs, "parameters": params}
+             "grid": gattrs, "parameters": params, "settings_sha256": settings_sha256(gattrs, params)}
 
     counts = np.zeros(grid.n_cells, dtype=np.uint8)
     manip = np.zeros(int(np.prod(grid.dims)), dtype=np.float32)

@@ -35,7 +35,7 @@ from ..model.robot import Robot
 from ._grid import Grid
 
 __all__ = ["FORMAT", "OLD_FORMATS", "ARRAYS", "checksum", "read_attrs", "robot_of", "grid_of", "load_arrays",
-           "check_overwrite", "clean_partial", "robot_sha256"]
+           "check_overwrite", "clean_partial", "robot_sha256", "settings_sha256"]
 
 FORMAT = "armkit.reachability/2"
 """Version 2 added the checksums of the arrays and the fingerprint of the stored robot."""
@@ -60,6 +60,12 @@ def checksum(a: NDArray[Any]) -> str:
 
 
 def robot_sha256(text: str) -> str:
+    return hashlib.sha256(text.encode("utf-8")).hexdigest()
+
+
+def settings_sha256(grid: Any, parameters: Any) -> str:
+    """Fingerprint of the grid and the build parameters: an edited grid would answer for other places."""
+    text = json.dumps({"grid": grid, "parameters": parameters}, sort_keys=True, default=str)
     return hashlib.sha256(text.encode("utf-8")).hexdigest()
 
 
@@ -99,7 +105,7 @@ def read_attrs(path: str | os.PathLike[str], *, complete: bool = True) -> dict[s
     if complete and attrs.get("status") != "complete":
         raise MapFileError(f"{shown!r} holds an unfinished build; run the same build again to resume it")
     for key, kind in (("robot", str), ("robot_toml", str), ("robot_sha256", str), ("grid", dict),
-                      ("parameters", dict)):
+                      ("parameters", dict), ("settings_sha256", str)):
         if not isinstance(attrs.get(key), kind):
             raise MapFileError(f"{shown!r}: attribute {key!r} is missing or not a {kind.__name__}")
     if complete and not isinstance(attrs.get("checksums"), dict):
@@ -128,7 +134,18 @@ def robot_of(attrs: dict[str, Any], path: str) -> Robot:
 
 
 def grid_of(attrs: dict[str, Any], path: str) -> Grid:
-    """The stored grid, checked, and the memory the map needs checked against the budget."""
+    """The stored grid, checked (fingerprint, types, a rigid frame), and its memory against the budget."""
+    if settings_sha256(attrs["grid"], attrs["parameters"]) != attrs["settings_sha256"]:
+        raise MapFileError(f"{path!r}: the stored grid or parameters do not match their fingerprint "
+                           "(settings_sha256); the store was edited or damaged")
+    a = attrs["grid"]
+
+    def numbers(v: Any) -> bool:
+        return not isinstance(v, bool) and (isinstance(v, (int, float)) or
+                                            (isinstance(v, list) and all(numbers(x) for x in v)))
+    if not all(numbers(a.get(k)) for k in ("T_world_A", "lo", "resolution", "dims", "directions", "rolls")) \
+            or not isinstance(a.get("symmetric"), bool):
+        raise MapFileError(f"{path!r}: the stored grid is not valid")
     try:
         grid = Grid.from_attrs(attrs["grid"])
         ok = (grid.T_world_A.shape == (4, 4) and bool(np.all(np.isfinite(grid.T_world_A)))
@@ -136,7 +153,11 @@ def grid_of(attrs: dict[str, Any], path: str) -> Grid:
               and np.isfinite(grid.resolution) and grid.resolution > 0 and len(grid.dims) == 3
               and all(d >= 1 for d in grid.dims) and grid.directions >= 1 and grid.rolls >= 1
               and (not grid.symmetric or grid.dims[1] == 1))
-    except (KeyError, TypeError, ValueError, OverflowError):
+        if ok:
+            from ..spatial import check_transform
+
+            check_transform(grid.T_world_A, what="the grid's frame")
+    except (KeyError, TypeError, ValueError, OverflowError):     # NotRigidError and ShapeError are ValueErrors
         ok = False
     if not ok:
         raise MapFileError(f"{path!r}: the stored grid is not valid")
