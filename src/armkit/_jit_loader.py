@@ -45,7 +45,7 @@ __all__ = ["warmup", "Warmup", "ready", "parallel_ok", "cache_dir", "fallback_ca
 
 _PKG = Path(__file__).resolve().parent
 _SOURCES = ("kinematics/_jit.py", "ik/_jit_lm.py", "ik/_jit_verify.py", "ik/analytic/_jit.py", "ik/analytic/_layout.py",
-            "_jit_loader.py")
+            "ik/geometric/subproblems.py", "ik/geometric/solvers.py", "_jit_loader.py")
 COMPILE_SECONDS = 45
 """About how long compiling the one-thread kernels takes, the figure of the stderr note (the warm-up
 process switched the caller to them after 44-53 s in benchmarks/bench_first_call.py on the shared
@@ -446,6 +446,14 @@ def _exercise_serial() -> None:
             far *= 4.0
         for target in (one, many[:4], many[:16], far):  # single, < 8 and >= 8 targets, unreachable
             ik(arm, target, method="lm", restarts=2)
+    from .ik.geometric import solvers          # the geometric family's kernels (subproblems, 6R solvers)
+    from .ik.geometric.poe import poe
+
+    for name, solve in (("puma560", solvers.spherical_wrist), ("ur5", solvers.three_parallel_two_intersecting),
+                        ("ur5", solvers.three_parallel), ("stanford", solvers.spherical_wrist)):
+        arm = load(name)
+        T = fk(arm, arm.random_q(rng=3))
+        solve(poe(arm), T[:3, :3], T[:3, 3])
     poses = np.tile(np.eye(4), (2, 1, 1))   # check_transform's pass over big batches
     module("kinematics._jit").rigidity(poses, np.empty(2), np.empty(2), np.empty(2, dtype=bool))
 

@@ -33,6 +33,7 @@ from ...model.robot import Robot
 from ..result import IKResult, default_tolerance, verify
 from ._common import Raw, StandardForm, jit_kernels, keep_better, standard_form
 from ._layout import joint_table
+from .geometric import Geometric
 from .planar import Planar2R, Planar3R
 from .spherical_wrist import SphericalWrist
 from .ur import ParallelAxes
@@ -107,6 +108,8 @@ def closed_form(robot: Robot) -> ClosedForm | None:
             found = cls.detect(sf, robot)
             if found is not None:
                 break
+    if found is None:      # any other arm whose axes allow it: subproblem decomposition (the geometric family)
+        found = Geometric.detect(sf, robot)  # type: ignore[assignment]
     robot.cache["closed_form"] = found
     return found
 
@@ -265,6 +268,9 @@ def solve_all(robot: Robot, solver: ClosedForm, target: Array, q0: Array, positi
         bi, mi = np.nonzero((q != q_before).any(axis=-1))
         dist[bi, mi] = np.linalg.norm(np.where(robot.prismatic, 0.0, q[bi, mi] - q0[bi]), axis=-1)
     fk_ok = (dp <= tol[0]) & (dr <= tol[1])
+    if raw.missing is not None:     # a branch that does not exist for this target is never a success
+        ok = ok & ~raw.missing
+        fk_ok = fk_ok & ~raw.missing
     code = np.where(ok, 0, np.where(fk_ok & ~within, 2, 1))
     message = np.where(ok, raw.note, "").astype(object, copy=False)
     _failure_messages(robot, message, code, raw, q, dp, dr, tol)
@@ -311,6 +317,8 @@ def solve_nearest(robot: Robot, solver: ClosedForm, target: Array, q0: Array, po
         clean = cand[rows, pick] & ~nearer_clipped
         qb = q[rows, pick]
     dp, dr, ok, within = verify(robot, qb, target, position_only, tol, enforce_limits)
+    if raw.missing is not None:
+        ok = ok & ~raw.missing[rows, pick]
     scale = solver.sf.scale   # robot.reach (computed on every access)
     fine = ok & clean & (dp <= POLISH_ABOVE * scale) & (dr <= POLISH_ABOVE)
     fields = {"q": qb, "success": ok, "position_error": dp, "rotation_error": dr,   # fresh arrays: redo writes

@@ -246,6 +246,8 @@ class Raw:
     why : callable, flat index into (B, m) -> sentence: why that branch is out of reach
         (called only where ``unreachable``, and only for a moderate number of branches)
     note : (B, m) object array: what a user should know about a solution (free yaw, ...)
+    missing : (B, m) bool, optional: the branch has no solution for this target at all (a solver whose
+        number of solutions varies fills the rest with a copy); failed whatever FK of its q says
     """
 
     q: Array
@@ -253,6 +255,7 @@ class Raw:
     unreachable: NDArray[np.bool_]
     why: Callable[[int], str]
     note: NDArray[np.object_]
+    missing: NDArray[np.bool_] | None = None
 
 
 def fmt_len(x: float, unit: str) -> str:

@@ -1,0 +1,171 @@
+"""Every branch, armkit against EAIK, on the same targets in the same run: missing branches and time.
+
+Run: ``.venv-bench/bin/python benchmarks/bench_analytic.py [--targets 1000] [--threads 2]`` (the
+``bench`` extra holds EAIK). For each arm, random configurations (seeded) give the targets; both
+solvers get the same 4x4 poses. Reported per arm:
+
+* **missing**: branches EAIK finds (FK-verified at 1e-9 of the arm's size) that armkit's
+  ``ik_all`` does not (after wrapping angles to (-pi, pi]), and the reverse; limits off on both;
+* **armkit fails FK**: branches armkit calls successful whose FK misses the target by more than
+  1e-9 (must be 0);
+* times: one target per call (all branches), EAIK ``IK`` against armkit's raw subproblem solver
+  and armkit's public ``ik_all`` / ``ik`` (which also wrap, verify, polish, sort and explain
+  every branch); batched, EAIK ``IK_batched`` with ``--threads`` against armkit ``ik_all`` on
+  the whole batch. The ratio is armkit / EAIK (below 1: armkit faster).
+
+EAIK takes a chain as axes ``H`` and offsets ``P`` with the tool frame's rotation equal to the
+last joint frame's; armkit's :func:`armkit.ik.geometric.poe.poe` gives the same form plus
+``R_nT``, so targets are handed to EAIK as ``T · diag(R_nT^T, 1)``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+os.environ.setdefault("ARMKIT_JIT", "wait")
+
+import armkit  # noqa: E402
+from armkit.ik.analytic import closed_form  # noqa: E402
+from armkit.ik.geometric import solvers as G  # noqa: E402
+from armkit.ik.geometric.poe import poe  # noqa: E402
+
+ERD = Path(sys.prefix) / "lib" / f"python{sys.version_info[0]}.{sys.version_info[1]}" / "site-packages" / \
+    "cmeel.prefix" / "share" / "example-robot-data" / "robots"
+ARMS = {"ur5": ("ur5", None), "puma560": ("puma560", None), "stanford": ("stanford", None),
+        "ur5, axis 1 reversed": ("ur5", "flip"), "puma560, axis 1 reversed": ("puma560", "flip"),
+        "kinova j2s6s200": (str(ERD / "kinova_description/robots/kinova.urdf"), "j2s6s200_end_effector"),
+        "ur5 (URDF)": (str(ERD / "ur_description/urdf/ur5_robot.urdf"), "tool0")}
+
+
+def _wrap(a: np.ndarray) -> np.ndarray:
+    return (a + np.pi) % (2 * np.pi) - np.pi
+
+
+def _flipped(robot):
+    """The same arm as a URDF-convention robot with joint 1's axis reversed (same geometry, q1 -> -q1):
+    the DH-pattern families no longer match it, so the geometric family answers."""
+    from armkit.model.robot import Joint, Robot
+
+    c = robot.chain
+    joints, X, prev = [], c.base.copy(), np.eye(4)
+    for k in range(robot.n):
+        A = X @ c.pre[k]
+        j = robot.joints[k]
+        origin = tuple(tuple(float(v) for v in row) for row in np.linalg.inv(prev) @ A)
+        joints.append(Joint(name=j.name, kind=j.kind, lower=-np.inf, upper=np.inf, origin=origin,
+                            axis=(0.0, 0.0, -1.0 if k == 0 else 1.0)))
+        X, prev = A @ c.post[k], A
+    return Robot(joints, convention="urdf", name=robot.name + "-flipped", unit=robot.unit,
+                 tool=np.linalg.inv(prev) @ X @ c.tool)
+
+
+def _best(fn, repeat: int) -> float:
+    best = np.inf
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        fn()
+        best = min(best, time.perf_counter() - t0)
+    return best
+
+
+def _eaik_robot(form):
+    from eaik.IK_HP import HPRobot
+
+    return HPRobot(np.ascontiguousarray(form.H), np.ascontiguousarray(form.P))   # (n, 3) and (n + 1, 3)
+
+
+def _compare(robot, form, T: np.ndarray, eaik) -> dict:
+    """Branch sets: EAIK's verified solutions against armkit's successful branches."""
+    scale = max(1.0, robot.reach)
+    res = armkit.ik_all(robot, T, enforce_limits=False)
+    Tfix = T.copy()
+    Tfix[:, :3, :3] = T[:, :3, :3] @ form.R_nT.T
+    missing = extra = bad = eaik_total = 0
+    for i in range(len(T)):
+        sol = eaik.IK(Tfix[i])
+        Q = np.asarray(sol.Q).reshape(-1, robot.n)
+        ls = np.asarray(sol.is_LS).reshape(-1).astype(bool)
+        if len(Q):
+            back = armkit.fk(robot, Q)
+            good = ~ls & (np.abs(back - T[i]).max(axis=(1, 2)) <= 1e-9 * scale)
+            Q = Q[good]
+        ours = res.q[i][res.success[i]]
+        if len(ours):
+            err = np.abs(armkit.fk(robot, ours) - T[i]).max(axis=(1, 2))
+            bad += int((err > 1e-9 * scale).sum())
+        eaik_total += len(Q)
+        if len(Q) and len(ours):
+            d = np.abs(_wrap(Q[:, None] - ours[None])).max(axis=-1)
+            missing += int((d.min(axis=1) > 1e-6).sum())
+            extra += int((d.min(axis=0) > 1e-6).sum())
+        else:
+            missing += len(Q)
+            extra += len(ours)
+    return {"eaik branches": eaik_total, "armkit branches": int(res.success.sum()), "missing": missing,
+            "extra": extra, "armkit fails FK": bad}
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--targets", type=int, default=1000)
+    ap.add_argument("--threads", type=int, default=2)
+    ap.add_argument("--repeat", type=int, default=3)
+    args = ap.parse_args()
+    try:
+        import eaik  # noqa: F401
+    except ImportError:
+        sys.exit("EAIK is not installed: pip install eaik (the bench extra)")
+    G.kernels()
+    rows = []
+    for label, (name, tip) in ARMS.items():
+        if name.endswith(".urdf") and not Path(name).is_file():
+            print(f"skip {label}: example-robot-data is not installed")
+            continue
+        robot = _flipped(armkit.load(name)) if tip == "flip" else armkit.load(name, tip=tip) if tip else armkit.load(name)
+        form = poe(robot)
+        if robot.prismatic.any():
+            print(f"skip {label}: EAIK's HPRobot takes revolute joints only")
+            continue
+        cf = closed_form(robot)
+        rng = np.random.default_rng(7)
+        q = rng.uniform(-np.pi, np.pi, (args.targets, robot.n))
+        T = armkit.fk(robot, q)
+        eaik = _eaik_robot(form)
+        armkit.ik_all(robot, T[:4])            # warm up every kernel on both sides
+        Tfix = T.copy()
+        Tfix[:, :3, :3] = T[:, :3, :3] @ form.R_nT.T
+        eaik.IK(Tfix[0])
+        cmp = _compare(robot, form, T, eaik)
+        k = min(300, len(T))
+        e_single = _best(lambda: [eaik.IK(Tfix[i]) for i in range(k)], args.repeat) / k
+        a_all = _best(lambda: [armkit.ik_all(robot, T[i]) for i in range(k)], args.repeat) / k
+        a_one = _best(lambda: [armkit.ik(robot, T[i]) for i in range(k)], args.repeat) / k
+        raw = None
+        if cf is not None and cf.family == "geometric":
+            fn = G.SOLVERS[cf.solver]
+            f = cf.form
+            raw = _best(lambda: [fn(f, T[i, :3, :3], T[i, :3, 3]) for i in range(k)], args.repeat) / k
+        e_batch = _best(lambda: eaik.IK_batched(Tfix, args.threads), args.repeat) / len(T)
+        a_batch = _best(lambda: armkit.ik_all(robot, T), args.repeat) / len(T)
+        rows.append((label, cf.family if cf else "none", cmp, e_single, raw, a_all, a_one, e_batch, a_batch))
+    us = lambda s: "-" if s is None else f"{s * 1e6:.1f}"  # noqa: E731
+    print(f"\n{args.targets:,} targets per arm, limits off, {args.threads} EAIK threads; times in µs per target "
+          "(ratio armkit/EAIK)\n")
+    print("| arm | armkit family | EAIK branches | armkit branches | missing | extra | armkit fails FK | "
+          "EAIK single | armkit raw solver | armkit ik_all single | armkit ik single | EAIK batched | "
+          "armkit ik_all batched |")
+    print("|" + "---|" * 13)
+    for label, fam, c, es, raw, aa, a1, eb, ab in rows:
+        print(f"| {label} | {fam} | {c['eaik branches']:,} | {c['armkit branches']:,} | {c['missing']} | {c['extra']} "
+              f"| {c['armkit fails FK']} | {us(es)} | {us(raw)}{'' if raw is None else f' ({raw / es:.2g}x)'} | "
+              f"{us(aa)} ({aa / es:.2g}x) | {us(a1)} ({a1 / es:.2g}x) | {us(eb)} | {us(ab)} ({ab / eb:.2g}x) |")
+
+
+if __name__ == "__main__":
+    main()
