@@ -17,15 +17,41 @@ _HOSTNAME = re.compile(r"^(?=.{1,253}$)[A-Za-z0-9](?:[A-Za-z0-9-]{0,61}[A-Za-z0-
 
 
 def check_host(host: str) -> str:
-    """``host`` if it is an IP address or a host name; exit 2 otherwise."""
+    """``host`` if it is an IP address or a host name of this machine that a server can listen on; exit 2 otherwise.
+
+    A name that does not resolve (``example.invalid``) or an address of another machine fails here, with one
+    line, before the view starts (it was a ``socket.gaierror`` traceback, issue 24).
+    """
     try:
         ipaddress.ip_address(host)
-        return host
     except ValueError:
-        pass
-    if not _HOSTNAME.match(host):
-        fail(_("--host must be an IP address or a host name, got {value!r}", value=host))
+        if not _HOSTNAME.match(host):
+            fail(_("--host must be an IP address or a host name, got {value!r}", value=host))
+    reason = _bind_problem(host)
+    if reason is not None:
+        fail(_("cannot listen on --host {value!r}: {reason}", value=host, reason=reason))
     return host
+
+
+def _bind_problem(host: str) -> Optional[str]:
+    """Why a server cannot listen on ``host`` (the name does not resolve, the address is not this machine's),
+    or None when it can: resolved and bound to a free port, then closed at once."""
+    import socket
+
+    try:
+        infos = socket.getaddrinfo(host, 0, type=socket.SOCK_STREAM)
+    except (socket.gaierror, UnicodeError, OSError) as exc:
+        return _("the name does not resolve to an address ({reason})",
+                 reason=getattr(exc, "strerror", None) or str(exc) or type(exc).__name__)
+    last = ""
+    for family, kind, proto, _name, addr in infos:
+        try:
+            with socket.socket(family, kind, proto) as s:
+                s.bind(addr)
+            return None
+        except OSError as exc:
+            last = exc.strerror or str(exc)
+    return _("no address of this machine ({reason})", reason=last or "bind failed")
 
 
 def check_port(port: Optional[int]) -> Optional[int]:

@@ -16,7 +16,7 @@ from numpy.typing import NDArray
 from .._extras import require
 from .shapes import SceneError
 
-__all__ = ["distances", "geometry", "signed_distance"]
+__all__ = ["distances", "geometry", "signed_distance", "mesh_error"]
 
 Array = NDArray[np.float64]
 _MESHES: dict[tuple[str, int, tuple[float, ...]], Any] = {}
@@ -56,10 +56,18 @@ def geometry(kind: str, size: Any, shape: Any = None) -> Any:
                 model = coal.MeshLoader().load(shape.mesh_path, np.array(shape.scale, dtype=float))
                 model.buildConvexHull(True, "Qt")
                 _MESHES[key] = model.convex
-            except Exception as exc:  # coal raises plain RuntimeErrors for unreadable meshes
-                raise SceneError(f"cannot read mesh {shape.mesh_path!r}: {exc}") from None
+            except Exception:  # noqa: BLE001 - coal raises plain RuntimeErrors whose text is C++ internals
+                raise SceneError(mesh_error(shape.mesh_path)) from None
         return _MESHES[key]
     raise SceneError(f"no collision geometry for shape kind {kind!r}")
+
+
+def mesh_error(path: Any) -> str:
+    """The message for a mesh file that cannot be read: the file and what it should be, no library internals."""
+    shown = str(path)
+    shown = shown if len(shown) <= 300 else shown[:297] + "..."
+    return (f"cannot read mesh {shown!r}: it is not a valid STL, OBJ or DAE file with at least one triangle "
+            "(or it cannot be opened)")
 
 
 def _transform(T: Array) -> Any:

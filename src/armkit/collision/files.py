@@ -18,6 +18,12 @@ Example (``scene.toml``)::
     rpy = [0, 0, 30]
 
 Errors name the file, the line and the field: ``scene.toml:9: shapes[2].size: ...``.
+
+Limits (issue 24): a scene file larger than 16 MB is refused unread, one with more than
+:data:`MAX_SHAPES` shapes before any is built; a mesh ``path`` is read only from the scene
+file's folder (and the folders below it, its package, ``ARMKIT_PACKAGE_PATH``), as URDF
+meshes are (:class:`armkit.model.urdf._MeshLookup`), unless ``allow_outside=True`` or
+``ARMKIT_ALLOW_OUTSIDE=1``; a mesh file over the mesh size limit is refused unread.
 """
 
 from __future__ import annotations
@@ -36,7 +42,11 @@ if sys.version_info >= (3, 11):
 else:  # pragma: no cover
     import tomli as tomllib
 
-__all__ = ["load_scene", "parse_scene", "shape_from_table", "SceneFileError", "SHAPE_KEYS", "block_line"]
+__all__ = ["load_scene", "parse_scene", "shape_from_table", "SceneFileError", "SHAPE_KEYS", "block_line",
+           "MAX_SHAPES", "MAX_SCENE_BYTES"]
+
+MAX_SHAPES = 10_000                  # shapes in one scene file (or a robot file's [[body]] and [[scene]] tables)
+MAX_SCENE_BYTES = 16 * 1024 ** 2     # a scene file larger than this is refused unread (as robot files are)
 
 _SCENE_TOP = {"unit", "angle_unit", "shapes", "name", "description"}
 SHAPE_KEYS = {
@@ -50,9 +60,14 @@ SHAPE_KEYS = {
 _COMMON = {"type", "name", "allow"}
 
 
-def block_line(lines: list[str], header: str, index: int, key: str | None) -> int | None:
+def _block_starts(lines: list[str], header: str) -> list[int]:
+    return [i for i, ln in enumerate(lines) if re.match(rf"\s*\[\[\s*{re.escape(header)}\s*\]\]", ln)]
+
+
+def block_line(lines: list[str], header: str, index: int, key: str | None,
+               starts: list[int] | None = None) -> int | None:
     """1-based line of ``key`` inside the ``index``-th ``[[header]]`` block (or of the header)."""
-    starts = [i for i, ln in enumerate(lines) if re.match(rf"\s*\[\[\s*{re.escape(header)}\s*\]\]", ln)]
+    starts = _block_starts(lines, header) if starts is None else starts
     if index >= len(starts):
         return None
     lo = starts[index]
@@ -65,16 +80,18 @@ def block_line(lines: list[str], header: str, index: int, key: str | None) -> in
 
 
 def shape_from_table(row: Any, where: str, fail: Callable[[str, str, str | None], Exception], angle: float,
-                     base_dir: Path | None = None, extra: frozenset[str] = frozenset()) -> tuple[Shape, dict]:
+                     base_dir: Path | None = None, extra: frozenset[str] = frozenset(),
+                     meshes: Any = None) -> tuple[Shape, dict]:
     """One ``[[shapes]]`` (or robot-file ``[[body]]``/``[[scene]]``) table -> a :class:`Shape`.
 
     ``fail(message, field, key)`` builds the exception to raise; ``extra`` are keys the caller
-    handles itself (returned in the second value).
+    handles itself (returned in the second value). ``meshes``: the :class:`~armkit.model.urdf._MeshLookup`
+    of the file (where its mesh paths may lead); by default one for a file in ``base_dir``.
     """
     if not isinstance(row, dict):
         raise fail("must be a table", where, None)
     kind = row.get("type")
-    if kind not in SHAPE_KEYS:
+    if not isinstance(kind, str) or kind not in SHAPE_KEYS:     # type = [] or {} is not hashable
         raise fail(f"type must be one of {', '.join(SHAPE_KEYS)}; got {kind!r}", f"{where}.type", "type")
     allowed = SHAPE_KEYS[kind] | _COMMON | extra
     bad = sorted(set(row) - allowed)
@@ -123,9 +140,24 @@ def shape_from_table(row: Any, where: str, fail: Callable[[str, str, str | None]
             p = row.get("path")
             if not isinstance(p, str) or not p:
                 raise fail(f"a mesh needs path = \"file.stl\", got {p!r}", f"{where}.path", "path")
-            full = Path(p) if Path(p).is_absolute() or base_dir is None else base_dir / p
-            if not full.is_file():
-                raise fail(f"mesh file not found: {str(full)!r}", f"{where}.path", "path")
+            if meshes is None:
+                meshes = mesh_lookup(base_dir if base_dir is not None else Path.cwd())
+            found, refused = meshes._locate(p)
+            if refused:
+                raise fail(f"mesh path {_short(p)!r} leads outside the file's folder and the package path; it was "
+                           f"not read (to read it anyway: allow_outside=True, or set {_ALLOW_OUTSIDE}=1)",
+                           f"{where}.path", "path")
+            if found is None:
+                full = Path(p) if Path(p).is_absolute() or base_dir is None else base_dir / p
+                raise fail(f"mesh file not found: {_short(str(full))!r}", f"{where}.path", "path")
+            from .._limits import check_mesh_file
+            from ..errors import LimitError
+
+            try:
+                check_mesh_file(found)           # a 3 GB file is refused here, unread
+            except LimitError as exc:
+                raise fail(str(exc), f"{where}.path", "path") from None
+            full = Path(found)
             import numpy as np
 
             pose = make_pose(rpy_to_rotation(np.array(vec("rpy", [0, 0, 0])) * angle), np.array(vec("xyz", [0, 0, 0])))
@@ -136,14 +168,34 @@ def shape_from_table(row: Any, where: str, fail: Callable[[str, str, str | None]
     return shape, {k: row[k] for k in extra if k in row}
 
 
-def parse_scene(text: str, path: str) -> Scene:
-    """The :class:`Scene` in a scene file's text; ``path`` names it in messages."""
+_ALLOW_OUTSIDE = "ARMKIT_ALLOW_OUTSIDE"
+
+
+def _short(text: str, limit: int = 200) -> str:
+    return text if len(text) <= limit else text[:limit - 3] + "..."
+
+
+def mesh_lookup(folder: Path, allow_outside: bool = False) -> Any:
+    """Where the mesh paths of a file in ``folder`` may lead: the URDF loader's rules (one implementation)."""
+    from ..model.urdf import _MeshLookup
+
+    return _MeshLookup(Path(folder) / "scene.toml", allow_outside)
+
+
+def parse_scene(text: str, path: str, *, allow_outside: bool = False) -> Scene:
+    """The :class:`Scene` in a scene file's text; ``path`` names it in messages.
+
+    More than :data:`MAX_SHAPES` shapes are refused before any is built; mesh paths follow
+    :func:`load_scene`'s rules (``allow_outside``).
+    """
     lines = text.splitlines()
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         m = re.search(r"line (\d+)", str(exc))
         raise SceneFileError(path, f"not valid TOML: {exc}", int(m.group(1)) if m else None) from None
+    except RecursionError:     # tomllib recurses once per nesting level: [[[[...]]]] 500 deep (as robot files)
+        raise SceneFileError(path, "not valid TOML: arrays or tables nested too deeply") from None
 
     def top_line(key: str) -> int | None:
         return next((i + 1 for i, ln in enumerate(lines) if re.match(rf"\s*{re.escape(key)}\s*=", ln)), None)
@@ -162,24 +214,42 @@ def parse_scene(text: str, path: str) -> Scene:
     if not isinstance(rows, list):
         raise SceneFileError(path, "must be an array of tables: write [[shapes]] above each shape",
                              top_line("shapes"), "shapes")
+    if len(rows) > MAX_SHAPES:
+        raise SceneFileError(path, f"{len(rows):,} shapes; a scene file may hold at most {MAX_SHAPES:,}",
+                             top_line("shapes"), "shapes")
+    folder = Path(path).resolve().parent
+    meshes = mesh_lookup(folder, allow_outside)
+    starts = _block_starts(lines, "shapes")
     shapes = []
     for k, row in enumerate(rows):
         def fail(message: str, field: str, key: str | None, k: int = k) -> Exception:
-            return SceneFileError(path, message, block_line(lines, "shapes", k, key), field)
+            return SceneFileError(path, message, block_line(lines, "shapes", k, key, starts), field)
 
         shape, _ = shape_from_table(row, f"shapes[{k + 1}]", fail, math.pi / 180 if angle_unit == "deg" else 1.0,
-                                    Path(path).resolve().parent)
+                                    folder, meshes=meshes)
         shapes.append(shape)
     return Scene(shapes, unit)
 
 
-def load_scene(path: str | Path) -> Scene:
-    """Read a scene file; a missing or unreadable file raises :class:`SceneFileError`."""
+def load_scene(path: str | Path, *, allow_outside: bool = False) -> Scene:
+    """Read a scene file; a missing, unreadable or too large file raises :class:`SceneFileError`.
+
+    Mesh paths are read only from the file's folder (and below), its package and the package path
+    (``ARMKIT_PACKAGE_PATH``, ``ROS_PACKAGE_PATH``); ``allow_outside=True`` (or ``ARMKIT_ALLOW_OUTSIDE=1``)
+    reads any path.
+    """
     p = Path(path)
-    if not p.is_file():
-        raise SceneFileError(str(path), "no such scene file")
+    try:
+        if not p.is_file():
+            raise SceneFileError(str(path), "no such scene file")
+        size = p.stat().st_size
+    except (OSError, ValueError) as exc:
+        raise SceneFileError(str(path), f"cannot read file: {exc}") from None
+    if size > MAX_SCENE_BYTES:
+        raise SceneFileError(str(path), f"the file has {size:,} bytes; a scene file may have at most "
+                             f"{MAX_SCENE_BYTES:,}; it was not read")
     try:
         text = p.read_text(encoding="utf-8")
     except (OSError, UnicodeDecodeError) as exc:
         raise SceneFileError(str(path), f"cannot read file: {exc}") from None
-    return parse_scene(text, str(path))
+    return parse_scene(text, str(path), allow_outside=allow_outside)

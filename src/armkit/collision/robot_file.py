@@ -32,14 +32,17 @@ from typing import Any
 
 from ..errors import RobotFileError
 from ..model.robot import Robot
-from .files import block_line, shape_from_table
+from .files import MAX_SHAPES, block_line, mesh_lookup, shape_from_table
 from .geometry import RobotCollision
 
-__all__ = ["attach"]
+__all__ = ["attach", "surroundings", "carry_collision"]
 
 
-def attach(robot: Robot, data: dict, text: str, path: str) -> None:
-    """Read the collision keys of a parsed robot file and keep them on ``robot`` as ``robot.collision``."""
+def attach(robot: Robot, data: dict, text: str, path: str, allow_outside: bool = False) -> None:
+    """Read the collision keys of a parsed robot file and keep them on ``robot`` as ``robot.collision``.
+
+    Mesh paths follow the scene files' rules (``allow_outside``); more than ``MAX_SHAPES`` shapes are refused.
+    """
     lines = text.splitlines()
     ang = math.pi / 180.0 if data.get("angle_unit", "deg") == "deg" else 1.0
 
@@ -79,18 +82,23 @@ def attach(robot: Robot, data: dict, text: str, path: str) -> None:
                 raise RobotFileError(path, f"no link {x!r}; the links are: {', '.join(links)}", line,
                                      "allow_collision")
     tables: dict[str, list] = {}
+    folder = Path(path).resolve().parent
+    meshes = mesh_lookup(folder, allow_outside)
     for key in ("body", "scene"):
         rows_k = data.get(key, [])
         if not isinstance(rows_k, list):
             raise RobotFileError(path, f"must be an array of tables: write [[{key}]] above each shape",
                                  top_line(key), key)
+        if len(rows_k) > MAX_SHAPES:
+            raise RobotFileError(path, f"{len(rows_k):,} shapes; a robot file may hold at most {MAX_SHAPES:,} "
+                                 f"[[{key}]] tables", None, key)
         out = []
         for k, row in enumerate(rows_k):
             def fail(message: str, field: str, key_: str | None, k: int = k, key: str = key) -> Exception:
                 return RobotFileError(path, message, block_line(lines, key, k, key_), field)
 
-            shape, extra = shape_from_table(row, f"{key}[{k + 1}]", fail, ang, Path(path).resolve().parent,
-                                            frozenset({"link"}) if key == "body" else frozenset())
+            shape, extra = shape_from_table(row, f"{key}[{k + 1}]", fail, ang, folder,
+                                            frozenset({"link"}) if key == "body" else frozenset(), meshes)
             link = extra.get("link")
             if link is not None:
                 if not isinstance(link, str) or link not in links:
@@ -105,3 +113,92 @@ def attach(robot: Robot, data: dict, text: str, path: str) -> None:
         tables[key] = out
     object.__setattr__(robot, "collision", RobotCollision(radii, tuple(tables["body"]), tuple(tables["scene"]),
                                                           tuple((a, b) for a, b in pairs)))
+
+
+def _shape_row(s: Any, scale: float) -> dict[str, Any]:
+    """One Shape as a robot-file table (lengths times ``scale``, rpy in radians: the caller converts)."""
+    import numpy as np
+
+    from ..spatial import rotation_to_rpy
+
+    def vec(v: Any) -> list[float]:
+        return [float(x) * scale + 0.0 for x in np.asarray(v, dtype=float)]
+
+    row: dict[str, Any] = {"type": s.kind, "name": s.name}
+    R = np.asarray(s.pose)[:3, :3]
+    if s.kind == "plane":
+        row.update(normal=[float(x) + 0.0 for x in s.normal], offset=s.offset * scale + 0.0)
+    elif s.kind == "box":
+        row.update(center=vec(s.center), size=[v * scale for v in s.size], rpy=list(map(float, rotation_to_rpy(R))))
+    elif s.kind == "sphere":
+        row.update(center=vec(s.center), radius=s.size[0] * scale)
+    elif s.kind == "cylinder":
+        row.update(center=vec(s.center), radius=s.size[0] * scale, length=s.size[1] * scale,
+                   rpy=list(map(float, rotation_to_rpy(R))))
+    elif s.kind == "capsule":
+        a, b = s.segment()
+        row.update(a=vec(a), b=vec(b), radius=s.size[0] * scale)
+    else:
+        row.update(path=str(s.mesh_path), xyz=vec(s.center), rpy=list(map(float, rotation_to_rpy(R))),
+                   scale=[v * scale for v in s.scale])
+    if s.allow:
+        row["allow"] = list(s.allow)
+    if s.link is not None:
+        row["link"] = s.link
+    return row
+
+
+def surroundings(robot: Robot, scale: float = 1.0, links: Any = None) -> dict[str, Any]:
+    """The collision keys :func:`attach` reads, from ``robot.collision``: what a save writes back (issue 24).
+
+    ``{"link_radius": r}`` or ``{"joint_radius": [r1, ...]}`` (one per joint, for the ``[[joints]]`` tables),
+    ``allow_collision``, ``body`` and ``scene`` (lists of tables; every ``rpy`` in radians). Lengths are
+    multiplied by ``scale`` (a URDF is written in metres). ``links``: the link names the written robot has;
+    body shapes and allowed pairs that name another link are left out with a warning. Empty when the robot
+    has no collision keys.
+    """
+    spec = getattr(robot, "collision", None)
+    if spec is None:
+        return {}
+    out: dict[str, Any] = {}
+    if spec.link_radius is not None:
+        radii = [float(r) * scale for r in spec.link_radius]
+        if len(set(radii)) == 1:
+            out["link_radius"] = radii[0]
+        else:
+            out["joint_radius"] = radii
+    names = None if links is None else set(links)
+    dropped: list[str] = []
+    pairs = [list(p) for p in spec.allow_collision]
+    if names is not None:
+        dropped += [f"{a}/{b}" for a, b in pairs if a not in names or b not in names]
+        pairs = [p for p in pairs if p[0] in names and p[1] in names]
+    if pairs:
+        out["allow_collision"] = pairs
+    for key in ("body", "scene"):
+        rows = []
+        for s in getattr(spec, key):
+            if names is not None and s.link is not None and s.link not in names:
+                dropped.append(s.name)
+                continue
+            rows.append(_shape_row(s, scale))
+        if rows:
+            out[key] = rows
+    if dropped:
+        import warnings
+
+        warnings.warn(f"robot {robot.name!r}: {len(dropped)} collision entries name links the written file does not "
+                      f"have and were left out (first: {dropped[0]})", stacklevel=3)
+    return out
+
+
+def carry_collision(source: Robot, target: Robot) -> None:
+    """Give ``target`` (``source``'s DH twin: the same joints) ``source``'s collision keys; entries that name a
+    link ``target`` does not have are left out."""
+    spec = getattr(source, "collision", None)
+    if spec is None or target.n != source.n:
+        return
+    names = {lk.name for lk in target.links} | set(target.link_names)
+    body = tuple(s for s in spec.body if s.link is None or s.link in names)
+    pairs = tuple(p for p in spec.allow_collision if p[0] in names and p[1] in names)
+    object.__setattr__(target, "collision", RobotCollision(spec.link_radius, body, spec.scene, pairs))

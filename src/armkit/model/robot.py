@@ -346,7 +346,8 @@ class Robot:
     unit, base and tool (exactly, element by element), description, source, link names,
     links (name, frame, offset, parent, joint, joint origin and shapes) and ignored joints.
     The ``collision`` attribute that a robot file's ``[collision]`` table attaches (see
-    :mod:`armkit.collision.robot_file`) is not part of the value.
+    :mod:`armkit.collision.robot_file`) is not part of the value, nor is ``loaded_from`` (the
+    resolved path :func:`armkit.load` read the robot from; :func:`armkit.save` refuses to write onto it).
 
     Examples
     --------
@@ -564,6 +565,10 @@ class Robot:
             from .dh_extract import chain_to_dh
 
             twin = self.cache[key] = chain_to_dh(self, convention)
+            if getattr(self, "collision", None) is not None:   # the surroundings go with it (issue 24)
+                from ..collision.robot_file import carry_collision
+
+                carry_collision(self, twin)
         return twin  # type: ignore[no-any-return]
 
     def link_index(self, name: str) -> int:

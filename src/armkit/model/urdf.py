@@ -71,6 +71,13 @@ def _check_xml(root: Any, path: str) -> tuple[dict[str, Any], dict[str, Any]]:
     """Structural checks with line numbers, before yourdfpy reads the values; the link and joint elements by name."""
     if root.tag != "robot":
         raise RobotFileError(path, f"the root element must be <robot>, got <{root.tag}>", root.sourceline)
+    from .files import MAX_JOINTS
+
+    for tag, most in (("joint", MAX_JOINTS), ("link", MAX_JOINTS + 1)):   # counted before anything is built
+        count = sum(1 for _ in root.iterchildren(tag))
+        if count > most:
+            raise RobotFileError(path, f"{count:,} <{tag}> elements; armkit reads URDF trees of at most "
+                                 f"{MAX_JOINTS:,} joints ({MAX_JOINTS + 1:,} links)", root.sourceline)
     links = _check_links(root, path)
     if not links:
         raise RobotFileError(path, "the file has no <link>", root.sourceline)
@@ -406,19 +413,73 @@ def load_urdf(path: str | Path, base: str | None = None, tip: str | None = None,
         warnings.warn(f"{spath}: {len(missing)} mesh file(s) not found (first: {missing[0]}); kinematics are not "
                       f"affected. Set ARMKIT_PACKAGE_PATH to the folder that holds the package to see the meshes.",
                       stacklevel=3)
-    ignored = [jn for jn in jmap if jn not in path_joints]
+    on_chain = set(path_joints)
+    ignored = [jn for jn in jmap if jn not in on_chain]
     try:
-        return Robot(joints, "urdf", name or str(root.get("name")), "m", None, tool, description, source, link_names, links,
-                     ignored)
+        robot = Robot(joints, "urdf", name or str(root.get("name")), "m", None, tool, description, source, link_names,
+                      links, ignored)
     except RobotDefinitionError as exc:
         raise RobotFileError(spath, str(exc)) from None
+    _attach_surroundings(robot, notes, spath, allow_outside)
+    return robot
+
+
+_SURROUNDINGS = "armkit surroundings:"
+
+
+def _attach_surroundings(robot: Robot, notes: list[str], spath: str, allow_outside: bool) -> None:
+    """The robot's surroundings that :func:`dumps_urdf` wrote in a comment (link radius, body, scene), if any."""
+    import json
+
+    for note in notes:
+        if note.startswith(_SURROUNDINGS):
+            try:
+                data = json.loads(note[len(_SURROUNDINGS):])
+            except (ValueError, RecursionError):
+                raise RobotFileError(spath, f"the {_SURROUNDINGS!r} comment is not valid JSON") from None
+            if not isinstance(data, dict) or set(data) - {"angle_unit", "link_radius", "joints", "allow_collision",
+                                                           "body", "scene"}:
+                raise RobotFileError(spath, f"the {_SURROUNDINGS!r} comment holds unknown keys")
+            from ..collision.robot_file import attach
+
+            attach(robot, data, "", spath, allow_outside)
+            return
+
+
+def _surroundings_note(robot: Robot, links: list[str]) -> str:
+    """The robot's surroundings (scaled to metres) as an XML comment that :func:`load_urdf` reads back."""
+    import json
+
+    from ..collision.robot_file import surroundings
+
+    extra = surroundings(robot, robot.unit_scale, links)
+    if not extra:
+        return ""
+    data: dict[str, Any] = {"angle_unit": "rad"}
+    if "link_radius" in extra:
+        data["link_radius"] = extra["link_radius"]
+        data["joints"] = [{} for _ in robot.joints]      # attach reads one entry per joint
+    if "joint_radius" in extra:
+        data["joints"] = [{"link_radius": r} for r in extra["joint_radius"]]
+    for key in ("allow_collision", "body", "scene"):
+        if key in extra:
+            data[key] = extra[key]
+    text = json.dumps(data, ensure_ascii=True, allow_nan=False, separators=(",", ":"))
+    # "--" cannot stand in an XML comment; it only occurs inside JSON strings, where \u002d is the same "-"
+    return f"<!-- {_SURROUNDINGS} " + text.replace("--", "-\\u002d") + " -->\n"
 
 
 def _read_xml(p: Path, spath: str) -> tuple[Any, list[str]]:
     """The ``<robot>`` element (comments removed, a name set) and the comments written before it."""
     from lxml import etree
 
+    from .files import MAX_FILE_BYTES
+
     try:
+        size = p.stat().st_size
+        if size > MAX_FILE_BYTES:      # refused unread: a 50 MB URDF took minutes and gigabytes (issue 24)
+            raise RobotFileError(spath, f"the file has {size:,} bytes; a robot file may have at most "
+                                 f"{MAX_FILE_BYTES:,}; it was not read")
         data = p.read_bytes()
     except OSError as exc:
         raise RobotFileError(spath, f"cannot read file: {exc.strerror or exc}") from None
@@ -446,7 +507,7 @@ def _read_notes(notes: list[str], base: str | None, tip: str | None, spath: str,
         if m:
             base = m.group(1) if base is None else base
             tip = m.group(2) if tip is None else tip
-    notes = [nt for nt in notes if not nt.startswith(("armkit chain:", "written by armkit"))]
+    notes = [nt for nt in notes if not nt.startswith(("armkit chain:", "written by armkit", _SURROUNDINGS))]
     description = notes[0].splitlines()[0].strip() if notes else f"URDF robot {robot_name!r}"
     rest = "\n".join(notes[0].splitlines()[1:] + notes[1:]).strip() if notes else ""
     source = f"{rest}\n(URDF file {spath})" if rest else f"URDF file {spath}"
@@ -688,6 +749,7 @@ def dumps_urdf(robot: Robot) -> str:
         ignored = set(robot.ignored_joints)
         tip = [lk.name for lk in robot.links if lk.joint not in ignored][-1]   # links off the chain come last
         head.append(f"<!-- armkit chain: {robot.links[0].name} -> {tip} -->\n")
+        head.append(_surroundings_note(robot, [lk.name for lk in robot.links]))
         return "".join(head + out) + "</robot>\n"
     # a DH robot: link k on joint axis k (the frame just after joint k's motion), then the tool
     c = robot.chain
@@ -701,4 +763,5 @@ def dumps_urdf(robot: Robot) -> str:
         out.append(_joint_xml(j.name, _moving_kind(j), names[i], names[i + 1], scaled(origin), np.array([0, 0, 1.0]),
                               lower, upper))
     out.append(_joint_xml(f"{tool_name}_joint", "fixed", names[-1], tool_name, scaled(c.post[-1] @ c.tool)))
+    head.append(_surroundings_note(robot, names + [tool_name]))
     return "".join(head + out) + "</robot>\n"

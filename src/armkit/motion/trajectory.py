@@ -318,6 +318,25 @@ def _sample_segments(W: Array, deltas: Array, plan: list[tuple[int, float, float
 
 
 # ------------------------------------------------------------------------------------------ Cartesian
+def _check_steps(steps: Any, n: int) -> int:
+    """``steps`` of a Cartesian path: an integer of at least 2 whose samples fit the memory budget (issue 24).
+
+    With 1 step the path has only its two rest points, so every speed it reports is 0 (a silent wrong value);
+    ``steps = 10**8`` reached 3.9 GB before any check.
+    """
+    if isinstance(steps, bool) or not isinstance(steps, (int, np.integer)):
+        raise ArgumentError(f"steps must be a whole number, got {steps!r}")
+    if steps < 2:
+        raise ArgumentError(f"steps must be at least 2 (a rest-to-rest path of {int(steps) + 1} sample(s) has no "
+                            f"speed to report), got {steps}")
+    from .._limits import check_memory
+
+    # points, t, q, qd, qdd, positions, targets, deviation and np.gradient's temporaries
+    check_memory((int(steps) + 1) * 8.0 * (3 * n + 12) * 3, f"a Cartesian path of {int(steps) + 1:,} samples",
+                 "ask for fewer --steps")
+    return int(steps)
+
+
 def _ik_solve(robot: Robot, target: Array, q_prev: Array) -> tuple[Array, bool, str]:
     import armkit
 
@@ -363,8 +382,10 @@ def cartesian_path(robot: Robot, points: ArrayLike, q0: ArrayLike | None = None,
         When IK fails at a sample (the message says which one and why).
     """
     P = np.asarray(points, dtype=float)
-    if P.ndim != 2 or P.shape[1] not in (2, 3) or len(P) < 2:
-        raise ShapeError(f"points must have shape (N, 2) or (N, 3) with N >= 2, got {P.shape}")
+    if P.ndim != 2 or P.shape[1] not in (2, 3) or len(P) < 3:
+        raise ShapeError(f"points must have shape (N, 2) or (N, 3) with N >= 3 (with 2 the rest-to-rest speeds are "
+                         f"all 0), got {P.shape}")
+    _check_steps(len(P) - 1, robot.n)
     if duration <= 0:
         raise ArgumentError(f"duration must be positive, got {duration}")
     if speed is not None:
@@ -525,8 +546,7 @@ def cartesian_line(robot: Robot, start: ArrayLike, end: ArrayLike, steps: int = 
     a, b = np.asarray(start, dtype=float), np.asarray(end, dtype=float)
     if a.shape != b.shape or a.shape not in ((2,), (3,)):
         raise ShapeError(f"start and end must both have 2 or 3 values, got {a.shape} and {b.shape}")
-    if steps < 1:
-        raise ArgumentError(f"steps must be at least 1, got {steps}")
+    steps = _check_steps(steps, robot.n)
     u = np.linspace(0.0, 1.0, steps + 1)[:, None]
     pts = a + u * (b - a)
     kwargs = dict(kwargs)
@@ -559,6 +579,7 @@ def cartesian_waypoints(robot: Robot, waypoints: ArrayLike, blend: float = 0.0,
     ([1.2, 0.2], [0.4, 1.0])
     """
     W = np.asarray(waypoints, dtype=float)
+    steps = _check_steps(steps, robot.n)
     pts = blended_polyline(W, blend, blend_shape, steps)
     kwargs = dict(kwargs)
     if kwargs.get("method", "ik") == "rate" and kwargs.get("q0") is None:
@@ -589,6 +610,7 @@ def cartesian_arc(robot: Robot, center: ArrayLike, start: ArrayLike, angle: floa
         raise ShapeError(f"normal must be a non-zero 3-vector, got {normal!r}")
     from ..spatial import axis_angle_to_rotation
 
+    steps = _check_steps(steps, robot.n)
     u = np.linspace(0.0, 1.0, steps + 1)
     R = axis_angle_to_rotation(nrm / np.linalg.norm(nrm), angle * u)
     pts = c3 + np.einsum("nij,j->ni", R, p3 - c3)
