@@ -11,7 +11,8 @@ from __future__ import annotations
 from . import spatial
 from .errors import (ArgumentError, ArmkitError, CalibrationRangeWarning, IKInputError, JointLimitError, LimitError, MapFileError,
                      MissingExtraError, NotRigidError, ParseError, ReachabilityError, RobotDefinitionError,
-                     RobotFileError, SceneError, SceneFileError, SceneNotSupportedError, ShapeError,
+                     RobotFileError, RobotFileNotFoundError, SceneError, SceneFileError, SceneNotSupportedError,
+                     ShapeError,
                      UnknownRobotError, UnreachableError, ViewError, WriteError, WriteInterrupted)
 from .kinematics import (condition_number, fk, fk_frames, get_backend, is_singular, jacobian, link_frames,
                          manipulability, set_backend)
@@ -38,7 +39,8 @@ __all__ = [
     "fk", "fk_frames", "link_frames", "jacobian", "manipulability", "condition_number", "is_singular",
     "set_backend", "get_backend", "warmup",
     "ArmkitError", "ArgumentError", "ShapeError", "RobotDefinitionError", "RobotFileError", "UnknownRobotError",
-    "JointLimitError", "UnreachableError", "IKInputError", "ParseError", "LimitError", "WriteError", "WriteInterrupted",
+    "RobotFileNotFoundError", "JointLimitError", "UnreachableError", "IKInputError", "ParseError", "LimitError",
+    "WriteError", "WriteInterrupted",
     "MissingExtraError", "SceneError", "SceneFileError", "SceneNotSupportedError", "ReachabilityError", "MapFileError",
     "ViewError", "NotRigidError", "CalibrationRangeWarning",
     "IKResult", "ik", "ik_all", "view",

@@ -14,6 +14,7 @@ __all__ = [
     "RobotDefinitionError",
     "RobotFileError",
     "UnknownRobotError",
+    "RobotFileNotFoundError",
     "JointLimitError",
     "UnreachableError",
     "WriteError",
@@ -82,6 +83,16 @@ class UnknownRobotError(ArmkitError, KeyError):
     def __str__(self) -> str:  # KeyError would quote the whole message
         return (f"unknown robot {self.name!r}; bundled robots are: {', '.join(self.valid)} "
                 "(or give the path of a .toml or .urdf robot file)")
+
+
+class RobotFileNotFoundError(UnknownRobotError):
+    """A robot name that is a path (it has a ``/`` or a robot file's suffix) names no file: ``PATH: file not found``."""
+
+    def __init__(self, path: str):
+        super().__init__(path, [])
+
+    def __str__(self) -> str:
+        return f"{self.name}: file not found"
 
 
 class JointLimitError(ArmkitError, ValueError):

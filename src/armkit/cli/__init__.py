@@ -10,8 +10,10 @@ Exit codes: 0 success, 1 a computation that failed (e.g. unreachable target), 2 
 
 from __future__ import annotations
 
+import functools
 import importlib
 import os
+from typing import Optional
 
 import typer
 from typer.core import TyperGroup
@@ -27,6 +29,10 @@ class _ArmkitGroup(TyperGroup):
     input too deep or too large for Python (RecursionError, OverflowError, MemoryError)
     exit 2 with a message instead of a traceback.
     """
+
+    def __init__(self, *args, **kwargs):  # type: ignore[no-untyped-def]
+        super().__init__(*args, **kwargs)
+        _tidy_help(self)
 
     def parse_args(self, ctx, args):  # type: ignore[no-untyped-def]
         """Take ``--base LINK`` / ``--tip LINK`` (the chain of a URDF, see ``common.get_robot``), ``--allow-outside``
@@ -118,6 +124,77 @@ class _ArmkitGroup(TyperGroup):
             say(_("error:"), "bold red", f"{what} ({type(exc).__name__}: {exc})")
             raise SystemExit(EXIT_BAD_INPUT) from None
 
+
+_TYPE_LABELS = {"float": "FLOAT", "int": "INT", "str": "TEXT", "path": "PATH", "list[str]": "TEXT"}
+
+
+def _type_label(param, ctx):  # type: ignore[no-untyped-def]
+    """What ``--help`` shows after an option: nothing for a flag, the option's metavar, or ``FLOAT``, ``INT``,
+    ``TEXT`` (``FLOAT FLOAT FLOAT`` for three numbers), never Typer's ``<bool>`` or ``<list[str]>``."""
+    if getattr(param, "is_flag", False) or getattr(param, "count", False):
+        return None
+    if param.metavar is not None:
+        return param.metavar
+    shown = type(param).display_type(param, ctx).strip("<>").removesuffix("...").strip("<>")
+    words = [_TYPE_LABELS.get(w, w.upper()) for w in shown.split(",")]
+    return " ".join(words) + ("..." if param.nargs == -1 or getattr(param, "multiple", False) else "")
+
+
+def _chain(base: Optional[str] = typer.Option(None, "--base", metavar="LINK",
+                                              help="URDF: the link where the chain starts (default: the root link)."),
+           tip: Optional[str] = typer.Option(None, "--tip", metavar="LINK",
+                                             help="URDF: the link where the chain ends, e.g. tool0 (default: the "
+                                                  "single leaf reached through moving joints)."),
+           allow_outside: bool = typer.Option(False, "--allow-outside",
+                                              help="URDF: read mesh files outside its folder and package.")
+           ) -> None:  # pragma: no cover  (never called: only its options are used, by _chain_options)
+    """The options the command group takes from anywhere on the line, declared once for ``--help``."""
+
+
+@functools.lru_cache(maxsize=1)
+def _chain_options() -> tuple:  # type: ignore[type-arg]
+    """``--base``, ``--tip``, ``--allow-outside`` as help entries: the command group takes them from anywhere on
+    the line (``_ArmkitGroup.parse_args``), so the commands never receive them (``expose_value=False``)."""
+    import types
+
+    from typer.main import get_command
+
+    helper = typer.Typer(add_completion=False)
+    helper.command()(_chain)
+    params = tuple(get_command(helper).params)
+    for param in params:
+        param.expose_value = False
+        param.display_type_rich = types.MethodType(_type_label, param)  # type: ignore[attr-defined]
+    return params
+
+
+def _tidy_help(command) -> None:  # type: ignore[no-untyped-def]
+    """Every command's ``--help``: plain type labels (:func:`_type_label`), no label on arguments (their name says
+    what they are), and ``--base/--tip/--allow-outside`` listed on every command that takes a robot."""
+    import types
+
+    for param in command.params:
+        if hasattr(param, "display_type_rich"):
+            if getattr(param, "param_type_name", "") == "argument":
+                param.display_type_rich = lambda ctx: None
+            else:
+                param.display_type_rich = types.MethodType(_type_label, param)
+    get_help_option = command.get_help_option
+
+    def help_option(ctx):  # type: ignore[no-untyped-def]
+        option = get_help_option(ctx)
+        if option is not None and hasattr(option, "display_type_rich"):
+            option.display_type_rich = lambda ctx: None
+        return option
+
+    command.get_help_option = help_option
+    names = {p.name for p in command.params}
+    if "robot" in names and "base" not in names and "tip" not in names:
+        command.params.extend(_chain_options())
+    for sub in getattr(command, "commands", {}).values():
+        _tidy_help(sub)
+
+
 _COMMAND_MODULES = ("core", "ik", "viz", "symbolic", "view", "reach", "warmup", "so101")
 
 app = typer.Typer(
@@ -130,6 +207,22 @@ app = typer.Typer(
     pretty_exceptions_enable=False,
     rich_markup_mode="rich",
 )
+
+
+
+def _print_version(value: bool) -> None:
+    if value:
+        from .. import __version__
+
+        typer.echo(f"armkit {__version__}")
+        raise typer.Exit()
+
+
+@app.callback()
+def _options(version: bool = typer.Option(False, "--version", callback=_print_version, is_eager=True,
+                                          help="Print armkit's version and exit.")) -> None:
+    pass
+
 
 for _name in _COMMAND_MODULES:
     try:

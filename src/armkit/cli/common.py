@@ -289,13 +289,45 @@ def _split_long(item: str, room: int) -> list[str]:
     return textwrap.wrap(item, max(room, 20), break_long_words=False, break_on_hyphens=False) or [item]
 
 
+NOISE = 1e-9
+"""A table number smaller than this (in its printed unit: deg, m, mm) is rounding noise and printed as 0."""
+
+
+def fixed(value: float, digits: int = 3, sign: str = "") -> str:
+    """``value`` with ``digits`` decimals, never ``-0.000``: a value that rounds to zero prints without a sign.
+
+    ``sign=" "`` leaves a space where the minus would be (columns of a matrix line up).
+
+    >>> fixed(-0.0004), fixed(-1e-17, 6, " "), fixed(-2.5), fixed(float("nan"))
+    ('0.000', ' 0.000000', '-2.500', 'nan')
+    """
+    text = f"{value:{sign}.{digits}f}"
+    if text.lstrip().startswith("-") and float(text) == 0.0:
+        text = text.replace("-", " " if sign == " " else "", 1)
+    return text
+
+
+def sig(value: float, digits: int = 6) -> str:
+    """``value`` to ``digits`` significant digits, rounding noise (below :data:`NOISE`) shown as 0.
+
+    >>> sig(1.24991e-17), sig(-1e-12), sig(0.1), sig(-2.5e-3)
+    ('0', '0', '0.1', '-0.0025')
+    """
+    return f"{(0.0 if abs(value) < NOISE else value) + 0.0:.{digits}g}"
+
+
+def count(n: int) -> str:
+    """A count with thousands separators: ``count(1000000)`` is ``'1,000,000'``."""
+    return f"{int(n):,}"
+
+
 def pose_table(T: np.ndarray, unit: str, title: str = "pose") -> Table:
-    """A 4x4 pose as a Rich table with the translation column labelled with its unit."""
+    """A 4x4 pose as a Rich table with the translation column labelled with its unit (no ``-0.000000``)."""
     t = Table(title=title, show_header=True, header_style="bold")
     for h in ("", "x", "y", "z", f"p ({unit})"):
         t.add_column(h, justify="right")
     for i, row in enumerate(T[:3]):
-        t.add_row("xyz"[i], *(f"{v: .6f}" for v in row[:3]), f"{row[3]: .6f}")
+        t.add_row("xyz"[i], *(fixed(v, 6, " ") for v in row[:3]), fixed(row[3], 6, " "))
     return t
 
 

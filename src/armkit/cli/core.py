@@ -10,8 +10,8 @@ import typer
 from rich.table import Table
 
 from ..model.robot import Joint, Robot
-from .common import (NUMERIC_ARGS, ROBOT_HELP, N_, _, console, esc, fail, get_robot, natural_width, out_width,
-                     parse_q, pose_table, print_fitted, print_json, print_records, print_table, q_display)
+from .common import (NOISE, NUMERIC_ARGS, ROBOT_HELP, N_, _, console, esc, fail, fixed, get_robot, natural_width,
+                     out_width, parse_q, pose_table, print_fitted, print_json, print_records, print_table, q_display)
 
 
 def robots(json_out: bool = typer.Option(False, "--json", help="Print JSON instead of a table.")) -> None:
@@ -69,17 +69,17 @@ def _dh_rows_table(r: Robot, wide: bool = True) -> Table:
     for col in ("theta", "d", a_h, alpha_h, _("limits")):
         t.add_column(col, justify="right", no_wrap=True)
     for i, j in enumerate(r.joints, 1):
-        theta = (f"q{i}*" + (f" {j.theta * deg:+.6g}" if abs(j.theta) > 1e-12 else "") if not j.is_prismatic
+        theta = (f"q{i}*" + (f" {j.theta * deg:+.6g}" if abs(j.theta * deg) >= NOISE else "") if not j.is_prismatic
                  else _num(j.theta * deg))
-        d = f"q{i}*" + (f" {j.d:+.6g}" if abs(j.d) > 1e-12 else "") if j.is_prismatic else _num(j.d)
+        d = f"q{i}*" + (f" {j.d:+.6g}" if abs(j.d) >= NOISE else "") if j.is_prismatic else _num(j.d)
         t.add_row(str(i), esc(j.name), *((_(j.kind),) if wide else ()), theta, d, _num(j.a), _num(j.alpha * deg),
                   _limits_text(r, j, units=False))
     return t
 
 
 def _num(v: float, digits: int = 6) -> str:
-    """A table number: rounding noise below 1e-12 shown as 0."""
-    return f"{(0.0 if abs(v) < 1e-12 else v) + 0.0:.{digits}g}"
+    """A table number: rounding noise (below :data:`common.NOISE` in its unit) shown as 0."""
+    return f"{(0.0 if abs(v) < NOISE else v) + 0.0:.{digits}g}"
 
 
 def _limits_text(r: Robot, j: Joint, units: bool = True) -> str:
@@ -133,9 +133,9 @@ def _dh_records(r: Robot) -> None:
     m = "" if r.convention == "standard" else "_{i-1}"
     records = []
     for i, j in enumerate(r.joints, 1):
-        theta = f"q{i}*" + (f" {j.theta * deg:+.6g}" if abs(j.theta) > 1e-12 else "") if not j.is_prismatic \
+        theta = f"q{i}*" + (f" {j.theta * deg:+.6g}" if abs(j.theta * deg) >= NOISE else "") if not j.is_prismatic \
             else f"{_num(j.theta * deg)} deg"
-        d = f"q{i}*" + (f" {j.d:+.6g}" if abs(j.d) > 1e-12 else "") if j.is_prismatic else f"{_num(j.d)} {r.unit}"
+        d = f"q{i}*" + (f" {j.d:+.6g}" if abs(j.d) >= NOISE else "") if j.is_prismatic else f"{_num(j.d)} {r.unit}"
         records.append((f"{i} {j.name} ({_(j.kind)})",
                         [f"theta {theta}", f"d {d}", f"a{m} {_num(j.a)} {r.unit}", f"alpha{m} {_num(j.alpha * deg)} deg",
                          _("limits {limits}", limits=_limits_text(r, j))]))
@@ -246,20 +246,26 @@ def info(robot: str = typer.Argument(..., help=ROBOT_HELP),
 def convert(src: str = typer.Argument(..., help="Robot to read: bundled name, .toml or .urdf (--base/--tip for "
                                       "a URDF chain)."),
             dst: str = typer.Argument(..., help="File to write: .urdf (URDF, metres) or .toml (DH table)."),
-            convention: str = typer.Option("standard", "--convention", help="DH convention of a TOML written from "
-                                           "a URDF chain: standard or modified.")) -> None:
+            convention: Optional[str] = typer.Option(
+                None, "--convention", metavar="standard|modified",
+                help="DH convention of the TOML written: standard or modified (Craig). Default: the robot's own "
+                     "(standard for a URDF chain).")) -> None:
     """Convert a robot between URDF and TOML (a URDF chain becomes its equivalent DH table).
 
-    Example: armkit convert ur5.urdf ur5.toml --tip tool0;  armkit convert fighter fighter.urdf
+    Example: armkit convert ur5.urdf ur5.toml --tip tool0;  armkit convert fighter fighter.urdf;
+    armkit convert fighter fighter_craig.toml --convention modified
     """
     from ..model import save
 
-    if convention not in ("standard", "modified"):
+    if convention is not None and convention not in ("standard", "modified"):
         fail(_("--convention must be 'standard' or 'modified', got {value!r}", value=convention))
+    to_urdf = dst.lower().endswith((".urdf", ".xml"))
+    if convention is not None and to_urdf:
+        fail(_("--convention chooses the DH table of a TOML file; a URDF file has no DH table"))
     r = get_robot(src)
     out = r
-    if not dst.lower().endswith((".urdf", ".xml")) and not r.is_dh:
-        out = r.to_dh(convention)  # type: ignore[arg-type]
+    if not to_urdf and (not r.is_dh or (convention is not None and convention != r.convention)):
+        out = r.to_dh(convention or "standard")  # type: ignore[arg-type]
     path = save(out, dst)
     what = _("URDF (metres)") if dst.lower().endswith((".urdf", ".xml")) else _("TOML ({convention} DH)",
                                                                                convention=_(out.convention))
@@ -268,6 +274,9 @@ def convert(src: str = typer.Argument(..., help="Robot to read: bundled name, .t
     if not r.is_dh and out is not r:
         console.print("[dim]" + _("the DH table reproduces the URDF chain's FK for every q; link geometry is not "
                                   "kept in TOML") + "[/]")
+    elif out is not r:
+        console.print("[dim]" + _("the {convention} DH table reproduces the {original} DH table's FK for every q",
+                                  convention=_(out.convention), original=_(r.convention)) + "[/]")
     if r.unit != "m" and dst.lower().endswith((".urdf", ".xml")):
         console.print("[dim]" + _("lengths converted from {unit} to metres (URDF is always in metres)",
                                   unit=r.unit) + "[/]")
@@ -300,13 +309,13 @@ def fk(robot: str = typer.Argument(..., help=ROBOT_HELP),
         return
     console.print(_("{robot} at q = ({q})", robot=f"[bold]{esc(r.name)}[/]", q=", ".join(q_display(r, qv))))
     p = T[:3, 3]
-    rpy_text = f"roll/pitch/yaw: ({rpy[0]:.3f}, {rpy[1]:.3f}, {rpy[2]:.3f}) deg"
+    rpy_text = f"roll/pitch/yaw: ({fixed(rpy[0])}, {fixed(rpy[1])}, {fixed(rpy[2])}) deg"
     if link is not None:
         console.print(_("link {link}: origin ({xyz}) {unit}", link=esc(link),
-                        xyz=f"[bold]{p[0]:.3f}, {p[1]:.3f}, {p[2]:.3f}[/]", unit=r.unit) + "   " + rpy_text)
+                        xyz=f"[bold]{fixed(p[0])}, {fixed(p[1])}, {fixed(p[2])}[/]", unit=r.unit) + "   " + rpy_text)
         print_table(pose_table(T, r.unit, title=f"T_world_{esc(link)}"))
         return
-    console.print(_("end point: ({xyz}) {unit}", xyz=f"[bold]{p[0]:.3f}, {p[1]:.3f}, {p[2]:.3f}[/]", unit=r.unit)
+    console.print(_("end point: ({xyz}) {unit}", xyz=f"[bold]{fixed(p[0])}, {fixed(p[1])}, {fixed(p[2])}[/]", unit=r.unit)
                   + "   " + rpy_text)
     print_table(pose_table(T, r.unit, title="T_world_tool"))
     t = Table(title=_("frame origins ({unit})", unit=r.unit), header_style="bold")
@@ -314,7 +323,7 @@ def fk(robot: str = typer.Argument(..., help=ROBOT_HELP),
         t.add_column(col, justify="right")
     for k, (name, f) in enumerate(zip(r.link_names, F)):
         label = _("base") if k == 0 else (_("{k} + tool", k=k) if k == r.n else str(k))
-        t.add_row(label, esc(name), *(f"{v:.3f}" for v in f[:3, 3]))
+        t.add_row(label, esc(name), *(fixed(v) for v in f[:3, 3]))
     print_table(t)
 
 

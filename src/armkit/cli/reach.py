@@ -157,7 +157,8 @@ def _summary_table(m: Any, lg: str) -> Table:
     t.add_column("", style="bold")
     t.add_column("")
     for k, v in m.summary().items():
-        shown = (_("true") if v else _("false")) if isinstance(v, bool) else v
+        shown = (_("true") if v else _("false")) if isinstance(v, bool) else \
+            f"{v:,}" if isinstance(v, (int, np.integer)) and k != "seed" else v   # counts: 1,000,000
         t.add_row(escape(_(_SUMMARY.get(k, k))), escape(str(shown)))
     return t
 

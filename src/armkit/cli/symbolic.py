@@ -16,7 +16,7 @@ import typer
 from rich.table import Table
 
 from .common import (EXIT_FAILED, NUMERIC_ARGS, console, esc, fail, name_list, output_path, get_robot, parse_numbers, parse_q, print_json,
-                     q_display, scene_option, warn)
+                     q_display, scene_option, sig, warn)
 
 from .common import ROBOT_HELP  # noqa: E402
 from .common import err_console, print_table  # noqa: E402
@@ -301,9 +301,9 @@ def velocity(robot: str = typer.Argument(..., help=ROBOT_HELP),
         console.print(_("{robot} at q = ({q}), joint rates ({rates}) {unit}", robot=f"[bold]{esc(r.name)}[/]",
                         q=", ".join(q_display(r, qv)), rates=", ".join(f"{v:g}" for v in vals),
                         unit="deg/s" if deg else "rad/s"))
-        console.print(_("tool velocity v = ({v}) {unit}/s", v=", ".join(f"{v:.6g}" for v in tw[:3]), unit=r.unit))
-        console.print(_("angular velocity w = ({w}) rad/s = ({w_deg}) deg/s", w=", ".join(f"{v:.6g}" for v in tw[3:]),
-                        w_deg=", ".join(f"{math.degrees(v):.6g}" for v in tw[3:])))
+        console.print(_("tool velocity v = ({v}) {unit}/s", v=", ".join(sig(v) for v in tw[:3]), unit=r.unit))
+        console.print(_("angular velocity w = ({w}) rad/s = ({w_deg}) deg/s", w=", ".join(sig(v) for v in tw[3:]),
+                        w_deg=", ".join(sig(math.degrees(v)) for v in tw[3:])))
         return
     if len(vals) not in (2, 3, 6):
         fail(_("--ee-vel needs 2 (vx vy), 3 (vx vy vz) or 6 (vx vy vz wx wy wz) values, got {k}", k=len(vals)))
@@ -324,9 +324,9 @@ def velocity(robot: str = typer.Argument(..., help=ROBOT_HELP),
     for col in ("joint", "rad/s", "deg/s"):
         t.add_column(col, justify="right")
     for name, v, p in zip(r.joint_names, res.qd, r.prismatic):
-        t.add_row(esc(name), f"{v:.6g}" + (f" {r.unit}/s" if p else ""), "" if p else f"{math.degrees(v):.6g}")
+        t.add_row(esc(name), sig(v) + (f" {r.unit}/s" if p else ""), "" if p else sig(math.degrees(v)))
     print_table(t)
-    console.print(_("achieved: ({values}), residual {residual}", values=", ".join(f"{v:.6g}" for v in res.achieved),
+    console.print(_("achieved: ({values}), residual {residual}", values=", ".join(sig(v) for v in res.achieved),
                     residual=f"{res.residual:.3g}")
                   + (_(", damping lambda^2 = {value} m^2", value=f"{res.damping:.3g}") if res.damping else ""))
     if res.singular:

@@ -29,6 +29,11 @@ PATTERNS = (
     # model: robots and robot files
     N_("unknown robot {name!r}; bundled robots are: {names} (or give the path of a .toml or .urdf robot file)"),
     N_("{path}: no such file"),
+    N_("{path}: file not found"),
+    N_("{what} needs the {extra} extra ({reason}): {command}"),
+    N_("{what} needs the {extra} extra: {command}"),
+    N_("unknown arm {name!r} of example-robot-data; known arms: {names} (or example-robot-data:PATH.urdf, a file of "
+       "its robots folder)"),
     N_("robot {robot!r} has no link {link!r}; its links are: {names}"),
     N_("{where}: unknown key; allowed keys: {keys}"),
     N_("{what} must have shape (..., {n}) for robot {robot!r}, got {shape}"),

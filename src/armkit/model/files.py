@@ -133,7 +133,7 @@ def _pose_from_table(data: Any, path: str, loc: _Locator, table: str, angle: flo
     return make_pose(rpy_to_rotation(np.array(vec["rpy"]) * angle), np.array(vec["xyz"]))
 
 
-def _parse(text: str, path: str) -> Robot:
+def _parse(text: str, path: str, allow_outside: bool = False) -> Robot:
     loc = _Locator(text)
     text = text[1:] if text.startswith("\ufeff") else text      # a UTF-8 byte order mark (Windows editors)
     try:
@@ -168,6 +168,7 @@ def _parse(text: str, path: str) -> Robot:
     joints = [_joint(row, k, path, loc, ang) for k, row in enumerate(rows)]
     base = _pose_from_table(data["base"], path, loc, "base", ang) if "base" in data else None
     tool = _pose_from_table(data["tool"], path, loc, "tool", ang) if "tool" in data else None
+    _check_length(joints, base, tool, path, loc)
     try:
         robot = Robot(joints, data.get("convention", "standard"), str(data.get("name", Path(path).stem)),
                       data.get("unit", "m"), base, tool, str(data.get("description", "")),
@@ -178,8 +179,38 @@ def _parse(text: str, path: str) -> Robot:
     if _COLLISION_KEYS & set(data) or any("link_radius" in row for row in rows):
         from ..collision.robot_file import attach   # NumPy only; coal is never imported here
 
-        attach(robot, data, text, path)
+        attach(robot, data, text, path, allow_outside)
     return robot
+
+
+def _check_length(joints: list[Joint], base: Any, tool: Any, path: str, loc: _Locator) -> None:
+    """Refuse lengths whose FK can overflow (issue 24: ``a = 1e308`` gave x = inf).
+
+    Every position FK computes is a sum of the base, joint and tool translations turned by rotations, so its
+    components are at most the sum of ``|x| + |y| + |z|`` of the base, ``|a| + |d|`` (plus the largest finite
+    stroke of a prismatic joint) of each joint and the tool's: that sum must be a finite float.
+    """
+    def l1(T: Any) -> float:
+        return 0.0 if T is None else float(sum(abs(float(v)) for v in np.asarray(T)[:3, 3]))
+
+    total = l1(base)
+    if not math.isfinite(total):
+        raise RobotFileError(path, "base xyz is too long: positions would overflow (above 1.8e308)",
+                             loc.line("xyz", table="base"), "base.xyz")
+    for k, j in enumerate(joints):
+        total += abs(j.a) + abs(j.d)
+        key = "a" if abs(j.a) >= abs(j.d) else "d"
+        if j.is_prismatic and math.isfinite(total):
+            total += max((abs(v) for v in (j.lower, j.upper) if math.isfinite(v)), default=0.0)
+            key = "limits"
+        if not math.isfinite(total):
+            raise RobotFileError(path, f"joint {j.name!r}: the chain's lengths (|a| + |d| from the base to this "
+                                 "joint) add up past 1.8e308, so its positions would overflow to inf; use a "
+                                 "larger unit or smaller values", loc.line(key, k), f"joints[{k + 1}].{key}")
+    total += l1(tool)
+    if not math.isfinite(total):
+        raise RobotFileError(path, "tool xyz makes the chain longer than 1.8e308: positions would overflow",
+                             loc.line("xyz", table="tool"), "tool.xyz")
 
 
 def _joint(row: Any, k: int, path: str, loc: _Locator, ang: float) -> Joint:
@@ -257,6 +288,9 @@ def load(name_or_path: str | Path, base: str | None = None, tip: str | None = No
     >>> load("so101").joint_names
     ('shoulder_pan', 'shoulder_lift', 'elbow_flex', 'wrist_flex', 'wrist_roll')
     """
+    from .erd import resolve   # "example-robot-data:ur5"; a missing path: "file not found" (armkit.model.erd)
+
+    name_or_path, base, tip = resolve(name_or_path, base, tip)
     text_path = Path(name_or_path)
     bundled_chain: tuple[str | None, str | None] = (None, None)
     if isinstance(name_or_path, str) and "/" not in name_or_path and not text_path.suffix:
@@ -271,9 +305,10 @@ def load(name_or_path: str | Path, base: str | None = None, tip: str | None = No
         from .urdf import load_urdf
 
         bundled = text_path.parent == BUNDLED_DIR
-        return load_urdf(text_path if bundled else name_or_path, base if base is not None else bundled_chain[0],
-                         tip if tip is not None else bundled_chain[1], warn_missing_meshes=not bundled,
-                         name=text_path.stem if bundled else None, allow_outside=allow_outside)
+        robot = load_urdf(text_path if bundled else name_or_path, base if base is not None else bundled_chain[0],
+                          tip if tip is not None else bundled_chain[1], warn_missing_meshes=not bundled,
+                          name=text_path.stem if bundled else None, allow_outside=allow_outside)
+        return _mark_source(robot, text_path)
     if base is not None or tip is not None:
         raise RobotFileError(str(name_or_path), "base= and tip= choose a chain in a URDF file; a TOML robot file "
                              "is a single chain already")
@@ -285,7 +320,16 @@ def load(name_or_path: str | Path, base: str | None = None, tip: str | None = No
         text = text_path.read_text(encoding="utf-8")
     except (OSError, UnicodeDecodeError) as exc:
         raise RobotFileError(str(name_or_path), f"cannot read file: {exc}") from None
-    return _parse(text, str(name_or_path))
+    return _mark_source(_parse(text, str(name_or_path), allow_outside), text_path)
+
+
+def _mark_source(robot: Robot, path: Path) -> Robot:
+    """Remember the file ``robot`` was read from (``robot.loaded_from``): :func:`save` never writes onto it."""
+    try:
+        object.__setattr__(robot, "loaded_from", str(path.resolve()))
+    except (OSError, RuntimeError):
+        pass
+    return robot
 
 
 def _is_file(path: Path) -> bool:
@@ -309,9 +353,16 @@ def dumps(robot: Robot) -> str:
     every one converts back exactly, else in radians (``angle_unit`` says which).
 
     A URDF chain is written as its standard-DH twin (:meth:`Robot.to_dh`).
+
+    The robot's surroundings (``robot.collision``: ``link_radius``, ``allow_collision``, ``[[body]]``,
+    ``[[scene]]``) are written too, so that the file read back collides as the robot does (issue 24).
     """
+    from ..collision.robot_file import surroundings
+
+    original = robot
     if not robot.is_dh:
         robot = robot.to_dh()
+    extra = surroundings(original, links=None if original is robot else [lk.name for lk in robot.links])
     import tomli_w
 
     from ..spatial import rotation_to_rpy
@@ -325,6 +376,7 @@ def dumps(robot: Robot) -> str:
     # by pi/180), else in radians: a save never moves a value (no 2.2e-16 drift per save).
     angles = [v for j in robot.joints for v in (j.theta, j.alpha) + (() if j.is_prismatic else (j.lower, j.upper))]
     angles += [float(v) for _, rpy in poses.values() for v in rpy]
+    angles += [float(v) for key in ("body", "scene") for row in extra.get(key, []) for v in row.get("rpy", ())]
     to_deg = 180.0 / math.pi
     use_deg = all(not math.isfinite(v) or (v * to_deg) * _DEG == v for v in angles)
     k = to_deg if use_deg else 1.0
@@ -340,7 +392,29 @@ def dumps(robot: Robot) -> str:
                        "alpha": j.alpha * k,
                        "limits": [float(j.lower), float(j.upper)] if j.is_prismatic else [j.lower * k, j.upper * k]}
                       for j in robot.joints]
+    if "link_radius" in extra:
+        data["link_radius"] = extra["link_radius"]
+    for row, radius in zip(data["joints"], extra.get("joint_radius", ())):
+        row["link_radius"] = radius
+    if "allow_collision" in extra:
+        data["allow_collision"] = extra["allow_collision"]
+    for key in ("body", "scene"):
+        if key in extra:
+            for row in extra[key]:
+                if "rpy" in row:
+                    row["rpy"] = [v * k for v in row["rpy"]]
+            data[key] = extra[key]
     return str(tomli_w.dumps(data))
+
+
+def _same_file(a: Path, b: Path) -> bool:
+    """``a`` and ``b`` are the same file: the same resolved path, or (both existing) the same inode."""
+    try:
+        if a.resolve() == b.resolve():
+            return True
+        return a.exists() and b.exists() and a.samefile(b)
+    except (OSError, ValueError, RuntimeError):
+        return False
 
 
 def _toml_str(s: str) -> str:
@@ -354,6 +428,12 @@ def save(robot: Robot, path: str | Path) -> Path:
     file of a URDF chain holds its DH twin).
     """
     p = Path(path)
+    source = getattr(robot, "loaded_from", None)
+    if source is not None and _same_file(p, Path(source)):
+        from ..errors import WriteError
+
+        raise WriteError(p, "it is the file this robot was read from; a save keeps only what armkit models "
+                         "(a URDF's transmissions, gazebo blocks and comments would be lost): write to another file")
     if _is_urdf(p):
         from .urdf import dumps_urdf
 
