@@ -196,13 +196,14 @@ def _failure_messages(robot: Robot, message: NDArray[np.object_], code: NDArray[
 
 
 POLISH_ABOVE = 1e-13
-"""Branches whose FK error exceeds this (relative to reach, or rad) get a Gauss-Newton touch-up."""
+"""Branches whose FK error exceeds this (relative to reach, or rad) get a Gauss-Newton touch-up. A family
+may set its own ``polish_above`` (the geometric family polishes on the true chain itself: 1e-12)."""
 POLISH_WINDOW = (1e-6, 6e-3)
 """Branches this close (relative to reach, and rad) are polished: exact model, and the ideal arm of a real file."""
 
 
 def _polish(robot: Robot, branches: tuple, target: Array, position_only: bool, tol: tuple[float, float],
-            enforce_limits: bool, ideal: bool = False):
+            enforce_limits: bool, ideal: bool = False, above: float = POLISH_ABOVE):
     """A few Gauss-Newton steps on the true model for the branches that are close but not exact.
 
     ``branches`` is ``(q, dp, dr, ok, within)`` ``(B, m, ...)``, returned anew (see :func:`._common.keep_better`).
@@ -220,7 +221,7 @@ def _polish(robot: Robot, branches: tuple, target: Array, position_only: bool, t
     q, dp, dr, ok, within = branches
     scale = robot.reach
     window = POLISH_WINDOW[ideal]
-    cand = (dp <= window * scale) & (dr <= window) & ((dp > POLISH_ABOVE * scale) | (dr > POLISH_ABOVE))
+    cand = (dp <= window * scale) & (dr <= window) & ((dp > above * scale) | (dr > above))
     if not cand.any():
         return q, dp, dr, ok, within
     bi, mi = np.nonzero(cand)
@@ -261,7 +262,7 @@ def solve_all(robot: Robot, solver: ClosedForm, target: Array, q0: Array, positi
     dp, dr, ok, within = verify(robot, q, target[:, None], position_only, tol, enforce_limits)
     q_before = q
     q, dp, dr, ok, within = _polish(robot, (q, dp, dr, ok, within), target, position_only, tol, enforce_limits,
-                                    ideal=not solver.sf.exact)
+                                    ideal=not solver.sf.exact, above=getattr(solver, "polish_above", POLISH_ABOVE))
     if dist is None:
         dist = np.linalg.norm(np.where(robot.prismatic, 0.0, q - q0[:, None, :]), axis=-1)
     elif q is not q_before:   # polished branches: their distances again
@@ -320,7 +321,8 @@ def solve_nearest(robot: Robot, solver: ClosedForm, target: Array, q0: Array, po
     if raw.missing is not None:
         ok = ok & ~raw.missing[rows, pick]
     scale = solver.sf.scale   # robot.reach (computed on every access)
-    fine = ok & clean & (dp <= POLISH_ABOVE * scale) & (dr <= POLISH_ABOVE)
+    above = getattr(solver, "polish_above", POLISH_ABOVE)
+    fine = ok & clean & (dp <= above * scale) & (dr <= above)
     fields = {"q": qb, "success": ok, "position_error": dp, "rotation_error": dr,   # fresh arrays: redo writes
               "iterations": np.zeros(B, dtype=np.int64), "branch": raw.label[rows, pick], "within_limits": within,
               "reason": _REASON_TEXT[np.zeros(B, dtype=int)], "message": raw.note[rows, pick]}

@@ -57,7 +57,7 @@ from . import subproblems as _sp
 from .poe import POE
 from .subproblems import _cross, _dot, _norm, _wrap, rot, rotm, sp1, sp2, sp3, sp4, sp5, sp6
 
-__all__ = ["Solutions", "align", "reverse", "polish", "spherical_two_intersecting", "spherical_two_parallel",
+__all__ = ["Solutions", "solve_batch", "align", "reverse", "polish", "spherical_two_intersecting", "spherical_two_parallel",
            "spherical", "spherical_wrist", "three_parallel", "three_parallel_two_intersecting", "spherical_base",
            "two_intersecting",
            "SOLVERS", "TOL", "SEARCH_N", "kernels"]
@@ -1015,6 +1015,24 @@ def _solve_three_parallel(kind, Hi, Pi, RnT, prism, Ht, Pt, R, p, qref, N, tol_p
     return _check(m, Ht, Pt, RnT, prism, R, p, tol_p, tol_r, Q, LS, SG, ST)
 
 
+def _batch(which, kind, Hi, Pi, RnT, prism, Ht, Pt, R, p, qref, N, tol_p, tol_r, Q, LS, SG, ST, NG, NF):
+    """Every target of a batch in one call: ``R (B, 3, 3)``, ``p (B, 3)``, ``qref (B, n)``; per target
+    the solutions ``Q[b]`` and flags as one call of the kernel ``which`` (0 spherical, 1 three parallel,
+    2 two intersecting) would give them, and their counts ``NG`` (good), ``NF`` (failed the check)."""
+    for b in range(R.shape[0]):
+        if which == 0:
+            ng, nf = _solve_spherical(kind, Hi, Pi, RnT, prism, Ht, Pt, R[b], p[b], qref[b], N, tol_p, tol_r,
+                                      Q[b], LS[b], SG[b], ST[b])
+        elif which == 1:
+            ng, nf = _solve_three_parallel(kind, Hi, Pi, RnT, prism, Ht, Pt, R[b], p[b], qref[b], N, tol_p, tol_r,
+                                           Q[b], LS[b], SG[b], ST[b])
+        else:
+            ng, nf = _solve_two_intersecting_end(kind, Hi, Pi, RnT, prism, Ht, Pt, R[b], p[b], qref[b], N, tol_p,
+                                                 tol_r, Q[b], LS[b], SG[b], ST[b])
+        NG[b] = ng
+        NF[b] = nf
+
+
 # ----------------------------------------------------------------------------- the chain
 def _points(P: Array) -> Array:
     """Points on axes 1..n (rows 0..n-1) and the tool origin (row n), world frame, q = 0."""
@@ -1143,7 +1161,8 @@ def polish(form: POE, q: Array, R: Array, p: Array, steps: int = 8) -> Array:
 KERNELS = ("_mv", "_mtv", "_mm", "_mtm", "_perp", "_fk_err", "_wrist", "_pos_two_intersecting", "_pos_two_parallel",
            "_search_resid", "_refine", "_golden", "_scan", "_boundary", "_pos_search", "_core_spherical", "_core_three_parallel",
            "_close", "_check", "_solve_spherical", "_solve_three_parallel", "_ti_eval", "_adist", "_ti_pick",
-           "_ti_refine", "_ti_extrema", "_ti_edge", "_ti_pair", "_ti_ambiguous", "_ti_match", "_ti_golden", "_ti_add", "_pos_two_intersecting_end", "_core_two_intersecting_end", "_solve_two_intersecting_end")
+           "_ti_refine", "_ti_extrema", "_ti_edge", "_ti_pair", "_ti_ambiguous", "_ti_match", "_ti_golden", "_ti_add", "_pos_two_intersecting_end", "_core_two_intersecting_end", "_solve_two_intersecting_end",
+           "_batch")
 _KERNELS: Optional[types.SimpleNamespace] = None
 _NO_NUMBA = False
 
@@ -1263,6 +1282,43 @@ def _run(name: str, form: POE, R: Array, p: Array, q_ref: Optional[Array], jit: 
 
 
 _ZERO6 = np.zeros(6)
+_WHICH = {"_solve_spherical": 0, "_solve_three_parallel": 1, "_solve_two_intersecting_end": 2}
+
+
+def solve_batch(name: str, form: POE, R: Array, p: Array, q_ref: Array, *, jit: Optional[bool] = None
+                ) -> list[Solutions]:
+    """:data:`SOLVERS` ``[name]`` on every target of ``R (B, 3, 3)``, ``p (B, 3)``, ``q_ref (B, n)``, the
+    kernel looping over the batch in one compiled call (each target as :func:`_run` would solve it; a target
+    whose candidates need the Python polish goes through :func:`_run`)."""
+    if name == "spherical_wrist":
+        name = _cached(form, "wrist case", lambda: _wrist_case(form))
+    if name not in _CASES:
+        return [SOLVERS[name](form, R[b], p[b], q_ref[b], jit=jit) for b in range(len(R))]
+    prep = _prepare(form, name)
+    B, n = len(R), 6
+    K = kernels() if jit is not False else None
+    if K is None:
+        return [_run(name, form, R[b], p[b], q_ref[b], jit) for b in range(B)]
+    Q = np.zeros((B, MAXSOL, n))
+    LS = np.zeros((B, MAXSOL), dtype=np.bool_)
+    SG = np.zeros((B, MAXSOL), dtype=np.bool_)
+    ST = np.zeros((B, MAXSOL), dtype=np.int64)
+    NG = np.zeros(B, dtype=np.int64)
+    NF = np.zeros(B, dtype=np.int64)
+    c = np.ascontiguousarray
+    K._batch(_WHICH[prep.solve], prep.kind, prep.Hi, prep.Pi, prep.RnT, prep.prism, prep.Ht, prep.Pt,
+             c(R, dtype=float), c(p, dtype=float), c(q_ref, dtype=float), SEARCH_N, TOL * prep.scale, TOL,
+             Q, LS, SG, ST, NG, NF)
+    out: list[Solutions] = []
+    for b in range(B):
+        ng, nf = int(NG[b]), int(NF[b])
+        if nf and not (prep.exact and LS[b, ng:ng + nf].all()):
+            out.append(_run(name, form, R[b], p[b], q_ref[b], jit))     # the rare polish: as one call
+        elif ng:
+            out.append(Solutions(Q[b, :ng], np.zeros(ng, dtype=bool), SG[b, :ng]))
+        else:
+            out.append(Solutions(Q[b, :nf], np.ones(nf, dtype=bool), SG[b, :nf]))
+    return out
 
 
 def _same(a: Array, b: Array, prismatic: NDArray[np.bool_]) -> bool:
