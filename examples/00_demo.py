@@ -2,7 +2,8 @@
 
 Prints its DH table, forward kinematics at a few configurations (checked against the
 point worked out by hand from the report's DH table; the report itself prints no number), the Jacobian and manipulability, every closed-form IK branch for a
-target, and writes pictures into ``out/``.
+target, and writes pictures into ``out/``. IK, the workspace and the tracking GIF honour the
+fighter's own surroundings (its torso and the ground), as the command line does.
 """
 
 from __future__ import annotations
@@ -42,7 +43,7 @@ def main(out_dir: str = "out") -> int:
                   f"({p[0]:.3f}, {p[1]:.3f}, {p[2]:.3f}) mm [{'green' if ok else 'red'}]{'match' if ok else 'MISMATCH'}[/]")
 
     if hasattr(armkit, "ik_all"):
-        res = armkit.ik_all(arm, p)
+        res = armkit.ik_all(arm, p)   # scene=None: the robot's own surroundings (torso, ground)
         t = Table(title=f"Every closed-form IK branch for the target ({p[0]:.3f}, {p[1]:.3f}, {p[2]:.3f}) mm",
                   header_style="bold")
         t.add_column("branch", no_wrap=True)
@@ -52,13 +53,17 @@ def main(out_dir: str = "out") -> int:
             t.add_row(str(res.branch[k]), *(f"{v:.3f}" for v in np.degrees(res.q[k])),
                       f"{res.position_error[k]:.2e}", "yes" if res.success[k] else f"no ({res.reason[k]})")
         console.print(t)
+        console.print(f"checked against: {', '.join(res.checked_against)}")
 
     try:
         from armkit.viz import write_demo_pictures
     except ImportError:
         return 0
     console.print(f"writing pictures into {out_dir}/ ...")
-    paths = write_demo_pictures(out_dir, progress=False)
+    report: list[str] = []
+    paths = write_demo_pictures(out_dir, progress=False, report=report)
+    for line in report:
+        console.print(line, soft_wrap=True)
     for path in paths:
         console.print(f"  wrote {Path(path)}")
     return 0

@@ -31,7 +31,7 @@ def test_fighter_spherical_shell_volume_within_reported_error():
     # (pitch over +-180 deg, yaw over +-180 deg): a spherical shell 4/3 pi (R^3 - r^3).
     R, r = 177.2, 22.8
     exact = 4.0 / 3.0 * math.pi * (R ** 3 - r ** 3)
-    ws = workspace(armkit.load("fighter"), samples=150_000, seed=5)
+    ws = workspace(armkit.load("fighter"), samples=150_000, seed=5, scene=False)   # the bare shell: no torso, ground
     assert not ws.planar
     np.testing.assert_allclose(ws.centre, [0, 0, 36], atol=1e-9)
     assert abs(ws.volume - exact) <= ws.volume_error

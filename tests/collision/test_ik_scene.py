@@ -32,7 +32,7 @@ def test_ik_all_success_means_collision_free(name):
     scene = table_and_wall(robot)
     target = _targets(robot, 60, 1)
     res = armkit.ik_all(robot, target, scene=scene)
-    plain = armkit.ik_all(robot, target)
+    plain = armkit.ik_all(robot, target, scene=False)   # scene=False: no check (None is the robot's own)
     ok = np.asarray(res.success)
     assert ok.any() and (np.asarray(res.reason) == "collision").any()
     # wrong = a success that collides (checked with coal, built independently) or misses the target
@@ -84,8 +84,9 @@ def test_fighter_under_the_floor():
     assert "the forearm hits the ground by 13 mm" in every.message.tolist()
     one = armkit.ik(arm, [100, 0, -30], scene="robot")
     assert not one.success and one.reason == "collision"
-    # without a scene the old answer stands (four branches under the floor)
-    assert armkit.ik_all(arm, [100, 0, -30]).success.all()
+    # the default is the robot's own surroundings; scene=False gives the old answer (four branches under the floor)
+    assert not armkit.ik_all(arm, [100, 0, -30]).success.any()
+    assert armkit.ik_all(arm, [100, 0, -30], scene=False).success.all()
 
 
 def _cli(*args):

@@ -21,7 +21,7 @@ def _wrapped_steps(q):
                                           ("planar3", "lm")])
 def test_reachable_circle_is_tracked_without_branch_flips(name, method):
     r = armkit.load(name)
-    res = track(r, path="circle", method=method, frames=60)
+    res = track(r, path="circle", method=method, frames=60, scene=False)   # the solver alone (no torso, ground)
     # the circle is inside the workspace: every frame reached, within the tolerance (checked by FK here)
     err = np.linalg.norm(armkit.fk(r, res.q)[:, :3, 3] - res.targets, axis=1)
     assert res.reached.all() and not res.out_of_reach.any()
@@ -79,7 +79,8 @@ def test_cli_picture_commands(tmp_path):
     res = run(app, ["plot", "fighter", "30", "45", "60", "--deg", "-o", str(tmp_path / "arm.png")])
     assert res.exit_code == 0 and (tmp_path / "arm.png").is_file()
     res = run(app, ["plot", "fighter", "--all-branches", "100,50,80", "-o", str(tmp_path / "b.png")])
-    assert res.exit_code == 0 and "4 branch" in res.output
+    # the robot's own surroundings by default: both elbow-down branches hit the torso (--no-scene: all four)
+    assert res.exit_code == 0 and "2 branch" in res.output and "checked against: ground, torso" in res.output
     res = run(app, ["plot", "fighter", "--all-branches", "900,0,0", "-o", str(tmp_path / "c.png")])
     assert res.exit_code == 1
     res = run(app, ["plot", "fighter", "1", "2", "-o", str(tmp_path / "d.png")])

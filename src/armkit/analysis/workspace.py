@@ -211,7 +211,10 @@ class WorkspaceResult:
     voxel_size : float
         Side of the grid cells used for the estimate.
     samples, excluded : int
-        Samples drawn, and samples dropped because the arm entered ``exclusion``.
+        Samples drawn, and samples dropped because the arm entered ``exclusion`` or collided.
+    checked_against : tuple of str
+        What the samples were checked against for collisions (``("ground", "torso")`` for the
+        fighter by default; ``()``: not checked).
     """
 
     robot: Robot
@@ -231,6 +234,7 @@ class WorkspaceResult:
     exclusion: Optional[Exclusion] = None
     occupancy: Optional[NDArray[np.bool_]] = field(default=None, repr=False)
     grid_origin: Optional[Array] = field(default=None, repr=False)
+    checked_against: tuple[str, ...] = ()
 
     @property
     def unit(self) -> str:
@@ -251,7 +255,8 @@ class WorkspaceResult:
              f"outer radius {self.outer_radius:.4g} {self.unit}, ")
         s += (f"inner radius {self.inner_radius:.4g} {self.unit}" if self.has_inner_boundary
               else "no inner boundary (reaches its shoulder)")
-        return s + f"; {self.measure_name} {format_measure(self.volume, self.volume_error)} {self.measure_unit}"
+        s += f"; {self.measure_name} {format_measure(self.volume, self.volume_error)} {self.measure_unit}"
+        return s + (f"; checked against: {', '.join(self.checked_against)}" if self.checked_against else "")
 
 
 def format_measure(value: float, error: float) -> str:
@@ -364,9 +369,12 @@ def workspace(robot: Robot, samples: int = 200_000, seed: int | np.random.Genera
         voxels, coarser boundary).
     chunk : int
         Samples per FK batch (bounds the memory).
-    scene : armkit.Scene, path of a scene file, "robot" or None
+    scene : None, False, armkit.Scene, path of a scene file or "robot"
         Drop the samples where the arm collides with the scene, the robot's body or itself
-        (:func:`armkit.collision.in_collision`, the same check as IK with a scene).
+        (:func:`armkit.collision.in_collision`, the same check as IK). None (the default): the
+        robot's own surroundings (the fighter's torso and ground; none for arms whose file has
+        no collision keys); False: no check; a scene replaces the robot's ground
+        (:func:`armkit.collision.resolve_scene`). ``checked_against`` says which.
 
     Returns
     -------
@@ -383,6 +391,12 @@ def workspace(robot: Robot, samples: int = 200_000, seed: int | np.random.Genera
     # what the result holds (q, points) and the voxel pass needs at once, checked before any allocation
     check_memory(float(samples) * 8.0 * (robot.n + 16 + (1 if manipulability else 0)),
                  f"a workspace of {int(samples):,} samples of {robot.name!r}", "use fewer samples (--samples/-n)")
+    checked: tuple[str, ...] = ()
+    if scene is not None or getattr(robot, "collision", None) is not None:   # the one collision rule
+        from ..collision import checked_against, resolve_scene
+
+        scene = resolve_scene(robot, scene)
+        checked = checked_against(robot, scene)
     rng = np.random.default_rng(seed)
     planar = is_planar(robot)
     q = robot.random_q(int(samples), rng)
@@ -438,4 +452,4 @@ def workspace(robot: Robot, samples: int = 200_000, seed: int | np.random.Genera
                            outer_radius=outer, inner_radius=inner, has_inner_boundary=bool(inner > 0.5 * h),
                            volume=float(vol), volume_error=float(error), voxel_size=h, planar=planar,
                            samples=int(samples), excluded=excluded, exclusion=exclusion,
-                           occupancy=occ, grid_origin=lo)
+                           occupancy=occ, grid_origin=lo, checked_against=checked)

@@ -100,18 +100,32 @@ def get_robot(name: str) -> Robot:
 def scene_option(robot: Robot, scene_file: str | None, no_scene: bool) -> Any:
     """The scene a command checks collisions against, from ``--scene FILE`` / ``--no-scene``.
 
-    Default: the robot's own surroundings when its file has any (the fighter's torso and
-    ground), else none. A bad scene file raises ArmkitError (exit 2 with ``file:line: field``).
+    The one rule of :func:`armkit.collision.resolve_scene`: by default the robot's own
+    surroundings when its file has any (the fighter's torso and ground), else none; ``--scene``
+    replaces the ground (the body stays); ``--no-scene`` none. Returns a Scene, or None for no
+    check (pass it on as ``scene=scene_off(scene)``). A bad scene file raises ArmkitError (exit 2
+    with ``file:line: field``).
     """
     if scene_file is not None and no_scene:
         fail("give --scene FILE or --no-scene, not both")
-    scene: Any = None if no_scene else scene_file if scene_file is not None else (
-        "robot" if getattr(robot, "collision", None) is not None else None)
-    if scene is None:
+    if scene_file is None and not no_scene and getattr(robot, "collision", None) is None:
         return None
-    from ..collision import as_scene
+    from ..collision import resolve_scene
 
-    return as_scene(robot, scene)
+    return resolve_scene(robot, False if no_scene else scene_file)
+
+
+def scene_off(scene: Any) -> Any:
+    """A :func:`scene_option` answer as the library's ``scene=``: ``False`` (no check) for None."""
+    return False if scene is None else scene
+
+
+def checked_line(robot: Robot, scene: Any) -> str:
+    """"checked against: ground, torso" (or "not checked for collisions"), in the user's language."""
+    from ..collision import checked_against
+
+    names = checked_against(robot, scene)
+    return _("checked against: {names}", names=", ".join(names)) if names else _("not checked for collisions")
 
 
 def parse_numbers(values: Sequence[str], what: str) -> np.ndarray:

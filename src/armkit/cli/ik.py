@@ -10,7 +10,7 @@ import typer
 from rich.table import Table
 
 from .common import (EXIT_BAD_INPUT, EXIT_FAILED, NUMERIC_ARGS, N_, _, console, esc, fail, get_robot, parse_numbers,
-                     print_json, scene_option, warn)
+                     checked_line, print_json, scene_off, scene_option, warn)
 
 from ..locale import current_language  # noqa: E402
 from .common import ROBOT_HELP  # noqa: E402
@@ -169,7 +169,7 @@ def _trace_table(trace) -> Table:
 
 
 def _partial_target(r, target, where: str, pitch: Optional[float], direction, deg: bool, method: str,
-                    seed: Optional[int], json_out: bool) -> None:
+                    seed: Optional[int], json_out: bool, scene: Any = None) -> None:
     """``--pitch`` (every closed-form branch) or ``--direction`` (LM): a position plus part of an orientation."""
     from ..ik import ik as solve, ik_all
 
@@ -181,25 +181,33 @@ def _partial_target(r, target, where: str, pitch: Optional[float], direction, de
         p = math.radians(pitch) if deg else pitch
         where += _(", tool pitch {angle} deg", angle=f"{math.degrees(p):g}")
         if method in ("auto", "analytic"):
-            res, used = ik_all(r, target, pitch=p), _("closed form (position + pitch)")
+            res, used = ik_all(r, target, pitch=p, scene=scene_off(scene)), _("closed form (position + pitch)")
         else:
-            res, used = solve(r, target, method=method, pitch=p, seed=seed), method  # type: ignore[arg-type]
+            res, used = solve(r, target, method=method, pitch=p, seed=seed,  # type: ignore[arg-type]
+                              scene=scene_off(scene)), method
     else:
         d = np.asarray(direction, dtype=float)
         if not np.all(np.isfinite(d)) or np.linalg.norm(d) == 0:
             fail(_("--direction must be a non-zero finite vector, got {value}", value=tuple(float(v) for v in d)))
         where += _(", tool z along ({xyz})", xyz=", ".join(f"{v:g}" for v in d))
-        res = solve(r, target, method="lm" if method in ("auto", "analytic") else method, direction=d,  # type: ignore[arg-type]
-                    seed=seed)
-        used = _("lm (position + direction)")
+        from ..ik.partial import _pitch_solver
+
+        if method in ("auto", "analytic") and _pitch_solver(r) is not None:   # a yaw-pitch3 arm: every branch
+            res, used = ik_all(r, target, direction=d, scene=scene_off(scene)), _("closed form (position + direction)")
+        else:
+            res = solve(r, target, method="lm" if method in ("auto", "analytic") else method, direction=d,  # type: ignore[arg-type]
+                        seed=seed, scene=scene_off(scene))
+            used = _("lm (position + direction)")
     rows = _rows(r, res)
     solved = any(row["success"] for row in rows)
     if json_out:
         print_json({"robot": r.name, "unit": r.unit, "method": used, "target": np.asarray(target),
-                    "solved": solved, "solutions": rows})
+                    "solved": solved, "solutions": rows, "checked_against": list(res.checked_against)})
     else:
         _print_rows(r, rows, _("IK of {robot} for {target}, {method}", robot=esc(r.name), target=esc(where),
                                method=used), False)
+        if scene is not None:
+            console.print(esc(checked_line(r, scene)), soft_wrap=True)
         if solved and len(rows) > 1:
             console.print(_("{k} of {n} branches solve the target.", k=sum(row["success"] for row in rows),
                             n=len(rows)))
@@ -227,7 +235,8 @@ def ik(robot: str = typer.Argument(..., help=ROBOT_HELP),
                                              "down; rad, or deg with --deg): every closed-form branch."),
        direction: Optional[Tuple[float, float, float]] = typer.Option(
            None, "--direction", help="Point the tool's z axis along DX DY DZ at an X Y Z target (rotation about it "
-                                     "free; numeric): what a 5-joint arm can do instead of a full pose."),
+                                     "free; closed form on a yaw + three pitch joints arm such as the SO-101, "
+                                     "else numeric): what a 5-joint arm can do instead of a full pose."),
        trace: bool = typer.Option(False, "--trace", help="Numeric methods: print the error at every iteration."),
        scene_file: Optional[str] = typer.Option(
            None, "--scene", help="Scene file (TOML, docs/scene.md): solutions that collide with it, the robot's "
@@ -249,7 +258,7 @@ def ik(robot: str = typer.Argument(..., help=ROBOT_HELP),
 
     Example: armkit ik so101 0.25 0.05 0.1 --pitch -60 --deg   (position + tool pitch, every branch)
 
-    Example: armkit ik so101 0.25 0.05 0.1 --direction 0 0 -1   (position + pointing direction)
+    Example: armkit ik so101 0.25 0 0.1 --direction 1 0 -1   (position + pointing direction, every branch)
     """
     from ..errors import ArmkitError
     from ..ik import ik as solve, ik_all
@@ -261,8 +270,9 @@ def ik(robot: str = typer.Argument(..., help=ROBOT_HELP),
         r = get_robot(robot)
         target, ph, where = _target(r, coords, rpy, quat, deg, phi)
         solver = closed_form(r)
+        scene = scene_option(r, scene_file, no_scene)
         if pitch is not None or direction is not None:
-            return _partial_target(r, target, where, pitch, direction, deg, method, seed, json_out)
+            return _partial_target(r, target, where, pitch, direction, deg, method, seed, json_out, scene)
         position_only = target.ndim == 1 and ph is None
         closed_ok = solver is not None and not (position_only and solver.pose_only) \
             and getattr(solver, "target_kind", None) != "pitch"   # yaw-pitch3 needs pitch= (docs/so101.md)
@@ -272,17 +282,16 @@ def ik(robot: str = typer.Argument(..., help=ROBOT_HELP),
             fail(_("--all needs a closed form; robot {robot!r} has none for this target (try --method lm)",
                    robot=r.name))
         listing = method in ("auto", "analytic") and branch is None and closed_ok
-        scene = scene_option(r, scene_file, no_scene)
         if seed is not None and (listing or (method in ("auto", "analytic") and closed_ok)):
             warn(_("--seed only matters for the numeric methods; the closed form ignores it"))
         if trace and (listing or method == "analytic" or (method == "auto" and closed_ok)):
             warn(_("--trace shows the iterations of a numeric method; the closed form has none"))
         if listing:
-            res = ik_all(r, target, phi=ph, scene=scene)
+            res = ik_all(r, target, phi=ph, scene=scene_off(scene))
             used = _("closed form ({family})", family=solver.family)  # type: ignore[union-attr]
         else:
             res = solve(r, target, method=method, branch=branch, phi=ph, seed=seed, trace=trace,  # type: ignore[arg-type]
-                        scene=scene)
+                        scene=scene_off(scene))
             used = _("closed form ({family})", family=solver.family) if (  # type: ignore[union-attr]
                 method in ("auto", "analytic") and closed_ok) else (
                 "lm" if method == "auto" else method)
@@ -293,7 +302,8 @@ def ik(robot: str = typer.Argument(..., help=ROBOT_HELP),
     if json_out:
         print_json({"robot": r.name, "unit": r.unit, "method": used, "target": np.asarray(target),
                     "phi_rad": ph, "solved": solved, "solutions": rows,
-                    "trace": None if res.trace is None else np.asarray(res.trace)})
+                    "trace": None if res.trace is None else np.asarray(res.trace),
+                    "checked_against": list(res.checked_against)})
     else:
         _print_rows(r, rows, _("IK of {robot} for {target}, {method}", robot=esc(r.name), target=esc(where),
                                method=used), position_only)
@@ -305,6 +315,7 @@ def ik(robot: str = typer.Argument(..., help=ROBOT_HELP),
                 if row["reason"] == "collision" and solved:
                     console.print(_("collision: {branch}: {text}", branch=esc(row["branch"]),
                                     text=esc(_explain(r, row))), soft_wrap=True)
+            console.print(esc(checked_line(r, scene)), soft_wrap=True)
         if trace and res.trace is not None:
             print_table(_trace_table(res.trace))
         if solved:

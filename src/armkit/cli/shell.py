@@ -189,12 +189,13 @@ class Shell:
         self._fig: Any = None
         self._names = {name.lower(): i for i, name in enumerate(robot.joint_names)}
         self._planar: Optional[bool] = None
-        # the arm's surroundings (armkit.collision): the robot's own when its file has them, else none
+        # the arm's surroundings: the one rule of armkit.collision.resolve_scene (the robot's own when its
+        # file has them, else none); None: no check
         self.scene: Any = None
         if getattr(robot, "collision", None) is not None:
-            from ..collision import as_scene
+            from ..collision import resolve_scene
 
-            self.scene = as_scene(robot, "robot")
+            self.scene = resolve_scene(robot, None)
 
     # ------------------------------------------------------------------ helpers
     def _t(self, key: str, **fields: object) -> str:
@@ -557,6 +558,19 @@ class Shell:
             return T if self.robot.n >= 3 else T[:2, 3]
         return T if self.robot.n >= 6 else T[:3, 3]
 
+    def _scene_arg(self) -> Any:
+        """The shell's scene as the library's ``scene=`` (False: no check)."""
+        return False if self.scene is None else self.scene
+
+    def _checked_note(self, emit: Any) -> None:
+        """"checked against: ground, torso" after an answer that was checked for collisions (as the CLI prints)."""
+        if self.scene is None:
+            return
+        from ..collision import checked_against
+
+        emit(esc(translate(N_("checked against: {names}"), self.lang,
+                           names=", ".join(checked_against(self.robot, self.scene)))), "dim")
+
     def _all_branches(self, target: np.ndarray) -> Optional[Any]:
         """``ik_all`` of ``target`` from the current q, or None when the arm has no closed form."""
         try:
@@ -564,7 +578,7 @@ class Shell:
         except ImportError:
             return None
         try:
-            return ik_all(self.robot, target, q0=self.q)
+            return ik_all(self.robot, target, q0=self.q, scene=self._scene_arg())
         except (ArmkitError, ValueError, NotImplementedError):
             return None
 
@@ -600,6 +614,7 @@ class Shell:
                           self._t("yes") if bool(np.asarray(res.success)[b])
                           else esc(self._t("term", term=str(np.asarray(res.reason)[b]))))
             emit(t)
+            self._checked_note(emit)
             return "info"
         want = arg.strip()
         if want.lower() == "auto":
@@ -654,7 +669,7 @@ class Shell:
         kwargs: dict[str, Any] = {"phi": phi} if phi is not None else {}
         try:
             try:
-                res = ik_all(self.robot, target, q0=self.q, scene=self.scene, **kwargs)
+                res = ik_all(self.robot, target, q0=self.q, scene=self._scene_arg(), **kwargs)
             except (ArmkitError, ValueError, NotImplementedError):
                 res = None
             if res is not None:
@@ -664,6 +679,8 @@ class Shell:
                     detail = self._unreachable(str(np.asarray(res.message)[0]), str(np.asarray(res.reason)[0]),
                                                float(np.asarray(res.position_error)[0]))
                     emit(self._t("unreachable", detail=detail), "red")
+                    if "collision" in np.asarray(res.reason).tolist():
+                        self._checked_note(emit)
                     return "error"
                 pick = int(np.argmax(ok))                      # sorted by distance to the current q
                 if self.preferred in names and ok[names.index(self.preferred)]:
@@ -677,8 +694,9 @@ class Shell:
                     text = ik_explanation(str(np.asarray(res.reason)[pick]), note,
                                           float(np.asarray(res.position_error)[pick]), self.robot.unit, self.lang)
                     emit(esc(translate(N_("note: {text}"), self.lang, text=text)), "dim")
+                self._checked_note(emit)
                 return "ok"
-            one = ik(self.robot, target, q0=self.q, scene=self.scene, **kwargs)
+            one = ik(self.robot, target, q0=self.q, scene=self._scene_arg(), **kwargs)
         except (ArmkitError, ValueError, FloatingPointError) as exc:
             emit(self._t("ik_error", detail=str(exc)), "red")
             return "error"
@@ -686,9 +704,12 @@ class Shell:
             detail = self._unreachable(str(one.message), str(np.asarray(one.reason)),
                                        float(np.asarray(one.position_error)))
             emit(self._t("unreachable", detail=detail), "red")
+            if str(np.asarray(one.reason)) == "collision":
+                self._checked_note(emit)
             return "error"
         self.q = np.asarray(one.q, dtype=float)
         self.branch, self._branch_known = str(np.asarray(one.branch)) or None, True
+        self._checked_note(emit)
         return "ok"
 
     # ------------------------------------------------------------------ output

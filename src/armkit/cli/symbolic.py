@@ -16,7 +16,7 @@ import typer
 from rich.table import Table
 
 from .common import (EXIT_FAILED, NUMERIC_ARGS, console, esc, fail, name_list, output_path, get_robot, parse_numbers, parse_q, print_json,
-                     q_display, scene_option, sig, warn)
+                     checked_line, q_display, scene_option, sig, warn)
 
 from .common import ROBOT_HELP  # noqa: E402
 from .common import err_console, print_table  # noqa: E402
@@ -473,6 +473,10 @@ def traj(robot: str = typer.Argument(..., help=ROBOT_HELP),
                "max_deviation": None if tr.deviation is None else float(tr.deviation.max())}
     scene = scene_option(r, scene_file, no_scene)
     hit_note, hit_text = _collision_note(r, tr, scene, refuse_collisions, summary)
+    if scene is not None:
+        from ..collision import checked_against
+
+        summary["checked_against"] = list(checked_against(r, scene))
     if out is not None:
         suffix = out.suffix.lower()
         if suffix == ".csv":
@@ -502,6 +506,8 @@ def traj(robot: str = typer.Argument(..., help=ROBOT_HELP),
         warn(_("the trajectory leaves the joint limits"))
     if hit_note is not None:
         warn(hit_text)
+    if scene is not None:
+        console.print(esc(checked_line(r, scene)), soft_wrap=True)
 
     if out is not None:
         console.print(_("wrote {path}", path=esc(out)))

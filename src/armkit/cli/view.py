@@ -69,7 +69,8 @@ def view(robot: str = typer.Argument(..., help=ROBOT_HELP),
          scene_file: Optional[str] = typer.Option(
              None, "--scene", help="Scene file (TOML, docs/scene.md) drawn translucent, red where the arm "
                                    "overlaps it; default: the robot's own surroundings (the fighter's ground)."),
-         no_scene: bool = typer.Option(False, "--no-scene", help="Draw no surroundings (the robot's body stays).")
+         no_scene: bool = typer.Option(False, "--no-scene", help="Draw no surroundings and check no collisions (the "
+                                                         "robot's body is still drawn).")
          ) -> None:
     """Serve a live 3-D view of the arm in the browser: joint sliders, draggable IK target, tracking, workspace.
 
@@ -88,7 +89,6 @@ def view(robot: str = typer.Argument(..., help=ROBOT_HELP),
     check_port(port)
     check_host(host)
     r = get_robot(robot)
-    from ..collision import Scene
     from ..errors import ArmkitError
     from ..viz.view import ViewError
     from ..viz.view import view as open_view
@@ -100,7 +100,7 @@ def view(robot: str = typer.Argument(..., help=ROBOT_HELP),
         fail(escape(str(exc)))
     try:
         v = open_view(r, port=port, host=host, lang=lang or current_language(),
-                      scene=Scene() if scene is None else scene)
+                      scene=False if scene is None else scene)   # no check: none drawn either
     except ViewError as exc:
         fail(escape(str(exc)))
     try:

@@ -10,7 +10,7 @@ import numpy as np
 import typer
 
 from .common import (EXIT_FAILED, NUMERIC_ARGS, console, esc, fail, get_robot, parse_numbers, parse_q, name_list, output_path,
-                     print_json, scene_option, warn)
+                     checked_line, print_json, scene_off, scene_option, warn)
 
 from .common import ROBOT_HELP  # noqa: E402
 from .common import N_, _, current_language  # noqa: E402
@@ -36,6 +36,11 @@ def plot(robot: str = typer.Argument(..., help=ROBOT_HELP),
                   "(comma separated, in the robot's length unit)."),
          output: str = typer.Option("arm.png", "-o", "--output", help="Picture file (.png, .pdf, .svg)."),
          no_frames: bool = typer.Option(False, "--no-frames", help="Do not draw the link frames."),
+         scene_file: Optional[str] = typer.Option(
+             None, "--scene", help="With --all-branches: branches that collide with this scene file (docs/scene.md), "
+                                   "the robot's body or itself are not drawn. Default: the robot's own surroundings, "
+                                   "if any (the fighter's torso and ground)."),
+         no_scene: bool = typer.Option(False, "--no-scene", help="With --all-branches: no collision check."),
          strict: bool = typer.Option(False, "--strict", help="A joint outside its limits is an error.")) -> None:
     """Draw the arm (3D, or 2D for a planar arm) with its joint frames, and write a picture.
 
@@ -59,10 +64,13 @@ def plot(robot: str = typer.Argument(..., help=ROBOT_HELP),
         if len(target) != (2 if planar else 3):
             fail(_("--all-branches needs {form} for robot {robot!r}, got {k} value(s)", form="x,y" if planar else
                    "x,y,z", robot=r.name, k=len(target)))
-        res = ik_all(r, target)
+        scene = scene_option(r, scene_file, no_scene)
+        res = ik_all(r, target, scene=scene_off(scene))   # the one collision rule: colliding branches are not drawn
         ok = np.asarray(res.success)
         if not ok.any():
             first = {k: np.asarray(getattr(res, k)).reshape(-1)[0] for k in ("reason", "message", "position_error")}
+            if scene is not None:
+                console.print(esc(checked_line(r, scene)), soft_wrap=True)
             fail(_("no branch reaches the target: {reason}", reason=_explain(r, first)), EXIT_FAILED)
 
         qs = np.asarray(res.q)[ok]
@@ -84,6 +92,12 @@ def plot(robot: str = typer.Argument(..., help=ROBOT_HELP),
         path = save_figure(fig, out)
         console.print(_("{n} branch(es): {names}", n=len(qs), names=", ".join(str(b) for b in
                                                                               np.asarray(res.branch)[ok])))
+        if scene is not None:
+            for b, why, msg in zip(np.asarray(res.branch)[~ok], np.asarray(res.reason)[~ok], np.asarray(res.message)[~ok]):
+                if str(why) == "collision":
+                    console.print(_("not drawn: {branch}: {text}", branch=esc(str(b)),
+                                    text=esc(localize(str(msg), current_language()))), soft_wrap=True)
+            console.print(esc(checked_line(r, scene)), soft_wrap=True)
         console.print(_("wrote {path}", path=esc(path)))
         return
     if not q:
@@ -172,11 +186,12 @@ def workspace(robot: str = typer.Argument(..., help=ROBOT_HELP),
         boxes.append((lo, hi))
     exclusion = Exclusion(ground_z=ground, boxes=tuple(boxes)) if ground is not None or boxes else None
     scene = scene_option(r, scene_file, no_scene)
-    ws = sample(r, samples=samples, seed=seed, exclusion=exclusion, manipulability=manip, scene=scene)
+    ws = sample(r, samples=samples, seed=seed, exclusion=exclusion, manipulability=manip, scene=scene_off(scene))
     data = {"robot": r.name, "unit": r.unit, "samples": ws.samples, "kept": len(ws.points), "excluded": ws.excluded,
             "centre": ws.centre, "outer_radius": ws.outer_radius, "inner_radius": ws.inner_radius,
             "has_inner_boundary": ws.has_inner_boundary, ws.measure_name: ws.volume,
-            f"{ws.measure_name}_error": ws.volume_error, "voxel_size": ws.voxel_size}
+            f"{ws.measure_name}_error": ws.volume_error, "voxel_size": ws.voxel_size,
+            "checked_against": list(ws.checked_against)}
     path = None
     if out is not None:
         from ..viz.plots import plot_workspace, save_figure
@@ -203,6 +218,8 @@ def workspace(robot: str = typer.Argument(..., help=ROBOT_HELP),
                            "docs/visualisation.md)", measure=_(ws.measure_name),
                            value=format_measure(ws.volume, ws.volume_error), unit=ws.measure_unit,
                            voxel=f"{ws.voxel_size:.3g}", length=r.unit))
+    if scene is not None:
+        console.print("  " + esc(checked_line(r, scene)), soft_wrap=True)
     if path is not None:
         console.print(_("wrote {path}", path=esc(path)))
 
@@ -361,7 +378,7 @@ def track(robot: str = typer.Argument(..., help=ROBOT_HELP),
         fail(_("--seed must be a non-negative integer, got {value}", value=seed))
     out = None if no_animation or not output else _out(output, (".gif", ".mp4"), "--output")
     scene = scene_option(r, scene_file, no_scene)
-    res = follow(r, path=path, method=method, frames=frames, seed=seed, scene=scene)
+    res = follow(r, path=path, method=method, frames=frames, seed=seed, scene=scene_off(scene))
     st = res.stats()
     if res.colliding is not None and res.colliding.any():
         from ..collision import collisions
@@ -409,6 +426,8 @@ def track(robot: str = typer.Argument(..., help=ROBOT_HELP),
             console.print("  " + _("in collision: {k} frames", k=st["frames_in_collision"])
                           + (" " + _("(first: frame {frame}, {message})", frame=first["frame"],
                                      message=esc(localize(first["message"], current_language()))) if first else ""))
+        if scene is not None:
+            console.print("  " + esc(checked_line(r, scene)), soft_wrap=True)
         if written is not None:
             console.print(_("wrote {path}", path=esc(written)))
     if st["frames_reached"] < st["frames"] and path in ("circle", "figure8"):

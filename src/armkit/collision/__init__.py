@@ -8,6 +8,11 @@
 >>> float(armkit.clearance(arm, np.radians([0, 45, 0])))   # the turret (radius 8 mm) is 17 mm above the floor
 17.0
 
+One rule for ``scene=`` everywhere (:func:`resolve_scene`): ``None`` is the robot's own
+surroundings (its body and ground from the robot file), ``False`` no check, an explicit scene
+replaces the robot's ground (its body always stays). IK results and command outputs say what
+they were checked against (:func:`checked_against`, ``IKResult.checked_against``).
+
 Only NumPy is imported here; coal (the reference library, and the route for cylinders and
 meshes) is imported when a pair needs it.
 """
@@ -15,8 +20,10 @@ meshes) is imported when a pair needs it.
 from __future__ import annotations
 
 from .geometry import ArmGeometry, RobotCollision, arm_geometry, robot_collision, robot_scene
-from .query import Collisions, as_scene, clearance, collisions, in_collision
+from .query import (Collisions, as_scene, checked_against, checked_note, clearance, collisions, in_collision,
+                    resolve_scene)
 from .shapes import KINDS, Scene, SceneError, Shape
 
 __all__ = ["Scene", "Shape", "SceneError", "KINDS", "Collisions", "collisions", "clearance", "in_collision", "as_scene",
+           "resolve_scene", "checked_against", "checked_note",
            "ArmGeometry", "RobotCollision", "arm_geometry", "robot_collision", "robot_scene"]

@@ -15,10 +15,11 @@ from numpy.typing import ArrayLike, NDArray
 
 from ..model.robot import Robot
 from . import kernels as K
-from .geometry import ArmGeometry, Solid, arm_geometry, robot_scene
+from .geometry import ArmGeometry, Solid, arm_geometry, robot_collision, robot_scene
 from .shapes import Scene, SceneError, Shape
 
-__all__ = ["Collisions", "collisions", "clearance", "in_collision", "as_scene"]
+__all__ = ["Collisions", "collisions", "clearance", "in_collision", "as_scene", "resolve_scene", "checked_against",
+           "checked_note"]
 
 Array = NDArray[np.float64]
 
@@ -83,6 +84,47 @@ def as_scene(robot: Robot, scene: Scene | Sequence[Shape] | str | None) -> Scene
     if not isinstance(scene, Scene):
         scene = Scene(scene)
     return scene.in_unit(robot.unit)
+
+
+def resolve_scene(robot: Robot, scene: Any) -> Scene | None:
+    """The one collision rule: what ``scene=`` means for IK, workspaces, paths, the shell and the view.
+
+    * ``None`` (the default): the robot's own surroundings, i.e. its body and its ground from the
+      robot file (the fighter's torso and ground; ``docs/scene.md``), when the file has collision
+      keys; a robot without them is not checked at all (nothing to check, no cost).
+    * ``False`` (the CLI's ``--no-scene``): no collision check.
+    * A :class:`Scene`, shapes, a scene file or ``"robot"``: that scene *replaces* the robot's
+      ``[[scene]]`` surroundings (its ground); the robot's body (``[[body]]``) and self-collision
+      are always checked, since they belong to the arm.
+
+    Returns the scene in the robot's unit, or ``None`` for "no check".
+    """
+    if scene is False:
+        return None
+    if scene is None:
+        if getattr(robot, "collision", None) is None:
+            return None
+        return robot_scene(robot)
+    if isinstance(scene, Scene) and scene.unit == robot.unit:
+        return scene
+    return as_scene(robot, scene)
+
+
+def checked_against(robot: Robot, scene: Scene | None) -> tuple[str, ...]:
+    """The names of what a check against ``scene`` (a :func:`resolve_scene` answer) covers.
+
+    The scene's shapes, then the robot's body (``("ground", "torso")`` for the fighter);
+    ``("itself",)`` when only self-collision is checked, ``()`` for no check (``scene`` None).
+    """
+    if scene is None:
+        return ()
+    names = [s.name or s.kind for s in scene] + [s.name or s.kind for s in robot_collision(robot).body]
+    return tuple(dict.fromkeys(names)) or ("itself",)
+
+
+def checked_note(names: Sequence[str]) -> str:
+    """``"checked against: ground, torso"`` (``"not checked for collisions"`` for no names); English."""
+    return f"checked against: {', '.join(names)}" if names else "not checked for collisions"
 
 
 # ------------------------------------------------------------------ solids in the world

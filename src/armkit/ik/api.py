@@ -193,6 +193,27 @@ def _reshape(res: IKResult, lead: tuple[int, ...]) -> IKResult:
     return res._map(f, trace)
 
 
+def _scene(robot: Robot, scene: Any) -> Any:
+    """``scene=`` by the one collision rule (:func:`armkit.collision.resolve_scene`): a Scene, or None for no check.
+
+    A robot without collision keys and ``scene=None`` is answered here without importing anything
+    (the single-call path stays as fast as it was)."""
+    if scene is None and robot.__dict__.get("collision") is None:
+        return None
+    from ..collision.query import resolve_scene
+
+    return resolve_scene(robot, scene)
+
+
+def _checked(robot: Robot, res: IKResult, scene: Any) -> IKResult:
+    """``res`` with ``checked_against`` set: what its successes were checked against (nothing for None)."""
+    if scene is not None:
+        from ..collision.query import checked_against
+
+        object.__setattr__(res, "checked_against", checked_against(robot, scene))
+    return res
+
+
 def _raise_if_unreachable(res: IKResult) -> None:
     reason = np.asarray(res.reason)
     failed = (reason == "unreachable") & ~np.asarray(res.success)
@@ -266,7 +287,7 @@ def _numeric(method: str, robot: Robot, target: Array, q0: Array, **kw: Any) -> 
 
 def ik_all(robot: Robot, target: ArrayLike, q0: ArrayLike | None = None, *, phi: ArrayLike | None = None,
            enforce_limits: bool = True, tol: Any = None, scene: Any = None, pitch: ArrayLike | None = None,
-           check: bool = True) -> IKResult:
+           check: bool = True, direction: ArrayLike | None = None) -> IKResult:
     """Every closed-form solution (branch) for each target.
 
     Parameters
@@ -285,10 +306,13 @@ def ik_all(robot: Robot, target: ArrayLike, q0: ArrayLike | None = None, *, phi:
         Branches outside the joint limits get ``success=False``, reason "joint limits".
     tol : float or (float, float), optional
         Position (robot unit) and rotation (rad) tolerance of the FK check.
-    scene : armkit.Scene, path of a scene file, "robot" or None
-        With a scene, a branch that collides (with the scene, the robot's body or itself)
-        fails with reason "collision" and a message naming the pair and the depth;
-        ``"robot"`` is the robot's own surroundings (``docs/scene.md``). None: no check.
+    scene : None, False, armkit.Scene, path of a scene file or "robot"
+        A branch that collides (with the scene, the robot's body or itself) fails with reason
+        "collision" and a message naming the pair and the depth. None (the default): the
+        robot's own surroundings from its robot file (the fighter's torso and ground; none for
+        arms whose file has no collision keys); False: no check; a scene replaces the robot's
+        ground, its body stays (:func:`armkit.collision.resolve_scene`, ``docs/scene.md``).
+        ``IKResult.checked_against`` names what was checked.
     pitch : float or array_like, shape (...), optional
         Tool pitch (rad) for ``(..., 3)`` position targets of a yaw + three pitch joints
         (+ roll) arm such as the SO-101 (``docs/so101.md``); the roll joint keeps ``q0``.
@@ -314,18 +338,24 @@ def ik_all(robot: Robot, target: ArrayLike, q0: ArrayLike | None = None, *, phi:
     True
     """
     _check_call(robot)
+    scene = _scene(robot, scene)
+    if direction is not None:   # issue 20: every branch of a yaw-pitch3 arm for a pointing direction (ik.partial)
+        from .partial import ik_direction_all
+
+        return _checked(robot, ik_direction_all(robot, target, q0, direction, phi=phi, tol=tol,
+                                                enforce_limits=enforce_limits, scene=scene), scene)
     if pitch is not None:
         from .partial import ik_pitch
 
-        return ik_pitch(robot, target, q0, pitch, phi=phi, tol=tol, enforce_limits=enforce_limits, scene=scene,
-                        every=True)
+        return _checked(robot, ik_pitch(robot, target, q0, pitch, phi=phi, tol=tol, enforce_limits=enforce_limits,
+                                        scene=scene, every=True), scene)
     flat, lead, position_only, q0f = _targets_and_start(robot, target, q0, phi, check)
     res = _all_branches(robot, flat, q0f, position_only, tol, enforce_limits)
     if scene is not None:   # success also means collision-free (armkit.collision)
-        from ..collision.ik_filter import mark, scene_or_none, sort_branches
+        from ..collision.ik_filter import mark, sort_branches
 
-        res = sort_branches(mark(robot, res, scene_or_none(robot, scene)))  # type: ignore[arg-type]
-    return _reshape(res, lead)
+        res = sort_branches(mark(robot, res, scene))
+    return _checked(robot, _reshape(res, lead), scene)
 
 
 def ik(robot: Robot, target: ArrayLike, q0: ArrayLike | None = None,
@@ -371,10 +401,12 @@ def ik(robot: Robot, target: ArrayLike, q0: ArrayLike | None = None,
         reach) instead of returning ``success=False``.
     trace : bool
         Numeric methods: keep the per-iteration error in ``IKResult.trace``.
-    scene : armkit.Scene, path of a scene file, "robot" or None
+    scene : None, False, armkit.Scene, path of a scene file or "robot"
         Success also means collision-free: the closed form returns the nearest branch that
         does not collide, numeric methods restart from random configurations while the answer
-        collides; what still collides fails with reason "collision" (see :func:`ik_all`).
+        collides; what still collides fails with reason "collision". None (the default): the
+        robot's own surroundings (the fighter's torso and ground), False: no check (see
+        :func:`ik_all`); ``IKResult.checked_against`` names what was checked.
     pitch : float or array_like, shape (...), optional
         Tool pitch (rad) for a ``(..., 3)`` position: closed form for a yaw + three pitch
         joints (+ roll) arm such as the SO-101 (``docs/so101.md``); ``rotation_error`` is the
@@ -403,6 +435,7 @@ def ik(robot: Robot, target: ArrayLike, q0: ArrayLike | None = None,
     if method not in METHODS:
         raise IKInputError(f"method must be one of {', '.join(METHODS)}; got {short_repr(method)}")
     _check_call(robot, seed, max_iterations, restarts)
+    scene = _scene(robot, scene)
     numeric = {"mask": mask, "tol": None if tol is None else _tolerance(robot, tol), "seed": seed,   # tol checked here
                "enforce_limits": enforce_limits, "trace": trace, "max_iterations": max_iterations,
                "restarts": restarts}
@@ -426,7 +459,7 @@ def ik(robot: Robot, target: ArrayLike, q0: ArrayLike | None = None,
             res = _numeric_one(robot, "lm" if method == "auto" else method, flat, q0f, lead, scene, numeric)
     if raise_unreachable:
         _raise_if_unreachable(res)
-    return res
+    return _checked(robot, res, scene)
 
 
 def _partial(robot: Robot, target: ArrayLike, q0: ArrayLike | None, method: str, pitch: Any, direction: Any,
@@ -449,9 +482,9 @@ def _closed_one(robot: Robot, flat: Array, q0f: Array, lead: tuple[int, ...], po
         return _nearest_branch(robot, flat, q0f, position_only, tol, enforce_limits, solver, lead)
     every = _all_branches(robot, flat, q0f, position_only, tol, enforce_limits)
     if branch is None:   # with a scene: the nearest branch that does not collide
-        from ..collision.ik_filter import mark, scene_or_none, sort_branches
+        from ..collision.ik_filter import mark, sort_branches
 
-        every = sort_branches(mark(robot, every, scene_or_none(robot, scene)))  # type: ignore[arg-type]
+        every = sort_branches(mark(robot, every, scene))
         return _reshape(every[np.arange(len(flat)), 0], lead)
     hit = every.branch == branch
     if not hit.any(axis=1).all():
@@ -459,9 +492,9 @@ def _closed_one(robot: Robot, flat: Array, q0f: Array, lead: tuple[int, ...], po
         raise IKInputError(f"unknown branch {branch!r} for robot {robot.name!r}; valid branches: " + ", ".join(valid))
     res = _reshape(every[np.arange(len(flat)), np.argmax(hit, axis=1)], lead)
     if scene is not None:
-        from ..collision.ik_filter import mark, scene_or_none
+        from ..collision.ik_filter import mark
 
-        res = mark(robot, res, scene_or_none(robot, scene))  # type: ignore[arg-type]
+        res = mark(robot, res, scene)
     return res
 
 
@@ -470,8 +503,8 @@ def _numeric_one(robot: Robot, name: str, flat: Array, q0f: Array, lead: tuple[i
     """:func:`ik` by a numeric method; with a scene, restarts away from collisions (:mod:`armkit.collision`)."""
     flat_res = _numeric(name, robot, flat, q0f, **kw)
     if scene is not None:
-        from ..collision.ik_filter import retry_numeric, scene_or_none
+        from ..collision.ik_filter import retry_numeric
 
-        flat_res = retry_numeric(robot, flat_res, scene_or_none(robot, scene),  # type: ignore[arg-type]
+        flat_res = retry_numeric(robot, flat_res, scene,
                                  lambda q0r, rows: _numeric(name, robot, flat[rows], q0r, **kw), kw["seed"])
     return _reshape(flat_res, lead)

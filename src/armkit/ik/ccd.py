@@ -193,8 +193,8 @@ def _reasons(prob: Problem, unreachable: np.ndarray, dist: np.ndarray, failed: n
     unit = prob.robot.unit
     reasons = {}
     for i in np.flatnonzero(unreachable):
-        reasons[int(i)] = ("unreachable", f"target is {dist[i]:.4g} {unit} from the base origin; the arm reaches at "
-                                          f"most {prob.const['reach']:.4g} {unit}; q is the closest configuration found")
+        reasons[int(i)] = ("unreachable", f"target is {dist[i]:.4g} {unit} from {prob.const['reach from']}; the arm reaches at "
+                                          f"most {prob.const['reach at most']:.4g} {unit}; q is the closest configuration found")
     for i in np.flatnonzero(failed):
         reasons[int(i)] = ("max iterations", f"CCD did not converge in {iters[i]} sweeps ({used[i]} starts)")
     return reasons

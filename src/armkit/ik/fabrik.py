@@ -290,8 +290,8 @@ def _reasons(prob: Problem, st: dict, failed: np.ndarray, passes: np.ndarray) ->
     reasons: dict[int, tuple[str, str]] = {}
     for i in map(int, np.flatnonzero(failed)):
         if unreachable[i]:
-            reasons[i] = ("unreachable", f"target is {dist[i]:.4g} {unit} from the base origin; the arm reaches at "
-                                         f"most {prob.const['reach']:.4g} {unit}; q is the closest configuration found")
+            reasons[i] = ("unreachable", f"target is {dist[i]:.4g} {unit} from {prob.const['reach from']}; the arm reaches at "
+                                         f"most {prob.const['reach at most']:.4g} {unit}; q is the closest configuration found")
         else:
             reasons[i] = ("max iterations", f"FABRIK did not converge in {passes[i]} passes "
                                             f"({st['kind']} structure)")

@@ -128,6 +128,16 @@ def _constants(robot: Robot) -> dict:
                          np.where(np.isfinite(hi), hi, np.where(rev, math.pi, span))),
                  free=(free_lo, free_hi, np.where(rev, -math.pi, -span), np.where(rev, math.pi, span)))
         c["origin xyz"] = tuple(c["origin"].tolist())
+        # arms with a yaw joint and three parallel pitch joints (the SO-101): the reach is measured from the
+        # shoulder (its nearest position over the yaw angle), which is tighter than from the base origin
+        try:
+            from .analytic.yaw_pitch3 import shoulder_reach
+
+            c["shoulder"] = shoulder_reach(robot)
+        except Exception:   # noqa: BLE001 - a robot without a standard form: the base-origin bound only
+            c["shoulder"] = None
+        c["reach from"] = "the base origin" if c["shoulder"] is None else "the shoulder"
+        c["reach at most"] = reach if c["shoulder"] is None else c["shoulder"][-1]
         for key in ("limits", "free"):  # lower, upper, random-start low and high as one (4, n) array
             c["packed " + key] = np.ascontiguousarray(np.stack(c[key]))
         robot.cache["lm_constants"] = c
@@ -205,7 +215,15 @@ class Problem:
         return self.tol[0] * self.s * _TOL_FACTOR, self.tol[1] * _TOL_FACTOR
 
     def unreachable(self) -> tuple[NDArray[np.bool_], Array]:
-        """Targets whose position is provably beyond the reach (distance from the base origin)."""
+        """Targets whose position is provably beyond the reach, and their distances from where the reach is
+        measured: ``const["reach from"]`` (the base origin, or the shoulder of a yaw-pitch3 arm such as the
+        SO-101), the reach being ``const["reach at most"]``."""
+        sh = self.const["shoulder"]
+        if sh is not None:
+            dist = shoulder_distance(sh, self.poses[:, :3, 3])
+            if not (self.w[0] > 0 and self.w[1] > 0 and self.w[2] > 0):
+                return np.zeros(self.B, bool), dist
+            return dist > sh[-1] * (1.0 + 1e-9) + self.tol[0], dist
         if self.B == 1:
             o = self.const["origin"]
             P = self.poses[0]
@@ -216,6 +234,16 @@ class Problem:
         if not (self.w[0] > 0 and self.w[1] > 0 and self.w[2] > 0):
             return np.zeros(self.B, bool), dist
         return dist > self.const["reach"] * (1.0 + 1e-9) + self.tol[0], dist
+
+
+def shoulder_distance(sh: tuple, p: Array) -> Array:
+    """Distance of points ``p`` ``(B, 3)`` from the circle ``sh = (centre (3,), axis (3,), radius, reach)`` that
+    the shoulder runs on as the yaw joint turns (:func:`armkit.ik.analytic.yaw_pitch3.shoulder_reach`)."""
+    c, u, rs = sh[0], sh[1], sh[2]
+    w = p - c
+    z = w @ u
+    rh = np.sqrt(np.maximum(np.einsum("bi,bi->b", w, w) - z * z, 0.0))
+    return np.hypot(rh - rs, z)
 
 
 def _seed_base(seed: Any) -> int:
@@ -585,8 +613,9 @@ def _solve(prob: Problem, method: str, max_iterations: Optional[int], restarts: 
     reasons = {}
     unit = prob.robot.unit
     for i in (np.flatnonzero(unreachable) if any_unreachable else ()):
-        reasons[int(i)] = ("unreachable", f"target is {_fmt(dist[i])} {unit} from the base origin; the arm reaches "
-                                          f"at most {_fmt(prob.const['reach'])} {unit}; q is the closest configuration found")
+        reasons[int(i)] = ("unreachable", f"target is {_fmt(dist[i])} {unit} from {prob.const['reach from']}; the arm "
+                                          f"reaches at most {_fmt(prob.const['reach at most'])} {unit}; q is the closest "
+                                          "configuration found")
     res = assemble(prob, q, iters, method, reasons, _trace_array(rows))
     if diagnose and not res.success.all() and len(failed := np.flatnonzero(~res.success & ~unreachable)):
         _diagnose(prob, res, failed, reasons, used, method, max_iterations, restarts, seed)
@@ -639,8 +668,17 @@ def _solve_one(robot: Robot, target: Any, q0: Any, max_iterations: Optional[int]
     tol = default_tolerance(robot)
     c = _constants(robot)
     x, y, z = (target[0] if point else target[0, :3, 3]).tolist()
-    ox, oy, oz = c["origin xyz"]
-    if math.sqrt((x - ox) ** 2 + (y - oy) ** 2 + (z - oz) ** 2) > c["reach"] * (1.0 + 1e-9) + tol[0]:
+    sh = c["shoulder"]
+    if sh is None:
+        ox, oy, oz = c["origin xyz"]
+        beyond = math.sqrt((x - ox) ** 2 + (y - oy) ** 2 + (z - oz) ** 2) > c["reach"] * (1.0 + 1e-9) + tol[0]
+    else:   # the distance from the shoulder's circle (cx, cy, cz, ux, uy, uz, radius, reach)
+        cx, cy, cz, ux, uy, uz, rs, reach = sh[3]
+        wx, wy, wz = x - cx, y - cy, z - cz
+        h = wx * ux + wy * uy + wz * uz
+        rh = math.sqrt(max(wx * wx + wy * wy + wz * wz - h * h, 0.0))
+        beyond = math.hypot(rh - rs, h) > reach * (1.0 + 1e-9) + tol[0]
+    if beyond:
         return None  # provably unreachable: the general path explains it
     if point:
         poses = _EYE_1.copy()

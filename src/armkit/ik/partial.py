@@ -87,9 +87,10 @@ def ik_direction(robot: Robot, target: ArrayLike, q0: ArrayLike | None, directio
     """
     from .api import IKInputError, _normalise_q0, _numeric, _reshape
 
-    if method not in ("auto", "lm", "newton"):
-        raise IKInputError(f"direction= is solved by the numeric methods 'lm' and 'newton' (or 'auto'); "
-                           f"got method {method!r}")
+    if method not in ("auto", "analytic", "lm", "newton"):
+        raise IKInputError(f"direction= is solved in closed form ('analytic', for a yaw + three pitch joints arm such "
+                           f"as the SO-101) or by the numeric methods 'lm' and 'newton' (or 'auto'); got method "
+                           f"{method!r}")
     for name, value, text in (("mask", mask, "direction= uses the mask (1, 1, 1, 1, 1, 0)"),
                               ("phi", phi, "phi= is for planar (x, y) targets"),
                               ("branch", branch, "branch= picks a closed-form solution; direction= is numeric"),
@@ -103,7 +104,22 @@ def ik_direction(robot: Robot, target: ArrayLike, q0: ArrayLike | None, directio
         raise ShapeError("direction must be a non-zero 3-vector (the way the tool's z axis should point)")
     z = d / norm[:, None]
     q = _normalise_q0(robot, q0, lead)
-    name = "lm" if method == "auto" else method
+    closed = None
+    if method in ("auto", "analytic"):   # a yaw-pitch3 arm: the direction is a pitch (closed form, issue 20)
+        solver = _pitch_solver(robot)
+        if solver is None and method == "analytic":
+            raise IKInputError(f"robot {robot.name!r} has no closed form for a position and a pointing direction "
+                               "(that is for arms with a yaw joint and three parallel pitch joints, like the SO-101); "
+                               "use method='lm'")
+        if solver is not None:
+            from .analytic.yaw_pitch3 import solve_direction
+
+            every = solve_direction(robot, solver, p, z, q, _direction_tol(robot, numeric.get("tol")),
+                                    bool(numeric.get("enforce_limits", True)))
+            closed = every[np.arange(len(p)), 0]
+            if method == "analytic" or bool(np.all(closed.success)):
+                return _reshape(closed, lead)
+    name = "lm" if method in ("auto", "analytic") else method
     frames = _frames(robot, p, z, q)
     budget = numeric.get("restarts")
     # a short first try (3 restarts); the turned frames get the full budget
@@ -135,6 +151,63 @@ def ik_direction(robot: Robot, target: ArrayLike, q0: ArrayLike | None, directio
             fields[f][take] = src + fields[f][take] if f == "iterations" else src
         fields["reason"] = fields["reason"].astype(str)
         res = IKResult(**fields, trace=res.trace)
+    if closed is not None:   # the closed form's answer where it solved, or where LM failed too (its reason is exact)
+        take = np.asarray(closed.success) | ~np.asarray(res.success)
+        if take.any():
+            res = _merge(res, closed, take)
+    return _reshape(res, lead)
+
+
+def _pitch_solver(robot: Robot) -> Any:
+    """The yaw-pitch3 closed form of ``robot``, or None."""
+    from .analytic import closed_form
+
+    solver = closed_form(robot)
+    return solver if getattr(solver, "target_kind", None) == "pitch" else None
+
+
+def _direction_tol(robot: Robot, tol: Any) -> tuple[float, float]:
+    from .result import default_tolerance
+
+    return default_tolerance(robot) if tol is None else (float(tol[0]), float(tol[1]))
+
+
+def _merge(res: IKResult, other: IKResult, take: NDArray[np.bool_]) -> IKResult:
+    """``res`` with the rows ``take`` from ``other`` (both flat, one answer per target)."""
+    fields = {}
+    for f in ("q", "success", "position_error", "rotation_error", "iterations", "branch", "within_limits", "reason",
+              "message"):
+        a = np.array(getattr(res, f), dtype=object if f in ("reason", "message", "branch") else None)
+        a[take] = np.asarray(getattr(other, f))[take]
+        fields[f] = a.astype(str) if f == "reason" else a
+    return IKResult(**fields, trace=res.trace)
+
+
+def ik_direction_all(robot: Robot, target: ArrayLike, q0: ArrayLike | None, direction: Any, *, tol: Any = None,
+                     enforce_limits: bool = True, scene: Any = None, phi: Any = None) -> IKResult:
+    """:func:`armkit.ik_all` with ``direction=``: every closed-form branch of a yaw-pitch3 arm (front/back x
+    elbow), the tool's z axis along ``direction`` (:func:`armkit.ik.analytic.yaw_pitch3.solve_direction`)."""
+    from .analytic.yaw_pitch3 import solve_direction
+    from .api import IKInputError, _normalise_q0, _reshape, _tolerance
+
+    if phi is not None:
+        raise IKInputError("phi= is for planar (x, y) targets; it does not go with direction=")
+    solver = _pitch_solver(robot)
+    if solver is None:
+        raise IKInputError(f"robot {robot.name!r} has no closed form for a position and a pointing direction "
+                           "(ik_all with direction= is for arms with a yaw joint and three parallel pitch joints, "
+                           "like the SO-101); use armkit.ik(..., direction=...) (numeric)")
+    p, lead = _positions(target, "direction=")
+    d = _values(direction, "direction", lead, (3,)).reshape(-1, 3)
+    norm = np.linalg.norm(d, axis=-1)
+    if np.any(norm < 1e-12):
+        raise ShapeError("direction must be a non-zero 3-vector (the way the tool's z axis should point)")
+    q = _normalise_q0(robot, q0, lead)
+    res = solve_direction(robot, solver, p, d / norm[:, None], q, _tolerance(robot, tol), enforce_limits)
+    if scene is not None:   # success also means collision-free (armkit.collision)
+        from ..collision.ik_filter import mark, scene_or_none, sort_branches
+
+        res = sort_branches(mark(robot, res, scene_or_none(robot, scene)))  # type: ignore[arg-type]
     return _reshape(res, lead)
 
 

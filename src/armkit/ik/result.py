@@ -7,7 +7,7 @@ tolerance; this module's :func:`verify` is the one place that decides it.
 from __future__ import annotations
 
 from dataclasses import MISSING, dataclass, field, fields
-from typing import Any, Optional
+from typing import Any, ClassVar, Optional
 
 import numpy as np
 from numpy.typing import NDArray
@@ -71,6 +71,10 @@ class IKResult:
         single target (``shape == ()``).
     trace : ndarray or None
         Per-iteration error norms when the solver was asked for a trace.
+
+    Besides the fields, ``checked_against`` (a tuple of str, not a field) names what a success was
+    checked against for collisions: ``("ground", "torso")`` for the fighter by default, ``()``
+    when nothing was checked (see :func:`armkit.collision.resolve_scene`).
     """
 
     q: NDArray[np.float64]
@@ -83,6 +87,7 @@ class IKResult:
     reason: NDArray[np.str_]
     message: Any = field(default=None)   # str for a single target, ndarray of str for a batch
     trace: Optional[NDArray[np.float64]] = None
+    checked_against: ClassVar[tuple[str, ...]] = ()   # set per result by armkit.ik / ik_all (not a field)
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "message", _message(self.message, np.shape(self.success)))
@@ -109,6 +114,8 @@ class IKResult:
             d[f] = per_target(src[f])
         d["trace"] = trace
         d["message"] = _message(d["message"], np.shape(d["success"]))
+        if "checked_against" in src:   # what the collision check covered goes with every part
+            d["checked_against"] = src["checked_against"]
         return new
 
     @property

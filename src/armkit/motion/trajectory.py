@@ -340,7 +340,9 @@ def _check_steps(steps: Any, n: int) -> int:
 def _ik_solve(robot: Robot, target: Array, q_prev: Array) -> tuple[Array, bool, str]:
     import armkit
 
-    res = armkit.ik(robot, target, q0=q_prev)
+    # the branch nearest the previous sample, collisions or not: a path is continuous; `armkit traj` counts the
+    # samples that collide with the robot's surroundings afterwards (armkit.collision.resolve_scene)
+    res = armkit.ik(robot, target, q0=q_prev, scene=False)
     return np.asarray(res.q, dtype=float), bool(res.success), str(res.message)
 
 

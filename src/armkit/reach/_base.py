@@ -147,7 +147,7 @@ def base_placement(map: ReachabilityMap, task_poses: ArrayLike, candidates: Arra
     for i in order:
         local_i = Binv[i] @ T
         target = local_i[..., :3, 3] if map.grid.position_only else local_i
-        res = ik(map.robot, target, seed=seed)
+        res = ik(map.robot, target, seed=seed, scene=False)   # the map decides collisions (its scene=)
         out.append(BasePlacement(B[i], reached[i].copy(), np.asarray(res.success, dtype=bool).reshape(-1)))
     rank = {id(p): r for r, p in enumerate(out)}
     out.sort(key=lambda p: (-p.ik_count, -p.map_count, rank[id(p)]))

@@ -196,11 +196,11 @@ class ReachabilityMap:
         target = T[:, :3, 3] if self.grid.position_only else T
         if closed_form_family(self.robot) is not None:
             try:
-                ok: NDArray[np.bool_] = np.asarray(ik_all(self.robot, target).success, dtype=bool)
+                ok: NDArray[np.bool_] = np.asarray(ik_all(self.robot, target, scene=False).success, dtype=bool)
                 return np.asarray(ok.reshape(len(T), -1).any(axis=1), dtype=bool)
             except ArmkitError:     # the closed form does not take this kind of target: numeric below
                 pass
-        res = ik(self.robot, target, method="lm", seed=np.random.default_rng(seed), restarts=20)
+        res = ik(self.robot, target, method="lm", seed=np.random.default_rng(seed), restarts=20, scene=False)
         return np.asarray(res.success, dtype=bool).reshape(len(T))
 
     def reachable(self, poses: ArrayLike, refine: bool = False, seed: int = 0) -> NDArray[np.bool_]:

@@ -124,7 +124,7 @@ def ik_block(robot: Robot, grid_attrs: dict[str, Any], seed: int, block: int, sl
     first_vox = ix[0] * ny * nz
     if grid.position_only:
         targets = centres @ A[:3, :3].T + A[:3, 3]
-        res = ik(robot, targets, seed=np.random.default_rng([int(seed), int(block)]), restarts=restarts)
+        res = ik(robot, targets, seed=np.random.default_rng([int(seed), int(block)]), restarts=restarts, scene=False)
         ok = np.asarray(res.success).reshape(-1, 1)
         q = np.asarray(res.q).reshape(-1, robot.n)
     else:
@@ -134,7 +134,7 @@ def ik_block(robot: Robot, grid_attrs: dict[str, Any], seed: int, block: int, sl
         T[..., :3, :3] = A[:3, :3] @ R
         T[..., :3, 3] = (centres @ A[:3, :3].T + A[:3, 3])[:, None, :]
         T[..., 3, 3] = 1.0
-        res = ik(robot, T, seed=np.random.default_rng([int(seed), int(block)]), restarts=restarts)
+        res = ik(robot, T, seed=np.random.default_rng([int(seed), int(block)]), restarts=restarts, scene=False)
         ok = np.asarray(res.success).reshape(V, O)
         q = np.asarray(res.q).reshape(-1, robot.n)
     if scene is not None:

@@ -63,6 +63,9 @@ class TrackResult:
         Position tolerance used per frame (length units).
     colliding : ndarray of bool, shape (F,), or None
         With a scene: the frames where the arm collides (with the scene, its body or itself).
+    checked_against : tuple of str
+        What the frames were checked against (``("ground", "torso")`` for the fighter by
+        default; ``()``: not checked).
     """
 
     robot: Robot
@@ -77,6 +80,7 @@ class TrackResult:
     iterations: NDArray[np.int64]
     tol: float
     colliding: Optional[NDArray[np.bool_]] = None
+    checked_against: tuple[str, ...] = ()
 
     def stats(self) -> dict[str, Any]:
         """Tracking statistics: errors over the reached frames, frame counts, branch changes, joint jumps."""
@@ -98,7 +102,8 @@ class TrackResult:
             "branch_changes": int(np.sum(self.branch[1:] != self.branch[:-1])),
             "largest_joint_step_deg": jump,
             "mean_iterations": float(self.iterations.mean()),
-            **({} if self.colliding is None else {"frames_in_collision": int(self.colliding.sum())}),
+            **({} if self.colliding is None else {"frames_in_collision": int(self.colliding.sum()),
+                                                  "checked_against": list(self.checked_against)}),
         }
 
 
@@ -106,7 +111,7 @@ def _frame_of_motion(robot: Robot) -> tuple[Array, float, float, bool, Array, Ar
     """(centre, inner radius, outer radius, planar, in-plane unit vectors e1, e2) for the paths."""
     from ..analysis.workspace import is_planar, workspace
 
-    ws = workspace(robot, samples=20_000, seed=0)
+    ws = workspace(robot, samples=20_000, seed=0, scene=False)   # the paths' size: the arm's reach alone
     c = ws.centre.copy()
     planar = ws.planar
     if planar:
@@ -204,9 +209,12 @@ def track(robot: Robot, path: str = "random", method: str = "ccd", frames: int =
         Per-frame iteration cap for the numeric methods.
     q0 : array_like, shape (n,), optional
         Joints before the first frame (default: zeros).
-    scene : armkit.Scene, path of a scene file, "robot" or None
-        IK per frame avoids collisions with it (and the robot's body and itself) where it can;
-        the frames that still collide are flagged in ``colliding``.
+    scene : None, False, armkit.Scene, path of a scene file or "robot"
+        The closed form picks per frame a branch that does not collide with it (and the robot's
+        body and itself) where one reaches; numeric steps stay local (no random restarts); the
+        frames that still collide are flagged in ``colliding``. None (the default): the robot's
+        own surroundings (the fighter's torso and ground); False: no check
+        (:func:`armkit.collision.resolve_scene`).
 
     Returns
     -------
@@ -223,6 +231,10 @@ def track(robot: Robot, path: str = "random", method: str = "ccd", frames: int =
 
     planar = is_planar(robot)
     q_prev = np.zeros(robot.n) if q0 is None else robot.check_q(q0).astype(float)
+    from ..collision import checked_against, resolve_scene
+
+    scene = resolve_scene(robot, scene)            # the one collision rule: None is the robot's own surroundings
+    pick_scene = False if scene is None else scene
     Q = np.empty((F, robot.n))
     reached = np.zeros(F, dtype=bool)
     out = np.zeros(F, dtype=bool)
@@ -243,7 +255,7 @@ def track(robot: Robot, path: str = "random", method: str = "ccd", frames: int =
                     phis = [phi0] + [phi0 + s * d for d in steps for s in (1, -1)]
             for phi in phis:
                 kw = {} if phi is None else {"phi": phi}
-                res = ik_all(robot, tgt, q0=q_prev, tol=(tol_p, 1e-6), scene=scene, **kw)
+                res = ik_all(robot, tgt, q0=q_prev, tol=(tol_p, 1e-6), scene=pick_scene, **kw)
                 ok = np.asarray(res.success)
                 if ok.any():
                     break
@@ -258,15 +270,15 @@ def track(robot: Robot, path: str = "random", method: str = "ccd", frames: int =
                 q_new = np.asarray(res.q)[pick].astype(float)
                 label, reached[k] = names[pick], True
             else:
-                one = ik(robot, tgt, q0=q_prev, method="analytic", tol=(tol_p, 1e-6), **kw)
+                one = ik(robot, tgt, q0=q_prev, method="analytic", tol=(tol_p, 1e-6), scene=False, **kw)
                 out[k] = str(np.asarray(one.reason)) == "unreachable"
                 # stretch towards the target from the last frame (local least squares: no jump to a far branch)
-                near = ik(robot, p, q0=q_prev, method="lm", tol=(tol_p, 1e-6), restarts=0)
+                near = ik(robot, p, q0=q_prev, method="lm", tol=(tol_p, 1e-6), restarts=0, scene=False)
                 q_new = np.asarray(near.q, dtype=float)
             branch[k] = label or "analytic"
         else:
             one = ik(robot, p, q0=q_prev, method=method, tol=(tol_p, 1e-6),  # type: ignore[arg-type]
-                     max_iterations=max_iterations)
+                     max_iterations=max_iterations, scene=False)   # one local step per frame; collisions flagged below
             q_new = np.asarray(one.q, dtype=float)
             reached[k] = bool(np.asarray(one.success))
             out[k] = str(np.asarray(one.reason)) == "unreachable"
@@ -284,4 +296,4 @@ def track(robot: Robot, path: str = "random", method: str = "ccd", frames: int =
 
         colliding = in_collision(robot, Q, scene)
     return TrackResult(robot, method, name, Q, targets, err, reached, out, branch.astype(str), iters, tol_p,
-                       colliding)
+                       colliding, checked_against(robot, scene))

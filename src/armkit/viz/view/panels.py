@@ -267,6 +267,11 @@ class Panels:
 
             text = self._l("not_reached", message=html.escape(msg))
             colour = "#b91c1c"
+        if res.checked_against:   # what the answer was checked against, as the CLI says it
+            from ...locale import N_, translate
+
+            text += "<br>" + html.escape(translate(N_("checked against: {names}"), self.lang,
+                                                   names=", ".join(res.checked_against)))
         self.ik_html.content = (f'<div class="armkit-ik-status" data-ok="{int(ok)}" '
                                 f'style="color:{colour};font-size:0.85em;padding:0 0.5em">{text}</div>')
 
@@ -462,7 +467,8 @@ class Panels:
 
             from ...analysis.workspace import workspace
 
-            ws = workspace(self.robot, samples=20_000, seed=0, manipulability=True)
+            ws = workspace(self.robot, samples=20_000, seed=0, manipulability=True,
+                           scene=False if self.view.ik_scene is None else self.view.ik_scene)
             w = np.asarray(ws.manipulability, dtype=float)
             top = float(np.percentile(w, 99)) or 1.0
             colours = (colormaps["viridis"](np.clip(w / top, 0, 1))[:, :3] * 255).astype(np.uint8)

@@ -83,7 +83,7 @@ class View:
     def __init__(self, robot: Robot | str, port: Optional[int] = None, host: str = "127.0.0.1",
                  lang: Optional[str] = None, q: ArrayLike | None = None, scene: Any = None) -> None:
         viser = require("viser", "armkit view")
-        from ...collision import as_scene
+        from ...collision import Scene, as_scene, checked_against, resolve_scene
 
         self.robot = robot if isinstance(robot, Robot) else load(robot)
         if lang is not None and lang not in LANGUAGES:
@@ -96,7 +96,10 @@ class View:
         elif not _port_free(host, int(port)):
             raise ViewError(f"port {port} on {host} is in use; choose another port, or leave it out for a free one")
         r = self.robot
-        self.scene = as_scene(r, scene)       # a bad scene file raises SceneError before the server starts
+        # a bad scene file raises SceneError before the server starts; scene=False: none drawn, none checked
+        self.scene = Scene([], r.unit) if scene is False else as_scene(r, scene)
+        self.ik_scene = resolve_scene(r, False if scene is False else self.scene if scene is not None else None)
+        self.checked_against = checked_against(r, self.ik_scene)   # what IK here is checked against (the one rule)
         self.home = np.clip(np.zeros(r.n), r.lower, r.upper)
         self._q = self.home.copy() if q is None else self._checked_q(q)
         self._lock = threading.RLock()
@@ -247,7 +250,7 @@ class View:
         self.branches = {}
         if method == "auto" and self._closed_form.get(tgt.shape == (3,), True):
             try:
-                every = ik_all(r, tgt, q0=q0)
+                every = ik_all(r, tgt, q0=q0, scene=self._ik_scene_arg())
                 self._closed_form[tgt.shape == (3,)] = True
             except IKInputError:
                 self._closed_form[tgt.shape == (3,)] = False
@@ -260,7 +263,11 @@ class View:
         kw: dict[str, Any] = {"restarts": 3, "seed": 0} if name in ("lm", "newton") else {"seed": 0}
         if name in ("ccd", "fabrik") and tgt.shape == (4, 4):
             tgt = tgt[:3, 3]
-        return ik(r, tgt, q0=q0, method=name, **kw)  # type: ignore[arg-type]
+        return ik(r, tgt, q0=q0, method=name, scene=self._ik_scene_arg(), **kw)  # type: ignore[arg-type]
+
+    def _ik_scene_arg(self) -> Any:
+        """The view's collision check as the library's ``scene=`` (False: none)."""
+        return False if self.ik_scene is None else self.ik_scene
 
     def set_target(self, T: ArrayLike, method: Optional[str] = None) -> IKResult:
         """Put the target at ``T`` and move the arm there by IK.
@@ -538,11 +545,13 @@ def view(robot: Robot | str, port: Optional[int] = None, host: str = "127.0.0.1"
         Labels' language; default from the locale.
     q : array_like, shape (n,), optional
         First configuration (default: zeros, moved inside the limits).
-    scene : Scene, list of Shape, str or None
-        The surroundings drawn (translucent; red while the arm overlaps them): ``None`` the
+    scene : Scene, list of Shape, str, None or False
+        The surroundings drawn (translucent; red while the arm overlaps them) and checked by
+        the view's IK (the one rule of :func:`armkit.collision.resolve_scene`): ``None`` the
         robot's own (its file's ``[[scene]]``, e.g. the fighter's ground), a
-        :class:`armkit.Scene`, a list of shapes, or a scene file; ``armkit.Scene()`` for none.
-        The robot's body (``[[body]]``, the fighter's torso) is always drawn.
+        :class:`armkit.Scene`, a list of shapes, or a scene file; ``armkit.Scene()`` for no
+        surroundings (body and self-collision still checked); ``False`` for none drawn and no
+        collision check. The robot's body (``[[body]]``, the fighter's torso) is always drawn.
 
     Returns
     -------
