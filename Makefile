@@ -67,6 +67,7 @@ bench: $(BENCH_VENV)/.installed
 	$(BENCH_PY) benchmarks/bench_fk.py
 	if [ -f benchmarks/bench_ik.py ]; then $(BENCH_PY) benchmarks/bench_ik.py; fi
 	$(BENCH_PY) benchmarks/bench_urdf.py
+	$(BENCH_PY) benchmarks/bench_analytic.py
 	$(BENCH_PY) -m pytest -q tests/peers
 
 clean:
