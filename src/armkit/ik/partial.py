@@ -152,9 +152,9 @@ def ik_direction(robot: Robot, target: ArrayLike, q0: ArrayLike | None, directio
         fields["reason"] = fields["reason"].astype(str)
         res = IKResult(**fields, trace=res.trace)
     if closed is not None:   # the closed form's answer where it solved, or where LM failed too (its reason is exact)
-        take = np.asarray(closed.success) | ~np.asarray(res.success)
+        take = np.asarray(closed.success) | ~np.asarray(res.success)  # type: ignore[assignment]
         if take.any():
-            res = _merge(res, closed, take)
+            res = _merge(res, closed, take)  # type: ignore[arg-type]
     return _reshape(res, lead)
 
 

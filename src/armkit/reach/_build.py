@@ -136,7 +136,8 @@ def _local_cluster(workers: int, dashboard: bool = False) -> tuple[Any, Callable
 
     # Dask's scheduler always runs an HTTP server (identity, workers, logs, metrics); without the dashboard
     # it serves no route at all, and either way it listens on 127.0.0.1 only
-    quiet = {} if dashboard else {"distributed.scheduler.http.routes": [], "distributed.worker.http.routes": []}
+    quiet: dict[str, Any] = {} if dashboard else {"distributed.scheduler.http.routes": [],
+                                                   "distributed.worker.http.routes": []}
     with dask.config.set(quiet):
         cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, host="127.0.0.1",
                                dashboard_address="127.0.0.1:0" if dashboard else None,

@@ -55,7 +55,7 @@ def checksum(a: NDArray[Any]) -> str:
     """SHA-256 of an array's bytes (C order) with its dtype and shape."""
     a = np.ascontiguousarray(a)
     h = hashlib.sha256(f"{a.dtype.str}{a.shape}".encode())
-    h.update(memoryview(a).cast("B"))
+    h.update(memoryview(a).cast("B"))  # type: ignore[arg-type]
     return h.hexdigest()
 
 

@@ -384,7 +384,7 @@ def _pitch_ok(robot: Robot, solver: YawPitch3, pts: Array, psi: Array, q0: Array
     if enforce_limits:
         q = wrap_to_limits(raw.q - theta, q0[:, None, :], robot.lower, robot.upper, ~robot.prismatic)
         good &= np.all((q >= robot.lower - 1e-9) & (q <= robot.upper + 1e-9), axis=-1)
-    return good.any(axis=1)
+    return good.any(axis=1)  # type: ignore[return-value]
 
 
 def reachable_pitches(robot: Robot, solver: YawPitch3, pts: Array, q0: Array,
@@ -539,11 +539,11 @@ def solve_pitch(robot: Robot, solver: YawPitch3, pts: Array, psi: Array, q0: Arr
         from ..numeric import shoulder_distance
 
         sh = shoulder_reach(robot)
-        far = shoulder_distance(sh, pts[failed]) > sh[-1] + tol[0]
+        far = shoulder_distance(sh, pts[failed]) > sh[-1] + tol[0]  # type: ignore[arg-type, index]
         for i in failed[far]:   # beyond the reach at any pitch: say so, measured from the shoulder (issue 20)
-            d = float(shoulder_distance(sh, pts[i:i + 1])[0])
+            d = float(shoulder_distance(sh, pts[i:i + 1])[0])  # type: ignore[arg-type]
             message[i] = (f"unreachable: target is {d:.6g} {robot.unit} from the shoulder; the arm reaches at most "
-                          f"{sh[-1]:.6g} {robot.unit} (at any pitch).")
+                          f"{sh[-1]:.6g} {robot.unit} (at any pitch).")  # type: ignore[index]
         if (~far).any() and sweep:
             _pitch_messages(robot, solver, pts, psi, q0, enforce_limits, message, failed[~far])
     order = np.argsort(np.where(ok, 0.0, 1e9) + dist, axis=-1, kind="stable")
@@ -731,7 +731,7 @@ def solve_direction(robot: Robot, solver: YawPitch3, pts: Array, dirs: Array, q0
     dp, ang, ok, within = _direction_check(robot, q, pk, dk, tol, enforce_limits)
     ok &= close
     labels = np.asarray(res.branch).reshape(B, K * 4)
-    q = q.reshape(B, K * 4, n)
+    q = q.reshape(B, K * 4, n)  # type: ignore[assignment]
     dp, ang, ok, within, close = (a.reshape(B, K * 4) for a in (dp, ang, ok, within, close))
     msg_pitch = np.asarray(res.message, dtype=object).reshape(B, K * 4)
     dist = np.linalg.norm(q - q0[:, None, :], axis=-1)
@@ -754,7 +754,7 @@ def solve_direction(robot: Robot, solver: YawPitch3, pts: Array, dirs: Array, q0
     names = robot.joint_names
     none_valid = ~valid.any(axis=1)
     for b in np.flatnonzero(~fields["ok"].any(axis=1)):
-        if none_valid[b]:
+        if none_valid[b]:  # type: ignore[index]
             head = (f"this arm points the tool only within its vertical plane through the target (the sideways "
                     f"offset allows a little more); the direction leaves that plane by {math.degrees(off[b]):.3g} deg")
         else:
@@ -764,7 +764,7 @@ def solve_direction(robot: Robot, solver: YawPitch3, pts: Array, dirs: Array, q0
                 bad = ", ".join(nm for k, nm in enumerate(names)
                                 if not robot.lower[k] - 1e-12 <= out_q[b, j, k] <= robot.upper[k] + 1e-12)
                 tail = f"outside the joint limits: {bad} (see armkit info for the limits)."
-            elif none_valid[b]:
+            elif none_valid[b]:  # type: ignore[index]
                 tail = "unreachable."
             else:
                 tail = str(fields["msg"][b, j]) or (f"unreachable: the closest configuration of this branch misses "
@@ -777,16 +777,16 @@ def solve_direction(robot: Robot, solver: YawPitch3, pts: Array, dirs: Array, q0
         from ..numeric import shoulder_distance
 
         sh = shoulder_reach(robot)
-        far = shoulder_distance(sh, pts[fail_rows]) > sh[-1] + tol[0]
+        far = shoulder_distance(sh, pts[fail_rows]) > sh[-1] + tol[0]  # type: ignore[arg-type, index]
         code[fail_rows[far]] = 1
         far_rows = fail_rows[far]
-        fail_rows, far = fail_rows[~far | none_valid[fail_rows]], far[~far | none_valid[fail_rows]]
+        fail_rows, far = fail_rows[~far | none_valid[fail_rows]], far[~far | none_valid[fail_rows]]  # type: ignore[index]
         far = np.isin(fail_rows, far_rows)
         for b in fail_rows[far]:
-            d = float(shoulder_distance(sh, pts[b:b + 1])[0])
+            d = float(shoulder_distance(sh, pts[b:b + 1])[0])  # type: ignore[arg-type]
             message[b] = (f"unreachable: target is {d:.6g} {robot.unit} from the shoulder; the arm reaches at most "
-                          f"{sh[-1]:.6g} {robot.unit} (in any direction).")
-        near = fail_rows[~far & ~none_valid[fail_rows]]
+                          f"{sh[-1]:.6g} {robot.unit} (in any direction).")  # type: ignore[index]
+        near = fail_rows[~far & ~none_valid[fail_rows]]  # type: ignore[index]
         if len(near):
             q0r = q0[near].copy()
             if solver.roll:

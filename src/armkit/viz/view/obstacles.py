@@ -93,7 +93,7 @@ class ObstacleDrawing:
 
                 from ..._limits import check_mesh_file
 
-                check_mesh_file(shape.mesh_path)       # too large: left out like an unreadable mesh
+                check_mesh_file(shape.mesh_path)  # type: ignore[arg-type]  # too large: left out like an unreadable mesh
                 mesh: Any = trimesh.load(shape.mesh_path, force="mesh")
                 verts = np.asarray(mesh.vertices, dtype=float) * np.asarray(shape.scale, dtype=float) * s
                 made.append(sc.add_mesh_simple(f"{name}/mesh", vertices=verts.astype(np.float32),
