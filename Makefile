@@ -6,7 +6,7 @@ VENV   := .venv
 PY     := $(VENV)/bin/python
 PIP    := $(PY) -m pip
 
-.PHONY: demo test fuzz bench clean chromium locale locale-update fonts
+.PHONY: demo test fuzz bench clean chromium locale locale-update fonts pictures
 
 
 $(VENV)/.installed: pyproject.toml
@@ -52,6 +52,12 @@ test: $(VENV)/.installed chromium locale fonts
 # Rerun a run with `make fuzz SEED=<seed>`; the quick Hypothesis part is tests/hardening/test_fuzz_quick.py.
 fuzz: $(VENV)/.installed
 	$(PY) tests/hardening/fuzz_long.py $(if $(SEED),--seed $(SEED))
+
+# refresh the docs pictures: the browser view's screenshots (docs/img/view-*.png) and make demo's
+# branch picture (tests write theirs to a temporary folder; only this target rewrites docs/img)
+pictures: $(VENV)/.installed chromium locale fonts
+	ARMKIT_UPDATE_PICTURES=1 $(PY) -m pytest -q tests/viz/view/test_view.py
+	$(PY) -c "from armkit.viz.demo import write_demo_pictures as w; import shutil; shutil.copy(w('out')[1], 'docs/img/fighter_ik_branches.png')"
 
 # the peers (pin, roboticstoolbox-python, ikpy, pytorch-kinematics, CPU torch) live in their own venv
 BENCH_VENV := .venv-bench

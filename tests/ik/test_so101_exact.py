@@ -82,7 +82,7 @@ def test_single_target_fast_path_measures_from_the_shoulder(arm):
 
 # -------------------------------------------------------------------------- 2. pitch mode misses nothing
 def test_pitch_mode_misses_no_reachable_target(arm):
-    """10,000 targets by FK of random in-limit q (seed 101: 1 missed before, on the lateral fold)."""
+    """10,000 targets by FK of random in-limit q (one was missed before this fix, on the lateral fold)."""
     q = arm.random_q(10_000, rng=101)
     T = armkit.fk(arm, q)
     p, psi = T[:, :3, 3], pitch_of(arm, q)

@@ -40,7 +40,7 @@ def test_fighter_every_branch_matches_ik_all(tmp_path):
     P = armkit.fk(r, r.random_q(300, rng=rng))[:, :3, 3]          # reachable targets
     far = rng.normal(size=(40, 3)) * 400.0                          # mostly out of reach
     targets = np.vstack([P, far])
-    res = armkit.ik_all(r, targets)
+    res = armkit.ik_all(r, targets, scene=False)     # the closed form alone: no collision verdicts
     labels = np.asarray(res.branch).astype(str)
     checked = 0
     for name, f in ns["BRANCHES"].items():

@@ -125,7 +125,12 @@ def checked_line(robot: Robot, scene: Any) -> str:
     from ..collision import checked_against
 
     names = checked_against(robot, scene)
-    return _("checked against: {names}", names=", ".join(names)) if names else _("not checked for collisions")
+    shown = ", ".join(_(n) if n in _CHECKED_WORDS else n for n in names)   # a body's own name is the file's text
+    return _("checked against: {names}", names=shown) if names else _("not checked for collisions")
+
+
+_CHECKED_WORDS = (N_("ground"), N_("torso"), N_("itself"))
+"""The names ``checked_against`` gives that are words (the ground plane, the default body, self-collision)."""
 
 
 def parse_numbers(values: Sequence[str], what: str) -> np.ndarray:

@@ -568,8 +568,10 @@ class Shell:
             return
         from ..collision import checked_against
 
-        emit(esc(translate(N_("checked against: {names}"), self.lang,
-                           names=", ".join(checked_against(self.robot, self.scene)))), "dim")
+        from .common import _CHECKED_WORDS
+
+        names = [translate(n, self.lang) if n in _CHECKED_WORDS else n for n in checked_against(self.robot, self.scene)]
+        emit(esc(translate(N_("checked against: {names}"), self.lang, names=", ".join(names))), "dim")
 
     def _all_branches(self, target: np.ndarray) -> Optional[Any]:
         """``ik_all`` of ``target`` from the current q, or None when the arm has no closed form."""

@@ -42,6 +42,12 @@ def browser() -> Iterator[Any]:
 
 
 @pytest.fixture
-def docs_img() -> Path:
-    DOCS_IMG.mkdir(parents=True, exist_ok=True)
-    return DOCS_IMG
+def docs_img(tmp_path_factory) -> Path:
+    """Where the screenshots go: a temporary folder, so that tests never rewrite tracked files;
+    ``make pictures`` (ARMKIT_UPDATE_PICTURES=1) sends them to docs/img to refresh the docs."""
+    import os
+
+    if os.environ.get("ARMKIT_UPDATE_PICTURES") == "1":
+        DOCS_IMG.mkdir(parents=True, exist_ok=True)
+        return DOCS_IMG
+    return tmp_path_factory.mktemp("screenshots")

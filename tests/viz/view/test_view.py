@@ -1,7 +1,7 @@
 """The live view through a real browser (headless chromium via Playwright), no mocks.
 
 Each test starts a view on a free port, opens the page and checks through the page and
-the handle. Screenshots the tests take go to docs/img/view-*.png (docs/view.md, README).
+the handle. Screenshots the tests take go to a temporary folder; `make pictures` writes them to docs/img/view-*.png (docs/view.md, README).
 """
 
 from __future__ import annotations

@@ -127,8 +127,18 @@ class View:
             raise ViewError(f"cannot serve on {host}:{port}: {exc}") from exc
         actual = int(self.server.get_port())
         if actual != int(port):
-            self.server.stop()
+            with contextlib.redirect_stdout(io.StringIO()):       # viser's "Server stopped" line
+                self.server.stop()
             raise ViewError(f"port {port} on {host} is in use; choose another port, or leave it out for a free one")
+        try:
+            self._start(r, host, actual)
+        except BaseException:     # a failure after the server started must not leave it running (nor print later)
+            with contextlib.redirect_stdout(io.StringIO()):
+                self.server.stop()
+            raise
+
+    def _start(self, r: Robot, host: str, actual: int) -> None:
+        """The rest of ``__init__`` once the server listens: the scene, the drawings, the panels, a warm IK."""
         self.host, self.port = host, actual
         shown = "127.0.0.1" if host in ("0.0.0.0", "") else ("[::1]" if host == "::" else host)
         shown = f"[{shown}]" if ":" in shown and not shown.startswith("[") else shown
