@@ -96,7 +96,7 @@ def intersect(H: Array, P: Array, i: int, j: int, tol: float = DEFAULT_TOL) -> b
     return _line_distance(H[i], pts[i], H[j], pts[j], tol) < tol * _scale(P)
 
 
-def _common_point(H: Array, pts: Array, idx: Sequence[int]) -> tuple[Array, float]:
+def common_point(H: Array, pts: Array, idx: Sequence[int]) -> tuple[Array, float]:
     """The point nearest to all the lines ``idx`` (least squares) and its largest distance to one of them."""
     A = np.zeros((3, 3))
     b = np.zeros(3)
@@ -181,7 +181,7 @@ def _relations(H: Array, P: Array, prismatic: NDArray[np.bool_], tol: float) -> 
             if b > a + 1:
                 if not inter[b - 1]:
                     break
-                _, worst = _common_point(H, pts, range(a, b + 1))
+                _, worst = common_point(H, pts, range(a, b + 1))
                 if worst / scale >= tol:
                     break
                 dev = max(dev, worst / scale)

@@ -54,6 +54,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from . import subproblems as _sp
+from .classify import common_point
 from .poe import POE
 from .subproblems import _cross, _dot, _norm, _wrap, rot, rotm, sp1, sp2, sp3, sp4, sp5, sp6
 
@@ -1071,13 +1072,7 @@ def align(form: POE, meet: tuple[tuple[int, ...], ...] = (), parallel: tuple[tup
             dev = max(dev, float(np.linalg.norm(new - H[k])))
             H[k] = new
     for group in meet:
-        A = np.zeros((3, 3))
-        b = np.zeros(3)
-        for k in group:
-            M = np.eye(3) - np.outer(H[k], H[k])
-            A += M
-            b += M @ pts[k]
-        c = np.linalg.lstsq(A, b, rcond=None)[0]
+        c, _ = common_point(H, pts, group)      # the point nearest to all the group's lines (the classifier's)
         for k in group:
             off = c - pts[k]
             dev = max(dev, float(np.linalg.norm(off - H[k] * (H[k] @ off))) / scale)
