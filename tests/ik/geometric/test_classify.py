@@ -12,7 +12,8 @@ import armkit
 from armkit import Joint, Robot
 from armkit.cli import app
 from armkit.ik.geometric.classify import TEXTS, ChainClass, axis_points, classify, describe, intersect, parallel
-from armkit.ik.geometric.poe import POE, _rot, poe
+from armkit.ik.geometric.poe import POE, poe
+from armkit.spatial import axis_angle_to_rotation
 
 
 # ------------------------------------------------------------------ the bundled robots, from their published geometry
@@ -220,7 +221,7 @@ def test_random_arms_with_known_structure(structure):
 def test_near_parallel_axes_are_snapped_and_reported():
     f = poe(armkit.load("ur5"))
     H = np.array(f.H)
-    H[2] = _rot(np.array([1.0, 0.0, 0.0]), 1e-8) @ H[2]          # axis 3 tilted by 1e-8 rad off axes 2 and 4
+    H[2] = axis_angle_to_rotation([1.0, 0.0, 0.0], 1e-8) @ H[2]          # axis 3 tilted by 1e-8 rad off axes 2 and 4
     tilted = POE(H, f.P, f.R_nT, f.prismatic)
     c = classify(tilted)
     assert c.name == "6R-three-parallel-two-intersecting"

@@ -291,8 +291,8 @@ def test_align_keeps_exact_chains():
             assert all(np.allclose(a, b, atol=1e-12) for a, b in zip(form.fk(q), ideal.fk(q)))
 
 
-def test_rotm_matches_poe():
-    from armkit.ik.geometric.poe import _rot
+def test_rotm_matches_scipy():
+    from armkit.spatial import axis_angle_to_rotation   # an independent Rodrigues (SciPy)
 
     k = np.array([1.0, 2.0, 2.0]) / 3.0
-    assert np.allclose(rotm(k, 0.7), _rot(k, 0.7), atol=1e-15)
+    assert np.allclose(rotm(k, 0.7), axis_angle_to_rotation(k, 0.7), atol=1e-15)

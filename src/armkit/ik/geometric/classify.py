@@ -38,7 +38,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ...model.robot import Robot
-from .poe import POE, _rot, poe
+from .poe import POE, poe
+from .subproblems import rotm
 
 __all__ = ["ChainClass", "classify", "describe", "parallel", "intersect", "axis_points", "DEFAULT_TOL"]
 
@@ -200,7 +201,7 @@ def _relations(H: Array, P: Array, prismatic: NDArray[np.bool_], tol: float) -> 
         dev = 0.0
         if ok:
             for t in _SWEEP:
-                Rj = _rot(H[j], t)
+                Rj = rotm(H[j], t)
                 hk = Rj @ H[k]
                 pk = pts[j] + Rj @ (pts[k] - pts[j])
                 d = _line_distance(H[i], pts[i], hk, pk, tol) / scale
@@ -250,7 +251,7 @@ def _rank_deficient(H: Array, P: Array, prismatic: NDArray[np.bool_]) -> bool:
             else:
                 J[:3, k] = w
                 J[3:, k] = np.cross(p, w) / scale
-                R = R @ _rot(H[k], float(q[k]))
+                R = R @ rotm(H[k], float(q[k]))
             p = p + R @ P[k + 1]
         s = np.linalg.svd(J, compute_uv=False)
         best = max(best, int(np.sum(s > 1e-9 * max(s[0], 1e-300))))
@@ -393,7 +394,7 @@ def _lock(H: Array, P: Array, prismatic: NDArray[np.bool_], k: int, t: float) ->
     """The chain with joint ``k`` (0-based, revolute) locked at ``t``: one axis fewer, later axes moved."""
     pts = axis_points(P)
     n = H.shape[0]
-    Rk = _rot(H[k], t)
+    Rk = rotm(H[k], t)
     H2 = np.array([H[m] if m < k else Rk @ H[m] for m in range(n) if m != k])
     tip = pts[-1] + P[-1]
     newpts = [pts[m] if m < k else pts[k] + Rk @ (pts[m] - pts[k]) for m in range(n) if m != k]

@@ -23,6 +23,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ...model.robot import Robot
+from .subproblems import rotm
 
 __all__ = ["POE", "poe"]
 
@@ -50,15 +51,9 @@ class POE:
             if self.prismatic[k]:
                 p = p + q[k] * (R @ self.H[k])
             else:
-                R = R @ _rot(self.H[k], float(q[k]))
+                R = R @ rotm(self.H[k], float(q[k]))
             p = p + R @ self.P[k + 1]
         return R @ self.R_nT, p
-
-
-def _rot(k: Array, theta: float) -> Array:
-    """Rotation by ``theta`` about the unit axis ``k`` (Rodrigues)."""
-    K = np.array([[0.0, -k[2], k[1]], [k[2], 0.0, -k[0]], [-k[1], k[0], 0.0]])
-    return np.eye(3) + np.sin(theta) * K + (1.0 - np.cos(theta)) * (K @ K)
 
 
 def poe(robot: Robot) -> POE:
