@@ -13,6 +13,10 @@ solvers get the same 4x4 poses. Reported per arm:
   every branch); batched, EAIK ``IK_batched`` with ``--threads`` against armkit ``ik_all`` on
   the whole batch. The ratio is armkit / EAIK (below 1: armkit faster).
 
+Then (also alone, without EAIK: ``--searches-only``) what EAIK refuses: the sweep of the Panda and
+the iiwa (32 values of the lockable joint), one joint held (``fixed=``), and the 1-D search of
+random '6R-two-intersecting' arms, median milliseconds per target.
+
 EAIK takes a chain as axes ``H`` and offsets ``P`` with the tool frame's rotation equal to the
 last joint frame's; armkit's :func:`armkit.ik.geometric.poe.poe` gives the same form plus
 ``R_nT``, so targets are handed to EAIK as ``T · diag(R_nT^T, 1)``.
@@ -111,12 +115,93 @@ def _compare(robot, form, T: np.ndarray, eaik) -> dict:
             "extra": extra, "armkit fails FK": bad}
 
 
+def _median(fn, items) -> float:
+    """Median seconds of ``fn(item)`` over ``items`` (one call each)."""
+    ts = []
+    for it in items:
+        t0 = time.perf_counter()
+        fn(it)
+        ts.append(time.perf_counter() - t0)
+    return float(np.median(ts))
+
+
+def _two_intersecting_arm(g: np.random.Generator):
+    """A random 6R chain whose only relation is axes 5 and 6 meeting (the 1-D search's class)."""
+    from armkit.ik.geometric.poe import POE
+
+    H = g.normal(size=(6, 3))
+    H /= np.linalg.norm(H, axis=1, keepdims=True)
+    pts = g.normal(size=(6, 3)) * 0.5
+    c = g.normal(size=3) * 0.5
+    pts[4], pts[5] = c + g.uniform(-0.5, 0.5) * H[4], c + g.uniform(-0.5, 0.5) * H[5]
+    tool = pts[5] + g.normal(size=3) * 0.3
+    Q, Rr = np.linalg.qr(g.normal(size=(3, 3)))
+    Q = Q * np.sign(np.diag(Rr))
+    Q = Q if np.linalg.det(Q) > 0 else -Q
+    return POE(H, np.vstack([pts[0], np.diff(pts, axis=0), tool - pts[5]]), Q, np.zeros(6, dtype=bool))
+
+
+def searches(targets: int) -> None:
+    """Times of what EAIK refuses: the sweep of 7-joint arms, held joints, and the 1-D search (median ms per
+    target, one target per call, the public ``ik_all`` with its FK checks for the first two)."""
+    print(f"\nsearches and sweeps (EAIK refuses these arms): median ms per target, {targets} targets, one per call\n")
+    print("| arm | call | ms per target | successful branches per target |")
+    print("|---|---|---|---|")
+    for name, joint in (("panda", "panda_joint6"), ("iiwa14", "A3")):
+        robot = armkit.load(name)
+        rng = np.random.default_rng(7)
+        T = armkit.fk(robot, rng.uniform(0.9 * robot.lower, 0.9 * robot.upper, (targets, robot.n)))
+        armkit.ik_all(robot, T[0])
+        armkit.ik_all(robot, T[0], fixed={joint: 0.3})
+        for call, fn in (("ik_all sweep (32 values)", lambda t: armkit.ik_all(robot, t)),
+                         (f"ik_all fixed={{{joint!r}: 0.3}}", lambda t: armkit.ik_all(robot, t, fixed={joint: 0.3}))):
+            ms = _median(fn, T) * 1e3
+            ok = np.mean([np.sum(fn(t).success) for t in T[:20]])
+            print(f"| {name} | {call} | {ms:.2f} | {ok:.1f} |")
+    g = np.random.default_rng(11)
+    times, counts = [], []
+    for _ in range(targets):
+        form = _two_intersecting_arm(g)
+        R, p = form.fk(g.uniform(-np.pi, np.pi, 6))
+        G.two_intersecting(form, R, p)      # the arm's preparation (alignment) once
+        t0 = time.perf_counter()
+        sol = G.two_intersecting(form, R, p)
+        times.append(time.perf_counter() - t0)
+        counts.append(len(sol.q))
+    print(f"| random '6R-two-intersecting' arms | 1-D search (solvers.two_intersecting, {G.SEARCH_N} samples) | "
+          f"{np.median(times) * 1e3:.2f} | {np.mean(counts):.1f} |")
+    times, counts = [], []
+    for _ in range(targets):
+        form = _two_intersecting_arm(g)
+        H = np.array(form.H)
+        H[2] = H[1]                          # axes 2 ∥ 3; no axes meet (random points)
+        pts = g.normal(size=(6, 3)) * 0.5
+        form = type(form)(H, np.vstack([pts[0], np.diff(pts, axis=0), g.normal(size=3) * 0.3]), form.R_nT,
+                          form.prismatic)
+        R, p = form.fk(g.uniform(-np.pi, np.pi, 6))
+        G.two_parallel(form, R, p)
+        t0 = time.perf_counter()
+        sol = G.two_parallel(form, R, p)
+        times.append(time.perf_counter() - t0)
+        counts.append(len(sol.q))
+    print(f"| random '6R-two-parallel' arms | 1-D search (solvers.two_parallel, 720 samples) | "
+          f"{np.median(times) * 1e3:.2f} | {np.mean(counts):.1f} |")
+    print(f"\nload average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores")
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--targets", type=int, default=1000)
     ap.add_argument("--threads", type=int, default=2)
     ap.add_argument("--repeat", type=int, default=3)
+    ap.add_argument("--searches-only", action="store_true",
+                    help="only the sweep, held-joint and 1-D search times (no EAIK needed)")
+    ap.add_argument("--search-targets", type=int, default=100)
     args = ap.parse_args()
+    if args.searches_only:
+        G.kernels()
+        searches(args.search_targets)
+        return
     try:
         import eaik  # noqa: F401
     except ImportError:
@@ -165,6 +250,7 @@ def main() -> None:
         print(f"| {label} | {fam} | {c['eaik branches']:,} | {c['armkit branches']:,} | {c['missing']} | {c['extra']} "
               f"| {c['armkit fails FK']} | {us(es)} | {us(raw)}{'' if raw is None else f' ({raw / es:.2g}x)'} | "
               f"{us(aa)} ({aa / es:.2g}x) | {us(a1)} ({a1 / es:.2g}x) | {us(eb)} | {us(ab)} ({ab / eb:.2g}x) |")
+    searches(args.search_targets)
 
 
 if __name__ == "__main__":

@@ -40,6 +40,7 @@ _CLASSES: dict[str, tuple[str, int]] = {
     "6R-three-parallel": ("three_parallel", 8),
     "RRPRRR-spherical-wrist": ("spherical_two_intersecting", 8),
     "6R-two-intersecting": ("two_intersecting", 16),
+    "6R-two-parallel": ("two_parallel", 16),
 }
 
 

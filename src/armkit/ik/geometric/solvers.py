@@ -25,6 +25,8 @@ solver                              axes (the classifier checks them; the solver
 ``two_intersecting``                5, 6 meet; no two of axes 2, 3, 4 parallel (else SP5
                                     degenerates). 1-D search over q1 with SP5 (q2, q3, q4) and
                                     the axis-5/6 angle as residual; SP1 (q5), SP1 (q6). Up to 16.
+``two_parallel``                    2 ∥ 3 only: 1-D search over q6 with SP6 (q1, q4) and the
+                                    distance residual (:mod:`.search`). Up to 16.
 =================================== ==========================================================
 
 Every spherical-wrist solver ends with the wrist: SP2 (q4, q5) on the axis-6 direction and SP1
@@ -60,7 +62,7 @@ from .subproblems import _cross, _dot, _norm, _wrap, rot, rotm, sp1, sp2, sp3, s
 
 __all__ = ["Solutions", "solve_batch", "align", "reverse", "polish", "spherical_two_intersecting", "spherical_two_parallel",
            "spherical", "spherical_wrist", "three_parallel", "three_parallel_two_intersecting", "spherical_base",
-           "two_intersecting",
+           "two_intersecting", "two_parallel",
            "SOLVERS", "TOL", "SEARCH_N", "kernels"]
 
 Array = NDArray[np.float64]
@@ -1034,6 +1036,15 @@ def _batch(which, kind, Hi, Pi, RnT, prism, Ht, Pt, R, p, qref, N, tol_p, tol_r,
         NF[b] = nf
 
 
+def _sweep(which, kind, Hi, Pi, RnT, prism, Ht, Pt, R, p, qref, N, tol_p, tol_r, Q, LS, SG, ST, NG, NF):
+    """:func:`_batch` for ``V`` chains of one class at once (a joint of a 7-joint arm held at ``V`` values,
+    :mod:`.locked`): ``Hi (V, 6, 3)``, ``Pi (V, 7, 3)``, ``RnT (V, 3, 3)``, ``Ht``, ``Pt`` likewise, ``tol_p (V,)``;
+    outputs with a leading ``V`` axis."""
+    for v in range(Hi.shape[0]):
+        _batch(which, kind, Hi[v], Pi[v], RnT[v], prism, Ht[v], Pt[v], R, p, qref, N, tol_p[v], tol_r, Q[v], LS[v],
+               SG[v], ST[v], NG[v], NF[v])
+
+
 # ----------------------------------------------------------------------------- the chain
 def _points(P: Array) -> Array:
     """Points on axes 1..n (rows 0..n-1) and the tool origin (row n), world frame, q = 0."""
@@ -1157,7 +1168,7 @@ KERNELS = ("_mv", "_mtv", "_mm", "_mtm", "_perp", "_fk_err", "_wrist", "_pos_two
            "_search_resid", "_refine", "_golden", "_scan", "_boundary", "_pos_search", "_core_spherical", "_core_three_parallel",
            "_close", "_check", "_solve_spherical", "_solve_three_parallel", "_ti_eval", "_adist", "_ti_pick",
            "_ti_refine", "_ti_extrema", "_ti_edge", "_ti_pair", "_ti_ambiguous", "_ti_match", "_ti_golden", "_ti_add", "_pos_two_intersecting_end", "_core_two_intersecting_end", "_solve_two_intersecting_end",
-           "_batch")
+           "_batch", "_sweep")
 _KERNELS: Optional[types.SimpleNamespace] = None
 _NO_NUMBA = False
 
@@ -1417,6 +1428,14 @@ def spherical_base(form: POE, R: Array, p: Array, q_ref: Optional[Array] = None,
     return Solutions(np.ascontiguousarray(sol.q[:, ::-1]), sol.ls, sol.singular)
 
 
+def two_parallel(form: POE, R: Array, p: Array, q_ref: Optional[Array] = None, *,
+                 jit: Optional[bool] = None) -> Solutions:
+    """Axes 2 ∥ 3 and no other relation (all revolute): the 1-D search over q6 of :mod:`.search`, up to 16."""
+    from .search import two_parallel as search
+
+    return search(form, R, p, q_ref, jit=jit)  # type: ignore[no-any-return]
+
+
 SOLVERS: dict[str, Callable[..., Solutions]] = {
     "spherical_two_intersecting": spherical_two_intersecting,
     "spherical_two_parallel": spherical_two_parallel,
@@ -1426,5 +1445,6 @@ SOLVERS: dict[str, Callable[..., Solutions]] = {
     "three_parallel_two_intersecting": three_parallel_two_intersecting,
     "spherical_base": spherical_base,
     "two_intersecting": two_intersecting,
+    "two_parallel": two_parallel,
 }
 """The solvers by name (IK-Geo's names where it has them)."""
