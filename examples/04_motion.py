@@ -9,7 +9,8 @@ from pathlib import Path
 import numpy as np
 
 import armkit
-from armkit.motion import cartesian_line, joint_rates, joint_trajectory, plot_trajectory
+from armkit.motion import cartesian_line, joint_rates, joint_trajectory
+from armkit.viz import plot_trajectory
 
 
 def main(out_dir="out"):

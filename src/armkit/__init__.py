@@ -9,6 +9,7 @@ array([ 24.861,  14.353, 187.181])
 from __future__ import annotations
 
 from . import spatial
+from ._version import __version__
 from .errors import (ArgumentError, ArmkitError, CalibrationRangeWarning, IKInputError, JointLimitError, LimitError, MapFileError,
                      MissingExtraError, NotRigidError, ParseError, ReachabilityError, RobotDefinitionError,
                      RobotFileError, RobotFileNotFoundError, SceneError, SceneFileError, SceneNotSupportedError,
@@ -18,9 +19,18 @@ from .kinematics import (condition_number, fk, fk_frames, get_backend, is_singul
                          manipulability, set_backend)
 from .model import Joint, Link, Robot, Shape, bundled_robots, load, save
 from .ik import IKResult, ik, ik_all
-from ._jit_loader import warmup
+from .warmup import warmup
+from .model.robot import CollisionKeys, read_collision_keys_with
 
-__version__ = "0.1.0"
+
+def _collision_keys() -> CollisionKeys:
+    """The collision floor reads a robot file's collision keys; imported only when a file has them."""
+    from .collision import robot_file
+
+    return robot_file  # type: ignore[return-value]
+
+
+read_collision_keys_with(_collision_keys)   # the top floor plugs the collision floor into the model floor
 
 
 def view(robot: "Robot | str", port: "int | None" = None, **kwargs):  # type: ignore[no-untyped-def]

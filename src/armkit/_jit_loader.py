@@ -1,4 +1,10 @@
-"""When armkit's Numba kernels are compiled, where they are cached, and what serves until then.
+"""The back end: which kernels serve (Numba or NumPy), when armkit's Numba kernels are compiled,
+where they are cached, and what serves until then.
+
+The ground floor of armkit (docs/architecture.md): this module imports only the standard
+library and :mod:`armkit.errors`, and knows nothing of the floors above it. It owns the
+back-end state (:func:`set_backend`, :func:`get_backend`, :func:`jit_module`); the warm-up
+that exercises the public functions lives on the top floor, :mod:`armkit.warmup`.
 
 Compiling every kernel takes tens of seconds; a compiled kernel is cached on disk and loads in
 milliseconds afterwards. So that the first call of a fresh install does not wait for that,
@@ -7,26 +13,27 @@ the back end ``"auto"`` (the default, see :func:`armkit.set_backend`) works like
 * **The kernels are known to be cached** (a marker file next to the cache says that this
   build's kernels were all compiled there): they are used at once, as before.
 * **They are not**: the first kinematics call starts one *warm-up process*
-  (:func:`_worker_main` in a new Python process) that compiles them into the cache, says so
-  once on stderr, and the NumPy back end answers meanwhile (the same results, to about
-  1e-15 for kinematics; IK gives the same branches and messages, and for targets that need
-  random restarts possibly another valid solution). When the warm-up process has written
-  its first marker, the next ``fk``/``jacobian``/``fk_frames`` call switches to the
+  (:func:`armkit.warmup._worker_main` in a new Python process) that compiles them into the
+  cache, says so once on stderr, and the NumPy back end answers meanwhile (the same results,
+  to about 1e-15 for kinematics; IK gives the same branches and messages, and for targets
+  that need random restarts possibly another valid solution). When the warm-up process has
+  written its first marker, the next ``fk``/``jacobian``/``fk_frames`` call switches to the
   compiled kernels. Large batches run on one thread until the multi-threaded kernels are
   cached too (second marker). The process keeps going if the caller exits, so the next
   run finds the cache warm. One warm-up process per cache at a time (a lock file).
 * ``ARMKIT_JIT=wait`` restores compiling on first use in the calling process;
-  ``armkit.set_backend("numba")`` and :func:`warmup` also compile in the calling process.
+  ``armkit.set_backend("numba")`` and :func:`armkit.warmup` also compile in the calling process.
 
 The cache goes where Numba puts it (``NUMBA_CACHE_DIR``, else the package's
 ``__pycache__``, else ``~/.cache/numba``); where none of those is writable (a read-only
 install without a writable home) it goes to a private directory under the temp directory
-(:func:`fallback_cache_dir`). This module imports only the standard library at
-``import armkit``; Numba is imported on the first kinematics call.
+(:func:`fallback_cache_dir`). Numba is imported on the first kinematics call, not at
+``import armkit``.
 """
 
 from __future__ import annotations
 
+import contextlib
 import functools
 import hashlib
 import importlib
@@ -36,16 +43,19 @@ import sys
 import tempfile
 import threading
 import time
-from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Optional
+from typing import Any, Iterator, Literal, Optional
 
-__all__ = ["warmup", "Warmup", "ready", "parallel_ok", "cache_dir", "fallback_cache_dir", "install_cache_fallback",
-           "module", "kernels", "forget_stale_cache"]
+from .errors import ArgumentError, ArmkitError
+
+__all__ = ["set_backend", "get_backend", "jit_module", "serve", "load_jit", "backend_choice", "ready", "parallel_ok",
+           "cache_dir", "fallback_cache_dir", "install_cache_fallback", "module", "kernels", "forget_stale_cache",
+           "compiling_here", "serial_only", "marker", "lock_alive", "forget_other_builds", "say_compiling", "release_lock"]
 
 _PKG = Path(__file__).resolve().parent
 _SOURCES = ("kinematics/_jit.py", "ik/_jit_lm.py", "ik/_jit_verify.py", "ik/analytic/_jit.py", "ik/analytic/_layout.py",
-            "ik/geometric/subproblems.py", "ik/geometric/solvers.py", "_jit_loader.py")
+            "ik/geometric/subproblems.py", "ik/geometric/solvers.py", "ik/analytic/_yaw_pitch3_jit.py", "_jit_loader.py",
+            "warmup.py")
 COMPILE_SECONDS = 45
 """About how long compiling the one-thread kernels takes, the figure of the stderr note (the warm-up
 process switched the caller to them after 44-53 s in benchmarks/bench_first_call.py on the shared
@@ -60,6 +70,62 @@ _serial_only = False           # the warm-up's first phase: compile only the one
 _worker: Any = None            # the warm-up process this process started
 _told: set[str] = set()
 _decide_lock = threading.Lock()
+
+_backend = os.environ.get("ARMKIT_BACKEND", "auto")   # the choice: "auto", "numba" or "numpy"
+_ACTIVE: Any = None   # the kernel module of serve() while Numba is the back end in use (the single-call fast
+                      # path of armkit.kinematics reads only this)
+
+
+# ------------------------------------------------------------------------------------ the back end
+def set_backend(name: Literal["auto", "numba", "numpy"]) -> None:
+    """Choose the kernels: ``"numba"``, ``"numpy"`` or ``"auto"`` (Numba when importable)."""
+    global _backend, _ACTIVE
+    if name not in ("auto", "numba", "numpy"):
+        raise ArgumentError(f"backend must be 'auto', 'numba' or 'numpy', got {name!r}")
+    if name == "numba" and load_jit() is None:
+        raise ArmkitError("backend 'numba' requested but numba is not installed")
+    _backend = name
+    _ACTIVE = None
+
+
+def get_backend() -> str:
+    """The kernels in use now: ``"numba"`` or ``"numpy"``."""
+    return "numba" if jit_module() is not None else "numpy"
+
+
+def backend_choice() -> str:
+    """The back end chosen by :func:`set_backend` (``"auto"``, ``"numba"`` or ``"numpy"``), not what serves now."""
+    return _backend
+
+
+_PRIMARY: Optional[str] = None   # the kernel module that stands for the Numba back end (set by armkit.kinematics)
+
+
+def serve(name: str) -> None:
+    """Name the kernel module that stands for the Numba back end: :func:`jit_module` returns it and its
+    cache directory is :func:`cache_dir`. :mod:`armkit.kinematics` names its own (``"kinematics._jit"``);
+    this floor knows no module above it."""
+    global _PRIMARY, _ACTIVE
+    _PRIMARY, _ACTIVE = name, None
+    cache_dir.cache_clear()
+
+
+def load_jit() -> Any:
+    """The kernel module named by :func:`serve` (:func:`module`), or None when Numba is unavailable."""
+    return None if _PRIMARY is None else module(_PRIMARY)
+
+
+def jit_module(poll: bool = False) -> Any:
+    """The kernel module named by :func:`serve` while the Numba back end serves, else None.
+
+    With ``poll`` (``fk``, ``jacobian``, ``fk_frames``) the back end ``"auto"`` looks whether
+    the warm-up process has finished (:func:`ready`).
+    """
+    global _ACTIVE
+    if _backend == "numpy" or _backend == "auto" and not ready(poll):
+        return None  # NumPy serves while the kernels compile in the background (fk, jacobian, fk_frames poll)
+    _ACTIVE = load_jit()
+    return _ACTIVE
 
 
 # ---------------------------------------------------------------------------------------- cache
@@ -139,10 +205,8 @@ def module(name: str) -> Any:
 
 
 def kernels(name: str) -> Any:
-    """:func:`module` while the Numba back end is in use (:func:`armkit.get_backend`), else None."""
-    from . import kinematics
-
-    if kinematics._jit_module() is None:
+    """:func:`module` while the Numba back end is in use (:func:`get_backend`), else None."""
+    if jit_module() is None:
         return None
     return module(name)
 
@@ -184,10 +248,10 @@ def forget_stale_cache(namespace: dict[str, Any], depends_on: tuple[str, ...]) -
 
 @functools.lru_cache(maxsize=None)  # a fact of this process (where Numba caches), not of a robot
 def cache_dir() -> Optional[Path]:
-    """The directory where the kinematics kernels are cached (imports Numba), or None if caching is off."""
-    kernels = module("kinematics._jit")
-    cache = getattr(getattr(kernels, "_fk_serial", None), "_cache", None)
-    path = getattr(cache, "_cache_path", None)
+    """The directory where the kernels of :func:`serve` are cached (imports Numba), or None if caching is off."""
+    kernels = load_jit()
+    path = next((p for obj in vars(kernels).values() if (p := getattr(getattr(obj, "_cache", None), "_cache_path",
+                                                                          None))), None) if kernels else None
     return Path(path) if path else None
 
 
@@ -204,7 +268,7 @@ def _key() -> str:
     return h.hexdigest()[:16]
 
 
-def _forget_other_builds() -> None:
+def forget_other_builds() -> None:
     """Remove the marker, lock and log files of other builds (older sources) from the cache directory."""
     d = cache_dir()
     if d is None:
@@ -217,7 +281,9 @@ def _forget_other_builds() -> None:
                 pass
 
 
-def _marker(suffix: str) -> Optional[Path]:
+def marker(suffix: str) -> Optional[Path]:
+    """This build's marker file ``suffix`` (``"ready"``, ``"parallel"``, ``"lock"``, ``"log"``) in the cache
+    directory; None when Numba's cache is off."""
     d = cache_dir()
     return None if d is None else d / f"armkit-kernels-{_key()}.{suffix}"
 
@@ -253,14 +319,14 @@ def ready(poll: bool = False) -> bool:
     if now < _next_poll:
         return False
     _next_poll = now + 0.1
-    m = _marker("ready")
+    m = marker("ready")
     if m is not None and m.exists():
         _state = "ready"
-        _parallel = bool((p := _marker("parallel")) and p.exists())
+        _parallel = bool((p := marker("parallel")) and p.exists())
         return True
     if _worker is not None:
         _worker.poll()  # reap our own warm-up process if it ended (a zombie's pid would look alive)
-    if not _lock_alive():
+    if not lock_alive():
         # the warm-up process ended without its marker: compile here, on first use, as without it
         _state, _parallel = "sync", True
         _say(f"the warm-up process failed (see {_log_path()}); compiling armkit's kernels here, on first use, "
@@ -283,13 +349,14 @@ def parallel_ok() -> bool:
         now = time.monotonic()
         if now >= _next_parallel_poll:
             _next_parallel_poll = now + 0.5
-            p = _marker("parallel")
+            p = marker("parallel")
             _parallel = bool(p and p.exists())
         return _parallel
     return True
 
 
-def _say_compiling(hint: bool = True) -> None:
+def say_compiling(hint: bool = True) -> None:
+    """Say once on stderr that the kernels are being compiled here (``hint``: name ``armkit warmup``)."""
     _say(f"compiling armkit's kernels once, about {COMPILE_SECONDS} s in all (cached on disk for the next runs"
          + ("; `armkit warmup` does it ahead of time)" if hint else ")"))
 
@@ -300,9 +367,9 @@ def _decide() -> str:
         install_cache_fallback()
     except ImportError:   # no Numba: nothing to compile; module() finds no kernels and NumPy answers
         return "sync"
-    ready_marker = _marker("ready")
+    ready_marker = marker("ready")
     if ready_marker is not None and ready_marker.exists():
-        p = _marker("parallel")
+        p = marker("parallel")
         _parallel = bool(p and p.exists())
         if not _parallel and _mode != "wait" and _take_lock():
             # a warm-up cut short after its first phase (Ctrl-C, a killed process): finish it in the
@@ -310,19 +377,19 @@ def _decide() -> str:
             try:
                 _worker = _spawn()
             except (OSError, ValueError, TypeError):
-                _release_lock()
+                release_lock()
         return "ready"
     if _mode == "wait" or ready_marker is None:
         _parallel = True
-        _say_compiling()
+        say_compiling()
         return "sync"
     if _take_lock():
         try:
             _worker = _spawn()
         except (OSError, ValueError, TypeError):  # no usable interpreter to start (embedded Python)
-            _release_lock()
+            release_lock()
             _parallel = True
-            _say_compiling()
+            say_compiling()
             return "sync"
     _say(f"compiling armkit's kernels once in the background, about {COMPILE_SECONDS} s; the NumPy back end "
          "answers meanwhile (`armkit warmup` does this ahead of time)")
@@ -331,13 +398,13 @@ def _decide() -> str:
 
 # ------------------------------------------------------------------------- the warm-up process
 def _lock_path() -> Path:
-    m = _marker("lock")
+    m = marker("lock")
     assert m is not None
     return m
 
 
 def _log_path() -> Path:
-    m = _marker("log")
+    m = marker("log")
     assert m is not None
     return m
 
@@ -350,7 +417,7 @@ def _take_lock() -> bool:
         try:
             fd = os.open(path, os.O_CREAT | os.O_EXCL | os.O_WRONLY, 0o600)
         except FileExistsError:
-            if _lock_alive():
+            if lock_alive():
                 return False
             path.unlink(missing_ok=True)
             continue
@@ -362,7 +429,8 @@ def _take_lock() -> bool:
     return False
 
 
-def _lock_alive() -> bool:
+def lock_alive() -> bool:
+    """True while a live warm-up process holds the lock file (one younger than 15 minutes)."""
     path = _lock_path()
     try:
         pid = int(path.read_text() or "0")
@@ -382,14 +450,16 @@ def _lock_alive() -> bool:
     return True
 
 
-def _release_lock() -> None:
+def release_lock() -> None:
+    """Remove the lock file (the warm-up process ends)."""
     try:
         _lock_path().unlink(missing_ok=True)
     except OSError:
         pass
 
 
-_WORKER = "import sys; from armkit._jit_loader import _worker_main; sys.exit(_worker_main(sys.argv[1]))"
+_WORKER = "import sys; from armkit.warmup import _worker_main; sys.exit(_worker_main(sys.argv[1]))"
+"""The warm-up process: a command line, so this floor starts it without importing the floor above."""
 
 
 def _spawn() -> Any:
@@ -408,158 +478,37 @@ def _spawn() -> Any:
     return proc
 
 
-def _exercise_serial() -> None:
-    """Call every kernel the public functions use, with the argument types they pass, on small inputs
-    (below the thresholds of the multi-threaded kernels)."""
-    import numpy as np
+# ------------------------------------------------------------ compiling in this process (armkit.warmup)
+@contextlib.contextmanager
+def compiling_here(parallel: bool, backend: Optional[str] = None) -> Iterator[None]:
+    """Compile in this process for the duration: the kernels serve at once (``"sync"``), the
+    multi-threaded ones too if ``parallel``; with ``backend``, that back end meanwhile.
 
-    from . import fk, fk_frames, ik, ik_all, jacobian, load
-    from .ik.api import closed_form_family
-
-    for name in ("puma560", "ur5", "panda", "fighter", "planar2", "planar3"):
-        arm = load(name)
-        q = arm.random_q(rng=0)
-        T = fk(arm, q)
-        jacobian(arm, q)
-        jacobian(arm, q, frame="tool")
-        fk_frames(arm, q)
-        Q = arm.random_q(16, rng=1)
-        for batch in (Q, Q.copy()):
-            fk(arm, batch)
-            jacobian(arm, batch)
-            fk_frames(arm, batch)
-            batch.setflags(write=False)  # the second round: read-only input
-        TT = fk(arm, arm.random_q(64, rng=2))
-        pose = arm.n >= 6 or name == "planar3"
-        one, many = (T, TT) if pose else (T[:3, 3], TT[:, :3, 3])
-        family = closed_form_family(arm)
-        if family is not None:
-            ik(arm, one)
-            ik(arm, many[:16])
-            ik(arm, many)
-            ik_all(arm, one)
-            ik_all(arm, many[:16])
-        far = np.array(one)
-        if pose:
-            far[:3, 3] *= 4.0
-        else:
-            far *= 4.0
-        for target in (one, many[:4], many[:16], far):  # single, < 8 and >= 8 targets, unreachable
-            ik(arm, target, method="lm", restarts=2)
-    from .ik.geometric import solvers          # the geometric family's kernels (subproblems, 6R solvers)
-    from .ik.geometric.poe import poe
-
-    for name, solve in (("puma560", solvers.spherical_wrist), ("ur5", solvers.three_parallel_two_intersecting),
-                        ("ur5", solvers.three_parallel), ("stanford", solvers.spherical_wrist)):
-        arm = load(name)
-        T = fk(arm, arm.random_q(rng=3))
-        solve(poe(arm), T[:3, :3], T[:3, 3])
-    poses = np.tile(np.eye(4), (2, 1, 1))   # check_transform's pass over big batches
-    module("kinematics._jit").rigidity(poses, np.empty(2), np.empty(2), np.empty(2, dtype=bool))
-
-
-def _exercise_parallel() -> None:
-    """Compile the multi-threaded twin of every serial kernel for the signatures the serial one got."""
-    for name in ("kinematics._jit", "ik._jit_verify", "ik.analytic._jit", "ik._jit_lm"):
-        for serial, parallel in module(name).parallel_twins():
-            for sig in list(serial.signatures):
-                parallel.compile(sig)
-
-
-@dataclass(frozen=True)
-class Warmup:
-    """What :func:`warmup` did: ``seconds`` it took, the ``cache`` directory (None: not cached),
-    and whether anything had to be ``compiled`` (False: everything was cached already)."""
-    seconds: float
-    cache: Optional[Path]
-    compiled: bool
-
-
-def warmup(*, parallel: bool = True) -> Warmup:
-    """Compile (or load from the cache) every Numba kernel armkit uses, now, in this process.
-
-    For images and CI: run it (or ``armkit warmup``) once after installing, and later
-    processes compile nothing. If a warm-up process is already at work, waits for it first.
-    Afterwards the compiled kernels serve this process (back end ``"auto"``).
-
-    Parameters
-    ----------
-    parallel : bool
-        Also the multi-threaded kernels of big batches (about half of the time).
-
-    Returns
-    -------
-    Warmup
+    Afterwards the back end chosen before is restored and, where Numba's cache is on, the
+    state is ``"ready"`` (the threaded kernels serve if the second marker exists).
     """
     global _state, _parallel
-    t0 = time.perf_counter()
-    install_cache_fallback()
-    first, second = _marker("ready"), _marker("parallel")
-
-    def done() -> bool:
-        return first is not None and first.exists() and (not parallel or (second is not None and second.exists()))
-
-    if first is not None and not done():
-        while _lock_alive() and not done():  # a warm-up process is at work: let it finish
-            time.sleep(0.2)
-    compiled = not done()
-    if compiled:
-        _say_compiling(hint=False)
-    from . import kinematics
-
-    backend = kinematics._backend
-    _state, _parallel = "sync", True
-    kinematics.set_backend("numba")
+    before = _backend
+    _state, _parallel = "sync", parallel
+    if backend is not None:
+        set_backend(backend)  # type: ignore[arg-type]
     try:
-        if compiled:
-            if first is None or not first.exists():
-                _run_serial_phase()
-                if first is not None:
-                    first.touch()
-                    _forget_other_builds()
-            if parallel:
-                _exercise_parallel()
-                if second is not None:
-                    second.touch()
+        yield
     finally:
-        kinematics.set_backend(backend)  # type: ignore[arg-type]
+        if backend is not None:
+            set_backend(before)  # type: ignore[arg-type]
+        first, second = marker("ready"), marker("parallel")
         if first is not None:
             _state = "ready"
             _parallel = bool(second is not None and second.exists())
-    return Warmup(seconds=time.perf_counter() - t0, cache=cache_dir(), compiled=compiled)
 
 
-def _run_serial_phase() -> None:
+@contextlib.contextmanager
+def serial_only() -> Iterator[None]:
+    """Only the one-thread kernels while inside (the warm-up's first phase): :func:`parallel_ok` says False."""
     global _serial_only
     _serial_only = True
     try:
-        _exercise_serial()
+        yield
     finally:
         _serial_only = False
-
-
-def _worker_main(parent: str) -> int:
-    """The warm-up process: the one-thread kernels first (first marker), then the multi-threaded ones."""
-    global _state, _parallel
-    t0 = time.perf_counter()
-    try:
-        _state, _parallel = "sync", False
-        if hasattr(os, "nice"):
-            os.nice(10)  # the caller's own work comes first on a busy machine
-        install_cache_fallback()
-        first, second = _marker("ready"), _marker("parallel")
-        if first is None or second is None:
-            print("Numba's cache is off: nothing to warm up", flush=True)
-            return 1
-        _run_serial_phase()
-        first.touch()
-        _forget_other_builds()
-        print(f"one-thread kernels compiled in {time.perf_counter() - t0:.1f} s (for process {parent})", flush=True)
-        _exercise_parallel()
-        second.touch()
-        print(f"all kernels compiled in {time.perf_counter() - t0:.1f} s", flush=True)
-        return 0
-    finally:
-        _release_lock()
-
-

@@ -10,8 +10,8 @@ from typer.testing import CliRunner
 
 import armkit
 from armkit.cli import app
-from armkit.motion.trajectory import (cartesian_arc, cartesian_line, joint_trajectory, plot_trajectory, profile,
-                                      segment_duration)
+from armkit.motion.trajectory import cartesian_arc, cartesian_line, joint_trajectory, profile, segment_duration
+from armkit.viz.trajectory import plot_trajectory
 
 runner = CliRunner()
 A = np.radians([[0, 0, 0], [30, 45, 60]])
@@ -118,6 +118,17 @@ def test_csv_and_plot(tmp_path):
     assert path.read_text().splitlines()[0].startswith("t,yaw,shoulder,elbow,yaw_rate")
     plot_trajectory(tr, r, tmp_path / "t.png")
     assert (tmp_path / "t.png").stat().st_size > 1000
+
+
+def test_the_plots_moved_to_viz_and_motion_says_where():
+    import armkit.motion
+    import armkit.viz
+
+    assert armkit.viz.plot_trajectory is plot_trajectory
+    assert armkit.viz.animate_trajectory.__module__ == "armkit.viz.trajectory"
+    for name in ("plot_trajectory", "animate_trajectory"):
+        with pytest.raises(AttributeError, match=f"moved to armkit.viz.{name}"):
+            getattr(armkit.motion, name)
 
 
 def test_cli_traj(tmp_path):

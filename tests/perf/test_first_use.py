@@ -58,7 +58,7 @@ def test_background_mode_answers_with_numpy_then_switches_at_an_fk_call(tmp_path
         out["numpy_fk_ok"] = bool(np.allclose(T, armkit.fk(arm, q[None])[0]))
         out["compiled_before"] = len(_jit.fk_one.signatures) + len(_jit._fk_serial.signatures)
         out["ik_first"] = bool(armkit.ik(arm, T).success)
-        L._marker("ready").touch()
+        L.marker("ready").touch()
         time.sleep(0.15)
         out["before_fk"] = armkit.get_backend()      # get_backend never switches by itself
         T2 = armkit.fk(arm, q)                       # fk polls: the compiled kernels from now on
@@ -67,7 +67,7 @@ def test_background_mode_answers_with_numpy_then_switches_at_an_fk_call(tmp_path
         Q = arm.random_q(5000, rng=1)
         armkit.fk(arm, Q)
         out["parallel_before"] = len(_jit._fk_parallel.signatures)
-        L._marker("parallel").touch()
+        L.marker("parallel").touch()
         time.sleep(0.6)
         armkit.fk(arm, Q)
         out["parallel_after"] = len(_jit._fk_parallel.signatures)
@@ -162,8 +162,8 @@ def test_warmup_with_everything_cached_compiles_nothing_and_the_cli_says_so(tmp_
     code = """
         import json, armkit
         from armkit import _jit_loader as L
-        L._marker("ready").touch()
-        L._marker("parallel").touch()
+        L.marker("ready").touch()
+        L.marker("parallel").touch()
         w = armkit.warmup()
         print(json.dumps({"compiled": w.compiled, "cache": str(w.cache), "backend": armkit.get_backend()}))
     """
@@ -191,7 +191,7 @@ def test_a_warm_up_cut_short_after_its_first_phase_is_finished_in_the_background
             def poll(self):
                 return None
         L._spawn = lambda: spawned.append(1) or Worker()
-        L._marker("ready").touch()
+        L.marker("ready").touch()
         arm = armkit.load("ur5")
         armkit.fk(arm, arm.random_q(rng=0))
         print(json.dumps({"spawned": len(spawned), "parallel_ok": L.parallel_ok(), "state": L._state}))

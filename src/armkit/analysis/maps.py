@@ -159,8 +159,7 @@ def ik_maps(robot: Robot, x_grid: ArrayLike, y_grid: ArrayLike, z: float | None 
     IKMaps
         ``q[i, j, b]`` solves the target ``(x[i], y[j])`` on branch ``b``; NaN where it fails.
     """
-    from .. import ik_all
-    from ..ik import closed_form_family
+    from ..ik import closed_form_family, ik_all
     from .workspace import is_planar, shoulder_point
 
     gx, gy = _grid(x_grid, "x_grid"), _grid(y_grid, "y_grid")

@@ -16,7 +16,7 @@ def warmup(parallel: bool = typer.Option(True, "--parallel/--no-parallel",
 
     Example: armkit warmup
     """
-    from .._jit_loader import warmup as run
+    from ..warmup import warmup as run
 
     try:
         done = run(parallel=parallel)

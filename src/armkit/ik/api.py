@@ -252,11 +252,17 @@ def _analytic_solver(robot: Robot, position_only: bool, why_not: list[str], pitc
 
 
 def _all_branches(robot: Robot, target: Array, q0: Array, position_only: bool, tol: Any,
-                  enforce_limits: bool) -> IKResult:
+                  enforce_limits: bool, fixed: Any = None, sweep: Any = None) -> IKResult:
     from .analytic import solve_all
 
     why: list[str] = []
-    solver = _analytic_solver(robot, position_only, why)
+    solver = None
+    if fixed is not None or sweep is not None or robot.n == 7:   # held or swept joints (ik.geometric.locked)
+        from .geometric.locked import resolve
+
+        solver = resolve(robot, fixed, sweep, position_only)
+    if solver is None:
+        solver = _analytic_solver(robot, position_only, why)
     if solver is None:
         raise IKInputError(why[0])
     return solve_all(robot, solver, target, q0, position_only, _tolerance(robot, tol), enforce_limits)
@@ -287,7 +293,8 @@ def _numeric(method: str, robot: Robot, target: Array, q0: Array, **kw: Any) -> 
 
 def ik_all(robot: Robot, target: ArrayLike, q0: ArrayLike | None = None, *, phi: ArrayLike | None = None,
            enforce_limits: bool = True, tol: Any = None, scene: Any = None, pitch: ArrayLike | None = None,
-           check: bool = True, direction: ArrayLike | None = None) -> IKResult:
+           check: bool = True, direction: ArrayLike | None = None, fixed: Any = None,
+           sweep: int | None = None) -> IKResult:
     """Every closed-form solution (branch) for each target.
 
     Parameters
@@ -320,6 +327,14 @@ def ik_all(robot: Robot, target: ArrayLike, q0: ArrayLike | None = None, *, phi:
     check : bool
         Check that pose targets are rigid transforms (:func:`armkit.spatial.check_transform`);
         ``False`` skips it for poses a program built itself (hot loops).
+    fixed : dict of str to float, optional
+        Joints held at these values (rad, or lengths), e.g. ``{"A3": 0.5}`` on a 7-joint arm:
+        the joints left are solved in closed form (when their class has one) and every branch
+        keeps the held values exactly (:mod:`armkit.ik.geometric.locked`).
+    sweep : int, optional
+        7-joint arms without ``fixed``: the number of values (default 32, evenly spaced over
+        its limits) of the joint whose locking leaves a closed form (``armkit info`` names it);
+        every branch of every value is returned, labelled ``"<joint>=<value>/s<k>"``.
 
     Returns
     -------
@@ -338,6 +353,8 @@ def ik_all(robot: Robot, target: ArrayLike, q0: ArrayLike | None = None, *, phi:
     True
     """
     _check_call(robot)
+    if (fixed is not None or sweep is not None) and (pitch is not None or direction is not None):
+        raise IKInputError("fixed= and sweep= are for pose targets; they do not go with pitch= or direction=")
     scene = _scene(robot, scene)
     if direction is not None:   # issue 20: every branch of a yaw-pitch3 arm for a pointing direction (ik.partial)
         from .partial import ik_direction_all
@@ -350,9 +367,9 @@ def ik_all(robot: Robot, target: ArrayLike, q0: ArrayLike | None = None, *, phi:
         return _checked(robot, ik_pitch(robot, target, q0, pitch, phi=phi, tol=tol, enforce_limits=enforce_limits,
                                         scene=scene, every=True), scene)
     flat, lead, position_only, q0f = _targets_and_start(robot, target, q0, phi, check)
-    res = _all_branches(robot, flat, q0f, position_only, tol, enforce_limits)
+    res = _all_branches(robot, flat, q0f, position_only, tol, enforce_limits, fixed, sweep)
     if scene is not None:   # success also means collision-free (armkit.collision)
-        from ..collision.ik_filter import mark, sort_branches
+        from .scene import mark, sort_branches
 
         res = sort_branches(mark(robot, res, scene))
     return _checked(robot, _reshape(res, lead), scene)
@@ -482,7 +499,7 @@ def _closed_one(robot: Robot, flat: Array, q0f: Array, lead: tuple[int, ...], po
         return _nearest_branch(robot, flat, q0f, position_only, tol, enforce_limits, solver, lead)
     every = _all_branches(robot, flat, q0f, position_only, tol, enforce_limits)
     if branch is None:   # with a scene: the nearest branch that does not collide
-        from ..collision.ik_filter import mark, sort_branches
+        from .scene import mark, sort_branches
 
         every = sort_branches(mark(robot, every, scene))
         return _reshape(every[np.arange(len(flat)), 0], lead)
@@ -492,7 +509,7 @@ def _closed_one(robot: Robot, flat: Array, q0f: Array, lead: tuple[int, ...], po
         raise IKInputError(f"unknown branch {branch!r} for robot {robot.name!r}; valid branches: " + ", ".join(valid))
     res = _reshape(every[np.arange(len(flat)), np.argmax(hit, axis=1)], lead)
     if scene is not None:
-        from ..collision.ik_filter import mark
+        from .scene import mark
 
         res = mark(robot, res, scene)
     return res
@@ -503,7 +520,7 @@ def _numeric_one(robot: Robot, name: str, flat: Array, q0f: Array, lead: tuple[i
     """:func:`ik` by a numeric method; with a scene, restarts away from collisions (:mod:`armkit.collision`)."""
     flat_res = _numeric(name, robot, flat, q0f, **kw)
     if scene is not None:
-        from ..collision.ik_filter import retry_numeric
+        from .scene import retry_numeric
 
         flat_res = retry_numeric(robot, flat_res, scene,
                                  lambda q0r, rows: _numeric(name, robot, flat[rows], q0r, **kw), kw["seed"])

@@ -205,7 +205,7 @@ def ik_direction_all(robot: Robot, target: ArrayLike, q0: ArrayLike | None, dire
     q = _normalise_q0(robot, q0, lead)
     res = solve_direction(robot, solver, p, d / norm[:, None], q, _tolerance(robot, tol), enforce_limits)
     if scene is not None:   # success also means collision-free (armkit.collision)
-        from ..collision.ik_filter import mark, scene_or_none, sort_branches
+        from .scene import mark, scene_or_none, sort_branches
 
         res = sort_branches(mark(robot, res, scene_or_none(robot, scene)))  # type: ignore[arg-type]
     return _reshape(res, lead)
@@ -232,9 +232,15 @@ def ik_pitch(robot: Robot, target: ArrayLike, q0: ArrayLike | None, pitch: Array
     if solver is None:
         raise IKInputError(why[0])
     q0f = _normalise_q0(robot, q0, lead)
+    if not every and branch is None and scene is None:   # the nearest branch by the compiled kernels (issue 20)
+        from .analytic.yaw_pitch3 import nearest_pitch
+
+        fast = nearest_pitch(robot, solver, p, psi, q0f, _tolerance(robot, tol), enforce_limits)  # type: ignore[arg-type]
+        if fast is not None:
+            return _reshape(fast, lead)
     res = solve_pitch(robot, solver, p, psi, q0f, _tolerance(robot, tol), enforce_limits)  # type: ignore[arg-type]
     if scene is not None:   # success also means collision-free (armkit.collision)
-        from ..collision.ik_filter import mark, scene_or_none, sort_branches
+        from .scene import mark, scene_or_none, sort_branches
 
         res = sort_branches(mark(robot, res, scene_or_none(robot, scene)))  # type: ignore[arg-type]
     if every:

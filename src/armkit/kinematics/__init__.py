@@ -21,14 +21,15 @@ array([1. , 0.5, 0. ])
 
 from __future__ import annotations
 
-import os
 from typing import Literal, Sequence
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from .. import _jit_loader
-from ..errors import ArgumentError, ArmkitError
+from .._jit_loader import get_backend, set_backend   # the back end's state lives on the ground floor
+from .._text import shorten
+from ..errors import ArgumentError
 from ..model.robot import Robot
 from . import _numpy
 
@@ -42,37 +43,16 @@ SINGULAR_THRESHOLD = 1e-6
 metres, see :func:`task_rows`) is below this: about 1e-6 rad from an exact singularity of a
 metre-sized arm."""
 
-_backend = os.environ.get("ARMKIT_BACKEND", "auto")
-_ACTIVE = None  # the _jit module while it is the back end in use (the single-call fast path reads only this)
+_jit_loader.serve("kinematics._jit")   # these kernels stand for the Numba back end (and say where the cache is)
+_jit_module = _jit_loader.jit_module   # the kernels while Numba serves, else None (poll=True: fk, jacobian, fk_frames)
+_load_jit = _jit_loader.load_jit
 
 
-def set_backend(name: Literal["auto", "numba", "numpy"]) -> None:
-    """Choose the kernels: ``"numba"``, ``"numpy"`` or ``"auto"`` (Numba when importable)."""
-    global _backend, _ACTIVE
-    if name not in ("auto", "numba", "numpy"):
-        raise ArgumentError(f"backend must be 'auto', 'numba' or 'numpy', got {name!r}")
-    if name == "numba" and _load_jit() is None:
-        raise ArmkitError("backend 'numba' requested but numba is not installed")
-    _backend = name
-    _ACTIVE = None
-
-
-def get_backend() -> str:
-    """The kernels in use now: ``"numba"`` or ``"numpy"``."""
-    return "numba" if _jit_module() is not None else "numpy"
-
-
-def _load_jit():
-    """The kinematics kernels (:func:`armkit._jit_loader.module`), or None when Numba is unavailable."""
-    return _jit_loader.module("kinematics._jit")
-
-
-def _jit_module(poll: bool = False):
-    global _ACTIVE
-    if _backend == "numpy" or _backend == "auto" and not _jit_loader.ready(poll):
-        return None  # NumPy serves while the kernels compile in the background (fk, jacobian, fk_frames poll)
-    _ACTIVE = _load_jit()
-    return _ACTIVE
+def __getattr__(name: str) -> object:
+    """``kinematics._backend`` and ``kinematics._ACTIVE``: the back end's state, read from its owner."""
+    if name in ("_backend", "_ACTIVE"):
+        return getattr(_jit_loader, name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 _ndarray, _empty = np.ndarray, np.empty  # module-level names: the single-call path counts nanoseconds
@@ -113,8 +93,6 @@ def _flat_unchecked(robot: Robot, q: ArrayLike) -> tuple[Array, tuple[int, ...]]
 def _not_a_robot(robot: object) -> ArgumentError:
     """The error for a first argument that is not a Robot (``fk(None, q)``, ``fk("fighter", q)``): an
     ArgumentError saying a Robot is needed, and for a name how to load it, not an AttributeError from inside."""
-    from .._text import shorten
-
     if isinstance(robot, str):
         shown = shorten(repr(robot), 80)
         return ArgumentError(f"robot must be an armkit.Robot, got the string {shown}; load it first: "
@@ -155,7 +133,7 @@ def fk(robot: Robot, q: ArrayLike, link: str | None = None) -> Array:
         k = robot.link_index(link)
         lk = robot.links[k]
         return np.asarray(fk_frames(robot, q)[..., lk.frame, :, :] @ lk.offset)
-    jit = _ACTIVE or _jit_module(True)
+    jit = _jit_loader._ACTIVE or _jit_module(True)
     if jit is not None:
         FP = robot.cache.get("packed_chain") or packed(robot)
         F = FP[0]
@@ -249,7 +227,7 @@ def jacobian(robot: Robot, q: ArrayLike, frame: Literal["base", "tool"] = "base"
     if not tool_frame and frame != "base":
         raise ArgumentError(f"frame must be 'base' or 'tool', got {frame!r}")
     c = robot.chain
-    jit = _ACTIVE or _jit_module(True)
+    jit = _jit_loader._ACTIVE or _jit_module(True)
     if jit is not None:
         FP = robot.cache.get("packed_chain") or packed(robot)
         F = FP[0]

@@ -32,8 +32,10 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import RobotDefinitionError, RobotFileError, UnknownRobotError
-from .robot import Joint, Robot
+from .._io import atomic_write
+from ..errors import RobotDefinitionError, RobotFileError, UnknownRobotError, WriteError
+from ..spatial import make_pose, rotation_to_rpy, rpy_to_rotation
+from .robot import Joint, Robot, collision_keys
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -115,8 +117,6 @@ def _number(value: Any, path: str, loc: _Locator, key: str, field: str, joint: i
 
 
 def _pose_from_table(data: Any, path: str, loc: _Locator, table: str, angle: float) -> np.ndarray:
-    from ..spatial import make_pose, rpy_to_rotation
-
     if not isinstance(data, dict):
         raise RobotFileError(path, "must be a table with xyz = [x, y, z] and rpy = [r, p, y]", None, table)
     unknown = set(data) - {"xyz", "rpy"}
@@ -177,9 +177,7 @@ def _parse(text: str, path: str, allow_outside: bool = False) -> Robot:
         key = next((k for k in ("convention", "unit", "link_names") if k in str(exc)), None)
         raise RobotFileError(path, str(exc), loc.line(key) if key else None, key) from None
     if _COLLISION_KEYS & set(data) or any("link_radius" in row for row in rows):
-        from ..collision.robot_file import attach   # NumPy only; coal is never imported here
-
-        attach(robot, data, text, path, allow_outside)
+        collision_keys().attach(robot, data, text, path, allow_outside)   # NumPy only; coal is never imported
     return robot
 
 
@@ -326,7 +324,7 @@ def load(name_or_path: str | Path, base: str | None = None, tip: str | None = No
 def _mark_source(robot: Robot, path: Path) -> Robot:
     """Remember the file ``robot`` was read from (``robot.loaded_from``): :func:`save` never writes onto it."""
     try:
-        object.__setattr__(robot, "loaded_from", str(path.resolve()))
+        object.__setattr__(robot, "loaded_from", str(path.resolve()))   # a declared field, not part of the value
     except (OSError, RuntimeError):
         pass
     return robot
@@ -357,15 +355,12 @@ def dumps(robot: Robot) -> str:
     The robot's surroundings (``robot.collision``: ``link_radius``, ``allow_collision``, ``[[body]]``,
     ``[[scene]]``) are written too, so that the file read back collides as the robot does (issue 24).
     """
-    from ..collision.robot_file import surroundings
-
     original = robot
     if not robot.is_dh:
         robot = robot.to_dh()
-    extra = surroundings(original, links=None if original is robot else [lk.name for lk in robot.links])
+    extra = collision_keys().surroundings(original,
+                                          links=None if original is robot else [lk.name for lk in robot.links])
     import tomli_w
-
-    from ..spatial import rotation_to_rpy
 
     poses = {}
     for which in ("base", "tool"):
@@ -428,10 +423,8 @@ def save(robot: Robot, path: str | Path) -> Path:
     file of a URDF chain holds its DH twin).
     """
     p = Path(path)
-    source = getattr(robot, "loaded_from", None)
+    source = robot.loaded_from
     if source is not None and _same_file(p, Path(source)):
-        from ..errors import WriteError
-
         raise WriteError(p, "it is the file this robot was read from; a save keeps only what armkit models "
                          "(a URDF's transmissions, gazebo blocks and comments would be lost): write to another file")
     if _is_urdf(p):
@@ -440,7 +433,5 @@ def save(robot: Robot, path: str | Path) -> Path:
         text = dumps_urdf(robot)
     else:
         text = dumps(robot)
-    from .._io import atomic_write
-
     atomic_write(p, text)         # a temporary file renamed into place: a failed save leaves the old file
     return p

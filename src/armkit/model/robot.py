@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field, replace
-from typing import Any, Literal, Sequence
+from typing import Any, Callable, Literal, Protocol, Sequence
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -31,7 +31,38 @@ from ..errors import RobotDefinitionError, ShapeError
 from .._checks import real_array
 from ..spatial import check_transform
 
-__all__ = ["Joint", "Robot", "Chain", "Link", "Shape", "REVOLUTE", "PRISMATIC", "axis_alignment"]
+__all__ = ["Joint", "Robot", "Chain", "Link", "Shape", "REVOLUTE", "PRISMATIC", "axis_alignment",
+           "CollisionKeys", "collision_keys", "read_collision_keys_with"]
+
+
+class CollisionKeys(Protocol):
+    """What reads and writes a robot file's collision keys (:mod:`armkit.collision.robot_file`)."""
+
+    def attach(self, robot: "Robot", data: dict, text: str, path: str, allow_outside: bool = False) -> None: ...
+
+    def surroundings(self, robot: "Robot", scale: float = 1.0, links: Any = None) -> dict[str, Any]: ...
+
+    def carry_collision(self, source: "Robot", target: "Robot") -> None: ...
+
+
+_collision_keys: Callable[[], CollisionKeys] | None = None
+
+
+def read_collision_keys_with(reader: Callable[[], CollisionKeys]) -> None:
+    """Name who reads the collision keys of robot files: ``reader()`` returns it, imported on first use.
+
+    The model floor never imports the collision floor above it (docs/architecture.md);
+    ``armkit/__init__.py``, the top floor, plugs :mod:`armkit.collision.robot_file` in here.
+    """
+    global _collision_keys
+    _collision_keys = reader
+
+
+def collision_keys() -> CollisionKeys:
+    """The reader of a robot file's collision keys (see :func:`read_collision_keys_with`)."""
+    if _collision_keys is None:
+        raise RobotDefinitionError("no reader of the collision keys is plugged in (armkit/__init__.py does it)")
+    return _collision_keys()
 
 REVOLUTE: Literal["revolute"] = "revolute"
 PRISMATIC: Literal["prismatic"] = "prismatic"
@@ -345,9 +376,10 @@ class Robot:
     Two robots are equal (and hash equal) when their values are: joints, convention, name,
     unit, base and tool (exactly, element by element), description, source, link names,
     links (name, frame, offset, parent, joint, joint origin and shapes) and ignored joints.
-    The ``collision`` attribute that a robot file's ``[collision]`` table attaches (see
-    :mod:`armkit.collision.robot_file`) is not part of the value, nor is ``loaded_from`` (the
-    resolved path :func:`armkit.load` read the robot from; :func:`armkit.save` refuses to write onto it).
+    Two declared fields are not part of the value: ``collision``, the robot file's collision keys
+    (``link_radius``, ``allow_collision``, ``[[body]]``, ``[[scene]]``) as read by
+    :mod:`armkit.collision.robot_file` (None without them), and ``loaded_from``, the resolved path
+    :func:`armkit.load` read the robot from (:func:`armkit.save` refuses to write onto it).
 
     Examples
     --------
@@ -376,6 +408,10 @@ class Robot:
     ignored_joints: tuple[str, ...] = ()
     chain: Chain = field(init=False, repr=False, compare=False)
     cache: dict[str, Any] = field(init=False, repr=False, compare=False)
+    _lower: Array = field(init=False, repr=False, compare=False)   # read-only (n,): the property lower
+    _upper: Array = field(init=False, repr=False, compare=False)
+    collision: Any = field(default=None, init=False, repr=False, compare=False)
+    loaded_from: str | None = field(default=None, init=False, repr=False, compare=False)
 
     def __init__(self, joints: Sequence[Joint], convention: str = "standard", name: str = "robot",
                  unit: str = "m", base: ArrayLike | None = None, tool: ArrayLike | None = None,
@@ -490,12 +526,12 @@ class Robot:
     @property
     def lower(self) -> Array:
         """Lower joint limits, shape ``(n,)`` (rad or length units), read-only."""
-        return self._lower  # type: ignore[attr-defined, no-any-return]
+        return self._lower
 
     @property
     def upper(self) -> Array:
         """Upper joint limits, shape ``(n,)``, read-only."""
-        return self._upper  # type: ignore[attr-defined, no-any-return]
+        return self._upper
 
     @property
     def is_dh(self) -> bool:
@@ -565,10 +601,8 @@ class Robot:
             from .dh_extract import chain_to_dh
 
             twin = self.cache[key] = chain_to_dh(self, convention)
-            if getattr(self, "collision", None) is not None:   # the surroundings go with it (issue 24)
-                from ..collision.robot_file import carry_collision
-
-                carry_collision(self, twin)
+            if self.collision is not None:   # the surroundings go with it (issue 24)
+                collision_keys().carry_collision(self, twin)
         return twin  # type: ignore[no-any-return]
 
     def link_index(self, name: str) -> int:
@@ -586,8 +620,6 @@ class Robot:
     # ------------------------------------------------------------- validation
     def check_q(self, q: ArrayLike, what: str = "q") -> Array:
         """``q`` as a float array of shape ``(..., n)``; raise :class:`ShapeError` otherwise."""
-        from .._checks import real_array
-
         arr = real_array(q, what)    # complex, masked, non-numeric and too-large values are errors, not dropped
         if arr.ndim == 0 or arr.shape[-1] != self.n:
             raise ShapeError(f"{what} must have shape (..., {self.n}) for robot {self.name!r}, got {arr.shape}")

@@ -42,7 +42,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..errors import RobotDefinitionError, RobotFileError
-from .robot import Joint, Link, Robot, Shape
+from ..spatial import rotation_to_rpy
+from .robot import Joint, Link, Robot, Shape, collision_keys
 
 __all__ = ["load_urdf", "dumps_urdf", "resolve_mesh", "PACKAGE_PATH_VARIABLES", "ALLOW_OUTSIDE_VARIABLE"]
 
@@ -440,9 +441,7 @@ def _attach_surroundings(robot: Robot, notes: list[str], spath: str, allow_outsi
             if not isinstance(data, dict) or set(data) - {"angle_unit", "link_radius", "joints", "allow_collision",
                                                            "body", "scene"}:
                 raise RobotFileError(spath, f"the {_SURROUNDINGS!r} comment holds unknown keys")
-            from ..collision.robot_file import attach
-
-            attach(robot, data, "", spath, allow_outside)
+            collision_keys().attach(robot, data, "", spath, allow_outside)
             return
 
 
@@ -450,9 +449,7 @@ def _surroundings_note(robot: Robot, links: list[str]) -> str:
     """The robot's surroundings (scaled to metres) as an XML comment that :func:`load_urdf` reads back."""
     import json
 
-    from ..collision.robot_file import surroundings
-
-    extra = surroundings(robot, robot.unit_scale, links)
+    extra = collision_keys().surroundings(robot, robot.unit_scale, links)
     if not extra:
         return ""
     data: dict[str, Any] = {"angle_unit": "rad"}
@@ -671,8 +668,6 @@ def _f(x: float) -> str:
 
 
 def _origin_xml(T: Array, indent: str) -> str:
-    from ..spatial import rotation_to_rpy
-
     rpy = rotation_to_rpy(T[:3, :3])
     return (f'{indent}<origin xyz="{" ".join(_f(v) for v in T[:3, 3])}" '
             f'rpy="{" ".join(_f(v) for v in rpy)}"/>\n')

@@ -1,15 +1,25 @@
 """Motion: velocity kinematics (twists, pseudo-inverse and damped least squares, resolved rate) and trajectories.
 
-NumPy only at import; Matplotlib and the animation renderer are loaded inside the plotting functions.
+NumPy only. The plots of a trajectory live with the other plots: :func:`armkit.viz.plot_trajectory`
+and :func:`armkit.viz.animate_trajectory` (:mod:`armkit.viz.trajectory`).
 """
 
 from __future__ import annotations
 
-from .trajectory import (PROFILES, Trajectory, animate_trajectory, blended_polyline, cartesian_arc, cartesian_line,
-                         cartesian_path, cartesian_waypoints, joint_trajectory, plot_trajectory, profile,
-                         segment_duration)
+from .trajectory import (PROFILES, Trajectory, blended_polyline, cartesian_arc, cartesian_line, cartesian_path,
+                         cartesian_waypoints, joint_trajectory, profile, segment_duration)
 from .velocity import JointRates, damping_schedule, joint_rates, resolved_rate, task_rows, twist
 
 __all__ = ["Trajectory", "PROFILES", "profile", "segment_duration", "joint_trajectory", "cartesian_path",
-           "cartesian_line", "cartesian_arc", "cartesian_waypoints", "blended_polyline", "plot_trajectory",
-           "animate_trajectory", "JointRates", "twist", "joint_rates", "damping_schedule", "resolved_rate", "task_rows"]
+           "cartesian_line", "cartesian_arc", "cartesian_waypoints", "blended_polyline", "JointRates", "twist",
+           "joint_rates", "damping_schedule", "resolved_rate", "task_rows"]
+
+
+_MOVED = {"plot_trajectory": "armkit.viz.plot_trajectory", "animate_trajectory": "armkit.viz.animate_trajectory"}
+
+
+def __getattr__(name: str) -> object:
+    """The plots moved to :mod:`armkit.viz` (issue 21): say where, without importing the floor above."""
+    if name in _MOVED:
+        raise AttributeError(f"armkit.motion.{name} moved to {_MOVED[name]} (armkit.viz.trajectory)")
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -36,14 +36,16 @@ from typing import Any, Literal, Sequence
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from .._extras import require
+from .._io import atomic_path
+from .._limits import CHUNK, check_memory
 from ..errors import ArgumentError, ShapeError, UnreachableError
+from ..ik import ik
 from ..kinematics import fk
 from ..model.robot import Robot
+from ..spatial import axis_angle_to_rotation
 
 __all__ = ["Trajectory", "PROFILES", "profile", "segment_duration", "joint_trajectory", "cartesian_path",
-           "cartesian_line", "cartesian_arc", "cartesian_waypoints", "blended_polyline", "plot_trajectory",
-           "animate_trajectory"]
+           "cartesian_line", "cartesian_arc", "cartesian_waypoints", "blended_polyline"]
 
 Array = NDArray[np.float64]
 PROFILES = ("cubic", "quintic", "trapezoid")
@@ -102,8 +104,6 @@ class Trajectory:
         if self.positions is not None:
             header += ["x", "y", "z"]
             cols.append(self.positions)
-        from .._io import atomic_path
-
         p = Path(path)
         with atomic_path(p, (".csv",), "a CSV file") as tmp, tmp.open("w", newline="") as f:
             w = csv.writer(f)
@@ -257,8 +257,6 @@ def joint_trajectory(waypoints: ArrayLike, profile_kind: str = "quintic", durati
         total += steps_f
         plan.append((k, T, blend, steps_f))
     n = W.shape[1]
-    from .._limits import check_memory
-
     check_memory(total * 8.0 * (3 * n + 5) * 3, f"a trajectory of {total:,.0f} samples "
                  f"({sum(p[1] for p in plan):.4g} s at dt = {dt:g} s)",
                  "use a larger dt (--dt), a shorter duration or larger speed/acceleration limits")
@@ -267,8 +265,6 @@ def joint_trajectory(waypoints: ArrayLike, profile_kind: str = "quintic", durati
     t, q, qd, qdd = _sample_segments(W, deltas, plan, profile_kind, dt, notes)
     pos = None
     if robot is not None:     # in chunks: no (N, 4, 4) pose array for a long trajectory
-        from .._limits import CHUNK
-
         pos = np.concatenate([fk(robot, q[i:i + CHUNK])[:, :3, 3] for i in range(0, len(q), CHUNK)])
     return Trajectory(t, q, qd, qdd, positions=pos, label=f"joint space, {profile_kind}", notes=tuple(notes))
 
@@ -329,8 +325,6 @@ def _check_steps(steps: Any, n: int) -> int:
     if steps < 2:
         raise ArgumentError(f"steps must be at least 2 (a rest-to-rest path of {int(steps) + 1} sample(s) has no "
                             f"speed to report), got {steps}")
-    from .._limits import check_memory
-
     # points, t, q, qd, qdd, positions, targets, deviation and np.gradient's temporaries
     check_memory((int(steps) + 1) * 8.0 * (3 * n + 12) * 3, f"a Cartesian path of {int(steps) + 1:,} samples",
                  "ask for fewer --steps")
@@ -338,11 +332,9 @@ def _check_steps(steps: Any, n: int) -> int:
 
 
 def _ik_solve(robot: Robot, target: Array, q_prev: Array) -> tuple[Array, bool, str]:
-    import armkit
-
     # the branch nearest the previous sample, collisions or not: a path is continuous; `armkit traj` counts the
     # samples that collide with the robot's surroundings afterwards (armkit.collision.resolve_scene)
-    res = armkit.ik(robot, target, q0=q_prev, scene=False)
+    res = ik(robot, target, q0=q_prev, scene=False)
     return np.asarray(res.q, dtype=float), bool(res.success), str(res.message)
 
 
@@ -610,8 +602,6 @@ def cartesian_arc(robot: Robot, center: ArrayLike, start: ArrayLike, angle: floa
     nrm = np.asarray(normal, dtype=float)
     if nrm.shape != (3,) or np.linalg.norm(nrm) == 0:
         raise ShapeError(f"normal must be a non-zero 3-vector, got {normal!r}")
-    from ..spatial import axis_angle_to_rotation
-
     steps = _check_steps(steps, robot.n)
     u = np.linspace(0.0, 1.0, steps + 1)
     R = axis_angle_to_rotation(nrm / np.linalg.norm(nrm), angle * u)
@@ -623,66 +613,3 @@ def cartesian_arc(robot: Robot, center: ArrayLike, start: ArrayLike, angle: floa
             raise UnreachableError(f"the start point is not reachable: {msg}")
         kwargs["q0"] = q
     return cartesian_path(robot, pts[:, :k], label="arc", **kwargs)
-
-
-# -------------------------------------------------------------------------------------------- output
-def plot_trajectory(traj: Trajectory, robot: Robot | None = None, out_path: str | Path | None = None) -> Any:
-    """Three panels: q(t), qd(t) (degrees for revolute joints) and the tool path. Returns the figure."""
-    matplotlib = require("matplotlib", "plotting a trajectory")
-    if out_path is not None:
-        matplotlib.use("Agg", force=False)
-    import matplotlib.pyplot as plt
-
-    n = traj.q.shape[1]
-    prism = robot.prismatic if robot is not None else np.zeros(n, bool)
-    names = robot.joint_names if robot is not None else tuple(f"q{i + 1}" for i in range(n))
-    conv = np.where(prism, 1.0, 180 / math.pi)
-    fig = plt.figure(figsize=(12, 4))
-    ax1 = fig.add_subplot(1, 3, 1)
-    ax2 = fig.add_subplot(1, 3, 2)
-    for j in range(n):
-        ax1.plot(traj.t, traj.q[:, j] * conv[j], label=names[j])
-        ax2.plot(traj.t, traj.qd[:, j] * conv[j], label=names[j])
-    from ..locale.fonts import plot_language, plot_text as _      # labels in Korean only with a Korean font
-
-    from ..locale.library import localize
-
-    ax1.set(xlabel="t [s]", ylabel="q [deg]" if not prism.any() else _("q [deg | length]"), title=_("joint values"))
-    ax2.set(xlabel="t [s]", ylabel="qd [deg/s]", title=_("joint rates"))
-    ax1.legend(fontsize=7)
-    ax1.grid(alpha=0.3)
-    ax2.grid(alpha=0.3)
-    unit = robot.unit if robot is not None else ""
-    if traj.positions is not None:
-        planar = np.allclose(traj.positions[:, 2], traj.positions[0, 2])
-        if planar:
-            ax3 = fig.add_subplot(1, 3, 3)
-            ax3.plot(traj.positions[:, 0], traj.positions[:, 1], "b-", label=_("tool path"))
-            if traj.targets is not None:
-                ax3.plot(traj.targets[:, 0], traj.targets[:, 1], "r--", lw=1, label=_("desired"))
-            ax3.set_aspect("equal", adjustable="datalim")
-            ax3.set(xlabel=f"x [{unit}]", ylabel=f"y [{unit}]", title=_("tool path"))
-        else:
-            ax3 = fig.add_subplot(1, 3, 3, projection="3d")
-            ax3.plot(*traj.positions.T, "b-", label=_("tool path"))
-            if traj.targets is not None:
-                ax3.plot(*traj.targets.T, "r--", lw=1, label=_("desired"))
-            ax3.set(xlabel=f"x [{unit}]", ylabel=f"y [{unit}]", zlabel=f"z [{unit}]", title=_("tool path"))
-        ax3.legend(fontsize=7)
-    fig.suptitle(localize(traj.label, plot_language()))
-    fig.tight_layout()
-    if out_path is not None:
-        from .._io import atomic_path
-
-        with atomic_path(out_path, (".png", ".pdf", ".svg", ".jpg", ".jpeg"), "a picture file") as tmp:
-            fig.savefig(tmp, dpi=110, format=Path(out_path).suffix.lower().lstrip("."))
-    return fig
-
-
-def animate_trajectory(traj: Trajectory, robot: Robot, out_path: str | Path, fps: int = 20,
-                       title: str | None = None) -> Path:
-    """Render ``traj`` as a GIF/MP4 with :func:`armkit.viz.animation.render_animation` (targets drawn)."""
-    from ..viz.animation import render_animation   # says which extra is missing (armkit._extras)
-
-    return render_animation(robot, traj.q, out_path, targets=traj.targets, fps=fps, trail=True,
-                            title=title or f"{robot.name}: {traj.label}", progress=False)

@@ -342,7 +342,7 @@ def reachability(robot: Robot | str, resolution: float | None = None, orientatio
     -------
     ReachabilityMap
     """
-    from .. import __version__
+    from .._version import __version__
     from ._scene import check_scene
 
     if isinstance(robot, str):

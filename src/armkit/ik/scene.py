@@ -1,5 +1,10 @@
 """IK with a scene: solutions that collide are not solutions.
 
+On the ik floor, above collision (docs/architecture.md): it uses the collision package's
+public API only (:func:`armkit.collision.in_collision`, :func:`armkit.collision.collisions`,
+:func:`armkit.collision.as_scene`), and is imported by :mod:`armkit.ik.api` only when a
+``scene=`` is given (the collision package is not loaded at ``import armkit``).
+
 :func:`mark` turns successful IK results whose configuration collides into failures with
 ``reason="collision"`` and a message naming the pair and the depth; :func:`sort_branches`
 puts the collision-free branches of ``ik_all`` first again. :func:`retry_numeric` restarts a
@@ -8,14 +13,14 @@ numeric solver from random configurations for the targets whose answer collided.
 
 from __future__ import annotations
 
+from dataclasses import replace
 from typing import Any, Callable
 
 import numpy as np
 
-from ..ik.result import IKResult
+from ..collision import Scene, as_scene, collisions, in_collision
 from ..model.robot import Robot
-from .query import as_scene, collisions, in_collision
-from .shapes import Scene
+from .result import IKResult
 
 __all__ = ["mark", "sort_branches", "retry_numeric", "scene_or_none"]
 
@@ -48,9 +53,7 @@ def mark(robot: Robot, res: IKResult, scene: Scene) -> IKResult:
         reason[idx] = "collision"
         message[idx] = hits.message(m)
     ok_out: Any = success if np.ndim(res.success) else np.bool_(success[()])
-    return IKResult(res.q, ok_out, res.position_error,
-                    res.rotation_error, res.iterations, res.branch, res.within_limits,
-                    _like(res.reason, reason), _like(res.message, message), res.trace)
+    return replace(res, success=ok_out, reason=_like(res.reason, reason), message=_like(res.message, message))
 
 
 def _like(old: Any, new: np.ndarray) -> Any:
@@ -71,9 +74,10 @@ def sort_branches(res: IKResult) -> IKResult:
     def take(a: Any) -> Any:
         return np.asarray(a)[rows, order]
 
-    return IKResult(take(res.q), take(res.success), take(res.position_error), take(res.rotation_error),
-                    take(res.iterations), take(res.branch), take(res.within_limits), take(res.reason),
-                    take(res.message), res.trace)
+    return IKResult(q=take(res.q), success=take(res.success), position_error=take(res.position_error),
+                    rotation_error=take(res.rotation_error), iterations=take(res.iterations), branch=take(res.branch),
+                    within_limits=take(res.within_limits), reason=take(res.reason), message=take(res.message),
+                    trace=res.trace)
 
 
 def retry_numeric(robot: Robot, res: IKResult, scene: Scene, solve: Callable[[np.ndarray, np.ndarray], IKResult],
@@ -100,6 +104,6 @@ def retry_numeric(robot: Robot, res: IKResult, scene: Scene, solve: Callable[[np
         for k in fields:
             vals = np.asarray(getattr(new, k))
             fields[k][todo[good]] = vals[good]
-    return IKResult(fields["q"], fields["success"], fields["position_error"], fields["rotation_error"],
-                    fields["iterations"], _like(res.branch, fields["branch"]), fields["within_limits"],
-                    _like(res.reason, fields["reason"]), _like(res.message, fields["message"]), res.trace)
+    fields.update(branch=_like(res.branch, fields["branch"]), reason=_like(res.reason, fields["reason"]),
+                  message=_like(res.message, fields["message"]))
+    return IKResult(**fields, trace=res.trace)

@@ -1,0 +1,169 @@
+"""The warm-up: compile (or load from the cache) every Numba kernel armkit uses.
+
+The top floor of armkit (docs/architecture.md): it exercises the public functions (``fk``,
+``jacobian``, ``ik``, ``ik_all`` ...) so that each kernel is compiled with the argument types
+they pass. :func:`warmup` does it in the calling process (``armkit warmup``); the back end
+(:mod:`armkit._jit_loader`, the ground floor) starts :func:`_worker_main` in a new process
+when the first kinematics call finds the kernels not cached yet.
+"""
+
+from __future__ import annotations
+
+import os
+import time
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Optional
+
+import numpy as np
+
+from . import _jit_loader
+from .ik import ik, ik_all
+from .ik.api import closed_form_family
+from .kinematics import fk, fk_frames, jacobian
+from .model import load
+
+__all__ = ["warmup", "Warmup"]
+
+
+@dataclass(frozen=True)
+class Warmup:
+    """What :func:`warmup` did: ``seconds`` it took, the ``cache`` directory (None: not cached),
+    and whether anything had to be ``compiled`` (False: everything was cached already)."""
+    seconds: float
+    cache: Optional[Path]
+    compiled: bool
+
+
+def _exercise_serial() -> None:
+    """Call every kernel the public functions use, with the argument types they pass, on small inputs
+    (below the thresholds of the multi-threaded kernels)."""
+    for name in ("puma560", "ur5", "panda", "fighter", "planar2", "planar3"):
+        arm = load(name)
+        q = arm.random_q(rng=0)
+        T = fk(arm, q)
+        jacobian(arm, q)
+        jacobian(arm, q, frame="tool")
+        fk_frames(arm, q)
+        Q = arm.random_q(16, rng=1)
+        for batch in (Q, Q.copy()):
+            fk(arm, batch)
+            jacobian(arm, batch)
+            fk_frames(arm, batch)
+            batch.setflags(write=False)  # the second round: read-only input
+        TT = fk(arm, arm.random_q(64, rng=2))
+        pose = arm.n >= 6 or name == "planar3"
+        one, many = (T, TT) if pose else (T[:3, 3], TT[:, :3, 3])
+        family = closed_form_family(arm)
+        if family is not None:
+            ik(arm, one)
+            ik(arm, many[:16])
+            ik(arm, many)
+            ik_all(arm, one)
+            ik_all(arm, many[:16])
+        far = np.array(one)
+        if pose:
+            far[:3, 3] *= 4.0
+        else:
+            far *= 4.0
+        for target in (one, many[:4], many[:16], far):  # single, < 8 and >= 8 targets, unreachable
+            ik(arm, target, method="lm", restarts=2)
+    from .ik.geometric import solvers          # the geometric family's kernels (subproblems, 6R solvers): Numba
+    from .ik.geometric.poe import poe
+
+    for name, solve in (("puma560", solvers.spherical_wrist), ("ur5", solvers.three_parallel_two_intersecting),
+                        ("ur5", solvers.three_parallel), ("stanford", solvers.spherical_wrist)):
+        arm = load(name)
+        T = fk(arm, arm.random_q(rng=3))
+        solve(poe(arm), T[:3, :3], T[:3, 3])
+    iiwa = load("iiwa14")                      # the sweep of 7-joint arms (solvers._sweep, ik.geometric.locked)
+    ik_all(iiwa, fk(iiwa, iiwa.random_q(rng=3)))
+    poses = np.tile(np.eye(4), (2, 1, 1))   # check_transform's pass over big batches
+    _jit_loader.module("kinematics._jit").rigidity(poses, np.empty(2), np.empty(2), np.empty(2, dtype=bool))
+    from .lerobot import RobotKinematics      # the SO-101's single-call kernels (ik/analytic/_yaw_pitch3_jit.py)
+
+    kin = RobotKinematics("so101")
+    for w in (0.01, 0.0):
+        kin.inverse_kinematics(np.zeros(6), kin.forward_kinematics(np.zeros(6)), orientation_weight=w)
+    ik(kin.robot, fk(kin.robot, np.zeros(5))[:3, 3], pitch=0.0)
+
+
+def _exercise_parallel() -> None:
+    """Compile the multi-threaded twin of every serial kernel for the signatures the serial one got."""
+    for name in ("kinematics._jit", "ik._jit_verify", "ik.analytic._jit", "ik._jit_lm"):
+        for serial, parallel in _jit_loader.module(name).parallel_twins():
+            for sig in list(serial.signatures):
+                parallel.compile(sig)
+
+
+def _run_serial_phase() -> None:
+    with _jit_loader.serial_only():
+        _exercise_serial()
+
+
+def warmup(*, parallel: bool = True) -> Warmup:
+    """Compile (or load from the cache) every Numba kernel armkit uses, now, in this process.
+
+    For images and CI: run it (or ``armkit warmup``) once after installing, and later
+    processes compile nothing. If a warm-up process is already at work, waits for it first.
+    Afterwards the compiled kernels serve this process (back end ``"auto"``).
+
+    Parameters
+    ----------
+    parallel : bool
+        Also the multi-threaded kernels of big batches (about half of the time).
+
+    Returns
+    -------
+    Warmup
+    """
+    t0 = time.perf_counter()
+    _jit_loader.install_cache_fallback()
+    first, second = _jit_loader.marker("ready"), _jit_loader.marker("parallel")
+
+    def done() -> bool:
+        return first is not None and first.exists() and (not parallel or (second is not None and second.exists()))
+
+    if first is not None and not done():
+        while _jit_loader.lock_alive() and not done():  # a warm-up process is at work: let it finish
+            time.sleep(0.2)
+    compiled = not done()
+    if compiled:
+        _jit_loader.say_compiling(hint=False)
+    with _jit_loader.compiling_here(parallel=True, backend="numba"):
+        if compiled:
+            if first is None or not first.exists():
+                _run_serial_phase()
+                if first is not None:
+                    first.touch()
+                    _jit_loader.forget_other_builds()
+            if parallel:
+                _exercise_parallel()
+                if second is not None:
+                    second.touch()
+    return Warmup(seconds=time.perf_counter() - t0, cache=_jit_loader.cache_dir(), compiled=compiled)
+
+
+def _worker_main(parent: str) -> int:
+    """The warm-up process: the one-thread kernels first (first marker), then the multi-threaded ones."""
+    t0 = time.perf_counter()
+    try:
+        with _jit_loader.compiling_here(parallel=False):
+            if hasattr(os, "nice"):
+                os.nice(10)  # the caller's own work comes first on a busy machine
+            _jit_loader.install_cache_fallback()
+            first, second = _jit_loader.marker("ready"), _jit_loader.marker("parallel")
+            if first is None or second is None:
+                print("Numba's cache is off: nothing to warm up", flush=True)
+                return 1
+            _run_serial_phase()
+            first.touch()
+            _jit_loader.forget_other_builds()
+            print(f"one-thread kernels compiled in {time.perf_counter() - t0:.1f} s (for process {parent})",
+                  flush=True)
+            _exercise_parallel()
+            second.touch()
+            print(f"all kernels compiled in {time.perf_counter() - t0:.1f} s", flush=True)
+            return 0
+    finally:
+        _jit_loader.release_lock()
