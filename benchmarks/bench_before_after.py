@@ -9,8 +9,9 @@ the ratio after / before (above 1: the change is slower).
 
 Cases: FK single call and batch of 10,000 (panda, ur5), Jacobian batch of 10,000 (panda,
 ur5), ``ik_all`` on 10,000 targets (ur5, puma560, fighter), ``ik(method="lm")`` on 1,000
-targets (panda) and the overhead of one single-target ``ik`` call (ur5 closed form, panda
-LM from a nearby start).
+targets (panda), the overhead of one single-target ``ik`` call (ur5 closed form, panda
+LM from a nearby start), and the collision check of a scene with a cylinder (``in_collision``
+and ``clearance`` on 1,000 ur5 configurations, one ``ik(..., scene=)`` call).
 
 Usage::
 
@@ -60,6 +61,18 @@ def setup():
     cases["ik single ur5 (closed form)"] = lambda: armkit.ik(ur5, T1)
     Tp, q0p = T[0], Q0[0]
     cases["ik single panda (lm)"] = lambda: armkit.ik(panda, Tp, q0p, method="lm", seed=0)
+    # issue 21: a scene with a cylinder (a pole beside a table on the ground); before, any cylinder sent every pair
+    # of the check to the slow path
+    R = ur5.reach
+    pole = armkit.Scene([armkit.Scene.plane([0, 0, 1], -0.05 * R, name="ground"),
+                         armkit.Scene.box([0.6 * R, 0, 0.2 * R], [0.4 * R, 0.8 * R, 0.4 * R], name="table"),
+                         armkit.Scene.cylinder([-0.5 * R, 0.5 * R, 0.5 * R], 0.05 * R, R, name="pole")])
+    Qc = ur5.random_q(1_000, rng=5)
+    from armkit.collision import clearance, in_collision
+
+    cases["in_collision 1k ur5 cylinder"] = lambda: in_collision(ur5, Qc, pole)
+    cases["clearance 1k ur5 cylinder"] = lambda: clearance(ur5, Qc, pole)
+    cases["ik single ur5 cylinder scene"] = lambda: armkit.ik(ur5, T1, scene=pole)
     return cases
 
 def per_call(fn, budget):

@@ -7,6 +7,7 @@ and the workspace/IK consistency check (issue 13).
     python benchmarks/bench_collision.py consistency  # workspace points vs IK finding a collision-free solution
     python benchmarks/bench_collision.py kernels --before OLD/src/armkit/collision/_jit.py
                                                       # this tree's Numba kernels against an older file's, same data
+    python benchmarks/bench_collision.py cylinder     # a scene with a cylinder beside the same with a capsule
 
 Timing is wall time, best of 3, after a warm-up call of the same size. No assertion here: the numbers go
 into docs/scene.md.
@@ -325,9 +326,46 @@ def kernels(args):
     now.min_distance, now.all_distances = real_min, real_all
 
 
+def pole_scenes(robot):
+    """The ground, a table and a pole: once a capsule, once a cylinder of the same radius and length."""
+    R = robot.reach
+    base = [Scene.plane([0, 0, 1], -0.05 * R, name="ground"),
+            Scene.box([0.6 * R, 0, 0.2 * R], [0.4 * R, 0.8 * R, 0.4 * R], name="table")]
+    capsule = Scene.capsule([-0.5 * R, 0.5 * R, 0], [-0.5 * R, 0.5 * R, R], 0.05 * R, name="pole")
+    cylinder = Scene.cylinder([-0.5 * R, 0.5 * R, 0.5 * R], 0.05 * R, R, name="pole")
+    return Scene(base + [capsule]), Scene(base + [cylinder])
+
+
+def cylinder(args):
+    """Issue 21: a cylinder anywhere in the scene used to send every check to the slow path (1.6 -> 160 us per
+    configuration); now it is a compiled kernel like the others. Per configuration, batches of ``--batch``."""
+    print(f"# a scene with a cylinder beside the same with a capsule, {os.cpu_count()} CPUs, "
+          f"load average {os.getloadavg()[0]:.1f}")
+    print("| arm | check | capsule pole | cylinder pole | cylinder/capsule |\n|---|---|---|---|---|")
+    armkit.set_backend("numba")
+    for name in args.robots:
+        robot = armkit.load(name)
+        with_capsule, with_cylinder = pole_scenes(robot)
+        q = robot.random_q(args.batch, rng=1)
+        T = armkit.fk(robot, q[5])
+        target = T[:3, 3] if robot.n < 6 else T
+        rows = (("yes/no (in_collision)", lambda sc: in_collision(robot, q, sc), args.batch),
+                ("clearance", lambda sc: clearance(robot, q, sc), args.batch),
+                ("every pair (collisions)", lambda sc: collisions(robot, q, sc), args.batch),
+                ("one ik(..., scene=) call", lambda sc: armkit.ik(robot, target, scene=sc), 1))
+        for label, fn, per in rows:
+            fn(with_capsule), fn(with_cylinder)
+            t_cap, t_cyl = np.inf, np.inf
+            for _ in range(args.reps):   # alternately, best of: a busy machine slows both alike
+                t_cap = min(t_cap, best(lambda: fn(with_capsule), 1) / per)
+                t_cyl = min(t_cyl, best(lambda: fn(with_cylinder), 1) / per)
+            unit, f = ("us", 1e6) if per > 1 else ("ms", 1e3)
+            print(f"| {name} | {label} | {t_cap * f:.2f} {unit} | {t_cyl * f:.2f} {unit} | {t_cyl / t_cap:.2f} |")
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("what", choices=["speed", "accuracy", "ik", "consistency", "kernels"])
+    ap.add_argument("what", choices=["speed", "accuracy", "ik", "consistency", "kernels", "cylinder"])
     ap.add_argument("--robots", nargs="+", default=["ur5", "puma560"])
     ap.add_argument("--robots-all", nargs="+", default=armkit.bundled_robots())
     ap.add_argument("-n", type=int, default=1_000_000, help="configurations for the speed runs")
@@ -338,9 +376,10 @@ def main():
     ap.add_argument("--points", type=int, default=1000, help="workspace points per arm")
     ap.add_argument("--before", help="kernels: an older collision/_jit.py to compare with")
     ap.add_argument("--reps", type=int, default=25, help="kernels: alternating repetitions (best of)")
+    ap.add_argument("--batch", type=int, default=2000, help="cylinder: configurations per batched call")
     args = ap.parse_args()
     {"speed": speed, "accuracy": accuracy, "ik": ik_check, "consistency": consistency,
-     "kernels": kernels}[args.what](args)
+     "kernels": kernels, "cylinder": cylinder}[args.what](args)
 
 
 if __name__ == "__main__":

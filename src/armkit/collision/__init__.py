@@ -13,8 +13,9 @@ surroundings (its body and ground from the robot file), ``False`` no check, an e
 replaces the robot's ground (its body always stays). IK results and command outputs say what
 they were checked against (:func:`checked_against`, ``IKResult.checked_against``).
 
-Only NumPy is imported here; coal (the reference library, and the route for cylinders and
-meshes) is imported when a pair needs it.
+Only NumPy is imported here; coal (the reference library, and the route for meshes) is imported
+when a pair needs it. What each kind of shape is (its file keys, kernels, coal geometry, drawing)
+is one row of :data:`KIND_TABLE` (``docs/adding-a-primitive.md``).
 """
 
 from __future__ import annotations
@@ -22,8 +23,8 @@ from __future__ import annotations
 from .geometry import ArmGeometry, RobotCollision, arm_geometry, robot_collision, robot_scene
 from .query import (Collisions, as_scene, checked_against, checked_note, clearance, collisions, in_collision,
                     resolve_scene)
-from .shapes import KINDS, Scene, SceneError, Shape
+from .shapes import KIND_TABLE, KINDS, Scene, SceneError, Shape, ShapeKind
 
-__all__ = ["Scene", "Shape", "SceneError", "KINDS", "Collisions", "collisions", "clearance", "in_collision", "as_scene",
+__all__ = ["Scene", "Shape", "SceneError", "KINDS", "KIND_TABLE", "ShapeKind", "Collisions", "collisions", "clearance", "in_collision", "as_scene",
            "resolve_scene", "checked_against", "checked_note",
            "ArmGeometry", "RobotCollision", "arm_geometry", "robot_collision", "robot_scene"]

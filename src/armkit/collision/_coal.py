@@ -7,16 +7,16 @@ boxes) and as the reference in the tests. Imported only when such a pair is chec
 from __future__ import annotations
 
 import os
-
+from types import SimpleNamespace
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
 from .._extras import require
-from .shapes import SceneError
+from .shapes import SceneError, kind_of
 
-__all__ = ["distances", "geometry", "signed_distance", "mesh_error"]
+__all__ = ["distances", "geometry", "mesh_hull", "signed_distance", "mesh_error"]
 
 Array = NDArray[np.float64]
 _MESHES: dict[tuple[str, int, tuple[float, ...]], Any] = {}
@@ -30,36 +30,33 @@ def _coal() -> Any:
 
 
 def geometry(kind: str, size: Any, shape: Any = None) -> Any:
-    """A coal geometry for a shape kind in its own frame (a plane: the half-space z <= 0)."""
-    coal = _coal()
-    if kind == "box":
-        return coal.Box(*size)
-    if kind == "sphere":
-        return coal.Sphere(size[0])
-    if kind == "cylinder":
-        return coal.Cylinder(size[0], size[1])
-    if kind == "capsule":
-        return coal.Capsule(size[0], size[1])
-    if kind == "plane":
-        return coal.Halfspace(np.array([0.0, 0.0, 1.0]), 0.0)
-    if kind == "mesh":
-        try:
-            stamp = os.stat(shape.mesh_path).st_mtime_ns
-        except OSError:
-            stamp = -1    # unreadable: the loader below says why
-        key = (shape.mesh_path, stamp, tuple(shape.scale))
-        if key not in _MESHES:
-            from .._limits import check_mesh_file
+    """A coal geometry for a shape kind in its own frame (a plane: the half-space z <= 0); the kind's ``coal``
+    entry in :data:`armkit.collision.shapes.KIND_TABLE`."""
+    row = kind_of(kind)
+    if shape is None or shape.kind != kind:
+        shape = SimpleNamespace(kind=kind, size=tuple(size), mesh_path=getattr(shape, "mesh_path", None),
+                                scale=getattr(shape, "scale", (1.0, 1.0, 1.0)))
+    return row.coal(_coal(), shape)
 
-            check_mesh_file(shape.mesh_path)     # LimitError naming the file, before coal reads it (issue 24)
-            try:
-                model = coal.MeshLoader().load(shape.mesh_path, np.array(shape.scale, dtype=float))
-                model.buildConvexHull(True, "Qt")
-                _MESHES[key] = model.convex
-            except Exception:  # noqa: BLE001 - coal raises plain RuntimeErrors whose text is C++ internals
-                raise SceneError(mesh_error(shape.mesh_path)) from None
-        return _MESHES[key]
-    raise SceneError(f"no collision geometry for shape kind {kind!r}")
+
+def mesh_hull(coal: Any, shape: Any) -> Any:
+    """The convex hull of a mesh shape's file (``shape.mesh_path`` at ``shape.scale``), read once per file version."""
+    try:
+        stamp = os.stat(shape.mesh_path).st_mtime_ns
+    except OSError:
+        stamp = -1    # unreadable: the loader below says why
+    key = (shape.mesh_path, stamp, tuple(shape.scale))
+    if key not in _MESHES:
+        from .._limits import check_mesh_file
+
+        check_mesh_file(shape.mesh_path)     # LimitError naming the file, before coal reads it (issue 24)
+        try:
+            model = coal.MeshLoader().load(shape.mesh_path, np.array(shape.scale, dtype=float))
+            model.buildConvexHull(True, "Qt")
+            _MESHES[key] = model.convex
+        except Exception:  # noqa: BLE001 - coal raises plain RuntimeErrors whose text is C++ internals
+            raise SceneError(mesh_error(shape.mesh_path)) from None
+    return _MESHES[key]
 
 
 def mesh_error(path: Any) -> str:

@@ -6,13 +6,15 @@ is computed. :func:`min_distance` keeps only the smallest per configuration and 
 when a bounding-sphere lower bound already exceeds the smallest found so far; :func:`all_distances`
 computes every pair. Imported only when the Numba back end is in use.
 
-Item kinds: 0 a segment between two frame origins, 1 a segment given by two points in a frame
-(or the world, frame -1), 2 a box, 3 a half-space (``normal · x <= offset``).
+Item kinds (the ``kernel`` codes of :data:`armkit.collision.kinds.KINDS`): 0 a segment between two
+frame origins, 1 a segment given by two points in a frame (or the world, frame -1; a capsule, or a
+ball as a zero-length one), 2 a box, 3 a half-space (``normal · x <= offset``), 4 a cylinder
+(``half`` holds its radius, 0 and its half length). :func:`_pair` is the pair table.
 
 Packed arguments (so no kernel takes more than 8): ``items`` is the tuple
 ``(kind, fr, ia, ib, L, rad, half, bound)`` built by :func:`armkit.collision.query._jit_pack`
 (per item: its kind, frame, the two frame indices of a chain segment, local data (4, 4), capsule
-radius, box half extents (3,), box bounding radius), and ``placed`` is the per-configuration
+radius, box half extents (3,) or cylinder (radius, 0, half length), the solid's bounding radius), and ``placed`` is the per-configuration
 scratch ``(P0, P1, W, C, R)``: segment ends (I, 3), item poses (I, 3, 4), bounding-sphere
 centres (I, 3) and radii (I,). Numba passes a tuple of arrays as a struct: no copy, no cost
 (benchmarks/bench_collision.py speed, before and after packing: the same within noise).
@@ -37,7 +39,7 @@ _jit_loader.install_cache_fallback()  # before the first cache=True: read-only i
 
 from numba import njit, prange  # noqa: E402
 
-SEGF, SEGL, BOX, PLANE = 0, 1, 2, 3
+SEGF, SEGL, BOX, PLANE, CYL = 0, 1, 2, 3, 4
 PARALLEL_MIN = 2048
 
 
@@ -200,6 +202,490 @@ def _point_box_sq(x, y, z, T, h):
     return f
 
 
+# ------------------------------------------------------------------ cylinders and solid-solid pairs
+GOLDEN = 0.5 * (math.sqrt(5.0) - 1.0)
+CIRCLE_SAMPLES = 256
+SPHERE_SAMPLES = 256
+STARTS = 4
+
+
+@njit(cache=True, inline="always")
+def _local(T, x, y, z):
+    """The point (x, y, z) in the frame of pose T (3x4 used)."""
+    dx = x - T[0, 3]
+    dy = y - T[1, 3]
+    dz = z - T[2, 3]
+    return (T[0, 0] * dx + T[1, 0] * dy + T[2, 0] * dz, T[0, 1] * dx + T[1, 1] * dy + T[2, 1] * dz,
+            T[0, 2] * dx + T[1, 2] * dy + T[2, 2] * dz)
+
+
+@njit(cache=True, inline="always")
+def _point_cyl(x, y, z, rc, h):
+    """Distance from a point (cylinder frame) to the solid cylinder of radius rc, half length h along z; 0 inside."""
+    dr = math.sqrt(x * x + y * y) - rc
+    dz = abs(z) - h
+    if dr < 0.0:
+        dr = 0.0
+    if dz < 0.0:
+        dz = 0.0
+    return math.sqrt(dr * dr + dz * dz)
+
+
+@njit(cache=True)
+def _seg_cyl(p, q, T, rc, h, exact=True):
+    """Signed distance of segment p->q to the solid cylinder (pose T, radius rc, half length h along its z).
+
+    Apart: the distance from a point moving along the segment to a convex solid is a convex function
+    of the segment parameter, minimised by golden section to 1e-13 of the segment. Overlapping: minus
+    the exact penetration depth (:func:`_seg_cyl_depth`); with ``exact=False`` (a yes/no check) -0.0 instead
+    (the caller's capsule radius makes it negative).
+    """
+    a0, a1, a2 = _local(T, p[0], p[1], p[2])
+    e0, e1, e2 = _local(T, q[0], q[1], q[2])
+    b0, b1, b2 = e0 - a0, e1 - a1, e2 - a2
+    blen = math.sqrt(b0 * b0 + b1 * b1 + b2 * b2)
+    best = min(_point_cyl(a0, a1, a2, rc, h), _point_cyl(e0, e1, e2, rc, h))
+    if best > 0.0 and blen > 0.0:
+        lo = 0.0
+        hi = 1.0
+        x1 = hi - GOLDEN * (hi - lo)
+        x2 = lo + GOLDEN * (hi - lo)
+        f1 = _point_cyl(a0 + x1 * b0, a1 + x1 * b1, a2 + x1 * b2, rc, h)
+        f2 = _point_cyl(a0 + x2 * b0, a1 + x2 * b1, a2 + x2 * b2, rc, h)
+        tol = 1e-13 * (1.0 + (blen + rc + h) / blen)
+        for _ in range(80):
+            if f1 == 0.0 or f2 == 0.0 or hi - lo < tol:
+                break
+            if f1 <= f2:
+                hi = x2
+                x2 = x1
+                f2 = f1
+                x1 = hi - GOLDEN * (hi - lo)
+                f1 = _point_cyl(a0 + x1 * b0, a1 + x1 * b1, a2 + x1 * b2, rc, h)
+            else:
+                lo = x1
+                x1 = x2
+                f1 = f2
+                x2 = lo + GOLDEN * (hi - lo)
+                f2 = _point_cyl(a0 + x2 * b0, a1 + x2 * b1, a2 + x2 * b2, rc, h)
+        best = min(best, f1, f2)
+    if best > 0.0:
+        return best
+    if not exact:
+        return -0.0
+    return -_seg_cyl_depth(a0, a1, a2, e0, e1, e2, rc, h)
+
+
+@njit(cache=True, inline="always")
+def _cyl_g(n0, n1, n2, a0, a1, a2, rc, h):
+    return rc * math.sqrt(n0 * n0 + n1 * n1) + h * abs(n2) + n0 * a0 + n1 * a1 + n2 * a2
+
+
+@njit(cache=True)
+def _seg_cyl_depth(a0, a1, a2, b0, b1, b2, rc, h):
+    r"""Penetration depth of the segment a -> b (cylinder frame) into the cylinder (radius rc, half length h).
+
+    The depth is the minimum over unit ``n`` of :math:`g(n) = R |n_{xy}| + h |n_z| + \max(n \cdot a, n \cdot b)`
+    (the cylinder's support function plus the segment's). Where ``g`` is smooth it is the support
+    function of the cylinder moved to one end point, which has no local minimum on the sphere away from
+    the face normals; so the minimum lies on the poles ``±z`` (caps), the equator (side: there
+    ``g = R - `` the distance from the axis to the segment's projection, in closed form) or the great
+    circle ``n ⟂ b - a`` where the end points tie (sampled every 1.4 degrees, then golden section).
+    """
+    best = min(h + max(a2, b2), h + max(-a2, -b2))
+    dx = b0 - a0
+    dy = b1 - a1
+    dd = dx * dx + dy * dy
+    t = 0.0
+    if dd > 0.0:
+        t = min(max(-(a0 * dx + a1 * dy) / dd, 0.0), 1.0)
+    cx = a0 + t * dx
+    cy = a1 + t * dy
+    best = min(best, rc - math.sqrt(cx * cx + cy * cy))
+    w0, w1, w2 = b0 - a0, b1 - a1, b2 - a2
+    wn = math.sqrt(w0 * w0 + w1 * w1 + w2 * w2)
+    if wn > 0.0:
+        w0 /= wn
+        w1 /= wn
+        w2 /= wn
+        # u: w crossed with the axis least aligned with w; v = w x u
+        if abs(w0) <= abs(w1) and abs(w0) <= abs(w2):
+            u0, u1, u2 = 0.0, w2, -w1
+        elif abs(w1) <= abs(w2):
+            u0, u1, u2 = -w2, 0.0, w0
+        else:
+            u0, u1, u2 = w1, -w0, 0.0
+        un = math.sqrt(u0 * u0 + u1 * u1 + u2 * u2)
+        u0 /= un
+        u1 /= un
+        u2 /= un
+        v0 = w1 * u2 - w2 * u1
+        v1 = w2 * u0 - w0 * u2
+        v2 = w0 * u1 - w1 * u0
+        step = 2.0 * math.pi / CIRCLE_SAMPLES
+        kbest = 0
+        gbest = np.inf
+        cs = math.cos(step)
+        sn = math.sin(step)
+        c = 1.0
+        s = 0.0
+        for k in range(CIRCLE_SAMPLES):   # (c, s) turned by one step each time: no trigonometry in the loop
+            g = _cyl_g(c * u0 + s * v0, c * u1 + s * v1, c * u2 + s * v2, a0, a1, a2, rc, h)
+            if g < gbest:
+                gbest = g
+                kbest = k
+            c, s = c * cs - s * sn, s * cs + c * sn
+        lo = (kbest - 1) * step
+        hi = (kbest + 1) * step
+        x1 = hi - GOLDEN * (hi - lo)
+        x2 = lo + GOLDEN * (hi - lo)
+        c, s = math.cos(x1), math.sin(x1)
+        f1 = _cyl_g(c * u0 + s * v0, c * u1 + s * v1, c * u2 + s * v2, a0, a1, a2, rc, h)
+        c, s = math.cos(x2), math.sin(x2)
+        f2 = _cyl_g(c * u0 + s * v0, c * u1 + s * v1, c * u2 + s * v2, a0, a1, a2, rc, h)
+        for _ in range(60):
+            if f1 <= f2:
+                hi = x2
+                x2 = x1
+                f2 = f1
+                x1 = hi - GOLDEN * (hi - lo)
+                c, s = math.cos(x1), math.sin(x1)
+                f1 = _cyl_g(c * u0 + s * v0, c * u1 + s * v1, c * u2 + s * v2, a0, a1, a2, rc, h)
+            else:
+                lo = x1
+                x1 = x2
+                f1 = f2
+                x2 = lo + GOLDEN * (hi - lo)
+                c, s = math.cos(x2), math.sin(x2)
+                f2 = _cyl_g(c * u0 + s * v0, c * u1 + s * v1, c * u2 + s * v2, a0, a1, a2, rc, h)
+        best = min(best, gbest, f1, f2)
+    return best
+
+
+@njit(cache=True)
+def _cyl_plane(W, i, j, half):
+    """Signed distance of cylinder item i to the half-space item j: its lowest point along the normal, exact."""
+    n0, n1, n2 = W[j, 0, 2], W[j, 1, 2], W[j, 2, 2]
+    off = n0 * W[j, 0, 3] + n1 * W[j, 1, 3] + n2 * W[j, 2, 3]
+    c = n0 * W[i, 0, 3] + n1 * W[i, 1, 3] + n2 * W[i, 2, 3]
+    nz = n0 * W[i, 0, 2] + n1 * W[i, 1, 2] + n2 * W[i, 2, 2]
+    return c - half[i, 2] * abs(nz) - half[i, 0] * math.sqrt(max(1.0 - nz * nz, 0.0)) - off
+
+
+@njit(cache=True)
+def _support(k, i, n0, n1, n2, P0, P1, W, half):
+    """The point of item i (its core: a segment without its radius, a box, a cylinder) farthest along n."""
+    if k == SEGF or k == SEGL:
+        if n0 * P0[i, 0] + n1 * P0[i, 1] + n2 * P0[i, 2] >= n0 * P1[i, 0] + n1 * P1[i, 1] + n2 * P1[i, 2]:
+            return P0[i, 0], P0[i, 1], P0[i, 2]
+        return P1[i, 0], P1[i, 1], P1[i, 2]
+    x0, x1, x2 = W[i, 0, 3], W[i, 1, 3], W[i, 2, 3]
+    if k == BOX:
+        for c in range(3):
+            s = half[i, c] if n0 * W[i, 0, c] + n1 * W[i, 1, c] + n2 * W[i, 2, c] >= 0.0 else -half[i, c]
+            x0 += s * W[i, 0, c]
+            x1 += s * W[i, 1, c]
+            x2 += s * W[i, 2, c]
+        return x0, x1, x2
+    # cylinder: the cap on n's side, then the rim point towards n's part across the axis
+    z0, z1, z2 = W[i, 0, 2], W[i, 1, 2], W[i, 2, 2]
+    nz = n0 * z0 + n1 * z1 + n2 * z2
+    s = half[i, 2] if nz >= 0.0 else -half[i, 2]
+    p0, p1, p2 = n0 - nz * z0, n1 - nz * z1, n2 - nz * z2
+    pz = p0 * z0 + p1 * z1 + p2 * z2     # again: n along the axis leaves rounding noise that must stay across it
+    p0, p1, p2 = p0 - pz * z0, p1 - pz * z1, p2 - pz * z2
+    pn = math.sqrt(p0 * p0 + p1 * p1 + p2 * p2)
+    x0 += s * z0
+    x1 += s * z1
+    x2 += s * z2
+    if pn > 1e-300:
+        f = half[i, 0] / pn
+        x0 += f * p0
+        x1 += f * p1
+        x2 += f * p2
+    return x0, x1, x2
+
+
+@njit(cache=True)
+def _center(k, i, P0, P1, W):
+    if k == SEGF or k == SEGL:
+        return 0.5 * (P0[i, 0] + P1[i, 0]), 0.5 * (P0[i, 1] + P1[i, 1]), 0.5 * (P0[i, 2] + P1[i, 2])
+    return W[i, 0, 3], W[i, 1, 3], W[i, 2, 3]
+
+
+@njit(cache=True)
+def _sep(ki, i, kj, j, u0, u1, u2, P0, P1, W, half):
+    """``min over a in i, b in j of (a - b) · u`` for unit u: a lower bound of the signed distance of i and j (cores)."""
+    a0, a1, a2 = _support(ki, i, -u0, -u1, -u2, P0, P1, W, half)
+    b0, b1, b2 = _support(kj, j, u0, u1, u2, P0, P1, W, half)
+    return (a0 - b0) * u0 + (a1 - b1) * u1 + (a2 - b2) * u2
+
+
+@njit(cache=True)
+def _closest_simplex(S, m):
+    """Point of the convex hull of S[:m] (m <= 4 points) nearest the origin: (v0, v1, v2, mask of the face used).
+
+    Every face (subset) whose affine nearest point has positive barycentric weights is a candidate;
+    the hull's nearest point is the candidate nearest the origin (Johnson's rule, by enumeration).
+    """
+    best = np.inf
+    bv0 = bv1 = bv2 = 0.0
+    bmask = 1
+    for mask in range(1, 1 << m):
+        idx0 = idx1 = idx2 = idx3 = -1
+        c = 0
+        for k in range(m):
+            if mask & (1 << k):
+                if c == 0:
+                    idx0 = k
+                elif c == 1:
+                    idx1 = k
+                elif c == 2:
+                    idx2 = k
+                else:
+                    idx3 = k
+                c += 1
+        x0, x1, x2 = S[idx0, 0], S[idx0, 1], S[idx0, 2]
+        if c == 1:
+            v0, v1, v2 = x0, x1, x2
+        elif c == 2:
+            d0, d1, d2 = S[idx1, 0] - x0, S[idx1, 1] - x1, S[idx1, 2] - x2
+            dd = d0 * d0 + d1 * d1 + d2 * d2
+            if dd <= 0.0:
+                continue
+            t = -(x0 * d0 + x1 * d1 + x2 * d2) / dd
+            if not (t > 0.0 and t < 1.0):
+                continue
+            v0, v1, v2 = x0 + t * d0, x1 + t * d1, x2 + t * d2
+        elif c == 3:
+            d0, d1, d2 = S[idx1, 0] - x0, S[idx1, 1] - x1, S[idx1, 2] - x2
+            e0, e1, e2 = S[idx2, 0] - x0, S[idx2, 1] - x1, S[idx2, 2] - x2
+            a11 = d0 * d0 + d1 * d1 + d2 * d2
+            a12 = d0 * e0 + d1 * e1 + d2 * e2
+            a22 = e0 * e0 + e1 * e1 + e2 * e2
+            r1 = -(x0 * d0 + x1 * d1 + x2 * d2)
+            r2 = -(x0 * e0 + x1 * e1 + x2 * e2)
+            det = a11 * a22 - a12 * a12
+            if not det > 1e-14 * a11 * a22:
+                continue
+            s = (r1 * a22 - r2 * a12) / det
+            t = (a11 * r2 - a12 * r1) / det
+            if not (s > 0.0 and t > 0.0 and s + t < 1.0):
+                continue
+            v0, v1, v2 = x0 + s * d0 + t * e0, x1 + s * d1 + t * e1, x2 + s * d2 + t * e2
+        else:
+            d0, d1, d2 = S[idx1, 0] - x0, S[idx1, 1] - x1, S[idx1, 2] - x2
+            e0, e1, e2 = S[idx2, 0] - x0, S[idx2, 1] - x1, S[idx2, 2] - x2
+            f0, f1, f2 = S[idx3, 0] - x0, S[idx3, 1] - x1, S[idx3, 2] - x2
+            # origin = x + s d + t e + r f: solve by Cramer's rule
+            det = d0 * (e1 * f2 - e2 * f1) - d1 * (e0 * f2 - e2 * f0) + d2 * (e0 * f1 - e1 * f0)
+            vol = math.sqrt(d0 * d0 + d1 * d1 + d2 * d2) * math.sqrt(e0 * e0 + e1 * e1 + e2 * e2) * \
+                math.sqrt(f0 * f0 + f1 * f1 + f2 * f2)
+            if not abs(det) > 1e-12 * vol:
+                continue
+            g0, g1, g2 = -x0, -x1, -x2
+            s = (g0 * (e1 * f2 - e2 * f1) - g1 * (e0 * f2 - e2 * f0) + g2 * (e0 * f1 - e1 * f0)) / det
+            t = (d0 * (g1 * f2 - g2 * f1) - d1 * (g0 * f2 - g2 * f0) + d2 * (g0 * f1 - g1 * f0)) / det
+            r = (d0 * (e1 * g2 - e2 * g1) - d1 * (e0 * g2 - e2 * g0) + d2 * (e0 * g1 - e1 * g0)) / det
+            if not (s > 0.0 and t > 0.0 and r > 0.0 and s + t + r < 1.0):
+                continue
+            v0 = v1 = v2 = 0.0
+        nv = v0 * v0 + v1 * v1 + v2 * v2
+        if nv < best:
+            best = nv
+            bv0, bv1, bv2 = v0, v1, v2
+            bmask = mask
+    return bv0, bv1, bv2, bmask
+
+
+@njit(cache=True)
+def _convex(ki, i, kj, j, P0, P1, W, half, S, exact=True):
+    """Signed distance of two convex items' cores (segments, boxes, cylinders), a lower bound that is exact when apart.
+
+    Every value returned is ``min over a in i, b in j of (a - b) · u`` for some unit ``u``, which is
+    never larger than the signed distance: a colliding pair is never reported clear.
+
+    * Apart: GJK (Gilbert, Johnson, Keerthi 1988) on the Minkowski difference, stopped when its
+      lower bound is within 1e-12 (relative) of the upper: the distance, to that tolerance.
+    * Overlapping: minus a penetration depth from the best of the separating axes of the two
+      (face normals, axes, their cross products, the centres' offset and its parts across each
+      axis), refined by a pattern search over directions. For two boxes these axes give the exact
+      depth (the separating axis theorem); with a cylinder the value is a bound: never shallower
+      than the true depth, usually equal.
+
+    ``S`` is scratch (4, 3). With ``exact=False`` (a yes/no check) an overlap returns a negative number
+    without the search for the depth.
+    """
+    # a starting direction: the centres' offset
+    ca0, ca1, ca2 = _center(ki, i, P0, P1, W)
+    cb0, cb1, cb2 = _center(kj, j, P0, P1, W)
+    v0, v1, v2 = ca0 - cb0, ca1 - cb1, ca2 - cb2
+    if v0 * v0 + v1 * v1 + v2 * v2 == 0.0:
+        v0 = 1.0
+    lb = -np.inf
+    m = 0
+    overlap = False
+    for _ in range(96):
+        vv = v0 * v0 + v1 * v1 + v2 * v2
+        vn = math.sqrt(vv)
+        if vn <= 1e-15 * (1.0 + abs(ca0) + abs(ca1) + abs(ca2)):
+            overlap = True
+            break
+        a0, a1, a2 = _support(ki, i, -v0, -v1, -v2, P0, P1, W, half)
+        b0, b1, b2 = _support(kj, j, v0, v1, v2, P0, P1, W, half)
+        w0, w1, w2 = a0 - b0, a1 - b1, a2 - b2
+        lb = max(lb, (v0 * w0 + v1 * w1 + v2 * w2) / vn)
+        if vn - lb <= 1e-12 * vn:
+            break
+        dup = False
+        for k in range(m):
+            if S[k, 0] == w0 and S[k, 1] == w1 and S[k, 2] == w2:
+                dup = True
+        if dup:
+            break
+        S[m, 0], S[m, 1], S[m, 2] = w0, w1, w2
+        m += 1
+        v0, v1, v2, mask = _closest_simplex(S, m)
+        if mask == (1 << m) - 1 and m == 4:
+            overlap = True
+            break
+        k2 = 0
+        for k in range(m):
+            if mask & (1 << k):
+                S[k2, 0], S[k2, 1], S[k2, 2] = S[k, 0], S[k, 1], S[k, 2]
+                k2 += 1
+        m = k2
+    if not overlap:
+        return lb
+    if not exact:
+        return min(lb, -1e-300)
+    # overlapping: separating axes, a sphere of directions, then a pattern search from the best
+    fb, nb0, nb1, nb2 = lb, 1.0, 0.0, 0.0
+    fb, nb0, nb1, nb2 = _cand(fb, nb0, nb1, nb2, ki, i, kj, j, ca0 - cb0, ca1 - cb1, ca2 - cb2, P0, P1, W, half)
+    for side in range(2):
+        k = ki if side == 0 else kj
+        it = i if side == 0 else j
+        if k == SEGF or k == SEGL:
+            continue
+        for c in range(3):
+            if k == CYL and c != 2:
+                continue
+            fb, nb0, nb1, nb2 = _cand(fb, nb0, nb1, nb2, ki, i, kj, j, W[it, 0, c], W[it, 1, c], W[it, 2, c],
+                                      P0, P1, W, half)
+        if k == CYL:   # the centres' offset across the axis
+            z0, z1, z2 = W[it, 0, 2], W[it, 1, 2], W[it, 2, 2]
+            o0, o1, o2 = ca0 - cb0, ca1 - cb1, ca2 - cb2
+            oz = o0 * z0 + o1 * z1 + o2 * z2
+            fb, nb0, nb1, nb2 = _cand(fb, nb0, nb1, nb2, ki, i, kj, j, o0 - oz * z0, o1 - oz * z1, o2 - oz * z2,
+                                      P0, P1, W, half)
+    for ca in range(3):
+        if ki == SEGF or ki == SEGL:
+            if ca > 0:
+                break
+            x0, x1, x2 = P1[i, 0] - P0[i, 0], P1[i, 1] - P0[i, 1], P1[i, 2] - P0[i, 2]
+        else:
+            if ki == CYL and ca != 2:
+                continue
+            x0, x1, x2 = W[i, 0, ca], W[i, 1, ca], W[i, 2, ca]
+        for cb in range(3):
+            if kj == SEGF or kj == SEGL:
+                if cb > 0:
+                    break
+                y0, y1, y2 = P1[j, 0] - P0[j, 0], P1[j, 1] - P0[j, 1], P1[j, 2] - P0[j, 2]
+            else:
+                if kj == CYL and cb != 2:
+                    continue
+                y0, y1, y2 = W[j, 0, cb], W[j, 1, cb], W[j, 2, cb]
+            fb, nb0, nb1, nb2 = _cand(fb, nb0, nb1, nb2, ki, i, kj, j, x1 * y2 - x2 * y1, x2 * y0 - x0 * y2,
+                                      x0 * y1 - x1 * y0, P0, P1, W, half)
+    if ki == BOX and kj == BOX:
+        return fb     # the separating axis theorem: these axes give the exact depth of two boxes
+    # a Fibonacci sphere of directions; the pattern search then climbs from the axes' best and the
+    # sphere's best STARTS directions (the separation has ridges: one start can stop on a lower one)
+    golden_angle = math.pi * (3.0 - math.sqrt(5.0))
+    top = np.full(STARTS, -np.inf)
+    dirs = np.zeros((STARTS + 1, 3))
+    dirs[STARTS, 0], dirs[STARTS, 1], dirs[STARTS, 2] = nb0, nb1, nb2
+    for k in range(SPHERE_SAMPLES):
+        z = 1.0 - (2.0 * k + 1.0) / SPHERE_SAMPLES
+        r = math.sqrt(max(1.0 - z * z, 0.0))
+        x, y = r * math.cos(golden_angle * k), r * math.sin(golden_angle * k)
+        f = _sep(ki, i, kj, j, x, y, z, P0, P1, W, half)
+        m = 0
+        for t in range(1, STARTS):
+            if top[t] < top[m]:
+                m = t
+        if f > top[m]:
+            top[m] = f
+            dirs[m, 0], dirs[m, 1], dirs[m, 2] = x, y, z
+    for st in range(STARTS + 1):
+        if st < STARTS and top[st] == -np.inf:
+            continue
+        f = _climb(ki, i, kj, j, dirs[st, 0], dirs[st, 1], dirs[st, 2], P0, P1, W, half)
+        if f > fb:
+            fb = f
+    return fb
+
+
+@njit(cache=True)
+def _climb(ki, i, kj, j, n0, n1, n2, P0, P1, W, half):
+    """The separation of items i and j climbed from unit direction n by a pattern search on the sphere
+    (8 moves: along two tangents and their diagonals; the step halves when none improves)."""
+    fb = _sep(ki, i, kj, j, n0, n1, n2, P0, P1, W, half)
+    step = 0.1
+    for _ in range(400):
+        if abs(n0) < 0.9:
+            t0, t1, t2 = 0.0, n2, -n1
+        else:
+            t0, t1, t2 = -n2, 0.0, n0
+        tn = math.sqrt(t0 * t0 + t1 * t1 + t2 * t2)
+        t0 /= tn
+        t1 /= tn
+        t2 /= tn
+        s0 = n1 * t2 - n2 * t1
+        s1 = n2 * t0 - n0 * t2
+        s2 = n0 * t1 - n1 * t0
+        c = math.cos(step)
+        sn = math.sin(step)
+        moved = False
+        for d in range(8):
+            a = d * (math.pi / 4.0)
+            ca = math.cos(a) * sn
+            sa = math.sin(a) * sn
+            x = c * n0 + ca * t0 + sa * s0
+            y = c * n1 + ca * t1 + sa * s1
+            z = c * n2 + ca * t2 + sa * s2
+            f = _sep(ki, i, kj, j, x, y, z, P0, P1, W, half)
+            if f > fb:
+                fb = f
+                n0, n1, n2 = x, y, z
+                moved = True
+                break
+        if not moved:
+            step *= 0.5
+            if step < 1e-9:
+                break
+    return fb
+
+
+@njit(cache=True)
+def _cand(fb, nb0, nb1, nb2, ki, i, kj, j, u0, u1, u2, P0, P1, W, half):
+    """The best (separation, direction) so far, updated with ±u (u need not be unit; ~0 is skipped)."""
+    un = math.sqrt(u0 * u0 + u1 * u1 + u2 * u2)
+    if un < 1e-12:
+        return fb, nb0, nb1, nb2
+    u0 /= un
+    u1 /= un
+    u2 /= un
+    f = _sep(ki, i, kj, j, u0, u1, u2, P0, P1, W, half)
+    if f > fb:
+        fb, nb0, nb1, nb2 = f, u0, u1, u2
+    f = _sep(ki, i, kj, j, -u0, -u1, -u2, P0, P1, W, half)
+    if f > fb:
+        fb, nb0, nb1, nb2 = f, -u0, -u1, -u2
+    return fb, nb0, nb1, nb2
+
+
 @njit(cache=True)
 def _place(frames, items, placed, moving_only=False):
     """World data of every item for one configuration: segment ends P0/P1, poses W, bounding spheres C/R.
@@ -246,46 +732,63 @@ def _place(frames, items, placed, moving_only=False):
                 C[i, j] = 0.5 * (P0[i, j] + P1[i, j])
                 hl += (P1[i, j] - P0[i, j]) ** 2
             R[i] = 0.5 * math.sqrt(hl)
-        elif k == BOX:
+        elif k == BOX or k == CYL:
             for j in range(3):
                 C[i, j] = W[i, j, 3]
-            R[i] = -1.0    # set by the caller's half extents (bounding radius stored in rad)
+            R[i] = -1.0    # set by the caller from the item's bounding radius
 
 
 @njit(cache=True, inline="always")
-def _pair(i, j, items, placed, ts):
-    """Signed distance of items i and j (placed for this configuration); ``ts`` scratch (8,)."""
+def _pair(i, j, items, placed, ts, S, exact):
+    """Signed distance of items i and j (placed for this configuration); ``ts`` scratch (8,), ``S`` (4, 3).
+    ``exact=False``: a yes/no check, where an overlap needs only a negative number, not its depth.
+
+    The compiled pair table: segment (a capsule or a ball: SEGF, SEGL) against a segment, a box, a
+    cylinder or a half-space by its exact formula; a half-space against a box or a cylinder by the
+    lowest point; the other solid pairs (box, cylinder) by :func:`_convex`.
+    """
     kind, rad, half = items[0], items[5], items[6]
     P0, P1, W = placed[0], placed[1], placed[2]
     ki = kind[i]
     kj = kind[j]
-    if ki == BOX or ki == PLANE:
+    if ki != SEGF and ki != SEGL:     # a segment first, a half-space last
         i, j = j, i
         ki, kj = kj, ki
-    if kj == SEGF or kj == SEGL:
-        return _seg_seg(P0, P1, i, j) - rad[i] - rad[j]
-    if kj == BOX:
-        if ki == PLANE:   # box against a plane (an arm box on the ground): the lowest corner
-            n0, n1, n2 = W[i, 0, 2], W[i, 1, 2], W[i, 2, 2]
-            off = n0 * W[i, 0, 3] + n1 * W[i, 1, 3] + n2 * W[i, 2, 3]
-            best = np.inf
-            for sx in (-1.0, 1.0):
-                for sy in (-1.0, 1.0):
-                    for sz in (-1.0, 1.0):
-                        v = 0.0
-                        for r in range(3):
-                            x = W[j, r, 3] + sx * half[j, 0] * W[j, r, 0] + sy * half[j, 1] * W[j, r, 1] + \
-                                sz * half[j, 2] * W[j, r, 2]
-                            v += (n0, n1, n2)[r] * x
-                        best = min(best, v - off)
-            return best
-        return _seg_box(P0[i], P1[i], W[j], half[j], ts) - rad[i]
-    # plane
-    n0, n1, n2 = W[j, 0, 2], W[j, 1, 2], W[j, 2, 2]
-    off = n0 * W[j, 0, 3] + n1 * W[j, 1, 3] + n2 * W[j, 2, 3]
-    d0 = n0 * P0[i, 0] + n1 * P0[i, 1] + n2 * P0[i, 2]
-    d1 = n0 * P1[i, 0] + n1 * P1[i, 1] + n2 * P1[i, 2]
-    return min(d0, d1) - off - rad[i]
+    if ki == PLANE:
+        i, j = j, i
+        ki, kj = kj, ki
+    if ki == SEGF or ki == SEGL:
+        if kj == SEGF or kj == SEGL:
+            return _seg_seg(P0, P1, i, j) - rad[i] - rad[j]
+        if kj == BOX:
+            return _seg_box(P0[i], P1[i], W[j], half[j], ts) - rad[i]
+        if kj == CYL:
+            return _seg_cyl(P0[i], P1[i], W[j], half[j, 0], half[j, 2], exact) - rad[i]
+        n0, n1, n2 = W[j, 0, 2], W[j, 1, 2], W[j, 2, 2]
+        off = n0 * W[j, 0, 3] + n1 * W[j, 1, 3] + n2 * W[j, 2, 3]
+        d0 = n0 * P0[i, 0] + n1 * P0[i, 1] + n2 * P0[i, 2]
+        d1 = n0 * P1[i, 0] + n1 * P1[i, 1] + n2 * P1[i, 2]
+        return min(d0, d1) - off - rad[i]
+    if kj == PLANE:
+        if ki == CYL:
+            return _cyl_plane(W, i, j, half)
+        if ki == PLANE:
+            return np.inf
+        # box against a plane (an arm box on the ground): the lowest corner
+        n0, n1, n2 = W[j, 0, 2], W[j, 1, 2], W[j, 2, 2]
+        off = n0 * W[j, 0, 3] + n1 * W[j, 1, 3] + n2 * W[j, 2, 3]
+        best = np.inf
+        for sx in (-1.0, 1.0):
+            for sy in (-1.0, 1.0):
+                for sz in (-1.0, 1.0):
+                    v = 0.0
+                    for r in range(3):
+                        x = W[i, r, 3] + sx * half[i, 0] * W[i, r, 0] + sy * half[i, 1] * W[i, r, 1] + \
+                            sz * half[i, 2] * W[i, r, 2]
+                        v += (n0, n1, n2)[r] * x
+                    best = min(best, v - off)
+        return best
+    return _convex(ki, i, kj, j, P0, P1, W, half, S, exact)
 
 
 CHUNK = 64
@@ -301,12 +804,13 @@ def _scratch(I):
 def _chunk_all(frames, items, pairs, out, c):
     placed = _scratch(items[0].shape[0])
     ts = np.empty(8)
+    S = np.empty((4, 3))
     first = True
     for b in range(c * CHUNK, min((c + 1) * CHUNK, frames.shape[0])):
         _place(frames[b], items, placed, not first)
         first = False
         for p in range(pairs.shape[0]):
-            out[b, p] = _pair(pairs[p, 0], pairs[p, 1], items, placed, ts)
+            out[b, p] = _pair(pairs[p, 0], pairs[p, 1], items, placed, ts, S, True)
 
 
 @njit(cache=True, parallel=True)
@@ -328,6 +832,7 @@ def _chunk_min(frames, items, pairs, dist, arg, stop, c):
     placed = _scratch(I)
     C, R, W = placed[3], placed[4], placed[2]
     ts = np.empty(8)
+    S = np.empty((4, 3))
     yes_no = stop == 0.0
     first = True
     for b in range(c * CHUNK, min((c + 1) * CHUNK, frames.shape[0])):
@@ -335,7 +840,7 @@ def _chunk_min(frames, items, pairs, dist, arg, stop, c):
         for i in range(I):
             if not first and fr[i] < 0 and kind[i] != SEGF:
                 continue
-            if kind[i] == BOX:
+            if kind[i] == BOX or kind[i] == CYL:
                 R[i] = bound[i]
             elif kind[i] != PLANE:
                 R[i] += rad[i]
@@ -347,9 +852,11 @@ def _chunk_min(frames, items, pairs, dist, arg, stop, c):
             j = pairs[p, 1]
             ki = kind[i]
             kj = kind[j]
-            if ki != PLANE and kj != PLANE and not (ki == BOX and kj == BOX):
+            if ki != PLANE and kj != PLANE:
                 # lower bounds from squared distances (no square root unless needed)
-                if kj == BOX or ki == BOX:   # the segment's bounding ball against the box itself
+                iseg = ki == SEGF or ki == SEGL
+                jseg = kj == SEGF or kj == SEGL
+                if (kj == BOX and iseg) or (ki == BOX and jseg):   # the segment's bounding ball against the box
                     s_ = i if kj == BOX else j
                     b_ = j if kj == BOX else i
                     f = _point_box_sq(C[s_, 0], C[s_, 1], C[s_, 2], W[b_], half[b_])
@@ -357,18 +864,17 @@ def _chunk_min(frames, items, pairs, dist, arg, stop, c):
                     if f > rs * rs:            # apart: the distance is at least sqrt(f) - rs > 0
                         if yes_no or math.sqrt(f) - rs >= best:
                             continue
-                else:                          # two capsules: their bounding balls (valid overlapping too)
+                else:                          # bounding balls (valid overlapping too)
                     dx = C[i, 0] - C[j, 0]
                     dy = C[i, 1] - C[j, 1]
                     dz = C[i, 2] - C[j, 2]
                     dsq = dx * dx + dy * dy + dz * dz
                     rr = R[i] + R[j]
-                    if dsq > rr * rr:
-                        if yes_no:
-                            continue
+                    if dsq > rr * rr and yes_no:
+                        continue
                     if math.sqrt(dsq) - rr >= best:
                         continue
-            d = _pair(i, j, items, placed, ts)
+            d = _pair(i, j, items, placed, ts, S, not yes_no)
             if d < best:
                 best = d
                 barg = p

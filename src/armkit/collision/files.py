@@ -35,7 +35,7 @@ from pathlib import Path
 from typing import Any, Callable
 
 from ..errors import SceneFileError
-from .shapes import Scene, SceneError, Shape
+from .shapes import KIND_TABLE, Scene, SceneError, Shape
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -49,14 +49,8 @@ MAX_SHAPES = 10_000                  # shapes in one scene file (or a robot file
 MAX_SCENE_BYTES = 16 * 1024 ** 2     # a scene file larger than this is refused unread (as robot files are)
 
 _SCENE_TOP = {"unit", "angle_unit", "shapes", "name", "description"}
-SHAPE_KEYS = {
-    "plane": {"normal", "offset"},
-    "box": {"center", "size", "rpy"},
-    "sphere": {"center", "radius"},
-    "cylinder": {"center", "radius", "length", "rpy"},
-    "capsule": {"a", "b", "radius"},
-    "mesh": {"path", "xyz", "rpy", "scale"},
-}
+SHAPE_KEYS = {name: row.keys for name, row in KIND_TABLE.items()}
+"""The file keys of each shape type (from :data:`armkit.collision.shapes.KIND_TABLE`)."""
 _COMMON = {"type", "name", "allow"}
 
 
@@ -91,29 +85,12 @@ def shape_from_table(row: Any, where: str, fail: Callable[[str, str, str | None]
     if not isinstance(row, dict):
         raise fail("must be a table", where, None)
     kind = row.get("type")
-    if not isinstance(kind, str) or kind not in SHAPE_KEYS:     # type = [] or {} is not hashable
-        raise fail(f"type must be one of {', '.join(SHAPE_KEYS)}; got {kind!r}", f"{where}.type", "type")
-    allowed = SHAPE_KEYS[kind] | _COMMON | extra
+    if not isinstance(kind, str) or kind not in KIND_TABLE:     # type = [] or {} is not hashable
+        raise fail(f"type must be one of {', '.join(KIND_TABLE)}; got {kind!r}", f"{where}.type", "type")
+    allowed = KIND_TABLE[kind].keys | _COMMON | extra
     bad = sorted(set(row) - allowed)
     if bad:
         raise fail(f"unknown key for a {kind}; allowed: {', '.join(sorted(allowed))}", f"{where}.{bad[0]}", bad[0])
-
-    def num(key: str, default: float | None = None) -> float:
-        v = row.get(key, default)
-        if v is None:
-            raise fail(f"a {kind} needs {key} = <number>", f"{where}.{key}", key)
-        if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
-            raise fail(f"must be a finite number, got {v!r}", f"{where}.{key}", key)
-        return float(v)
-
-    def vec(key: str, default: list | None = None) -> list[float]:
-        v = row.get(key, default)
-        if v is None:
-            raise fail(f"a {kind} needs {key} = [x, y, z]", f"{where}.{key}", key)
-        if not isinstance(v, list) or len(v) != 3 or any(
-                isinstance(x, bool) or not isinstance(x, (int, float)) or not math.isfinite(x) for x in v):
-            raise fail(f"must be a list of 3 finite numbers, got {v!r}", f"{where}.{key}", key)
-        return [float(x) for x in v]
 
     name = row.get("name", "")
     if not isinstance(name, str):
@@ -121,51 +98,67 @@ def shape_from_table(row: Any, where: str, fail: Callable[[str, str, str | None]
     allow = row.get("allow", [])
     if not isinstance(allow, list) or not all(isinstance(a, str) for a in allow):
         raise fail(f"must be a list of link names, got {allow!r}", f"{where}.allow", "allow")
+    fields = _Fields(row, kind, where, fail, angle, name, allow, base_dir, meshes)
     try:
-        if kind == "plane":
-            shape = Scene.plane(vec("normal"), num("offset", 0.0), name=name, allow=allow)
-        elif kind == "box":
-            shape = Scene.box(vec("center"), vec("size"), [v * angle for v in vec("rpy", [0, 0, 0])], name=name,
-                              allow=allow)
-        elif kind == "sphere":
-            shape = Scene.sphere(vec("center"), num("radius"), name=name, allow=allow)
-        elif kind == "cylinder":
-            shape = Scene.cylinder(vec("center"), num("radius"), num("length"),
-                                   [v * angle for v in vec("rpy", [0, 0, 0])], name=name, allow=allow)
-        elif kind == "capsule":
-            shape = Scene.capsule(vec("a"), vec("b"), num("radius"), name=name, allow=allow)
-        else:
-            from ..spatial import make_pose, rpy_to_rotation
-
-            p = row.get("path")
-            if not isinstance(p, str) or not p:
-                raise fail(f"a mesh needs path = \"file.stl\", got {p!r}", f"{where}.path", "path")
-            if meshes is None:
-                meshes = mesh_lookup(base_dir if base_dir is not None else Path.cwd())
-            found, refused = meshes._locate(p)
-            if refused:
-                raise fail(f"mesh path {_short(p)!r} leads outside the file's folder and the package path; it was "
-                           f"not read (to read it anyway: allow_outside=True, or set {_ALLOW_OUTSIDE}=1)",
-                           f"{where}.path", "path")
-            if found is None:
-                full = Path(p) if Path(p).is_absolute() or base_dir is None else base_dir / p
-                raise fail(f"mesh file not found: {_short(str(full))!r}", f"{where}.path", "path")
-            from .._limits import check_mesh_file
-            from ..errors import LimitError
-
-            try:
-                check_mesh_file(found)           # a 3 GB file is refused here, unread
-            except LimitError as exc:
-                raise fail(str(exc), f"{where}.path", "path") from None
-            full = Path(found)
-            import numpy as np
-
-            pose = make_pose(rpy_to_rotation(np.array(vec("rpy", [0, 0, 0])) * angle), np.array(vec("xyz", [0, 0, 0])))
-            shape = Scene.mesh(str(full), pose, vec("scale", [1, 1, 1]), name=name, allow=allow)
+        shape = KIND_TABLE[kind].read(fields)
     except SceneError as exc:
         key = next((k for k in ("size", "radius", "length", "normal", "offset") if k in str(exc)), None)
         raise fail(str(exc), f"{where}.{key}" if key else where, key) from None
     return shape, {k: row[k] for k in extra if k in row}
+
+
+class _Fields:
+    """One file table as a kind's ``read`` sees it (:class:`armkit.collision.shapes.Fields`): every malformed or
+    missing key raises the file's error naming it."""
+
+    def __init__(self, row: dict, kind: str, where: str, fail: Callable[[str, str, str | None], Exception],
+                 angle: float, name: str, allow: list[str], base_dir: Path | None, meshes: Any) -> None:
+        self.row, self.kind, self.where, self.fail, self.angle = row, kind, where, fail, angle
+        self.name, self.allow, self.base_dir, self.meshes = name, allow, base_dir, meshes
+
+    def number(self, key: str, default: float | None = None) -> float:
+        v = self.row.get(key, default)
+        if v is None:
+            raise self.fail(f"a {self.kind} needs {key} = <number>", f"{self.where}.{key}", key)
+        if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+            raise self.fail(f"must be a finite number, got {v!r}", f"{self.where}.{key}", key)
+        return float(v)
+
+    def vector(self, key: str, default: list[float] | None = None) -> list[float]:
+        v = self.row.get(key, default)
+        if v is None:
+            raise self.fail(f"a {self.kind} needs {key} = [x, y, z]", f"{self.where}.{key}", key)
+        if not isinstance(v, list) or len(v) != 3 or any(
+                isinstance(x, bool) or not isinstance(x, (int, float)) or not math.isfinite(x) for x in v):
+            raise self.fail(f"must be a list of 3 finite numbers, got {v!r}", f"{self.where}.{key}", key)
+        return [float(x) for x in v]
+
+    def angles(self, key: str) -> list[float]:
+        return [v * self.angle for v in self.vector(key, [0.0, 0.0, 0.0])]
+
+    def mesh_file(self, key: str) -> str:
+        where, fail = self.where, self.fail
+        p = self.row.get(key)
+        if not isinstance(p, str) or not p:
+            raise fail(f"a mesh needs {key} = \"file.stl\", got {p!r}", f"{where}.{key}", key)
+        if self.meshes is None:
+            self.meshes = mesh_lookup(self.base_dir if self.base_dir is not None else Path.cwd())
+        found, refused = self.meshes._locate(p)
+        if refused:
+            raise fail(f"mesh path {_short(p)!r} leads outside the file's folder and the package path; it was "
+                       f"not read (to read it anyway: allow_outside=True, or set {_ALLOW_OUTSIDE}=1)",
+                       f"{where}.{key}", key)
+        if found is None:
+            full = Path(p) if Path(p).is_absolute() or self.base_dir is None else self.base_dir / p
+            raise fail(f"mesh file not found: {_short(str(full))!r}", f"{where}.{key}", key)
+        from .._limits import check_mesh_file
+        from ..errors import LimitError
+
+        try:
+            check_mesh_file(found)           # a 3 GB file is refused here, unread
+        except LimitError as exc:
+            raise fail(str(exc), f"{where}.{key}", key) from None
+        return str(Path(found))
 
 
 _ALLOW_OUTSIDE = "ARMKIT_ALLOW_OUTSIDE"

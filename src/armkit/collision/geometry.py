@@ -63,8 +63,11 @@ def robot_scene(robot: Robot) -> Scene:
 
 @dataclass(frozen=True, eq=False)
 class Solid:
-    """One solid of the arm: ``kind`` "segment" (a capsule between two frame origins) or a Shape kind.
+    """One solid of the arm: where a :class:`Shape` sits on the chain, or a chain segment.
 
+    ``kind`` "segment" is a capsule between two frame origins (``ends``, radius ``size[0]``); any
+    other kind is a row of :data:`armkit.collision.shapes.KIND_TABLE` and ``shape`` is the
+    :class:`Shape` itself (``kind`` and ``size`` are its own, kept here for the kernels' packing).
     ``frame`` indexes :func:`armkit.fk_frames`; ``local`` is the shape's pose in that frame
     (link offset included). ``level`` orders the solids along the chain (adjacent levels touch).
     """
@@ -127,8 +130,8 @@ def _build(robot: Robot) -> ArmGeometry:
     for lk in links:
         for k, s in enumerate(getattr(lk, "collisions", ())):
             local = np.asarray(lk.offset, dtype=float) @ np.asarray(s.origin, dtype=float)
-            shape = Shape(s.kind, np.eye(4), tuple(s.size), f"{lk.name}", (), lk.name, s.mesh_path,
-                          tuple(s.scale)) if s.kind == "mesh" else None
+            # the model's URDF geometry as the collision side's one shape type (the pose is in `local`)
+            shape = Shape(s.kind, np.eye(4), tuple(s.size), f"{lk.name}", (), lk.name, s.mesh_path, tuple(s.scale))
             if s.kind == "mesh" and not s.mesh_path:
                 continue   # the importer could not find the file: nothing to collide with
             solids.append(Solid(lk.name if len(lk.collisions) == 1 else f"{lk.name}[{k}]", lk.name, s.kind,

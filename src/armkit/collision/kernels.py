@@ -18,7 +18,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 __all__ = ["segment_plane", "segment_sphere", "segment_segment", "segment_box", "segment_cylinder",
-           "capsule_cylinder_depth", "closest_on_segment"]
+           "segment_cylinder_signed", "capsule_cylinder_depth", "closest_on_segment"]
 
 Array = NDArray[np.float64]
 
@@ -173,6 +173,20 @@ def segment_cylinder(p0: Array, p1: Array, T_world_cyl: Array, radius: Array | f
         f1, f2 = np.where(left, fn, f2), np.where(left, f1, fn)
         x1, x2 = nx1, nx2
     return np.minimum(np.minimum(f1, f2), np.minimum(f(np.zeros(lead)), f(np.ones(lead))))
+
+
+def segment_cylinder_signed(p0: Array, p1: Array, T_world_cyl: Array, radius: float, half: float) -> Array:
+    """Signed distance of segments ``(..., 3)`` to a solid cylinder: :func:`segment_cylinder` where they are apart,
+    minus :func:`capsule_cylinder_depth` (one configuration at a time) where they overlap."""
+    shape = np.broadcast_shapes(np.shape(p0)[:-1], np.shape(p1)[:-1], np.shape(T_world_cyl)[:-2])
+    P0 = np.broadcast_to(p0, shape + (3,)).reshape(-1, 3)
+    P1 = np.broadcast_to(p1, shape + (3,)).reshape(-1, 3)
+    TT = np.broadcast_to(T_world_cyl, shape + (4, 4)).reshape(-1, 4, 4)
+    flat = np.array(segment_cylinder(P0, P1, TT, radius, half), dtype=float).reshape(-1)
+    for k in np.flatnonzero(flat <= 0.0):   # overlapping: the depth by support functions
+        R, o = TT[k, :3, :3], TT[k, :3, 3]
+        flat[k] = -capsule_cylinder_depth(R.T @ (P0[k] - o), R.T @ (P1[k] - o), 0.0, radius, half)
+    return flat.reshape(shape)
 
 
 def _circle_min(g, u: Array, v: Array, samples: int = 2048, iterations: int = 100) -> float:

@@ -1,8 +1,10 @@
 """The public queries :func:`collisions` and :func:`clearance`, batched over configurations.
 
-Capsules, spheres, boxes and planes meet through the NumPy kernels of
-:mod:`armkit.collision.kernels`; any other pair (cylinders, meshes, URDF boxes against boxes)
-goes through coal (imported only then).
+Which kernel a pair uses is read from :data:`armkit.collision.shapes.KIND_TABLE`: on the Numba
+back end every pair of planes, boxes, spheres, capsules and cylinders is compiled
+(:mod:`armkit.collision._jit`); without Numba, segments (capsules, balls) meet the other kinds
+through the NumPy kernels of :mod:`armkit.collision.kernels`; meshes, and without Numba the
+solid-solid pairs, go through coal (imported only then).
 """
 
 from __future__ import annotations
@@ -16,7 +18,7 @@ from numpy.typing import ArrayLike, NDArray
 from ..model.robot import Robot
 from . import kernels as K
 from .geometry import ArmGeometry, Solid, arm_geometry, robot_collision, robot_scene
-from .shapes import Scene, SceneError, Shape
+from .shapes import KIND_TABLE, Scene, SceneError, Shape
 
 __all__ = ["Collisions", "collisions", "clearance", "in_collision", "as_scene", "resolve_scene", "checked_against",
            "checked_note"]
@@ -148,22 +150,17 @@ def _world(solid: Solid, frames: Array) -> tuple[str, Any]:
         i, j = solid.ends
         return "seg", (frames[:, i, :3, 3], frames[:, j, :3, 3], solid.size[0])
     T = frames[:, solid.frame] @ solid.local
-    if solid.kind == "sphere":
-        return "seg", (T[:, :3, 3], T[:, :3, 3], solid.size[0])
-    if solid.kind == "capsule":
-        h = 0.5 * solid.size[1] * T[:, :3, 2]
-        return "seg", (T[:, :3, 3] - h, T[:, :3, 3] + h, solid.size[0])
+    swept = KIND_TABLE[solid.kind].swept
+    if swept is not None:
+        return "seg", swept(T, solid.size)
     return "shape", (solid.kind, T, solid.size, solid.shape)
 
 
 def _static(shape: Shape) -> tuple[str, Any]:
-    T = shape.pose
-    if shape.kind == "sphere":
-        return "seg", (T[:3, 3], T[:3, 3], shape.size[0])
-    if shape.kind == "capsule":
-        p0, p1 = shape.segment()
-        return "seg", (p0, p1, shape.size[0])
-    return "shape", (shape.kind, T, shape.size, shape)
+    swept = KIND_TABLE[shape.kind].swept
+    if swept is not None:
+        return "seg", swept(shape.pose, shape.size)
+    return "shape", (shape.kind, shape.pose, shape.size, shape)
 
 
 def _box_plane(T: Array, size: Sequence[float], n: Array, off: float) -> Array:
@@ -182,20 +179,9 @@ def _distance(a: tuple[str, Any], b: tuple[str, Any], batch: int) -> Array:
             q0, q1, r2 = b[1]
             return np.broadcast_to(K.segment_segment(p0, p1, q0, q1) - r - r2, (batch,))
         kind, T, size, _ = b[1]
-        if kind == "plane":
-            n = T[..., :3, 2]
-            off = np.einsum("...i,...i->...", n, T[..., :3, 3])
-            return np.broadcast_to(K.segment_plane(p0, p1, n, off) - r, (batch,))
-        if kind == "box":
-            return np.broadcast_to(K.segment_box(p0, p1, T, 0.5 * np.asarray(size)) - r, (batch,))
-        if kind == "cylinder":   # apart: exact (golden section); overlapping: coal's EPA for the depth
-            d = np.array(np.broadcast_to(K.segment_cylinder(p0, p1, T, size[0], 0.5 * size[1]), (batch,)))
-            for k in np.flatnonzero(d <= 0.0):   # overlapping: the depth by support functions
-                Tk = T if T.ndim == 2 else T[k]
-                ak = Tk[:3, :3].T @ ((p0 if p0.ndim == 1 else p0[k]) - Tk[:3, 3])
-                bk = Tk[:3, :3].T @ ((p1 if p1.ndim == 1 else p1[k]) - Tk[:3, 3])
-                d[k] = -K.capsule_cylinder_depth(ak, bk, 0.0, size[0], 0.5 * size[1])
-            return d - r
+        fn = KIND_TABLE[kind].segment_distance
+        if fn is not None:
+            return np.broadcast_to(fn(p0, p1, T, size) - r, (batch,))
     elif b[1][0] == "plane" and a[1][0] == "box" or a[1][0] == "plane" and b[1][0] == "box":
         box, pl = (a, b) if a[1][0] == "box" else (b, a)
         T = pl[1][1]
@@ -239,37 +225,38 @@ def _pair_distances(geo: ArmGeometry, frames: Array, scene_pairs: list[tuple[int
     return out
 
 
-_JIT_KINDS = {"segment": 0, "sphere": 1, "capsule": 1, "box": 2, "plane": 3}
+SEGMENT = 0
+"""The compiled kernels' code of an arm segment (between two chain frame origins); shapes' codes are
+``KIND_TABLE[kind].kernel``."""
 
 
-def _jit_item(kind: str, frame: int, local: Array, size: Sequence[float], ends: tuple[int, int]) -> tuple:
-    """One item of the Numba kernels: (kind code, frame, end a, end b, L (4, 4), radius, half (3,))."""
+def _jit_item(kind: str, frame: int, local: Array, size: Sequence[float], ends: tuple[int, int]) -> tuple | None:
+    """One item of the Numba kernels: (kind code, frame, end a, end b, L (4, 4), radius, half (3,)); None: no kernel."""
     L = np.zeros((4, 4))
     rad, half = 0.0, np.zeros(3)
-    code = _JIT_KINDS[kind]
     if kind == "segment":
-        rad = size[0]
-    elif kind in ("sphere", "capsule"):
-        h = 0.5 * size[1] if kind == "capsule" else 0.0
-        L[0, :3] = local[:3, 3] - h * local[:3, 2]
-        L[1, :3] = local[:3, 3] + h * local[:3, 2]
-        rad = size[0]
+        return SEGMENT, frame, ends[0], ends[1], L, size[0], half
+    row = KIND_TABLE[kind]
+    if row.kernel is None:
+        return None
+    size = tuple(size)
+    if row.swept is not None:
+        p0, p1, rad = row.swept(np.asarray(local, dtype=float), size)
+        L[0, :3], L[1, :3] = p0, p1
     else:
         L[:] = local
-        if kind == "box":
-            half = 0.5 * np.asarray(size, dtype=float)
-    return code, frame, ends[0], ends[1], L, rad, half
+        half = np.array(row.kernel_size(size), dtype=float)
+    return row.kernel, frame, ends[0], ends[1], L, rad, half
 
 
 def _jit_pack(geo: ArmGeometry, scene_pairs: list[tuple[int, Shape]], self_pairs: Sequence[tuple[int, int]]
               ) -> tuple[tuple, NDArray[np.int64], NDArray[np.int64]]:
     """The kernels' item arrays, the supported pairs ``(P', 2)`` and their columns in the full pair list."""
-    items = [_jit_item(s.kind, s.frame, s.local, s.size, s.ends) if s.kind in _JIT_KINDS else None
-             for s in geo.solids]
+    items: list[tuple | None] = [_jit_item(s.kind, s.frame, s.local, s.size, s.ends) for s in geo.solids]
     shape_index: dict[int, int] = {}
     pairs, cols = [], []
     for col, (i, shape) in enumerate(scene_pairs):
-        if items[i] is None or shape.kind not in _JIT_KINDS:
+        if items[i] is None or KIND_TABLE[shape.kind].kernel is None:
             continue
         if id(shape) not in shape_index:
             shape_index[id(shape)] = len(items)
@@ -277,18 +264,44 @@ def _jit_pack(geo: ArmGeometry, scene_pairs: list[tuple[int, Shape]], self_pairs
         pairs.append((i, shape_index[id(shape)]))
         cols.append(col)
     for col, (i, j) in enumerate(self_pairs, start=len(scene_pairs)):
-        if items[i] is None or items[j] is None or (geo.solids[i].kind == "box" and geo.solids[j].kind == "box"):
+        if items[i] is None or items[j] is None:
             continue
         pairs.append((i, j))
         cols.append(col)
     dummy = (3, -1, 0, 0, np.eye(4), 0.0, np.zeros(3))
-    full = [it if it is not None else dummy for it in items]
+    return _pack([it if it is not None else dummy for it in items]), np.array(pairs, dtype=np.int64).reshape(-1, 2), \
+        np.array(cols, dtype=np.int64)
+
+
+def _pack(full: list[tuple]) -> tuple:
+    """The items' columns as the kernels' arrays ``(kind, fr, ia, ib, L, rad, half, bound)``."""
     kind = np.array([it[0] for it in full], dtype=np.int64)
     half = np.array([it[6] for it in full], dtype=float).reshape(-1, 3)
     packed = (kind, np.array([it[1] for it in full], dtype=np.int64), np.array([it[2] for it in full], dtype=np.int64),
               np.array([it[3] for it in full], dtype=np.int64), np.array([it[4] for it in full], dtype=float).reshape(-1, 4, 4),
               np.array([it[5] for it in full], dtype=float), half, np.linalg.norm(half, axis=1))
-    return packed, np.array(pairs, dtype=np.int64).reshape(-1, 2), np.array(cols, dtype=np.int64)
+    return packed
+
+
+def shape_distance(a: Shape, b: Shape) -> float:
+    """Signed distance between two shapes placed in the world (their ``pose``): the gap, or minus the depth.
+
+    The same kernels as :func:`collisions` (compiled where the Numba back end is in use and the
+    pair has a compiled kernel, see :data:`armkit.collision.shapes.KIND_TABLE`); meshes through coal.
+
+    Examples
+    --------
+    >>> from armkit.collision import Scene
+    >>> from armkit.collision.query import shape_distance
+    >>> round(shape_distance(Scene.cylinder([0, 0, 0], 0.5, 2.0), Scene.sphere([2, 0, 0], 0.5)), 12)
+    1.0
+    """
+    _jit = _kernels()
+    items = [_jit_item(s.kind, -1, s.pose, s.size, (0, 0)) for s in (a, b)]
+    if _jit is None or items[0] is None or items[1] is None or a.kind == b.kind == "plane":
+        return float(_distance(_static(a), _static(b), 1)[0])
+    frames = np.broadcast_to(np.eye(4), (1, 1, 4, 4)).copy()
+    return float(_jit.all_distances(frames, _pack(items), np.array([[0, 1]], dtype=np.int64))[0, 0])  # type: ignore[arg-type]
 
 
 def _kernels() -> Any:

@@ -34,6 +34,7 @@ from ..errors import RobotFileError
 from ..model.robot import Robot
 from .files import MAX_SHAPES, block_line, mesh_lookup, shape_from_table
 from .geometry import RobotCollision
+from .shapes import KIND_TABLE
 
 __all__ = ["attach", "surroundings", "carry_collision"]
 
@@ -117,30 +118,8 @@ def attach(robot: Robot, data: dict, text: str, path: str, allow_outside: bool =
 
 def _shape_row(s: Any, scale: float) -> dict[str, Any]:
     """One Shape as a robot-file table (lengths times ``scale``, rpy in radians: the caller converts)."""
-    import numpy as np
-
-    from ..spatial import rotation_to_rpy
-
-    def vec(v: Any) -> list[float]:
-        return [float(x) * scale + 0.0 for x in np.asarray(v, dtype=float)]
-
     row: dict[str, Any] = {"type": s.kind, "name": s.name}
-    R = np.asarray(s.pose)[:3, :3]
-    if s.kind == "plane":
-        row.update(normal=[float(x) + 0.0 for x in s.normal], offset=s.offset * scale + 0.0)
-    elif s.kind == "box":
-        row.update(center=vec(s.center), size=[v * scale for v in s.size], rpy=list(map(float, rotation_to_rpy(R))))
-    elif s.kind == "sphere":
-        row.update(center=vec(s.center), radius=s.size[0] * scale)
-    elif s.kind == "cylinder":
-        row.update(center=vec(s.center), radius=s.size[0] * scale, length=s.size[1] * scale,
-                   rpy=list(map(float, rotation_to_rpy(R))))
-    elif s.kind == "capsule":
-        a, b = s.segment()
-        row.update(a=vec(a), b=vec(b), radius=s.size[0] * scale)
-    else:
-        row.update(path=str(s.mesh_path), xyz=vec(s.center), rpy=list(map(float, rotation_to_rpy(R))),
-                   scale=[v * scale for v in s.scale])
+    row.update(KIND_TABLE[s.kind].write(s, scale))
     if s.allow:
         row["allow"] = list(s.allow)
     if s.link is not None:

@@ -10,17 +10,17 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field, replace
-from typing import Iterable, Iterator, Sequence
+from typing import Any, Callable, Iterable, Iterator, NamedTuple, Protocol, Sequence
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ..errors import SceneError
+from . import kernels as K
 
-__all__ = ["Shape", "Scene", "SceneError", "KINDS"]
+__all__ = ["Shape", "Scene", "SceneError", "KINDS", "KIND_TABLE", "ShapeKind", "Part", "kind_of"]
 
 Array = NDArray[np.float64]
-KINDS = ("plane", "box", "sphere", "cylinder", "capsule", "mesh")
 _UNITS = {"m": 1.0, "cm": 1e-2, "mm": 1e-3}
 
 
@@ -46,6 +46,14 @@ def _positive(value: float, what: str, allow_zero: bool = False) -> float:
     return v
 
 
+def kind_of(kind: str) -> "ShapeKind":
+    """The :class:`ShapeKind` row of ``kind``; an unknown kind raises SceneError listing the known ones."""
+    row = KIND_TABLE.get(kind) if isinstance(kind, str) else None
+    if row is None:
+        raise SceneError(f"shape kind must be one of {', '.join(KIND_TABLE)}; got {kind!r}")
+    return row
+
+
 def _pose(center: ArrayLike, rpy: ArrayLike) -> Array:
     from ..spatial import make_pose, rpy_to_rotation
 
@@ -59,6 +67,7 @@ class Shape:
     Attributes
     ----------
     kind : {"plane", "box", "sphere", "cylinder", "capsule", "mesh"}
+        A key of :data:`KIND_TABLE`.
     pose : ndarray, shape (4, 4)
         Pose of the shape's own frame (world, or the link it is attached to). A plane's frame
         has its z axis along the normal and its origin on the plane; the solid is the side
@@ -87,8 +96,7 @@ class Shape:
     scale: tuple[float, float, float] = (1.0, 1.0, 1.0)
 
     def __post_init__(self) -> None:
-        if self.kind not in KINDS:
-            raise SceneError(f"shape kind must be one of {', '.join(KINDS)}; got {self.kind!r}")
+        kind_of(self.kind)
         T = np.array(self.pose, dtype=float)
         if T.shape != (4, 4) or not np.all(np.isfinite(T)):
             raise SceneError(f"shape pose must be a finite 4x4 pose, got shape {T.shape}")
@@ -136,19 +144,8 @@ class Shape:
                        scale=tuple(s * factor for s in self.scale))  # type: ignore[arg-type]
 
     def describe(self) -> str:
-        c = ", ".join(f"{v:g}" for v in np.round(self.center, 6))
-        if self.kind == "plane":
-            if np.allclose(self.normal, [0, 0, 1], atol=1e-12):
-                return f"floor at z = {self.offset:g}"
-            nrm = ", ".join(f"{v:g}" for v in np.round(self.normal, 6))
-            return f"plane normal ({nrm}) offset {self.offset:g}"
-        if self.kind == "box":
-            return f"box at ({c}) size " + " x ".join(f"{v:g}" for v in self.size)
-        if self.kind == "sphere":
-            return f"sphere at ({c}) radius {self.size[0]:g}"
-        if self.kind in ("cylinder", "capsule"):
-            return f"{self.kind} at ({c}) radius {self.size[0]:g} length {self.size[1]:g}"
-        return f"mesh {self.mesh_path}"
+        """One line for people (the kind's ``describe`` in :data:`KIND_TABLE`)."""
+        return KIND_TABLE[self.kind].describe(self)
 
     def __repr__(self) -> str:
         return f"Shape({self.name!r}: {self.describe()})"
@@ -296,3 +293,200 @@ class Scene:
     def __repr__(self) -> str:
         inner = ", ".join(repr(s) for s in self.shapes)
         return f"Scene([{inner}]" + (f", unit={self.unit!r})" if self.unit else ")")
+
+
+# ------------------------------------------------------------------------------ the kind table
+class Part(NamedTuple):
+    """One piece of a shape's drawing: a ``primitive`` ("plane", "box", "sphere", "cylinder" or "mesh") at
+    ``pose`` (4, 4) in the shape's own frame, with the primitive's ``size`` (as :class:`Shape` sizes)."""
+
+    primitive: str
+    pose: Array
+    size: tuple[float, ...]
+
+
+class Fields(Protocol):
+    """What a kind's ``read`` gets from one file table (``[[shapes]]``, ``[[body]]``, ``[[scene]]``).
+
+    ``number``/``vector`` raise the file's error naming the key when it is missing (no default) or
+    malformed; ``angles`` is a vector in radians (the file's ``angle_unit`` applied); ``mesh_file``
+    the resolved path of a mesh key. ``name`` and ``allow`` are the common keys, checked.
+    """
+
+    name: str
+    allow: list[str]
+
+    def number(self, key: str, default: float | None = None) -> float: ...
+
+    def vector(self, key: str, default: list[float] | None = None) -> list[float]: ...
+
+    def angles(self, key: str) -> list[float]: ...
+
+    def mesh_file(self, key: str) -> str: ...
+
+
+@dataclass(frozen=True)
+class ShapeKind:
+    """Everything armkit knows about one kind of :class:`Shape`: one row of :data:`KIND_TABLE`.
+
+    Attributes
+    ----------
+    name : str
+        The ``kind`` / file ``type``.
+    keys : frozenset of str
+        The file keys of this kind (besides ``type``, ``name``, ``allow``).
+    read : callable (Fields) -> Shape
+        Build the shape from a file table.
+    write : callable (Shape, float) -> dict
+        The file table of a shape (lengths times the factor; ``rpy`` in radians, the caller converts).
+    kernel : int or None
+        The item code of the compiled kernels (:mod:`armkit.collision._jit`): 1 a segment swept
+        by a ball, 2 a box, 3 a half-space, 4 a cylinder; ``None``: pairs with it go through coal.
+    kernel_size : callable (size) -> (3,) floats
+        The item's size data for those kernels (a box: half extents; a cylinder: radius, 0, half length).
+    swept : callable (T (..., 4, 4), size) -> (p0, p1, radius) or None
+        For a segment swept by a ball (sphere, capsule): its segment's end points and radius. Such
+        a shape meets everything through the segment kernels, its radius subtracted.
+    segment_distance : callable (p0, p1, T, size) -> ndarray or None
+        The NumPy signed distance of segments ``(..., 3)`` to this solid at ``T``: the reference
+        kernel (:mod:`armkit.collision.kernels`) and the path without Numba. ``None``: coal.
+    coal : callable (coal module, Shape) -> geometry
+        The shape in coal's terms, in its own frame (the reference in tests; meshes).
+    drawing : callable (Shape) -> tuple of Part
+        How to draw the shape (the browser view, plots).
+    describe : callable (Shape) -> str
+        One line for people ("box at (1, 2, 3) size 1 x 2 x 3").
+    """
+
+    name: str
+    keys: frozenset[str]
+    read: Callable[[Fields], Shape]
+    write: Callable[[Shape, float], dict[str, Any]]
+    kernel: int | None
+    kernel_size: Callable[[tuple[float, ...]], tuple[float, float, float]]
+    swept: Callable[[Array, tuple[float, ...]], tuple[Array, Array, float]] | None
+    segment_distance: Callable[[Array, Array, Array, tuple[float, ...]], Array] | None
+    coal: Callable[[Any, Shape], Any]
+    drawing: Callable[[Shape], tuple[Part, ...]]
+    describe: Callable[[Shape], str]
+
+
+def _rpy_of(s: Shape) -> list[float]:
+    from ..spatial import rotation_to_rpy
+
+    return [float(v) for v in rotation_to_rpy(np.asarray(s.pose)[:3, :3])]
+
+
+def _xyz(v: ArrayLike, f: float) -> list[float]:
+    return [float(x) * f + 0.0 for x in np.asarray(v, dtype=float)]
+
+
+def _at(s: Shape) -> str:
+    return ", ".join(f"{v:g}" for v in np.round(s.center, 6))
+
+
+def _no_size(size: tuple[float, ...]) -> tuple[float, float, float]:
+    return (0.0, 0.0, 0.0)
+
+
+def _ball_segment(T: Array, size: tuple[float, ...]) -> tuple[Array, Array, float]:
+    return T[..., :3, 3], T[..., :3, 3], size[0]
+
+
+def _capsule_segment(T: Array, size: tuple[float, ...]) -> tuple[Array, Array, float]:
+    h = 0.5 * size[1] * T[..., :3, 2]
+    return T[..., :3, 3] - h, T[..., :3, 3] + h, size[0]
+
+
+def _plane_distance(p0: Array, p1: Array, T: Array, size: tuple[float, ...]) -> Array:
+    n = T[..., :3, 2]
+    return K.segment_plane(p0, p1, n, np.einsum("...i,...i->...", n, T[..., :3, 3]))
+
+
+def _box_distance(p0: Array, p1: Array, T: Array, size: tuple[float, ...]) -> Array:
+    return K.segment_box(p0, p1, T, 0.5 * np.asarray(size))
+
+
+def _cylinder_distance(p0: Array, p1: Array, T: Array, size: tuple[float, ...]) -> Array:
+    return K.segment_cylinder_signed(p0, p1, T, size[0], 0.5 * size[1])
+
+
+def _describe_plane(s: Shape) -> str:
+    if np.allclose(s.normal, [0, 0, 1], atol=1e-12):
+        return f"floor at z = {s.offset:g}"
+    nrm = ", ".join(f"{v:g}" for v in np.round(s.normal, 6))
+    return f"plane normal ({nrm}) offset {s.offset:g}"
+
+
+def _mesh_coal(coal: Any, s: Shape) -> Any:
+    from ._coal import mesh_hull
+
+    return mesh_hull(coal, s)
+
+
+_EYE = np.eye(4)
+_EYE.setflags(write=False)
+
+KIND_TABLE: dict[str, ShapeKind] = {k.name: k for k in (
+    ShapeKind(
+        "plane", frozenset({"normal", "offset"}),
+        read=lambda f: Scene.plane(f.vector("normal"), f.number("offset", 0.0), name=f.name, allow=f.allow),
+        write=lambda s, c: {"normal": [float(x) + 0.0 for x in s.normal], "offset": s.offset * c + 0.0},
+        kernel=3, kernel_size=_no_size, swept=None, segment_distance=_plane_distance,
+        coal=lambda coal, s: coal.Halfspace(np.array([0.0, 0.0, 1.0]), 0.0),
+        drawing=lambda s: (Part("plane", _EYE, ()),), describe=_describe_plane),
+    ShapeKind(
+        "box", frozenset({"center", "size", "rpy"}),
+        read=lambda f: Scene.box(f.vector("center"), f.vector("size"), f.angles("rpy"), name=f.name, allow=f.allow),
+        write=lambda s, c: {"center": _xyz(s.center, c), "size": [v * c for v in s.size], "rpy": _rpy_of(s)},
+        kernel=2, kernel_size=lambda z: (0.5 * z[0], 0.5 * z[1], 0.5 * z[2]), swept=None, segment_distance=_box_distance,
+        coal=lambda coal, s: coal.Box(*s.size),
+        drawing=lambda s: (Part("box", _EYE, s.size),),
+        describe=lambda s: f"box at ({_at(s)}) size " + " x ".join(f"{v:g}" for v in s.size)),
+    ShapeKind(
+        "sphere", frozenset({"center", "radius"}),
+        read=lambda f: Scene.sphere(f.vector("center"), f.number("radius"), name=f.name, allow=f.allow),
+        write=lambda s, c: {"center": _xyz(s.center, c), "radius": s.size[0] * c},
+        kernel=1, kernel_size=_no_size, swept=_ball_segment, segment_distance=None,
+        coal=lambda coal, s: coal.Sphere(s.size[0]),
+        drawing=lambda s: (Part("sphere", _EYE, s.size[:1]),),
+        describe=lambda s: f"sphere at ({_at(s)}) radius {s.size[0]:g}"),
+    ShapeKind(
+        "cylinder", frozenset({"center", "radius", "length", "rpy"}),
+        read=lambda f: Scene.cylinder(f.vector("center"), f.number("radius"), f.number("length"), f.angles("rpy"),
+                                      name=f.name, allow=f.allow),
+        write=lambda s, c: {"center": _xyz(s.center, c), "radius": s.size[0] * c, "length": s.size[1] * c,
+                            "rpy": _rpy_of(s)},
+        kernel=4, kernel_size=lambda z: (z[0], 0.0, 0.5 * z[1]), swept=None, segment_distance=_cylinder_distance,
+        coal=lambda coal, s: coal.Cylinder(s.size[0], s.size[1]),
+        drawing=lambda s: (Part("cylinder", _EYE, s.size[:2]),),
+        describe=lambda s: f"cylinder at ({_at(s)}) radius {s.size[0]:g} length {s.size[1]:g}"),
+    ShapeKind(
+        "capsule", frozenset({"a", "b", "radius"}),
+        read=lambda f: Scene.capsule(f.vector("a"), f.vector("b"), f.number("radius"), name=f.name, allow=f.allow),
+        write=lambda s, c: {"a": _xyz(s.segment()[0], c), "b": _xyz(s.segment()[1], c), "radius": s.size[0] * c},
+        kernel=1, kernel_size=_no_size, swept=_capsule_segment, segment_distance=None,
+        coal=lambda coal, s: coal.Capsule(s.size[0], s.size[1]),
+        drawing=lambda s: (Part("cylinder", _EYE, s.size[:2]),
+                           Part("sphere", _shifted(-0.5 * s.size[1]), s.size[:1]),
+                           Part("sphere", _shifted(0.5 * s.size[1]), s.size[:1])),
+        describe=lambda s: f"capsule at ({_at(s)}) radius {s.size[0]:g} length {s.size[1]:g}"),
+    ShapeKind(
+        "mesh", frozenset({"path", "xyz", "rpy", "scale"}),
+        read=lambda f: Scene.mesh(f.mesh_file("path"), _pose(f.vector("xyz", [0.0, 0.0, 0.0]), f.angles("rpy")),
+                                  f.vector("scale", [1.0, 1.0, 1.0]), name=f.name, allow=f.allow),
+        write=lambda s, c: {"path": str(s.mesh_path), "xyz": _xyz(s.center, c), "rpy": _rpy_of(s),
+                            "scale": [v * c for v in s.scale]},
+        kernel=None, kernel_size=_no_size, swept=None, segment_distance=None, coal=_mesh_coal,
+        drawing=lambda s: (Part("mesh", _EYE, ()),), describe=lambda s: f"mesh {s.mesh_path}"),
+)}
+"""The one table from a shape kind to its file keys, its kernels, its coal geometry and its drawing
+(``docs/adding-a-primitive.md``)."""
+
+KINDS = tuple(KIND_TABLE)
+
+
+def _shifted(z: float) -> Array:
+    T = np.eye(4)
+    T[2, 3] = z
+    return T
