@@ -69,8 +69,10 @@ from typing import Any, Mapping
 import numpy as np
 
 from .errors import ArgumentError, CalibrationRangeWarning, UnreachableError
+from .locale import N_
 
-__all__ = ["Calibration", "MotorCalibration", "RobotKinematics", "CalibrationRangeWarning", "ARM_MOTORS",
+__all__ = ["Calibration", "MotorCalibration", "RobotKinematics", "CalibrationRangeWarning", "CalibrationInputError",
+           "ARM_MOTORS",
            "GRIPPER", "MODES", "MAX_TICK", "OLD_TO_NEW_OFFSET_DEG", "old_calib_to_new", "new_calib_to_old"]
 
 ARM_MOTORS = ("shoulder_pan", "shoulder_lift", "elbow_flex", "wrist_flex", "wrist_roll")
@@ -122,34 +124,48 @@ class MotorCalibration:
 _FIELDS = ("id", "drive_mode", "homing_offset", "range_min", "range_max")
 
 
-def _bad(source: str, message: str) -> ArgumentError:
-    return ArgumentError(f"calibration file {source}: {message}")
+class CalibrationInputError(ArgumentError):
+    """A bad calibration file or servo reading: an :class:`~armkit.errors.ArgumentError` built from a template
+    and its fields, so that a front end shows it in the user's language (``_(e.template, **e.fields)``)."""
+
+    def __init__(self, template: str, **fields: Any):
+        super().__init__(template.format(**fields))
+        self.template, self.fields = template, fields
+
+
+def _bad(template: str, **fields: Any) -> CalibrationInputError:
+    """A file error; ``template`` starts with ``calibration file {source}:`` and is marked ``N_`` where written."""
+    return CalibrationInputError(template, **{k: (v[:200] if isinstance(v, str) else v) for k, v in fields.items()})
 
 
 def _motor(source: str, name: str, entry: Any) -> MotorCalibration:
     if not isinstance(entry, dict):
-        raise _bad(source, f"motor {name!r} must be an object with the fields {', '.join(_FIELDS)}; "
-                           f"got {type(entry).__name__}")
+        raise _bad(N_("calibration file {source}: motor {name!r} must be an object with the fields {fields}; got "
+                      "{kind}"), source=source, name=name, fields=", ".join(_FIELDS), kind=type(entry).__name__)
     values = {}
     for key in _FIELDS:
         if key not in entry:
-            raise _bad(source, f"motor {name!r}: missing field {key!r} (a LeRobot calibration has "
-                               f"{', '.join(_FIELDS)})")
+            raise _bad(N_("calibration file {source}: motor {name!r}: missing field {key!r} (a LeRobot calibration "
+                          "has {fields})"), source=source, name=name, key=key, fields=", ".join(_FIELDS))
         v = entry[key]
         if isinstance(v, bool) or not isinstance(v, int):
-            raise _bad(source, f"motor {name!r}: field {key!r} must be an integer, got {v!r}"[:300])
+            raise _bad(N_("calibration file {source}: motor {name!r}: field {key!r} must be an integer, got {value}"),
+                       source=source, name=name, key=key, value=repr(v)[:100])
         values[key] = v
     extra = sorted(set(entry) - set(_FIELDS))
     if extra:
-        raise _bad(source, f"motor {name!r}: unknown field {extra[0]!r} (the fields are {', '.join(_FIELDS)})")
+        raise _bad(N_("calibration file {source}: motor {name!r}: unknown field {key!r} (the fields are {fields})"),
+                   source=source, name=name, key=extra[0], fields=", ".join(_FIELDS))
     if values["drive_mode"] not in (0, 1):
-        raise _bad(source, f"motor {name!r}: field 'drive_mode' must be 0 or 1, got {values['drive_mode']}")
+        raise _bad(N_("calibration file {source}: motor {name!r}: field 'drive_mode' must be 0 or 1, got {value}"),
+                   source=source, name=name, value=values["drive_mode"])
     for key in ("range_min", "range_max"):
         if not 0 <= values[key] <= MAX_TICK:
-            raise _bad(source, f"motor {name!r}: field {key!r} must be a tick in 0..{MAX_TICK}, got {values[key]}")
+            raise _bad(N_("calibration file {source}: motor {name!r}: field {key!r} must be a tick in 0..{top}, got "
+                          "{value}"), source=source, name=name, key=key, top=MAX_TICK, value=values[key])
     if values["range_min"] >= values["range_max"]:
-        raise _bad(source, f"motor {name!r}: range_min ({values['range_min']}) must be less than range_max "
-                           f"({values['range_max']})")
+        raise _bad(N_("calibration file {source}: motor {name!r}: range_min ({low}) must be less than range_max "
+                      "({high})"), source=source, name=name, low=values["range_min"], high=values["range_max"])
     return MotorCalibration(**values)
 
 
@@ -202,16 +218,16 @@ class Calibration:
         self.motors: dict[str, MotorCalibration] = dict(motors)
         missing = [m for m in ARM_MOTORS if m not in self.motors]
         if missing:
-            raise _bad(self.source, f"no motor {missing[0]!r}; an SO-101 calibration has the motors "
-                                    f"{', '.join(ARM_MOTORS + (GRIPPER,))}")
+            raise _bad(N_("calibration file {source}: no motor {name!r}; an SO-101 calibration has the motors "
+                          "{names}"), source=self.source, name=missing[0], names=", ".join(ARM_MOTORS + (GRIPPER,)))
         unknown = [m for m in self.motors if m not in ARM_MOTORS + (GRIPPER,)]
         if unknown:
-            raise _bad(self.source, f"unknown motor {unknown[0]!r}; an SO-101 calibration has the motors "
-                                    f"{', '.join(ARM_MOTORS + (GRIPPER,))}")
+            raise _bad(N_("calibration file {source}: unknown motor {name!r}; an SO-101 calibration has the motors "
+                          "{names}"), source=self.source, name=unknown[0], names=", ".join(ARM_MOTORS + (GRIPPER,)))
         ids = [c.id for c in self.motors.values()]
         if len(set(ids)) != len(ids):
             dup = next(i for i in ids if ids.count(i) > 1)
-            raise _bad(self.source, f"two motors have the id {dup}")
+            raise _bad(N_("calibration file {source}: two motors have the id {id}"), source=self.source, id=dup)
         self.motor_names: tuple[str, ...] = tuple(self.motors)
         self.arm_order: tuple[str, ...] = tuple(m for m in self.motor_names if m != GRIPPER)
         self.signs = self._per_joint(signs, "signs", 1.0)
@@ -244,21 +260,27 @@ class Calibration:
         p = Path(path)
         try:
             if not p.is_file():
-                raise _bad(source, "not found" if not p.exists() else "not a file")
+                raise _bad(N_("calibration file {source}: not found") if not p.exists()
+                           else N_("calibration file {source}: not a file"), source=source)
             size = p.stat().st_size
             if size > MAX_FILE_BYTES:
-                raise _bad(source, f"{size:,} bytes; a calibration file has a few hundred")
+                raise _bad(N_("calibration file {source}: {size} bytes; a calibration file has a few hundred"),
+                           source=source, size=f"{size:,}")
             text = p.read_text(encoding="utf-8")
         except OSError as exc:
-            raise _bad(source, f"cannot read it ({exc.strerror or exc})") from None
+            raise _bad(N_("calibration file {source}: cannot read it ({reason})"), source=source,
+                       reason=str(exc.strerror or exc)) from None
         except UnicodeDecodeError:
-            raise _bad(source, "not UTF-8 text (a calibration file is JSON)") from None
+            raise _bad(N_("calibration file {source}: not UTF-8 text (a calibration file is JSON)"),
+                       source=source) from None
         try:
             data = json.loads(text)
         except json.JSONDecodeError as exc:
-            raise _bad(source, f"not valid JSON (line {exc.lineno}, column {exc.colno}: {exc.msg})") from None
+            raise _bad(N_("calibration file {source}: not valid JSON (line {line}, column {column}: {reason})"),
+                       source=source, line=exc.lineno, column=exc.colno, reason=exc.msg) from None
         except RecursionError:
-            raise _bad(source, "nested too deeply to be a calibration file") from None
+            raise _bad(N_("calibration file {source}: nested too deeply to be a calibration file"),
+                       source=source) from None
         return cls.from_dict(data, source, signs=signs, offsets_deg=offsets_deg)
 
     @classmethod
@@ -266,7 +288,8 @@ class Calibration:
                   offsets_deg: Mapping[str, float] | None = None) -> "Calibration":
         """A calibration from the parsed JSON: ``{motor name: {"id": .., "drive_mode": .., ...}}``."""
         if not isinstance(data, dict):
-            raise _bad(source, f"must be a JSON object {{motor name: {{...}}}}, got {type(data).__name__}")
+            raise _bad(N_("calibration file {source}: must be a JSON object {{motor name: {{...}}}}, got {kind}"),
+                       source=source, kind=type(data).__name__)
         motors = {str(name): _motor(source, str(name), entry) for name, entry in data.items()}
         return cls(motors, source, signs=signs, offsets_deg=offsets_deg)
 
@@ -357,17 +380,20 @@ class Calibration:
             if not np.any(bad):
                 continue
             if raw:
-                raise ArgumentError(
-                    f"{m}: reading {_fmt(t[bad])} is outside 0..{MAX_TICK}, the STS3215's positions (a value "
-                    f"above 32767 is a negative reading in sign-magnitude; LeRobot configures the servos so "
-                    f"that they read 0..{MAX_TICK})")
-            what = "the joint angle" if given == "q" else f"the {modes[m]} value"
-            raise ArgumentError(f"{m}: {what} would be tick {_fmt(np.rint(t[bad]))}, outside 0..{MAX_TICK} "
-                                f"(the STS3215's positions)")
+                raise CalibrationInputError(
+                    N_("{motor}: reading {value} is outside 0..{top}, the STS3215's positions (a value above 32767 is "
+                       "a negative reading in sign-magnitude; LeRobot configures the servos so that they read 0..{top})"),
+                    motor=m, value=_fmt(t[bad]), top=MAX_TICK)
+            if given == "q":
+                raise CalibrationInputError(N_("{motor}: the joint angle would be tick {value}, outside 0..{top} (the "
+                                               "STS3215's positions)"), motor=m, value=_fmt(np.rint(t[bad])), top=MAX_TICK)
+            raise CalibrationInputError(N_("{motor}: the {mode} value would be tick {value}, outside 0..{top} (the "
+                                           "STS3215's positions)"), motor=m, mode=modes[m], value=_fmt(np.rint(t[bad])),
+                                        top=MAX_TICK)
 
     def _range_notes(self, ticks: Mapping[str, np.ndarray], modes: Mapping[str, str],
-                     values: Mapping[str, np.ndarray] | None = None) -> list[str]:
-        """One note per motor whose tick lies outside its calibrated range (or, given ``values`` in a range
+                     values: Mapping[str, np.ndarray] | None = None) -> list[tuple[str, dict[str, Any]]]:
+        """One note (a template and its fields) per motor whose tick lies outside its calibrated range (or, given ``values`` in a range
         mode, whose value lies outside -100..100 / 0..100)."""
         notes = []
         for m, t in ticks.items():
@@ -377,25 +403,41 @@ class Calibration:
                 lo = -100.0 if mode == "range_m100_100" else 0.0
                 out = (v < lo) | (v > 100.0)
                 if np.any(out):
-                    notes.append(f"{m} value {_fmt(v[out])} (mode {mode} covers {lo:g}..100; clamped to the end, "
-                                 f"as LeRobot's _unnormalize does)")
+                    notes.append((N_("{motor} value {value} (mode {mode} covers {low}..100; clamped to the end, as "
+                                     "LeRobot's _unnormalize does)"), dict(motor=m, value=_fmt(v[out]), mode=mode,
+                                                                            low=f"{lo:g}")))
                 continue
             out = (t < c.range_min - 1e-9) | (t > c.range_max + 1e-9)
             if np.any(out):
                 far = np.max(np.maximum(c.range_min - t[out], t[out] - c.range_max))
-                hint = "; far outside: did the reading wrap at 4096, or is the calibration stale?" if far > 512 else ""
-                how = ("clamped to the range's end, as LeRobot's range modes do" if mode.startswith("range") else
-                       "mapped without clamping, as LeRobot's degrees mode does")
-                notes.append(f"{m} at tick {_fmt(np.rint(t[out]))} (calibrated {c.range_min}..{c.range_max}; "
-                             f"{how}{hint})")
+                fields: dict[str, Any] = dict(motor=m, value=_fmt(np.rint(t[out])), low=c.range_min, high=c.range_max)
+                if mode.startswith("range"):
+                    text = (N_("{motor} at tick {value} (calibrated {low}..{high}; clamped to the range's end, as "
+                               "LeRobot's range modes do; far outside: did the reading wrap at 4096, or is the "
+                               "calibration stale?)") if far > 512 else
+                            N_("{motor} at tick {value} (calibrated {low}..{high}; clamped to the range's end, as "
+                               "LeRobot's range modes do)"))
+                else:
+                    text = (N_("{motor} at tick {value} (calibrated {low}..{high}; mapped without clamping, as "
+                               "LeRobot's degrees mode does; far outside: did the reading wrap at 4096, or is the "
+                               "calibration stale?)") if far > 512 else
+                            N_("{motor} at tick {value} (calibrated {low}..{high}; mapped without clamping, as "
+                               "LeRobot's degrees mode does)"))
+                notes.append((text, fields))
         return notes
 
-    def _warn(self, notes: list[str], level: int) -> None:
+    def _warn(self, notes: list[tuple[str, dict[str, Any]]], level: int) -> None:
+        """One :class:`CalibrationRangeWarning` naming every note; the warning carries ``template``, ``fields``
+        and ``notes`` (templates and fields), for a front end to show it in the user's language."""
         if notes:
-            warnings.warn(f"outside the calibrated range of {self.source}: " + "; ".join(notes),
-                          CalibrationRangeWarning, stacklevel=level + 1)
+            head = N_("outside the calibrated range of {source}: {notes}")
+            text = "; ".join(t.format(**f) for t, f in notes)
+            w = CalibrationRangeWarning(head.format(source=self.source, notes=text))
+            w.template, w.fields, w.notes = head, {"source": self.source}, notes  # type: ignore[attr-defined]
+            warnings.warn(w, stacklevel=level + 1)
 
-    def _to_ticks(self, values: Any, mode: str, gripper_mode: str | None) -> tuple[dict[str, np.ndarray], list[str]]:
+    def _to_ticks(self, values: Any, mode: str, gripper_mode: str | None
+                  ) -> tuple[dict[str, np.ndarray], list[tuple[str, dict[str, Any]]]]:
         m, g = self._modes(mode, gripper_mode)
         cols = self._columns(values)
         modes = {name: (g if name == GRIPPER else m) for name in cols}
@@ -470,7 +512,7 @@ class Calibration:
         ticks = {name: self.unnormalize(name, (np.degrees(qa[..., i]) - self.offsets_deg[i]) * self.signs[i],
                                         "degrees") for i, name in enumerate(ARM_MOTORS)}
         modes = {name: m for name in ARM_MOTORS}
-        notes: list[str] = []
+        notes: list[tuple[str, dict[str, Any]]] = []
         if jaw:
             ticks[GRIPPER] = self.unnormalize(GRIPPER, np.degrees(qa[..., 5]), "degrees")
             modes[GRIPPER] = g
@@ -500,6 +542,14 @@ class Calibration:
 
 
 # ====================================================================== the drop-in kinematics class
+_STAGES = ("pose", "direction", "pitch", "position")   # the compiled kernel's codes 0-3
+
+
+def _rotation_angle(Tq: np.ndarray, T: np.ndarray) -> float:
+    """The angle (rad) between the rotations of two poses, precise near 0 and near pi."""
+    E = Tq[:3, :3].T @ T[:3, :3]
+    sin = np.linalg.norm([E[2, 1] - E[1, 2], E[0, 2] - E[2, 0], E[1, 0] - E[0, 1]]) / 2.0
+    return math.atan2(float(sin), (float(np.trace(E)) - 1.0) / 2.0)
 class RobotKinematics:
     """LeRobot's ``lerobot.model.kinematics.RobotKinematics`` (same constructor, methods and units), solved by
     armkit, and honest about failure.
@@ -544,6 +594,14 @@ class RobotKinematics:
     direction's pitch (closed form, the roll kept; arms of the SO-101's shape); the position alone.
     The first that succeeds is returned. The weights only decide whether orientation counts: the position is always
     met exactly when it can be (LeRobot's placo solver takes one weighted step and reports nothing).
+
+    For a 5-joint arm of the SO-101's shape with the Numba back end, one compiled call
+    (:func:`armkit.ik.analytic._yaw_pitch3_jit.teleop_call`) does the same stages in closed form, nearest
+    the current joints (the whole pose as a direction solution whose x axis matches too; with
+    ``orientation_weight == 0``, the position with the current pitch and roll); what it does not settle
+    (a direction within 1e-4 of vertical, a target on the pan axis, a stretched elbow, any failure)
+    takes the path above, and a pitch out of reach goes straight to the position stage. docs/lerobot.md
+    has the timings.
     """
 
     def __init__(self, urdf_path: str, target_frame_name: str = "gripper_frame_link",
@@ -577,8 +635,9 @@ class RobotKinematics:
             if len(set(names)) != len(names):
                 raise ArgumentError(f"joint_names names a joint twice: {names}")
         self.joint_names = names
-        self._index = np.array([names.index(n) for n in chain])
-        self.last_result: Any = None
+        self._index = np.array([names.index(n) for n in chain], dtype=np.int64)
+        self._last_result: Any = None
+        self._fast_answer: tuple[np.ndarray, np.ndarray, str] | None = None   # last_result, built when read
         self.last_stage: str | None = None
         self.last_pose_error: tuple[float, float] | None = None
         from .ik import closed_form_family
@@ -588,6 +647,30 @@ class RobotKinematics:
             from .kinematics import fk
 
             self._pan_point = fk(self.robot, np.zeros(self.robot.n), link=self.robot.links[1].name)[:3, 3]
+        from .ik.result import default_tolerance
+
+        self._tol = default_tolerance(self.robot)
+        self._fast_g: np.ndarray | None = None
+
+    @property
+    def last_result(self) -> Any:
+        """The last ``inverse_kinematics`` call's :class:`~armkit.IKResult` (None before the first call)."""
+        if self._last_result is None and self._fast_answer is not None:
+            from .ik.analytic.yaw_pitch3 import branch_label
+            from .ik.result import IKResult
+
+            q, info, stage = self._fast_answer
+            err = {"pose": info[1], "direction": info[2], "pitch": info[2]}.get(stage, 0.0)
+            self._last_result = IKResult(q=q, success=np.array(True), position_error=np.float64(info[0]),
+                                         rotation_error=np.float64(err), iterations=np.int64(0),
+                                         branch=np.array(branch_label(int(info[3])), dtype=object),
+                                         within_limits=np.array(True), reason=np.str_("converged"),
+                                         message=np.array("", dtype=object))
+        return self._last_result
+
+    @last_result.setter
+    def last_result(self, value: Any) -> None:
+        self._last_result, self._fast_answer = value, None
 
     def __repr__(self) -> str:
         return (f"RobotKinematics({self.urdf_path!r}, target_frame_name={self.target_frame_name!r}, "
@@ -618,6 +701,9 @@ class RobotKinematics:
         answer has its length, with joints off the chain (the jaw) unchanged. See the class notes for
         what is solved, ``last_result`` / ``last_stage`` / ``last_pose_error`` for what was reached.
         """
+        fast = self._fast_ik(current_joint_pos, desired_ee_pose, position_weight, orientation_weight)
+        if fast is not None:
+            return fast
         from .ik import ik
         from .kinematics import fk
         from .spatial import check_transform
@@ -655,13 +741,64 @@ class RobotKinematics:
         self.last_result, self.last_stage = res, stage
         q = np.asarray(res.q, dtype=float)
         Tq = fk(self.robot, q)
-        E = Tq[:3, :3].T @ T[:3, :3]                       # the rotation angle, precise near 0 and near pi
-        sin = np.linalg.norm([E[2, 1] - E[1, 2], E[0, 2] - E[2, 0], E[1, 0] - E[0, 1]]) / 2.0
-        angle = math.atan2(float(sin), (float(np.trace(E)) - 1.0) / 2.0)
-        self.last_pose_error = (float(np.linalg.norm(Tq[:3, 3] - p)), angle)
+        self.last_pose_error = (float(np.linalg.norm(Tq[:3, 3] - p)), _rotation_angle(Tq, T))
         if stage == "failed" and self.strict:
             raise UnreachableError(f"IK found no joint values that put {self.target_frame_name} at "
                                    f"({p[0]:.4f}, {p[1]:.4f}, {p[2]:.4f}) m: {res.message}")
+        out = cur.copy()
+        out[self._index] = np.degrees(q)
+        return out
+
+    def _fast_ik(self, current_joint_pos: Any, desired_ee_pose: Any, position_weight: Any,
+                 orientation_weight: Any) -> np.ndarray | None:
+        """:meth:`inverse_kinematics` in one compiled call (:func:`armkit.ik.analytic._yaw_pitch3_jit.teleop_call`)
+        for a 5-joint arm of the SO-101's shape; None where the NumPy path must answer (another arm, the
+        NumPy back end, input it rejects with a message, or a target the kernel does not solve)."""
+        if not self._pitch:
+            return None
+        from .ik.analytic.yaw_pitch3 import fast_geometry, fast_kernels
+
+        kern: Any = fast_kernels()
+        if kern is None:
+            return None
+        g = self._fast_g
+        if g is None:
+            g = self._fast_g = fast_geometry(self.robot)
+            if g is None:
+                return None
+        for w in (position_weight, orientation_weight):
+            if type(w) not in (float, int, np.float64) or not math.isfinite(w) or w < 0:
+                return None
+        cur = np.asarray(current_joint_pos, dtype=float)
+        T = np.asarray(desired_ee_pose, dtype=float)
+        if cur.ndim != 1 or cur.shape[0] < len(self.joint_names) or T.shape != (4, 4):
+            return None
+        out = np.empty(cur.shape[0])
+        info = np.empty(9)
+        code = kern.teleop_call(g, np.ascontiguousarray(cur), self._index, np.ascontiguousarray(T),
+                                bool(orientation_weight > 0), self._tol[0], self._tol[1], out, info)
+        if code == -3:   # no pose, direction or pitch from here: the position alone (LM), as the NumPy path ends
+            return self._position_only(cur, T)
+        if code < 0:
+            return None
+        stage = _STAGES[code]
+        self._last_result, self._fast_answer = None, (info[4:], info, stage)
+        self.last_stage, self.last_pose_error = stage, (float(info[0]), float(info[1]))
+        return out
+
+    def _position_only(self, cur: np.ndarray, T: np.ndarray) -> np.ndarray | None:
+        """The last stage of :meth:`inverse_kinematics` alone (the kernel found no pose, direction or pitch)."""
+        from .ik import ik
+        from .kinematics import fk
+
+        q0 = np.clip(np.radians(cur[self._index]), self.robot.lower, self.robot.upper)
+        res = ik(self.robot, T[:3, 3], q0)
+        if not bool(res.success):
+            return None            # the NumPy path says why (and raises in strict mode)
+        q = np.asarray(res.q, dtype=float)
+        Tq = fk(self.robot, q)
+        self.last_result, self.last_stage = res, "position"
+        self.last_pose_error = (float(np.linalg.norm(Tq[:3, 3] - T[:3, 3])), _rotation_angle(Tq, T))
         out = cur.copy()
         out[self._index] = np.degrees(q)
         return out

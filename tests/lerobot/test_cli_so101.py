@@ -99,3 +99,24 @@ def test_korean(tmp_path):
     res = runner.invoke(app, ["so101", "pose", "--calibration", SAMPLE, "--lang", "ko", "1", "2", "3", "4", "5"],
                         env=ENV)
     assert res.exit_code == 2
+
+
+def test_korean_file_errors_and_range_warnings(tmp_path):
+    """The calibration file's errors and the range warnings come from their templates, in Korean (issue 20)."""
+    def ko(*args: str):
+        return runner.invoke(app, ["so101", "pose", "--lang", "ko", *args], env=ENV)
+
+    res = ko("--calibration", str(tmp_path / "missing.json"), "--ticks", "1", "2", "3", "4", "5")
+    assert res.exit_code == 2 and "보정 파일" in res.output and "찾을 수 없습니다" in res.output
+    assert "not found" not in res.output
+    bad = tmp_path / "bad.json"
+    bad.write_text('{"shoulder_pan": 3}')
+    res = ko("--calibration", str(bad), "--ticks", "1", "2", "3", "4", "5")
+    assert res.exit_code == 2 and "필드를 가진 객체여야 합니다" in res.output and "Traceback" not in res.output
+    res = ko("--calibration", SAMPLE, "--ticks", "2048", "2048", "2048", "2048", "5000")
+    assert res.exit_code == 2 and "5000이 STS3215의 위치 범위 0..4095를 벗어납니다" in res.output
+    res = ko("--calibration", SAMPLE, "--ticks", "100", "2048", "2048", "2048", "2048")
+    assert res.exit_code == 0 and "보정 범위 밖" in res.output and "4096에서 한 바퀴" in res.output
+    assert "outside the calibrated range" not in res.output
+    res = run("--ticks", "100", "2048", "2048", "2048", "2048")        # English stays as it was
+    assert "outside the calibrated range of" in res.output and "did the reading wrap at 4096" in res.output

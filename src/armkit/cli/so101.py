@@ -44,7 +44,7 @@ def pose(values: List[str] = typer.Argument(..., metavar="VALUE...",
     Example: armkit so101 pose --calibration examples/so101_calibration.json --ticks 2048 2048 2048 2048 2048
     """
     from ..kinematics import fk
-    from ..lerobot import ARM_MOTORS, GRIPPER, Calibration, CalibrationRangeWarning
+    from ..lerobot import ARM_MOTORS, GRIPPER, Calibration, CalibrationInputError, CalibrationRangeWarning
     from ..model import load
     from ..spatial import rotation_to_rpy
 
@@ -52,7 +52,10 @@ def pose(values: List[str] = typer.Argument(..., metavar="VALUE...",
     if len(chosen) != 1:
         fail(_("give the unit of the values: one of --ticks, --degrees or --range-m100-100"))
     mode = chosen[0]
-    cal = Calibration.load(calibration)            # ArgumentError: one line, exit 2
+    try:
+        cal = Calibration.load(calibration)
+    except CalibrationInputError as exc:          # one line in the user's language, exit 2
+        fail(_(exc.template, **exc.fields))
     numbers = parse_numbers(values, N_("servo values"))
     names, arm = cal.motor_names, cal.arm_order
     if len(numbers) not in (len(names), len(arm)):
@@ -61,9 +64,12 @@ def pose(values: List[str] = typer.Argument(..., metavar="VALUE...",
     given = dict(zip(names if len(numbers) == len(names) else arm, numbers))
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", CalibrationRangeWarning)
-        ticks_of = cal.to_ticks(given, mode)
-        q = cal.to_q(given, mode)
-    notes = list(dict.fromkeys(str(w.message) for w in caught if issubclass(w.category, CalibrationRangeWarning)))
+        try:
+            ticks_of = cal.to_ticks(given, mode)
+            q = cal.to_q(given, mode)
+        except CalibrationInputError as exc:
+            fail(_(exc.template, **exc.fields))
+    notes = list(dict.fromkeys(_said(w.message) for w in caught if issubclass(w.category, CalibrationRangeWarning)))
     robot = load("so101")
     T = fk(robot, q)
     outside = [f"{n} {np.degrees(v):.1f}" for n, v, lo, hi in zip(ARM_MOTORS, q, robot.lower, robot.upper)
@@ -101,6 +107,15 @@ def pose(values: List[str] = typer.Argument(..., metavar="VALUE...",
         warn(note)
     if outside:
         warn(_("outside the URDF's joint limits: {joints}", joints=", ".join(outside)))
+
+
+def _said(w: Warning | str) -> str:
+    """A :class:`~armkit.errors.CalibrationRangeWarning` in the user's language, from its templates and fields."""
+    template = getattr(w, "template", None)
+    if template is None:
+        return str(w)
+    notes = "; ".join(_(t, **f) for t, f in getattr(w, "notes", ()))
+    return _(template, **dict(getattr(w, "fields", {}), notes=notes))
 
 
 def register(app: typer.Typer) -> None:

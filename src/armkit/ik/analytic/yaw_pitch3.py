@@ -42,6 +42,7 @@ has no sideways offset), and :func:`pitch_of` measures it on any configuration.
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -820,3 +821,80 @@ def solve_direction(robot: Robot, solver: YawPitch3, pts: Array, dirs: Array, q0
                     iterations=np.zeros((B, 4), dtype=np.int64),
                     branch=take(np.broadcast_to(_LABELS, (B, 4)).astype(object)),
                     within_limits=take(fields["within"]), reason=_REASON_TEXT[take(code)], message=take(message))
+
+
+# ------------------------------------------------------------------------ the compiled fast path (issue 20)
+_FAST_MODULE = "ik.analytic._yaw_pitch3_jit"
+
+
+def fast_geometry(robot: Robot) -> Array | None:
+    """The packed geometry of the compiled single-target kernels (:mod:`._yaw_pitch3_jit`), or None.
+
+    None when the Numba back end is not in use, or ``robot`` is not a 5-joint revolute yaw-pitch3
+    arm with finite limits. Built once per robot (kept in ``robot.cache``).
+    """
+    from ... import _jit_loader
+
+    kern = _jit_loader.kernels(_FAST_MODULE)
+    if kern is None:
+        return None
+    g = robot.cache.get("yaw_pitch3_fast", False)
+    if g is False:
+        solver = _solver_of(robot)
+        ok = (solver is not None and solver.roll and robot.n == 5 and not robot.prismatic.any()
+              and bool(np.all(np.isfinite(robot.lower)) and np.all(np.isfinite(robot.upper))))
+        g = kern.pack(robot, solver) if ok else None
+        robot.cache["yaw_pitch3_fast"] = g
+    return g
+
+
+def fast_kernels() -> object:
+    """The compiled kernel module of this family (None while the Numba back end is not in use)."""
+    from ... import _jit_loader
+
+    return _jit_loader.kernels(_FAST_MODULE)
+
+
+def nearest_pitch(robot: Robot, solver: YawPitch3, pts: Array, psi: Array, q0: Array,
+                  tol: tuple[float, float] | None = None, enforce_limits: bool = True) -> IKResult | None:
+    """``solve_pitch(...)[rows, 0]`` (the successful branch nearest ``q0``) by the compiled kernels.
+
+    The rows the kernels solve plainly (a success, no note, no straight-elbow retry) come from
+    them; the others from :func:`solve_pitch`, which also writes the messages. None when the
+    kernels are not in use for ``robot``. Fields ``(B,)``, ``q`` ``(B, n)``.
+    """
+    g = fast_geometry(robot)
+    if g is None:
+        return None
+    kern: Any = fast_kernels()
+    if tol is None:
+        tol = default_tolerance(robot)
+    B = len(pts)
+    Q = np.empty((B, 4, 5))
+    DP, DR = np.empty((B, 4)), np.empty((B, 4))
+    OK, WI = np.empty((B, 4), dtype=bool), np.empty((B, 4), dtype=bool)
+    LAB, best = np.empty((B, 4), dtype=np.int64), np.empty(B, dtype=np.int64)
+    kern.nearest_pitch(g, np.ascontiguousarray(pts, dtype=float), np.ascontiguousarray(psi, dtype=float),
+                       np.ascontiguousarray(q0, dtype=float), float(tol[0]), float(tol[1]), bool(enforce_limits),
+                       Q, DP, DR, OK, WI, LAB, best)
+    rows = np.arange(B)
+    pick = np.maximum(best, 0)
+    q = Q[rows, pick]
+    fields: dict[str, Any] = dict(q=q, success=OK[rows, pick], position_error=DP[rows, pick],
+                                  rotation_error=DR[rows, pick], iterations=np.zeros(B, dtype=np.int64),
+                                  branch=_LABELS[LAB[rows, pick]], within_limits=WI[rows, pick],
+                                  reason=np.full(B, "converged", dtype=object), message=np.full(B, "", dtype=object))
+    slow = np.flatnonzero(best < 0)
+    if len(slow):
+        res = solve_pitch(robot, solver, pts[slow], psi[slow], q0[slow], tol, enforce_limits)
+        first = res[np.arange(len(slow)), 0]
+        for key in fields:
+            fields[key] = np.array(fields[key], dtype=object if key in ("branch", "reason", "message") else None)
+            fields[key][slow] = np.asarray(getattr(first, key))
+    fields["reason"] = np.asarray(fields["reason"]).astype(str)
+    return IKResult(**fields)
+
+
+def branch_label(index: int) -> str:
+    """The branch label of a kernel's label index (``""`` for -1: no branch, e.g. the current joints kept)."""
+    return str(_LABELS[index]) if 0 <= index < len(_LABELS) else ""
