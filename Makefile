@@ -6,7 +6,7 @@ VENV   := .venv
 PY     := $(VENV)/bin/python
 PIP    := $(PY) -m pip
 
-.PHONY: demo test fuzz bench clean chromium locale locale-update fonts pictures
+.PHONY: demo test fuzz bench bench-so101 clean chromium locale locale-update fonts pictures
 
 
 $(VENV)/.installed: pyproject.toml
@@ -56,7 +56,7 @@ fuzz: $(VENV)/.installed
 # refresh the docs pictures: the browser view's screenshots (docs/img/view-*.png) and make demo's
 # branch picture (tests write theirs to a temporary folder; only this target rewrites docs/img)
 pictures: $(VENV)/.installed chromium locale fonts
-	ARMKIT_UPDATE_PICTURES=1 $(PY) -m pytest -q tests/viz/view/test_view.py
+	ARMKIT_UPDATE_PICTURES=1 $(PY) -m pytest -q tests/viz/view/test_view.py tests/viz/view/test_notebook.py
 	$(PY) -c "from armkit.viz.demo import write_demo_pictures as w; import shutil; shutil.copy(w('out')[1], 'docs/img/fighter_ik_branches.png')"
 
 # the peers (pin, roboticstoolbox-python, ikpy, pytorch-kinematics, CPU torch) live in their own venv
@@ -76,5 +76,16 @@ bench: $(BENCH_VENV)/.installed
 	$(BENCH_PY) benchmarks/bench_analytic.py
 	$(BENCH_PY) -m pytest -q tests/peers
 
+# placo (LeRobot's IK library) pins an older pin, so it gets its own venv beside armkit for bench_so101
+PLACO_VENV := .venv-placo
+$(PLACO_VENV)/.installed: pyproject.toml
+	$(PYTHON) -m venv $(PLACO_VENV)
+	$(PLACO_VENV)/bin/python -m pip install --quiet --upgrade pip
+	$(PLACO_VENV)/bin/python -m pip install --quiet -e . placo
+	touch $@
+
+bench-so101: $(PLACO_VENV)/.installed
+	$(PLACO_VENV)/bin/python benchmarks/bench_so101.py
+
 clean:
-	rm -rf $(VENV) $(BENCH_VENV) out build *.egg-info src/*.egg-info
+	rm -rf $(VENV) $(BENCH_VENV) $(PLACO_VENV) out build *.egg-info src/*.egg-info

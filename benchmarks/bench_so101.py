@@ -22,11 +22,11 @@ in the same process: the time of one call (median and best of ``--calls``) for a
 a 5 mm step with LeRobot's default weights (position 1, orientation 0.01), and position only; then
 a sustained loop of ``--loop`` calls that follows a 5 cm circle, each answer fed back as
 the next current joints (calls per second, and the worst distance between the gripper and the
-commanded point). placo is optional (``pip install placo``; it lives in ``.venv-bench``).
+commanded point). placo is optional: it pins an older pin, so ``make bench-so101`` gives it its own ``.venv-placo`` (armkit + placo).
 
 Usage::
 
-    .venv-bench/bin/python benchmarks/bench_so101.py            # a few minutes on 2 cores
+    make bench-so101                                            # a few minutes on 2 cores (.venv-placo)
     .venv/bin/python benchmarks/bench_so101.py --n 1000 --far 100  # without placo: armkit alone
 """
 
