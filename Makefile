@@ -56,7 +56,7 @@ fuzz: $(VENV)/.installed
 # refresh the docs pictures: the browser view's screenshots (docs/img/view-*.png) and make demo's
 # branch picture (tests write theirs to a temporary folder; only this target rewrites docs/img)
 pictures: $(VENV)/.installed chromium locale fonts
-	ARMKIT_UPDATE_PICTURES=1 $(PY) -m pytest -q tests/viz/view/test_view.py tests/viz/view/test_notebook.py
+	ARMKIT_UPDATE_PICTURES=1 $(PY) -m pytest -q tests/viz/view/test_view.py tests/viz/view/test_notebook.py tests/viz/view/test_view_readouts.py
 	$(PY) -c "from armkit.viz.demo import write_demo_pictures as w; import shutil; shutil.copy(w('out')[1], 'docs/img/fighter_ik_branches.png')"
 
 # the peers (pin, roboticstoolbox-python, ikpy, pytorch-kinematics, CPU torch) live in their own venv

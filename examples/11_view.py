@@ -14,9 +14,8 @@ import armkit
 
 
 def main(out_dir=None):
-    v = armkit.view("fighter", host="127.0.0.1")      # port=None: a free port
+    v = armkit.view("fighter", host="127.0.0.1")      # port=None: a free port; prints its address once
     try:
-        print("serving", v.url)
         v.set_q(np.radians([30, 45, 60]))
         res = v.set_target([100.0, 50.0, 80.0])      # position only; the arm moves only on success
         print("IK target:", bool(res.success), res.branch, np.degrees(v.q).round(1))

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import ipaddress
 import re
-import time
 from typing import Optional
 
 import typer
@@ -74,7 +73,8 @@ def view(robot: str = typer.Argument(..., help=ROBOT_HELP),
          ) -> None:
     """Serve a live 3-D view of the arm in the browser: joint sliders, draggable IK target, tracking, workspace.
 
-    Prints the address and serves until Ctrl-C. Works offline (no internet needed).
+    Prints the address and serves until Ctrl-C (exit 130) or the page's "Close the view" button (exit 0).
+    Works offline (no internet needed).
 
     Example: armkit view fighter --lang ko
 
@@ -100,7 +100,7 @@ def view(robot: str = typer.Argument(..., help=ROBOT_HELP),
         fail(escape(str(exc)))
     try:
         v = open_view(r, port=port, host=host, lang=lang or current_language(),
-                      scene=False if scene is None else scene)   # no check: none drawn either
+                      scene=False if scene is None else scene, quiet=True)   # no check: none drawn either
     except ViewError as exc:
         fail(escape(str(exc)))
     try:
@@ -110,13 +110,13 @@ def view(robot: str = typer.Argument(..., help=ROBOT_HELP),
             console.print("[yellow]" + _("note:") + "[/] " + _("listening on {host}: anyone who can reach this "
                                                                 "machine on that address can open the view and move "
                                                                 "the arm", host=escape(host)), soft_wrap=True)
-        while True:
-            time.sleep(3600)
+        why = v.wait()
     except KeyboardInterrupt:
-        v.close()
-        raise SystemExit(130) from None
+        why = "interrupt"
     finally:
         v.close()
+    if why == "interrupt":
+        raise SystemExit(130)
 
 
 def register(app: typer.Typer) -> None:
@@ -137,7 +137,8 @@ def attach_view(shell: object, robot: object, lang: Optional[str]) -> object:
     from ..viz.view import view as open_view
 
     try:
-        v = open_view(robot, lang=lang or current_language(), q=getattr(shell, "q", None))  # type: ignore[arg-type]
+        v = open_view(robot, lang=lang or current_language(), q=getattr(shell, "q", None),  # type: ignore[arg-type]
+                      quiet=True)
     except ViewError as exc:
         fail(escape(str(exc)))
     shell.view = v  # type: ignore[attr-defined]

@@ -64,10 +64,10 @@ def test_canvas_sliders_pose_screenshot(browser, docs_img: Path, tmp_path: Path)
         expected = format_numbers(armkit.fk(v.robot, v.q)[:3, 3], 3)
         assert expected == "24.861, 14.353, 187.181"           # the club report's numbers
         wait_until(lambda: text_of(page, "end point (mm)") == expected, what="end-pose text")
-        # the slider itself (keyboard on its thumb): one step of 0.01°
+        # the slider itself (keyboard on its thumb): one step of 1° (issue 23; 0.1° with Shift)
         before = v.q
         row(page, "elbow (°)").locator("[role=slider]").press("ArrowRight")
-        wait_until(lambda: abs(v.q[2] - math.radians(60.01)) < 1e-9, what="slider step")
+        wait_until(lambda: abs(v.q[2] - math.radians(61)) < 1e-9, what="slider step")
         assert np.allclose(v.q[:2], before[:2])
         # a value past the limit is clamped to it
         type_number(page, "shoulder (°)", 1000)
@@ -269,7 +269,7 @@ def test_scene_drawn_and_collisions_turn_red(browser, docs_img: Path) -> None:
                           armkit.Scene.sphere([0, 120, 50], 20, name="ball"),
                           armkit.Scene.cylinder([0, -120, 50], 10, 50, name="pipe"),
                           armkit.Scene.box([120, 0, 40], [60, 200, 20], name="table")])
-    with View("fighter", lang="en", scene=scene) as v:
+    with View("fighter", lang="en", scene=scene, q=np.zeros(3)) as v:   # q = 0: along x (home bends the elbow)
         assert set(v.obstacles.nodes) == {"post", "ball", "pipe", "table", "torso"}
         assert len(v.obstacles.nodes["post"]) == 3      # a capsule: a cylinder and two spheres
         assert v.obstacles.colliding == ("post", "table")

@@ -2,11 +2,14 @@
 
 >>> import armkit                                   # doctest: +SKIP
 >>> v = armkit.view("fighter")                      # doctest: +SKIP
->>> print(v.url)                                    # doctest: +SKIP
-http://127.0.0.1:40213/
+live view: http://127.0.0.1:40213/
 >>> v.set_target([100.0, 50.0, 80.0]).success      # doctest: +SKIP
 array(True)
->>> v.close()                                       # doctest: +SKIP
+>>> v.wait()                                        # doctest: +SKIP
+'page'
+
+``v.wait()`` serves until the page's close button or Ctrl-C; in Jupyter ``v`` shows the page
+inline (an iframe to the server).
 
 See docs/view.md. This package is imported only when asked for: ``import armkit``
 does not import viser. It lives under :mod:`armkit.viz` with the other pictures;
@@ -15,7 +18,7 @@ does not import viser. It lives under :mod:`armkit.viz` with the other pictures;
 
 from __future__ import annotations
 
-from .server import IK_METHODS, View, ViewError, free_port, view
+from .server import IK_METHODS, View, ViewError, free_port, home_pose, view
 
-__all__ = ["view", "View", "ViewError", "IK_METHODS", "free_port"]
+__all__ = ["view", "View", "ViewError", "IK_METHODS", "free_port", "home_pose"]
 

@@ -215,7 +215,7 @@ class ArmDrawing:
         robot, s, sc = self.robot, self.s, self.server.scene
         F = fk_frames(robot, q) if frames is None else frames
         if self.meshes:
-            from ... import link_frames  # type: ignore[attr-defined]
+            from ...kinematics import link_frames
 
             L = np.asarray(link_frames(robot, q))
             for node, T in zip(self._mesh_links, L):

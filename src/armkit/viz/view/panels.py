@@ -28,7 +28,7 @@ from .labels import label
 if TYPE_CHECKING:  # pragma: no cover
     from .server import View
 
-__all__ = ["Panels", "format_numbers"]
+__all__ = ["Panels", "format_numbers", "singular_html"]
 
 Array = NDArray[np.float64]
 _DECIMALS = {"m": 5, "cm": 4, "mm": 3}
@@ -42,6 +42,23 @@ def format_numbers(values: Any, decimals: int) -> str:
         s = f"{v:.{decimals}f}"
         out.append(s[1:] if s.startswith("-") and float(s) == 0.0 else s)
     return ", ".join(out)
+
+
+def singular_html(w: float, c: float, lang: str) -> str:
+    """The singularity line for manipulability ``w`` and condition number ``c`` (empty when well away).
+
+    Above :data:`~armkit.viz.view.server.SINGULAR` (1e12) the number is rounding noise: the
+    line says "singular" in words with the manipulability, never the number.
+    """
+    from .server import NEAR_SINGULAR, SINGULAR
+
+    if math.isfinite(c) and c <= NEAR_SINGULAR:
+        return ""
+    if not math.isfinite(c) or c > SINGULAR:
+        text = label("singular", lang, w=f"{w:.3g}")
+    else:
+        text = label("near_singular", lang, w=f"{w:.3g}", c=f"{c:.3g}")
+    return f'<div class="armkit-singular" style="color:#b45309;font-size:0.85em;padding:0 0.5em">{html.escape(text)}</div>'
 
 
 class Panels:
@@ -66,6 +83,9 @@ class Panels:
         self._build_workspace()
         self._build_trajectory()
         self._build_view_folder()
+        from .readouts import Readouts          # T and J, stored configurations, frames, camera presets
+
+        self.readouts = Readouts(view, self.lang, self.dec)
 
     def _build_joints(self) -> None:
         """A slider per joint (degrees, or the robot's unit for a prismatic joint) and Home."""
@@ -157,6 +177,7 @@ class Panels:
         gui, L = self.server.gui, self._l
         with gui.add_folder(L("workspace"), expand_by_default=False):
             self.ws_cb = gui.add_checkbox(L("show_workspace"), False)
+            self.ws_bar = gui.add_html("")            # the cloud's colour bar (readouts.colour_bar_html)
         self.ws_cb.on_update(self._toggle_workspace)
 
     def _build_trajectory(self) -> None:
@@ -221,12 +242,24 @@ class Panels:
         w = float(manipulability(r, q))
         c = float(condition_number(r, q))
         self.manip_text.value = f"{w:.4g}"
-        if not math.isfinite(c) or c > 100.0:
-            cs = "∞" if not math.isfinite(c) else f"{c:.3g}"
-            self.singular_html.content = (f'<div style="color:#b45309;font-size:0.85em;padding:0 0.5em">'
-                                          f'{html.escape(self._l("near_singular", c=cs))}</div>')
-        else:
-            self.singular_html.content = ""
+        self.singular_html.content = singular_html(w, c, self.lang)
+        self.readouts.show_state(q, F)
+
+    def show_follow(self, T: Array) -> None:
+        """The joints were set directly: the target (gizmo, typed target) moves to the end pose ``T`` (4, 4),
+        the branch list empties and the IK status says so; called inside ``server.atomic()``."""
+        from ...spatial import rotation_to_rpy
+
+        r = self.robot
+        self.gizmo.position = tuple(T[:3, 3] * r.unit_scale)
+        self.gizmo.wxyz = tuple(wxyz_from_rotation(T[:3, :3]))
+        self.target_ball.color = (40, 180, 80)
+        self.target_xyz.value = tuple(float(v) for v in np.round(T[:3, 3], self.dec))
+        self.target_rpy.value = tuple(float(v) for v in np.round(rotation_to_rpy(T[:3, :3], degrees=True), 3))
+        self.branch_dd.options = ["—"]
+        self.branch_dd.value = "—"
+        self.ik_html.content = (f'<div class="armkit-ik-status" data-ok="follow" style="color:#475569;'
+                                f'font-size:0.85em;padding:0 0.5em">{html.escape(self._l("follows"))}</div>')
 
     def show_collision(self, res: Any) -> None:
         """The collision line: what the arm hits and by how much (empty when clear or without a scene)."""
@@ -471,6 +504,7 @@ class Panels:
                            scene=False if self.view.ik_scene is None else self.view.ik_scene)
             w = np.asarray(ws.manipulability, dtype=float)
             top = float(np.percentile(w, 99)) or 1.0
+            self.ws_top = top
             colours = (colormaps["viridis"](np.clip(w / top, 0, 1))[:, :3] * 255).astype(np.uint8)
             s = self.robot.unit_scale
             reach_m = (self.robot.reach or 1.0) * s
@@ -478,6 +512,9 @@ class Panels:
                                                                colors=colours, point_size=0.008 * reach_m)
         if self._ws_cloud is not None:
             self._ws_cloud.visible = on
+            from .readouts import colour_bar_html
+
+            self.ws_bar.content = colour_bar_html(self.ws_top, self.lang) if on else ""
 
     def _toggle_frames(self, event: Any) -> None:
         self.view.drawing.set_frames_visible(bool(self.frames_cb.value))

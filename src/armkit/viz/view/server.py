@@ -15,7 +15,9 @@ from __future__ import annotations
 
 import collections
 import contextlib
+import html
 import io
+import itertools
 import math
 import re
 import socket
@@ -33,13 +35,71 @@ from ...locale import LANGUAGES, default_language
 from ...kinematics import condition_number, fk, fk_frames, manipulability
 from ...model import Robot, load
 from ...ik import IKResult, ik, ik_all
+from ...ik.analytic import closed_form
 
-__all__ = ["View", "ViewError", "view", "IK_METHODS"]
+__all__ = ["View", "ViewError", "view", "IK_METHODS", "home_pose"]
 
 Array = NDArray[np.float64]
 IK_METHODS = ("auto", "lm", "newton", "ccd", "fabrik")
 NEAR_SINGULAR = 100.0        # condition number above which the panel warns
+SINGULAR = 1e12              # above it the page says "singular" (the number itself is rounding noise)
 MAX_SWEEPS = 40              # sweeps animated by "show sweeps"
+HOME_STEPS = (math.pi / 6, -math.pi / 6, math.pi / 3, -math.pi / 3)   # joint offsets tried for a home pose
+
+
+def home_pose(robot: Robot, scene: Any = None) -> Array:
+    """A home pose of ``robot``, shape ``(n,)``: zeros (moved inside the limits) unless that pose is singular.
+
+    Most arms are singular at zero (stretched out, or a wrist lined up). Then the joints after
+    the first are moved by +-30 deg or +-60 deg (revolute joints only), fewest joints first,
+    and the best-conditioned pose among the fewest wins: within the limits, condition number
+    of the task Jacobian below ``NEAR_SINGULAR / 2`` and clear of ``scene`` and of itself
+    (``scene`` as in :func:`armkit.collisions`; ``False``: no collision check). The search is
+    deterministic (the same pose every time) and costs a few milliseconds.
+
+    Parameters
+    ----------
+    robot : Robot
+    scene : Scene, None or False
+        Surroundings the pose must be clear of (None: the robot's own).
+
+    Returns
+    -------
+    ndarray, shape (n,)
+        The pose; zeros moved inside the limits when no candidate qualifies.
+    """
+    from ...collision import collisions
+
+    zero = np.clip(np.zeros(robot.n), robot.lower, robot.upper)
+    free = [k for k in range(1, robot.n) if not robot.joints[k].is_prismatic]
+    limit = NEAR_SINGULAR / 2
+    for moved in range(0, len(free) + 1):
+        rows = []
+        for joints in itertools.combinations(free, moved):
+            for offsets in itertools.product(HOME_STEPS, repeat=moved):
+                q = zero.copy()
+                q[list(joints)] += offsets
+                rows.append(q)
+        Q = np.array(rows).reshape(-1, robot.n)
+        Q = Q[robot.within_limits(Q)]
+        if len(Q) == 0:
+            continue
+        c = np.asarray(condition_number(robot, Q), dtype=float)
+        good = np.isfinite(c) & (c < limit)
+        if not good.any():
+            continue
+        Q, c = Q[good], c[good]
+        order = np.argsort(c, kind="stable")
+        Q = Q[order]
+        if scene is not False:
+            try:
+                clear = ~np.asarray(collisions(robot, Q, None if scene is None else scene).colliding)
+            except ArmkitError:        # a robot whose geometry cannot be checked: conditioning alone
+                clear = np.ones(len(Q), dtype=bool)
+            Q = Q[clear]
+        if len(Q):
+            return Q[0].copy()
+    return zero
 
 
 def _port_free(host: str, port: int) -> bool:
@@ -51,6 +111,21 @@ def _port_free(host: str, port: int) -> bool:
         except OSError:
             return False
     return True
+
+
+@contextlib.contextmanager
+def _quiet() -> Any:
+    """Nothing printed: stdout, and rich's global console (viser's banner; in Jupyter rich shows it as output)."""
+    import rich
+    import rich.console
+
+    saved = rich._console
+    rich._console = rich.console.Console(file=io.StringIO(), force_jupyter=False)
+    try:
+        with contextlib.redirect_stdout(io.StringIO()):
+            yield
+    finally:
+        rich._console = saved
 
 
 def free_port(host: str = "127.0.0.1") -> int:
@@ -100,7 +175,7 @@ class View:
         self.scene = Scene([], r.unit) if scene is False else as_scene(r, scene)
         self.ik_scene = resolve_scene(r, False if scene is False else self.scene if scene is not None else None)
         self.checked_against = checked_against(r, self.ik_scene)   # what IK here is checked against (the one rule)
-        self.home = np.clip(np.zeros(r.n), r.lower, r.upper)
+        self.home = home_pose(r, False if scene is False else self.scene)
         self._q = self.home.copy() if q is None else self._checked_q(q)
         self._lock = threading.RLock()
         self._stop = threading.Event()
@@ -119,9 +194,14 @@ class View:
         self.ik_updates = 0
         self.track_frame = -1
         self.screenshot_dir = Path.cwd()      # where the page's Screenshot button saves its PNG files
+        self._following = True                 # the target sits on the end pose (no IK result shown)
+        self._every: Any = None                # (ik_all result, branch labels) of the current target
         self._closed = False
+        self._closing = threading.Event()      # set by the page's close button (or close()): wait() returns
+        self._close_reason = ""
+        self._close_lock = threading.Lock()
         try:
-            with contextlib.redirect_stdout(io.StringIO()):   # viser prints its own banner; we print the URL
+            with _quiet():          # viser prints its own banner (in Jupyter as a display); we print the URL once
                 self.server: Any = viser.ViserServer(host=host, port=int(port), verbose=False)
         except OSError as exc:
             raise ViewError(f"cannot serve on {host}:{port}: {exc}") from exc
@@ -150,7 +230,7 @@ class View:
 
         self.drawing = ArmDrawing(self.server, r, self._q)
         self.obstacles = ObstacleDrawing(self.server, r, self.scene, nice_grid(r.reach or 1.0)[2] * r.unit_scale)
-        self.panels = Panels(self)
+        self._build_panels()
         self._show(self._q)
         # warm the IK path once so that the first drag is not slow (Numba compiles on first use)
         try:
@@ -158,11 +238,65 @@ class View:
         except ArmkitError:
             pass
         self.last_result = None
+        self.branches = {}
+        self._every = None
+
+    def _build_panels(self) -> None:
+        """The language switch, the panels (:mod:`.panels`), the close button, and the page script."""
+        from . import page
+        from .labels import label
+        from .panels import Panels
+
+        gui = self.server.gui
+        names = {"en": "English", "ko": "한국어"}      # each language's name in itself, in both pages
+        self._lang_dd = gui.add_dropdown("language · 언어", [names[k] for k in LANGUAGES],
+                                         initial_value=names[self.lang])
+
+        def switched(event: Any) -> None:
+            chosen = next(k for k, v in names.items() if v == self._lang_dd.value)
+            if event.client is not None and chosen != self.lang:
+                threading.Thread(target=self.set_lang, args=(chosen,), daemon=True).start()
+
+        self._lang_dd.on_update(switched)
+        self.panels = Panels(self)
+        close = gui.add_button(label("close_view", self.lang), color="red")
+        close.on_click(lambda e: self._close_from_page() if e.client is not None else None)
+        p, r = self.panels, self.robot
+        deferred = [page.widget_id(h) for h in (*p.sliders, p.target_xyz, p.target_rpy)]
+        steps = {page.widget_id(s): (1.0, 0.1) for s, j in zip(p.sliders, r.joints) if not j.is_prismatic}
+        page.install(self.server, deferred, steps)
+
+    def set_lang(self, lang: str) -> None:
+        """Show the page's labels in ``lang`` (``"en"`` or ``"ko"``); the arm, the target and the method stay.
+
+        The page's *language* list calls this. Players (tracking, trajectories) stop.
+        """
+        if lang not in LANGUAGES:
+            raise ViewError(f"lang must be one of {', '.join(LANGUAGES)}, got {lang!r}")
+        if lang == self.lang:
+            return
+        self._cancel_player()
+        with self._lock:
+            if self._closed:
+                return
+            old = self.panels
+            self.lang = lang
+            with self.server.atomic():
+                self.server.gui.reset()
+                for node in ("/workspace", "/track"):      # drawn by the old panels; the new ones start without
+                    self.server.scene.remove_by_name(node)
+                self._build_panels()
+                self.panels.set_method(old.method)
+                self.panels.set_position_only(old.position_only)
+                self.drawing.set_frames_visible(False)
+            target, res = self.target, self.last_result
+            if not self._following and target is not None and res is not None:
+                self._show(self._q, lambda: self.panels.show_target(target, res, True), follow=False)
+            else:
+                self._show(self._q)
 
     # ------------------------------------------------------------------ scene
     def _setup_scene(self) -> None:
-        from ...analysis.workspace import shoulder_point
-
         r, s = self.robot, self.robot.unit_scale
         self.server.scene.set_up_direction("+z")
         # no shadows and no HDRI environment: far cheaper to draw (a laptop without a GPU, SSH, CI),
@@ -170,11 +304,18 @@ class View:
         self.server.scene.configure_environment_map(hdri=None)
         self.server.scene.configure_default_lights(enabled=True, cast_shadow=False)
         self.server.gui.configure_theme(control_width="medium", show_share_button=False, show_logo=False)
-        c = shoulder_point(r) * s
         R = (r.reach or 1.0) * s
+        c, radius = self._arm_sphere()
         cam = self.server.initial_camera
-        cam.position = tuple(c + R * np.array([1.5, -1.9, 1.2]))
-        cam.look_at = tuple(c + R * np.array([0.15, 0.0, 0.1]))
+        # fit the arm at its first pose: its bounding sphere fills most of the height of viser's 75 deg view,
+        # seen from the front right and above; the view is slid sideways so that the arm sits left of the
+        # panels (about a third of a 1000 px wide window)
+        direction = np.array([1.5, -1.9, 1.2]) / np.linalg.norm([1.5, -1.9, 1.2])
+        distance = 1.25 * radius / math.sin(0.5 * math.radians(75.0))
+        right = np.cross(-direction, [0.0, 0.0, 1.0])
+        slide = 0.7 * radius * right / np.linalg.norm(right)
+        cam.position = tuple(c + distance * direction + slide)
+        cam.look_at = tuple(c + slide)
         cam.up = (0.0, 0.0, 1.0)
         self._look = (cam.position, cam.look_at)
 
@@ -185,6 +326,18 @@ class View:
             client.camera.look_at = self._look[1]
             client.camera.near = 0.002 * R
             client.camera.far = 100.0 * R
+
+    def _arm_sphere(self) -> tuple[Array, float]:
+        """Centre ``(3,)`` and radius (metres) of a sphere around the arm at its first pose and its base."""
+        from ...analysis.workspace import skeleton_batch
+
+        r, s = self.robot, self.robot.unit_scale
+        pts = skeleton_batch(r, fk_frames(r, self._q)[None])[0] * s
+        pts = np.vstack([pts, np.asarray(r.base)[:3, 3] * s])
+        lo, hi = pts.min(axis=0), pts.max(axis=0)
+        c = 0.5 * (lo + hi)
+        thickness = 0.08 * (r.reach or 1.0) * s          # the drawn links, joints and base around the skeleton
+        return c, float(np.max(np.linalg.norm(pts - c, axis=1))) + thickness
 
     # ------------------------------------------------------------------ state
     def _checked_q(self, q: ArrayLike) -> Array:
@@ -203,18 +356,37 @@ class View:
         with self._lock:
             return self._q.copy()
 
-    def _show(self, q: Array, extra: Optional[Callable[[], None]] = None) -> None:
-        """Draw ``q`` (already checked) and refresh the panels, in one batch."""
+    @q.setter
+    def q(self, q: ArrayLike) -> None:
+        """``v.q = ...`` is :meth:`set_q`."""
+        self.set_q(q)
+
+    def _show(self, q: Array, extra: Optional[Callable[[], None]] = None, follow: bool = True) -> None:
+        """Draw ``q`` (already checked) and refresh every readout, in one batch.
+
+        The joints, the end pose, the collision state and the target go out together. With
+        ``follow`` (the joints were set directly: a slider, a typed joint, ``set_q``, the shell,
+        a player) the target gizmo moves to the end pose and the IK status says so, and the
+        branch list of the old target is cleared; an IK move passes ``follow=False`` and
+        shows its own result in ``extra``.
+        """
         with self._lock:
             if self._closed:
                 return
             t0 = time.perf_counter()
             self._q = np.array(q, dtype=float)
             F = fk_frames(self.robot, self._q)
+            self._following = follow
+            if follow:
+                self.branches = {}
+                self.branch = None
+                self._every = None
             with self.server.atomic():
                 self.drawing.update(self._q, F)
                 self.panels.show_state(self._q, F)
                 self.panels.show_collision(self.obstacles.update(self._q, F))
+                if follow:
+                    self.panels.show_follow(F[-1])
                 if extra is not None:
                     extra()
             self.server.flush()      # send now: viser otherwise waits up to 1/60 s to window messages (15 ms measured)
@@ -258,7 +430,9 @@ class View:
         tgt = T[:3, 3] if (position_only and T.shape == (4, 4)) else T
         q0 = self.q
         self.branches = {}
-        if method == "auto" and self._closed_form.get(tgt.shape == (3,), True):
+        self._every = None
+        # a sweep (a 7-joint arm's ik_all: hundreds of rows) is no branch list to drag with: LM answers there
+        if method == "auto" and closed_form(r) is not None and self._closed_form.get(tgt.shape == (3,), True):
             try:
                 every = ik_all(r, tgt, q0=q0, scene=self._ik_scene_arg())
                 self._closed_form[tgt.shape == (3,)] = True
@@ -268,6 +442,7 @@ class View:
                 ok = np.asarray(every.success)
                 labels = [str(b) for b in np.asarray(every.branch)]
                 self.branches = {lab: np.asarray(every.q)[i].copy() for i, lab in enumerate(labels) if ok[i]}
+                self._every = (every, labels)
                 return every[0]          # successful branches first, nearest to q0 first
         name = "lm" if method == "auto" else method
         kw: dict[str, Any] = {"restarts": 3, "seed": 0} if name in ("lm", "newton") else {"seed": 0}
@@ -322,8 +497,9 @@ class View:
                 self.panels.show_target(t, res, move_gizmo)
 
             if ok and not sweeps:
-                self._show(np.asarray(res.q, dtype=float), panel)
+                self._show(np.asarray(res.q, dtype=float), panel, follow=False)
             else:
+                self._following = False
                 with self.server.atomic():
                     panel()
                 self.server.flush()
@@ -357,8 +533,17 @@ class View:
             raise ViewError(f"no branch {label!r} for this target; the branches are "
                             + (", ".join(self.branches) or "none (no closed form)"))
         self._cancel_player()
-        self.branch = label
-        self._show(self.branches[label])
+        with self._lock:
+            branches, every, t = dict(self.branches), self._every, self.target
+            res = every[0][every[1].index(label)] if every is not None and label in every[1] else None
+            self.branch = label
+            if res is not None:
+                self.last_result = res
+            if res is None or t is None:
+                self._show(branches[label], follow=False)
+                return
+            self._show(branches[label], lambda: self.panels.show_target(t, res, False), follow=False)
+            self.branches, self._every, self.branch = branches, every, label
 
     # ------------------------------------------------------------------ players
     def _cancel_player(self) -> None:
@@ -393,10 +578,11 @@ class View:
                 qk = np.asarray(step.q, dtype=float)
                 if np.all(np.isfinite(qk)) and self.robot.within_limits(qk):
                     err = float(np.asarray(step.position_error))
-                    self._show(qk, lambda: self.panels.show_sweep(k, count, err))
+                    self._show(qk, lambda: self.panels.show_sweep(k, count, err), follow=False)
                 self._stop.wait(0.12)
             if self._alive(token) and bool(np.asarray(final.success)):
-                self._show(np.asarray(final.q, dtype=float), lambda: self.panels.show_target(t, final, False))
+                self._show(np.asarray(final.q, dtype=float), lambda: self.panels.show_target(t, final, False),
+                           follow=False)
 
         self._start_player(body)
 
@@ -515,19 +701,59 @@ class View:
             tmp.write_bytes(png)
         return Path(path)
 
+    def _close_from_page(self) -> None:
+        """The page's close button: :meth:`wait` returns and the view closes."""
+        self._close_reason = self._close_reason or "page"
+        self._closing.set()
+        threading.Thread(target=self.close, daemon=True, name="armkit-view-close").start()
+
+    def wait(self, timeout: Optional[float] = None) -> str:
+        """Serve until the page's *Close the view* button, Ctrl-C, :meth:`close` or ``timeout`` seconds.
+
+        A script that opens a view ends with ``v.wait()``, so that the page keeps working until
+        the user is done. The view is closed when this returns (not after a timeout).
+
+        Parameters
+        ----------
+        timeout : float, optional
+            Seconds to wait at most (None: no limit).
+
+        Returns
+        -------
+        str
+            Why it returned: ``"page"`` (the close button), ``"interrupt"`` (Ctrl-C),
+            ``"closed"`` (:meth:`close` was called) or ``"timeout"`` (the view stays open).
+        """
+        deadline = None if timeout is None else time.monotonic() + float(timeout)
+        try:
+            while not self._closing.is_set():
+                left = 0.5 if deadline is None else min(0.5, deadline - time.monotonic())
+                if left <= 0:
+                    return "timeout"
+                self._closing.wait(left)      # short waits: Ctrl-C reaches the main thread between them
+        except KeyboardInterrupt:
+            self._close_reason = self._close_reason or "interrupt"
+            self.close()
+            return "interrupt"
+        self.close()
+        return self._close_reason or "closed"
+
     def close(self) -> None:
         """Stop the players and the server; the port is free again when this returns."""
-        if self._closed:
-            return
-        self._stop.set()
-        self._cancel_player()
-        with self._lock:
-            self._closed = True
-        with contextlib.redirect_stdout(io.StringIO()):       # viser's "Server stopped" line
-            self.server.stop()
-        deadline = time.monotonic() + 5.0
-        while not _port_free(self.host, self.port) and time.monotonic() < deadline:
-            time.sleep(0.05)
+        self._closing.set()
+        self._close_reason = self._close_reason or "closed"
+        with self._close_lock:          # a second caller (wait() after the page's button) returns when it is done
+            if self._closed:
+                return
+            self._stop.set()
+            self._cancel_player()
+            with self._lock:
+                self._closed = True
+            with contextlib.redirect_stdout(io.StringIO()):       # viser's "Server stopped" line
+                self.server.stop()
+            deadline = time.monotonic() + 5.0
+            while not _port_free(self.host, self.port) and time.monotonic() < deadline:
+                time.sleep(0.05)
 
     def __enter__(self) -> "View":
         return self
@@ -538,9 +764,19 @@ class View:
     def __repr__(self) -> str:
         return f"View({self.robot.name!r}, url={self.url!r})"
 
+    def _repr_html_(self) -> str:
+        """Jupyter shows the page inline: an iframe to this server (the kernel's machine must be reachable)."""
+        name = html.escape(self.robot.name)
+        if self._closed:
+            return f"<p>armkit view of {name}: closed</p>"
+        url = html.escape(self.url, quote=True)
+        return (f'<iframe class="armkit-view" src="{url}" title="armkit view: {name}" width="100%" height="560" '
+                f'style="border:1px solid #ccc;border-radius:4px" allow="clipboard-write"></iframe>'
+                f'<p style="font-size:0.85em"><a href="{url}" target="_blank">{url}</a></p>')
+
 
 def view(robot: Robot | str, port: Optional[int] = None, host: str = "127.0.0.1", lang: Optional[str] = None,
-         q: ArrayLike | None = None, scene: Any = None) -> View:
+         q: ArrayLike | None = None, scene: Any = None, quiet: bool = False) -> View:
     """Open a live 3-D view of ``robot`` in the browser and return its handle.
 
     Parameters
@@ -554,7 +790,7 @@ def view(robot: Robot | str, port: Optional[int] = None, host: str = "127.0.0.1"
     lang : {"en", "ko"}, optional
         Labels' language; default from the locale.
     q : array_like, shape (n,), optional
-        First configuration (default: zeros, moved inside the limits).
+        First configuration (default: :func:`home_pose`, zeros unless that pose is singular).
     scene : Scene, list of Shape, str, None or False
         The surroundings drawn (translucent; red while the arm overlaps them) and checked by
         the view's IK (the one rule of :func:`armkit.collision.resolve_scene`): ``None`` the
@@ -562,10 +798,18 @@ def view(robot: Robot | str, port: Optional[int] = None, host: str = "127.0.0.1"
         :class:`armkit.Scene`, a list of shapes, or a scene file; ``armkit.Scene()`` for no
         surroundings (body and self-collision still checked); ``False`` for none drawn and no
         collision check. The robot's body (``[[body]]``, the fighter's torso) is always drawn.
+    quiet : bool
+        Do not print the address (it is printed once, when the view starts).
 
     Returns
     -------
     View
-        ``.url``, ``.q``, ``set_q``, ``set_target``, ``show_path``, ``close``.
+        ``.url``, ``.q``, ``set_q``, ``set_target``, ``show_path``, ``wait``, ``close``; in Jupyter
+        the handle shows the page inline.
     """
-    return View(robot, port=port, host=host, lang=lang, q=q, scene=scene)
+    v = View(robot, port=port, host=host, lang=lang, q=q, scene=scene)
+    if not quiet:
+        from ...locale import N_, translate
+
+        print(translate(N_("live view: {url}"), v.lang, url=v.url), flush=True)
+    return v
