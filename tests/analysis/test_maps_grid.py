@@ -91,7 +91,7 @@ def test_cli_maps_are_the_tutorials_formulas(monkeypatch: pytest.MonkeyPatch, tm
     # IK: x, y = 0, 0.01, ..., 1.5; one panel row per solution q2 = +-acos(c2)
     assert len(im.x) == len(im.y) == 151
     np.testing.assert_allclose(im.x, np.arange(151) * 0.01, atol=1e-12)
-    assert im.branches == ("q2+", "q2-")
+    assert im.branches == ("elbow-down", "elbow-up")    # armkit ik's names (issue 22): q2 >= 0 and q2 <= 0 where x >= 0
     X, Y = np.meshgrid(im.x, im.y, indexing="ij")
     rr = X**2 + Y**2
     inside = (rr >= (L1 - L2) ** 2) & (rr <= (L1 + L2) ** 2)

@@ -139,7 +139,8 @@ def test_a_thousand_garbage_lines_never_raise_never_exit(lines):
         assert np.all(r.within_limits(sh.q))
         if out.status == "ok":
             np.testing.assert_allclose(printed_end(out), armkit.fk(r, sh.q)[:3, 3], atol=1e-5)
-    # after all that the shell still works
+    # after all that the shell still works (a garbage line may have switched to radians: "units rad")
+    sh.execute("units deg")
     out = sh.execute("theta1 = 30; theta2 = 45; theta3 = 60")
     np.testing.assert_allclose(printed_end(out), [24.860765, 14.353369, 187.181226], atol=1e-5)
     assert sh.execute("quit").status == "exit"

@@ -81,7 +81,7 @@ def test_planar2_both_branches_match_ik_all(tmp_path):
 
 def test_ik_export_mistakes_exit_2(tmp_path):
     for args, msg in ((["derive", "puma560", "--ik", "--python"], "planar 2R"),
-                      (["derive", "fighter", "--ik"], "--python"),
+                      (["derive", "fighter", "--ik", "--png", str(tmp_path / "x.png")], "--png"),
                       (["derive", "fighter", "--ik", "--python", "-o", str(tmp_path / "x.txt")], "--output")):
         res = runner.invoke(app, args)
         assert res.exit_code == 2 and msg in res.output and "Traceback" not in res.output, res.output

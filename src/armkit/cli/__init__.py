@@ -42,6 +42,7 @@ class _ArmkitGroup(TyperGroup):
 
         common.CHAIN.update(base=None, tip=None, allow_outside=None)
         common.LANG.update(lang=None)
+        args = common.join_vector_words(args)    # --rpy 180 0 0 == --rpy 180,0,0 on every command
         words = [a for k, a in enumerate(args)
                  if not a.startswith("-") and (k == 0 or args[k - 1] not in ("--base", "--tip", "--lang"))]
         command = self.commands.get(words[0]) if words else None
@@ -188,11 +189,32 @@ def _tidy_help(command) -> None:  # type: ignore[no-untyped-def]
         return option
 
     command.get_help_option = help_option
+    if getattr(command, "help", None):
+        command.help = reflow(command.help)
     names = {p.name for p in command.params}
     if "robot" in names and "base" not in names and "tip" not in names:
         command.params.extend(_chain_options())
     for sub in getattr(command, "commands", {}).values():
         _tidy_help(sub)
+
+
+def reflow(text: str) -> str:
+    r"""A docstring's paragraphs as single lines, so that ``--help`` wraps them at the terminal's width (no line
+    broken where the source was); ``Example:`` lines stay lines of their own.
+
+    >>> reflow("One sentence\nwrapped.\n\nExample: a\nExample: b")
+    'One sentence wrapped.\n\nExample: a\nExample: b'
+    """
+    out = []
+    for para in text.split("\n\n"):
+        lines: list[str] = []
+        for line in para.splitlines():
+            if lines and not line.lstrip().startswith("Example") and not lines[-1].lstrip().startswith("Example"):
+                lines[-1] += " " + line.strip()
+            else:
+                lines.append(line.strip())
+        out.append("\n".join(lines))
+    return "\n\n".join(out)
 
 
 _COMMAND_MODULES = ("core", "ik", "viz", "symbolic", "view", "reach", "warmup", "so101")

@@ -9,6 +9,8 @@ from __future__ import annotations
 
 import json
 import math
+import os
+import re
 import sys
 from pathlib import Path
 from typing import Any, NoReturn, Sequence
@@ -57,7 +59,24 @@ def say(label: str, style: str, message: object, console_: Console | None = None
     after :data:`armkit._text.MAX_MESSAGE` characters. Every error and warning of the
     command line goes through here.
     """
-    (console_ or err_console).print(Text.assemble((label, style), " ", shorten(plain(message))), soft_wrap=True)
+    out = console_ or err_console
+    out.print(Text.assemble((label, style), " ", shorten(plain(message))), soft_wrap=not wraps(out, columns=False))
+
+
+def wraps(out: Console, columns: bool = True) -> bool:
+    """Whether messages on ``out`` wrap between words at its width: on a terminal (Rich reads the width with
+    ``os.get_terminal_size``; ``COLUMNS`` overrides it), and, with ``columns``, wherever ``COLUMNS`` is set (the
+    width the output's lines are laid out for, as tables are: :func:`out_width`). Elsewhere (a pipe, a file) a
+    message stays one line, so that grep finds it whole. Errors and warnings (:func:`say`) wrap on a terminal only:
+    a program that reads them from a pipe gets one line each, whatever ``COLUMNS`` a test runner exported."""
+    return out.is_terminal or (columns and os.environ.get("COLUMNS", "").isdigit())
+
+
+def message(text: str | Text, console_: Console | None = None) -> None:
+    """Print a message line (armkit's markup allowed in a ``str``) wrapped between words at the terminal's width
+    (:func:`wraps`); never cut."""
+    out = console_ or console
+    out.print(text, soft_wrap=not wraps(out))
 
 
 def fail(message: str, code: int = EXIT_BAD_INPUT) -> NoReturn:
@@ -145,6 +164,76 @@ def parse_numbers(values: Sequence[str], what: str) -> np.ndarray:
             fail(_("{what}: {value!r} is not a finite number", what=_(what), value=v))
         out.append(x)
     return np.array(out, dtype=float)
+
+
+VECTOR_SPLIT = re.compile(r"[\s,]+")
+"""What separates the numbers of a vector: commas, spaces or both (``180,0,0``, ``"180 0 0"``, ``180, 0, 0``)."""
+
+VECTOR_OPTIONS: dict[str, int] = {"--rpy": 3, "--quat": 4, "--direction": 3, "--all-branches": 3, "--box": 6,
+                                  "--xyz": 3}
+"""Options whose value is a vector, and at most how many numbers it has: each takes ``--rpy 180 0 0`` as well as
+``--rpy 180,0,0`` (:func:`join_vector_words` turns the first into the second before the command sees it)."""
+
+
+def _is_number(word: str) -> bool:
+    try:
+        float(word)
+    except ValueError:
+        return False
+    return True
+
+
+def join_vector_words(args: Sequence[str]) -> list[str]:
+    """The command line with every vector option's separate numbers joined by commas.
+
+    ``--rpy 180 0 0`` becomes ``--rpy 180,0,0`` (up to :data:`VECTOR_OPTIONS` numbers are taken, only words that
+    are numbers); ``--rpy 180,0,0``, ``--rpy=180,0,0`` and words after ``--`` are left as they are. The command
+    then reads the value with :func:`parse_vector`, the one vector parser of the command line.
+
+    >>> join_vector_words(["ik", "ur5", "0.4", "0.1", "0.3", "--rpy", "180", "0", "-90", "--deg"])
+    ['ik', 'ur5', '0.4', '0.1', '0.3', '--rpy', '180,0,-90', '--deg']
+    >>> join_vector_words(["plot", "fighter", "--all-branches", "100,50,80"])
+    ['plot', 'fighter', '--all-branches', '100,50,80']
+    """
+    out: list[str] = []
+    i = 0
+    while i < len(args):
+        word = args[i]
+        out.append(word)
+        i += 1
+        if word == "--":
+            out.extend(args[i:])
+            break
+        most = VECTOR_OPTIONS.get(word)
+        if most is None or i >= len(args) or "," in args[i]:
+            continue
+        taken: list[str] = []
+        while i < len(args) and len(taken) < most and _is_number(args[i]):
+            taken.append(args[i])
+            i += 1
+        out.append(",".join(taken) if taken else args[i])
+        if not taken:
+            i += 1
+    return out
+
+
+def parse_vector(text: str, sizes: int | Sequence[int], what: str, names: str = "") -> np.ndarray:
+    """A vector option's value (``180,0,0``, ``"180 0 0"``, ``180, 0, 0``) as finite floats, or exit 2.
+
+    ``sizes``: the count, or the counts, allowed; ``names`` says what the numbers are (``"roll pitch yaw"``) in the
+    message of a wrong count. Every vector of the command line goes through here (and the shell's through
+    :data:`VECTOR_SPLIT`).
+
+    >>> parse_vector("180,0,0", 3, "--rpy").tolist(), parse_vector("1.2 0.3", (2, 3), "--all-branches").tolist()
+    ([180.0, 0.0, 0.0], [1.2, 0.3])
+    """
+    allowed = (sizes,) if isinstance(sizes, int) else tuple(sizes)
+    v = parse_numbers([w for w in VECTOR_SPLIT.split(text.strip()) if w], what)
+    if len(v) not in allowed:
+        counts = _(" or ").join(str(k) for k in allowed)
+        fail(_("{what} needs {counts} numbers{names}, separated by commas or spaces; got {k}",
+               what=what, counts=counts, names=f" ({names})" if names else "", k=len(v)))
+    return v
 
 
 def parse_q(robot: Robot, values: Sequence[str], deg: bool, strict: bool = False) -> np.ndarray:
@@ -340,13 +429,16 @@ def count(n: int) -> str:
     return f"{int(n):,}"
 
 
-def pose_table(T: np.ndarray, unit: str, title: str = "pose") -> Table:
-    """A 4x4 pose as a Rich table with the translation column labelled with its unit (no ``-0.000000``)."""
+def pose_table(T: np.ndarray, unit: str, title: str = "pose", full: bool = False) -> Table:
+    """A 4x4 pose as a Rich table with the translation column labelled with its unit (no ``-0.000000``);
+    ``full``: with the bottom row ``0 0 0 1`` (the whole homogeneous matrix, as a homework writes it)."""
     t = Table(title=title, show_header=True, header_style="bold")
     for h in ("", "x", "y", "z", f"p ({unit})"):
         t.add_column(h, justify="right")
     for i, row in enumerate(T[:3]):
         t.add_row("xyz"[i], *(fixed(v, 6, " ") for v in row[:3]), fixed(row[3], 6, " "))
+    if full:
+        t.add_row("", *(fixed(v, 0, " ") for v in T[3]))
     return t
 
 

@@ -10,7 +10,8 @@ import typer
 from rich.table import Table
 
 from ..model.robot import Joint, Robot
-from .common import (NOISE, NUMERIC_ARGS, ROBOT_HELP, N_, _, console, esc, fail, fixed, get_robot, natural_width,
+from .common import (NOISE, NUMERIC_ARGS, ROBOT_HELP, N_, _, console, esc, fail, fixed, get_robot, message,
+                     natural_width,
                      out_width, parse_q, pose_table, print_fitted, print_json, print_records, print_table, q_display)
 
 
@@ -60,21 +61,34 @@ def _dh_rows_table(r: Robot, wide: bool = True) -> Table:
             else _("modified (Craig) DH: {formula}", formula="A_i = Rx(alpha_{i-1}) Tx(a_{i-1}) Rz(theta_i) Tz(d_i)"))
     t = Table(title=_("DH table ({conv}); angles in deg, lengths in {unit}; * marks the joint variable", conv=conv,
                       unit=esc(r.unit)), header_style="bold")
-    alpha_h = "alpha" if r.convention == "standard" else "alpha_{i-1}"
-    a_h = "a" if r.convention == "standard" else "a_{i-1}"
     t.add_column("i", justify="right", no_wrap=True)
     t.add_column(_("joint"), no_wrap=True)
     if wide:
         t.add_column(_("type"), no_wrap=True)
-    for col in ("theta", "d", a_h, alpha_h, _("limits")):
+    for col in (*dh_columns(r.convention), _("limits")):
         t.add_column(col, justify="right", no_wrap=True)
     for i, j in enumerate(r.joints, 1):
-        theta = (f"q{i}*" + (f" {j.theta * deg:+.6g}" if abs(j.theta * deg) >= NOISE else "") if not j.is_prismatic
-                 else _num(j.theta * deg))
-        d = f"q{i}*" + (f" {j.d:+.6g}" if abs(j.d) >= NOISE else "") if j.is_prismatic else _num(j.d)
-        t.add_row(str(i), esc(j.name), *((_(j.kind),) if wide else ()), theta, d, _num(j.a), _num(j.alpha * deg),
+        t.add_row(str(i), esc(j.name), *((_(j.kind),) if wide else ()), *_dh_cells(r, i, j),
                   _limits_text(r, j, units=False))
     return t
+
+
+def dh_columns(convention: str) -> tuple[str, ...]:
+    """The DH table's parameter columns in the textbook's order: standard ``theta_i d_i a_i alpha_i``; modified in
+    Craig's order ``alpha_{i-1} a_{i-1} d_i theta_i`` (the order of his link transform, read left to right)."""
+    if convention == "modified":
+        return ("alpha_{i-1}", "a_{i-1}", "d_i", "theta_i")
+    return ("theta_i", "d_i", "a_i", "alpha_i")
+
+
+def _dh_cells(r: Robot, i: int, j: Joint) -> tuple[str, ...]:
+    """Row ``i`` of the DH table in :func:`dh_columns`' order (angles in deg; ``q{i}*`` marks the joint variable)."""
+    deg = 180.0 / math.pi
+    theta = (f"q{i}*" + (f" {j.theta * deg:+.6g}" if abs(j.theta * deg) >= NOISE else "") if not j.is_prismatic
+             else _num(j.theta * deg))
+    d = f"q{i}*" + (f" {j.d:+.6g}" if abs(j.d) >= NOISE else "") if j.is_prismatic else _num(j.d)
+    cells = (theta, d, _num(j.a), _num(j.alpha * deg))
+    return cells[::-1] if r.convention == "modified" else cells
 
 
 def _num(v: float, digits: int = 6) -> str:
@@ -129,16 +143,14 @@ def _urdf_joints_records(r: Robot) -> None:
 
 def _dh_records(r: Robot) -> None:
     """The DH rows one record each (terminals too narrow for the table)."""
-    deg = 180.0 / math.pi
-    m = "" if r.convention == "standard" else "_{i-1}"
     records = []
     for i, j in enumerate(r.joints, 1):
-        theta = f"q{i}*" + (f" {j.theta * deg:+.6g}" if abs(j.theta * deg) >= NOISE else "") if not j.is_prismatic \
-            else f"{_num(j.theta * deg)} deg"
-        d = f"q{i}*" + (f" {j.d:+.6g}" if abs(j.d) >= NOISE else "") if j.is_prismatic else f"{_num(j.d)} {r.unit}"
+        units = {"theta": "" if not j.is_prismatic else " deg", "d": "" if j.is_prismatic else f" {r.unit}",
+                 "a": f" {r.unit}", "alpha": " deg"}
         records.append((f"{i} {j.name} ({_(j.kind)})",
-                        [f"theta {theta}", f"d {d}", f"a{m} {_num(j.a)} {r.unit}", f"alpha{m} {_num(j.alpha * deg)} deg",
-                         _("limits {limits}", limits=_limits_text(r, j))]))
+                        [f"{name} {cell}{units[name.split('_')[0]]}"
+                         for name, cell in zip(dh_columns(r.convention), _dh_cells(r, i, j))]
+                        + [_("limits {limits}", limits=_limits_text(r, j))]))
     print_records(_("DH table ({convention} DH); * marks the joint variable", convention=_(r.convention)), records)
 
 
@@ -289,10 +301,14 @@ def fk(robot: str = typer.Argument(..., help=ROBOT_HELP),
        strict: bool = typer.Option(False, "--strict", help="A joint outside its limits is an error."),
        link: Optional[str] = typer.Option(None, "--link", help="Pose of this link instead of the tool (a URDF "
                                           "link name, or link0..linkN of a DH arm; `armkit info` lists them)."),
+       links: bool = typer.Option(False, "--links", help="Also print each link transform A_i (frame {i-1} -> {i}) "
+                                                         "as a numeric 4x4 matrix."),
        json_out: bool = typer.Option(False, "--json", help="Print JSON.")) -> None:
-    """Forward kinematics: the tool pose and every joint origin.
+    """Forward kinematics: the tool pose and every joint origin (with --links every A_i as numbers).
 
     Example: armkit fk fighter 30 45 60 --deg;  armkit fk so101 0 0 0 0 0 --link wrist_link
+
+    Example: armkit fk fighter 30 45 60 --deg --links   (A_1, A_2, A_3 for a homework check)
     """
     from ..kinematics import fk as fk_pose, fk_frames
     from ..spatial import rotation_to_rpy
@@ -302,12 +318,15 @@ def fk(robot: str = typer.Argument(..., help=ROBOT_HELP),
     F = fk_frames(r, qv)
     T = F[-1] if link is None else fk_pose(r, qv, link=link)
     rpy = np.degrees(rotation_to_rpy(T[:3, :3]))
+    A = link_transforms(r, F) if links else None
     if json_out:
         print_json({"robot": r.name, "unit": r.unit, "q_rad": qv, "link": link, "pose": T, "position": T[:3, 3],
-                    "rpy_deg": rpy, "frames": [{"name": n, "origin": f[:3, 3]}
-                                               for n, f in zip(r.link_names, F)]})
+                    "rpy_deg": rpy, "frames": [{"name": n, "origin": f[:3, 3]} for n, f in zip(r.link_names, F)],
+                    **({} if A is None else {"links": A, "base": r.base, "tool": r.tool})})
         return
     console.print(_("{robot} at q = ({q})", robot=f"[bold]{esc(r.name)}[/]", q=", ".join(q_display(r, qv))))
+    if A is not None:
+        _print_links(r, qv, A)
     p = T[:3, 3]
     rpy_text = f"roll/pitch/yaw: ({fixed(rpy[0])}, {fixed(rpy[1])}, {fixed(rpy[2])}) deg"
     if link is not None:
@@ -325,6 +344,38 @@ def fk(robot: str = typer.Argument(..., help=ROBOT_HELP),
         label = _("base") if k == 0 else (_("{k} + tool", k=k) if k == r.n else str(k))
         t.add_row(label, esc(name), *(fixed(v) for v in f[:3, 3]))
     print_table(t)
+
+
+def link_transforms(r: Robot, F: np.ndarray) -> np.ndarray:
+    """The link transforms ``A_i = T_{i-1,i}`` ``(n, 4, 4)`` from the frames of :func:`armkit.fk_frames` ``(n+1, 4, 4)``.
+
+    ``F[0]`` is the base and ``F[n]`` has the tool applied, so ``A_1 = F[0]^-1 F[1]``, ``A_i = F[i-1]^-1 F[i]`` and
+    ``A_n = F[n-1]^-1 F[n] tool^-1``: then ``base A_1 ... A_n tool`` is the tool pose. For a DH arm ``A_i`` is the
+    DH link transform of row ``i``; for a URDF chain, the fixed joints before moving joint ``i`` folded in.
+    """
+    from ..spatial import inverse
+
+    A = inverse(F[:-1]) @ F[1:]
+    A[-1] = A[-1] @ inverse(r.tool)
+    return np.asarray(A)
+
+
+def _print_links(r: Robot, q: np.ndarray, A: np.ndarray) -> None:
+    """Each ``A_i`` as a 4x4 table (rotation dimensionless, translation in the robot's unit), then the product."""
+    shown = q_display(r, q)
+    formula = (_("standard DH: {formula}", formula="A_i = Rz(theta_i) Tz(d_i) Tx(a_i) Rx(alpha_i)")
+               if r.convention == "standard" else
+               _("modified (Craig) DH: {formula}", formula="A_i = Rx(alpha_{i-1}) Tx(a_{i-1}) Rz(theta_i) Tz(d_i)")
+               if r.convention == "modified" else _("URDF: joint origin (fixed joints folded in) times the joint motion"))
+    message(_("link transforms, each from one frame to the next: {formula}", formula=esc(formula)))
+    for i, (Ai, j) in enumerate(zip(A, r.joints), 1):
+        title = _("A{i} = T_{a}_{b}  ({joint}, q{i} = {value})", i=i, a=i - 1, b=i, joint=esc(j.name),
+                  value=shown[i - 1])
+        print_table(pose_table(Ai, r.unit, title=title, full=True))
+    base = "" if np.allclose(r.base, np.eye(4)) else "base · "
+    tool = "" if np.allclose(r.tool, np.eye(4)) else " · tool"
+    message(_("pose of the tool = {product} (base and tool: armkit info)", product=f"{base}A1 ··· A{r.n}{tool}")
+            if base or tool else _("pose of the tool = {product}", product=f"A1 ··· A{r.n}"))
 
 
 def _jacobian_table(r: Robot, J: np.ndarray, frame: str, compact: bool) -> Table:
@@ -364,10 +415,13 @@ def jacobian(robot: str = typer.Argument(..., help=ROBOT_HELP),
                     "condition_number": c, "singular": s, "singular_threshold": SINGULAR_THRESHOLD})
         return
     print_fitted(_jacobian_table(r, J, frame, compact=False), _jacobian_table(r, J, frame, compact=True))
-    console.print(_("manipulability sqrt(det(J J^T)) = {w}   condition number = {c}", w=f"{w:.6g}", c=f"{c:.6g}")
-                  + "   " + ("[bold red]" + _("SINGULAR") + "[/]" if s else _("not singular")) + " "
-                  + _("(threshold: smallest singular value < {threshold}, lengths in m)",
-                      threshold=f"{SINGULAR_THRESHOLD:g}"))
+    in_m = "" if r.unit == "m" else " " + _("(J's {unit} rows converted to m, divided by {scale})", unit=r.unit,
+                                            scale=f"{1 / r.unit_scale:g}")
+    message(_("manipulability sqrt(det(J J^T)) = {w}   condition number = {c}   both with lengths in m{converted}",
+              w=f"{w:.6g}", c=f"{c:.6g}", converted=in_m)
+            + "; " + ("[bold red]" + _("SINGULAR") + "[/]" if s else _("not singular")) + " "
+            + _("(threshold: smallest singular value < {threshold}, lengths in m)",
+                threshold=f"{SINGULAR_THRESHOLD:g}"))
 
 
 

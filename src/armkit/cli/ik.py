@@ -3,14 +3,14 @@
 from __future__ import annotations
 
 import math
-from typing import Any, List, Optional, Tuple
+from typing import Any, List, Optional
 
 import numpy as np
 import typer
 from rich.table import Table
 
 from .common import (EXIT_BAD_INPUT, EXIT_FAILED, NUMERIC_ARGS, N_, _, console, esc, fail, get_robot, parse_numbers,
-                     checked_line, print_json, scene_off, scene_option, warn)
+                     checked_line, message, parse_vector, print_json, scene_off, scene_option, warn)
 
 from ..locale import current_language  # noqa: E402
 from .common import ROBOT_HELP  # noqa: E402
@@ -207,7 +207,7 @@ def _partial_target(r, target, where: str, pitch: Optional[float], direction, de
         _print_rows(r, rows, _("IK of {robot} for {target}, {method}", robot=esc(r.name), target=esc(where),
                                method=used), False)
         if scene is not None:
-            console.print(esc(checked_line(r, scene)), soft_wrap=True)
+            message(esc(checked_line(r, scene)))
         if solved and len(rows) > 1:
             console.print(_("{k} of {n} branches solve the target.", k=sum(row["success"] for row in rows),
                             n=len(rows)))
@@ -217,10 +217,11 @@ def _partial_target(r, target, where: str, pitch: Optional[float], direction, de
 
 def ik(robot: str = typer.Argument(..., help=ROBOT_HELP),
        coords: List[str] = typer.Argument(..., help="Target position X Y [Z] in the robot's unit.", metavar="X Y [Z]"),
-       rpy: Optional[Tuple[float, float, float]] = typer.Option(
-           None, "--rpy", help="Target orientation roll pitch yaw (R = Rz(y) Ry(p) Rx(r); rad, or deg with --deg)."),
-       quat: Optional[Tuple[float, float, float, float]] = typer.Option(
-           None, "--quat", help="Target orientation as a quaternion x y z w (scalar last)."),
+       rpy: Optional[str] = typer.Option(
+           None, "--rpy", metavar="R,P,Y", help="Target orientation roll pitch yaw (R = Rz(y) Ry(p) Rx(r); rad, or "
+                                               "deg with --deg): 180,0,0 or 180 0 0."),
+       quat: Optional[str] = typer.Option(
+           None, "--quat", metavar="X,Y,Z,W", help="Target orientation as a quaternion x y z w (scalar last)."),
        deg: bool = typer.Option(False, "--deg", help="Angles given (--rpy, --phi) are in degrees."),
        method: str = typer.Option("auto", "--method",
                                   help="auto (closed form when the arm has one, else lm), analytic, lm, newton, "
@@ -233,8 +234,8 @@ def ik(robot: str = typer.Argument(..., help=ROBOT_HELP),
        pitch: Optional[float] = typer.Option(None, "--pitch", help="Tool pitch for an X Y Z target of a yaw + "
                                              "three pitch joints arm such as the SO-101 (0 level, -90 straight "
                                              "down; rad, or deg with --deg): every closed-form branch."),
-       direction: Optional[Tuple[float, float, float]] = typer.Option(
-           None, "--direction", help="Point the tool's z axis along DX DY DZ at an X Y Z target (rotation about it "
+       direction: Optional[str] = typer.Option(
+           None, "--direction", metavar="DX,DY,DZ", help="Point the tool's z axis along DX DY DZ at an X Y Z target (rotation about it "
                                      "free; closed form on a yaw + three pitch joints arm such as the SO-101, "
                                      "else numeric): what a 5-joint arm can do instead of a full pose."),
        trace: bool = typer.Option(False, "--trace", help="Numeric methods: print the error at every iteration."),
@@ -268,11 +269,14 @@ def ik(robot: str = typer.Argument(..., help=ROBOT_HELP),
         fail(_("--method must be one of {choices}; got {value!r}", choices=", ".join(METHOD_CHOICES), value=method))
     try:
         r = get_robot(robot)
-        target, ph, where = _target(r, coords, rpy, quat, deg, phi)
+        rpy_v = None if rpy is None else parse_vector(rpy, 3, "--rpy", "roll pitch yaw")
+        quat_v = None if quat is None else parse_vector(quat, 4, "--quat", "x y z w")
+        direction_v = None if direction is None else parse_vector(direction, 3, "--direction", "dx dy dz")
+        target, ph, where = _target(r, coords, rpy_v, quat_v, deg, phi)
         solver = closed_form(r)
         scene = scene_option(r, scene_file, no_scene)
-        if pitch is not None or direction is not None:
-            return _partial_target(r, target, where, pitch, direction, deg, method, seed, json_out, scene)
+        if pitch is not None or direction_v is not None:
+            return _partial_target(r, target, where, pitch, direction_v, deg, method, seed, json_out, scene)
         position_only = target.ndim == 1 and ph is None
         closed_ok = solver is not None and not (position_only and solver.pose_only) \
             and getattr(solver, "target_kind", None) != "pitch"   # yaw-pitch3 needs pitch= (docs/so101.md)
@@ -309,13 +313,13 @@ def ik(robot: str = typer.Argument(..., help=ROBOT_HELP),
                                method=used), position_only)
         notes = list(dict.fromkeys(_explain(r, row) for row in rows if row["success"] and row["message"]))
         for note in notes:
-            console.print(_("note: {text}", text=esc(note)), soft_wrap=True)
+            message(_("note: {text}", text=esc(note)))
         if scene is not None:
             for row in rows:
                 if row["reason"] == "collision" and solved:
-                    console.print(_("collision: {branch}: {text}", branch=esc(row["branch"]),
-                                    text=esc(_explain(r, row))), soft_wrap=True)
-            console.print(esc(checked_line(r, scene)), soft_wrap=True)
+                    message(_("collision: {branch}: {text}", branch=esc(row["branch"]),
+                              text=esc(_explain(r, row))))
+            message(esc(checked_line(r, scene)))
         if trace and res.trace is not None:
             print_table(_trace_table(res.trace))
         if solved:

@@ -17,7 +17,7 @@ from rich.markup import escape
 from rich.table import Table
 
 from .common import (EXIT_FAILED, LANG, NUMERIC_ARGS, N_, _, console, current_language, fail,
-                     get_robot, parse_numbers, print_json)
+                     get_robot, parse_numbers, parse_vector, print_json)
 from .common import print_table
 from .._extras import require   # optional dependencies, naming the missing extra
 
@@ -292,8 +292,8 @@ def show(map_path: str = typer.Argument(..., metavar="MAP", help="Zarr store wri
 def query(map_path: str = typer.Argument(..., metavar="MAP", help="Zarr store written by armkit reach build."),
           xyz: List[str] = typer.Argument(..., metavar="X Y Z", help="Tool position in the robot's length unit."),
           rpy: Optional[str] = typer.Option(None, "--rpy", metavar="R,P,Y",
-                                            help="Tool orientation as roll,pitch,yaw (rad, or deg with --deg); "
-                                                 "default: the identity."),
+                                            help="Tool orientation roll pitch yaw (rad, or deg with --deg): "
+                                                 "180,0,0 or 180 0 0; default: the identity."),
           deg: bool = typer.Option(False, "--deg", help="--rpy is in degrees."),
           as_json: bool = typer.Option(False, "--json", help="Print the answer as JSON."),
           lang: Optional[str] = LANG_OPT) -> None:
@@ -310,9 +310,7 @@ def query(map_path: str = typer.Argument(..., metavar="MAP", help="Zarr store wr
     T = np.eye(4)
     T[:3, 3] = p
     if rpy is not None:
-        ang = parse_numbers([w for w in rpy.replace(" ", ",").split(",") if w], "--rpy")
-        if ang.shape != (3,):
-            fail(_("--rpy needs 3 numbers roll,pitch,yaw, got {k}", k=len(ang)))
+        ang = parse_vector(rpy, 3, "--rpy", "roll pitch yaw")
         T[:3, :3] = rpy_to_rotation(ang, degrees=deg)
     m = _open_map(map_path)
     ok = bool(m.reachable(T))

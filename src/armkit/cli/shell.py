@@ -54,6 +54,7 @@ from ..errors import ArgumentError, ArmkitError, ParseError
 from ..locale import LANGUAGES, N_, default_language, message, translate
 from ..kinematics import fk
 from ..model.robot import Robot
+from .common import VECTOR_SPLIT
 
 __all__ = ["Shell", "ShellOutput", "parse_numbers", "ParseError"]   # ParseError lives in armkit.errors
 
@@ -67,7 +68,7 @@ _UNITS = ("radians", "degrees", "radian", "degree", "deg", "rad", "mm", "cm", "Â
 _INDEXED_RE = re.compile(r"^(?:theta|q|j|joint)(\d+)$", re.IGNORECASE)
 _WORD_RE = re.compile(r"^([A-Za-z?]+)(?:\s+(.*))?$", re.DOTALL)
 _BRACKET_RE = re.compile(r"^[\[(](.*)[\])]$", re.DOTALL)
-_SPLIT_RE = re.compile(r"[\s,]+")
+_SPLIT_RE = VECTOR_SPLIT      # 100 50 80, 100,50,80, [100, 50, 80]: the command line's vector rule (cli.common)
 EXIT_WORDS = ("exit", "quit", "bye", ":q")
 MAX_PICTURES = 500        # pictures one session writes before it stops drawing (a note says so)
 MAX_LINE = 10_000         # characters of one input line; a longer line is refused unread (issue 24)

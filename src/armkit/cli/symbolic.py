@@ -16,7 +16,7 @@ import typer
 from rich.table import Table
 
 from .common import (EXIT_FAILED, NUMERIC_ARGS, console, esc, fail, name_list, output_path, get_robot, parse_numbers, parse_q, print_json,
-                     checked_line, q_display, scene_option, sig, warn)
+                     checked_line, count, message, q_display, scene_option, sig, warn)
 
 from .common import ROBOT_HELP  # noqa: E402
 from .common import err_console, print_table  # noqa: E402
@@ -44,20 +44,22 @@ def _matrix_table(M, title: str, row_labels=None, col_labels=None) -> Table:
 
 
 def _derive_outputs(latex: bool, python: bool, ik_export: bool, output: Optional[Path], png: Optional[Path],
-                    budget: float) -> tuple[Optional[Path], Optional[Path]]:
+                    budget: float, fragment: bool = False) -> tuple[Optional[Path], Optional[Path]]:
     """Check ``derive``'s options; returns ``(png, output)`` (``-o fk.png`` without a text format is the picture)."""
     if latex and python:
         fail(_("choose one of --latex and --python"))
-    if ik_export and not python:
-        fail(_("--ik exports the closed-form IK as Python: add --python"))
-    if output is not None and not (latex or python) and png is None and \
-            output.suffix.lower() in (".png", ".pdf", ".svg"):
+    if fragment and not latex:
+        fail(_("--fragment is the body of the --latex output, to paste into a report: add --latex"))
+    if ik_export and png is not None:
+        fail(_("--png draws the forward kinematics and the Jacobian; it does not go with --ik"))
+    text = latex or python or ik_export
+    if output is not None and not text and png is None and output.suffix.lower() in (".png", ".pdf", ".svg"):
         png, output = output, None      # derive ROBOT -o fk.png: the picture, as --png does
-    if output is not None and not (latex or python):
-        fail(_("--output writes the --python or --latex text, or a picture (.png, .pdf, .svg); got {name!r}",
+    if output is not None and not text:
+        fail(_("--output writes the --python, --latex or --ik text, or a picture (.png, .pdf, .svg); got {name!r}",
                name=output.name))
     if output is not None:
-        output_path(output, (".py",) if python else (".tex",), "--output")
+        output_path(output, (".py",) if python else (".tex",) if latex else (".txt", ".md"), "--output")
     if not budget >= 0 or budget == float("inf"):
         fail(_("--budget must be a number of seconds >= 0 (0: no limit), got {value}", value=budget))
     return png, output
@@ -66,9 +68,13 @@ def _derive_outputs(latex: bool, python: bool, ik_export: bool, output: Optional
 def derive(robot: str = typer.Argument(..., help=ROBOT_HELP),
            latex: bool = typer.Option(False, "--latex", help="Print a LaTeX document (link transforms, FK, J)."),
            python: bool = typer.Option(False, "--python", help="Print an importable NumPy module (fk, jacobian)."),
-           ik_export: bool = typer.Option(False, "--ik", help="With --python: the closed-form IK instead, one "
-                                                              "function per branch (planar 2R and yaw-pitch-pitch "
-                                                              "arms)."),
+           ik_export: bool = typer.Option(False, "--ik", help="The closed-form IK instead of the FK (planar 2R and "
+                                                              "yaw-pitch-pitch arms): its equations as text, as "
+                                                              "LaTeX with --latex, or one Python function per branch "
+                                                              "with --python."),
+           fragment: bool = typer.Option(False, "--fragment", help="With --latex: only the part to paste into a "
+                                                                   "report (no \\documentclass, no document "
+                                                                   "environment; needs amsmath)."),
            output: Optional[Path] = typer.Option(None, "-o", "--output", help="Write the --python or --latex text "
                                                                               "to this file instead of printing it; "
                                                                               "a .png/.pdf/.svg name: the picture "
@@ -86,20 +92,26 @@ def derive(robot: str = typer.Argument(..., help=ROBOT_HELP),
     Example: armkit derive puma560 --python > puma_fk.py
 
     Example: armkit derive fighter --ik --python -o fighter_ik.py
+
+    Example: armkit derive fighter --ik   (the closed-form IK equations as text)
+
+    Example: armkit derive examples/my_arm.toml --ik --latex --fragment > ik.tex   (to paste into a report)
     """
     from ..symbolic import derive as do_derive
     from ..symbolic.export import to_latex, to_numpy_source, to_text
 
-    png, output = _derive_outputs(latex, python, ik_export, output, png, budget)
+    png, output = _derive_outputs(latex, python, ik_export, output, png, budget, fragment)
     r = get_robot(robot)
     if png is not None:
         output_path(png, (".png", ".pdf", ".svg"), "--png")
     if ik_export:
         from ..errors import ArgumentError
+        from ..symbolic.ik_equations import equations_latex, equations_text, ik_equations
         from ..symbolic.ik_export import to_ik_source
 
         try:
-            text = to_ik_source(r)
+            text = to_ik_source(r) if python else (equations_latex(ik_equations(r), standalone=not fragment)
+                                                   if latex else equations_text(ik_equations(r)))
         except ArgumentError as exc:
             fail(str(exc))
         _write_text(text, output)
@@ -110,7 +122,7 @@ def derive(robot: str = typer.Argument(..., help=ROBOT_HELP),
     if d.meta.get("note"):
         warn(d.meta["note"])
     if latex or python:
-        _write_text(to_latex(d) if latex else to_numpy_source(d), output)
+        _write_text(to_latex(d, standalone=not fragment) if latex else to_numpy_source(d), output)
         return
     if png is not None:
         from .._io import atomic_path
@@ -452,7 +464,7 @@ def traj(robot: str = typer.Argument(..., help=ROBOT_HELP),
 
     Example: armkit traj planar2 --line 1.2,0.2 1.0,0.8 0.4,1.0 --blend 0.1 -o corners.png
     """
-    from ..motion.trajectory import animate_trajectory, plot_trajectory
+    from ..viz.trajectory import animate_trajectory, plot_trajectory
 
     r = get_robot(robot)
     out = out if out is not None else out_alias         # --out: the old spelling of --output
@@ -492,7 +504,7 @@ def traj(robot: str = typer.Argument(..., help=ROBOT_HELP),
         print_json(summary)
         return
     console.print(_("{robot}: {label}, {n} samples over {seconds} s", robot=f"[bold]{esc(r.name)}[/]",
-                    label=esc(_local(tr.label)), n=len(tr), seconds=f"{tr.duration:.3g}"))
+                    label=esc(_local(tr.label)), n=count(len(tr)), seconds=f"{tr.duration:.3g}"))
     console.print(_("start q = ({start}), end q = ({end})", start=", ".join(q_display(r, tr.q[0])),
                     end=", ".join(q_display(r, tr.q[-1]))))
     peak = np.where(r.prismatic, summary["max_abs_qd"], np.degrees(summary["max_abs_qd"]))
@@ -500,14 +512,14 @@ def traj(robot: str = typer.Argument(..., help=ROBOT_HELP),
                   + " " + _("(deg/s or {unit}/s)", unit=r.unit))
 
     if tr.deviation is not None:
-        console.print(_("largest deviation from the path: {value} {unit}", value=f"{tr.deviation.max():.3g}",
-                        unit=r.unit))
+        message(_("largest deviation from the path: {value} {unit}", value=f"{tr.deviation.max():.3g}",
+                  unit=r.unit))
     if not within:
         warn(_("the trajectory leaves the joint limits"))
     if hit_note is not None:
         warn(hit_text)
     if scene is not None:
-        console.print(esc(checked_line(r, scene)), soft_wrap=True)
+        message(esc(checked_line(r, scene)))
 
     if out is not None:
         console.print(_("wrote {path}", path=esc(out)))

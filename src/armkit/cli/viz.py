@@ -10,7 +10,7 @@ import numpy as np
 import typer
 
 from .common import (EXIT_FAILED, NUMERIC_ARGS, console, esc, fail, get_robot, parse_numbers, parse_q, name_list, output_path,
-                     checked_line, print_json, scene_off, scene_option, warn)
+                     checked_line, count, message, parse_vector, print_json, scene_off, scene_option, warn)
 
 from .common import ROBOT_HELP  # noqa: E402
 from .common import N_, _, current_language  # noqa: E402
@@ -33,7 +33,7 @@ def plot(robot: str = typer.Argument(..., help=ROBOT_HELP),
          all_branches: Optional[str] = typer.Option(
              None, "--all-branches", metavar="X,Y[,Z]",
              help="Instead of joint values: overlay every closed-form IK branch for this target position "
-                  "(comma separated, in the robot's length unit)."),
+                  "(100,50,80 or 100 50 80, in the robot's length unit)."),
          output: str = typer.Option("arm.png", "-o", "--output", help="Picture file (.png, .pdf, .svg)."),
          no_frames: bool = typer.Option(False, "--no-frames", help="Do not draw the link frames."),
          scene_file: Optional[str] = typer.Option(
@@ -59,8 +59,8 @@ def plot(robot: str = typer.Argument(..., help=ROBOT_HELP),
         from .. import ik_all
         from ..analysis.workspace import is_planar
 
-        target = parse_numbers([w for w in all_branches.replace(" ", ",").split(",") if w], "--all-branches")
         planar = is_planar(r)
+        target = parse_vector(all_branches, (2, 3), "--all-branches", "x y z")
         if len(target) != (2 if planar else 3):
             fail(_("--all-branches needs {form} for robot {robot!r}, got {k} value(s)", form="x,y" if planar else
                    "x,y,z", robot=r.name, k=len(target)))
@@ -70,7 +70,7 @@ def plot(robot: str = typer.Argument(..., help=ROBOT_HELP),
         if not ok.any():
             first = {k: np.asarray(getattr(res, k)).reshape(-1)[0] for k in ("reason", "message", "position_error")}
             if scene is not None:
-                console.print(esc(checked_line(r, scene)), soft_wrap=True)
+                message(esc(checked_line(r, scene)))
             fail(_("no branch reaches the target: {reason}", reason=_explain(r, first)), EXIT_FAILED)
 
         qs = np.asarray(res.q)[ok]
@@ -90,14 +90,13 @@ def plot(robot: str = typer.Argument(..., help=ROBOT_HELP),
                           xyz=", ".join(f"{v:g}" for v in target), unit=unit)
         fig = plot_arm(r, qs, frames=not no_frames, labels=labels, targets=tp, title=title)
         path = save_figure(fig, out)
-        console.print(_("{n} branch(es): {names}", n=len(qs), names=", ".join(str(b) for b in
-                                                                              np.asarray(res.branch)[ok])))
+        message(_("{n} branch(es): {names}", n=len(qs), names=", ".join(str(b) for b in np.asarray(res.branch)[ok])))
         if scene is not None:
             for b, why, msg in zip(np.asarray(res.branch)[~ok], np.asarray(res.reason)[~ok], np.asarray(res.message)[~ok]):
                 if str(why) == "collision":
-                    console.print(_("not drawn: {branch}: {text}", branch=esc(str(b)),
-                                    text=esc(localize(str(msg), current_language()))), soft_wrap=True)
-            console.print(esc(checked_line(r, scene)), soft_wrap=True)
+                    message(_("not drawn: {branch}: {text}", branch=esc(str(b)),
+                              text=esc(localize(str(msg), current_language()))))
+            message(esc(checked_line(r, scene)))
         console.print(_("wrote {path}", path=esc(path)))
         return
     if not q:
@@ -179,9 +178,7 @@ def workspace(robot: str = typer.Argument(..., help=ROBOT_HELP),
         fail(_("--seed must be a non-negative integer, got {value}", value=seed))
     boxes = []
     for b in box or []:
-        v = parse_numbers([w for w in b.replace(" ", ",").split(",") if w], "--box")
-        if len(v) != 6:
-            fail(_("--box needs 6 numbers x0,y0,z0,x1,y1,z1, got {k}", k=len(v)))
+        v = parse_vector(b, 6, "--box", "x0 y0 z0 x1 y1 z1")
         lo, hi = np.minimum(v[:3], v[3:]), np.maximum(v[:3], v[3:])
         boxes.append((lo, hi))
     exclusion = Exclusion(ground_z=ground, boxes=tuple(boxes)) if ground is not None or boxes else None
@@ -207,8 +204,8 @@ def workspace(robot: str = typer.Argument(..., help=ROBOT_HELP),
         [_("collisions with {names}", names=esc(", ".join([s.name for s in scene] + [body])))]
         if scene is not None else [])
 
-    console.print(_("{robot} workspace from {n} samples ({k} excluded{why})", robot=f"[bold]{esc(r.name)}[/]",
-                    n=f"{ws.samples:,}", k=f"{ws.excluded:,}", why=(": " + "; ".join(why)) if why else ""))
+    message(_("{robot} workspace from {n} samples ({k} excluded{why})", robot=f"[bold]{esc(r.name)}[/]",
+              n=f"{ws.samples:,}", k=f"{ws.excluded:,}", why=(": " + "; ".join(why)) if why else ""))
     console.print("  " + _("outer boundary: {radius} {unit} from the shoulder ({centre})",
                            radius=f"{ws.outer_radius:.4g}", unit=r.unit, centre=c))
     console.print("  " + (_("inner boundary: {radius} {unit}", radius=f"{ws.inner_radius:.4g}", unit=r.unit)
@@ -219,7 +216,7 @@ def workspace(robot: str = typer.Argument(..., help=ROBOT_HELP),
                            value=format_measure(ws.volume, ws.volume_error), unit=ws.measure_unit,
                            voxel=f"{ws.voxel_size:.3g}", length=r.unit))
     if scene is not None:
-        console.print("  " + esc(checked_line(r, scene)), soft_wrap=True)
+        message("  " + esc(checked_line(r, scene)))
     if path is not None:
         console.print(_("wrote {path}", path=esc(path)))
 
@@ -262,8 +259,9 @@ def maps(robot: str = typer.Argument(..., help=ROBOT_HELP),
                                          help="IK target grid along x (length unit); planar2 default 0:1.5:0.01, "
                                               "else the reach around the shoulder."),
          y: Optional[str] = typer.Option(None, "--y", metavar="START:STOP[:STEP]", help="IK target grid along y."),
-         branch: Optional[str] = typer.Option(None, "--branch", help="Only this IK branch (e.g. q2+ or q2- for "
-                                                                     "planar2, front/elbow-up for fighter)."),
+         branch: Optional[str] = typer.Option(None, "--branch", help="Only this IK branch, named as armkit ik "
+                                                                     "names it (elbow-up or elbow-down for planar2, "
+                                                                     "front/elbow-up for fighter)."),
          z: Optional[float] = typer.Option(None, "--z", help="Height of the IK target grid for a spatial arm "
                                                              "(default: the shoulder height)."),
          phi: float = typer.Option(0.0, "--phi", help="End angle (deg) of the IK targets of a planar 3R arm."),
@@ -272,7 +270,7 @@ def maps(robot: str = typer.Argument(..., help=ROBOT_HELP),
 
     Example: armkit maps planar2 -o maps.png
 
-    Example: armkit maps planar2 --q1 0:90 --q2=-180:180 --x 0:1.5:0.01 --y 0:1.5:0.01 --branch q2+
+    Example: armkit maps planar2 --q1 0:90 --q2=-180:180 --x 0:1.5:0.01 --y 0:1.5:0.01 --branch elbow-down
     """
     from ..analysis.maps import fk_maps, ik_maps
     from ..analysis.workspace import is_planar, shoulder_point
@@ -318,13 +316,32 @@ def maps(robot: str = typer.Argument(..., help=ROBOT_HELP),
             gx = _range(x if x is not None else span[0], "--x", 1.0, steps)
             gy = _range(y if y is not None else span[1], "--y", 1.0, steps)
             needs_phi = closed_form_family(r) == "planar-3r"
-            im = ik_maps(r, gx, gy, z=z, phi=math.radians(phi) if needs_phi else None)
+            by_sign = _old_branch_name(branch)
+            im = ik_maps(r, gx, gy, z=z, phi=math.radians(phi) if needs_phi else None, continuous=by_sign)
             if branch is not None:
                 im = _one_branch(im, branch)
     elif branch is not None:
         fail(_("--branch is for the IK maps; drop --no-ik"))
     path = save_figure(plot_maps(fm, im), out)
     console.print(_("wrote {path}", path=esc(path)))
+
+
+OLD_BRANCH_NAMES = {"q2+": "elbow-down", "q2-": "elbow-up"}
+"""The maps' branch names before issue 22 (the sign of q2), and the ``armkit ik`` name they match where x >= 0."""
+
+
+def _old_branch_name(branch: Optional[str]) -> bool:
+    """True for an old map branch name (``q2+``, ``q2-``): the map of that sign of q2 is drawn, with a note giving
+    the one name every command uses now. The maps name branches as :func:`armkit.ik_all` does (``IKResult.branch``),
+    so that ``armkit maps``, ``ik``, ``plot``, the shell and the view say the same name for the same solution."""
+    if branch is None or branch.strip().lower() not in OLD_BRANCH_NAMES:
+        return False
+    from .common import say
+
+    say(_("note:"), "cyan", _("--branch {old} is the old name (the sign of q2); armkit ik and the maps call this "
+                              "branch {name} where x >= 0 (--branch {name})", old=branch.strip(),
+                              name=OLD_BRANCH_NAMES[branch.strip().lower()]))
+    return True
 
 
 def _one_branch(im: Any, branch: str) -> Any:
@@ -405,11 +422,11 @@ def track(robot: str = typer.Argument(..., help=ROBOT_HELP),
         print_json(st)
     else:
         u = r.unit
-        console.print(_("{robot} tracking a {path} target with {method}: {n} frames", robot=f"[bold]{esc(r.name)}[/]",
-                        path=res.path, method=method, n=st["frames"]))
+        message(_("{robot} tracking a {path} target with {method}: {n} frames", robot=f"[bold]{esc(r.name)}[/]",
+                  path=res.path, method=method, n=count(st["frames"])))
         console.print("  " + _("reached: {reached}   out of reach: {out}   not converged: {failed}",
-                               reached=st["frames_reached"], out=st["frames_out_of_reach"],
-                               failed=st["frames_not_converged"]))
+                               reached=count(st["frames_reached"]), out=count(st["frames_out_of_reach"]),
+                               failed=count(st["frames_not_converged"])))
         if st["frames_reached"]:
             console.print("  " + _("error on reached frames: mean {mean} {unit}, max {max} {unit} (tolerance {tol} "
                                    "{unit}); worst frame {worst} {unit}", mean=f"{st['mean_error']:.3g}",
@@ -423,11 +440,11 @@ def track(robot: str = typer.Argument(..., help=ROBOT_HELP),
                                iters=f"{st['mean_iterations']:.1f}"))
         if "frames_in_collision" in st:
             first = st.get("first_collision")
-            console.print("  " + _("in collision: {k} frames", k=st["frames_in_collision"])
+            console.print("  " + _("in collision: {k} frames", k=count(st["frames_in_collision"]))
                           + (" " + _("(first: frame {frame}, {message})", frame=first["frame"],
                                      message=esc(localize(first["message"], current_language()))) if first else ""))
         if scene is not None:
-            console.print("  " + esc(checked_line(r, scene)), soft_wrap=True)
+            message("  " + esc(checked_line(r, scene)))
         if written is not None:
             console.print(_("wrote {path}", path=esc(written)))
     if st["frames_reached"] < st["frames"] and path in ("circle", "figure8"):

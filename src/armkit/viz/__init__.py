@@ -4,6 +4,8 @@
 - :func:`plot_workspace` — reach cloud, sections and boundaries of :func:`armkit.analysis.workspace`
 - :func:`plot_maps` — FK/IK contour maps of :mod:`armkit.analysis.maps`
 - :func:`track` and :func:`render_animation` — an arm following a moving target, as GIF or MP4
+- :func:`plot_trajectory` and :func:`animate_trajectory` — a :class:`armkit.motion.Trajectory` as q(t), qd(t)
+  and the tool path, or as GIF/MP4
 - :func:`write_demo_pictures` — the pictures ``make demo`` writes
 """
 
@@ -12,11 +14,11 @@ from __future__ import annotations
 from typing import Any
 
 __all__ = ["plot_arm", "plot_workspace", "plot_maps", "track", "TrackResult", "render_animation",
-           "write_demo_pictures", "save_figure"]
+           "write_demo_pictures", "save_figure", "plot_trajectory", "animate_trajectory"]
 
 _WHERE = {"plot_arm": "arm", "plot_workspace": "plots", "plot_maps": "plots", "save_figure": "plots",
           "track": "tracking", "TrackResult": "tracking", "render_animation": "animation",
-          "write_demo_pictures": "demo"}
+          "write_demo_pictures": "demo", "plot_trajectory": "trajectory", "animate_trajectory": "trajectory"}
 
 
 def __getattr__(name: str) -> Any:

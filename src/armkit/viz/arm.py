@@ -63,7 +63,11 @@ def draw_arm(ax: Any, robot: Robot, q: np.ndarray, color: str, label: Optional[s
     Artists carry gids for tests and tools: ``arm:<index>`` (the link polyline),
     ``joints:<index>`` (circles where the joint axes are), ``origins:<index>`` (dots at the
     :func:`armkit.fk_frames` origins, in order) and
-    ``end:<index>`` (the end point).
+    ``end:<index>`` (the end point). With ``frames`` and ``joint_labels`` each frame is labelled
+    ``{0}`` ... ``{n}`` (the textbook's frame numbers) with the joint that moves it as a second
+    line (``base`` for ``{0}``; ``+ tool`` when the last frame carries a tool offset); frames whose
+    origins coincide share one label (``{0} {1}``). Their gid is ``frame-label:<k>`` (``k`` the
+    first frame of the label).
     """
     planar = ax.name != "3d"
     F = fk_frames(robot, q)
@@ -89,7 +93,9 @@ def draw_arm(ax: Any, robot: Robot, q: np.ndarray, color: str, label: Optional[s
                 seg = np.stack([T[:3, 3], T[:3, 3] + L * T[:3, a]])
                 ax.plot(*(seg[:, i] for i in dims), "-", color=AXIS_COLORS[a], lw=1.2, alpha=0.85 * alpha,
                         zorder=2)
-    if joint_labels:
+    if joint_labels and frames:
+        _frame_labels(ax, robot, org, planar)
+    elif joint_labels:
         groups: list[tuple[np.ndarray, list[str]]] = [(org[0], ["base"])]
         for name, p in zip(robot.joint_names, jp):
             for g in groups:
@@ -108,6 +114,31 @@ def draw_arm(ax: Any, robot: Robot, q: np.ndarray, color: str, label: Optional[s
                             textcoords="offset points", fontsize=8, color="0.2")
             else:
                 ax.text(p[0] + off, p[1] + off, p[2], text, fontsize=8, color="0.2")
+
+
+def _frame_labels(ax: Any, robot: Robot, org: np.ndarray, planar: bool) -> None:
+    """Label frame ``k`` at its origin ``org[k]`` as ``{k}``, with the joint that moves it on a second line."""
+    tool = not np.allclose(robot.tool, np.eye(4))
+    groups: list[tuple[np.ndarray, list[int]]] = []
+    for k, p in enumerate(org):
+        for g in groups:
+            if np.linalg.norm(g[0] - p) < 1e-6 * (robot.reach or 1.0):
+                g[1].append(k)
+                break
+        else:
+            groups.append((p, [k]))
+    off = 0.04 * (robot.reach or 1.0)
+    for p, ks in groups:
+        names = [_("base") if k == 0 else robot.joint_names[k - 1] for k in ks]
+        if tool and ks[-1] == robot.n:
+            names[-1] += " + " + _("tool")
+        text = " ".join(f"{{{k}}}" for k in ks) + "\n" + " / ".join(names)
+        if planar:
+            t = ax.annotate(text, (p[0], p[1]), xytext=(7, -22), textcoords="offset points", fontsize=8,
+                            color="0.15", linespacing=1.1)
+        else:
+            t = ax.text(p[0] + off, p[1] + off, p[2], text, fontsize=8, color="0.15", linespacing=1.1)
+        t.set_gid(f"frame-label:{ks[0]}")
 
 
 def plot_arm(robot: Robot, q: ArrayLike, ax: Any = None, frames: bool = True,

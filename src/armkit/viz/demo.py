@@ -27,7 +27,8 @@ def write_demo_pictures(out_dir: str | Path = "out", progress: bool = False,
 
     Takes a few seconds (well under 20 s on a laptop).
     """
-    from .. import ik_all, load
+    from ..ik import ik_all
+    from ..model import load
     from ..analysis.maps import fk_maps, ik_maps
     from ..analysis.workspace import workspace
     from .animation import render_animation

@@ -220,7 +220,7 @@ def track(robot: Robot, path: str = "random", method: str = "ccd", frames: int =
     -------
     TrackResult
     """
-    from .. import ik, ik_all  # type: ignore[attr-defined]
+    from ..ik import ik, ik_all
 
     if method not in TRACK_METHODS:
         raise ArgumentError(f"method must be one of {', '.join(TRACK_METHODS)}, got {method!r}")
