@@ -44,7 +44,7 @@ fonts:
 		($(SUDO) apt-get update && $(SUDO) apt-get install -y fonts-nanum)
 
 test: $(VENV)/.installed chromium locale fonts
-	$(PY) -m pytest
+	$(PY) -m pytest -n 2   # two workers (pytest-xdist): the suite is CPU-bound and this machine has 2 cores
 	$(PY) -m mypy
 
 # the long fuzz and corruption run (issue 24): reach stores, URDF and scene files, CLI arguments, 10 minutes;

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from . import spatial
 from ._version import __version__
-from .errors import (ArgumentError, ArmkitError, CalibrationRangeWarning, IKInputError, JointLimitError, LimitError, MapFileError,
+from .errors import (ArgumentError, ArmkitError, CalibrationInputError, CalibrationRangeWarning, IKInputError, JointLimitError, LimitError, MapFileError,
                      MissingExtraError, NotRigidError, ParseError, ReachabilityError, RobotDefinitionError,
                      RobotFileError, RobotFileNotFoundError, SceneError, SceneFileError, SceneNotSupportedError,
                      ShapeError,
@@ -52,7 +52,7 @@ __all__ = [
     "RobotFileNotFoundError", "JointLimitError", "UnreachableError", "IKInputError", "ParseError", "LimitError",
     "WriteError", "WriteInterrupted",
     "MissingExtraError", "SceneError", "SceneFileError", "SceneNotSupportedError", "ReachabilityError", "MapFileError",
-    "ViewError", "NotRigidError", "CalibrationRangeWarning",
+    "ViewError", "NotRigidError", "CalibrationRangeWarning", "CalibrationInputError",
     "IKResult", "ik", "ik_all", "view",
     "Scene", "Collisions", "collisions", "clearance",
     "reachability", "ReachabilityMap", "base_placement",

@@ -30,6 +30,7 @@ __all__ = [
     "MapFileError",
     "ViewError",
     "CalibrationRangeWarning",
+    "CalibrationInputError",
 ]
 
 
@@ -181,6 +182,15 @@ class ViewError(ArmkitError, ValueError):
 
 
 # ------------------------------------------------------------------ warnings (categories for warnings.warn)
+class CalibrationInputError(ArgumentError):
+    """A bad LeRobot calibration file or servo reading (:mod:`armkit.lerobot`), built from a template and its
+    fields, so that a front end shows it in the user's language (``_(e.template, **e.fields)``)."""
+
+    def __init__(self, template: str, **fields: object):
+        super().__init__(template.format(**fields))
+        self.template, self.fields = template, fields
+
+
 class CalibrationRangeWarning(UserWarning):
     """A servo reading (or joint angle) outside a motor's calibrated range ``[range_min, range_max]``
     (:mod:`armkit.lerobot`): mapped as LeRobot maps it, and said once per call."""

@@ -68,7 +68,7 @@ from typing import Any, Mapping
 
 import numpy as np
 
-from .errors import ArgumentError, CalibrationRangeWarning, UnreachableError
+from .errors import ArgumentError, CalibrationInputError, CalibrationRangeWarning, UnreachableError
 from .locale import N_
 
 __all__ = ["Calibration", "MotorCalibration", "RobotKinematics", "CalibrationRangeWarning", "CalibrationInputError",
@@ -122,15 +122,6 @@ class MotorCalibration:
 
 
 _FIELDS = ("id", "drive_mode", "homing_offset", "range_min", "range_max")
-
-
-class CalibrationInputError(ArgumentError):
-    """A bad calibration file or servo reading: an :class:`~armkit.errors.ArgumentError` built from a template
-    and its fields, so that a front end shows it in the user's language (``_(e.template, **e.fields)``)."""
-
-    def __init__(self, template: str, **fields: Any):
-        super().__init__(template.format(**fields))
-        self.template, self.fields = template, fields
 
 
 def _bad(template: str, **fields: Any) -> CalibrationInputError:

@@ -34,6 +34,11 @@ class SafeConsole(Console):
     :func:`esc` so that its brackets print literally.
     """
 
+    def __init__(self, *args: Any, **kwargs: Any) -> None:
+        super().__init__(*args, **kwargs)
+        if kwargs.get("width") is None:   # Rich fixes COLUMNS at creation; read it (and the terminal) at each print
+            self._width = None
+
     def render_str(self, text: str, **kwargs: Any) -> Text:  # type: ignore[override]
         return super().render_str(plain(text), **kwargs)
 
