@@ -178,10 +178,17 @@ class MapFileError(ArmkitError, ValueError):
 
 
 class ViewError(ArmkitError, ValueError):
-    """A view that cannot start or a bad argument to the handle (port in use, bad host, ...)."""
+    """A view that cannot start or a bad argument to the handle (port in use, bad host, ...).
+
+    Built from a template and its fields (``ViewError("got {value!r}", value=v)``), the page shows it in
+    its own language (``translate(e.template, lang, **e.fields)``); without fields the text is the message.
+    """
+
+    def __init__(self, message: str = "", /, **fields: object):
+        super().__init__(message.format(**fields) if fields else message)
+        self.template, self.fields = message, fields
 
 
-# ------------------------------------------------------------------ warnings (categories for warnings.warn)
 class CalibrationInputError(ArgumentError):
     """A bad LeRobot calibration file or servo reading (:mod:`armkit.lerobot`), built from a template and its
     fields, so that a front end shows it in the user's language (``_(e.template, **e.fields)``)."""
@@ -191,6 +198,7 @@ class CalibrationInputError(ArgumentError):
         self.template, self.fields = template, fields
 
 
+# ------------------------------------------------------------------ warnings (categories for warnings.warn)
 class CalibrationRangeWarning(UserWarning):
     """A servo reading (or joint angle) outside a motor's calibrated range ``[range_min, range_max]``
     (:mod:`armkit.lerobot`): mapped as LeRobot maps it, and said once per call."""

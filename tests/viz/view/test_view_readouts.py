@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import io
 import math
+import re
 import time
 import tomllib
 from pathlib import Path
@@ -440,3 +441,18 @@ def test_readouts_in_korean_and_after_the_language_switch(browser) -> None:
         assert page.get_by_text("저장한 자세", exact=True).count() == 0
         assert page.locator("table.armkit-T").count() == 1
         page.close()
+
+
+@pytest.mark.parametrize("text", ["x = [", 'unit = "m"\n', '[[configuration]]\nname = "a"\nq = [1, 2]\n',
+                                  'angle_unit = "grad"\n', 'joints = ["a", "b", "c"]\n'])
+def test_import_errors_are_templates_shown_in_korean(text):
+    """A bad import names the problem in the page's language: the Korean comes from the catalogue, not from English."""
+    from armkit.locale import translate
+    from armkit.viz.view.readouts import parse_configurations_toml
+
+    with pytest.raises(armkit.ViewError) as info:
+        parse_configurations_toml(armkit.load("fighter"), text)
+    ko = translate(info.value.template, "ko", **info.value.fields)
+    assert re.search(r"[가-힣]", ko), ko
+    assert ko != str(info.value)
+    assert translate(info.value.template, "en", **info.value.fields) == str(info.value)

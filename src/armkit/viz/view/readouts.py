@@ -234,7 +234,7 @@ def camera_preset(robot: Robot, name: str, fov: float = math.radians(50.0)) -> t
     from ...analysis.workspace import shoulder_point
 
     if name not in _DIRECTIONS:
-        raise ViewError(f"camera preset must be one of {', '.join(CAMERA_PRESETS)}, got {name!r}")
+        raise ViewError(N_("camera preset must be one of {names}, got {name!r}"), names=", ".join(CAMERA_PRESETS), name=name)
     s = robot.unit_scale
     centre = np.asarray(shoulder_point(robot), dtype=float) * s
     R = (robot.reach or 1.0) * s
@@ -280,15 +280,16 @@ def _clean_name(name: Any) -> str:
     return text[:MAX_NAME]
 
 
-def _checked_entry(robot: Robot, name: Any, q: Any, where: str) -> tuple[str, Array]:
+def _checked_entry(robot: Robot, name: Any, q: Any, where: int) -> tuple[str, Array]:
     if not isinstance(name, str) or not _clean_name(name):
-        raise ViewError(f"{where}: name must be a non-empty text, got {name!r}")
+        raise ViewError(N_("configuration {k}: the name must be a non-empty text, got {name!r}"), k=where, name=name)
     if not isinstance(q, list) or len(q) != robot.n or not all(
             isinstance(v, (int, float)) and not isinstance(v, bool) for v in q):
-        raise ViewError(f"{where}: q must be a list of {robot.n} numbers for robot {robot.name!r}, got {q!r}")
+        raise ViewError(N_("configuration {k}: q must be a list of {n} numbers for robot {robot!r}, got {q}"), k=where,
+                        n=robot.n, robot=robot.name, q=repr(q)[:200])
     arr = np.array(q, dtype=float)
     if not np.all(np.isfinite(arr)):
-        raise ViewError(f"{where}: q must be finite numbers, got {q!r}")
+        raise ViewError(N_("configuration {k}: q must be finite numbers, got {q}"), k=where, q=repr(q)[:200])
     return _clean_name(name), arr
 
 
@@ -306,30 +307,32 @@ def parse_configurations_toml(robot: Robot, text: str) -> list[tuple[str, Array]
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
-        raise ViewError(f"not a TOML file: {exc}") from exc
+        raise ViewError(N_("not a TOML file: {why}"), why=str(exc)) from exc
     joints = data.get("joints")
     if joints is not None and list(joints) != list(robot.joint_names):
-        raise ViewError(f"the file's joints {joints!r} are not the joints of robot {robot.name!r} "
-                        f"({', '.join(robot.joint_names)})")
+        raise ViewError(N_("the file's joints {joints} are not the joints of robot {robot!r} ({names})"),
+                        joints=repr(joints)[:200], robot=robot.name, names=", ".join(robot.joint_names))
     unit = data.get("unit", robot.unit)
     if unit != robot.unit:
-        raise ViewError(f"unit must be {robot.unit!r} for robot {robot.name!r}, got {unit!r}")
+        raise ViewError(N_("the unit must be {unit!r} for robot {robot!r}, got {got}"), unit=robot.unit, robot=robot.name,
+                        got=repr(unit)[:100])
     angle_unit = data.get("angle_unit", "deg")
     if angle_unit not in ("deg", "rad"):
-        raise ViewError(f"angle_unit must be 'deg' or 'rad', got {angle_unit!r}")
+        raise ViewError(N_("angle_unit must be 'deg' or 'rad', got {got}"), got=repr(angle_unit)[:100])
     rows = data.get("configuration", [])
     if not isinstance(rows, list) or not all(isinstance(r, dict) for r in rows):
-        raise ViewError("configuration must be a list of tables ([[configuration]] with name and q)")
+        raise ViewError(N_("configuration must be a list of tables ([[configuration]] with name and q)"))
     if len(rows) > MAX_STORED:
-        raise ViewError(f"at most {MAX_STORED} configurations, got {len(rows)}")
+        raise ViewError(N_("at most {most} configurations, got {k}"), most=MAX_STORED, k=len(rows))
     scale = _joint_scale(robot) if angle_unit == "deg" else np.ones(robot.n)
     out = []
     for i, row in enumerate(rows):
-        name, q = _checked_entry(robot, row.get("name"), row.get("q"), f"configuration {i + 1}")
+        name, q = _checked_entry(robot, row.get("name"), row.get("q"), i + 1)
         q = q / scale
         bad = robot.limit_violations(q)
         if bad:
-            raise ViewError(f"configuration {i + 1} ({name!r}): joint limit: " + "; ".join(bad))
+            raise ViewError(N_("configuration {k} ({name!r}): joint limit: {details}"), k=i + 1, name=name,
+                            details="; ".join(bad))
         out.append((name, q))
     return out
 
@@ -344,13 +347,13 @@ def _read_stored_json(robot: Robot, text: str) -> list[tuple[str, Array]]:
     try:
         data = json.loads(text)
     except ValueError as exc:
-        raise ViewError(f"not JSON: {exc}") from exc
+        raise ViewError(N_("not JSON: {why}"), why=str(exc)) from exc
     rows = data.get("configurations") if isinstance(data, dict) else None
     if not isinstance(rows, list) or not all(isinstance(r, dict) for r in rows):
-        raise ViewError("no list of configurations")
+        raise ViewError(N_("no list of configurations"))
     out: list[tuple[str, Array]] = []
     for i, row in enumerate(rows[:MAX_STORED]):
-        name, q = _checked_entry(robot, row.get("name"), row.get("q"), f"configuration {i + 1}")
+        name, q = _checked_entry(robot, row.get("name"), row.get("q"), i + 1)
         if robot.within_limits(q) and name not in {n for n, _ in out}:
             out.append((name, q))
     return out
@@ -376,7 +379,7 @@ class _Stored:
             if raw:
                 self.entries = _read_stored_json(self.robot, raw)
         except ViewError as exc:
-            note = L("bad_stored", why=str(exc))
+            note = L("bad_stored", why=owner.explain(exc))
         except (RuntimeError, TimeoutError) as exc:      # storage blocked, or a browser that does not answer
             note = L("not_kept", why=str(exc).splitlines()[0] if str(exc) else type(exc).__name__)
         self.folder = gui.add_folder(L("stored"), expand_by_default=False,   # right under "Frames and camera"
@@ -421,7 +424,7 @@ class _Stored:
             try:
                 action()
             except ArmkitError as exc:
-                self._say(str(exc), error=True)
+                self._say(self.owner.explain(exc), error=True)
 
     def _chosen(self) -> Optional[int]:
         names = [n for n, _ in self.entries]
@@ -506,11 +509,11 @@ class _Stored:
     def import_file(self) -> None:
         data = bytes(self.upload.value.content)
         if len(data) > MAX_IMPORT_BYTES:
-            raise ViewError(f"the file is larger than {MAX_IMPORT_BYTES // 1_000_000} MB")
+            raise ViewError(N_("the file is larger than {mb} MB"), mb=MAX_IMPORT_BYTES // 1_000_000)
         try:
             text = data.decode("utf-8")
         except UnicodeDecodeError as exc:
-            raise ViewError(f"not a UTF-8 text file: {exc}") from exc
+            raise ViewError(N_("not a UTF-8 text file: {why}"), why=str(exc)) from exc
         new = parse_configurations_toml(self.robot, text)
         merged = dict(self.entries)
         merged.update(new)
@@ -592,6 +595,12 @@ class Readouts:
 
     def _l(self, key: str, **fields: object) -> str:
         return translate(TEXTS[key], self.lang, **fields)
+
+    def explain(self, exc: BaseException) -> str:
+        """An error's text in the page's language: a :class:`ViewError` from its template and fields."""
+        if isinstance(exc, ViewError):
+            return translate(exc.template, self.lang, **exc.fields)
+        return str(exc)
 
     # ---------------------------------------------------------------- per browser
     def _client_connected(self, client: Any) -> None:
