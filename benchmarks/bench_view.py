@@ -149,14 +149,14 @@ def breakdown(ctx, name: str, presses: int = 20) -> dict:
     try:
         with _open(name) as v:
             stamps: list[tuple[float, float]] = []
-            show = v._show
+            show = v.show_configuration
 
             def timed(q, extra=None):
                 t0 = time.time() * 1e3
                 show(q, extra)
                 stamps.append((t0, time.time() * 1e3))
 
-            v._show = timed                        # type: ignore[method-assign]
+            v.show_configuration = timed           # type: ignore[method-assign]
             first = f"{v.robot.joint_names[1]} (°)"
             page = open_page(ctx, v.url, first)
             page.evaluate(WATCH_JS, [f"end point ({v.robot.unit})"])

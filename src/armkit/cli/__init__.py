@@ -90,7 +90,7 @@ class _ArmkitGroup(TyperGroup):
             from ..locale.library import localize
             from .common import warn
 
-            warn(localize(str(message), current_language()))   # one line, never a source line or a class name
+            warn(localize(message, current_language()))   # one line, never a source line or a class name
 
         warnings.showwarning = show
         try:
@@ -100,7 +100,7 @@ class _ArmkitGroup(TyperGroup):
             from ..locale.library import localize
             from .common import EXIT_BAD_INPUT, _, say
 
-            say(_("error:"), "bold red", localize(str(exc), current_language()))
+            say(_("error:"), "bold red", localize(exc, current_language()))
             raise SystemExit(EXIT_BAD_INPUT) from None
         except WriteInterrupted as exc:
             from .common import _, say
@@ -246,14 +246,31 @@ def _options(version: bool = typer.Option(False, "--version", callback=_print_ve
     pass
 
 
-for _name in _COMMAND_MODULES:
-    try:
-        _module = importlib.import_module(f"armkit.cli.{_name}")
-    except ModuleNotFoundError as _exc:  # a command module not written yet
-        if _exc.name != f"armkit.cli.{_name}":
-            raise
-        continue
-    _module.register(app)
+def _register_commands(group: typer.Typer, names: tuple[str, ...] = _COMMAND_MODULES) -> None:
+    """Import each command module ``armkit.cli.<name>`` and let it add its commands to ``group``.
+
+    A listed module that is missing is an error (a broken installation), never skipped:
+    ``armkit`` without ``ik`` would only fail later, as "No such command".
+
+    Raises
+    ------
+    ImportError
+        Naming the missing module; other import errors propagate unchanged.
+    """
+    for name in names:
+        module_name = f"armkit.cli.{name}"
+        try:
+            module = importlib.import_module(module_name)
+        except ModuleNotFoundError as exc:
+            if exc.name != module_name:      # the module exists; something it imports is missing
+                raise
+            raise ImportError(f"the command module {module_name} is missing: it is listed in "
+                              f"armkit.cli._COMMAND_MODULES but not installed (reinstall armkit)",
+                              name=module_name) from exc
+        module.register(group)
+
+
+_register_commands(app)
 
 
 def main() -> None:

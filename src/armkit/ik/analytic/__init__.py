@@ -64,6 +64,10 @@ class ClosedFormFamily(Protocol):
     """Branches per target, ``len(branch_labels)``."""
     pose_only: bool
     """True when a position alone does not fix the closed form (a pose, ``phi=`` or ``pitch=`` needed)."""
+    target_kind: str
+    """What a target gives the closed form: ``"position"`` (a position fixes it), ``"pose"`` (a ``(4, 4)`` pose;
+    planar-3r also takes ``phi=``) or ``"pitch"`` (a position and the tool pitch, ``pitch=``: :meth:`solve` gets
+    ``(B, 4)`` rows ``(x, y, z, pitch)``). ``pose_only`` is ``target_kind != "position"``."""
     sf: StandardForm
     """The robot in standard-DH form (:func:`._common.standard_form`), on which the family was detected."""
 

@@ -73,6 +73,7 @@ class Geometric:
 
     family = "geometric"
     pose_only = True
+    target_kind = "pose"
     polish_above = 1e-12
     """The solvers check every solution on the true chain and polish what the ideal chain got only nearly
     right; what is left is the rounding of an ideal chain within ~1e-13 of the true one, so solve_all's

@@ -60,6 +60,7 @@ class Planar2R:
     family = "planar-2r"
     branch_labels = tuple(_LABELS)
     pose_only = False
+    target_kind = "position"
     m = 2
 
     def __init__(self, sf: StandardForm, ell: float, beta: float, unit: str, sign: int = 1):
@@ -135,6 +136,7 @@ class Planar3R:
     family = "planar-3r"
     branch_labels = tuple(_LABELS)
     pose_only = True
+    target_kind = "pose"       # or phi= (armkit.ik)
     m = 2
 
     def __init__(self, sf: StandardForm, unit: str):

@@ -50,6 +50,7 @@ class SphericalWrist:
     family = "spherical-wrist"
     branch_labels = tuple(_LABELS)
     pose_only = True
+    target_kind = "pose"
     m = 8
 
     def __init__(self, sf: StandardForm, pos: Positioner, signs: tuple[int, int, int], unit: str, names):

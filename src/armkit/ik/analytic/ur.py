@@ -53,6 +53,7 @@ class ParallelAxes:
     family = "ur"
     branch_labels = tuple(_LABELS)
     pose_only = True
+    target_kind = "pose"
     m = 8
 
     def __init__(self, sf: StandardForm, signs: tuple[int, int, int], unit: str, names):

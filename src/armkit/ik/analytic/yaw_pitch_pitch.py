@@ -140,6 +140,7 @@ class YawPitchPitch:
     family = "yaw-pitch-pitch"
     branch_labels = tuple(_LABELS)
     pose_only = False
+    target_kind = "position"
     m = 4
 
     def __init__(self, sf: StandardForm, pos: Positioner, robot_unit: str, yaw_name: str):

@@ -131,6 +131,7 @@ class Locked:
     m: int
     sf: Any
     pose_only = True
+    target_kind = "pose"
     polish_above = math.inf
     """No Gauss-Newton touch-up in :func:`~armkit.ik.analytic.solve_all`: it would move the held joints."""
 

@@ -168,7 +168,7 @@ class Panels:
             self.upload = gui.add_upload_button(L("upload_csv"), mime_type="text/csv")
             self.track_text = gui.add_text(L("frame"), "", disabled=True)
         self.play_btn.on_click(self._track_play)
-        self.pause_btn.on_click(lambda e: self.view._cancel_player())
+        self.pause_btn.on_click(lambda e: self.view.stop_player())
         self.step_btn.on_click(self._track_step)
         self.upload.on_upload(self._csv_uploaded)
 
@@ -323,9 +323,9 @@ class Panels:
             q = self.view.q
             q[k] = v if r.joints[k].is_prismatic else math.radians(v)
             q[k] = float(np.clip(q[k], r.lower[k], r.upper[k]))
-            self.view._cancel_player()
+            self.view.stop_player()
             self.view.branch = None
-            self.view._show(q)
+            self.view.show_configuration(q)
         return cb
 
     def _gizmo_target(self) -> Array:
@@ -343,8 +343,8 @@ class Panels:
             return
         if getattr(event, "phase", None) == "end":       # released: animate the sweeps if asked
             if self.method in ("ccd", "fabrik") and self.show_sweeps:
-                self.view._target_update(self._gizmo_target(), self.position_only, dragging=False,
-                                         move_gizmo=False)
+                self.view.update_target(self._gizmo_target(), self.position_only, dragging=False,
+                                        move_gizmo=False)
             return
         self.view.target_from_page(self._gizmo_target(), self.position_only, dragging=True)
 
@@ -360,8 +360,8 @@ class Panels:
             t = np.eye(4)
             t[:3, :3] = rpy_to_rotation(np.asarray(self.target_rpy.value, dtype=float), degrees=True)
             t[:3, 3] = p
-        self.view._cancel_player()
-        self.view._target_update(t, self.position_only, dragging=False, move_gizmo=True)
+        self.view.stop_player()
+        self.view.update_target(t, self.position_only, dragging=False, move_gizmo=True)
 
     def _toggle_gizmo(self, event: Any) -> None:
         self.gizmo.visible = bool(self.show_gizmo.value)
@@ -398,17 +398,17 @@ class Panels:
             except ArmkitError as exc:
                 self.track_text.value = str(exc).replace(str(self._csv), "CSV") if self._csv else str(exc)
                 return
-            if not self.view._alive(token):
+            if not self.view.player_alive(token):
                 return
             self._track_key = key
             self._load_track(res, float(self.speed.value))
             self._track_loop(token)
 
-        self.view._start_player(body)
+        self.view.start_player(body)
 
     def play_track(self, res: Any, fps: float = 20.0, play: bool = True) -> None:
         """Load a :class:`~armkit.viz.tracking.TrackResult` and play it (looping) or show frame 0."""
-        self.view._cancel_player()
+        self.view.stop_player()
         self._load_track(res, fps)
         if play:
             self._start_track()
@@ -448,28 +448,28 @@ class Panels:
                                             err=f"{float(res.error[k]):.2g}", unit=r.unit)
 
         self.view.track_frame = k
-        self.view._show(np.asarray(res.q[k], dtype=float), extra)
+        self.view.show_configuration(np.asarray(res.q[k], dtype=float), extra)
 
     def _start_track(self) -> None:
-        self.view._start_player(self._track_loop)
+        self.view.start_player(self._track_loop)
 
     def _track_loop(self, token: int) -> None:
         """Play the loaded track, looping, until the player is cancelled."""
         view = self.view
         next_time = time.perf_counter()
-        while view._alive(token):
+        while view.player_alive(token):
             self._show_track_frame(self.track_k)
             self.track_k = (self.track_k + 1) % len(self.track.q)
             next_time += 1.0 / max(1.0, float(self.speed.value))
             delay = next_time - time.perf_counter()
             if delay < -0.5:             # fell behind (a slow machine): do not try to catch up
                 next_time = time.perf_counter()
-            view._stop.wait(max(0.0, delay))
+            view.player_wait(max(0.0, delay))
 
     def _track_step(self, event: Any) -> None:
         if event.client is None or self.track is None:
             return
-        self.view._cancel_player()
+        self.view.stop_player()
         self._show_track_frame(self.track_k)
         self.track_k = (self.track_k + 1) % len(self.track.q)
 
@@ -518,7 +518,7 @@ class Panels:
 
     def _toggle_frames(self, event: Any) -> None:
         self.view.drawing.set_frames_visible(bool(self.frames_cb.value))
-        self.view._show(self.view.q)
+        self.view.show_configuration(self.view.q)
 
     def _screenshot(self, event: Any) -> None:
         client = event.client
@@ -538,7 +538,7 @@ class Panels:
     # ------------------------------------------------------------------ trajectory
     def play_trajectory(self, traj: Any, play: bool = True) -> None:
         """Load a :class:`~armkit.motion.trajectory.Trajectory`: time slider from 0 to its duration."""
-        self.view._cancel_player()
+        self.view.stop_player()
         self.traj = traj
         d = max(float(traj.t[-1]), 1e-3)
         self.time_slider.max = round(d, 6)
@@ -560,7 +560,7 @@ class Panels:
         def extra() -> None:
             self.time_slider.value = round(float(t), 6)
 
-        self.view._show(q, extra)
+        self.view.show_configuration(q, extra)
 
     def _play_traj_from(self, t0: float) -> None:
         traj = self.traj
@@ -569,19 +569,19 @@ class Panels:
 
         def body(token: int) -> None:
             start = time.perf_counter() - t0
-            while self.view._alive(token):
+            while self.view.player_alive(token):
                 t = min(time.perf_counter() - start, d)
                 self._show_time(t)
                 if t >= d:
                     return
-                self.view._stop.wait(1 / 30)
+                self.view.player_wait(1 / 30)
 
-        self.view._start_player(body)
+        self.view.start_player(body)
 
     def _time_moved(self, event: Any) -> None:
         if event.client is None or self.traj is None:
             return
-        self.view._cancel_player()
+        self.view.stop_player()
         self._show_time(float(self.time_slider.value))
 
     def _plan_home(self, event: Any) -> None:

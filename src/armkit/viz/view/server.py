@@ -231,7 +231,7 @@ class View:
         self.drawing = ArmDrawing(self.server, r, self._q)
         self.obstacles = ObstacleDrawing(self.server, r, self.scene, nice_grid(r.reach or 1.0)[2] * r.unit_scale)
         self._build_panels()
-        self._show(self._q)
+        self.show_configuration(self._q)
         # warm the IK path once so that the first drag is not slow (Numba compiles on first use)
         try:
             self._solve(fk(r, self._q), position_only=self.panels.position_only, method="auto")
@@ -248,6 +248,7 @@ class View:
         from .panels import Panels
 
         gui = self.server.gui
+        gui.set_panel_label(label("panel", self.lang, robot=self.robot.name))   # viser's "Connected", in words
         names = {"en": "English", "ko": "한국어"}      # each language's name in itself, in both pages
         self._lang_dd = gui.add_dropdown("language · 언어", [names[k] for k in LANGUAGES],
                                          initial_value=names[self.lang])
@@ -275,7 +276,7 @@ class View:
             raise ViewError(f"lang must be one of {', '.join(LANGUAGES)}, got {lang!r}")
         if lang == self.lang:
             return
-        self._cancel_player()
+        self.stop_player()
         with self._lock:
             if self._closed:
                 return
@@ -291,9 +292,9 @@ class View:
                 self.drawing.set_frames_visible(False)
             target, res = self.target, self.last_result
             if not self._following and target is not None and res is not None:
-                self._show(self._q, lambda: self.panels.show_target(target, res, True), follow=False)
+                self.show_configuration(self._q, lambda: self.panels.show_target(target, res, True), follow=False)
             else:
-                self._show(self._q)
+                self.show_configuration(self._q)
 
     # ------------------------------------------------------------------ scene
     def _setup_scene(self) -> None:
@@ -361,7 +362,7 @@ class View:
         """``v.q = ...`` is :meth:`set_q`."""
         self.set_q(q)
 
-    def _show(self, q: Array, extra: Optional[Callable[[], None]] = None, follow: bool = True) -> None:
+    def show_configuration(self, q: Array, extra: Optional[Callable[[], None]] = None, follow: bool = True) -> None:
         """Draw ``q`` (already checked) and refresh every readout, in one batch.
 
         The joints, the end pose, the collision state and the target go out together. With
@@ -396,9 +397,9 @@ class View:
     def set_q(self, q: ArrayLike) -> None:
         """Move the arm to ``q`` ``(n,)`` (rad / length units); outside a limit raises JointLimitError."""
         qq = self._checked_q(q)
-        self._cancel_player()
+        self.stop_player()
         self.branch = None
-        self._show(qq)
+        self.show_configuration(qq)
 
     def state_numbers(self, q: Optional[Array] = None) -> dict[str, Any]:
         """End point, roll-pitch-yaw (deg), manipulability and condition number of ``q`` (default: now)."""
@@ -474,13 +475,14 @@ class View:
         t, pos_only = self._target_array(T)
         if method is not None and method not in IK_METHODS:
             raise ViewError(f"method must be one of {', '.join(IK_METHODS)}, got {method!r}")
-        self._cancel_player()
+        self.stop_player()
         if method is not None:
             self.panels.set_method(method)
         self.panels.set_position_only(pos_only)
-        return self._target_update(t, pos_only, dragging=False, move_gizmo=True)
+        return self.update_target(t, pos_only, dragging=False, move_gizmo=True)
 
-    def _target_update(self, t: Array, position_only: bool, dragging: bool, move_gizmo: bool) -> IKResult:
+    def update_target(self, t: Array, position_only: bool, dragging: bool, move_gizmo: bool) -> IKResult:
+        """Solve for the target ``t`` (checked: :meth:`set_target` checks it) with the page's method and show it."""
         method = self.panels.method
         with self._lock:
             q_start = self._q.copy()
@@ -497,7 +499,7 @@ class View:
                 self.panels.show_target(t, res, move_gizmo)
 
             if ok and not sweeps:
-                self._show(np.asarray(res.q, dtype=float), panel, follow=False)
+                self.show_configuration(np.asarray(res.q, dtype=float), panel, follow=False)
             else:
                 self._following = False
                 with self.server.atomic():
@@ -521,8 +523,8 @@ class View:
                     if nxt is None:
                         self._busy = False
                         return
-                self._cancel_player()
-                self._target_update(nxt, position_only, dragging=dragging, move_gizmo=False)
+                self.stop_player()
+                self.update_target(nxt, position_only, dragging=dragging, move_gizmo=False)
         finally:
             with self._pending_lock:
                 self._busy = False
@@ -532,7 +534,7 @@ class View:
         if label not in self.branches:
             raise ViewError(f"no branch {label!r} for this target; the branches are "
                             + (", ".join(self.branches) or "none (no closed form)"))
-        self._cancel_player()
+        self.stop_player()
         with self._lock:
             branches, every, t = dict(self.branches), self._every, self.target
             res = every[0][every[1].index(label)] if every is not None and label in every[1] else None
@@ -540,13 +542,16 @@ class View:
             if res is not None:
                 self.last_result = res
             if res is None or t is None:
-                self._show(branches[label], follow=False)
+                self.show_configuration(branches[label], follow=False)
                 return
-            self._show(branches[label], lambda: self.panels.show_target(t, res, False), follow=False)
+            self.show_configuration(branches[label], lambda: self.panels.show_target(t, res, False), follow=False)
             self.branches, self._every, self.branch = branches, every, label
 
     # ------------------------------------------------------------------ players
-    def _cancel_player(self) -> None:
+    # A player (a path, a tracking run, IK sweeps) is a thread running ``body(token)``; it stops when
+    # ``player_alive(token)`` turns False (another player started, stop_player, the view closed).
+    def stop_player(self) -> None:
+        """Stop the running player (if any) and wait for it (at most 2 s)."""
         with self._lock:
             self._player_token += 1
         th = self._player
@@ -554,16 +559,22 @@ class View:
             th.join(timeout=2.0)
         self._player = None
 
-    def _start_player(self, body: Callable[[int], None]) -> None:
-        self._cancel_player()
+    def start_player(self, body: Callable[[int], None]) -> None:
+        """Stop the running player and run ``body(token)`` in a new daemon thread."""
+        self.stop_player()
         with self._lock:
             token = self._player_token
         th = threading.Thread(target=body, args=(token,), daemon=True, name="armkit-view-player")
         self._player = th
         th.start()
 
-    def _alive(self, token: int) -> bool:
+    def player_alive(self, token: int) -> bool:
+        """True while the player started with ``token`` should go on."""
         return token == self._player_token and not self._stop.is_set()
+
+    def player_wait(self, seconds: float) -> bool:
+        """Sleep ``seconds`` between a player's frames; returns True at once when the view closes."""
+        return self._stop.wait(seconds)
 
     def _play_sweeps(self, t: Array, q_start: Array, method: str, final: IKResult) -> None:
         p = t[:3, 3] if t.shape == (4, 4) else t
@@ -571,20 +582,20 @@ class View:
 
         def body(token: int) -> None:
             for k in range(1, count + 1):
-                if not self._alive(token):
+                if not self.player_alive(token):
                     return
                 step = ik(self.robot, p, q0=q_start, method=method, max_iterations=k,  # type: ignore[arg-type]
                           restarts=0, seed=0)
                 qk = np.asarray(step.q, dtype=float)
                 if np.all(np.isfinite(qk)) and self.robot.within_limits(qk):
                     err = float(np.asarray(step.position_error))
-                    self._show(qk, lambda: self.panels.show_sweep(k, count, err), follow=False)
+                    self.show_configuration(qk, lambda: self.panels.show_sweep(k, count, err), follow=False)
                 self._stop.wait(0.12)
-            if self._alive(token) and bool(np.asarray(final.success)):
-                self._show(np.asarray(final.q, dtype=float), lambda: self.panels.show_target(t, final, False),
-                           follow=False)
+            if self.player_alive(token) and bool(np.asarray(final.success)):
+                self.show_configuration(np.asarray(final.q, dtype=float),
+                                        lambda: self.panels.show_target(t, final, False), follow=False)
 
-        self._start_player(body)
+        self.start_player(body)
 
     def show_path(self, path: Any, *, method: str = "ccd", frames: int = 200, seed: int = 0,
                   times: ArrayLike | None = None, fps: float = 20.0, play: bool = True) -> Any:
@@ -746,7 +757,7 @@ class View:
             if self._closed:
                 return
             self._stop.set()
-            self._cancel_player()
+            self.stop_player()
             with self._lock:
                 self._closed = True
             with contextlib.redirect_stdout(io.StringIO()):       # viser's "Server stopped" line
