@@ -72,7 +72,11 @@ def check_writable(path: str | os.PathLike[str], suffixes: Optional[Sequence[str
     if st is not None and stat.S_ISDIR(st.st_mode):
         raise WriteError(p, "it is a folder; give a file name")
     if suffixes is not None and p.suffix.lower() not in tuple(s.lower() for s in suffixes):
-        raise WriteError(p, f"{what} must end in {', '.join(suffixes)}, got {p.suffix or 'no suffix'!r}")
+        if p.suffix:
+            raise WriteError(p, "{what} must end in {suffixes}, got {got!r}", what=what,
+                             suffixes=", ".join(suffixes), got=p.suffix)
+        raise WriteError(p, "{what} must end in {suffixes}; the name has no suffix", what=what,
+                         suffixes=", ".join(suffixes))
     if st is not None:
         if not stat.S_ISREG(st.st_mode):
             raise WriteError(p, "it is not a regular file")

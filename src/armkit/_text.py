@@ -19,7 +19,7 @@ from __future__ import annotations
 import re
 from typing import Any, Iterable
 
-__all__ = ["plain", "esc", "shorten", "name_list", "MAX_MESSAGE"]
+__all__ = ["plain", "esc", "shorten", "name_list", "MAX_MESSAGE", "Fielded"]
 
 MAX_MESSAGE = 2000      # characters of one message shown before it is cut
 _CONTROL = re.compile("[\x00-\x08\x0b-\x1f\x7f-\x9f\u200e\u200f\u202a-\u202e\u2066-\u2069]")
@@ -58,3 +58,27 @@ def name_list(names: Iterable[Any], limit: int = 12, sep: str = ", ") -> str:
     if len(names) <= limit:
         return sep.join(str(n) for n in names)
     return sep.join(str(n) for n in names[:limit]) + f"{sep}... ({len(names):,} in all)"
+
+
+class Fielded(str):
+    """An English sentence that keeps the template and fields it was built from, so that a front end renders it
+    in the user's language from the catalogue (:func:`armkit.locale.library.localize`) instead of reading the
+    English back. It is a ``str`` everywhere else (printed, compared, written to JSON).
+
+    ``terms`` names the fields whose values are words the catalogue may translate (``ground``, ``torso``);
+    the other fields are names and numbers, shown as they are.
+
+    >>> m = Fielded.of("the {a} hits the {b} by {depth}", terms=("a", "b"), a="forearm", b="ground", depth="13 mm")
+    >>> m, m.template, m.fields["b"], m.terms
+    ('the forearm hits the ground by 13 mm', 'the {a} hits the {b} by {depth}', 'ground', ('a', 'b'))
+    """
+
+    template: str
+    fields: dict[str, Any]
+    terms: tuple[str, ...]
+
+    @classmethod
+    def of(cls, template: str, /, terms: tuple[str, ...] = (), **fields: Any) -> "Fielded":
+        text = cls(template.format(**fields))
+        text.template, text.fields, text.terms = template, fields, tuple(terms)
+        return text

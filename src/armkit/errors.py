@@ -35,7 +35,19 @@ __all__ = [
 
 
 class ArmkitError(Exception):
-    """Base class of every armkit error."""
+    """Base class of every armkit error.
+
+    An error built by :meth:`of` carries its message as a template and fields (``.template``, ``.fields``),
+    so a front end renders it in the user's language from the catalogue (:func:`armkit.locale.library.localize`)
+    instead of reading the English back.
+    """
+
+    @classmethod
+    def of(cls, template: str, /, **fields: object) -> "ArmkitError":
+        """The error whose message is ``template.format(**fields)``, keeping both: ``ShapeError.of("got {n}", n=3)``."""
+        exc = cls(template.format(**fields))
+        exc.template, exc.fields = template, fields  # type: ignore[attr-defined]
+        return exc
 
 
 class ArgumentError(ArmkitError, ValueError):
@@ -63,14 +75,18 @@ class RobotDefinitionError(ArmkitError, ValueError):
 class RobotFileError(RobotDefinitionError):
     """A robot file is malformed; the message names the file, the line and the field."""
 
-    def __init__(self, path: str, message: str, line: int | None = None, field: str | None = None):
+    def __init__(self, path: str, message: str, line: int | None = None, field: str | None = None,
+                 **fields: object):
         self.path = str(path)
         self.line = line
         self.field = field
         where = self.path if line is None else f"{self.path}:{line}"
         if field:
             where += f": {field}"
-        super().__init__(f"{where}: {message}")
+        # with fields, ``message`` is a template: ``.template`` and ``.fields`` render it in any language
+        self.template = "{where}: " + (message if fields else message.replace("{", "{{").replace("}", "}}"))
+        self.fields = {**fields, "where": where}
+        super().__init__(f"{where}: {message.format(**fields) if fields else message}")
 
 
 class UnknownRobotError(ArmkitError, KeyError):
@@ -111,10 +127,13 @@ class WriteError(ArmkitError, OSError):
     it into place only when the whole file is written.
     """
 
-    def __init__(self, path: object, reason: str):
+    def __init__(self, path: object, reason: str, /, **fields: object):
         self.path = str(path)
-        self.reason = reason
-        super().__init__(f"cannot write {self.path}: {reason}")
+        self.reason = reason.format(**fields) if fields else reason
+        # with fields, ``reason`` is a template (``.template``, ``.fields``: the message in any language)
+        self.template = "cannot write {path}: " + (reason if fields else reason.replace("{", "{{").replace("}", "}}"))
+        self.fields = {**fields, "path": self.path}
+        super().__init__(f"cannot write {self.path}: {self.reason}")
 
     def __str__(self) -> str:  # OSError would format (errno, strerror)
         return f"cannot write {self.path}: {self.reason}"

@@ -79,7 +79,8 @@ KEPT = {"en", "ko", "deg", "rad", "mm", "tool", "lang", "strict", "armkit", "hel
         "info", "DH", "Craig", "xyz", "rpy", "URDF", "TOML", "v", "sqrt", "det", "J", "T", "m", "lm", "CCD",
         "circular", "parabolic", "ik", "fk", "mode",
         "s", "r", "t", "A", "n", "vx", "vy", "vz", "wx", "wy", "wz", "lambda",   # + units and symbols of formulas
-        "Zarr", "SO", "LeRobot", "Python", "NumPy", "Numba", "CSV", "PNG", "IP", "NaN"}   # + software, formats, protocols, NaN      # + commands, formats, formulas and their symbols, methods, option values
+        "Zarr", "SO", "LeRobot", "Python", "NumPy", "Numba", "CSV", "PNG", "IP", "NaN", "JSON", "UTF", "MB",
+        "FK", "N"}   # + software, formats, protocols, NaN      # + commands, formats, formulas and their symbols, methods, option values
 
 
 def _marked_messages(root: Path) -> set[tuple[str | None, str]]:

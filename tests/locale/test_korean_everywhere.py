@@ -37,7 +37,7 @@ SYMBOLS = {"x", "y", "z", "X", "Y", "Z", "vx", "vy", "vz", "wx", "wy", "wz", "v"
            "armkit", "help", "exit", "quit", "goto", "branch", "auto", "home", "limits", "ground", "box", "clear",
            "scene", "units", "lang", "show", "mode", "q", "en", "ko", "Ctrl", "D", "std", "mod", "Craig", "pinv", "dls",
            "lm", "newton", "ccd", "fabrik", "analytic", "cubic", "quintic", "trapezoid", "numpy", "NumPy", "Numba",
-           "rpy", "xyz", "toml", "urdf", "true", "false", "null", "random", "circle", "figure8", "t", "qd"}
+           "rpy", "xy", "xyz", "toml", "urdf", "true", "false", "null", "random", "circle", "figure8", "t", "qd"}
 # the commands, as a user types them (armkit info, armkit reach build)
 COMMANDS = {c.name or c.callback.__name__ for c in app.registered_commands} | {
     g.name for g in app.registered_groups} | {"build", "show", "query", "base"}
@@ -73,6 +73,8 @@ def _robot_words(names: tuple[str, ...]) -> tuple[set[str], list[str]]:
 
 ROBOTS = ("fighter", "planar2", "planar3", "puma560", "so101", "ur5", "panda", "iiwa14", "stanford")
 NAMES, ROBOT_TEXTS = _robot_words(ROBOTS)
+# names written with spaces in sentences ("the upper arm hits ..." for the link upper_arm): removed as whole phrases
+NAME_PHRASES = sorted({n.replace("_", " ") for n in NAMES if "_" in n}, key=len, reverse=True)
 
 
 def english_words(text: str, extra: set[str] = frozenset()) -> list[str]:
@@ -84,8 +86,11 @@ def english_words(text: str, extra: set[str] = frozenset()) -> list[str]:
     text = "\n".join(c for c in cells if not (c.strip() and any(c.strip().rstrip("… ") in t for t in ROBOT_TEXTS
                                                                  if len(c.strip()) > 3)))
     text = re.sub(r"'[^'\n]*'|\"[^\"\n]*\"", " ", text)            # user text and names echoed in quotes
+    for phrase in NAME_PHRASES:
+        text = re.sub(rf"(?<![A-Za-z0-9_]){re.escape(phrase)}(?![A-Za-z0-9_])", " ", text)   # (Hangul may follow)
     text = re.sub(r"(?<![\w-])--?[A-Za-z][\w-]*", " ", text)      # options
     text = re.sub(r"\S*[/\\]\S*|\b\w+\.(png|gif|mp4|csv|urdf|toml|zarr|svg|pdf|json|py|tex)\b", " ", text)
+    text = re.sub(r"(?<![\w.])\.(png|jpg|gif|mp4|csv|urdf|toml|zarr|svg|pdf|json|py|tex)\b", " ", text)  # suffixes
     text = re.sub(r"\d+(\.\d+)?e[+-]?\d+", " ", text)              # 1.6e-14
     text = re.sub(r"(?<![A-Za-z_])[a-z_]+\.[a-z_]+(?![A-Za-z_])", " ", text)   # a function: sympy.solve
     out = []
@@ -183,6 +188,25 @@ CASES = [
     ("reach-build", ["reach", "build", "planar2", "-o", "PATH/m.zarr", "--resolution", "0.3"], None, 0),
     ("reach-query-bad", ["reach", "query", "PATH/none.zarr", "1", "2", "x"], None, 2),
     ("warmup", ["warmup", "--no-parallel"], None, 0),
+    # issue 21: sentences that stayed English (each now rendered from its template and fields, or fixed)
+    ("ik-lm-rotation", ["ik", "puma560", "0.4", "0.1", "0.3", "--rpy", "180", "0", "0", "--deg", "--method", "lm",
+                        "--seed", "3"], None, 0),
+    ("ik-2d-target-spatial-arm", ["ik", "fighter", "100", "50", "--method", "lm"], None, 2),
+    ("plot-bad-suffix", ["plot", "fighter", "0", "0", "0", "-o", "PATH/arm.txt"], None, 2),
+    ("plot-no-suffix", ["plot", "fighter", "0", "0", "0", "-o", "PATH/arm"], None, 2),
+    ("shell-scene", ["shell", "fighter", "--no-plot"], "ground 50\nbox 0 0 0 10 10 10\nscene\nexit\n", 0),
+    ("traj-arc-rate", ["traj", "planar2", "--arc", "90", "0.5,0.5", "1.2,0.5", "--method", "rate", "--steps", "12",
+                       "-o", "PATH/arc.png"], None, 0),
+    ("traj-line-blend", ["traj", "fighter", "--line", "100,50,100", "150,0,100", "100,-50,100", "--blend", "10",
+                         "--steps", "12", "-o", "PATH/line.png"], None, 0),
+    ("traj-gif", ["traj", "planar2", "--joint", "0,0", "30,45", "--deg", "--dt", "0.25", "-o", "PATH/t.gif"], None, 0),
+    ("track-circle-fabrik", ["track", "planar3", "--path", "circle", "--method", "fabrik", "--frames", "4", "-o",
+                             "PATH/c.gif"], None, 0),
+    ("track-figure8-lm", ["track", "fighter", "--path", "figure8", "--method", "lm", "--frames", "4", "-o",
+                          "PATH/f.gif"], None, 0),
+    ("derive-png", ["derive", "planar2", "--png", "PATH/d.png", "--budget", "5"], None, 0),
+    ("maps-fighter", ["maps", "fighter", "--steps", "7", "-o", "PATH/maps.png"], None, 0),
+    ("workspace-fighter", ["workspace", "fighter", "-n", "3000", "-o", "PATH/ws.png"], None, 0),
 ]
 
 
@@ -237,3 +261,114 @@ def test_the_check_finds_english():
     assert english_words("target not reached") == ["target", "not", "reached"]
     assert english_words("관절 yaw = 30 deg, 끝점 (1, 2, 3) mm, q1 --deg 'hello' front/elbow-up") == []
     assert english_words("오류: end point") == ["end", "point"]
+
+
+# issue 21: every robot-file error armkit writes itself is a template with fields, rendered from the catalogue
+BAD_ROBOT_FILES = [
+    ('name = "a"\n[[joints]]\na = "x"\n', "joints[1].a"),                       # not a number
+    ('name = "a"\n[[joints]]\nlimits = [1, 2, 3]\n', "joints[1].limits"),       # not [lower, upper]
+    ('name = "a"\n[[joints]]\nlimits = [2, 1]\n', "joints[1].limits"),          # lower > upper
+    ('name = "a"\n[[joints]]\ntype = "spiral"\n', "joints[1].type"),            # unknown joint type
+    ('name = "a"\n[[joints]]\nname = 3\n', "joints[1].name"),                   # a name that is no string
+    ('name = "a"\n[[joints]]\nwobble = 1\n', "joints[1].wobble"),               # unknown joint key
+    ('name = "a"\n[[joints]]\ntype = "prismatic"\n', "joints[1].limits"),       # prismatic without limits
+    ('name = "a"\nangle_unit = "grad"\n[[joints]]\n', "angle_unit"),           # unknown angle unit
+    ('name = 3\n[[joints]]\n', "name"),                                        # a top-level non-string
+    ('name = "a"\n', "joints"),                                                # no joints
+    ('name = "a"\nlink_names = [1]\n[[joints]]\n', "link_names"),             # not a list of strings
+    ('name = "a"\njoints = [1]\n', "joints[1]"),                                # a joint that is no table
+    ('name = "a"\nbase = 3\n[[joints]]\n', "base"),                           # a pose that is no table
+    ('name = "a"\n[base]\nxyz = [1, 2]\n[[joints]]\n', "base.xyz"),           # not 3 numbers
+    ('name = "a"\n[base]\nspin = 1\n[[joints]]\n', "base"),                   # unknown pose key
+    ('name = "a"\nlink_radius = -1\n[[joints]]\n', "link_radius"),             # a negative radius
+    ('name = "a"\nallow_collision = 3\n[[joints]]\n', "allow_collision"),       # not pairs
+    ('name = "a"\nallow_collision = [["x", "y"]]\n[[joints]]\n', "allow_collision"),   # unknown link
+    ('name = "a"\nbody = 3\n[[joints]]\n', "body"),                           # shapes that are no tables
+]
+
+
+# a robot file's field names (joints[1].limits, link_names ...) and the Python type of a wrong value (int)
+FILE_KEYS = {"joints", "name", "type", "limits", "link_names", "angle_unit", "base", "tool", "xyz", "rpy", "body",
+             "scene", "link_radius", "allow_collision", "wobble", "spin", "int"}
+
+
+@pytest.mark.parametrize("text, field", BAD_ROBOT_FILES, ids=[f for _, f in BAD_ROBOT_FILES])
+def test_every_robot_file_error_is_korean(text, field, tmp_path):
+    from armkit.errors import RobotFileError
+
+    bad = tmp_path / "arm.toml"
+    bad.write_text(text, encoding="utf-8")
+    with pytest.raises(RobotFileError) as info:      # a template and fields, not English to parse back
+        armkit.load(str(bad))
+    assert info.value.field == field and "{where}" in info.value.template, info.value.template
+    res = runner.invoke(app, ["info", str(bad), "--lang", "ko"], env=ENV)
+    assert res.exit_code == 2, res.stderr
+    out = res.stderr.replace(str(tmp_path), "PATH")
+    assert re.search(r"[가-힣]", out), out
+    head, _, allowed = out.partition("쓸 수 있는 키:")     # the allowed keys are the file's field names
+    assert english_words(head, FILE_KEYS) == [], out
+    en = runner.invoke(app, ["info", str(bad), "--lang", "en"], env=ENV)
+    assert english_words(en.stderr.replace(str(tmp_path), "PATH")) != [], en.stderr   # the check can fail
+
+
+def test_errors_with_fields_are_rendered_not_parsed():
+    """An error built from a template renders from the catalogue even when its English would match no pattern."""
+    from armkit.errors import ShapeError, WriteError
+    from armkit.locale.library import fielded, localize
+
+    e = ShapeError.of("2-D targets (x, y) are for planar arms moving in the world xy plane; robot {robot!r} is not "
+                      "one: give (x, y, z) or a pose", robot="fighter")
+    assert str(e).startswith("2-D targets") and fielded(e) == (e.template, {"robot": "fighter"})
+    ko = localize(e, "ko")
+    assert "'fighter'는" in ko and english_words(ko) == [], ko
+    w = WriteError("out/arm.txt", "{what} must end in {suffixes}, got {got!r}", what="--output", suffixes=".png",
+                   got=".txt")
+    assert str(w) == "cannot write out/arm.txt: --output must end in .png, got '.txt'"
+    assert english_words(localize(w, "ko")) == [], localize(w, "ko")
+    plain = WriteError("x.png", "disk full {x}")                # no fields: the text as written, braces kept
+    assert str(plain) == "cannot write x.png: disk full {x}" and localize(plain, "en") == str(plain)
+
+
+def test_library_sentences_issue_21():
+    """The LM note's rotation error, a scene's shapes and a collision: Korean (the parts are names)."""
+    import numpy as np
+
+    from armkit.collision import collisions
+    from armkit.collision.shapes import Scene
+    from armkit.locale.library import localize
+
+    note = "converged in 22 iterations: position error 1.40e-13 m, rotation error 2.17e-13 rad."
+    shapes = [s.describe() for s in (Scene.plane([0, 0, 1], 50.0), Scene.box([0, 0, 0], [1, 2, 3]),
+                                     Scene.sphere([0, 0, 0], 1.0), Scene.plane([1, 0, 0], 2.0))]
+    assert shapes[0] == "floor at z = 50" and shapes[1] == "box at (0, 0, 0) size 1 x 2 x 3"
+    robot = armkit.load("fighter")
+    hit = collisions(robot, np.radians([0.0, 150.0, 150.0]), Scene([Scene.plane([0, 0, 1], 50.0)])).message()
+    assert hit.startswith("the ") and " hits the " in hit, hit
+    for text in (note, *shapes, hit):
+        ko = localize(text, "ko")
+        assert ko != text and english_words(ko) == [], ko
+    assert "지면" in localize(hit, "ko") or "ground" not in hit     # a word among the names: the catalogue's
+
+
+def test_workspace_title_draws_its_power_of_ten_with_mathtext():
+    """A Korean font has no superscript digits: the title writes 10^7 as mathtext, never ⁷."""
+    from armkit.analysis.workspace import format_measure
+    from armkit.viz.plots import _mathtext_power
+
+    assert format_measure(2.28e7, 1.7e5) == "(2.280 ± 0.017) × 10⁷"
+    assert _mathtext_power(format_measure(2.28e7, 1.7e5)) == "(2.280 ± 0.017) $\\times 10^{7}$"
+    assert _mathtext_power(format_measure(3.1e-5, 2e-7)) == "(3.100 ± 0.020) $\\times 10^{-5}$"
+    assert _mathtext_power("12.5 ± 0.1") == "12.5 ± 0.1"
+
+
+def test_flagged_terms_are_fixed():
+    """The native reader's notes: 내장 for bundled, 방향 for orientation, 지정하세요 for options, one range style."""
+    from babel.messages.pofile import read_po
+
+    with (armkit.locale.LOCALE_DIR / "ko/LC_MESSAGES/armkit.po").open("rb") as f:
+        entries = {m.id: m.string for m in read_po(f) if m.id and m.string}
+    text = "\n".join(entries.values())
+    assert "들어 있는" not in text
+    assert [s for s in entries.values() if "주세요" in s and "알려 주세요" not in s] == []
+    assert not re.search(r"[0-9}]\.\.[0-9{]|[0-9}]~[0-9{]", text), re.findall(r".{20}[0-9}]\.\.[0-9{].{5}", text)
+    assert entries["orientation (roll, pitch, yaw)"].startswith("방향")

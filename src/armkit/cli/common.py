@@ -84,11 +84,17 @@ def message(text: str | Text, console_: Console | None = None) -> None:
     out.print(text, soft_wrap=not wraps(out))
 
 
-def fail(message: str, code: int = EXIT_BAD_INPUT) -> NoReturn:
+def fail(message: str | BaseException, code: int = EXIT_BAD_INPUT) -> NoReturn:
     """Print ``message`` to stderr and exit with ``code`` (never a traceback); a message of the library (an
-    error's text) is shown in the user's language (:func:`armkit.locale.library.localize`)."""
+    error's text) is shown in the user's language (:func:`armkit.locale.library.localize`): an error that carries
+    its template and fields (given itself, or ``str(exc)`` of the error being handled) from the catalogue."""
+    import sys
+
     from ..locale.library import localize
 
+    handled = sys.exc_info()[1]
+    if isinstance(message, str) and handled is not None and str(handled) == message:
+        message = handled          # ``fail(str(exc))`` inside ``except``: the error itself, with its fields
     say(_("error:"), "bold red", localize(message, current_language()))
     raise SystemExit(code)
 

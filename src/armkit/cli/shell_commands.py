@@ -110,13 +110,15 @@ class ShellCommands:
     def _set_scene(self, scene: Any, emit: Any) -> str:
         from ..collision import collisions
 
+        from ..locale.library import localize   # a shape's description and the collision: the shell's language
+
         self.scene = scene
-        names = ", ".join(s.describe() if s.name in (s.kind, "ground") else f"{s.name} ({s.describe()})"
-                          for s in scene)
+        names = ", ".join(localize(s.describe(), self.lang) if s.name in (s.kind, "ground")
+                          else f"{s.name} ({localize(s.describe(), self.lang)})" for s in scene)
         emit(self._t("scene_now", shapes=names) if names else self._t("scene_none"))
         now = collisions(self.robot, self.q, scene).message()
         if now:
-            emit(self._t("scene_hit", detail=now), "yellow")
+            emit(self._t("scene_hit", detail=localize(now, self.lang)), "yellow")
         return "info"
 
     def _empty_scene(self) -> Any:

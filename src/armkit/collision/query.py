@@ -15,6 +15,7 @@ from typing import Any, Sequence
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from .._text import Fielded
 from ..model.robot import Robot
 from . import kernels as K
 from .geometry import ArmGeometry, Solid, arm_geometry, robot_collision, robot_scene
@@ -72,9 +73,12 @@ class Collisions:
         if not hits:
             return ""
         a, b, depth = hits[0]
-        more = f" ({len(hits)} pairs in collision)" if len(hits) > 1 else ""
         a, b = a.replace("_", " "), b.replace("_", " ")
-        return f"the {a} hits the {b} by {depth:.3g} {self.unit}{more}"
+        fields = {"a": a, "b": b, "depth": f"{depth:.3g} {self.unit}"}
+        if len(hits) > 1:     # a template and its fields: shown in the user's language from the catalogue
+            return Fielded.of("the {a} hits the {b} by {depth} ({n} pairs in collision)", terms=("a", "b"),
+                              n=len(hits), **fields)
+        return Fielded.of("the {a} hits the {b} by {depth}", terms=("a", "b"), **fields)
 
 
 def as_scene(robot: Robot, scene: Scene | Sequence[Shape] | str | None) -> Scene:

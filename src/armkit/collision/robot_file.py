@@ -52,8 +52,8 @@ def attach(robot: Robot, data: dict, text: str, path: str, allow_outside: bool =
 
     def finite_radius(v: Any, field: str, line: int | None) -> float:
         if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) or v < 0:
-            raise RobotFileError(path, f"must be a finite number >= 0 (a radius in {robot.unit}), got {v!r}", line,
-                                 field)
+            raise RobotFileError(path, "must be a finite number >= 0 (a radius in {unit}), got {got!r}", line,
+                                 field, unit=robot.unit, got=v)
         return float(v)
 
     default = None
@@ -76,34 +76,37 @@ def attach(robot: Robot, data: dict, text: str, path: str, allow_outside: bool =
     line = top_line("allow_collision")
     if not isinstance(pairs, list) or not all(isinstance(p, list) and len(p) == 2 and all(isinstance(x, str) for x in p)
                                                for p in pairs):
-        raise RobotFileError(path, f"must be a list of [link, link] pairs, got {pairs!r}", line, "allow_collision")
+        raise RobotFileError(path, "must be a list of [link, link] pairs, got {got!r}", line, "allow_collision",
+                             got=pairs)
     for p in pairs:
         for x in p:
             if x not in links:
-                raise RobotFileError(path, f"no link {x!r}; the links are: {', '.join(links)}", line,
-                                     "allow_collision")
+                raise RobotFileError(path, "no link {name!r}; the links are: {names}", line,
+                                     "allow_collision", name=x, names=', '.join(links))
     tables: dict[str, list] = {}
     folder = Path(path).resolve().parent
     meshes = mesh_lookup(folder, allow_outside)
     for key in ("body", "scene"):
         rows_k = data.get(key, [])
         if not isinstance(rows_k, list):
-            raise RobotFileError(path, f"must be an array of tables: write [[{key}]] above each shape",
-                                 top_line(key), key)
+            raise RobotFileError(path, "must be an array of tables: write [[{key}]] above each shape",
+                                 top_line(key), key, key=key)
         if len(rows_k) > MAX_SHAPES:
-            raise RobotFileError(path, f"{len(rows_k):,} shapes; a robot file may hold at most {MAX_SHAPES:,} "
-                                 f"[[{key}]] tables", None, key)
+            raise RobotFileError(path, "{n:,} shapes; a robot file may hold at most {limit:,} "
+                                 "[[{key}]] tables", None, key, n=len(rows_k), limit=MAX_SHAPES, key=key)
         out = []
         for k, row in enumerate(rows_k):
-            def fail(message: str, field: str, key_: str | None, k: int = k, key: str = key) -> Exception:
-                return RobotFileError(path, message, block_line(lines, key, k, key_), field)
+            def fail(message: str, field: str, key_: str | None, k: int = k, key: str = key,
+                     **fields: object) -> Exception:
+                return RobotFileError(path, message, block_line(lines, key, k, key_), field, **fields)
 
             shape, extra = shape_from_table(row, f"{key}[{k + 1}]", fail, ang, folder,
                                             frozenset({"link"}) if key == "body" else frozenset(), meshes)
             link = extra.get("link")
             if link is not None:
                 if not isinstance(link, str) or link not in links:
-                    raise fail(f"no link {link!r}; the links are: {', '.join(links)}", f"{key}[{k + 1}].link", "link")
+                    raise fail("no link {name!r}; the links are: {names}", f"{key}[{k + 1}].link", "link", name=link,
+                               names=', '.join(links))
                 from dataclasses import replace
 
                 shape = replace(shape, link=link)

@@ -15,6 +15,7 @@ from typing import Any, Callable, Iterable, Iterator, NamedTuple, Protocol, Sequ
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from .._text import Fielded
 from ..errors import SceneError
 from . import kernels as K
 
@@ -413,9 +414,9 @@ def _cylinder_distance(p0: Array, p1: Array, T: Array, size: tuple[float, ...]) 
 
 def _describe_plane(s: Shape) -> str:
     if np.allclose(s.normal, [0, 0, 1], atol=1e-12):
-        return f"floor at z = {s.offset:g}"
+        return Fielded.of("floor at z = {z}", z=f"{s.offset:g}")     # a template and fields: any language
     nrm = ", ".join(f"{v:g}" for v in np.round(s.normal, 6))
-    return f"plane normal ({nrm}) offset {s.offset:g}"
+    return Fielded.of("plane normal ({normal}) offset {offset}", normal=nrm, offset=f"{s.offset:g}")
 
 
 def _mesh_coal(coal: Any, s: Shape) -> Any:
@@ -442,7 +443,7 @@ KIND_TABLE: dict[str, ShapeKind] = {k.name: k for k in (
         kernel=2, kernel_size=lambda z: (0.5 * z[0], 0.5 * z[1], 0.5 * z[2]), swept=None, segment_distance=_box_distance,
         coal=lambda coal, s: coal.Box(*s.size),
         drawing=lambda s: (Part("box", _EYE, s.size),),
-        describe=lambda s: f"box at ({_at(s)}) size " + " x ".join(f"{v:g}" for v in s.size)),
+        describe=lambda s: Fielded.of("box at ({at}) size {size}", at=_at(s), size=" x ".join(f"{v:g}" for v in s.size))),
     ShapeKind(
         "sphere", frozenset({"center", "radius"}),
         read=lambda f: Scene.sphere(f.vector("center"), f.number("radius"), name=f.name, allow=f.allow),
@@ -450,7 +451,7 @@ KIND_TABLE: dict[str, ShapeKind] = {k.name: k for k in (
         kernel=1, kernel_size=_no_size, swept=_ball_segment, segment_distance=None,
         coal=lambda coal, s: coal.Sphere(s.size[0]),
         drawing=lambda s: (Part("sphere", _EYE, s.size[:1]),),
-        describe=lambda s: f"sphere at ({_at(s)}) radius {s.size[0]:g}"),
+        describe=lambda s: Fielded.of("sphere at ({at}) radius {radius}", at=_at(s), radius=f"{s.size[0]:g}")),
     ShapeKind(
         "cylinder", frozenset({"center", "radius", "length", "rpy"}),
         read=lambda f: Scene.cylinder(f.vector("center"), f.number("radius"), f.number("length"), f.angles("rpy"),
@@ -460,7 +461,8 @@ KIND_TABLE: dict[str, ShapeKind] = {k.name: k for k in (
         kernel=4, kernel_size=lambda z: (z[0], 0.0, 0.5 * z[1]), swept=None, segment_distance=_cylinder_distance,
         coal=lambda coal, s: coal.Cylinder(s.size[0], s.size[1]),
         drawing=lambda s: (Part("cylinder", _EYE, s.size[:2]),),
-        describe=lambda s: f"cylinder at ({_at(s)}) radius {s.size[0]:g} length {s.size[1]:g}"),
+        describe=lambda s: Fielded.of("cylinder at ({at}) radius {radius} length {length}", at=_at(s),
+                                       radius=f"{s.size[0]:g}", length=f"{s.size[1]:g}")),
     ShapeKind(
         "capsule", frozenset({"a", "b", "radius"}),
         read=lambda f: Scene.capsule(f.vector("a"), f.vector("b"), f.number("radius"), name=f.name, allow=f.allow),
@@ -470,7 +472,8 @@ KIND_TABLE: dict[str, ShapeKind] = {k.name: k for k in (
         drawing=lambda s: (Part("cylinder", _EYE, s.size[:2]),
                            Part("sphere", _shifted(-0.5 * s.size[1]), s.size[:1]),
                            Part("sphere", _shifted(0.5 * s.size[1]), s.size[:1])),
-        describe=lambda s: f"capsule at ({_at(s)}) radius {s.size[0]:g} length {s.size[1]:g}"),
+        describe=lambda s: Fielded.of("capsule at ({at}) radius {radius} length {length}", at=_at(s),
+                                       radius=f"{s.size[0]:g}", length=f"{s.size[1]:g}")),
     ShapeKind(
         "mesh", frozenset({"path", "xyz", "rpy", "scale"}),
         read=lambda f: Scene.mesh(f.mesh_file("path"), _pose(f.vector("xyz", [0.0, 0.0, 0.0]), f.angles("rpy")),
@@ -478,7 +481,7 @@ KIND_TABLE: dict[str, ShapeKind] = {k.name: k for k in (
         write=lambda s, c: {"path": str(s.mesh_path), "xyz": _xyz(s.center, c), "rpy": _rpy_of(s),
                             "scale": [v * c for v in s.scale]},
         kernel=None, kernel_size=_no_size, swept=None, segment_distance=None, coal=_mesh_coal,
-        drawing=lambda s: (Part("mesh", _EYE, ()),), describe=lambda s: f"mesh {s.mesh_path}"),
+        drawing=lambda s: (Part("mesh", _EYE, ()),), describe=lambda s: Fielded.of("mesh {path}", path=s.mesh_path)),
 )}
 """The one table from a shape kind to its file keys, its kernels, its coal geometry and its drawing
 (``docs/adding-a-primitive.md``)."""

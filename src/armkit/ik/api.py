@@ -53,8 +53,8 @@ def _planar_plane(robot: Robot) -> tuple[float, Array, float]:
     J = jacobian(robot, robot.random_q(rng=0))
     axes_z = np.allclose(J[3:5], 0.0, atol=1e-9) and np.allclose(J[2], 0.0, atol=1e-9 * robot.reach)
     if not axes_z or robot.prismatic.any():
-        raise ShapeError(f"2-D targets (x, y) are for planar arms moving in the world xy plane; robot "
-                         f"{robot.name!r} is not one: give (x, y, z) or a pose")
+        raise ShapeError.of("2-D targets (x, y) are for planar arms moving in the world xy plane; robot "
+                            "{robot!r} is not one: give (x, y, z) or a pose", robot=robot.name)
     T0 = fk(robot, np.zeros(robot.n))
     return float(T0[2, 3]), T0[:3, :3], math.atan2(T0[1, 0], T0[0, 0])
 

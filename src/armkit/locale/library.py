@@ -9,7 +9,7 @@ IK result's explanation that no pattern matches is rebuilt from its reason code 
 residual, so a Korean user never gets the solver's English sentence.
 
 >>> localize("unknown robot 'x'; bundled robots are: a, b (or give the path of a .toml or .urdf robot file)", "ko")
-"'x'라는 로봇이 없습니다. 들어 있는 로봇: a, b (또는 .toml, .urdf 로봇 파일의 경로를 주세요)"
+"'x'라는 로봇이 없습니다. 내장 로봇: a, b (또는 .toml, .urdf 로봇 파일의 경로를 지정하세요)"
 >>> ik_explanation("unreachable", "target is 302.152 mm from the shoulder; the arm reaches 177.2 mm (outer) "
 ...                "and 22.8 mm (inner).", 120.0, "mm", "ko")
 '작업 공간 밖: 목표가 어깨에서 302.152 mm 떨어져 있습니다. 팔이 닿는 거리는 바깥 177.2 mm, 안쪽 22.8 mm입니다.'
@@ -20,10 +20,11 @@ from __future__ import annotations
 import re
 import string
 from functools import lru_cache
+from typing import Any
 
-from . import N_, _Formatter, _template
+from . import N_, _Formatter, _template, translate
 
-__all__ = ["PATTERNS", "localize", "ik_explanation"]
+__all__ = ["PATTERNS", "localize", "fielded", "ik_explanation"]
 
 PATTERNS = (
     # model: robots and robot files
@@ -46,8 +47,9 @@ PATTERNS = (
        "found"),
     N_("target is {distance} from the base origin; the arm reaches at most {reach}; q is the closest configuration "
        "found; position error {error}."),
-    N_("converged in {n} iterations: position error {error}."),
+    # (the longer first: the shorter one's last field would swallow ", rotation error ..." whole)
     N_("converged in {n} iterations: position error {error}, rotation error {rotation}."),
+    N_("converged in {n} iterations: position error {error}."),
     N_("CCD did not converge in {n} sweeps ({starts} starts)"),
     N_("fully stretched: elbow-up and elbow-down coincide."),
     N_("fully folded: elbow-up and elbow-down coincide."),
@@ -75,6 +77,59 @@ PATTERNS = (
     N_("arc"),
 )
 """English messages of the library, as the catalogue holds them (``pybabel extract`` finds them here)."""
+
+KEYED = (
+    # robot files (model/files.py, collision/robot_file.py): RobotFileError's template, "{where}: " + message
+    N_("{where}: must be a finite number, got {got}"),
+    N_("{where}: must be a number (inf allowed), got {got}"),
+    N_("{where}: must be a table with xyz = [x, y, z] and rpy = [r, p, y]"),
+    N_("{where}: unknown key(s) {keys}; allowed: xyz, rpy"),
+    N_("{where}: must be a list of 3 numbers, got {got!r}"),
+    N_("{where}: not valid TOML: {reason}"),
+    N_("{where}: not valid TOML: arrays or tables nested too deeply"),
+    N_("{where}: must be a string, got {kind} {got}"),
+    N_("{where}: must be a list of strings, got {got}"),
+    N_("{where}: must be 'deg' or 'rad', got {got!r}"),
+    N_("{where}: the file needs at least one [[joints]] table"),
+    N_("{where}: {n:,} joints; armkit handles serial arms of at most {limit:,} joints"),
+    N_("{where}: base xyz is too long: positions would overflow (above 1.8e308)"),
+    N_("{where}: joint {name!r}: the chain's lengths (|a| + |d| from the base to this joint) add up past 1.8e308, so "
+       "its positions would overflow to inf; use a larger unit or smaller values"),
+    N_("{where}: tool xyz makes the chain longer than 1.8e308: positions would overflow"),
+    N_("{where}: must be a table (write each joint as a [[joints]] table), got {got}"),
+    N_("{where}: must be 'revolute' or 'prismatic', got {got!r}"),
+    N_("{where}: a prismatic joint needs limits = [lower, upper] in length units"),
+    N_("{where}: must be [lower, upper], got {got!r}"),
+    N_("{where}: lower limit {lower} is greater than upper limit {upper}"),
+    N_("{where}: must be a string, got {got!r}"),
+    N_("{where}: base= and tip= choose a chain in a URDF file; a TOML robot file is a single chain already"),
+    N_("{where}: the file has {size:,} bytes; a robot file may have at most {limit:,}"),
+    N_("{where}: cannot read file: {reason}"),
+    N_("{where}: must be a finite number >= 0 (a radius in {unit}), got {got!r}"),
+    N_("{where}: must be a list of [link, link] pairs, got {got!r}"),
+    N_("{where}: no link {name!r}; the links are: {names}"),
+    N_("{where}: must be an array of tables: write [[{key}]] above each shape"),
+    N_("{where}: {n:,} shapes; a robot file may hold at most {limit:,} [[{key}]] tables"),
+    # a scene's shapes in words (collision/shapes.py): Fielded
+    N_("floor at z = {z}"), N_("plane normal ({normal}) offset {offset}"), N_("box at ({at}) size {size}"),
+    N_("sphere at ({at}) radius {radius}"), N_("cylinder at ({at}) radius {radius} length {length}"),
+    N_("capsule at ({at}) radius {radius} length {length}"), N_("mesh {path}"),
+    # trajectories' labels (motion/trajectory.py): Fielded
+    N_("{n} waypoints, {shape} blends of {blend}"), N_("{n} waypoints, sharp corners"), N_("circular"),
+    N_("parabolic"), N_("Cartesian path"),
+    # IK targets (ik/api.py): ShapeError.of
+    N_("2-D targets (x, y) are for planar arms moving in the world xy plane; robot {robot!r} is not one: give "
+       "(x, y, z) or a pose"),
+    # output files (_io.py): WriteError's template, "cannot write {path}: " + reason
+    N_("cannot write {path}: {what} must end in {suffixes}, got {got!r}"),
+    N_("cannot write {path}: {what} must end in {suffixes}; the name has no suffix"),
+    N_("cannot write {path}: it is a folder; give a file name"),
+    N_("cannot write {path}: it is not a regular file"),
+    N_("cannot write {path}: the file is read-only"),
+    N_("cannot write {path}: a part of the folder path is a file, not a folder"),
+)
+"""Templates of errors that carry their fields (:func:`fielded`), raised in modules that do not import the
+catalogue: listed here so that ``pybabel extract`` finds them. They are rendered, never matched."""
 
 _FIELD = re.compile(r"\{(\w+)(![rsa])?(:[^{}]*)?\}")
 
@@ -163,10 +218,38 @@ def _fill(template: str, lang: str, fields: dict[str, str]) -> str:
     return _Formatter(lang).format(_FIELD.sub(keep, template), **fields)
 
 
-def localize(text: str, lang: str, _depth: int = 0) -> str:
-    """``text``, an English message of the library, in ``lang``: the first pattern of :data:`PATTERNS` that
-    matches it whole gives the translation; otherwise (or in English) ``text`` as it is. Linear in the
-    length of ``text`` (:func:`_match`); parts are translated :data:`MAX_NESTING` levels deep at most."""
+def fielded(obj: object) -> tuple[str, dict[str, Any]] | None:
+    """``(template, fields)`` of an error or warning built from a template (``.template`` and a dict ``.fields``:
+    :meth:`armkit.errors.ArmkitError.of`, :class:`~armkit.errors.RobotFileError`, ...), else None."""
+    template, fields = getattr(obj, "template", None), getattr(obj, "fields", None)
+    if isinstance(template, str) and template and isinstance(fields, dict):
+        return template, fields
+    return None
+
+
+def localize(text: object, lang: str, _depth: int = 0) -> str:
+    """``text``, a message of the library, in ``lang``.
+
+    An error (or warning) that carries its template and fields (:func:`fielded`) is rendered from the
+    catalogue: nothing is read back from its English. Any other text is matched against :data:`PATTERNS`:
+    the first that matches it whole gives the translation; otherwise (or in English) ``text`` as it is.
+    Linear in the length of ``text`` (:func:`_match`); parts are translated :data:`MAX_NESTING` levels deep
+    at most.
+
+    >>> from armkit.errors import ShapeError
+    >>> localize(ShapeError.of("{what} contains NaN or infinite values", what="q"), "ko")
+    'q에 NaN이나 무한대 값이 있습니다'
+    """
+    keyed = fielded(text)
+    if keyed is not None and (lang == "en" or _template(keyed[0], lang) != keyed[0]):
+        fields = dict(keyed[1])      # (a template the catalogue lacks: the patterns below)
+        for k, v in fields.items():
+            if _depth < MAX_NESTING and fielded(v) is not None:   # a part built from its own template
+                fields[k] = localize(v, lang, _depth + 1)
+            elif k in getattr(text, "terms", ()):      # a word among the fields (ground, torso): the catalogue's
+                fields[k] = _template(str(v), lang)
+        return translate(keyed[0], lang, **fields)
+    text = str(text)
     if lang == "en":
         return text
     stripped = text.strip()

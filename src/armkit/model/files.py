@@ -109,10 +109,10 @@ def _number(value: Any, path: str, loc: _Locator, key: str, field: str, joint: i
     if ok and not (math.isfinite(value) or (infinite and not math.isnan(value))):
         ok = False
     if not ok:
-        what = "a number (inf allowed)" if infinite else "a finite number"
         shown = repr(value)
-        raise RobotFileError(path, f"must be {what}, got {shown if len(shown) <= 60 else shown[:57] + '...'}",
-                             loc.line(key, joint, table), field)
+        raise RobotFileError(path, "must be a number (inf allowed), got {got}" if infinite else
+                             "must be a finite number, got {got}", loc.line(key, joint, table), field,
+                             got=shown if len(shown) <= 60 else shown[:57] + '...')
     return float(value)
 
 
@@ -121,14 +121,14 @@ def _pose_from_table(data: Any, path: str, loc: _Locator, table: str, angle: flo
         raise RobotFileError(path, "must be a table with xyz = [x, y, z] and rpy = [r, p, y]", None, table)
     unknown = set(data) - {"xyz", "rpy"}
     if unknown:
-        raise RobotFileError(path, f"unknown key(s) {sorted(unknown)}; allowed: xyz, rpy",
-                             loc.line(sorted(unknown)[0], table=table), table)
+        raise RobotFileError(path, "unknown key(s) {keys}; allowed: xyz, rpy",
+                             loc.line(sorted(unknown)[0], table=table), table, keys=sorted(unknown))
     vec = {}
     for key in ("xyz", "rpy"):
         v = data.get(key, [0, 0, 0])
         if not isinstance(v, list) or len(v) != 3:
-            raise RobotFileError(path, f"must be a list of 3 numbers, got {v!r}", loc.line(key, table=table),
-                                 f"{table}.{key}")
+            raise RobotFileError(path, "must be a list of 3 numbers, got {got!r}", loc.line(key, table=table),
+                                 f"{table}.{key}", got=v)
         vec[key] = [_number(x, path, loc, key, f"{table}.{key}", table=table) for x in v]
     return make_pose(rpy_to_rotation(np.array(vec["rpy"]) * angle), np.array(vec["xyz"]))
 
@@ -140,31 +140,33 @@ def _parse(text: str, path: str, allow_outside: bool = False) -> Robot:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         m = re.search(r"line (\d+)", str(exc))
-        raise RobotFileError(path, f"not valid TOML: {exc}", int(m.group(1)) if m else None) from None
+        raise RobotFileError(path, "not valid TOML: {reason}", int(m.group(1)) if m else None, reason=str(exc)) from None
     except RecursionError:
         raise RobotFileError(path, "not valid TOML: arrays or tables nested too deeply") from None
     for top in ("name", "description", "source", "convention", "unit", "angle_unit"):
         if top in data and not isinstance(data[top], str):
-            raise RobotFileError(path, f"must be a string, got {type(data[top]).__name__} {_short(data[top])}",
-                                 loc.line(top), top)
+            raise RobotFileError(path, "must be a string, got {kind} {got}",
+                                 loc.line(top), top, kind=type(data[top]).__name__, got=_short(data[top]))
     if "link_names" in data and (not isinstance(data["link_names"], list)
                                  or not all(isinstance(x, str) for x in data["link_names"])):
-        raise RobotFileError(path, f"must be a list of strings, got {_short(data['link_names'])}",
-                             loc.line("link_names"), "link_names")
+        raise RobotFileError(path, "must be a list of strings, got {got}",
+                             loc.line("link_names"), "link_names", got=_short(data['link_names']))
     unknown = set(data) - _TOP_KEYS
     if unknown:
         key = sorted(unknown)[0]
-        raise RobotFileError(path, f"unknown key; allowed keys: {', '.join(sorted(_TOP_KEYS))}", loc.line(key), key)
+        raise RobotFileError(path, "unknown key; allowed keys: {keys}", loc.line(key), key,
+                             keys=', '.join(sorted(_TOP_KEYS)))
     angle_unit = data.get("angle_unit", "deg")
     if angle_unit not in ("deg", "rad"):
-        raise RobotFileError(path, f"must be 'deg' or 'rad', got {angle_unit!r}", loc.line("angle_unit"), "angle_unit")
+        raise RobotFileError(path, "must be 'deg' or 'rad', got {got!r}", loc.line("angle_unit"), "angle_unit",
+                             got=angle_unit)
     ang = math.pi / 180.0 if angle_unit == "deg" else 1.0
     rows = data.get("joints")
     if not isinstance(rows, list) or not rows:
         raise RobotFileError(path, "the file needs at least one [[joints]] table", None, "joints")
     if len(rows) > MAX_JOINTS:
-        raise RobotFileError(path, f"{len(rows):,} joints; armkit handles serial arms of at most {MAX_JOINTS:,} joints",
-                             None, "joints")
+        raise RobotFileError(path, "{n:,} joints; armkit handles serial arms of at most {limit:,} joints",
+                             None, "joints", n=len(rows), limit=MAX_JOINTS)
     joints = [_joint(row, k, path, loc, ang) for k, row in enumerate(rows)]
     base = _pose_from_table(data["base"], path, loc, "base", ang) if "base" in data else None
     tool = _pose_from_table(data["tool"], path, loc, "tool", ang) if "tool" in data else None
@@ -202,9 +204,10 @@ def _check_length(joints: list[Joint], base: Any, tool: Any, path: str, loc: _Lo
             total += max((abs(v) for v in (j.lower, j.upper) if math.isfinite(v)), default=0.0)
             key = "limits"
         if not math.isfinite(total):
-            raise RobotFileError(path, f"joint {j.name!r}: the chain's lengths (|a| + |d| from the base to this "
+            raise RobotFileError(path, "joint {name!r}: the chain's lengths (|a| + |d| from the base to this "
                                  "joint) add up past 1.8e308, so its positions would overflow to inf; use a "
-                                 "larger unit or smaller values", loc.line(key, k), f"joints[{k + 1}].{key}")
+                                 "larger unit or smaller values", loc.line(key, k), f"joints[{k + 1}].{key}",
+                                 name=j.name)
     total += l1(tool)
     if not math.isfinite(total):
         raise RobotFileError(path, "tool xyz makes the chain longer than 1.8e308: positions would overflow",
@@ -215,17 +218,17 @@ def _joint(row: Any, k: int, path: str, loc: _Locator, ang: float) -> Joint:
     """The ``k``-th ``[[joints]]`` table (0-based) as a Joint; angles times ``ang`` (degrees to radians or 1)."""
     where = f"joints[{k + 1}]"
     if not isinstance(row, dict):
-        raise RobotFileError(path, f"must be a table (write each joint as a [[joints]] table), got {_short(row)}",
-                             loc.line("joints"), where)
+        raise RobotFileError(path, "must be a table (write each joint as a [[joints]] table), got {got}",
+                             loc.line("joints"), where, got=_short(row))
     bad = set(row) - _JOINT_KEYS
     if bad:
         key = sorted(bad)[0]
-        raise RobotFileError(path, f"unknown key; allowed: {', '.join(sorted(_JOINT_KEYS))}",
-                             loc.line(key, k), f"{where}.{key}")
+        raise RobotFileError(path, "unknown key; allowed keys: {keys}",
+                             loc.line(key, k), f"{where}.{key}", keys=', '.join(sorted(_JOINT_KEYS)))
     kind = row.get("type", "revolute")
     if kind not in ("revolute", "prismatic"):
-        raise RobotFileError(path, f"must be 'revolute' or 'prismatic', got {kind!r}", loc.line("type", k),
-                             f"{where}.type")
+        raise RobotFileError(path, "must be 'revolute' or 'prismatic', got {got!r}", loc.line("type", k),
+                             f"{where}.type", got=kind)
     vals = {key: _number(row.get(key, 0.0), path, loc, key, f"{where}.{key}", k)
             for key in ("theta", "d", "a", "alpha")}
     vals["theta"] *= ang
@@ -238,17 +241,17 @@ def _joint(row: Any, k: int, path: str, loc: _Locator, ang: float) -> Joint:
         lo, hi = -math.pi, math.pi
     else:
         if not isinstance(limits, list) or len(limits) != 2:
-            raise RobotFileError(path, f"must be [lower, upper], got {limits!r}", loc.line("limits", k),
-                                 f"{where}.limits")
+            raise RobotFileError(path, "must be [lower, upper], got {got!r}", loc.line("limits", k),
+                                 f"{where}.limits", got=limits)
         lo, hi = (_number(x, path, loc, "limits", f"{where}.limits", k, infinite=True) for x in limits)
         if kind == "revolute":
             lo, hi = lo * ang, hi * ang
         if lo > hi:
-            raise RobotFileError(path, f"lower limit {limits[0]} is greater than upper limit {limits[1]}",
-                                 loc.line("limits", k), f"{where}.limits")
+            raise RobotFileError(path, "lower limit {lower} is greater than upper limit {upper}",
+                                 loc.line("limits", k), f"{where}.limits", lower=limits[0], upper=limits[1])
     name = row.get("name", f"q{k + 1}")
     if not isinstance(name, str):
-        raise RobotFileError(path, f"must be a string, got {name!r}", loc.line("name", k), f"{where}.name")
+        raise RobotFileError(path, "must be a string, got {got!r}", loc.line("name", k), f"{where}.name", got=name)
     return Joint(kind, vals["theta"], vals["d"], vals["a"], vals["alpha"], lo, hi, name)
 
 
@@ -313,11 +316,11 @@ def load(name_or_path: str | Path, base: str | None = None, tip: str | None = No
     try:
         size = text_path.stat().st_size
         if size > MAX_FILE_BYTES:
-            raise RobotFileError(str(name_or_path), f"the file has {size:,} bytes; a robot file may have at most "
-                                 f"{MAX_FILE_BYTES:,}")
+            raise RobotFileError(str(name_or_path), "the file has {size:,} bytes; a robot file may have at most "
+                                 "{limit:,}", size=size, limit=MAX_FILE_BYTES)
         text = text_path.read_text(encoding="utf-8")
     except (OSError, UnicodeDecodeError) as exc:
-        raise RobotFileError(str(name_or_path), f"cannot read file: {exc}") from None
+        raise RobotFileError(str(name_or_path), "cannot read file: {reason}", reason=str(exc)) from None
     return _mark_source(_parse(text, str(name_or_path), allow_outside), text_path)
 
 

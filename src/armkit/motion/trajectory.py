@@ -38,6 +38,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from .._io import atomic_path
 from .._limits import CHUNK, check_memory
+from .._text import Fielded
 from ..errors import ArgumentError, ShapeError, UnreachableError
 from ..ik import ik
 from ..kinematics import fk
@@ -266,7 +267,8 @@ def joint_trajectory(waypoints: ArrayLike, profile_kind: str = "quintic", durati
     pos = None
     if robot is not None:     # in chunks: no (N, 4, 4) pose array for a long trajectory
         pos = np.concatenate([fk(robot, q[i:i + CHUNK])[:, :3, 3] for i in range(0, len(q), CHUNK)])
-    return Trajectory(t, q, qd, qdd, positions=pos, label=f"joint space, {profile_kind}", notes=tuple(notes))
+    return Trajectory(t, q, qd, qdd, positions=pos, label=Fielded.of("joint space, {profile}", profile=profile_kind),
+                      notes=tuple(notes))
 
 
 def _asked_durations(deltas: Array, duration: float | None, durations: Sequence[float] | None,
@@ -415,7 +417,7 @@ def cartesian_path(robot: Robot, points: ArrayLike, q0: ArrayLike | None = None,
     pos = tr.positions[idx]
     dev = np.linalg.norm(pos[:, :k] - P, axis=1)
     return Trajectory(tr.t[idx], tr.q[idx], tr.qd[idx], tr.qdd[idx], positions=pos, targets=targets3,
-                      deviation=dev, label=f"{label} via resolved rate")
+                      deviation=dev, label=Fielded.of("{path} via resolved rate", terms=("path",), path=label))
 
 
 def _follow_by_ik(robot: Robot, P: Array, t: Array, qstart: Array, qd_max: ArrayLike | None, targets3: Array,
@@ -445,7 +447,7 @@ def _follow_by_ik(robot: Robot, P: Array, t: Array, qstart: Array, qd_max: Array
     QDD = np.asarray(np.gradient(QD, t, axis=0))
     pos = fk(robot, Q)[:, :3, 3]
     dev = np.linalg.norm(pos[:, :k] - P, axis=1)
-    return Trajectory(t, Q, QD, QDD, positions=pos, targets=targets3, deviation=dev, label=f"{label} via IK",
+    return Trajectory(t, Q, QD, QDD, positions=pos, targets=targets3, deviation=dev, label=Fielded.of("{path} via IK", terms=("path",), path=label),
                       notes=notes)
 
 
@@ -582,8 +584,9 @@ def cartesian_waypoints(robot: Robot, waypoints: ArrayLike, blend: float = 0.0,
             raise UnreachableError(f"the start point is not reachable: {msg}")
         kwargs["q0"] = q
     corners = len(W) - 2
-    what = "straight line" if corners == 0 else (
-        f"{len(W)} waypoints" + (f", {blend_shape} blends of {blend:g}" if blend > 0 else ", sharp corners"))
+    what = "straight line" if corners == 0 else (   # a template and its fields: the label in the user's language
+        Fielded.of("{n} waypoints, {shape} blends of {blend}", terms=("shape",), n=len(W), shape=blend_shape,
+                   blend=f"{blend:g}") if blend > 0 else Fielded.of("{n} waypoints, sharp corners", n=len(W)))
     return cartesian_path(robot, pts, label=what, **kwargs)
 
 

@@ -15,6 +15,7 @@ import sympy as sp
 from sympy.printing.numpy import NumPyPrinter
 
 from .._extras import require
+from ..locale.fonts import plot_text as _      # the picture's labels (derive --png), Korean only with a Korean font
 from .derive import Derivation
 
 __all__ = ["shorthand", "shorthand_symbols", "to_text", "to_latex", "to_numpy_source", "render_png", "matrix_figure"]
@@ -210,7 +211,8 @@ def _units(d: Derivation, w: str) -> tuple[list[str], list[str]]:
     if w == "T":
         return ([r"$x$", r"$y$", r"$z$", ""],
                 [r"$\hat x$" "\n(1)", r"$\hat y$" "\n(1)", r"$\hat z$" "\n(1)", f"$p$\n({u})"])
-    cols = [f"$q_{{{i + 1}}}$" + (f"\n(per {u})" if t == "P" else "\n(per rad)") for i, t in enumerate(d.joint_types)]
+    cols = [f"$q_{{{i + 1}}}$\n" + (_("(per {unit})", unit=u) if t == "P" else _("(per {unit})", unit="rad"))
+            for i, t in enumerate(d.joint_types)]
     return ([f"$v_{a}$ ({u})" for a in "xyz"] + [f"$\\omega_{a}$ (1)" for a in "xyz"], cols)
 
 
@@ -253,10 +255,10 @@ def matrix_figure(d: Derivation, what: tuple[str, ...] = ("T", "J")) -> Any:
         bb = t.get_window_extent(renderer)
         return t, bb.width / fig.dpi, bb.height / fig.dpi
 
-    titles = {"T": f"T = base · A1 ··· A{d.n} · tool  (pose of the tool in the base frame)",
-              "J": "J(q): geometric Jacobian, base frame, rows (v, ω) per unit joint rate"}
-    head = [text(f"{d.robot_name}: " + (_params_text(d) or "no length parameters"), fontsize=11),
-            text(("short-hand: " + ", ".join(f"${sp.latex(s)} = {sp.latex(f)}$" for f, s in m.items()))
+    titles = {"T": _("T = base · A1 ··· A{n} · tool  (pose of the tool in the base frame)", n=d.n),
+              "J": _("J(q): geometric Jacobian, base frame, rows (v, ω) per unit joint rate")}
+    head = [text(f"{d.robot_name}: " + (_params_text(d) or _("no length parameters")), fontsize=11),
+            text(_("short-hand: {legend}", legend=", ".join(f"${sp.latex(s)} = {sp.latex(f)}$" for f, s in m.items()))
                  if m else "", fontsize=10)]
     blocks = []
     for w in what:
@@ -301,7 +303,7 @@ def matrix_figure(d: Derivation, what: tuple[str, ...] = ("T", "J")) -> Any:
     fig.set_size_inches(width, height)
     for item, x, yy in layout:
         if isinstance(item, tuple):
-            _, xb, sgn, top, bottom = item
+            _kind, xb, sgn, top, bottom = item
             xs_ = [xb + 0.08 * sgn, xb, xb, xb + 0.08 * sgn]
             ys_ = [top, top, bottom, bottom]
             fig.add_artist(Line2D([v / width for v in xs_], [1 - v / height for v in ys_], color="k", lw=1.2))

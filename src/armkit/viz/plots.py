@@ -18,6 +18,18 @@ __all__ = ["plot_workspace", "plot_maps", "save_figure", "IMAGE_SUFFIXES"]
 IMAGE_SUFFIXES = (".png", ".pdf", ".svg", ".jpg", ".jpeg")
 
 
+
+_SUPERSCRIPT = str.maketrans("⁻⁰¹²³⁴⁵⁶⁷⁸⁹", "-0123456789")
+
+
+def _mathtext_power(text: str) -> str:
+    """``× 10⁷`` as matplotlib mathtext ``$\\times 10^{7}$``: a Korean font has no superscript digits (a box
+    was drawn for ⁷), mathtext draws the exponent with its own font in every language."""
+    head, sep, power = text.rpartition("× 10")
+    if not sep or not power:
+        return text
+    return f"{head}$\\times 10^{{{power.translate(_SUPERSCRIPT)}}}$"
+
 def save_figure(fig: Any, path: str | Path, dpi: int = 110) -> Path:
     """Write ``fig`` to ``path`` (format from the extension), create the folder, close the figure.
 
@@ -81,7 +93,7 @@ def plot_workspace(ws: WorkspaceResult, max_points: int = 20_000, seed: int = 0)
     from ..analysis.workspace import format_measure
 
     title = _("{robot} workspace: {measure} {value} {unit}  ({kept} of {n} samples kept{excluded})",
-              robot=ws.robot.name, measure=_(ws.measure_name), value=format_measure(ws.volume, ws.volume_error),
+              robot=ws.robot.name, measure=_(ws.measure_name), value=_mathtext_power(format_measure(ws.volume, ws.volume_error)),
               unit=ws.measure_unit, kept=f"{len(ws.points):,}", n=f"{ws.samples:,}",
               excluded=_("; excluded: {what}", what=ws.exclusion.describe(u)) if ws.exclusion is not None else "")
     if ws.planar:
@@ -234,7 +246,7 @@ def plot_maps(fk: Optional[FKMaps] = None, ik: Optional[IKMaps] = None, levels: 
             ax = axes[0, col]
             _panel(fig, ax, g[0], g[1], Z, what, r.unit, r.reach or 1.0, levels)
             ax.set(xlabel=f"{names[0]} ({gu[0]})", ylabel=f"{names[1]} ({gu[1]})")
-            ax.set_title(f"FK: {what}({names[0]}, {names[1]})", fontsize=10)
+            ax.set_title(_("FK: {what}({a}, {b})", what=what, a=names[0], b=names[1]), fontsize=10)
         for col in range(len(fk_panels), ncols):
             axes[0, col].axis("off")
         row = 1

@@ -76,4 +76,4 @@ def animate_trajectory(traj: Trajectory, robot: Robot, out_path: str | Path, fps
     from .animation import render_animation   # matplotlib/imageio: says which extra is missing (armkit._extras)
 
     return render_animation(robot, traj.q, out_path, targets=traj.targets, fps=fps, trail=True,
-                            title=title or f"{robot.name}: {traj.label}", progress=False)
+                            title=title or f"{robot.name}: {localize(traj.label, plot_language())}", progress=False)

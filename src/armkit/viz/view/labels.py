@@ -15,6 +15,7 @@ __all__ = ["LABELS", "label"]
 
 LABELS: dict[str, str] = {     # English here, Korean in the catalogue (armkit/locale, docs/ko.md)
     "joints": N_("Joints"),
+    "panel": N_("armkit view: {robot}"),     # the panel's title (viser would show its English "Connected")
     "grid_cells": N_("ground grid: cells of {size}"),
     "pose": N_("End pose"),
     "rpy": N_("roll pitch yaw (deg)"),
