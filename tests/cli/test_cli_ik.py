@@ -111,7 +111,7 @@ def test_ccd_trace_prints_the_iterations():
     (("ur5", "0.3", "0.2", "0.4", "--rpy", "0", "0", "0", "--quat", "0", "0", "0", "1"), "not both"),
     (("fighter", "10", "20", "30", "--method", "magic"), "--method must be one of"),
     (("fighter", "10", "20", "30", "--all", "--method", "lm"), "--all lists the closed-form branches"),
-    (("panda", "0.4", "0.1", "0.5", "--all"), "--all needs a closed form"),
+    (("panda", "0.4", "0.1", "0.5", "--all"), "needs a pose target"),   # 7 joints: --all sweeps (issue 19)
     (("planar2", "1.0", "0.2", "--phi", "10"), "cannot also choose the end angle"),
     (("nosuchrobot", "1", "2", "3"), "unknown robot"),
 ])

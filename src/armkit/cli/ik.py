@@ -215,6 +215,85 @@ def _partial_target(r, target, where: str, pitch: Optional[float], direction, de
         fail(_explain(r, rows[0]), EXIT_FAILED)
 
 
+def _fixed_values(robot, words: List[str], deg: bool) -> Optional[dict]:
+    """``--fixed NAME=VALUE`` (repeated) as ``{name: value}`` in rad (lengths for a prismatic joint), or None."""
+    out: dict = {}
+    for word in words:
+        name, eq, text = word.partition("=")
+        name = name.strip()
+        if not eq or not name:
+            fail(_("--fixed takes NAME=VALUE (e.g. {example}), got {value!r}",
+                   example=f"{robot.joint_names[-1]}=0.5", value=word))
+        value = parse_numbers([text], N_("--fixed value"))
+        if len(value) != 1:
+            fail(_("--fixed takes one number after {name}=, got {value!r}", name=name, value=text))
+        if name in out:
+            fail(_("--fixed names joint {name} twice", name=name))
+        k = robot.joint_names.index(name) if name in robot.joint_names else -1
+        out[name] = math.radians(value[0]) if deg and not (k >= 0 and robot.prismatic[k]) else float(value[0])
+    return out or None
+
+
+def _locked(r, target, where: str, fixed: Optional[dict], sweep: Optional[int], json_out: bool, scene: Any) -> None:
+    """``--sweep`` / ``--fixed`` (a 7-joint arm): every verified branch of :func:`armkit.ik_all` with held or swept
+    joints, the swept joint's value first; exit 1 when none is found."""
+    from ..ik import ik_all
+    from ..ik.geometric.locked import DEFAULT_SWEEP, resolve
+
+    position_only = np.ndim(target) == 1
+    res = ik_all(r, target, fixed=fixed, sweep=sweep, scene=scene_off(scene))
+    solver = resolve(r, fixed, sweep, position_only)
+    swept = None if solver is None else solver.swept
+    every = _rows(r, res)
+    rows = [every[i] for i in np.flatnonzero(np.atleast_1d(res.success))]
+    if swept is not None:   # in the order of the swept value (stable: nearest q = 0 first among equals)
+        rows.sort(key=lambda row: float(row["q_rad"][swept[0]]))
+    shown = lambda k, v: v if r.prismatic[k] else math.degrees(v)  # noqa: E731
+    unit = lambda k: r.unit if r.prismatic[k] else "deg"  # noqa: E731
+    if swept is not None:
+        k, values = swept
+        what = _("{joint} swept over {count} values from {lo} to {hi} {unit}", joint=r.joint_names[k],
+                 count=f"{len(values):,}", lo=f"{shown(k, float(values[0])):.4g}",
+                 hi=f"{shown(k, float(values[-1])):.4g}", unit=unit(k))
+    else:
+        held = ", ".join(f"{nm} = {shown(r.joint_names.index(nm), v):.6g} {unit(r.joint_names.index(nm))}"
+                         for nm, v in (fixed or {}).items())
+        what = _("held: {joints}", joints=held)
+    found = _("{what}; branches found: {count} (each checked by FK).", what=what, count=f"{len(rows):,}")
+    if json_out:
+        print_json({"robot": r.name, "unit": r.unit, "method": getattr(solver, "family", ""),
+                    "target": np.asarray(target), "swept": None if swept is None else {
+                        "joint": r.joint_names[swept[0]], "values": len(swept[1]),
+                        "from_rad": float(swept[1][0]), "to_rad": float(swept[1][-1])},
+                    "fixed_rad": fixed, "solved": bool(rows), "branches_found": len(rows), "solutions": rows})
+    elif rows:
+        from .common import SafeConsole, out_width
+
+        order = ([swept[0]] if swept is not None else []) + list(range(r.n))
+        t = Table(title=_("IK of {robot} for {target}; joint angles in deg, position error in {unit}, rotation error "
+                          "in deg", robot=esc(r.name), target=esc(where), unit=r.unit), show_lines=False)
+        for j, k in enumerate(order):
+            t.add_column(_("swept {joint}", joint=esc(r.joint_names[k])) if (j == 0 and swept is not None)
+                         else esc(r.joint_names[k]), justify="right", no_wrap=True)
+        t.add_column(_("position error"), justify="right", no_wrap=True)
+        t.add_column(_("rotation error"), justify="right", no_wrap=True)
+        for row in rows:
+            t.add_row(*[_deg(float(row["q_deg"][k])) for k in order], f"{row['position_error']:.1e}",
+                      f"{math.degrees(row['rotation_error']):.1e}")
+        width = max(out_width(), 80)
+        SafeConsole(highlight=False, width=max(width, 12 * (len(order) + 2))).print(t)
+    if not rows:
+        first = every[0] if every else None
+        why = "" if first is None else _explain(r, first)
+        fail(_("no branch found ({what}){why}", what=what, why=f": {why}" if why else ""), EXIT_FAILED)
+    if json_out:
+        return
+    message(esc(found))
+    if sweep is None and swept is not None and len(swept[1]) == DEFAULT_SWEEP:
+        message(_("(--sweep N takes more values of {joint}; --fixed NAME=VALUE holds joints at your values)",
+                  joint=r.joint_names[swept[0]]))
+
+
 def ik(robot: str = typer.Argument(..., help=ROBOT_HELP),
        coords: List[str] = typer.Argument(..., help="Target position X Y [Z] in the robot's unit.", metavar="X Y [Z]"),
        rpy: Optional[str] = typer.Option(
@@ -244,6 +323,12 @@ def ik(robot: str = typer.Argument(..., help=ROBOT_HELP),
                                  "body or the arm itself fail with reason 'collision'. Default: the robot's own "
                                  "surroundings, if its file has any (the fighter's torso and ground)."),
        no_scene: bool = typer.Option(False, "--no-scene", help="No collision check."),
+       sweep: Optional[int] = typer.Option(
+           None, "--sweep", metavar="N", help="7-joint arms: sweep the joint whose locking leaves a closed form over N "
+                                             "values of its range (default 32) and list every branch found."),
+       fixed: Optional[List[str]] = typer.Option(
+           None, "--fixed", metavar="NAME=VALUE", help="Hold a joint at a value (rad, deg with --deg; repeat for "
+                                                       "more) and solve the rest in closed form."),
        json_out: bool = typer.Option(False, "--json", help="Print JSON.")) -> None:
     """Inverse kinematics: joint angles that put the tool at a target.
 
@@ -260,6 +345,10 @@ def ik(robot: str = typer.Argument(..., help=ROBOT_HELP),
     Example: armkit ik so101 0.25 0.05 0.1 --pitch -60 --deg   (position + tool pitch, every branch)
 
     Example: armkit ik so101 0.25 0 0.1 --direction 1 0 -1   (position + pointing direction, every branch)
+
+    Example: armkit ik panda 0.4 0.1 0.5 --rpy 180 0 0 --deg --all --sweep 64   (7 joints: every branch of a sweep)
+
+    Example: armkit ik panda 0.4 0.1 0.5 --rpy 180 0 0 --deg --fixed panda_joint7=45
     """
     from ..errors import ArmkitError
     from ..ik import ik as solve, ik_all
@@ -280,6 +369,11 @@ def ik(robot: str = typer.Argument(..., help=ROBOT_HELP),
         position_only = target.ndim == 1 and ph is None
         closed_ok = solver is not None and not (position_only and solver.pose_only) \
             and getattr(solver, "target_kind", None) != "pitch"   # yaw-pitch3 needs pitch= (docs/so101.md)
+        if fixed or sweep is not None or (all_branches and not closed_ok and r.n == 7):
+            if method not in ("auto", "analytic") or branch is not None:
+                fail(_("--sweep and --fixed list the closed-form branches; they do not go with --branch or a "
+                       "numeric --method"))
+            return _locked(r, target, where, _fixed_values(r, fixed or [], deg), sweep, json_out, scene)
         if all_branches and (method not in ("auto", "analytic") or branch is not None):
             fail(_("--all lists the closed-form branches; it does not go with --branch or a numeric --method"))
         if all_branches and not closed_ok:

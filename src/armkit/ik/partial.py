@@ -85,7 +85,7 @@ def ik_direction(robot: Robot, target: ArrayLike, q0: ArrayLike | None, directio
     turned to that configuration's tool x (twice at most), so the free rotation never
     reaches the far side of the rotation-vector error.
     """
-    from .api import IKInputError, _normalise_q0, _numeric, _reshape
+    from .api import IKInputError, _normalise_q0, _reshape
 
     if method not in ("auto", "analytic", "lm", "newton"):
         raise IKInputError(f"direction= is solved in closed form ('analytic', for a yaw + three pitch joints arm such "
@@ -104,13 +104,33 @@ def ik_direction(robot: Robot, target: ArrayLike, q0: ArrayLike | None, directio
         raise ShapeError("direction must be a non-zero 3-vector (the way the tool's z axis should point)")
     z = d / norm[:, None]
     q = _normalise_q0(robot, q0, lead)
-    closed = None
+    solver = None
     if method in ("auto", "analytic"):   # a yaw-pitch3 arm: the direction is a pitch (closed form, issue 20)
         solver = _pitch_solver(robot)
         if solver is None and method == "analytic":
             raise IKInputError(f"robot {robot.name!r} has no closed form for a position and a pointing direction "
                                "(that is for arms with a yaw joint and three parallel pitch joints, like the SO-101); "
                                "use method='lm'")
+    if solver is not None and not numeric.get("trace"):   # the compiled kernels first (issue 20)
+        fast, solved = nearest_direction(robot, p, z, q, _direction_tol(robot, numeric.get("tol")),
+                                         bool(numeric.get("enforce_limits", True)))
+        if fast is not None and solved.any():
+            if solved.all():
+                return _reshape(fast, lead)
+            rest = np.flatnonzero(~solved)
+            slow = _direction_flat(robot, p[rest], z[rest], q[rest], method, solver, numeric)
+            return _reshape(_scatter(fast, slow, rest), lead)
+    return _reshape(_direction_flat(robot, p, z, q, method, solver, numeric), lead)
+
+
+def _direction_flat(robot: Robot, p: Array, z: Array, q: Array, method: str, solver: Any,
+                    numeric: dict[str, Any]) -> IKResult:
+    """:func:`ik_direction` on flat rows ``p``, ``z`` (B, 3), ``q`` (B, n) by NumPy: the closed form of
+    ``solver`` (None: none), then Levenberg-Marquardt where it fails (``method`` 'auto'); fields (B, ...)."""
+    from .api import _numeric
+
+    closed = None
+    if method in ("auto", "analytic"):
         if solver is not None:
             from .analytic.yaw_pitch3 import solve_direction
 
@@ -118,7 +138,7 @@ def ik_direction(robot: Robot, target: ArrayLike, q0: ArrayLike | None, directio
                                     bool(numeric.get("enforce_limits", True)))
             closed = every[np.arange(len(p)), 0]
             if method == "analytic" or bool(np.all(closed.success)):
-                return _reshape(closed, lead)
+                return closed
     name = "lm" if method in ("auto", "analytic") else method
     frames = _frames(robot, p, z, q)
     budget = numeric.get("restarts")
@@ -155,7 +175,79 @@ def ik_direction(robot: Robot, target: ArrayLike, q0: ArrayLike | None, directio
         take = np.asarray(closed.success) | ~np.asarray(res.success)  # type: ignore[assignment]
         if take.any():
             res = _merge(res, closed, take)  # type: ignore[arg-type]
-    return _reshape(res, lead)
+    return res
+
+
+def nearest_direction(robot: Robot, p: Array, z: Array, q0: Array, tol: tuple[float, float],
+                      enforce_limits: bool) -> tuple[IKResult | None, NDArray[np.bool_]]:
+    """The successful configuration nearest ``q0`` for positions ``p`` and unit directions ``z`` (B, 3), by the
+    compiled kernels of :mod:`armkit.ik.analytic._yaw_pitch3_jit` (``direction_branches``), one row at a time.
+
+    Returns ``(result, solved)``: ``result`` fields (B, ...) (``q`` (B, n)), valid on the rows ``solved`` (B,).
+    The other rows (a direction within 1e-4 of vertical, where the NumPy path sweeps the roll; no success,
+    whose reason and message the NumPy path writes) are for :func:`_direction_flat`. ``(None, all False)``
+    when the kernels are not in use for ``robot`` (the NumPy back end, not a 5-joint yaw-pitch3 arm), or
+    with ``enforce_limits=False`` (the kernels always keep to the limits).
+    """
+    from .analytic.yaw_pitch3 import _LABELS, fast_geometry, fast_kernels
+
+    B = len(p)
+    solved = np.zeros(B, dtype=bool)
+    g = fast_geometry(robot) if enforce_limits else None
+    if g is None:
+        return None, solved
+    kern: Any = fast_kernels()
+    Q, DP, DA = np.empty((16, 5)), np.empty(16), np.empty(16)
+    OK, LAB = np.zeros(16, dtype=bool), np.zeros(16, dtype=np.int64)
+    T = np.zeros((4, 4))   # no whole pose wanted: a zero rotation is never met, so no candidate is preferred
+    X, Z, P = np.empty((3, 4)), np.empty((5, 3)), np.empty((5, 3))
+    near = 6e-3 * float(g[kern.G_REACH])   # yaw_pitch3.solve_direction polishes the candidates this close
+    q, dp, da = np.empty((B, 5)), np.full(B, np.inf), np.full(B, np.inf)
+    lab = np.zeros(B, dtype=np.int64)
+    pc, zc, qc = (np.ascontiguousarray(a, dtype=float) for a in (p, z, q0))
+    for i in range(B):
+        m = kern.direction_branches(g, pc[i], zc[i], T, qc[i], float(tol[0]), float(tol[1]), Q, DP, DA, OK, LAB)
+        if m <= 0:
+            continue
+        # the kernel stops at its first success (polishing nearest start first); a farther start may still polish
+        # into a nearer solution, and the NumPy path polishes them all: so the rest here, as it does. A candidate
+        # whose polish stopped (converging slowly, near a singularity) goes on from where it stopped: the NumPy
+        # polish has no such stop
+        pi, zi, q0i = pc[i], zc[i], qc[i]
+        d0, d1, d2 = zi.tolist()
+        for c in np.flatnonzero(~OK[:m] & (DP[:m] <= near)).tolist():
+            qb = Q[c]   # a view: polished in place
+            kern._polish_direction(g, qb, pi, zi, 40, X, Z, P)
+            kern._wrap_limits(g, qb, q0i)
+            kern._fk(g, qb, X, Z, P)
+            x0, x1, x2 = X[:, 2].tolist()   # plain floats: np.cross costs 25 us
+            e_p = math.dist(pi, X[:, 3])
+            e_a = math.atan2(math.hypot(x1 * d2 - x2 * d1, x2 * d0 - x0 * d2, x0 * d1 - x1 * d0),
+                             x0 * d0 + x1 * d1 + x2 * d2)
+            DP[c], DA[c] = e_p, e_a
+            OK[c] = e_p <= tol[0] and e_a <= tol[1] and kern._within(g, qb)
+        best = kern._nearest(Q, OK, m, qc[i])
+        if best < 0 or any(kern._within(g, Q[c]) for c in np.flatnonzero(
+                ~OK[:m] & (DP[:m] <= 1e-2 * near) & (DA[:m] <= 1e-3)).tolist()):
+            continue   # none, or a polish stalled next to a solution (slow convergence): the NumPy polish goes on
+        solved[i] = True
+        q[i], dp[i], da[i], lab[i] = Q[best], DP[best], DA[best], LAB[best]
+    q[~solved] = q0[~solved]
+    res = IKResult(q=q, success=solved.copy(), position_error=dp, rotation_error=da,
+                   iterations=np.zeros(B, dtype=np.int64), branch=_LABELS[lab], within_limits=solved.copy(),
+                   reason=np.where(solved, "converged", "unreachable"), message=np.full(B, "", dtype=object))
+    return res, solved
+
+
+def _scatter(res: IKResult, part: IKResult, rows: NDArray[np.intp]) -> IKResult:
+    """``res`` (B rows) with ``rows`` replaced by the rows of ``part`` (len(rows) rows), the trace of ``part``."""
+    fields = {}
+    for f in ("q", "success", "position_error", "rotation_error", "iterations", "branch", "within_limits", "reason",
+              "message"):
+        a = np.array(getattr(res, f), dtype=object if f in ("reason", "message", "branch") else None)
+        a[rows] = np.asarray(getattr(part, f))
+        fields[f] = a.astype(str) if f == "reason" else a
+    return IKResult(**fields, trace=part.trace)
 
 
 def _pitch_solver(robot: Robot) -> Any:
