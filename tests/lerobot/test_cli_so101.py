@@ -114,7 +114,7 @@ def test_korean_file_errors_and_range_warnings(tmp_path):
     res = ko("--calibration", str(bad), "--ticks", "1", "2", "3", "4", "5")
     assert res.exit_code == 2 and "필드를 가진 객체여야 합니다" in res.output and "Traceback" not in res.output
     res = ko("--calibration", SAMPLE, "--ticks", "2048", "2048", "2048", "2048", "5000")
-    assert res.exit_code == 2 and "5000이 STS3215의 위치 범위 0..4095를 벗어납니다" in res.output
+    assert res.exit_code == 2 and "5000이 STS3215의 위치 범위 0 ~ 4095를 벗어납니다" in res.output
     res = ko("--calibration", SAMPLE, "--ticks", "100", "2048", "2048", "2048", "2048")
     assert res.exit_code == 0 and "보정 범위 밖" in res.output and "4096에서 한 바퀴" in res.output
     assert "outside the calibrated range" not in res.output

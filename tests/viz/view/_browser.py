@@ -92,7 +92,7 @@ def open_folder(page: Any, title: str) -> None:
     page.get_by_text(title, exact=True).first.click()
 
 
-def wait_until(cond: Any, timeout: float = 10.0, what: str = "condition") -> None:
+def wait_until(cond: Any, timeout: float = 30.0, what: str = "condition") -> None:
     end = time.monotonic() + timeout
     while time.monotonic() < end:
         if cond():

@@ -192,8 +192,13 @@ def _stored(v: View) -> list[str]:
 def _choose(page, label: str, option: str) -> None:
     box = row(page, label).locator("input").first
     box.click()
-    page.locator("[role=option]", has_text=option).first.click()
-    wait_until(lambda: box.input_value() == option, what=f"{option!r} chosen")
+    # the list's opening animation can leave a neighbour over the option for a moment on a busy machine:
+    # wait for the option to be stable, then click it (a forced click once the list is open)
+    choice = page.locator("[role=option]", has_text=option).first
+    choice.wait_for(timeout=20_000)
+    time.sleep(0.3)
+    choice.click(force=True)
+    wait_until(lambda: box.input_value() == option, timeout=30.0, what=f"{option!r} chosen")
 
 
 def _status(page) -> str:
@@ -229,7 +234,7 @@ def test_stored_configurations_save_recall_rename_export_import(browser, tmp_pat
         box.fill("reach")
         box.press("Enter")
         page.get_by_role("button", name="Rename").click()
-        wait_until(lambda: "exists; choose another name" in _status(page), what="name taken")
+        wait_until(lambda: "exists; choose another name" in _status(page), timeout=30.0, what="name taken")
         assert _stored(v) == ["start", "reach"]
         # export: a TOML download that the standard library reads back to the saved q
         with page.expect_download(timeout=30_000) as dl:
@@ -427,18 +432,19 @@ def test_reach_cloud_colour_bar(browser) -> None:
 def test_readouts_in_korean_and_after_the_language_switch(browser) -> None:
     with View("fighter", lang="ko") as v:
         page = open_page(browser, v.url, "관절")
-        for text in ("T와 J", "좌표계와 카메라", "저장한 자세"):
+        for text in ("T와 J", "좌표계와 카메라", "저장한 관절 자세"):
             page.get_by_text(text, exact=True).first.wait_for(timeout=10_000)
         assert page.locator("button.armkit-T-copy").first.inner_text() == "복사"
         open_folder(page, "좌표계와 카메라")
         for text in ("정면", "측면", "위", "등각"):
+            page.get_by_role("button", name=text, exact=True).first.wait_for(timeout=20_000)
             assert page.get_by_role("button", name=text, exact=True).count() == 1, text
         assert v.panels.readouts.triad[-1].text == "월드"           # the world triad's label
         v.set_lang("en")        # the page's language list: one stored-configurations folder, in English
         page.get_by_text("Stored configurations", exact=True).first.wait_for(timeout=20_000)
         time.sleep(1.0)
         assert page.get_by_text("Stored configurations", exact=True).count() == 1
-        assert page.get_by_text("저장한 자세", exact=True).count() == 0
+        assert page.get_by_text("저장한 관절 자세", exact=True).count() == 0
         assert page.locator("table.armkit-T").count() == 1
         page.close()
 
