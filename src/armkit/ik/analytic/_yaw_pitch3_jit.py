@@ -33,6 +33,8 @@ _jit_loader.install_cache_fallback()  # before the first cache=True: read-only i
 
 from numba import njit  # noqa: E402
 
+from ._jit import _rint  # noqa: E402  (round half to even, shared with the closed-form kernels)
+
 TWO_PI = 2.0 * math.pi
 # ------------------------------------------------------------------ the packed geometry (see pack)
 G_BASE_INV = 0          # 12: B'^-1 rows 0-2 (the ideal arm's chain frame)
@@ -142,16 +144,6 @@ def _pitch(g, q, X, tx, ty, tz, out):
 
 
 @njit(cache=True, inline="always")
-def _rint(x):
-    """Round half to even, like ``np.round``."""
-    r = math.floor(x)
-    h = x - r
-    if h > 0.5 or (h == 0.5 and r % 2.0 != 0.0):
-        return r + 1.0
-    return r
-
-
-@njit(cache=True, inline="always")
 def _wrap_pi(x):
     return (x + math.pi) % TWO_PI - math.pi
 
@@ -200,6 +192,23 @@ def _solve4(A, b, n):
 
 
 @njit(cache=True)
+def _normal_step(J, e, A, b, m, n):
+    """The Gauss-Newton step of ``J[:m, :n]`` for the error ``e[:m]``: solves ``(J^T J + 1e-14 I) x = J^T e``
+    (into ``b[:n]``, with ``A`` as scratch)."""
+    for i in range(n):
+        s = 0.0
+        for r in range(m):
+            s += J[r, i] * e[r]
+        b[i] = s
+        for j in range(n):
+            s = 0.0
+            for r in range(m):
+                s += J[r, i] * J[r, j]
+            A[i, j] = s + (1e-14 if i == j else 0.0)
+    _solve4(A, b, n)
+
+
+@njit(cache=True)
 def _pitch_error(g, q, p, psi, X, Z, P, ah):
     """FK of ``q``: position error (m) and pitch error (rad) against ``(p, psi)``."""
     _fk(g, q, X, Z, P)
@@ -238,17 +247,7 @@ def _polish_pitch(g, q, p, psi, steps, X, Z, P, ah):
             J[3, j] = gx * zx + gy * zy + gz * zz
         ha = _cross(hx, hy, hz, ax, ay, az)
         J[3, 0] -= sa * (Z[0, 0] * ha[0] + Z[0, 1] * ha[1] + Z[0, 2] * ha[2]) / n2
-        for i in range(4):
-            s = 0.0
-            for r in range(4):
-                s += J[r, i] * e[r]
-            b[i] = s
-            for j in range(4):
-                s = 0.0
-                for r in range(4):
-                    s += J[r, i] * J[r, j]
-                A[i, j] = s + (1e-14 if i == j else 0.0)
-        _solve4(A, b, 4)
+        _normal_step(J, e, A, b, 4, 4)
         for j in range(4):
             q[j] += b[j]
 
@@ -403,17 +402,7 @@ def _polish_direction(g, q, p, d, steps, X, Z, P):
             J[0, j], J[1, j], J[2, j] = v[0] * w, v[1] * w, v[2] * w
             t = _cross(Z[j, 0], Z[j, 1], Z[j, 2], zx, zy, zz)
             J[3, j], J[4, j], J[5, j] = t[0], t[1], t[2]
-        for i in range(5):
-            s = 0.0
-            for r in range(6):
-                s += J[r, i] * e[r]
-            b[i] = s
-            for j in range(5):
-                s = 0.0
-                for r in range(6):
-                    s += J[r, i] * J[r, j]
-                A[i, j] = s + (1e-14 if i == j else 0.0)
-        _solve4(A, b, 5)
+        _normal_step(J, e, A, b, 6, 5)
         big = 0.0
         for j in range(5):
             big = max(big, abs(b[j]))
