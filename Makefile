@@ -58,6 +58,7 @@ fuzz: $(VENV)/.installed
 pictures: $(VENV)/.installed chromium locale fonts
 	ARMKIT_UPDATE_PICTURES=1 $(PY) -m pytest -q tests/viz/view/test_view.py tests/viz/view/test_notebook.py tests/viz/view/test_view_readouts.py
 	$(PY) -c "from armkit.viz.demo import write_demo_pictures as w; import shutil; shutil.copy(w('out')[1], 'docs/img/fighter_ik_branches.png')"
+	$(PY) -c "from armkit.viz.axes import class_gallery; from armkit.viz.plots import save_figure; save_figure(class_gallery(), 'docs/img/ik_classes.png', dpi=90)"
 
 # the peers (pin, roboticstoolbox-python, ikpy, pytorch-kinematics, CPU torch) live in their own venv
 BENCH_VENV := .venv-bench
