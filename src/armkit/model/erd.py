@@ -37,6 +37,8 @@ ROBOTS: dict[str, tuple[str, str | None, str | None]] = {
     "z1": ("z1_description/urdf/z1.urdf", None, None),
     "so101": ("so_arm_description/urdf/so101.urdf", "base_link", "gripper_frame_link"),
     "xarm7": ("xarm_description/urdf/xarm7.urdf", None, "link_eef"),
+    "talos": ("talos_data/robots/talos_reduced.urdf", "torso_2_link", "gripper_left_base_link"),   # left arm
+    "tiago": ("tiago_description/robots/tiago.urdf", "torso_lift_link", "arm_tool_link"),   # arm above the lift
 }
 """The arms ``example-robot-data:NAME`` knows by name (any other file: ``example-robot-data:PATH.urdf``)."""
 
