@@ -13,6 +13,9 @@ solvers get the same 4x4 poses. Reported per arm:
   every branch); batched, EAIK ``IK_batched`` with ``--threads`` against armkit ``ik_all`` on
   the whole batch. The ratio is armkit / EAIK (below 1: armkit faster).
 
+Then (also alone, without EAIK: ``--single-only``) one target per call on the bundled closed-form arms:
+``ik_all`` and ``ik`` by the one compiled call against the batched path it replaced (issue 19, item 5).
+
 Then (also alone, without EAIK: ``--searches-only``) what EAIK refuses: the sweep of the Panda and
 the iiwa (32 values of the lockable joint), one joint held (``fixed=``), and the 1-D search of
 random '6R-two-intersecting' arms, median milliseconds per target.
@@ -189,6 +192,58 @@ def searches(targets: int) -> None:
     print(f"\nload average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores")
 
 
+SINGLE_ARMS = ("ur5", "puma560", "fighter", "planar2", "planar3", "stanford", "ur5, axis 1 reversed")
+
+
+def _cpu_best(fn, items, repeat: int) -> float:
+    """Least CPU seconds of this thread per item over ``repeat`` rounds (``time.thread_time``: on a shared,
+    loaded machine the wall clock also counts the other processes' turns)."""
+    best = np.inf
+    for _ in range(repeat):
+        t0 = time.thread_time()
+        for it in items:
+            fn(it)
+        best = min(best, (time.thread_time() - t0) / len(items))
+    return best
+
+
+def single_calls(targets: int, repeat: int) -> None:
+    """One target per call: ``ik_all`` and ``ik`` by the one compiled call (issue 19, item 5) and by the
+    batched path it replaces (``armkit.ik.api.ONE_CALL = False``), µs per call (CPU time of the thread and
+    wall clock), and how many calls the one-call path answered itself."""
+    import importlib
+
+    from armkit.ik.analytic import single_call
+
+    api = importlib.import_module("armkit.ik.api")
+    print(f"\nsingle calls: µs per call, {targets} targets (FK of random joint values), best of {repeat}; "
+          "CPU time of the thread (wall clock in brackets)\n")
+    print("| arm | family | one call answered | ik_all one call | ik_all batched path | ik one call | "
+          "ik batched path |")
+    print("|---|---|---|---|---|---|---|")
+    for label in SINGLE_ARMS:
+        name, tip = ARMS.get(label, (label, None))
+        robot = _flipped(armkit.load(name)) if tip == "flip" else armkit.load(name)
+        cf = closed_form(robot)
+        rng = np.random.default_rng(7)
+        lo = np.where(np.isfinite(robot.lower), robot.lower, -np.pi)
+        hi = np.where(np.isfinite(robot.upper), robot.upper, np.pi)
+        T = armkit.fk(robot, rng.uniform(lo, hi, (targets, robot.n)))
+        items = list(T[:, :3, 3].copy() if not cf.pose_only else T)
+        answered = sum(single_call(robot, cf, t, None, None) is not None for t in items)
+        cells = []
+        for fn in (armkit.ik_all, armkit.ik):
+            for one in (True, False):
+                api.ONE_CALL = one
+                fn(robot, items[0])
+                cpu = _cpu_best(lambda t: fn(robot, t), items, repeat)
+                wall = _best(lambda: [fn(robot, t) for t in items], repeat) / len(items)
+                cells.append(f"{cpu * 1e6:.1f} ({wall * 1e6:.1f})")
+            api.ONE_CALL = True
+        print(f"| {label} | {cf.family} | {answered}/{len(items)} | " + " | ".join(cells) + " |", flush=True)
+    print(f"\nload average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores")
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--targets", type=int, default=1000)
@@ -197,7 +252,13 @@ def main() -> None:
     ap.add_argument("--searches-only", action="store_true",
                     help="only the sweep, held-joint and 1-D search times (no EAIK needed)")
     ap.add_argument("--search-targets", type=int, default=100)
+    ap.add_argument("--single-only", action="store_true",
+                    help="only the single-call times, one compiled call against the batched path (no EAIK needed)")
     args = ap.parse_args()
+    if args.single_only:
+        G.kernels()
+        single_calls(min(args.targets, 300), args.repeat)
+        return
     if args.searches_only:
         G.kernels()
         searches(args.search_targets)
@@ -250,6 +311,7 @@ def main() -> None:
         print(f"| {label} | {fam} | {c['eaik branches']:,} | {c['armkit branches']:,} | {c['missing']} | {c['extra']} "
               f"| {c['armkit fails FK']} | {us(es)} | {us(raw)}{'' if raw is None else f' ({raw / es:.2g}x)'} | "
               f"{us(aa)} ({aa / es:.2g}x) | {us(a1)} ({a1 / es:.2g}x) | {us(eb)} | {us(ab)} ({ab / eb:.2g}x) |")
+    single_calls(min(args.targets, 300), args.repeat)
     searches(args.search_targets)
 
 

@@ -228,25 +228,32 @@ def _raise_if_unreachable(res: IKResult) -> None:
 def _analytic_solver(robot: Robot, position_only: bool, why_not: list[str], pitch: bool = False):
     from .analytic import closed_form
 
+    from .._text import Fielded   # the why-not sentences keep their template and fields (any language)
+
     solver = closed_form(robot)
     if solver is None:
-        why_not.append(f"robot {robot.name!r} ({robot.n} DOF {robot.joint_types}) has no closed form in armkit: "
-                       "it solves 2R and 3R planar, yaw-pitch-pitch 3R, yaw + three pitch joints (+ roll), "
-                       "6R spherical-wrist (Puma-like) and UR-type 6R arms; use method='lm'")
+        why_not.append(Fielded.of("robot {robot!r} ({n} DOF {types}) has no closed form in armkit: it solves 2R and "
+                                  "3R planar, yaw-pitch-pitch 3R, yaw + three pitch joints (+ roll), 6R spherical-wrist "
+                                  "(Puma-like) and UR-type 6R arms; use method='lm'", robot=robot.name, n=robot.n,
+                                  types=robot.joint_types))
         return None
     if pitch != (getattr(solver, "target_kind", None) == "pitch"):   # position + tool pitch: armkit.ik.partial
-        why_not.append(f"robot {robot.name!r} ({solver.family}, {robot.n} joints) "
-                       + ("has a closed form for a position and the tool pitch: give pitch= (rad); for a position "
-                          "alone, a pointing direction (direction=) or a pose use method='lm' (armkit.ik's default)"
-                          if not pitch else "has no closed form for a position and a pitch (pitch= is for arms "
-                          "with a yaw joint and three parallel pitch joints, like the SO-101); leave pitch out"))
+        why_not.append(Fielded.of(
+            "robot {robot!r} ({family}, {n} joints) has a closed form for a position and the tool pitch: give pitch= "
+            "(rad); for a position alone, a pointing direction (direction=) or a pose use method='lm' (armkit.ik's "
+            "default)" if not pitch else
+            "robot {robot!r} ({family}, {n} joints) has no closed form for a position and a pitch (pitch= is for arms "
+            "with a yaw joint and three parallel pitch joints, like the SO-101); leave pitch out",
+            robot=robot.name, family=solver.family, n=robot.n))
         return None
     if pitch:
         return solver
     if position_only and solver.pose_only:
-        why_not.append(f"robot {robot.name!r} ({solver.family}) needs a pose target for its closed form: "
-                       + ("give the end angle with phi=" if solver.family == "planar-3r" else "give a (4, 4) pose")
-                       + ", or use method='lm' for position-only IK")
+        why_not.append(Fielded.of(
+            "robot {robot!r} ({family}) needs a pose target for its closed form: give the end angle with phi=, or use "
+            "method='lm' for position-only IK" if solver.family == "planar-3r" else
+            "robot {robot!r} ({family}) needs a pose target for its closed form: give a (4, 4) pose, or use "
+            "method='lm' for position-only IK", robot=robot.name, family=solver.family))
         return None
     return solver
 
@@ -266,6 +273,44 @@ def _all_branches(robot: Robot, target: Array, q0: Array, position_only: bool, t
     if solver is None:
         raise IKInputError(why[0])
     return solve_all(robot, solver, target, q0, position_only, _tolerance(robot, tol), enforce_limits)
+
+
+_UNKNOWN = object()
+_single_call: Any = None   # analytic.single_call once imported (the one-call path counts microseconds)
+ONE_CALL = True
+"""Single targets by one compiled call (:func:`_one_target`); False: the batched path (tests compare the two)."""
+
+
+def _one_target(robot: Robot, target: Any, q0: Any, tol: Any, enforce_limits: bool, check: bool, nearest: bool,
+                batch_axis: bool = False) -> IKResult | None:
+    """One float64 pose ``(4, 4)`` or position ``(3,)`` by the closed form in one compiled call
+    (:func:`armkit.ik.analytic.single_call`): the result, shaped as :func:`ik` (``nearest``) or :func:`ik_all`
+    give it for one target (``batch_axis``: with a leading axis of 1), or None where the general path
+    answers (any other target or start, no closed form for it, a 7-joint arm, the NumPy back end, or a
+    case the compiled call leaves to the batched path). The same values either way."""
+    global _single_call
+    if not ONE_CALL or type(target) is not np.ndarray or target.dtype != np.float64 or robot.n == 7:
+        return None
+    shape = target.shape
+    if shape != (4, 4) and shape != (3,):
+        return None
+    if q0 is not None:
+        if type(q0) is not np.ndarray or q0.dtype != np.float64 or q0.shape != (robot.n,):
+            return None
+        q0 = q0.ravel()
+    solver = robot.cache.get("closed_form", _UNKNOWN)
+    if solver is _UNKNOWN:
+        from .analytic import closed_form
+
+        solver = closed_form(robot)
+    if solver is None or solver.target_kind == "pitch" or (solver.pose_only and shape == (3,)):
+        return None
+    if _single_call is None:
+        from .analytic import single_call
+
+        _single_call = single_call
+    return _single_call(robot, solver, target, q0, None if tol is None else _tolerance(robot, tol), enforce_limits,
+                        check, nearest, batch_axis)
 
 
 def _nearest_branch(robot: Robot, target: Array, q0: Array, position_only: bool, tol: Any,
@@ -366,6 +411,14 @@ def ik_all(robot: Robot, target: ArrayLike, q0: ArrayLike | None = None, *, phi:
 
         return _checked(robot, ik_pitch(robot, target, q0, pitch, phi=phi, tol=tol, enforce_limits=enforce_limits,
                                         scene=scene, every=True), scene)
+    if fixed is None and sweep is None and phi is None:   # one target: one compiled call
+        one = _one_target(robot, target, q0, tol, enforce_limits, check, False, scene is not None)
+        if one is not None:
+            if scene is None:
+                return one
+            from .scene import mark, sort_branches
+
+            return _checked(robot, _reshape(sort_branches(mark(robot, one, scene)), ()), scene)
     flat, lead, position_only, q0f = _targets_and_start(robot, target, q0, phi, check)
     res = _all_branches(robot, flat, q0f, position_only, tol, enforce_limits, fixed, sweep)
     if scene is not None:   # success also means collision-free (armkit.collision)
@@ -381,7 +434,7 @@ def ik(robot: Robot, target: ArrayLike, q0: ArrayLike | None = None,
        max_iterations: int | None = None, restarts: int | None = None, seed: Any = None,
        enforce_limits: bool = True, raise_unreachable: bool = False, trace: bool = False,
        scene: Any = None, pitch: ArrayLike | None = None, direction: ArrayLike | None = None,
-       check: bool = True) -> IKResult:
+       check: bool = True, fixed: Any = None) -> IKResult:
     """Inverse kinematics: one solution per target, honest about failure.
 
     Parameters
@@ -434,6 +487,9 @@ def ik(robot: Robot, target: ArrayLike, q0: ArrayLike | None = None,
     check : bool
         Check that pose targets are rigid transforms (:func:`armkit.spatial.check_transform`);
         ``False`` skips it for poses a program built itself (hot loops).
+    fixed : dict of str to float, optional
+        Joints held at these values (as in :func:`ik_all`): the nearest of the closed-form
+        branches of the joints left (``branch=`` picks one of them instead).
 
     Returns
     -------
@@ -456,7 +512,23 @@ def ik(robot: Robot, target: ArrayLike, q0: ArrayLike | None = None,
     numeric = {"mask": mask, "tol": None if tol is None else _tolerance(robot, tol), "seed": seed,   # tol checked here
                "enforce_limits": enforce_limits, "trace": trace, "max_iterations": max_iterations,
                "restarts": restarts}
-    if pitch is not None or direction is not None:   # targets that fix less than a pose (armkit.ik.partial)
+    one = None
+    if (method == "auto" or method == "analytic") and branch is None and mask is None and phi is None \
+            and pitch is None and direction is None and fixed is None:   # one target: one compiled call
+        one = _one_target(robot, target, q0, tol, enforce_limits, check, scene is None, scene is not None)
+        if one is not None and scene is not None:   # the nearest branch that does not collide
+            from .scene import mark, sort_branches
+
+            one = _reshape(sort_branches(mark(robot, one, scene))[np.arange(1), 0], ())
+    if one is not None:
+        res = one
+    elif fixed is not None:   # held joints (ik.geometric.locked): the nearest of every branch
+        if method not in ("auto", "analytic") or pitch is not None or direction is not None or mask is not None:
+            raise IKInputError("fixed= holds joints for the closed form: it goes with method='auto' or 'analytic' "
+                               "and a pose target, not with pitch=, direction= or mask=")
+        flat, lead, position_only, q0f = _targets_and_start(robot, target, q0, phi, check)
+        res = _closed_one(robot, flat, q0f, lead, position_only, tol, enforce_limits, None, branch, scene, fixed)
+    elif pitch is not None or direction is not None:   # targets that fix less than a pose (armkit.ik.partial)
         res = _partial(robot, target, q0, method, pitch, direction, branch, phi, tol, scene, numeric)
     else:
         flat, lead, position_only, q0f = _targets_and_start(robot, target, q0, phi, check)
@@ -493,11 +565,12 @@ def _partial(robot: Robot, target: ArrayLike, q0: ArrayLike | None, method: str,
 
 
 def _closed_one(robot: Robot, flat: Array, q0f: Array, lead: tuple[int, ...], position_only: bool, tol: Any,
-                enforce_limits: bool, solver: Any, branch: str | None, scene: Any) -> IKResult:
-    """:func:`ik` by the closed form: the nearest branch, the nearest that does not collide, or ``branch``."""
-    if branch is None and scene is None:   # shaped lead + (...) already
+                enforce_limits: bool, solver: Any, branch: str | None, scene: Any, fixed: Any = None) -> IKResult:
+    """:func:`ik` by the closed form: the nearest branch, the nearest that does not collide, or ``branch``;
+    with ``fixed``, of the branches of the joints left (:func:`ik_all`'s ``fixed=``)."""
+    if branch is None and scene is None and fixed is None:   # shaped lead + (...) already
         return _nearest_branch(robot, flat, q0f, position_only, tol, enforce_limits, solver, lead)
-    every = _all_branches(robot, flat, q0f, position_only, tol, enforce_limits)
+    every = _all_branches(robot, flat, q0f, position_only, tol, enforce_limits, fixed)
     if branch is None:   # with a scene: the nearest branch that does not collide
         from .scene import mark, sort_branches
 

@@ -19,6 +19,8 @@ targets and turns its raw output into an :class:`~armkit.ik.result.IKResult` wit
 branch axis: joint values wrapped by 2 pi into the limits (the representative nearest
 ``q0``), every branch checked by forward kinematics (:func:`~armkit.ik.result.verify`),
 then sorted: successful branches first, each group by distance to ``q0``.
+:func:`single_call` does the same for ONE target in one compiled call (:mod:`._single`),
+the path ``armkit.ik_all`` and ``armkit.ik`` take for a single pose or position.
 """
 
 from __future__ import annotations
@@ -29,6 +31,7 @@ from typing import Protocol, runtime_checkable
 import numpy as np
 from numpy.typing import NDArray
 
+from ... import _jit_loader
 from ...model.robot import Robot
 from ..result import IKResult, default_tolerance, verify
 from ._common import Raw, StandardForm, jit_kernels, keep_better, standard_form
@@ -164,7 +167,9 @@ MAX_DETAILED = 10_000
 def _failure_messages(robot: Robot, message: NDArray[np.object_], code: NDArray[np.int_],
                       raw: Raw, q: Array, dp: Array, dr: Array, tol: tuple[float, float]) -> None:
     """Fill ``message`` in place for the failed branches (``code``: index into ``_REASON_TEXT``; 0 only where
-    the branch succeeded)."""
+    the branch succeeded). Each message keeps its template and fields (:class:`armkit._text.Fielded`)."""
+    from ..._text import Fielded
+
     limits = code == 2
     if limits.any():   # one message per pattern of violated joints, not per branch
         lo, hi = robot.lower - 1e-12, robot.upper + 1e-12
@@ -178,25 +183,28 @@ def _failure_messages(robot: Robot, message: NDArray[np.object_], code: NDArray[
             texts = np.empty(len(patterns), dtype=object)
         for k, pattern in enumerate(patterns):
             names = [nm for j, nm in enumerate(robot.joint_names) if int(pattern) >> j & 1]
-            texts[pattern if robot.n <= 16 else k] = ("outside the joint limits: " + ", ".join(names)
-                                                      + " (see armkit info for the limits).")
+            texts[pattern if robot.n <= 16 else k] = Fielded.of("outside the joint limits: {names} (see armkit info "
+                                                                "for the limits).", names=", ".join(names))
         message[limits] = texts[inverse.ravel()]
     unreachable = code == 1
     count = int(unreachable.sum())
     if count == 0:
         return
     if count > MAX_DETAILED:
-        message[unreachable & raw.unreachable] = "unreachable: out of this branch's reach."
-        message[unreachable & ~raw.unreachable] = "unreachable: the closest configuration misses the target."
+        message[unreachable & raw.unreachable] = Fielded.of("unreachable: out of this branch's reach.")
+        message[unreachable & ~raw.unreachable] = Fielded.of("unreachable: the closest configuration misses the "
+                                                             "target.")
         return
     flat_msg, flat_out, flat_dp, flat_dr = message.reshape(-1), raw.unreachable.reshape(-1), dp.reshape(-1), dr.reshape(-1)
     for i in np.flatnonzero(unreachable.reshape(-1)):
         if flat_out[i]:
-            flat_msg[i] = "unreachable: " + raw.why(int(i))
+            flat_msg[i] = Fielded.of("unreachable: {why}", why=raw.why(int(i)))
         else:
-            flat_msg[i] = (f"unreachable: the closest configuration of this branch misses the target by "
-                           f"{flat_dp[i]:.3g} {robot.unit} and {math.degrees(flat_dr[i]):.3g} deg"
-                           + (" (this arm cannot turn to that orientation there)." if flat_dp[i] <= tol[0] else "."))
+            flat_msg[i] = Fielded.of(
+                "unreachable: the closest configuration of this branch misses the target by {distance} and {angle} "
+                "(this arm cannot turn to that orientation there)." if flat_dp[i] <= tol[0] else
+                "unreachable: the closest configuration of this branch misses the target by {distance} and {angle}.",
+                distance=f"{flat_dp[i]:.3g} {robot.unit}", angle=f"{math.degrees(flat_dr[i]):.3g} deg")
 
 
 POLISH_ABOVE = 1e-13
@@ -289,6 +297,125 @@ def solve_all(robot: Robot, solver: ClosedForm, target: Array, q0: Array, positi
     return IKResult(q=q, success=ok, position_error=dp, rotation_error=dr,
                     iterations=np.zeros(ok.shape, dtype=np.int64), branch=take(raw.label), within_limits=within,
                     reason=_REASON_TEXT[take(code)], message=take(message))
+
+
+# ------------------------------------------------------------------ one target, one compiled call
+class _Single:
+    """What the one-call path needs of a robot and its closed form, built once (kept in ``robot.cache``)."""
+
+    __slots__ = ("kernel", "geometry", "joints", "F", "labels", "blank", "m", "n", "scale", "window", "above",
+                 "sign", "opts", "default_tol")
+
+    def __init__(self, robot: Robot, solver: ClosedForm, kernels) -> None:
+        from ...kinematics import packed
+
+        self.kernel = kernels.KERNELS.get(solver.family) if solver.geometry is not None else None
+        self.geometry = solver.geometry
+        self.joints = _joint_table(robot, solver)
+        self.F = packed(robot)[0]
+        self.labels = np.array(solver.branch_labels, dtype=object)
+        self.m, self.n = solver.m, robot.n
+        self.blank = np.full(self.m, "", dtype=object)
+        self.scale = robot.reach
+        self.window = POLISH_WINDOW[not solver.sf.exact]
+        self.above = getattr(solver, "polish_above", POLISH_ABOVE)
+        self.sign = getattr(solver, "sign", 1)
+        self.default_tol = default_tolerance(robot)
+        self.opts: dict = {}
+
+
+def single_call(robot: Robot, solver: ClosedForm, target: Array, q0: Array | None, tol: tuple[float, float] | None,
+                enforce_limits: bool = True, check: bool = True, nearest: bool = False, batch_axis: bool = False
+                ) -> IKResult | None:
+    """:func:`solve_all` (or with ``nearest``, :func:`solve_nearest`) for ONE target in one compiled call.
+
+    ``target`` is a float64 pose ``(4, 4)`` or position ``(3,)`` the family takes, ``q0`` a float64 ``(n,)``
+    (None: zeros clipped into the limits, as :func:`armkit.ik` takes it). Checks what the batched path
+    checks (``check``: the pose is rigid). Returns the result with fields ``(m,)`` (``nearest``: ``()``;
+    ``batch_axis``: ``(1, m)``), the same values as the batched path, or None where that path must answer
+    (the Numba back end is not in use, a branch to polish, a note to give, a target or start to reject):
+    the caller then takes it. See :mod:`._single`.
+    """
+    kernels = _jit_loader.kernels("ik.analytic._single")
+    if kernels is None:
+        return None
+    c = robot.cache.get("closed_form_one_call")
+    if c is None or c.geometry is not solver.geometry:
+        c = robot.cache["closed_form_one_call"] = _Single(robot, solver, kernels)
+    if q0 is None:
+        q0 = robot.cache.get("ik_q0")
+        if q0 is None:
+            q0 = robot.cache["ik_q0"] = np.clip(np.zeros(robot.n), robot.lower, robot.upper)
+    if tol is None:
+        tol = c.default_tol
+    key = (tol, enforce_limits, check)
+    opts = c.opts.get(key)
+    if opts is None:
+        opts = c.opts[key] = kernels.options(tol, enforce_limits, c.window, c.above, c.scale, c.sign, check)
+    t = target.ravel()
+    raw = None
+    if c.kernel is not None:   # the family's kernel and the rest in one call
+        status, n_limits, n_other, q, ev, fl, iv = c.kernel(t, c.geometry, c.joints, c.F, q0, opts)
+    else:                      # a family solved in Python (the geometric family): its solve, then one call
+        if not kernels.usable(t, q0, check):
+            return None
+        raw = solver.solve(target[None], (q0 + solver.sf.theta)[None])
+        missing = raw.missing[0] if raw.missing is not None else np.zeros(c.m, dtype=bool)
+        status, n_limits, n_other, q, ev, fl, iv = kernels.post(raw.q[0], raw.unreachable[0], missing, c.joints, c.F,
+                                                                q0, t, opts)
+    if status:
+        return None
+    ok, code = fl[0], iv[0]
+    if raw is None:
+        message, label = c.blank.copy(), c.labels[iv[1]]
+    else:
+        message = np.where(ok, raw.note[0][iv[2]], "").astype(object, copy=False)
+        label = raw.label[0][iv[2]]
+    if n_limits:
+        _limit_messages(robot, message, code, iv[3], q, ev, tol)
+    if n_other:   # why a branch is out of reach: the family's own sentence (Raw.why), in sorted order
+        order = iv[2]
+        if raw is None:
+            raw = solver.solve(target[None], (q0 + solver.sf.theta)[None])
+        why = raw.why
+        shim = Raw(q, label, raw.unreachable[0][order], lambda i: why(int(order[i])), message)
+        _failure_messages(robot, message, np.where(code == 1, 1, 0), shim, q, ev[0], ev[1], tol)
+    return _single_result(c, q, ok, ev, fl[1], label, code, message, nearest, batch_axis)
+
+
+def _limit_messages(robot: Robot, message: NDArray[np.object_], code: NDArray[np.int_], bits: NDArray[np.int_],
+                    q: Array, ev: Array, tol: tuple[float, float]) -> None:
+    """``message`` of the branches outside the limits (``code == 2``): :func:`_failure_messages`' sentence for
+    each pattern of joints (``bits``), made once per robot and pattern (``robot.cache["limit_messages"]``)."""
+    made = robot.cache.get("limit_messages")
+    if made is None:
+        made = robot.cache["limit_messages"] = {}
+    for b in np.flatnonzero(code == 2).tolist():
+        pattern = int(bits[b])
+        text = made.get(pattern)
+        if text is None:
+            one = np.full(1, "", dtype=object)
+            _failure_messages(robot, one, np.array([2]), None, q[b:b + 1], ev[0, b:b + 1],  # type: ignore[arg-type]
+                              ev[1, b:b + 1], tol)
+            text = made[pattern] = one[0]
+        message[b] = text
+
+
+def _single_result(c: _Single, q: Array, ok, ev: Array, within, label, code, message, nearest: bool,
+                   batch_axis: bool) -> IKResult:
+    """The :class:`IKResult` of :func:`single_call`: fields ``(m,)``, ``()`` (``nearest``: the first branch) or
+    ``(1, m)`` (``batch_axis``), built without the dataclass's ``__init__`` (:meth:`IKResult._of`)."""
+    if nearest:
+        return IKResult._of(q=q[0], success=ok[0, ...], position_error=ev[0, 0, ...], rotation_error=ev[1, 0, ...],
+                            iterations=np.zeros((), dtype=np.int64), branch=label[0, ...], within_limits=within[0, ...],
+                            reason=_REASON_TEXT[code][0, ...], message=message[0, ...])
+    if batch_axis:
+        return IKResult._of(q=q[None], success=ok[None], position_error=ev[0][None], rotation_error=ev[1][None],
+                            iterations=np.zeros((1, c.m), dtype=np.int64), branch=label[None],
+                            within_limits=within[None], reason=_REASON_TEXT[code][None], message=message[None])
+    return IKResult._of(q=q, success=ok, position_error=ev[0], rotation_error=ev[1],
+                        iterations=np.zeros(c.m, dtype=np.int64), branch=label, within_limits=within,
+                        reason=_REASON_TEXT[code], message=message)
 
 
 def solve_nearest(robot: Robot, solver: ClosedForm, target: Array, q0: Array, position_only: bool,

@@ -1,0 +1,198 @@
+"""One compiled call for one IK target (issue 19, item 5): the same answers as the batched path.
+
+``armkit.ik_all(robot, T)`` and ``armkit.ik(robot, T)`` for ONE pose or position take
+:func:`armkit.ik.analytic.single_call` (solve, wrap, verify and sort in one Numba call,
+:mod:`armkit.ik.analytic._single`). Every field must equal what the batched path
+(:func:`armkit.ik.analytic.solve_all` / ``solve_nearest``, reached with ``api.ONE_CALL = False``)
+gives for the same call: the same joint values to the last bit, success, errors, branch labels,
+reasons, messages and order, and the same types. Targets: reachable ones (FK of random joint
+values), unreachable ones (moved away), starts that put branches outside the limits, on every
+fused family and on the geometric family (a UR5 with axis 1 reversed, the Stanford arm).
+Timing lives in benchmarks/bench_analytic.py.
+"""
+
+from __future__ import annotations
+
+import importlib
+import importlib.util
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+import armkit
+from armkit.errors import IKInputError, ShapeError
+from armkit.ik.analytic import closed_form, single_call
+from armkit.model.robot import Joint, Robot
+
+api = importlib.import_module("armkit.ik.api")
+FIELDS = ("q", "success", "position_error", "rotation_error", "iterations", "branch", "within_limits", "reason",
+          "message")
+
+
+def _flipped(robot: Robot) -> Robot:
+    """The same arm as a URDF-convention robot with joint 1's axis reversed (q1 -> -q1): the DH-pattern
+    families no longer match it, so the geometric family answers."""
+    c = robot.chain
+    joints, X, prev = [], c.base.copy(), np.eye(4)
+    for k in range(robot.n):
+        A = X @ c.pre[k]
+        j = robot.joints[k]
+        origin = tuple(tuple(float(v) for v in row) for row in np.linalg.inv(prev) @ A)
+        joints.append(Joint(name=j.name, kind=j.kind, lower=-np.inf, upper=np.inf, origin=origin,
+                            axis=(0.0, 0.0, -1.0 if k == 0 else 1.0)))
+        X, prev = A @ c.post[k], A
+    return Robot(joints, convention="urdf", name=robot.name + "-flipped", unit=robot.unit,
+                 tool=np.linalg.inv(prev) @ X @ c.tool)
+
+
+ARMS = {"planar2": "point", "planar3": "pose", "fighter": "point", "puma560": "pose", "ur5": "pose",
+        "stanford": "pose", "ur5-flipped": "pose"}
+_LOADED: dict = {}
+
+
+def _arm(name: str) -> Robot:
+    if name not in _LOADED:
+        _LOADED[name] = _flipped(armkit.load("ur5")) if name == "ur5-flipped" else armkit.load(name)
+    return _LOADED[name]
+
+
+@pytest.fixture(scope="module", autouse=True)
+def compiled():
+    armkit.set_backend("numba")    # the one-call path serves the Numba back end only
+    if closed_form(armkit.load("ur5")) is None or importlib.util.find_spec("numba") is None:
+        pytest.skip("Numba is not available")
+    yield
+    armkit.set_backend("auto")
+
+
+def _both(fn):
+    """``fn()`` by the one-call path and by the batched path."""
+    try:
+        api.ONE_CALL = True
+        fast = fn()
+        api.ONE_CALL = False
+        slow = fn()
+    finally:
+        api.ONE_CALL = True
+    return fast, slow
+
+
+def _assert_same(fast, slow) -> None:
+    for f in FIELDS:
+        a, b = getattr(fast, f), getattr(slow, f)
+        assert type(a) is type(b), f
+        if isinstance(a, np.ndarray):
+            assert a.dtype == b.dtype and a.shape == b.shape, f
+            assert np.array_equal(a, b), (f, a, b)   # bit for bit (NaN never occurs here)
+        else:
+            assert a == b, f
+    assert fast.checked_against == slow.checked_against
+
+
+def _target(robot: Robot, kind: str, q: np.ndarray, far: float) -> np.ndarray:
+    T = armkit.fk(robot, q)
+    T[:3, 3] *= far
+    return T[:3, 3].copy() if kind == "point" else T
+
+
+@settings(max_examples=40, deadline=None)
+@given(name=st.sampled_from(sorted(ARMS)), u=st.lists(st.floats(-1.0, 1.0), min_size=7, max_size=7),
+       v=st.lists(st.floats(-1.0, 1.0), min_size=7, max_size=7), far=st.sampled_from([1.0, 1.0, 1.0, 1.4, 3.0]),
+       start=st.booleans(), enforce=st.booleans())
+def test_one_call_equals_batched(name, u, v, far, start, enforce):
+    robot = _arm(name)
+    n = robot.n
+    lo = np.where(np.isfinite(robot.lower), robot.lower, -np.pi)
+    hi = np.where(np.isfinite(robot.upper), robot.upper, np.pi)
+    q = lo + (hi - lo) * (np.asarray(u[:n]) + 1.0) / 2.0
+    target = _target(robot, ARMS[name], q, far)
+    q0 = 4.0 * np.asarray(v[:n]) if start else None    # a start far from the limits: branches outside them
+    fast, slow = _both(lambda: armkit.ik_all(robot, target, q0, enforce_limits=enforce))
+    _assert_same(fast, slow)
+    fast, slow = _both(lambda: armkit.ik(robot, target, q0, enforce_limits=enforce))
+    _assert_same(fast, slow)
+    # and the answer itself: every successful branch reaches the target (FK of the true model)
+    res = armkit.ik_all(robot, target, q0, enforce_limits=enforce)
+    if res.success.any():
+        got = armkit.fk(robot, res.q[res.success])
+        want = target if target.shape == (4, 4) else None
+        err = np.abs(got[:, :3, 3] - (target[:3, 3] if want is not None else target)).max()
+        assert err <= 1e-9 * max(1.0, robot.reach)
+        if want is not None:
+            assert np.abs(got[:, :3, :3] - want[:3, :3]).max() <= 1e-8
+
+
+@pytest.mark.parametrize("name", sorted(ARMS))
+def test_one_call_is_taken(name, rng):
+    """The path under test answers typical targets itself (else the test above compares a path with itself)."""
+    robot = _arm(name)
+    hits = 0
+    for _ in range(20):
+        target = _target(robot, ARMS[name], robot.random_q(rng=rng), 1.0)
+        hits += single_call(robot, closed_form(robot), target, None, None) is not None
+    assert hits >= 15
+
+
+def test_unreachable_messages_and_limits():
+    """An unreachable UR5 target and a Puma target with branches outside the limits: the sentences of
+    the batched path (the family's reach sentence, the limit sentence), in the same order."""
+    ur5 = _arm("ur5")
+    T = armkit.fk(ur5, np.array([0.3, -1.0, 1.2, 0.4, 0.9, -0.2]))
+    T[:3, 3] *= 3.0
+    fast, slow = _both(lambda: armkit.ik_all(ur5, T))
+    _assert_same(fast, slow)
+    assert not fast.success.any() and all(m.startswith("unreachable") for m in fast.message)
+    puma = _arm("puma560")
+    T = armkit.fk(puma, np.array([0.2, 0.4, -0.3, 0.5, 0.6, 0.7]))
+    fast, slow = _both(lambda: armkit.ik_all(puma, T))
+    _assert_same(fast, slow)
+    assert (fast.reason == "joint limits").any() and fast.success.any()
+    assert list(fast.success) == sorted(fast.success, reverse=True)     # successful branches first
+
+
+def test_bad_targets_raise_as_before():
+    ur5 = _arm("ur5")
+    bad = np.eye(4)
+    bad[0, 0] = 2.0
+    for target, error in ((bad, ShapeError), (np.full((4, 4), np.nan), ShapeError)):
+        with pytest.raises(error):
+            armkit.ik_all(ur5, target)
+        with pytest.raises(error):
+            armkit.ik(ur5, target)
+    assert armkit.ik_all(ur5, bad, check=False).shape == (8,)       # unchecked: answered, not raised
+    with pytest.raises(IKInputError):
+        armkit.ik_all(ur5, np.array([0.3, 0.1, 0.2]))                # a position for a pose-only family
+
+
+def test_start_beyond_1e6_is_wrapped_as_before():
+    ur5 = _arm("ur5")
+    T = armkit.fk(ur5, np.array([0.3, -1.0, 1.2, 0.4, 0.9, -0.2]))
+    q0 = np.array([1e7, 0.0, 0.0, 0.0, 0.0, 0.0])
+    fast, slow = _both(lambda: armkit.ik_all(ur5, T, q0))
+    _assert_same(fast, slow)
+
+
+def test_fighter_keeps_its_collision_check():
+    fighter = _arm("fighter")
+    p = armkit.fk(fighter, np.radians([30.0, 45.0, 60.0]))[:3, 3]
+    fast, slow = _both(lambda: armkit.ik_all(fighter, p))
+    _assert_same(fast, slow)
+    assert fast.checked_against == ("ground", "torso")
+    fast, slow = _both(lambda: armkit.ik(fighter, p))
+    _assert_same(fast, slow)
+
+
+def test_ik_takes_fixed():
+    """``ik(..., fixed=)``: the nearest of ``ik_all(..., fixed=)``'s branches, the held joint kept exactly."""
+    panda = armkit.load("panda")
+    q = np.array([0.3, -0.5, 0.2, -2.0, 0.4, 1.6, 0.7])
+    T = armkit.fk(panda, q)
+    every = armkit.ik_all(panda, T, fixed={"panda_joint6": 1.6})
+    one = armkit.ik(panda, T, fixed={"panda_joint6": 1.6})
+    assert bool(one.success) and one.q[5] == 1.6
+    assert np.array_equal(one.q, every.q[0]) and str(one.branch) == str(every.branch[0])
+    assert np.allclose(armkit.fk(panda, one.q), T, atol=1e-9)
+    with pytest.raises(IKInputError):
+        armkit.ik(panda, T, fixed={"panda_joint6": 1.6}, method="lm")
