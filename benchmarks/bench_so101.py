@@ -26,7 +26,7 @@ commanded point). placo is optional: it pins an older pin, so ``make bench-so101
 
 Usage::
 
-    make bench-so101                                            # a few minutes on 2 cores (.venv-placo)
+    make bench-so101     # a few minutes on 2 cores (.venv-placo); then LeRobot's own class: tests/peers/test_lerobot_peer.py
     .venv/bin/python benchmarks/bench_so101.py --n 1000 --far 100  # without placo: armkit alone
 """
 

@@ -68,6 +68,7 @@ from typing import Any, Mapping
 
 import numpy as np
 
+from . import _jit_loader
 from .errors import ArgumentError, CalibrationInputError, CalibrationRangeWarning, UnreachableError
 from .locale import N_
 
@@ -534,6 +535,7 @@ class Calibration:
 
 # ====================================================================== the drop-in kinematics class
 _STAGES = ("pose", "direction", "pitch", "position")   # the compiled kernel's codes 0-3
+_PLAIN = (float, int, np.float64)                         # weights the compiled call takes as they are
 
 
 def _rotation_angle(Tq: np.ndarray, T: np.ndarray) -> float:
@@ -627,10 +629,11 @@ class RobotKinematics:
                 raise ArgumentError(f"joint_names names a joint twice: {names}")
         self.joint_names = names
         self._index = np.array([names.index(n) for n in chain], dtype=np.int64)
+        self._k = len(names)
         self._last_result: Any = None
-        self._fast_answer: tuple[np.ndarray, np.ndarray, str] | None = None   # last_result, built when read
+        self._fast_answer: tuple[np.ndarray, str] | None = None   # (info, stage): last_result, built when read
+        self._pose_error: Any = None    # a tuple, or the compiled call's info (its first two values)
         self.last_stage: str | None = None
-        self.last_pose_error: tuple[float, float] | None = None
         from .ik import closed_form_family
 
         self._pitch = closed_form_family(self.robot) == "yaw-pitch3"
@@ -641,7 +644,8 @@ class RobotKinematics:
         from .ik.result import default_tolerance
 
         self._tol = default_tolerance(self.robot)
-        self._fast_g: np.ndarray | None = None
+        self._ctx: np.ndarray | None = None    # the compiled call's constants (geometry, tolerances, indices)
+        self._teleop: Any = None               # and the call itself, while the Numba back end serves
 
     @property
     def last_result(self) -> Any:
@@ -650,9 +654,10 @@ class RobotKinematics:
             from .ik.analytic.yaw_pitch3 import branch_label
             from .ik.result import IKResult
 
-            q, info, stage = self._fast_answer
+            info, stage = self._fast_answer
             err = {"pose": info[1], "direction": info[2], "pitch": info[2]}.get(stage, 0.0)
-            self._last_result = IKResult(q=q, success=np.array(True), position_error=np.float64(info[0]),
+            self._last_result = IKResult(q=info[4:9].copy(), success=np.array(True),
+                                         position_error=np.float64(info[0]),
                                          rotation_error=np.float64(err), iterations=np.int64(0),
                                          branch=np.array(branch_label(int(info[3])), dtype=object),
                                          within_limits=np.array(True), reason=np.str_("converged"),
@@ -662,6 +667,18 @@ class RobotKinematics:
     @last_result.setter
     def last_result(self, value: Any) -> None:
         self._last_result, self._fast_answer = value, None
+
+    @property
+    def last_pose_error(self) -> tuple[float, float] | None:
+        """``(position error in m, rotation error in rad)`` of the last answer against the whole desired pose."""
+        e = self._pose_error
+        if isinstance(e, np.ndarray):
+            e = self._pose_error = (float(e[0]), float(e[1]))
+        return e
+
+    @last_pose_error.setter
+    def last_pose_error(self, value: tuple[float, float] | None) -> None:
+        self._pose_error = value
 
     def __repr__(self) -> str:
         return (f"RobotKinematics({self.urdf_path!r}, target_frame_name={self.target_frame_name!r}, "
@@ -692,9 +709,32 @@ class RobotKinematics:
         answer has its length, with joints off the chain (the jaw) unchanged. See the class notes for
         what is solved, ``last_result`` / ``last_stage`` / ``last_pose_error`` for what was reached.
         """
-        fast = self._fast_ik(current_joint_pos, desired_ee_pose, position_weight, orientation_weight)
-        if fast is not None:
-            return fast
+        call = self._teleop
+        if call is None or _jit_loader._ACTIVE is None:
+            call = self._compiled_call()
+        if call is not None:      # one compiled call; None where the NumPy path must answer (it says why)
+            if type(orientation_weight) in _PLAIN and type(position_weight) in _PLAIN \
+                    and orientation_weight >= 0 and position_weight >= 0:       # (NaN fails >= 0, inf is caught below)
+                cc: np.ndarray | None
+                try:
+                    cc = np.ascontiguousarray(current_joint_pos, dtype=np.float64)
+                    Tc = np.ascontiguousarray(desired_ee_pose, dtype=np.float64)
+                except (TypeError, ValueError, OverflowError):
+                    cc = Tc = None       # the NumPy path says what is wrong
+                if cc is not None and Tc is not None and cc.ndim == 1 and cc.shape[0] >= self._k \
+                        and Tc.shape == (4, 4) and orientation_weight != math.inf and position_weight != math.inf:
+                    out = np.empty(cc.shape[0])
+                    info = np.empty(9)
+                    code = call(self._ctx, cc, Tc, orientation_weight > 0, out, info)
+                    if code >= 0:
+                        stage = _STAGES[code]
+                        self._last_result, self._fast_answer = None, (info, stage)
+                        self.last_stage, self._pose_error = stage, info
+                        return out
+                    if code == -3:   # no pose, direction or pitch from here: the position alone, as the NumPy path ends
+                        fast = self._position_only(cc, Tc)
+                        if fast is not None:
+                            return fast
         from .ik import ik
         from .kinematics import fk
         from .spatial import check_transform
@@ -740,11 +780,10 @@ class RobotKinematics:
         out[self._index] = np.degrees(q)
         return out
 
-    def _fast_ik(self, current_joint_pos: Any, desired_ee_pose: Any, position_weight: Any,
-                 orientation_weight: Any) -> np.ndarray | None:
-        """:meth:`inverse_kinematics` in one compiled call (:func:`armkit.ik.analytic._yaw_pitch3_jit.teleop_call`)
-        for a 5-joint arm of the SO-101's shape; None where the NumPy path must answer (another arm, the
-        NumPy back end, input it rejects with a message, or a target the kernel does not solve)."""
+    def _compiled_call(self) -> Any:
+        """The compiled :meth:`inverse_kinematics` (:func:`armkit.ik.analytic._yaw_pitch3_jit.teleop_ctx`) for a
+        5-joint arm of the SO-101's shape while the Numba back end serves, else None. Its constants (geometry,
+        tolerances, the chain's indices) are packed once (``self._ctx``); the kernel is kept for the next calls."""
         if not self._pitch:
             return None
         from .ik.analytic.yaw_pitch3 import fast_geometry, fast_kernels
@@ -752,30 +791,13 @@ class RobotKinematics:
         kern: Any = fast_kernels()
         if kern is None:
             return None
-        g = self._fast_g
-        if g is None:
-            g = self._fast_g = fast_geometry(self.robot)
+        if self._ctx is None:
+            g = fast_geometry(self.robot)
             if g is None:
                 return None
-        for w in (position_weight, orientation_weight):
-            if type(w) not in (float, int, np.float64) or not math.isfinite(w) or w < 0:
-                return None
-        cur = np.asarray(current_joint_pos, dtype=float)
-        T = np.asarray(desired_ee_pose, dtype=float)
-        if cur.ndim != 1 or cur.shape[0] < len(self.joint_names) or T.shape != (4, 4):
-            return None
-        out = np.empty(cur.shape[0])
-        info = np.empty(9)
-        code = kern.teleop_call(g, np.ascontiguousarray(cur), self._index, np.ascontiguousarray(T),
-                                bool(orientation_weight > 0), self._tol[0], self._tol[1], out, info)
-        if code == -3:   # no pose, direction or pitch from here: the position alone (LM), as the NumPy path ends
-            return self._position_only(cur, T)
-        if code < 0:
-            return None
-        stage = _STAGES[code]
-        self._last_result, self._fast_answer = None, (info[4:], info, stage)
-        self.last_stage, self.last_pose_error = stage, (float(info[0]), float(info[1]))
-        return out
+            self._ctx = kern.pack_context(g, self._tol, self._index)
+        self._teleop = kern.teleop_ctx
+        return self._teleop
 
     def _position_only(self, cur: np.ndarray, T: np.ndarray) -> np.ndarray | None:
         """The last stage of :meth:`inverse_kinematics` alone (the kernel found no pose, direction or pitch)."""

@@ -46,7 +46,8 @@ def kin(compiled):
 def _slow(kin: RobotKinematics, monkeypatch, *args, **kw):
     """The same call by the NumPy path (the compiled one switched off for it)."""
     with monkeypatch.context() as m:
-        m.setattr(kin, "_fast_ik", lambda *a, **k: None)
+        m.setattr(kin, "_compiled_call", lambda: None)
+        m.setattr(kin, "_teleop", None)
         out = kin.inverse_kinematics(*args, **kw)
         return out, kin.last_stage, kin.last_result, kin.last_pose_error
 
@@ -207,3 +208,65 @@ def test_numpy_back_end_answers_without_the_kernels(kin):
         assert np.allclose(slow, fast, atol=1e-7)
     finally:
         armkit.set_backend(before)
+
+
+def test_last_result_is_not_changed_by_the_next_call(kin):
+    cur = np.array([0.0, -20.0, 30.0, 50.0, 0.0, 0.0])
+    T = kin.forward_kinematics(cur)
+    T[:3, 3] += [0.003, 0.0, 0.002]
+    out = kin.inverse_kinematics(cur, T)
+    first = kin.last_result
+    q_first, err_first = np.array(first.q), kin.last_pose_error
+    assert np.allclose(np.radians(out[:5]), q_first, atol=1e-12)           # last_result's q is the answer's
+    T2 = kin.forward_kinematics(np.array([30.0, 10.0, -20.0, 10.0, 40.0, 0.0]))
+    kin.inverse_kinematics(out, T2)
+    assert np.array_equal(first.q, q_first)                  # the compiled call writes fresh buffers each time
+    assert kin.last_result is not first and kin.last_pose_error != err_first
+
+
+@pytest.mark.parametrize("weight", [True, float("nan"), float("inf"), -1.0])
+def test_bad_weights_get_the_numpy_paths_message(kin, weight):
+    cur = np.zeros(6)
+    T = kin.forward_kinematics(cur)
+    kin.inverse_kinematics(cur, T)                           # the compiled call is set up
+    with pytest.raises(ArgumentError, match="orientation_weight must be a finite number >= 0"):
+        kin.inverse_kinematics(cur, T, orientation_weight=weight)
+
+
+def test_list_input_takes_the_compiled_call(kin):
+    cur = [12.0, -30.0, 45.0, 20.0, -5.0, 33.0]
+    T = kin.forward_kinematics(np.array(cur))
+    out = kin.inverse_kinematics(cur, T.tolist())
+    assert np.array_equal(out, cur) and kin.last_stage == "pose"
+
+
+def test_pitch_branches_polish_mask_gives_the_same_rows(compiled):
+    """``polish`` (a bit mask) polishes only the branches asked for; a branch polished alone comes out bit for bit
+    as when all are polished (direction_branches polishes its starts one at a time, when their turn comes)."""
+    from armkit.ik.analytic import _yaw_pitch3_jit as kern
+
+    arm = compiled
+    g = fast_geometry(arm)
+    tol = (1e-9, 1e-9)
+    q = arm.random_q(40, rng=77)
+    P = armkit.fk(arm, q)[:, :3, 3]
+    psi = pitch_of(arm, q)
+    out = [np.empty((4, 5)), np.empty(4), np.empty(4), np.empty(4, dtype=bool), np.empty(4, dtype=bool),
+           np.empty(4, dtype=np.int64)]
+    one = [np.empty_like(a) for a in out]
+    for i in range(len(q)):
+        kern.pitch_branches(g, P[i], psi[i], q[i], tol[0], tol[1], True, np.inf, *out, 15)
+        for j in range(4):
+            kern.pitch_branches(g, P[i], psi[i], q[i], tol[0], tol[1], True, np.inf, *one, 1 << j)
+            assert np.array_equal(one[0][j], out[0][j]) and one[1][j] == out[1][j] and one[3][j] == out[3][j]
+        kern.pitch_branches(g, P[i], psi[i], q[i], tol[0], tol[1], True, np.inf, *one, 0)
+        assert np.allclose(one[0], out[0], atol=1e-2)        # the closed form alone: near the polished branches
+
+
+def test_direction_part_is_its_own_module():
+    from armkit.ik.analytic import yaw_pitch3, yaw_pitch3_direction
+
+    assert yaw_pitch3.solve_direction is yaw_pitch3_direction.solve_direction
+    assert yaw_pitch3._polish_direction is yaw_pitch3_direction._polish_direction
+    with pytest.raises(AttributeError):
+        yaw_pitch3.no_such_name  # noqa: B018

@@ -17,6 +17,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from .._text import Fielded
 from ..errors import ShapeError
 from ..model.robot import Robot
 from .result import IKResult
@@ -30,15 +31,16 @@ def _values(value: ArrayLike, name: str, lead: tuple[int, ...], tail: tuple[int,
     try:
         v = np.asarray(value, dtype=float)
     except (TypeError, ValueError) as exc:
-        raise ShapeError(f"{name} must be numeric, got {value!r}"[:300]) from exc
+        raise ShapeError.of("{name} must be numeric, got {got}", name=name, got=f"{value!r}"[:250]) from exc
     try:
         v = np.broadcast_to(v, lead + tail)
     except ValueError as exc:
-        want = "a number" if not tail else f"shape {tail}"
-        raise ShapeError(f"{name} must be {want} or broadcast to the target's leading shape {lead}, "
-                         f"got shape {v.shape}") from exc
+        raise (ShapeError.of("{name} must be a number or broadcast to the target's leading shape {lead}, got shape "
+                             "{shape}", name=name, lead=lead, shape=v.shape) if not tail else
+               ShapeError.of("{name} must be shape {tail} or broadcast to the target's leading shape {lead}, got shape "
+                             "{shape}", name=name, tail=tail, lead=lead, shape=v.shape)) from exc
     if not np.all(np.isfinite(v)):
-        raise ShapeError(f"{name} contains NaN or infinite values")
+        raise ShapeError.of("{what} contains NaN or infinite values", what=name)
     return v
 
 
@@ -46,11 +48,12 @@ def _positions(target: ArrayLike, what: str) -> tuple[Array, tuple[int, ...]]:
     try:
         t = np.asarray(target, dtype=float)
     except (TypeError, ValueError) as exc:
-        raise ShapeError(f"target must be numeric, got {target!r}"[:300]) from exc
+        raise ShapeError.of("{name} must be numeric, got {got}", name="target", got=f"{target!r}"[:250]) from exc
     if t.ndim == 0 or t.shape[-1] != 3:
-        raise ShapeError(f"{what} goes with a position target (..., 3); got shape {t.shape}")
+        raise ShapeError.of("{what} goes with a position target (..., 3); got shape {shape}", what=what,
+                            shape=t.shape)
     if not np.all(np.isfinite(t)):
-        raise ShapeError("target contains NaN or infinite values")
+        raise ShapeError.of("{what} contains NaN or infinite values", what="target")
     return t.reshape(-1, 3), t.shape[:-1]
 
 
@@ -88,29 +91,30 @@ def ik_direction(robot: Robot, target: ArrayLike, q0: ArrayLike | None, directio
     from .api import IKInputError, _normalise_q0, _reshape
 
     if method not in ("auto", "analytic", "lm", "newton"):
-        raise IKInputError(f"direction= is solved in closed form ('analytic', for a yaw + three pitch joints arm such "
-                           f"as the SO-101) or by the numeric methods 'lm' and 'newton' (or 'auto'); got method "
-                           f"{method!r}")
-    for name, value, text in (("mask", mask, "direction= uses the mask (1, 1, 1, 1, 1, 0)"),
-                              ("phi", phi, "phi= is for planar (x, y) targets"),
-                              ("branch", branch, "branch= picks a closed-form solution; direction= is numeric"),
-                              ("scene", scene, "scene= is not available with direction= yet")):
+        raise IKInputError.of("direction= is solved in closed form ('analytic', for a yaw + three pitch joints arm "
+                              "such as the SO-101) or by the numeric methods 'lm' and 'newton' (or 'auto'); got method "
+                              "{method!r}", method=method)
+    for value, text in ((mask, "mask= does not go with direction=: direction= uses the mask (1, 1, 1, 1, 1, 0)"),
+                        (phi, "phi= does not go with direction=: phi= is for planar (x, y) targets"),
+                        (branch, "branch= does not go with direction=: branch= picks a closed-form solution; "
+                                 "direction= is numeric"),
+                        (scene, "scene= does not go with direction=: scene= is not available with direction= yet")):
         if value is not None:
-            raise IKInputError(f"{name}= does not go with direction=: {text}")
+            raise IKInputError.of(text)
     p, lead = _positions(target, "direction=")
     d = _values(direction, "direction", lead, (3,)).reshape(-1, 3)
     norm = np.linalg.norm(d, axis=-1)
     if np.any(norm < 1e-12):
-        raise ShapeError("direction must be a non-zero 3-vector (the way the tool's z axis should point)")
+        raise ShapeError.of("direction must be a non-zero 3-vector (the way the tool's z axis should point)")
     z = d / norm[:, None]
     q = _normalise_q0(robot, q0, lead)
     solver = None
     if method in ("auto", "analytic"):   # a yaw-pitch3 arm: the direction is a pitch (closed form, issue 20)
         solver = _pitch_solver(robot)
         if solver is None and method == "analytic":
-            raise IKInputError(f"robot {robot.name!r} has no closed form for a position and a pointing direction "
-                               "(that is for arms with a yaw joint and three parallel pitch joints, like the SO-101); "
-                               "use method='lm'")
+            raise IKInputError.of("robot {robot!r} has no closed form for a position and a pointing direction (that "
+                                  "is for arms with a yaw joint and three parallel pitch joints, like the SO-101); use "
+                                  "method='lm'", robot=robot.name)
     if solver is not None and not numeric.get("trace"):   # the compiled kernels first (issue 20)
         fast, solved = nearest_direction(robot, p, z, q, _direction_tol(robot, numeric.get("tol")),
                                          bool(numeric.get("enforce_limits", True)))
@@ -132,7 +136,7 @@ def _direction_flat(robot: Robot, p: Array, z: Array, q: Array, method: str, sol
     closed = None
     if method in ("auto", "analytic"):
         if solver is not None:
-            from .analytic.yaw_pitch3 import solve_direction
+            from .analytic.yaw_pitch3_direction import solve_direction
 
             every = solve_direction(robot, solver, p, z, q, _direction_tol(robot, numeric.get("tol")),
                                     bool(numeric.get("enforce_limits", True)))
@@ -181,7 +185,7 @@ def _direction_flat(robot: Robot, p: Array, z: Array, q: Array, method: str, sol
 def nearest_direction(robot: Robot, p: Array, z: Array, q0: Array, tol: tuple[float, float],
                       enforce_limits: bool) -> tuple[IKResult | None, NDArray[np.bool_]]:
     """The successful configuration nearest ``q0`` for positions ``p`` and unit directions ``z`` (B, 3), by the
-    compiled kernels of :mod:`armkit.ik.analytic._yaw_pitch3_jit` (``direction_branches``), one row at a time.
+    compiled kernels of :mod:`armkit.ik.analytic._yaw_pitch3_jit`, all rows in one call (``nearest_direction_rows``).
 
     Returns ``(result, solved)``: ``result`` fields (B, ...) (``q`` (B, n)), valid on the rows ``solved`` (B,).
     The other rows (a direction within 1e-4 of vertical, where the NumPy path sweeps the roll; no success,
@@ -197,41 +201,10 @@ def nearest_direction(robot: Robot, p: Array, z: Array, q0: Array, tol: tuple[fl
     if g is None:
         return None, solved
     kern: Any = fast_kernels()
-    Q, DP, DA = np.empty((16, 5)), np.empty(16), np.empty(16)
-    OK, LAB = np.zeros(16, dtype=bool), np.zeros(16, dtype=np.int64)
-    T = np.zeros((4, 4))   # no whole pose wanted: a zero rotation is never met, so no candidate is preferred
-    X, Z, P = np.empty((3, 4)), np.empty((5, 3)), np.empty((5, 3))
-    near = 6e-3 * float(g[kern.G_REACH])   # yaw_pitch3.solve_direction polishes the candidates this close
     q, dp, da = np.empty((B, 5)), np.full(B, np.inf), np.full(B, np.inf)
     lab = np.zeros(B, dtype=np.int64)
     pc, zc, qc = (np.ascontiguousarray(a, dtype=float) for a in (p, z, q0))
-    for i in range(B):
-        m = kern.direction_branches(g, pc[i], zc[i], T, qc[i], float(tol[0]), float(tol[1]), Q, DP, DA, OK, LAB)
-        if m <= 0:
-            continue
-        # the kernel stops at its first success (polishing nearest start first); a farther start may still polish
-        # into a nearer solution, and the NumPy path polishes them all: so the rest here, as it does. A candidate
-        # whose polish stopped (converging slowly, near a singularity) goes on from where it stopped: the NumPy
-        # polish has no such stop
-        pi, zi, q0i = pc[i], zc[i], qc[i]
-        d0, d1, d2 = zi.tolist()
-        for c in np.flatnonzero(~OK[:m] & (DP[:m] <= near)).tolist():
-            qb = Q[c]   # a view: polished in place
-            kern._polish_direction(g, qb, pi, zi, 40, X, Z, P)
-            kern._wrap_limits(g, qb, q0i)
-            kern._fk(g, qb, X, Z, P)
-            x0, x1, x2 = X[:, 2].tolist()   # plain floats: np.cross costs 25 us
-            e_p = math.dist(pi, X[:, 3])
-            e_a = math.atan2(math.hypot(x1 * d2 - x2 * d1, x2 * d0 - x0 * d2, x0 * d1 - x1 * d0),
-                             x0 * d0 + x1 * d1 + x2 * d2)
-            DP[c], DA[c] = e_p, e_a
-            OK[c] = e_p <= tol[0] and e_a <= tol[1] and kern._within(g, qb)
-        best = kern._nearest(Q, OK, m, qc[i])
-        if best < 0 or any(kern._within(g, Q[c]) for c in np.flatnonzero(
-                ~OK[:m] & (DP[:m] <= 1e-2 * near) & (DA[:m] <= 1e-3)).tolist()):
-            continue   # none, or a polish stalled next to a solution (slow convergence): the NumPy polish goes on
-        solved[i] = True
-        q[i], dp[i], da[i], lab[i] = Q[best], DP[best], DA[best], LAB[best]
+    kern.nearest_direction_rows(g, pc, zc, qc, float(tol[0]), float(tol[1]), q, dp, da, lab, solved)
     q[~solved] = q0[~solved]
     res = IKResult(q=q, success=solved.copy(), position_error=dp, rotation_error=da,
                    iterations=np.zeros(B, dtype=np.int64), branch=_LABELS[lab], within_limits=solved.copy(),
@@ -279,21 +252,21 @@ def ik_direction_all(robot: Robot, target: ArrayLike, q0: ArrayLike | None, dire
                      enforce_limits: bool = True, scene: Any = None, phi: Any = None) -> IKResult:
     """:func:`armkit.ik_all` with ``direction=``: every closed-form branch of a yaw-pitch3 arm (front/back x
     elbow), the tool's z axis along ``direction`` (:func:`armkit.ik.analytic.yaw_pitch3.solve_direction`)."""
-    from .analytic.yaw_pitch3 import solve_direction
+    from .analytic.yaw_pitch3_direction import solve_direction
     from .api import IKInputError, _normalise_q0, _reshape, _tolerance
 
     if phi is not None:
-        raise IKInputError("phi= is for planar (x, y) targets; it does not go with direction=")
+        raise IKInputError.of("phi= is for planar (x, y) targets; it does not go with direction=")
     solver = _pitch_solver(robot)
     if solver is None:
-        raise IKInputError(f"robot {robot.name!r} has no closed form for a position and a pointing direction "
-                           "(ik_all with direction= is for arms with a yaw joint and three parallel pitch joints, "
-                           "like the SO-101); use armkit.ik(..., direction=...) (numeric)")
+        raise IKInputError.of("robot {robot!r} has no closed form for a position and a pointing direction (ik_all "
+                              "with direction= is for arms with a yaw joint and three parallel pitch joints, like the "
+                              "SO-101); use armkit.ik(..., direction=...) (numeric)", robot=robot.name)
     p, lead = _positions(target, "direction=")
     d = _values(direction, "direction", lead, (3,)).reshape(-1, 3)
     norm = np.linalg.norm(d, axis=-1)
     if np.any(norm < 1e-12):
-        raise ShapeError("direction must be a non-zero 3-vector (the way the tool's z axis should point)")
+        raise ShapeError.of("direction must be a non-zero 3-vector (the way the tool's z axis should point)")
     q = _normalise_q0(robot, q0, lead)
     res = solve_direction(robot, solver, p, d / norm[:, None], q, _tolerance(robot, tol), enforce_limits)
     if scene is not None:   # success also means collision-free (armkit.collision)
@@ -311,12 +284,12 @@ def ik_pitch(robot: Robot, target: ArrayLike, q0: ArrayLike | None, pitch: Array
     from .api import IKInputError, _analytic_solver, _normalise_q0, _reshape, _tolerance
 
     if method not in ("auto", "analytic"):
-        raise IKInputError(f"pitch= is solved in closed form (method 'auto' or 'analytic'), got method {method!r}; "
-                           "for a numeric solve give the pointing direction instead (direction=)")
+        raise IKInputError.of("pitch= is solved in closed form (method 'auto' or 'analytic'), got method {method!r}; "
+                              "for a numeric solve give the pointing direction instead (direction=)", method=method)
     if mask is not None:
-        raise IKInputError("mask= is for the numeric methods; pitch= is solved in closed form")
+        raise IKInputError.of("mask= is for the numeric methods; pitch= is solved in closed form")
     if phi is not None:
-        raise IKInputError("phi= is for planar (x, y) targets; it does not go with pitch=")
+        raise IKInputError.of("phi= is for planar (x, y) targets; it does not go with pitch=")
     p, lead = _positions(target, "pitch=")
     psi = _values(pitch, "pitch", lead).reshape(-1)
     why: list[str] = []
@@ -343,7 +316,8 @@ def ik_pitch(robot: Robot, target: ArrayLike, q0: ArrayLike | None, pitch: Array
     hit = res.branch == branch
     if not hit.any(axis=1).all():
         valid = sorted(set(np.asarray(res.branch).ravel().tolist()))
-        raise IKInputError(f"unknown branch {branch!r} for robot {robot.name!r}; valid branches: " + ", ".join(valid))
+        raise IKInputError.of("unknown branch {name!r} for robot {robot!r}; valid branches: {names}", name=branch,
+                              robot=robot.name, names=", ".join(valid))
     return _reshape(res[rows, np.argmax(hit, axis=1)], lead)
 
 
@@ -361,7 +335,7 @@ def too_few_joints(prob: Any, res: IKResult, failed: NDArray[np.intp], seed: Any
 
     robot = prob.robot
     n, weights = robot.n, int(np.count_nonzero(prob.w > 0))
-    what = "an arbitrary orientation" if weights == 6 else "this position and pointing direction"
+    what = "an arbitrary orientation" if weights == 6 else "this position and pointing direction"   # terms
     sub = _subproblem(prob, failed)
     sub.q0 = np.asarray(res.q, dtype=float)[failed].copy()
     sub.w = np.where(np.arange(6) < 3, prob.w, prob.w * 1e-6)
@@ -371,14 +345,15 @@ def too_few_joints(prob: Any, res: IKResult, failed: NDArray[np.intp], seed: Any
     sub.position_only = True   # then the position exactly, from there (the orientation moves ~1e-6 rad)
     met = _solve(sub, "lm", 100, 0, seed, False, None, diagnose=False)
     dp, dr, _, _ = verify(robot, met.q, prob.target[failed], False, prob.tol, prob.enforce_limits)
-    out = []
+    out: list[str] = []
     for j, i in enumerate(failed):
         if dp[j] <= prob.tol[0]:
-            out.append(f"{n} joints cannot reach {what}; the nearest reachable pose (with the position met) misses "
-                       f"by {math.degrees(float(dr[j])):.3g} deg; q is the least-squares compromise found "
-                       "(1 m weighs as 1 rad)")
+            out.append(Fielded.of("{n} joints cannot reach {what}; the nearest reachable pose (with the position met) "
+                                  "misses by {angle}; q is the least-squares compromise found (1 m weighs as 1 rad)",
+                                  terms=("what",), n=n, what=what, angle=f"{math.degrees(float(dr[j])):.3g} deg"))
         else:
-            out.append(f"{n} joints cannot reach {what}; the nearest pose found misses by "
-                       f"{math.degrees(float(res.rotation_error[i])):.3g} deg and "
-                       f"{float(res.position_error[i]):.3g} {robot.unit}")
+            out.append(Fielded.of("{n} joints cannot reach {what}; the nearest pose found misses by {angle} and "
+                                  "{distance}", terms=("what",), n=n, what=what,
+                                  angle=f"{math.degrees(float(res.rotation_error[i])):.3g} deg",
+                                  distance=f"{float(res.position_error[i]):.3g} {robot.unit}"))
     return out

@@ -53,6 +53,7 @@ ELBOW = (0, 1, 0, 1)
 LATERAL_SLACK = 1e-5             # yaw_pitch3._LATERAL_SLACK
 NEAR_VERTICAL = 1e-4             # yaw_pitch3._NEAR_VERTICAL
 VERTICAL = 1e-6                  # yaw_pitch3._VERTICAL
+STALL_AFTER = 8                  # _polish_direction: a start that no longer falls 4x a step after this many is no solution
 
 # codes of teleop()
 POSE, DIRECTION, PITCH, POSITION, NUMPY, LM = 0, 1, 2, 3, -1, -3
@@ -253,7 +254,7 @@ def _polish_pitch(g, q, p, psi, steps, X, Z, P, ah):
 
 
 @njit(cache=True)
-def pitch_branches(g, p, psi, q0, tol0, tol1, enforce, margin, Q, DP, DR, OK, WI, LAB):
+def pitch_branches(g, p, psi, q0, tol0, tol1, enforce, margin, Q, DP, DR, OK, WI, LAB, polish=15):
     """The four branches for position ``p`` (3,) and pitch ``psi``, the roll kept at ``q0[4]``.
 
     Fills ``Q`` (4, 5), ``DP``, ``DR`` (4,), ``OK``, ``WI`` (4,) bool and ``LAB`` (4,) (label index of
@@ -261,6 +262,8 @@ def pitch_branches(g, p, psi, q0, tol0, tol1, enforce, margin, Q, DP, DR, OK, WI
     :data:`NOTE` (a stretched/folded elbow: the NumPy path gives a note). A failed branch at a
     straight elbow is polished again from a bent one, as the NumPy path does. ``margin``: polish only the
     branches within the limits to this much (rad; ``inf``: every branch near the target, as the NumPy path).
+    ``polish``: a bit mask of the branches to polish (bit ``j``: branch ``j``; default all); a branch left
+    out is the closed form's, checked by FK, bit for bit what the polish of it starts from.
     """
     X = np.empty((3, 4))
     Z = np.empty((5, 3))
@@ -326,7 +329,8 @@ def pitch_branches(g, p, psi, q0, tol0, tol1, enforce, margin, Q, DP, DR, OK, WI
         LAB[j] = 2 * (1 if f > 0 else 0) + (1 if up else 0)
         dp, dr = _pitch_error(g, qb, p, psi, X, Z, P, ah)
         wi = _within(g, qb)
-        if dp <= 6e-3 * scale and dr <= 6e-3 and (dp > 1e-13 * scale or dr > 1e-13) \
+        mine = (polish >> j) & 1 == 1
+        if mine and dp <= 6e-3 * scale and dr <= 6e-3 and (dp > 1e-13 * scale or dr > 1e-13) \
                 and _within(g, qb, margin):
             for m in range(5):
                 Q[j, m] = qb[m]
@@ -343,7 +347,7 @@ def pitch_branches(g, p, psi, q0, tol0, tol1, enforce, margin, Q, DP, DR, OK, WI
         DP[j], DR[j], WI[j] = dp, dr, wi
         ok = dp <= tol0 and dr <= tol1 and (wi or not enforce)
         elbow = qb[2] + g[G_THETA + 2]
-        if not ok and dp <= 6e-3 * g[G_REACH] and dr <= 6e-3 and abs(math.sin(elbow)) < 1e-2 \
+        if mine and not ok and dp <= 6e-3 * g[G_REACH] and dr <= 6e-3 and abs(math.sin(elbow)) < 1e-2 \
                 and _within(g, qb, margin):
             # at a stretched or folded elbow Newton cannot move outwards: start again from the elbow bent by
             # ~sqrt(error), on this branch's side (yaw_pitch3.solve_pitch)
@@ -384,7 +388,8 @@ def _dir_cost(g, q, p, d, X, Z, P, e):
 def _polish_direction(g, q, p, d, steps, X, Z, P):
     """Gauss-Newton on (position, tool z along ``d``) over the five joints, in place
     (yaw_pitch3._polish_direction: steps cut to 0.3 rad, halved up to 8 times until the error drops;
-    here it also stops where the error falls by less than 4x a step after the eighth: no solution)."""
+    here it also stops where the error falls by less than 4x a step after the eighth: no solution, and
+    where the step is below 1e-14 rad: converged)."""
     w = 1.0 / g[G_REACH]
     e = np.empty(6)
     J = np.empty((6, 5))
@@ -406,6 +411,8 @@ def _polish_direction(g, q, p, d, steps, X, Z, P):
         big = 0.0
         for j in range(5):
             big = max(big, abs(b[j]))
+        if big <= 1e-14:
+            return   # converged: the step is a few ulps of the joints (the halvings below would only find noise)
         if big > 0.3:
             for j in range(5):
                 b[j] *= 0.3 / big
@@ -422,9 +429,9 @@ def _polish_direction(g, q, p, d, steps, X, Z, P):
                 break
             for j in range(5):
                 b[j] *= 0.5
-        if not moved or (it >= 8 and cost > 0.25 * before and cost > 1e-24):
+        if not moved or (it >= STALL_AFTER and cost > 0.25 * before and cost > 1e-24):
             return   # stalled: a start that is no solution (a solution converges quadratically from ~1e-6)
-        _dir_cost(g, q, p, d, X, Z, P, e)   # X, Z, P, e of q for the next step
+        # X, Z, P, e hold q's values already: the accepted trial was the last _dir_cost call
 
 
 @njit(cache=True)
@@ -444,15 +451,27 @@ def direction_pitch(g, p, d):
 
 
 @njit(cache=True)
-def direction_branches(g, p, d, T, q0, tol0, tol1, Q, DP, DA, OK, LAB):
+def _pitch_start(g, p, psi, q0, roll, j, tol0, tol1, q0r, Qp, DPp, DRp, OKp, WIp, LABp):
+    """Branch ``j`` of :func:`pitch_branches` at the roll ``roll``, polished on (position, pitch) into row ``j`` of
+    ``Qp`` ...: the start of the direction polish. False when it is no start (too far, or outside the limits)."""
+    for k in range(5):
+        q0r[k] = q0[k]
+    q0r[4] = roll
+    pitch_branches(g, p, psi, q0r, tol0, tol1, False, 1e-3, Qp, DPp, DRp, OKp, WIp, LABp, 1 << j)
+    return DPp[j] <= 6e-3 * g[G_REACH] and _within(g, Qp[j], 1e-3)
+
+
+@njit(cache=True)
+def direction_branches(g, p, d, T, q0, tol0, tol1, Q, DP, DA, OK, LAB, ROLL, STARTED):
     """Position ``p`` and the tool's z axis along the unit ``d``: the nearest successful configurations.
 
     ``T`` (4, 4) is the whole desired pose: candidates are polished nearest ``q0`` first, until the
     nearest direction solution is found and no farther candidate can meet ``T`` too (or one does).
     Fills ``Q`` (16, 5) with every candidate (4 rolls x 4 branches), ``DP`` (16,) position error,
     ``DA`` (16,) angle (rad) between the tool's z axis and ``d``, ``OK`` (16,), ``LAB`` (16,) the
-    label index; returns the number
-    of candidates tried, or -1 for a direction within 1e-4 of vertical (the NumPy path sweeps the
+    label index, ``ROLL`` (16,) the roll each came from and ``STARTED`` (16,) whether it was polished on
+    (position, pitch) (the others are the closed form's, which is cheap: the polish comes when a candidate's
+    turn comes, see :func:`_pitch_start`); returns the number of candidates tried, or -1 for a direction within 1e-4 of vertical (the NumPy path sweeps the
     roll there).
     """
     B = G_BASE_INV
@@ -503,12 +522,14 @@ def direction_branches(g, p, d, T, q0, tol0, tol1, Q, DP, DA, OK, LAB):
         for k in range(5):
             q0r[k] = q0[k]
         q0r[4] = rolls[i]
-        pitch_branches(g, p, psi, q0r, tol0, tol1, False, 1e-3, Qp, DPp, DRp, OKp, WIp, LABp)
+        # the closed form only: a start is polished (as the NumPy path polishes them all) when its turn comes
+        pitch_branches(g, p, psi, q0r, tol0, tol1, False, 1e-3, Qp, DPp, DRp, OKp, WIp, LABp, 0)
         for j in range(4):
             for k in range(5):
                 Q[m, k] = Qp[j, k]
                 qb[k] = Qp[j, k]
             DP[m], DA[m], LAB[m], OK[m] = DPp[j], np.inf, LABp[j], False
+            ROLL[m], STARTED[m] = rolls[i], False
             # the polish moves the joints by ~1e-6 rad: a start outside the limits by more cannot succeed
             if DPp[j] <= 6e-3 * g[G_REACH] and _within(g, qb, 1e-3):
                 s = 0.0
@@ -528,8 +549,14 @@ def direction_branches(g, p, d, T, q0, tol0, tol1, Q, DP, DA, OK, LAB):
             break
         if found and not posey[c]:
             continue
+        STARTED[c] = True
+        if not _pitch_start(g, p, psi, q0, rolls[c // 4], c % 4, tol0, tol1, q0r, Qp, DPp, DRp, OKp, WIp, LABp):
+            for k in range(5):
+                Q[c, k] = Qp[c % 4, k]
+            DP[c] = DPp[c % 4]
+            continue
         for k in range(5):
-            qb[k] = Q[c, k]
+            qb[k] = Qp[c % 4, k]
         _polish_direction(g, qb, p, d, 40, X, Z, P)
         _wrap_limits(g, qb, q0)
         _fk(g, qb, X, Z, P)
@@ -552,6 +579,83 @@ def direction_branches(g, p, d, T, q0, tol0, tol1, Q, DP, DA, OK, LAB):
             if not more:
                 break
     return m
+
+
+@njit(cache=True)
+def nearest_direction_rows(g, P, D, Q0, tol0, tol1, q_out, dp_out, da_out, lab_out, solved):
+    """``armkit.ik(arm, P, direction=D, q0=Q0)`` for rows ``P``, ``D``, ``Q0`` in one call: per row the successful
+    configuration nearest ``Q0[i]``, as :func:`.yaw_pitch3.solve_direction` finds it.
+
+    :func:`direction_branches` polishes the candidates nearest first and stops at the first success; a farther
+    candidate may still polish into a nearer solution, and the NumPy path polishes them all: so every other
+    candidate near the target is polished here too (on (position, pitch), then on (position, direction)), and
+    one whose polish stopped goes on from where it stopped. Writes ``q_out`` (B, 5), ``dp_out``, ``da_out``
+    (B,), ``lab_out`` (B,) (label index) and ``solved`` (B,): False for a direction within 1e-4 of vertical,
+    no success, or a polish that stalled next to a solution (slow convergence): the NumPy path answers those.
+    """
+    Q = np.empty((16, 5))
+    DP = np.empty(16)
+    DA = np.empty(16)
+    OK = np.zeros(16, dtype=np.bool_)
+    LAB = np.zeros(16, dtype=np.int64)
+    ROLL = np.empty(16)
+    STARTED = np.zeros(16, dtype=np.bool_)
+    T = np.zeros((4, 4))   # no whole pose wanted: a zero rotation is never met, so no candidate is preferred
+    X = np.empty((3, 4))
+    Z = np.empty((5, 3))
+    Pf = np.empty((5, 3))
+    q0r = np.empty(5)
+    Qp = np.empty((4, 5))
+    DPp = np.empty(4)
+    DRp = np.empty(4)
+    OKp = np.empty(4, dtype=np.bool_)
+    WIp = np.empty(4, dtype=np.bool_)
+    LABp = np.empty(4, dtype=np.int64)
+    qb = np.empty(5)
+    near = 6e-3 * g[G_REACH]   # yaw_pitch3.solve_direction polishes the candidates this close
+    for i in range(P.shape[0]):
+        solved[i] = False
+        p, d, q0 = P[i], D[i], Q0[i]
+        m = direction_branches(g, p, d, T, q0, tol0, tol1, Q, DP, DA, OK, LAB, ROLL, STARTED)
+        if m <= 0:
+            continue
+        psi = direction_pitch(g, p, d)
+        for c in range(m):
+            if OK[c]:
+                continue
+            if not STARTED[c]:       # the closed form's: its (position, pitch) polish first, as the NumPy path
+                _pitch_start(g, p, psi, q0, ROLL[c], c % 4, tol0, tol1, q0r, Qp, DPp, DRp, OKp, WIp, LABp)
+                for k in range(5):
+                    Q[c, k] = Qp[c % 4, k]
+                DP[c] = DPp[c % 4]
+            if DP[c] > near:
+                continue
+            for k in range(5):
+                qb[k] = Q[c, k]
+            _polish_direction(g, qb, p, d, 40, X, Z, Pf)
+            _wrap_limits(g, qb, q0)
+            _fk(g, qb, X, Z, Pf)
+            dx, dy, dz = p[0] - X[0, 3], p[1] - X[1, 3], p[2] - X[2, 3]
+            e_p = math.sqrt(dx * dx + dy * dy + dz * dz)
+            cx, cy, cz = _cross(X[0, 2], X[1, 2], X[2, 2], d[0], d[1], d[2])
+            e_a = math.atan2(math.sqrt(cx * cx + cy * cy + cz * cz), X[0, 2] * d[0] + X[1, 2] * d[1] + X[2, 2] * d[2])
+            for k in range(5):
+                Q[c, k] = qb[k]
+            DP[c], DA[c] = e_p, e_a
+            OK[c] = e_p <= tol0 and e_a <= tol1 and _within(g, qb)
+        best = _nearest(Q, OK, m, q0)
+        if best < 0:
+            continue
+        stalled = False
+        for c in range(m):
+            if not OK[c] and DP[c] <= 1e-2 * near and DA[c] <= 1e-3 and _within(g, Q[c]):
+                stalled = True
+        if stalled:
+            continue
+        solved[i] = True
+        for k in range(5):
+            q_out[i, k] = Q[best, k]
+        dp_out[i], da_out[i], lab_out[i] = DP[best], DA[best], LAB[best]
 
 
 # ------------------------------------------------------------------ RobotKinematics in one call
@@ -619,7 +723,9 @@ def teleop(g, T, q0, orient, tol0, tol1, q_out, info):
         DAd = np.empty(16)
         OKd = np.empty(16, dtype=np.bool_)
         LABd = np.empty(16, dtype=np.int64)
-        m = direction_branches(g, p, d, T, q0, tol0, tol1, Qd, DPd, DAd, OKd, LABd)
+        ROLLd = np.empty(16)
+        STd = np.empty(16, dtype=np.bool_)
+        m = direction_branches(g, p, d, T, q0, tol0, tol1, Qd, DPd, DAd, OKd, LABd, ROLLd, STd)
         if m < 0:
             return NUMPY
         if m > 0:
@@ -724,3 +830,28 @@ def teleop_call(g, cur_deg, index, T, orient, tol0, tol1, out_deg, info):
                 out_deg[index[k]] = math.degrees(q[k])
             info[4 + k] = q[k]
     return code
+
+
+C_TOL = G_SIZE          # context of teleop_ctx: the geometry, then the tolerances (2) and the chain's indices (5)
+C_INDEX = G_SIZE + 2
+C_SIZE = G_SIZE + 7
+
+
+def pack_context(g: np.ndarray, tol: tuple[float, float], index: np.ndarray) -> np.ndarray:
+    """The one array :func:`teleop_ctx` reads: geometry ``g`` (:func:`pack`), ``tol`` and the chain's ``index`` (5,)."""
+    ctx = np.empty(C_SIZE)
+    ctx[:G_SIZE] = g
+    ctx[C_TOL], ctx[C_TOL + 1] = tol
+    ctx[C_INDEX:C_INDEX + 5] = index
+    ctx.setflags(write=False)
+    return ctx
+
+
+@njit(cache=True)
+def teleop_ctx(ctx, cur_deg, T, orient, out_deg, info):
+    """:func:`teleop_call` with its constant arguments in one array (:func:`pack_context`): fewer arguments
+    for the dispatcher to check on every call of ``RobotKinematics.inverse_kinematics``."""
+    index = np.empty(5, dtype=np.int64)
+    for k in range(5):
+        index[k] = int(ctx[C_INDEX + k])
+    return teleop_call(ctx, cur_deg, index, T, orient, ctx[C_TOL], ctx[C_TOL + 1], out_deg, info)
