@@ -1,4 +1,4 @@
-"""armkit in Korean (docs/ko.md): the same command with --lang ko, and the shell's messages in Korean.
+"""armkit in Korean (docs/languages.md): the same command with --lang ko, and the shell's messages in Korean.
 
 Run: python examples/14_korean.py
 """

@@ -116,3 +116,75 @@ def test_catalogue_never_hard_codes_a_particle_after_a_placeholder():
         assert not OLD_STYLE.search(m.string), (m.id, m.string)
     assert FIXED_PARTICLE.search("{path!r}를 읽을 수 없습니다") and not FIXED_PARTICLE.search("{path!r:j:을/를} 읽")
     assert SPACED_AFTER_FIELD.search("{path} 에서 이어서 만듭니다")
+
+
+# ------------------------------------------------------------ the one list of languages (issue 21)
+
+def test_the_table_and_the_catalogue_folders_agree():
+    """Every language but the source has a catalogue folder, and every catalogue folder is a row of the table."""
+    from pathlib import Path
+
+    from armkit.locale import languages
+
+    here = Path(languages.__file__).parent
+    folders = {p.parent.parent.name for p in here.glob("*/LC_MESSAGES/armkit.po")}
+    assert folders == set(languages.TABLE) - {languages.SOURCE}
+    assert list(languages.LANGUAGES)[0] == languages.SOURCE == "en"
+
+
+@pytest.mark.parametrize("code", ["ko"])
+def test_particles_field_says_whether_the_catalogue_attaches_particles(code):
+    from armkit.locale import languages
+
+    text = (languages.catalogue_dir(code) / code / "LC_MESSAGES" / "armkit.po").read_text(encoding="utf-8")
+    assert languages.TABLE[code].particles == (":j:" in text)
+
+
+@pytest.mark.parametrize("value, code", [("ko", "ko"), ("KO", "ko"), ("ko_KR.UTF-8", "ko"), ("ko-KR", "ko"),
+                                         ("en_GB.UTF-8", "en"), ("C.UTF-8", None), ("fr_FR", None), ("", None),
+                                         ("kor", None), (None, None)])
+def test_language_of(value, code):
+    from armkit.locale.languages import language_of
+
+    assert language_of(value) == code
+
+
+def test_the_locale_picks_a_language_of_the_table(monkeypatch):
+    from armkit.locale import cli_language, default_language
+
+    for var in ("LC_ALL", "LC_MESSAGES", "ARMKIT_LANG"):
+        monkeypatch.delenv(var, raising=False)
+    monkeypatch.setenv("LANG", "ko_KR.UTF-8")
+    assert default_language() == "ko" and cli_language() == "ko"
+    monkeypatch.setenv("LANG", "fr_FR.UTF-8")
+    assert default_language() == "en"
+    monkeypatch.setenv("ARMKIT_LANG", "ko")
+    assert cli_language() == "ko" and cli_language("en") == "en"
+
+
+def test_the_shell_lists_the_languages_of_the_table():
+    sh = Shell(armkit.load("fighter"), lang="en", plot="none", console=Console(file=io.StringIO()))
+    assert re.search(r"lang en\|ko +language of the messages", sh.execute("help").text)
+    bad = sh.execute("lang fr").text
+    assert "language must be one of en, ko, got 'fr'" in bad
+    sh.lang = "ko"
+    assert re.search(r"lang en\|ko +메시지 언어", sh.execute("help").text)
+
+
+def test_adding_a_language_as_docs_languages_md_shows(capsys):
+    """docs/languages.md, "Adding a language": its example runs as written and prints what the page says."""
+    from pathlib import Path
+
+    from armkit.locale import LANG, languages
+
+    text = (Path(__file__).resolve().parents[2] / "docs" / "languages.md").read_text(encoding="utf-8")
+    section = text[text.index("## Adding a language"):]
+    code = re.search(r"```python\n(.*?)```", section, re.S).group(1)
+    try:
+        exec(compile(code, "docs/languages.md", "exec"), {})
+    finally:
+        languages.TABLE.pop("xx", None)
+        LANG["lang"] = None
+    assert capsys.readouterr().out.splitlines() == [
+        "yebay", "onay ointjay amednay 'wrist'; ethay ointsjay areay yaw, shoulder", "0", "False"]
+    assert "xx" not in languages.LANGUAGES and message("bye", "en") == "bye"

@@ -12,7 +12,7 @@ from typer.testing import CliRunner
 
 import armkit
 from armkit.cli import app
-from armkit.motion.velocity import (DLS_LAMBDA_MAX, damping_schedule, joint_rates, resolved_rate, task_rows,
+from armkit.motion.velocity import (DLS_LAMBDA_MAX, damping_schedule, joint_rates, resolved_rate, velocity_rows,
                                     twist)
 
 runner = CliRunner()
@@ -84,10 +84,10 @@ def test_damping_schedule_documented_values():
                                [0.0, 0.0, 0.04 ** 2 * 0.75, 0.04 ** 2])
 
 
-def test_task_rows_and_errors():
-    assert task_rows(6) == (0, 1, 2, 3, 4, 5)
+def test_velocity_rows_and_errors():
+    assert velocity_rows(6) == (0, 1, 2, 3, 4, 5)
     with pytest.raises(armkit.ShapeError, match="6 .* 3 .* or 2"):
-        task_rows(4)
+        velocity_rows(4)
     with pytest.raises(armkit.ShapeError, match="q must be one configuration"):
         joint_rates(armkit.load("planar2"), np.zeros((2, 2)), [0, 1])
     with pytest.raises(armkit.ArmkitError, match="method"):

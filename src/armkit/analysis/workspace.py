@@ -43,6 +43,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from ..errors import ArgumentError, ShapeError
 from ..kinematics import fk, fk_frames, manipulability as _manipulability
+from ..model.axes import joint_axes  # noqa: F401  (the one joint_axes, public here too)
 from ..model.robot import Robot
 
 __all__ = ["workspace", "WorkspaceResult", "Exclusion", "joint_axes", "is_planar", "shoulder_point",
@@ -86,18 +87,6 @@ def skeleton(robot: Robot, frames: np.ndarray) -> np.ndarray:
         if np.linalg.norm(p - out[-1]) > 1e-12 * max(1.0, robot.reach):
             out.append(p)
     return np.array(out)
-
-
-def joint_axes(robot: Robot, q: ArrayLike | None = None) -> tuple[Array, Array]:
-    """Joint axes in the world frame: points ``(n, 3)`` on them and unit directions ``(n, 3)``.
-
-    Joint ``k``'s axis is the z axis of the frame ``F_{k-1} · pre_k`` of the compiled chain
-    (``F_0`` is the base); ``q`` defaults to zeros.
-    """
-    qv = np.zeros(robot.n) if q is None else robot.check_q(q)
-    F = fk_frames(robot, qv)
-    A = F[:-1] @ robot.chain.pre
-    return A[:, :3, 3].copy(), A[:, :3, 2].copy()
 
 
 def is_planar(robot: Robot) -> bool:

@@ -66,13 +66,11 @@ class _ArmkitGroup(TyperGroup):
             elif i + 1 < len(args):
                 value, i = args[i + 1], i + 2
             elif key == "--lang":
-                common.fail(common._("--lang needs a language: en or ko"))
+                common.fail(common._("--lang needs a language: {languages}", languages=common.choices()))
             else:
                 common.fail(common._("{key} needs a link name (e.g. {key} tool0)", key=key))
             if key == "--lang":
-                if value.lower() not in ("en", "ko"):
-                    common.fail(common._("--lang must be en or ko, got {value!r}", value=value))
-                common.LANG["lang"] = value.lower()
+                common.LANG["lang"] = common.check_lang(value)
                 lang_words = ["--lang", value]
                 continue
             common.CHAIN[key[2:]] = value

@@ -1,7 +1,9 @@
 """Shared pieces of the command-line front end: console, argument parsing, errors, output.
 
-Every command module (``core``, ``ik``, ``viz``, ``symbolic``) uses these so that all
-commands parse joint values, report mistakes and print JSON the same way. Nothing here
+Every command module (``core``, ``ik``, ``viz``, ``symbolic``, ...) uses these so that all
+commands parse joint values, report mistakes and print JSON the same way, and declare their
+shared options (``--json``, ``--deg``, ``--lang`` ...) once, as ``Annotated`` types
+(:data:`JsonOut`, :data:`Deg`, :data:`Lang`, ...; docs/adding-a-command.md). Nothing here
 imports more than NumPy, Typer and Rich, so ``armkit --help`` stays fast.
 """
 
@@ -13,16 +15,17 @@ import os
 import re
 import sys
 from pathlib import Path
-from typing import Any, NoReturn, Sequence
+from typing import Annotated, Any, List, NoReturn, Optional, Sequence
 
 import numpy as np
+import typer
 from rich.console import Console
 from rich.table import Table
 from rich.text import Text
 
 from .._text import esc, name_list, plain, shorten
 from ..errors import JointLimitError
-from ..locale import LANG, N_, _, current_language  # noqa: F401  (re-exported for the command modules)
+from ..locale import LANG, LANGUAGES, N_, _, choices, current_language  # noqa: F401  (re-exported for the commands)
 from ..model import Robot, load
 
 class SafeConsole(Console):
@@ -49,7 +52,8 @@ err_console = SafeConsole(stderr=True, highlight=False)
 EXIT_OK, EXIT_FAILED, EXIT_BAD_INPUT = 0, 1, 2
 
 # The user's language: --lang (taken by the command group for every command, kept in LANG), ARMKIT_LANG, the
-# locale. _("...") translates a message from the gettext catalogue in armkit/locale (docs/ko.md); N_ marks one.
+# locale. _("...") translates a message from the gettext catalogue in armkit/locale (docs/languages.md); N_ marks
+# one.
 
 
 # Commands that take numbers as positional arguments let "-1" through as a value, not an option.
@@ -120,6 +124,54 @@ CHAIN: dict[str, Any] = {"base": None, "tip": None, "allow_outside": None}
 ROBOT_HELP = ("Bundled robot name (see `armkit robots`) or path of a .toml or .urdf robot file; "
               "for a URDF, --base LINK and --tip LINK choose the chain, and --allow-outside reads mesh files outside "
               "its folder and package.")
+
+
+# ---------------------------------------------------------------- options shared by the commands
+# Each option that several commands take is declared once here, as an ``Annotated`` type; a command writes
+# ``json_out: JsonOut = False`` and gets the same flag, the same help and the same parsing as every other
+# (docs/adding-a-command.md). The default stays in the command's signature.
+
+RobotArg = Annotated[str, typer.Argument(help=ROBOT_HELP)]
+"""The robot (a bundled name or a robot file): the first argument of most commands."""
+
+JointValues = Annotated[List[str], typer.Argument(help="Joint values, one per joint (rad, or deg with --deg).",
+                                                  metavar="Q...")]
+"""The joint values ``Q...`` (words, read by :func:`parse_q`)."""
+
+JsonOut = Annotated[bool, typer.Option("--json", help="Print the answer as JSON (strict JSON on stdout).")]
+"""``--json``: the command's answer as JSON (:func:`print_json`)."""
+
+Deg = Annotated[bool, typer.Option("--deg", help="Angles on the command line are in degrees (else radians).")]
+"""``--deg``: the command line's angles in degrees (prismatic joints stay lengths)."""
+
+Strict = Annotated[bool, typer.Option("--strict", help="A joint outside its limits is an error.")]
+"""``--strict``: a joint beyond its limits exits 2 instead of a warning."""
+
+NoScene = Annotated[bool, typer.Option("--no-scene", help="No collision check.")]
+"""``--no-scene``: check no collisions (each command says in its ``--scene`` help what a collision does there)."""
+
+Seed = Annotated[int, typer.Option("--seed", help="Seed of the random numbers (the same seed, the same answer).")]
+"""``--seed``: the command's random numbers (a sampled workspace, a random path, a map)."""
+
+Picture = Annotated[str, typer.Option("-o", "--output", help="Picture file (.png, .pdf, .svg).")]
+"""``-o/--output`` of a command that draws one picture."""
+
+Lang = Annotated[Optional[str], typer.Option(
+    "--lang", help=f"Language of the messages and labels: {choices(' or ')} (default: ARMKIT_LANG, else the "
+                   "locale).")]
+"""``--lang`` of a command that keeps it (the shell, the view, reach); :func:`check_lang` checks its value. Every
+other command gets ``--lang`` from the command group, anywhere on the line."""
+
+
+def check_lang(value: str | None) -> str | None:
+    """A ``--lang`` value as a code of the language table (any case: ``KO`` is ``ko``), ``None`` when not given;
+    any other value exits 2 with the list of languages."""
+    if value is None:
+        return None
+    code = value.lower()
+    if code not in LANGUAGES:
+        fail(_("--lang must be one of {languages}, got {value!r}", languages=choices(), value=value))
+    return code
 
 
 def get_robot(name: str) -> Robot:

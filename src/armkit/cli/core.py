@@ -3,19 +3,20 @@
 from __future__ import annotations
 
 import math
-from typing import List, Optional
+from typing import Optional
 
 import numpy as np
 import typer
 from rich.table import Table
 
 from ..model.robot import Joint, Robot
-from .common import (NOISE, NUMERIC_ARGS, ROBOT_HELP, N_, _, console, esc, fail, fixed, get_robot, message,
+from .common import (NOISE, NUMERIC_ARGS, N_, _, console, esc, fail, fixed, get_robot, message,
                      natural_width,
                      out_width, parse_q, pose_table, print_fitted, print_json, print_records, print_table, q_display)
+from .common import Deg, JointValues, JsonOut, RobotArg, Strict  # noqa: E402  (the shared options)
 
 
-def robots(json_out: bool = typer.Option(False, "--json", help="Print JSON instead of a table.")) -> None:
+def robots(json_out: JsonOut = False) -> None:
     """List the bundled robots.
 
     Example: armkit robots
@@ -180,8 +181,8 @@ def _class_line(r: Robot) -> str:
              line=esc(describe(cls, lambda text, **fields: _(text, **fields))))
 
 
-def info(robot: str = typer.Argument(..., help=ROBOT_HELP),
-         json_out: bool = typer.Option(False, "--json", help="Print JSON instead of tables."),
+def info(robot: RobotArg,
+         json_out: JsonOut = False,
          dh: bool = typer.Option(False, "--dh", help="Show the equivalent DH table of a URDF arm "
                                  "(or of a DH arm in the other convention, with --convention)."),
          convention: str = typer.Option("standard", "--convention", help="DH convention for --dh: standard or "
@@ -294,16 +295,15 @@ def convert(src: str = typer.Argument(..., help="Robot to read: bundled name, .t
                                   unit=r.unit) + "[/]")
 
 
-def fk(robot: str = typer.Argument(..., help=ROBOT_HELP),
-       q: List[str] = typer.Argument(..., help="Joint values, one per joint (rad, or deg with --deg).",
-                                     metavar="Q..."),
-       deg: bool = typer.Option(False, "--deg", help="Joint angles are in degrees."),
-       strict: bool = typer.Option(False, "--strict", help="A joint outside its limits is an error."),
+def fk(robot: RobotArg,
+       q: JointValues,
+       deg: Deg = False,
+       strict: Strict = False,
        link: Optional[str] = typer.Option(None, "--link", help="Pose of this link instead of the tool (a URDF "
                                           "link name, or link0..linkN of a DH arm; `armkit info` lists them)."),
        links: bool = typer.Option(False, "--links", help="Also print each link transform A_i (frame {i-1} -> {i}) "
                                                          "as a numeric 4x4 matrix."),
-       json_out: bool = typer.Option(False, "--json", help="Print JSON.")) -> None:
+       json_out: JsonOut = False) -> None:
     """Forward kinematics: the tool pose and every joint origin (with --links every A_i as numbers).
 
     Example: armkit fk fighter 30 45 60 --deg;  armkit fk so101 0 0 0 0 0 --link wrist_link
@@ -391,12 +391,12 @@ def _jacobian_table(r: Robot, J: np.ndarray, frame: str, compact: bool) -> Table
     return t
 
 
-def jacobian(robot: str = typer.Argument(..., help=ROBOT_HELP),
-             q: List[str] = typer.Argument(..., help="Joint values (rad, or deg with --deg).", metavar="Q..."),
+def jacobian(robot: RobotArg,
+             q: JointValues,
              frame: str = typer.Option("base", "--frame", help="Express J in the 'base' or the 'tool' frame."),
-             deg: bool = typer.Option(False, "--deg", help="Joint angles are in degrees."),
-             strict: bool = typer.Option(False, "--strict", help="A joint outside its limits is an error."),
-             json_out: bool = typer.Option(False, "--json", help="Print JSON.")) -> None:
+             deg: Deg = False,
+             strict: Strict = False,
+             json_out: JsonOut = False) -> None:
     """Geometric Jacobian (rows vx vy vz wx wy wz), manipulability and condition number.
 
     Example: armkit jacobian ur5 0.1 -1 1 0 0.5 0 --frame tool

@@ -13,8 +13,8 @@ from .common import (EXIT_BAD_INPUT, EXIT_FAILED, NUMERIC_ARGS, N_, _, console, 
                      checked_line, message, parse_vector, print_json, scene_off, scene_option, warn)
 
 from ..locale import current_language  # noqa: E402
-from .common import ROBOT_HELP  # noqa: E402
 from .common import print_table  # noqa: E402
+from .common import Deg, JsonOut, NoScene, RobotArg  # noqa: E402  (the shared options)
 METHOD_CHOICES = ("auto", "analytic", "lm", "newton", "ccd", "fabrik")
 
 
@@ -294,14 +294,14 @@ def _locked(r, target, where: str, fixed: Optional[dict], sweep: Optional[int], 
                   joint=r.joint_names[swept[0]]))
 
 
-def ik(robot: str = typer.Argument(..., help=ROBOT_HELP),
+def ik(robot: RobotArg,
        coords: List[str] = typer.Argument(..., help="Target position X Y [Z] in the robot's unit.", metavar="X Y [Z]"),
        rpy: Optional[str] = typer.Option(
            None, "--rpy", metavar="R,P,Y", help="Target orientation roll pitch yaw (R = Rz(y) Ry(p) Rx(r); rad, or "
                                                "deg with --deg): 180,0,0 or 180 0 0."),
        quat: Optional[str] = typer.Option(
            None, "--quat", metavar="X,Y,Z,W", help="Target orientation as a quaternion x y z w (scalar last)."),
-       deg: bool = typer.Option(False, "--deg", help="Angles given (--rpy, --phi) are in degrees."),
+       deg: Deg = False,
        method: str = typer.Option("auto", "--method",
                                   help="auto (closed form when the arm has one, else lm), analytic, lm, newton, "
                                        "ccd or fabrik."),
@@ -322,14 +322,14 @@ def ik(robot: str = typer.Argument(..., help=ROBOT_HELP),
            None, "--scene", help="Scene file (TOML, docs/scene.md): solutions that collide with it, the robot's "
                                  "body or the arm itself fail with reason 'collision'. Default: the robot's own "
                                  "surroundings, if its file has any (the fighter's torso and ground)."),
-       no_scene: bool = typer.Option(False, "--no-scene", help="No collision check."),
+       no_scene: NoScene = False,
        sweep: Optional[int] = typer.Option(
            None, "--sweep", metavar="N", help="7-joint arms: sweep the joint whose locking leaves a closed form over N "
                                              "values of its range (default 32) and list every branch found."),
        fixed: Optional[List[str]] = typer.Option(
            None, "--fixed", metavar="NAME=VALUE", help="Hold a joint at a value (rad, deg with --deg; repeat for "
                                                        "more) and solve the rest in closed form."),
-       json_out: bool = typer.Option(False, "--json", help="Print JSON.")) -> None:
+       json_out: JsonOut = False) -> None:
     """Inverse kinematics: joint angles that put the tool at a target.
 
     For arms with a closed form (planar2, planar3 with --phi, fighter, puma560, ur5) every

@@ -19,6 +19,7 @@ from rich.table import Table
 from .common import (EXIT_FAILED, LANG, NUMERIC_ARGS, N_, _, console, current_language, fail,
                      get_robot, parse_numbers, parse_vector, print_json)
 from .common import print_table
+from .common import Deg, JsonOut, Lang, RobotArg, Seed, check_lang  # noqa: E402  (the shared options)
 from .._extras import require   # optional dependencies, naming the missing extra
 
 __all__ = ["register", "MESSAGES"]
@@ -27,7 +28,7 @@ reach_app = typer.Typer(help="Reachability maps: where the arm reaches, in which
                              "should go.\n\nExample: armkit reach build ur5 -o ur5.zarr --resolution 0.05",
                         no_args_is_help=True, rich_markup_mode="rich")
 
-MESSAGES: dict[str, str] = {     # English here, Korean in the catalogue (armkit/locale, docs/ko.md)
+MESSAGES: dict[str, str] = {     # English here, Korean in the catalogue (armkit/locale, docs/languages.md)
     "building": N_("building the {robot} map"),
     "built": N_("map written to {path}: {cells} cells, {reachable} reachable, {seconds:.1f} s"),
     "resumed": N_("resuming: {done} of {total} blocks already done"),
@@ -51,15 +52,11 @@ def _msg(key: str, lang: str, **kw: Any) -> str:
 
 
 def _lang(lang: Optional[str]) -> str:
-    if lang is None:
+    code = check_lang(lang)
+    if code is None:
         return current_language()
-    if lang not in ("en", "ko"):
-        fail(_("--lang must be en or ko, got {value!r}", value=lang))
-    LANG["lang"] = lang
-    return lang
-
-
-LANG_OPT = typer.Option(None, "--lang", help="Message language: ko or en (default: from the locale).")
+    LANG["lang"] = code
+    return code
 
 
 def _open_map(path: str) -> Any:
@@ -70,7 +67,7 @@ def _open_map(path: str) -> Any:
 
 # ------------------------------------------------------------------ build
 @reach_app.command()
-def build(robot: str = typer.Argument(..., help="Bundled robot name or robot file."),
+def build(robot: RobotArg,
           output: str = typer.Option(..., "-o", "--output", help="Zarr store to write (a folder, e.g. map.zarr)."),
           resolution: Optional[float] = typer.Option(None, "--resolution", help="Voxel edge in the robot's "
                                                      "length unit (default reach/20)."),
@@ -80,7 +77,7 @@ def build(robot: str = typer.Argument(..., help="Bundled robot name or robot fil
                                               "last joint rolls the tool freely, else 8)."),
           method: str = typer.Option("fk", "--method", help="fk (sample joint space, default) or ik (IK per cell)."),
           samples: Optional[int] = typer.Option(None, "--samples", help="FK samples in all (default 32 per cell)."),
-          seed: int = typer.Option(0, "--seed", help="Seed of every random stream (same seed, same map)."),
+          seed: Seed = 0,
           coverage: float = typer.Option(0.1, "--coverage", help="A sampled cell is reachable when its sample "
                                          "density is at least this fraction of its densest neighbour (0: any "
                                          "sample)."),
@@ -94,8 +91,8 @@ def build(robot: str = typer.Argument(..., help="Bundled robot name or robot fil
                                          "(only an armkit map store is ever deleted)."),
           dashboard: bool = typer.Option(False, "--dashboard", help="With --workers: serve Dask's dashboard on "
                                          "127.0.0.1 and print its URL."),
-          as_json: bool = typer.Option(False, "--json", help="Print the summary as JSON."),
-          lang: Optional[str] = LANG_OPT) -> None:
+          as_json: JsonOut = False,
+          lang: Lang = None) -> None:
     """Build a reachability map and write it as a Zarr store (re-running resumes an interrupted build).
 
     Example: armkit reach build ur5 -o ur5.zarr --resolution 0.05 --orientations 64
@@ -262,8 +259,8 @@ def _picture(m: Any, path: Path) -> None:
 def show(map_path: str = typer.Argument(..., metavar="MAP", help="Zarr store written by armkit reach build."),
          output: Optional[str] = typer.Option(None, "-o", "--output", help="Picture (.png, .pdf, .svg): sections "
                                               "and a 3-D view coloured by the reachability index."),
-         as_json: bool = typer.Option(False, "--json", help="Print the summary as JSON."),
-         lang: Optional[str] = LANG_OPT) -> None:
+         as_json: JsonOut = False,
+         lang: Lang = None) -> None:
     """Summary of a map, and a picture of it.
 
     Example: armkit reach show ur5.zarr -o reach.png
@@ -294,9 +291,9 @@ def query(map_path: str = typer.Argument(..., metavar="MAP", help="Zarr store wr
           rpy: Optional[str] = typer.Option(None, "--rpy", metavar="R,P,Y",
                                             help="Tool orientation roll pitch yaw (rad, or deg with --deg): "
                                                  "180,0,0 or 180 0 0; default: the identity."),
-          deg: bool = typer.Option(False, "--deg", help="--rpy is in degrees."),
-          as_json: bool = typer.Option(False, "--json", help="Print the answer as JSON."),
-          lang: Optional[str] = LANG_OPT) -> None:
+          deg: Deg = False,
+          as_json: JsonOut = False,
+          lang: Lang = None) -> None:
     """Is this tool pose reachable? Exit 0 if the map says yes, 1 if no.
 
     Example: armkit reach query ur5.zarr 0.4 0.1 0.3 --rpy 180,0,0 --deg
@@ -394,8 +391,8 @@ def base(map_path: str = typer.Argument(..., metavar="MAP", help="Zarr store wri
          step: Optional[float] = typer.Option(None, "--step", help="Candidate spacing (default: map resolution)."),
          yaws: Optional[int] = typer.Option(None, "--yaws", help="Base headings tried (default 1 when the map is "
                                             "yaw-symmetric, else 8)."),
-         as_json: bool = typer.Option(False, "--json", help="Print the ranking as JSON."),
-         lang: Optional[str] = LANG_OPT) -> None:
+         as_json: JsonOut = False,
+         lang: Lang = None) -> None:
     """Where to put the base: rank floor positions by how many task poses the arm reaches, checked by IK.
 
     Example: armkit reach base ur5.zarr tasks.csv --top 3

@@ -138,8 +138,8 @@ class Shell(ShellCommands):
     Parameters
     ----------
     robot : Robot
-    lang : {"en", "ko"}, optional
-        Message language; default from the locale.
+    lang : str, optional
+        Message language, a code of :data:`armkit.locale.LANGUAGES`; default from the locale.
     units : {"deg", "rad"}
         Angle units of input and output (``units`` changes them).
     plot : {"auto", "window", "png", "none"}
@@ -165,7 +165,7 @@ class Shell(ShellCommands):
         self.mode = mode          # what numbers typed alone are: an IK target ("ik") or joint values ("fk")
 
         self.robot = robot
-        self.lang = lang if lang in LANGUAGES else default_language()
+        self.lang = lang if lang is not None and lang in LANGUAGES else default_language()
         if units not in ("deg", "rad"):
             raise ArgumentError(f"units must be 'deg' or 'rad', got {units!r}")
         self.units = units
@@ -483,7 +483,7 @@ class Shell(ShellCommands):
         words = ["help", "exit", "quit", "q", "goto", "branch", "mode", "ik", "fk", "limits", "units", "deg", "rad",
                  "home", "show",
                  "ground", "box", "clear", "scene",
-                 "lang", "auto", "en", "ko"]
+                 "lang", "auto", *LANGUAGES]
         words += [f"theta{i}" for i in range(1, self.robot.n + 1)] + list(self.robot.joint_names)
         res = self._all_branches(self._branch_target(self.q))
         if res is not None:

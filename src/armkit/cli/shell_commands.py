@@ -157,7 +157,8 @@ class ShellCommands:
         return self._set_scene(scene.with_shape(box), emit)
 
     def _cmd_help(self, arg: Any, emit: Any) -> str:
-        emit(self._t("help", unit=self.robot.unit, first=self.robot.joint_names[0], goto=self._goto_example()))
+        emit(self._t("help", unit=self.robot.unit, first=self.robot.joint_names[0], goto=self._goto_example(),
+                     languages="|".join(LANGUAGES)))
         emit(esc(translate(N_("  mode ik|fk                    numbers typed alone: a target (ik) or joint values (fk); "
                               "now {mode}"), self.lang, mode=self.mode)))
         return "info"
@@ -194,7 +195,7 @@ class ShellCommands:
         if arg is not None:
             u = arg.strip().lower()
             if u not in LANGUAGES:
-                raise ParseError(self._t("lang_bad", u=arg))
+                raise ParseError(self._t("lang_bad", u=arg, languages=", ".join(LANGUAGES)))
             self.lang = u
         emit(self._t("lang_now"))
         return "info"

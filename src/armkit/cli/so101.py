@@ -15,6 +15,7 @@ import typer
 from rich.table import Table
 
 from .common import N_, NUMERIC_ARGS, _, console, esc, fail, parse_numbers, pose_table, print_json, print_table, warn
+from .common import JsonOut  # noqa: E402  (the shared options)
 
 __all__ = ["register"]
 
@@ -38,7 +39,7 @@ def pose(values: List[str] = typer.Argument(..., metavar="VALUE...",
                                       "the gripper in 0..100)."),
          m100: bool = typer.Option(False, "--range-m100-100", help="The values are LeRobot's -100..100 (use_degrees="
                                    "False; the gripper in 0..100)."),
-         json_out: bool = typer.Option(False, "--json", help="Print JSON.")) -> None:
+         json_out: JsonOut = False) -> None:
     """Joint angles and the gripper frame's pose of an SO-101 from its servo readings.
 
     Example: armkit so101 pose --calibration examples/so101_calibration.json --ticks 2048 2048 2048 2048 2048

@@ -18,9 +18,9 @@ from rich.table import Table
 from .common import (EXIT_FAILED, NUMERIC_ARGS, console, esc, fail, name_list, output_path, get_robot, parse_numbers, parse_q, print_json,
                      checked_line, count, message, q_display, scene_option, sig, warn)
 
-from .common import ROBOT_HELP  # noqa: E402
 from .common import err_console, print_table  # noqa: E402
 from .common import N_, _, current_language  # noqa: E402
+from .common import Deg, JsonOut, NoScene, RobotArg  # noqa: E402  (the shared options)
 
 
 def _local(text: str) -> str:
@@ -65,7 +65,7 @@ def _derive_outputs(latex: bool, python: bool, ik_export: bool, output: Optional
     return png, output
 
 
-def derive(robot: str = typer.Argument(..., help=ROBOT_HELP),
+def derive(robot: RobotArg,
            latex: bool = typer.Option(False, "--latex", help="Print a LaTeX document (link transforms, FK, J)."),
            python: bool = typer.Option(False, "--python", help="Print an importable NumPy module (fk, jacobian)."),
            ik_export: bool = typer.Option(False, "--ik", help="The closed-form IK instead of the FK (planar 2R and "
@@ -84,7 +84,7 @@ def derive(robot: str = typer.Argument(..., help=ROBOT_HELP),
            no_cache: bool = typer.Option(False, "--no-cache", help="Derive again, ignoring the on-disk cache."),
            budget: float = typer.Option(60.0, "--budget", help="Seconds of simplification at most; past it the "
                                         "remaining entries stay raw (exact) products. 0: no limit."),
-           json_out: bool = typer.Option(False, "--json", help="Print JSON (expressions as text).")) -> None:
+           json_out: JsonOut = False) -> None:
     """Symbolic FK, Jacobian (and 2R closed-form IK) with the c12 = cos(q1 + q2) short-hand.
 
     Example: armkit derive planar2
@@ -201,11 +201,11 @@ def _planar_2r_ik(r) -> Optional[dict]:
             "a1": float(r.joints[0].a), "a2": float(r.joints[1].a)}
 
 
-def singular(robot: str = typer.Argument(..., help=ROBOT_HELP),
+def singular(robot: RobotArg,
              plot: Optional[Path] = typer.Option(None, "-o", "--output",
                                                  help="Save a manipulability map over two joints (PNG)."),
              plot_alias: Optional[Path] = typer.Option(None, "--plot", hidden=True),
-             json_out: bool = typer.Option(False, "--json", help="Print JSON.")) -> None:
+             json_out: JsonOut = False) -> None:
     """Singularities: det(J) factored, each factor named (stretched, folded, on the yaw axis, wrist) and checked.
 
     Example: armkit singular fighter
@@ -247,7 +247,8 @@ def singular(robot: str = typer.Argument(..., help=ROBOT_HELP),
                 sol = _("a curve/surface in joint space")
             w = f"{f.manipulability.max():.1e}" if len(f.manipulability) else "-"
             power = "" if f.power == 1 else " " + _("(power {k})", k=f.power)
-            t.add_row(esc(f.text + power), esc(_local(f.description.split(":")[0])), esc(sol), w)
+            meaning = getattr(f.description, "fields", {}).get("meaning", f.description)   # the words, not "= 0"
+            t.add_row(esc(f.text + power), esc(_local(meaning)), esc(sol), w)
         print_table(t)
         consts = [f.text for f in res.factors if f.kind == "constant" and f.expr != 1]
         if consts:
@@ -270,17 +271,17 @@ def singular(robot: str = typer.Argument(..., help=ROBOT_HELP),
             console.print(_("wrote {path}", path=esc(plot)))
 
 
-def velocity(robot: str = typer.Argument(..., help=ROBOT_HELP),
+def velocity(robot: RobotArg,
              q: List[str] = typer.Argument(..., metavar="Q... [V...]",
                                            help="Joint values, then (optionally) the rest of --ee-vel/--q-vel."),
-             deg: bool = typer.Option(False, "--deg", help="Joint angles (and --q-vel rates) in degrees."),
+             deg: Deg = False,
              ee_vel: Optional[str] = typer.Option(None, "--ee-vel",
                                                   help="Desired tool velocity: 2 (vx vy), 3 (v) or 6 (v, w) values."),
              q_vel: Optional[str] = typer.Option(None, "--q-vel", help="Joint rates, one per joint: prints the twist."),
              method: str = typer.Option("pinv", "--method", help="'pinv' (pseudo-inverse) or 'dls' (damped)."),
              damping: Optional[float] = typer.Option(None, "--damping",
                                                      help="DLS lambda in metres (default: automatic schedule)."),
-             json_out: bool = typer.Option(False, "--json", help="Print JSON.")) -> None:
+             json_out: JsonOut = False) -> None:
     """Velocity kinematics: joint rates for a tool velocity (pseudo-inverse / DLS), or the twist of joint rates.
 
     Example: armkit velocity planar2 30 45 --deg --ee-vel 0.1 0
@@ -425,7 +426,7 @@ def _collision_note(r: Any, tr: Any, scene: Any, refuse: bool, summary: dict[str
     return hit_note, hit_text
 
 
-def traj(robot: str = typer.Argument(..., help=ROBOT_HELP),
+def traj(robot: RobotArg,
          points: List[str] = typer.Argument(..., metavar="POINT...",
                                             help="Comma-separated waypoints (joint values, or x,y[,z] for --line)."),
          joint: bool = typer.Option(False, "--joint", help="POINTs are joint-space waypoints."),
@@ -438,7 +439,7 @@ def traj(robot: str = typer.Argument(..., help=ROBOT_HELP),
                                                                     "(length unit/s); lengthens the duration."),
          arc: Optional[float] = typer.Option(None, "--arc",
                                              help="Arc angle (deg): POINTs are the centre and the start point."),
-         deg: bool = typer.Option(False, "--deg", help="Joint waypoints in degrees."),
+         deg: Deg = False,
          profile: str = typer.Option("quintic", "--profile", help="cubic, quintic or trapezoid (joint space)."),
          duration: Optional[float] = typer.Option(None, "--duration",
                                                   help="Total time in seconds (default 2 s, or from the limits)."),
@@ -453,10 +454,10 @@ def traj(robot: str = typer.Argument(..., help=ROBOT_HELP),
          scene_file: Optional[str] = typer.Option(
              None, "--scene", help="Scene file (docs/scene.md): samples where the arm collides with it, its body or "
                                    "itself are counted. Default: the robot's own surroundings, if any."),
-         no_scene: bool = typer.Option(False, "--no-scene", help="No collision check."),
+         no_scene: NoScene = False,
          refuse_collisions: bool = typer.Option(False, "--refuse-collisions",
                                                 help="Exit 1 (and write nothing) when a sample collides."),
-         json_out: bool = typer.Option(False, "--json", help="Print a JSON summary.")) -> None:
+         json_out: JsonOut = False) -> None:
     """Trajectories: joint-space profiles through waypoints, or Cartesian lines and arcs (IK or resolved rate).
 
     Example: armkit traj fighter --joint 0,0,0 30,45,60 --deg --profile quintic --duration 2 -o traj.png

@@ -10,7 +10,7 @@ import typer
 
 from .common import _, console, current_language, fail, get_robot
 
-from .common import ROBOT_HELP  # noqa: E402
+from .common import Lang, RobotArg, check_lang  # noqa: E402  (the shared options)
 _HOSTNAME = re.compile(r"^(?=.{1,253}$)[A-Za-z0-9](?:[A-Za-z0-9-]{0,61}[A-Za-z0-9])?(?:\.[A-Za-z0-9](?:[A-Za-z0-9-]{0,61}"
                        r"[A-Za-z0-9])?)*$")
 
@@ -59,12 +59,12 @@ def check_port(port: Optional[int]) -> Optional[int]:
     return port
 
 
-def view(robot: str = typer.Argument(..., help=ROBOT_HELP),
+def view(robot: RobotArg,
          port: Optional[int] = typer.Option(None, "--port", "-p", help="TCP port (default: a free one)."),
          host: str = typer.Option("127.0.0.1", "--host",
                                   help="Address to listen on. The default serves this machine only; 0.0.0.0 lets "
                                        "anyone on your network move the arm."),
-         lang: Optional[str] = typer.Option(None, "--lang", help="Labels: ko or en (default: from the locale)."),
+         lang: Lang = None,
          scene_file: Optional[str] = typer.Option(
              None, "--scene", help="Scene file (TOML, docs/scene.md) drawn translucent, red where the arm "
                                    "overlaps it; default: the robot's own surroundings (the fighter's ground)."),
@@ -84,8 +84,7 @@ def view(robot: str = typer.Argument(..., help=ROBOT_HELP),
     """
     from rich.markup import escape
 
-    if lang is not None and lang not in ("ko", "en"):
-        fail(_("--lang must be en or ko, got {value!r}", value=lang))
+    lang = check_lang(lang)
     check_port(port)
     check_host(host)
     r = get_robot(robot)

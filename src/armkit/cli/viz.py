@@ -12,8 +12,8 @@ import typer
 from .common import (EXIT_FAILED, NUMERIC_ARGS, console, esc, fail, get_robot, parse_numbers, parse_q, name_list, output_path,
                      checked_line, count, message, parse_vector, print_json, scene_off, scene_option, warn)
 
-from .common import ROBOT_HELP  # noqa: E402
 from .common import N_, _, current_language  # noqa: E402
+from .common import Deg, JsonOut, Lang, NoScene, Picture, RobotArg, Seed, Strict, check_lang  # noqa: E402  (the shared options)
 from ..locale.library import localize  # noqa: E402
 
 from .ik import _explain  # noqa: E402
@@ -26,22 +26,22 @@ def _out(path: str, allowed: tuple[str, ...], what: str) -> Path:
     return output_path(path, allowed, what)
 
 
-def plot(robot: str = typer.Argument(..., help=ROBOT_HELP),
+def plot(robot: RobotArg,
          q: Optional[List[str]] = typer.Argument(None, help="Joint values, one per joint (rad, or deg with --deg).",
                                                  metavar="[Q...]"),
-         deg: bool = typer.Option(False, "--deg", help="Joint angles are in degrees."),
+         deg: Deg = False,
          all_branches: Optional[str] = typer.Option(
              None, "--all-branches", metavar="X,Y[,Z]",
              help="Instead of joint values: overlay every closed-form IK branch for this target position "
                   "(100,50,80 or 100 50 80, in the robot's length unit)."),
-         output: str = typer.Option("arm.png", "-o", "--output", help="Picture file (.png, .pdf, .svg)."),
+         output: Picture = 'arm.png',
          no_frames: bool = typer.Option(False, "--no-frames", help="Do not draw the link frames."),
          scene_file: Optional[str] = typer.Option(
              None, "--scene", help="With --all-branches: branches that collide with this scene file (docs/scene.md), "
                                    "the robot's body or itself are not drawn. Default: the robot's own surroundings, "
                                    "if any (the fighter's torso and ground)."),
          no_scene: bool = typer.Option(False, "--no-scene", help="With --all-branches: no collision check."),
-         strict: bool = typer.Option(False, "--strict", help="A joint outside its limits is an error.")) -> None:
+         strict: Strict = False) -> None:
     """Draw the arm (3D, or 2D for a planar arm) with its joint frames, and write a picture.
 
     Example: armkit plot fighter 30 45 60 --deg -o arm.png
@@ -107,9 +107,8 @@ def plot(robot: str = typer.Argument(..., help=ROBOT_HELP),
     console.print(_("wrote {path}", path=esc(path)))
 
 
-def shell(robot: str = typer.Argument(..., help=ROBOT_HELP),
-          lang: Optional[str] = typer.Option(None, "--lang", help="Message language: ko or en (default: from the "
-                                                                   "locale)."),
+def shell(robot: RobotArg,
+          lang: Lang = None,
           no_plot: bool = typer.Option(False, "--no-plot", help="Do not draw the arm after each command."),
           png: bool = typer.Option(False, "--png", help="Write a PNG per step even when a display exists."),
           out_dir: str = typer.Option("out/shell", "--out-dir", help="Folder for the PNG pictures."),
@@ -131,8 +130,7 @@ def shell(robot: str = typer.Argument(..., help=ROBOT_HELP),
     """
     from .shell import Shell
 
-    if lang is not None and lang not in ("ko", "en"):
-        fail(_("--lang must be en or ko, got {value!r}", value=lang))
+    lang = check_lang(lang)
     if units not in ("deg", "rad"):
         fail(_("--units must be deg or rad, got {value!r}", value=units))
     r = get_robot(robot)
@@ -148,9 +146,9 @@ def shell(robot: str = typer.Argument(..., help=ROBOT_HELP),
     raise typer.Exit(sh.run())
 
 
-def workspace(robot: str = typer.Argument(..., help=ROBOT_HELP),
+def workspace(robot: RobotArg,
               samples: int = typer.Option(200_000, "--samples", "-n", help="Random joint vectors to sample."),
-              seed: int = typer.Option(0, "--seed", help="Random seed."),
+              seed: Seed = 0,
               ground: Optional[float] = typer.Option(None, "--ground", help="Exclude configurations with any link "
                                                                             "point below this z (length units)."),
               box: Optional[List[str]] = typer.Option(
@@ -161,8 +159,8 @@ def workspace(robot: str = typer.Argument(..., help=ROBOT_HELP),
               scene_file: Optional[str] = typer.Option(
                   None, "--scene", help="Scene file (docs/scene.md): drop samples where the arm collides with it, "
                                         "the robot's body or itself. Default: the robot's own surroundings, if any."),
-              no_scene: bool = typer.Option(False, "--no-scene", help="No collision check."),
-              json_out: bool = typer.Option(False, "--json", help="Print the numbers as JSON.")) -> None:
+              no_scene: NoScene = False,
+              json_out: JsonOut = False) -> None:
     """Sample the reachable workspace: boundaries, volume (area for planar arms) with its error, picture.
 
     Example: armkit workspace fighter -o ws.png --ground 0
@@ -244,8 +242,8 @@ def _tutorial_layout(r: Any) -> bool:
     return r.n == 2 and is_planar(r) and not r.prismatic.any()
 
 
-def maps(robot: str = typer.Argument(..., help=ROBOT_HELP),
-         output: str = typer.Option("maps.png", "-o", "--output", help="Picture file (.png, .pdf, .svg)."),
+def maps(robot: RobotArg,
+         output: Picture = 'maps.png',
          steps: int = typer.Option(121, "--steps", help="Grid points per axis (where no :step is given)."),
          joints: Optional[str] = typer.Option(None, "--joints", metavar="I,J",
                                               help="The two joints of the FK maps (1-based; default 1,2 for planar "
@@ -356,22 +354,22 @@ def _one_branch(im: Any, branch: str) -> Any:
     return dataclasses.replace(im, q=im.q[:, :, b:b + 1], branches=(hits[0],), reachable=im.reachable[:, :, b:b + 1])
 
 
-def track(robot: str = typer.Argument(..., help=ROBOT_HELP),
+def track(robot: RobotArg,
           path: str = typer.Option("random", "--path", help="random, circle, figure8 or a CSV file of x,y[,z] rows."),
           method: str = typer.Option("ccd", "--method", help="IK per frame: ccd, fabrik, lm, newton or analytic."),
           frames: int = typer.Option(200, "--frames", help="Frames of a generated path."),
           fps: int = typer.Option(20, "--fps", help="Frames per second of the animation."),
-          seed: int = typer.Option(0, "--seed", help="Seed of the random path."),
+          seed: Seed = 0,
           output: Optional[str] = typer.Option("track.gif", "-o", "--output",
                                                help="Animation file: .gif or .mp4 (by extension)."),
           no_animation: bool = typer.Option(False, "--no-animation", help="Only the statistics."),
           scene_file: Optional[str] = typer.Option(
               None, "--scene", help="Scene file (docs/scene.md): frames where the arm collides with it, its body "
                                     "or itself are counted. Default: the robot's own surroundings, if any."),
-          no_scene: bool = typer.Option(False, "--no-scene", help="No collision check."),
+          no_scene: NoScene = False,
           refuse_collisions: bool = typer.Option(False, "--refuse-collisions",
                                                  help="Exit 1 (and write nothing) when a frame collides."),
-          json_out: bool = typer.Option(False, "--json", help="Print the statistics as JSON.")) -> None:
+          json_out: JsonOut = False) -> None:
     """Target tracking (as in the CCD graphics assignment): a target moves, the arm follows with one warm-started IK step per frame; writes an animation.
 
     Example: armkit track planar3 --path random --method ccd -o track.gif

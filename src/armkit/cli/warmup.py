@@ -4,12 +4,12 @@ from __future__ import annotations
 
 import typer
 
-from .common import EXIT_FAILED, _, console, esc, print_json
+from .common import EXIT_FAILED, JsonOut, _, console, esc, print_json
 
 
 def warmup(parallel: bool = typer.Option(True, "--parallel/--no-parallel",
                                          help="Also the multi-threaded kernels of big batches (about half the time)."),
-           json_out: bool = typer.Option(False, "--json", help="Print JSON instead of a sentence.")) -> None:
+           json_out: JsonOut = False) -> None:
     """Compile armkit's Numba kernels once and cache them on disk, so that no later run waits for it.
 
     Run it after installing armkit into an image or a CI environment. The cache goes to NUMBA_CACHE_DIR if set, else next to the package, else ~/.cache/numba, else a private directory in the temp directory (read-only installs).

@@ -1,12 +1,14 @@
 """Every text armkit shows a user, in English and Korean, from one gettext catalogue (Babel).
 
 The English is written in the code, marked ``_("...")`` (translated where it is used) or
-``N_("...")`` (marked only); the Korean lives in ``ko/LC_MESSAGES/armkit.po`` (docs/ko.md).
+``N_("...")`` (marked only); each other language lives in its catalogue, the Korean in
+``ko/LC_MESSAGES/armkit.po``; the languages are the rows of :data:`armkit.locale.languages.TABLE`
+(docs/languages.md).
 The command line, the shell, the plots' labels and the browser view all read it:
 ``_(text, **fields)`` in the current language (``--lang``, ``ARMKIT_LANG``, the locale),
 ``translate(text, lang, **fields)`` in a given one, ``message(key, lang, **fields)`` for the
 shell's messages by key. ``default_language()`` reads the locale (``LC_ALL``, ``LC_MESSAGES``,
-``LANG``): Korean when it starts with ``ko``.
+``LANG``): the language whose code it starts with (``ko_KR.UTF-8``: Korean), else English.
 
 Korean particles that follow a placeholder are chosen by the word they follow:
 ``{name!r:j:이라는/라는}`` formats ``name`` and attaches 이라는 after a final consonant,
@@ -33,15 +35,17 @@ from functools import lru_cache
 from pathlib import Path
 from typing import Any, Dict, Iterator, Mapping
 
+from .languages import LANGUAGES, SOURCE, catalogue_dir, choices, language_of
+
 __all__ = ["LANGUAGES", "LANG", "default_language", "message", "MESSAGES", "josa", "final_consonant",
-           "cli_language", "current_language", "translate", "translate_in", "LOCALE_DIR", "TERMS", "_", "N_", "NC_"]
+           "cli_language", "current_language", "translate", "translate_in", "LOCALE_DIR", "TERMS", "_", "N_", "NC_",
+           "SOURCE", "choices", "language_of"]
 
 
 LOCALE_DIR = Path(__file__).parent
 """gettext catalogues of the command line: ``ko/LC_MESSAGES/armkit.po`` (source) and ``.mo`` (built by
-``make locale``, which ``make test`` runs; see docs/ko.md)."""
-
-LANGUAGES = ("en", "ko")
+``make locale``, which ``make test`` runs; see docs/languages.md). A language added from outside may keep its
+catalogue elsewhere (:attr:`armkit.locale.languages.Language.folder`)."""
 
 LANG: dict[str, str | None] = {"lang": None}
 """``--lang`` of the command line (the command group sets it for every command); see :func:`current_language`."""
@@ -67,7 +71,7 @@ _SOURCE: dict[str, str] = {     # the shell's and the view's shared wording; Kor
                                 the arm's surroundings: a floor, a box (corners), remove all, list; moves
                                 into them (or into the arm's own body) are refused
   units deg|rad                 angle units for input and output
-  lang en|ko                    language of the messages
+  lang {languages:<25}language of the messages
   show                          print the current state again
   help                          this text
   exit, quit, Ctrl-D            leave"""),
@@ -98,7 +102,7 @@ _SOURCE: dict[str, str] = {     # the shell's and the view's shared wording; Kor
     "units_now": N_("angles are in {u}"),
     "units_bad": N_("units must be deg or rad, got {u!r}"),
     "lang_now": N_("messages in English"),
-    "lang_bad": N_("language must be en or ko, got {u!r}"),
+    "lang_bad": N_("language must be one of {languages}, got {u!r}"),
     "picture": N_("picture: {path}"),
     "plot_failed": N_("could not draw the arm ({detail}); continuing without pictures"),
     "too_long": N_("the line has {n:,} characters, more than {limit:,}; it was not read"),
@@ -128,7 +132,8 @@ _SOURCE: dict[str, str] = {     # the shell's and the view's shared wording; Kor
 
 
 class _Messages(Mapping[str, Dict[str, str]]):
-    """``MESSAGES[key]``: ``{"en": English, "ko": Korean}``, the Korean read from the catalogue."""
+    """``MESSAGES[key]``: ``{"en": English, "ko": Korean, ...}``, one entry per language of the table, each but
+    English read from its catalogue."""
 
     def __getitem__(self, key: str) -> dict[str, str]:
         return {lang: _template(_SOURCE[key], lang) for lang in LANGUAGES}
@@ -261,12 +266,13 @@ class _Formatter(string.Formatter):
 
 
 def default_language() -> str:
-    """``"ko"`` when the locale (LC_ALL, LC_MESSAGES, LANG) is Korean, else ``"en"``."""
+    """The language of the locale (LC_ALL, LC_MESSAGES, LANG: the first one set) when the table has it (``ko`` for
+    ``ko_KR.UTF-8``), else English."""
     for var in ("LC_ALL", "LC_MESSAGES", "LANG"):
         value = os.environ.get(var, "")
         if value:
-            return "ko" if value.lower().startswith("ko") else "en"
-    return "en"
+            return language_of(value) or SOURCE
+    return SOURCE
 
 
 def current_language() -> str:
@@ -283,7 +289,7 @@ def cli_language(flag: str | None = None) -> str:
     """
     for value in (flag, os.environ.get("ARMKIT_LANG")):
         if value:
-            return "ko" if value.lower().startswith("ko") else "en"
+            return language_of(value) or SOURCE
     return default_language()
 
 
@@ -292,7 +298,8 @@ def _catalogue(lang: str) -> gettext.NullTranslations:
     """The compiled catalogue of ``lang``. ``make locale`` (run by ``make test``) builds the ``.mo`` from the
     ``.po``; when the ``.mo`` is missing or older than the ``.po`` (an install without make, a ``.po`` just
     edited) and Babel is installed, the ``.po`` is compiled in memory instead; else English."""
-    po = LOCALE_DIR / lang / "LC_MESSAGES" / "armkit.po"
+    folder = catalogue_dir(lang)
+    po = folder / lang / "LC_MESSAGES" / "armkit.po"
     mo = po.with_suffix(".mo")
     if po.is_file() and (not mo.is_file() or mo.stat().st_mtime < po.stat().st_mtime):
         try:
@@ -308,7 +315,7 @@ def _catalogue(lang: str) -> gettext.NullTranslations:
                 write_mo(buf, read_po(f))
             buf.seek(0)
             return gettext.GNUTranslations(buf)
-    return gettext.translation("armkit", localedir=str(LOCALE_DIR), languages=[lang], fallback=True)
+    return gettext.translation("armkit", localedir=str(folder), languages=[lang], fallback=True)
 
 
 def translate(text: str, lang: str = "en", /, **fields: object) -> str:
@@ -324,7 +331,7 @@ def translate(text: str, lang: str = "en", /, **fields: object) -> str:
 
 def _template(text: str, lang: str) -> str:
     """The catalogue's translation of ``text`` (unformatted); English, or a missing entry, stays as written."""
-    return text if lang == "en" or not text else _catalogue(lang).gettext(text)
+    return text if lang == SOURCE or not text else _catalogue(lang).gettext(text)
 
 
 def NC_(context: str, text: str) -> str:
@@ -335,7 +342,7 @@ def NC_(context: str, text: str) -> str:
 
 def translate_in(context: str | None, text: str, lang: str = "en", /, **fields: object) -> str:
     """:func:`translate` of an entry marked with :func:`NC_` (``context=None``: an entry without context)."""
-    if context is None or lang == "en":
+    if context is None or lang == SOURCE:
         return translate(text, lang, **fields)
     return _Formatter(lang).format(_catalogue(lang).pgettext(context, text), **fields)
 
@@ -346,6 +353,6 @@ def _(text: str, /, **fields: object) -> str:
 
 
 def message(key: str, lang: str = "en", /, **fields: object) -> str:
-    """The shell's message ``key`` in ``lang`` (``"en"`` or ``"ko"``), formatted with ``fields``."""
+    """The shell's message ``key`` in ``lang`` (a code of :data:`LANGUAGES`), formatted with ``fields``."""
     return translate(_SOURCE[key], lang, **fields)
 

@@ -1,16 +1,19 @@
-"""Korean text in pictures: a CJK font for matplotlib, or English labels with one warning.
+"""Letters in pictures: the font each language needs for matplotlib, or English labels with one warning.
 
-A Korean label drawn with a font that lacks Hangul shows empty boxes ("tofu"). So the
-plots translate their labels with :func:`plot_text` (imported as ``_`` in the drawing
+A label drawn with a font that lacks its letters shows empty boxes ("tofu"): Hangul in DejaVu Sans.
+So the plots translate their labels with :func:`plot_text` (imported as ``_`` in the drawing
 modules, so that ``pybabel extract`` finds them), which uses :func:`plot_language`:
 
-- English when the user's language is English;
-- Korean when it is Korean and a Korean font is installed (NanumGothic first, then other
-  known Korean fonts, then any font whose name says CJK/KR); matplotlib is told to use it;
-- English, with one warning that says how to install the font, when none is found.
+- the user's language when its letters need no font of their own (English: the row of
+  :data:`armkit.locale.languages.TABLE` has ``fonts=None``);
+- the user's language when a font its row names is installed (for Korean NanumGothic first, then the
+  other families of the row, then any font whose name has one of the row's ``family_words``);
+  matplotlib is told to use it;
+- English, with one warning that says how to install the font (the row's Debian package), when none
+  is found.
 
-``make fonts`` (run by ``make test`` and ``make demo``) installs ``fonts-nanum`` on Debian
-and Ubuntu when it is missing.
+``make fonts`` (run by ``make test`` and ``make demo``) installs the Debian packages of
+:func:`missing_packages` (``python -m armkit.locale.fonts`` prints them).
 
 >>> plot_text("time (s)") in ("time (s)", "시간 (s)")
 True
@@ -23,14 +26,21 @@ from functools import lru_cache
 from typing import Callable
 
 from . import N_, current_language, translate
+from .languages import HANGUL, SOURCE, TABLE, Fonts
 
-__all__ = ["KOREAN_FONTS", "korean_font", "plot_language", "plot_text", "INSTALL_HINT"]
+__all__ = ["KOREAN_FONTS", "FALLBACK", "font_for", "korean_font", "plot_language", "plot_text", "install_hint",
+           "missing_packages", "INSTALL_HINT"]
 
-KOREAN_FONTS = ("NanumGothic", "NanumBarunGothic", "Noto Sans CJK KR", "Noto Sans KR", "Source Han Sans KR",
-                "Malgun Gothic", "AppleGothic", "Apple SD Gothic Neo", "UnDotum", "Baekmuk Gulim")
-"""Fonts with Hangul, in order of preference (the first installed one is used)."""
+KOREAN_FONTS = HANGUL.families
+"""Fonts with Hangul, in order of preference (the first installed one is used): the Korean row's."""
 
-INSTALL_HINT = "sudo apt-get install fonts-nanum"
+INSTALL_HINT = f"sudo apt-get install {HANGUL.debian}"
+"""The Korean row's hint (:func:`install_hint`)."""
+
+FALLBACK = ("DejaVu Sans",)
+"""Fonts after a language's own in matplotlib's list: signs its font lacks (``⁷``, ``✓``, ``ᵀ``) come from them
+(matplotlib falls back glyph by glyph through ``font.family`` when it names families, not through ``sans-serif``).
+DejaVu Sans comes with matplotlib."""
 
 _WARNED: list[bool] = []
 
@@ -44,9 +54,14 @@ WARN: list[Callable[[str], None]] = [_say]
 """Where the missing-font warning goes (the first callable; tests replace it)."""
 
 
-@lru_cache(maxsize=1)
-def korean_font() -> str | None:
-    """The family name of an installed font with Hangul that matplotlib can use, or ``None``.
+def install_hint(lang: str) -> str:
+    """The command that installs the font of ``lang`` on Debian or Ubuntu (``""`` when it needs none)."""
+    fonts = TABLE[lang].fonts if lang in TABLE else None
+    return f"sudo apt-get install {fonts.debian}" if fonts is not None else ""
+
+
+def _installed(fonts: Fonts) -> str | None:
+    """The first family of ``fonts`` that matplotlib can use, else one whose name has a ``family_words`` word.
 
     Looks in matplotlib's font list, then among the system's font files (a font installed after
     matplotlib built its cache is added to it).
@@ -57,47 +72,68 @@ def korean_font() -> str | None:
         return {f.name for f in fm.fontManager.ttflist}
 
     names = known()
-    for family in KOREAN_FONTS:
+    for family in fonts.families:
         if family in names:
             return family
-    hangul = ("nanum", "cjk", "notosanskr", "malgun", "applegothic", "undotum", "baekmuk", "sourcehansans")
     for path in fm.findSystemFonts():
         low = path.lower().replace("-", "").replace("_", "")
-        if any(h in low for h in hangul) and low.endswith((".ttf", ".otf", ".ttc")):
+        if any(w in low for w in fonts.file_words) and low.endswith((".ttf", ".otf", ".ttc")):
             try:
                 fm.fontManager.addfont(path)
             except (OSError, RuntimeError, ValueError):
                 continue
     names = known()
-    for family in KOREAN_FONTS:
+    for family in fonts.families:
         if family in names:
             return family
-    return next((n for n in sorted(names) if "CJK" in n or n.endswith(" KR") or "Nanum" in n), None)
+    return next((n for n in sorted(names) if any(w in n for w in fonts.family_words)), None)
+
+
+@lru_cache(maxsize=None)
+def font_for(lang: str) -> str | None:
+    """The family name of an installed font that draws ``lang``'s letters, or ``None``; ``""`` when the language
+    needs no font of its own (matplotlib's default draws it)."""
+    fonts = TABLE[lang].fonts if lang in TABLE else None
+    return "" if fonts is None else _installed(fonts)
+
+
+def korean_font() -> str | None:
+    """:func:`font_for` Korean: the family name of an installed font with Hangul, or ``None``."""
+    return font_for("ko")
+
+
+def missing_packages() -> list[str]:
+    """The Debian packages of the languages whose font is not installed (what ``make fonts`` installs)."""
+    return sorted({row.fonts.debian for code, row in TABLE.items() if row.fonts is not None and not font_for(code)})
 
 
 def plot_language() -> str:
-    """The language of the pictures: the user's (:func:`armkit.locale.current_language`), except Korean without
-    a Korean font, which falls back to English with one warning (never boxes instead of letters). When Korean,
-    matplotlib's sans-serif family starts with the Korean font (minus signs drawn as hyphens, which every font
-    has)."""
+    """The language of the pictures: the user's (:func:`armkit.locale.current_language`), except a language whose
+    font is missing, which falls back to English with one warning (never boxes instead of letters). With a font of
+    its own, matplotlib's font list is that font, then :data:`FALLBACK` (minus signs drawn as hyphens, which every
+    font has)."""
     lang = current_language()
-    if lang == "en":
-        return "en"
-    font = korean_font()
+    if lang == SOURCE or lang not in TABLE or TABLE[lang].fonts is None:
+        return lang
+    font = font_for(lang)
     if font is None:
         if not _WARNED:
             _WARNED.append(True)
-            WARN[0](translate(N_("no Korean font found, so the pictures are labelled in English; on Debian or "
+            WARN[0](translate(N_("no {script} font found, so the pictures are labelled in English; on Debian or "
                                  "Ubuntu install one with {command} (or {make} in armkit's folder)"), lang,
-                              command=INSTALL_HINT, make="make fonts"))
-        return "en"
+                              script=TABLE[lang].fonts.script, command=install_hint(lang),  # type: ignore[union-attr]
+                              make="make fonts"))
+        return SOURCE
     import matplotlib
 
-    families = list(matplotlib.rcParams["font.sans-serif"])
+    rc = matplotlib.rcParams
+    families = list(rc["font.sans-serif"])
     if families[:1] != [font]:
-        matplotlib.rcParams["font.sans-serif"] = [font] + [f for f in families if f != font]
-        matplotlib.rcParams["font.family"] = "sans-serif"
-        matplotlib.rcParams["axes.unicode_minus"] = False
+        rc["font.sans-serif"] = [font] + [f for f in families if f != font]
+    chain = [font] + [f for f in FALLBACK if f != font]
+    if list(rc["font.family"]) != chain:     # named families: matplotlib takes a glyph the font lacks from the next
+        rc["font.family"] = chain
+        rc["axes.unicode_minus"] = False
     return lang
 
 
@@ -107,3 +143,8 @@ def plot_text(text: str, /, **fields: object) -> str:
     Drawing modules import it as ``_`` so that ``pybabel extract`` finds their labels.
     """
     return translate(text, plot_language(), **fields)
+
+
+if __name__ == "__main__":      # ``make fonts``: the Debian packages to install, one a line
+    for package in missing_packages():
+        print(package)

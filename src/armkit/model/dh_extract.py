@@ -38,30 +38,15 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..errors import RobotDefinitionError
+from .axes import home_pose, joint_axes
 from .robot import Joint, Robot
 
-__all__ = ["chain_to_dh", "joint_axes"]
+__all__ = ["chain_to_dh"]
 
 Array = NDArray[np.float64]
 
 PARALLEL_TOL = 1e-12     # |sin| of the angle between two axes below which they count as parallel
 CHECK_TOL = 1e-9         # the twin's axes and tool pose must match to this fraction of the reach
-
-
-def joint_axes(robot: Robot) -> tuple[Array, Array, Array]:
-    """Joint axes at ``q = 0`` in the world: directions ``(n, 3)``, points ``(n, 3)``, and the tool pose.
-
-    Directions are unit vectors with the sign of the joint's positive motion.
-    """
-    c = robot.chain
-    X = c.base.copy()
-    u = np.empty((robot.n, 3))
-    p = np.empty((robot.n, 3))
-    for k in range(robot.n):
-        A = X @ c.pre[k]
-        u[k], p[k] = A[:3, 2], A[:3, 3]
-        X = A @ c.post[k]
-    return u, p, X @ c.tool
 
 
 def _axes_mismatch(a: Robot, b: Robot, scale: float) -> float:
@@ -73,8 +58,8 @@ def _axes_mismatch(a: Robot, b: Robot, scale: float) -> float:
     direction error. ``|q_i|`` is bounded by the joint's limits (``pi`` where a limit is
     infinite, the range :meth:`Robot.random_q` draws from).
     """
-    ua, pa, Ta = joint_axes(a)
-    ub, pb, Tb = joint_axes(b)
+    (pa, ua), Ta = joint_axes(a), home_pose(a)
+    (pb, ub), Tb = joint_axes(b), home_pose(b)
     d = pa - pb
     off = np.linalg.norm(d - np.sum(d * ub, axis=1)[:, None] * ub, axis=1)   # across b's axis line
     turn = np.linalg.norm(ua - ub, axis=1)
@@ -135,7 +120,7 @@ def _normal(o_a: Array, u_a: Array, p_b: Array, u_b: Array, x_prev: Array, ptol:
 
 def _frames(robot: Robot, ptol: float, ltol: float) -> tuple[list[Array], list[Array], Array]:
     """Standard and modified DH frames ``(n + 1)`` each, in the world, and the tool pose at q = 0."""
-    u, p, tip = joint_axes(robot)
+    (p, u), tip = joint_axes(robot), home_pose(robot)
     n = robot.n
     base = robot.base
     o_ref, x_ref = base[:3, 3], base[:3, 0]

@@ -8,11 +8,11 @@ from __future__ import annotations
 
 from .trajectory import (PROFILES, Trajectory, blended_polyline, cartesian_arc, cartesian_line, cartesian_path,
                          cartesian_waypoints, joint_trajectory, profile, segment_duration)
-from .velocity import JointRates, damping_schedule, joint_rates, resolved_rate, task_rows, twist
+from .velocity import JointRates, damping_schedule, joint_rates, resolved_rate, twist, velocity_rows
 
 __all__ = ["Trajectory", "PROFILES", "profile", "segment_duration", "joint_trajectory", "cartesian_path",
            "cartesian_line", "cartesian_arc", "cartesian_waypoints", "blended_polyline", "JointRates", "twist",
-           "joint_rates", "damping_schedule", "resolved_rate", "task_rows"]
+           "joint_rates", "damping_schedule", "resolved_rate", "velocity_rows"]
 
 
 _MOVED = {"plot_trajectory": "armkit.viz.plot_trajectory", "animate_trajectory": "armkit.viz.animate_trajectory"}

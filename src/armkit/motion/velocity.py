@@ -4,9 +4,10 @@ Twists are ordered ``(v, omega)`` like the rows of :func:`armkit.jacobian`: ``v`
 velocity of the tool origin (robot length unit per second), ``omega`` the angular
 velocity (rad/s), both in the base frame.
 
-**Task rows.** A requested end-effector velocity may name only some rows: 6 values are
-``(vx, vy, vz, wx, wy, wz)``, 3 values ``(vx, vy, vz)`` (position only), 2 values
-``(vx, vy)`` (planar arms). Pass ``rows=`` to choose others.
+**Velocity rows.** A requested end-effector velocity may name only some rows of the twist
+(:func:`velocity_rows`): 6 values are ``(vx, vy, vz, wx, wy, wz)``, 3 values ``(vx, vy, vz)``
+(position only), 2 values ``(vx, vy)`` (planar arms). Pass ``rows=`` to choose others. (The rows
+an *arm* can move, which the manipulability measures use, are :func:`armkit.kinematics.task_rows`.)
 
 **Damped least squares.** :math:`\dot q = J^T (J J^T + \lambda^2 I)^{-1} \dot x`.
 ``damping="auto"`` (default for :func:`joint_rates` with ``method="dls"``) uses the
@@ -33,7 +34,7 @@ from ..kinematics import fk, jacobian
 from ..model.robot import Robot
 
 __all__ = ["ROW_NAMES", "SINGULAR_SIGMA", "DLS_EPSILON", "DLS_LAMBDA_MAX", "JointRates", "twist",
-           "joint_rates", "task_rows", "damping_schedule", "resolved_rate"]
+           "joint_rates", "velocity_rows", "damping_schedule", "resolved_rate"]
 
 Array = NDArray[np.float64]
 ROW_NAMES = ("vx", "vy", "vz", "wx", "wy", "wz")
@@ -45,10 +46,13 @@ DLS_LAMBDA_MAX = 0.04
 """Largest damping factor lambda (metres) of the automatic schedule."""
 
 
-def task_rows(count: int, rows: Sequence[int | str] | None = None) -> tuple[int, ...]:
-    """Row indices for a task vector of ``count`` values (see the module docstring).
+def velocity_rows(count: int, rows: Sequence[int | str] | None = None) -> tuple[int, ...]:
+    """The twist rows that an end-effector velocity of ``count`` values gives (see the module docstring):
+    ``rows`` (names of :data:`ROW_NAMES` or indices) when given, else by the count.
 
-    >>> task_rows(2), task_rows(3), task_rows(2, ["vx", "wz"])
+    Not :func:`armkit.kinematics.task_rows`, which is about the arm (the rows it can move).
+
+    >>> velocity_rows(2), velocity_rows(3), velocity_rows(2, ["vx", "wz"])
     ((0, 1), (0, 1, 2), (0, 5))
     """
     if rows is not None:
@@ -160,7 +164,7 @@ def joint_rates(robot: Robot, q: ArrayLike, xd: ArrayLike, method: Literal["pinv
         For ``"dls"``: constant lambda in metres, or the automatic schedule
         (:func:`damping_schedule`).
     rows : sequence of str or int, optional
-        Task rows of ``xd`` (default from its length, see :func:`task_rows`).
+        Twist rows of ``xd`` (default from its length, see :func:`velocity_rows`).
 
     Returns
     -------
@@ -179,7 +183,7 @@ def joint_rates(robot: Robot, q: ArrayLike, xd: ArrayLike, method: Literal["pinv
     x = np.asarray(xd, dtype=float)
     if x.ndim != 1 or not np.all(np.isfinite(x)):
         raise ShapeError(f"xd must be a finite vector of 2, 3 or 6 values, got shape {x.shape}")
-    idx = task_rows(len(x), rows)
+    idx = velocity_rows(len(x), rows)
     if method not in ("pinv", "dls"):
         raise ArgumentError(f"method must be 'pinv' or 'dls', got {method!r}")
     Js, row_scale = _scaled_task_jacobian(robot, qv, idx)
@@ -279,7 +283,7 @@ def resolved_rate(robot: Robot, q0: ArrayLike, path: Callable[[float], tuple[Arr
     k = len(np.atleast_1d(x0))
     if k not in (2, 3):
         raise ShapeError(f"resolved_rate follows positions: path(t) must give 2 or 3 values, got {k}")
-    idx = task_rows(k, rows)
+    idx = velocity_rows(k, rows)
     vmax = None if qd_max is None else np.broadcast_to(np.asarray(qd_max, dtype=float), (robot.n,))
     lo, hi = robot.lower, robot.upper
     t = np.arange(steps + 1) * dt

@@ -364,7 +364,7 @@ def test_close_frees_port_and_bad_input() -> None:
 
 
 @pytest.mark.parametrize("args, text", [
-    (["view", "fighter", "--lang", "fr"], "--lang must be en or ko"),
+    (["view", "fighter", "--lang", "fr"], "--lang must be one of en, ko"),
     (["view", "fighter", "--port", "70000"], "--port must be between 1 and 65535"),
     (["view", "fighter", "--host", "bad host;rm"], "--host must be an IP address or a host name"),
     (["view", "no_such_robot"], "no_such_robot"),

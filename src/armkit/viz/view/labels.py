@@ -13,7 +13,7 @@ from ...locale import MESSAGES, N_, NC_, translate_in
 
 __all__ = ["LABELS", "label"]
 
-LABELS: dict[str, str] = {     # English here, Korean in the catalogue (armkit/locale, docs/ko.md)
+LABELS: dict[str, str] = {     # English here, Korean in the catalogue (armkit/locale, docs/languages.md)
     "joints": N_("Joints"),
     "panel": N_("armkit view: {robot}"),     # the panel's title (viser would show its English "Connected")
     "grid_cells": N_("ground grid: cells of {size}"),

@@ -50,7 +50,7 @@ __all__ = ["Readouts", "matrix_text", "matrix_html", "colour_bar_html", "configu
 
 Array = NDArray[np.float64]
 
-TEXTS: dict[str, str] = {     # English here, Korean in the catalogue (docs/ko.md)
+TEXTS: dict[str, str] = {     # English here, Korean in the catalogue (docs/languages.md)
     "readouts": N_("T and J"),
     "t_caption": N_("T: the end frame in the world ({unit})"),
     "show_j": N_("show J"),

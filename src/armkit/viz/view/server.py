@@ -249,9 +249,11 @@ class View:
 
         gui = self.server.gui
         gui.set_panel_label(label("panel", self.lang, robot=self.robot.name))   # viser's "Connected", in words
-        names = {"en": "English", "ko": "한국어"}      # each language's name in itself, in both pages
-        self._lang_dd = gui.add_dropdown("language · 언어", [names[k] for k in LANGUAGES],
-                                         initial_value=names[self.lang])
+        from ...locale.languages import TABLE      # each language's name (and word for "language") in itself
+
+        names = {k: TABLE[k].native for k in LANGUAGES}
+        self._lang_dd = gui.add_dropdown(" · ".join(dict.fromkeys(TABLE[k].word for k in LANGUAGES)),
+                                         [names[k] for k in LANGUAGES], initial_value=names[self.lang])
 
         def switched(event: Any) -> None:
             chosen = next(k for k, v in names.items() if v == self._lang_dd.value)

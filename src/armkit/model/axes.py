@@ -1,0 +1,79 @@
+"""The joint axes of a robot in the world: the one ``joint_axes`` of armkit.
+
+Joint ``k``'s axis is the z axis of the frame ``F_{k-1} · pre_k`` of the compiled chain
+(:class:`armkit.model.robot.Chain`; ``F_0`` is the base): a line through that frame's origin,
+pointing the way the joint moves positively. Only NumPy: the model floor walks its own chain,
+so the DH twin (:mod:`armkit.model.dh_extract`), the workspace (:mod:`armkit.analysis.workspace`)
+and the pictures read the same axes.
+
+>>> import armkit
+>>> points, directions = joint_axes(armkit.load("planar2"))
+>>> directions.round(12).tolist(), points[:, 0].round(6).tolist()
+([[0.0, 0.0, 1.0], [0.0, 0.0, 1.0]], [0.0, 1.0])
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from ..errors import ShapeError
+from .robot import Robot
+
+__all__ = ["joint_axes", "home_pose"]
+
+Array = NDArray[np.float64]
+
+
+def _motion(value: float, prismatic: bool) -> Array:
+    """``M(q)``: a turn about, or a slide along, the local z axis."""
+    M = np.eye(4)
+    if prismatic:
+        M[2, 3] = value
+    else:
+        c, s = math.cos(value), math.sin(value)
+        M[:2, :2] = [[c, -s], [s, c]]
+    return M
+
+
+def joint_axes(robot: Robot, q: ArrayLike | None = None) -> tuple[Array, Array]:
+    """Joint axes in the world frame at one configuration: points ``(n, 3)`` on them and unit directions ``(n, 3)``.
+
+    Parameters
+    ----------
+    robot : Robot
+    q : array_like, shape (n,), optional
+        The joint values; zeros by default (the home configuration, where the product-of-exponentials form and the
+        DH twin read the axes).
+
+    Returns
+    -------
+    points, directions : ndarray, shape (n, 3)
+        The origin of joint ``k``'s frame, and its z axis (the sign of the joint's positive motion).
+    """
+    c = robot.chain
+    if q is None:
+        qv = np.zeros(robot.n)
+    else:
+        qv = robot.check_q(q)
+        if qv.shape != (robot.n,):
+            raise ShapeError(f"q must be one configuration of shape ({robot.n},), got {qv.shape}")
+    X = c.base.copy()
+    points = np.empty((robot.n, 3))
+    directions = np.empty((robot.n, 3))
+    for k in range(robot.n):
+        A = X @ c.pre[k]                     # joint k's frame: its z axis is the joint axis
+        points[k], directions[k] = A[:3, 3], A[:3, 2]
+        X = A @ _motion(float(qv[k]), bool(c.prismatic[k])) @ c.post[k]
+    return points, directions
+
+
+def home_pose(robot: Robot) -> Array:
+    """The tool pose at ``q = 0`` (the home pose ``M`` of the product of exponentials), shape ``(4, 4)``."""
+    c = robot.chain
+    T = np.eye(4)
+    for F in c.fixed:                        # base·pre_1, post_1·pre_2, ..., post_n·tool: every M_i is 1 at q = 0
+        T = T @ F
+    return T
