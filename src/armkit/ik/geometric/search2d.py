@@ -1,0 +1,775 @@
+"""A 2-D search for the general 6R chain: no two axes meet or are parallel (IK-Geo's idea, our code).
+
+With q1 and q2 held, the point of axis 6 fixes q3, q4, q5 (the rest of a 3R position problem), and
+what is left is whether joint 6's axis then points where the target wants it::
+
+    u = R_02ᵀ (p − p_0 − R_06 p_6T − R_01 p_12) − p_23 = rot(h3, q3) (p_34 + rot(h4, q4) (p_45 + rot(h5, q5) p_56))
+
+Read as ``rot(h3, −q3) u − p_34 = rot(h4, q4) (p_45 + rot(h5, q5) p_56)`` (the two sides agree iff
+their components along h4 and their lengths agree), it is two equations linear in ``(cos q3, sin q3)``
+and ``(cos q5, sin q5)``; eliminating one pair leaves a trigonometric polynomial of degree 2 in the
+other angle, a quartic in the tangent of its half angle (up to 4 real roots, found here from the
+roots of its derivative, a cubic in closed form, and safeguarded Newton steps). Then q4 by SP1.
+Each of those up to 4 branches leaves the residual
+
+    e(q1, q2) = R_05 h6 − R_06 h6,
+
+two numbers (its components across ``R_06 h6``); a solution of the arm is a zero of e on a branch.
+
+**Resolution.** e is sampled on an :data:`N` × :data:`N` grid over the torus of (q1, q2) (step
+360°/N). Each grid cell is walked around on each branch (branches matched corner to corner by their
+(q3, q4, q5)); a cell where e winds around 0 holds a zero. Where the branches do not match around a
+cell (a branch ends inside, two branches come close), the grid points where ``‖e‖`` is below
+:data:`THRESH` and least among their neighbours are taken too, and those next to the end of their
+branch where ``‖e‖`` is below :data:`EDGE_THRESH`. Every candidate (for a winding cell: the zero of
+e's bilinear interpolation over the cell) is then polished by Newton steps on the whole chain (all six
+joints, the true model) and kept only when FK of the chain meets the target to :data:`~.solvers.TOL`
+(times the arm's size for the position); duplicates are merged. What the resolution means: a solution
+can be missed when another lies within about one grid step of it in (q1, q2) on the same branch (two
+zeros of e in one cell: their windings cancel and Newton from there finds one of them). On random
+arms that happened for 1 target in 120 (tests/ik/geometric/test_search2d.py); a finer grid
+(``samples=``) shrinks it.
+
+The search is compiled with Numba (``njit(cache=True)``, on first use; :func:`kernels`), the whole
+grid, the candidates, the Newton polish and the check in one call; without Numba the same functions
+run as plain Python (seconds per target).
+"""
+
+from __future__ import annotations
+
+import math
+import types
+from typing import Optional
+
+import numpy as np
+from numpy.typing import NDArray
+
+from . import subproblems as _sp
+from .poe import POE
+from .subproblems import _cross, _dot, _norm, _wrap, rot, rotm
+
+__all__ = ["gen_six_dof", "N", "THRESH", "MAXSOL", "kernels", "resolution"]
+
+Array = NDArray[np.float64]
+
+N = 100
+"""Samples of q1 and of q2 over one turn each (3.6° apart): the grid is N × N."""
+THRESH = 0.35
+"""A grid point of a branch whose ``‖e‖`` (the sine-ish angle between joint 6's axis and the target's) is
+below this and least among its neighbours is a candidate, whether or not e winds around its cell."""
+EDGE_THRESH = 0.9
+"""The same for a grid point next to where its branch ends (a fold of the q3, q4, q5 problem, where e changes
+fast): below this, a candidate whether or not it is least among its neighbours."""
+MATCH = 1.2
+"""Largest change (rad, in q3, q4 or q5) between neighbouring grid points taken as the same branch."""
+MAXCAND = 512
+MAXSOL = 32
+NEWTON = 60
+
+
+def resolution(samples: int = N) -> str:
+    """The search's resolution in words (for ``armkit info`` and notes)."""
+    return f"{samples} x {samples} grid over q1, q2 ({360.0 / samples:.2g} deg)"
+
+
+# -------------------------------------------------------------------------- the quartic
+def _poly(c, t):
+    return (((c[0] * t + c[1]) * t + c[2]) * t + c[3]) * t + c[4]
+
+
+def _dpoly(c, t):
+    return ((4.0 * c[0] * t + 3.0 * c[1]) * t + 2.0 * c[2]) * t + c[3]
+
+
+def _cubic_real(a, b, c, d, out):
+    """Real roots of ``a t³ + b t² + c t + d`` (a ≠ 0) into ``out``; returns their count."""
+    b = b / a
+    c = c / a
+    d = d / a
+    p = c - b * b / 3.0
+    q = 2.0 * b * b * b / 27.0 - b * c / 3.0 + d
+    sh = -b / 3.0
+    disc = q * q / 4.0 + p * p * p / 27.0
+    if disc > 0.0:
+        sd = math.sqrt(disc)
+        u = -q / 2.0 + sd
+        v = -q / 2.0 - sd
+        out[0] = math.copysign(abs(u) ** (1.0 / 3.0), u) + math.copysign(abs(v) ** (1.0 / 3.0), v) + sh
+        return 1
+    if p == 0.0:
+        out[0] = sh
+        return 1
+    r = 2.0 * math.sqrt(-p / 3.0)
+    den = p * r
+    arg = 3.0 * q / den if den != 0.0 else 0.0
+    arg = min(1.0, max(-1.0, arg))
+    phi = math.acos(arg) / 3.0
+    for k in range(3):
+        out[k] = r * math.cos(phi - 2.0 * math.pi * k / 3.0) + sh
+    return 3
+
+
+def _root_in(c, a, b, fa):
+    """The root of the quartic ``c`` in ``[a, b]`` where it changes sign (``fa`` its value at a)."""
+    x = 0.5 * (a + b)
+    for _ in range(100):
+        f = _poly(c, x)
+        if f == 0.0:
+            return x
+        if (f > 0.0) == (fa > 0.0):
+            a = x
+        else:
+            b = x
+        df = _dpoly(c, x)
+        nx = x - f / df if df != 0.0 else 0.5 * (a + b)
+        if not (a < nx < b):
+            nx = 0.5 * (a + b)
+        if abs(nx - x) <= 1e-15 * (1.0 + abs(x)):
+            return nx
+        x = nx
+    return x
+
+
+def _quartic_real(c, out, cm, crit):
+    """Real roots of ``c[0] t⁴ + ... + c[4]`` (c[0] ≠ 0) into ``out (4,)``; returns their count (``cm (5,)``,
+    ``crit (3,)``: work space)."""
+    for k in range(5):
+        cm[k] = c[k] / c[0]
+    bound = 1.0 + max(abs(cm[1]), abs(cm[2]), abs(cm[3]), abs(cm[4]))
+    nc = _cubic_real(4.0, 3.0 * cm[1], 2.0 * cm[2], cm[3], crit)
+    for k in range(nc):                              # polish the critical points, sort them
+        x = crit[k]
+        for _ in range(3):
+            d2 = (12.0 * x + 6.0 * cm[1]) * x + 2.0 * cm[2]
+            if d2 == 0.0:
+                break
+            x -= _dpoly(cm, x) / d2
+        crit[k] = min(bound, max(-bound, x))
+    for i in range(nc):
+        for j in range(i + 1, nc):
+            if crit[j] < crit[i]:
+                tmp = crit[i]
+                crit[i] = crit[j]
+                crit[j] = tmp
+    size = abs(cm[0]) + abs(cm[1]) + abs(cm[2]) + abs(cm[3]) + abs(cm[4])
+    n = 0
+    a = -bound
+    fa = _poly(cm, a)
+    for k in range(nc + 1):
+        b = crit[k] if k < nc else bound
+        fb = _poly(cm, b)
+        if (fa > 0.0) != (fb > 0.0) and fa != 0.0:
+            if fb == 0.0:
+                out[n] = b
+            else:
+                out[n] = _root_in(cm, a, b, fa)
+            n += 1
+        elif k < nc and abs(fb) <= 1e-14 * size and n < 4:   # a double root at a critical point
+            if n == 0 or abs(out[n - 1] - b) > 1e-12 * (1.0 + abs(b)):
+                out[n] = b
+                n += 1
+        a = b
+        fa = fb
+        if n >= 4:
+            break
+    return n
+
+
+def _trig_roots(a0, a1, b1, a2, b2, out, W):
+    """Angles θ with ``a0 + a1 cos θ + b1 sin θ + a2 cos 2θ + b2 sin 2θ = 0`` into ``out``; their count
+    (``W (4, 5)``: work space)."""
+    best = -1.0
+    th0 = 0.0
+    for k in range(4):                 # turn the origin so that θ0 + π (t = ∞) is far from a root
+        t0 = 0.5 * math.pi * k
+        v = abs(a0 + a1 * math.cos(t0 + math.pi) + b1 * math.sin(t0 + math.pi)
+                + a2 * math.cos(2.0 * t0) + b2 * math.sin(2.0 * t0))
+        if v > best:
+            best = v
+            th0 = t0
+    if best <= 0.0:
+        return 0
+    c0 = math.cos(th0)
+    s0 = math.sin(th0)
+    c2 = math.cos(2.0 * th0)
+    s2 = math.sin(2.0 * th0)
+    A1 = a1 * c0 + b1 * s0
+    B1 = -a1 * s0 + b1 * c0
+    A2 = a2 * c2 + b2 * s2
+    B2 = -a2 * s2 + b2 * c2
+    c = W[0]
+    c[0] = a0 - A1 + A2
+    c[1] = 2.0 * B1 - 4.0 * B2
+    c[2] = 2.0 * a0 - 6.0 * A2
+    c[3] = 2.0 * B1 + 4.0 * B2
+    c[4] = a0 + A1 + A2
+    ts = W[1]
+    n = _quartic_real(c, ts, W[2], W[3])
+    for k in range(n):
+        out[k] = th0 + 2.0 * math.atan(ts[k])
+    return n
+
+
+# ----------------------------------------------------------------- one grid point: q3, q4, q5
+def _lin2(h, k, p):
+    """``(a, b, c)`` with ``hᵀ rot(k, θ) p = c + a cos θ + b sin θ``."""
+    kp = _dot(k, p)
+    c = _dot(h, k) * kp
+    b = (h[0] * (k[1] * p[2] - k[2] * p[1]) + h[1] * (k[2] * p[0] - k[0] * p[2])
+         + h[2] * (k[0] * p[1] - k[1] * p[0]))
+    return _dot(h, p) - c, b, c
+
+
+def _q345(H, P, u, out, W):
+    """Up to 4 ``(q3, q4, q5)`` with ``rot(h3, q3) (p_34 + rot(h4, q4) (p_45 + rot(h5, q5) p_56)) = u`` into
+    ``out (4, 3)``; returns their count (``W (5, 5)``: work space)."""
+    h3 = H[2]
+    h4 = H[3]
+    h5 = H[4]
+    P34 = P[3]
+    P45 = P[4]
+    P56 = P[5]
+    # h4ᵀ rot(h3, -θ3) u = c + a cos θ3 - b sin θ3, and P34ᵀ rot(h3, -θ3) u likewise
+    a_hu, b_hu, c_hu = _lin2(h4, h3, u)
+    a_pu, b_pu, c_pu = _lin2(P34, h3, u)
+    a_hp, b_hp, c_hp = _lin2(h4, h5, P56)
+    a_pp, b_pp, c_pp = _lin2(P45, h5, P56)
+    A00 = a_hu
+    A01 = -b_hu
+    B00 = -a_hp
+    B01 = -b_hp
+    e0 = _dot(h4, P34) + _dot(h4, P45) + c_hp - c_hu
+    A10 = -2.0 * a_pu
+    A11 = 2.0 * b_pu
+    B10 = -2.0 * a_pp
+    B11 = -2.0 * b_pp
+    e1 = _dot(P45, P45) + _dot(P56, P56) + 2.0 * c_pp - _dot(u, u) - _dot(P34, P34) + 2.0 * c_pu
+    # scale the rows alike
+    s0 = max(abs(A00), abs(A01), abs(B00), abs(B01), 1e-300)
+    s1 = max(abs(A10), abs(A11), abs(B10), abs(B11), 1e-300)
+    A00 /= s0
+    A01 /= s0
+    B00 /= s0
+    B01 /= s0
+    e0 /= s0
+    A10 /= s1
+    A11 /= s1
+    B10 /= s1
+    B11 /= s1
+    e1 /= s1
+    dA = A00 * A11 - A01 * A10
+    dB = B00 * B11 - B01 * B10
+    nA = A00 * A00 + A01 * A01 + A10 * A10 + A11 * A11
+    nB = B00 * B00 + B01 * B01 + B10 * B10 + B11 * B11
+    swap = abs(dA) / max(nA, 1e-300) < abs(dB) / max(nB, 1e-300)
+    if swap:       # eliminate x5 = (cos q5, sin q5) instead: x5 = B⁻¹ e − B⁻¹ A x3
+        d = dB
+        M00, M01, M10, M11 = A00, A01, A10, A11
+        I00, I01, I10, I11 = B11 / d, -B01 / d, -B10 / d, B00 / d
+    else:          # x3 = A⁻¹ e − A⁻¹ B x5
+        d = dA
+        M00, M01, M10, M11 = B00, B01, B10, B11
+        I00, I01, I10, I11 = A11 / d, -A01 / d, -A10 / d, A00 / d
+    if d == 0.0:
+        return 0
+    g0 = I00 * e0 + I01 * e1
+    g1 = I10 * e0 + I11 * e1
+    N00 = I00 * M00 + I01 * M10
+    N01 = I00 * M01 + I01 * M11
+    N10 = I10 * M00 + I11 * M10
+    N11 = I10 * M01 + I11 * M11
+    # |g − N x|² − 1 = 0 for x = (cos θ, sin θ)
+    S00 = N00 * N00 + N10 * N10
+    S11 = N01 * N01 + N11 * N11
+    S01 = N00 * N01 + N10 * N11
+    a0 = g0 * g0 + g1 * g1 - 1.0 + 0.5 * (S00 + S11)
+    a1 = -2.0 * (N00 * g0 + N10 * g1)
+    b1 = -2.0 * (N01 * g0 + N11 * g1)
+    a2 = 0.5 * (S00 - S11)
+    b2 = S01
+    ths = W[4]
+    n = _trig_roots(a0, a1, b1, a2, b2, ths, W)
+    cnt = 0
+    for k in range(n):
+        c = math.cos(ths[k])
+        s = math.sin(ths[k])
+        y0 = g0 - N00 * c - N01 * s
+        y1 = g1 - N10 * c - N11 * s
+        other = math.atan2(y1, y0)
+        if swap:
+            q3 = ths[k]
+            q5 = other
+        else:
+            q3 = other
+            q5 = ths[k]
+        v = rot(h3, -q3, u) - P34
+        w = P45 + rot(h5, q5, P56)
+        wp = w - h4 * _dot(h4, w)
+        vp = v - h4 * _dot(h4, v)
+        q4 = math.atan2(_dot(h4, _cross(wp, vp)), _dot(wp, vp))
+        out[cnt, 0] = _wrap(q3)
+        out[cnt, 1] = _wrap(q4)
+        out[cnt, 2] = _wrap(q5)
+        cnt += 1
+    return cnt
+
+
+# --------------------------------------------------------------------------- the grid
+def _grid(H, P, R06, p, samples, Q, E, C):
+    """Every grid point's branches: ``(q3, q4, q5)`` into ``Q (S, S, 4, 3)``, the residual
+    ``(xᵀ d, yᵀ d, tᵀ d)`` (``d = R_05 h6``, ``t = R_06 h6``, x, y across t) into ``E (S, S, 4, 3)``, counts
+    into ``C (S, S)``."""
+    t = np.empty(3)
+    for i in range(3):
+        t[i] = R06[i, 0] * H[5, 0] + R06[i, 1] * H[5, 1] + R06[i, 2] * H[5, 2]
+    e = np.zeros(3)
+    if abs(t[0]) < 0.6:
+        e[0] = 1.0
+    else:
+        e[1] = 1.0
+    x = _cross(t, e)
+    x = x / _norm(x)
+    y = _cross(t, x)
+    w = np.empty(3)                      # p − p_0 − R_06 p_6T: the point of axis 6
+    for i in range(3):
+        w[i] = p[i] - P[0, i] - (R06[i, 0] * P[6, 0] + R06[i, 1] * P[6, 1] + R06[i, 2] * P[6, 2])
+    R1s = np.empty((samples, 3, 3))
+    R2s = np.empty((samples, 3, 3))
+    for i in range(samples):
+        ang = -math.pi + 2.0 * math.pi * i / samples
+        R1s[i] = rotm(H[0], ang)
+        R2s[i] = rotm(H[1], ang)
+    out = np.empty((4, 3))
+    W = np.empty((5, 5))
+    a = np.empty(3)
+    u = np.empty(3)
+    R02 = np.empty((3, 3))
+    for i in range(samples):
+        R1 = R1s[i]
+        for k in range(3):
+            a[k] = w[k] - (R1[k, 0] * P[1, 0] + R1[k, 1] * P[1, 1] + R1[k, 2] * P[1, 2])
+        for j in range(samples):
+            R2 = R2s[j]
+            for r in range(3):
+                for c in range(3):
+                    R02[r, c] = R1[r, 0] * R2[0, c] + R1[r, 1] * R2[1, c] + R1[r, 2] * R2[2, c]
+            for k in range(3):
+                u[k] = R02[0, k] * a[0] + R02[1, k] * a[1] + R02[2, k] * a[2] - P[2, k]
+            n = _q345(H, P, u, out, W)
+            C[i, j] = n
+            for b in range(n):
+                d = rot(H[2], out[b, 0], rot(H[3], out[b, 1], rot(H[4], out[b, 2], H[5])))
+                dw0 = R02[0, 0] * d[0] + R02[0, 1] * d[1] + R02[0, 2] * d[2]
+                dw1 = R02[1, 0] * d[0] + R02[1, 1] * d[1] + R02[1, 2] * d[2]
+                dw2 = R02[2, 0] * d[0] + R02[2, 1] * d[1] + R02[2, 2] * d[2]
+                Q[i, j, b, 0] = out[b, 0]
+                Q[i, j, b, 1] = out[b, 1]
+                Q[i, j, b, 2] = out[b, 2]
+                E[i, j, b, 0] = x[0] * dw0 + x[1] * dw1 + x[2] * dw2
+                E[i, j, b, 1] = y[0] * dw0 + y[1] * dw1 + y[2] * dw2
+                E[i, j, b, 2] = t[0] * dw0 + t[1] * dw1 + t[2] * dw2
+
+
+def _near(Q, C, i, j, ref):
+    """The branch at grid point (i, j) nearest ``ref (3,)`` (q3, q4, q5), -1 if none within :data:`MATCH`."""
+    best = -1
+    bd = MATCH
+    for b in range(C[i, j]):
+        d = max(abs(_wrap(Q[i, j, b, 0] - ref[0])), abs(_wrap(Q[i, j, b, 1] - ref[1])),
+                abs(_wrap(Q[i, j, b, 2] - ref[2])))
+        if d < bd:
+            bd = d
+            best = b
+    return best
+
+
+def _candidates(Q, E, C, samples, cand):
+    """Starts ``(q1, …, q5)`` for Newton into ``cand (MAXCAND, 5)``: in each cell around which e winds, the zero
+    of e's bilinear interpolation (q3, q4, q5 interpolated alike); the grid points that are local minima of ‖e‖
+    below :data:`THRESH` (or next to their branch's end, below :data:`EDGE_THRESH`). Returns their count."""
+    nc = 0
+    step = 2.0 * math.pi / samples
+    bq = np.empty((4, 3))
+    be = np.empty((4, 2))
+    ci = np.empty(5, dtype=np.int64)
+    cj = np.empty(5, dtype=np.int64)
+    for i in range(samples):
+        i1 = (i + 1) % samples
+        for j in range(samples):
+            j1 = (j + 1) % samples
+            ci[0] = i
+            cj[0] = j
+            ci[1] = i1
+            cj[1] = j
+            ci[2] = i1
+            cj[2] = j1
+            ci[3] = i
+            cj[3] = j1
+            ci[4] = i
+            cj[4] = j
+            for b0 in range(C[i, j]):
+                # a local minimum of ‖e‖ on this branch
+                r0 = math.hypot(E[i, j, b0, 0], E[i, j, b0, 1])
+                if r0 < EDGE_THRESH and E[i, j, b0, 2] > 0.0:
+                    low = True
+                    edge = False
+                    for di in range(-1, 2):
+                        for dj in range(-1, 2):
+                            if di != 0 or dj != 0:
+                                ni = (i + di) % samples
+                                nj = (j + dj) % samples
+                                k = _near(Q, C, ni, nj, Q[i, j, b0])
+                                if k < 0:
+                                    edge = True
+                                elif E[ni, nj, k, 2] > 0.0 and math.hypot(E[ni, nj, k, 0], E[ni, nj, k, 1]) < r0:
+                                    low = False
+                    if low and (edge or r0 < THRESH) and nc < cand.shape[0]:
+                        cand[nc, 0] = -math.pi + step * i
+                        cand[nc, 1] = -math.pi + step * j
+                        for k in range(3):
+                            cand[nc, 2 + k] = Q[i, j, b0, k]
+                        nc += 1
+                # the winding of e around the cell on this branch
+                b = b0
+                total = 0.0
+                ok = E[i, j, b0, 2] > 0.0
+                for k in range(3):
+                    bq[0, k] = Q[i, j, b0, k]
+                be[0, 0] = E[i, j, b0, 0]
+                be[0, 1] = E[i, j, b0, 1]
+                for s in range(1, 5):
+                    if not ok:
+                        break
+                    k = _near(Q, C, ci[s], cj[s], Q[ci[s - 1], cj[s - 1], b])
+                    if k < 0 or E[ci[s], cj[s], k, 2] <= 0.0:
+                        ok = False
+                        break
+                    a0 = math.atan2(E[ci[s - 1], cj[s - 1], b, 1], E[ci[s - 1], cj[s - 1], b, 0])
+                    a1 = math.atan2(E[ci[s], cj[s], k, 1], E[ci[s], cj[s], k, 0])
+                    total += _wrap(a1 - a0)
+                    b = k
+                    if s < 4:
+                        for m in range(3):     # unwrapped next to corner 0
+                            bq[s, m] = bq[0, m] + _wrap(Q[ci[s], cj[s], k, m] - bq[0, m])
+                        be[s, 0] = E[ci[s], cj[s], k, 0]
+                        be[s, 1] = E[ci[s], cj[s], k, 1]
+                if ok and b == b0 and abs(total) > math.pi and nc < cand.shape[0]:
+                    # corners 0 (s, t) = (0, 0), 1 (1, 0), 2 (1, 1), 3 (0, 1): the zero of the bilinear e
+                    u = 0.5
+                    v = 0.5
+                    for _ in range(12):
+                        f0 = (1 - u) * (1 - v) * be[0, 0] + u * (1 - v) * be[1, 0] + u * v * be[2, 0] + (1 - u) * v * be[3, 0]
+                        f1 = (1 - u) * (1 - v) * be[0, 1] + u * (1 - v) * be[1, 1] + u * v * be[2, 1] + (1 - u) * v * be[3, 1]
+                        a00 = -(1 - v) * be[0, 0] + (1 - v) * be[1, 0] + v * be[2, 0] - v * be[3, 0]
+                        a10 = -(1 - v) * be[0, 1] + (1 - v) * be[1, 1] + v * be[2, 1] - v * be[3, 1]
+                        a01 = -(1 - u) * be[0, 0] - u * be[1, 0] + u * be[2, 0] + (1 - u) * be[3, 0]
+                        a11 = -(1 - u) * be[0, 1] - u * be[1, 1] + u * be[2, 1] + (1 - u) * be[3, 1]
+                        det = a00 * a11 - a01 * a10
+                        if det == 0.0:
+                            break
+                        u = min(1.0, max(0.0, u - (a11 * f0 - a01 * f1) / det))
+                        v = min(1.0, max(0.0, v - (-a10 * f0 + a00 * f1) / det))
+                    cand[nc, 0] = -math.pi + step * (i + u)
+                    cand[nc, 1] = -math.pi + step * (j + v)
+                    for m in range(3):
+                        cand[nc, 2 + m] = ((1 - u) * (1 - v) * bq[0, m] + u * (1 - v) * bq[1, m] + u * v * bq[2, m]
+                                           + (1 - u) * v * bq[3, m])
+                    nc += 1
+    return nc
+
+
+# ---------------------------------------------------------------- Newton on the whole chain
+def _fkj(H, P, RnT, q, J, Rout, pout, Wk):
+    """FK of the chain at ``q`` (``R`` into ``Rout``, ``p`` into ``pout``) and its world Jacobian ``J (6, 6)``
+    (linear rows first); ``Wk (18, 3)`` work space."""
+    R = Wk[0:3]
+    T = Wk[3:6]
+    axes = Wk[6:12]
+    orig = Wk[12:18]
+    for r in range(3):
+        for c in range(3):
+            R[r, c] = 1.0 if r == c else 0.0
+    p0 = P[0, 0]
+    p1 = P[0, 1]
+    p2 = P[0, 2]
+    for k in range(6):
+        h0 = H[k, 0]
+        h1 = H[k, 1]
+        h2 = H[k, 2]
+        for r in range(3):
+            axes[k, r] = R[r, 0] * h0 + R[r, 1] * h1 + R[r, 2] * h2
+        orig[k, 0] = p0
+        orig[k, 1] = p1
+        orig[k, 2] = p2
+        c = math.cos(q[k])
+        s = math.sin(q[k])
+        v = 1.0 - c
+        r00 = c + h0 * h0 * v
+        r01 = h0 * h1 * v - h2 * s
+        r02 = h0 * h2 * v + h1 * s
+        r10 = h1 * h0 * v + h2 * s
+        r11 = c + h1 * h1 * v
+        r12 = h1 * h2 * v - h0 * s
+        r20 = h2 * h0 * v - h1 * s
+        r21 = h2 * h1 * v + h0 * s
+        r22 = c + h2 * h2 * v
+        for r in range(3):
+            a0 = R[r, 0]
+            a1 = R[r, 1]
+            a2 = R[r, 2]
+            T[r, 0] = a0 * r00 + a1 * r10 + a2 * r20
+            T[r, 1] = a0 * r01 + a1 * r11 + a2 * r21
+            T[r, 2] = a0 * r02 + a1 * r12 + a2 * r22
+        for r in range(3):
+            for cc in range(3):
+                R[r, cc] = T[r, cc]
+        x = P[k + 1, 0]
+        y = P[k + 1, 1]
+        z = P[k + 1, 2]
+        p0 += R[0, 0] * x + R[0, 1] * y + R[0, 2] * z
+        p1 += R[1, 0] * x + R[1, 1] * y + R[1, 2] * z
+        p2 += R[2, 0] * x + R[2, 1] * y + R[2, 2] * z
+    for k in range(6):
+        d0 = p0 - orig[k, 0]
+        d1 = p1 - orig[k, 1]
+        d2 = p2 - orig[k, 2]
+        J[0, k] = axes[k, 1] * d2 - axes[k, 2] * d1
+        J[1, k] = axes[k, 2] * d0 - axes[k, 0] * d2
+        J[2, k] = axes[k, 0] * d1 - axes[k, 1] * d0
+        J[3, k] = axes[k, 0]
+        J[4, k] = axes[k, 1]
+        J[5, k] = axes[k, 2]
+    for r in range(3):
+        for c in range(3):
+            Rout[r, c] = R[r, 0] * RnT[0, c] + R[r, 1] * RnT[1, c] + R[r, 2] * RnT[2, c]
+    pout[0] = p0
+    pout[1] = p1
+    pout[2] = p2
+
+
+def _err(Rq, pq, Rt, pt, scale):
+    """``(position error / scale, rotation error)`` (the rotation error as the solvers' check: ‖ΔR‖_F / √2)."""
+    dp = math.sqrt((pq[0] - pt[0]) ** 2 + (pq[1] - pt[1]) ** 2 + (pq[2] - pt[2]) ** 2)
+    e = 0.0
+    for r in range(3):
+        for c in range(3):
+            e += (Rq[r, c] - Rt[r, c]) ** 2
+    return dp / scale, math.sqrt(0.5 * e)
+
+
+def _solve6(A, b, x, M, v):
+    """``A x = b`` (6 × 6) by Gaussian elimination with partial pivoting; False when singular (``M (6, 6)``,
+    ``v (6,)``: work space)."""
+    for r in range(6):
+        v[r] = b[r]
+        for c in range(6):
+            M[r, c] = A[r, c]
+    for c in range(6):
+        piv = c
+        for r in range(c + 1, 6):
+            if abs(M[r, c]) > abs(M[piv, c]):
+                piv = r
+        if abs(M[piv, c]) < 1e-14:
+            return False
+        if piv != c:
+            for k in range(6):
+                tmp = M[c, k]
+                M[c, k] = M[piv, k]
+                M[piv, k] = tmp
+            tmp = v[c]
+            v[c] = v[piv]
+            v[piv] = tmp
+        for r in range(c + 1, 6):
+            f = M[r, c] / M[c, c]
+            for k in range(c, 6):
+                M[r, k] -= f * M[c, k]
+            v[r] -= f * v[c]
+    for c in range(5, -1, -1):
+        s = v[c]
+        for k in range(c + 1, 6):
+            s -= M[c, k] * x[k]
+        x[c] = s / M[c, c]
+    return True
+
+
+def _newton(H, P, RnT, Rt, pt, scale, q):
+    """Newton (Levenberg-Marquardt when the Jacobian is singular) steps on the whole chain from ``q`` (changed in
+    place) towards ``(Rt, pt)``; returns the final ``max(position error / scale, rotation error)``."""
+    J = np.empty((6, 6))
+    Rq = np.empty((3, 3))
+    pq = np.empty(3)
+    ev = np.empty(6)
+    dq = np.zeros(6)
+    JtJ = np.empty((6, 6))
+    Jte = np.empty(6)
+    Wk = np.empty((18, 3))
+    Ms = np.empty((6, 6))
+    vs = np.empty(6)
+    M = np.empty((3, 3))
+    err = 1e300
+    for it in range(NEWTON):
+        _fkj(H, P, RnT, q, J, Rq, pq, Wk)
+        ep, er = _err(Rq, pq, Rt, pt, scale)
+        err = max(ep, er)
+        if err < 1e-15 or (it >= 25 and err > 1e-6):    # met, or not converging
+            break
+        for r in range(3):
+            ev[r] = (pt[r] - pq[r]) / scale
+            for k in range(6):
+                J[r, k] /= scale
+        # rotation error: vee of the skew part of Rt Rqᵀ (≈ the rotation vector for small errors)
+        for r in range(3):
+            for c in range(3):
+                M[r, c] = Rt[r, 0] * Rq[c, 0] + Rt[r, 1] * Rq[c, 1] + Rt[r, 2] * Rq[c, 2]
+        ev[3] = 0.5 * (M[2, 1] - M[1, 2])
+        ev[4] = 0.5 * (M[0, 2] - M[2, 0])
+        ev[5] = 0.5 * (M[1, 0] - M[0, 1])
+        if not _solve6(J, ev, dq, Ms, vs):
+            for r in range(6):
+                Jte[r] = 0.0
+                for c in range(6):
+                    JtJ[r, c] = 0.0
+                    for k in range(6):
+                        JtJ[r, c] += J[k, r] * J[k, c]
+                    Jte[r] += J[c, r] * ev[c]
+                JtJ[r, r] += 1e-6
+            if not _solve6(JtJ, Jte, dq, Ms, vs):
+                break
+        big = 0.0
+        for k in range(6):
+            big = max(big, abs(dq[k]))
+        f = 1.0 if big < 0.3 else 0.3 / big
+        for k in range(6):
+            q[k] += f * dq[k]
+        if big < 1e-14:
+            _fkj(H, P, RnT, q, J, Rq, pq, Wk)
+            ep, er = _err(Rq, pq, Rt, pt, scale)
+            err = max(ep, er)
+            break
+    return err
+
+
+def _search(H, P, RnT, R, p, samples, tol, Qout, errs):
+    """The whole search for one target ``(R, p)``: verified solutions into ``Qout (MAXSOL, 6)``. Returns
+    ``(solutions, candidates)``; ``errs[0]`` gets the least error reached when there is no solution, and
+    ``Qout[0]`` that configuration (a least-squares answer)."""
+    R06 = np.empty((3, 3))
+    for r in range(3):
+        for c in range(3):
+            R06[r, c] = R[r, 0] * RnT[c, 0] + R[r, 1] * RnT[c, 1] + R[r, 2] * RnT[c, 2]
+    Q = np.zeros((samples, samples, 4, 3))
+    E = np.zeros((samples, samples, 4, 3))
+    C = np.zeros((samples, samples), dtype=np.int64)
+    _grid(H, P, R06, p, samples, Q, E, C)
+    cand = np.zeros((MAXCAND, 5))
+    nc = _candidates(Q, E, C, samples, cand)
+    scale = 0.0
+    for k in range(7):
+        scale += _norm(P[k])
+    scale = max(scale, 1e-12)
+    q = np.empty(6)
+    m = 0
+    best = 1e300
+    bestq = np.zeros(6)
+    for c in range(nc):
+        for k in range(5):
+            q[k] = cand[c, k]
+        # q6 from the target's orientation (SP1 about h6 on a vector across it)
+        x = _cross(H[5], H[4])
+        x = x / _norm(x)
+        y = np.empty(3)
+        for r in range(3):
+            y[r] = R06[r, 0] * x[0] + R06[r, 1] * x[1] + R06[r, 2] * x[2]
+        for k in range(5):               # R_05ᵀ R_06 x
+            y = rot(H[k], -q[k], y)
+        yp = y - H[5] * _dot(H[5], y)
+        q[5] = math.atan2(_dot(H[5], _cross(x, yp)), _dot(x, yp))
+        err = _newton(H, P, RnT, R, p, scale, q)
+        for k in range(6):
+            q[k] = _wrap(q[k])
+        if err <= tol:
+            new = True
+            for o in range(m):
+                d = 0.0
+                for k in range(6):
+                    d = max(d, abs(_wrap(q[k] - Qout[o, k])))
+                if d < 1e-7:
+                    new = False
+                    break
+            if new and m < Qout.shape[0]:
+                for k in range(6):
+                    Qout[m, k] = q[k]
+                m += 1
+        elif m == 0 and err < best:
+            best = err
+            bestq[:] = q
+    if m == 0:
+        errs[0] = best
+        if nc:
+            for k in range(6):
+                Qout[0, k] = bestq[k]
+    return m, nc
+
+
+KERNELS = ("_poly", "_dpoly", "_cubic_real", "_root_in", "_quartic_real", "_trig_roots", "_lin2", "_q345", "_grid",
+           "_near", "_candidates", "_fkj", "_err", "_solve6", "_newton", "_search")
+_KERNELS: Optional[types.SimpleNamespace] = None
+
+
+def kernels() -> Optional[types.SimpleNamespace]:
+    """The compiled search (attributes named as its functions), or None without Numba; compiled on first use."""
+    global _KERNELS
+    if _KERNELS is None:
+        sk = _sp.kernels()
+        if sk is None:
+            return None
+        ns = _sp.jit_namespace(globals(), KERNELS, extra={name: sk.namespace[name] for name in _sp.KERNELS})
+        _KERNELS = types.SimpleNamespace(**{name: ns[name] for name in KERNELS})
+    return _KERNELS
+
+
+def gen_six_dof(form: POE, R: Array, p: Array, q_ref: Optional[Array] = None, *, samples: int = N,
+                jit: Optional[bool] = None):  # type: ignore[no-untyped-def]
+    """Every solution of a general 6R chain (all revolute; no relation between its axes is assumed) by the 2-D
+    search over q1, q2 described in the module docstring (``samples`` × ``samples`` grid, :func:`resolution`).
+
+    Returns :class:`~.solvers.Solutions`: the solutions found, each verified by FK of ``form`` to
+    :data:`~.solvers.TOL`; when none is found, the closest configuration reached (``ls`` True) or nothing.
+    ``jit``: the compiled search (default: when armkit's back end is Numba), or the plain functions.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from armkit.ik.geometric.poe import POE
+    >>> g = np.random.default_rng(7)
+    >>> H = g.normal(size=(6, 3)); H /= np.linalg.norm(H, axis=1, keepdims=True)
+    >>> P = g.normal(size=(7, 3)) * 0.4
+    >>> form = POE(H, P, np.eye(3), np.zeros(6, dtype=bool))
+    >>> q = np.array([0.3, -1.0, 0.5, 2.0, -0.4, 1.1])
+    >>> R, p = form.fk(q)
+    >>> sol = gen_six_dof(form, R, p)
+    >>> bool(any(np.abs(s - q).max() < 1e-9 for s in sol.q))
+    True
+    """
+    from .solvers import TOL, Solutions, _use_jit
+
+    if form.n != 6 or np.any(form.prismatic):
+        raise ValueError("gen_six_dof: for 6R chains (every joint revolute)")
+    samples = int(samples)
+    if samples < 4:
+        raise ValueError("gen_six_dof: samples must be at least 4")
+    K = kernels() if _use_jit(jit) else None
+    search = K._search if K is not None else _search
+    c = np.ascontiguousarray
+    H = c(form.H, dtype=float)
+    P = c(form.P, dtype=float)
+    RnT = c(form.R_nT, dtype=float)
+    Qout = np.zeros((MAXSOL, 6))
+    errs = np.zeros(1)
+    m, nc = search(H, P, RnT, c(R, dtype=float), c(p, dtype=float), samples, TOL, Qout, errs)
+    m = int(m)
+    if m:
+        return Solutions(Qout[:m].copy(), np.zeros(m, dtype=bool), np.zeros(m, dtype=bool))
+    if nc:
+        return Solutions(Qout[:1].copy(), np.ones(1, dtype=bool), np.zeros(1, dtype=bool))
+    return Solutions(np.zeros((0, 6)), np.zeros(0, dtype=bool), np.zeros(0, dtype=bool))

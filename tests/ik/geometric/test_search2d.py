@@ -1,0 +1,217 @@
+"""The 2-D search for the general 6R (armkit.ik.geometric.search2d): the true q is found, every branch passes FK,
+and nothing is missed against a dense least-squares search (scipy's least_squares from 500 random starts)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+import armkit
+from armkit.ik.geometric import search2d as S
+from armkit.ik.geometric.poe import POE
+from armkit.model.robot import Joint, Robot
+
+TOL = 1e-9
+
+
+def wrapped(a):
+    return (np.asarray(a) + np.pi) % (2 * np.pi) - np.pi
+
+
+def general_arm(g) -> POE:
+    """A random 6R chain: random axis directions and points (no two axes meet or are parallel, almost surely)."""
+    H = g.normal(size=(6, 3))
+    H /= np.linalg.norm(H, axis=1, keepdims=True)
+    P = g.normal(size=(7, 3)) * 0.4
+    A = np.linalg.qr(g.normal(size=(3, 3)))[0]
+    if np.linalg.det(A) < 0:
+        A[:, 0] *= -1
+    return POE(H, P, A, np.zeros(6, dtype=bool))
+
+
+def fk_ok(form: POE, q, R, p) -> bool:
+    Rq, pq = form.fk(np.asarray(q, dtype=float))
+    scale = float(np.linalg.norm(form.P, axis=1).sum())
+    return bool(np.linalg.norm(pq - p) <= TOL * scale and np.linalg.norm(Rq - R) / math.sqrt(2) <= TOL)
+
+
+def contains(Q, q, tol=1e-6) -> bool:
+    return any(np.abs(wrapped(s - q)).max() < tol for s in Q)
+
+
+def twin_within_resolution(Q, q, samples=S.N) -> bool:
+    """The resolution the search states: a solution may be missed only when another found one lies within one
+    grid step of it in (q1, q2) on the same branch (two zeros of e in one cell)."""
+    h = 2 * np.pi / samples
+    return any(np.abs(wrapped(s[:2] - q[:2])).max() < 1.5 * h and np.abs(wrapped(s[2:5] - q[2:5])).max() < S.MATCH
+               for s in Q)
+
+
+# -------------------------------------------------------------------------- the pieces
+@settings(max_examples=200, deadline=None, derandomize=True)
+@given(st.lists(st.floats(-3, 3), min_size=4, max_size=4), st.floats(0.2, 3))
+def test_quartic_real_roots_are_those_of_numpy(roots, lead):
+    """A quartic built from 4 real roots (the definition): with the roots apart, every one found and nothing else;
+    always, what is found is a root."""
+    c = lead * np.poly(np.array(roots))
+    out = np.zeros(4)
+    n = S._quartic_real(c, out, np.zeros(5), np.zeros(3))
+    if min(np.diff(sorted(roots))) > 1e-2:
+        assert n == 4
+        for r in roots:
+            assert np.min(np.abs(out[:n] - r)) < 1e-7 * (1 + abs(r))
+    for x in out[:n]:
+        assert abs(np.polyval(c, x)) < 1e-8 * np.abs(c).sum() * (1 + abs(x)) ** 4
+
+
+def test_q345_meets_its_equation():
+    """``rot(h3, q3) (p34 + rot(h4, q4) (p45 + rot(h5, q5) p56)) = u``: the true triple among the answers, and every
+    answer meets the equation."""
+    from armkit.ik.geometric.subproblems import rotm
+
+    g = np.random.default_rng(11)
+    for _ in range(200):
+        form = general_arm(g)
+        H, P = np.asarray(form.H), np.asarray(form.P)
+        t = g.uniform(-np.pi, np.pi, 3)
+
+        def lhs(a, b, c):
+            return rotm(H[2], a) @ (P[3] + rotm(H[3], b) @ (P[4] + rotm(H[4], c) @ P[5]))
+        u = lhs(*t)
+        out = np.zeros((4, 3))
+        n = S._q345(H, P, u, out, np.zeros((5, 5)))
+        assert 1 <= n <= 4
+        for k in range(n):
+            assert np.linalg.norm(lhs(*out[k]) - u) < 1e-8
+        assert contains(out[:n], t, 1e-6)
+
+
+# -------------------------------------------------------------------------- the search
+@pytest.mark.parametrize("seed", range(5))
+def test_true_q_found_and_every_branch_verified(seed):
+    """24 targets from random q on each of 5 random arms (120 targets): the true q is a branch (1e-6 after
+    wrapping), every branch passes FK at 1e-9, no duplicates, at most 16."""
+    g = np.random.default_rng(100 + seed)
+    form = general_arm(g)
+    twins = 0
+    for _ in range(24):
+        q = g.uniform(-np.pi, np.pi, 6)
+        R, p = form.fk(q)
+        sol = S.gen_six_dof(form, R, p, jit=True)
+        assert not sol.ls.any()
+        assert 1 <= len(sol.q) <= 16
+        if not contains(sol.q, q):        # only two zeros within one cell may merge (the stated resolution)
+            twins += 1
+            assert twin_within_resolution(sol.q, q), (seed, q)
+            assert contains(S.gen_six_dof(form, R, p, samples=4 * S.N, jit=True).q, q)
+        for s in sol.q:
+            assert fk_ok(form, s, R, p)
+        for i in range(len(sol.q)):
+            for j in range(i):
+                assert np.abs(wrapped(sol.q[i] - sol.q[j])).max() > 1e-7
+    assert twins <= 2
+
+
+def dense_least_squares(form: POE, R, p, starts: int, seed: int) -> list[np.ndarray]:
+    """Distinct solutions (1e-6 rad) that scipy's least_squares reaches from ``starts`` random starts."""
+    from scipy.optimize import least_squares
+
+    scale = float(np.linalg.norm(form.P, axis=1).sum())
+
+    def resid(q):
+        Rq, pq = form.fk(q)
+        return np.concatenate([(pq - p) / scale, (Rq - R).ravel()])
+
+    g = np.random.default_rng(seed)
+    out: list[np.ndarray] = []
+    for x0 in g.uniform(-np.pi, np.pi, (starts, 6)):
+        r = least_squares(resid, x0, method="lm", xtol=1e-15, ftol=1e-15, gtol=1e-15, max_nfev=400)
+        q = wrapped(r.x)
+        if fk_ok(form, q, R, p) and not contains(out, q):
+            out.append(q)
+    return out
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_nothing_missed_against_dense_least_squares(seed):
+    """At the stated resolution (:data:`search2d.N`): every solution that 500 least-squares runs find is a branch."""
+    g = np.random.default_rng(200 + seed)
+    form = general_arm(g)
+    q = g.uniform(-np.pi, np.pi, 6)
+    R, p = form.fk(q)
+    sol = S.gen_six_dof(form, R, p, jit=True)
+    reference = dense_least_squares(form, R, p, 500, seed)
+    assert len(reference) >= 2
+    missing = [u for u in reference if not contains(sol.q, u) and not twin_within_resolution(sol.q, u)]
+    assert missing == []
+
+
+def test_plain_python_agrees_with_the_compiled_search():
+    """The plain functions (no Numba) and the compiled ones give the same branches (a small grid, to be quick)."""
+    g = np.random.default_rng(5)
+    form = general_arm(g)
+    q = g.uniform(-np.pi, np.pi, 6)
+    R, p = form.fk(q)
+    a = S.gen_six_dof(form, R, p, samples=20, jit=True)
+    b = S.gen_six_dof(form, R, p, samples=20, jit=False)
+    assert len(a.q) == len(b.q)
+    for s in a.q:
+        assert contains(b.q, s, 1e-9)
+
+
+def test_unreachable_target_gives_no_branch():
+    g = np.random.default_rng(9)
+    form = general_arm(g)
+    R = np.eye(3)
+    p = np.array([100.0, 0.0, 0.0])
+    sol = S.gen_six_dof(form, R, p, jit=True)
+    assert len(sol.q) == 0 or sol.ls.all()
+
+
+def test_rejects_what_it_cannot_solve():
+    g = np.random.default_rng(9)
+    form = general_arm(g)
+    bad = POE(form.H, form.P, form.R_nT, np.array([False, False, True, False, False, False]))
+    with pytest.raises(ValueError):
+        S.gen_six_dof(bad, np.eye(3), np.zeros(3))
+    assert "grid" in S.resolution()
+
+
+# ------------------------------------------------------------------------ through armkit.ik_all
+def robot_of(form: POE) -> Robot:
+    """The chain as a URDF-style Robot without limits (link frames parallel to the world at q = 0)."""
+    pts = np.cumsum(form.P, axis=0)
+    joints = []
+    for k in range(form.n):
+        origin = np.eye(4)
+        origin[:3, 3] = pts[k] - (pts[k - 1] if k else 0.0)
+        joints.append(Joint(origin=origin, axis=tuple(form.H[k]), lower=-math.inf, upper=math.inf, name=f"j{k + 1}"))
+    tool = np.eye(4)
+    tool[:3, :3] = form.R_nT
+    tool[:3, 3] = form.P[-1]
+    return Robot(joints, convention="urdf", name="chain", tool=tool)
+
+
+def test_ik_all_answers_a_general_6r():
+    """``armkit.ik_all`` on a general 6R: the class says "2-D search", every successful branch passes FK of the robot,
+    and they are the search's branches."""
+    from armkit.ik.geometric.classify import classify
+
+    g = np.random.default_rng(21)
+    form = general_arm(g)
+    robot = robot_of(form)
+    assert classify(robot).solver == "2-D search"
+    q = g.uniform(-np.pi, np.pi, 6)
+    T = armkit.fk(robot, q)
+    res = armkit.ik_all(robot, T, enforce_limits=False)
+    ok = np.asarray(res.success)
+    assert ok.sum() >= 2
+    good = np.asarray(res.q)[ok]
+    assert np.abs(armkit.fk(robot, good) - T).max() < 1e-9
+    assert contains(good, q)
+    sol = S.gen_six_dof(form, T[:3, :3], T[:3, 3], jit=True)
+    assert len(sol.q) == ok.sum()
