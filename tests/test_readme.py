@@ -17,7 +17,8 @@ How the commands run: in a temporary folder (the current folder of every command
 and files they write, ``-o arm.png``, ``> puma_fk.py``, land there), in which ``examples`` is a link to the
 repository's ``examples/`` folder, so that ``examples/my_arm.toml`` reads as it does from the repository's
 root in a fresh clone. ``armkit`` is the command installed next to this interpreter (``.venv/bin/armkit``),
-first on ``PATH``; commands run in README order, through bash (redirections work as typed).
+first on ``PATH``; each line is one test case (``pytest -n`` spreads them over its workers), run through bash
+(redirections work as typed); no line reads a file that another writes, so the cases need no order.
 
 ``example-robot-data:...`` lines need the example-robot-data package (a test extra); they are skipped when it
 is missing.
@@ -135,38 +136,40 @@ def test_the_convention_finds_the_readme_commands():
     assert set(PRINTS) <= {line.split(" #")[0].strip() for line in found}, "PRINTS names a line the README lost"
 
 
-def test_every_readme_command_runs(workdir):
+RUN = [(line, code) for line, code in commands(README.read_text(encoding="utf-8")) if skip_reason(line) is None]
+
+
+def test_every_runnable_readme_command_is_a_case_and_writes_its_own_file():
+    """The cases below are the README's runnable lines, in order, and no line overwrites another's picture."""
+    assert len(RUN) >= 25
+    outputs = [name for line, _ in RUN for name in written(line)]
+    assert len(outputs) == len(set(outputs)), outputs
+    assert len(outputs) >= 8
+
+
+@pytest.mark.parametrize("line,expected", RUN, ids=[f"{i:02d}" for i in range(len(RUN))])
+def test_every_readme_command_runs(workdir, line, expected):
+    """One README line per case (so that pytest -n spreads them): it runs as typed, through bash, in the folder
+    shared by the module's cases; no line reads what another writes, so they need not run in order."""
     from armkit.model.erd import robots_folder
 
-    erd = robots_folder() is not None
-    env = _env(workdir)
-    failures, ran = [], 0
-    for line, expected in commands(README.read_text(encoding="utf-8")):
-        if skip_reason(line) is not None or ("example-robot-data:" in line and not erd):
-            continue      # example-robot-data: a test extra (test_erd_* in tests/cli/test_first_hour.py)
-        proc = subprocess.run(["bash", "-c", line], cwd=workdir, env=env, capture_output=True, text=True,
-                              timeout=600)
-        ran += 1
-        both = proc.stdout + proc.stderr
-        problems = []
-        if proc.returncode != expected:
-            problems.append(f"exit {proc.returncode}, README says {expected}")
-        if "Traceback" in both:
-            problems.append("a traceback")
-        if re.search(r"^\s*warning:", proc.stderr, re.M):
-            problems.append("a warning")
-        said = PRINTS.get(line.split(" #")[0].strip())
-        if said is not None and said not in both:
-            problems.append(f"does not print {said!r}")
-        if problems:
-            failures.append(f"$ {line}\n  {', '.join(problems)}\n  {proc.stderr.strip()[-1500:]}")
-    assert ran >= 25
-    assert not failures, "\n".join(failures)
-    # every picture the README writes is a separate file (no line overwrites the picture of another)
-    outputs = [name for line, _ in commands(README.read_text(encoding="utf-8"))
-               if skip_reason(line) is None for name in written(line)]
-    assert len(outputs) == len(set(outputs)), outputs
-    for name in outputs:
+    if "example-robot-data:" in line and robots_folder() is None:
+        pytest.skip("example-robot-data is a test extra (test_erd_* in tests/cli/test_first_hour.py)")
+    proc = subprocess.run(["bash", "-c", line], cwd=workdir, env=_env(workdir), capture_output=True, text=True,
+                          timeout=600)
+    both = proc.stdout + proc.stderr
+    problems = []
+    if proc.returncode != expected:
+        problems.append(f"exit {proc.returncode}, README says {expected}")
+    if "Traceback" in both:
+        problems.append("a traceback")
+    if re.search(r"^\s*warning:", proc.stderr, re.M):
+        problems.append("a warning")
+    said = PRINTS.get(line.split(" #")[0].strip())
+    if said is not None and said not in both:
+        problems.append(f"does not print {said!r}")
+    assert not problems, f"$ {line}\n  {', '.join(problems)}\n  {proc.stderr.strip()[-1500:]}"
+    for name in written(line):                       # every picture and file the line writes is there
         assert (workdir / name).is_file() and (workdir / name).stat().st_size > 0, name
 
 

@@ -94,28 +94,35 @@ def _random(kind, rng):
 
 
 def _support(s, n):
-    """An independent support function (NumPy, written here): the point of shape s farthest along unit n."""
+    """An independent support function (NumPy, written here): the point of shape s farthest along unit n.
+
+    ``n`` is one direction (3,) or many (k, 3): one support point per direction."""
     T = s.pose
-    x = T[:3, 3].copy()
+    n = np.asarray(n, dtype=float)
+    many = n.reshape(-1, 3)
+    side = lambda v: np.where(many @ v >= 0, 1.0, -1.0)[:, None]  # noqa: E731
+    x = T[:3, 3]
     if s.kind == "box":
-        return x + sum((1 if n @ T[:3, c] >= 0 else -1) * 0.5 * s.size[c] * T[:3, c] for c in range(3))
-    if s.kind == "cylinder":
+        out = x + sum(side(T[:3, c]) * 0.5 * s.size[c] * T[:3, c] for c in range(3))
+    elif s.kind == "cylinder":
         z = T[:3, 2]
-        p = n - (n @ z) * z
-        pn = np.linalg.norm(p)
-        rim = s.size[0] * p / pn if pn > 1e-9 else 0.0
-        return x + (1 if n @ z >= 0 else -1) * 0.5 * s.size[1] * z + rim
-    if s.kind == "sphere":
-        return x + s.size[0] * n
-    a, b = s.segment()
-    return (a if n @ a >= n @ b else b) + s.size[0] * n
+        p = many - (many @ z)[:, None] * z
+        pn = np.linalg.norm(p, axis=1, keepdims=True)
+        rim = np.where(pn > 1e-9, s.size[0] * p / np.where(pn > 1e-9, pn, 1.0), 0.0)
+        out = x + side(z) * 0.5 * s.size[1] * z + rim
+    elif s.kind == "sphere":
+        out = x + s.size[0] * many
+    else:
+        a, b = s.segment()
+        out = np.where((many @ a >= many @ b)[:, None], a, b) + s.size[0] * many
+    return out.reshape(n.shape)
 
 
 def _best_separation(a, b, rng, samples=3000):
     """max over sampled unit u of min over A - B of (x · u): a lower bound of the signed distance, approaching it."""
     u = rng.normal(size=(samples, 3))
     u /= np.linalg.norm(u, axis=1, keepdims=True)
-    return max((_support(a, -x) - _support(b, x)) @ x for x in u)
+    return float(np.max(np.sum((_support(a, -u) - _support(b, u)) * u, axis=1)))
 
 
 EXACT = ["sphere", "capsule", "plane"]

@@ -33,15 +33,20 @@ def _custom() -> armkit.Robot:
                         tool=[[1, 0, 0, 0.1], [0, 1, 0, 0], [0, 0, 1, 0.05], [0, 0, 0, 1]])
 
 
+class _Derived(dict):
+    """Derives a robot the first time a test asks for it (so that pytest -n spreads the robots over its workers)."""
+
+    def __missing__(self, name: str) -> tuple:
+        r = _custom() if name == "custom" else armkit.load(name)
+        d = derive(r, simplify=r.n <= 6 and r.is_dh)   # URDF arms (so101: offsets like -76.03 deg) raw
+        self[name] = (r, d, d.lambdify("T"), d.lambdify("J"))
+        return self[name]
+
+
 @pytest.fixture(scope="module")
 def derived():
     """One derivation and its lambdified T, J per robot (simplified up to 6 joints, raw products for 7 and URDF arms)."""
-    out = {}
-    for name in ROBOTS + ["custom"]:
-        r = _custom() if name == "custom" else armkit.load(name)
-        d = derive(r, simplify=r.n <= 6 and r.is_dh)   # URDF arms (so101: offsets like -76.03 deg) raw
-        out[name] = (r, d, d.lambdify("T"), d.lambdify("J"))
-    return out
+    return _Derived()
 
 
 def _q_in_limits(r: armkit.Robot, u: list[float]) -> np.ndarray:

@@ -252,7 +252,9 @@ class _Simplifier:
     """``simplify_entry`` under a time budget: past it (or when one entry overruns it), entries stay raw.
 
     A single slow entry is interrupted with ``SIGALRM`` where that is available (the main thread of
-    a Unix process); elsewhere the budget is checked between entries.
+    a Unix process); elsewhere the budget is checked between entries. The same entry recurs (a
+    Jacobian's rotation rows are entries of T, 6R arms repeat whole products), so each result is
+    kept by its expanded input: :func:`simplify_entry` depends on nothing else.
     """
 
     def __init__(self, params: tuple[sp.Symbol, ...], budget: float | None):
@@ -262,8 +264,21 @@ class _Simplifier:
         self.clock = time.monotonic
         self.deadline = None if budget is None else self.clock() + budget
         self.skipped = 0
+        self.done: dict[sp.Expr, sp.Expr] = {}
 
     def __call__(self, e: sp.Expr) -> sp.Expr:
+        key = sp.expand(e)
+        found = self.done.get(key)
+        if found is not None:
+            return found
+        skipped = self.skipped
+        out = self._simplify(key)
+        if self.skipped != skipped:       # past the budget: the entry stays raw, as given, and is not remembered
+            return e
+        self.done[key] = out
+        return out
+
+    def _simplify(self, e: sp.Expr) -> sp.Expr:
         if self.deadline is None:
             return simplify_entry(e, self.params)
         left = self.deadline - self.clock()
