@@ -82,7 +82,7 @@ def derive(robot: RobotArg,
            png: Optional[Path] = typer.Option(None, "--png", help="Also render the FK and Jacobian entries to a PNG."),
            links: bool = typer.Option(False, "--links", help="Also print every link transform."),
            no_cache: bool = typer.Option(False, "--no-cache", help="Derive again, ignoring the on-disk cache."),
-           budget: float = typer.Option(60.0, "--budget", help="Seconds of simplification at most; past it the "
+           budget: float = typer.Option(60.0, "--budget", help="CPU seconds of simplification at most; past it the "
                                         "remaining entries stay raw (exact) products. 0: no limit."),
            json_out: JsonOut = False) -> None:
     """Symbolic FK, Jacobian (and 2R closed-form IK) with the c12 = cos(q1 + q2) short-hand.

@@ -241,7 +241,8 @@ def _symbols_for(robot: Robot) -> tuple[tuple[sp.Symbol, ...], dict[sp.Symbol, f
 
 
 SIMPLIFY_BUDGET = 60.0
-"""Seconds :func:`derive` spends simplifying before it keeps the remaining entries as raw products."""
+"""Seconds of CPU time :func:`derive` spends simplifying before it keeps the remaining entries as raw products
+(CPU time, not wall time: the same arm gives the same result on a busy machine as on an idle one)."""
 
 
 class _Timeout(Exception):
@@ -251,8 +252,10 @@ class _Timeout(Exception):
 class _Simplifier:
     """``simplify_entry`` under a time budget: past it (or when one entry overruns it), entries stay raw.
 
-    A single slow entry is interrupted with ``SIGALRM`` where that is available (the main thread of
-    a Unix process); elsewhere the budget is checked between entries. The same entry recurs (a
+    The budget is this process's CPU time (:func:`time.process_time`), so a loaded machine does not
+    change the result. A single slow entry is interrupted with ``SIGPROF`` (a profiling timer, which
+    counts the same CPU time) where that is available (the main thread of a Unix process); elsewhere
+    the budget is checked between entries. The same entry recurs (a
     Jacobian's rotation rows are entries of T, 6R arms repeat whole products), so each result is
     kept by its expanded input: :func:`simplify_entry` depends on nothing else.
     """
@@ -261,7 +264,7 @@ class _Simplifier:
         import time
 
         self.params = params
-        self.clock = time.monotonic
+        self.clock = time.process_time
         self.deadline = None if budget is None else self.clock() + budget
         self.skipped = 0
         self.done: dict[sp.Expr, sp.Expr] = {}
@@ -294,8 +297,8 @@ class _Simplifier:
         def _alarm(signum: int, frame: Any) -> None:
             raise _Timeout
 
-        old = signal.signal(signal.SIGALRM, _alarm)
-        signal.setitimer(signal.ITIMER_REAL, left)
+        old = signal.signal(signal.SIGPROF, _alarm)
+        signal.setitimer(signal.ITIMER_PROF, left)
         try:
             return simplify_entry(e, self.params)
         except _Timeout:
@@ -303,8 +306,8 @@ class _Simplifier:
             self.deadline = self.clock()
             return e
         finally:
-            signal.setitimer(signal.ITIMER_REAL, 0)
-            signal.signal(signal.SIGALRM, old)
+            signal.setitimer(signal.ITIMER_PROF, 0)
+            signal.signal(signal.SIGPROF, old)
 
 
 def derive(robot: Robot, simplify: bool = True, cache: bool = True,
@@ -319,7 +322,7 @@ def derive(robot: Robot, simplify: bool = True, cache: bool = True,
     cache : bool
         Read/write the on-disk cache (:func:`cache_dir`) for simplified derivations.
     simplify_budget : float or None
-        Seconds of simplification at most (default :data:`SIMPLIFY_BUDGET`, None: no bound).
+        CPU seconds of simplification at most (default :data:`SIMPLIFY_BUDGET`, None: no bound).
         Arms with arbitrary offsets can take sympy very long; past the budget the remaining
         entries stay raw products (still exact), ``meta["note"]`` says so and nothing is cached.
 
