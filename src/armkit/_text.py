@@ -77,6 +77,9 @@ class Fielded(str):
     fields: dict[str, Any]
     terms: tuple[str, ...]
 
+    def __str__(self) -> str:    # str(m) keeps the template and fields (front ends call str() on messages)
+        return self
+
     @classmethod
     def of(cls, template: str, /, terms: tuple[str, ...] = (), **fields: Any) -> "Fielded":
         text = cls(template.format(**fields))

@@ -80,13 +80,28 @@ class RobotFileError(RobotDefinitionError):
         self.path = str(path)
         self.line = line
         self.field = field
-        where = self.path if line is None else f"{self.path}:{line}"
-        if field:
+        location = self.path if line is None else f"{self.path}:{line}"
+        where: str = location
+        if field and getattr(field, "template", None):      # a field in words (joint 'x'): its own template
+            from ._text import Fielded
+
+            where = Fielded.of("{location}: {field}", location=location, field=field)
+        elif field:
             where += f": {field}"
         # with fields, ``message`` is a template: ``.template`` and ``.fields`` render it in any language
         self.template = "{where}: " + (message if fields else message.replace("{", "{{").replace("}", "}}"))
         self.fields = {**fields, "where": where}
         super().__init__(f"{where}: {message.format(**fields) if fields else message}")
+
+    @classmethod
+    def wrap(cls, path: str, exc: BaseException, line: int | None = None,
+             field: str | None = None) -> "RobotFileError":
+        """The file's error for ``exc`` (an error of the model raised while the file was read), keeping the
+        template and fields ``exc`` was built from, if any."""
+        template, fields = getattr(exc, "template", None), getattr(exc, "fields", None)
+        if isinstance(template, str) and isinstance(fields, dict):      # rendered as a part: "{where}: {error}"
+            return cls(path, "{error}", line, field, error=exc)
+        return cls(path, str(exc), line, field)
 
 
 class UnknownRobotError(ArmkitError, KeyError):
@@ -97,9 +112,12 @@ class UnknownRobotError(ArmkitError, KeyError):
         self.valid = list(valid)
         super().__init__(name)
 
+        self.template = ("unknown robot {name!r}; bundled robots are: {names} (or give the path of a .toml or "
+                         ".urdf robot file)")
+        self.fields: dict[str, object] = {"name": name, "names": ", ".join(self.valid)}
+
     def __str__(self) -> str:  # KeyError would quote the whole message
-        return (f"unknown robot {self.name!r}; bundled robots are: {', '.join(self.valid)} "
-                "(or give the path of a .toml or .urdf robot file)")
+        return self.template.format(**self.fields)
 
 
 class RobotFileNotFoundError(UnknownRobotError):
@@ -107,9 +125,7 @@ class RobotFileNotFoundError(UnknownRobotError):
 
     def __init__(self, path: str):
         super().__init__(path, [])
-
-    def __str__(self) -> str:
-        return f"{self.name}: file not found"
+        self.template, self.fields = "{path}: file not found", {"path": path}
 
 
 class JointLimitError(ArmkitError, ValueError):
@@ -172,8 +188,10 @@ class MissingExtraError(ArmkitError, ImportError):
         self.what = what
         self.extra = extra
         self.module = module
-        because = f" ({reason})" if reason else ""
-        super().__init__(f"{what} needs the {extra!r} extra{because}: pip install 'armkit[{extra}]'", name=module)
+        self.template = ("{what} needs the {extra} extra ({reason}): {command}" if reason else
+                         "{what} needs the {extra} extra: {command}")
+        self.fields = {"what": what, "extra": repr(extra), "reason": reason, "command": f"pip install 'armkit[{extra}]'"}
+        super().__init__(self.template.format(**self.fields), name=module)
 
 
 class SceneError(ArmkitError, ValueError):
@@ -218,6 +236,14 @@ class CalibrationInputError(ArgumentError):
 
 
 # ------------------------------------------------------------------ warnings (categories for warnings.warn)
+def warning_of(template: str, /, category: type[Warning] = UserWarning, **fields: object) -> Warning:
+    """A warning whose text is ``template.format(**fields)``, keeping both (``.template``, ``.fields``) so that a
+    front end shows it in the user's language: ``warnings.warn(warning_of("{n} files", n=2))``."""
+    w = category(template.format(**fields))
+    w.template, w.fields = template, fields  # type: ignore[attr-defined]
+    return w
+
+
 class CalibrationRangeWarning(UserWarning):
     """A servo reading (or joint angle) outside a motor's calibrated range ``[range_min, range_max]``
     (:mod:`armkit.lerobot`): mapped as LeRobot maps it, and said once per call."""

@@ -53,7 +53,7 @@ def test_korean_limit_warning_and_deg_hint():
 
 def test_bad_lang_is_exit_2():
     res = run("fk", "fighter", "0", "0", "0", "--lang", "fr")
-    assert res.exit_code == 2 and "--lang must be en or ko, got 'fr'" in res.stderr
+    assert res.exit_code == 2 and "--lang must be one of en, ko, got 'fr'" in res.stderr
 
 
 def test_commands_with_their_own_lang_still_get_it():
@@ -80,7 +80,12 @@ KEPT = {"en", "ko", "deg", "rad", "mm", "tool", "lang", "strict", "armkit", "hel
         "circular", "parabolic", "ik", "fk", "mode",
         "s", "r", "t", "A", "n", "vx", "vy", "vz", "wx", "wy", "wz", "lambda",   # + units and symbols of formulas
         "Zarr", "SO", "LeRobot", "Python", "NumPy", "Numba", "CSV", "PNG", "IP", "NaN", "JSON", "UTF", "MB",
-        "FK", "N"}   # + software, formats, protocols, NaN      # + commands, formats, formulas and their symbols, methods, option values
+        "FK", "N",
+        # robot and scene files' element, attribute and key names, arguments and variables a user writes (issue 21)
+        "robot", "joint", "joints", "link", "links", "limit", "lower", "upper", "origin", "axis", "mimic", "geometry",
+        "mesh", "sphere", "cylinder", "filename", "type", "unit", "convention", "frame", "base", "tip", "mask",
+        "direction", "method", "allow", "outside", "out", "dtype", "float", "True", "ARMKIT", "PACKAGE", "PATH",
+        "Joint", "Link", "XML", "CLI", "IK", "FABRIK", "UR", "Puma", "R", "C", "e", "all", "i", "names", "init", "py"}   # + software, formats, protocols, NaN      # + commands, formats, formulas and their symbols, methods, option values
 
 
 def _marked_messages(root: Path) -> set[tuple[str | None, str]]:

@@ -114,7 +114,7 @@ def figure_texts(monkeypatch):
     from armkit.locale import fonts
 
     if fonts.korean_font() is None:      # no Korean font here (make fonts installs one): pretend, to read the labels
-        monkeypatch.setattr(fonts, "korean_font", lambda: "DejaVu Sans")
+        monkeypatch.setattr(fonts, "font_for", lambda lang: "DejaVu Sans")
         warnings.filterwarnings("ignore", "Glyph .* missing from font", UserWarning)
     seen: list[str] = []
 
@@ -337,7 +337,9 @@ def test_library_sentences_issue_21():
     from armkit.collision.shapes import Scene
     from armkit.locale.library import localize
 
-    note = "converged in 22 iterations: position error 1.40e-13 m, rotation error 2.17e-13 rad."
+    puma = armkit.load("puma560")
+    note = armkit.ik(puma, armkit.fk(puma, np.full(6, 0.3)), method="lm", seed=3).message   # a Fielded sentence
+    assert note.startswith("converged in ") and ", rotation error " in note and note.template, note
     shapes = [s.describe() for s in (Scene.plane([0, 0, 1], 50.0), Scene.box([0, 0, 0], [1, 2, 3]),
                                      Scene.sphere([0, 0, 0], 1.0), Scene.plane([1, 0, 0], 2.0))]
     assert shapes[0] == "floor at z = 50" and shapes[1] == "box at (0, 0, 0) size 1 x 2 x 3"
@@ -372,3 +374,360 @@ def test_flagged_terms_are_fixed():
     assert [s for s in entries.values() if "주세요" in s and "알려 주세요" not in s] == []
     assert not re.search(r"[0-9}]\.\.[0-9{]|[0-9}]~[0-9{]", text), re.findall(r".{20}[0-9}]\.\.[0-9{].{5}", text)
     assert entries["orientation (roll, pitch, yaw)"].startswith("방향")
+
+
+# ------------------------------------------------------------------------------------------------------------------
+# issue 21 item 2: every library message keeps its key (template) and fields; Korean is rendered from the catalogue,
+# never parsed back from English. The checks below look for runs of English words outside the field values.
+import ast      # noqa: E402
+import numpy as np  # noqa: E402
+import pathlib  # noqa: E402
+
+SRC = pathlib.Path(armkit.__file__).parent
+_RUN_WORD = re.compile(r"[A-Za-z][A-Za-z'-]*[.,;:!?)]*")
+
+
+def english_runs(text: str, values: tuple = ()) -> list[str]:
+    """Runs of two or more English words in ``text`` once the field ``values`` are taken out (and URDF tags such as
+    ``<limit lower=... upper=...>``): a sentence, or part of one, left in English. A single word (an attribute
+    name, a command, a symbol) is not a run."""
+    for v in sorted({str(v) for v in values if str(v).strip()}, key=len, reverse=True):
+        text = text.replace(v, "\x00")
+    text = re.sub(r"<[^<>\n]*>", "\x00", text)
+    runs, cur = [], []
+    for chunk in re.split(r"[ \t]+", text):
+        word = chunk.rstrip(".,;:!?)")
+        if _RUN_WORD.fullmatch(chunk) and not (word in UNITS or word in SYMBOLS or word in COMMANDS
+                                               or IDENTIFIER.fullmatch(word)):   # names are field values here
+            cur.append(chunk)
+            continue
+        if len(cur) >= 2:
+            runs.append(" ".join(cur))
+        cur = []
+    if len(cur) >= 2:
+        runs.append(" ".join(cur))
+    return runs
+
+
+def _leaves(obj, depth: int = 0) -> list:
+    """The field values of a message built from a template, its parts' values too (what the user or the robot file
+    gave, numbers, names): everything but the catalogue's words."""
+    from armkit.locale.library import fielded
+
+    keyed = fielded(obj)
+    if keyed is None or depth > 4:
+        return [obj]
+    return [leaf for v in keyed[1].values() for leaf in _leaves(v, depth + 1)]
+
+
+def _catalogue() -> dict[str, str]:
+    from babel.messages.pofile import read_po
+
+    with (armkit.locale.LOCALE_DIR / "ko/LC_MESSAGES/armkit.po").open("rb") as f:
+        return {m.id: m.string for m in read_po(f) if m.id and isinstance(m.id, str)}
+
+
+def _literals(node) -> list[str]:
+    if isinstance(node, ast.Constant) and isinstance(node.value, str):
+        return [node.value]
+    if isinstance(node, ast.IfExp):        # "a" if x else "b": both templates
+        return _literals(node.body) + _literals(node.orelse)
+    return []
+
+
+def raise_site_templates(root: pathlib.Path = SRC) -> dict[str, str]:
+    """Every template a raise or message site of the package builds, as the catalogue keys it, with its place:
+    ``SomeError.of("...")``, ``Fielded.of("...")``, ``warning_of("...")``, ``RobotFileError(path, "...")`` and
+    ``SceneFileError`` (key ``"{where}: ..."``), the shape tables' ``fail("...")``, ``WriteError(path, "...",
+    **fields)`` (key ``"cannot write {path}: ..."``)."""
+    out: dict[str, str] = {}
+    for path in sorted(root.rglob("*.py")):
+        rel = path.relative_to(root).as_posix()
+        if rel.startswith("locale/"):
+            continue
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if not isinstance(node, ast.Call):
+                continue
+            f = node.func
+            name = f.attr if isinstance(f, ast.Attribute) else getattr(f, "id", "")
+            owner = getattr(f.value, "id", "") if isinstance(f, ast.Attribute) else ""
+            keys = {k.arg for k in node.keywords}
+            has_fields = None in keys or bool(keys - {"line", "field", "terms", "category"})
+            lits, prefix = [], ""
+            if name == "of" and (owner.endswith("Error") or owner == "Fielded") and node.args:
+                lits = _literals(node.args[0])
+            elif name == "warning_of" and node.args:
+                lits = _literals(node.args[0])
+            elif name in ("RobotFileError", "SceneFileError") and len(node.args) >= 2:
+                lits, prefix = _literals(node.args[1]), "{where}: "
+            elif name == "WriteError" and len(node.args) >= 2 and has_fields:
+                lits, prefix = _literals(node.args[1]), "cannot write {path}: "
+            elif name == "fail" and rel in ("collision/files.py", "collision/robot_file.py") and node.args:
+                lits, prefix, has_fields = _literals(node.args[0]), "{where}: ", True
+            for t in lits:
+                if prefix and not has_fields:        # no fields: the text is the template, its braces doubled
+                    t = t.replace("{", "{{").replace("}", "}}")
+                out.setdefault(prefix + t, f"{rel}:{node.lineno}")
+    return out
+
+
+def _placeholders(text: str) -> set[str]:
+    return set(re.findall(r"(?<!\{)\{(\w+)", text))
+
+
+def test_every_raise_site_template_is_in_the_catalogue():
+    """A raise site whose template the catalogue lacks would print English to a Korean user: none may."""
+    ko = _catalogue()
+    sites = raise_site_templates()
+    assert len(sites) > 150, len(sites)       # the scan finds them (URDF, shape tables, IK notes, ...)
+    missing = {t: where for t, where in sites.items() if not ko.get(t)}
+    assert missing == {}, missing
+    for t in sites:
+        assert _placeholders(ko[t]) == _placeholders(t), (t, ko[t])
+
+
+def test_the_template_scan_finds_a_missing_template(tmp_path):
+    """The scan is able to fail: a new raise site with a template the catalogue lacks is reported."""
+    (tmp_path / "x.py").write_text('raise ShapeError.of("frobnicated {n} times", n=3)\n'
+                                   'raise RobotFileError(path, "no {kind} here", 3, kind="x")\n', encoding="utf-8")
+    sites = raise_site_templates(tmp_path)
+    assert set(sites) == {"frobnicated {n} times", "{where}: no {kind} here"}
+    assert not any(_catalogue().get(t) for t in sites)
+
+
+def test_every_library_template_reads_as_korean():
+    """Every template of the library (listed for the catalogue, or built at a raise site) has a Korean entry with
+    the same fields and no run of English words outside them."""
+    from armkit.locale.library import KEYED, PATTERNS
+
+    ko = _catalogue()
+    for t in {*KEYED, *PATTERNS, *raise_site_templates()}:
+        k = ko.get(t)
+        assert k, t
+        assert _placeholders(k) == _placeholders(t), (t, k)
+        assert re.search(r"[가-힣]", k) or re.fullmatch(r"[{}\w!:, =.]*", k), (t, k)   # "{where}: {error}"
+        plain = re.sub(r"\{[^{}]*\}", "\x00", k)
+        assert english_runs(plain) == [], (t, k)
+
+
+def _raise(load, text: str, name: str, tmp_path):
+    from armkit.errors import RobotFileError
+
+    p = tmp_path / name
+    p.write_text(text, encoding="utf-8")
+    with pytest.raises(RobotFileError) as info:
+        load(str(p))
+    return info.value
+
+
+def _says_korean(exc, tmp_path) -> None:
+    """``exc`` keeps its template and fields, the catalogue has them, and its Korean has no English run."""
+    from armkit.locale.library import fielded, localize
+
+    keyed = fielded(exc)
+    assert keyed is not None, exc
+    ko_entries = _catalogue()
+    assert ko_entries.get(keyed[0]), keyed[0]
+    for v in keyed[1].values():
+        if fielded(v) is not None:
+            assert ko_entries.get(fielded(v)[0]), fielded(v)[0]
+    ko = localize(exc, "ko")
+    assert re.search(r"[가-힣]", ko), ko
+    values = tuple(_leaves(exc)) + (str(tmp_path),)
+    assert english_runs(ko, values) == [], (str(exc), ko)
+    assert ko != localize(exc, "en") == str(exc), str(exc)               # the English is the error's text
+
+
+def _urdf(links: str = '<link name="a"/><link name="b"/>', joints: str = "", head: str = "") -> str:
+    return f'{head}<robot name="r">{links}{joints}</robot>'
+
+
+def _j(body: str = "", jtype: str = "revolute", name: str = "j", parent: str = "a", child: str = "b") -> str:
+    return (f'<joint name="{name}" type="{jtype}"><parent link="{parent}"/><child link="{child}"/>'
+            f'<limit lower="-1" upper="1"/>{body}</joint>')
+
+
+BAD_URDFS = {
+    "not-xml": "<robot",
+    "root": "<robox/>",
+    "no-link": '<robot name="r"/>',
+    "link-no-name": _urdf("<link/>"),
+    "link-twice": _urdf('<link name="a"/><link name="a"/>'),
+    "no-geometry": _urdf('<link name="a"><visual/></link>'),
+    "unknown-geometry": _urdf('<link name="a"><collision><geometry><cone/></geometry></collision></link>'),
+    "mesh-no-file": _urdf('<link name="a"><visual><geometry><mesh/></geometry></visual></link>'),
+    "numbers": _urdf('<link name="a"><visual><origin xyz="1 x 2"/><geometry><box size="1 1 1"/></geometry>'
+                     '</visual></link>'),
+    "count": _urdf('<link name="a"><visual><geometry><box size="1 1"/></geometry></visual></link>'),
+    "nan": _urdf('<link name="a"><visual><geometry><sphere radius="nan"/></geometry></visual></link>'),
+    "joint-no-name": _urdf(joints='<joint type="fixed"/>'),
+    "joint-twice": _urdf('<link name="a"/><link name="b"/><link name="c"/>', _j() + _j(child="c")),
+    "joint-type": _urdf(joints=_j(jtype="spiral")),
+    "no-parent": _urdf(joints='<joint name="j" type="fixed"><child link="b"/></joint>'),
+    "parent-missing": _urdf(joints=_j(parent="x")),
+    "child-missing": _urdf(joints=_j(child="x")),
+    "same-link": _urdf(joints=_j(child="a")),
+    "long-origin": _urdf(joints=_j('<origin xyz="1.5e308 1.5e308 0"/>')),
+    "zero-axis": _urdf(joints=_j('<axis xyz="0 0 0"/>')),
+    "limits": _urdf(joints='<joint name="j" type="revolute"><parent link="a"/><child link="b"/>'
+                           '<limit lower="2" upper="1"/></joint>'),
+    "prismatic-limit": _urdf(joints='<joint name="j" type="prismatic"><parent link="a"/><child link="b"/></joint>'),
+    "mimic": _urdf(joints=_j("<mimic/>")),
+    "two-parents": _urdf('<link name="a"/><link name="b"/><link name="c"/>', _j() + _j(name="k", parent="c")),
+    "cycle": _urdf(joints=_j() + _j(name="k", parent="b", child="a")),
+    "two-roots": _urdf('<link name="a"/><link name="b"/><link name="c"/>', _j()),
+    "no-moving": _urdf(joints=_j(jtype="fixed")),
+    "many-tips": _urdf('<link name="a"/><link name="b"/><link name="c"/>', _j() + _j(name="k", child="c")),
+    "floating": _urdf('<link name="a"/><link name="b"/><link name="c"/>',
+                      _j(jtype="floating") + _j(name="k", parent="b", child="c")),
+    "mimics": _urdf('<link name="a"/><link name="b"/><link name="c"/>',
+                    _j() + _j('<mimic joint="j"/>', name="k", parent="b", child="c")),
+    "bad-comment": _urdf(joints=_j(), head="<!-- armkit surroundings: {nope -->"),
+    "comment-keys": _urdf(joints=_j(), head='<!-- armkit surroundings: {"wobble": 1} -->'),
+}
+
+
+@pytest.mark.parametrize("key", list(BAD_URDFS))
+def test_every_urdf_error_is_korean(key, tmp_path):
+    _says_korean(_raise(armkit.load, BAD_URDFS[key], "arm.urdf", tmp_path), tmp_path)
+
+
+@pytest.mark.parametrize("call", ["base", "tip", "below"])
+def test_urdf_chain_choices_are_korean(call, tmp_path):
+    text = _urdf('<link name="a"/><link name="b"/><link name="c"/>', _j() + _j(name="k", child="c"))
+    kw = {"base": {"base": "x", "tip": "b"}, "tip": {"tip": "x"}, "below": {"base": "b", "tip": "c"}}[call]
+    _says_korean(_raise(lambda p: armkit.load(p, **kw), text, "arm.urdf", tmp_path), tmp_path)
+
+
+SHAPE_ROWS = {
+    "not-table": "shapes = [1]\n",
+    "type": '[[shapes]]\ntype = "cone"\n',
+    "key": '[[shapes]]\ntype = "sphere"\nwobble = 1\n',
+    "name": '[[shapes]]\ntype = "sphere"\nname = 3\n',
+    "allow": '[[shapes]]\ntype = "sphere"\nallow = 3\n',
+    "number-missing": '[[shapes]]\ntype = "sphere"\ncenter = [0, 0, 0]\n',
+    "number": '[[shapes]]\ntype = "sphere"\ncenter = [0, 0, 0]\nradius = "x"\n',
+    "vector-missing": '[[shapes]]\ntype = "box"\n',
+    "vector": '[[shapes]]\ntype = "box"\ncenter = [0, 0]\n',
+    "mesh": '[[shapes]]\ntype = "mesh"\nfile = 3\n',
+    "mesh-missing": '[[shapes]]\ntype = "mesh"\nfile = "none.stl"\n',
+    "mesh-outside": '[[shapes]]\ntype = "mesh"\nfile = "/etc/none.stl"\n',
+    "toml": "shapes = [\n",
+    "top-key": "wobble = 1\n",
+    "unit": 'unit = "in"\n',
+    "angle-unit": 'angle_unit = "grad"\n',
+    "shapes-table": "shapes = 3\n",
+}
+
+
+@pytest.mark.parametrize("key", list(SHAPE_ROWS))
+def test_every_scene_file_error_is_korean(key, tmp_path):
+    from armkit.collision.files import load_scene
+
+    _says_korean(_raise(load_scene, SHAPE_ROWS[key], "scene.toml", tmp_path), tmp_path)
+
+
+def test_robot_file_shape_tables_are_korean(tmp_path):
+    """The same shape tables in a robot file ([[body]], [[scene]]) and a body that is a plane."""
+    head = 'name = "a"\n[[joints]]\na = 1\n'
+    for body in ('[[body]]\ntype = "sphere"\ncenter = [0, 0, 0]\n', '[[body]]\ntype = "cone"\n',
+                 '[[body]]\ntype = "plane"\nnormal = [0, 0, 1]\noffset = 0\n',
+                 '[[scene]]\ntype = "box"\ncenter = [0, 0, 0]\nsize = [1, 1]\n'):
+        _says_korean(_raise(armkit.load, head + body, "arm.toml", tmp_path), tmp_path)
+
+
+def test_robot_definition_errors_are_korean(tmp_path):
+    """Errors of robots built in code (RobotDefinitionError), also inside a robot file's error."""
+    from armkit.errors import RobotDefinitionError
+    from armkit.model.robot import Joint, Robot
+
+    cases = [lambda: Joint("spiral"), lambda: Joint("revolute", lower=2.0, upper=1.0, name="j"),
+             lambda: Joint("revolute", a=float("nan"), name="j"),
+             lambda: Joint("revolute", name="j", origin=np.eye(4), axis=(0.0, 0.0, 0.0)),
+             lambda: Robot([], "standard"), lambda: Robot([Joint(), Joint(name="q1")], "standard"),
+             lambda: Robot([Joint()], "standard", unit="furlong"),
+             lambda: Robot([Joint()], "standard", link_names=("a",)),
+             lambda: armkit.load("fighter").link_index("nosuch")]
+    for make in cases:
+        with pytest.raises(RobotDefinitionError) as info:
+            make()
+        _says_korean(info.value, tmp_path)
+    _says_korean(_raise(armkit.load, 'name = "a"\nunit = "furlong"\n[[joints]]\na = 1\n', "arm.toml", tmp_path),
+                 tmp_path)
+
+
+def test_every_error_class_speaks_korean(tmp_path):
+    """Every error class of armkit.errors carries a template and fields (built by its constructor or by
+    ``.of``) and renders Korean from the catalogue with no English run."""
+    import inspect
+
+    from armkit import errors as E
+
+    special = {
+        "RobotFileError": lambda: E.RobotFileError("arm.toml", "must be 'deg' or 'rad', got {got!r}", 3, "angle_unit",
+                                                   got="grad"),
+        "SceneFileError": lambda: E.SceneFileError("s.toml", "no such scene file"),
+        "UnknownRobotError": lambda: E.UnknownRobotError("nosuch", ["fighter", "ur5"]),
+        "RobotFileNotFoundError": lambda: E.RobotFileNotFoundError("x/arm.urdf"),
+        "MissingExtraError": lambda: E.MissingExtraError("armkit view", "view", "viser", "No module named 'viser'"),
+        "WriteError": lambda: E.WriteError("out/a.txt", "{what} must end in {suffixes}, got {got!r}", what="--output",
+                                           suffixes=".png", got=".txt"),
+        "ViewError": lambda: E.ViewError("camera preset must be one of {names}, got {name!r}", names="top, side",
+                                         name="x"),
+        "CalibrationInputError": lambda: E.CalibrationInputError(
+            "{motor}: the joint angle would be tick {value}, outside 0..{top} (the servo's range)", motor="m1",
+            value=5000, top=4095),
+    }
+    classes = [c for _, c in inspect.getmembers(E, inspect.isclass)
+               if issubclass(c, E.ArmkitError) and c.__module__ == E.__name__]
+    assert len(classes) > 20
+    for cls in classes:
+        make = special.get(cls.__name__)
+        exc = make() if make else cls.of("{what} contains NaN or infinite values", what="q")
+        assert isinstance(exc, cls)
+        if cls.__name__ == "CalibrationInputError" and not _catalogue().get(exc.template):
+            continue            # (its own module's wording; checked by tests/lerobot)
+        _says_korean(exc, tmp_path)
+
+
+def test_ik_notes_keep_their_fields(tmp_path):
+    """The IK solvers' notes (numeric, CCD, FABRIK, the too-few-joints sentence, the closed forms' failures) are
+    Fielded: Korean from the catalogue, no English run."""
+    from armkit.locale.library import ik_explanation
+
+    planar3, puma, fighter = armkit.load("planar3"), armkit.load("puma560"), armkit.load("fighter")
+    results = [(planar3, armkit.ik(planar3, [5.0, 0.0], method=m, seed=1)) for m in ("lm", "ccd", "fabrik")]
+    results += [(planar3, armkit.ik(planar3, [1.2, 0.3], method=m, seed=1)) for m in ("lm", "ccd", "fabrik")]
+    results += [(puma, armkit.ik(puma, armkit.fk(puma, np.full(6, 0.3)), method="ccd", seed=1))]   # a pose to CCD
+    results += [(fighter, r) for r in np.atleast_1d(armkit.ik_all(fighter, [300.0, 0.0, 0.0]))]
+    five = armkit.Robot([armkit.Joint("revolute", d=0.3, alpha=np.pi / 2), armkit.Joint(a=0.4), armkit.Joint(a=0.3),
+                         armkit.Joint(alpha=np.pi / 2), armkit.Joint(d=0.1)], "standard", name="five")
+    target = armkit.fk(five, np.full(5, 0.2)) @ np.diag([1.0, -1.0, -1.0, 1.0])
+    results += [(five, armkit.ik(five, target, method="lm", seed=1, max_iterations=30, restarts=1))]
+    for robot, res in results:
+        msg = res.message if np.ndim(res.message) == 0 else np.asarray(res.message).ravel()[0]
+        assert getattr(msg, "template", None), msg
+        ko = ik_explanation(str(np.asarray(res.reason).ravel()[0]), msg, float(np.asarray(res.position_error).ravel()[0]),
+                            robot.unit, "ko")
+        assert re.search(r"[가-힣]", ko) and english_runs(ko, tuple(_leaves(msg))) == [], (msg, ko)
+
+
+def test_singular_sets_keep_their_fields():
+    """The singular sets' words and their solutions' labels are Fielded (armkit singular prints them in Korean)."""
+    from armkit.analysis.singularity import analyze_singularities
+    from armkit.locale.library import localize
+
+    for name in ("planar2", "fighter"):
+        for f in analyze_singularities(armkit.load(name)).factors:
+            assert getattr(f.description, "template", None), f.description
+            ko = localize(f.description, "ko")
+            assert re.search(r"[가-힣]", ko) and english_runs(ko, tuple(_leaves(f.description))) == [], ko
+            for _, label in f.solutions:
+                if label:
+                    assert re.search(r"[가-힣]", localize(label, "ko")), label
+
+
+def test_the_run_check_finds_english():
+    assert english_runs("관절 'j': axis has zero length") == ["axis has zero length"]
+    assert english_runs("관절 'j': axis의 길이가 0입니다", ("'j'",)) == []
+    assert english_runs("the arm reaches 3 m", ("3 m",)) == ["the arm reaches"]

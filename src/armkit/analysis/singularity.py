@@ -35,6 +35,7 @@ from typing import Any, Sequence
 import numpy as np
 
 from .._extras import require
+from .._text import Fielded
 
 require("sympy", "singularity analysis")
 import sympy as sp  # noqa: E402 - after the check that names the missing extra
@@ -253,8 +254,18 @@ def _dist_to_axis(x: np.ndarray, p: np.ndarray, u: np.ndarray) -> float:
 def _points(robot: Robot, q: np.ndarray, spherical: bool) -> list[tuple[str, np.ndarray]]:
     """Candidate 'wrist points' at ``q``: the spherical-wrist centre or the tool origin, then the axis points."""
     pts, _ = _axes(robot, q)
-    first = ("wrist point", _wrist_point(robot, q)) if spherical else ("tool point", fk_frames(robot, q)[-1, :3, 3])
-    return [first] + [(f"point on the axis of joint {k + 1}", pts[k]) for k in range(2, robot.n)]
+    first = (Fielded.of("wrist point"), _wrist_point(robot, q)) if spherical else \
+        (Fielded.of("tool point"), fk_frames(robot, q)[-1, :3, 3])
+    return [first] + [(Fielded.of("point on the axis of joint {k}", k=k + 1), pts[k]) for k in range(2, robot.n)]
+
+
+def _said(meaning: Fielded, text: str) -> Fielded:
+    """A singular set in words and its equation, ``MEANING: TEXT = 0``; the meaning keeps its template and fields."""
+    return Fielded.of("{meaning}: {expression} = 0", meaning=meaning, expression=text)
+
+
+def _rank(text: str) -> Fielded:
+    return Fielded.of("the Jacobian loses rank where {expression} = 0", expression=text)
 
 
 def _classify(robot: Robot, joints: tuple[int, ...], samples: np.ndarray, text: str, rng: np.random.Generator
@@ -263,7 +274,7 @@ def _classify(robot: Robot, joints: tuple[int, ...], samples: np.ndarray, text: 
     scale = max(robot.reach, 1e-9)
     tol = 1e-7 * scale
     if len(samples) == 0:
-        return "other", f"the Jacobian loses rank where {text} = 0", []
+        return "other", _rank(text), []
     q_ref = robot.random_q(rng=rng)
     spherical = robot.n >= 6 and not np.allclose(_wrist_point(robot, q_ref), fk_frames(robot, q_ref)[-1, :3, 3]) \
         or (robot.n >= 6 and _is_spherical(robot, q_ref))
@@ -286,11 +297,13 @@ def _classify(robot: Robot, joints: tuple[int, ...], samples: np.ndarray, text: 
                     return abs((x - pts[0]) @ nrm / np.linalg.norm(nrm)) < tol
                 if all(holds(q) for q in samples) and not holds(q_ref):
                     what = ref[idx][0]
-                    axis = "the yaw axis (joint 1)" if vertical else "the axis of joint 1"
+                    axis = Fielded.of("the yaw axis (joint 1)") if vertical else Fielded.of("the axis of joint 1")
                     if test == "axis":
-                        return "on-axis", f"{what} on {axis}: {text} = 0", ["on axis"] * len(samples)
-                    return "on-axis", (f"{what} in the plane through {axis} parallel to the axis of joint 2 "
-                                       f"(shoulder singularity): {text} = 0"), ["shoulder plane"] * len(samples)
+                        return "on-axis", _said(Fielded.of("{point} on {axis}", point=what, axis=axis), text), \
+                            [Fielded.of("on axis")] * len(samples)
+                    return "on-axis", _said(Fielded.of("{point} in the plane through {axis} parallel to the axis of "
+                                                       "joint 2 (shoulder singularity)", point=what, axis=axis), text), \
+                        [Fielded.of("shoulder plane")] * len(samples)
     # 2. one elbow joint: the distance from the previous axis to the next point is extremal
     if len(joints) == 1 and not robot.prismatic[joints[0] - 1] and joints[0] >= 2:
         k = joints[0] - 1
@@ -313,10 +326,10 @@ def _classify(robot: Robot, joints: tuple[int, ...], samples: np.ndarray, text: 
             if abs(curv) < 1e-9 * scale or abs(dp - dm) > 1e-3 * abs(curv):
                 labels = []
                 break
-            labels.append("stretched" if curv < 0 else "folded")
+            labels.append(Fielded.of("stretched") if curv < 0 else Fielded.of("folded"))
         if labels:
             name = robot.joint_names[k]
-            return "elbow", f"stretched or folded elbow ({name}): {text} = 0", labels
+            return "elbow", _said(Fielded.of("stretched or folded elbow ({joint})", joint=name), text), labels
     # 3. two joint axes that line up or become parallel (only there)
     for q in samples[:1]:
         pts, z = _axes(robot, q)
@@ -327,13 +340,15 @@ def _classify(robot: Robot, joints: tuple[int, ...], samples: np.ndarray, text: 
                 if abs(abs(z0[i] @ z0[j]) - 1) < 1e-9:
                     continue          # parallel everywhere (e.g. shoulder and elbow): not this set
                 collinear = _dist_to_axis(pts[j], pts[i], z[i]) < tol
-                words = "line up" if collinear else "become parallel"
-                ni, nj = robot.joint_names[i], robot.joint_names[j]
-                return "wrist", f"axes of joints {i + 1} ({ni}) and {j + 1} ({nj}) {words}: {text} = 0", \
-                    ["axes " + ("collinear" if collinear else "parallel")] * len(samples)
+                meaning = Fielded.of("axes of joints {i} ({a}) and {j} ({b}) line up" if collinear else
+                                     "axes of joints {i} ({a}) and {j} ({b}) become parallel", i=i + 1,
+                                     a=robot.joint_names[i], j=j + 1, b=robot.joint_names[j])
+                return "wrist", _said(meaning, text), \
+                    [Fielded.of("axes collinear") if collinear else Fielded.of("axes parallel")] * len(samples)
     if len(joints) == 1 and robot.prismatic[joints[0] - 1]:
-        return "other", f"prismatic joint {robot.joint_names[joints[0] - 1]} at zero extension: {text} = 0", []
-    return "other", f"the Jacobian loses rank where {text} = 0", []
+        return "other", _said(Fielded.of("prismatic joint {joint} at zero extension",
+                                          joint=robot.joint_names[joints[0] - 1]), text), []
+    return "other", _rank(text), []
 
 
 def _is_spherical(robot: Robot, q: np.ndarray) -> bool:
@@ -435,7 +450,9 @@ def analyze_singularities(robot: Robot, derivation: Any = None, samples: int = 4
         text = str(shorthand(b, d.q)[0])
         joints = tuple(sorted(d.q.index(s) + 1 for s in b.free_symbols if s in d.q))
         if not joints:
-            out.append(SingularFactor(b, text, (), "constant", f"{text} (a constant of the arm, not zero)", power=k))
+            out.append(SingularFactor(b, text, (), "constant",
+                                      Fielded.of("{expression} (a constant of the arm, not zero)", expression=text),
+                                      power=k))
             continue
         f_num = sp.lambdify([list(d.q)], b.subs(d.values), modules="numpy")
         sols: list[float] = []

@@ -73,12 +73,13 @@ def block_line(lines: list[str], header: str, index: int, key: str | None,
     return lo + 1
 
 
-def shape_from_table(row: Any, where: str, fail: Callable[[str, str, str | None], Exception], angle: float,
+def shape_from_table(row: Any, where: str, fail: Callable[..., Exception], angle: float,
                      base_dir: Path | None = None, extra: frozenset[str] = frozenset(),
                      meshes: Any = None) -> tuple[Shape, dict]:
     """One ``[[shapes]]`` (or robot-file ``[[body]]``/``[[scene]]``) table -> a :class:`Shape`.
 
-    ``fail(message, field, key)`` builds the exception to raise; ``extra`` are keys the caller
+    ``fail(template, field, key, **fields)`` builds the exception to raise (its message: ``template`` with
+    ``fields``, kept for the catalogue); ``extra`` are keys the caller
     handles itself (returned in the second value). ``meshes``: the :class:`~armkit.model.urdf._MeshLookup`
     of the file (where its mesh paths may lead); by default one for a file in ``base_dir``.
     """
@@ -86,24 +87,26 @@ def shape_from_table(row: Any, where: str, fail: Callable[[str, str, str | None]
         raise fail("must be a table", where, None)
     kind = row.get("type")
     if not isinstance(kind, str) or kind not in KIND_TABLE:     # type = [] or {} is not hashable
-        raise fail(f"type must be one of {', '.join(KIND_TABLE)}; got {kind!r}", f"{where}.type", "type")
+        raise fail("type must be one of {kinds}; got {got!r}", f"{where}.type", "type", kinds=", ".join(KIND_TABLE),
+                   got=kind)
     allowed = KIND_TABLE[kind].keys | _COMMON | extra
     bad = sorted(set(row) - allowed)
     if bad:
-        raise fail(f"unknown key for a {kind}; allowed: {', '.join(sorted(allowed))}", f"{where}.{bad[0]}", bad[0])
+        raise fail("unknown key for a {kind}; allowed: {keys}", f"{where}.{bad[0]}", bad[0], kind=kind,
+                   keys=", ".join(sorted(allowed)))
 
     name = row.get("name", "")
     if not isinstance(name, str):
-        raise fail(f"must be a string, got {name!r}", f"{where}.name", "name")
+        raise fail("must be a string, got {got!r}", f"{where}.name", "name", got=name)
     allow = row.get("allow", [])
     if not isinstance(allow, list) or not all(isinstance(a, str) for a in allow):
-        raise fail(f"must be a list of link names, got {allow!r}", f"{where}.allow", "allow")
+        raise fail("must be a list of link names, got {got!r}", f"{where}.allow", "allow", got=allow)
     fields = _Fields(row, kind, where, fail, angle, name, allow, base_dir, meshes)
     try:
         shape = KIND_TABLE[kind].read(fields)
     except SceneError as exc:
         key = next((k for k in ("size", "radius", "length", "normal", "offset") if k in str(exc)), None)
-        raise fail(str(exc), f"{where}.{key}" if key else where, key) from None
+        raise _refail(fail, exc, f"{where}.{key}" if key else where, key) from None
     return shape, {k: row[k] for k in extra if k in row}
 
 
@@ -111,7 +114,7 @@ class _Fields:
     """One file table as a kind's ``read`` sees it (:class:`armkit.collision.shapes.Fields`): every malformed or
     missing key raises the file's error naming it."""
 
-    def __init__(self, row: dict, kind: str, where: str, fail: Callable[[str, str, str | None], Exception],
+    def __init__(self, row: dict, kind: str, where: str, fail: Callable[..., Exception],
                  angle: float, name: str, allow: list[str], base_dir: Path | None, meshes: Any) -> None:
         self.row, self.kind, self.where, self.fail, self.angle = row, kind, where, fail, angle
         self.name, self.allow, self.base_dir, self.meshes = name, allow, base_dir, meshes
@@ -119,18 +122,18 @@ class _Fields:
     def number(self, key: str, default: float | None = None) -> float:
         v = self.row.get(key, default)
         if v is None:
-            raise self.fail(f"a {self.kind} needs {key} = <number>", f"{self.where}.{key}", key)
+            raise self.fail("a {kind} needs {entry} = <number>", f"{self.where}.{key}", key, kind=self.kind, entry=key)
         if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
-            raise self.fail(f"must be a finite number, got {v!r}", f"{self.where}.{key}", key)
+            raise self.fail("must be a finite number, got {got}", f"{self.where}.{key}", key, got=repr(v))
         return float(v)
 
     def vector(self, key: str, default: list[float] | None = None) -> list[float]:
         v = self.row.get(key, default)
         if v is None:
-            raise self.fail(f"a {self.kind} needs {key} = [x, y, z]", f"{self.where}.{key}", key)
+            raise self.fail("a {kind} needs {entry} = [x, y, z]", f"{self.where}.{key}", key, kind=self.kind, entry=key)
         if not isinstance(v, list) or len(v) != 3 or any(
                 isinstance(x, bool) or not isinstance(x, (int, float)) or not math.isfinite(x) for x in v):
-            raise self.fail(f"must be a list of 3 finite numbers, got {v!r}", f"{self.where}.{key}", key)
+            raise self.fail("must be a list of 3 finite numbers, got {got!r}", f"{self.where}.{key}", key, got=v)
         return [float(x) for x in v]
 
     def angles(self, key: str) -> list[float]:
@@ -140,28 +143,37 @@ class _Fields:
         where, fail = self.where, self.fail
         p = self.row.get(key)
         if not isinstance(p, str) or not p:
-            raise fail(f"a mesh needs {key} = \"file.stl\", got {p!r}", f"{where}.{key}", key)
+            raise fail("a mesh needs {entry} = \"file.stl\", got {got!r}", f"{where}.{key}", key, entry=key, got=p)
         if self.meshes is None:
             self.meshes = mesh_lookup(self.base_dir if self.base_dir is not None else Path.cwd())
         found, refused = self.meshes._locate(p)
         if refused:
-            raise fail(f"mesh path {_short(p)!r} leads outside the file's folder and the package path; it was "
-                       f"not read (to read it anyway: allow_outside=True, or set {_ALLOW_OUTSIDE}=1)",
-                       f"{where}.{key}", key)
+            raise fail("mesh path {path!r} leads outside the file's folder and the package path; it was not read "
+                       "(to read it anyway: allow_outside=True, or set {variable}=1)", f"{where}.{key}", key,
+                       path=_short(p), variable=_ALLOW_OUTSIDE)
         if found is None:
             full = Path(p) if Path(p).is_absolute() or self.base_dir is None else self.base_dir / p
-            raise fail(f"mesh file not found: {_short(str(full))!r}", f"{where}.{key}", key)
+            raise fail("mesh file not found: {path!r}", f"{where}.{key}", key, path=_short(str(full)))
         from .._limits import check_mesh_file
         from ..errors import LimitError
 
         try:
             check_mesh_file(found)           # a 3 GB file is refused here, unread
         except LimitError as exc:
-            raise fail(str(exc), f"{where}.{key}", key) from None
+            raise _refail(fail, exc, f"{where}.{key}", key) from None
         return str(Path(found))
 
 
 _ALLOW_OUTSIDE = "ARMKIT_ALLOW_OUTSIDE"
+
+
+def _refail(fail: Callable[..., Exception], exc: Exception, field: str, key: str | None) -> Exception:
+    """The file's error for ``exc`` (a shape or limit error): its template and fields when it has them, else its
+    text as it is (braces kept literally)."""
+    template, fields = getattr(exc, "template", None), getattr(exc, "fields", None)
+    if isinstance(template, str) and isinstance(fields, dict) and fields:
+        return fail(template, field, key, **fields)
+    return fail(str(exc), field, key)
 
 
 def _short(text: str, limit: int = 200) -> str:
@@ -186,7 +198,7 @@ def parse_scene(text: str, path: str, *, allow_outside: bool = False) -> Scene:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         m = re.search(r"line (\d+)", str(exc))
-        raise SceneFileError(path, f"not valid TOML: {exc}", int(m.group(1)) if m else None) from None
+        raise SceneFileError(path, "not valid TOML: {reason}", int(m.group(1)) if m else None, reason=str(exc)) from None
     except RecursionError:     # tomllib recurses once per nesting level: [[[[...]]]] 500 deep (as robot files)
         raise SceneFileError(path, "not valid TOML: arrays or tables nested too deeply") from None
 
@@ -195,28 +207,29 @@ def parse_scene(text: str, path: str, *, allow_outside: bool = False) -> Scene:
 
     bad = sorted(set(data) - _SCENE_TOP)
     if bad:
-        raise SceneFileError(path, f"unknown key; allowed keys: {', '.join(sorted(_SCENE_TOP))}", top_line(bad[0]),
-                             bad[0])
+        raise SceneFileError(path, "unknown key; allowed keys: {keys}", top_line(bad[0]), bad[0],
+                             keys=", ".join(sorted(_SCENE_TOP)))
     unit = data.get("unit", "m")
     if unit not in ("m", "cm", "mm"):
-        raise SceneFileError(path, f"must be 'm', 'cm' or 'mm', got {unit!r}", top_line("unit"), "unit")
+        raise SceneFileError(path, "must be 'm', 'cm' or 'mm', got {got!r}", top_line("unit"), "unit", got=unit)
     angle_unit = data.get("angle_unit", "deg")
     if angle_unit not in ("deg", "rad"):
-        raise SceneFileError(path, f"must be 'deg' or 'rad', got {angle_unit!r}", top_line("angle_unit"), "angle_unit")
+        raise SceneFileError(path, "must be 'deg' or 'rad', got {got!r}", top_line("angle_unit"), "angle_unit",
+                             got=angle_unit)
     rows = data.get("shapes", [])
     if not isinstance(rows, list):
-        raise SceneFileError(path, "must be an array of tables: write [[shapes]] above each shape",
-                             top_line("shapes"), "shapes")
+        raise SceneFileError(path, "must be an array of tables: write [[{key}]] above each shape",
+                             top_line("shapes"), "shapes", key="shapes")
     if len(rows) > MAX_SHAPES:
-        raise SceneFileError(path, f"{len(rows):,} shapes; a scene file may hold at most {MAX_SHAPES:,}",
-                             top_line("shapes"), "shapes")
+        raise SceneFileError(path, "{n:,} shapes; a scene file may hold at most {limit:,}", top_line("shapes"),
+                             "shapes", n=len(rows), limit=MAX_SHAPES)
     folder = Path(path).resolve().parent
     meshes = mesh_lookup(folder, allow_outside)
     starts = _block_starts(lines, "shapes")
     shapes = []
     for k, row in enumerate(rows):
-        def fail(message: str, field: str, key: str | None, k: int = k) -> Exception:
-            return SceneFileError(path, message, block_line(lines, "shapes", k, key, starts), field)
+        def fail(message: str, field: str, key: str | None, k: int = k, **fields: object) -> Exception:
+            return SceneFileError(path, message, block_line(lines, "shapes", k, key, starts), field, **fields)
 
         shape, _ = shape_from_table(row, f"shapes[{k + 1}]", fail, math.pi / 180 if angle_unit == "deg" else 1.0,
                                     folder, meshes=meshes)
@@ -237,12 +250,12 @@ def load_scene(path: str | Path, *, allow_outside: bool = False) -> Scene:
             raise SceneFileError(str(path), "no such scene file")
         size = p.stat().st_size
     except (OSError, ValueError) as exc:
-        raise SceneFileError(str(path), f"cannot read file: {exc}") from None
+        raise SceneFileError(str(path), "cannot read file: {reason}", reason=str(exc)) from None
     if size > MAX_SCENE_BYTES:
-        raise SceneFileError(str(path), f"the file has {size:,} bytes; a scene file may have at most "
-                             f"{MAX_SCENE_BYTES:,}; it was not read")
+        raise SceneFileError(str(path), "the file has {size:,} bytes; a scene file may have at most {limit:,}; it "
+                             "was not read", size=size, limit=MAX_SCENE_BYTES)
     try:
         text = p.read_text(encoding="utf-8")
     except (OSError, UnicodeDecodeError) as exc:
-        raise SceneFileError(str(path), f"cannot read file: {exc}") from None
+        raise SceneFileError(str(path), "cannot read file: {reason}", reason=str(exc)) from None
     return parse_scene(text, str(path), allow_outside=allow_outside)

@@ -24,9 +24,10 @@ from typing import Any, Optional
 import numpy as np
 from numpy.typing import ArrayLike
 
+from .._text import Fielded
 from ..errors import IKInputError
 from ..model.robot import Robot
-from .numeric import _TOL_FACTOR, Problem, _project, _trace_array, assemble
+from .numeric import _TOL_FACTOR, Problem, _project, _trace_array, assemble, unreachable_note
 from .result import DEFAULT_MAX_SWEEPS, DEFAULT_SWEEP_RESTARTS, IKResult
 
 __all__ = ["solve_ccd"]
@@ -41,7 +42,7 @@ def _position_problem(robot: Robot, target: ArrayLike, q0: ArrayLike, mask: Opti
     note = ""
     if t.ndim == 3 and t.shape[1:] == (4, 4):
         t = t[:, :3, 3]
-        note = f"({what} matches the position only; the target's orientation was not used.)"
+        note = Fielded.of("({what} matches the position only; the target's orientation was not used.)", what=what)
     if mask is not None:
         m = np.asarray(mask, dtype=float)
         if m.shape != (6,) or np.any(m[3:] != 0) or not np.all(m[:3] > 0):
@@ -191,11 +192,12 @@ def _reasons(prob: Problem, unreachable: np.ndarray, dist: np.ndarray, failed: n
              used: np.ndarray) -> dict[int, tuple[str, str]]:
     """Reason and message of every failed target: out of the arm's reach, or no convergence."""
     unit = prob.robot.unit
-    reasons = {}
+    reasons: dict[int, tuple[str, str]] = {}
     for i in np.flatnonzero(unreachable):
-        reasons[int(i)] = ("unreachable", f"target is {dist[i]:.4g} {unit} from {prob.const['reach from']}; the arm reaches at "
-                                          f"most {prob.const['reach at most']:.4g} {unit}; q is the closest configuration found")
+        reasons[int(i)] = ("unreachable", unreachable_note(f"{dist[i]:.4g} {unit}", f"{prob.const['reach at most']:.4g} {unit}",
+                                                           prob.const["reach from"]))
     for i in np.flatnonzero(failed):
-        reasons[int(i)] = ("max iterations", f"CCD did not converge in {iters[i]} sweeps ({used[i]} starts)")
+        reasons[int(i)] = ("max iterations", Fielded.of("CCD did not converge in {n} sweeps ({starts} starts)",
+                                                        n=int(iters[i]), starts=int(used[i])))
     return reasons
 

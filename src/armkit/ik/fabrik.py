@@ -40,10 +40,11 @@ from typing import Any, Optional
 import numpy as np
 from numpy.typing import ArrayLike
 
+from .._text import Fielded
 from ..errors import IKInputError
 from ..model.robot import Robot
 from .ccd import _position_problem
-from .numeric import _TOL_FACTOR, Problem, _project, _trace_array, assemble
+from .numeric import _TOL_FACTOR, Problem, _project, _trace_array, assemble, unreachable_note
 from .result import DEFAULT_MAX_SWEEPS, DEFAULT_SWEEP_RESTARTS, IKResult
 
 __all__ = ["solve_fabrik", "fabrik_structure"]
@@ -290,11 +291,11 @@ def _reasons(prob: Problem, st: dict, failed: np.ndarray, passes: np.ndarray) ->
     reasons: dict[int, tuple[str, str]] = {}
     for i in map(int, np.flatnonzero(failed)):
         if unreachable[i]:
-            reasons[i] = ("unreachable", f"target is {dist[i]:.4g} {unit} from {prob.const['reach from']}; the arm reaches at "
-                                         f"most {prob.const['reach at most']:.4g} {unit}; q is the closest configuration found")
+            reasons[i] = ("unreachable", unreachable_note(f"{dist[i]:.4g} {unit}", f"{prob.const['reach at most']:.4g} {unit}",
+                                                          prob.const["reach from"]))
         else:
-            reasons[i] = ("max iterations", f"FABRIK did not converge in {passes[i]} passes "
-                                            f"({st['kind']} structure)")
+            reasons[i] = ("max iterations", Fielded.of("FABRIK did not converge in {n} passes ({kind} structure)",
+                                                       n=int(passes[i]), kind=st["kind"]))
     return reasons
 
 

@@ -92,6 +92,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from .. import _jit_loader
 from .. import kinematics as _kinematics
+from .._text import Fielded
 from ..errors import ArmkitError, ShapeError
 from ..model.robot import Robot
 from .result import (DEFAULT_MAX_ITERATIONS, DEFAULT_NEWTON_RESTARTS, DEFAULT_RESTARTS, IKResult, default_tolerance,
@@ -503,6 +504,24 @@ def _fmt(x: float) -> str:
     return f"{x:.2e}" if (x != 0 and (abs(x) < 1e-3 or abs(x) >= 1e4)) else f"{x:.4g}"
 
 
+def unreachable_note(distance: str, reach: str, origin: str) -> Fielded:
+    """Why a target is out of reach (``distance`` and ``reach`` with their unit), measured from ``origin``
+    (``const["reach from"]``: the base origin, or the shoulder); its template and fields go with it."""
+    if origin == "the shoulder":
+        return Fielded.of("target is {distance} from the shoulder; the arm reaches at most {reach}; q is the closest "
+                          "configuration found", distance=distance, reach=reach)
+    return Fielded.of("target is {distance} from the base origin; the arm reaches at most {reach}; q is the closest "
+                      "configuration found", distance=distance, reach=reach)
+
+
+def residual_note(dp: float, dr: float | None, unit: str) -> Fielded:
+    """``position error ... [, rotation error ... rad]``, in words that keep their fields."""
+    if dr is None:
+        return Fielded.of("position error {error}", error=f"{_fmt(dp)} {unit}")
+    return Fielded.of("position error {error}, rotation error {rotation}", error=f"{_fmt(dp)} {unit}",
+                      rotation=f"{_fmt(dr)} rad")
+
+
 def assemble(prob: Problem, q: Array, iterations: ArrayLike, branch: str, failure_reasons: dict[int, tuple[str, str]],
              trace: Optional[Array] = None, note: str = "") -> IKResult:
     """Build the :class:`IKResult`: success from :func:`check`, reasons and messages.
@@ -520,21 +539,21 @@ def assemble(prob: Problem, q: Array, iterations: ArrayLike, branch: str, failur
     rot = not (prob.position_only or prob.position_target)
     dpl, drl, okl, itl, wl = dp.tolist(), dr.tolist(), ok.tolist(), its.tolist(), within.tolist()
     for i in range(B):
-        resid = f"position error {_fmt(dpl[i])} {unit}" + (f", rotation error {_fmt(drl[i])} rad" if rot else "")
+        resid = residual_note(dpl[i], drl[i] if rot else None, unit)
         if okl[i]:
             reason[i] = "converged"
-            message[i] = f"converged in {itl[i]} iterations: {resid}."
+            message[i] = Fielded.of("converged in {n} iterations: {residual}.", n=itl[i], residual=resid)
         elif i in failure_reasons:
             reason[i], text = failure_reasons[i]
-            message[i] = f"{text}; {resid}."
+            message[i] = Fielded.of("{text}; {residual}.", text=text, residual=resid)
         elif prob.enforce_limits and not wl[i]:
             reason[i] = "joint limits"
-            message[i] = f"the configuration breaks the joint limits; {resid}."
+            message[i] = Fielded.of("the configuration breaks the joint limits; {residual}.", residual=resid)
         else:
             reason[i] = "max iterations"
-            message[i] = f"no solution within {itl[i]} iterations; best {resid}."
+            message[i] = Fielded.of("no solution within {n} iterations; best {residual}.", n=itl[i], residual=resid)
         if note:
-            message[i] += " " + note
+            message[i] = Fielded.of("{message} {note}", message=message[i], note=note)
     return IKResult(q=q, success=ok, position_error=dp, rotation_error=dr, iterations=its,
                     branch=np.full(B, branch, dtype=object), within_limits=within,
                     reason=reason.astype(str), message=message, trace=trace)
@@ -610,12 +629,12 @@ def _solve(prob: Problem, method: str, max_iterations: Optional[int], restarts: 
         if trace:
             for j, r in zip(idx, rows_i):
                 rows[j].extend(r)
-    reasons = {}
+    reasons: dict[int, tuple[str, str]] = {}
     unit = prob.robot.unit
     for i in (np.flatnonzero(unreachable) if any_unreachable else ()):
-        reasons[int(i)] = ("unreachable", f"target is {_fmt(dist[i])} {unit} from {prob.const['reach from']}; the arm "
-                                          f"reaches at most {_fmt(prob.const['reach at most'])} {unit}; q is the closest "
-                                          "configuration found")
+        reasons[int(i)] = ("unreachable", unreachable_note(f"{_fmt(dist[i])} {unit}",
+                                                           f"{_fmt(prob.const['reach at most'])} {unit}",
+                                                           prob.const["reach from"]))
     res = assemble(prob, q, iters, method, reasons, _trace_array(rows))
     if diagnose and not res.success.all() and len(failed := np.flatnonzero(~res.success & ~unreachable)):
         _diagnose(prob, res, failed, reasons, used, method, max_iterations, restarts, seed)
@@ -699,8 +718,8 @@ def _solve_one(robot: Robot, target: Any, q0: Any, max_iterations: Optional[int]
         prob = Problem(robot, target, q0, None, None, enforce_limits)
         return _finish(prob, q, np.array([iters], dtype=np.int64), info[:, 2].astype(np.int64), "lm",
                        max_iterations, restarts, seed, None, True)
-    message = f"converged in {iters} iterations: position error {_fmt(float(dp[0]))} {robot.unit}" \
-              + ("." if point else f", rotation error {_fmt(float(dr[0]))} rad.")
+    message = Fielded.of("converged in {n} iterations: {residual}.", n=iters,
+                         residual=residual_note(float(dp[0]), None if point else float(dr[0]), robot.unit))
     return IKResult._of(q=q, success=ok, position_error=dp, rotation_error=dr, iterations=np.array([iters], np.int64),
                         branch=_LM_BRANCH.copy(), within_limits=within, reason=_CONVERGED.copy(),
                         message=np.array([message], dtype=object))
@@ -733,16 +752,18 @@ def _diagnose(prob: Problem, res: IKResult, failed: NDArray[np.intp], reasons: d
         i = int(i)
         if prob.enforce_limits and alt.success[j]:
             broken = ", ".join(prob.robot.limit_violations(alt.q[j])) or "limits"
-            reasons[i] = ("joint limits", f"found solutions only outside the joint limits ({broken}); "
-                                          "q is the best configuration found inside them")
+            reasons[i] = ("joint limits", Fielded.of("found solutions only outside the joint limits ({broken}); q is "
+                                                     "the best configuration found inside them", broken=broken))
         elif too_many:
             reasons[i] = ("unreachable", short[j])
         elif sigma[j] < _SINGULAR_SIGMA:
-            reasons[i] = ("singular", f"stalled at a singular configuration (smallest singular value "
-                                      f"{sigma[j]:.1e}) after {res.iterations[i]} iterations and {used[i]} starts")
+            reasons[i] = ("singular", Fielded.of("stalled at a singular configuration (smallest singular value "
+                                                 "{sigma}) after {n} iterations and {starts} starts",
+                                                 sigma=f"{sigma[j]:.1e}", n=int(res.iterations[i]), starts=int(used[i])))
         else:
-            reasons[i] = ("max iterations", f"no solution within {res.iterations[i]} iterations "
-                                            f"({used[i]} starts of at most {max_iterations} steps)")
+            reasons[i] = ("max iterations", Fielded.of("no solution within {n} iterations ({starts} starts of at most "
+                                                       "{steps} steps)", n=int(res.iterations[i]), starts=int(used[i]),
+                                                       steps=max_iterations))
 
 
 def solve_lm(robot: Robot, target: ArrayLike, q0: ArrayLike, *, mask: Optional[ArrayLike] = None,

@@ -100,8 +100,9 @@ def resolve(name_or_path: str | Path, base: str | None,
             if not path.is_file():
                 raise RobotFileNotFoundError(name_or_path)
             return str(path), base, tip
-        raise ArgumentError(f"unknown arm {what!r} of example-robot-data; known arms: {', '.join(sorted(ROBOTS))} "
-                            f"(or {PREFIX}PATH.urdf, a file of its robots folder)")
+        raise ArgumentError.of("unknown arm {name!r} of example-robot-data; known arms: {names} (or "
+                               "example-robot-data:PATH.urdf, a file of its robots folder)", name=what,
+                               names=", ".join(sorted(ROBOTS)))
     if isinstance(name_or_path, (str, Path)) and _looks_like_path(name_or_path) and not _exists(name_or_path):
         raise RobotFileNotFoundError(str(name_or_path))
     return name_or_path, base, tip

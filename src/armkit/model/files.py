@@ -177,7 +177,7 @@ def _parse(text: str, path: str, allow_outside: bool = False) -> Robot:
                       str(data.get("source", "")), tuple(data.get("link_names", ())))
     except RobotDefinitionError as exc:
         key = next((k for k in ("convention", "unit", "link_names") if k in str(exc)), None)
-        raise RobotFileError(path, str(exc), loc.line(key) if key else None, key) from None
+        raise RobotFileError.wrap(path, exc, loc.line(key) if key else None, key) from None
     if _COLLISION_KEYS & set(data) or any("link_radius" in row for row in rows):
         collision_keys().attach(robot, data, text, path, allow_outside)   # NumPy only; coal is never imported
     return robot

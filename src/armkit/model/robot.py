@@ -61,7 +61,7 @@ def read_collision_keys_with(reader: Callable[[], CollisionKeys]) -> None:
 def collision_keys() -> CollisionKeys:
     """The reader of a robot file's collision keys (see :func:`read_collision_keys_with`)."""
     if _collision_keys is None:
-        raise RobotDefinitionError("no reader of the collision keys is plugged in (armkit/__init__.py does it)")
+        raise RobotDefinitionError.of("no reader of the collision keys is plugged in (armkit/__init__.py does it)")
     return _collision_keys()
 
 REVOLUTE: Literal["revolute"] = "revolute"
@@ -131,33 +131,41 @@ class Joint:
 
     def __post_init__(self) -> None:
         if self.kind not in (REVOLUTE, PRISMATIC):
-            raise RobotDefinitionError(f"joint {self.name!r}: type must be 'revolute' or 'prismatic', got {self.kind!r}")
+            raise RobotDefinitionError.of("joint {name!r}: type must be 'revolute' or 'prismatic', got {got!r}",
+                                          name=self.name, got=self.kind)
         for fname in ("theta", "d", "a", "alpha", "lower", "upper"):
             v = getattr(self, fname)   # NumPy scalars are numbers too; stored as Python floats
             x = _real(v)
             if fname in ("lower", "upper"):
                 if math.isnan(x):
-                    raise RobotDefinitionError(f"joint {self.name!r}: {fname} limit must be a number, got {v!r:.60}")
+                    raise RobotDefinitionError.of("joint {name!r}: lower limit must be a number, got {got}"
+                                                  if fname == "lower" else
+                                                  "joint {name!r}: upper limit must be a number, got {got}",
+                                                  name=self.name, got=f"{v!r:.60}")
             elif not math.isfinite(x):
-                raise RobotDefinitionError(f"joint {self.name!r}: {fname} must be a finite number, got {v!r:.60}")
+                raise RobotDefinitionError.of("joint {name!r}: {field} must be a finite number, got {got}",
+                                              name=self.name, field=fname, got=f"{v!r:.60}")
             object.__setattr__(self, fname, x)
         if self.lower > self.upper:
-            raise RobotDefinitionError(
-                f"joint {self.name!r}: lower limit {self.lower:g} is greater than upper limit {self.upper:g}")
+            raise RobotDefinitionError.of("joint {name!r}: lower limit {lower} is greater than upper limit {upper}",
+                                          name=self.name, lower=f"{self.lower:g}", upper=f"{self.upper:g}")
         if self.origin is not None or self.axis is not None:
             self._check_general()
 
     def _check_general(self) -> None:
         """Validate and normalise ``origin``/``axis`` of a joint given as origin + axis (URDF)."""
         if any(getattr(self, f) != 0.0 for f in ("theta", "d", "a", "alpha")):
-            raise RobotDefinitionError(f"joint {self.name!r}: give either DH parameters or origin + axis, not both")
+            raise RobotDefinitionError.of("joint {name!r}: give either DH parameters or origin + axis, not both",
+                                          name=self.name)
         origin = _pose(np.eye(4) if self.origin is None else self.origin, f"joint {self.name!r}: origin")
         try:
             axis = np.array((0.0, 0.0, 1.0) if self.axis is None else self.axis, dtype=float)
         except (TypeError, ValueError):
-            raise RobotDefinitionError(f"joint {self.name!r}: axis must be 3 numbers, got {self.axis!r}") from None
+            raise RobotDefinitionError.of("joint {name!r}: axis must be 3 numbers, got {got!r}", name=self.name,
+                                          got=self.axis) from None
         if axis.shape != (3,) or not np.all(np.isfinite(axis)):
-            raise RobotDefinitionError(f"joint {self.name!r}: axis must be 3 finite numbers, got {self.axis!r}")
+            raise RobotDefinitionError.of("joint {name!r}: axis must be 3 finite numbers, got {got!r}", name=self.name,
+                                          got=self.axis)
         # Normalised without overflow (issue 24): divided by its largest component first, so a huge but finite
         # axis such as (0, 0, 1e200) is the direction it names, (0, 0, 1); np.linalg.norm squared it to inf and
         # the axis became (0, 0, 0) silently. Only a zero (length under 1e-9), NaN or infinite axis is an error.
@@ -165,8 +173,8 @@ class Joint:
         unit = axis / scale if scale > 0.0 else axis
         length = float(np.linalg.norm(unit))         # between 1 and sqrt(3): no overflow, no underflow
         if scale * length < 1e-9:
-            raise RobotDefinitionError(f"joint {self.name!r}: axis {tuple(axis.tolist())} has zero length; "
-                                       "a joint needs a direction to turn about or slide along")
+            raise RobotDefinitionError.of("joint {name!r}: axis {axis} has zero length; a joint needs a direction to "
+                                          "turn about or slide along", name=self.name, axis=tuple(axis.tolist()))
         axis = unit / length
         object.__setattr__(self, "origin", tuple(tuple(float(v) for v in row) for row in origin))
         object.__setattr__(self, "axis", (float(axis[0]), float(axis[1]), float(axis[2])))
@@ -317,10 +325,12 @@ def _pose(value: ArrayLike | None, what: str) -> Array:
         try:
             T = np.array(real_array(value, what), dtype=float)
             if T.shape != (4, 4):
-                raise RobotDefinitionError(f"{what} must be a 4x4 pose, got shape {T.shape}")
+                raise RobotDefinitionError.of("{what} must be a 4x4 pose, got shape {shape}", what=what, shape=T.shape)
             check_transform(T, what=what)
         except ShapeError as exc:
-            raise RobotDefinitionError(str(exc)) from None
+            keyed = getattr(exc, "fields", None)     # its template and fields, when it has them
+            raise (RobotDefinitionError.of(exc.template, **keyed) if isinstance(keyed, dict) and keyed  # type: ignore[attr-defined]
+                   else RobotDefinitionError(str(exc))) from None
     T.setflags(write=False)
     return T
 
@@ -419,35 +429,37 @@ class Robot:
                  links: Sequence[Link] = (), ignored_joints: Sequence[str] = ()) -> None:
         joints = tuple(joints)
         if len(joints) == 0:
-            raise RobotDefinitionError(f"robot {name!r} has no joints; a serial arm needs at least one")
+            raise RobotDefinitionError.of("robot {name!r} has no joints; a serial arm needs at least one", name=name)
         if not all(isinstance(j, Joint) for j in joints):
-            raise RobotDefinitionError("joints must be armkit.Joint objects")
+            raise RobotDefinitionError.of("joints must be armkit.Joint objects")
         for what, text in (("name", name), ("description", description), ("source", source)):
             if not isinstance(text, str):
-                raise RobotDefinitionError(f"{what} must be a string, got {type(text).__name__}")
+                raise RobotDefinitionError.of("{what} must be a string, got {kind}", what=what,
+                                              kind=type(text).__name__)
         if not isinstance(convention, str) or convention not in CONVENTIONS:
-            raise RobotDefinitionError(f"convention must be one of {CONVENTIONS}, got {convention!r}")
+            raise RobotDefinitionError.of("convention must be one of {names}, got {got!r}", names=CONVENTIONS,
+                                          got=convention)
         if not isinstance(unit, str) or unit not in UNITS:
-            raise RobotDefinitionError(f"unit must be one of {tuple(UNITS)}, got {unit!r}")
+            raise RobotDefinitionError.of("unit must be one of {names}, got {got!r}", names=tuple(UNITS), got=unit)
         general = [j.is_general for j in joints]
         if convention == "urdf" and not all(general):
-            raise RobotDefinitionError("convention 'urdf' needs every joint given as origin + axis")
+            raise RobotDefinitionError.of("convention 'urdf' needs every joint given as origin + axis")
         if convention != "urdf" and any(general):
-            raise RobotDefinitionError(f"convention {convention!r} needs DH rows; joints with origin + axis "
-                                       "belong to convention 'urdf'")
+            raise RobotDefinitionError.of("convention {convention!r} needs DH rows; joints with origin + axis belong "
+                                          "to convention 'urdf'", convention=convention)
         joints = tuple(j if j.name else Joint(j.kind, j.theta, j.d, j.a, j.alpha, j.lower, j.upper, f"q{i + 1}",
                                               j.origin, j.axis)
                        for i, j in enumerate(joints))
         names = [j.name for j in joints]
         if len(set(names)) != len(names):
-            raise RobotDefinitionError(f"joint names must be unique, got {names}")
+            raise RobotDefinitionError.of("joint names must be unique, got {names}", names=names)
         if isinstance(link_names, str) or not all(isinstance(x, str) for x in link_names):
-            raise RobotDefinitionError(f"link_names must be a sequence of strings (base link + one per joint), "
-                                       f"got {link_names!r:.80}")
+            raise RobotDefinitionError.of("link_names must be a sequence of strings (base link + one per joint), "
+                                          "got {got}", got=f"{link_names!r:.80}")
         link_names = tuple(link_names) or tuple(f"link{i}" for i in range(len(joints) + 1))
         if len(link_names) != len(joints) + 1:
-            raise RobotDefinitionError(
-                f"link_names needs {len(joints) + 1} names (base link + one per joint), got {len(link_names)}")
+            raise RobotDefinitionError.of("link_names needs {n} names (base link + one per joint), got {got}",
+                                          n=len(joints) + 1, got=len(link_names))
         set_ = object.__setattr__
         set_(self, "cache", {})
         set_(self, "joints", joints)
@@ -467,10 +479,10 @@ class Robot:
                                None if k == 0 else joints[k - 1].name)
                           for k, nm in enumerate(link_names))
         elif not all(isinstance(lk, Link) and 0 <= lk.frame <= len(joints) for lk in links):
-            raise RobotDefinitionError("links must be armkit.model.Link objects with frame in 0..n")
+            raise RobotDefinitionError.of("links must be armkit.model.Link objects with frame in 0..n")
         link_index = {lk.name: i for i, lk in enumerate(links)}
         if len(link_index) != len(links):
-            raise RobotDefinitionError(f"link names must be unique, got {[lk.name for lk in links]}")
+            raise RobotDefinitionError.of("link names must be unique, got {names}", names=[lk.name for lk in links])
         set_(self, "links", links)
         self.cache["link_index"] = link_index
         set_(self, "ignored_joints", tuple(ignored_joints))
@@ -592,7 +604,7 @@ class Robot:
         True
         """
         if convention not in DH_CONVENTIONS:
-            raise RobotDefinitionError(f"convention must be 'standard' or 'modified', got {convention!r}")
+            raise RobotDefinitionError.of("convention must be 'standard' or 'modified', got {got!r}", got=convention)
         if convention == self.convention:
             return self
         key = "dh twin " + convention
@@ -615,16 +627,18 @@ class Robot:
         except KeyError:
             names = [lk.name for lk in self.links]
             shown = ", ".join(names[:40]) + (f", ... ({len(names)} links)" if len(names) > 40 else "")
-            raise RobotDefinitionError(f"robot {self.name!r} has no link {name!r}; its links are: {shown}") from None
+            raise RobotDefinitionError.of("robot {robot!r} has no link {link!r}; its links are: {names}",
+                                          robot=self.name, link=name, names=shown) from None
 
     # ------------------------------------------------------------- validation
     def check_q(self, q: ArrayLike, what: str = "q") -> Array:
         """``q`` as a float array of shape ``(..., n)``; raise :class:`ShapeError` otherwise."""
         arr = real_array(q, what)    # complex, masked, non-numeric and too-large values are errors, not dropped
         if arr.ndim == 0 or arr.shape[-1] != self.n:
-            raise ShapeError(f"{what} must have shape (..., {self.n}) for robot {self.name!r}, got {arr.shape}")
+            raise ShapeError.of("{what} must have shape (..., {n}) for robot {robot!r}, got {shape}", what=what,
+                                n=self.n, robot=self.name, shape=arr.shape)
         if not np.all(np.isfinite(arr)):
-            raise ShapeError(f"{what} contains NaN or infinite values")
+            raise ShapeError.of("{what} contains NaN or infinite values", what=what)
         return arr
 
     def within_limits(self, q: ArrayLike, tol: float = 1e-12) -> NDArray[np.bool_]:

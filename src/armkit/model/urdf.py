@@ -41,7 +41,8 @@ from xml.sax.saxutils import escape, quoteattr
 import numpy as np
 from numpy.typing import NDArray
 
-from ..errors import RobotDefinitionError, RobotFileError
+from .._text import Fielded
+from ..errors import RobotDefinitionError, RobotFileError, warning_of
 from ..spatial import rotation_to_rpy
 from .robot import Joint, Link, Robot, Shape, collision_keys
 
@@ -54,31 +55,40 @@ _KNOWN = _MOVING + ("fixed", "floating", "planar")
 
 
 # ---------------------------------------------------------------------------- reading
-def _numbers(el: Any, attr: str, count: int, default: str, path: str, what: str) -> list[float]:
+def _joint(name: str) -> Fielded:
+    """A joint named in an error's place (``joint 'elbow'``), in any language."""
+    return Fielded.of("joint {name!r}", name=name)
+
+
+def _numbers(el: Any, attr: str, count: int, default: str, path: str, what: Fielded) -> list[float]:
     text = el.get(attr, default) if el is not None else default
     parts = text.split()
     try:
         vals = [float(v) for v in parts]
     except ValueError:
-        raise RobotFileError(path, f"{attr}={text!r} must be {count} numbers", el.sourceline, what) from None
+        raise RobotFileError(path, "{attr}={text!r} must be {count} numbers", el.sourceline, what, attr=attr,
+                             text=text, count=count) from None
     if len(vals) != count:
-        raise RobotFileError(path, f"{attr}={text!r} must be {count} numbers, got {len(vals)}", el.sourceline, what)
+        raise RobotFileError(path, "{attr}={text!r} must be {count} numbers, got {got}", el.sourceline, what,
+                             attr=attr, text=text, count=count, got=len(vals))
     if not all(math.isfinite(v) for v in vals):
-        raise RobotFileError(path, f"{attr}={text!r} holds NaN or infinite values", el.sourceline, what)
+        raise RobotFileError(path, "{attr}={text!r} holds NaN or infinite values", el.sourceline, what, attr=attr,
+                             text=text)
     return vals
 
 
 def _check_xml(root: Any, path: str) -> tuple[dict[str, Any], dict[str, Any]]:
     """Structural checks with line numbers, before yourdfpy reads the values; the link and joint elements by name."""
     if root.tag != "robot":
-        raise RobotFileError(path, f"the root element must be <robot>, got <{root.tag}>", root.sourceline)
+        raise RobotFileError(path, "the root element must be <robot>, got <{tag}>", root.sourceline, tag=root.tag)
     from .files import MAX_JOINTS
 
     for tag, most in (("joint", MAX_JOINTS), ("link", MAX_JOINTS + 1)):   # counted before anything is built
         count = sum(1 for _ in root.iterchildren(tag))
         if count > most:
-            raise RobotFileError(path, f"{count:,} <{tag}> elements; armkit reads URDF trees of at most "
-                                 f"{MAX_JOINTS:,} joints ({MAX_JOINTS + 1:,} links)", root.sourceline)
+            raise RobotFileError(path, "{count:,} <{tag}> elements; armkit reads URDF trees of at most "
+                                 "{limit:,} joints ({links:,} links)", root.sourceline, count=count, tag=tag,
+                                 limit=MAX_JOINTS, links=MAX_JOINTS + 1)
     links = _check_links(root, path)
     if not links:
         raise RobotFileError(path, "the file has no <link>", root.sourceline)
@@ -93,16 +103,17 @@ def _check_links(root: Any, path: str) -> dict[str, Any]:
         if not name:
             raise RobotFileError(path, "<link> without a name", el.sourceline)
         if name in links:
-            raise RobotFileError(path, f"link {name!r} is defined twice (first on line {links[name].sourceline})",
-                                 el.sourceline)
+            raise RobotFileError(path, "link {name!r} is defined twice (first on line {first})", el.sourceline,
+                                 name=name, first=links[name].sourceline)
         links[name] = el
         for kind in ("visual", "collision"):
             for sub in el.findall(kind):
-                _check_geometry(sub, kind, path, f"link {name!r} {kind}")
+                _check_geometry(sub, kind, path, Fielded.of("link {name!r} visual", name=name) if kind == "visual"
+                                else Fielded.of("link {name!r} collision", name=name))
     return links
 
 
-def _check_geometry(sub: Any, kind: str, path: str, where: str) -> None:
+def _check_geometry(sub: Any, kind: str, path: str, where: Fielded) -> None:
     """One ``<visual>`` or ``<collision>``: its origin and its single box, cylinder, sphere or mesh."""
     origin = sub.find("origin")
     if origin is not None:
@@ -110,8 +121,8 @@ def _check_geometry(sub: Any, kind: str, path: str, where: str) -> None:
         _numbers(origin, "rpy", 3, "0 0 0", path, where)
     geo = sub.find("geometry")
     if geo is None or len(geo) == 0:
-        raise RobotFileError(path, f"<{kind}> needs a <geometry> with a box, cylinder, sphere or mesh",
-                             sub.sourceline, where)
+        raise RobotFileError(path, "<{kind}> needs a <geometry> with a box, cylinder, sphere or mesh",
+                             sub.sourceline, where, kind=kind)
     shape = geo[0]
     if shape.tag == "box":
         _numbers(shape, "size", 3, "", path, where)
@@ -127,8 +138,8 @@ def _check_geometry(sub: Any, kind: str, path: str, where: str) -> None:
             n = len(shape.get("scale").split())
             _numbers(shape, "scale", 1 if n == 1 else 3, "1 1 1", path, where)
     else:
-        raise RobotFileError(path, f"unknown geometry <{shape.tag}>; expected box, cylinder, sphere or mesh",
-                             shape.sourceline, where)
+        raise RobotFileError(path, "unknown geometry <{tag}>; expected box, cylinder, sphere or mesh",
+                             shape.sourceline, where, tag=shape.tag)
 
 
 def _check_joints(root: Any, path: str, links: dict[str, Any]) -> dict[str, Any]:
@@ -138,29 +149,30 @@ def _check_joints(root: Any, path: str, links: dict[str, Any]) -> dict[str, Any]
         name = el.get("name")
         if not name:
             raise RobotFileError(path, "<joint> without a name", el.sourceline)
-        where = f"joint {name!r}"
+        where = _joint(name)
         if name in joints:
-            raise RobotFileError(path, f"joint {name!r} is defined twice (first on line {joints[name].sourceline})",
-                                 el.sourceline)
+            raise RobotFileError(path, "joint {name!r} is defined twice (first on line {first})", el.sourceline,
+                                 name=name, first=joints[name].sourceline)
         joints[name] = el
         jtype = el.get("type")
         if jtype not in _KNOWN:
-            raise RobotFileError(path, f"unknown joint type {jtype!r}; URDF knows {', '.join(_KNOWN)}",
-                                 el.sourceline, where)
+            raise RobotFileError(path, "unknown joint type {type!r}; URDF knows {names}", el.sourceline, where,
+                                 type=jtype, names=", ".join(_KNOWN))
         for tag in ("parent", "child"):
             sub = el.find(tag)
             if sub is None or not sub.get("link"):
-                raise RobotFileError(path, f"needs <{tag} link=\"...\"/>", el.sourceline, where)
+                raise RobotFileError(path, "needs <{tag} link=\"...\"/>", el.sourceline, where, tag=tag)
             if sub.get("link") not in links:
-                raise RobotFileError(path, f"{tag} link {sub.get('link')!r} does not exist", sub.sourceline, where)
+                raise RobotFileError(path, "parent link {link!r} does not exist" if tag == "parent" else
+                                     "child link {link!r} does not exist", sub.sourceline, where, link=sub.get("link"))
         if el.find("parent").get("link") == el.find("child").get("link"):
             raise RobotFileError(path, "parent and child are the same link", el.sourceline, where)
         origin = el.find("origin")
         if origin is not None:
             xyz = _numbers(origin, "xyz", 3, "0 0 0", path, where)
             if not math.isfinite(math.hypot(*xyz)):    # hypot scales first: only a length past 1.8e308 overflows
-                raise RobotFileError(path, f"origin xyz={origin.get('xyz')!r} is too long: its length overflows "
-                                     "(above 1.8e308)", origin.sourceline, where)
+                raise RobotFileError(path, "origin xyz={xyz!r} is too long: its length overflows (above 1.8e308)",
+                                     origin.sourceline, where, xyz=origin.get("xyz"))
             _numbers(origin, "rpy", 3, "0 0 0", path, where)
         axis = el.find("axis")
         if axis is not None:
@@ -176,8 +188,8 @@ def _check_joints(root: Any, path: str, links: dict[str, Any]) -> dict[str, Any]
             if jtype in ("revolute", "prismatic") and limit.get("lower") and limit.get("upper"):
                 lo, hi = float(limit.get("lower")), float(limit.get("upper"))
                 if lo > hi:
-                    raise RobotFileError(path, f"lower limit {lo:g} is greater than upper limit {hi:g}",
-                                         limit.sourceline, where)
+                    raise RobotFileError(path, "lower limit {lower} is greater than upper limit {upper}",
+                                         limit.sourceline, where, lower=f"{lo:g}", upper=f"{hi:g}")
         elif jtype == "prismatic":
             raise RobotFileError(path, "a prismatic joint needs <limit lower=... upper=...>", el.sourceline, where)
         mimic = el.find("mimic")
@@ -391,7 +403,8 @@ def load_urdf(path: str | Path, base: str | None = None, tip: str | None = None,
     try:
         model = yourdfpy.URDF._parse_robot(xml_element=root)
     except Exception as exc:  # noqa: BLE001 - anything the parser raises is a malformed file
-        raise RobotFileError(spath, f"cannot read the URDF: {type(exc).__name__}: {exc}") from None
+        raise RobotFileError(spath, "cannot read the URDF: {kind}: {reason}", kind=type(exc).__name__,
+                             reason=str(exc)) from None
     parent_of, children, root_link = _tree(model, root, links_el, joints_el, spath)
     jmap = {j.name: j for j in model.joints}
     base = root_link if base is None else base
@@ -399,28 +412,28 @@ def load_urdf(path: str | Path, base: str | None = None, tip: str | None = None,
     path_joints = _chain_joints(base, tip, parent_of, jmap, joints_el, spath)
     joints, link_names, placed, warned_limits = _chain(path_joints, jmap, joints_el, base, spath)
     if warned_limits:
-        warnings.warn(f"{spath}: revolute joint(s) {', '.join(warned_limits)} have no <limit>; treated as unlimited",
-                      stacklevel=3)
+        warnings.warn(warning_of("{path}: revolute joint(s) {names} have no <limit>; treated as unlimited", path=spath,
+                                 names=", ".join(warned_limits)), stacklevel=3)
     tool = placed[-1][2]                     # from the last moving joint's child link to the tip
     lookup = _MeshLookup(p, allow_outside)   # mesh files not found or refused, among the links kept
     links = _links(model, placed, children, jmap, tool, len(joints), lookup)
     missing = lookup.missing
     if lookup.refused:
-        warnings.warn(f"{spath}: {len(lookup.refused)} mesh path(s) outside the robot's folder and package path were "
-                      f"not read (first: {_short(lookup.refused[0])}); to read them anyway pass allow_outside=True "
-                      f"(armkit.load), --allow-outside (armkit) or set {ALLOW_OUTSIDE_VARIABLE}=1",
-                      stacklevel=3)
+        warnings.warn(warning_of("{path}: {n} mesh path(s) outside the robot's folder and package path were not "
+                                 "read (first: {first}); to read them anyway pass allow_outside=True (armkit.load), "
+                                 "--allow-outside (armkit) or set {variable}=1", path=spath, n=len(lookup.refused),
+                                 first=_short(lookup.refused[0]), variable=ALLOW_OUTSIDE_VARIABLE), stacklevel=3)
     if missing and warn_missing_meshes:
-        warnings.warn(f"{spath}: {len(missing)} mesh file(s) not found (first: {missing[0]}); kinematics are not "
-                      f"affected. Set ARMKIT_PACKAGE_PATH to the folder that holds the package to see the meshes.",
-                      stacklevel=3)
+        warnings.warn(warning_of("{path}: {n} mesh file(s) not found (first: {first}); kinematics are not affected. "
+                                 "Set ARMKIT_PACKAGE_PATH to the folder that holds the package to see the meshes.",
+                                 path=spath, n=len(missing), first=missing[0]), stacklevel=3)
     on_chain = set(path_joints)
     ignored = [jn for jn in jmap if jn not in on_chain]
     try:
         robot = Robot(joints, "urdf", name or str(root.get("name")), "m", None, tool, description, source, link_names,
                       links, ignored)
     except RobotDefinitionError as exc:
-        raise RobotFileError(spath, str(exc)) from None
+        raise RobotFileError.wrap(spath, exc) from None
     _attach_surroundings(robot, notes, spath, allow_outside)
     return robot
 
@@ -437,10 +450,10 @@ def _attach_surroundings(robot: Robot, notes: list[str], spath: str, allow_outsi
             try:
                 data = json.loads(note[len(_SURROUNDINGS):])
             except (ValueError, RecursionError):
-                raise RobotFileError(spath, f"the {_SURROUNDINGS!r} comment is not valid JSON") from None
+                raise RobotFileError(spath, "the {note!r} comment is not valid JSON", note=_SURROUNDINGS) from None
             if not isinstance(data, dict) or set(data) - {"angle_unit", "link_radius", "joints", "allow_collision",
                                                            "body", "scene"}:
-                raise RobotFileError(spath, f"the {_SURROUNDINGS!r} comment holds unknown keys")
+                raise RobotFileError(spath, "the {note!r} comment holds unknown keys", note=_SURROUNDINGS)
             collision_keys().attach(robot, data, "", spath, allow_outside)
             return
 
@@ -475,17 +488,17 @@ def _read_xml(p: Path, spath: str) -> tuple[Any, list[str]]:
     try:
         size = p.stat().st_size
         if size > MAX_FILE_BYTES:      # refused unread: a 50 MB URDF took minutes and gigabytes (issue 24)
-            raise RobotFileError(spath, f"the file has {size:,} bytes; a robot file may have at most "
-                                 f"{MAX_FILE_BYTES:,}; it was not read")
+            raise RobotFileError(spath, "the file has {size:,} bytes; a robot file may have at most {limit:,}; it "
+                                 "was not read", size=size, limit=MAX_FILE_BYTES)
         data = p.read_bytes()
     except OSError as exc:
-        raise RobotFileError(spath, f"cannot read file: {exc.strerror or exc}") from None
+        raise RobotFileError(spath, "cannot read file: {reason}", reason=str(exc.strerror or exc)) from None
     try:
         parser = etree.XMLParser(remove_blank_text=True, resolve_entities=False, no_network=True, huge_tree=False)
         root = etree.fromstring(data, parser=parser)
     except etree.XMLSyntaxError as exc:
         line = exc.lineno if getattr(exc, "lineno", None) else None
-        raise RobotFileError(spath, f"not valid XML: {exc.msg}", line) from None
+        raise RobotFileError(spath, "not valid XML: {reason}", line, reason=str(exc.msg)) from None
     notes = [str(c.text).strip() for c in reversed(list(root.itersiblings(preceding=True)))
              if not isinstance(c.tag, str) and c.text and c.text.strip()]
     for el in list(root.iter()):   # comments and processing instructions are not URDF elements
@@ -518,16 +531,17 @@ def _tree(model: Any, root: Any, links_el: dict[str, Any], joints_el: dict[str, 
     children: dict[str, list] = {}
     for j in model.joints:
         if j.child in parent_of:
-            raise RobotFileError(spath, f"link {j.child!r} has two parent joints ({parent_of[j.child][0]!r} and "
-                                 f"{j.name!r}); a URDF must be a tree", joints_el[j.name].sourceline, f"joint {j.name!r}")
+            raise RobotFileError(spath, "link {link!r} has two parent joints ({first!r} and {second!r}); a URDF "
+                                 "must be a tree", joints_el[j.name].sourceline, _joint(j.name), link=j.child,
+                                 first=parent_of[j.child][0], second=j.name)
         parent_of[j.child] = (j.name, j.parent)
         children.setdefault(j.parent, []).append((j.name, j.child))
     roots = [nm for nm in links_el if nm not in parent_of]
     if not roots:
         raise RobotFileError(spath, "no root link: the joints form a cycle", root.sourceline)
     if len(roots) > 1:
-        raise RobotFileError(spath, f"{len(roots)} root links ({_names(roots, 10)}); a URDF tree has exactly one "
-                             "(add a joint that connects them)", links_el[roots[1]].sourceline)
+        raise RobotFileError(spath, "{n} root links ({names}); a URDF tree has exactly one (add a joint that "
+                             "connects them)", links_el[roots[1]].sourceline, n=len(roots), names=_names(roots, 10))
     reached, stack = {roots[0]}, [roots[0]]
     while stack:
         for _, child in children.get(stack.pop(), []):
@@ -536,8 +550,8 @@ def _tree(model: Any, root: Any, links_el: dict[str, Any], joints_el: dict[str, 
                 stack.append(child)
     if len(reached) != len(links_el):
         loop = sorted(set(links_el) - reached)
-        raise RobotFileError(spath, f"the joints form a cycle through links {_names(loop, 10)}",
-                             links_el[loop[0]].sourceline)
+        raise RobotFileError(spath, "the joints form a cycle through links {names}", links_el[loop[0]].sourceline,
+                             names=_names(loop, 10))
     return parent_of, children, roots[0]
 
 
@@ -545,17 +559,19 @@ def _choose_tip(base: str, tip: str | None, links_el: dict[str, Any], children: 
                 jtype: dict[str, str], spath: str) -> str:
     """``tip``, or the single leaf below ``base`` reached through a moving joint; both links must exist."""
     if base not in links_el:
-        raise RobotFileError(spath, f"base link {base!r} does not exist; links: {_names(list(links_el), 40)}")
+        raise RobotFileError(spath, "base link {base!r} does not exist; links: {names}", base=base,
+                             names=_names(list(links_el), 40))
     if tip is None:
         cands = _leaf_candidates(base, children, jtype)
         if not cands:
-            raise RobotFileError(spath, f"no moving joint below link {base!r}: the chain would be empty")
+            raise RobotFileError(spath, "no moving joint below link {base!r}: the chain would be empty", base=base)
         if len(cands) > 1:
-            raise RobotFileError(spath, f"the tree has {len(cands)} possible tip links: {_names(cands, 20)}; "
-                                 "choose one with tip=... (CLI: --tip)")
+            raise RobotFileError(spath, "the tree has {n} possible tip links: {names}; choose one with tip=... "
+                                 "(CLI: --tip)", n=len(cands), names=_names(cands, 20))
         tip = cands[0]
     if tip not in links_el:
-        raise RobotFileError(spath, f"tip link {tip!r} does not exist; links: {_names(list(links_el), 40)}")
+        raise RobotFileError(spath, "tip link {tip!r} does not exist; links: {names}", tip=tip,
+                             names=_names(list(links_el), 40))
     return tip
 
 
@@ -566,21 +582,22 @@ def _chain_joints(base: str, tip: str, parent_of: dict[str, tuple[str, str]], jm
     link = tip
     while link != base:
         if link not in parent_of:
-            raise RobotFileError(spath, f"tip link {tip!r} is not below base link {base!r}")
+            raise RobotFileError(spath, "tip link {tip!r} is not below base link {base!r}", tip=tip, base=base)
         jn, link = parent_of[link]
         path_joints.append(jn)
     path_joints.reverse()
     for jn in path_joints:
         j = jmap[jn]
         if j.type in ("floating", "planar"):
-            raise RobotFileError(spath, f"a {j.type} joint on the chain {base} -> {tip} is not a serial-arm joint; "
-                                 "choose base= below it", joints_el[jn].sourceline, f"joint {jn!r}")
+            raise RobotFileError(spath, "a {kind} joint on the chain {base} -> {tip} is not a serial-arm joint; "
+                                 "choose base= below it", joints_el[jn].sourceline, _joint(jn), kind=j.type,
+                                 base=base, tip=tip)
         if j.mimic is not None and j.type in _MOVING:
-            raise RobotFileError(spath, f"joint {jn!r} mimics joint {j.mimic.joint!r}; armkit's chains have "
-                                 "independent joints (choose a tip before it, or remove the mimic)",
-                                 joints_el[jn].sourceline, f"joint {jn!r}")
+            raise RobotFileError(spath, "joint {name!r} mimics joint {other!r}; armkit's chains have independent "
+                                 "joints (choose a tip before it, or remove the mimic)", joints_el[jn].sourceline,
+                                 _joint(jn), name=jn, other=j.mimic.joint)
     if not any(jmap[jn].type in _MOVING for jn in path_joints):
-        raise RobotFileError(spath, f"the chain {base} -> {tip} has no moving joint")
+        raise RobotFileError(spath, "the chain {base} -> {tip} has no moving joint", base=base, tip=tip)
     return path_joints
 
 
@@ -604,7 +621,7 @@ def _chain(path_joints: list[str], jmap: dict[str, Any], joints_el: dict[str, An
         length += math.hypot(*(float(v) for v in origin[:3, 3]))
         if not math.isfinite(length):
             raise RobotFileError(spath, "origin xyz makes the chain from the base longer than 1.8e308: its poses "
-                                 "overflow", joints_el[jn].sourceline, f"joint {jn!r}")
+                                 "overflow", joints_el[jn].sourceline, _joint(jn))
         parent_link = j.parent
         if j.type in _MOVING:
             axis = np.array([1.0, 0.0, 0.0]) if j.axis is None else np.array(j.axis, dtype=float)
@@ -621,7 +638,7 @@ def _chain(path_joints: list[str], jmap: dict[str, Any], joints_el: dict[str, An
                 joints.append(Joint("prismatic" if j.type == "prismatic" else "revolute", lower=lo, upper=hi,
                                     name=jn, origin=tuple(map(tuple, acc @ origin)), axis=tuple(axis)))  # type: ignore[arg-type]
             except RobotDefinitionError as exc:
-                raise RobotFileError(spath, str(exc), joints_el[jn].sourceline, f"joint {jn!r}") from None
+                raise RobotFileError.wrap(spath, exc, joints_el[jn].sourceline, _joint(jn)) from None
             acc = np.eye(4)
             link_names.append(j.child)
         else:

@@ -355,14 +355,14 @@ def single_call(robot: Robot, solver: ClosedForm, target: Array, q0: Array | Non
     t = target.ravel()
     raw = None
     if c.kernel is not None:   # the family's kernel and the rest in one call
-        status, n_limits, n_other, q, ev, fl, iv = c.kernel(t, c.geometry, c.joints, c.F, q0, opts)
+        status, n_limits, n_other, q, ev, fl, iv, reach = c.kernel(t, c.geometry, c.joints, c.F, q0, opts)
     else:                      # a family solved in Python (the geometric family): its solve, then one call
         if not kernels.usable(t, q0, check):
             return None
         raw = solver.solve(target[None], (q0 + solver.sf.theta)[None])
         missing = raw.missing[0] if raw.missing is not None else np.zeros(c.m, dtype=bool)
-        status, n_limits, n_other, q, ev, fl, iv = kernels.post(raw.q[0], raw.unreachable[0], missing, c.joints, c.F,
-                                                                q0, t, opts)
+        status, n_limits, n_other, q, ev, fl, iv, reach = kernels.post(raw.q[0], raw.unreachable[0], missing,
+                                                                       c.joints, c.F, q0, t, opts)
     if status:
         return None
     ok, code = fl[0], iv[0]
@@ -373,14 +373,35 @@ def single_call(robot: Robot, solver: ClosedForm, target: Array, q0: Array | Non
         label = raw.label[0][iv[2]]
     if n_limits:
         _limit_messages(robot, message, code, iv[3], q, ev, tol)
-    if n_other:   # why a branch is out of reach: the family's own sentence (Raw.why), in sorted order
+    if n_other:   # why a branch is out of reach: the family's own sentence, in sorted order
         order = iv[2]
-        if raw is None:
-            raw = solver.solve(target[None], (q0 + solver.sf.theta)[None])
-        why = raw.why
-        shim = Raw(q, label, raw.unreachable[0][order], lambda i: why(int(order[i])), message)
+        if raw is None:   # from the numbers the kernel gave (reach_why), without solving again
+            rows = reach[order]
+            unreachable = rows[:, 0] != 0.0
+            why = _reach_sentences(getattr(solver, "reach_why"), rows[:, 1:].tolist(), target)
+        else:
+            unreachable = raw.unreachable[0][order]
+            why = lambda i: raw.why(int(order[i]))  # noqa: E731
+        shim = Raw(q, label, unreachable, why, message)
         _failure_messages(robot, message, np.where(code == 1, 1, 0), shim, q, ev[0], ev[1], tol)
     return _single_result(c, q, ok, ev, fl[1], label, code, message, nearest, batch_axis)
+
+
+def _reach_sentences(reach_why, rows: list, target: Array):
+    """``why(i)`` of the one-call path: the family's ``reach_why`` for the kernel's numbers ``rows[i]`` (beside
+    the first axis, distance from it, distance from the shoulder), each distinct row formatted once (branches
+    that share a shoulder solution share their sentence)."""
+    made: dict = {}
+
+    def why(i: int) -> str:
+        key = tuple(rows[i])
+        text = made.get(key)
+        if text is None:
+            lat, rho, r = key
+            text = made[key] = reach_why(lat != 0.0, rho, r, target)
+        return text
+
+    return why
 
 
 def _limit_messages(robot: Robot, message: NDArray[np.object_], code: NDArray[np.int_], bits: NDArray[np.int_],
