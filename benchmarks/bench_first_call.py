@@ -12,6 +12,12 @@ directory and put first on ``PYTHONPATH``), "after" against the working tree. Me
 * ``compiled after``: (after only) seconds until the background warm-up's kernels are in use;
 * warm: after everything is compiled and cached, median of single ``fk``/``jacobian``/``ik``
   calls (µs) and of ``ik`` of 5,000 poses (ms).
+* ``first batched fk of 1,000,000 vs later`` (``--first-batch``; issue 19): in a fresh process with a
+  warm cache, after one single ``fk`` (which imports and sets up Numba, 1-4 s of its own: the "first fk"
+  row), the first ``fk`` of 1,000,000 configurations against the next three (ratio printed), split
+  into its parts: loading the threaded kernel from the cache, starting Numba's threads, and touching the
+  fresh 128 MB output. The same with the output's memory recycled (the process touched and freed 128 MB
+  first), after a 5 s pause, and with ``out=`` reusing one buffer.
 
 Targets are the FK of random joint vectors inside the limits (seeded), computed here with the
 NumPy back end. For puma560 ``ik`` is the closed form; for panda Levenberg-Marquardt. The
@@ -24,6 +30,7 @@ Usage::
     .venv/bin/python benchmarks/bench_first_call.py                       # before = a8d5fc6^, after = tree
     .venv/bin/python benchmarks/bench_first_call.py --robots panda --repeat 5
     .venv/bin/python benchmarks/bench_first_call.py --before none         # after only
+    .venv/bin/python benchmarks/bench_first_call.py --first-batch          # only the first big batch
 """
 
 from __future__ import annotations
@@ -170,6 +177,89 @@ def measure(src: Path, robot: str, data: Path, repeat: int, after: bool, timeout
     return {k: statistics.median(v) for k, v in runs.items()}
 
 
+_FIRST_BATCH = r"""
+import json, resource, sys, time
+import numpy as np
+import armkit
+from armkit import _jit_loader
+arm = armkit.load(ROBOT)
+Q = arm.random_q(COUNT, rng=3)
+armkit.fk(arm, Q[0])   # Numba imported and set up, the single-call kernel loaded: only the big batch is new
+out = {}
+if MODE == "split":   # the parts of the first call, one by one, before it
+    import numba
+    from numba import typeof
+    jit = _jit_loader.module("kinematics._jit")
+    F = armkit.kinematics.packed(arm)[0]
+    t = time.perf_counter(); jit._fk_parallel.compile((typeof(F), typeof(Q), typeof(np.empty((1, 4, 4)))))
+    out["load threaded kernel"] = time.perf_counter() - t
+    t = time.perf_counter(); numba.get_num_threads()   # starts the threading layer
+    out["start threads"] = time.perf_counter() - t
+    t = time.perf_counter(); a = np.empty((COUNT, 4, 4)); a.fill(0.0)
+    out["touch fresh 128 MB"] = time.perf_counter() - t
+    t = time.perf_counter(); a.fill(0.0)
+    out["touch it again"] = time.perf_counter() - t
+    del a
+if MODE == "recycled":   # the process touched and freed as much memory as the output just before
+    a = np.empty((COUNT, 4, 4)); a.fill(0.0); del a
+
+def timed(fn):
+    r0 = resource.getrusage(resource.RUSAGE_SELF)
+    t = time.perf_counter()
+    T = fn()
+    dt = time.perf_counter() - t
+    r1 = resource.getrusage(resource.RUSAGE_SELF)
+    return dt, r1.ru_stime - r0.ru_stime
+
+out["calls"], out["sys"] = [], []
+for _ in range(4):
+    dt, st = timed(lambda: armkit.fk(arm, Q))
+    out["calls"].append(dt); out["sys"].append(st)
+time.sleep(5.0)
+out["after 5 s pause"] = timed(lambda: armkit.fk(arm, Q))[0]
+buf = np.empty((COUNT, 4, 4))
+out["out="] = [timed(lambda: armkit.fk(arm, Q, out=buf))[0] for _ in range(3)]
+print(json.dumps(out))
+"""
+
+
+def first_batch(robot: str, repeat: int, timeout: float, count: int = 1_000_000) -> None:
+    """The first batched ``fk`` of ``count`` configurations in a fresh process against the later ones (issue 19)."""
+    with tempfile.TemporaryDirectory(prefix="armkit-bench-first-batch-") as cache:
+        env = {k: v for k, v in os.environ.items() if not k.startswith(("ARMKIT_", "NUMBA_CACHE_DIR"))}
+        # compile on first use (no background warm-up), here only the kernels this measurement calls
+        env.update(PYTHONPATH=str(ROOT / "src"), NUMBA_CACHE_DIR=cache, ARMKIT_JIT="wait")
+        warm = (f"import armkit; arm = armkit.load({robot!r}); armkit.fk(arm, arm.random_q(rng=0)); "
+                "armkit.fk(arm, arm.random_q(5000, rng=1))")
+        subprocess.run([sys.executable, "-c", warm], env=env, check=True, capture_output=True, timeout=timeout * 4)
+        print(f"\nfirst batched fk of {count:,} vs later ({robot}, warm cache, fresh process each; {_load()})")
+        rows: dict[str, list[float]] = {}
+        for _ in range(repeat):
+            for mode in ("fresh", "recycled", "split"):
+                code = (_FIRST_BATCH.replace("ROBOT", repr(robot)).replace("COUNT", str(count))
+                        .replace("MODE", repr(mode)))
+                res = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True,
+                                     timeout=timeout)
+                if res.returncode != 0:
+                    raise RuntimeError(f"measurement failed ({mode}):\n{res.stderr[-2000:]}")
+                d = json.loads(res.stdout.strip().splitlines()[-1])
+                first, later = d["calls"][0], statistics.median(d["calls"][1:])
+                rows.setdefault(f"{mode}: first call s", []).append(first)
+                rows.setdefault(f"{mode}: later calls s", []).append(later)
+                rows.setdefault(f"{mode}: first / later", []).append(first / later)
+                rows.setdefault(f"{mode}: first call sys s", []).append(d["sys"][0])
+                rows.setdefault(f"{mode}: later calls sys s", []).append(statistics.median(d["sys"][1:]))
+                if mode == "fresh":
+                    rows.setdefault("after a 5 s pause / later", []).append(d["after 5 s pause"] / later)
+                    rows.setdefault("out= (one buffer) / later", []).append(statistics.median(d["out="]) / later)
+                for k in ("load threaded kernel", "start threads", "touch fresh 128 MB", "touch it again"):
+                    if k in d:
+                        rows.setdefault(f"part: {k} s", []).append(d[k])
+        for k, v in rows.items():
+            print(f"  {k:36s} {statistics.median(v):8.3f}   (runs: {', '.join(f'{x:.3f}' for x in v)})")
+        print(f"  ({_load()})", flush=True)
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--robots", nargs="+", default=["puma560", "panda"])
@@ -177,8 +267,14 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--before", default=BEFORE, help=f"git revision to compare with (default {BEFORE}); 'none': skip")
     ap.add_argument("--timeout", type=float, default=300.0, help="seconds per measurement process")
     ap.add_argument("--json", type=Path, help="also write the results here")
+    ap.add_argument("--first-batch", action="store_true",
+                    help="only the first batched fk of 1,000,000 against the later ones (issue 19)")
     args = ap.parse_args(argv)
     print(f"{_load()}; cpus {os.cpu_count()}; python {sys.version.split()[0]}", flush=True)
+    if args.first_batch:
+        for robot in args.robots:
+            first_batch(robot, args.repeat, args.timeout)
+        return 0
     results: dict = {}
     with tempfile.TemporaryDirectory(prefix="armkit-bench-") as tmp:
         before_src = None if args.before == "none" else _extract(args.before, Path(tmp))
@@ -202,6 +298,7 @@ def main(argv: list[str] | None = None) -> int:
                 a = row["after"].get(k)
                 print(f"  {k:28s} {'-' if b is None else f'{b:10.3f}':>10s} {'-' if a is None else f'{a:10.3f}':>10s}")
             print(flush=True)
+    first_batch(args.robots[0], args.repeat, args.timeout)
     print(_load())
     if args.json:
         args.json.write_text(json.dumps(results, indent=2))

@@ -4,7 +4,7 @@ For each arm (default: puma560, ur5, panda) it measures
 
 * single-call latency of FK and of the geometric Jacobian (median over many calls),
 * batched FK throughput on ``--batch`` configurations (default 1,000,000) and the peak
-  memory that call adds beyond its output (``tracemalloc``),
+  memory that call adds beyond its output (``tracemalloc``), also with ``out=`` (one reused buffer),
 
 for armkit (Numba and NumPy back ends) and, when installed (``pip install -e '.[bench]'``
 or ``make bench``), Pinocchio, RTB (Python ``DHRobot`` and its C++ ``ETS``), ikpy and
@@ -182,6 +182,13 @@ def bench_robot(name: str, batch: int, loop: int, repeats: int, rounds: int) -> 
         jac_rate, _ = throughput(lambda: armkit.jacobian(robot, QJ), len(QJ), max(1, repeats // 2))
         rows.append(Row(f"armkit ({backend})", lat[f"armkit ({backend}) fk"], lat[f"armkit ({backend}) jac"],
                         rate, mem, f"batch of {batch:,} (Jacobians: {len(QJ):,})", jac_rate))
+        if backend == "numba":   # out=: one buffer for every call, no fresh output memory to allocate and touch
+            buf, bufJ = np.empty((batch, 4, 4)), np.empty((len(QJ), 6, robot.n))
+            rate, mem = throughput(lambda: armkit.fk(robot, Q, out=buf), batch, repeats)
+            jac_rate, _ = throughput(lambda: armkit.jacobian(robot, QJ, out=bufJ), len(QJ), max(1, repeats // 2))
+            rows.append(Row("armkit (numba, out=)", None, None, rate, mem + batch * 16 * 8,
+                            "the same batches into one reused buffer", jac_rate))
+            del buf, bufJ
     kinematics.set_backend("auto")
 
     for peer in peers:

@@ -21,7 +21,7 @@ array([1. , 0.5, 0. ])
 
 from __future__ import annotations
 
-from typing import Literal, Sequence
+from typing import Any, Literal, Sequence
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -29,7 +29,7 @@ from numpy.typing import ArrayLike, NDArray
 from .. import _jit_loader
 from .._jit_loader import get_backend, set_backend   # the back end's state lives on the ground floor
 from .._text import shorten
-from ..errors import ArgumentError
+from ..errors import ArgumentError, ShapeError
 from ..model.robot import Robot
 from . import _numpy
 
@@ -100,7 +100,7 @@ def _not_a_robot(robot: object) -> ArgumentError:
     return ArgumentError(f"robot must be an armkit.Robot, got {type(robot).__name__}")
 
 
-def fk(robot: Robot, q: ArrayLike, link: str | None = None) -> Array:
+def fk(robot: Robot, q: ArrayLike, link: str | None = None, *, out: Array | None = None) -> Array:
     r"""Pose of the tool in the world frame, ``T_world_tool`` (or of the named ``link``).
 
     .. math:: T = T_{base} \, A_1(q_1) \cdots A_n(q_n) \, T_{tool}
@@ -113,6 +113,13 @@ def fk(robot: Robot, q: ArrayLike, link: str | None = None) -> Array:
     link : str, optional
         A link name (see ``robot.links``: URDF link names, or ``link0 .. linkn`` of a DH
         arm): the pose of that link instead of the tool.
+    out : ndarray, shape (..., 4, 4), optional
+        Where to write the result: a C-contiguous, writable float64 array of exactly the
+        result's shape, not overlapping ``q`` (``np.empty(q.shape[:-1] + (4, 4))``). It is
+        returned. Reusing one buffer for repeated big batches spares allocating and touching
+        fresh memory on every call, most of a first big batch's extra time (measured by
+        ``benchmarks/bench_first_call.py --first-batch``). If ``q`` is rejected, ``out`` may
+        have been partly written.
 
     Returns
     -------
@@ -126,32 +133,111 @@ def fk(robot: Robot, q: ArrayLike, link: str | None = None) -> Array:
     array([ 24.861,  14.353, 187.181])
     >>> np.round(armkit.fk(armkit.load("planar2"), [0.0, 0.0], link="link1")[:3, 3], 12) + 0.0
     array([1., 0., 0.])
+    >>> buf = np.empty((2, 4, 4))
+    >>> armkit.fk(armkit.load("planar2"), np.zeros((2, 2)), out=buf) is buf
+    True
     """
+    # the single-call fast path: every test is one cheap Python operation; anything unusual (a list, another
+    # dtype, a batch, a link, out=, the NumPy back end, a Robot not seen yet) goes to the general path
+    jit = _jit_loader._ACTIVE
+    if jit is not None and type(q) is _ndarray and q.dtype is _float64 and q.ndim == 1 and link is None \
+            and out is None:
+        try:
+            F = robot.cache["single_call"][0]
+        except (AttributeError, KeyError, TypeError):   # not a Robot, or its packed chain not built yet
+            return _fk(robot, q, link, out)
+        T = _empty((4, 4))
+        try:
+            jit.fk_one_fast(F, q, T)  # one compiled signature: no copy, no extra pass
+            return T
+        except (ValueError, TypeError):  # wrong length or NaN: the general path says what is wrong
+            pass
+    return _fk(robot, q, link, out)
+
+
+def _fk(robot: Robot, q: ArrayLike, link: str | None, out: Array | None) -> Array:
+    """:func:`fk` for every argument, checked."""
     if not isinstance(robot, Robot):   # one check at the entry (issue 24)
         raise _not_a_robot(robot)
     if link is not None:
         k = robot.link_index(link)
         lk = robot.links[k]
-        return np.asarray(fk_frames(robot, q)[..., lk.frame, :, :] @ lk.offset)
+        return _into(out, np.asarray(fk_frames(robot, q)[..., lk.frame, :, :] @ lk.offset), q)
     jit = _jit_loader._ACTIVE or _jit_module(True)
-    if jit is not None:
-        FP = robot.cache.get("packed_chain") or packed(robot)
-        F = FP[0]
-        if type(q) is _ndarray and q.ndim == 1 and q.dtype is _float64:  # the single-call fast path
-            out = _empty((4, 4))
-            try:
-                jit.fk_one_float64(F, q, out)  # one compiled signature: no copy, no extra pass
-                return out
-            except (ValueError, TypeError):  # wrong length or NaN (or a read-only q): the general path
-                pass
-        flat, lead = _flat_unchecked(robot, q)
-        out, bad = jit.fk_batch(F, flat)
-        if bad:
-            robot.check_q(q)  # raises ShapeError naming the problem
-    else:
+    if jit is None:
         flat, lead = _flat(robot, q)
-        out = _numpy.fk(robot.chain, flat)
-    return out.reshape(lead + (4, 4))
+        return _into(out, _numpy.fk(robot.chain, flat).reshape(lead + (4, 4)), q)
+    F = packed(robot)[0]
+    if type(q) is _ndarray and q.ndim == 1 and q.dtype is _float64 and out is None:
+        T = _empty((4, 4))
+        try:
+            jit.fk_one_fast(_single_call(robot)[0], q, T)
+            return T
+        except (ValueError, TypeError):  # wrong length or NaN (or an odd q): the batch path below
+            pass
+    flat, lead = _flat_unchecked(robot, q)
+    dest = None if out is None else _out_array(out, lead + (4, 4), flat).reshape(flat.shape[0], 4, 4)
+    T, bad = _batch_into(jit, (jit._fk_serial, jit._fk_parallel), (F, flat), dest, (flat.shape[0], 4, 4))
+    if bad:
+        robot.check_q(q)  # raises ShapeError naming the problem
+    return T.reshape(lead + (4, 4)) if out is None else out
+
+
+def _single_call(robot: Robot) -> tuple[Array, tuple[int, int]]:
+    """``(F, (6, n))``: what the single-call fast paths read from the robot's cache in one lookup.
+
+    ``F`` is a private *writable* copy of the packed constants (:func:`packed`): Numba's dispatcher types a
+    writable array on its quick path and a read-only one on a slower one (~0.05 µs a call); the kernels never
+    write it.
+    """
+    entry = robot.cache.get("single_call")
+    if entry is None:
+        entry = robot.cache["single_call"] = (np.array(packed(robot)[0]), (6, robot.n))
+    return entry  # type: ignore[no-any-return]
+
+
+def _batch_into(jit: Any, kernels: tuple[Any, Any], args: tuple[object, ...], dest: Array | None,
+                shape: tuple[int, ...]) -> tuple[Array, int]:
+    """Run the one-thread or the multi-threaded kernel of a batch (``args`` then the output) into ``dest``
+    (a new array of ``shape`` when None): ``(output, number of non-finite values of q)``.
+
+    The choice of kernel is ``fk_batch``'s (``kinematics._jit``): threads from ``PARALLEL_MIN`` configurations
+    on, when the threaded kernels may be used."""
+    if dest is None:
+        dest = _empty(shape)
+    serial, parallel = kernels
+    kernel = parallel if shape[0] >= jit.PARALLEL_MIN and _jit_loader.parallel_ok() else serial
+    return dest, int(kernel(*args, dest))
+
+
+def _out_array(out: object, shape: tuple[int, ...], q: Array) -> Array:
+    """``out`` checked as the destination of a result of ``shape`` computed from ``q`` (the kernels' input)."""
+    if type(out) is not np.ndarray:
+        raise ArgumentError.of("out must be a numpy.ndarray (np.empty({shape})), got {type}",
+                               shape=shape, type=type(out).__name__)
+    if out.dtype != _float64:
+        raise ArgumentError.of("out must have dtype float64, got {dtype}", dtype=str(out.dtype))
+    if out.shape != shape:
+        raise ShapeError.of("out must have shape {expected} (the shape of the result), got {shape}",
+                            expected=shape, shape=out.shape)
+    if not out.flags.c_contiguous:
+        raise ArgumentError.of("out must be C-contiguous (as np.empty({shape}) is), got a strided view",
+                               shape=shape)
+    if not out.flags.writeable:
+        raise ArgumentError.of("out must be writable, got a read-only array")
+    if np.may_share_memory(out, q):
+        raise ArgumentError.of("out must not overlap q (the result would overwrite the joint values it is "
+                               "computed from)")
+    return out
+
+
+def _into(out: Array | None, result: Array, q: ArrayLike) -> Array:
+    """``result``, or ``out`` (checked) holding it: the NumPy back end's and the link path's ``out=``."""
+    if out is None:
+        return result
+    _out_array(out, result.shape, q if isinstance(q, np.ndarray) else np.empty(0))
+    out[...] = result
+    return out
 
 
 def fk_frames(robot: Robot, q: ArrayLike) -> Array:
@@ -202,7 +288,8 @@ def link_frames(robot: Robot, q: ArrayLike) -> Array:
     return np.asarray(frames[..., idx, :, :] @ offsets)
 
 
-def jacobian(robot: Robot, q: ArrayLike, frame: Literal["base", "tool"] = "base") -> Array:
+def jacobian(robot: Robot, q: ArrayLike, frame: Literal["base", "tool"] = "base", *,
+             out: Array | None = None) -> Array:
     r"""Geometric Jacobian, rows ``(v, omega)``: ``(..., 6, n)``.
 
     Column ``i`` of a revolute joint is :math:`(z_i \times (p_e - p_i),\ z_i)`, of a
@@ -216,36 +303,63 @@ def jacobian(robot: Robot, q: ArrayLike, frame: Literal["base", "tool"] = "base"
     robot : Robot
     q : array_like, shape (..., n)
     frame : {"base", "tool"}
+    out : ndarray, shape (..., 6, n), optional
+        Where to write the result, as in :func:`fk`: a C-contiguous, writable float64 array
+        of exactly the result's shape, not overlapping ``q``; it is returned.
 
     Returns
     -------
     J : ndarray, shape (..., 6, n)
     """
+    jit = _jit_loader._ACTIVE
+    if jit is not None and type(q) is _ndarray and q.dtype is _float64 and q.ndim == 1 and out is None:
+        if frame == "base":
+            flag = 0
+        elif frame == "tool":
+            flag = 1
+        else:
+            return _jacobian(robot, q, frame, out)
+        try:
+            F, shape = robot.cache["single_call"]
+        except (AttributeError, KeyError, TypeError):   # not a Robot, or its packed chain not built yet
+            return _jacobian(robot, q, frame, out)
+        J = _empty(shape)  # (6, n): the kernel checks len(q) == n
+        try:
+            jit.jacobian_one_fast(F, q, flag, J)  # an int flag: a bool is typed off the dispatcher's quick path
+            return J
+        except (ValueError, TypeError):  # wrong length or NaN: the general path says what is wrong
+            pass
+    return _jacobian(robot, q, frame, out)
+
+
+def _jacobian(robot: Robot, q: ArrayLike, frame: str, out: Array | None) -> Array:
+    """:func:`jacobian` for every argument, checked."""
     if not isinstance(robot, Robot):   # one check at the entry (issue 24)
         raise _not_a_robot(robot)
     tool_frame = frame == "tool"
     if not tool_frame and frame != "base":
         raise ArgumentError(f"frame must be 'base' or 'tool', got {frame!r}")
-    c = robot.chain
     jit = _jit_loader._ACTIVE or _jit_module(True)
-    if jit is not None:
-        FP = robot.cache.get("packed_chain") or packed(robot)
-        F = FP[0]
-        if type(q) is _ndarray and q.ndim == 1 and q.dtype is _float64:  # the single-call fast path
-            J = _empty((6, len(q)))  # the kernel checks len(q) == n
-            try:
-                jit.jacobian_one_float64(F, q, tool_frame, J)
-                return J
-            except (ValueError, TypeError):  # wrong length or NaN (or a read-only q): the general path
-                pass
-        flat, lead = _flat_unchecked(robot, q)
-        J, bad = jit.jacobian_batch(F, flat, tool_frame)
-        if bad:
-            robot.check_q(q)
-    else:
+    if jit is None:
         flat, lead = _flat(robot, q)
-        J = _numpy.jacobian(c, flat, tool_frame)
-    return J.reshape(lead + (6, robot.n))
+        return _into(out, _numpy.jacobian(robot.chain, flat, tool_frame).reshape(lead + (6, robot.n)), q)
+    F = packed(robot)[0]
+    if type(q) is _ndarray and q.ndim == 1 and q.dtype is _float64 and out is None:
+        Fw, shape = _single_call(robot)
+        J = _empty(shape)
+        try:
+            jit.jacobian_one_fast(Fw, q, int(tool_frame), J)
+            return J
+        except (ValueError, TypeError):  # wrong length or NaN (or an odd q): the batch path below
+            pass
+    flat, lead = _flat_unchecked(robot, q)
+    n = robot.n
+    dest = None if out is None else _out_array(out, lead + (6, n), flat).reshape(flat.shape[0], 6, n)
+    J, bad = _batch_into(jit, (jit._jacobian_serial, jit._jacobian_parallel), (F, flat, tool_frame), dest,
+                         (flat.shape[0], 6, n))
+    if bad:
+        robot.check_q(q)
+    return J.reshape(lead + (6, n)) if out is None else out
 
 
 def task_rows(robot: Robot) -> tuple[int, ...]:

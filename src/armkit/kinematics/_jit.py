@@ -230,6 +230,18 @@ _Q1 = types.Array(types.float64, 1, "A", readonly=True)
 @njit(cache=True)  # compiled for one signature only, on first use: see __getattr__
 def fk_one(F, q, out):
     """FK of one configuration into ``out`` (4, 4); ValueError for a wrong length or NaN/inf."""
+    _fk_one(F, q, out)
+
+
+@njit(cache=True)  # compiled for one signature only, on first use: see __getattr__
+def fk_one_w(F, q, out):
+    """:func:`fk_one` for a *writable* ``F`` (a private copy of the packed constants): the types Numba's
+    dispatcher resolves fastest (a read-only array leaves its cached-typecode path), for ``armkit.fk``."""
+    _fk_one(F, q, out)
+
+
+@njit(cache=True, inline="always")
+def _fk_one(F, q, out):
     n = F.shape[0] - 1
     if q.shape[0] != n:
         raise ValueError("q has the wrong length")
@@ -300,6 +312,18 @@ def _jacobian_cols(F, q, qo, sc, o, tool_frame, J, i):
 @njit(cache=True)  # compiled for one signature only, on first use: see __getattr__
 def jacobian_one(F, q, tool_frame, out):
     """Jacobian of one configuration into ``out`` (6, n); ValueError for a wrong length or NaN/inf."""
+    _jacobian_one(F, q, tool_frame, out)
+
+
+@njit(cache=True)  # compiled for one signature only, on first use: see __getattr__
+def jacobian_one_w(F, q, tool_frame, out):
+    """:func:`jacobian_one` for a writable ``F`` and an integer ``tool_frame`` (0 or 1): a Python bool leaves the
+    dispatcher's fast typecode path too. For ``armkit.jacobian``."""
+    _jacobian_one(F, q, tool_frame != 0, out)
+
+
+@njit(cache=True, inline="always")
+def _jacobian_one(F, q, tool_frame, out):
     n = F.shape[0] - 1
     if q.shape[0] != n or out.shape[1] != n:
         raise ValueError("q has the wrong length")
@@ -311,11 +335,15 @@ def jacobian_one(F, q, tool_frame, out):
 
 
 _SIGNATURES = {"fk_one_float64": (fk_one, types.void(_RO2, _Q1, _OUT2).args),
-               "jacobian_one_float64": (jacobian_one, types.void(_RO2, _Q1, types.boolean, _OUT2).args)}
+               "jacobian_one_float64": (jacobian_one, types.void(_RO2, _Q1, types.boolean, _OUT2).args),
+               # armkit.fk / armkit.jacobian: F a writable copy (_OUT2's type), the frame flag an int64
+               "fk_one_fast": (fk_one_w, types.void(_OUT2, _Q1, _OUT2).args),
+               "jacobian_one_fast": (jacobian_one_w, types.void(_OUT2, _Q1, types.int64, _OUT2).args)}
 
 
 def __getattr__(name):
-    """``fk_one_float64``, ``jacobian_one_float64``: the kernels, each compiled (or loaded from the cache)
+    """``fk_one_float64``, ``jacobian_one_float64`` (read-only ``F``, a bool flag), ``fk_one_fast``,
+    ``jacobian_one_fast`` (writable ``F``, an int flag): the kernels, each compiled (or loaded from the cache)
     for its one signature on first use, so that the first ``fk`` does not also pay for the Jacobian kernel.
 
     Only Numba's public API: ``dispatcher.compile(signature)`` then ``disable_compile()``, so any other
