@@ -18,7 +18,7 @@ $(VENV)/.installed: pyproject.toml
 demo: $(VENV)/.installed locale fonts
 	$(PY) examples/00_demo.py
 
-# the command line's messages in Korean: gettext catalogues compiled by Babel (docs/ko.md)
+# the messages in every language of armkit/locale/languages.py: gettext catalogues compiled by Babel (docs/languages.md)
 LOCALE_PO := $(wildcard src/armkit/locale/*/LC_MESSAGES/armkit.po)
 LOCALE_MO := $(LOCALE_PO:.po=.mo)
 locale: $(LOCALE_MO)
@@ -37,14 +37,15 @@ chromium:
 	@command -v chromium >/dev/null 2>&1 || [ -x /usr/bin/chromium ] || \
 		($(SUDO) apt-get update && $(SUDO) apt-get install -y chromium)
 
-# Korean labels in the pictures (and the browser view) need a font with Hangul: Debian's fonts-nanum, installed
-# when no such font is found (without it, the pictures fall back to English labels with a warning; docs/ko.md)
-fonts:
-	@fc-list 2>/dev/null | grep -qiE 'nanum|cjk|hangul|malgun|gothic.*kr' || \
-		($(SUDO) apt-get update && $(SUDO) apt-get install -y fonts-nanum)
+# the pictures' fonts: each language of the table (src/armkit/locale/languages.py) names the Debian package of its
+# font (Korean: fonts-nanum); `python -m armkit.locale.fonts` prints those whose font is not found, and they are
+# installed (without one, that language's pictures fall back to English labels with a warning; docs/languages.md)
+fonts: $(VENV)/.installed
+	@pkgs="$$($(PY) -m armkit.locale.fonts)" && { [ -z "$$pkgs" ] || \
+		($(SUDO) apt-get update && $(SUDO) apt-get install -y $$pkgs); }
 
 test: $(VENV)/.installed chromium locale fonts
-	$(PY) -m pytest -n 2   # two workers (pytest-xdist): the suite is CPU-bound and this machine has 2 cores
+	$(PY) -m pytest -n 2 --dist worksteal   # two workers (pytest-xdist; the suite is CPU-bound, this machine has 2 cores); an idle worker takes queued tests from the busy one
 	$(PY) -m mypy
 
 # the long fuzz and corruption run (issue 24): reach stores, URDF and scene files, CLI arguments, 10 minutes;
@@ -77,16 +78,19 @@ bench: $(BENCH_VENV)/.installed
 	$(BENCH_PY) benchmarks/bench_analytic.py
 	$(BENCH_PY) -m pytest -q tests/peers
 
-# placo (LeRobot's IK library) pins an older pin, so it gets its own venv beside armkit for bench_so101
+# placo (LeRobot's IK library) pins an older pin, so it gets its own venv beside armkit for bench_so101; LeRobot
+# itself goes in with --no-deps (its kinematics file needs only NumPy and placo: no torch) for its peer test
 PLACO_VENV := .venv-placo
 $(PLACO_VENV)/.installed: pyproject.toml
 	$(PYTHON) -m venv $(PLACO_VENV)
 	$(PLACO_VENV)/bin/python -m pip install --quiet --upgrade pip
-	$(PLACO_VENV)/bin/python -m pip install --quiet -e . placo
+	$(PLACO_VENV)/bin/python -m pip install --quiet -e . placo pytest hypothesis
+	$(PLACO_VENV)/bin/python -m pip install --quiet --no-deps lerobot
 	touch $@
 
 bench-so101: $(PLACO_VENV)/.installed
 	$(PLACO_VENV)/bin/python benchmarks/bench_so101.py
+	$(PLACO_VENV)/bin/python -m pytest -q -p no:cacheprovider tests/peers/test_lerobot_peer.py
 
 clean:
 	rm -rf $(VENV) $(BENCH_VENV) $(PLACO_VENV) out build *.egg-info src/*.egg-info

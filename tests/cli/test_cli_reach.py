@@ -58,7 +58,7 @@ def test_query_exit_codes(fighter_map: Path) -> None:
     (["query", "{map}", "1", "2"], "position needs 3 numbers"),
     (["query", "{map}", "1", "2", "x"], "'x' is not a number"),
     (["query", "{map}", "1", "2", "3", "--rpy", "1,2"], "--rpy needs 3 numbers"),
-    (["query", "{map}", "1", "2", "3", "--lang", "fr"], "--lang must be en or ko"),
+    (["query", "{map}", "1", "2", "3", "--lang", "fr"], "--lang must be one of en, ko"),
     (["query", "{tmp}/nothing.zarr", "1", "2", "3"], "no reachability map"),
     (["show", "{map}", "-o", "{tmp}/a.gif"], "--output must end in"),
     (["build", "fighter", "-o", "{tmp}/b.zarr", "--resolution", "-1"], "resolution must be a positive length"),
