@@ -152,6 +152,34 @@ def test_unreachable_messages_and_limits():
     assert list(fast.success) == sorted(fast.success, reverse=True)     # successful branches first
 
 
+@pytest.mark.parametrize("name", ["ur5", "puma560", "fighter", "planar2", "planar3"])
+def test_reach_sentences_from_the_kernel(name, rng):
+    """Every out-of-reach sentence the one-call kernels give from their own numbers (``reach_why``, without
+    solving again) is the family's sentence on the batched path, bit for bit: targets beside the first
+    axis (closer than the sideways offset), beyond the reach, and (planar-2r) off the arm's plane."""
+    robot = _arm(name)
+    seen = set()
+    for _ in range(3):
+        T = armkit.fk(robot, robot.random_q(rng=rng))
+        for xy, z, dz in ((0.0, 1.0, 0.0), (0.02, 1.0, 0.0), (3.0, 1.0, 0.0), (3.0, 3.0, 0.0), (3.0, 1.0, 0.1)):
+            t = T.copy()
+            t[:2, 3] *= xy
+            t[2, 3] = t[2, 3] * z + dz
+            target = t[:3, 3].copy() if ARMS[name] == "point" else t
+            if single_call(robot, closed_form(robot), target, None, None) is None:
+                continue    # the batched path answers this one anyway (a target on the first axis)
+            fast, slow = _both(lambda: armkit.ik_all(robot, target))
+            _assert_same(fast, slow)
+            for m in fast.message[fast.reason == "unreachable"]:
+                seen.add("beside" if "closer than" in m else "shoulder" if "from the shoulder" in m else "misses")
+                seen.add("plane" if "off the arm's plane" in m else "")
+    assert "shoulder" in seen
+    if name in ("ur5", "puma560"):      # a sideways offset: targets near the first axis are out of reach
+        assert "beside" in seen
+    if name == "planar2":
+        assert "plane" in seen
+
+
 def test_bad_targets_raise_as_before():
     ur5 = _arm("ur5")
     bad = np.eye(4)

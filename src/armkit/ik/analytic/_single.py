@@ -21,11 +21,14 @@ a status, and the caller answers by the batched path: a target that is not finit
 stretched or folded elbow) (:data:`FALLBACK`). Imported lazily, only when the Numba back end is
 in use (:mod:`armkit._jit_loader`).
 
-Every kernel returns ``(status, limit failures, other failures, q, errors, flags, ints)``: ``q``
+Every kernel returns ``(status, limit failures, other failures, q, errors, flags, ints, reach)``: ``q``
 ``(m, n)`` sorted; ``errors`` ``(2, m)``: position and rotation error; ``flags`` ``(2, m)``: success
 and within limits; ``ints`` ``(4, m)``: reason code (0 converged, 1 unreachable, 2 joint limits),
 label index, the branch's index before sorting, and the bits of the joints outside their limits (bit ``j``:
-joint ``j``, the test of ``_failure_messages``). ``opts`` is the float64 vector of :data:`OPTS`.
+joint ``j``, the test of ``_failure_messages``); ``reach`` ``(m, 4)``, per branch before sorting: clipped
+(out of reach, 1.0/0.0), then the numbers of the family's out-of-reach sentence (its ``reach_why``): the
+target beside the first axis (1.0/0.0), its distance from that axis, its distance from the shoulder (zeros
+for :func:`post`). ``opts`` is the float64 vector of :data:`OPTS`.
 """
 
 from __future__ import annotations
@@ -106,11 +109,11 @@ def _usable_start(q0):
 def _early(status, m, n):
     """The result of a kernel that stops before verifying (the caller answers by the batched path)."""
     return (status, 0, 0, np.empty((m, n)), np.empty((2, m)), np.zeros((2, m), np.bool_),
-            np.zeros((4, m), np.int64))
+            np.zeros((4, m), np.int64), np.zeros((m, 4)))
 
 
 @njit(cache=True)
-def _finish(rawq, unreach, missing, lab, joints, F, q0, T, pose, opts):
+def _finish(rawq, unreach, missing, lab, joints, F, q0, T, pose, opts, reach):
     """Steps 2-4 of the module docstring for raw DH angles ``rawq`` (m, n) of one target ``T`` (4, 4)."""
     m, n = rawq.shape
     theta = joints[JOINT_THETA]
@@ -171,7 +174,7 @@ def _finish(rawq, unreach, missing, lab, joints, F, q0, T, pose, opts):
                 bits |= 1 << j
         ev[0, b], ev[1, b], fl[0, b], fl[1, b] = dp[s], dr[s], ok[s], within[s]
         iv[0, b], iv[1, b], iv[2, b], iv[3, b] = code[s], lab[s], s, bits
-    return DONE, n_limits, n_other, qs, ev, fl, iv
+    return DONE, n_limits, n_other, qs, ev, fl, iv, reach
 
 
 @njit(cache=True)
@@ -188,7 +191,20 @@ def post(rawq, unreach, missing, joints, F, q0, t, opts):
     T, good = _target(t, opts[8] != 0.0)
     if not good or not _usable_start(q0):
         return _early(BAD_TARGET, m, n)
-    return _finish(rawq, unreach, missing, np.arange(m), joints, F, q0, T, t.shape[0] == 16, opts)
+    return _finish(rawq, unreach, missing, np.arange(m), joints, F, q0, T, t.shape[0] == 16, opts,
+                   _reach(m, 1, unreach, False, 0.0, np.zeros(m)))
+
+
+@njit(cache=True, inline="always")
+def _reach(m, per, unreach, lat, rho, r):
+    """The ``reach`` rows of ``m`` branches: ``unreach[b]``, ``lat`` and ``rho`` of the target, ``r[b // per]``."""
+    out = np.empty((m, 4))
+    for b in range(m):
+        out[b, 0] = 1.0 if unreach[b] else 0.0
+        out[b, 1] = 1.0 if lat else 0.0
+        out[b, 2] = rho
+        out[b, 3] = r[b // per]
+    return out
 
 
 @njit(cache=True, inline="always")
@@ -218,7 +234,8 @@ def planar2(t, g, joints, F, q0, opts):
     if opts[7] < 0:
         for b in range(2):
             q[0, b, 1] *= -1.0
-    return _finish(q[0], unreach[0], np.zeros(2, np.bool_), up[0], joints, F, q0, T, t.shape[0] == 16, opts)
+    return _finish(q[0], unreach[0], np.zeros(2, np.bool_), up[0], joints, F, q0, T, t.shape[0] == 16, opts,
+                   _reach(2, 2, unreach[0], False, 0.0, r))
 
 
 @njit(cache=True)
@@ -235,7 +252,8 @@ def planar3(t, g, joints, F, q0, opts):
     _planar3_run(Tb, g, q, up, c, r, unreach, edge, 0, 1)
     if edge[0]:
         return _early(FALLBACK, 2, n)
-    return _finish(q[0], unreach[0], np.zeros(2, np.bool_), up[0], joints, F, q0, T, True, opts)
+    return _finish(q[0], unreach[0], np.zeros(2, np.bool_), up[0], joints, F, q0, T, True, opts,
+                   _reach(2, 2, unreach[0], False, 0.0, r))
 
 
 @njit(cache=True)
@@ -256,7 +274,8 @@ def yaw_pitch_pitch(t, g, joints, F, q0, opts):
     _ypp_run(p, g, q0phi[:, 0].copy(), phi, up, unreach, c, r, rho, lat, on_axis, edge, lab, 0, 1)
     if on_axis[0] or edge[0, 0] or edge[0, 1]:
         return _early(FALLBACK, 4, n)
-    return _finish(phi[0], unreach[0], np.zeros(4, np.bool_), lab[0], joints, F, q0, T, t.shape[0] == 16, opts)
+    return _finish(phi[0], unreach[0], np.zeros(4, np.bool_), lab[0], joints, F, q0, T, t.shape[0] == 16, opts,
+                   _reach(4, 2, unreach[0], lat[0], rho[0], r[0]))
 
 
 @njit(cache=True)
@@ -282,7 +301,8 @@ def spherical_wrist(t, g, joints, F, q0, opts):
         if singular[0, b]:
             return _early(FALLBACK, 8, n)
         unreach[2 * b] = unreach[2 * b + 1] = unreach4[0, b]
-    return _finish(out.reshape(8, 6), unreach, np.zeros(8, np.bool_), lab.reshape(8), joints, F, q0, T, True, opts)
+    return _finish(out.reshape(8, 6), unreach, np.zeros(8, np.bool_), lab.reshape(8), joints, F, q0, T, True, opts,
+                   _reach(8, 4, unreach, lat[0], rho[0], r[0]))
 
 
 @njit(cache=True)
@@ -303,13 +323,15 @@ def ur(t, g, joints, F, q0, opts):
     if on_axis[0] or singular[0, 0, 0] or singular[0, 0, 1] or singular[0, 1, 0] or singular[0, 1, 1]:
         return _early(FALLBACK, 8, n)
     return _finish(out.reshape(8, 6), unreach.reshape(8), np.zeros(8, np.bool_), lab.reshape(8), joints, F, q0, T,
-                   True, opts)
+                   True, opts, _reach(8, 2, unreach.reshape(8), lat[0], rho[0], r[0].reshape(4)))
 
 
 KERNELS = {"planar-2r": planar2, "planar-3r": planar3, "yaw-pitch-pitch": yaw_pitch_pitch,
            "spherical-wrist": spherical_wrist, "ur": ur}
 """Family name -> its one-call kernel ``(t, g, joints, F, q0, opts)``; other families: :func:`post` after their
-``solve``."""
+``solve``. A family here also has ``reach_why(lateral_out, rho, r, target)``: its out-of-reach sentence (the
+one its ``Raw.why`` gives) from the kernel's ``reach`` numbers, so that a target with a clipped branch is not
+solved a second time."""
 
 # the kernels inline helpers of these files: compiled anew when they change
 _jit_loader.forget_stale_cache(globals(), ("ik/analytic/_jit.py", "ik/analytic/_layout.py", "kinematics/_jit.py",

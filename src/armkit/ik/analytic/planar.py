@@ -104,13 +104,26 @@ class Planar2R:
             return why
 
         def explain(i: int) -> str:
-            text = why(i)
-            off = abs(float(self.sf.point_to_chain(pts[i // 2])[2]) - z_plane)
-            if off > 1e-9 * max(1.0, self.sf.scale):
-                text += f" The target is also {off:.6g} {self.unit} off the arm's plane."
-            return text
+            return self._off_plane(why(i), pts[i // 2])
 
         return explain
+
+    def _off_plane(self, text: str, pt: Array) -> str:
+        """``text`` plus how far point ``pt`` lies off the arm's plane, when it does."""
+        if self.z_plane is None:
+            return text
+        off = abs(float(self.sf.point_to_chain(pt)[2]) - self.z_plane)
+        if off > 1e-9 * max(1.0, self.sf.scale):
+            text += f" The target is also {off:.6g} {self.unit} off the arm's plane."
+        return text
+
+    def reach_why(self, lateral_out: bool, rho: float, r: float, target: Array | None) -> str:
+        """Why a branch is out of reach, from the target's distance ``r`` from the shoulder (the kernel's number)
+        and the target ``(4, 4)`` or ``(3,)`` itself (how far off the arm's plane)."""
+        text = out_of_reach("target", r, self.unit, abs(self.sf.a[0]) + abs(self.ell),
+                            abs(abs(self.sf.a[0]) - abs(self.ell)))
+        assert target is not None
+        return self._off_plane(text, target[:3, 3] if target.ndim == 2 else target)
 
     def solve(self, target: Array, q0phi: Array) -> Raw:
         pts = target[:, :3, 3] if target.ndim == 3 else target
@@ -156,9 +169,16 @@ class Planar3R:
         g.setflags(write=False)
         return g
 
+    WHAT = "for this end angle, the wrist point (target minus tool and last link)"
+
+    def reach_why(self, lateral_out: bool, rho: float, r: float, target: Array | None) -> str:
+        """Why a branch is out of reach, from the wrist point's distance ``r`` from the shoulder (the kernel's number)."""
+        l1, l2 = float(self.sf.a[0]), float(self.sf.a[1])
+        return out_of_reach(self.WHAT, r, self.unit, abs(l1) + abs(l2), abs(abs(l1) - abs(l2)))
+
     def solve(self, target: Array, q0phi: Array) -> Raw:
         l1, l2 = float(self.sf.a[0]), float(self.sf.a[1])
-        what = "for this end angle, the wrist point (target minus tool and last link)"
+        what = self.WHAT
         jit = jit_kernels()
         if jit is not None:
             q, idx, c, r, unreachable, edge = jit.planar3(np.ascontiguousarray(target), self.geometry)

@@ -109,6 +109,10 @@ class SphericalWrist:
         out[..., 3], out[..., 4], out[..., 5] = phi4, phi5, phi6
         return out, singular, sol
 
+    def reach_why(self, lateral_out: bool, rho: float, r: float, target: Array | None) -> str:
+        """Why a branch is out of reach, from the numbers of the kernel (:meth:`Positioner.reach_why`)."""
+        return self.pos.reach_why(lateral_out, rho, r, self.unit, "the wrist centre", "first joint's")
+
     def solve(self, target: Array, q0phi: Array) -> Raw:
         sf = self.sf
         B = len(target)

@@ -192,9 +192,17 @@ class ParallelAxes:
                 unreachable[sub, sh, wr] = unr[:, sh, wr]
                 idx[sub, sh, wr] = _BRANCH[0, sh, wr] + up[:, sh, wr].astype(int)
 
+    def reach_why(self, lateral_out: bool, rho: float, r: float, target: Array | None) -> str:
+        """Why a branch is out of reach, from the numbers of the kernel: the wrist point beside the base axis
+        (``lateral_out``) at ``rho`` from it, or the point on joint 4's axis at ``r`` from the shoulder."""
+        u, a2, a3 = self.unit, self.sf.a[1], self.sf.a[2]
+        if lateral_out:
+            return (f"the wrist point (on joint 5's axis) is {rho:.6g} {u} from the base axis, closer "
+                    f"than the shoulder offset {abs(self.D):.6g} {u}.")
+        return (f"the point on joint 4's axis is {r:.6g} {u} from the shoulder; the arm "
+                f"reaches {abs(a2) + abs(a3):.6g} {u} (outer) and {abs(abs(a2) - abs(a3)):.6g} {u} (inner).")
+
     def solve(self, target: Array, q0phi: Array) -> Raw:
-        sf, D = self.sf, self.D
-        a2, a3 = sf.a[1], sf.a[2]
         B = len(target)
         jit = jit_kernels()
         if jit is not None:
@@ -208,16 +216,10 @@ class ParallelAxes:
                                      np.array(unreachable).reshape(B, 2, 2, 2))
             self._fix_wrist_singular(target, q0phi, out, idx, unreachable, np.asarray(singular).reshape(B, 2, 2))
         note = np.full((B, 2, 2, 2), "", dtype=object)
-        u = self.unit
-        outer, inner = abs(a2) + abs(a3), abs(abs(a2) - abs(a3))
         full = lambda a: np.broadcast_to(a, (B, 2, 2, 2)).reshape(-1)  # noqa: E731
 
         def reason(i: int) -> str:   # i: flat index into (B, 2, 2, 2) = (target, shoulder, wrist, elbow)
-            if lateral_out[i // 8]:
-                return (f"the wrist point (on joint 5's axis) is {rho[i // 8]:.6g} {u} from the base axis, closer "
-                        f"than the shoulder offset {abs(D):.6g} {u}.")
-            return (f"the point on joint 4's axis is {r.reshape(-1)[i // 2]:.6g} {u} from the shoulder; the arm "
-                    f"reaches {outer:.6g} {u} (outer) and {inner:.6g} {u} (inner).")
+            return self.reach_why(bool(lateral_out[i // 8]), rho[i // 8], r.reshape(-1)[i // 2], None)
 
         n1, n6 = self.names[0], self.names[5]
         if on_axis.any():

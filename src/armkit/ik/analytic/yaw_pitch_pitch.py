@@ -114,6 +114,14 @@ class Positioner:
         return {"phi": phi, "front": _FRONT, "up": up, "unreachable": unreachable, "c": c, "r": r, "rho": rho,
                 "lateral_out": lateral_out, "on_axis": on_axis, "edge": edge, "label": label}
 
+    def reach_why(self, lateral_out: bool, rho: float, r: float, unit: str, what: str, first_axis: str) -> str:
+        """Why a branch is out of reach: ``what`` beside the first axis (``lateral_out``) at ``rho`` from it, or
+        at ``r`` from the shoulder."""
+        if lateral_out:
+            return (f"{what} is {rho:.6g} {unit} from the {first_axis} axis, closer than the arm's "
+                    f"sideways offset of {abs(self.Z):.6g} {unit}.")
+        return out_of_reach(what, r, unit, self.outer, self.inner)
+
     def explain(self, sol: dict, unit: str, what: str, first_axis: str):
         """``why`` (flat index into ``(B, 4)`` -> sentence) and ``note`` ``(B, 4)`` for a :meth:`solve` result."""
         B = len(sol["rho"])
@@ -122,10 +130,7 @@ class Positioner:
 
         def reach(i: int) -> str:
             b, k = divmod(i, 4)
-            if sol["lateral_out"][b]:
-                return (f"{what} is {rho[b]:.6g} {unit} from the {first_axis} axis, closer than the arm's "
-                        f"sideways offset of {abs(self.Z):.6g} {unit}.")
-            return out_of_reach(what, r[b, k // 2], unit, self.outer, self.inner)
+            return self.reach_why(bool(sol["lateral_out"][b]), rho[b], r[b, k // 2], unit, what, first_axis)
 
         edge = sol["edge"] if "edge" in sol else np.abs(np.abs(c) - 1.0) <= 1e-9
         if edge.any():
@@ -160,6 +165,10 @@ class YawPitchPitch:
         g = self.pos.geometry(L.POS_SIZE, self.sf)
         g.setflags(write=False)
         return g
+
+    def reach_why(self, lateral_out: bool, rho: float, r: float, target: Array | None) -> str:
+        """Why a branch is out of reach, from the numbers of the kernel (:meth:`Positioner.reach_why`)."""
+        return self.pos.reach_why(lateral_out, rho, r, self.unit, "target", "yaw")
 
     def solve(self, target: Array, q0phi: Array) -> Raw:
         pts = target[:, :3, 3] if target.ndim == 3 else target
