@@ -26,7 +26,7 @@ the path ``armkit.ik_all`` and ``armkit.ik`` take for a single pose or position.
 from __future__ import annotations
 
 import math
-from typing import Protocol, runtime_checkable
+from typing import Any, Protocol, runtime_checkable
 
 import numpy as np
 from numpy.typing import NDArray
@@ -170,6 +170,9 @@ def _failure_messages(robot: Robot, message: NDArray[np.object_], code: NDArray[
     the branch succeeded). Each message keeps its template and fields (:class:`armkit._text.Fielded`)."""
     from ..._text import Fielded
 
+    if code.size <= FEW:
+        _few_failure_messages(robot, message, code, raw, q, dp, dr, tol)
+        return
     limits = code == 2
     if limits.any():   # one message per pattern of violated joints, not per branch
         lo, hi = robot.lower - 1e-12, robot.upper + 1e-12
@@ -200,11 +203,50 @@ def _failure_messages(robot: Robot, message: NDArray[np.object_], code: NDArray[
         if flat_out[i]:
             flat_msg[i] = Fielded.of("unreachable: {why}", why=raw.why(int(i)))
         else:
-            flat_msg[i] = Fielded.of(
-                "unreachable: the closest configuration of this branch misses the target by {distance} and {angle} "
-                "(this arm cannot turn to that orientation there)." if flat_dp[i] <= tol[0] else
-                "unreachable: the closest configuration of this branch misses the target by {distance} and {angle}.",
-                distance=f"{flat_dp[i]:.3g} {robot.unit}", angle=f"{math.degrees(flat_dr[i]):.3g} deg")
+            flat_msg[i] = _unreachable_text(robot, flat_dp[i], flat_dr[i], tol)
+
+
+FEW = 64
+"""Up to this many branches in one call, :func:`_failure_messages` loops in Python (a single target: NumPy's
+per-call overhead on a few elements cost more than the messages); the same messages either way."""
+
+
+def _unreachable_text(robot: Robot, dp: float, dr: float, tol: tuple[float, float]):
+    from ..._text import Fielded
+
+    return Fielded.of(
+        "unreachable: the closest configuration of this branch misses the target by {distance} and {angle} "
+        "(this arm cannot turn to that orientation there)." if dp <= tol[0] else
+        "unreachable: the closest configuration of this branch misses the target by {distance} and {angle}.",
+        distance=f"{dp:.3g} {robot.unit}", angle=f"{math.degrees(dr):.3g} deg")
+
+
+def _few_failure_messages(robot: Robot, message: NDArray[np.object_], code: NDArray[np.int_],
+                          raw: Raw, q: Array, dp: Array, dr: Array, tol: tuple[float, float]) -> None:
+    """:func:`_failure_messages` for a few branches, element by element."""
+    from ..._text import Fielded
+
+    flat_code = code.reshape(-1).tolist()
+    if not any(flat_code):
+        return
+    n = robot.n
+    lo, hi = (robot.lower - 1e-12).tolist(), (robot.upper + 1e-12).tolist()
+    flat_msg, flat_q = message.reshape(-1), q.reshape(-1, n)
+    flat_dp, flat_dr = dp.reshape(-1), dr.reshape(-1)
+    flat_out = None if raw is None else raw.unreachable.reshape(-1)   # (None: only limits asked, _limit_messages)
+    limit_texts: dict[tuple[int, ...], Any] = {}
+    for i, c in enumerate(flat_code):
+        if c == 2:
+            row = flat_q[i].tolist()
+            key = tuple(j for j in range(n) if row[j] < lo[j] or row[j] > hi[j])
+            text = limit_texts.get(key)
+            if text is None:
+                text = limit_texts[key] = Fielded.of("outside the joint limits: {names} (see armkit info for the "
+                                                     "limits).", names=", ".join(robot.joint_names[j] for j in key))
+            flat_msg[i] = text
+        elif c == 1:
+            flat_msg[i] = (Fielded.of("unreachable: {why}", why=raw.why(i)) if flat_out is not None and flat_out[i]
+                           else _unreachable_text(robot, flat_dp[i], flat_dr[i], tol))
 
 
 POLISH_ABOVE = 1e-13
