@@ -183,6 +183,10 @@ def _random_arm(structure: str, rng) -> POE:
         par(1, 2)
     elif structure == "two-intersecting":
         meet(4, 5)
+    elif structure == "spherical-middle":
+        concurrent(1)
+    elif structure == "spherical-middle-345":
+        concurrent(2)
     elif structure == "7R-iiwa-like":
         concurrent(0), concurrent(4), meet(2, 3)
     # rotate and move the whole chain: the class must not notice
@@ -201,6 +205,8 @@ RANDOM = {
     "three-parallel": "6R-three-parallel",
     "two-parallel": "6R-two-parallel",
     "two-intersecting": "6R-two-intersecting",
+    "spherical-middle": "6R-spherical-middle",
+    "spherical-middle-345": "6R-spherical-middle",
     "general": "6R-general",
     # shoulder and wrist spherical, 3 ∩ 4: locking joint 4 keeps 1-2-3 and 5-6-7 (degenerate: never chosen),
     # locking 3 (or 2) leaves 1 ∩ 2 and the wrist; the rule prefers the joint nearest the middle, then the lower
@@ -213,6 +219,8 @@ def test_random_arms_with_known_structure(structure):
     for seed in range(5):
         c = classify(_random_arm(structure, np.random.default_rng(seed)))
         assert c.name == RANDOM[structure], (seed, c)
+        if structure.startswith("spherical-middle"):      # solved with axes 2-3-4 meeting, 3-4-5 reversed
+            assert c.inverted == structure.endswith("345") and c.solver == "1-D search"
         assert c.near < 1e-9
         if c.name == "6R-general":
             assert c.solver == "2-D search" and c.intersecting == () and c.parallel == ()

@@ -41,6 +41,8 @@ _CLASSES: dict[str, tuple[str, int]] = {
     "RRPRRR-spherical-wrist": ("spherical_two_intersecting", 8),
     "6R-two-intersecting": ("two_intersecting", 16),
     "6R-two-parallel": ("two_parallel", 16),
+    "6R-spherical-middle": ("spherical_middle", 16),
+    "6R-general": ("gen_six_dof", 16),
 }
 
 
@@ -52,7 +54,7 @@ def solver_name(robot: Robot) -> tuple[str, int, bool, Any] | None:
     if robot.n != 6:
         return None
     cls = classify(robot)
-    if cls.degenerate or cls.solver not in ("closed form", "1-D search"):
+    if cls.degenerate or cls.solver not in ("closed form", "1-D search", "2-D search"):
         return None
     key = cls.name.replace("-base", "")
     hit = _CLASSES.get(key)

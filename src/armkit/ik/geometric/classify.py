@@ -327,8 +327,8 @@ def _six_r_families(r: _Relations) -> list[tuple[str, str, int | None, bool]]:
     if r.three_parallel(2):
         out.append(("6R-three-parallel", "closed form", 8, True))
     # 1-D search
-    if r.concurrent(1, 2, 3) or r.concurrent(2, 3, 4):
-        out.append(("6R-spherical-middle", "1-D search", 16, r.concurrent(1, 2, 3)))
+    if r.concurrent(1, 2, 3) or r.concurrent(2, 3, 4):     # solved with axes 2-3-4 meeting (3-4-5: reversed)
+        out.append(("6R-spherical-middle", "1-D search", 16, not r.concurrent(1, 2, 3)))
     if r.inter[4]:
         out.append(("6R-two-intersecting", "1-D search", 16, False))
     if r.inter[0]:
@@ -337,11 +337,15 @@ def _six_r_families(r: _Relations) -> list[tuple[str, str, int | None, bool]]:
         out.append(("6R-two-parallel", "1-D search", 16, False))
     if r.par[3]:
         out.append(("6R-two-parallel", "1-D search", 16, True))
-    if r.inter2[3]:
-        out.append(("6R-two-intersecting-nonconsecutive", "1-D search", 16, False))
-    if r.inter2[0]:
-        out.append(("6R-two-intersecting-nonconsecutive", "1-D search", 16, True))
+    # no 1-D search here for axes i, i + 2 that always meet, one intersecting pair in the middle (2-3, 3-4, 4-5)
+    # or a parallel pair 3 ∥ 4: fixing any one joint leaves products of two unknown rotations (no SP5 / SP6), so
+    # such arms are the general class (2-D search). 1 ∥ 2 (5 ∥ 6 reversed) would allow one (q3 searched, SP6 in
+    # q4, q6), not written yet: the general class answers them too.
     out.append(("6R-general", "2-D search", 16, False))
+    if r.inter2[3]:
+        out.append(("6R-two-intersecting-nonconsecutive", "2-D search", 16, False))
+    if r.inter2[0]:
+        out.append(("6R-two-intersecting-nonconsecutive", "2-D search", 16, True))
     return out
 
 

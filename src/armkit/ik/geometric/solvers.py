@@ -15,19 +15,25 @@ solver                              axes (the classifier checks them; the solver
 ``spherical_two_intersecting``      4, 5, 6 meet; 1, 2 meet (Puma, Jaco, Stanford: joint 3 may
                                     be prismatic). SP3 (q3), SP2 (q1, q2).
 ``spherical_two_parallel``          4, 5, 6 meet; 2 ∥ 3. SP4 (q1), SP3 (q3), SP1 (q2).
-``spherical``                       4, 5, 6 meet. 1-D search over q1 (:data:`SEARCH_N` samples),
-                                    residual from SP3 + the axis-2 component, sign changes
-                                    refined (false position), near-zero extrema by golden section.
+``spherical``                       4, 5, 6 meet. 1-D search over q1 (:mod:`.search`, kind SW):
+                                    q3 by SP3, the axis-2 component as residual; SP1 (q2).
 ``three_parallel``                  2 ∥ 3 ∥ 4. SP6 (q1, q5), SP1 (q2+q3+q4, q6), SP3 (q3), SP1 (q2).
 ``three_parallel_two_intersecting`` 2 ∥ 3 ∥ 4; 5, 6 meet (UR). SP4 (q1), SP4 (q5), then as above.
 ``spherical_base``                  1, 2, 3 meet (a spherical wrist at the base): the reversed
                                     chain (:func:`reverse`) by ``spherical_wrist``.
 ``two_intersecting``                5, 6 meet; no two of axes 2, 3, 4 parallel (else SP5
-                                    degenerates). 1-D search over q1 with SP5 (q2, q3, q4) and
-                                    the axis-5/6 angle as residual; SP1 (q5), SP1 (q6). Up to 16.
-``two_parallel``                    2 ∥ 3 only: 1-D search over q6 with SP6 (q1, q4) and the
-                                    distance residual (:mod:`.search`). Up to 16.
+                                    degenerates). 1-D search over q1 (kind TI) with SP5 (q2, q3,
+                                    q4) and the axis-5/6 angle as residual; SP1 (q5), SP1 (q6).
+``two_parallel``                    2 ∥ 3: 1-D search over q6 (kind TP) with SP6 (q1, q4) and
+                                    the distance residual; SP1 (q2, q5).
+``spherical_middle``                2, 3, 4 meet: 1-D search over q6 (kind SM) with SP3 (q1) and
+                                    the axis-5 component as residual; SP1 (q5), the spherical
+                                    joint as a wrist (q2, q3, q4).
 =================================== ==========================================================
+
+The 1-D searches share one compiled engine (:mod:`.search`): :data:`SEARCH_N` samples over a
+turn, branches followed from sample to sample, sign changes refined by false position, branch
+ends and near-zero extrema searched; their resolution is stated there. Up to 16 solutions.
 
 Every spherical-wrist solver ends with the wrist: SP2 (q4, q5) on the axis-6 direction and SP1
 (q6); when axes 4 and 6 line up (``R_36 h6 ∥ h4``) q4 is set to ``q_ref[3]`` and ``singular`` set.
@@ -57,27 +63,27 @@ from numpy.typing import NDArray
 
 from . import subproblems as _sp
 from .classify import common_point
+from . import search2d as _search2d
 from .poe import POE
-from .subproblems import _cross, _dot, _norm, _wrap, rot, rotm, sp1, sp2, sp3, sp4, sp5, sp6
+from .search import MAXROOT, SM, SW, TI, TP, _search
+from .search import N as _SEARCH_N
+from .search import kernels as _search_kernels
+from .subproblems import _cross, _dot, _norm, _wrap, rot, rotm, sp1, sp2, sp3, sp4, sp6
 
 __all__ = ["Solutions", "solve_batch", "align", "reverse", "polish", "spherical_two_intersecting", "spherical_two_parallel",
            "spherical", "spherical_wrist", "three_parallel", "three_parallel_two_intersecting", "spherical_base",
-           "two_intersecting", "two_parallel",
+           "two_intersecting", "two_parallel", "spherical_middle",
            "SOLVERS", "TOL", "SEARCH_N", "kernels"]
 
 Array = NDArray[np.float64]
 
 TOL = 1e-9
 """Check of every returned solution: position error ≤ TOL × arm size, rotation error ≤ TOL rad."""
-SEARCH_N = 720
-"""Samples of q1 over one turn in the 1-D search of :func:`spherical` (0.5° apart)."""
+SEARCH_N = _SEARCH_N
+"""Samples of the searched joint over one turn in the 1-D searches (:data:`.search.N`)."""
 SING = 1e-10
 """``‖h4 × R_36 h6‖`` below this: the wrist is singular (axes 4 and 6 in line)."""
 MAXSOL = 32
-EDGE_N = 32
-SUB_N = 16
-""":func:`two_intersecting`: sub-samples of a step where the branches of its two ends do not pair up clearly."""
-"""Extra samples (quadratically spaced) over the last two steps before the search's valid interval of q1 ends."""
 
 
 class Solutions(NamedTuple):
@@ -282,176 +288,19 @@ def _pos_two_parallel(H, P, p0W, Qp, LSp):
     return m
 
 
-def _search_resid(H, P, p0W, q0, branch):
-    """Residual of branch 0/1 at q1 = ``q0`` (0-based joint 0): ``(h2ᵀ v − h2ᵀ w, ok, q3)``."""
-    v = rot(H[0], -q0, p0W) - P[1]
-    t, n, ls = sp3(P[3], -P[2], H[2], _norm(v))
-    if ls:
-        return 0.0, False, 0.0
-    q2 = t[branch] if n == 2 else t[0]
-    w = P[2] + rot(H[2], q2, P[3])
-    return _dot(H[1], v) - _dot(H[1], w), True, q2
-
-
-def _refine(H, P, p0W, a, fa, b, fb, branch):
-    """A root of branch ``branch``'s residual between ``a`` and ``b`` (opposite signs): Illinois false position."""
-    side = 0
-    c = a
-    for _ in range(100):
-        c = (a * fb - b * fa) / (fb - fa)
-        fc, ok, _q = _search_resid(H, P, p0W, c, branch)
-        if not ok:                        # should not happen inside a valid bracket: bisect
-            c = 0.5 * (a + b)
-            fc, ok, _q = _search_resid(H, P, p0W, c, branch)
-            if not ok:
-                break
-        if fc == 0.0 or abs(b - a) < 1e-15:
-            break
-        if (fc > 0.0) == (fb > 0.0):
-            b, fb = c, fc
-            if side == -1:
-                fa *= 0.5
-            side = -1
-        else:
-            a, fa = c, fc
-            if side == 1:
-                fb *= 0.5
-            side = 1
-        if abs(b - a) < 1e-14:
-            break
-    return c
-
-
-def _boundary(H, P, p0W, good, bad):
-    """Bisection for the end of the valid interval between ``good`` (SP3 solvable) and ``bad``."""
-    for _ in range(60):
-        mid = 0.5 * (good + bad)
-        _f, ok, _q = _search_resid(H, P, p0W, mid, 0)
-        if ok:
-            good = mid
-        else:
-            bad = mid
-    return good
-
-
-def _golden(H, P, p0W, a, b, branch, sg):
-    """The minimum of ``sg`` × branch ``branch``'s residual on [a, b] (golden section): ``(x, residual)``."""
-    r = 0.6180339887498949
-    c = b - r * (b - a)
-    d = a + r * (b - a)
-    fc = sg * _search_resid(H, P, p0W, c, branch)[0]
-    fd = sg * _search_resid(H, P, p0W, d, branch)[0]
-    for _ in range(60):
-        if fc < fd:
-            b, d, fd = d, c, fc
-            c = b - r * (b - a)
-            fc = sg * _search_resid(H, P, p0W, c, branch)[0]
-        else:
-            a, c, fc = c, d, fd
-            d = a + r * (b - a)
-            fd = sg * _search_resid(H, P, p0W, d, branch)[0]
-        if b - a < 1e-13:
-            break
-    x = 0.5 * (a + b)
-    return x, _search_resid(H, P, p0W, x, branch)[0]
-
-
-def _scan(H, P, p0W, xs, fs, cnt, b, scale, roots, rb, nroot):
-    """Roots of branch ``b``'s residual along valid samples ``xs[:cnt]`` (values ``fs``): sign changes,
-    and extrema that come near 0 (two close roots or a double one). Appends to ``roots``; returns the count."""
-    for i in range(cnt - 1):
-        fa = fs[i]
-        fb = fs[i + 1]
-        if fa == 0.0 and nroot < roots.shape[0]:
-            roots[nroot] = xs[i]
-            rb[nroot] = b
-            nroot += 1
-        elif fa * fb < 0.0 and nroot < roots.shape[0]:
-            roots[nroot] = _refine(H, P, p0W, xs[i], fa, xs[i + 1], fb, b)
-            rb[nroot] = b
-            nroot += 1
-        if i == 0:
-            continue
-        fl = fs[i - 1]
-        if (fa - fl) * (fb - fa) < 0.0 and fl * fa > 0.0 and fa * fb > 0.0:
-            sg = 1.0 if fa > 0.0 else -1.0
-            if sg * (fa - fl) > 0.0:      # an extremum away from 0
-                continue
-            xm, fx = _golden(H, P, p0W, xs[i - 1], xs[i + 1], b, sg)
-            if sg * fx < 0.0 and nroot + 2 <= roots.shape[0]:
-                roots[nroot] = _refine(H, P, p0W, xs[i - 1], fl, xm, fx, b)
-                roots[nroot + 1] = _refine(H, P, p0W, xm, fx, xs[i + 1], fb, b)
-                rb[nroot] = b
-                rb[nroot + 1] = b
-                nroot += 2
-            elif abs(fx) <= 1e-13 * scale and nroot < roots.shape[0]:
-                roots[nroot] = xm
-                rb[nroot] = b
-                nroot += 1
-    return nroot
-
-
 def _pos_search(H, P, p0W, N, Qp, LSp):
-    """General 3R position by a 1-D search over q1 (``N`` samples) on both SP3 branches: :func:`_scan`
-    on each run of samples where SP3 has solutions, and on quadratically spaced samples (:data:`EDGE_N`)
-    in the steps where such a run ends (the residuals change like the square root of the distance)."""
-    scale = _norm(p0W) + _norm(P[1]) + _norm(P[2]) + _norm(P[3])
-    roots = np.empty(64)
-    rb = np.empty(64, dtype=np.int64)
-    nroot = 0
-    step = 2.0 * math.pi / N
-    f = np.empty((N + 1, 2))
-    ok = np.empty(N + 1, dtype=np.bool_)
-    xs = np.empty(N + 1)
-    for i in range(N + 1):
-        x = -math.pi + i * step
-        xs[i] = x
-        f0, o, _q = _search_resid(H, P, p0W, x, 0)
-        f1, o1, _q1 = _search_resid(H, P, p0W, x, 1)
-        f[i, 0] = f0
-        f[i, 1] = f1
-        ok[i] = o
-    ex = np.empty(EDGE_N + 2)
-    ef = np.empty(EDGE_N + 2)
-    i = 0
-    while i <= N:
-        if not ok[i]:
-            i += 1
-            continue
-        j = i
-        while j + 1 <= N and ok[j + 1]:
-            j += 1
-        # the run i..j of valid samples
-        for b in range(2):
-            nroot = _scan(H, P, p0W, xs[i:j + 1], f[i:j + 1, b].copy(), j - i + 1, b, scale, roots, rb, nroot)
-        for side in range(2):
-            if side == 0 and i == 0:
-                continue
-            if side == 1 and j == N:
-                continue
-            good = xs[i] if side == 0 else xs[j]
-            bad = good - step if side == 0 else good + step
-            edge = _boundary(H, P, p0W, good, bad)
-            good = xs[min(i + 2, j)] if side == 0 else xs[max(j - 2, i)]   # two steps into the run
-            for b in range(2):
-                cnt = 0
-                for k in range(EDGE_N + 1):
-                    t = 1.0 - k / EDGE_N
-                    xk = edge + (good - edge) * t * t
-                    fk, o, _q = _search_resid(H, P, p0W, xk, b)
-                    if not o:
-                        break
-                    ex[cnt] = xk
-                    ef[cnt] = fk
-                    cnt += 1
-                if cnt >= 2:
-                    nroot = _scan(H, P, p0W, ex, ef, cnt, b, scale, roots, rb, nroot)
-        i = j + 1
+    """General 3R position by the 1-D search over q1 of :mod:`.search` (kind SW: q3 by SP3, the residual along
+    axis 2), then q2 by SP1."""
+    C = np.zeros((4, 3))
+    for k in range(3):
+        C[0, k] = p0W[k]
+    roots = np.zeros((MAXROOT, 4))
+    nroot = _search(SW, H, P, C, N, roots)
     m = 0
     for r in range(nroot):
-        q0 = roots[r]
+        q0 = roots[r, 0]
+        q2 = roots[r, 1]
         v = rot(H[0], -q0, p0W) - P[1]
-        _f, o, q2 = _search_resid(H, P, p0W, q0, rb[r])
         w = P[2] + rot(H[2], q2, P[3])
         q1, ls1 = sp1(w, v, H[1])
         q0w = _wrap(q0)
@@ -594,347 +443,28 @@ def _core_three_parallel(kind, H, P, RnT, prism, R, p, qref, N, Q, LS, SG):
     return m
 
 
-# ------------------------------------------------------- general 6R, axes 5 and 6 meet: 1-D search
-def _ti_eval(H, P, e6, p0w, x, S, E):
-    """At q1 = ``x``: the (q2, q3, q4) of SP5 for the position of the axis-5/6 point into ``S (4, 3)``,
-    and for each the residual ``(R_04 h5)ᵀ (R_06 h6) − h5ᵀ h6`` into ``E``; returns their count."""
-    v = rot(H[0], -x, p0w) - P[1]
-    t1, t2, t3, n, ls = sp5(-P[2], v, P[3], P[4], -H[1], H[2], H[3])
-    if ls:
-        return 0
-    c = _dot(H[4], H[5])
-    for i in range(n):
-        S[i, 0] = t1[i]
-        S[i, 1] = t2[i]
-        S[i, 2] = t3[i]
-        a = rot(H[3], t3[i], H[4])
-        a = rot(H[2], t2[i], a)
-        a = rot(H[1], t1[i], a)
-        a = rot(H[0], x, a)
-        E[i] = _dot(a, e6) - c
-    return n
-
-
-def _adist(a, b):
-    d = 0.0
-    for k in range(3):
-        d = max(d, abs(_wrap(a[k] - b[k])))
-    return d
-
-
-def _ti_pick(H, P, e6, p0w, x, ref, S, E):
-    """The SP5 solution at q1 = ``x`` nearest to ``ref`` (3,): ``(index, distance)``; index -1 if none."""
-    n = _ti_eval(H, P, e6, p0w, x, S, E)
-    best = -1
-    bd = 1e300
-    for i in range(n):
-        d = _adist(S[i], ref)
-        if d < bd:
-            bd = d
-            best = i
-    return best, bd
-
-
-def _ti_refine(H, P, e6, p0w, a, fa, ref, b, fb, out):
-    """Bisection for the zero of the branch through ``ref`` (at ``a``) between ``a`` and ``b``, following
-    the branch from sample to sample; the solution into ``out`` (q1, q2, q3, q4). Returns False if lost."""
-    S = np.zeros((4, 3))
-    E = np.zeros(4)
-    cur = ref.copy()
-    x = a
-    for _ in range(70):
-        x = 0.5 * (a + b)
-        i, d = _ti_pick(H, P, e6, p0w, x, cur, S, E)
-        if i < 0 or d > 0.5:
-            return False
-        cur[:] = S[i]
-        if (E[i] > 0.0) == (fa > 0.0):
-            a = x
-            fa = E[i]
-        else:
-            b = x
-        if abs(b - a) < 1e-15:
-            break
-    out[0] = x
-    out[1] = cur[0]
-    out[2] = cur[1]
-    out[3] = cur[2]
-    return True
-
-
-def _ti_match(S, cnt, i, j):
-    """The solution at sample i + 1 nearest to solution j at sample i (-1 if none within 0.5 rad)."""
-    best = -1
-    bd = 0.5
-    for k in range(cnt[i + 1]):
-        d = _adist(S[i, j], S[i + 1, k])
-        if d < bd:
-            bd = d
-            best = k
-    return best
-
-
-def _ti_golden(H, P, e6, p0w, a, b, ref, sg, out):
-    """The minimum of ``sg`` × the residual of the branch through ``ref`` on [a, b] (golden section):
-    ``(x, residual)``, the branch's (q2, q3, q4) there into ``out``; residual ``nan`` if the branch is lost."""
-    S = np.zeros((4, 3))
-    E = np.zeros(4)
-    r = 0.6180339887498949
-    cur = ref.copy()
-    c = b - r * (b - a)
-    d = a + r * (b - a)
-    i, dd = _ti_pick(H, P, e6, p0w, c, cur, S, E)
-    if i < 0 or dd > 0.5:
-        return 0.0, np.nan
-    fc = sg * E[i]
-    i, dd = _ti_pick(H, P, e6, p0w, d, cur, S, E)
-    if i < 0 or dd > 0.5:
-        return 0.0, np.nan
-    fd = sg * E[i]
-    for _ in range(60):
-        if fc < fd:
-            b, d, fd = d, c, fc
-            c = b - r * (b - a)
-            i, dd = _ti_pick(H, P, e6, p0w, c, cur, S, E)
-            if i < 0 or dd > 0.5:
-                return 0.0, np.nan
-            fc = sg * E[i]
-        else:
-            a, c, fc = c, d, fd
-            d = a + r * (b - a)
-            i, dd = _ti_pick(H, P, e6, p0w, d, cur, S, E)
-            if i < 0 or dd > 0.5:
-                return 0.0, np.nan
-            fd = sg * E[i]
-        if b - a < 1e-13:
-            break
-    x = 0.5 * (a + b)
-    i, dd = _ti_pick(H, P, e6, p0w, x, cur, S, E)
-    if i < 0 or dd > 0.5:
-        return 0.0, np.nan
-    out[:] = S[i]
-    return x, E[i]
-
-
-def _ti_add(Qp, m, out):
-    """Append ``out`` to ``Qp[:m]`` unless it is there already (or ``Qp`` is full); returns the new count."""
-    for j in range(m):
-        same = True
-        for k in range(4):
-            if abs(_wrap(Qp[j, k] - out[k])) > 1e-9:
-                same = False
-        if same:
-            return m
-    if m < Qp.shape[0]:
-        for k in range(4):
-            Qp[m, k] = out[k]
-        return m + 1
-    return m
-
-
-def _ti_edge(H, P, e6, p0w, x0, ref, x1, Qp, m):
-    """A branch at ``x0`` (solution ``ref``) that has no match at the neighbouring sample ``x1``: find where
-    it ends (its SP5 root pair turns complex), sample it there quadratically spaced (the residual changes
-    like a square root near the end) and refine the sign changes. Returns the new count of ``Qp``."""
-    S = np.zeros((4, 3))
-    E = np.zeros(4)
-    cur = ref.copy()
-    good = x0
-    bad = x1
-    for _ in range(50):
-        x = 0.5 * (good + bad)
-        i, d = _ti_pick(H, P, e6, p0w, x, cur, S, E)
-        if i >= 0 and d < 0.2:
-            good = x
-            cur[:] = S[i]
-        else:
-            bad = x
-    # from as far again beyond x0 (where a matching between samples can still confuse the two branches
-    # that meet at the end) to the end
-    far = x0 + (x0 - good)
-    cur[:] = ref
-    i, d = _ti_pick(H, P, e6, p0w, far, cur, S, E)
-    if i < 0 or d > 0.5:
-        far = x0
-        i, d = _ti_pick(H, P, e6, p0w, x0, cur, S, E)
-        if i < 0:
-            return m
-    xa = far
-    fa = E[i]
-    prev = S[i].copy()
-    out = np.zeros(4)
-    for k in range(1, EDGE_N + 1):
-        t = 1.0 - k / EDGE_N
-        xb = good + (far - good) * t * t
-        i, d = _ti_pick(H, P, e6, p0w, xb, prev, S, E)
-        if i < 0 or d > 0.2:
-            break
-        fb = E[i]
-        if fa * fb < 0.0:
-            if _ti_refine(H, P, e6, p0w, xa, fa, prev, xb, fb, out):
-                m = _ti_add(Qp, m, out)
-        elif fb == 0.0:
-            out[0] = xb
-            out[1:] = S[i]
-            m = _ti_add(Qp, m, out)
-        xa = xb
-        fa = fb
-        prev[:] = S[i]
-    return m
-
-
-def _ti_pair(H, P, e6, p0w, xa, Sa, Ea, ca, xb, Sb, Eb, cb, Qp, m):
-    """Roots between two neighbouring samples: the branches at ``xa`` and ``xb`` paired one to one,
-    nearest pairs first (within 0.5 rad), sign changes refined; a branch left without a partner
-    ends in between (:func:`_ti_edge`). Returns the new count of ``Qp``."""
-    out = np.zeros(4)
-    D = np.empty((4, 4))
-    for j in range(ca):
-        for k in range(cb):
-            D[j, k] = _adist(Sa[j], Sb[k])
-    pa = np.full(4, -1, dtype=np.int64)
-    pb = np.full(4, -1, dtype=np.int64)
-    for _ in range(min(ca, cb)):
-        bj = -1
-        bk = -1
-        bd = 0.5
-        for j in range(ca):
-            if pa[j] >= 0:
-                continue
-            for k in range(cb):
-                if pb[k] < 0 and D[j, k] < bd:
-                    bd = D[j, k]
-                    bj = j
-                    bk = k
-        if bj < 0:
-            break
-        pa[bj] = bk
-        pb[bk] = bj
-    for k in range(cb):             # branches that begin between the samples
-        if pb[k] < 0:
-            m = _ti_edge(H, P, e6, p0w, xb, Sb[k], xa, Qp, m)
-    for j in range(ca):
-        k = pa[j]
-        if k < 0:                   # the branch ends between the samples
-            m = _ti_edge(H, P, e6, p0w, xa, Sa[j], xb, Qp, m)
-            continue
-        fa = Ea[j]
-        fb = Eb[k]
-        if fa == 0.0:
-            out[0] = xa
-            out[1:] = Sa[j]
-            m = _ti_add(Qp, m, out)
-        elif fa * fb < 0.0:
-            if _ti_refine(H, P, e6, p0w, xa, fa, Sa[j], xb, fb, out):
-                m = _ti_add(Qp, m, out)
-    return m
-
-
-def _ti_ambiguous(Sa, ca, Sb, cb):
-    """True unless the branches of two samples pair up one to one, each within 0.1 rad."""
-    if ca != cb:
-        return True
-    for j in range(ca):
-        k = -1
-        bd = 1e300
-        for kk in range(cb):
-            d = _adist(Sa[j], Sb[kk])
-            if d < bd:
-                bd = d
-                k = kk
-        if bd > 0.1:
-            return True
-        for jj in range(ca):
-            if jj != j and _adist(Sa[jj], Sb[k]) < bd:
-                return True
-    return False
-
-
-def _ti_extrema(H, P, e6, p0w, x0, h, S, E, cnt, i, Qp, m):
-    """Samples ``i``, ``i + 1``, ``i + 2`` (at ``x0 + k h``) of a branch with an extremum in the middle on one
-    side of 0: two close roots (or a double one) may hide there; golden section for the extremum, then
-    both roots refined. Returns the new count of ``Qp``."""
-    if i + 2 >= S.shape[0]:
-        return m
-    out = np.zeros(4)
-    mid = np.zeros(3)
-    xa = x0 + i * h
-    for j in range(cnt[i]):
-        k = _ti_match(S, cnt, i, j)
-        if k < 0:
-            continue
-        k2 = _ti_match(S, cnt, i + 1, k)
-        if k2 < 0:
-            continue
-        fa = E[i, j]
-        fb = E[i + 1, k]
-        fc = E[i + 2, k2]
-        if (fb - fa) * (fc - fb) < 0.0 and fa * fb > 0.0 and fb * fc > 0.0:
-            sg = 1.0 if fb > 0.0 else -1.0
-            if sg * (fb - fa) > 0.0:
-                continue
-            xm, fx = _ti_golden(H, P, e6, p0w, xa, xa + 2.0 * h, S[i + 1, k], sg, mid)
-            if sg * fx < 0.0:
-                if _ti_refine(H, P, e6, p0w, xa, fa, S[i, j], xm, fx, out):
-                    m = _ti_add(Qp, m, out)
-                if _ti_refine(H, P, e6, p0w, xm, fx, mid, xa + 2.0 * h, fc, out):
-                    m = _ti_add(Qp, m, out)
-            elif abs(fx) <= 1e-12:
-                out[0] = xm
-                out[1:] = mid
-                m = _ti_add(Qp, m, out)
-    return m
-
-
-def _pos_two_intersecting_end(H, P, e6, p0w, N, Qp):
-    """q1..q4 of a 6R chain whose axes 5, 6 meet (P[5] = 0): a 1-D search over q1, SP5 inside; the SP5
-    solutions of neighbouring samples are matched by distance (steps where that is ambiguous are
-    sampled :data:`SUB_N` times finer), sign changes refined by bisection along the branch, branch
-    ends sampled quadratically, extrema near 0 searched (golden section)."""
-    step = 2.0 * math.pi / N
-    S = np.zeros((N + 1, 4, 3))
-    E = np.zeros((N + 1, 4))
-    cnt = np.zeros(N + 1, dtype=np.int64)
-    for i in range(N + 1):
-        cnt[i] = _ti_eval(H, P, e6, p0w, -math.pi + i * step, S[i], E[i])
-    m = 0
-    out = np.zeros(4)
-    mid = np.zeros(3)
-    Ss = np.zeros((SUB_N + 1, 4, 3))
-    Es = np.zeros((SUB_N + 1, 4))
-    cs = np.zeros(SUB_N + 1, dtype=np.int64)
-    for i in range(N):
-        xa = -math.pi + i * step
-        if _ti_ambiguous(S[i], cnt[i], S[i + 1], cnt[i + 1]):
-            for k in range(SUB_N + 1):
-                if k == 0:
-                    Ss[0] = S[i]
-                    Es[0] = E[i]
-                    cs[0] = cnt[i]
-                elif k == SUB_N:
-                    Ss[k] = S[i + 1]
-                    Es[k] = E[i + 1]
-                    cs[k] = cnt[i + 1]
-                else:
-                    cs[k] = _ti_eval(H, P, e6, p0w, xa + k * step / SUB_N, Ss[k], Es[k])
-            for k in range(SUB_N):
-                m = _ti_pair(H, P, e6, p0w, xa + k * step / SUB_N, Ss[k], Es[k], cs[k],
-                             xa + (k + 1) * step / SUB_N, Ss[k + 1], Es[k + 1], cs[k + 1], Qp, m)
-                if k + 2 <= SUB_N:
-                    m = _ti_extrema(H, P, e6, p0w, xa, step / SUB_N, Ss, Es, cs, k, Qp, m)
-        else:
-            m = _ti_pair(H, P, e6, p0w, xa, S[i], E[i], cnt[i], xa + step, S[i + 1], E[i + 1], cnt[i + 1], Qp, m)
-        m = _ti_extrema(H, P, e6, p0w, -math.pi, step, S, E, cnt, i, Qp, m)
-    return m
+# ------------------------------------------------------- 1-D searches of :mod:`.search`, completed
+def _target_rows(R06, p):
+    """``C (4, 3)`` of the searches TP and SM: the rows of ``R_06``, then ``p``."""
+    C = np.zeros((4, 3))
+    for i in range(3):
+        for j in range(3):
+            C[i, j] = R06[i, j]
+        C[3, i] = p[i]
+    return C
 
 
 def _core_two_intersecting_end(kind, H, P, RnT, prism, R, p, qref, N, Q, LS, SG):
-    """6R, axes 5 and 6 meet: q1..q4 by :func:`_pos_two_intersecting_end`, q5 and q6 by SP1."""
+    """6R, axes 5 and 6 meet (P[5] = 0): q1..q4 by the search TI (q1 searched, SP5 inside), q5 and q6 by SP1."""
     R06 = _mm(R, RnT.T.copy())
     p0w = p - P[0] - _mv(R06, P[6])
     e6 = _mv(R06, H[5])
-    Qp = np.zeros((32, 4))
-    mp = _pos_two_intersecting_end(H, P, e6, p0w, N, Qp)
+    C = np.zeros((4, 3))
+    for k in range(3):
+        C[0, k] = e6[k]
+        C[1, k] = p0w[k]
+    Qp = np.zeros((MAXROOT, 4))
+    mp = _search(TI, H, P, C, N, Qp)
     x = _perp(H[5])
     y = _mv(R06, x)
     m = 0
@@ -955,8 +485,87 @@ def _core_two_intersecting_end(kind, H, P, RnT, prism, R, p, qref, N, Q, LS, SG)
     return m
 
 
+def _core_two_parallel(kind, H, P, RnT, prism, R, p, qref, N, Q, LS, SG):
+    """6R, axes 2 ∥ 3: ``(q6, q1, q4, θ = q2 ± q3)`` by the search TP (q6 searched, SP6 inside), then q2 by SP1
+    (``rot(h2, q2) P3 = d``), q3 from θ, q5 by SP1."""
+    R06 = _mm(R, RnT.T.copy())
+    C = _target_rows(R06, p)
+    roots = np.zeros((MAXROOT, 4))
+    nr = _search(TP, H, P, C, N, roots)
+    sgn = 1.0 if _dot(H[1], H[2]) > 0.0 else -1.0
+    y = _perp(H[4])
+    m = 0
+    for r in range(nr):
+        x = roots[r, 0]
+        q0 = roots[r, 1]
+        q3 = roots[r, 2]
+        th = roots[r, 3]
+        R05 = _mm(R06, rotm(H[5], -x))
+        w = p - P[0] - _mv(R05, P[5]) - _mv(R06, P[6])
+        R0t = rotm(H[0], -q0)
+        d = _mv(R0t, w) - P[1] - rot(H[1], th, P[3] + rot(H[3], q3, P[4]))
+        q1, l1 = sp1(P[2], d, H[1])
+        M = _mtm(_mm(rotm(H[1], th), rotm(H[3], q3)), _mm(R0t, R05))     # rot(h5, q5)
+        q4, l4 = sp1(y, _mv(M, y), H[4])
+        if m >= Q.shape[0]:
+            break
+        Q[m, 0] = q0
+        Q[m, 1] = q1
+        Q[m, 2] = _wrap(sgn * (th - q1))
+        Q[m, 3] = q3
+        Q[m, 4] = q4
+        Q[m, 5] = _wrap(x)
+        LS[m] = False
+        SG[m] = False
+        m += 1
+    return m
+
+
+def _core_spherical_middle(kind, H, P, RnT, prism, R, p, qref, N, Q, LS, SG):
+    """6R, axes 2, 3, 4 meet (P[2] = P[3] = 0): ``(q6, q1)`` by the search SM (q6 searched, SP3 inside), q5 by
+    SP1, then the spherical joint (q2, q3, q4) as a wrist (SP2, SP1)."""
+    R06 = _mm(R, RnT.T.copy())
+    C = _target_rows(R06, p)
+    roots = np.zeros((MAXROOT, 4))
+    nr = _search(SM, H, P, C, N, roots)
+    W = np.zeros((2, 3))
+    m = 0
+    for r in range(nr):
+        x = roots[r, 0]
+        q0 = roots[r, 1]
+        R05 = _mm(R06, rotm(H[5], -x))
+        u = p - P[0] - _mv(R05, P[5]) - _mv(R06, P[6])
+        d = u - rot(H[0], q0, P[1])
+        phi, l4 = sp1(P[4], _mtv(R05, d), H[4])          # rot(h5, −q5) P5 = R_05ᵀ d
+        R14 = _mtm(rotm(H[0], q0), _mm(R05, rotm(H[4], phi)))
+        mw, lsw, sing = _wrist(H[1], H[2], H[3], R14, qref[1], W)
+        for j in range(mw):
+            if m >= Q.shape[0]:
+                break
+            Q[m, 0] = q0
+            Q[m, 1] = W[j, 0]
+            Q[m, 2] = W[j, 1]
+            Q[m, 3] = W[j, 2]
+            Q[m, 4] = _wrap(-phi)
+            Q[m, 5] = _wrap(x)
+            LS[m] = lsw
+            SG[m] = sing
+            m += 1
+    return m
+
+
 def _solve_two_intersecting_end(kind, Hi, Pi, RnT, prism, Ht, Pt, R, p, qref, N, tol_p, tol_r, Q, LS, SG, ST):
     m = _core_two_intersecting_end(kind, Hi, Pi, RnT, prism, R, p, qref, N, Q, LS, SG)
+    return _check(m, Ht, Pt, RnT, prism, R, p, tol_p, tol_r, Q, LS, SG, ST)
+
+
+def _solve_two_parallel(kind, Hi, Pi, RnT, prism, Ht, Pt, R, p, qref, N, tol_p, tol_r, Q, LS, SG, ST):
+    m = _core_two_parallel(kind, Hi, Pi, RnT, prism, R, p, qref, N, Q, LS, SG)
+    return _check(m, Ht, Pt, RnT, prism, R, p, tol_p, tol_r, Q, LS, SG, ST)
+
+
+def _solve_spherical_middle(kind, Hi, Pi, RnT, prism, Ht, Pt, R, p, qref, N, tol_p, tol_r, Q, LS, SG, ST):
+    m = _core_spherical_middle(kind, Hi, Pi, RnT, prism, R, p, qref, N, Q, LS, SG)
     return _check(m, Ht, Pt, RnT, prism, R, p, tol_p, tol_r, Q, LS, SG, ST)
 
 
@@ -1021,7 +630,7 @@ def _solve_three_parallel(kind, Hi, Pi, RnT, prism, Ht, Pt, R, p, qref, N, tol_p
 def _batch(which, kind, Hi, Pi, RnT, prism, Ht, Pt, R, p, qref, N, tol_p, tol_r, Q, LS, SG, ST, NG, NF):
     """Every target of a batch in one call: ``R (B, 3, 3)``, ``p (B, 3)``, ``qref (B, n)``; per target
     the solutions ``Q[b]`` and flags as one call of the kernel ``which`` (0 spherical, 1 three parallel,
-    2 two intersecting) would give them, and their counts ``NG`` (good), ``NF`` (failed the check)."""
+    2 two intersecting, 3 two parallel, 4 spherical middle) would give them, and their counts ``NG`` (good), ``NF`` (failed the check)."""
     for b in range(R.shape[0]):
         if which == 0:
             ng, nf = _solve_spherical(kind, Hi, Pi, RnT, prism, Ht, Pt, R[b], p[b], qref[b], N, tol_p, tol_r,
@@ -1029,9 +638,15 @@ def _batch(which, kind, Hi, Pi, RnT, prism, Ht, Pt, R, p, qref, N, tol_p, tol_r,
         elif which == 1:
             ng, nf = _solve_three_parallel(kind, Hi, Pi, RnT, prism, Ht, Pt, R[b], p[b], qref[b], N, tol_p, tol_r,
                                            Q[b], LS[b], SG[b], ST[b])
-        else:
+        elif which == 2:
             ng, nf = _solve_two_intersecting_end(kind, Hi, Pi, RnT, prism, Ht, Pt, R[b], p[b], qref[b], N, tol_p,
                                                  tol_r, Q[b], LS[b], SG[b], ST[b])
+        elif which == 3:
+            ng, nf = _solve_two_parallel(kind, Hi, Pi, RnT, prism, Ht, Pt, R[b], p[b], qref[b], N, tol_p, tol_r,
+                                         Q[b], LS[b], SG[b], ST[b])
+        else:
+            ng, nf = _solve_spherical_middle(kind, Hi, Pi, RnT, prism, Ht, Pt, R[b], p[b], qref[b], N, tol_p, tol_r,
+                                             Q[b], LS[b], SG[b], ST[b])
         NG[b] = ng
         NF[b] = nf
 
@@ -1165,9 +780,9 @@ def polish(form: POE, q: Array, R: Array, p: Array, steps: int = 8) -> Array:
 
 # ---------------------------------------------------------------------------------- wrappers
 KERNELS = ("_mv", "_mtv", "_mm", "_mtm", "_perp", "_fk_err", "_wrist", "_pos_two_intersecting", "_pos_two_parallel",
-           "_search_resid", "_refine", "_golden", "_scan", "_boundary", "_pos_search", "_core_spherical", "_core_three_parallel",
-           "_close", "_check", "_solve_spherical", "_solve_three_parallel", "_ti_eval", "_adist", "_ti_pick",
-           "_ti_refine", "_ti_extrema", "_ti_edge", "_ti_pair", "_ti_ambiguous", "_ti_match", "_ti_golden", "_ti_add", "_pos_two_intersecting_end", "_core_two_intersecting_end", "_solve_two_intersecting_end",
+           "_pos_search", "_core_spherical", "_core_three_parallel", "_close", "_check", "_solve_spherical",
+           "_solve_three_parallel", "_target_rows", "_core_two_intersecting_end", "_core_two_parallel",
+           "_core_spherical_middle", "_solve_two_intersecting_end", "_solve_two_parallel", "_solve_spherical_middle",
            "_batch", "_sweep")
 _KERNELS: Optional[types.SimpleNamespace] = None
 _NO_NUMBA = False
@@ -1178,13 +793,16 @@ def kernels() -> Optional[types.SimpleNamespace]:
     global _KERNELS, _NO_NUMBA
     if _KERNELS is None and not _NO_NUMBA:
         sk = _sp.kernels()
-        if sk is None:
+        ek = _search_kernels()
+        if sk is None or ek is None:
             _NO_NUMBA = True
             return None
-        ns = _sp.jit_namespace(globals(), KERNELS, extra={name: sk.namespace[name] for name in _sp.KERNELS})
+        extra = {name: sk.namespace[name] for name in _sp.KERNELS}
+        extra["_search"] = ek._search
+        ns = _sp.jit_namespace(globals(), KERNELS, extra=extra)
         from ... import _jit_loader
 
-        _jit_loader.forget_stale_cache(ns, ("ik/geometric/subproblems.py",))
+        _jit_loader.forget_stale_cache(ns, ("ik/geometric/subproblems.py", "ik/geometric/search.py"))
         _KERNELS = types.SimpleNamespace(**{name: ns[name] for name in KERNELS})
     return _KERNELS
 
@@ -1220,6 +838,8 @@ _CASES = {  # name: (kernel, case, meeting axes, parallel axes, joints that may 
     "three_parallel": ("_solve_three_parallel", 3, (), ((1, 2, 3),), ()),
     "three_parallel_two_intersecting": ("_solve_three_parallel", 4, ((4, 5),), ((1, 2, 3),), ()),
     "two_intersecting": ("_solve_two_intersecting_end", 5, ((4, 5),), (), ()),
+    "two_parallel": ("_solve_two_parallel", 6, (), ((1, 2),), ()),
+    "spherical_middle": ("_solve_spherical_middle", 7, ((1, 2, 3),), (), ()),
 }
 
 
@@ -1246,6 +866,10 @@ def _prepare(form: POE, name: str) -> _Prepared:
         if name == "two_intersecting" and (_parallel(form, 1, 2, 1e-6) or _parallel(form, 2, 3, 1e-6)):
             raise ValueError("two_intersecting: axes 2 ∥ 3 or 3 ∥ 4 make its SP5 degenerate; the solvers of "
                              "spherical wrists or three parallel axes answer such arms")
+        if name == "two_parallel" and not _parallel(form, 1, 2, 1e-6):
+            raise ValueError("two_parallel: axes 2 and 3 must be parallel")
+        if name == "spherical_middle" and not (_meets(form, 1, 2, 1e-6) and _meets(form, 2, 3, 1e-6)):
+            raise ValueError("spherical_middle: axes 2, 3 and 4 must meet in a point")
         ideal, dev = align(form, meet, parallel)
         c = np.ascontiguousarray
         return _Prepared(solve, kind, c(ideal.H), c(ideal.P), c(np.asarray(form.R_nT, dtype=float)),
@@ -1288,7 +912,8 @@ def _run(name: str, form: POE, R: Array, p: Array, q_ref: Optional[Array], jit: 
 
 
 _ZERO6 = np.zeros(6)
-_WHICH = {"_solve_spherical": 0, "_solve_three_parallel": 1, "_solve_two_intersecting_end": 2}
+_WHICH = {"_solve_spherical": 0, "_solve_three_parallel": 1, "_solve_two_intersecting_end": 2, "_solve_two_parallel": 3,
+          "_solve_spherical_middle": 4}
 
 
 def solve_batch(name: str, form: POE, R: Array, p: Array, q_ref: Array, *, jit: Optional[bool] = None
@@ -1349,12 +974,9 @@ def spherical(form: POE, R: Array, p: Array, q_ref: Optional[Array] = None, *,
               jit: Optional[bool] = None) -> Solutions:
     """Axes 4, 5, 6 meet, nothing else assumed (all revolute): 1-D search over q1, up to 8 solutions.
 
-    q1 is sampled at :data:`SEARCH_N` points over a turn (finer, quadratically spaced, near the
-    ends of the intervals where SP3 has a solution); between samples, sign changes of the
-    residual are refined by false position, and extrema that come near 0 by golden section
-    (two close roots, or a double one). A solution can still be missed when three or more roots
-    of one branch lie within one step (0.5°) or a double root stays above 1e-13 of the arm's
-    size; in a stress run of 2000 random arms and targets none was (see the tests)."""
+    The 1-D search SW of :mod:`.search` over q1 (:data:`SEARCH_N` samples a turn; its resolution is
+    stated there): at each q1, SP3 gives up to 2 q3 from the wrist centre's distance, and the residual
+    is the component along axis 2; then q2 by SP1 and the wrist. Every solution is checked by FK."""
     return _run("spherical", form, R, p, q_ref, jit)
 
 
@@ -1403,16 +1025,10 @@ def two_intersecting(form: POE, R: Array, p: Array, q_ref: Optional[Array] = Non
                      jit: Optional[bool] = None) -> Solutions:
     """Axes 5 and 6 meet (all revolute; no two of axes 2, 3, 4 parallel): up to 16 solutions.
 
-    A 1-D search over q1 (:data:`SEARCH_N` samples): at each q1, SP5 gives up to 4 (q2, q3, q4)
-    that put the axis-5/6 point in place, and the residual of each is the angle condition of
-    axes 5 and 6 (``(R_04 h5)ᵀ R_06 h6 = h5ᵀ h6``). The SP5 solutions of neighbouring samples are
-    matched by distance (a step where they do not pair up clearly is sampled :data:`SUB_N`
-    times finer), sign changes refined by bisection along the branch, the ends of branches
-    (where two SP5 solutions meet) sampled quadratically, extrema near 0 searched by golden
-    section; then q5, q6 by SP1. Best effort: a solution can be missed where two roots of a branch
-    crowd together right next to a branch end (near-singular targets): in stress runs on 2300
-    random arms and targets, 3 targets lost the generating q (0.13 %) and 5 lost some solution
-    (odd counts); every solution returned is checked. About 5-50 ms a call (compiled)."""
+    The 1-D search TI of :mod:`.search` over q1 (:data:`SEARCH_N` samples a turn; its resolution is
+    stated there): at each q1, SP5 gives up to 4 (q2, q3, q4) that put the axis-5/6 point in place,
+    and the residual of each is the angle condition of axes 5 and 6 (``(R_04 h5)ᵀ R_06 h6 = h5ᵀ h6``);
+    then q5, q6 by SP1. Every solution is checked by FK."""
     return _run("two_intersecting", form, R, p, q_ref, jit)
 
 
@@ -1430,10 +1046,23 @@ def spherical_base(form: POE, R: Array, p: Array, q_ref: Optional[Array] = None,
 
 def two_parallel(form: POE, R: Array, p: Array, q_ref: Optional[Array] = None, *,
                  jit: Optional[bool] = None) -> Solutions:
-    """Axes 2 ∥ 3 and no other relation (all revolute): the 1-D search over q6 of :mod:`.search`, up to 16."""
-    from .search import two_parallel as search
+    """Axes 2 ∥ 3 and no other relation (all revolute): up to 16 solutions.
 
-    return search(form, R, p, q_ref, jit=jit)  # type: ignore[no-any-return]
+    The 1-D search TP of :mod:`.search` over q6 (:data:`SEARCH_N` samples, its resolution there): at each
+    q6, SP6 gives up to 4 ``(q1, q4)`` from the two equations along axis 2 (position and orientation), SP1
+    the sum ``θ = q2 ± q3``, and the residual is ``|d| − |P3|``; then q2, q5 by SP1."""
+    return _run("two_parallel", form, R, p, q_ref, jit)
+
+
+def spherical_middle(form: POE, R: Array, p: Array, q_ref: Optional[Array] = None, *,
+                     jit: Optional[bool] = None) -> Solutions:
+    """Axes 2, 3, 4 meet in a point (a spherical joint in the middle; all revolute): up to 16 solutions.
+
+    The 1-D search SM of :mod:`.search` over q6 (:data:`SEARCH_N` samples): at each q6 the point of axis 5
+    is at a fixed distance from the centre of the spherical joint (SP3 for q1, up to 2 branches) and its
+    component along axis 5 is the residual; then q5 by SP1 and q2, q3, q4 as a wrist (SP2, SP1; at the
+    wrist's singularity q2 at ``q_ref``)."""
+    return _run("spherical_middle", form, R, p, q_ref, jit)
 
 
 SOLVERS: dict[str, Callable[..., Solutions]] = {
@@ -1446,5 +1075,7 @@ SOLVERS: dict[str, Callable[..., Solutions]] = {
     "spherical_base": spherical_base,
     "two_intersecting": two_intersecting,
     "two_parallel": two_parallel,
+    "spherical_middle": spherical_middle,
+    "gen_six_dof": _search2d.gen_six_dof,      # the general 6R: 2-D search (search2d.py)
 }
 """The solvers by name (IK-Geo's names where it has them)."""
