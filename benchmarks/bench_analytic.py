@@ -187,7 +187,7 @@ def searches(targets: int) -> None:
         sol = G.two_parallel(form, R, p)
         times.append(time.perf_counter() - t0)
         counts.append(len(sol.q))
-    print(f"| random '6R-two-parallel' arms | 1-D search (solvers.two_parallel, 720 samples) | "
+    print(f"| random '6R-two-parallel' arms | 1-D search (solvers.two_parallel, 240 samples) | "
           f"{np.median(times) * 1e3:.2f} | {np.mean(counts):.1f} |")
     print(f"\nload average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores")
 
