@@ -75,8 +75,9 @@ class RobotDefinitionError(ArmkitError, ValueError):
 class RobotFileError(RobotDefinitionError):
     """A robot file is malformed; the message names the file, the line and the field."""
 
-    def __init__(self, path: str, message: str, line: int | None = None, field: str | None = None,
+    def __init__(self, path: str, message: str, line: int | None = None, field: str | None = None, /,
                  **fields: object):
+        # positional only: a message's own fields may be called path, line or field (a mesh's path)
         self.path = str(path)
         self.line = line
         self.field = field
