@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import io
 import math
+import os
 import re
 import signal
 import subprocess
@@ -315,7 +316,9 @@ def test_script_prints_url_once_and_ctrl_c_ends_wait() -> None:
     code = ("import armkit\n"
             "v = armkit.view('planar2', lang='en')\n"
             "print('wait:', v.wait(), flush=True)\n")
-    proc = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    # the NumPy back end: not a compile in this process under the suite's ARMKIT_JIT=wait (see test_view.py)
+    proc = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            env={**os.environ, "ARMKIT_BACKEND": "numpy"})
     try:
         assert proc.stdout is not None
         first = proc.stdout.readline()
