@@ -340,5 +340,5 @@ def test_every_phrase_has_a_korean_translation():
     from armkit.locale import translate
 
     for text in TEXTS + ("geometric class {name!r}: {line}",):
-        fields = {k: 1 for k in ("axes", "a", "b", "n", "k", "cls", "dev", "name", "line")}
+        fields = {k: 1 for k in ("axes", "a", "b", "n", "k", "cls", "dev", "name", "line", "step")}
         assert translate(text, "ko", **fields) != translate(text, "en", **fields), text

@@ -515,6 +515,8 @@ TEXTS = (
     "degenerate (the axes cannot move the tool in every direction), numeric IK only",
     "locking joint {k} leaves a closed form ({cls!r}): sweep joint {k}, up to {n} solutions per value",
     "relations snapped by up to {dev}: polish the solutions",
+    "one joint sampled {n} times, {step} deg apart, then refined",
+    "two joints on a {n} x {n} grid, {step} deg apart, then refined",
 )
 """Every English phrase :func:`describe` writes (the command line marks them for its gettext catalogue)."""
 
@@ -564,6 +566,13 @@ def describe(cls: ChainClass, tr=None) -> str:
                          "per value", k=cls.locked, cls=cls.locked_class, n=cls.max_solutions)
     else:
         text += "; " + t(cls.solver)
+        if cls.solver in ("1-D search", "2-D search"):     # the search's resolution, stated by its module
+            from . import search, search2d
+
+            n = search.N if cls.solver == "1-D search" else search2d.N
+            text += " (" + t("one joint sampled {n} times, {step} deg apart, then refined" if cls.solver == "1-D search"
+                             else "two joints on a {n} x {n} grid, {step} deg apart, then refined",
+                             n=n, step=f"{360.0 / n:.2g}") + ")"
         if cls.max_solutions is not None:
             text += ", " + t("up to {n} solutions", n=cls.max_solutions)
     if cls.near > EXACT:
