@@ -378,13 +378,22 @@ def test_cli_bad_input_exit_2(args, text) -> None:
     assert text in " ".join(out.stderr.split()) and "Traceback" not in out.stderr
 
 
+def _default_sigint() -> None:
+    import signal
+
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
 def test_cli_serves_and_ctrl_c_exits_130(browser) -> None:
     import signal
 
     port = free_port()
     # the NumPy back end: with the suite's ARMKIT_JIT=wait a cold kernel cache would be compiled in this
     # process, under the suite's load for minutes, and Ctrl-C waits for Numba's compiler (Ctrl-C is what is tested)
+    # and Ctrl-C in its default state: a process started by a test inherits the worker's SIGINT disposition, whatever
+    # an earlier test in that worker left (in two full runs the view never answered the Ctrl-C the test sends)
     proc = subprocess.Popen([ARMKIT, "view", "planar2", "--port", str(port)], env={**os.environ, "ARMKIT_BACKEND": "numpy"},
+                            preexec_fn=_default_sigint,
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     try:
         assert proc.stdout is not None

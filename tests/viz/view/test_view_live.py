@@ -318,7 +318,9 @@ def test_script_prints_url_once_and_ctrl_c_ends_wait() -> None:
             "print('wait:', v.wait(), flush=True)\n")
     # the NumPy back end: not a compile in this process under the suite's ARMKIT_JIT=wait (see test_view.py)
     proc = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                            env={**os.environ, "ARMKIT_BACKEND": "numpy"})
+                            env={**os.environ, "ARMKIT_BACKEND": "numpy"},
+                            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))  # Ctrl-C not inherited
+                            # as ignored from the test worker (see test_view.py)
     try:
         assert proc.stdout is not None
         first = proc.stdout.readline()
