@@ -84,7 +84,8 @@ def plot_axes(robot_or_poe: Union[Robot, POE], ax: Any = None, title: Optional[s
             continue                                       # "always meet" pairs: shown in the title line only
         c, _dist = common_point(H, pts, [g - 1 for g in group])
         ax.scatter(*c, marker="*", s=140, color=_MEET, zorder=5)
-    lo, hi = np.vstack([chain, pts - half * H, pts + half * H]).min(0), np.vstack([chain, pts + half * H]).max(0)
+    every = np.vstack([chain, pts - half * H, pts + half * H])     # what is drawn: a cube around all of it
+    lo, hi = every.min(0), every.max(0)
     mid, span = (lo + hi) / 2, float(np.max(hi - lo)) / 2 or 1.0
     ax.set_xlim(mid[0] - span, mid[0] + span)
     ax.set_ylim(mid[1] - span, mid[1] + span)
