@@ -343,7 +343,7 @@ def test_world_triad_frame_numbers_and_dh_frames(browser, docs_img: Path) -> Non
             seen["red"], seen["blue"] = _red_blue(_pixels(page.screenshot())[:, :600])
             return seen["red"] > red0 + 100 and seen["blue"] > blue0 + 100
 
-        wait_until(arrows_drawn, 20, "red x and blue z arrows in the canvas")
+        wait_until(arrows_drawn, 60, "red x and blue z arrows in the canvas")
         q = np.radians([10.0, -30.0, 40.0, 20.0, 30.0, -15.0])
         v.set_q(q)
         F = armkit.fk_frames(v.robot, q)
