@@ -13,7 +13,7 @@ from hypothesis import strategies as st
 import armkit
 from armkit.ik.geometric import search2d as S
 from armkit.ik.geometric.poe import POE
-from armkit.model.robot import Joint, Robot
+from test_dense_check import robot_of   # the chain read back as a Robot (its own test module's reading)
 
 TOL = 1e-9
 
@@ -182,18 +182,6 @@ def test_rejects_what_it_cannot_solve():
 
 
 # ------------------------------------------------------------------------ through armkit.ik_all
-def robot_of(form: POE) -> Robot:
-    """The chain as a URDF-style Robot without limits (link frames parallel to the world at q = 0)."""
-    pts = np.cumsum(form.P, axis=0)
-    joints = []
-    for k in range(form.n):
-        origin = np.eye(4)
-        origin[:3, 3] = pts[k] - (pts[k - 1] if k else 0.0)
-        joints.append(Joint(origin=origin, axis=tuple(form.H[k]), lower=-math.inf, upper=math.inf, name=f"j{k + 1}"))
-    tool = np.eye(4)
-    tool[:3, :3] = form.R_nT
-    tool[:3, 3] = form.P[-1]
-    return Robot(joints, convention="urdf", name="chain", tool=tool)
 
 
 def test_ik_all_answers_a_general_6r():
