@@ -68,7 +68,7 @@ from .poe import POE
 from .search import MAXROOT, SM, SW, TI, TP, _search
 from .search import N as _SEARCH_N
 from .search import kernels as _search_kernels
-from .subproblems import _cross, _dot, _norm, _wrap, rot, rotm, sp1, sp2, sp3, sp4, sp6
+from .subproblems import _cross, _dot, _norm, _wrap, rot, rotm, sp1, sp2, sp3, sp4, sp5, sp6
 
 __all__ = ["Solutions", "solve_batch", "align", "reverse", "polish", "spherical_two_intersecting", "spherical_two_parallel",
            "spherical", "spherical_wrist", "three_parallel", "three_parallel_two_intersecting", "spherical_base",
@@ -288,9 +288,37 @@ def _pos_two_parallel(H, P, p0W, Qp, LSp):
     return m
 
 
+def _pos_general(H, P, p0W, N, Qp, LSp):
+    """General 3R position ``p0W = rot(h1, q1) (P1 + rot(h2, q2) (P2 + rot(h3, q3) P3))`` in closed form:
+    moved to ``-P1 + rot(h1, -q1) p0W = rot(h2, q2) (P2 + rot(h3, q3) P3)``, which is SP5 (a quartic; up to
+    4 solutions, least-squares ones flagged). SP5's length equation depends on q1 only through the distance of
+    the point chosen on axis 2 from axis 1, so that point is slid along axis 2 (``P1 + s h2``, ``P2 - s h2``: the
+    same chain) until that distance is about the arm's size; where axes 1 and 2 meet it would be 0 and the
+    system singular. Axes 2 ∥ 3 make its component equation independent of q3: :func:`_pos_two_parallel`
+    answers. Axes 1 ∥ 2 make it independent of q1: that chain takes the 1-D search (:func:`_pos_search`)."""
+    h0 = H[0]
+    h1 = H[1]
+    if _norm(_cross(h1, H[2])) < 1e-9:
+        return _pos_two_parallel(H, P, p0W, Qp, LSp)
+    if _norm(_cross(h0, h1)) < 1e-9:
+        return _pos_search(H, P, p0W, N, Qp, LSp)
+    size = _norm(P[1]) + _norm(P[2]) + _norm(P[3]) + _norm(p0W) + 1e-300
+    h1p = h1 - _dot(h1, h0) * h0                        # axis 2's direction away from axis 1
+    v = P[1] - _dot(P[1], h0) * h0                      # the axis-2 point's offset from axis 1
+    sign = 1.0 if _dot(v, h1p) >= 0.0 else -1.0
+    s = sign * size / _norm(h1p)
+    t1, t2, t3, count, ls = sp5(-(P[1] + s * h1), p0W, P[2] - s * h1, P[3], h0, h1, H[2])
+    for i in range(count):
+        Qp[i, 0] = _wrap(-t1[i])
+        Qp[i, 1] = t2[i]
+        Qp[i, 2] = t3[i]
+        LSp[i] = bool(ls)
+    return count
+
+
 def _pos_search(H, P, p0W, N, Qp, LSp):
     """General 3R position by the 1-D search over q1 of :mod:`.search` (kind SW: q3 by SP3, the residual along
-    axis 2), then q2 by SP1."""
+    axis 2), then q2 by SP1 (the chains with axes 1 ∥ 2, where SP5 does not apply)."""
     C = np.zeros((4, 3))
     for k in range(3):
         C[0, k] = p0W[k]
@@ -320,7 +348,7 @@ def _pos_search(H, P, p0W, N, Qp, LSp):
 
 def _core_spherical(kind, H, P, RnT, prism, R, p, qref, N, Q, LS, SG):
     """Spherical wrist at the end (P[4] = P[5] = 0): candidates into Q, LS, SG; returns their count.
-    ``kind``: 0 axes 1, 2 meet; 1 axes 2 ∥ 3; 2 general (search)."""
+    ``kind``: 0 axes 1, 2 meet; 1 axes 2 ∥ 3; 2 general (SP5)."""
     R06 = _mm(R, RnT.T.copy())
     p0W = p - P[0] - _mv(R06, P[6])
     Qp = np.zeros((8, 3))
@@ -330,7 +358,7 @@ def _core_spherical(kind, H, P, RnT, prism, R, p, qref, N, Q, LS, SG):
     elif kind == 1:
         mp = _pos_two_parallel(H, P, p0W, Qp, LSp)
     else:
-        mp = _pos_search(H, P, p0W, N, Qp, LSp)
+        mp = _pos_general(H, P, p0W, N, Qp, LSp)
     W = np.zeros((2, 3))
     m = 0
     for i in range(mp):
@@ -780,7 +808,7 @@ def polish(form: POE, q: Array, R: Array, p: Array, steps: int = 8) -> Array:
 
 # ---------------------------------------------------------------------------------- wrappers
 KERNELS = ("_mv", "_mtv", "_mm", "_mtm", "_perp", "_fk_err", "_wrist", "_pos_two_intersecting", "_pos_two_parallel",
-           "_pos_search", "_core_spherical", "_core_three_parallel", "_close", "_check", "_solve_spherical",
+           "_pos_search", "_pos_general", "_core_spherical", "_core_three_parallel", "_close", "_check", "_solve_spherical",
            "_solve_three_parallel", "_target_rows", "_core_two_intersecting_end", "_core_two_parallel",
            "_core_spherical_middle", "_solve_two_intersecting_end", "_solve_two_parallel", "_solve_spherical_middle",
            "_batch", "_sweep")
@@ -972,11 +1000,11 @@ def spherical_two_parallel(form: POE, R: Array, p: Array, q_ref: Optional[Array]
 
 def spherical(form: POE, R: Array, p: Array, q_ref: Optional[Array] = None, *,
               jit: Optional[bool] = None) -> Solutions:
-    """Axes 4, 5, 6 meet, nothing else assumed (all revolute): 1-D search over q1, up to 8 solutions.
+    """Axes 4, 5, 6 meet, nothing else assumed (all revolute): closed form, up to 8 solutions.
 
-    The 1-D search SW of :mod:`.search` over q1 (:data:`SEARCH_N` samples a turn; its resolution is
-    stated there): at each q1, SP3 gives up to 2 q3 from the wrist centre's distance, and the residual
-    is the component along axis 2; then q2 by SP1 and the wrist. Every solution is checked by FK."""
+    The wrist centre's position fixes q1, q2, q3 by SP5 (a quartic, up to 4), then the wrist gives 2 each.
+    Where axes 1 ∥ 2 SP5 does not apply and the 1-D search SW of :mod:`.search` over q1 answers
+    (:data:`SEARCH_N` samples a turn; SP3 for q3, the residual along axis 2). Every solution is checked by FK."""
     return _run("spherical", form, R, p, q_ref, jit)
 
 
