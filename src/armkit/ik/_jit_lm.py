@@ -21,6 +21,7 @@ from .. import _jit_loader
 _jit_loader.install_cache_fallback()  # before the first cache=True: read-only installs cache elsewhere
 
 from numba import njit, prange  # noqa: E402
+from .._jit_twins import parallel_twin  # noqa: E402
 
 # The 12-scalar pose helpers of the kinematics kernels (a pose is the 3x4 affine part, row by row) and
 # their packed chain layout: _load(P, k) = P[k], _mul(X, P, k) = X · P[k], _move(X, t, sin t, cos t,
@@ -402,12 +403,6 @@ def _lm_one(P, limits, params, Tt, seed, q, trace, info):
     info[3] = min(best_E, E) if status == CONVERGED else best_E
 
 
-@njit(cache=True, parallel=True)
-def _lm_parallel(P, limits, params, targets, seeds, q, trace, info):
-    for i in prange(targets.shape[0]):
-        _lm_one(P, limits, params, targets[i], seeds[i], q[i], trace[i], info[i])
-
-
 def lm_batch(P, limits, params, targets, seeds, q, trace, info):
     """Solve every target ``targets[i]`` (B, 4, 4) from ``q[i]`` in parallel; q, trace, info written in place.
 
@@ -421,8 +416,11 @@ def lm_batch(P, limits, params, targets, seeds, q, trace, info):
 @njit(cache=True)
 def lm_serial(P, limits, params, targets, seeds, q, trace, info):
     """As :func:`lm_batch` without threads (small batches, single calls)."""
-    for i in range(targets.shape[0]):
+    for i in prange(targets.shape[0]):
         _lm_one(P, limits, params, targets[i], seeds[i], q[i], trace[i], info[i])
+
+
+_lm_parallel = parallel_twin(lm_serial)
 
 
 @njit(cache=True)

@@ -18,6 +18,7 @@ from .. import _jit_loader
 _jit_loader.install_cache_fallback()  # before the first cache=True: read-only installs cache elsewhere
 
 from numba import njit, prange  # noqa: E402
+from .._jit_twins import parallel_twin  # noqa: E402
 
 
 @njit(cache=True, inline="always")
@@ -80,14 +81,11 @@ def check_point(T, p, q, lower, upper, tol):
 
 @njit(cache=True)
 def _serial(T, tgt, q, limits, opts, dp, dr, within):
-    for i in range(T.shape[0]):
-        _one(T, tgt, q, limits, opts, dp, dr, within, i)
-
-
-@njit(cache=True, parallel=True)
-def _parallel(T, tgt, q, limits, opts, dp, dr, within):
     for i in prange(T.shape[0]):
         _one(T, tgt, q, limits, opts, dp, dr, within, i)
+
+
+_parallel = parallel_twin(_serial)
 
 
 def errors(T, tgt, pose, q, limits, tol=1e-12):

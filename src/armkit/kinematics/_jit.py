@@ -39,6 +39,7 @@ from .. import _jit_loader
 _jit_loader.install_cache_fallback()  # before the first cache=True: read-only installs cache elsewhere
 
 from numba import njit, prange, types  # noqa: E402
+from .._jit_twins import parallel_twin  # noqa: E402
 
 BLOCK = 128
 """Configurations per block of the batched kernels (sin/cos scratch: 2 x BLOCK x n doubles)."""
@@ -386,18 +387,12 @@ def _fk_block(F, q, qflat, out, b):
 def _fk_serial(F, q, out):
     bad = 0
     qflat = q.reshape(q.size)
-    for b in range((q.shape[0] + BLOCK - 1) // BLOCK):
-        bad += _fk_block(F, q, qflat, out, b)
-    return bad
-
-
-@njit(cache=True, parallel=True)
-def _fk_parallel(F, q, out):
-    bad = 0
-    qflat = q.reshape(q.size)
     for b in prange((q.shape[0] + BLOCK - 1) // BLOCK):
         bad += _fk_block(F, q, qflat, out, b)
     return bad
+
+
+_fk_parallel = parallel_twin(_fk_serial)
 
 
 def fk_batch(F, q):
@@ -420,18 +415,12 @@ def _jacobian_block(F, q, qflat, tool_frame, out, b):
 def _jacobian_serial(F, q, tool_frame, out):
     bad = 0
     qflat = q.reshape(q.size)
-    for b in range((q.shape[0] + BLOCK - 1) // BLOCK):
-        bad += _jacobian_block(F, q, qflat, tool_frame, out, b)
-    return bad
-
-
-@njit(cache=True, parallel=True)
-def _jacobian_parallel(F, q, tool_frame, out):
-    bad = 0
-    qflat = q.reshape(q.size)
     for b in prange((q.shape[0] + BLOCK - 1) // BLOCK):
         bad += _jacobian_block(F, q, qflat, tool_frame, out, b)
     return bad
+
+
+_jacobian_parallel = parallel_twin(_jacobian_serial)
 
 
 def jacobian_batch(F, q, tool_frame):
@@ -461,18 +450,12 @@ def _frames_block(P, q, qflat, out, b):
 def _frames_serial(P, q, out):
     bad = 0
     qflat = q.reshape(q.size)
-    for b in range((q.shape[0] + BLOCK - 1) // BLOCK):
-        bad += _frames_block(P, q, qflat, out, b)
-    return bad
-
-
-@njit(cache=True, parallel=True)
-def _frames_parallel(P, q, out):
-    bad = 0
-    qflat = q.reshape(q.size)
     for b in prange((q.shape[0] + BLOCK - 1) // BLOCK):
         bad += _frames_block(P, q, qflat, out, b)
     return bad
+
+
+_frames_parallel = parallel_twin(_frames_serial)
 
 
 def frames_batch(P, q):

@@ -19,7 +19,6 @@ one-thread kernels).
 from __future__ import annotations
 
 import math
-import types
 
 import numpy as np
 
@@ -28,6 +27,8 @@ from ... import _jit_loader
 _jit_loader.install_cache_fallback()  # before the first cache=True: read-only installs cache elsewhere
 
 from numba import njit, prange  # noqa: E402
+
+from ..._jit_twins import parallel_twin  # noqa: E402
 
 from ._layout import (BASE_INV, JOINT_LOWER, JOINT_PRISMATIC, JOINT_THETA, JOINT_UPPER, P2_BETA,  # noqa: E402
                       P2_ELL, P2_L1, P3_L1, P3_L2, POS_A1, POS_A2, POS_BETA, POS_D1, POS_ELL, POS_S1, POS_TINY,
@@ -141,15 +142,10 @@ def _split(run, B, *args):
 
 
 def _par(run):
-    # the parallel version of a kernel, made on the first big batch from a copy of its Python function
-    # under another name (Numba names its disk cache after the function)
+    # the multi-threaded twin of a kernel (armkit._jit_twins), made on the first big batch
     fn = _PARALLEL.get(run)
     if fn is None:
-        py = run.py_func
-        copy = types.FunctionType(py.__code__, py.__globals__, py.__name__ + "_parallel", py.__defaults__,
-                                  py.__closure__)
-        copy.__qualname__ = py.__qualname__ + "_parallel"
-        fn = _PARALLEL[run] = njit(cache=True, parallel=True)(copy)
+        fn = _PARALLEL[run] = parallel_twin(run)
     return fn
 
 
