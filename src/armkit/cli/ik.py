@@ -12,7 +12,7 @@ from rich.table import Table
 from .common import (EXIT_BAD_INPUT, EXIT_FAILED, NUMERIC_ARGS, N_, _, console, esc, fail, get_robot, parse_numbers,
                      checked_line, message, parse_vector, print_json, scene_off, scene_option, warn)
 
-from ..locale import current_language  # noqa: E402
+from ..locale import SOURCE, current_language  # noqa: E402
 from .common import print_table  # noqa: E402
 from .common import Deg, JsonOut, NoScene, RobotArg  # noqa: E402  (the shared options)
 METHOD_CHOICES = ("auto", "analytic", "lm", "newton", "ccd", "fabrik")
@@ -425,7 +425,7 @@ def ik(robot: RobotArg,
     if not solved:
         first = rows[0]
         msg = _explain(r, first)
-        if not msg.startswith(first["reason"]) and current_language() == "en":
+        if not msg.startswith(first["reason"]) and current_language() == SOURCE:
             msg = f"{first['reason']}: {msg}"
         fail(msg, EXIT_FAILED)
 

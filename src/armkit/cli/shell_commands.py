@@ -25,7 +25,7 @@ import numpy as np
 from .._text import esc, name_list
 from ..errors import ArmkitError, ParseError
 from ..kinematics import fk
-from ..locale import LANGUAGES, N_, message, translate
+from ..locale import LANGUAGES, N_, SOURCE, message, translate
 from ..model.robot import Robot
 
 __all__ = ["ShellCommands"]
@@ -87,7 +87,7 @@ class ShellCommands:
     def _unreachable(self, message_: str, reason: str, error: float) -> str:
         """Why a target was not reached: the solver's sentence in English; in Korean the reason and the
         position error of the closest configuration (the solvers' sentences are English)."""
-        if self.lang == "en":
+        if self.lang == SOURCE:
             return message_ or reason
         return self._t("unreachable_detail", reason=reason, error=f"{error:.4g} {self.robot.unit}", message=message_)
 

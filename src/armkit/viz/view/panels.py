@@ -292,10 +292,11 @@ class Panels:
                            err=f"{float(np.asarray(res.position_error)):.2g}", unit=r.unit)
             colour = "#15803d"
         else:
+            from ...locale import SOURCE
             from ...locale.library import ik_explanation
 
             reason, msg = str(np.asarray(res.reason)), str(np.asarray(res.message))
-            msg = (msg if msg.startswith(reason) else f"{reason}: {msg}") if self.lang == "en" else \
+            msg = (msg if msg.startswith(reason) else f"{reason}: {msg}") if self.lang == SOURCE else \
                 ik_explanation(reason, msg, float(np.asarray(res.position_error)), r.unit, self.lang)
 
             text = self._l("not_reached", message=html.escape(msg))
