@@ -161,16 +161,16 @@ class Shell(ShellCommands):
         from rich.console import Console
 
         if mode not in ("ik", "fk"):
-            raise ArgumentError(f"mode must be 'ik' or 'fk', got {mode!r}")
+            raise ArgumentError.of("mode must be 'ik' or 'fk', got {mode!r}", mode=mode)
         self.mode = mode          # what numbers typed alone are: an IK target ("ik") or joint values ("fk")
 
         self.robot = robot
         self.lang = lang if lang is not None and lang in LANGUAGES else default_language()
         if units not in ("deg", "rad"):
-            raise ArgumentError(f"units must be 'deg' or 'rad', got {units!r}")
+            raise ArgumentError.of("units must be 'deg' or 'rad', got {units!r}", units=units)
         self.units = units
         if plot not in ("auto", "window", "png", "none"):
-            raise ArgumentError(f"plot must be 'auto', 'window', 'png' or 'none', got {plot!r}")
+            raise ArgumentError.of("plot must be 'auto', 'window', 'png' or 'none', got {plot!r}", plot=plot)
         if plot == "auto":
             from ..viz._mpl import has_display
 

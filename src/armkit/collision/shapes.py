@@ -29,11 +29,11 @@ def _vec(value: ArrayLike, n: int, what: str) -> Array:
     try:
         v = np.asarray(value, dtype=float)
     except (TypeError, ValueError) as exc:
-        raise SceneError(f"{what} must be {n} numbers, got {value!r}") from exc
+        raise SceneError.of("{what} must be {n} numbers, got {value!r}", what=what, n=n, value=value) from exc
     if v.shape != (n,):
-        raise SceneError(f"{what} must be {n} numbers, got shape {v.shape}")
+        raise SceneError.of("{what} must be {n} numbers, got shape {shape}", what=what, n=n, shape=v.shape)
     if not np.all(np.isfinite(v)):
-        raise SceneError(f"{what} contains NaN or infinite values")
+        raise SceneError.of("{what} contains NaN or infinite values", what=what)
     return v
 
 
@@ -41,9 +41,10 @@ def _positive(value: float, what: str, allow_zero: bool = False) -> float:
     try:
         v = float(value)
     except (TypeError, ValueError) as exc:
-        raise SceneError(f"{what} must be a number, got {value!r}") from exc
+        raise SceneError.of("{what} must be a number, got {value!r}", what=what, value=value) from exc
     if not math.isfinite(v) or v < 0 or (v == 0 and not allow_zero):
-        raise SceneError(f"{what} must be a finite number {'>= 0' if allow_zero else '> 0'}, got {v!r}")
+        raise SceneError.of("{what} must be a finite number >= 0, got {got!r}" if allow_zero else
+                            "{what} must be a finite number > 0, got {got!r}", what=what, got=v)
     return v
 
 
@@ -51,14 +52,14 @@ def kind_of(kind: str) -> "ShapeKind":
     """The :class:`ShapeKind` row of ``kind``; an unknown kind raises SceneError listing the known ones."""
     row = KIND_TABLE.get(kind) if isinstance(kind, str) else None
     if row is None:
-        raise SceneError(f"shape kind must be one of {', '.join(KIND_TABLE)}; got {kind!r}")
+        raise SceneError.of("shape kind must be one of {names}; got {kind!r}", names=', '.join(KIND_TABLE), kind=kind)
     return row
 
 
 def _pose(center: ArrayLike, rpy: ArrayLike) -> Array:
     from ..spatial import make_pose, rpy_to_rotation
 
-    return make_pose(rpy_to_rotation(_vec(rpy, 3, "rpy")), _vec(center, 3, "center"))
+    return make_pose(rpy_to_rotation(_vec(rpy, 3, "rpy")), _vec(center, 3, Fielded.of("center")))
 
 
 @dataclass(frozen=True, eq=False)
@@ -100,7 +101,7 @@ class Shape:
         kind_of(self.kind)
         T = np.array(self.pose, dtype=float)
         if T.shape != (4, 4) or not np.all(np.isfinite(T)):
-            raise SceneError(f"shape pose must be a finite 4x4 pose, got shape {T.shape}")
+            raise SceneError.of("shape pose must be a finite 4x4 pose, got shape {shape}", shape=T.shape)
         T.setflags(write=False)
         object.__setattr__(self, "pose", T)
         object.__setattr__(self, "size", tuple(float(s) for s in self.size))
@@ -175,9 +176,10 @@ class Scene:
         shapes = tuple(shapes)
         for s in shapes:
             if not isinstance(s, Shape):
-                raise SceneError(f"a Scene holds armkit Shapes (Scene.box(...), Scene.plane(...), ...); got {s!r}")
+                raise SceneError.of("a Scene holds armkit Shapes (Scene.box(...), Scene.plane(...), ...); got {s!r}",
+                                    s=s)
         if unit is not None and unit not in _UNITS:
-            raise SceneError(f"unit must be one of {', '.join(_UNITS)} or None, got {unit!r}")
+            raise SceneError.of("unit must be one of {names} or None, got {unit!r}", names=', '.join(_UNITS), unit=unit)
         self.shapes: tuple[Shape, ...] = shapes
         self.unit = unit
 
@@ -185,14 +187,14 @@ class Scene:
     @staticmethod
     def plane(normal: ArrayLike, offset: float = 0.0, *, name: str = "", allow: Sequence[str] = ()) -> Shape:
         """The half-space ``normal · x <= offset``: a plane and everything behind it (the ground)."""
-        n = _vec(normal, 3, "plane normal")
+        n = _vec(normal, 3, Fielded.of("plane normal"))
         length = float(np.linalg.norm(n))
         if length < 1e-12:
-            raise SceneError("plane normal must not be zero")
+            raise SceneError.of("plane normal must not be zero")
         n = n / length
         off = float(offset) / length
         if not math.isfinite(off):
-            raise SceneError(f"plane offset must be a finite number, got {offset!r}")
+            raise SceneError.of("plane offset must be a finite number, got {offset!r}", offset=offset)
         # a frame with z along n: x from the axis least aligned with n
         helper = np.eye(3)[int(np.argmin(np.abs(n)))]
         x = np.cross(helper, n)
@@ -206,30 +208,31 @@ class Scene:
     def box(center: ArrayLike, size: ArrayLike, rpy: ArrayLike = (0.0, 0.0, 0.0), *, name: str = "",
             allow: Sequence[str] = ()) -> Shape:
         """A box with full extents ``size`` (x, y, z), centred at ``center``, turned by ``rpy`` (rad)."""
-        sz = _vec(size, 3, "box size")
+        sz = _vec(size, 3, Fielded.of("box size"))
         for v in sz:
-            _positive(v, "box size")
+            _positive(v, Fielded.of("box size"))
         return Shape("box", _pose(center, rpy), tuple(sz), name or "box", tuple(allow))
 
     @staticmethod
     def sphere(center: ArrayLike, radius: float, *, name: str = "", allow: Sequence[str] = ()) -> Shape:
         """A ball."""
-        return Shape("sphere", _pose(center, (0, 0, 0)), (_positive(radius, "sphere radius"),), name or "sphere",
-                     tuple(allow))
+        return Shape("sphere", _pose(center, (0, 0, 0)), (_positive(radius, Fielded.of("sphere radius")),),
+                     name or "sphere", tuple(allow))
 
     @staticmethod
     def cylinder(center: ArrayLike, radius: float, length: float, rpy: ArrayLike = (0.0, 0.0, 0.0), *,
                  name: str = "", allow: Sequence[str] = ()) -> Shape:
         """A solid cylinder along its local z axis (turned by ``rpy``), centred at ``center`` (as in URDF)."""
         return Shape("cylinder", _pose(center, rpy),
-                     (_positive(radius, "cylinder radius"), _positive(length, "cylinder length")),
+                     (_positive(radius, Fielded.of("cylinder radius")),
+                      _positive(length, Fielded.of("cylinder length"))),
                      name or "cylinder", tuple(allow))
 
     @staticmethod
     def capsule(a: ArrayLike, b: ArrayLike, radius: float, *, name: str = "", allow: Sequence[str] = ()) -> Shape:
         """The points within ``radius`` of the segment ``a -> b``."""
-        pa, pb = _vec(a, 3, "capsule end a"), _vec(b, 3, "capsule end b")
-        r = _positive(radius, "capsule radius")
+        pa, pb = _vec(a, 3, Fielded.of("capsule end a")), _vec(b, 3, Fielded.of("capsule end b"))
+        r = _positive(radius, Fielded.of("capsule radius"))
         d = pb - pa
         length = float(np.linalg.norm(d))
         if length > 0:
@@ -249,7 +252,7 @@ class Scene:
              allow: Sequence[str] = ()) -> Shape:
         """A mesh file (anything coal/assimp reads: STL, OBJ, DAE); collision uses its convex hull."""
         T = np.eye(4) if pose is None else np.asarray(pose, dtype=float)
-        sc = _vec(scale, 3, "mesh scale")
+        sc = _vec(scale, 3, Fielded.of("mesh scale"))
         return Shape("mesh", T, (), name or "mesh", tuple(allow), None, str(path),
                      (float(sc[0]), float(sc[1]), float(sc[2])))
 
@@ -285,7 +288,7 @@ class Scene:
     def in_unit(self, unit: str) -> "Scene":
         """The same scene with lengths in ``unit`` (a scene without a unit is taken as already in it)."""
         if unit not in _UNITS:
-            raise SceneError(f"unit must be one of {', '.join(_UNITS)}, got {unit!r}")
+            raise SceneError.of("unit must be one of {names}, got {unit!r}", names=', '.join(_UNITS), unit=unit)
         if self.unit is None or self.unit == unit:
             return Scene(self.shapes, unit)
         f = _UNITS[self.unit] / _UNITS[unit]

@@ -46,8 +46,9 @@ def _position_problem(robot: Robot, target: ArrayLike, q0: ArrayLike, mask: Opti
     if mask is not None:
         m = np.asarray(mask, dtype=float)
         if m.shape != (6,) or np.any(m[3:] != 0) or not np.all(m[:3] > 0):
-            raise IKInputError(f"{what} solves position targets only: mask must be None or weight x, y and z "
-                              f"with zero rotation weights, got {mask!r}; use method 'lm' for orientation masks")
+            raise IKInputError.of("{what} solves position targets only: mask must be None or weight x, y and z with "
+                                  "zero rotation weights, got {mask!r}; use method 'lm' for orientation masks",
+                                  what=what, mask=mask)
     return Problem(robot, t, q0, None, tol, enforce_limits, what), note
 
 

@@ -69,8 +69,9 @@ def fabrik_structure(robot: Robot) -> str:
 
 def _structure(robot: Robot) -> dict:
     if robot.prismatic.any():
-        raise IKInputError(f"FABRIK in armkit supports revolute planar arms and yaw + planar arms; robot "
-                          f"{robot.name!r} has prismatic joints ({robot.joint_types}); use method 'ccd' or 'lm'")
+        raise IKInputError.of("FABRIK in armkit supports revolute planar arms and yaw + planar arms; robot {robot!r} "
+                              "has prismatic joints ({joint_types}); use method 'ccd' or 'lm'", robot=robot.name,
+                              joint_types=robot.joint_types)
     z, p, e = _joint_frames_at_zero(robot)
     scale = max(robot.reach, 1e-12)
 
@@ -85,16 +86,17 @@ def _structure(robot: Robot) -> dict:
         first = 1
         kind = "yaw+planar"
     else:
-        raise IKInputError(f"FABRIK in armkit supports planar arms (all joint axes parallel) and a yaw joint "
-                          f"followed by a planar arm; robot {robot.name!r} is neither; use method 'ccd' or 'lm'")
+        raise IKInputError.of("FABRIK in armkit supports planar arms (all joint axes parallel) and a yaw joint "
+                              "followed by a planar arm; robot {robot!r} is neither; use method 'ccd' or 'lm'",
+                              robot=robot.name)
     nrm = z[first] / np.linalg.norm(z[first])
     pts = np.vstack([p[first:], e[None]])
     flat = pts - np.outer((pts - pts[0]) @ nrm, nrm)           # projected on the plane through the root
     seg = np.diff(flat, axis=0)
     lengths = np.linalg.norm(seg, axis=1)
     if np.any(lengths < _EPS * scale):
-        raise IKInputError(f"FABRIK needs distinct joint points in the plane; robot {robot.name!r} has a zero-length "
-                          "segment (coincident joint axes); use method 'ccd' or 'lm'")
+        raise IKInputError.of("FABRIK needs distinct joint points in the plane; robot {robot!r} has a zero-length "
+                              "segment (coincident joint axes); use method 'ccd' or 'lm'", robot=robot.name)
     xh = seg[0] / lengths[0]
     yh = np.cross(nrm, xh)
     phi0 = np.arctan2(seg @ yh, seg @ xh)                       # segment directions at q = 0

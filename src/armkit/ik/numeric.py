@@ -151,7 +151,8 @@ class Problem:
     def __init__(self, robot: Robot, target: ArrayLike, q0: ArrayLike, mask: Optional[ArrayLike],
                  tol: Optional[tuple[float, float]], enforce_limits: bool, what: str = "solve_lm") -> None:
         if not isinstance(robot, Robot):
-            raise ArmkitError(f"{what}: robot must be an armkit.Robot, got {type(robot).__name__}")
+            raise ArmkitError.of("{what}: robot must be an armkit.Robot, got {type}", what=what,
+                                 type=type(robot).__name__)
         t = np.asarray(target, dtype=float)
         if t.ndim == 3 and t.shape[1:] == (4, 4):
             self.position_target = False
@@ -161,25 +162,28 @@ class Problem:
             poses = np.broadcast_to(np.eye(4), (t.shape[0], 4, 4)).copy()
             poses[:, :3, 3] = t
         else:
-            raise ShapeError(f"{what}: target must have shape (B, 4, 4) or (B, 3), got {t.shape}")
+            raise ShapeError.of("{what}: target must have shape (B, 4, 4) or (B, 3), got {shape}", what=what,
+                                shape=t.shape)
         if not np.all(np.isfinite(t)):
-            raise ShapeError(f"{what}: target contains NaN or infinite values")
+            raise ShapeError.of("{what}: target contains NaN or infinite values", what=what)
         B = t.shape[0]
         q = robot.check_q(q0, "q0")
         if q.shape != (B, robot.n):
-            raise ShapeError(f"{what}: q0 must have shape ({B}, {robot.n}) for {B} targets, got {q.shape}")
+            raise ShapeError.of("{what}: q0 must have shape ({B}, {n}) for {B} targets, got {shape}", what=what, B=B,
+                                n=robot.n, shape=q.shape)
         if mask is None:
             w = _W_POSITION if self.position_target else _W_POSE
         else:
             w = np.asarray(mask, dtype=float)
             if w.shape != (6,) or not np.all(np.isfinite(w)) or np.any(w < 0) or not np.any(w > 0):
-                raise ShapeError(f"{what}: mask must be 6 non-negative weights over (x, y, z, rx, ry, rz) "
-                                 f"with at least one positive, got {mask!r}")
+                raise ShapeError.of("{what}: mask must be 6 non-negative weights over (x, y, z, rx, ry, rz) with at "
+                                    "least one positive, got {mask!r}", what=what, mask=mask)
             if self.position_target:
                 w = w.copy()
                 w[3:] = 0.0
                 if not np.any(w > 0):
-                    raise ShapeError(f"{what}: a position target needs a positive weight on x, y or z, got {mask!r}")
+                    raise ShapeError.of("{what}: a position target needs a positive weight on x, y or z, got {mask!r}",
+                                        what=what, mask=mask)
         self.robot = robot
         self.target = t
         self.poses = np.ascontiguousarray(poses)
@@ -189,7 +193,7 @@ class Problem:
         self.tol: tuple[float, float] = (float(tol[0]), float(tol[1])) if tol is not None and len(tol) == 2 \
             else default_tolerance(robot) if tol is None else (-1.0, -1.0)
         if min(self.tol) <= 0 or min(self.tol) <= 0:
-            raise ShapeError(f"{what}: tol must be (position, rotation) > 0, got {tol!r}")
+            raise ShapeError.of("{what}: tol must be (position, rotation) > 0, got {tol!r}", what=what, tol=tol)
         self.enforce_limits = bool(enforce_limits)
         self.s = robot.unit_scale
         self.const = _constants(robot)
@@ -584,7 +588,8 @@ def _solve(prob: Problem, method: str, max_iterations: Optional[int], restarts: 
     max_iterations = DEFAULT_MAX_ITERATIONS if max_iterations is None else int(max_iterations)
     restarts = DEFAULT_RESTARTS if restarts is None else int(restarts)
     if max_iterations < 0 or restarts < 0:
-        raise ShapeError(f"max_iterations and restarts must be >= 0, got {max_iterations} and {restarts}")
+        raise ShapeError.of("max_iterations and restarts must be >= 0, got {max_iterations} and {restarts}",
+                            max_iterations=max_iterations, restarts=restarts)
     newton = method == "newton"
     B = prob.B
     unreachable, dist = prob.unreachable()

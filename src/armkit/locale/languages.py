@@ -22,6 +22,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Iterator, Optional, Sequence, overload
 
+from ..errors import ArgumentError
+
 __all__ = ["Fonts", "Language", "TABLE", "LANGUAGES", "SOURCE", "add", "remove", "language_of", "choices",
            "catalogue_dir"]
 
@@ -177,8 +179,8 @@ def add(language: Language) -> None:
     plots take it from then on. armkit's own languages are rows written in :data:`TABLE`; this is for a language
     tried from outside (docs/languages.md runs it on a made-up one)."""
     if not language.code or not language.code.replace("_", "").isalnum() or language.code != language.code.lower():
-        raise ValueError(f"a language code is lower-case letters and digits (e.g. 'ja', 'pt_br'), got "
-                         f"{language.code!r}")
+        raise ArgumentError.of("a language code is lower-case letters and digits (e.g. 'ja', 'pt_br'), got "
+                               "{code!r}", code=language.code)
     TABLE[language.code] = language
     _forget(language.code)
 
@@ -186,7 +188,7 @@ def add(language: Language) -> None:
 def remove(code: str) -> None:
     """Take the language ``code`` out of :data:`TABLE` again (the source language stays)."""
     if code == SOURCE:
-        raise ValueError(f"{SOURCE!r} is the language of the code itself and cannot be removed")
+        raise ArgumentError.of("{code!r} is the language of the code itself and cannot be removed", code=SOURCE)
     TABLE.pop(code, None)
     _forget(code)
 

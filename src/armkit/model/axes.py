@@ -59,7 +59,7 @@ def joint_axes(robot: Robot, q: ArrayLike | None = None) -> tuple[Array, Array]:
     else:
         qv = robot.check_q(q)
         if qv.shape != (robot.n,):
-            raise ShapeError(f"q must be one configuration of shape ({robot.n},), got {qv.shape}")
+            raise ShapeError.of("q must be one configuration of shape ({n},), got {shape}", n=robot.n, shape=qv.shape)
     X = c.base.copy()
     points = np.empty((robot.n, 3))
     directions = np.empty((robot.n, 3))

@@ -221,8 +221,9 @@ def chain_to_dh(robot: Robot, convention: str = "standard", parallel_tol: float 
                     return chain_to_dh(robot, convention, 1e-6, length_tol, check)
                 except RobotDefinitionError:
                     pass
-            raise RobotDefinitionError(
-                f"robot {robot.name!r}: no DH table reproduces this chain to {CHECK_TOL:g} of its reach "
-                f"(FK can differ by {err:.3g} {robot.unit}); two consecutive joint axes are probably almost, but "
-                "not exactly, parallel. Keep the chain as it is (every armkit function works on it).")
+            raise RobotDefinitionError.of("robot {robot!r}: no DH table reproduces this chain to {CHECK_TOL:g} of its "
+                                          "reach (FK can differ by {err:.3g} {unit}); two consecutive joint axes are "
+                                          "probably almost, but not exactly, parallel. Keep the chain as it is (every "
+                                          "armkit function works on it).", robot=robot.name, CHECK_TOL=CHECK_TOL,
+                                          err=err, unit=robot.unit)
     return twin

@@ -109,30 +109,31 @@ def base_placement(map: ReachabilityMap, task_poses: ArrayLike, candidates: Arra
     from ..ik import ik
 
     if not isinstance(map, ReachabilityMap):
-        raise ArgumentError(f"map must be an armkit.ReachabilityMap, got {type(map).__name__}")
+        raise ArgumentError.of("map must be an armkit.ReachabilityMap, got {type}", type=type(map).__name__)
     T = np.asarray(task_poses, dtype=float)
     if T.ndim == 2 and T.shape == (4, 4):
         T = T[None]
     if T.ndim != 3 or T.shape[1:] != (4, 4) or len(T) == 0:
-        raise ShapeError(f"task_poses must have shape (K, 4, 4) with K >= 1, got {np.shape(task_poses)}")
+        raise ShapeError.of("task_poses must have shape (K, 4, 4) with K >= 1, got {shape}",
+                            shape=np.shape(task_poses))
     if not np.all(np.isfinite(T)):
-        raise ShapeError("task_poses contain NaN or infinite values")
+        raise ShapeError.of("task_poses contain NaN or infinite values")
     if isinstance(top, bool) or not isinstance(top, (int, np.integer)) or top < 1:
-        raise ArgumentError(f"top must be a positive integer, got {top!r}")
+        raise ArgumentError.of("top must be a positive integer, got {top!r}", top=top)
     if candidates is None:
         h = map.grid.resolution if step is None else float(step)
         if not (math.isfinite(h) and h > 0):
-            raise ArgumentError(f"step must be a positive length, got {step!r}")
+            raise ArgumentError.of("step must be a positive length, got {step!r}", step=step)
         ny = (1 if _yaw_free(map) else 8) if yaws is None else int(yaws)
         if ny < 1:
-            raise ArgumentError(f"yaws must be a positive integer, got {yaws!r}")
+            raise ArgumentError.of("yaws must be a positive integer, got {yaws!r}", yaws=yaws)
         B = _floor_candidates(map, T, float(floor_z), h, ny)
     else:
         B = np.asarray(candidates, dtype=float)
         if B.ndim != 3 or B.shape[1:] != (4, 4) or len(B) == 0:
-            raise ShapeError(f"candidates must have shape (M, 4, 4) with M >= 1, got {B.shape}")
+            raise ShapeError.of("candidates must have shape (M, 4, 4) with M >= 1, got {shape}", shape=B.shape)
         if not np.all(np.isfinite(B)):
-            raise ShapeError("candidates contain NaN or infinite values")
+            raise ShapeError.of("candidates contain NaN or infinite values")
     Binv = np.linalg.inv(B)
     reached = np.zeros((len(B), len(T)), dtype=bool)
     index = np.zeros(len(B))

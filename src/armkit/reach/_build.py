@@ -29,7 +29,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from .._extras import require
-from ..errors import ReachabilityError
+from ..errors import ReachabilityError, warning_of
 from ..model.robot import Robot
 from ._grid import Grid
 from ._map import DEFAULT_COVERAGE, ReachabilityMap, decide, robot_to_toml
@@ -61,7 +61,7 @@ def default_samples(grid: Grid) -> int:
 
 def _positive_int(value: Any, what: str) -> int:
     if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
-        raise ReachabilityError(f"{what} must be a positive integer, got {value!r}")
+        raise ReachabilityError.of("{what} must be a positive integer, got {value!r}", what=what, value=value)
     return int(value)
 
 
@@ -70,10 +70,12 @@ def _make_grid(robot: Robot, resolution: Any, orientations: Any, rolls: Any) -> 
         resolution = robot.reach / 20.0
     if isinstance(resolution, bool) or not isinstance(resolution, (int, float, np.floating, np.integer)) \
             or not math.isfinite(float(resolution)) or resolution <= 0:
-        raise ReachabilityError(f"resolution must be a positive length in {robot.unit}, got {resolution!r}")
+        raise ReachabilityError.of("resolution must be a positive length in {unit}, got {resolution!r}",
+                                   unit=robot.unit, resolution=resolution)
     if float(resolution) < robot.reach / 1000.0:
-        raise ReachabilityError(f"resolution {float(resolution):g} {robot.unit} is finer than reach/1000 "
-                                f"({robot.reach / 1000:g} {robot.unit}): the map would have over 10^9 voxels")
+        raise ReachabilityError.of("resolution {resolution:g} {unit} is finer than reach/1000 ({limit:g} {unit}): the "
+                                   "map would have over 10^9 voxels", resolution=float(resolution), unit=robot.unit,
+                                   limit=robot.reach / 1000)
     position_only = robot.n < 6
     if orientations is None:
         orientations = 1 if position_only else 64
@@ -85,8 +87,8 @@ def _make_grid(robot: Robot, resolution: Any, orientations: Any, rolls: Any) -> 
     # every reachable point lies within robot.reach of the first joint frame's origin
     grid = Grid.build(yaw_frame(robot), sym, robot.reach * (1 + 1e-9), float(resolution), orientations, rolls)
     if grid.n_cells > 4_000_000_000:
-        raise ReachabilityError(f"the map would have {grid.n_cells:,} cells; use a coarser resolution or "
-                                "fewer orientations")
+        raise ReachabilityError.of("the map would have {n_cells:,} cells; use a coarser resolution or fewer "
+                                   "orientations", n_cells=grid.n_cells)
     return grid
 
 
@@ -104,8 +106,9 @@ def _warn_if_remote(scheduler: str) -> None:
         host = ""
     if scheduler.startswith("inproc://") or host in LOCAL_HOSTS or host.startswith("127."):
         return
-    warnings.warn(f"the Dask scheduler {scheduler} is not on this machine: the robot, the map's settings and "
-                  "its results travel over the network to it (use tls:// for an encrypted link)", stacklevel=4)
+    warnings.warn(warning_of("the Dask scheduler {scheduler} is not on this machine: the robot, the map's settings "
+                             "and its results travel over the network to it (use tls:// for an encrypted link)",
+                             scheduler=scheduler), stacklevel=4)
 
 
 def _client(scheduler: Any) -> tuple[Any, Callable[[], None]]:
@@ -114,16 +117,17 @@ def _client(scheduler: Any) -> tuple[Any, Callable[[], None]]:
     if isinstance(scheduler, Client):
         return scheduler, lambda: None
     if not isinstance(scheduler, str) or "://" not in scheduler:
-        raise ReachabilityError(f"scheduler must be a Dask scheduler address such as tcp://host:8786, "
-                                f"'local', or a distributed.Client; got {scheduler!r}")
+        raise ReachabilityError.of("scheduler must be a Dask scheduler address such as tcp://host:8786, 'local', or a "
+                                   "distributed.Client; got {scheduler!r}", scheduler=scheduler)
     _warn_if_remote(scheduler)
     try:
         client = Client(scheduler, timeout=CONNECT_TIMEOUT)
     except (OSError, TimeoutError) as exc:
-        raise ReachabilityError(f"cannot reach the Dask scheduler at {scheduler}: {exc}") from None
+        raise ReachabilityError.of("cannot reach the Dask scheduler at {scheduler}: {exc}", scheduler=scheduler,
+                                   exc=exc) from None
     except Exception as exc:     # an address Dask cannot parse or a protocol it lacks (inproc://, tls:// without certs)
-        raise ReachabilityError(f"cannot use the Dask scheduler address {scheduler!r}: "
-                                f"{type(exc).__name__}: {str(exc)[:200]}") from None
+        raise ReachabilityError.of("cannot use the Dask scheduler address {scheduler!r}: {type}: {exc}",
+                                   scheduler=scheduler, type=type(exc).__name__, exc=str(exc)[:200]) from None
     return client, client.close
 
 
@@ -186,18 +190,20 @@ class _Store:
                 g: Any = zarr.open_group(str(p), mode="r+")
                 old: dict[str, Any] = dict(g.attrs)
             except Exception as exc:
-                raise ReachabilityError(f"{path!r} exists and is not a Zarr reachability map ({type(exc).__name__}); "
-                                        "choose another path") from None
+                raise ReachabilityError.of("{path!r} exists and is not a Zarr reachability map ({type}); choose "
+                                           "another path", path=path, type=type(exc).__name__) from None
             if old.get("format") in OLD_FORMATS:
-                raise ReachabilityError(f"{path!r} holds a map of an older armkit format; use --overwrite "
-                                        "(overwrite=True) to build it again")
+                raise ReachabilityError.of("{path!r} holds a map of an older armkit format; use --overwrite "
+                                           "(overwrite=True) to build it again", path=path)
             if old.get("format") != FORMAT:
-                raise ReachabilityError(f"{path!r} exists and is not an armkit reachability map; choose another path")
+                raise ReachabilityError.of("{path!r} exists and is not an armkit reachability map; choose another path",
+                                           path=path)
             keys = ("robot_toml", "grid", "parameters")
             diff = [k for k in keys if _canon(old.get(k)) != _canon(attrs[k])]
             if diff:
-                raise ReachabilityError(f"{path!r} holds a map built with other settings ({', '.join(diff)} "
-                                        "differ); use another path, or overwrite=True (--overwrite) to start again")
+                raise ReachabilityError.of("{path!r} holds a map built with other settings ({names} differ); use "
+                                           "another path, or overwrite=True (--overwrite) to start again", path=path,
+                                           names=', '.join(diff))
             if old.get("status") != "complete":
                 clean_partial(p)    # chunk files a killed build left half-written
             self.group = g
@@ -231,8 +237,9 @@ class _Store:
         except Exception:      # a damaged partial build: missing arrays or chunks, bad hex, wrong sizes
             ok = False
         if not ok:
-            raise ReachabilityError(f"the unfinished build in {self.path!r} is damaged (its partial results do not "
-                                    "match their checksums); use --overwrite (overwrite=True) to start again")
+            raise ReachabilityError.of("the unfinished build in {path!r} is damaged (its partial results do not match "
+                                       "their checksums); use --overwrite (overwrite=True) to start again",
+                                       path=self.path)
         counts[:] = c.reshape(-1)
         manip[:] = m.reshape(-1)
         done[:] = d
@@ -349,15 +356,16 @@ def reachability(robot: Robot | str, resolution: float | None = None, orientatio
         from ..model import load
         robot = load(robot)
     if not isinstance(robot, Robot):
-        raise ReachabilityError(f"robot must be an armkit.Robot or a robot name, got {type(robot).__name__}")
+        raise ReachabilityError.of("robot must be an armkit.Robot or a robot name, got {type}",
+                                   type=type(robot).__name__)
     if method not in ("fk", "ik"):
-        raise ReachabilityError(f"method must be 'fk' or 'ik', got {method!r}")
+        raise ReachabilityError.of("method must be 'fk' or 'ik', got {method!r}", method=method)
     scene = check_scene(robot, scene)
     if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
-        raise ReachabilityError(f"seed must be a non-negative integer, got {seed!r}")
+        raise ReachabilityError.of("seed must be a non-negative integer, got {seed!r}", seed=seed)
     grid = _make_grid(robot, resolution, orientations, rolls)
     if isinstance(coverage, bool) or not isinstance(coverage, (int, float)) or not 0 <= coverage <= 1:
-        raise ReachabilityError(f"coverage must be a number in [0, 1], got {coverage!r}")
+        raise ReachabilityError.of("coverage must be a number in [0, 1], got {coverage!r}", coverage=coverage)
     bs, total, sizes = _blocks(method, grid, samples, block_size)
     _check_build_memory(robot, grid, method, bs)
     n_blocks = len(sizes)
@@ -372,7 +380,8 @@ def reachability(robot: Robot | str, resolution: float | None = None, orientatio
     try:
         toml = robot_to_toml(robot)
     except Exception as exc:  # a robot the TOML writer cannot express yet
-        raise ReachabilityError(f"robot {robot.name!r} cannot be written to a robot file ({exc})") from None
+        raise ReachabilityError.of("robot {robot!r} cannot be written to a robot file ({exc})", robot=robot.name,
+                                   exc=exc) from None
     _check_round_trip(robot, toml)
     attrs = {"format": FORMAT, "robot": robot.name, "robot_toml": toml, "robot_sha256": robot_sha256(toml),
              "grid": gattrs, "parameters": params, "settings_sha256": settings_sha256(gattrs, params)}
@@ -430,8 +439,9 @@ def _blocks(method: str, grid: Grid, samples: int | None, block_size: int | None
         bs = FK_BLOCK if block_size is None else _positive_int(block_size, "block_size")
         total = default_samples(grid) if samples is None else _positive_int(samples, "samples")
         if math.ceil(total / bs) > MAX_BLOCKS:
-            raise ReachabilityError(f"{total:,} samples in blocks of {bs:,} make {math.ceil(total / bs):,} units of "
-                                    f"work; at most {MAX_BLOCKS:,} (use fewer samples or a larger block_size)")
+            raise ReachabilityError.of("{total:,} samples in blocks of {bs:,} make {units:,} units of work; at most "
+                                       "{limit:,} (use fewer samples or a larger block_size)", total=total, bs=bs,
+                                       units=math.ceil(total / bs), limit=MAX_BLOCKS)
         return bs, total, [min(bs, total - b * bs) for b in range(int(math.ceil(total / bs)))]
     bs = 1 if block_size is None else _positive_int(block_size, "block_size")
     return bs, grid.n_cells, [bs] * int(math.ceil(grid.dims[0] / bs))   # ik: blocks of x-slabs
@@ -498,8 +508,8 @@ def _check_round_trip(robot: Robot, toml: str) -> None:
     back = robot_from_toml(toml, robot.name)
     q = robot.random_q(16, rng=7)
     if back.n != robot.n or not np.allclose(fk(back, q), fk(robot, q), atol=1e-9 * max(1.0, robot.reach)):
-        raise ReachabilityError(f"robot {robot.name!r} does not survive being written to a robot file "
-                                "(its FK changes); it cannot be stored in a map")
+        raise ReachabilityError.of("robot {robot!r} does not survive being written to a robot file (its FK changes); "
+                                   "it cannot be stored in a map", robot=robot.name)
 
 
 def _digest(text: str) -> str:

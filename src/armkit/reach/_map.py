@@ -250,11 +250,11 @@ class ReachabilityMap:
         try:
             p = np.asarray(points, dtype=float)
         except (TypeError, ValueError):
-            raise ShapeError(f"points must be numeric, got {points!r}") from None
+            raise ShapeError.of("points must be numeric, got {points!r}", points=points) from None
         if p.ndim < 1 or p.shape[-1] != 3:
-            raise ShapeError(f"points must have shape (..., 3), got {p.shape}")
+            raise ShapeError.of("points must have shape (..., 3), got {shape}", shape=p.shape)
         if not np.all(np.isfinite(p)):
-            raise ShapeError("points contain NaN or infinite values")
+            raise ShapeError.of("points contain NaN or infinite values")
         lead = p.shape[:-1]
         T = np.zeros((int(np.prod(lead, dtype=np.int64)), 4, 4))
         T[:, :3, :3] = np.eye(3)
@@ -294,7 +294,8 @@ class ReachabilityMap:
         try:
             g: Any = zarr.open_group(p, mode="r")
         except Exception as exc:   # zarr raises several types for a damaged store
-            raise MapFileError(f"{p!r} is not a readable Zarr store ({type(exc).__name__})") from None
+            raise MapFileError.of("{path!r} is not a readable Zarr store ({type})", path=p,
+                                  type=type(exc).__name__) from None
         arrays = load_arrays(g, attrs, grid, p)   # presence, dtype, shape, checksum
         params = {**dict(attrs["parameters"]), "armkit_version": attrs.get("armkit_version")}
         return cls(robot, grid, arrays["hits"], arrays["manipulability"], params, arrays["counts"], p)

@@ -26,7 +26,7 @@ def clearance_function() -> Callable[..., Any]:
         mod = importlib.import_module("armkit.collision")
         fn = getattr(mod, "clearance")
     except (ImportError, AttributeError):
-        raise SceneNotSupportedError(
+        raise SceneNotSupportedError.of(
             "scene= needs collision checking (armkit.collision.clearance), which this build of armkit "
             "does not have; build the map without a scene (scene=None)") from None
     return fn  # type: ignore[no-any-return]
@@ -50,8 +50,8 @@ def check_scene(robot: Robot, scene: Any) -> Any:
     except ArmkitError:
         raise
     except (TypeError, ValueError, AttributeError) as exc:
-        raise SceneError(f"scene must be an armkit.Scene, a sequence of shapes, a scene file or 'robot'; got "
-                          f"{type(scene).__name__} ({exc})") from None
+        raise SceneError.of("scene must be an armkit.Scene, a sequence of shapes, a scene file or 'robot'; got {type} "
+                            "({exc})", type=type(scene).__name__, exc=exc) from None
 
 
 def collision_free(robot: Robot, q: NDArray[np.float64], scene: Any) -> NDArray[np.bool_]:

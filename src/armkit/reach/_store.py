@@ -30,7 +30,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from .._limits import check_memory
-from ..errors import ArmkitError, MapFileError, ReachabilityError
+from ..errors import ArmkitError, MapFileError, ReachabilityError, warning_of
 from ..model.robot import Robot
 from ._grid import Grid
 
@@ -88,28 +88,30 @@ def read_attrs(path: str | os.PathLike[str], *, complete: bool = True) -> dict[s
     p = Path(path)
     shown = os.fspath(path)
     if not p.exists():
-        raise MapFileError(f"no reachability map at {shown!r}")
+        raise MapFileError.of("no reachability map at {shown!r}", shown=shown)
     if not p.is_dir():
-        raise MapFileError(f"{shown!r} is a file; a reachability map is a folder (a Zarr store)")
+        raise MapFileError.of("{shown!r} is a file; a reachability map is a folder (a Zarr store)", shown=shown)
     doc = _group_json(p)
     if doc is None:
-        raise MapFileError(f"{shown!r} is not a Zarr reachability map (no readable zarr.json group metadata)")
+        raise MapFileError.of("{shown!r} is not a Zarr reachability map (no readable zarr.json group metadata)",
+                              shown=shown)
     attrs: dict[str, Any] = doc["attributes"]
     fmt = attrs.get("format")
     if fmt in OLD_FORMATS:
-        raise MapFileError(f"{shown!r} was written by an older armkit (format {fmt!r}, without checksums); "
-                           "build it again with armkit reach build ... --overwrite")
+        raise MapFileError.of("{shown!r} was written by an older armkit (format {fmt!r}, without checksums); build it "
+                              "again with armkit reach build ... --overwrite", shown=shown, fmt=fmt)
     if fmt != FORMAT:
-        raise MapFileError(f"{shown!r} is not an armkit reachability map (format {str(fmt)[:60]!r}, "
-                           f"expected {FORMAT!r})")
+        raise MapFileError.of("{shown!r} is not an armkit reachability map (format {fmt!r}, expected {expected!r})",
+                              shown=shown, fmt=str(fmt)[:60], expected=FORMAT)
     if complete and attrs.get("status") != "complete":
-        raise MapFileError(f"{shown!r} holds an unfinished build; run the same build again to resume it")
+        raise MapFileError.of("{shown!r} holds an unfinished build; run the same build again to resume it", shown=shown)
     for key, kind in (("robot", str), ("robot_toml", str), ("robot_sha256", str), ("grid", dict),
                       ("parameters", dict), ("settings_sha256", str)):
         if not isinstance(attrs.get(key), kind):
-            raise MapFileError(f"{shown!r}: attribute {key!r} is missing or not a {kind.__name__}")
+            raise MapFileError.of("{shown!r}: attribute {key!r} is missing or not a {kind}", shown=shown, key=key,
+                                  kind=kind.__name__)
     if complete and not isinstance(attrs.get("checksums"), dict):
-        raise MapFileError(f"{shown!r}: attribute 'checksums' is missing")
+        raise MapFileError.of("{shown!r}: attribute 'checksums' is missing", shown=shown)
     return attrs
 
 
@@ -119,25 +121,26 @@ def robot_of(attrs: dict[str, Any], path: str) -> Robot:
 
     text = attrs["robot_toml"]
     if len(text) > MAX_FILE_BYTES:
-        raise MapFileError(f"{path!r}: the stored robot file has {len(text):,} characters (at most {MAX_FILE_BYTES:,})")
+        raise MapFileError.of("{path!r}: the stored robot file has {n:,} characters (at most {limit:,})",
+                              path=path, n=len(text), limit=MAX_FILE_BYTES)
     if robot_sha256(text) != attrs["robot_sha256"]:
-        raise MapFileError(f"{path!r}: the stored robot does not match its fingerprint (robot_sha256); "
-                           "the store was edited or damaged")
+        raise MapFileError.of("{path!r}: the stored robot does not match its fingerprint (robot_sha256); the store was "
+                              "edited or damaged", path=path)
     try:
         robot = _parse(text, f"{path} (stored robot)")
     except ArmkitError as exc:
-        raise MapFileError(f"{path!r}: the stored robot cannot be read: {exc}") from None
+        raise MapFileError.of("{path!r}: the stored robot cannot be read: {exc}", path=path, exc=exc) from None
     if robot.name != attrs["robot"]:
-        raise MapFileError(f"{path!r}: the store names robot {attrs['robot'][:60]!r} but holds robot "
-                           f"{robot.name[:60]!r}")
+        raise MapFileError.of("{path!r}: the store names robot {stored!r} but holds robot {robot!r}", path=path,
+                              stored=attrs["robot"][:60], robot=robot.name[:60])
     return robot
 
 
 def grid_of(attrs: dict[str, Any], path: str) -> Grid:
     """The stored grid, checked (fingerprint, types, a rigid frame), and its memory against the budget."""
     if settings_sha256(attrs["grid"], attrs["parameters"]) != attrs["settings_sha256"]:
-        raise MapFileError(f"{path!r}: the stored grid or parameters do not match their fingerprint "
-                           "(settings_sha256); the store was edited or damaged")
+        raise MapFileError.of("{path!r}: the stored grid or parameters do not match their fingerprint "
+                              "(settings_sha256); the store was edited or damaged", path=path)
     a = attrs["grid"]
 
     def numbers(v: Any) -> bool:
@@ -145,7 +148,7 @@ def grid_of(attrs: dict[str, Any], path: str) -> Grid:
                                             (isinstance(v, list) and all(numbers(x) for x in v)))
     if not all(numbers(a.get(k)) for k in ("T_world_A", "lo", "resolution", "dims", "directions", "rolls")) \
             or not isinstance(a.get("symmetric"), bool):
-        raise MapFileError(f"{path!r}: the stored grid is not valid")
+        raise MapFileError.of("{path!r}: the stored grid is not valid", path=path)
     try:
         grid = Grid.from_attrs(attrs["grid"])
         ok = (grid.T_world_A.shape == (4, 4) and bool(np.all(np.isfinite(grid.T_world_A)))
@@ -160,7 +163,7 @@ def grid_of(attrs: dict[str, Any], path: str) -> Grid:
     except (KeyError, TypeError, ValueError, OverflowError):     # NotRigidError and ShapeError are ValueErrors
         ok = False
     if not ok:
-        raise MapFileError(f"{path!r}: the stored grid is not valid")
+        raise MapFileError.of("{path!r}: the stored grid is not valid", path=path)
     cells = float(np.prod([float(d) for d in grid.shape]))
     voxels = float(np.prod([float(d) for d in grid.dims]))
     # counts + hits + the flat copy of hits, and the per-voxel manipulability, index and boundary work
@@ -177,18 +180,20 @@ def load_arrays(group: Any, attrs: dict[str, Any], grid: Grid, path: str) -> dic
         try:
             arr = group[name]
             if tuple(arr.shape) != tuple(shape) or np.dtype(arr.dtype) != np.dtype(dtype):
-                raise MapFileError(f"{path!r}: array {name!r} has shape {tuple(arr.shape)} and dtype {arr.dtype}; "
-                                   f"the grid needs {tuple(shape)} and {np.dtype(dtype)}")
+                raise MapFileError.of("{path!r}: array {name!r} has shape {shape} and dtype {dtype}; the grid needs "
+                                      "{needs} and {needs_dtype}", path=path, name=name, shape=tuple(arr.shape),
+                                      dtype=arr.dtype, needs=tuple(shape), needs_dtype=np.dtype(dtype))
             data = np.asarray(arr[...])
         except MapFileError:
             raise
         except KeyError:
-            raise MapFileError(f"{path!r}: array {name!r} is missing") from None
+            raise MapFileError.of("{path!r}: array {name!r} is missing", path=path, name=name) from None
         except Exception as exc:      # zarr and its codecs raise many types for damaged chunks
-            raise MapFileError(f"{path!r}: array {name!r} cannot be read ({type(exc).__name__})") from None
+            raise MapFileError.of("{path!r}: array {name!r} cannot be read ({type})", path=path, name=name,
+                                  type=type(exc).__name__) from None
         if checksum(data) != sums.get(name):
-            raise MapFileError(f"{path!r}: array {name!r} does not match its checksum: chunks are missing or "
-                               "damaged; build the map again")
+            raise MapFileError.of("{path!r}: array {name!r} does not match its checksum: chunks are missing or "
+                                  "damaged; build the map again", path=path, name=name)
         out[name] = data
     return out
 
@@ -214,24 +219,26 @@ def check_overwrite(path: str | os.PathLike[str]) -> None:
     if not os.path.lexists(p):
         return
     if p.is_symlink():
-        raise ReachabilityError(f"will not overwrite {shown!r}: it is a symbolic link; remove it yourself")
+        raise ReachabilityError.of("will not overwrite {shown!r}: it is a symbolic link; remove it yourself",
+                                   shown=shown)
     if not p.is_dir():
-        raise ReachabilityError(f"will not overwrite {shown!r}: it is a file, not a reachability map")
+        raise ReachabilityError.of("will not overwrite {shown!r}: it is a file, not a reachability map", shown=shown)
     real = p.resolve()
     here = Path.cwd().resolve()
     special = {Path("/"), Path.home().resolve()}
     if p.name in ("", ".", "..") or real in special or real == here or real in here.parents:
-        raise ReachabilityError(f"will not overwrite {shown!r}: it is the current, home or root folder "
-                                "or one above them; give the map's own folder, e.g. map.zarr")
+        raise ReachabilityError.of("will not overwrite {shown!r}: it is the current, home or root folder or one above "
+                                   "them; give the map's own folder, e.g. map.zarr", shown=shown)
     doc = _group_json(p)
     fmt = None if doc is None else doc["attributes"].get("format")
     if not (isinstance(fmt, str) and fmt.startswith("armkit.reachability/")):
-        raise ReachabilityError(f"will not overwrite {shown!r}: it is not an armkit reachability map "
-                                "(no armkit format marker); delete it yourself or choose another path")
+        raise ReachabilityError.of("will not overwrite {shown!r}: it is not an armkit reachability map (no armkit "
+                                   "format marker); delete it yourself or choose another path", shown=shown)
     stranger = _store_entries_ok(p)
     if stranger is not None:
-        raise ReachabilityError(f"will not overwrite {shown!r}: it holds {stranger[:80]!r}, which is not part of "
-                                "a reachability map; move it away or choose another path")
+        raise ReachabilityError.of("will not overwrite {shown!r}: it holds {stranger!r}, which is not part of a "
+                                   "reachability map; move it away or choose another path", shown=shown,
+                                   stranger=stranger[:80])
 
 
 def clean_partial(path: str | os.PathLike[str]) -> int:
@@ -245,6 +252,6 @@ def clean_partial(path: str | os.PathLike[str]) -> int:
         except OSError:
             pass
     if removed:
-        warnings.warn(f"removed {removed} unfinished chunk file(s) left in {os.fspath(path)!r} by an "
-                      "interrupted write", stacklevel=3)
+        warnings.warn(warning_of("removed {n} unfinished chunk file(s) left in {path!r} by an interrupted write",
+                                 n=removed, path=os.fspath(path)), stacklevel=3)
     return removed

@@ -32,16 +32,18 @@ every value of joint ``i + 1``.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Sequence, Union
+from typing import Any, Sequence, Union
 
 import numpy as np
 from numpy.typing import NDArray
 
+from ..._text import Fielded
+from ...errors import ArgumentError
 from ...model.robot import Robot
 from .poe import POE, poe
 from .subproblems import rotm
 
-__all__ = ["ChainClass", "classify", "describe", "parallel", "intersect", "axis_points", "DEFAULT_TOL"]
+__all__ = ["ChainClass", "classify", "describe", "described", "parallel", "intersect", "axis_points", "DEFAULT_TOL"]
 
 Array = NDArray[np.float64]
 
@@ -494,7 +496,7 @@ def classify(robot_or_poe: Union[Robot, POE], tol: float = DEFAULT_TOL) -> Chain
     """
     form = robot_or_poe if isinstance(robot_or_poe, POE) else poe(robot_or_poe)
     if not (tol > 0 and np.isfinite(tol)):
-        raise ValueError(f"tol must be a positive number, got {tol!r}")
+        raise ArgumentError.of("tol must be a positive number, got {tol!r}", tol=tol)
     return _classify_poe(np.asarray(form.H), np.asarray(form.P), np.asarray(form.prismatic), float(tol))
 
 
@@ -578,3 +580,28 @@ def describe(cls: ChainClass, tr=None) -> str:
     if cls.near > EXACT:
         text += " (" + t("relations snapped by up to {dev}: polish the solutions", dev=f"{cls.near:.1e}") + ")"
     return text
+
+
+def described(cls: ChainClass) -> Fielded:
+    """:func:`describe`'s line as a sentence that keeps its parts' templates and fields, so that an error holding it
+    is shown in the user's language (:func:`armkit.locale.library.localize` renders each phrase of :data:`TEXTS`
+    from the catalogue; the glue between them, ``6R: ``, ``, ``, ``; ``, is punctuation). Its English is
+    ``describe(cls)``.
+
+    >>> import armkit
+    >>> line = described(classify(armkit.load("ur5")))
+    >>> line == describe(classify(armkit.load("ur5"))), line.fields["p0"].template
+    (True, 'axes {axes} meet')
+    """
+    parts: dict[str, Fielded] = {}
+
+    def part(text: str, /, **fields: Any) -> str:
+        key = f"p{len(parts)}"
+        parts[key] = Fielded.of(text, **fields)
+        return "\x00" + key + "\x00"
+
+    line = describe(cls, part)
+    template = "".join(("{" + piece + "}") if i % 2 else piece.replace("{", "{{").replace("}", "}}")
+                       for i, piece in enumerate(line.split("\x00")))
+    fields: dict[str, Any] = dict(parts)
+    return Fielded.of(template, **fields)

@@ -458,57 +458,61 @@ def resolve(robot: Robot, fixed: Any, sweep: Any, position_only: bool) -> Locked
     """
     from ..._checks import short_repr
     from ...errors import IKInputError
-    from .classify import classify, describe
+    from .classify import classify, described
 
     if fixed is not None and not isinstance(fixed, Mapping):
-        raise IKInputError(f"fixed must be a dict of joint name -> value (rad, or a length for a prismatic joint), "
-                           f"e.g. {{{robot.joint_names[0]!r}: 0.5}}; got {short_repr(fixed)}")
+        raise IKInputError.of("fixed must be a dict of joint name -> value (rad, or a length for a prismatic joint), "
+                              "e.g. {{{joint!r}: 0.5}}; got {got}", joint=robot.joint_names[0],
+                              got=short_repr(fixed))
     if fixed is not None and len(fixed) == 0:
         fixed = None
     if sweep is not None:
         if isinstance(sweep, bool) or not isinstance(sweep, (int, np.integer)) or not 1 <= sweep <= MAX_SWEEP:
-            raise IKInputError(f"sweep must be an integer between 1 and {MAX_SWEEP:,} (values of the swept joint), "
-                               f"got {short_repr(sweep)}")
+            raise IKInputError.of("sweep must be an integer between 1 and {MAX_SWEEP:,} (values of the swept joint), "
+                                  "got {got}", MAX_SWEEP=MAX_SWEEP, got=short_repr(sweep))
         if fixed is not None:
-            raise IKInputError("give fixed= (hold joints at your values) or sweep= (the number of values of the "
-                               "swept joint), not both")
+            raise IKInputError.of("give fixed= (hold joints at your values) or sweep= (the number of values of the "
+                                  "swept joint), not both")
     if fixed is None and sweep is None and robot.n != 7:
         return None
     if position_only:
         what = "fixed=" if fixed is not None else "the sweep of a 7-joint arm"
-        raise IKInputError(f"{what} needs a pose target (4, 4): the closed form of the joints left solves a full "
-                           "pose; for a position alone use armkit.ik (method='lm')")
+        raise IKInputError.of("{what} needs a pose target (4, 4): the closed form of the joints left solves a full "
+                              "pose; for a position alone use armkit.ik (method='lm')", what=what)
     if fixed is None:
         solver = sweep_solver(robot, DEFAULT_SWEEP if sweep is None else int(sweep))
         if solver is None:
             if sweep is None:
                 return None
             cls = classify(robot)
-            raise IKInputError(f"sweep= is for 7-joint arms with a joint whose locking leaves a closed form; robot "
-                               f"{robot.name!r} is {describe(cls)}. Hold joints with fixed= instead, or use "
-                               "armkit.ik (method='lm')")
+            raise IKInputError.of("sweep= is for 7-joint arms with a joint whose locking leaves a closed form; robot "
+                                  "{robot!r} is {chain}. Hold joints with fixed= instead, or use armkit.ik "
+                                  "(method='lm')", robot=robot.name, chain=described(cls))
         return solver
     held: dict[int, float] = {}
     for name, value in fixed.items():
         if not isinstance(name, str) or name not in robot.joint_names:
-            raise IKInputError(f"fixed: no joint named {short_repr(name)} in robot {robot.name!r}; the joints are "
-                               + ", ".join(robot.joint_names))
+            raise IKInputError.of("fixed: no joint named {name} in robot {robot!r}; the joints are {names}",
+                                  name=short_repr(name), robot=robot.name, names=", ".join(robot.joint_names))
         try:
             v = float(value)
         except (TypeError, ValueError):
-            raise IKInputError(f"fixed: the value of {name!r} must be a number, got {short_repr(value)}") from None
+            raise IKInputError.of("fixed: the value of {name!r} must be a number, got {got}", name=name,
+                                  got=short_repr(value)) from None
         if isinstance(value, bool) or np.ndim(value) != 0 or not math.isfinite(v):
-            raise IKInputError(f"fixed: the value of {name!r} must be a finite number, got {short_repr(value)}")
+            raise IKInputError.of("fixed: the value of {name!r} must be a finite number, got {got}", name=name,
+                                  got=short_repr(value))
         held[robot.joint_names.index(name)] = v
     if len(held) >= robot.n:
-        raise IKInputError(f"fixed holds every joint of robot {robot.name!r}; leave some free (use armkit.fk to "
-                           "see where the held values put the tool)")
+        raise IKInputError.of("fixed holds every joint of robot {robot!r}; leave some free (use armkit.fk to see where "
+                              "the held values put the tool)", robot=robot.name)
     try:
         return held_solver(robot, held)
     except LookupError as exc:
         cls = exc.args[0]
         left = robot.n - len(held)
         need = " (the closed forms here are for 6 joints)" if left != 6 else ""
-        raise IKInputError(f"holding {', '.join(robot.joint_names[k] for k in sorted(held))} leaves a {left}-joint "
-                           f"chain{need} without a closed form in armkit: {describe(cls)}; use armkit.ik "
-                           "(method='lm')") from None
+        raise IKInputError.of("holding {names} leaves a {left}-joint chain{need} without a closed form in armkit: "
+                              "{chain}; use armkit.ik (method='lm')",
+                              names=', '.join(robot.joint_names[k] for k in sorted(held)), left=left, need=need,
+                              chain=described(cls)) from None

@@ -162,14 +162,15 @@ class View:
 
         self.robot = robot if isinstance(robot, Robot) else load(robot)
         if lang is not None and lang not in LANGUAGES:
-            raise ViewError(f"lang must be one of {', '.join(LANGUAGES)}, got {lang!r}")
+            raise ViewError.of("lang must be one of {names}, got {lang!r}", names=', '.join(LANGUAGES), lang=lang)
         self.lang = lang or default_language()
         if port is None:
             port = free_port(host)
         elif not isinstance(port, (int, np.integer)) or isinstance(port, bool) or not 1 <= int(port) <= 65535:
-            raise ViewError(f"port must be an integer in 1..65535, got {port!r}")
+            raise ViewError.of("port must be an integer in 1..65535, got {port!r}", port=port)
         elif not _port_free(host, int(port)):
-            raise ViewError(f"port {port} on {host} is in use; choose another port, or leave it out for a free one")
+            raise ViewError.of("port {port} on {host} is in use; choose another port, or leave it out for a free one",
+                               port=port, host=host)
         r = self.robot
         # a bad scene file raises SceneError before the server starts; scene=False: none drawn, none checked
         self.scene = Scene([], r.unit) if scene is False else as_scene(r, scene)
@@ -204,12 +205,13 @@ class View:
             with _quiet():          # viser prints its own banner (in Jupyter as a display); we print the URL once
                 self.server: Any = viser.ViserServer(host=host, port=int(port), verbose=False)
         except OSError as exc:
-            raise ViewError(f"cannot serve on {host}:{port}: {exc}") from exc
+            raise ViewError.of("cannot serve on {host}:{port}: {exc}", host=host, port=port, exc=exc) from exc
         actual = int(self.server.get_port())
         if actual != int(port):
             with contextlib.redirect_stdout(io.StringIO()):       # viser's "Server stopped" line
                 self.server.stop()
-            raise ViewError(f"port {port} on {host} is in use; choose another port, or leave it out for a free one")
+            raise ViewError.of("port {port} on {host} is in use; choose another port, or leave it out for a free one",
+                               port=port, host=host)
         try:
             self._start(r, host, actual)
         except BaseException:     # a failure after the server started must not leave it running (nor print later)
@@ -275,7 +277,7 @@ class View:
         The page's *language* list calls this. Players (tracking, trajectories) stop.
         """
         if lang not in LANGUAGES:
-            raise ViewError(f"lang must be one of {', '.join(LANGUAGES)}, got {lang!r}")
+            raise ViewError.of("lang must be one of {names}, got {lang!r}", names=', '.join(LANGUAGES), lang=lang)
         if lang == self.lang:
             return
         self.stop_player()
@@ -347,10 +349,11 @@ class View:
         r = self.robot
         arr = r.check_q(q)
         if arr.shape != (r.n,):
-            raise ShapeError(f"q must have shape ({r.n},) for robot {r.name!r}, got {arr.shape}")
+            raise ShapeError.of("q must have shape ({n},) for robot {robot!r}, got {shape}", n=r.n, robot=r.name,
+                                shape=arr.shape)
         bad = r.limit_violations(arr)
         if bad:
-            raise JointLimitError("joint limit: " + "; ".join(bad))
+            raise JointLimitError.of("joint limit: {details}", details="; ".join(bad))
         return arr.astype(float).copy()
 
     @property
@@ -418,11 +421,12 @@ class View:
         try:
             t = np.asarray(T, dtype=float)
         except (TypeError, ValueError) as exc:
-            raise ShapeError(f"target must be a 4x4 pose or a 3-vector, got {T!r}") from exc
+            raise ShapeError.of("target must be a 4x4 pose or a 3-vector, got {got!r}", got=T) from exc
         if t.shape not in ((4, 4), (3,)):
-            raise ShapeError(f"target must be a 4x4 pose or a 3-vector (position only), got shape {t.shape}")
+            raise ShapeError.of("target must be a 4x4 pose or a 3-vector (position only), got shape {shape}",
+                                shape=t.shape)
         if not np.all(np.isfinite(t)):
-            raise ShapeError("target contains NaN or infinite values")
+            raise ShapeError.of("target contains NaN or infinite values")
         return t.copy(), t.shape == (3,)
 
     def _solve(self, T: Array, position_only: bool, method: str) -> IKResult:
@@ -476,7 +480,8 @@ class View:
         """
         t, pos_only = self._target_array(T)
         if method is not None and method not in IK_METHODS:
-            raise ViewError(f"method must be one of {', '.join(IK_METHODS)}, got {method!r}")
+            raise ViewError.of("method must be one of {names}, got {method!r}", names=', '.join(IK_METHODS),
+                               method=method)
         self.stop_player()
         if method is not None:
             self.panels.set_method(method)
@@ -534,8 +539,11 @@ class View:
     def choose_branch(self, label: str) -> None:
         """Jump to the closed-form branch ``label`` of the current target (listed in ``branches``)."""
         if label not in self.branches:
-            raise ViewError(f"no branch {label!r} for this target; the branches are "
-                            + (", ".join(self.branches) or "none (no closed form)"))
+            if not self.branches:
+                raise ViewError.of("no branch {label!r} for this target; the branches are none (no closed form)",
+                                   label=label)
+            raise ViewError.of("no branch {label!r} for this target; the branches are {names}", label=label,
+                               names=", ".join(self.branches))
         self.stop_player()
         with self._lock:
             branches, every, t = dict(self.branches), self._every, self.target
@@ -632,7 +640,7 @@ class View:
 
         if isinstance(path, str):
             if not 1 <= int(frames) <= 100_000:
-                raise ViewError(f"frames must be between 1 and 100000, got {frames!r}")
+                raise ViewError.of("frames must be between 1 and 100000, got {frames!r}", frames=frames)
             res = track(self.robot, path=path, method=method, frames=int(frames), seed=seed, q0=self.q)
             self.panels.play_track(res, fps=fps, play=play)
             return res
@@ -644,14 +652,16 @@ class View:
         else:
             Q = self.robot.check_q(path, "path")
             if Q.ndim != 2 or len(Q) < 1:
-                raise ShapeError(f"path must have shape (m, {self.robot.n}), got {Q.shape}")
+                raise ShapeError.of("path must have shape (m, {n}), got {shape}", n=self.robot.n, shape=Q.shape)
             bad = ~self.robot.within_limits(Q)
             if bad.any():
                 k = int(np.argmax(bad))
-                raise JointLimitError(f"path row {k}: joint limit: " + "; ".join(self.robot.limit_violations(Q[k])))
+                raise JointLimitError.of("path row {k}: joint limit: {details}", k=k,
+                                         details="; ".join(self.robot.limit_violations(Q[k])))
             t = np.arange(len(Q)) / float(fps) if times is None else np.asarray(times, dtype=float)
             if t.shape != (len(Q),) or not np.all(np.isfinite(t)) or np.any(np.diff(t) < 0):
-                raise ShapeError(f"times must be {len(Q)} increasing finite numbers, got shape {t.shape}")
+                raise ShapeError.of("times must be {m} increasing finite numbers, got shape {shape}", m=len(Q),
+                                    shape=t.shape)
             z = np.zeros_like(Q)
             traj = Trajectory(t=t - t[0], q=Q, qd=z, qdd=z, label="joint path")
         self.panels.play_trajectory(traj, play=play)
@@ -694,7 +704,8 @@ class View:
         if client is None:
             clients = list(self.server.get_clients().values())
             if not clients:
-                raise ViewError(f"no browser shows the view: open {self.url} first, then take the screenshot")
+                raise ViewError.of("no browser shows the view: open {url} first, then take the screenshot",
+                                   url=self.url)
             client = clients[0]
         return self.write_png(self.screenshot_png(client, width, height), path)
 
