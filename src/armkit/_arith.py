@@ -20,13 +20,15 @@ Grammar::
 >>> evaluate("__import__('os')")
 Traceback (most recent call last):
 ...
-ValueError: unexpected '_' at position 1
+armkit.errors.ArgumentError: unexpected '_' at position 1
 """
 
 from __future__ import annotations
 
 import math
 import re
+
+from .errors import ArgumentError
 
 __all__ = ["evaluate", "looks_arithmetic", "MAX_LENGTH", "MAX_DEPTH"]
 
@@ -51,7 +53,7 @@ def _tokens(text: str) -> list[tuple[str, object, int]]:
         m = _TOKEN.match(text, pos)
         if not m:
             bad = text[pos:].lstrip()
-            raise ValueError(f"unexpected {bad[0]!r} at position {len(text) - len(bad) + 1}")
+            raise ArgumentError.of("unexpected {char!r} at position {pos}", char=bad[0], pos=len(text) - len(bad) + 1)
         if m.group(1):
             out.append(("num", float(m.group(1)), m.start(1)))
         elif m.group(2):
@@ -63,12 +65,13 @@ def _tokens(text: str) -> list[tuple[str, object, int]]:
 
 
 def evaluate(text: str) -> float:
-    """The value of ``text`` in the grammar above; ``ValueError`` with a short reason otherwise."""
+    """The value of ``text`` in the grammar above; otherwise :class:`~armkit.errors.ArgumentError` (a ``ValueError``)
+    with a short reason, kept as its template and fields."""
     if len(text) > MAX_LENGTH:
-        raise ValueError(f"expression longer than {MAX_LENGTH} characters")
+        raise ArgumentError.of("expression longer than {limit} characters", limit=MAX_LENGTH)
     toks = _tokens(text)
     if not toks:
-        raise ValueError("empty expression")
+        raise ArgumentError.of("empty expression")
     i = 0
 
     def peek() -> str:
@@ -93,13 +96,13 @@ def evaluate(text: str) -> float:
             op = take()[0]
             w = factor(depth)
             if op == "/" and w == 0:
-                raise ValueError("division by zero")
+                raise ArgumentError.of("division by zero")
             v = v * w if op == "*" else v / w
         return v
 
     def factor(depth: int) -> float:
         if depth > MAX_DEPTH:
-            raise ValueError(f"more than {MAX_DEPTH} nested levels")
+            raise ArgumentError.of("more than {limit} nested levels", limit=MAX_DEPTH)
         kind = peek()
         if kind in ("+", "-"):
             take()
@@ -111,14 +114,15 @@ def evaluate(text: str) -> float:
             take()
             v = expr(depth + 1)
             if peek() != ")":
-                raise ValueError("missing ')'")
+                raise ArgumentError.of("missing ')'")
             take()
             return v
-        raise ValueError("missing a number at the end" if kind == "end" else f"unexpected {kind!r}")
+        raise ArgumentError.of("missing a number at the end" if kind == "end" else "unexpected {kind!r}", kind=kind)
 
     value = expr(0)
     if i != len(toks):
-        raise ValueError(f"unexpected {toks[i][0] if toks[i][0] != 'num' else 'number'!r} at position {toks[i][2] + 1}")
+        raise ArgumentError.of("unexpected {char!r} at position {pos}", char=toks[i][0] if toks[i][0] != "num" else "number",
+                               pos=toks[i][2] + 1)
     if not math.isfinite(value):
-        raise ValueError("the result is not a finite number")
+        raise ArgumentError.of("the result is not a finite number")
     return value

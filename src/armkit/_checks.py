@@ -37,22 +37,24 @@ def real_array(x: Any, what: str) -> np.ndarray:
     """``x`` as a float64 array; ShapeError for complex, masked, non-numeric or too-large values."""
     if isinstance(x, np.ma.MaskedArray):
         if np.ma.is_masked(x):
-            raise ShapeError(f"{what} is a masked array with masked entries; fill them (x.filled(value)) "
-                             "or leave those entries out")
+            raise ShapeError.of("{what} is a masked array with masked entries; fill them (x.filled(value)) or leave "
+                                "those entries out", what=what)
         x = np.ma.getdata(x)
     if isinstance(x, str):
-        raise ShapeError(f"{what} must be numeric, got the string {short_repr(x)}")
+        raise ShapeError.of("{what} must be numeric, got the string {got}", what=what, got=short_repr(x))
     try:
         complex_ = np.iscomplexobj(x)
     except (TypeError, ValueError, OverflowError, RecursionError):
         complex_ = False
     if complex_:
-        raise ShapeError(f"{what} must be real numbers; got complex values (give the real part explicitly: x.real)")
+        raise ShapeError.of("{what} must be real numbers; got complex values (give the real part explicitly: x.real)",
+                            what=what)
     try:
         return np.asarray(x, dtype=float)
     except OverflowError:
-        raise ShapeError(f"{what} holds a number too large for a float (beyond 1.8e308)") from None
+        raise ShapeError.of("{what} holds a number too large for a float (beyond 1.8e308)", what=what) from None
     except RecursionError:
-        raise ShapeError(f"{what} is nested too deeply") from None
+        raise ShapeError.of("{what} is nested too deeply", what=what) from None
     except (TypeError, ValueError) as exc:
-        raise ShapeError(f"{what} must be numeric, got {short_repr(x)} ({exc})") from None
+        raise ShapeError.of("{what} must be numeric, got {got} ({reason})", what=what, got=short_repr(x),
+                            reason=str(exc)) from None

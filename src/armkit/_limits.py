@@ -17,6 +17,7 @@ from __future__ import annotations
 import os
 import re
 
+from ._text import Fielded
 from .errors import LimitError
 
 __all__ = ["DEFAULT_MEMORY_LIMIT", "memory_limit", "check_memory", "parse_size", "format_size", "CHUNK",
@@ -32,7 +33,8 @@ def parse_size(text: str) -> int:
     # stripped first: with \s* at both ends, "1" + 100,000 spaces + "x" backtracked quadratically (issue 24)
     m = re.fullmatch(r"(\d+(?:\.\d*)?)\s*([KMGT]?)i?B?", str(text).strip(), re.IGNORECASE)
     if not m:
-        raise LimitError(f"ARMKIT_MEMORY_LIMIT must be a size like 4G, 500M or 1000000 (bytes), got {text!r}")
+        raise LimitError.of("ARMKIT_MEMORY_LIMIT must be a size like 4G, 500M or 1000000 (bytes), got {text!r}",
+                            text=text)
     return int(float(m.group(1)) * _UNITS[m.group(2).upper()])
 
 
@@ -52,13 +54,19 @@ def memory_limit() -> int:
 
 
 def check_memory(nbytes: float, what: str, hint: str = "") -> None:
-    """Raise :class:`LimitError` when ``what`` needs more than the budget; ``hint`` says how to ask for less."""
+    """Raise :class:`LimitError` when ``what`` needs more than the budget; ``hint`` says how to ask for less.
+
+    ``what`` and ``hint`` are parts of the message: built by :meth:`armkit._text.Fielded.of`, they are shown in the
+    user's language too."""
     limit = memory_limit()
     if not nbytes <= limit:     # also catches NaN and inf
-        size = "an unbounded amount" if nbytes != nbytes or nbytes == float("inf") else f"about {format_size(nbytes)}"
-        raise LimitError(f"{what} would need {size} of memory, more than the limit of {format_size(limit)}"
-                         + (f"; {hint}" if hint else "")
-                         + "; or raise the limit with ARMKIT_MEMORY_LIMIT (e.g. ARMKIT_MEMORY_LIMIT=16G)")
+        size = (Fielded.of("an unbounded amount") if nbytes != nbytes or nbytes == float("inf") else
+                Fielded.of("about {size}", size=format_size(nbytes)))
+        raise LimitError.of("{what} would need {size} of memory, more than the limit of {limit}; {hint}; or raise the "
+                            "limit with ARMKIT_MEMORY_LIMIT (e.g. ARMKIT_MEMORY_LIMIT=16G)" if hint else
+                            "{what} would need {size} of memory, more than the limit of {limit}; or raise the limit "
+                            "with ARMKIT_MEMORY_LIMIT (e.g. ARMKIT_MEMORY_LIMIT=16G)",
+                            what=what, size=size, limit=format_size(limit), hint=hint)
 
 
 DEFAULT_MESH_LIMIT_MB = 200       # the largest mesh file read, in MB (ARMKIT_MESH_LIMIT_MB)
@@ -74,7 +82,7 @@ def mesh_limit() -> int:
     except ValueError:
         mb = float("nan")
     if not 0 < mb < 1e9:
-        raise LimitError(f"ARMKIT_MESH_LIMIT_MB must be a positive number of megabytes, got {text[:40]!r}")
+        raise LimitError.of("ARMKIT_MESH_LIMIT_MB must be a positive number of megabytes, got {text!r}", text=text[:40])
     return int(mb * 1024 ** 2)
 
 
@@ -89,6 +97,6 @@ def check_mesh_file(path: str | os.PathLike[str]) -> None:
     except (OSError, ValueError):
         return
     if size > limit:
-        raise LimitError(f"mesh file {str(path)[:300]!r} has {format_size(size)}, more than the limit of "
-                         f"{format_size(limit)}; it was not read (raise the limit with ARMKIT_MESH_LIMIT_MB, "
-                         f"e.g. ARMKIT_MESH_LIMIT_MB=1000)")
+        raise LimitError.of("mesh file {path!r} has {size}, more than the limit of {limit}; it was not read (raise the "
+                            "limit with ARMKIT_MESH_LIMIT_MB, e.g. ARMKIT_MESH_LIMIT_MB=1000)", path=str(path)[:300],
+                            size=format_size(size), limit=format_size(limit))

@@ -24,7 +24,8 @@ from numpy.typing import ArrayLike, NDArray
 
 from . import _jit_loader
 from ._checks import real_array
-from .errors import NotRigidError, ShapeError
+from ._text import Fielded
+from .errors import ArmkitError, NotRigidError, ShapeError
 
 __all__ = [
     "check_transform", "rotx", "roty", "rotz", "transl", "make_pose", "compose", "inverse",
@@ -102,7 +103,7 @@ def transl(x: ArrayLike, y: ArrayLike | None = None, z: ArrayLike | None = None)
         p = np.stack(np.broadcast_arrays(_angles(x), _angles(0.0 if y is None else y),
                                          _angles(0.0 if z is None else z)), axis=-1)
     if p.shape[-1:] != (3,):
-        raise ShapeError(f"translation must have shape (..., 3), got {p.shape}")
+        raise ShapeError.of("translation must have shape (..., 3), got {shape}", shape=p.shape)
     T = np.zeros(p.shape[:-1] + (4, 4))
     T[...] = np.eye(4)
     T[..., :3, 3] = p
@@ -130,14 +131,18 @@ def _rigidity(R: Any) -> tuple[tuple[Any, ...], Any]:
     return orth, a * (e * k - f * h) - b * (d * k - f * g) + c * (d * h - e * g)
 
 
-def _not_rigid(what: str, orth: float, det: float, last: Any, tol: float) -> str:
+def _not_rigid(what: str, orth: float, det: float, last: Any, tol: float) -> ArmkitError:
+    """The error for a pose that is not rigid, built from templates and fields (the message in any language)."""
+    why: Fielded
     if not orth <= tol:
-        why = f"its rotation part is not orthonormal (R^T R differs from I by {orth:.3g})"
+        why = Fielded.of("its rotation part is not orthonormal (R^T R differs from I by {orth:.3g})", orth=orth)
     elif not abs(det - 1.0) <= tol:
-        why = f"det R = {det:.6g}" + (" (a reflection)" if det < 0 else "") + ", expected +1"
+        why = Fielded.of("det R = {det:.6g} (a reflection), expected +1" if det < 0 else
+                         "det R = {det:.6g}, expected +1", det=det)
     else:
-        why = "its last row is (" + ", ".join(f"{v:.6g}" for v in last) + "), expected exactly (0, 0, 0, 1)"
-    return f"{what} is not a rigid transform: {why} (tolerance {tol:g})"
+        why = Fielded.of("its last row is ({row}), expected exactly (0, 0, 0, 1)",
+                         row=", ".join(f"{v:.6g}" for v in last))
+    return NotRigidError.of("{what} is not a rigid transform: {why} (tolerance {tol:g})", what=what, why=why, tol=tol)
 
 
 _COMPILED_FROM = 1024
@@ -188,18 +193,18 @@ def check_transform(T: ArrayLike, *, what: str = "T", tol: float = 1e-6) -> Arra
     """
     A = T if type(T) is np.ndarray and T.dtype == np.float64 else real_array(T, what)
     if A.ndim < 2 or A.shape[-2:] != (4, 4):
-        raise ShapeError(f"{what} must have shape (..., 4, 4), got {A.shape}")
+        raise ShapeError.of("{what} must have shape (..., 4, 4), got {shape}", what=what, shape=A.shape)
     if A.ndim == 2:   # one pose: the same formula on Python floats (a dozen NumPy calls cost more)
         rows = A.tolist()
         if not math.isfinite(sum(rows[0]) + sum(rows[1]) + sum(rows[2]) + sum(rows[3])) and not np.isfinite(A).all():
-            raise ShapeError(f"{what} contains NaN or infinite values")   # (a finite sum may overflow: checked again)
+            raise ShapeError.of("{what} contains NaN or infinite values", what=what)   # (a finite sum may overflow)
         parts, det = _rigidity(rows)
         worst = max(parts)
         if not (worst <= tol and abs(det - 1.0) <= tol and rows[3] == [0.0, 0.0, 0.0, 1.0]):
-            raise NotRigidError(_not_rigid(what, worst, det, rows[3], tol))
+            raise _not_rigid(what, worst, det, rows[3], tol)
         return A
     if not np.isfinite(A).all():
-        raise ShapeError(f"{what} contains NaN or infinite values")
+        raise ShapeError.of("{what} contains NaN or infinite values", what=what)
     flat = np.ascontiguousarray(A).reshape(-1, 4, 4)
     kernels = _jit_loader.kernels("kinematics._jit") if len(flat) >= _COMPILED_FROM else None
     if kernels is not None:   # one compiled pass instead of ~30 NumPy passes (~0.1 instead of ~1.5 ms per 10,000)
@@ -214,8 +219,8 @@ def check_transform(T: ArrayLike, *, what: str = "T", tol: float = 1e-6) -> Arra
     if bad.any():
         i = int(np.argmax(bad))
         index = tuple(int(v) for v in np.unravel_index(i, A.shape[:-2]))
-        raise NotRigidError(_not_rigid(f"{what}[{', '.join(map(str, index))}]", float(orth[i]), float(det[i]),
-                                       flat[i, 3].tolist(), tol))
+        raise _not_rigid(f"{what}[{', '.join(map(str, index))}]", float(orth[i]), float(det[i]), flat[i, 3].tolist(),
+                         tol)
     return A
 
 
@@ -258,7 +263,7 @@ def _rotation(R: ArrayLike) -> Array:
     if R.shape[-2:] == (4, 4):
         R = R[..., :3, :3]
     if R.shape[-2:] != (3, 3):
-        raise ShapeError(f"rotation must have shape (..., 3, 3) or (..., 4, 4), got {R.shape}")
+        raise ShapeError.of("rotation must have shape (..., 3, 3) or (..., 4, 4), got {shape}", shape=R.shape)
     return R
 
 
@@ -286,7 +291,7 @@ def rpy_to_rotation(rpy: ArrayLike, degrees: bool = False) -> Array:
     """
     a = np.asarray(rpy, dtype=float)
     if a.shape[-1:] != (3,):
-        raise ShapeError(f"rpy must have shape (..., 3), got {a.shape}")
+        raise ShapeError.of("rpy must have shape (..., 3), got {shape}", shape=a.shape)
     if degrees:
         a = np.radians(a)
     cr, cp, cy = np.cos(a[..., 0]), np.cos(a[..., 1]), np.cos(a[..., 2])
@@ -322,7 +327,7 @@ def quaternion_to_rotation(quat: ArrayLike) -> Array:
     """Rotation from a unit quaternion in scalar-last order ``(x, y, z, w)``, ``(..., 4)``."""
     qa = np.asarray(quat, dtype=float)
     if qa.shape[-1:] != (4,):
-        raise ShapeError(f"quaternion must have shape (..., 4) ordered (x, y, z, w), got {qa.shape}")
+        raise ShapeError.of("quaternion must have shape (..., 4) ordered (x, y, z, w), got {shape}", shape=qa.shape)
     Rot = _scipy_rotation()
     return _from_scipy(Rot.from_quat(qa.reshape(-1, 4)), qa.shape[:-1])
 
@@ -340,7 +345,7 @@ def axis_angle_to_rotation(axis: ArrayLike, angle: ArrayLike) -> Array:
     axis = np.asarray(axis, dtype=float)
     n = np.linalg.norm(axis, axis=-1, keepdims=True)
     if np.any(n == 0):
-        raise ShapeError("axis must be a non-zero vector")
+        raise ShapeError.of("axis must be a non-zero vector")
     return so3_exp(axis / n * np.asarray(angle, dtype=float)[..., None])
 
 
@@ -393,7 +398,7 @@ def se3_exp(xi: ArrayLike) -> Array:
     """Twist ``(..., 6)`` ordered ``(v, omega)`` -> pose ``(..., 4, 4)``."""
     xi = np.asarray(xi, dtype=float)
     if xi.shape[-1:] != (6,):
-        raise ShapeError(f"twist must have shape (..., 6) ordered (v, omega), got {xi.shape}")
+        raise ShapeError.of("twist must have shape (..., 6) ordered (v, omega), got {shape}", shape=xi.shape)
     v, w = xi[..., :3], xi[..., 3:]
     th = np.linalg.norm(w, axis=-1)[..., None, None]
     K = skew(w)

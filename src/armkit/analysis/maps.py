@@ -34,9 +34,9 @@ Array = NDArray[np.float64]
 def _grid(values: ArrayLike, what: str) -> Array:
     g = np.asarray(values, dtype=float)
     if g.ndim != 1 or len(g) < 1:
-        raise ShapeError(f"{what} must be a 1-D array of grid values, got shape {g.shape}")
+        raise ShapeError.of("{what} must be a 1-D array of grid values, got shape {shape}", what=what, shape=g.shape)
     if not np.all(np.isfinite(g)):
-        raise ShapeError(f"{what} contains NaN or infinite values")
+        raise ShapeError.of("{what} contains NaN or infinite values", what=what)
     return g
 
 
@@ -114,10 +114,11 @@ def fk_maps(robot: Robot, q1_grid: ArrayLike, q2_grid: ArrayLike, q_rest: ArrayL
     g1, g2 = _grid(q1_grid, "q1_grid"), _grid(q2_grid, "q2_grid")
     j = tuple(int(i) for i in joints)
     if len(j) != 2 or j[0] == j[1] or not all(0 <= i < robot.n for i in j):
-        raise ArgumentError(f"joints must be two different joint indices in 0..{robot.n - 1}, got {tuple(joints)}")
+        raise ArgumentError.of("joints must be two different joint indices in 0..{last}, got {got}", last=robot.n - 1,
+                               got=tuple(joints))
     rest = np.zeros(robot.n) if q_rest is None else robot.check_q(q_rest, "q_rest")
     if rest.shape != (robot.n,):
-        raise ShapeError(f"q_rest must have shape ({robot.n},), got {rest.shape}")
+        raise ShapeError.of("q_rest must have shape ({n},), got {shape}", n=robot.n, shape=rest.shape)
     Q = np.broadcast_to(rest, (len(g1), len(g2), robot.n)).copy()
     Q[..., j[0]] = g1[:, None]
     Q[..., j[1]] = g2[None, :]

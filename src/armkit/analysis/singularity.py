@@ -432,8 +432,8 @@ def analyze_singularities(robot: Robot, derivation: Any = None, samples: int = 4
     from ..symbolic.export import shorthand
 
     if robot.n >= 7:
-        raise ArgumentError(f"robot {robot.name!r} has {robot.n} joints: det(J J^T) of a 6x{robot.n} Jacobian is "
-                          "too large to factor symbolically; use armkit.manipulability numerically")
+        raise ArgumentError.of("robot {robot!r} has {n} joints: det(J J^T) of a 6x{n} Jacobian is too large to factor "
+                               "symbolically; use armkit.manipulability numerically", robot=robot.name, n=robot.n)
     g = np.random.default_rng(rng)
     d = derivation if derivation is not None else derive(robot)
     _, method, rows, blocks = _task_matrix(d)
@@ -510,11 +510,11 @@ def plot_manipulability(robot: Robot, out_path: str | Path | None = None, joints
     from ..errors import ArgumentError
 
     if robot.n < 2:
-        raise ArgumentError(f"robot {robot.name!r} has one joint; the manipulability map needs two")
+        raise ArgumentError.of("robot {robot!r} has one joint; the manipulability map needs two", robot=robot.name)
     i, j = joints if joints is not None else (robot.n - 1, robot.n)
     for k in (i, j):
         if not 1 <= k <= robot.n or robot.prismatic[k - 1]:
-            raise ArgumentError(f"joints must be two revolute joints in 1..{robot.n}, got {(i, j)}")
+            raise ArgumentError.of("joints must be two revolute joints in 1..{n}, got {got}", n=robot.n, got=(i, j))
     base = np.zeros(robot.n) if q_fixed is None else robot.check_q(q_fixed, "q_fixed")
     ax_vals = np.linspace(-math.pi, math.pi, resolution)
     A, B = np.meshgrid(ax_vals, ax_vals)
@@ -524,7 +524,9 @@ def plot_manipulability(robot: Robot, out_path: str | Path | None = None, joints
     W = manipulability(robot, Q)
     fig, ax = plt.subplots(figsize=(6.4, 5.2))
     im = ax.pcolormesh(np.degrees(A), np.degrees(B), W, shading="auto", cmap="viridis")
-    fig.colorbar(im, ax=ax, label="manipulability sqrt(det(J J^T))")
+    from ..locale.fonts import plot_text     # the labels in the pictures' language
+
+    fig.colorbar(im, ax=ax, label=plot_text("manipulability sqrt(det(J J^T))"))
     if analysis is not None:
         from ..symbolic import derive
         d = derive(robot)
@@ -544,7 +546,7 @@ def plot_manipulability(robot: Robot, out_path: str | Path | None = None, joints
     names = robot.joint_names
     ax.set_xlabel(f"q{i} ({names[i - 1]}) [deg]")
     ax.set_ylabel(f"q{j} ({names[j - 1]}) [deg]")
-    ax.set_title(f"{robot.name}: manipulability (red: det J = 0)")
+    ax.set_title(plot_text("{robot}: manipulability (red: det J = 0)", robot=robot.name))   # in the pictures' language
     fig.tight_layout()
     if out_path is not None:
         fig.savefig(out_path, dpi=120)

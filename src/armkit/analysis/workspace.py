@@ -41,6 +41,7 @@ from typing import Any, Optional, Sequence
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from .._text import Fielded
 from ..errors import ArgumentError, ShapeError
 from ..kinematics import fk, fk_frames, manipulability as _manipulability
 from ..model.axes import joint_axes  # noqa: F401  (the one joint_axes, public here too)
@@ -145,19 +146,21 @@ class Exclusion:
 
     def __post_init__(self) -> None:
         if self.ground_z is not None and not math.isfinite(float(self.ground_z)):
-            raise ArgumentError(f"exclusion ground_z must be a finite number, got {self.ground_z!r}")
+            raise ArgumentError.of("exclusion ground_z must be a finite number, got {got!r}", got=self.ground_z)
         boxes = []
         for i, box in enumerate(self.boxes):
             try:
                 lo, hi = (np.asarray(c, dtype=float) for c in box)
             except (TypeError, ValueError) as exc:
-                raise ShapeError(f"exclusion box {i} must be a (lower, upper) pair of 3-vectors, got {box!r}") from exc
+                raise ShapeError.of("exclusion box {i} must be a (lower, upper) pair of 3-vectors, got {box!r}", i=i,
+                                    box=box) from exc
             if lo.shape != (3,) or hi.shape != (3,) or not np.all(lo <= hi):
-                raise ShapeError(f"exclusion box {i} must be (lower, upper) 3-vectors with lower <= upper, got {box!r}")
+                raise ShapeError.of("exclusion box {i} must be (lower, upper) 3-vectors with lower <= upper, got {box!r}",
+                                    i=i, box=box)
             boxes.append((tuple(lo.tolist()), tuple(hi.tolist())))
         object.__setattr__(self, "boxes", tuple(boxes))
         if int(self.points_per_link) < 2:
-            raise ArgumentError(f"points_per_link must be at least 2, got {self.points_per_link}")
+            raise ArgumentError.of("points_per_link must be at least 2, got {got}", got=self.points_per_link)
 
     def inside(self, points: Array) -> NDArray[np.bool_]:
         """True where a point ``(..., 3)`` is in the excluded space; shape ``(...)``."""
@@ -372,14 +375,16 @@ def workspace(robot: Robot, samples: int = 200_000, seed: int | np.random.Genera
         docstring for how the error is made.
     """
     if not isinstance(samples, (int, np.integer)) or samples < 100:
-        raise ArgumentError(f"samples must be an integer >= 100, got {samples!r}")
+        raise ArgumentError.of("samples must be an integer >= 100, got {samples!r}", samples=samples)
     if exclusion is not None and not isinstance(exclusion, Exclusion):
-        raise ArgumentError(f"exclusion must be an armkit.analysis.Exclusion, got {type(exclusion).__name__}")
+        raise ArgumentError.of("exclusion must be an armkit.analysis.Exclusion, got {kind}",
+                               kind=type(exclusion).__name__)
     from .._limits import check_memory
 
     # what the result holds (q, points) and the voxel pass needs at once, checked before any allocation
     check_memory(float(samples) * 8.0 * (robot.n + 16 + (1 if manipulability else 0)),
-                 f"a workspace of {int(samples):,} samples of {robot.name!r}", "use fewer samples (--samples/-n)")
+                 Fielded.of("a workspace of {samples:,} samples of {robot!r}", samples=int(samples), robot=robot.name),
+                 Fielded.of("use fewer samples (--samples/-n)"))
     checked: tuple[str, ...] = ()
     if scene is not None or getattr(robot, "collision", None) is not None:   # the one collision rule
         from ..collision import checked_against, resolve_scene
@@ -407,8 +412,9 @@ def workspace(robot: Robot, samples: int = 200_000, seed: int | np.random.Genera
             keep[s:s + chunk] &= ~in_collision(robot, qs, scene)
     excluded = int((~keep).sum())
     if excluded == len(q):
-        raise ArgumentError(f"every sample of {robot.name!r} enters the exclusion "
-                          f"({exclusion.describe(robot.unit) if exclusion else 'the scene'}); nothing is reachable")
+        raise ArgumentError.of("every sample of {robot!r} enters the exclusion ({what}); nothing is reachable",
+                               robot=robot.name, what=exclusion.describe(robot.unit) if exclusion else
+                               Fielded.of("the scene"))
     q, points = q[keep], points[keep]
     centre = shoulder_point(robot)
     dims = [0, 1] if planar else [0, 1, 2]

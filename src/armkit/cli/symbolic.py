@@ -478,7 +478,7 @@ def traj(robot: RobotArg,
     tr = _compute_traj(r, P, joint, line, arc, deg, profile, duration, qd_max, qdd_max, dt,
                        {"blend": blend, "blend_shape": blend_shape, "speed": speed, "steps": steps, "method": method})
     for note in tr.notes:
-        warn(note)
+        warn(_local(note))          # a note built from its template and fields: in the user's language
     within = bool(np.all(r.within_limits(tr.q)))
     summary = {"robot": r.name, "label": tr.label, "samples": len(tr), "duration_s": tr.duration,
                "q_start_rad": tr.q[0], "q_end_rad": tr.q[-1], "max_abs_qd": np.abs(tr.qd).max(axis=0),

@@ -28,8 +28,8 @@ from numpy.typing import ArrayLike, NDArray
 
 from .. import _jit_loader
 from .._jit_loader import get_backend, set_backend   # the back end's state lives on the ground floor
-from .._text import shorten
-from ..errors import ArgumentError, ShapeError
+from .._text import Fielded, shorten
+from ..errors import ArgumentError, ArmkitError, ShapeError
 from ..model.robot import Robot
 from . import _numpy
 
@@ -52,7 +52,7 @@ def __getattr__(name: str) -> object:
     """``kinematics._backend`` and ``kinematics._ACTIVE``: the back end's state, read from its owner."""
     if name in ("_backend", "_ACTIVE"):
         return getattr(_jit_loader, name)
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    raise AttributeError(Fielded.of("module {module!r} has no attribute {name!r}", module=__name__, name=name))
 
 
 _ndarray, _empty = np.ndarray, np.empty  # module-level names: the single-call path counts nanoseconds
@@ -90,14 +90,14 @@ def _flat_unchecked(robot: Robot, q: ArrayLike) -> tuple[Array, tuple[int, ...]]
     return np.ascontiguousarray(arr.reshape(-1, robot.n)), arr.shape[:-1]
 
 
-def _not_a_robot(robot: object) -> ArgumentError:
+def _not_a_robot(robot: object) -> ArmkitError:
     """The error for a first argument that is not a Robot (``fk(None, q)``, ``fk("fighter", q)``): an
     ArgumentError saying a Robot is needed, and for a name how to load it, not an AttributeError from inside."""
     if isinstance(robot, str):
         shown = shorten(repr(robot), 80)
-        return ArgumentError(f"robot must be an armkit.Robot, got the string {shown}; load it first: "
-                             f"armkit.load({shown})")
-    return ArgumentError(f"robot must be an armkit.Robot, got {type(robot).__name__}")
+        return ArgumentError.of("robot must be an armkit.Robot, got the string {shown}; load it first: "
+                                "armkit.load({shown})", shown=shown)
+    return ArgumentError.of("robot must be an armkit.Robot, got {kind}", kind=type(robot).__name__)
 
 
 def fk(robot: Robot, q: ArrayLike, link: str | None = None, *, out: Array | None = None) -> Array:
@@ -338,7 +338,7 @@ def _jacobian(robot: Robot, q: ArrayLike, frame: str, out: Array | None) -> Arra
         raise _not_a_robot(robot)
     tool_frame = frame == "tool"
     if not tool_frame and frame != "base":
-        raise ArgumentError(f"frame must be 'base' or 'tool', got {frame!r}")
+        raise ArgumentError.of("frame must be 'base' or 'tool', got {frame!r}", frame=frame)
     jit = _jit_loader._ACTIVE or _jit_module(True)
     if jit is None:
         flat, lead = _flat(robot, q)

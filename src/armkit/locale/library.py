@@ -25,7 +25,7 @@ import string
 from functools import lru_cache
 from typing import Any
 
-from . import N_, _Formatter, _template, translate
+from . import N_, SOURCE, _Formatter, _template, translate
 
 __all__ = ["PATTERNS", "localize", "fielded", "ik_explanation"]
 
@@ -33,16 +33,9 @@ PATTERNS = (
     # Sentences still written as plain English by modules outside this round's conversion (issue 21): each is
     # read back here until its raise site keeps its template and fields. The site is named next to it.
     N_("{what} contains NaN or infinite values"),            # collision/shapes.py, ik/api.py, viz/view, viz/tracking
-    N_("unknown branch {name!r} for robot {robot!r}; valid branches: {names}"),              # ik/api.py
-    N_("waypoints must have shape (m, n) with m >= 2, got {shape}"),                         # motion/trajectory.py
     N_("target is {distance} from the shoulder; the arm reaches {outer} (outer) and {inner} (inner)."),  # analytic
     N_("fully stretched: elbow-up and elbow-down coincide."),                                # ik/analytic/_common.py
     N_("fully folded: elbow-up and elbow-down coincide."),                                   # ik/analytic/_common.py
-    N_("well-conditioned (smallest singular value {sigma} m)"),                              # motion/velocity.py
-    N_("near a singularity (smallest singular value {sigma} m): the arm cannot move along ({direction}); rates are "
-       "damped, the velocity is only approximated"),
-    N_("near a singularity (smallest singular value {sigma} m): the arm cannot move along ({direction}); the "
-       "pseudo-inverse drops that direction"),
 )
 """English messages still matched back (``pybabel extract`` finds them here); every other message of the library
 keeps its template and fields (:data:`KEYED`) and is rendered, never matched."""
@@ -87,6 +80,7 @@ KEYED = (
     N_("{n} waypoints, {shape} blends of {blend}"), N_("{n} waypoints, sharp corners"), N_("circular"),
     N_("parabolic"), N_("Cartesian path"),
     # IK targets (ik/api.py): ShapeError.of
+    N_("unknown branch {name!r} for robot {robot!r}; valid branches: {names}"),
     N_("2-D targets (x, y) are for planar arms moving in the world xy plane; robot {robot!r} is not one: give "
        "(x, y, z) or a pose"),
     # output files (_io.py): WriteError's template, "cannot write {path}: " + reason
@@ -416,7 +410,7 @@ def localize(text: object, lang: str, _depth: int = 0) -> str:
         text = str(text)              # an error made from a Fielded sentence: str() gives the sentence back
         keyed = fielded(text)
     if keyed is not None:
-        if lang == "en":
+        if lang == SOURCE:
             return str.__str__(text) if isinstance(text, str) else str(text)
         fields = dict(keyed[1])
         for k, v in fields.items():
@@ -428,7 +422,7 @@ def localize(text: object, lang: str, _depth: int = 0) -> str:
                 fields[k] = localize(v, lang, _depth + 1)                      # still writes English (PATTERNS)
         return translate(keyed[0], lang, **fields)
     text = str(text)
-    if lang == "en":
+    if lang == SOURCE:
         return text
     stripped = text.strip()
     for pattern in PATTERNS:
@@ -443,7 +437,7 @@ def ik_explanation(reason: str, message: str, position_error: float, unit: str, 
     """An IK result's explanation in ``lang``: the solver's ``message`` (rendered from its template and fields, or
     translated when a pattern knows it), else a sentence from the ``reason`` code and the residual
     ``position_error`` (in ``unit``)."""
-    if lang == "en":
+    if lang == SOURCE:
         return message or f"{reason}: FK misses the target by {position_error:.3g} {unit}"
     keyed = fielded(message)
     if keyed is not None:

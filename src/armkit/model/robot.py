@@ -29,6 +29,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from ..errors import RobotDefinitionError, ShapeError
 from .._checks import real_array
+from .._text import Fielded
 from ..spatial import check_transform
 
 __all__ = ["Joint", "Robot", "Chain", "Link", "Shape", "REVOLUTE", "PRISMATIC", "axis_alignment",
@@ -649,14 +650,16 @@ class Robot:
     def limit_violations(self, q: ArrayLike) -> list[str]:
         """Readable descriptions of the joints of one configuration ``(n,)`` that break their limits."""
         arr = self.check_q(q)
-        out = []
+        out: list[str] = []
         for j, v in zip(self.joints, arr.reshape(-1, self.n)[0]):
             if v < j.lower - 1e-12 or v > j.upper + 1e-12:
-                if j.is_prismatic:
-                    out.append(f"{j.name} = {v:g} {self.unit} outside [{j.lower:g}, {j.upper:g}] {self.unit}")
+                if j.is_prismatic:     # a template and its fields: the sentence in the user's language
+                    out.append(Fielded.of("{joint} = {value} {unit} outside [{lower}, {upper}] {unit}", joint=j.name,
+                                          value=f"{v:g}", unit=self.unit, lower=f"{j.lower:g}", upper=f"{j.upper:g}"))
                 else:
-                    out.append(f"{j.name} = {math.degrees(v):.3f} deg outside "
-                               f"[{math.degrees(j.lower):.3f}, {math.degrees(j.upper):.3f}] deg")
+                    out.append(Fielded.of("{joint} = {value} {unit} outside [{lower}, {upper}] {unit}", joint=j.name,
+                                          value=f"{math.degrees(v):.3f}", unit="deg",
+                                          lower=f"{math.degrees(j.lower):.3f}", upper=f"{math.degrees(j.upper):.3f}"))
         return out
 
     def random_q(self, count: int | None = None, rng: np.random.Generator | int | None = None) -> Array:

@@ -134,7 +134,7 @@ def profile(kind: str, tau: ArrayLike, blend: float = 1 / 3) -> tuple[Array, Arr
     if kind == "trapezoid":
         b = float(blend)
         if not 0 < b <= 0.5:
-            raise ArgumentError(f"blend must be in (0, 1/2], got {b}")
+            raise ArgumentError.of("blend must be in (0, 1/2], got {b}", b=b)
         v = 1.0 / (1.0 - b)              # cruise speed in s per tau
         a = v / b
         s = np.where(x < b, 0.5 * a * x ** 2,
@@ -142,7 +142,7 @@ def profile(kind: str, tau: ArrayLike, blend: float = 1 / 3) -> tuple[Array, Arr
         sd = np.where(x < b, a * x, np.where(x <= 1 - b, v, a * (1 - x)))
         sdd = np.where(x < b, a, np.where(x <= 1 - b, 0.0, -a))
         return s, sd, sdd
-    raise ArgumentError(f"profile must be one of {PROFILES}, got {kind!r}")
+    raise ArgumentError.of("profile must be one of {names}, got {kind!r}", names=PROFILES, kind=kind)
 
 
 def segment_duration(kind: str, delta: ArrayLike, qd_max: ArrayLike | None = None,
@@ -159,7 +159,7 @@ def segment_duration(kind: str, delta: ArrayLike, qd_max: ArrayLike | None = Non
     a = None if qdd_max is None else np.broadcast_to(np.asarray(qdd_max, dtype=float), d.shape)
     for lim, nm in ((v, "qd_max"), (a, "qdd_max")):
         if lim is not None and np.any(lim <= 0):
-            raise ArgumentError(f"{nm} must be positive, got {lim}")
+            raise ArgumentError.of("{name} must be positive, got {got}", name=nm, got=lim)
     if kind in ("cubic", "quintic"):
         kv, ka = (1.5, 6.0) if kind == "cubic" else (1.875, 10 / math.sqrt(3))
         T = 0.0
@@ -169,7 +169,7 @@ def segment_duration(kind: str, delta: ArrayLike, qd_max: ArrayLike | None = Non
             T = max(T, float(np.max(np.sqrt(ka * d / a))))
         return T, 1 / 3
     if kind != "trapezoid":
-        raise ArgumentError(f"profile must be one of {PROFILES}, got {kind!r}")
+        raise ArgumentError.of("profile must be one of {names}, got {kind!r}", names=PROFILES, kind=kind)
     if v is None and a is None:
         return 0.0, 1 / 3
     best_T, best_b = 0.0, 1 / 3
@@ -223,19 +223,20 @@ def joint_trajectory(waypoints: ArrayLike, profile_kind: str = "quintic", durati
     """
     W = np.asarray(waypoints, dtype=float)
     if W.ndim != 2 or W.shape[0] < 2:
-        raise ShapeError(f"waypoints must have shape (m, n) with m >= 2, got {W.shape}")
+        raise ShapeError.of("waypoints must have shape (m, n) with m >= 2, got {shape}", shape=W.shape)
     if not np.all(np.isfinite(W)):
-        raise ShapeError("waypoints contain NaN or infinite values")
+        raise ShapeError.of("waypoints contain NaN or infinite values")
     if robot is not None:
         robot.check_q(W, "waypoints")
         for i, w in enumerate(W):
             bad = robot.limit_violations(w)
             if bad:
-                raise ArgumentError(f"waypoint {i + 1} is outside the joint limits: " + "; ".join(bad))
+                raise ArgumentError.of("waypoint {i} is outside the joint limits: {joints}", i=i + 1,
+                                       joints=_joined(bad, "; "))
     if profile_kind not in PROFILES:
-        raise ArgumentError(f"profile must be one of {PROFILES}, got {profile_kind!r}")
+        raise ArgumentError.of("profile must be one of {names}, got {kind!r}", names=PROFILES, kind=profile_kind)
     if not (isinstance(dt, (int, float, np.integer, np.floating)) and 0 < dt < math.inf):
-        raise ArgumentError(f"dt must be a positive finite number of seconds, got {dt!r}")
+        raise ArgumentError.of("dt must be a positive finite number of seconds, got {dt!r}", dt=dt)
     m = W.shape[0] - 1
     deltas = np.diff(W, axis=0)
     asked = _asked_durations(deltas, duration, durations, qd_max is None and qdd_max is None)
@@ -248,9 +249,11 @@ def joint_trajectory(waypoints: ArrayLike, profile_kind: str = "quintic", durati
         if T == 0.0:   # a segment with no motion and no time asked
             continue
         if not math.isfinite(T):
-            raise ArgumentError(f"segment {k + 1} would take forever at these limits (qd_max={qd_max!r}, qdd_max={qdd_max!r})")
+            raise ArgumentError.of("segment {k} would take forever at these limits (qd_max={qd_max!r}, qdd_max={qdd_max!r})",
+                                   k=k + 1, qd_max=qd_max, qdd_max=qdd_max)
         if T_min > asked[k] > 0:
-            notes.append(f"segment {k + 1} lengthened from {asked[k]:.3g} s to {T_min:.3g} s to honour the limits")
+            notes.append(Fielded.of("segment {k} lengthened from {asked:.3g} s to {minimum:.3g} s to honour the limits",
+                                    k=k + 1, asked=float(asked[k]), minimum=T_min))
         if profile_kind == "trapezoid" and qd_max is None and qdd_max is None:
             blend = 1 / 3
         # at least 2 steps per segment, so that the samples hold the mid-segment peak speed
@@ -258,17 +261,25 @@ def joint_trajectory(waypoints: ArrayLike, profile_kind: str = "quintic", durati
         total += steps_f
         plan.append((k, T, blend, steps_f))
     n = W.shape[1]
-    check_memory(total * 8.0 * (3 * n + 5) * 3, f"a trajectory of {total:,.0f} samples "
-                 f"({sum(p[1] for p in plan):.4g} s at dt = {dt:g} s)",
-                 "use a larger dt (--dt), a shorter duration or larger speed/acceleration limits")
+    check_memory(total * 8.0 * (3 * n + 5) * 3,
+                 Fielded.of("a trajectory of {samples:,.0f} samples ({seconds:.4g} s at dt = {dt:g} s)", samples=total,
+                            seconds=sum(p[1] for p in plan), dt=dt),
+                 Fielded.of("use a larger dt (--dt), a shorter duration or larger speed/acceleration limits"))
     if not plan:
-        raise ArgumentError("all waypoints are equal: there is nothing to move")
+        raise ArgumentError.of("all waypoints are equal: there is nothing to move")
     t, q, qd, qdd = _sample_segments(W, deltas, plan, profile_kind, dt, notes)
     pos = None
     if robot is not None:     # in chunks: no (N, 4, 4) pose array for a long trajectory
         pos = np.concatenate([fk(robot, q[i:i + CHUNK])[:, :3, 3] for i in range(0, len(q), CHUNK)])
     return Trajectory(t, q, qd, qdd, positions=pos, label=Fielded.of("joint space, {profile}", profile=profile_kind),
                       notes=tuple(notes))
+
+
+def _joined(parts: Sequence[str], sep: str) -> Fielded:
+    """``sep.join(parts)`` that keeps the template and fields of each part (a joint's limit violation), so that the
+    whole renders in the user's language."""
+    fields: dict[str, Any] = {f"p{i}": p for i, p in enumerate(parts)}
+    return Fielded.of(sep.join(f"{{p{i}}}" for i in range(len(parts))), **fields)
 
 
 def _asked_durations(deltas: Array, duration: float | None, durations: Sequence[float] | None,
@@ -278,15 +289,17 @@ def _asked_durations(deltas: Array, duration: float | None, durations: Sequence[
     if durations is not None:
         asked = np.asarray(durations, dtype=float)
         if asked.shape != (m,) or not np.all((asked > 0) & np.isfinite(asked)):
-            raise ArgumentError(f"durations needs {m} positive values (one per segment), got {list(asked)}")
+            raise ArgumentError.of("durations needs {m} positive values (one per segment), got {got}", m=m,
+                                   got=list(asked))
         return asked
     if duration is not None:
         if not 0 < duration < math.inf:
-            raise ArgumentError(f"duration must be a positive finite number of seconds, got {duration!r}")
+            raise ArgumentError.of("duration must be a positive finite number of seconds, got {duration!r}",
+                                   duration=duration)
         size = np.max(np.abs(deltas), axis=1)
         return duration * (size / size.sum() if size.sum() > 0 else np.full(m, 1 / m))
     if no_limits:
-        raise ArgumentError("give a duration, per-segment durations or the limits qd_max/qdd_max")
+        raise ArgumentError.of("give a duration, per-segment durations or the limits qd_max/qdd_max")
     return np.zeros(m)
 
 
@@ -301,8 +314,8 @@ def _sample_segments(W: Array, deltas: Array, plan: list[tuple[int, float, float
     for k, T, blend, steps_f in plan:
         steps = int(steps_f)
         if T / dt < 2 and steps == 2:
-            notes.append(f"dt = {dt:g} s is longer than half of segment {k + 1} ({T:.3g} s): "
-                         "sampled at its start, middle and end")
+            notes.append(Fielded.of("dt = {dt:g} s is longer than half of segment {k} ({T:.3g} s): sampled at its "
+                                    "start, middle and end", dt=dt, k=k + 1, T=T))
         tau = np.linspace(0.0, 1.0, steps + 1)
         s, sd, sdd = profile(profile_kind, tau, blend)
         first = 0 if not t_parts else 1
@@ -323,13 +336,14 @@ def _check_steps(steps: Any, n: int) -> int:
     ``steps = 10**8`` reached 3.9 GB before any check.
     """
     if isinstance(steps, bool) or not isinstance(steps, (int, np.integer)):
-        raise ArgumentError(f"steps must be a whole number, got {steps!r}")
+        raise ArgumentError.of("steps must be a whole number, got {steps!r}", steps=steps)
     if steps < 2:
-        raise ArgumentError(f"steps must be at least 2 (a rest-to-rest path of {int(steps) + 1} sample(s) has no "
-                            f"speed to report), got {steps}")
+        raise ArgumentError.of("steps must be at least 2 (a rest-to-rest path of {samples} sample(s) has no speed to "
+                               "report), got {steps}", samples=int(steps) + 1, steps=steps)
     # points, t, q, qd, qdd, positions, targets, deviation and np.gradient's temporaries
-    check_memory((int(steps) + 1) * 8.0 * (3 * n + 12) * 3, f"a Cartesian path of {int(steps) + 1:,} samples",
-                 "ask for fewer --steps")
+    check_memory((int(steps) + 1) * 8.0 * (3 * n + 12) * 3,
+                 Fielded.of("a Cartesian path of {samples:,} samples", samples=int(steps) + 1),
+                 Fielded.of("ask for fewer --steps"))
     return int(steps)
 
 
@@ -379,14 +393,14 @@ def cartesian_path(robot: Robot, points: ArrayLike, q0: ArrayLike | None = None,
     """
     P = np.asarray(points, dtype=float)
     if P.ndim != 2 or P.shape[1] not in (2, 3) or len(P) < 3:
-        raise ShapeError(f"points must have shape (N, 2) or (N, 3) with N >= 3 (with 2 the rest-to-rest speeds are "
-                         f"all 0), got {P.shape}")
+        raise ShapeError.of("points must have shape (N, 2) or (N, 3) with N >= 3 (with 2 the rest-to-rest speeds are "
+                            "all 0), got {shape}", shape=P.shape)
     _check_steps(len(P) - 1, robot.n)
     if duration <= 0:
-        raise ArgumentError(f"duration must be positive, got {duration}")
+        raise ArgumentError.of("duration must be positive, got {duration}", duration=duration)
     if speed is not None:
         if not speed > 0:
-            raise ArgumentError(f"speed must be positive, got {speed}")
+            raise ArgumentError.of("speed must be positive, got {speed}", speed=speed)
         duration = max(duration, 1.875 * float(np.linalg.norm(np.diff(P, axis=0), axis=1).sum()) / speed)
     N = len(P)
     k = P.shape[1]
@@ -400,7 +414,7 @@ def cartesian_path(robot: Robot, points: ArrayLike, q0: ArrayLike | None = None,
     if method == "ik":
         return _follow_by_ik(robot, P, t, qstart, qd_max, targets3, label)
     if method != "rate":
-        raise ArgumentError(f"method must be 'ik' or 'rate', got {method!r}")
+        raise ArgumentError.of("method must be 'ik' or 'rate', got {method!r}", method=method)
     from .velocity import resolved_rate
 
     # desired point and velocity: u(t) follows the quintic scaling, x(u) joins the samples
@@ -429,8 +443,8 @@ def _follow_by_ik(robot: Robot, P: Array, t: Array, qstart: Array, qd_max: Array
     for i in range(N):
         q_i, ok, msg = _ik_solve(robot, P[i], q_prev)
         if not ok:
-            raise UnreachableError(f"sample {i + 1} of {N} at ({', '.join(f'{v:g}' for v in P[i])}) "
-                                   f"{robot.unit}: {msg}")
+            raise UnreachableError.of("sample {i} of {n} at ({point}) {unit}: {reason}", i=i + 1, n=N,
+                                      point=", ".join(f"{v:g}" for v in P[i]), unit=robot.unit, reason=msg)
         Q[i] = q_i
         q_prev = q_i
     QD = np.asarray(np.gradient(Q, t, axis=0))
@@ -439,11 +453,11 @@ def _follow_by_ik(robot: Robot, P: Array, t: Array, qstart: Array, qd_max: Array
     if qd_max is not None:
         lim = np.broadcast_to(np.asarray(qd_max, dtype=float), (robot.n,))
         if not np.all(lim > 0):
-            raise ArgumentError(f"qd_max must be positive, got {qd_max!r}")
+            raise ArgumentError.of("qd_max must be positive, got {qd_max!r}", qd_max=qd_max)
         stretch = float(np.max(np.abs(QD) / lim))
         if stretch > 1.0:           # the path is fixed: a slower clock divides every rate by the same factor
             t, QD = t * stretch, QD / stretch
-            notes = (f"duration lengthened to {t[-1]:.3g} s to keep the joint speed limit",)
+            notes = (Fielded.of("duration lengthened to {t:.3g} s to keep the joint speed limit", t=float(t[-1])),)
     QDD = np.asarray(np.gradient(QD, t, axis=0))
     pos = fk(robot, Q)[:, :3, 3]
     dev = np.linalg.norm(pos[:, :k] - P, axis=1)
@@ -479,25 +493,27 @@ def blended_polyline(waypoints: ArrayLike, radius: float = 0.0, shape: Literal["
     """
     W = np.asarray(waypoints, dtype=float)
     if W.ndim != 2 or W.shape[1] not in (2, 3) or len(W) < 2:
-        raise ShapeError(f"waypoints must have shape (m, 2) or (m, 3) with m >= 2, got {W.shape}")
+        raise ShapeError.of("waypoints must have shape (m, 2) or (m, 3) with m >= 2, got {shape}", shape=W.shape)
     if not np.all(np.isfinite(W)):
-        raise ShapeError("waypoints contain NaN or infinite values")
+        raise ShapeError.of("waypoints contain NaN or infinite values")
     if not radius >= 0:
-        raise ArgumentError(f"radius must be zero or positive, got {radius}")
+        raise ArgumentError.of("radius must be zero or positive, got {radius}", radius=radius)
     if shape not in ("circular", "parabolic"):
-        raise ArgumentError(f"shape must be 'circular' or 'parabolic', got {shape!r}")
+        raise ArgumentError.of("shape must be 'circular' or 'parabolic', got {shape!r}", shape=shape)
     if steps < 1:
-        raise ArgumentError(f"steps must be at least 1, got {steps}")
+        raise ArgumentError.of("steps must be at least 1, got {steps}", steps=steps)
     keep = np.r_[True, np.linalg.norm(np.diff(W, axis=0), axis=1) > 0]   # repeated points add nothing
     W = W[keep]
     if len(W) < 2:
-        raise ArgumentError("the waypoints must not all be the same point")
+        raise ArgumentError.of("the waypoints must not all be the same point")
     seg = np.linalg.norm(np.diff(W, axis=0), axis=1)
     pieces, sharp = [W[:1]], []
     for i in range(1, len(W) - 1):
         r = min(radius, 0.5 * seg[i - 1], 0.5 * seg[i])
         pieces.append(_corner(W[i - 1], W[i], W[i + 1], r, shape))
-        if len(pieces[-1]) == 1:
+        d_in, d_out = W[i] - W[i - 1], W[i + 1] - W[i]
+        turns = float(d_in @ d_out) <= (1 - 1e-12) * seg[i - 1] * seg[i]   # not a point on a straight run
+        if len(pieces[-1]) == 1 and turns:     # a sharp corner is a sample (a straight run needs none: equal steps)
             sharp.append(sum(len(p) for p in pieces) - 1)      # index of the waypoint in the dense points
     pieces.append(W[-1:])
     dense = np.concatenate(pieces)
@@ -541,7 +557,7 @@ def cartesian_line(robot: Robot, start: ArrayLike, end: ArrayLike, steps: int = 
     """
     a, b = np.asarray(start, dtype=float), np.asarray(end, dtype=float)
     if a.shape != b.shape or a.shape not in ((2,), (3,)):
-        raise ShapeError(f"start and end must both have 2 or 3 values, got {a.shape} and {b.shape}")
+        raise ShapeError.of("start and end must both have 2 or 3 values, got {a} and {b}", a=a.shape, b=b.shape)
     steps = _check_steps(steps, robot.n)
     u = np.linspace(0.0, 1.0, steps + 1)[:, None]
     pts = a + u * (b - a)
@@ -549,7 +565,7 @@ def cartesian_line(robot: Robot, start: ArrayLike, end: ArrayLike, steps: int = 
     if kwargs.get("method", "ik") == "rate" and kwargs.get("q0") is None:
         q, ok, msg = _ik_solve(robot, a, np.zeros(robot.n))
         if not ok:
-            raise UnreachableError(f"the start point is not reachable: {msg}")
+            raise UnreachableError.of("the start point is not reachable: {reason}", reason=msg)
         kwargs["q0"] = q
     return cartesian_path(robot, pts, label="straight line", **kwargs)
 
@@ -581,7 +597,7 @@ def cartesian_waypoints(robot: Robot, waypoints: ArrayLike, blend: float = 0.0,
     if kwargs.get("method", "ik") == "rate" and kwargs.get("q0") is None:
         q, ok, msg = _ik_solve(robot, pts[0], np.zeros(robot.n))
         if not ok:
-            raise UnreachableError(f"the start point is not reachable: {msg}")
+            raise UnreachableError.of("the start point is not reachable: {reason}", reason=msg)
         kwargs["q0"] = q
     corners = len(W) - 2
     what = "straight line" if corners == 0 else (   # a template and its fields: the label in the user's language
@@ -598,13 +614,13 @@ def cartesian_arc(robot: Robot, center: ArrayLike, start: ArrayLike, angle: floa
     """
     c, p = np.asarray(center, dtype=float), np.asarray(start, dtype=float)
     if c.shape != p.shape or c.shape not in ((2,), (3,)):
-        raise ShapeError(f"center and start must both have 2 or 3 values, got {c.shape} and {p.shape}")
+        raise ShapeError.of("center and start must both have 2 or 3 values, got {c} and {p}", c=c.shape, p=p.shape)
     k = len(c)
     c3 = np.append(c, 0.0) if k == 2 else c
     p3 = np.append(p, 0.0) if k == 2 else p
     nrm = np.asarray(normal, dtype=float)
     if nrm.shape != (3,) or np.linalg.norm(nrm) == 0:
-        raise ShapeError(f"normal must be a non-zero 3-vector, got {normal!r}")
+        raise ShapeError.of("normal must be a non-zero 3-vector, got {normal!r}", normal=normal)
     steps = _check_steps(steps, robot.n)
     u = np.linspace(0.0, 1.0, steps + 1)
     R = axis_angle_to_rotation(nrm / np.linalg.norm(nrm), angle * u)
@@ -613,6 +629,6 @@ def cartesian_arc(robot: Robot, center: ArrayLike, start: ArrayLike, angle: floa
     if kwargs.get("method", "ik") == "rate" and kwargs.get("q0") is None:
         q, ok, msg = _ik_solve(robot, pts[0, :k], np.zeros(robot.n))
         if not ok:
-            raise UnreachableError(f"the start point is not reachable: {msg}")
+            raise UnreachableError.of("the start point is not reachable: {reason}", reason=msg)
         kwargs["q0"] = q
     return cartesian_path(robot, pts[:, :k], label="arc", **kwargs)

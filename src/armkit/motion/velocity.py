@@ -29,6 +29,7 @@ from typing import Any, Callable, Literal, Sequence
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from .._text import Fielded
 from ..errors import ArgumentError, LimitError, ShapeError
 from ..kinematics import fk, jacobian
 from ..model.robot import Robot
@@ -58,11 +59,12 @@ def velocity_rows(count: int, rows: Sequence[int | str] | None = None) -> tuple[
     if rows is not None:
         idx = tuple(ROW_NAMES.index(r) if isinstance(r, str) else int(r) for r in rows)
         if len(idx) != count:
-            raise ShapeError(f"rows names {len(idx)} task rows but the velocity has {count} values")
+            raise ShapeError.of("rows names {k} task rows but the velocity has {count} values", k=len(idx), count=count)
         return idx
     defaults = {6: (0, 1, 2, 3, 4, 5), 3: (0, 1, 2), 2: (0, 1)}
     if count not in defaults:
-        raise ShapeError(f"an end-effector velocity needs 6 (v, omega), 3 (v) or 2 (vx, vy) values, got {count}")
+        raise ShapeError.of("an end-effector velocity needs 6 (v, omega), 3 (v) or 2 (vx, vy) values, got {count}",
+                            count=count)
     return defaults[count]
 
 
@@ -179,13 +181,13 @@ def joint_rates(robot: Robot, q: ArrayLike, xd: ArrayLike, method: Literal["pinv
     """
     qv = robot.check_q(q)
     if qv.shape != (robot.n,):
-        raise ShapeError(f"q must be one configuration of shape ({robot.n},), got {qv.shape}")
+        raise ShapeError.of("q must be one configuration of shape ({n},), got {shape}", n=robot.n, shape=qv.shape)
     x = np.asarray(xd, dtype=float)
     if x.ndim != 1 or not np.all(np.isfinite(x)):
-        raise ShapeError(f"xd must be a finite vector of 2, 3 or 6 values, got shape {x.shape}")
+        raise ShapeError.of("xd must be a finite vector of 2, 3 or 6 values, got shape {shape}", shape=x.shape)
     idx = velocity_rows(len(x), rows)
     if method not in ("pinv", "dls"):
-        raise ArgumentError(f"method must be 'pinv' or 'dls', got {method!r}")
+        raise ArgumentError.of("method must be 'pinv' or 'dls', got {method!r}", method=method)
     Js, row_scale = _scaled_task_jacobian(robot, qv, idx)
     xs = x * row_scale
     U, S, Vt = np.linalg.svd(Js)
@@ -202,7 +204,8 @@ def joint_rates(robot: Robot, q: ArrayLike, xd: ArrayLike, method: Literal["pinv
     else:
         lam2 = float(damping_schedule(sigma_min)) if damping == "auto" else float(damping) ** 2
         if lam2 < 0 or not math.isfinite(lam2):
-            raise ArgumentError(f"damping must be a non-negative number of metres or 'auto', got {damping!r}")
+            raise ArgumentError.of("damping must be a non-negative number of metres or 'auto', got {damping!r}",
+                                   damping=damping)
         inv = S / (S ** 2 + lam2) if lam2 > 0 else np.where(S > 1e-12, 1.0 / np.where(S > 1e-12, S, 1.0), 0.0)
     with np.errstate(over="ignore", invalid="ignore"):   # checked below: overflow is an error, not a warning
         qd_s = Vt[:k].T @ (inv[:k] * (U[:, :k].T @ xs))
@@ -212,19 +215,21 @@ def joint_rates(robot: Robot, q: ArrayLike, xd: ArrayLike, method: Literal["pinv
         achieved = (jacobian(robot, qv)[list(idx), :] @ qd)
         residual = float(np.linalg.norm(achieved - x))
     if not (np.all(np.isfinite(qd)) and np.all(np.isfinite(achieved)) and math.isfinite(residual)):
-        raise LimitError(f"the requested velocity (largest component {float(np.max(np.abs(x))):.3g}) is too large: "
-                          "the joint rates overflow float64; ask for a smaller velocity")
+        raise LimitError.of("the requested velocity (largest component {largest:.3g}) is too large: the joint rates "
+                            "overflow float64; ask for a smaller velocity", largest=float(np.max(np.abs(x))))
     direction = U[:, len(idx) - 1] if len(idx) > robot.n else U[:, k - 1]
     direction = direction * (1 if direction[np.argmax(np.abs(direction))] > 0 else -1)
     names = tuple(ROW_NAMES[i] for i in idx)
     singular = sigma_min < SINGULAR_SIGMA
     dir_txt = ", ".join(f"{n} {v:+.3f}" for n, v in zip(names, direction) if abs(v) > 5e-4)
-    if singular:
-        msg = (f"near a singularity (smallest singular value {sigma_min:.2e} m): the arm cannot move along "
-               f"({dir_txt}); " + ("rates are damped, the velocity is only approximated" if lam2 > 0 else
-                                   "the pseudo-inverse drops that direction"))
+    if singular:     # a template and its fields: the sentence in the user's language
+        msg = Fielded.of("near a singularity (smallest singular value {sigma} m): the arm cannot move along "
+                         "({direction}); rates are damped, the velocity is only approximated" if lam2 > 0 else
+                         "near a singularity (smallest singular value {sigma} m): the arm cannot move along "
+                         "({direction}); the pseudo-inverse drops that direction",
+                         sigma=f"{sigma_min:.2e}", direction=dir_txt)
     else:
-        msg = f"well-conditioned (smallest singular value {sigma_min:.3g} m)"
+        msg = Fielded.of("well-conditioned (smallest singular value {sigma} m)", sigma=f"{sigma_min:.3g}")
     return JointRates(qd, achieved, residual, sigma_min, singular, direction, lam2, method, names, msg)
 
 
@@ -277,12 +282,12 @@ def resolved_rate(robot: Robot, q0: ArrayLike, path: Callable[[float], tuple[Arr
 
     qv = robot.check_q(q0, "q0").astype(float).copy()
     if duration <= 0 or dt <= 0:
-        raise ArgumentError(f"duration and dt must be positive, got {duration}, {dt}")
+        raise ArgumentError.of("duration and dt must be positive, got {duration}, {dt}", duration=duration, dt=dt)
     steps = int(round(duration / dt))
     x0, _ = path(0.0)
     k = len(np.atleast_1d(x0))
     if k not in (2, 3):
-        raise ShapeError(f"resolved_rate follows positions: path(t) must give 2 or 3 values, got {k}")
+        raise ShapeError.of("resolved_rate follows positions: path(t) must give 2 or 3 values, got {k}", k=k)
     idx = velocity_rows(k, rows)
     vmax = None if qd_max is None else np.broadcast_to(np.asarray(qd_max, dtype=float), (robot.n,))
     lo, hi = robot.lower, robot.upper

@@ -100,9 +100,9 @@ def ik_equations(robot: Robot) -> IKEquations:
     r = _folded_tool(robot)
     kind = ik_export_kind(r)
     if kind is None:
-        raise ArgumentError(f"closed-form IK equations are written for planar 2R arms (like planar2) and "
-                            f"yaw-pitch-pitch arms (like fighter, or examples/my_arm.toml); robot {robot.name!r} is "
-                            f"neither (armkit ik solves it numerically or by its own closed form)")
+        raise ArgumentError.of("closed-form IK equations are written for planar 2R arms (like planar2) and "
+                               "yaw-pitch-pitch arms (like fighter, or examples/my_arm.toml); robot {robot!r} is "
+                               "neither (armkit ik solves it numerically or by its own closed form)", robot=robot.name)
     ik = derive_planar_2r_ik()
     c_s, s_s = ik.c2s2
     steps: tuple[tuple[str, str, str, str], ...]

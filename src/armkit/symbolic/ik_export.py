@@ -87,8 +87,9 @@ def to_ik_source(robot: Robot) -> str:
     """
     kind = ik_export_kind(robot)
     if kind is None:
-        raise ArgumentError(f"closed-form IK export is for planar 2R arms (like planar2) and yaw-pitch-pitch arms "
-                            f"(like fighter) with identity base and tool; robot {robot.name!r} is neither")
+        raise ArgumentError.of("closed-form IK export is for planar 2R arms (like planar2) and yaw-pitch-pitch arms "
+                               "(like fighter) with identity base and tool; robot {robot!r} is neither",
+                               robot=robot.name)
     ik = derive_planar_2r_ik()
     pr = _Printer({"fully_qualified_modules": True, "inline": True, "allow_unknown_functions": False})
     u, v, A, B = sp.symbols("u v A B", real=True)

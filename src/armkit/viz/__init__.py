@@ -13,6 +13,8 @@ from __future__ import annotations
 
 from typing import Any
 
+from .._text import Fielded
+
 __all__ = ["plot_arm", "plot_workspace", "plot_maps", "track", "TrackResult", "render_animation",
            "write_demo_pictures", "save_figure", "plot_trajectory", "animate_trajectory"]
 
@@ -29,4 +31,4 @@ def __getattr__(name: str) -> Any:
         value = getattr(importlib.import_module(f"armkit.viz.{_WHERE[name]}"), name)
         globals()[name] = value
         return value
-    raise AttributeError(f"module 'armkit.viz' has no attribute {name!r}")
+    raise AttributeError(Fielded.of("module {module!r} has no attribute {name!r}", module=__name__, name=name))

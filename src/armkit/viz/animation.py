@@ -57,17 +57,18 @@ def render_animation(robot: Robot, q: ArrayLike, out_path: str | Path, targets: 
     out = Path(out_path)
     suffix = out.suffix.lower()
     if suffix not in SUFFIXES:
-        raise ArgumentError(f"animation file must end in .gif or .mp4, got {out.name!r}")
+        raise ArgumentError.of("animation file must end in .gif or .mp4, got {name!r}", name=out.name)
     Q = robot.check_q(q, "q")
     if Q.ndim != 2 or len(Q) == 0:
-        raise ShapeError(f"q must have shape (frames, {robot.n}), got {Q.shape}")
+        raise ShapeError.of("q must have shape (frames, {n}), got {shape}", n=robot.n, shape=Q.shape)
     T = None
     if targets is not None:
         T = np.asarray(targets, dtype=float)
         if T.shape != (len(Q), 3):
-            raise ShapeError(f"targets must have shape ({len(Q)}, 3) to match q, got {T.shape}")
+            raise ShapeError.of("targets must have shape ({frames}, 3) to match q, got {shape}", frames=len(Q),
+                                shape=T.shape)
     if not isinstance(fps, (int, np.integer)) or fps < 1:
-        raise ArgumentError(f"fps must be a positive integer, got {fps!r}")
+        raise ArgumentError.of("fps must be a positive integer, got {fps!r}", fps=fps)
     stage = _Stage(robot, Q, T, trail, trail_length, title, size, dpi)
     _write_frames(out, stage, int(fps), progress, console)
     return out

@@ -187,7 +187,7 @@ def plot_arm(robot: Robot, q: ArrayLike, ax: Any = None, frames: bool = True,
     if labels is not None and len(labels) != len(Q):
         from ..errors import ShapeError
 
-        raise ShapeError(f"labels must have one entry per configuration ({len(Q)}), got {len(labels)}")
+        raise ShapeError.of("labels must have one entry per configuration ({n}), got {got}", n=len(Q), got=len(labels))
     ax = setup_axes(robot, ax, figsize=figsize)
     planar = ax.name != "3d"
     shapes: list[np.ndarray] = []

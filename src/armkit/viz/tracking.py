@@ -130,7 +130,7 @@ def target_path(robot: Robot, path: str = "circle", frames: int = 200, seed: Opt
     ``x, y[, z]`` (an optional header row), one row per frame.
     """
     if not isinstance(frames, (int, np.integer)) or frames < 2:
-        raise ArgumentError(f"frames must be an integer >= 2, got {frames!r}")
+        raise ArgumentError.of("frames must be an integer >= 2, got {frames!r}", frames=frames)
     if path not in PATHS:
         return _read_csv(robot, Path(path))
     c, r_in, r_out, planar, e1, e2 = _frame_of_motion(robot)
@@ -166,21 +166,24 @@ MAX_CSV_BYTES = 8 * 1024 ** 2   # a target path file: about 200,000 rows
 
 def _read_csv(robot: Robot, file: Path) -> Array:
     if not file.is_file():
-        raise ArgumentError(f"path must be one of {', '.join(PATHS)} or a CSV file; {str(file)!r} is neither")
+        raise ArgumentError.of("path must be one of {names} or a CSV file; {file!r} is neither", names=", ".join(PATHS),
+                               file=str(file))
     if file.stat().st_size > MAX_CSV_BYTES:
-        raise LimitError(f"{file}: {file.stat().st_size:,} bytes; a target CSV may have at most {MAX_CSV_BYTES:,} "
-                          f"bytes (about {MAX_CSV_BYTES // 40:,} rows)")
+        raise LimitError.of("{file}: {size:,} bytes; a target CSV may have at most {limit:,} bytes (about {rows:,} "
+                            "rows)", file=file, size=file.stat().st_size, limit=MAX_CSV_BYTES, rows=MAX_CSV_BYTES // 40)
     try:
         try:
             data = np.loadtxt(file, delimiter=",", ndmin=2)
         except ValueError:
             data = np.loadtxt(file, delimiter=",", ndmin=2, skiprows=1)
     except (ValueError, OSError) as exc:
-        raise ArgumentError(f"{file}: cannot read target points as CSV numbers ({exc})") from exc
+        raise ArgumentError.of("{file}: cannot read target points as CSV numbers ({reason})", file=file,
+                               reason=str(exc)) from exc
     if data.shape[1] not in (2, 3) or len(data) < 2:
-        raise ShapeError(f"{file}: expected at least 2 rows of 2 (x, y) or 3 (x, y, z) columns, got {data.shape}")
+        raise ShapeError.of("{file}: expected at least 2 rows of 2 (x, y) or 3 (x, y, z) columns, got {shape}", file=file,
+                            shape=data.shape)
     if not np.all(np.isfinite(data)):
-        raise ShapeError(f"{file}: contains NaN or infinite values")
+        raise ShapeError.of("{file}: contains NaN or infinite values", file=file)
     if data.shape[1] == 2:
         z = float(fk(robot, np.zeros(robot.n))[2, 3])
         data = np.column_stack([data, np.full(len(data), z)])
@@ -223,7 +226,8 @@ def track(robot: Robot, path: str = "random", method: str = "ccd", frames: int =
     from ..ik import ik, ik_all
 
     if method not in TRACK_METHODS:
-        raise ArgumentError(f"method must be one of {', '.join(TRACK_METHODS)}, got {method!r}")
+        raise ArgumentError.of("method must be one of {names}, got {method!r}", names=", ".join(TRACK_METHODS),
+                               method=method)
     targets = target_path(robot, path, frames, seed)
     F = len(targets)
     tol_p = float(tol) if tol is not None else 1e-6 * (robot.reach or 1.0)

@@ -38,6 +38,7 @@ from numpy.typing import NDArray
 from ...errors import ArmkitError, ViewError
 from ...kinematics import fk_frames, jacobian
 from ...locale import N_, translate
+from ...locale.library import localize
 from ...model import Robot
 from .drawing import wxyz_from_rotation
 
@@ -597,9 +598,12 @@ class Readouts:
         return translate(TEXTS[key], self.lang, **fields)
 
     def explain(self, exc: BaseException) -> str:
-        """An error's text in the page's language: a :class:`ViewError` from its template and fields."""
+        """An error's text in the page's language: a :class:`ViewError` from its template and fields, any other
+        armkit error by :func:`armkit.locale.library.localize` (its template and fields; plain English stays)."""
         if isinstance(exc, ViewError):
             return translate(exc.template, self.lang, **exc.fields)
+        if isinstance(exc, ArmkitError):
+            return localize(exc, self.lang)
         return str(exc)
 
     # ---------------------------------------------------------------- per browser
