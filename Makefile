@@ -24,9 +24,10 @@ LOCALE_MO := $(LOCALE_PO:.po=.mo)
 locale: $(LOCALE_MO)
 src/armkit/locale/%/LC_MESSAGES/armkit.mo: src/armkit/locale/%/LC_MESSAGES/armkit.po $(VENV)/.installed
 	$(VENV)/bin/pybabel compile --use-fuzzy -d src/armkit/locale -D armkit -l $*
-# after adding or changing _("...") messages: re-extract them and merge into every .po (then translate)
+# after adding or changing _("...") messages: re-extract them and merge into every .po (then translate); `-k of`
+# finds the templates of ArmkitError.of(...) and Fielded.of(...) at raise sites
 locale-update: $(VENV)/.installed
-	$(VENV)/bin/pybabel extract -F babel.cfg -k _ -k N_ -k NC_:1c,2 --no-location --project armkit \
+	$(VENV)/bin/pybabel extract -F babel.cfg -k _ -k N_ -k NC_:1c,2 -k of --no-location --project armkit \
 		-o src/armkit/locale/armkit.pot .
 	$(VENV)/bin/pybabel update -i src/armkit/locale/armkit.pot -d src/armkit/locale -D armkit
 

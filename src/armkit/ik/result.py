@@ -68,7 +68,8 @@ class IKResult:
         One of :data:`REASONS`.
     message : str, or ndarray of str with shape (...) for a batch
         A sentence for people: why it failed, and by how much. A plain ``str`` for a
-        single target (``shape == ()``).
+        single target (``shape == ()``). The single-call path makes it when it is first
+        read (:meth:`_later`): the same value either way.
     trace : ndarray or None
         Per-iteration error norms when the solver was asked for a trace.
 
@@ -106,10 +107,35 @@ class IKResult:
         d["message"] = _message(d["message"], np.shape(d["success"]))
         return self
 
+    @classmethod
+    def _later(cls, values: tuple, later: Any = None) -> "IKResult":
+        """A result of the fields ``values`` (every field but ``trace``, in order, already normalised; ``trace``
+        None), built without ``__init__``: the single-call paths. With ``later``, ``message`` is made by
+        ``later()`` when first read (a call whose failed branches nobody asks about makes no sentence); the
+        result is then the same in every way (value, type, repr, equality, pickling) as one given the message."""
+        self = object.__new__(cls)
+        d = self.__dict__
+        (d["q"], d["success"], d["position_error"], d["rotation_error"], d["iterations"], d["branch"],
+         d["within_limits"], d["reason"], d["message"]) = values
+        d["trace"] = None
+        if later is not None:
+            del d["message"]
+            d["_later"] = later
+        return self
+
+    def __getstate__(self) -> dict:
+        """Pickling and copying: the fields with the message made (:meth:`_later`)."""
+        d = self.__dict__
+        if "message" not in d:
+            self.message   # noqa: B018 (made now)
+        return {k: v for k, v in d.items() if k != "_later"}
+
     def _map(self, per_target: Any, trace: Any) -> "IKResult":
         """A result with ``per_target`` applied to every field but ``trace`` (given as is), built as :meth:`_of`."""
         new = object.__new__(IKResult)
         d, src = new.__dict__, self.__dict__
+        if "message" not in src:
+            self.message   # noqa: B018 (made now: _later)
         for f in _PER_TARGET:
             d[f] = per_target(src[f])
         d["trace"] = trace
@@ -130,6 +156,27 @@ class IKResult:
         return self._map(pick, self.trace if self.trace is None or self.shape == () else pick(self.trace))
 
 
+class _LaterMessage:
+    """``IKResult.message`` where a result was built by :meth:`IKResult._later`: a non-data descriptor, so a
+    result that holds its message (every other) reads it from its ``__dict__`` as a plain attribute; one that
+    does not makes it on first read and keeps it."""
+
+    def __get__(self, obj: Any, owner: Any = None) -> Any:
+        if obj is None:
+            return None   # the field's default, as the dataclass left it on the class
+        d = obj.__dict__
+        later = d.get("_later")
+        if later is None:
+            if "message" in d:
+                return d["message"]
+            raise AttributeError("message")
+        message = later()
+        d["message"] = message
+        d.pop("_later", None)
+        return message
+
+
+setattr(IKResult, "message", _LaterMessage())
 _FIELDS = tuple(f.name for f in fields(IKResult))
 _PER_TARGET = tuple(f for f in _FIELDS if f != "trace")   # the fields with the targets' leading shape
 _OPTIONAL = {f.name: f.default for f in fields(IKResult) if f.default is not MISSING}

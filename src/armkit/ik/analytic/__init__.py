@@ -185,9 +185,8 @@ def _failure_messages(robot: Robot, message: NDArray[np.object_], code: NDArray[
             patterns, inverse = np.unique(bits, return_inverse=True)
             texts = np.empty(len(patterns), dtype=object)
         for k, pattern in enumerate(patterns):
-            names = [nm for j, nm in enumerate(robot.joint_names) if int(pattern) >> j & 1]
-            texts[pattern if robot.n <= 16 else k] = Fielded.of("outside the joint limits: {names} (see armkit info "
-                                                                "for the limits).", names=", ".join(names))
+            texts[pattern if robot.n <= 16 else k] = _limit_text(robot, [j for j in range(robot.n)
+                                                                         if int(pattern) >> j & 1])
         message[limits] = texts[inverse.ravel()]
     unreachable = code == 1
     count = int(unreachable.sum())
@@ -241,12 +240,19 @@ def _few_failure_messages(robot: Robot, message: NDArray[np.object_], code: NDAr
             key = tuple(j for j in range(n) if row[j] < lo[j] or row[j] > hi[j])
             text = limit_texts.get(key)
             if text is None:
-                text = limit_texts[key] = Fielded.of("outside the joint limits: {names} (see armkit info for the "
-                                                     "limits).", names=", ".join(robot.joint_names[j] for j in key))
+                text = limit_texts[key] = _limit_text(robot, key)
             flat_msg[i] = text
         elif c == 1:
             flat_msg[i] = (Fielded.of("unreachable: {why}", why=raw.why(i)) if flat_out is not None and flat_out[i]
                            else _unreachable_text(robot, flat_dp[i], flat_dr[i], tol))
+
+
+def _limit_text(robot: Robot, joints) -> Any:
+    """The sentence of a branch outside the limits of ``joints`` (indices)."""
+    from ..._text import Fielded
+
+    return Fielded.of("outside the joint limits: {names} (see armkit info for the limits).",
+                      names=", ".join(robot.joint_names[j] for j in joints))
 
 
 POLISH_ABOVE = 1e-13
@@ -343,27 +349,52 @@ def solve_all(robot: Robot, solver: ClosedForm, target: Array, q0: Array, positi
 
 # ------------------------------------------------------------------ one target, one compiled call
 class _Single:
-    """What the one-call path needs of a robot and its closed form, built once (kept in ``robot.cache``)."""
+    """What the one-call path needs of a robot and its closed form, built once (kept in ``robot.cache``): the
+    kernel, its ``ctx`` vectors (one per options: :func:`._single.context`), the buffer sizes and the label table."""
 
-    __slots__ = ("kernel", "geometry", "joints", "F", "labels", "blank", "m", "n", "scale", "window", "above",
-                 "sign", "opts", "default_tol")
+    __slots__ = ("kernels", "kernel", "solver", "geometry", "joints", "F", "labels", "labels0", "blank", "m", "n",
+                 "mn", "at", "fsize", "isize", "bsize", "q0", "scale", "window", "above", "sign", "default_tol",
+                 "ctx", "ctxs")
 
     def __init__(self, robot: Robot, solver: ClosedForm, kernels) -> None:
         from ...kinematics import packed
 
+        self.kernels = kernels
+        self.solver = solver
         self.kernel = kernels.KERNELS.get(solver.family) if solver.geometry is not None else None
         self.geometry = solver.geometry
         self.joints = _joint_table(robot, solver)
         self.F = packed(robot)[0]
         self.labels = np.array(solver.branch_labels, dtype=object)
+        self.labels0 = [self.labels[k:k + 1].reshape(()) for k in range(len(self.labels))]   # 0-d, copied per use
         self.m, self.n = solver.m, robot.n
+        self.mn = self.m * self.n
         self.blank = np.full(self.m, "", dtype=object)
+        lay = kernels.layout(self.m, self.n)
+        self.at = lay
+        self.fsize, self.isize, self.bsize = lay["fb"], lay["ib"], lay["bb"]
+        self.q0 = np.clip(np.zeros(robot.n), robot.lower, robot.upper)   # armkit.ik's start when none is given
         self.scale = robot.reach
         self.window = POLISH_WINDOW[not solver.sf.exact]
         self.above = getattr(solver, "polish_above", POLISH_ABOVE)
         self.sign = getattr(solver, "sign", 1)
         self.default_tol = default_tolerance(robot)
-        self.opts: dict = {}
+        self.ctxs: dict = {}
+        self.ctx = self.context(None, True, True)
+
+    def context(self, tol: tuple[float, float] | None, enforce_limits: bool, check: bool) -> Array:
+        """The kernels' ``ctx`` for these options, made once."""
+        key = (tol, enforce_limits, check)
+        ctx = self.ctxs.get(key)
+        if ctx is None:
+            k = self.kernels
+            opts = k.options(self.default_tol if tol is None else tol, enforce_limits, self.window, self.above,
+                             self.scale, self.sign, check)
+            ctx = self.ctxs[key] = k.context(self.geometry, self.joints, self.F, opts)
+        return ctx
+
+
+_REASON_0D = [_REASON_TEXT[k:k + 1].reshape(()) for k in range(3)]   # 0-d reasons, copied per use
 
 
 def single_call(robot: Robot, solver: ClosedForm, target: Array, q0: Array | None, tol: tuple[float, float] | None,
@@ -376,109 +407,154 @@ def single_call(robot: Robot, solver: ClosedForm, target: Array, q0: Array | Non
     checks (``check``: the pose is rigid). Returns the result with fields ``(m,)`` (``nearest``: ``()``;
     ``batch_axis``: ``(1, m)``), the same values as the batched path, or None where that path must answer
     (the Numba back end is not in use, a branch to polish, a note to give, a target or start to reject):
-    the caller then takes it. See :mod:`._single`.
+    the caller then takes it. See :mod:`._single`. The messages of failed branches are made when the
+    ``message`` field is first read (:class:`~armkit.ik.result.IKResult`).
     """
-    kernels = _jit_loader.kernels("ik.analytic._single")
-    if kernels is None:
-        return None
     c = robot.cache.get("closed_form_one_call")
-    if c is None or c.geometry is not solver.geometry:
+    if c is None or c.solver is not solver:
+        kernels = _jit_loader.kernels("ik.analytic._single")
+        if kernels is None:
+            return None
         c = robot.cache["closed_form_one_call"] = _Single(robot, solver, kernels)
+    elif _jit_loader._ACTIVE is None and _jit_loader.kernels("ik.analytic._single") is None:
+        return None   # the NumPy back end serves now (set_backend, or the kernels still compiling)
+    ctx = c.ctx if tol is None and enforce_limits and check else c.context(tol, enforce_limits, check)
     if q0 is None:
-        q0 = robot.cache.get("ik_q0")
-        if q0 is None:
-            q0 = robot.cache["ik_q0"] = np.clip(np.zeros(robot.n), robot.lower, robot.upper)
-    if tol is None:
-        tol = c.default_tol
-    key = (tol, enforce_limits, check)
-    opts = c.opts.get(key)
-    if opts is None:
-        opts = c.opts[key] = kernels.options(tol, enforce_limits, c.window, c.above, c.scale, c.sign, check)
+        q0 = c.q0
     t = target.ravel()
+    fb, ib, bb = np.empty(c.fsize), np.empty(c.isize, np.int64), np.empty(c.bsize, np.bool_)
     raw = None
     if c.kernel is not None:   # the family's kernel and the rest in one call
-        status, n_limits, n_other, q, ev, fl, iv, reach = c.kernel(t, c.geometry, c.joints, c.F, q0, opts)
+        r = c.kernel(t, q0, ctx, fb, ib, bb)
     else:                      # a family solved in Python (the geometric family): its solve, then one call
+        kernels = c.kernels
         if not kernels.usable(t, q0, check):
             return None
         raw = solver.solve(target[None], (q0 + solver.sf.theta)[None])
         missing = raw.missing[0] if raw.missing is not None else np.zeros(c.m, dtype=bool)
-        status, n_limits, n_other, q, ev, fl, iv, reach = kernels.post(raw.q[0], raw.unreachable[0], missing,
-                                                                       c.joints, c.F, q0, t, opts)
-    if status:
+        r = kernels.post(raw.q[0], raw.unreachable[0], missing, t, q0, ctx, fb, ib, bb)
+    if r & 3:
         return None
-    ok, code = fl[0], iv[0]
-    if raw is None:
-        message, label = c.blank.copy(), c.labels[iv[1]]
-    else:
-        message = np.where(ok, raw.note[0][iv[2]], "").astype(object, copy=False)
-        label = raw.label[0][iv[2]]
-    if n_limits:
-        _limit_messages(robot, message, code, iv[3], q, ev, tol)
-    if n_other:   # why a branch is out of reach: the family's own sentence, in sorted order
-        order = iv[2]
-        if raw is None:   # from the numbers the kernel gave (reach_why), without solving again
-            rows = reach[order]
-            unreachable = rows[:, 0] != 0.0
-            why = _reach_sentences(getattr(solver, "reach_why"), rows[:, 1:].tolist(), target)
+    m, n = c.m, c.n
+    if nearest:
+        k = int(ib[0])
+        if raw is None:
+            label = c.labels0[ib[m]].copy()
+            message = "" if k == 0 else None
         else:
+            label = np.array(raw.label[0][ib[3 * m]], dtype=object)
+            message = str(raw.note[0][ib[3 * m]]) if k == 0 else None
+        values = (fb[:n], bb[0, ...], fb[c.mn, ...], fb[c.mn + m, ...], ib[2 * m, ...], label, bb[m, ...],
+                  _REASON_0D[k].copy(), message)
+        if message is None:
+            return _result(values, _Messages(robot, c, raw, target, fb, ib, tol, True))
+        return _result(values)
+    if raw is None:
+        labels = c.labels[ib[m:2 * m]]
+        texts = c.blank.copy() if r == 0 else None
+    else:
+        labels = raw.label[0][ib[3 * m:4 * m]]
+        texts = None if r or any(raw.note[0]) else c.blank.copy()
+    every: tuple[Any, ...] = (fb[:c.mn].reshape(m, n), bb[:m], fb[c.mn:c.mn + m], fb[c.mn + m:c.mn + 2 * m],
+                              ib[2 * m:3 * m], labels, bb[m:], _REASON_TEXT[ib[:m]], texts)
+    if batch_axis:
+        every = tuple(None if v is None else v[None] for v in every)
+    if texts is None:
+        return _result(every, _Messages(robot, c, raw, target, fb, ib, tol, False, batch_axis))
+    return _result(every)
+
+
+class _Messages:
+    """The ``message`` field of a one-call result, made when first read (:meth:`IKResult._later`): the sentences
+    :func:`solve_all` gives its failed branches (and the family's notes), from the numbers the kernel left in
+    its private part of the buffers. With ``nearest``, the first branch's sentence only."""
+
+    __slots__ = ("robot", "c", "raw", "target", "fb", "ib", "tol", "nearest", "batch_axis")
+
+    def __init__(self, robot: Robot, c: _Single, raw: Raw | None, target: Array, fb: Array, ib: NDArray[np.int64],
+                 tol: tuple[float, float] | None, nearest: bool, batch_axis: bool = False) -> None:
+        self.robot, self.c, self.raw, self.fb, self.ib = robot, c, raw, fb, ib
+        self.target = target.copy()   # the caller may change its array before the message is read
+        self.tol = c.default_tol if tol is None else tol
+        self.nearest, self.batch_axis = nearest, batch_axis
+
+    def __call__(self) -> Any:
+        raw = self.raw
+        if raw is None:
+            return self._from_kernel()
+        c, fb, ib = self.c, self.fb, self.ib
+        m, n, at = c.m, c.n, c.at
+        count = 1 if self.nearest else m
+        code, order, bits = ib[:count], ib[3 * m:3 * m + count], ib[4 * m:4 * m + count]
+        message = np.where(code == 0, raw.note[0][order], "").astype(object, copy=False)
+        if (code == 2).any():
+            _limit_messages(self.robot, message, code, bits)
+        if (code == 1).any():   # why a branch is out of reach: the family's own sentence, in sorted order
             unreachable = raw.unreachable[0][order]
-            why = lambda i: raw.why(int(order[i]))  # noqa: E731
-        shim = Raw(q, label, unreachable, why, message)
-        _failure_messages(robot, message, np.where(code == 1, 1, 0), shim, q, ev[0], ev[1], tol)
-    return _single_result(c, q, ok, ev, fl[1], label, code, message, nearest, batch_axis)
+            q = fb[:count * n].reshape(count, n)
+            shim = Raw(q, message, unreachable, lambda i: raw.why(int(order[i])), message)
+            _failure_messages(self.robot, message, np.where(code == 1, 1, 0), shim, q,
+                              fb[at["hdp"]:at["hdp"] + count], fb[at["hdr"]:at["hdr"] + count], self.tol)
+        if self.nearest:
+            return str(message[0])
+        return message[None] if self.batch_axis else message
+
+    def _from_kernel(self) -> Any:
+        """:meth:`__call__` for a family solved by the kernel: the sentences of :func:`_few_failure_messages`
+        (the same objects' values), made in one Python loop from the kernel's numbers."""
+        from ..._text import Fielded
+
+        c, fb, ib, robot = self.c, self.fb, self.ib, self.robot
+        m, at = c.m, c.at
+        count = 1 if self.nearest else m
+        codes = ib[:count].tolist()
+        texts: list[Any] = [""] * count
+        reach = fb[at["reach"]:at["reach"] + 4 * count].tolist()
+        dp, dr = fb[at["hdp"]:at["hdp"] + count].tolist(), fb[at["hdr"]:at["hdr"] + count].tolist()
+        made: dict = {}
+        for b, k in enumerate(codes):
+            if k == 2:
+                texts[b] = _limit_message(robot, int(ib[4 * m + b]))
+            elif k == 1:
+                clipped, lat, rho, r = reach[4 * b:4 * b + 4]
+                if clipped != 0.0:   # the family's sentence from the kernel's numbers, once per distinct row
+                    why = made.get((lat, rho, r))
+                    if why is None:
+                        why = made[(lat, rho, r)] = getattr(c.solver, "reach_why")(lat != 0.0, rho, r, self.target)
+                    texts[b] = Fielded.of("unreachable: {why}", why=why)
+                else:
+                    texts[b] = _unreachable_text(robot, dp[b], dr[b], self.tol)
+        if self.nearest:
+            return str(texts[0])
+        message = c.blank.copy()
+        message[:] = texts
+        return message[None] if self.batch_axis else message
 
 
-def _reach_sentences(reach_why, rows: list, target: Array):
-    """``why(i)`` of the one-call path: the family's ``reach_why`` for the kernel's numbers ``rows[i]`` (beside
-    the first axis, distance from it, distance from the shoulder), each distinct row formatted once (branches
-    that share a shoulder solution share their sentence)."""
-    made: dict = {}
-
-    def why(i: int) -> str:
-        key = tuple(rows[i])
-        text = made.get(key)
-        if text is None:
-            lat, rho, r = key
-            text = made[key] = reach_why(lat != 0.0, rho, r, target)
-        return text
-
-    return why
+def _result(values: tuple, later: Any = None) -> IKResult:
+    """An :class:`IKResult` of the fields ``values`` (``trace`` None; ``message`` made by ``later()`` when first
+    read if given), built without the dataclass's ``__init__`` (:meth:`IKResult._later`)."""
+    return IKResult._later(values, later)
 
 
-def _limit_messages(robot: Robot, message: NDArray[np.object_], code: NDArray[np.int_], bits: NDArray[np.int_],
-                    q: Array, ev: Array, tol: tuple[float, float]) -> None:
+def _limit_messages(robot: Robot, message: NDArray[np.object_], code: NDArray[np.int_], bits: NDArray[np.int_]
+                    ) -> None:
     """``message`` of the branches outside the limits (``code == 2``): :func:`_failure_messages`' sentence for
     each pattern of joints (``bits``), made once per robot and pattern (``robot.cache["limit_messages"]``)."""
+    for b in np.flatnonzero(code == 2).tolist():
+        message[b] = _limit_message(robot, int(bits[b]))
+
+
+def _limit_message(robot: Robot, pattern: int) -> Any:
+    """:func:`_limit_text` of the joints whose bits are set in ``pattern``, made once per robot and pattern
+    (``robot.cache["limit_messages"]``)."""
     made = robot.cache.get("limit_messages")
     if made is None:
         made = robot.cache["limit_messages"] = {}
-    for b in np.flatnonzero(code == 2).tolist():
-        pattern = int(bits[b])
-        text = made.get(pattern)
-        if text is None:
-            one = np.full(1, "", dtype=object)
-            _failure_messages(robot, one, np.array([2]), None, q[b:b + 1], ev[0, b:b + 1],  # type: ignore[arg-type]
-                              ev[1, b:b + 1], tol)
-            text = made[pattern] = one[0]
-        message[b] = text
-
-
-def _single_result(c: _Single, q: Array, ok, ev: Array, within, label, code, message, nearest: bool,
-                   batch_axis: bool) -> IKResult:
-    """The :class:`IKResult` of :func:`single_call`: fields ``(m,)``, ``()`` (``nearest``: the first branch) or
-    ``(1, m)`` (``batch_axis``), built without the dataclass's ``__init__`` (:meth:`IKResult._of`)."""
-    if nearest:
-        return IKResult._of(q=q[0], success=ok[0, ...], position_error=ev[0, 0, ...], rotation_error=ev[1, 0, ...],
-                            iterations=np.zeros((), dtype=np.int64), branch=label[0, ...], within_limits=within[0, ...],
-                            reason=_REASON_TEXT[code][0, ...], message=message[0, ...])
-    if batch_axis:
-        return IKResult._of(q=q[None], success=ok[None], position_error=ev[0][None], rotation_error=ev[1][None],
-                            iterations=np.zeros((1, c.m), dtype=np.int64), branch=label[None],
-                            within_limits=within[None], reason=_REASON_TEXT[code][None], message=message[None])
-    return IKResult._of(q=q, success=ok, position_error=ev[0], rotation_error=ev[1],
-                        iterations=np.zeros(c.m, dtype=np.int64), branch=label, within_limits=within,
-                        reason=_REASON_TEXT[code], message=message)
+    text = made.get(pattern)
+    if text is None:
+        text = made[pattern] = _limit_text(robot, [j for j in range(robot.n) if pattern >> j & 1])
+    return text
 
 
 def solve_nearest(robot: Robot, solver: ClosedForm, target: Array, q0: Array, position_only: bool,

@@ -21,14 +21,27 @@ a status, and the caller answers by the batched path: a target that is not finit
 stretched or folded elbow) (:data:`FALLBACK`). Imported lazily, only when the Numba back end is
 in use (:mod:`armkit._jit_loader`).
 
-Every kernel returns ``(status, limit failures, other failures, q, errors, flags, ints, reach)``: ``q``
-``(m, n)`` sorted; ``errors`` ``(2, m)``: position and rotation error; ``flags`` ``(2, m)``: success
-and within limits; ``ints`` ``(4, m)``: reason code (0 converged, 1 unreachable, 2 joint limits),
-label index, the branch's index before sorting, and the bits of the joints outside their limits (bit ``j``:
-joint ``j``, the test of ``_failure_messages``); ``reach`` ``(m, 4)``, per branch before sorting: clipped
-(out of reach, 1.0/0.0), then the numbers of the family's out-of-reach sentence (its ``reach_why``): the
-target beside the first axis (1.0/0.0), its distance from that axis, its distance from the shoulder (zeros
-for :func:`post`). ``opts`` is the float64 vector of :data:`OPTS`.
+The calling convention keeps Numba's own cost per call low (each argument is unboxed, each
+returned array boxed; the buffers are made by the caller): every kernel takes
+
+* ``t``: the target, flat (16 values of a pose, or 3 of a point), and ``q0`` ``(n,)``;
+* ``ctx``: everything of the robot and the call options in one read-only float64 vector
+  (:func:`context`: the header :data:`CTX`, then the family's geometry, the joint table, the packed
+  chain ``F`` of :func:`armkit.kinematics.packed` and the options :data:`OPTS`), built once per robot
+  and options;
+* three output buffers the kernel fills, laid out by :func:`layout` for ``m`` branches of ``n``
+  joints: ``fb`` float64 (``q`` ``(m, n)`` sorted, position and rotation errors, then for the
+  messages a private copy of both errors and the ``reach`` rows ``(m, 4)`` in sorted order: clipped
+  (out of reach, 1.0/0.0), then the numbers of the family's out-of-reach sentence, its ``reach_why``:
+  the target beside the first axis (1.0/0.0), its distance from that axis, its distance from the
+  shoulder; zeros for :func:`post`), ``ib`` int64 (reason code: 0 converged, 1 unreachable,
+  2 joint limits; label index; zeros, the ``iterations`` field; the branch's index before sorting;
+  the bits of the joints outside their limits, bit ``j``: joint ``j``, the test of
+  ``_failure_messages``) and ``bb`` bool (success, within limits);
+
+and returns one int: the status (:data:`DONE`, :data:`FALLBACK`, :data:`BAD_TARGET`) plus
+:data:`LIMIT_FAILURES` when a branch failed by the limits only and :data:`OTHER_FAILURES` when
+one failed otherwise.
 """
 
 from __future__ import annotations
@@ -43,23 +56,60 @@ _jit_loader.install_cache_fallback()  # before the first cache=True: read-only i
 
 from numba import njit  # noqa: E402
 
-from ...kinematics._jit import _fk_serial  # noqa: E402
+from ...kinematics._jit import ROW, _fk_serial  # noqa: E402
 from .._jit_verify import _check  # noqa: E402
-from ._jit import _planar2_run, _planar3_run, _puma_run, _ur_run, _widened, _wrap_one, _ypp_run  # noqa: E402
-from ._layout import JOINT_LOWER, JOINT_THETA, JOINT_UPPER  # noqa: E402
+from ._jit import _planar2_run, _planar3_run, _puma_run, _ur_run, _wrap_one, _ypp_run  # noqa: E402
+from ._layout import JOINT_LOWER, JOINT_PRISMATIC, JOINT_ROWS, JOINT_THETA, JOINT_UPPER  # noqa: E402
 
 DONE, FALLBACK, BAD_TARGET = 0, 1, 2
 """Kernel status: answered; answer by the batched path (same result); target not finite or not rigid."""
+LIMIT_FAILURES, OTHER_FAILURES = 4, 8
+"""Bits of a kernel's return value besides the status: some branch failed by the limits alone; some
+branch failed otherwise (unreachable)."""
 OPTS = ("tol_p", "tol_r", "enforce", "window_p", "window_r", "above_p", "above_r", "sign", "check")
-"""The entries of ``opts``: FK tolerances, enforce limits (1.0/0.0), the polish window and threshold of
-``solve_all`` (position entries already times the reach), the planar-2r joint-2 sign, check rigidity (1.0/0.0)."""
+"""The options at the end of ``ctx``: FK tolerances, enforce limits (1.0/0.0), the polish window and
+threshold of ``solve_all`` (position entries already times the reach), the planar-2r joint-2 sign,
+check rigidity (1.0/0.0)."""
+CTX = ("n", "geometry", "joints", "F", "opts")
+"""The header of ``ctx``: the number of joints, then where the geometry, the joint table, the packed
+chain and the options start."""
 RIGID_TOL = 1e-6   # check_transform's default
 
 
 def options(tol, enforce, window, above, scale, sign, check):
-    """The ``opts`` vector (:data:`OPTS`), products formed as ``solve_all`` forms them."""
+    """The options (:data:`OPTS`), products formed as ``solve_all`` forms them."""
     return np.array([tol[0], tol[1], 1.0 if enforce else 0.0, window * scale, window, above * scale, above,
                      float(sign), 1.0 if check else 0.0])
+
+
+def context(geometry, joints, F, opts):
+    """The read-only ``ctx`` vector of the kernels (header :data:`CTX`; ``geometry`` None: none)."""
+    g = np.zeros(0) if geometry is None else np.asarray(geometry, dtype=float).ravel()
+    parts = [g, np.asarray(joints, dtype=float).ravel(), np.asarray(F, dtype=float).ravel(), np.asarray(opts, float)]
+    head = len(CTX)
+    starts, at = [], head
+    for p in parts:
+        starts.append(at)
+        at += p.size
+    ctx = np.concatenate([np.array([float(np.shape(joints)[1])] + [float(s) for s in starts])] + parts)
+    ctx.setflags(write=False)
+    return ctx
+
+
+def layout(m, n):
+    """Offsets in the output buffers for ``m`` branches of ``n`` joints: ``(fb size, ib size, bb size)`` and,
+    in ``fb``, where the errors, the private errors and the reach rows start (see the module docstring)."""
+    mn = m * n
+    return {"fb": mn + 8 * m, "ib": 5 * m, "bb": 2 * m, "dp": mn, "dr": mn + m, "hdp": mn + 2 * m,
+            "hdr": mn + 3 * m, "reach": mn + 4 * m}
+
+
+@njit(cache=True, inline="always")
+def _parts(ctx):
+    """``(n, geometry, joints (JOINT_ROWS, n), F (n + 1, ROW), opts)``: views of ``ctx``."""
+    n = int(ctx[0])
+    a, b, c, d = int(ctx[1]), int(ctx[2]), int(ctx[3]), int(ctx[4])
+    return n, ctx[a:b], ctx[b:c].reshape((JOINT_ROWS, n)), ctx[c:d].reshape((n + 1, ROW)), ctx[d:]
 
 
 @njit(cache=True)
@@ -106,42 +156,39 @@ def _usable_start(q0):
 
 
 @njit(cache=True)
-def _early(status, m, n):
-    """The result of a kernel that stops before verifying (the caller answers by the batched path)."""
-    return (status, 0, 0, np.empty((m, n)), np.empty((2, m)), np.zeros((2, m), np.bool_),
-            np.zeros((4, m), np.int64), np.zeros((m, 4)))
-
-
-@njit(cache=True)
-def _finish(rawq, unreach, missing, lab, joints, F, q0, T, pose, opts, reach):
-    """Steps 2-4 of the module docstring for raw DH angles ``rawq`` (m, n) of one target ``T`` (4, 4)."""
+def _finish(rawq, unreach, missing, lab, ctx, q0, T, pose, lat, rho, r, per, fb, ib, bb):
+    """Steps 2-4 of the module docstring for raw DH angles ``rawq`` (m, n) of one target ``T`` (4, 4), into
+    the buffers; ``lat, rho, r[b // per]``: the numbers of branch ``b``'s out-of-reach sentence."""
     m, n = rawq.shape
-    theta = joints[JOINT_THETA]
-    lower, upper = joints[JOINT_LOWER], joints[JOINT_UPPER]
-    lo, hi, revolute = _widened(joints)
+    _, _, joints, F, opts = _parts(ctx)
+    lo, hi = np.empty(n), np.empty(n)
+    for j in range(n):
+        lo[j] = joints[JOINT_LOWER, j] - 1e-12
+        hi[j] = joints[JOINT_UPPER, j] + 1e-12
     q = np.empty((m, n))
     dist = np.empty(m)
     for b in range(m):    # solve_all: jit.wrap_dist
         s = 0.0
         for j in range(n):
-            v = _wrap_one(rawq[b, j] - theta[j], q0[j], lo[j], hi[j], revolute[j])
+            revolute = joints[JOINT_PRISMATIC, j] == 0.0
+            v = _wrap_one(rawq[b, j] - joints[JOINT_THETA, j], q0[j], lo[j], hi[j], revolute)
             q[b, j] = v
-            if revolute[j]:
+            if revolute:
                 s += (v - q0[j]) ** 2
         dist[b] = math.sqrt(s)
     Tq = np.empty((m, 4, 4))
     if _fk_serial(F, q, Tq):   # a value that is not finite: the batched path says what
-        return _early(FALLBACK, m, n)
+        return FALLBACK
     tol_p, tol_r, enforce = opts[0], opts[1], opts[2] != 0.0
     win_p, win_r, above_p, above_r = opts[3], opts[4], opts[5], opts[6]
     dp, dr = np.empty(m), np.empty(m)
     ok, within = np.empty(m, np.bool_), np.empty(m, np.bool_)
     code = np.empty(m, np.int64)
-    n_limits = n_other = 0
+    flags = DONE
     for b in range(m):    # solve_all: verify, the polish test, the reason codes
-        e_p, e_r, w = _check(Tq[b], T, pose, q[b], lower, upper, 1e-12)
+        e_p, e_r, w = _check(Tq[b], T, pose, q[b], joints[JOINT_LOWER], joints[JOINT_UPPER], 1e-12)
         if e_p <= win_p and e_r <= win_r and (e_p > above_p or e_r > above_r):
-            return _early(FALLBACK, m, n)   # _polish would touch this branch up
+            return FALLBACK   # _polish would touch this branch up
         fk_ok = e_p <= tol_p and e_r <= tol_r and not missing[b]
         good = fk_ok and (w or not enforce)
         dp[b], dr[b], ok[b], within[b] = e_p, e_r, good, w
@@ -149,10 +196,10 @@ def _finish(rawq, unreach, missing, lab, joints, F, q0, T, pose, opts, reach):
             code[b] = 0
         elif fk_ok and not w:
             code[b] = 2
-            n_limits += 1
+            flags |= LIMIT_FAILURES
         else:
             code[b] = 1
-            n_other += 1
+            flags |= OTHER_FAILURES
     key = np.empty(m)
     idx = np.empty(m, np.int64)
     for b in range(m):    # solve_all: jit.sort_branches (a stable insertion sort)
@@ -164,17 +211,25 @@ def _finish(rawq, unreach, missing, lab, joints, F, q0, T, pose, opts, reach):
             j -= 1
         key[j + 1] = k
         idx[j + 1] = b
-    qs, ev, fl, iv = np.empty((m, n)), np.empty((2, m)), np.empty((2, m), np.bool_), np.empty((4, m), np.int64)
+    mn = m * n
     for b in range(m):
         s = idx[b]
         bits = 0
         for j in range(n):
-            qs[b, j] = q[s, j]
-            if q[s, j] < lo[j] or q[s, j] > hi[j]:
+            v = q[s, j]
+            fb[b * n + j] = v
+            if v < lo[j] or v > hi[j]:
                 bits |= 1 << j
-        ev[0, b], ev[1, b], fl[0, b], fl[1, b] = dp[s], dr[s], ok[s], within[s]
-        iv[0, b], iv[1, b], iv[2, b], iv[3, b] = code[s], lab[s], s, bits
-    return DONE, n_limits, n_other, qs, ev, fl, iv, reach
+        fb[mn + b] = fb[mn + 2 * m + b] = dp[s]
+        fb[mn + m + b] = fb[mn + 3 * m + b] = dr[s]
+        at = mn + 4 * m + 4 * b
+        fb[at] = 1.0 if unreach[s] else 0.0
+        fb[at + 1] = 1.0 if lat else 0.0
+        fb[at + 2] = rho
+        fb[at + 3] = r[s // per]
+        ib[b], ib[m + b], ib[2 * m + b], ib[3 * m + b], ib[4 * m + b] = code[s], lab[s], 0, s, bits
+        bb[b], bb[m + b] = ok[s], within[s]
+    return flags
 
 
 @njit(cache=True)
@@ -184,27 +239,19 @@ def usable(t, q0, check):
 
 
 @njit(cache=True)
-def post(rawq, unreach, missing, joints, F, q0, t, opts):
+def post(rawq, unreach, missing, t, q0, ctx, fb, ib, bb):
     """Steps 2-4 for raw DH angles ``rawq`` (m, n) of one target ``t`` (flat: 16 or 3 values) that a family's
     Python ``solve`` gave (the geometric family); label indices are the raw branch indices."""
-    m, n = rawq.shape
+    m = rawq.shape[0]
+    opts = _parts(ctx)[4]
     T, good = _target(t, opts[8] != 0.0)
     if not good or not _usable_start(q0):
-        return _early(BAD_TARGET, m, n)
-    return _finish(rawq, unreach, missing, np.arange(m), joints, F, q0, T, t.shape[0] == 16, opts,
-                   _reach(m, 1, unreach, False, 0.0, np.zeros(m)))
-
-
-@njit(cache=True, inline="always")
-def _reach(m, per, unreach, lat, rho, r):
-    """The ``reach`` rows of ``m`` branches: ``unreach[b]``, ``lat`` and ``rho`` of the target, ``r[b // per]``."""
-    out = np.empty((m, 4))
+        return BAD_TARGET
+    lab = np.empty(m, np.int64)
     for b in range(m):
-        out[b, 0] = 1.0 if unreach[b] else 0.0
-        out[b, 1] = 1.0 if lat else 0.0
-        out[b, 2] = rho
-        out[b, 3] = r[b // per]
-    return out
+        lab[b] = b
+    return _finish(rawq, unreach, missing, lab, ctx, q0, T, t.shape[0] == 16, False, 0.0, np.zeros(1), m + 1,
+                   fb, ib, bb)
 
 
 @njit(cache=True, inline="always")
@@ -217,12 +264,12 @@ def _q0phi(q0, joints):
 
 
 @njit(cache=True)
-def planar2(t, g, joints, F, q0, opts):
+def planar2(t, q0, ctx, fb, ib, bb):
     """Planar-2r (``_layout.P2_*``): ``t`` flat pose (16) or point (3)."""
-    n = q0.shape[0]
+    _, g, _, _, opts = _parts(ctx)
     T, good = _target(t, opts[8] != 0.0)
     if not good or not _usable_start(q0):
-        return _early(BAD_TARGET, 2, n)
+        return BAD_TARGET
     p = np.empty((1, 3))
     for k in range(3):
         p[0, k] = T[k, 3]
@@ -230,63 +277,61 @@ def planar2(t, g, joints, F, q0, opts):
     unreach, edge = np.empty((1, 2), np.bool_), np.empty(1, np.bool_)
     _planar2_run(p, g, q, up, c, r, unreach, edge, 0, 1)
     if edge[0]:
-        return _early(FALLBACK, 2, n)
+        return FALLBACK
     if opts[7] < 0:
         for b in range(2):
             q[0, b, 1] *= -1.0
-    return _finish(q[0], unreach[0], np.zeros(2, np.bool_), up[0], joints, F, q0, T, t.shape[0] == 16, opts,
-                   _reach(2, 2, unreach[0], False, 0.0, r))
+    return _finish(q[0], unreach[0], np.zeros(2, np.bool_), up[0], ctx, q0, T, t.shape[0] == 16, False, 0.0, r, 2,
+                   fb, ib, bb)
 
 
 @njit(cache=True)
-def planar3(t, g, joints, F, q0, opts):
+def planar3(t, q0, ctx, fb, ib, bb):
     """Planar-3r (``_layout.P3_*``): ``t`` flat pose (16)."""
-    n = q0.shape[0]
+    _, g, _, _, opts = _parts(ctx)
     T, good = _target(t, opts[8] != 0.0)
     if not good or not _usable_start(q0):
-        return _early(BAD_TARGET, 2, n)
-    Tb = np.empty((1, 4, 4))
-    Tb[0] = T
+        return BAD_TARGET
+    Tb = T.reshape((1, 4, 4))
     q, up, c, r = np.empty((1, 2, 3)), np.empty((1, 2), np.int64), np.empty(1), np.empty(1)
     unreach, edge = np.empty((1, 2), np.bool_), np.empty(1, np.bool_)
     _planar3_run(Tb, g, q, up, c, r, unreach, edge, 0, 1)
     if edge[0]:
-        return _early(FALLBACK, 2, n)
-    return _finish(q[0], unreach[0], np.zeros(2, np.bool_), up[0], joints, F, q0, T, True, opts,
-                   _reach(2, 2, unreach[0], False, 0.0, r))
+        return FALLBACK
+    return _finish(q[0], unreach[0], np.zeros(2, np.bool_), up[0], ctx, q0, T, True, False, 0.0, r, 2, fb, ib, bb)
 
 
 @njit(cache=True)
-def yaw_pitch_pitch(t, g, joints, F, q0, opts):
+def yaw_pitch_pitch(t, q0, ctx, fb, ib, bb):
     """Yaw-pitch-pitch (``_layout.POS_*``): ``t`` flat pose (16) or point (3)."""
-    n = q0.shape[0]
+    _, g, joints, _, opts = _parts(ctx)
     T, good = _target(t, opts[8] != 0.0)
     if not good or not _usable_start(q0):
-        return _early(BAD_TARGET, 4, n)
+        return BAD_TARGET
     p = np.empty((1, 3))
     for k in range(3):
         p[0, k] = T[k, 3]
-    q0phi = _q0phi(q0, joints)
+    yaw0 = np.empty(1)
+    yaw0[0] = q0[0] + joints[JOINT_THETA, 0]
     phi, up, unreach = np.empty((1, 4, 3)), np.empty((1, 4), np.bool_), np.empty((1, 4), np.bool_)
     c, r, rho = np.empty((1, 2)), np.empty((1, 2)), np.empty(1)
     lat, on_axis, edge, lab = np.empty(1, np.bool_), np.empty(1, np.bool_), np.empty((1, 2), np.bool_), \
         np.empty((1, 4), np.int64)
-    _ypp_run(p, g, q0phi[:, 0].copy(), phi, up, unreach, c, r, rho, lat, on_axis, edge, lab, 0, 1)
+    _ypp_run(p, g, yaw0, phi, up, unreach, c, r, rho, lat, on_axis, edge, lab, 0, 1)
     if on_axis[0] or edge[0, 0] or edge[0, 1]:
-        return _early(FALLBACK, 4, n)
-    return _finish(phi[0], unreach[0], np.zeros(4, np.bool_), lab[0], joints, F, q0, T, t.shape[0] == 16, opts,
-                   _reach(4, 2, unreach[0], lat[0], rho[0], r[0]))
+        return FALLBACK
+    return _finish(phi[0], unreach[0], np.zeros(4, np.bool_), lab[0], ctx, q0, T, t.shape[0] == 16, lat[0], rho[0],
+                   r[0], 2, fb, ib, bb)
 
 
 @njit(cache=True)
-def spherical_wrist(t, g, joints, F, q0, opts):
+def spherical_wrist(t, q0, ctx, fb, ib, bb):
     """Spherical-wrist (``_layout.SW_*``): ``t`` flat pose (16)."""
-    n = q0.shape[0]
+    _, g, joints, _, opts = _parts(ctx)
     T, good = _target(t, opts[8] != 0.0)
     if not good or not _usable_start(q0):
-        return _early(BAD_TARGET, 8, n)
-    Tb = np.empty((1, 4, 4))
-    Tb[0] = T
+        return BAD_TARGET
+    Tb = T.reshape((1, 4, 4))
     q0phi = _q0phi(q0, joints)
     out, lab, singular = np.empty((1, 4, 2, 6)), np.empty((1, 4, 2), np.int64), np.empty((1, 4), np.bool_)
     phi, up, unreach4 = np.empty((1, 4, 3)), np.empty((1, 4), np.bool_), np.empty((1, 4), np.bool_)
@@ -295,25 +340,24 @@ def spherical_wrist(t, g, joints, F, q0, opts):
         np.empty((1, 4), np.int64)
     _puma_run(Tb, g, q0phi, out, lab, singular, phi, up, unreach4, c, r, rho, lat, on_axis, edge, lab4, 0, 1)
     if on_axis[0] or edge[0, 0] or edge[0, 1]:
-        return _early(FALLBACK, 8, n)
+        return FALLBACK
     unreach = np.empty(8, np.bool_)
     for b in range(4):
         if singular[0, b]:
-            return _early(FALLBACK, 8, n)
+            return FALLBACK
         unreach[2 * b] = unreach[2 * b + 1] = unreach4[0, b]
-    return _finish(out.reshape(8, 6), unreach, np.zeros(8, np.bool_), lab.reshape(8), joints, F, q0, T, True, opts,
-                   _reach(8, 4, unreach, lat[0], rho[0], r[0]))
+    return _finish(out.reshape(8, 6), unreach, np.zeros(8, np.bool_), lab.reshape(8), ctx, q0, T, True, lat[0],
+                   rho[0], r[0], 4, fb, ib, bb)
 
 
 @njit(cache=True)
-def ur(t, g, joints, F, q0, opts):
+def ur(t, q0, ctx, fb, ib, bb):
     """UR (``_layout.UR_*``): ``t`` flat pose (16)."""
-    n = q0.shape[0]
+    _, g, joints, _, opts = _parts(ctx)
     T, good = _target(t, opts[8] != 0.0)
     if not good or not _usable_start(q0):
-        return _early(BAD_TARGET, 8, n)
-    Tb = np.empty((1, 4, 4))
-    Tb[0] = T
+        return BAD_TARGET
+    Tb = T.reshape((1, 4, 4))
     q0phi = _q0phi(q0, joints)
     out, up, unreach = np.empty((1, 2, 2, 2, 6)), np.empty((1, 2, 2, 2), np.bool_), np.empty((1, 2, 2, 2), np.bool_)
     lab = np.empty((1, 2, 2, 2), np.int64)
@@ -321,14 +365,14 @@ def ur(t, g, joints, F, q0, opts):
     on_axis, singular = np.empty(1, np.bool_), np.empty((1, 2, 2), np.bool_)
     _ur_run(Tb, g, q0phi, out, up, lab, unreach, lat, rho, r, on_axis, singular, 0, 1)
     if on_axis[0] or singular[0, 0, 0] or singular[0, 0, 1] or singular[0, 1, 0] or singular[0, 1, 1]:
-        return _early(FALLBACK, 8, n)
-    return _finish(out.reshape(8, 6), unreach.reshape(8), np.zeros(8, np.bool_), lab.reshape(8), joints, F, q0, T,
-                   True, opts, _reach(8, 2, unreach.reshape(8), lat[0], rho[0], r[0].reshape(4)))
+        return FALLBACK
+    return _finish(out.reshape(8, 6), unreach.reshape(8), np.zeros(8, np.bool_), lab.reshape(8), ctx, q0, T, True,
+                   lat[0], rho[0], r[0].reshape(4), 2, fb, ib, bb)
 
 
 KERNELS = {"planar-2r": planar2, "planar-3r": planar3, "yaw-pitch-pitch": yaw_pitch_pitch,
            "spherical-wrist": spherical_wrist, "ur": ur}
-"""Family name -> its one-call kernel ``(t, g, joints, F, q0, opts)``; other families: :func:`post` after their
+"""Family name -> its one-call kernel ``(t, q0, ctx, fb, ib, bb)``; other families: :func:`post` after their
 ``solve``. A family here also has ``reach_why(lateral_out, rho, r, target)``: its out-of-reach sentence (the
 one its ``Raw.why`` gives) from the kernel's ``reach`` numbers, so that a target with a clipped branch is not
 solved a second time."""
