@@ -222,12 +222,14 @@ def teleop(args) -> None:
         ratio = f"  {med[1] / med[0]:.2f}x" if len(med) > 1 else ""
         print(f"{label:50} " + " ".join(f"{c:>32}" for c in cells) + ratio)
     stages: dict[str, int] = {}
+    numpy_path = 0
     rk = solvers["armkit"]
     for i in range(k):
         rk.inverse_kinematics(cur[i], step[i])  # type: ignore[attr-defined]
         stages[rk.last_stage] = stages.get(rk.last_stage, 0) + 1  # type: ignore[attr-defined]
-    print(f"armkit's stages on the 5 mm steps: {stages} (pose/direction/pitch: compiled kernel; "
-          "position/failed: NumPy path)")
+        numpy_path += bool(getattr(rk, "_numpy", False))
+    print(f"armkit's stages on the 5 mm steps: {stages}; {numpy_path} of {k} took the NumPy path (LM for the "
+          "position, or a failure's message), the others one compiled call")
     # the loop: a 5 cm circle in 0.5 mm steps, each answer is the next current joints
     n = args.loop
     radius = 0.05

@@ -163,19 +163,21 @@ def _motor(source: str, name: str, entry: Any) -> MotorCalibration:
 
 def _mode(mode: Any, what: str = "mode") -> str:
     if not isinstance(mode, str) or mode.lower() not in MODES:
-        raise ArgumentError(f"{what} must be one of {', '.join(MODES)}; got {mode!r}"[:300])
+        raise ArgumentError.of("{what} must be one of {names}; got {value}", what=what, names=", ".join(MODES),
+                               value=repr(mode)[:200])
     return mode.lower()
 
 
 def _finite(values: Any, what: str) -> np.ndarray:
     if isinstance(values, (str, bytes)):
-        raise ArgumentError(f"{what} must be numbers, got the string {values!r}"[:200])
+        raise ArgumentError.of("{what} must be numbers, got the string {value}", what=what, value=repr(values)[:100])
     try:
         a = np.asarray(values, dtype=float)
     except (TypeError, ValueError, OverflowError) as exc:
-        raise ArgumentError(f"{what} must be numbers, got {values!r} ({exc})"[:300]) from None
+        raise ArgumentError.of("{what} must be numbers, got {value} ({reason})", what=what, value=repr(values)[:150],
+                               reason=str(exc)[:100]) from None
     if not np.all(np.isfinite(a)):
-        raise ArgumentError(f"{what} holds NaN or infinite values")
+        raise ArgumentError.of("{what} holds NaN or infinite values", what=what)
     return a
 
 
@@ -225,17 +227,20 @@ class Calibration:
         self.signs = self._per_joint(signs, "signs", 1.0)
         self.offsets_deg = self._per_joint(offsets_deg, "offsets_deg", 0.0)
         if any(s not in (1.0, -1.0) for s in self.signs):
-            raise ArgumentError(f"signs must be +1 or -1 per joint, got {dict(zip(ARM_MOTORS, self.signs))}")
+            raise ArgumentError.of("signs must be +1 or -1 per joint, got {value}",
+                                   value=str(dict(zip(ARM_MOTORS, self.signs))))
 
     @staticmethod
     def _per_joint(given: Mapping[str, float] | None, what: str, default: float) -> tuple[float, ...]:
         if given is None:
             return (default,) * len(ARM_MOTORS)
         if not isinstance(given, Mapping):
-            raise ArgumentError(f"{what} must be a dict {{motor name: value}}, got {given!r}"[:200])
+            raise ArgumentError.of("{what} must be a dict {{motor name: value}}, got {value}", what=what,
+                                   value=repr(given)[:100])
         bad = [k for k in given if k not in ARM_MOTORS]
         if bad:
-            raise ArgumentError(f"{what}: unknown arm motor {bad[0]!r}; the arm motors are {', '.join(ARM_MOTORS)}")
+            raise ArgumentError.of("{what}: unknown arm motor {name!r}; the arm motors are {names}", what=what,
+                                   name=str(bad[0])[:100], names=", ".join(ARM_MOTORS))
         out = tuple(float(_finite(given.get(m, default), f"{what}[{m!r}]")) for m in ARM_MOTORS)
         return out
 
@@ -338,27 +343,28 @@ class Calibration:
             for key, v in values.items():
                 name = key[:-4] if isinstance(key, str) and key.endswith(".pos") else key
                 if name not in self.motors:
-                    raise ArgumentError(f"unknown motor {key!r}; the motors of {self.source} are "
-                                        f"{', '.join(self.motor_names)}"[:300])
-                cols[name] = _finite(v, f"the value of {name!r}")
+                    raise ArgumentError.of("unknown motor {name!r}; the motors of {source} are {names}",
+                                           name=str(key)[:100], source=self.source, names=", ".join(self.motor_names))
+                cols[name] = _finite(v, str(name))
             missing = [m for m in ARM_MOTORS if m not in cols]
             if missing:
-                raise ArgumentError(f"no value for the motor {missing[0]!r}; give every arm motor: "
-                                    f"{', '.join(ARM_MOTORS)}")
+                raise ArgumentError.of("no value for the motor {name!r}; give every arm motor: {names}",
+                                       name=missing[0], names=", ".join(ARM_MOTORS))
             try:
                 shape = np.broadcast_shapes(*(c.shape for c in cols.values()))
             except ValueError:
-                raise ArgumentError("the motors' values have shapes that do not broadcast together: "
-                                    + ", ".join(f"{k} {c.shape}" for k, c in cols.items())) from None
+                raise ArgumentError.of("the motors' values have shapes that do not broadcast together: {shapes}",
+                                       shapes=", ".join(f"{k} {c.shape}" for k, c in cols.items())) from None
             return {k: np.broadcast_to(c, shape) for k, c in cols.items()}
         a = _finite(values, "values")
         n_all, n_arm = len(self.motor_names), len(self.arm_order)
         if a.ndim == 0 or a.shape[-1] not in (n_all, n_arm):
-            got = "a scalar" if a.ndim == 0 else f"shape {a.shape}"
-            raise ArgumentError(f"values must be a dict {{motor name: value}} or an array (..., {n_all}) in the "
-                                f"file's motor order ({', '.join(self.motor_names)})"
-                                + (f" or (..., {n_arm}) without the gripper" if n_arm != n_all else "")
-                                + f"; got {got}")
+            raise ArgumentError.of(
+                N_("values must be a dict {{motor name: value}} or an array (..., {n}) in the file's motor order "
+                   "({names}) or (..., {n_arm}) without the gripper; got shape {shape}") if n_arm != n_all else
+                N_("values must be a dict {{motor name: value}} or an array (..., {n}) in the file's motor order "
+                   "({names}); got shape {shape}"),
+                n=n_all, names=", ".join(self.motor_names), n_arm=n_arm, shape=a.shape)
         names = self.motor_names if a.shape[-1] == n_all else self.arm_order
         return {m: a[..., i] for i, m in enumerate(names)}
 
@@ -470,8 +476,9 @@ class Calibration:
         """
         ticks, notes = self._to_ticks(values, mode, gripper_mode)
         if with_gripper and GRIPPER not in ticks:
-            raise ArgumentError("with_gripper=True needs a gripper value"
-                                + ("" if GRIPPER in self.motors else f", and {self.source} has no gripper motor"))
+            raise ArgumentError.of(N_("with_gripper=True needs a gripper value") if GRIPPER in self.motors else
+                                   N_("with_gripper=True needs a gripper value, and {source} has no gripper motor"),
+                                   source=self.source)
         self._warn(notes, 2)
         q = [self.signs[i] * np.radians(self.normalize(m, ticks[m], "degrees")) + math.radians(self.offsets_deg[i])
              for i, m in enumerate(ARM_MOTORS)]
@@ -494,13 +501,13 @@ class Calibration:
         m, g = self._modes(mode, gripper_mode)
         qa = _finite(q, "q")
         if qa.ndim == 0 or qa.shape[-1] not in (5, 6):
-            raise ArgumentError(f"q must have 5 joint angles (rad, {', '.join(ARM_MOTORS)}) or 6 with the jaw "
-                                f"last; got {'a scalar' if qa.ndim == 0 else f'shape {qa.shape}'}")
+            raise ArgumentError.of("q must have 5 joint angles (rad, {names}) or 6 with the jaw last; got shape {shape}",
+                                   names=", ".join(ARM_MOTORS), shape=qa.shape)
         jaw = qa.shape[-1] == 6
         if jaw and gripper is not None:
-            raise ArgumentError("give the jaw angle as q's 6th value or gripper=, not both")
+            raise ArgumentError.of("give the jaw angle as q's 6th value or gripper=, not both")
         if (jaw or gripper is not None) and GRIPPER not in self.motors:
-            raise ArgumentError(f"{self.source} has no gripper motor")
+            raise ArgumentError.of("{source} has no gripper motor", source=self.source)
         ticks = {name: self.unnormalize(name, (np.degrees(qa[..., i]) - self.offsets_deg[i]) * self.signs[i],
                                         "degrees") for i, name in enumerate(ARM_MOTORS)}
         modes = {name: m for name in ARM_MOTORS}
@@ -591,10 +598,13 @@ class RobotKinematics:
     For a 5-joint arm of the SO-101's shape with the Numba back end, one compiled call
     (:func:`armkit.ik.analytic._yaw_pitch3_jit.teleop_call`) does the same stages in closed form, nearest
     the current joints (the whole pose as a direction solution whose x axis matches too; with
-    ``orientation_weight == 0``, the position with the current pitch and roll); what it does not settle
-    (a direction within 1e-4 of vertical, a target on the pan axis, a stretched elbow, any failure)
-    takes the path above, and a pitch out of reach goes straight to the position stage. docs/lerobot.md
-    has the timings.
+    ``orientation_weight == 0``, the position with the current pitch and roll); where no pose, direction or
+    pitch is met, the position alone by Newton steps from the current joints (inside the limits), and LM
+    (the NumPy path's last stage) where those do not converge. What it does not settle (a direction within
+    1e-4 of vertical, a target on the pan axis, a stretched elbow, any failure) takes the path above.
+    Every direction start is polished as the batched ``armkit.ik(..., direction=)`` polishes it, so a call
+    gives the same joints as that path (giving up slow starts early made a sustained loop faster, but 4 in
+    1,000 steps then jumped to another solution 107-122 deg away on one joint). docs/lerobot.md has the timings.
     """
 
     def __init__(self, urdf_path: str, target_frame_name: str = "gripper_frame_link",
@@ -602,7 +612,8 @@ class RobotKinematics:
         from .model import load
 
         if not isinstance(target_frame_name, str):
-            raise ArgumentError(f"target_frame_name must be a link name, got {target_frame_name!r}"[:200])
+            raise ArgumentError.of("target_frame_name must be a link name, got {value}",
+                                   value=repr(target_frame_name)[:100])
         self.urdf_path = str(urdf_path)
         self.target_frame_name = target_frame_name
         self.strict = bool(strict)
@@ -615,18 +626,19 @@ class RobotKinematics:
             names = list(known)
         else:
             if isinstance(joint_names, str):
-                raise ArgumentError(f"joint_names must be a list of joint names, got the string {joint_names!r}")
+                raise ArgumentError.of("joint_names must be a list of joint names, got the string {value}",
+                                       value=repr(joint_names)[:100])
             names = [str(n) for n in joint_names]
             unknown = [n for n in names if n not in known]
             if unknown:
-                raise ArgumentError(f"joint_names: no moving joint {unknown[0]!r} in {self.urdf_path}; its joints "
-                                    f"are {', '.join(known)}")
+                raise ArgumentError.of("joint_names: no moving joint {name!r} in {path}; its joints are {names}",
+                                       name=unknown[0][:100], path=self.urdf_path, names=", ".join(known))
             missing = [n for n in chain if n not in names]
             if missing:
-                raise ArgumentError(f"joint_names lacks {missing[0]!r}, a joint of the chain to "
-                                    f"{target_frame_name!r} ({', '.join(chain)})")
+                raise ArgumentError.of("joint_names lacks {name!r}, a joint of the chain to {frame!r} ({names})",
+                                       name=missing[0], frame=target_frame_name, names=", ".join(chain))
             if len(set(names)) != len(names):
-                raise ArgumentError(f"joint_names names a joint twice: {names}")
+                raise ArgumentError.of("joint_names names a joint twice: {names}", names=str(names)[:300])
         self.joint_names = names
         self._index = np.array([names.index(n) for n in chain], dtype=np.int64)
         self._k = len(names)
@@ -646,6 +658,7 @@ class RobotKinematics:
         self._tol = default_tolerance(self.robot)
         self._ctx: np.ndarray | None = None    # the compiled call's constants (geometry, tolerances, indices)
         self._teleop: Any = None               # and the call itself, while the Numba back end serves
+        self._numpy = False                    # whether the last call took the NumPy path (benchmarks count them)
 
     @property
     def last_result(self) -> Any:
@@ -687,9 +700,9 @@ class RobotKinematics:
     def _chain_q(self, joint_pos_deg: Any, what: str) -> np.ndarray:
         a = _finite(joint_pos_deg, what)
         if a.ndim == 0 or a.shape[-1] < len(self.joint_names):
-            raise ArgumentError(f"{what} must hold at least {len(self.joint_names)} values (degrees, in the order "
-                                f"{', '.join(self.joint_names)}); got "
-                                + ("a scalar" if a.ndim == 0 else f"shape {a.shape}"))
+            raise ArgumentError.of("{what} must hold at least {n} values (degrees, in the order {names}); got shape "
+                                   "{shape}", what=what, n=len(self.joint_names), names=", ".join(self.joint_names),
+                                   shape=a.shape)
         return np.radians(a[..., self._index])
 
     def forward_kinematics(self, joint_pos_deg: Any) -> np.ndarray:
@@ -727,6 +740,7 @@ class RobotKinematics:
                     info = np.empty(9)
                     code = call(self._ctx, cc, Tc, orientation_weight > 0, out, info)
                     if code >= 0:
+                        self._numpy = False
                         stage = _STAGES[code]
                         self._last_result, self._fast_answer = None, (info, stage)
                         self.last_stage, self._pose_error = stage, info
@@ -739,18 +753,20 @@ class RobotKinematics:
         from .kinematics import fk
         from .spatial import check_transform
 
+        self._numpy = True
         cur = _finite(current_joint_pos, "current_joint_pos")
         if cur.ndim != 1:
-            raise ArgumentError(f"current_joint_pos must be one configuration (a 1-D array), got shape {cur.shape}")
+            raise ArgumentError.of("current_joint_pos must be one configuration (a 1-D array), got shape {shape}",
+                                   shape=cur.shape)
         q0 = np.clip(self._chain_q(cur, "current_joint_pos"), self.robot.lower, self.robot.upper)
         T = _finite(desired_ee_pose, "desired_ee_pose")
         if T.shape != (4, 4):
-            raise ArgumentError(f"desired_ee_pose must be a 4x4 pose, got shape {T.shape}")
+            raise ArgumentError.of("desired_ee_pose must be a 4x4 pose, got shape {shape}", shape=T.shape)
         check_transform(T, what="desired_ee_pose")
         for w, name in ((position_weight, "position_weight"), (orientation_weight, "orientation_weight")):
             if isinstance(w, bool) or not isinstance(w, (int, float, np.floating, np.integer)) \
                     or not math.isfinite(w) or w < 0:
-                raise ArgumentError(f"{name} must be a finite number >= 0, got {w!r}"[:200])
+                raise ArgumentError.of("{name} must be a finite number >= 0, got {value}", name=name, value=repr(w)[:100])
         p, z = T[:3, 3], T[:3, 2]
         attempts: list[tuple[str, Any]] = []
         if orientation_weight > 0:
@@ -774,8 +790,9 @@ class RobotKinematics:
         Tq = fk(self.robot, q)
         self.last_pose_error = (float(np.linalg.norm(Tq[:3, 3] - p)), _rotation_angle(Tq, T))
         if stage == "failed" and self.strict:
-            raise UnreachableError(f"IK found no joint values that put {self.target_frame_name} at "
-                                   f"({p[0]:.4f}, {p[1]:.4f}, {p[2]:.4f}) m: {res.message}")
+            raise UnreachableError.of("IK found no joint values that put {frame} at ({x:.4f}, {y:.4f}, {z:.4f}) m: "
+                                      "{reason}", frame=self.target_frame_name, x=float(p[0]), y=float(p[1]),
+                                      z=float(p[2]), reason=str(res.message))
         out = cur.copy()
         out[self._index] = np.degrees(q)
         return out
@@ -805,6 +822,7 @@ class RobotKinematics:
         from .kinematics import fk
 
         q0 = np.clip(np.radians(cur[self._index]), self.robot.lower, self.robot.upper)
+        self._numpy = True
         res = ik(self.robot, T[:3, 3], q0)
         if not bool(res.success):
             return None            # the NumPy path says why (and raises in strict mode)

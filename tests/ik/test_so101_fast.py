@@ -270,3 +270,30 @@ def test_direction_part_is_its_own_module():
     assert yaw_pitch3._polish_direction is yaw_pitch3_direction._polish_direction
     with pytest.raises(AttributeError):
         yaw_pitch3.no_such_name  # noqa: B018
+
+
+def test_position_stage_is_compiled_and_meets_the_position(kin, monkeypatch):
+    """Where no pose, direction or pitch is met from the current joints, the compiled call solves the position alone
+    (Newton steps from the current joints) instead of the NumPy path's LM: checked by FK here; the NumPy path
+    reaches no better stage for the same calls."""
+    arm = kin.robot
+    rng = np.random.default_rng(8)
+    q = arm.random_q(80, rng=41)
+    compiled = 0
+    for qi in q:
+        cur = np.append(np.degrees(qi), 0.0)
+        T = kin.forward_kinematics(cur)
+        T[:3, 3] += rng.normal(0, 0.01, 3)                   # 1 cm off, the orientation kept: often no pitch is met
+        for w in (0.01, 0.0):
+            out = kin.inverse_kinematics(cur, T, orientation_weight=w)
+            if kin.last_stage != "position":
+                continue
+            compiled += not kin._numpy
+            qo = np.radians(out[:5])
+            X = armkit.fk(arm, qo)
+            assert np.linalg.norm(X[:3, 3] - T[:3, 3]) <= 1e-9 and arm.within_limits(qo)
+            assert float(kin.last_result.position_error) <= 1e-9 and bool(kin.last_result.success)
+            assert kin.last_pose_error[0] == pytest.approx(np.linalg.norm(X[:3, 3] - T[:3, 3]), abs=1e-12)
+            _, slow_stage, _, _ = _slow(kin, monkeypatch, cur, T, orientation_weight=w)
+            assert slow_stage in ("position", "failed")        # never a better stage by the NumPy path
+    assert compiled >= 5                                      # the case occurs, and the kernel answers it

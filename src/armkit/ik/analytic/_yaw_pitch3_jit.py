@@ -219,21 +219,31 @@ def _pitch_error(g, q, p, psi, X, Z, P, ah):
 
 
 @njit(cache=True)
-def _polish_pitch(g, q, p, psi, steps, X, Z, P, ah):
-    """Newton steps on (position, pitch) of the true model over joints 1-4, in place (yaw_pitch3._polish)."""
+def _polish_pitch(g, q, p, psi, steps, X, Z, P, ah, first=False):
+    """Newton steps on (position, pitch) of the true model over joints 1-4, in place (yaw_pitch3._polish).
+
+    ``first``: ``X``, ``Z``, ``P`` and ``ah`` hold the FK and pitch parts of ``q`` already (the caller's
+    :func:`_pitch_error` of it), which the first step uses. Returns ``(position error, pitch error)`` of the final
+    ``q`` as :func:`_pitch_error` gives them where the steps converged (its FK was the last computed), else
+    ``(-1, -1)``: the caller measures."""
     scale = g[G_SCALE]
     J = np.empty((4, 4))
     A = np.empty((4, 4))
     b = np.empty(4)
     e = np.empty(4)
     u0, u1, u2 = g[G_U], g[G_U + 1], g[G_U + 2]
-    for _ in range(steps):
-        _fk(g, q, X, Z, P)
+    for it in range(steps):
+        if it > 0 or not first:
+            _fk(g, q, X, Z, P)
+            pit, sa, ca = _pitch(g, q, X, p[0], p[1], p[2], ah)
+        else:     # _pitch's last lines, on the parts it left in ah
+            sa = ah[0] * u0 + ah[1] * u1 + ah[2] * u2
+            ca = ah[0] * ah[3] + ah[1] * ah[4] + ah[2] * ah[5]
+            pit = math.atan2(sa, ca)
         e[0], e[1], e[2] = p[0] - X[0, 3], p[1] - X[1, 3], p[2] - X[2, 3]
-        pit, sa, ca = _pitch(g, q, X, p[0], p[1], p[2], ah)
         e[3] = _wrap_pi(psi - pit)
         if max(abs(e[0]), abs(e[1]), abs(e[2])) <= 1e-15 * scale and abs(e[3]) <= 1e-15:
-            return
+            return math.sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]), abs(_wrap_pi(pit - psi))
         ax, ay, az, hx, hy, hz = ah[0], ah[1], ah[2], ah[3], ah[4], ah[5]
         n2 = sa * sa + ca * ca
         au = _cross(ax, ay, az, u0, u1, u2)
@@ -251,25 +261,14 @@ def _polish_pitch(g, q, p, psi, steps, X, Z, P, ah):
         _normal_step(J, e, A, b, 4, 4)
         for j in range(4):
             q[j] += b[j]
+    return -1.0, -1.0
 
 
 @njit(cache=True)
-def pitch_branches(g, p, psi, q0, tol0, tol1, enforce, margin, Q, DP, DR, OK, WI, LAB, polish=15):
-    """The four branches for position ``p`` (3,) and pitch ``psi``, the roll kept at ``q0[4]``.
-
-    Fills ``Q`` (4, 5), ``DP``, ``DR`` (4,), ``OK``, ``WI`` (4,) bool and ``LAB`` (4,) (label index of
-    ``yaw_pitch3._LABELS``); returns flags: :data:`ON_AXIS` (the NumPy path gives a note),
-    :data:`NOTE` (a stretched/folded elbow: the NumPy path gives a note). A failed branch at a
-    straight elbow is polished again from a bent one, as the NumPy path does. ``margin``: polish only the
-    branches within the limits to this much (rad; ``inf``: every branch near the target, as the NumPy path).
-    ``polish``: a bit mask of the branches to polish (bit ``j``: branch ``j``; default all); a branch left
-    out is the closed form's, checked by FK, bit for bit what the polish of it starts from.
-    """
-    X = np.empty((3, 4))
-    Z = np.empty((5, 3))
-    P = np.empty((5, 3))
-    ah = np.empty(6)
-    qb = np.empty(5)
+def _closed_form(g, p, psi, q0, Q, LAB):
+    """The closed form on the ideal arm for position ``p`` and pitch ``psi``, the roll kept at ``q0[4]``: the four
+    branches wrapped into the limits nearest ``q0`` into ``Q`` (4, 5), their label indices into ``LAB`` (4,);
+    returns :data:`ON_AXIS` / :data:`NOTE` flags (see :func:`pitch_branches`). No FK: the caller checks."""
     scale = g[G_SCALE]
     B = G_BASE_INV
     x = g[B] * p[0] + g[B + 1] * p[1] + g[B + 2] * p[2] + g[B + 3]
@@ -294,79 +293,109 @@ def pitch_branches(g, p, psi, q0, tol0, tol1, enforce, margin, Q, DP, DR, OK, WI
     a1, a2, a3 = g[G_A1], g[G_A2], g[G_A3]
     sp, cp = math.sin(psi), math.cos(psi)
     sg = math.copysign(1.0, a2 * a3)
-    steps = 2 if g[G_EXACT] > 0 else 8
-    for j in range(4):
-        f = FRONT[j]
-        k = ELBOW[j]
+    Py = s1 * (z - g[G_D1])
+    for jf in range(2):            # the front and back halves share everything but the elbow's sign
+        f = FRONT[2 * jf]
         Xs = Xf * f
         phi1 = yaw - math.atan2(-s1 * L, Xs)
         Theta = math.atan2(up_sign * sp, f * cp) - g[G_BETA]
         Px = Xs - a1
-        Py = s1 * (z - g[G_D1])
         ct, st = math.cos(Theta), math.sin(Theta)
         Wx, Wy = Px - (ct * gx - st * gy), Py - (st * gx + ct * gy)
         r2 = Wx * Wx + Wy * Wy
         c = (r2 - a2 * a2 - a3 * a3) / (2.0 * a2 * a3)
         cc = min(max(c, -1.0), 1.0)
-        sn = math.sqrt((1.0 - cc) * (1.0 + cc))
-        if k == 1:
-            sn = -sn
+        sn0 = math.sqrt((1.0 - cc) * (1.0 + cc))
         ang = math.atan2(Wy, Wx)
-        th1 = ang - math.atan2(a3 * sn, a2 + a3 * cc)
-        th2 = math.atan2(sn, cc)
-        qb[0] = phi1 - g[G_THETA]
-        qb[1] = th1 - g[G_THETA + 1]
-        qb[2] = th2 - g[G_THETA + 2]
-        qb[3] = Theta - th1 - th2 - g[G_THETA + 3]
-        qb[4] = phi5 - g[G_THETA + 4]
-        _wrap_limits(g, qb, q0)
         unreach = c > 1.0 or c < -1.0 or lateral_out
         if abs(abs(c) - 1.0) <= 1e-9 and not unreach:
             flags |= NOTE
         fwd = 1.0 if Wx > 0 else (-1.0 if Wx < 0 else f)
-        e = 1.0 if k == 0 else -1.0
-        up = -fwd * up_sign * sg * e > 0
-        LAB[j] = 2 * (1 if f > 0 else 0) + (1 if up else 0)
-        dp, dr = _pitch_error(g, qb, p, psi, X, Z, P, ah)
-        wi = _within(g, qb)
-        mine = (polish >> j) & 1 == 1
-        if mine and dp <= 6e-3 * scale and dr <= 6e-3 and (dp > 1e-13 * scale or dr > 1e-13) \
-                and _within(g, qb, margin):
-            for m in range(5):
-                Q[j, m] = qb[m]
-            _polish_pitch(g, qb, p, psi, steps, X, Z, P, ah)
-            dpn, drn = _pitch_error(g, qb, p, psi, X, Z, P, ah)
-            if dpn / scale + drn < dp / scale + dr:
-                dp, dr = dpn, drn
-                wi = _within(g, qb)
-            else:
-                for m in range(5):
-                    qb[m] = Q[j, m]
+        for k in range(2):
+            j = 2 * jf + k
+            sn = -sn0 if k == 1 else sn0
+            th1 = ang - math.atan2(a3 * sn, a2 + a3 * cc)
+            th2 = math.atan2(sn, cc)
+            qb = Q[j]
+            qb[0] = phi1 - g[G_THETA]
+            qb[1] = th1 - g[G_THETA + 1]
+            qb[2] = th2 - g[G_THETA + 2]
+            qb[3] = Theta - th1 - th2 - g[G_THETA + 3]
+            qb[4] = phi5 - g[G_THETA + 4]
+            _wrap_limits(g, qb, q0)
+            e = 1.0 if k == 0 else -1.0
+            up = -fwd * up_sign * sg * e > 0
+            LAB[j] = 2 * (1 if f > 0 else 0) + (1 if up else 0)
+    return flags
+
+
+@njit(cache=True)
+def _polish_branch(g, qb, p, psi, j, tol0, tol1, enforce, margin, mine, X, Z, P, ah, keep):
+    """Branch ``j`` of :func:`pitch_branches` from its closed form ``qb`` (5,), in place: checked by FK and, when
+    ``mine``, polished as :func:`pitch_branches` says (``keep`` (5,): scratch). Returns ``(dp, dr, within, ok)``."""
+    scale = g[G_SCALE]
+    steps = 2 if g[G_EXACT] > 0 else 8
+    dp, dr = _pitch_error(g, qb, p, psi, X, Z, P, ah)
+    wi = _within(g, qb)
+    if mine and dp <= 6e-3 * scale and dr <= 6e-3 and (dp > 1e-13 * scale or dr > 1e-13) \
+            and _within(g, qb, margin):
         for m in range(5):
-            Q[j, m] = qb[m]
-        DP[j], DR[j], WI[j] = dp, dr, wi
-        ok = dp <= tol0 and dr <= tol1 and (wi or not enforce)
-        elbow = qb[2] + g[G_THETA + 2]
-        if mine and not ok and dp <= 6e-3 * g[G_REACH] and dr <= 6e-3 and abs(math.sin(elbow)) < 1e-2 \
-                and _within(g, qb, margin):
-            # at a stretched or folded elbow Newton cannot move outwards: start again from the elbow bent by
-            # ~sqrt(error), on this branch's side (yaw_pitch3.solve_pitch)
-            l2, l3 = abs(a2), abs(a3)
-            bend = math.sqrt(2.0 * dp * (l2 + l3) / (l2 * l3)) + 1e-4
-            sign = 1.0 if k == 0 else -1.0
-            for m in range(5):
-                Q[j, m] = qb[m]
-            qb[2] = (sign * bend if math.cos(elbow) > 0 else math.pi - sign * bend) - g[G_THETA + 2]
-            _polish_pitch(g, qb, p, psi, 16, X, Z, P, ah)
+            keep[m] = qb[m]
+        dpn, drn = _polish_pitch(g, qb, p, psi, steps, X, Z, P, ah, True)
+        if dpn < 0.0:
             dpn, drn = _pitch_error(g, qb, p, psi, X, Z, P, ah)
-            if dpn / scale + drn < dp / scale + dr:
-                dp, dr = dpn, drn
-                wi = _within(g, qb)
-                ok = dp <= tol0 and dr <= tol1 and (wi or not enforce)
-                for m in range(5):
-                    Q[j, m] = qb[m]
-            DP[j], DR[j], WI[j] = dp, dr, wi
-        OK[j] = ok
+        if dpn / scale + drn < dp / scale + dr:
+            dp, dr = dpn, drn
+            wi = _within(g, qb)
+        else:
+            for m in range(5):
+                qb[m] = keep[m]
+    ok = dp <= tol0 and dr <= tol1 and (wi or not enforce)
+    elbow = qb[2] + g[G_THETA + 2]
+    if mine and not ok and dp <= 6e-3 * g[G_REACH] and dr <= 6e-3 and abs(math.sin(elbow)) < 1e-2 \
+            and _within(g, qb, margin):
+        # at a stretched or folded elbow Newton cannot move outwards: start again from the elbow bent by
+        # ~sqrt(error), on this branch's side (yaw_pitch3.solve_pitch)
+        l2, l3 = abs(g[G_A2]), abs(g[G_A3])
+        bend = math.sqrt(2.0 * dp * (l2 + l3) / (l2 * l3)) + 1e-4
+        sign = 1.0 if ELBOW[j] == 0 else -1.0
+        for m in range(5):
+            keep[m] = qb[m]
+        qb[2] = (sign * bend if math.cos(elbow) > 0 else math.pi - sign * bend) - g[G_THETA + 2]
+        dpn, drn = _polish_pitch(g, qb, p, psi, 16, X, Z, P, ah, False)
+        if dpn < 0.0:
+            dpn, drn = _pitch_error(g, qb, p, psi, X, Z, P, ah)
+        if dpn / scale + drn < dp / scale + dr:
+            dp, dr = dpn, drn
+            wi = _within(g, qb)
+            ok = dp <= tol0 and dr <= tol1 and (wi or not enforce)
+        else:
+            for m in range(5):
+                qb[m] = keep[m]
+    return dp, dr, wi, ok
+
+
+@njit(cache=True)
+def pitch_branches(g, p, psi, q0, tol0, tol1, enforce, margin, Q, DP, DR, OK, WI, LAB, polish=15):
+    """The four branches for position ``p`` (3,) and pitch ``psi``, the roll kept at ``q0[4]``.
+
+    Fills ``Q`` (4, 5), ``DP``, ``DR`` (4,), ``OK``, ``WI`` (4,) bool and ``LAB`` (4,) (label index of
+    ``yaw_pitch3._LABELS``); returns flags: :data:`ON_AXIS` (the NumPy path gives a note),
+    :data:`NOTE` (a stretched/folded elbow: the NumPy path gives a note). A failed branch at a
+    straight elbow is polished again from a bent one, as the NumPy path does. ``margin``: polish only the
+    branches within the limits to this much (rad; ``inf``: every branch near the target, as the NumPy path).
+    ``polish``: a bit mask of the branches to polish (bit ``j``: branch ``j``; default all); a branch left
+    out is the closed form's, checked by FK, bit for bit what the polish of it starts from.
+    """
+    X = np.empty((3, 4))
+    Z = np.empty((5, 3))
+    P = np.empty((5, 3))
+    ah = np.empty(6)
+    keep = np.empty(5)
+    flags = _closed_form(g, p, psi, q0, Q, LAB)
+    for j in range(4):
+        DP[j], DR[j], WI[j], OK[j] = _polish_branch(g, Q[j], p, psi, j, tol0, tol1, enforce, margin,
+                                                    (polish >> j) & 1 == 1, X, Z, P, ah, keep)
     return flags
 
 
@@ -429,9 +458,23 @@ def _polish_direction(g, q, p, d, steps, X, Z, P):
                 break
             for j in range(5):
                 b[j] *= 0.5
-        if not moved or (it >= STALL_AFTER and cost > 0.25 * before and cost > 1e-24):
+        slow = cost > 0.25 * before
+        if not moved or (slow and cost > 1e-24 and it >= STALL_AFTER):
             return   # stalled: a start that is no solution (a solution converges quadratically from ~1e-6)
         # X, Z, P, e hold q's values already: the accepted trial was the last _dir_cost call
+
+
+@njit(cache=True)
+def _direction_polished(g, qb, p, d, q0, X, Z, P):
+    """:func:`_polish_direction` (40 steps) of ``qb`` in place, wrapped into the limits nearest ``q0``, and its FK
+    (left in ``X``): returns (position error, angle (rad) between the tool's z axis and ``d``)."""
+    _polish_direction(g, qb, p, d, 40, X, Z, P)
+    _wrap_limits(g, qb, q0)
+    _fk(g, qb, X, Z, P)
+    dx, dy, dz = p[0] - X[0, 3], p[1] - X[1, 3], p[2] - X[2, 3]
+    cx, cy, cz = _cross(X[0, 2], X[1, 2], X[2, 2], d[0], d[1], d[2])
+    return (math.sqrt(dx * dx + dy * dy + dz * dz),
+            math.atan2(math.sqrt(cx * cx + cy * cy + cz * cz), X[0, 2] * d[0] + X[1, 2] * d[1] + X[2, 2] * d[2]))
 
 
 @njit(cache=True)
@@ -451,28 +494,27 @@ def direction_pitch(g, p, d):
 
 
 @njit(cache=True)
-def _pitch_start(g, p, psi, q0, roll, j, tol0, tol1, q0r, Qp, DPp, DRp, OKp, WIp, LABp):
-    """Branch ``j`` of :func:`pitch_branches` at the roll ``roll``, polished on (position, pitch) into row ``j`` of
-    ``Qp`` ...: the start of the direction polish. False when it is no start (too far, or outside the limits)."""
-    for k in range(5):
-        q0r[k] = q0[k]
-    q0r[4] = roll
-    pitch_branches(g, p, psi, q0r, tol0, tol1, False, 1e-3, Qp, DPp, DRp, OKp, WIp, LABp, 1 << j)
-    return DPp[j] <= 6e-3 * g[G_REACH] and _within(g, Qp[j], 1e-3)
+def _pitch_start(g, p, psi, qb, j, tol0, tol1, X, Z, P, ah, keep):
+    """Closed-form candidate ``qb`` (branch ``j`` at its roll, :func:`_closed_form`) polished on (position, pitch) in
+    place, as :func:`pitch_branches` polishes branch ``j`` alone: the start of the direction polish. Returns its
+    position error and whether it is a start (near enough, and inside the limits to 1e-3)."""
+    dp, _, _, _ = _polish_branch(g, qb, p, psi, j, tol0, tol1, False, 1e-3, True, X, Z, P, ah, keep)
+    return dp, dp <= 6e-3 * g[G_REACH] and _within(g, qb, 1e-3)
 
 
 @njit(cache=True)
-def direction_branches(g, p, d, T, q0, tol0, tol1, Q, DP, DA, OK, LAB, ROLL, STARTED):
+def direction_branches(g, p, d, T, q0, tol0, tol1, Q, DP, DA, OK, LAB, ROLL, STARTED, ANG):
     """Position ``p`` and the tool's z axis along the unit ``d``: the nearest successful configurations.
 
     ``T`` (4, 4) is the whole desired pose: candidates are polished nearest ``q0`` first, until the
     nearest direction solution is found and no farther candidate can meet ``T`` too (or one does).
     Fills ``Q`` (16, 5) with every candidate (4 rolls x 4 branches), ``DP`` (16,) position error,
     ``DA`` (16,) angle (rad) between the tool's z axis and ``d``, ``OK`` (16,), ``LAB`` (16,) the
-    label index, ``ROLL`` (16,) the roll each came from and ``STARTED`` (16,) whether it was polished on
+    label index, ``ROLL`` (16,) the roll each came from, ``STARTED`` (16,) whether it was polished on
     (position, pitch) (the others are the closed form's, which is cheap: the polish comes when a candidate's
-    turn comes, see :func:`_pitch_start`); returns the number of candidates tried, or -1 for a direction within 1e-4 of vertical (the NumPy path sweeps the
-    roll there).
+    turn comes, see :func:`_pitch_start`) and ``ANG`` (16,) the angle (rad) between a polished candidate's
+    pose and ``T`` (inf for the others). Returns the number of
+    candidates tried, or -1 for a direction within 1e-4 of vertical (the NumPy path sweeps the roll there).
     """
     B = G_BASE_INV
     d0x = g[B] * d[0] + g[B + 1] * d[1] + g[B + 2] * d[2]
@@ -507,36 +549,37 @@ def direction_branches(g, p, d, T, q0, tol0, tol1, Q, DP, DA, OK, LAB, ROLL, STA
     X = np.empty((3, 4))
     Z = np.empty((5, 3))
     P = np.empty((5, 3))
+    ah = np.empty(6)
+    keep = np.empty(5)
     q0r = np.empty(5)
-    Qp = np.empty((4, 5))
-    DPp = np.empty(4)
-    DRp = np.empty(4)
-    OKp = np.empty(4, dtype=np.bool_)
-    WIp = np.empty(4, dtype=np.bool_)
-    LABp = np.empty(4, dtype=np.int64)
-    qb = np.empty(5)
     dist = np.full(16, np.inf)
     posey = np.zeros(16, dtype=np.bool_)
+    near = 6e-3 * g[G_REACH]
     m = 0
     for i in range(n):
         for k in range(5):
             q0r[k] = q0[k]
         q0r[4] = rolls[i]
-        # the closed form only: a start is polished (as the NumPy path polishes them all) when its turn comes
-        pitch_branches(g, p, psi, q0r, tol0, tol1, False, 1e-3, Qp, DPp, DRp, OKp, WIp, LABp, 0)
+        # the closed form only (checked by FK): a start is polished (as the NumPy path polishes them all) when
+        # its turn comes
+        _closed_form(g, p, psi, q0r, Q[m:m + 4], LAB[m:m + 4])
         for j in range(4):
-            for k in range(5):
-                Q[m, k] = Qp[j, k]
-                qb[k] = Qp[j, k]
-            DP[m], DA[m], LAB[m], OK[m] = DPp[j], np.inf, LABp[j], False
+            qb = Q[m]
+            DP[m], DA[m], ANG[m], OK[m] = np.inf, np.inf, np.inf, False
             ROLL[m], STARTED[m] = rolls[i], False
-            # the polish moves the joints by ~1e-6 rad: a start outside the limits by more cannot succeed
-            if DPp[j] <= 6e-3 * g[G_REACH] and _within(g, qb, 1e-3):
+            # the polish moves the joints by ~1e-6 rad: a start outside the limits by more cannot succeed (nor is
+            # it worth an FK: its DP stays inf, to be measured by whoever polishes it)
+            if not _within(g, qb, 1e-3):
+                m += 1
+                continue
+            _fk(g, qb, X, Z, P)
+            dx, dy, dz = p[0] - X[0, 3], p[1] - X[1, 3], p[2] - X[2, 3]
+            DP[m] = math.sqrt(dx * dx + dy * dy + dz * dz)
+            if DP[m] <= near:
                 s = 0.0
                 for k in range(5):
                     s += (qb[k] - q0[k]) ** 2
                 dist[m] = s
-                _fk(g, qb, X, Z, P)
                 posey[m] = _rotation_angle(X, T) <= 0.1   # the polish turns the roll by up to ~1e-2 near |r| = 1
             m += 1
     # polish nearest first: the first success is the nearest direction solution; after it only a start that may
@@ -550,26 +593,15 @@ def direction_branches(g, p, d, T, q0, tol0, tol1, Q, DP, DA, OK, LAB, ROLL, STA
         if found and not posey[c]:
             continue
         STARTED[c] = True
-        if not _pitch_start(g, p, psi, q0, rolls[c // 4], c % 4, tol0, tol1, q0r, Qp, DPp, DRp, OKp, WIp, LABp):
-            for k in range(5):
-                Q[c, k] = Qp[c % 4, k]
-            DP[c] = DPp[c % 4]
+        qb = Q[c]
+        DP[c], start = _pitch_start(g, p, psi, qb, c % 4, tol0, tol1, X, Z, P, ah, keep)
+        if not start:
             continue
-        for k in range(5):
-            qb[k] = Qp[c % 4, k]
-        _polish_direction(g, qb, p, d, 40, X, Z, P)
-        _wrap_limits(g, qb, q0)
-        _fk(g, qb, X, Z, P)
-        dx, dy, dz = p[0] - X[0, 3], p[1] - X[1, 3], p[2] - X[2, 3]
-        dp = math.sqrt(dx * dx + dy * dy + dz * dz)
-        cx, cy, cz = _cross(X[0, 2], X[1, 2], X[2, 2], d[0], d[1], d[2])
-        da = math.atan2(math.sqrt(cx * cx + cy * cy + cz * cz), X[0, 2] * d[0] + X[1, 2] * d[1] + X[2, 2] * d[2])
-        for k in range(5):
-            Q[c, k] = qb[k]
-        DP[c], DA[c] = dp, da
-        OK[c] = dp <= tol0 and da <= tol1 and _within(g, qb)
+        DP[c], DA[c] = _direction_polished(g, qb, p, d, q0, X, Z, P)
+        ANG[c] = _rotation_angle(X, T)
+        OK[c] = DP[c] <= tol0 and DA[c] <= tol1 and _within(g, qb)
         if OK[c]:
-            if posey[c] and _rotation_angle(X, T) <= tol1:
+            if posey[c] and ANG[c] <= tol1:
                 break
             found = True
             more = False
@@ -600,23 +632,18 @@ def nearest_direction_rows(g, P, D, Q0, tol0, tol1, q_out, dp_out, da_out, lab_o
     LAB = np.zeros(16, dtype=np.int64)
     ROLL = np.empty(16)
     STARTED = np.zeros(16, dtype=np.bool_)
+    ANG = np.empty(16)
     T = np.zeros((4, 4))   # no whole pose wanted: a zero rotation is never met, so no candidate is preferred
     X = np.empty((3, 4))
     Z = np.empty((5, 3))
     Pf = np.empty((5, 3))
-    q0r = np.empty(5)
-    Qp = np.empty((4, 5))
-    DPp = np.empty(4)
-    DRp = np.empty(4)
-    OKp = np.empty(4, dtype=np.bool_)
-    WIp = np.empty(4, dtype=np.bool_)
-    LABp = np.empty(4, dtype=np.int64)
-    qb = np.empty(5)
+    ah = np.empty(6)
+    keep = np.empty(5)
     near = 6e-3 * g[G_REACH]   # yaw_pitch3.solve_direction polishes the candidates this close
     for i in range(P.shape[0]):
         solved[i] = False
         p, d, q0 = P[i], D[i], Q0[i]
-        m = direction_branches(g, p, d, T, q0, tol0, tol1, Q, DP, DA, OK, LAB, ROLL, STARTED)
+        m = direction_branches(g, p, d, T, q0, tol0, tol1, Q, DP, DA, OK, LAB, ROLL, STARTED, ANG)
         if m <= 0:
             continue
         psi = direction_pitch(g, p, d)
@@ -624,25 +651,11 @@ def nearest_direction_rows(g, P, D, Q0, tol0, tol1, q_out, dp_out, da_out, lab_o
             if OK[c]:
                 continue
             if not STARTED[c]:       # the closed form's: its (position, pitch) polish first, as the NumPy path
-                _pitch_start(g, p, psi, q0, ROLL[c], c % 4, tol0, tol1, q0r, Qp, DPp, DRp, OKp, WIp, LABp)
-                for k in range(5):
-                    Q[c, k] = Qp[c % 4, k]
-                DP[c] = DPp[c % 4]
+                DP[c], _ = _pitch_start(g, p, psi, Q[c], c % 4, tol0, tol1, X, Z, Pf, ah, keep)
             if DP[c] > near:
                 continue
-            for k in range(5):
-                qb[k] = Q[c, k]
-            _polish_direction(g, qb, p, d, 40, X, Z, Pf)
-            _wrap_limits(g, qb, q0)
-            _fk(g, qb, X, Z, Pf)
-            dx, dy, dz = p[0] - X[0, 3], p[1] - X[1, 3], p[2] - X[2, 3]
-            e_p = math.sqrt(dx * dx + dy * dy + dz * dz)
-            cx, cy, cz = _cross(X[0, 2], X[1, 2], X[2, 2], d[0], d[1], d[2])
-            e_a = math.atan2(math.sqrt(cx * cx + cy * cy + cz * cz), X[0, 2] * d[0] + X[1, 2] * d[1] + X[2, 2] * d[2])
-            for k in range(5):
-                Q[c, k] = qb[k]
-            DP[c], DA[c] = e_p, e_a
-            OK[c] = e_p <= tol0 and e_a <= tol1 and _within(g, qb)
+            DP[c], DA[c] = _direction_polished(g, Q[c], p, d, q0, X, Z, Pf)
+            OK[c] = DP[c] <= tol0 and DA[c] <= tol1 and _within(g, Q[c])
         best = _nearest(Q, OK, m, q0)
         if best < 0:
             continue
@@ -662,12 +675,11 @@ def nearest_direction_rows(g, P, D, Q0, tol0, tol1, q_out, dp_out, da_out, lab_o
 @njit(cache=True)
 def _rotation_angle(X, T):
     """The angle (rad) of ``R_X^T R_T``, precise near 0 and pi."""
-    E = np.empty((3, 3))
-    for i in range(3):
-        for j in range(3):
-            E[i, j] = X[0, i] * T[0, j] + X[1, i] * T[1, j] + X[2, i] * T[2, j]
-    vx, vy, vz = E[2, 1] - E[1, 2], E[0, 2] - E[2, 0], E[1, 0] - E[0, 1]
-    return math.atan2(0.5 * math.sqrt(vx * vx + vy * vy + vz * vz), 0.5 * (E[0, 0] + E[1, 1] + E[2, 2] - 1.0))
+    def e(i, j):
+        return X[0, i] * T[0, j] + X[1, i] * T[1, j] + X[2, i] * T[2, j]
+
+    vx, vy, vz = e(2, 1) - e(1, 2), e(0, 2) - e(2, 0), e(1, 0) - e(0, 1)
+    return math.atan2(0.5 * math.sqrt(vx * vx + vy * vy + vz * vz), 0.5 * (e(0, 0) + e(1, 1) + e(2, 2) - 1.0))
 
 
 @njit(cache=True)
@@ -681,6 +693,52 @@ def _nearest(Q, OK, n, q0):
             if s < bd:
                 best, bd = i, s
     return best
+
+
+@njit(cache=True)
+def _position_newton(g, q, p, tol0, X, Z, P):
+    """The position ``p`` alone from ``q`` (in place, inside the limits): minimum-norm Newton steps on the five
+    joints, a joint that would leave its limits held at the limit from then on. Returns the position error (``X``
+    holds the FK of ``q``); more than ``tol0`` where it did not converge (the caller takes LM)."""
+    J = np.empty((3, 5))
+    free = np.ones(5, dtype=np.bool_)
+    A = np.empty((3, 3))
+    y = np.empty(3)
+    e = np.empty(3)
+    dp = np.inf
+    for _ in range(30):
+        _fk(g, q, X, Z, P)
+        for i in range(3):
+            e[i] = p[i] - X[i, 3]
+        dp = math.sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2])
+        if dp <= 1e-3 * tol0:
+            return dp
+        for j in range(5):
+            v = _cross(Z[j, 0], Z[j, 1], Z[j, 2], X[0, 3] - P[j, 0], X[1, 3] - P[j, 1], X[2, 3] - P[j, 2])
+            f = 1.0 if free[j] else 0.0
+            J[0, j], J[1, j], J[2, j] = v[0] * f, v[1] * f, v[2] * f
+        for i in range(3):
+            for k in range(3):
+                s = 0.0
+                for j in range(5):
+                    s += J[i, j] * J[k, j]
+                A[i, k] = s + (1e-12 if i == k else 0.0)
+            y[i] = e[i]
+        _solve4(A, y, 3)
+        big = 0.0
+        for j in range(5):
+            dq = J[0, j] * y[0] + J[1, j] * y[1] + J[2, j] * y[2]
+            big = max(big, abs(dq))
+            q[j] += dq
+            lo, hi = g[G_LOWER + j], g[G_UPPER + j]
+            if q[j] < lo or q[j] > hi:
+                q[j] = min(max(q[j], lo), hi)
+                free[j] = False
+        if big > 0.5:
+            return np.inf        # a long way from the current joints: LM decides
+    _fk(g, q, X, Z, P)
+    dx, dy, dz = p[0] - X[0, 3], p[1] - X[1, 3], p[2] - X[2, 3]
+    return math.sqrt(dx * dx + dy * dy + dz * dz)
 
 
 @njit(cache=True)
@@ -725,15 +783,14 @@ def teleop(g, T, q0, orient, tol0, tol1, q_out, info):
         LABd = np.empty(16, dtype=np.int64)
         ROLLd = np.empty(16)
         STd = np.empty(16, dtype=np.bool_)
-        m = direction_branches(g, p, d, T, q0, tol0, tol1, Qd, DPd, DAd, OKd, LABd, ROLLd, STd)
+        ANGd = np.empty(16)
+        m = direction_branches(g, p, d, T, q0, tol0, tol1, Qd, DPd, DAd, OKd, LABd, ROLLd, STd, ANGd)
         if m < 0:
             return NUMPY
         if m > 0:
             POKd = np.zeros(16, dtype=np.bool_)
             for i in range(m):
-                if OKd[i]:
-                    _fk(g, Qd[i], X, Z, P)
-                    POKd[i] = _rotation_angle(X, T) <= tol1
+                POKd[i] = OKd[i] and ANGd[i] <= tol1   # ANGd: measured by FK of the polished candidate
             stage = POSE
             best = _nearest(Qd, POKd, m, q0)
             if best < 0:
@@ -742,8 +799,7 @@ def teleop(g, T, q0, orient, tol0, tol1, q_out, info):
             if best >= 0:
                 for k in range(5):
                     q_out[k] = Qd[best, k]
-                _fk(g, q_out, X, Z, P)
-                info[0], info[1], info[2], info[3] = DPd[best], _rotation_angle(X, T), DAd[best], float(LABd[best])
+                info[0], info[1], info[2], info[3] = DPd[best], ANGd[best], DAd[best], float(LABd[best])
                 return stage
         # the pitch of the direction, measured as RobotKinematics._pitch_of does (about the pan point)
         ox, oy = p[0] - g[G_PAN], p[1] - g[G_PAN + 1]
@@ -762,12 +818,27 @@ def teleop(g, T, q0, orient, tol0, tol1, q_out, info):
     OKp = np.empty(4, dtype=np.bool_)
     WIp = np.empty(4, dtype=np.bool_)
     LABp = np.empty(4, dtype=np.int64)
-    flags = pitch_branches(g, p, psi, q0, tol0, tol1, True, 1e-6, Qp, DPp, DRp, OKp, WIp, LABp)
+    # pitch_branches(..., enforce=True, margin=1e-6) but for the FK of a branch outside the limits by more than
+    # 1e-6 rad: it is not polished, so it cannot succeed
+    flags = _closed_form(g, p, psi, q0, Qp, LABp)
     if flags != 0:
         return NUMPY
+    keep = np.empty(5)
+    for j in range(4):
+        OKp[j] = False
+        if _within(g, Qp[j], 1e-6):
+            DPp[j], DRp[j], WIp[j], OKp[j] = _polish_branch(g, Qp[j], p, psi, j, tol0, tol1, True, 1e-6, True,
+                                                            X, Z, P, ah, keep)
     best = _nearest(Qp, OKp, 4, q0)
     if best < 0:
-        return LM
+        # the position alone, from the current joints (the NumPy path's last stage): LM where this fails
+        for k in range(5):
+            q_out[k] = q0[k]
+        dp = _position_newton(g, q_out, p, tol0, X, Z, P)
+        if dp > tol0 or not _within(g, q_out):
+            return LM
+        info[0], info[1], info[2], info[3] = dp, _rotation_angle(X, T), 0.0, -1.0
+        return POSITION
     for k in range(5):
         q_out[k] = Qp[best, k]
     _fk(g, q_out, X, Z, P)
