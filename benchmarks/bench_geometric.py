@@ -22,6 +22,25 @@ class                           before: CPU (wall) ms  after: CPU   after: wall
 Before: the searches of commit ab0a28d (720 samples, eigenvalue quartic), 10 targets per class
 (/tmp script, same random arms); after: ``--searches --search-targets 200``, 240 samples, load
 average 10.4 (the wall times of the first two rows include waits for the CPU).
+
+Then (shared helpers in :mod:`armkit.ik.geometric._kernels`: no temporary arrays per sample, the
+quartic's Newton polish in real arithmetic, distances between samples computed once, branch ends
+bracketed early, 6 edge samples instead of 10; N, SUB_N unchanged), CPU ms per target, commit
+eb5cee8 (a copy of it run beside this tree, same script) against this tree, back to back at load 4.4:
+
+=============================== ============================== ==============================
+class                           eb5cee8: call / again / search this tree: call / again / search
+=============================== ============================== ==============================
+6R-two-intersecting             1.66 / 1.12 / 1.05             1.05 / 0.60 / 0.56
+6R-two-parallel                 1.62 / 1.30 / 1.20             1.20 / 0.81 / 0.77
+6R-spherical-wrist (SW search)  0.30 / 0.06 / 0.19             0.52 / 0.09 / 0.18
+6R-spherical-middle             0.66 / 0.23 / 0.20             0.66 / 0.19 / 0.15
+=============================== ============================== ==============================
+
+('call' includes the one-off preparation of a new arm, 0.3-0.8 ms, in solvers.py; the general spherical
+wrist is closed form since eb5cee8, its 'search' column times the SW search on the same arm.) IK-Geo's
+0.13-0.33 ms is met by SW and SM, not yet by TI and TP (about 500-550 branch evaluations a target:
+241 samples, ~130-160 near branch ends, ~100-125 in sub-sampled steps).
 """
 
 from __future__ import annotations
@@ -89,23 +108,59 @@ def searches(n: int) -> None:
              ("6R-spherical-wrist, general", G.spherical, lambda g: _random_arm(int(g.integers(1 << 30)), slice(3, 6))),
              ("6R-spherical-middle (2, 3, 4)", G.spherical_middle, _spherical_middle_arm))
     print(f"1-D searches, {G.SEARCH_N} samples a turn, {n} targets each (one random arm per target)")
-    print(f"{'class':40s} {'CPU ms':>8s} {'wall ms':>8s}  solutions (mean)")
+    print("CPU ms per target (thread time): 'call' the whole solver call on a new arm (its one-off preparation,")
+    print("the search, completion, FK check), 'again' a second target on the same arm, 'search' the compiled")
+    print("search alone (search._search) on that target")
+    print(f"{'class':40s} {'call':>7s} {'again':>7s} {'search':>7s} {'wall':>7s}  solutions (mean)")
+    from armkit.ik.geometric import search as S
+    from armkit.ik.geometric.solvers import _prepare
+    ek = S.kernels()
+    names = {G.two_intersecting: ("two_intersecting", S.TI), G.two_parallel: ("two_parallel", S.TP),
+             G.spherical: ("spherical", S.SW), G.spherical_middle: ("spherical_middle", S.SM)}
+    T = time.thread_time
     for label, solver, make in kinds:
         g = np.random.default_rng(0)
-        cpu, wall, m = [], [], []
+        cpu, again, alone, wall, m = [], [], [], [], []
+        name, kind = names[solver]
+        roots = np.zeros((S.MAXROOT, 4))
         for i in range(n):
             form = make(g)
             R, p = form.fk(g.uniform(-np.pi, np.pi, 6))
+            R2, p2 = form.fk(g.uniform(-np.pi, np.pi, 6))
             if i == 0:
                 solver(form, R, p)           # compile or load the kernels
-            t0, w0 = time.process_time(), time.perf_counter()
+                form = make(g)
+            t0, w0 = T(), time.perf_counter()
             sol = solver(form, R, p)
-            cpu.append(time.process_time() - t0)
+            cpu.append(T() - t0)
             wall.append(time.perf_counter() - w0)
+            t0 = T()
+            solver(form, R2, p2)
+            again.append(T() - t0)
             m.append(len(sol.q))
-        print(f"{label:40s} {1e3 * np.median(cpu):8.3f} {1e3 * np.median(wall):8.3f}  {np.mean(m):.2f}")
+            prep = _prepare(form, name)
+            C = _search_target(kind, S, prep.Hi, prep.Pi, R2 @ np.asarray(form.R_nT).T, p2)
+            t0 = T()
+            ek._search(kind, prep.Hi, prep.Pi, C, G.SEARCH_N, roots)
+            alone.append(T() - t0)
+        print(f"{label:40s} {1e3 * np.median(cpu):7.3f} {1e3 * np.median(again):7.3f} {1e3 * np.median(alone):7.3f} "
+              f"{1e3 * np.median(wall):7.3f}  {np.mean(m):.2f}")
     load = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
     print(f"(load average {load:.1f} on {os.cpu_count()} cores while measuring)")
+
+
+def _search_target(kind: int, S, H: np.ndarray, P: np.ndarray, R06: np.ndarray, p: np.ndarray) -> np.ndarray:
+    """The search's ``C (4, 3)`` for the ideal chain ``(H, P)`` and the target, as the solver cores set it."""
+    C = np.zeros((4, 3))
+    if kind == S.TI:
+        C[0] = R06 @ H[5]
+        C[1] = p - P[0] - R06 @ P[6]
+    elif kind == S.SW:
+        C[0] = p - P[0] - R06 @ P[6]
+    else:
+        C[:3] = R06
+        C[3] = p
+    return C
 
 
 def main() -> None:

@@ -54,9 +54,9 @@ __all__ = ["set_backend", "get_backend", "jit_module", "serve", "load_jit", "bac
 
 _PKG = Path(__file__).resolve().parent
 _SOURCES = ("kinematics/_jit.py", "ik/_jit_lm.py", "ik/_jit_verify.py", "ik/analytic/_jit.py", "ik/analytic/_layout.py",
-            "ik/geometric/subproblems.py", "ik/geometric/solvers.py", "ik/geometric/search.py",
+            "ik/geometric/_kernels.py", "ik/geometric/subproblems.py", "ik/geometric/solvers.py", "ik/geometric/search.py",
             "ik/geometric/search2d.py", "ik/analytic/_yaw_pitch3_jit.py",
-            "ik/analytic/_single.py", "_jit_loader.py", "warmup.py")
+            "ik/analytic/_single.py", "_jit_loader.py", "_jit_twins.py", "warmup.py")
 COMPILE_SECONDS = 45
 """About how long compiling the one-thread kernels takes, the figure of the stderr note (the warm-up
 process switched the caller to them after 44-53 s in benchmarks/bench_first_call.py on the shared
@@ -82,9 +82,9 @@ def set_backend(name: Literal["auto", "numba", "numpy"]) -> None:
     """Choose the kernels: ``"numba"``, ``"numpy"`` or ``"auto"`` (Numba when importable)."""
     global _backend, _ACTIVE
     if name not in ("auto", "numba", "numpy"):
-        raise ArgumentError(f"backend must be 'auto', 'numba' or 'numpy', got {name!r}")
+        raise ArgumentError.of("backend must be 'auto', 'numba' or 'numpy', got {name!r}", name=name)
     if name == "numba" and load_jit() is None:
-        raise ArmkitError("backend 'numba' requested but numba is not installed")
+        raise ArmkitError.of("backend 'numba' requested but numba is not installed")
     _backend = name
     _ACTIVE = None
 

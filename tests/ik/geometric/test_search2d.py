@@ -53,19 +53,24 @@ def twin_within_resolution(Q, q, samples=S.N) -> bool:
 
 # -------------------------------------------------------------------------- the pieces
 @settings(max_examples=200, deadline=None, derandomize=True)
-@given(st.lists(st.floats(-3, 3), min_size=4, max_size=4), st.floats(0.2, 3))
-def test_quartic_real_roots_are_those_of_numpy(roots, lead):
-    """A quartic built from 4 real roots (the definition): with the roots apart, every one found and nothing else;
-    always, what is found is a root."""
-    c = lead * np.poly(np.array(roots))
-    out = np.zeros(4)
-    n = S._quartic_real(c, out, np.zeros(5), np.zeros(3))
-    if min(np.diff(sorted(roots))) > 1e-2:
-        assert n == 4
-        for r in roots:
-            assert np.min(np.abs(out[:n] - r)) < 1e-7 * (1 + abs(r))
-    for x in out[:n]:
-        assert abs(np.polyval(c, x)) < 1e-8 * np.abs(c).sum() * (1 + abs(x)) ** 4
+@given(st.integers(0, 2**32 - 1))
+def test_shared_trig2_meets_its_equations(seed):
+    """The closed form both searches use for ``A (cos θ1, sin θ1) + B (cos θ2, sin θ2) = e``
+    (:func:`armkit.ik.geometric._kernels._trig2_rows`), on a system built from a known pair (the definition):
+    that pair is among the answers, and every answer meets both equations."""
+    from armkit.ik.geometric import _kernels as K
+
+    g = np.random.default_rng(seed)
+    A, B = g.normal(size=(2, 2)), g.normal(size=(2, 2))
+    t1, t2 = g.uniform(-np.pi, np.pi, 2)
+    e = A @ [math.cos(t1), math.sin(t1)] + B @ [math.cos(t2), math.sin(t2)]
+    T1, T2 = np.zeros(4), np.zeros(4)
+    n = K._trig2_rows(A[0, 0], A[0, 1], B[0, 0], B[0, 1], e[0], A[1, 0], A[1, 1], B[1, 0], B[1, 1], e[1], T1, T2)
+    assert 1 <= n <= 4
+    for k in range(n):
+        r = A @ [math.cos(T1[k]), math.sin(T1[k])] + B @ [math.cos(T2[k]), math.sin(T2[k])] - e
+        assert np.abs(r).max() < 1e-8 * (np.abs(A).sum() + np.abs(B).sum())
+    assert (np.maximum(np.abs(wrapped(T1[:n] - t1)), np.abs(wrapped(T2[:n] - t2))) < 1e-6).any()
 
 
 def test_q345_meets_its_equation():

@@ -19,6 +19,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from armkit.ik.geometric import _kernels as K
 from armkit.ik.geometric import search as S
 from armkit.ik.geometric import solvers as G
 from armkit.ik.geometric import subproblems as sp
@@ -198,7 +199,7 @@ def test_quartic_roots_against_numpy(c):
         return
     c[0] = big * (1.0 if c[0] >= 0 else -1.0)
     re, im = np.empty(4), np.empty(4)
-    S._quartic(*c, re, im)
+    K._quartic(*c, re, im)
     mine = re + 1j * im
     for r in np.roots(c):
         assert np.abs(mine - r).min() <= 1e-6 * (1 + abs(r)) or np.abs(np.polyval(c, mine)).min() <= 1e-9 * big

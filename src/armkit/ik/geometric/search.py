@@ -14,8 +14,8 @@ kind   class (0-based axes)   searched joint         branch (subproblem)        
                                                      centre of the spherical joint
 ====== ====================== ====================== ============================================= ========
 
-The engine (:func:`_search`) samples ``x`` at :data:`N` points over a turn (compiled, a fast
-closed-form quartic inside SP5/SP6, no Python per sample) and pairs the branches of neighbouring
+The engine (:func:`_search`) samples ``x`` at :data:`N` points over a turn (compiled, the closed-form
+quartic of :mod:`._kernels` inside SP5/SP6, no Python and no temporary arrays per sample) and pairs the branches of neighbouring
 samples by distance (a step where they do not pair up one to one within 0.1 rad is sampled
 :data:`SUB_N` times finer). Then, along each branch:
 
@@ -26,9 +26,11 @@ samples by distance (a step where they do not pair up one to one within 0.1 rad 
   residual changes sign): two roots within one step, or a double root (kept when its residual is
   below 1e-12);
 * a branch that ends between two samples (two subproblem solutions meet, the residual changes
-  like the square root of the distance there) has its end found by bisection (to 3e-10 rad) and
-  is sampled :data:`EDGE_N` more times towards it, quadratically spaced, then as above (sign
-  changes, and extrema turning back towards 0).
+  like the square root of the distance there) has its end found by bisection (to 3e-10 rad, or
+  until the branch and the one it meets there have residuals of one sign that differ by under a
+  quarter of the smaller: the rest of that fold cannot reach 0, :func:`_settled`) and is sampled
+  :data:`EDGE_N` more times towards it, quadratically spaced, then as above (sign changes, and
+  extrema turning back towards 0).
 
 Resolution: :data:`N` = 240 samples (1.5° apart), :data:`SUB_N` × finer in ambiguous steps. A root
 can be missed only when three or more roots of one branch lie within one step, two within 3e-10
@@ -45,7 +47,6 @@ without it (slowly: about a second a target).
 
 from __future__ import annotations
 
-import cmath
 import math
 import types
 from typing import Any, Optional
@@ -53,7 +54,9 @@ from typing import Any, Optional
 import numpy as np
 from numpy.typing import NDArray
 
+from . import _kernels as _kk
 from . import subproblems as _sp
+from ._kernels import _PI, _sp3, _sp6, _t, _tadd, _tdot, _tmul, _tmv, _tnorm, _trot, _trot_cs, _tsp1, _tsub, _wrap
 from .poe import POE
 
 __all__ = ["two_parallel", "N", "SUB_N", "EDGE_N", "MAXROOT", "kernels", "TI", "TP", "SW", "SM"]
@@ -64,370 +67,12 @@ N = 240
 """Samples of the searched joint over one turn (1.5° apart)."""
 SUB_N = 16
 """Sub-samples of a step where the branches of its two ends do not pair up one to one within 0.1 rad."""
-EDGE_N = 10
-"""Samples (quadratically spaced) between the last sample of a branch and where it ends."""
+EDGE_N = 6
+"""Samples (quadratically spaced) between the last sample of a branch and where it ends (was 10; with the end
+bracketed by :func:`_settled`, 6 lose nothing against the dense scan of the tests)."""
 MAXROOT = 64
 TI, TP, SW, SM = 0, 1, 2, 3
 """The kinds of search (see the table above)."""
-
-_PI = math.pi
-_R2 = math.sqrt(0.5)
-_C8 = (1.0, _R2, 0.0, -_R2, -1.0, -_R2, 0.0, _R2)
-_S8 = (0.0, _R2, 1.0, _R2, 0.0, -_R2, -1.0, -_R2)
-"""cos and sin of k π / 4."""
-
-
-# ------------------------------------------------------------------------------------- scalar vectors
-def _t(a):
-    return (a[0], a[1], a[2])
-
-
-def _tdot(a, b):
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-
-
-def _tcross(a, b):
-    return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
-
-
-def _tadd(a, b):
-    return (a[0] + b[0], a[1] + b[1], a[2] + b[2])
-
-
-def _tsub(a, b):
-    return (a[0] - b[0], a[1] - b[1], a[2] - b[2])
-
-
-def _tmul(a, s):
-    return (a[0] * s, a[1] * s, a[2] * s)
-
-
-def _tnorm(a):
-    return math.sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2])
-
-
-def _trot(k, th, p):
-    """``rot(k, th) p`` (Rodrigues)."""
-    c = math.cos(th)
-    s = math.sin(th)
-    kp = (k[0] * p[0] + k[1] * p[1] + k[2] * p[2]) * (1.0 - c)
-    return (p[0] * c + (k[1] * p[2] - k[2] * p[1]) * s + k[0] * kp,
-            p[1] * c + (k[2] * p[0] - k[0] * p[2]) * s + k[1] * kp,
-            p[2] * c + (k[0] * p[1] - k[1] * p[0]) * s + k[2] * kp)
-
-
-def _tmv(M, v):
-    return (M[0, 0] * v[0] + M[0, 1] * v[1] + M[0, 2] * v[2],
-            M[1, 0] * v[0] + M[1, 1] * v[1] + M[1, 2] * v[2],
-            M[2, 0] * v[0] + M[2, 1] * v[1] + M[2, 2] * v[2])
-
-
-def _tmtv(M, v):
-    return (M[0, 0] * v[0] + M[1, 0] * v[1] + M[2, 0] * v[2],
-            M[0, 1] * v[0] + M[1, 1] * v[1] + M[2, 1] * v[2],
-            M[0, 2] * v[0] + M[1, 2] * v[1] + M[2, 2] * v[2])
-
-
-def _tlin(h, k, p):
-    """``(a, b, c)`` with ``hᵀ rot(k, θ) p = a cos θ + b sin θ + c``."""
-    c = _tdot(h, k) * _tdot(k, p)
-    return _tdot(h, p) - c, _tdot(h, _tcross(k, p)), c
-
-
-def _tsp1(p1, p2, k):
-    """θ with ``rot(k, θ) p1`` nearest ``p2`` (SP1)."""
-    kp1 = _tdot(k, p1)
-    y = (p1[0] - k[0] * kp1, p1[1] - k[1] * kp1, p1[2] - k[2] * kp1)
-    return math.atan2(_tdot(_tcross(k, p1), p2), _tdot(y, p2))
-
-
-def _wrap(x):
-    if -_PI < x <= _PI:
-        return x
-    y = x - 2.0 * _PI * math.floor((x + _PI) / (2.0 * _PI))
-    if y <= -_PI:
-        y += 2.0 * _PI
-    return y
-
-
-# -------------------------------------------------------------------------------- the quartic
-def _cubic_max(a2, a1, a0):
-    """The largest real root of ``z³ + a2 z² + a1 z + a0`` (trigonometric or Cardano form, then Newton)."""
-    p = a1 - a2 * a2 / 3.0
-    q = 2.0 * a2 * a2 * a2 / 27.0 - a2 * a1 / 3.0 + a0
-    disc = 0.25 * q * q + p * p * p / 27.0
-    if disc > 0.0:
-        sd = math.sqrt(disc)
-        u = -0.5 * q + sd
-        v = -0.5 * q - sd
-        w = math.copysign(abs(u) ** (1.0 / 3.0), u) + math.copysign(abs(v) ** (1.0 / 3.0), v)
-    elif p < 0.0:
-        m = math.sqrt(-p / 3.0)
-        arg = -0.5 * q / (m * m * m)
-        arg = min(1.0, max(-1.0, arg))
-        w = 2.0 * m * math.cos(math.acos(arg) / 3.0)
-    else:
-        w = 0.0
-    z = w - a2 / 3.0
-    for _ in range(3):
-        f = ((z + a2) * z + a1) * z + a0
-        d = (3.0 * z + 2.0 * a2) * z + a1
-        if d == 0.0:
-            break
-        dz = f / d
-        z -= dz
-        if abs(dz) <= 1e-16 * (1.0 + abs(z)):
-            break
-    return z
-
-
-def _quartic(c4, c3, c2, c1, c0, re, im):
-    """The 4 complex roots of ``c4 t⁴ + c3 t³ + c2 t² + c1 t + c0`` (``c4`` the largest coefficient in size or
-    near it) into ``re``, ``im``: Ferrari's factorisation into two quadratics, each root polished by Newton
-    steps on the quartic."""
-    b = c3 / c4
-    c = c2 / c4
-    d = c1 / c4
-    e = c0 / c4
-    s = 0.25 * b
-    p = c - 6.0 * s * s
-    q = d - 2.0 * c * s + 8.0 * s * s * s
-    r = e - d * s + c * s * s - 3.0 * s * s * s * s
-    big = 1.0 + abs(p) + abs(r)
-    z0 = 0.0
-    if abs(q) > 1e-14 * big * math.sqrt(big):
-        z0 = _cubic_max(2.0 * p, p * p - 4.0 * r, -q * q)
-    if z0 > 1e-14 * big:
-        u = math.sqrt(z0)
-        v = 0.5 * (p + z0 - q / u)
-        w = 0.5 * (p + z0 + q / u)
-        _quad(u, v, re, im, 0)
-        _quad(-u, w, re, im, 2)
-    else:                                 # biquadratic: y² = z, z² + p z + r = 0
-        dz = p * p - 4.0 * r
-        if dz >= 0.0:
-            sq = math.sqrt(dz)
-            za = complex(0.5 * (-p + sq), 0.0)
-            zb = complex(0.5 * (-p - sq), 0.0)
-        else:
-            sq = math.sqrt(-dz)
-            za = complex(-0.5 * p, 0.5 * sq)
-            zb = complex(-0.5 * p, -0.5 * sq)
-        ya = cmath.sqrt(za)
-        yb = cmath.sqrt(zb)
-        re[0] = ya.real
-        im[0] = ya.imag
-        re[1] = -ya.real
-        im[1] = -ya.imag
-        re[2] = yb.real
-        im[2] = yb.imag
-        re[3] = -yb.real
-        im[3] = -yb.imag
-    for i in range(4):
-        t = complex(re[i] - s, im[i])
-        f = (((t + b) * t + c) * t + d) * t + e
-        for _ in range(3):
-            df = ((4.0 * t + 3.0 * b) * t + 2.0 * c) * t + d
-            if df == 0.0:
-                break
-            tn = t - f / df
-            fn = (((tn + b) * tn + c) * tn + d) * tn + e
-            if abs(fn) >= abs(f):
-                break
-            t = tn
-            f = fn
-        re[i] = t.real
-        im[i] = t.imag
-
-
-def _quad(u, v, re, im, k):
-    """The roots of ``y² + u y + v`` into ``re[k:k+2]``, ``im[k:k+2]``."""
-    disc = u * u - 4.0 * v
-    if disc >= 0.0:
-        sq = math.sqrt(disc)
-        y1 = -0.5 * (u + math.copysign(sq, u))
-        y2 = v / y1 if y1 != 0.0 else 0.0
-        re[k] = y1
-        im[k] = 0.0
-        re[k + 1] = y2
-        im[k + 1] = 0.0
-    else:
-        sq = math.sqrt(-disc)
-        re[k] = -0.5 * u
-        im[k] = 0.5 * sq
-        re[k + 1] = -0.5 * u
-        im[k + 1] = -0.5 * sq
-
-
-def _res2(a00, a01, a10, a11, b00, b01, b10, b11, e0, e1, t1, t2):
-    c1 = math.cos(t1)
-    s1 = math.sin(t1)
-    c2 = math.cos(t2)
-    s2 = math.sin(t2)
-    return a00 * c1 + a01 * s1 + b00 * c2 + b01 * s2 - e0, a10 * c1 + a11 * s1 + b10 * c2 + b11 * s2 - e1
-
-
-def _trig2(a00, a01, a10, a11, b00, b01, b10, b11, e0, e1, T1, T2):
-    """θ1, θ2 with ``A (cos θ1, sin θ1) + B (cos θ2, sin θ2) = e`` (rows of equal scale) into ``T1``, ``T2``;
-    returns their count (0 when no exact solution). As :func:`.subproblems._trig2` (eliminate the better
-    conditioned unknown, a quartic in the other), the quartic in closed form and shifted so that its root at
-    infinity is far from every solution."""
-    na = math.sqrt(a00 * a00 + a01 * a01 + a10 * a10 + a11 * a11)
-    nb = math.sqrt(b00 * b00 + b01 * b01 + b10 * b10 + b11 * b11)
-    scale = max(na, nb, math.sqrt(e0 * e0 + e1 * e1), 1e-300)
-    da = abs(a00 * a11 - a01 * a10) / max(na * na, 1e-300)
-    db = abs(b00 * b11 - b01 * b10) / max(nb * nb, 1e-300)
-    swap = db > da
-    if swap:
-        x00, x01, x10, x11, y00, y01, y10, y11 = b00, b01, b10, b11, a00, a01, a10, a11
-    else:
-        x00, x01, x10, x11, y00, y01, y10, y11 = a00, a01, a10, a11, b00, b01, b10, b11
-    det = x00 * x11 - x01 * x10
-    if abs(det) <= 1e-14 * max(na, nb) ** 2:
-        return 0
-    i00 = x11 / det
-    i01 = -x01 / det
-    i10 = -x10 / det
-    i11 = x00 / det
-    f0 = i00 * e0 + i01 * e1
-    f1 = i10 * e0 + i11 * e1
-    m00 = i00 * y00 + i01 * y10
-    m01 = i00 * y01 + i01 * y11
-    m10 = i10 * y00 + i11 * y10
-    m11 = i10 * y01 + i11 * y11
-    # ‖f − M (cos θ, sin θ)‖² − 1 = a0 + a1 cos θ + b1 sin θ + a2 cos 2θ + b2 sin 2θ
-    q11 = m00 * m00 + m10 * m10
-    q12 = m00 * m01 + m10 * m11
-    q22 = m01 * m01 + m11 * m11
-    a0 = f0 * f0 + f1 * f1 - 1.0 + 0.5 * (q11 + q22)
-    a1 = -2.0 * (m00 * f0 + m10 * f1)
-    b1 = -2.0 * (m01 * f0 + m11 * f1)
-    a2 = 0.5 * (q11 - q22)
-    b2 = q12
-    # θ = φ + α with g(α + π) largest of 8 (the quartic in tan(φ / 2) then has its largest leading coefficient)
-    best = -1.0
-    kb = 0
-    for k in range(8):
-        g = abs(a0 - a1 * _C8[k] - b1 * _S8[k] + a2 * _C8[(2 * k) % 8] + b2 * _S8[(2 * k) % 8])
-        if g > best:
-            best = g
-            kb = k
-    if best <= 1e-300:
-        return 0
-    alpha = 0.25 * _PI * kb
-    ca = _C8[kb]
-    sa = _S8[kb]
-    c2a = _C8[(2 * kb) % 8]
-    s2a = _S8[(2 * kb) % 8]
-    A1 = a1 * ca + b1 * sa
-    B1 = b1 * ca - a1 * sa
-    A2 = a2 * c2a + b2 * s2a
-    B2 = b2 * c2a - a2 * s2a
-    re = np.empty(4)
-    im = np.empty(4)
-    _quartic(a0 - A1 + A2, 2.0 * B1 - 4.0 * B2, 2.0 * a0 - 6.0 * A2, 2.0 * B1 + 4.0 * B2, a0 + A1 + A2, re, im)
-    count = 0
-    for i in range(4):
-        if abs(im[i]) > 1e-5 * (1.0 + math.sqrt(re[i] * re[i] + im[i] * im[i])):
-            continue
-        t = re[i]
-        cf = (1.0 - t * t) / (1.0 + t * t)
-        sf = 2.0 * t / (1.0 + t * t)
-        cy = cf * ca - sf * sa
-        sy = sf * ca + cf * sa
-        x0 = f0 - (m00 * cy + m01 * sy)
-        x1 = f1 - (m10 * cy + m11 * sy)
-        nx = math.sqrt(x0 * x0 + x1 * x1)
-        if nx <= 0.0:
-            continue
-        cx = x0 / nx
-        sx = x1 / nx
-        if swap:
-            c1, s1, c2, s2 = cy, sy, cx, sx
-        else:
-            c1, s1, c2, s2 = cx, sx, cy, sy
-        r0 = a00 * c1 + a01 * s1 + b00 * c2 + b01 * s2 - e0
-        r1 = a10 * c1 + a11 * s1 + b10 * c2 + b11 * s2 - e1
-        t1 = math.atan2(s1, c1)
-        t2 = math.atan2(s2, c2)
-        for _ in range(6 if math.sqrt(r0 * r0 + r1 * r1) > 1e-12 * scale else 0):   # Newton on the 2 x 2 system
-            j00 = -a00 * s1 + a01 * c1
-            j10 = -a10 * s1 + a11 * c1
-            j01 = -b00 * s2 + b01 * c2
-            j11 = -b10 * s2 + b11 * c2
-            dj = j00 * j11 - j01 * j10
-            if abs(dj) < 1e-300:
-                break
-            d1 = (j11 * r0 - j01 * r1) / dj
-            d2 = (-j10 * r0 + j00 * r1) / dj
-            if abs(d1) > 0.5 or abs(d2) > 0.5:
-                break
-            t1 -= d1
-            t2 -= d2
-            c1 = math.cos(t1)
-            s1 = math.sin(t1)
-            c2 = math.cos(t2)
-            s2 = math.sin(t2)
-            r0 = a00 * c1 + a01 * s1 + b00 * c2 + b01 * s2 - e0
-            r1 = a10 * c1 + a11 * s1 + b10 * c2 + b11 * s2 - e1
-            if abs(d1) + abs(d2) < 1e-15 or math.sqrt(r0 * r0 + r1 * r1) <= 1e-14 * scale:
-                break
-        if math.sqrt(r0 * r0 + r1 * r1) > 1e-9 * scale:
-            continue
-        t1 = _wrap(t1)
-        t2 = _wrap(t2)
-        dup = False
-        for j in range(count):
-            if abs(_wrap(T1[j] - t1)) < 1e-7 and abs(_wrap(T2[j] - t2)) < 1e-7:
-                dup = True
-        if not dup:
-            T1[count] = t1
-            T2[count] = t2
-            count += 1
-    return count
-
-
-def _sp6(h0, k0, p0, h1, k1, p1, h2, k2, p2, h3, k3, p3, d1, d2, T1, T2):
-    """SP6 (as :func:`.subproblems.sp6`, exact solutions only) on scalar vectors: the count into ``T1``, ``T2``."""
-    a00, a01, c0 = _tlin(h0, k0, p0)
-    b00, b01, c1 = _tlin(h1, k1, p1)
-    a10, a11, c2 = _tlin(h2, k2, p2)
-    b10, b11, c3 = _tlin(h3, k3, p3)
-    e0 = d1 - c0 - c1
-    e1 = d2 - c2 - c3
-    s = math.sqrt(a00 * a00 + a01 * a01 + b00 * b00 + b01 * b01)
-    if s > 0.0:
-        a00 /= s
-        a01 /= s
-        b00 /= s
-        b01 /= s
-        e0 /= s
-    s = math.sqrt(a10 * a10 + a11 * a11 + b10 * b10 + b11 * b11)
-    if s > 0.0:
-        a10 /= s
-        a11 /= s
-        b10 /= s
-        b11 /= s
-        e1 /= s
-    return _trig2(a00, a01, a10, a11, b00, b01, b10, b11, e0, e1, T1, T2)
-
-
-def _sp3(p1, p2, k, d, T):
-    """θ with ``‖rot(k, θ) p1 − p2‖ = d`` into ``T``: the count (0 when none; a double root counts twice)."""
-    a, b, c = _tlin(p2, k, p1)
-    rhs = 0.5 * (_tdot(p1, p1) + _tdot(p2, p2) - d * d) - c
-    r = math.sqrt(a * a + b * b)
-    if r <= 1e-14 * (_tdot(p1, p1) + _tdot(p2, p2) + d * d):
-        return 0
-    x = rhs / r
-    if abs(x) > 1.0:
-        return 0
-    phi = math.atan2(b, a)
-    w = math.acos(x)
-    T[0] = _wrap(phi + w)
-    T[1] = _wrap(phi - w)
-    return 2
-
 
 # ------------------------------------------------------------------------------ the branches
 def _eval(kind, H, P, C, x, S, E):
@@ -454,26 +99,48 @@ def _eval_ti(H, P, C, x, S, E):
     p1 = _tsub(_trot(h0, -x, _t(C[1])), _t(P[1]))
     p2 = _t(P[3])
     p3 = _t(P[4])
-    T1 = np.empty(4)
-    T3 = np.empty(4)
     n = _sp6(k2, k1, p1, _tmul(k2, -1.0), k3, p3, _tmul(p0, 2.0), k1, p1, _tmul(p2, -2.0), k3, p3,
-             _tdot(k2, p2) - _tdot(k2, p0), _tdot(p2, p2) + _tdot(p3, p3) - _tdot(p0, p0) - _tdot(p1, p1), T1, T3)
+             _tdot(k2, p2) - _tdot(k2, p0), _tdot(p2, p2) + _tdot(p3, p3) - _tdot(p0, p0) - _tdot(p1, p1),
+             S[:, 0], S[:, 2])              # q2, q4 straight into the branch rows (no temporary arrays)
     c = _tdot(_t(H[4]), _t(H[5]))
     e6 = _t(C[0])
     h4 = _t(H[4])
+    cx = math.cos(x)
+    sx = math.sin(x)
     for i in range(n):
-        v = _tadd(p0, _trot(k1, T1[i], p1))
-        w = _tadd(p2, _trot(k3, T3[i], p3))
+        c1 = math.cos(S[i, 0])
+        s1 = math.sin(S[i, 0])
+        c3 = math.cos(S[i, 2])
+        s3 = math.sin(S[i, 2])
+        v = _tadd(p0, _trot_cs(k1, c1, s1, p1))
+        w = _tadd(p2, _trot_cs(k3, c3, s3, p3))
         t2 = _tsp1(w, v, k2)
-        S[i, 0] = T1[i]
         S[i, 1] = t2
-        S[i, 2] = T3[i]
-        a = _trot(k3, T3[i], h4)
+        a = _trot_cs(k3, c3, s3, h4)
         a = _trot(k2, t2, a)
-        a = _trot(k1, -T1[i], a)      # rot(−h2, −q2) = rot(h2, q2)
-        a = _trot(h0, x, a)
+        a = _trot_cs(k1, c1, -s1, a)      # rot(−h2, −q2) = rot(h2, q2)
+        a = _trot_cs(h0, cx, sx, a)
         E[i] = _tdot(a, e6) - c
     return n
+
+
+def _point5(H, P, C, x):
+    """With q6 = ``x`` (``C``: the rows of ``R_06``, then ``p``): ``(p − P0 − R_05 P5 − R_06 P6, R_05 h5)``, the point
+    of axis 5 seen from axis 1's point and axis 5's direction, for ``R_05 = R_06 rot(h6, −x)``."""
+    cx = math.cos(x)
+    sx = -math.sin(x)                     # rot(h6, −x)
+    c0 = _tmv(C[0:3], _trot_cs(_t(H[5]), cx, sx, (1.0, 0.0, 0.0)))
+    c1 = _tmv(C[0:3], _trot_cs(_t(H[5]), cx, sx, (0.0, 1.0, 0.0)))
+    c2 = _tmv(C[0:3], _trot_cs(_t(H[5]), cx, sx, (0.0, 0.0, 1.0)))
+    # R05: columns c0, c1, c2
+    p5 = _t(P[5])
+    h4 = _t(H[4])
+    R05p5 = (c0[0] * p5[0] + c1[0] * p5[1] + c2[0] * p5[2], c0[1] * p5[0] + c1[1] * p5[1] + c2[1] * p5[2],
+             c0[2] * p5[0] + c1[2] * p5[1] + c2[2] * p5[2])
+    w = _tsub(_tsub(_tsub(_t(C[3]), _t(P[0])), R05p5), _tmv(C[0:3], _t(P[6])))
+    v = (c0[0] * h4[0] + c1[0] * h4[1] + c2[0] * h4[2], c0[1] * h4[0] + c1[1] * h4[1] + c2[1] * h4[2],
+         c0[2] * h4[0] + c1[2] * h4[1] + c2[2] * h4[2])
+    return w, v
 
 
 def _eval_tp(H, P, C, x, S, E):
@@ -482,29 +149,21 @@ def _eval_tp(H, P, C, x, S, E):
     h1 = _t(H[1])
     h3 = _t(H[3])
     h4 = _t(H[4])
-    c0 = _tmv(C[0:3], _trot(_t(H[5]), -x, (1.0, 0.0, 0.0)))
-    c1 = _tmv(C[0:3], _trot(_t(H[5]), -x, (0.0, 1.0, 0.0)))
-    c2 = _tmv(C[0:3], _trot(_t(H[5]), -x, (0.0, 0.0, 1.0)))
-    # R05 = R06 rot(h6, −x): columns c0, c1, c2
-    p5 = _t(P[5])
-    R05p5 = (c0[0] * p5[0] + c1[0] * p5[1] + c2[0] * p5[2], c0[1] * p5[0] + c1[1] * p5[1] + c2[1] * p5[2],
-             c0[2] * p5[0] + c1[2] * p5[1] + c2[2] * p5[2])
-    w = _tsub(_tsub(_tsub(_t(C[3]), _t(P[0])), R05p5), _tmv(C[0:3], _t(P[6])))
-    v = (c0[0] * h4[0] + c1[0] * h4[1] + c2[0] * h4[2], c0[1] * h4[0] + c1[1] * h4[1] + c2[1] * h4[2],
-         c0[2] * h4[0] + c1[2] * h4[1] + c2[2] * h4[2])
+    w, v = _point5(H, P, C, x)
     mh1 = _tmul(h1, -1.0)
-    T0 = np.empty(4)
-    T3 = np.empty(4)
     mh0 = _tmul(h0, -1.0)
     n = _sp6(h1, mh0, w, mh1, h3, _t(P[4]), h1, mh0, v, mh1, h3, h4,
-             _tdot(h1, _tadd(_tadd(_t(P[1]), _t(P[2])), _t(P[3]))), 0.0, T0, T3)
+             _tdot(h1, _tadd(_tadd(_t(P[1]), _t(P[2])), _t(P[3]))), 0.0, S[:, 0], S[:, 1])
     n2 = _tnorm(_t(P[2]))
     for i in range(n):
-        u = _trot(h3, T3[i], h4)
-        th = _tsp1(u, _trot(h0, -T0[i], v), h1)
-        d = _tsub(_tsub(_trot(h0, -T0[i], w), _t(P[1])), _trot(h1, th, _tadd(_t(P[3]), _trot(h3, T3[i], _t(P[4])))))
-        S[i, 0] = T0[i]
-        S[i, 1] = T3[i]
+        c0 = math.cos(S[i, 0])
+        s0 = -math.sin(S[i, 0])          # rot(h1, −q1)
+        c3 = math.cos(S[i, 1])
+        s3 = math.sin(S[i, 1])
+        u = _trot_cs(h3, c3, s3, h4)
+        th = _tsp1(u, _trot_cs(h0, c0, s0, v), h1)
+        d = _tsub(_tsub(_trot_cs(h0, c0, s0, w), _t(P[1])),
+                  _trot(h1, th, _tadd(_t(P[3]), _trot_cs(h3, c3, s3, _t(P[4])))))
         S[i, 2] = th
         E[i] = _tnorm(d) - n2
     return n
@@ -514,40 +173,28 @@ def _eval_sw(H, P, C, x, S, E):
     """Axes 4, 5, 6 meet, q1 = ``x``: q3 by SP3 ``‖rot(h3, q3) P3 + P2‖ = ‖v‖`` for ``v = rot(h1, −x) p0W − P1``;
     residual ``h2ᵀ v − h2ᵀ (P2 + rot(h3, q3) P3)``."""
     v = _tsub(_trot(_t(H[0]), -x, _t(C[0])), _t(P[1]))
-    T = np.empty(2)
-    n = _sp3(_t(P[3]), _tmul(_t(P[2]), -1.0), _t(H[2]), _tnorm(v), T)
+    n = _sp3(_t(P[3]), _tmul(_t(P[2]), -1.0), _t(H[2]), _tnorm(v), S[:, 0])
     h1 = _t(H[1])
     hv = _tdot(h1, v) - _tdot(h1, _t(P[2]))
     for i in range(n):
-        S[i, 0] = T[i]
         S[i, 1] = 0.0
         S[i, 2] = 0.0
-        E[i] = hv - _tdot(h1, _trot(_t(H[2]), T[i], _t(P[3])))
+        E[i] = hv - _tdot(h1, _trot(_t(H[2]), S[i, 0], _t(P[3])))
     return n
 
 
 def _eval_sm(H, P, C, x, S, E):
     """Axes 2, 3, 4 meet (P[2] = P[3] = 0), q6 = ``x``: q1 by SP3 ``‖rot(h1, q1) P1 − u‖ = ‖P4‖`` for
     ``u = p − P0 − R_05 P5 − R_06 P6``; residual ``(R_05 h5)ᵀ (u − rot(h1, q1) P1) − h5ᵀ P4``."""
-    c0 = _tmv(C[0:3], _trot(_t(H[5]), -x, (1.0, 0.0, 0.0)))
-    c1 = _tmv(C[0:3], _trot(_t(H[5]), -x, (0.0, 1.0, 0.0)))
-    c2 = _tmv(C[0:3], _trot(_t(H[5]), -x, (0.0, 0.0, 1.0)))
-    p5 = _t(P[5])
     h4 = _t(H[4])
-    R05p5 = (c0[0] * p5[0] + c1[0] * p5[1] + c2[0] * p5[2], c0[1] * p5[0] + c1[1] * p5[1] + c2[1] * p5[2],
-             c0[2] * p5[0] + c1[2] * p5[1] + c2[2] * p5[2])
-    z = (c0[0] * h4[0] + c1[0] * h4[1] + c2[0] * h4[2], c0[1] * h4[0] + c1[1] * h4[1] + c2[1] * h4[2],
-         c0[2] * h4[0] + c1[2] * h4[1] + c2[2] * h4[2])
-    u = _tsub(_tsub(_tsub(_t(C[3]), _t(P[0])), R05p5), _tmv(C[0:3], _t(P[6])))
-    T = np.empty(2)
+    u, z = _point5(H, P, C, x)
     p1 = _t(P[1])
-    n = _sp3(p1, u, _t(H[0]), _tnorm(_t(P[4])), T)
+    n = _sp3(p1, u, _t(H[0]), _tnorm(_t(P[4])), S[:, 0])
     c = _tdot(h4, _t(P[4]))
     for i in range(n):
-        S[i, 0] = T[i]
         S[i, 1] = 0.0
         S[i, 2] = 0.0
-        E[i] = _tdot(z, _tsub(u, _trot(_t(H[0]), T[i], p1))) - c
+        E[i] = _tdot(z, _tsub(u, _trot(_t(H[0]), S[i, 0], p1))) - c
     return n
 
 
@@ -561,7 +208,11 @@ def _adist(a, b):
 
 def _pick(kind, H, P, C, x, ref, S, E):
     """The branch at ``x`` nearest to ``ref (3,)``: ``(index, distance)``; index -1 if none."""
-    n = _eval(kind, H, P, C, x, S, E)
+    return _nearest(S, _eval(kind, H, P, C, x, S, E), ref)
+
+
+def _nearest(S, n, ref):
+    """The row of ``S[:n]`` nearest to ``ref``: ``(index, distance)``; index -1 if none."""
     best = -1
     bd = 1e300
     for i in range(n):
@@ -683,6 +334,27 @@ def _dip(kind, H, P, C, a, b, ref, sg, out):
     return x, E[i]
 
 
+def _settled(S, E, i, n):
+    """Near a branch end: whether no root can lie between here and the end on branch ``i`` or on the branch that
+    meets it there. Its partner is the nearest other branch (within 0.05 rad); near the end both residuals go
+    like ``E0 ± a √(x_end − x)``, so while they have one sign and differ by under a quarter of the smaller
+    (the fold's residuals from here to the end lie between them, up to higher-order terms), the rest of the fold
+    keeps that sign."""
+    j = -1
+    bd = 0.05
+    for k in range(n):
+        if k != i:
+            d = _adist(S[k], S[i])
+            if d < bd:
+                bd = d
+                j = k
+    if j < 0:
+        return False
+    a = E[i]
+    b = E[j]
+    return a * b > 0.0 and abs(a - b) < 0.25 * min(abs(a), abs(b))
+
+
 def _edge(kind, H, P, C, x0, ref, x1, roots, m):
     """A branch at ``x0`` (``ref``) without a match at the neighbouring sample ``x1``: find where it ends
     (bisection), sample it towards the end quadratically spaced (the residual changes like a square root
@@ -694,11 +366,14 @@ def _edge(kind, H, P, C, x0, ref, x1, roots, m):
     bad = x1
     while abs(bad - good) > 3e-10:
         x = 0.5 * (good + bad)
-        i, d = _pick(kind, H, P, C, x, cur, S, E)
+        n = _eval(kind, H, P, C, x, S, E)
+        i, d = _nearest(S, n, cur)
         if i >= 0 and d < 0.5:
             good = x
             for k in range(3):
                 cur[k] = S[i, k]
+            if _settled(S, E, i, n):
+                break
         else:
             bad = x
     # from as far again beyond x0 (where matching between samples can still confuse the two branches that
@@ -753,16 +428,22 @@ def _edge(kind, H, P, C, x0, ref, x1, roots, m):
     return m
 
 
-def _pair(kind, H, P, C, xa, Sa, Ea, ca, xb, Sb, Eb, cb, roots, m):
-    """Roots between two neighbouring samples: their branches paired one to one, nearest pairs first (within
-    0.5 rad), sign changes refined; a branch left without a partner ends in between (:func:`_edge`)."""
-    out = np.empty(4)
-    D = np.empty((4, 4))
+def _dists(Sa, ca, Sb, cb, D):
+    """``D[j, k]``: the distance of branch ``j`` of one sample to branch ``k`` of the next."""
     for j in range(ca):
         for k in range(cb):
             D[j, k] = _adist(Sa[j], Sb[k])
-    pa = np.full(4, -1, dtype=np.int64)
-    pb = np.full(4, -1, dtype=np.int64)
+
+
+def _pair(kind, H, P, C, xa, Sa, Ea, ca, xb, Sb, Eb, cb, D, roots, m, out, pp):
+    """Roots between two neighbouring samples: their branches paired one to one, nearest pairs first (within
+    0.5 rad; ``D`` from :func:`_dists`), sign changes refined; a branch left without a partner ends in between
+    (:func:`_edge`). ``out (4,)``, ``pp (2, 4)``: work space."""
+    pa = pp[0]
+    pb = pp[1]
+    for j in range(4):
+        pa[j] = -1
+        pb[j] = -1
     for _ in range(min(ca, cb)):
         bj = -1
         bk = -1
@@ -801,12 +482,11 @@ def _pair(kind, H, P, C, xa, Sa, Ea, ca, xb, Sb, Eb, cb, roots, m):
     return m
 
 
-def _ambiguous(Sa, ca, Sb, cb):
-    """True unless the branches of two samples pair up clearly: each branch's nearest on the other side is
-    within 0.5 rad and three times nearer than any other branch of either side; checked both ways."""
+def _ambiguous(D, ca, cb):
+    """True unless the branches of two samples pair up clearly (``D`` from :func:`_dists`): each branch's nearest
+    on the other side is within 0.5 rad and three times nearer than any other branch of either side; checked
+    both ways."""
     for side in range(2):
-        A = Sa if side == 0 else Sb
-        B = Sb if side == 0 else Sa
         na = ca if side == 0 else cb
         nb = cb if side == 0 else ca
         for j in range(na):
@@ -814,7 +494,7 @@ def _ambiguous(Sa, ca, Sb, cb):
             bd = 1e300
             sd = 1e300
             for kk in range(nb):
-                d = _adist(A[j], B[kk])
+                d = D[j, kk] if side == 0 else D[kk, j]
                 if d < bd:
                     sd = bd
                     bd = d
@@ -826,37 +506,36 @@ def _ambiguous(Sa, ca, Sb, cb):
             if sd < 3.0 * bd:
                 return True
             for jj in range(na):
-                if jj != j and _adist(A[jj], B[k]) < 3.0 * bd:
+                if jj != j and (D[jj, k] if side == 0 else D[k, jj]) < 3.0 * bd:
                     return True
     return False
 
 
-def _match(S, cnt, i, j):
-    """The branch at sample i + 1 nearest to branch j at sample i (-1 if none within 0.5 rad)."""
+def _match(D, cb, j):
+    """The branch of the next sample nearest to branch ``j`` (``D`` from :func:`_dists`, ``cb`` branches there;
+    -1 if none within 0.5 rad)."""
     best = -1
     bd = 0.5
-    for k in range(cnt[i + 1]):
-        d = _adist(S[i, j], S[i + 1, k])
-        if d < bd:
-            bd = d
+    for k in range(cb):
+        if D[j, k] < bd:
+            bd = D[j, k]
             best = k
     return best
 
 
-def _extrema(kind, H, P, C, x0, h, S, E, cnt, i, roots, m):
-    """Samples ``i``, ``i + 1``, ``i + 2`` (at ``x0 + k h``) of a branch with an extremum in the middle, on one
-    side of 0 and turning back towards it: when the parabola through them comes within one second difference
-    of 0, two close roots (or a double one) may hide there: :func:`_dip`, then both roots refined."""
+def _extrema(kind, H, P, C, x0, h, S, E, cnt, D, i, roots, m, out, mid):
+    """Samples ``i``, ``i + 1``, ``i + 2`` (at ``x0 + k h``; ``D[i]`` the distances of :func:`_dists` from sample
+    ``i`` to ``i + 1``) of a branch with an extremum in the middle, on one side of 0 and turning back towards it:
+    when the parabola through them comes within one second difference of 0, two close roots (or a double one)
+    may hide there: :func:`_dip`, then both roots refined. ``out (4,)``, ``mid (3,)``: work space."""
     if i + 2 >= S.shape[0]:
         return m
-    out = np.empty(4)
-    mid = np.empty(3)
     xa = x0 + i * h
     for j in range(cnt[i]):
-        k = _match(S, cnt, i, j)
+        k = _match(D[i], cnt[i + 1], j)
         if k < 0:
             continue
-        k2 = _match(S, cnt, i + 1, k)
+        k2 = _match(D[i + 1], cnt[i + 2], k)
         if k2 < 0:
             continue
         fa = E[i, j]
@@ -903,15 +582,22 @@ def _search(kind, H, P, C, n, roots):
     for i in range(n + 1):
         xs[i] = -_PI + i * step
     _scan(kind, H, P, C, xs, S, E, cnt)
+    D = np.empty((n, 4, 4))
+    for i in range(n):
+        _dists(S[i], cnt[i], S[i + 1], cnt[i + 1], D[i])
     m = 0
     Ss = np.zeros((SUB_N + 1, 4, 3))
     Es = np.zeros((SUB_N + 1, 4))
     cs = np.zeros(SUB_N + 1, dtype=np.int64)
+    Ds = np.empty((SUB_N, 4, 4))
+    out = np.empty(4)
+    mid = np.empty(3)
+    pp = np.empty((2, 4), dtype=np.int64)
     for i in range(n):
         xa = -_PI + i * step
         if cnt[i] == 0 and cnt[i + 1] == 0:
             continue
-        if _ambiguous(S[i], cnt[i], S[i + 1], cnt[i + 1]):
+        if _ambiguous(D[i], cnt[i], cnt[i + 1]):
             h = step / SUB_N
             for k in range(SUB_N + 1):
                 if k == 0:
@@ -925,21 +611,23 @@ def _search(kind, H, P, C, n, roots):
                 else:
                     cs[k] = _eval(kind, H, P, C, xa + k * h, Ss[k], Es[k])
             for k in range(SUB_N):
+                _dists(Ss[k], cs[k], Ss[k + 1], cs[k + 1], Ds[k])
+            for k in range(SUB_N):
                 m = _pair(kind, H, P, C, xa + k * h, Ss[k], Es[k], cs[k], xa + (k + 1) * h, Ss[k + 1], Es[k + 1],
-                          cs[k + 1], roots, m)
+                          cs[k + 1], Ds[k], roots, m, out, pp)
                 if k + 2 <= SUB_N:
-                    m = _extrema(kind, H, P, C, xa, h, Ss, Es, cs, k, roots, m)
+                    m = _extrema(kind, H, P, C, xa, h, Ss, Es, cs, Ds, k, roots, m, out, mid)
         else:
-            m = _pair(kind, H, P, C, xa, S[i], E[i], cnt[i], xa + step, S[i + 1], E[i + 1], cnt[i + 1], roots, m)
-        m = _extrema(kind, H, P, C, -_PI, step, S, E, cnt, i, roots, m)
+            m = _pair(kind, H, P, C, xa, S[i], E[i], cnt[i], xa + step, S[i + 1], E[i + 1], cnt[i + 1], D[i], roots,
+                      m, out, pp)
+        m = _extrema(kind, H, P, C, -_PI, step, S, E, cnt, D, i, roots, m, out, mid)
     return m
 
 
-KERNELS = ("_t", "_tdot", "_tcross", "_tadd", "_tsub", "_tmul", "_tnorm", "_trot", "_tmv", "_tmtv", "_tlin", "_tsp1",
-           "_wrap", "_cubic_max", "_quad", "_quartic", "_res2", "_trig2", "_sp6", "_sp3", "_eval_ti", "_eval_tp",
-           "_eval_sw", "_eval_sm", "_eval", "_adist", "_pick", "_refine", "_add", "_dip", "_edge", "_pair",
-           "_ambiguous", "_match", "_extrema", "_scan", "_search")
-"""The functions :func:`kernels` compiles, callees before callers."""
+KERNELS = ("_eval_ti", "_point5", "_eval_tp", "_eval_sw", "_eval_sm", "_eval", "_adist", "_nearest", "_pick",
+           "_refine", "_add", "_dip", "_settled", "_edge", "_dists", "_pair", "_ambiguous", "_match", "_extrema", "_scan",
+           "_search")
+"""The functions :func:`kernels` compiles, callees before callers (the scalar helpers: :mod:`._kernels`)."""
 _KERNELS: Optional[types.SimpleNamespace] = None
 
 
@@ -948,9 +636,12 @@ def kernels() -> Optional[types.SimpleNamespace]:
     global _KERNELS
     if _KERNELS is None:
         try:
-            ns = _sp.jit_namespace(globals(), KERNELS)
+            ns = _sp.jit_namespace(globals(), KERNELS, extra=_kk.extra())
         except ImportError:
             return None
+        from ... import _jit_loader
+
+        _jit_loader.forget_stale_cache(ns, ("ik/geometric/_kernels.py",))
         _KERNELS = types.SimpleNamespace(**{name: ns[name] for name in KERNELS}, namespace=ns)
     return _KERNELS
 

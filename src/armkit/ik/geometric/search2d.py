@@ -8,8 +8,8 @@ what is left is whether joint 6's axis then points where the target wants it::
 Read as ``rot(h3, −q3) u − p_34 = rot(h4, q4) (p_45 + rot(h5, q5) p_56)`` (the two sides agree iff
 their components along h4 and their lengths agree), it is two equations linear in ``(cos q3, sin q3)``
 and ``(cos q5, sin q5)``; eliminating one pair leaves a trigonometric polynomial of degree 2 in the
-other angle, a quartic in the tangent of its half angle (up to 4 real roots, found here from the
-roots of its derivative, a cubic in closed form, and safeguarded Newton steps). Then q4 by SP1.
+other angle, a quartic in the tangent of its half angle (up to 4 real roots: the closed form shared
+with the 1-D searches, :func:`._kernels._trig2`, exact solutions only). Then q4 by SP1.
 Each of those up to 4 branches leaves the residual
 
     e(q1, q2) = R_05 h6 − R_06 h6,
@@ -44,7 +44,9 @@ from typing import Optional
 import numpy as np
 from numpy.typing import NDArray
 
+from . import _kernels as _kk
 from . import subproblems as _sp
+from ._kernels import _move, _rmul_rot, _trig2_rows
 from .poe import POE
 from .subproblems import _cross, _dot, _norm, _wrap, rot, rotm
 
@@ -72,144 +74,6 @@ def resolution(samples: int = N) -> str:
     return f"{samples} x {samples} grid over q1, q2 ({360.0 / samples:.2g} deg)"
 
 
-# -------------------------------------------------------------------------- the quartic
-def _poly(c, t):
-    return (((c[0] * t + c[1]) * t + c[2]) * t + c[3]) * t + c[4]
-
-
-def _dpoly(c, t):
-    return ((4.0 * c[0] * t + 3.0 * c[1]) * t + 2.0 * c[2]) * t + c[3]
-
-
-def _cubic_real(a, b, c, d, out):
-    """Real roots of ``a t³ + b t² + c t + d`` (a ≠ 0) into ``out``; returns their count."""
-    b = b / a
-    c = c / a
-    d = d / a
-    p = c - b * b / 3.0
-    q = 2.0 * b * b * b / 27.0 - b * c / 3.0 + d
-    sh = -b / 3.0
-    disc = q * q / 4.0 + p * p * p / 27.0
-    if disc > 0.0:
-        sd = math.sqrt(disc)
-        u = -q / 2.0 + sd
-        v = -q / 2.0 - sd
-        out[0] = math.copysign(abs(u) ** (1.0 / 3.0), u) + math.copysign(abs(v) ** (1.0 / 3.0), v) + sh
-        return 1
-    if p == 0.0:
-        out[0] = sh
-        return 1
-    r = 2.0 * math.sqrt(-p / 3.0)
-    den = p * r
-    arg = 3.0 * q / den if den != 0.0 else 0.0
-    arg = min(1.0, max(-1.0, arg))
-    phi = math.acos(arg) / 3.0
-    for k in range(3):
-        out[k] = r * math.cos(phi - 2.0 * math.pi * k / 3.0) + sh
-    return 3
-
-
-def _root_in(c, a, b, fa):
-    """The root of the quartic ``c`` in ``[a, b]`` where it changes sign (``fa`` its value at a)."""
-    x = 0.5 * (a + b)
-    for _ in range(100):
-        f = _poly(c, x)
-        if f == 0.0:
-            return x
-        if (f > 0.0) == (fa > 0.0):
-            a = x
-        else:
-            b = x
-        df = _dpoly(c, x)
-        nx = x - f / df if df != 0.0 else 0.5 * (a + b)
-        if not (a < nx < b):
-            nx = 0.5 * (a + b)
-        if abs(nx - x) <= 1e-15 * (1.0 + abs(x)):
-            return nx
-        x = nx
-    return x
-
-
-def _quartic_real(c, out, cm, crit):
-    """Real roots of ``c[0] t⁴ + ... + c[4]`` (c[0] ≠ 0) into ``out (4,)``; returns their count (``cm (5,)``,
-    ``crit (3,)``: work space)."""
-    for k in range(5):
-        cm[k] = c[k] / c[0]
-    bound = 1.0 + max(abs(cm[1]), abs(cm[2]), abs(cm[3]), abs(cm[4]))
-    nc = _cubic_real(4.0, 3.0 * cm[1], 2.0 * cm[2], cm[3], crit)
-    for k in range(nc):                              # polish the critical points, sort them
-        x = crit[k]
-        for _ in range(3):
-            d2 = (12.0 * x + 6.0 * cm[1]) * x + 2.0 * cm[2]
-            if d2 == 0.0:
-                break
-            x -= _dpoly(cm, x) / d2
-        crit[k] = min(bound, max(-bound, x))
-    for i in range(nc):
-        for j in range(i + 1, nc):
-            if crit[j] < crit[i]:
-                tmp = crit[i]
-                crit[i] = crit[j]
-                crit[j] = tmp
-    size = abs(cm[0]) + abs(cm[1]) + abs(cm[2]) + abs(cm[3]) + abs(cm[4])
-    n = 0
-    a = -bound
-    fa = _poly(cm, a)
-    for k in range(nc + 1):
-        b = crit[k] if k < nc else bound
-        fb = _poly(cm, b)
-        if (fa > 0.0) != (fb > 0.0) and fa != 0.0:
-            if fb == 0.0:
-                out[n] = b
-            else:
-                out[n] = _root_in(cm, a, b, fa)
-            n += 1
-        elif k < nc and abs(fb) <= 1e-14 * size and n < 4:   # a double root at a critical point
-            if n == 0 or abs(out[n - 1] - b) > 1e-12 * (1.0 + abs(b)):
-                out[n] = b
-                n += 1
-        a = b
-        fa = fb
-        if n >= 4:
-            break
-    return n
-
-
-def _trig_roots(a0, a1, b1, a2, b2, out, W):
-    """Angles θ with ``a0 + a1 cos θ + b1 sin θ + a2 cos 2θ + b2 sin 2θ = 0`` into ``out``; their count
-    (``W (4, 5)``: work space)."""
-    best = -1.0
-    th0 = 0.0
-    for k in range(4):                 # turn the origin so that θ0 + π (t = ∞) is far from a root
-        t0 = 0.5 * math.pi * k
-        v = abs(a0 + a1 * math.cos(t0 + math.pi) + b1 * math.sin(t0 + math.pi)
-                + a2 * math.cos(2.0 * t0) + b2 * math.sin(2.0 * t0))
-        if v > best:
-            best = v
-            th0 = t0
-    if best <= 0.0:
-        return 0
-    c0 = math.cos(th0)
-    s0 = math.sin(th0)
-    c2 = math.cos(2.0 * th0)
-    s2 = math.sin(2.0 * th0)
-    A1 = a1 * c0 + b1 * s0
-    B1 = -a1 * s0 + b1 * c0
-    A2 = a2 * c2 + b2 * s2
-    B2 = -a2 * s2 + b2 * c2
-    c = W[0]
-    c[0] = a0 - A1 + A2
-    c[1] = 2.0 * B1 - 4.0 * B2
-    c[2] = 2.0 * a0 - 6.0 * A2
-    c[3] = 2.0 * B1 + 4.0 * B2
-    c[4] = a0 + A1 + A2
-    ts = W[1]
-    n = _quartic_real(c, ts, W[2], W[3])
-    for k in range(n):
-        out[k] = th0 + 2.0 * math.atan(ts[k])
-    return n
-
-
 # ----------------------------------------------------------------- one grid point: q3, q4, q5
 def _lin2(h, k, p):
     """``(a, b, c)`` with ``hᵀ rot(k, θ) p = c + a cos θ + b sin θ``."""
@@ -222,7 +86,8 @@ def _lin2(h, k, p):
 
 def _q345(H, P, u, out, W):
     """Up to 4 ``(q3, q4, q5)`` with ``rot(h3, q3) (p_34 + rot(h4, q4) (p_45 + rot(h5, q5) p_56)) = u`` into
-    ``out (4, 3)``; returns their count (``W (5, 5)``: work space)."""
+    ``out (4, 3)``; returns their count (``W (5, 5)``: work space). The closed form of :mod:`._kernels`
+    (:func:`._kernels._trig2_rows`, exact solutions only), then q4 by SP1."""
     h3 = H[2]
     h4 = H[3]
     h5 = H[4]
@@ -244,74 +109,22 @@ def _q345(H, P, u, out, W):
     B10 = -2.0 * a_pp
     B11 = -2.0 * b_pp
     e1 = _dot(P45, P45) + _dot(P56, P56) + 2.0 * c_pp - _dot(u, u) - _dot(P34, P34) + 2.0 * c_pu
-    # scale the rows alike
-    s0 = max(abs(A00), abs(A01), abs(B00), abs(B01), 1e-300)
-    s1 = max(abs(A10), abs(A11), abs(B10), abs(B11), 1e-300)
-    A00 /= s0
-    A01 /= s0
-    B00 /= s0
-    B01 /= s0
-    e0 /= s0
-    A10 /= s1
-    A11 /= s1
-    B10 /= s1
-    B11 /= s1
-    e1 /= s1
-    dA = A00 * A11 - A01 * A10
-    dB = B00 * B11 - B01 * B10
-    nA = A00 * A00 + A01 * A01 + A10 * A10 + A11 * A11
-    nB = B00 * B00 + B01 * B01 + B10 * B10 + B11 * B11
-    swap = abs(dA) / max(nA, 1e-300) < abs(dB) / max(nB, 1e-300)
-    if swap:       # eliminate x5 = (cos q5, sin q5) instead: x5 = B⁻¹ e − B⁻¹ A x3
-        d = dB
-        M00, M01, M10, M11 = A00, A01, A10, A11
-        I00, I01, I10, I11 = B11 / d, -B01 / d, -B10 / d, B00 / d
-    else:          # x3 = A⁻¹ e − A⁻¹ B x5
-        d = dA
-        M00, M01, M10, M11 = B00, B01, B10, B11
-        I00, I01, I10, I11 = A11 / d, -A01 / d, -A10 / d, A00 / d
-    if d == 0.0:
-        return 0
-    g0 = I00 * e0 + I01 * e1
-    g1 = I10 * e0 + I11 * e1
-    N00 = I00 * M00 + I01 * M10
-    N01 = I00 * M01 + I01 * M11
-    N10 = I10 * M00 + I11 * M10
-    N11 = I10 * M01 + I11 * M11
-    # |g − N x|² − 1 = 0 for x = (cos θ, sin θ)
-    S00 = N00 * N00 + N10 * N10
-    S11 = N01 * N01 + N11 * N11
-    S01 = N00 * N01 + N10 * N11
-    a0 = g0 * g0 + g1 * g1 - 1.0 + 0.5 * (S00 + S11)
-    a1 = -2.0 * (N00 * g0 + N10 * g1)
-    b1 = -2.0 * (N01 * g0 + N11 * g1)
-    a2 = 0.5 * (S00 - S11)
-    b2 = S01
-    ths = W[4]
-    n = _trig_roots(a0, a1, b1, a2, b2, ths, W)
-    cnt = 0
+    # the 2 x 2 trigonometric system in (q3, q5), rows scaled alike: the shared closed form (exact solutions)
+    T3 = W[0]
+    T5 = W[1]
+    n = _trig2_rows(A00, A01, B00, B01, e0, A10, A11, B10, B11, e1, T3, T5)
     for k in range(n):
-        c = math.cos(ths[k])
-        s = math.sin(ths[k])
-        y0 = g0 - N00 * c - N01 * s
-        y1 = g1 - N10 * c - N11 * s
-        other = math.atan2(y1, y0)
-        if swap:
-            q3 = ths[k]
-            q5 = other
-        else:
-            q3 = other
-            q5 = ths[k]
+        q3 = T3[k]
+        q5 = T5[k]
         v = rot(h3, -q3, u) - P34
         w = P45 + rot(h5, q5, P56)
         wp = w - h4 * _dot(h4, w)
         vp = v - h4 * _dot(h4, v)
         q4 = math.atan2(_dot(h4, _cross(wp, vp)), _dot(wp, vp))
-        out[cnt, 0] = _wrap(q3)
-        out[cnt, 1] = _wrap(q4)
-        out[cnt, 2] = _wrap(q5)
-        cnt += 1
-    return cnt
+        out[k, 0] = q3
+        out[k, 1] = _wrap(q4)
+        out[k, 2] = q5
+    return n
 
 
 # --------------------------------------------------------------------------- the grid
@@ -501,34 +314,8 @@ def _fkj(H, P, RnT, q, J, Rout, pout, Wk):
         orig[k, 0] = p0
         orig[k, 1] = p1
         orig[k, 2] = p2
-        c = math.cos(q[k])
-        s = math.sin(q[k])
-        v = 1.0 - c
-        r00 = c + h0 * h0 * v
-        r01 = h0 * h1 * v - h2 * s
-        r02 = h0 * h2 * v + h1 * s
-        r10 = h1 * h0 * v + h2 * s
-        r11 = c + h1 * h1 * v
-        r12 = h1 * h2 * v - h0 * s
-        r20 = h2 * h0 * v - h1 * s
-        r21 = h2 * h1 * v + h0 * s
-        r22 = c + h2 * h2 * v
-        for r in range(3):
-            a0 = R[r, 0]
-            a1 = R[r, 1]
-            a2 = R[r, 2]
-            T[r, 0] = a0 * r00 + a1 * r10 + a2 * r20
-            T[r, 1] = a0 * r01 + a1 * r11 + a2 * r21
-            T[r, 2] = a0 * r02 + a1 * r12 + a2 * r22
-        for r in range(3):
-            for cc in range(3):
-                R[r, cc] = T[r, cc]
-        x = P[k + 1, 0]
-        y = P[k + 1, 1]
-        z = P[k + 1, 2]
-        p0 += R[0, 0] * x + R[0, 1] * y + R[0, 2] * z
-        p1 += R[1, 0] * x + R[1, 1] * y + R[1, 2] * z
-        p2 += R[2, 0] * x + R[2, 1] * y + R[2, 2] * z
+        _rmul_rot(R, T, h0, h1, h2, q[k])
+        p0, p1, p2 = _move(R, P, k + 1, p0, p1, p2)
     for k in range(6):
         d0 = p0 - orig[k, 0]
         d1 = p1 - orig[k, 1]
@@ -711,7 +498,7 @@ def _search(H, P, RnT, R, p, samples, tol, Qout, errs):
     return m, nc
 
 
-KERNELS = ("_poly", "_dpoly", "_cubic_real", "_root_in", "_quartic_real", "_trig_roots", "_lin2", "_q345", "_grid",
+KERNELS = ("_lin2", "_q345", "_grid",
            "_near", "_candidates", "_fkj", "_err", "_solve6", "_newton", "_search")
 _KERNELS: Optional[types.SimpleNamespace] = None
 
@@ -723,7 +510,15 @@ def kernels() -> Optional[types.SimpleNamespace]:
         sk = _sp.kernels()
         if sk is None:
             return None
-        ns = _sp.jit_namespace(globals(), KERNELS, extra={name: sk.namespace[name] for name in _sp.KERNELS})
+        try:
+            extra = _kk.extra()
+        except ImportError:
+            return None
+        extra.update({name: sk.namespace[name] for name in _sp.KERNELS})
+        ns = _sp.jit_namespace(globals(), KERNELS, extra=extra)
+        from ... import _jit_loader
+
+        _jit_loader.forget_stale_cache(ns, ("ik/geometric/subproblems.py", "ik/geometric/_kernels.py"))
         _KERNELS = types.SimpleNamespace(**{name: ns[name] for name in KERNELS})
     return _KERNELS
 

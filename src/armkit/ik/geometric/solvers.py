@@ -61,9 +61,11 @@ from typing import Any, Callable, NamedTuple, Optional
 import numpy as np
 from numpy.typing import NDArray
 
+from . import _kernels as _kk
 from . import subproblems as _sp
 from .classify import common_point
 from . import search2d as _search2d
+from ._kernels import _fk_err
 from .poe import POE
 from .search import MAXROOT, SM, SW, TI, TP, _search
 from .search import N as _SEARCH_N
@@ -140,61 +142,6 @@ def _perp(h):
         e[2] = 1.0
     x = _cross(h, e)
     return x / _norm(x)
-
-
-def _fk_err(H, P, RnT, prism, q, Rt, pt):
-    """``(position error, rotation error)`` of ``q`` for the target ``(Rt, pt)`` on the chain ``(H, P, RnT)``
-    (the formula of :meth:`POE.fk`, without temporary arrays)."""
-    R = np.eye(3)
-    T = np.empty((3, 3))
-    p0 = P[0, 0]
-    p1 = P[0, 1]
-    p2 = P[0, 2]
-    n = H.shape[0]
-    for k in range(n):
-        h0 = H[k, 0]
-        h1 = H[k, 1]
-        h2 = H[k, 2]
-        if prism[k]:
-            p0 += q[k] * (R[0, 0] * h0 + R[0, 1] * h1 + R[0, 2] * h2)
-            p1 += q[k] * (R[1, 0] * h0 + R[1, 1] * h1 + R[1, 2] * h2)
-            p2 += q[k] * (R[2, 0] * h0 + R[2, 1] * h1 + R[2, 2] * h2)
-        else:
-            c = math.cos(q[k])
-            s = math.sin(q[k])
-            v = 1.0 - c
-            r00 = c + h0 * h0 * v
-            r01 = h0 * h1 * v - h2 * s
-            r02 = h0 * h2 * v + h1 * s
-            r10 = h1 * h0 * v + h2 * s
-            r11 = c + h1 * h1 * v
-            r12 = h1 * h2 * v - h0 * s
-            r20 = h2 * h0 * v - h1 * s
-            r21 = h2 * h1 * v + h0 * s
-            r22 = c + h2 * h2 * v
-            for i in range(3):
-                a0 = R[i, 0]
-                a1 = R[i, 1]
-                a2 = R[i, 2]
-                T[i, 0] = a0 * r00 + a1 * r10 + a2 * r20
-                T[i, 1] = a0 * r01 + a1 * r11 + a2 * r21
-                T[i, 2] = a0 * r02 + a1 * r12 + a2 * r22
-            for i in range(3):
-                for j in range(3):
-                    R[i, j] = T[i, j]
-        x = P[k + 1, 0]
-        y = P[k + 1, 1]
-        z = P[k + 1, 2]
-        p0 += R[0, 0] * x + R[0, 1] * y + R[0, 2] * z
-        p1 += R[1, 0] * x + R[1, 1] * y + R[1, 2] * z
-        p2 += R[2, 0] * x + R[2, 1] * y + R[2, 2] * z
-    dp = math.sqrt((p0 - pt[0]) ** 2 + (p1 - pt[1]) ** 2 + (p2 - pt[2]) ** 2)
-    e = 0.0
-    for i in range(3):
-        for j in range(3):
-            rij = R[i, 0] * RnT[0, j] + R[i, 1] * RnT[1, j] + R[i, 2] * RnT[2, j]
-            e += (rij - Rt[i, j]) ** 2
-    return dp, math.sqrt(0.5 * e)
 
 
 # ------------------------------------------------------------------------------------ the wrist
@@ -807,7 +754,7 @@ def polish(form: POE, q: Array, R: Array, p: Array, steps: int = 8) -> Array:
 
 
 # ---------------------------------------------------------------------------------- wrappers
-KERNELS = ("_mv", "_mtv", "_mm", "_mtm", "_perp", "_fk_err", "_wrist", "_pos_two_intersecting", "_pos_two_parallel",
+KERNELS = ("_mv", "_mtv", "_mm", "_mtm", "_perp", "_wrist", "_pos_two_intersecting", "_pos_two_parallel",
            "_pos_search", "_pos_general", "_core_spherical", "_core_three_parallel", "_close", "_check", "_solve_spherical",
            "_solve_three_parallel", "_target_rows", "_core_two_intersecting_end", "_core_two_parallel",
            "_core_spherical_middle", "_solve_two_intersecting_end", "_solve_two_parallel", "_solve_spherical_middle",
@@ -825,12 +772,14 @@ def kernels() -> Optional[types.SimpleNamespace]:
         if sk is None or ek is None:
             _NO_NUMBA = True
             return None
-        extra = {name: sk.namespace[name] for name in _sp.KERNELS}
+        extra = _kk.extra()                 # the shared helpers (_fk_err), then the subproblems
+        extra.update({name: sk.namespace[name] for name in _sp.KERNELS})
         extra["_search"] = ek._search
         ns = _sp.jit_namespace(globals(), KERNELS, extra=extra)
         from ... import _jit_loader
 
-        _jit_loader.forget_stale_cache(ns, ("ik/geometric/subproblems.py", "ik/geometric/search.py"))
+        _jit_loader.forget_stale_cache(ns, ("ik/geometric/subproblems.py", "ik/geometric/search.py",
+                                                 "ik/geometric/_kernels.py"))
         _KERNELS = types.SimpleNamespace(**{name: ns[name] for name in KERNELS})
     return _KERNELS
 

@@ -1,0 +1,513 @@
+"""Compiled scalar helpers shared by the searches and solvers of :mod:`armkit.ik.geometric` (one copy each).
+
+* 3-vectors as tuples (no allocation): dot, cross, Rodrigues rotation, ``hᵀ rot(k, θ) p`` as
+  ``a cos θ + b sin θ + c``, SP1.
+* The closed-form quartic (Ferrari, roots polished by Newton steps), the 2 x 2 trigonometric system
+  ``A (cos θ1, sin θ1) + B (cos θ2, sin θ2) = e`` built on it (exact solutions), and SP3 / SP6 on scalars:
+  what the 1-D searches (:mod:`.search`) evaluate at every sample and the 2-D search (:mod:`.search2d`) at
+  every grid point.
+* The forward kinematics of a product-of-exponentials chain and its pose error (the FK check of
+  :mod:`.solvers`, and the Newton steps of :mod:`.search2d`).
+
+The plain functions run as Python; :func:`kernels` compiles them with Numba (``cache=True``), and the
+modules that call them compile their own functions against these (Numba inlines the calls).
+"""
+
+from __future__ import annotations
+
+import cmath
+import math
+import types
+from typing import Any, Optional
+
+import numpy as np
+
+__all__ = ["kernels", "KERNELS"]
+
+_PI = math.pi
+_R2 = math.sqrt(0.5)
+_C8 = (1.0, _R2, 0.0, -_R2, -1.0, -_R2, 0.0, _R2)
+_S8 = (0.0, _R2, 1.0, _R2, 0.0, -_R2, -1.0, -_R2)
+"""cos and sin of k π / 4."""
+
+
+# ------------------------------------------------------------------------------------- scalar vectors
+def _t(a):
+    return (a[0], a[1], a[2])
+
+
+def _tdot(a, b):
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+
+
+def _tcross(a, b):
+    return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
+
+
+def _tadd(a, b):
+    return (a[0] + b[0], a[1] + b[1], a[2] + b[2])
+
+
+def _tsub(a, b):
+    return (a[0] - b[0], a[1] - b[1], a[2] - b[2])
+
+
+def _tmul(a, s):
+    return (a[0] * s, a[1] * s, a[2] * s)
+
+
+def _tnorm(a):
+    return math.sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2])
+
+
+def _trot(k, th, p):
+    """``rot(k, th) p`` (Rodrigues)."""
+    return _trot_cs(k, math.cos(th), math.sin(th), p)
+
+
+def _trot_cs(k, c, s, p):
+    """``rot(k, θ) p`` from ``c = cos θ``, ``s = sin θ`` (:func:`_trot` when both are known)."""
+    kp = (k[0] * p[0] + k[1] * p[1] + k[2] * p[2]) * (1.0 - c)
+    return (p[0] * c + (k[1] * p[2] - k[2] * p[1]) * s + k[0] * kp,
+            p[1] * c + (k[2] * p[0] - k[0] * p[2]) * s + k[1] * kp,
+            p[2] * c + (k[0] * p[1] - k[1] * p[0]) * s + k[2] * kp)
+
+
+def _tmv(M, v):
+    return (M[0, 0] * v[0] + M[0, 1] * v[1] + M[0, 2] * v[2],
+            M[1, 0] * v[0] + M[1, 1] * v[1] + M[1, 2] * v[2],
+            M[2, 0] * v[0] + M[2, 1] * v[1] + M[2, 2] * v[2])
+
+
+def _tmtv(M, v):
+    return (M[0, 0] * v[0] + M[1, 0] * v[1] + M[2, 0] * v[2],
+            M[0, 1] * v[0] + M[1, 1] * v[1] + M[2, 1] * v[2],
+            M[0, 2] * v[0] + M[1, 2] * v[1] + M[2, 2] * v[2])
+
+
+def _tlin(h, k, p):
+    """``(a, b, c)`` with ``hᵀ rot(k, θ) p = a cos θ + b sin θ + c``."""
+    c = _tdot(h, k) * _tdot(k, p)
+    return _tdot(h, p) - c, _tdot(h, _tcross(k, p)), c
+
+
+def _tsp1(p1, p2, k):
+    """θ with ``rot(k, θ) p1`` nearest ``p2`` (SP1)."""
+    kp1 = _tdot(k, p1)
+    y = (p1[0] - k[0] * kp1, p1[1] - k[1] * kp1, p1[2] - k[2] * kp1)
+    return math.atan2(_tdot(_tcross(k, p1), p2), _tdot(y, p2))
+
+
+def _wrap(x):
+    if -_PI < x <= _PI:
+        return x
+    y = x - 2.0 * _PI * math.floor((x + _PI) / (2.0 * _PI))
+    if y <= -_PI:
+        y += 2.0 * _PI
+    return y
+
+
+# -------------------------------------------------------------------------------- the quartic
+def _cubic_max(a2, a1, a0):
+    """The largest real root of ``z³ + a2 z² + a1 z + a0`` (trigonometric or Cardano form, then Newton)."""
+    p = a1 - a2 * a2 / 3.0
+    q = 2.0 * a2 * a2 * a2 / 27.0 - a2 * a1 / 3.0 + a0
+    disc = 0.25 * q * q + p * p * p / 27.0
+    if disc > 0.0:
+        sd = math.sqrt(disc)
+        u = -0.5 * q + sd
+        v = -0.5 * q - sd
+        w = math.copysign(abs(u) ** (1.0 / 3.0), u) + math.copysign(abs(v) ** (1.0 / 3.0), v)
+    elif p < 0.0:
+        m = math.sqrt(-p / 3.0)
+        arg = -0.5 * q / (m * m * m)
+        arg = min(1.0, max(-1.0, arg))
+        w = 2.0 * m * math.cos(math.acos(arg) / 3.0)
+    else:
+        w = 0.0
+    z = w - a2 / 3.0
+    for _ in range(3):
+        f = ((z + a2) * z + a1) * z + a0
+        d = (3.0 * z + 2.0 * a2) * z + a1
+        if d == 0.0:
+            break
+        dz = f / d
+        z -= dz
+        if abs(dz) <= 1e-16 * (1.0 + abs(z)):
+            break
+    return z
+
+
+def _quartic(c4, c3, c2, c1, c0, re, im):
+    """The 4 complex roots of ``c4 t⁴ + c3 t³ + c2 t² + c1 t + c0`` (``c4`` the largest coefficient in size or
+    near it) into ``re``, ``im`` (:func:`_quartic4`)."""
+    r0, i0, r1, i1, r2, i2, r3, i3 = _quartic4(c4, c3, c2, c1, c0)
+    re[0] = r0
+    im[0] = i0
+    re[1] = r1
+    im[1] = i1
+    re[2] = r2
+    im[2] = i2
+    re[3] = r3
+    im[3] = i3
+
+
+def _quartic4(c4, c3, c2, c1, c0):
+    """The 4 complex roots of ``c4 t⁴ + c3 t³ + c2 t² + c1 t + c0`` (``c4`` the largest coefficient in size or
+    near it) as ``(re0, im0, …, re3, im3)``: Ferrari's factorisation into two quadratics, each root polished by
+    Newton steps on the quartic (in real arithmetic for the real roots; a complex root only when it is nearly
+    real, the others are of no use to the callers)."""
+    b = c3 / c4
+    c = c2 / c4
+    d = c1 / c4
+    e = c0 / c4
+    s = 0.25 * b
+    p = c - 6.0 * s * s
+    q = d - 2.0 * c * s + 8.0 * s * s * s
+    r = e - d * s + c * s * s - 3.0 * s * s * s * s
+    big = 1.0 + abs(p) + abs(r)
+    z0 = 0.0
+    if abs(q) > 1e-14 * big * math.sqrt(big):
+        z0 = _cubic_max(2.0 * p, p * p - 4.0 * r, -q * q)
+    if z0 > 1e-14 * big:
+        u = math.sqrt(z0)
+        r0, i0, r1, i1 = _quad(u, 0.5 * (p + z0 - q / u))
+        r2, i2, r3, i3 = _quad(-u, 0.5 * (p + z0 + q / u))
+    else:                                 # biquadratic: y² = z, z² + p z + r = 0
+        dz = p * p - 4.0 * r
+        if dz >= 0.0:
+            sq = math.sqrt(dz)
+            za = complex(0.5 * (-p + sq), 0.0)
+            zb = complex(0.5 * (-p - sq), 0.0)
+        else:
+            sq = math.sqrt(-dz)
+            za = complex(-0.5 * p, 0.5 * sq)
+            zb = complex(-0.5 * p, -0.5 * sq)
+        ya = cmath.sqrt(za)
+        yb = cmath.sqrt(zb)
+        r0, i0, r1, i1 = ya.real, ya.imag, -ya.real, -ya.imag
+        r2, i2, r3, i3 = yb.real, yb.imag, -yb.real, -yb.imag
+    r0, i0 = _polish(r0 - s, i0, b, c, d, e)
+    r1, i1 = _polish(r1 - s, i1, b, c, d, e)
+    r2, i2 = _polish(r2 - s, i2, b, c, d, e)
+    r3, i3 = _polish(r3 - s, i3, b, c, d, e)
+    return r0, i0, r1, i1, r2, i2, r3, i3
+
+
+def _polish(tr, ti, b, c, d, e):
+    """Up to 3 Newton steps on ``t⁴ + b t³ + c t² + d t + e`` from ``tr + i ti``, stopped when one does not
+    decrease ``|f|``: real arithmetic for a real start, complex for a nearly real one (``|ti| ≤ 1e-2 (1 + |t|)``);
+    a root farther from the real axis is returned as it is."""
+    if ti == 0.0:
+        t = tr
+        f = (((t + b) * t + c) * t + d) * t + e
+        for _ in range(3):
+            df = ((4.0 * t + 3.0 * b) * t + 2.0 * c) * t + d
+            if df == 0.0:
+                break
+            tn = t - f / df
+            fn = (((tn + b) * tn + c) * tn + d) * tn + e
+            if abs(fn) >= abs(f):
+                break
+            t = tn
+            f = fn
+        return t, 0.0
+    if abs(ti) > 1e-2 * (1.0 + abs(tr)):
+        return tr, ti
+    z = complex(tr, ti)
+    f = (((z + b) * z + c) * z + d) * z + e
+    for _ in range(3):
+        df = ((4.0 * z + 3.0 * b) * z + 2.0 * c) * z + d
+        if df == 0.0:
+            break
+        zn = z - f / df
+        fn = (((zn + b) * zn + c) * zn + d) * zn + e
+        if abs(fn) >= abs(f):
+            break
+        z = zn
+        f = fn
+    return z.real, z.imag
+
+
+def _quad(u, v):
+    """The roots of ``y² + u y + v`` as ``(re, im, re, im)``."""
+    disc = u * u - 4.0 * v
+    if disc >= 0.0:
+        sq = math.sqrt(disc)
+        y1 = -0.5 * (u + math.copysign(sq, u))
+        y2 = v / y1 if y1 != 0.0 else 0.0
+        return y1, 0.0, y2, 0.0
+    sq = math.sqrt(-disc)
+    return -0.5 * u, 0.5 * sq, -0.5 * u, -0.5 * sq
+
+
+
+def _res2(a00, a01, a10, a11, b00, b01, b10, b11, e0, e1, t1, t2):
+    c1 = math.cos(t1)
+    s1 = math.sin(t1)
+    c2 = math.cos(t2)
+    s2 = math.sin(t2)
+    return a00 * c1 + a01 * s1 + b00 * c2 + b01 * s2 - e0, a10 * c1 + a11 * s1 + b10 * c2 + b11 * s2 - e1
+
+
+def _trig2(a00, a01, a10, a11, b00, b01, b10, b11, e0, e1, T1, T2):
+    """θ1, θ2 with ``A (cos θ1, sin θ1) + B (cos θ2, sin θ2) = e`` (rows of equal scale) into ``T1``, ``T2``;
+    returns their count (0 when no exact solution). As :func:`.subproblems._trig2` (eliminate the better
+    conditioned unknown, a quartic in the other), the quartic in closed form and shifted so that its root at
+    infinity is far from every solution."""
+    na = math.sqrt(a00 * a00 + a01 * a01 + a10 * a10 + a11 * a11)
+    nb = math.sqrt(b00 * b00 + b01 * b01 + b10 * b10 + b11 * b11)
+    scale = max(na, nb, math.sqrt(e0 * e0 + e1 * e1), 1e-300)
+    da = abs(a00 * a11 - a01 * a10) / max(na * na, 1e-300)
+    db = abs(b00 * b11 - b01 * b10) / max(nb * nb, 1e-300)
+    swap = db > da
+    if swap:
+        x00, x01, x10, x11, y00, y01, y10, y11 = b00, b01, b10, b11, a00, a01, a10, a11
+    else:
+        x00, x01, x10, x11, y00, y01, y10, y11 = a00, a01, a10, a11, b00, b01, b10, b11
+    det = x00 * x11 - x01 * x10
+    if abs(det) <= 1e-14 * max(na, nb) ** 2:
+        return 0
+    i00 = x11 / det
+    i01 = -x01 / det
+    i10 = -x10 / det
+    i11 = x00 / det
+    f0 = i00 * e0 + i01 * e1
+    f1 = i10 * e0 + i11 * e1
+    m00 = i00 * y00 + i01 * y10
+    m01 = i00 * y01 + i01 * y11
+    m10 = i10 * y00 + i11 * y10
+    m11 = i10 * y01 + i11 * y11
+    # ‖f − M (cos θ, sin θ)‖² − 1 = a0 + a1 cos θ + b1 sin θ + a2 cos 2θ + b2 sin 2θ
+    q11 = m00 * m00 + m10 * m10
+    q12 = m00 * m01 + m10 * m11
+    q22 = m01 * m01 + m11 * m11
+    a0 = f0 * f0 + f1 * f1 - 1.0 + 0.5 * (q11 + q22)
+    a1 = -2.0 * (m00 * f0 + m10 * f1)
+    b1 = -2.0 * (m01 * f0 + m11 * f1)
+    a2 = 0.5 * (q11 - q22)
+    b2 = q12
+    # θ = φ + α with g(α + π) largest of 8 (the quartic in tan(φ / 2) then has its largest leading coefficient)
+    best = -1.0
+    kb = 0
+    for k in range(8):
+        g = abs(a0 - a1 * _C8[k] - b1 * _S8[k] + a2 * _C8[(2 * k) % 8] + b2 * _S8[(2 * k) % 8])
+        if g > best:
+            best = g
+            kb = k
+    if best <= 1e-300:
+        return 0
+    ca = _C8[kb]
+    sa = _S8[kb]
+    c2a = _C8[(2 * kb) % 8]
+    s2a = _S8[(2 * kb) % 8]
+    A1 = a1 * ca + b1 * sa
+    B1 = b1 * ca - a1 * sa
+    A2 = a2 * c2a + b2 * s2a
+    B2 = b2 * c2a - a2 * s2a
+    roots = _quartic4(a0 - A1 + A2, 2.0 * B1 - 4.0 * B2, 2.0 * a0 - 6.0 * A2, 2.0 * B1 + 4.0 * B2, a0 + A1 + A2)
+    count = 0
+    for i in range(4):
+        t = roots[2 * i]
+        ti = roots[2 * i + 1]
+        if abs(ti) > 1e-5 * (1.0 + math.sqrt(t * t + ti * ti)):
+            continue
+        cf = (1.0 - t * t) / (1.0 + t * t)
+        sf = 2.0 * t / (1.0 + t * t)
+        cy = cf * ca - sf * sa
+        sy = sf * ca + cf * sa
+        x0 = f0 - (m00 * cy + m01 * sy)
+        x1 = f1 - (m10 * cy + m11 * sy)
+        nx = math.sqrt(x0 * x0 + x1 * x1)
+        if nx <= 0.0:
+            continue
+        cx = x0 / nx
+        sx = x1 / nx
+        if swap:
+            c1, s1, c2, s2 = cy, sy, cx, sx
+        else:
+            c1, s1, c2, s2 = cx, sx, cy, sy
+        r0 = a00 * c1 + a01 * s1 + b00 * c2 + b01 * s2 - e0
+        r1 = a10 * c1 + a11 * s1 + b10 * c2 + b11 * s2 - e1
+        t1 = math.atan2(s1, c1)
+        t2 = math.atan2(s2, c2)
+        for _ in range(6 if math.sqrt(r0 * r0 + r1 * r1) > 1e-12 * scale else 0):   # Newton on the 2 x 2 system
+            j00 = -a00 * s1 + a01 * c1
+            j10 = -a10 * s1 + a11 * c1
+            j01 = -b00 * s2 + b01 * c2
+            j11 = -b10 * s2 + b11 * c2
+            dj = j00 * j11 - j01 * j10
+            if abs(dj) < 1e-300:
+                break
+            d1 = (j11 * r0 - j01 * r1) / dj
+            d2 = (-j10 * r0 + j00 * r1) / dj
+            if abs(d1) > 0.5 or abs(d2) > 0.5:
+                break
+            t1 -= d1
+            t2 -= d2
+            c1 = math.cos(t1)
+            s1 = math.sin(t1)
+            c2 = math.cos(t2)
+            s2 = math.sin(t2)
+            r0 = a00 * c1 + a01 * s1 + b00 * c2 + b01 * s2 - e0
+            r1 = a10 * c1 + a11 * s1 + b10 * c2 + b11 * s2 - e1
+            if abs(d1) + abs(d2) < 1e-15 or math.sqrt(r0 * r0 + r1 * r1) <= 1e-14 * scale:
+                break
+        if math.sqrt(r0 * r0 + r1 * r1) > 1e-9 * scale:
+            continue
+        t1 = _wrap(t1)
+        t2 = _wrap(t2)
+        dup = False
+        for j in range(count):
+            if abs(_wrap(T1[j] - t1)) < 1e-7 and abs(_wrap(T2[j] - t2)) < 1e-7:
+                dup = True
+        if not dup:
+            T1[count] = t1
+            T2[count] = t2
+            count += 1
+    return count
+
+
+def _sp6(h0, k0, p0, h1, k1, p1, h2, k2, p2, h3, k3, p3, d1, d2, T1, T2):
+    """SP6 (as :func:`.subproblems.sp6`, exact solutions only) on scalar vectors: the count into ``T1``, ``T2``."""
+    a00, a01, c0 = _tlin(h0, k0, p0)
+    b00, b01, c1 = _tlin(h1, k1, p1)
+    a10, a11, c2 = _tlin(h2, k2, p2)
+    b10, b11, c3 = _tlin(h3, k3, p3)
+    return _trig2_rows(a00, a01, b00, b01, d1 - c0 - c1, a10, a11, b10, b11, d2 - c2 - c3, T1, T2)
+
+
+def _trig2_rows(a00, a01, b00, b01, e0, a10, a11, b10, b11, e1, T1, T2):
+    """:func:`_trig2` on the rows ``a0· (cos θ1, sin θ1) + b0· (cos θ2, sin θ2) = e0`` (and row 1) scaled to unit
+    size first, so that its tolerances mean the same in both equations."""
+    s = math.sqrt(a00 * a00 + a01 * a01 + b00 * b00 + b01 * b01)
+    if s > 0.0:
+        a00 /= s
+        a01 /= s
+        b00 /= s
+        b01 /= s
+        e0 /= s
+    s = math.sqrt(a10 * a10 + a11 * a11 + b10 * b10 + b11 * b11)
+    if s > 0.0:
+        a10 /= s
+        a11 /= s
+        b10 /= s
+        b11 /= s
+        e1 /= s
+    return _trig2(a00, a01, a10, a11, b00, b01, b10, b11, e0, e1, T1, T2)
+
+
+def _sp3(p1, p2, k, d, T):
+    """θ with ``‖rot(k, θ) p1 − p2‖ = d`` into ``T``: the count (0 when none; a double root counts twice)."""
+    a, b, c = _tlin(p2, k, p1)
+    rhs = 0.5 * (_tdot(p1, p1) + _tdot(p2, p2) - d * d) - c
+    r = math.sqrt(a * a + b * b)
+    if r <= 1e-14 * (_tdot(p1, p1) + _tdot(p2, p2) + d * d):
+        return 0
+    x = rhs / r
+    if abs(x) > 1.0:
+        return 0
+    phi = math.atan2(b, a)
+    w = math.acos(x)
+    T[0] = _wrap(phi + w)
+    T[1] = _wrap(phi - w)
+    return 2
+
+
+
+
+# ------------------------------------------------------------------------- forward kinematics
+def _rmul_rot(R, T, h0, h1, h2, q):
+    """``R ← R rot(h, q)`` in place (``T (3, 3)``: work space)."""
+    c = math.cos(q)
+    s = math.sin(q)
+    v = 1.0 - c
+    r00 = c + h0 * h0 * v
+    r01 = h0 * h1 * v - h2 * s
+    r02 = h0 * h2 * v + h1 * s
+    r10 = h1 * h0 * v + h2 * s
+    r11 = c + h1 * h1 * v
+    r12 = h1 * h2 * v - h0 * s
+    r20 = h2 * h0 * v - h1 * s
+    r21 = h2 * h1 * v + h0 * s
+    r22 = c + h2 * h2 * v
+    for i in range(3):
+        a0 = R[i, 0]
+        a1 = R[i, 1]
+        a2 = R[i, 2]
+        T[i, 0] = a0 * r00 + a1 * r10 + a2 * r20
+        T[i, 1] = a0 * r01 + a1 * r11 + a2 * r21
+        T[i, 2] = a0 * r02 + a1 * r12 + a2 * r22
+    for i in range(3):
+        for j in range(3):
+            R[i, j] = T[i, j]
+
+
+def _move(R, P, k, p0, p1, p2):
+    """``p + R P[k]`` for ``p = (p0, p1, p2)`` (one link of the forward kinematics)."""
+    x = P[k, 0]
+    y = P[k, 1]
+    z = P[k, 2]
+    return (p0 + (R[0, 0] * x + R[0, 1] * y + R[0, 2] * z), p1 + (R[1, 0] * x + R[1, 1] * y + R[1, 2] * z),
+            p2 + (R[2, 0] * x + R[2, 1] * y + R[2, 2] * z))
+
+
+def _fk_err(H, P, RnT, prism, q, Rt, pt):
+    """``(position error, rotation error)`` of ``q`` for the target ``(Rt, pt)`` on the chain ``(H, P, RnT)``
+    (the formula of :meth:`.poe.POE.fk`, without temporary arrays; the rotation error ``‖ΔR‖_F / √2``)."""
+    R = np.eye(3)
+    T = np.empty((3, 3))
+    p0 = P[0, 0]
+    p1 = P[0, 1]
+    p2 = P[0, 2]
+    n = H.shape[0]
+    for k in range(n):
+        h0 = H[k, 0]
+        h1 = H[k, 1]
+        h2 = H[k, 2]
+        if prism[k]:
+            p0 += q[k] * (R[0, 0] * h0 + R[0, 1] * h1 + R[0, 2] * h2)
+            p1 += q[k] * (R[1, 0] * h0 + R[1, 1] * h1 + R[1, 2] * h2)
+            p2 += q[k] * (R[2, 0] * h0 + R[2, 1] * h1 + R[2, 2] * h2)
+        else:
+            _rmul_rot(R, T, h0, h1, h2, q[k])
+        p0, p1, p2 = _move(R, P, k + 1, p0, p1, p2)
+    dp = math.sqrt((p0 - pt[0]) ** 2 + (p1 - pt[1]) ** 2 + (p2 - pt[2]) ** 2)
+    e = 0.0
+    for i in range(3):
+        for j in range(3):
+            rij = R[i, 0] * RnT[0, j] + R[i, 1] * RnT[1, j] + R[i, 2] * RnT[2, j]
+            e += (rij - Rt[i, j]) ** 2
+    return dp, math.sqrt(0.5 * e)
+
+
+# ---------------------------------------------------------------------------------- compiled
+KERNELS = ("_t", "_tdot", "_tcross", "_tadd", "_tsub", "_tmul", "_tnorm", "_trot_cs", "_trot", "_tmv", "_tmtv",
+           "_tlin", "_tsp1", "_wrap", "_cubic_max", "_quad", "_polish", "_quartic4", "_quartic", "_res2", "_trig2",
+           "_trig2_rows", "_sp6", "_sp3", "_rmul_rot", "_move", "_fk_err")
+"""The functions :func:`kernels` compiles, callees before callers."""
+_KERNELS: Optional[types.SimpleNamespace] = None
+
+
+def kernels() -> Optional[types.SimpleNamespace]:
+    """The compiled helpers (attributes named as the functions, and ``namespace``: the dict to pass as ``extra``
+    to :func:`.subproblems.jit_namespace` by a module that calls them), or None without Numba."""
+    global _KERNELS
+    if _KERNELS is None:
+        from .subproblems import jit_namespace
+
+        try:
+            ns = jit_namespace(globals(), KERNELS)
+        except ImportError:
+            return None
+        _KERNELS = types.SimpleNamespace(**{name: ns[name] for name in KERNELS}, namespace=ns)
+    return _KERNELS
+
+
+def extra() -> dict[str, Any]:
+    """``{name: compiled function}`` of :data:`KERNELS` (for ``jit_namespace(..., extra=...)``); raises
+    ImportError without Numba."""
+    k = kernels()
+    if k is None:
+        raise ImportError("numba")
+    return {name: k.namespace[name] for name in KERNELS}
