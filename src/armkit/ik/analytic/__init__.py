@@ -333,8 +333,7 @@ def solve_all(robot: Robot, solver: ClosedForm, target: Array, q0: Array, positi
         ok = ok & ~raw.missing
         fk_ok = fk_ok & ~raw.missing
     code = np.where(ok, 0, np.where(fk_ok & ~within, 2, 1))
-    message = np.where(ok, raw.note, "").astype(object, copy=False)
-    _failure_messages(robot, message, code, raw, q, dp, dr, tol)
+    unsorted = (q, ok, dp, dr)   # the sort below makes new arrays: these stay the messages' own
     if jit is not None:
         order, q, ok, dp, dr, within = jit.sort_branches(ok, dist, q, dp, dr, within)
     else:
@@ -342,9 +341,16 @@ def solve_all(robot: Robot, solver: ClosedForm, target: Array, q0: Array, positi
         q = np.take_along_axis(q, order[..., None], axis=1)
         ok, dp, dr, within = (np.take_along_axis(a, order, axis=1) for a in (ok, dp, dr, within))
     take = lambda a: np.take_along_axis(a, order, axis=1)  # noqa: E731
-    return IKResult(q=q, success=ok, position_error=dp, rotation_error=dr,
-                    iterations=np.zeros(ok.shape, dtype=np.int64), branch=take(raw.label), within_limits=within,
-                    reason=_REASON_TEXT[take(code)], message=take(message))
+
+    def messages() -> NDArray[np.object_]:
+        """The branches' sentences (a sweep has hundreds per target), made when ``message`` is first read."""
+        q_, ok_, dp_, dr_ = unsorted
+        message = np.where(ok_, raw.note, "").astype(object, copy=False)
+        _failure_messages(robot, message, code, raw, q_, dp_, dr_, tol)
+        return take(message)
+
+    return IKResult._later((q, ok, dp, dr, np.zeros(ok.shape, dtype=np.int64), take(raw.label), within,
+                            _REASON_TEXT[take(code)], None), messages)
 
 
 # ------------------------------------------------------------------ one target, one compiled call
