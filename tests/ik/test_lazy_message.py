@@ -142,3 +142,29 @@ def test_plain_results_are_unchanged():
                    within_limits=np.bool_(True), reason=np.str_("converged"))
     assert res.message == "" and IKResult.message is None
     assert pickle.loads(pickle.dumps(res)).message == ""
+
+
+def test_batched_and_swept_results_make_their_sentences_when_read():
+    """The batched path (and a 7-joint sweep through it) leaves the sentences for later too: the same sentences
+    as the one-call path gives target by target, unchanged by a caller reusing its target array, and a part
+    taken by indexing before any read gives the whole's sentences for its targets."""
+    ur5 = armkit.load("ur5")
+    rng = np.random.default_rng(19)
+    T = armkit.fk(ur5, rng.uniform(-2.0, 2.0, (6, 6)))
+    T[::2, :3, 3] *= 3.0                               # every other target out of reach: failed branches
+    targets = T.copy()
+    res = armkit.ik_all(ur5, targets)
+    assert "_later" in vars(res)                       # nothing made yet
+    part = res[1:4]
+    assert "_later" in vars(part)
+    targets[:] = 0.0
+    each = [armkit.ik_all(ur5, t).message for t in T]
+    assert [list(m) for m in res.message] == [list(m) for m in each]
+    assert [list(m) for m in part.message] == [list(m) for m in each[1:4]]
+    assert any("unreachable" in m for m in res.message[0])
+    panda = armkit.load("example-robot-data:panda") if importlib.util.find_spec("example_robot_data") else None
+    if panda is not None:
+        swept = armkit.ik_all(panda, armkit.fk(panda, np.array([0.1, -0.4, 0.2, -2.0, 0.1, 1.8, 0.6])))
+        assert "_later" in vars(swept)
+        failed = [m for m, ok in zip(swept.message, swept.success) if not ok]
+        assert failed and all(m for m in failed)        # every failed branch says why, once read

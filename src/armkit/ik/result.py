@@ -134,12 +134,15 @@ class IKResult:
         """A result with ``per_target`` applied to every field but ``trace`` (given as is), built as :meth:`_of`."""
         new = object.__new__(IKResult)
         d, src = new.__dict__, self.__dict__
-        if "message" not in src:
-            self.message   # noqa: B018 (made now: _later)
         for f in _PER_TARGET:
-            d[f] = per_target(src[f])
+            if f != "message" or "message" in src:
+                d[f] = per_target(src[f])
         d["trace"] = trace
-        d["message"] = _message(d["message"], np.shape(d["success"]))
+        if "message" in d:
+            d["message"] = _message(d["message"], np.shape(d["success"]))
+        else:                          # not made yet (_later): the part's messages are made from the whole's, when read
+            shape = np.shape(d["success"])
+            d["_later"] = lambda: _message(per_target(self.message), shape)
         if "checked_against" in src:   # what the collision check covered goes with every part
             d["checked_against"] = src["checked_against"]
         return new

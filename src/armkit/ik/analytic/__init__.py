@@ -310,6 +310,7 @@ def solve_all(robot: Robot, solver: ClosedForm, target: Array, q0: Array, positi
     Returns an :class:`IKResult` with fields ``(B, m)`` and ``q`` ``(B, m, n)``.
     """
     theta = solver.sf.theta
+    target = target.copy()   # the branches' sentences are made later, from this copy (a caller may reuse its array)
     raw = solver.solve(target, q0 + theta)
     jit = jit_kernels()
     dist = None
