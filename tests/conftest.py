@@ -32,9 +32,12 @@ def rng() -> np.random.Generator:
 
 
 def pytest_configure(config: pytest.Config) -> None:
-    """The controller of a ``pytest -n N`` run makes one symbolic cache for all its workers (see below)."""
+    """The controller of a ``pytest -n N`` run makes one symbolic cache for all its workers (see below), and
+    compiles the Numba kernels once for all of them (:func:`_compile_kernels_once`) before they start."""
     if not hasattr(config, "workerinput"):
         config.stash[_cache_key] = tempfile.mkdtemp(prefix="armkit-test-cache-")
+        if _wants_kernels_first(config):
+            _compile_kernels_once(config)
 
 
 def pytest_unconfigure(config: pytest.Config) -> None:
@@ -65,3 +68,100 @@ def _symbolic_cache(request: pytest.FixtureRequest):
     mp.setenv("ARMKIT_CACHE_DIR", folder)
     yield
     mp.undo()
+
+
+# ---- the Numba kernels, compiled once for the whole run ------------------------------------------------------------
+# In a fresh clone no kernel is cached, and with ARMKIT_JIT=wait every xdist worker compiled the kernels its tests
+# touch, at the same time as the other worker compiled the same ones: the cold compile was paid once per worker.
+# The controller of a whole-suite ``pytest -n N`` run (N >= 2) compiles them first, in two processes (both cores
+# work), and the workers then load them from Numba's on-disk cache. ARMKIT_TEST_WARMUP=1 does this for any run,
+# ARMKIT_TEST_WARMUP=0 never. With the kernels cached already (armkit warmup's marker files), it costs one check.
+
+def _wants_kernels_first(config: pytest.Config) -> bool:
+    flag = os.environ.get("ARMKIT_TEST_WARMUP", "")
+    if flag in ("0", "1"):
+        return flag == "1"
+    workers = getattr(config.option, "numprocesses", None)
+    whole = config.args_source == pytest.Config.ArgsSource.TESTPATHS   # no file or folder named: the whole suite
+    return isinstance(workers, int) and workers >= 2 and whole
+
+
+def _stamps() -> tuple:
+    """The marker files of this build's kernels: ``armkit warmup``'s two, and the one this file writes when its
+    two halves have compiled the same kernels (None where Numba's cache is off)."""
+    from armkit import _jit_loader, kinematics  # noqa: F401  (kinematics names the kernel module the markers follow)
+
+    _jit_loader.install_cache_fallback()
+    return _jit_loader.marker("ready"), _jit_loader.marker("parallel"), _jit_loader.marker("tests")
+
+
+def _kernels_cached() -> bool:
+    """True when this build's kernels are all in Numba's cache (or when Numba's cache is off: nothing to share)."""
+    first, second, ours = _stamps()
+    if first is None or second is None or ours is None:
+        return True
+    return (first.exists() and second.exists()) or ours.exists()
+
+
+def _compile_kernels_once(config: pytest.Config) -> None:
+    """Two processes compile the two halves of the warm-up's kernels into Numba's cache (``_warm_part``); the
+    workers load them from there. A failure only costs time: the workers then compile on first use, as without
+    this step. The marker written afterwards is this file's own (``armkit-kernels-<build>.tests``): armkit's
+    markers keep meaning that ``armkit.warmup()`` ran."""
+    import contextlib
+    import subprocess
+    import sys
+    import time
+
+    try:
+        if _kernels_cached():
+            return
+    except ImportError:        # no Numba: nothing to compile
+        return
+    capture = config.pluginmanager.get_plugin("capturemanager")
+
+    def say(text: str) -> None:
+        with capture.global_and_fixture_disabled() if capture is not None else contextlib.nullcontext():
+            print(text, file=sys.stderr, flush=True)
+
+    t0 = time.perf_counter()
+    say("armkit tests: compiling the Numba kernels once for all workers, in two processes ...")
+    here = str(Path(__file__).parent)
+    run = "import sys; sys.path.insert(0, sys.argv[1]); import conftest; conftest._warm_part(sys.argv[2])"
+    env = dict(os.environ, ARMKIT_JIT="wait", ARMKIT_BACKEND="auto")
+    logs = [tempfile.TemporaryFile(mode="w+") for _ in range(2)]     # files, not pipes: neither can block
+    parts = [subprocess.Popen([sys.executable, "-c", run, here, part], env=env, stdin=subprocess.DEVNULL,
+                              stdout=log, stderr=subprocess.STDOUT, text=True)
+             for part, log in zip(("core", "families"), logs)]
+    outs = []
+    for p, log in zip(parts, logs):
+        p.wait()
+        log.seek(0)
+        outs.append(log.read())
+        log.close()
+    failed = [out for p, out in zip(parts, outs) if p.returncode]
+    for out in failed:
+        say("armkit tests: a kernel warm-up process failed (the workers compile on first use):\n" + out[-2000:])
+    ours = _stamps()[2]
+    if not failed and ours is not None:
+        ours.touch()      # armkit's forget_other_builds() removes it with the other files of an older build
+    say(f"armkit tests: the kernel warm-up took {time.perf_counter() - t0:.0f} s")
+
+
+def _warm_part(part: str) -> None:
+    """One half of :func:`armkit.warmup`'s work, run in its own process by :func:`_compile_kernels_once`:
+    ``"core"`` its first half (:func:`armkit.warmup._exercise_arms`) and then the multi-threaded twins,
+    ``"families"`` its second half (:func:`armkit.warmup._exercise_families`). The two took about the same
+    time cold (the cache files' times of one cold warm-up). Anything either half misses is compiled by the
+    workers on first use, as before."""
+    import importlib
+
+    from armkit import _jit_loader
+
+    warmup = importlib.import_module("armkit.warmup")     # the module (armkit.warmup is also the function's name)
+    with _jit_loader.compiling_here(parallel=True, backend="numba"):
+        with _jit_loader.serial_only():
+            (warmup._exercise_arms if part == "core" else warmup._exercise_families)()
+        if part == "core":
+            warmup._exercise_parallel()
+

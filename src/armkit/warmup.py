@@ -38,6 +38,13 @@ class Warmup:
 def _exercise_serial() -> None:
     """Call every kernel the public functions use, with the argument types they pass, on small inputs
     (below the thresholds of the multi-threaded kernels)."""
+    _exercise_arms()
+    _exercise_families()
+
+
+def _exercise_arms() -> None:
+    """The first half of :func:`_exercise_serial` (about half its compile time, cold): FK, Jacobians, the closed
+    forms, LM and the rigidity check on the bundled arms. The test suite compiles the halves in two processes."""
     for name in ("puma560", "ur5", "panda", "fighter", "planar2", "planar3"):
         arm = load(name)
         q = arm.random_q(rng=0)
@@ -68,6 +75,13 @@ def _exercise_serial() -> None:
             far *= 4.0
         for target in (one, many[:4], many[:16], far):  # single, < 8 and >= 8 targets, unreachable
             ik(arm, target, method="lm", restarts=2)
+    poses = np.tile(np.eye(4), (2, 1, 1))   # check_transform's pass over big batches
+    _jit_loader.module("kinematics._jit").rigidity(poses, np.empty(2), np.empty(2), np.empty(2, dtype=bool))
+
+
+def _exercise_families() -> None:
+    """The second half of :func:`_exercise_serial`: the geometric solvers, the 7-joint sweep and the SO-101's
+    kernels."""
     from .ik.geometric import solvers          # the geometric family's kernels (subproblems, 6R solvers): Numba
     from .ik.geometric.poe import poe
 
@@ -78,8 +92,6 @@ def _exercise_serial() -> None:
         solve(poe(arm), T[:3, :3], T[:3, 3])
     iiwa = load("iiwa14")                      # the sweep of 7-joint arms (solvers._sweep, ik.geometric.locked)
     ik_all(iiwa, fk(iiwa, iiwa.random_q(rng=3)))
-    poses = np.tile(np.eye(4), (2, 1, 1))   # check_transform's pass over big batches
-    _jit_loader.module("kinematics._jit").rigidity(poses, np.empty(2), np.empty(2), np.empty(2, dtype=bool))
     from .lerobot import RobotKinematics      # the SO-101's single-call kernels (ik/analytic/_yaw_pitch3_jit.py)
 
     kin = RobotKinematics("so101")

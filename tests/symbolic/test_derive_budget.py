@@ -21,9 +21,9 @@ def _awkward_arm() -> armkit.Robot:
 
 def test_budget_bounds_the_time_and_the_result_stays_exact():
     r = _awkward_arm()
-    t0 = time.perf_counter()
+    t0 = time.process_time()              # CPU seconds, the budget's own clock: a loaded machine stretches wall time
     d = derive(r, cache=False, simplify_budget=1.0)
-    elapsed = time.perf_counter() - t0
+    elapsed = time.process_time() - t0
     assert "budget" in d.meta.get("note", "")
     assert elapsed < 60, elapsed              # the unbounded derivation ran past 900 s in the hostile-user test
     f_T = d.lambdify("T")
