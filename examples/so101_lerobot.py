@@ -5,7 +5,7 @@ recorded trajectory in raw STS3215 ticks (examples/so101_recording.csv, 10 Hz), 
 sample into the gripper's pose, draws the path (PNG into the folder given), then moves the
 gripper 2 cm up with the drop-in ``RobotKinematics`` and says what it met.
 
-Run: python examples/15_so101_lerobot.py [output folder]
+Run: python examples/so101_lerobot.py [output folder]
 """
 
 import sys
