@@ -277,6 +277,31 @@ def _jit_pack(geo: ArmGeometry, scene_pairs: list[tuple[int, Shape]], self_pairs
         np.array(cols, dtype=np.int64)
 
 
+PACKS_KEPT = 16
+"""Packed item arrays kept per robot (:func:`_packed`): one IK call checks its branches twice with the same
+scene, a loop calls it thousands of times."""
+
+
+def _packed(robot: Robot, geo: ArmGeometry, scene_pairs: list[tuple[int, Shape]],
+            self_pairs: Sequence[tuple[int, int]]) -> tuple[tuple, NDArray[np.int64], NDArray[np.int64],
+                                                            NDArray[np.int64]]:
+    """:func:`_jit_pack` and the pair columns without a kernel, remembered in ``robot.cache`` under the scene
+    shapes' contents (kind, pose, size: a caller that edits a shape in place gets a new pack), the arm's
+    solids being fixed per robot (:func:`armkit.collision.geometry.arm_geometry`)."""
+    key = (id(geo), tuple(self_pairs), tuple((i, s.kind, np.asarray(s.pose, dtype=float).tobytes(),
+                                              tuple(float(v) for v in s.size)) for i, s in scene_pairs))
+    packs = robot.cache.setdefault("collision_packs", {})
+    hit = packs.get(key)
+    if hit is not None and hit[0] is geo:
+        return hit[1]
+    packed, pairs, cols = _jit_pack(geo, scene_pairs, self_pairs)
+    made = (packed, pairs, cols, np.setdiff1d(np.arange(len(scene_pairs) + len(self_pairs)), cols))
+    if len(packs) >= PACKS_KEPT:
+        packs.clear()
+    packs[key] = (geo, made)
+    return made
+
+
 def _pack(full: list[tuple]) -> tuple:
     """The items' columns as the kernels' arrays ``(kind, fr, ia, ib, L, rad, half, bound)``."""
     kind = np.array([it[0] for it in full], dtype=np.int64)
@@ -338,8 +363,7 @@ def _evaluate(robot: Robot, geo: ArmGeometry, q: Array, scene_pairs: list[tuple[
         d_all = None if only_min else np.concatenate([p_[0] for p_ in parts])  # type: ignore[misc]
         return d_all, np.concatenate([p_[1] for p_ in parts]), np.concatenate([p_[2] for p_ in parts])
     frames = np.ascontiguousarray(chain_frames(robot, q))
-    packed, pairs, cols = _jit_pack(geo, scene_pairs, self_pairs)
-    rest = np.setdiff1d(np.arange(P), cols)
+    packed, pairs, cols, rest = _packed(robot, geo, scene_pairs, self_pairs)
     if only_min:
         dist, arg = _jit.min_distance(frames, packed, pairs, stop) if len(pairs) else (
             np.full(B, np.inf), np.full(B, -1, dtype=np.int64))
