@@ -494,13 +494,9 @@ def kernels() -> Optional[types.SimpleNamespace]:
     to :func:`.subproblems.jit_namespace` by a module that calls them), or None without Numba."""
     global _KERNELS
     if _KERNELS is None:
-        from .subproblems import jit_namespace
+        from .subproblems import compiled
 
-        try:
-            ns = jit_namespace(globals(), KERNELS)
-        except ImportError:
-            return None
-        _KERNELS = types.SimpleNamespace(**{name: ns[name] for name in KERNELS}, namespace=ns)
+        _KERNELS = compiled(globals(), KERNELS)
     return _KERNELS
 
 

@@ -469,6 +469,16 @@ def jit_namespace(namespace: dict[str, Any], names: tuple[str, ...], extra: Opti
     return ns
 
 
+def compiled(namespace: dict[str, Any], names: tuple[str, ...]) -> Optional[types.SimpleNamespace]:
+    """:func:`jit_namespace` of ``names`` as a namespace (attributes named as the functions, and ``namespace``:
+    the dict), or None when Numba cannot be imported."""
+    try:
+        ns = jit_namespace(namespace, names)
+    except ImportError:
+        return None
+    return types.SimpleNamespace(**{name: ns[name] for name in names}, namespace=ns)
+
+
 _KERNELS: Optional[types.SimpleNamespace] = None
 
 
@@ -477,9 +487,5 @@ def kernels() -> Optional[types.SimpleNamespace]:
     when Numba cannot be imported. Compiled on first call of each (cached on disk)."""
     global _KERNELS
     if _KERNELS is None:
-        try:
-            ns = jit_namespace(globals(), KERNELS)
-        except ImportError:
-            return None
-        _KERNELS = types.SimpleNamespace(**{name: ns[name] for name in KERNELS}, namespace=ns)
+        _KERNELS = compiled(globals(), KERNELS)
     return _KERNELS
