@@ -194,38 +194,31 @@ def _quartic4(c4, c3, c2, c1, c0):
     return r0, i0, r1, i1, r2, i2, r3, i3
 
 
-def _polish(tr, ti, b, c, d, e):
-    """Up to 3 Newton steps on ``t⁴ + b t³ + c t² + d t + e`` from ``tr + i ti``, stopped when one does not
-    decrease ``|f|``: real arithmetic for a real start, complex for a nearly real one (``|ti| ≤ 1e-2 (1 + |t|)``);
-    a root farther from the real axis is returned as it is."""
-    if ti == 0.0:
-        t = tr
-        f = (((t + b) * t + c) * t + d) * t + e
-        for _ in range(3):
-            df = ((4.0 * t + 3.0 * b) * t + 2.0 * c) * t + d
-            if df == 0.0:
-                break
-            tn = t - f / df
-            fn = (((tn + b) * tn + c) * tn + d) * tn + e
-            if abs(fn) >= abs(f):
-                break
-            t = tn
-            f = fn
-        return t, 0.0
-    if abs(ti) > 1e-2 * (1.0 + abs(tr)):
-        return tr, ti
-    z = complex(tr, ti)
-    f = (((z + b) * z + c) * z + d) * z + e
+def _newton4(t, b, c, d, e):
+    """Up to 3 Newton steps on ``t⁴ + b t³ + c t² + d t + e`` from ``t`` (a float or a complex: compiled for
+    each), stopped when one does not decrease ``|f|``."""
+    f = (((t + b) * t + c) * t + d) * t + e
     for _ in range(3):
-        df = ((4.0 * z + 3.0 * b) * z + 2.0 * c) * z + d
+        df = ((4.0 * t + 3.0 * b) * t + 2.0 * c) * t + d
         if df == 0.0:
             break
-        zn = z - f / df
-        fn = (((zn + b) * zn + c) * zn + d) * zn + e
+        tn = t - f / df
+        fn = (((tn + b) * tn + c) * tn + d) * tn + e
         if abs(fn) >= abs(f):
             break
-        z = zn
+        t = tn
         f = fn
+    return t
+
+
+def _polish(tr, ti, b, c, d, e):
+    """:func:`_newton4` from ``tr + i ti``: in real arithmetic for a real start, complex for a nearly real one
+    (``|ti| ≤ 1e-2 (1 + |t|)``); a root farther from the real axis is returned as it is."""
+    if ti == 0.0:
+        return _newton4(tr, b, c, d, e), 0.0
+    if abs(ti) > 1e-2 * (1.0 + abs(tr)):
+        return tr, ti
+    z = _newton4(complex(tr, ti), b, c, d, e)
     return z.real, z.imag
 
 
@@ -483,8 +476,8 @@ def _fk_err(H, P, RnT, prism, q, Rt, pt):
 
 # ---------------------------------------------------------------------------------- compiled
 KERNELS = ("_t", "_tdot", "_tcross", "_tadd", "_tsub", "_tmul", "_tnorm", "_trot_cs", "_trot", "_tmv", "_tmtv",
-           "_tlin", "_tsp1", "_wrap", "_cubic_max", "_quad", "_polish", "_quartic4", "_quartic", "_res2", "_trig2",
-           "_trig2_rows", "_sp6", "_sp3", "_rmul_rot", "_move", "_fk_err")
+           "_tlin", "_tsp1", "_wrap", "_cubic_max", "_quad", "_newton4", "_polish", "_quartic4", "_quartic", "_res2",
+           "_trig2", "_trig2_rows", "_sp6", "_sp3", "_rmul_rot", "_move", "_fk_err")
 """The functions :func:`kernels` compiles, callees before callers."""
 _KERNELS: Optional[types.SimpleNamespace] = None
 
