@@ -329,9 +329,15 @@ def test_world_triad_frame_numbers_and_dh_frames(browser, docs_img: Path) -> Non
         for k in shown:
             assert np.allclose(ro.numbers[k].position, F[k, :3, 3] * v.robot.unit_scale)
         open_folder(page, "Frames and camera")
-        page.get_by_role("button", name="iso", exact=True).click()
         v.panels.gizmo.visible = False        # its red and blue handles would count with the arrows
         v.set_q(np.zeros(6))
+        client = next(iter(v.server.get_clients().values()))
+        s, R = v.robot.unit_scale, v.robot.reach * v.robot.unit_scale
+        # the middle of the frame origins, moved to the screen's right so that the arm is left of the panel;
+        # from this close the arrows add 600-700 red and blue pixels (from the iso preset 150-250, too near the bar)
+        look = armkit.fk_frames(v.robot, v.q)[:, :3, 3].mean(axis=0) * s + 0.35 * R * np.array([1, 1, 0]) / 2 ** 0.5
+        client.camera.position = tuple(look + 1.2 * R * np.array([1, -1, 1]) / 3 ** 0.5)
+        client.camera.look_at = tuple(look)
         before = _settled(page)
         # DH frames on: a node per frame, posed at fk_frames; drawn (red and blue arrows appear in the canvas)
         page.get_by_text("DH frames (x red, z blue)", exact=True).click()
@@ -364,13 +370,7 @@ def test_world_triad_frame_numbers_and_dh_frames(browser, docs_img: Path) -> Non
         # the picture in the docs: on again, from closer
         page.get_by_text("DH frames (x red, z blue)", exact=True).click()
         wait_until(lambda: len(ro.dh_nodes) == v.robot.n + 1, what="the DH nodes added again")
-        client = next(iter(v.server.get_clients().values()))
-        s, R = v.robot.unit_scale, v.robot.reach * v.robot.unit_scale
-        # the middle of the frame origins, moved to the screen's right so that the arm is left of the panel
-        look = armkit.fk_frames(v.robot, v.q)[:, :3, 3].mean(axis=0) * s + 0.35 * R * np.array([1, 1, 0]) / 2 ** 0.5
-        client.camera.position = tuple(look + 1.2 * R * np.array([1, -1, 1]) / 3 ** 0.5)
-        client.camera.look_at = tuple(look)
-        time.sleep(1.5)
+        _settled(page)
         page.screenshot(path=str(docs_img / "view-dh-frames.png"))
         # frame numbers and the triad can be hidden
         page.get_by_text("world triad", exact=True).click()
