@@ -222,14 +222,19 @@ def teleop(args) -> None:
         ratio = f"  {med[1] / med[0]:.2f}x" if len(med) > 1 else ""
         print(f"{label:50} " + " ".join(f"{c:>32}" for c in cells) + ratio)
     stages: dict[str, int] = {}
+    stage_times: dict[str, list[float]] = {}
     numpy_path = 0
     rk = solvers["armkit"]
     for i in range(k):
+        t0 = time.perf_counter()
         rk.inverse_kinematics(cur[i], step[i])  # type: ignore[attr-defined]
+        stage_times.setdefault(rk.last_stage, []).append(time.perf_counter() - t0)  # type: ignore[attr-defined]
         stages[rk.last_stage] = stages.get(rk.last_stage, 0) + 1  # type: ignore[attr-defined]
         numpy_path += bool(getattr(rk, "_numpy", False))
     print(f"armkit's stages on the 5 mm steps: {stages}; {numpy_path} of {k} took the NumPy path (LM for the "
           "position, or a failure's message), the others one compiled call")
+    print("  median us per stage: " + ", ".join(f"{nm} {np.median(ts) * 1e6:.1f}" for nm, ts in stage_times.items())
+          + " (a pitch or position answer comes after the direction was tried)")
     # the loop: a 5 cm circle in 0.5 mm steps, each answer is the next current joints
     n = args.loop
     radius = 0.05

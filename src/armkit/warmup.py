@@ -92,7 +92,7 @@ def _exercise_families() -> None:
         solve(poe(arm), T[:3, :3], T[:3, 3])
     iiwa = load("iiwa14")                      # the sweep of 7-joint arms (solvers._sweep, ik.geometric.locked)
     ik_all(iiwa, fk(iiwa, iiwa.random_q(rng=3)))
-    from .lerobot import RobotKinematics      # the SO-101's single-call kernels (ik/analytic/_yaw_pitch3_jit.py)
+    from .lerobot import RobotKinematics      # the SO-101's single-call kernels (ik/analytic/_yaw_pitch3_teleop.py)
 
     kin = RobotKinematics("so101")
     for w in (0.01, 0.0):

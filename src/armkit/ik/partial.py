@@ -20,7 +20,7 @@ from numpy.typing import ArrayLike, NDArray
 from .._text import Fielded
 from ..errors import ShapeError
 from ..model.robot import Robot
-from .result import IKResult
+from .result import IKResult, default_tolerance
 
 Array = NDArray[np.float64]
 DIRECTION_MASK = (1.0, 1.0, 1.0, 1.0, 1.0, 0.0)
@@ -101,6 +101,11 @@ def ik_direction(robot: Robot, target: ArrayLike, q0: ArrayLike | None, directio
                         (scene, "scene= does not go with direction=: scene= is not available with direction= yet")):
         if value is not None:
             raise IKInputError.of(text)
+    if method in ("auto", "analytic") and not numeric.get("trace"):   # one target: one compiled call
+        one = _direction_one(robot, target, q0, direction, numeric.get("tol"),
+                             bool(numeric.get("enforce_limits", True)))
+        if one is not None:
+            return one
     p, lead = _positions(target, "direction=")
     d = _values(direction, "direction", lead, (3,)).reshape(-1, 3)
     norm = np.linalg.norm(d, axis=-1)
@@ -290,6 +295,10 @@ def ik_pitch(robot: Robot, target: ArrayLike, q0: ArrayLike | None, pitch: Array
         raise IKInputError.of("mask= is for the numeric methods; pitch= is solved in closed form")
     if phi is not None:
         raise IKInputError.of("phi= is for planar (x, y) targets; it does not go with pitch=")
+    if not every and branch is None and scene is None:   # one target: one compiled call, its result built here
+        one = _pitch_one(robot, target, q0, pitch, tol, enforce_limits)
+        if one is not None:
+            return one
     p, lead = _positions(target, "pitch=")
     psi = _values(pitch, "pitch", lead).reshape(-1)
     why: list[str] = []
@@ -319,6 +328,117 @@ def ik_pitch(robot: Robot, target: ArrayLike, q0: ArrayLike | None, pitch: Array
         raise IKInputError.of("unknown branch {name!r} for robot {robot!r}; valid branches: {names}", name=branch,
                               robot=robot.name, names=", ".join(valid))
     return _reshape(res[rows, np.argmax(hit, axis=1)], lead)
+
+
+# ------------------------------------------------------------------ one target, one compiled call
+_F64 = np.dtype(np.float64)
+_NUMBER = (float, np.float64)
+_PITCH_REASON = np.full(1, "converged", dtype=object).astype(str).reshape(())      # the dtypes the batched
+_DIRECTION_REASON = np.where(np.ones(1, dtype=bool), "converged", "unreachable").reshape(())   # paths give
+
+
+_LABELS_0D: list[Any] = []    # per label index: the 0-d object array a batched result's branch becomes
+
+
+def _label(index: int) -> Any:
+    """A fresh 0-d object array of the branch label ``index`` (as ``_LABELS[idx].reshape(())`` gives it)."""
+    if not _LABELS_0D:
+        from .analytic.yaw_pitch3 import _LABELS
+
+        _LABELS_0D.extend(_LABELS[i:i + 1].reshape(()) for i in range(len(_LABELS)))
+    return _LABELS_0D[index].copy()
+
+
+def _kernels_for(robot: Robot) -> tuple[Any, Any]:
+    """``(kernel module, packed geometry)`` of the yaw-pitch3 kernels for ``robot``; the geometry None when they do
+    not serve it (:func:`armkit.ik.analytic.yaw_pitch3.fast_geometry`)."""
+    from .analytic.yaw_pitch3 import fast_geometry, fast_kernels
+
+    kern = fast_kernels()
+    if kern is None:
+        return None, None
+    g = robot.cache.get("yaw_pitch3_fast", False)     # fast_geometry's record, kept per robot
+    return kern, (fast_geometry(robot) if g is False else g)
+
+
+def _one_start(robot: Robot, target: Any, q0: Any) -> Array | None:
+    """The start ``(1, n)`` of one plain target: ``target`` a finite float64 ``(3,)`` and ``q0`` None or a finite
+    float64 ``(n,)`` within 1e6 rad (what ``_normalise_q0`` keeps as it is); None for anything else (the batched
+    path checks it, says what is wrong, or wraps the start)."""
+    if type(target) is not np.ndarray or target.dtype != _F64 or target.shape != (3,):
+        return None
+    if not math.isfinite(target @ target):   # finite values (one that overflows the sum goes the batched way too)
+        return None
+    if q0 is None:
+        from .api import _normalise_q0
+
+        return _normalise_q0(robot, None, ())
+    if type(q0) is not np.ndarray or q0.dtype != _F64 or q0.shape != (robot.n,):
+        return None
+    if not q0 @ q0 <= 1e12:   # so every |q0_i| <= 1e6 (NaN fails too); a larger start goes the batched way
+        return None
+    return q0.reshape(1, -1).copy()
+
+
+def _pitch_one(robot: Robot, target: Any, q0: Any, pitch: Any, tol: Any, enforce_limits: bool) -> IKResult | None:
+    """:func:`ik_pitch` for one position ``(3,)`` and one pitch (a float) where the compiled kernel solves it plainly
+    (the nearest branch succeeds, no note): the same result as the batched path, shaped for one target; None
+    for anything else (the batched path answers, with its checks and messages)."""
+    if type(pitch) not in _NUMBER or not math.isfinite(pitch):
+        return None
+    q = _one_start(robot, target, q0)
+    if q is None:
+        return None
+    kern, g = _kernels_for(robot)
+    if g is None:
+        return None
+    if tol is None:
+        t = default_tolerance(robot)
+    else:
+        from .api import _tolerance
+
+        t = _tolerance(robot, tol)
+    Q, DP, DR = np.empty((1, 4, 5)), np.empty((1, 4)), np.empty((1, 4))
+    OK, WI = np.empty((1, 4), dtype=bool), np.empty((1, 4), dtype=bool)
+    LAB, best = np.empty((1, 4), dtype=np.int64), np.empty(1, dtype=np.int64)
+    p = np.ascontiguousarray(target.reshape(1, 3))      # a strided (3,) view: copied, one compiled signature
+    kern.nearest_pitch(g, p, np.array([float(pitch)]), q, float(t[0]), float(t[1]), bool(enforce_limits), Q, DP, DR,
+                       OK, WI, LAB, best)
+    b = int(best[0])
+    if b < 0:
+        return None
+    return IKResult._later((Q[0, b], OK[0, b, ...], DP[0, b, ...], DR[0, b, ...], np.zeros((), dtype=np.int64),
+                            _label(int(LAB[0, b])), WI[0, b, ...], _PITCH_REASON.copy(), ""))
+
+
+def _direction_one(robot: Robot, target: Any, q0: Any, direction: Any, tol: Any,
+                   enforce_limits: bool) -> IKResult | None:
+    """:func:`ik_direction` for one position and one direction (float64 ``(3,)`` each) that the compiled kernel
+    solves (:func:`nearest_direction` for one row): the same result as the batched path, shaped for one target;
+    None for anything else (the batched path answers, with its checks and messages)."""
+    if type(direction) is not np.ndarray or direction.dtype != _F64 or direction.shape != (3,) \
+            or not enforce_limits:
+        return None
+    q = _one_start(robot, target, q0)
+    if q is None:
+        return None
+    d = direction.reshape(1, 3)
+    norm = np.linalg.norm(d, axis=-1)       # as the batched path normalises it, to the last bit
+    if not (norm[0] >= 1e-12 and math.isfinite(norm[0])):
+        return None
+    kern, g = _kernels_for(robot)
+    if g is None or _pitch_solver(robot) is None:
+        return None
+    t = _direction_tol(robot, tol)
+    qo, dp, da = np.empty((1, 5)), np.full(1, np.inf), np.full(1, np.inf)
+    lab, solved = np.zeros(1, dtype=np.int64), np.zeros(1, dtype=bool)
+    p = np.ascontiguousarray(target.reshape(1, 3))
+    kern.nearest_direction_rows(g, p, d / norm[:, None], q, float(t[0]), float(t[1]), qo, dp, da, lab, solved)
+    if not solved[0]:
+        return None
+    yes = np.ones((), dtype=bool)
+    return IKResult._later((qo[0], yes, dp[0, ...], da[0, ...], np.zeros((), dtype=np.int64), _label(int(lab[0])),
+                            yes.copy(), _DIRECTION_REASON.copy(), ""))
 
 
 def too_few_joints(prob: Any, res: IKResult, failed: NDArray[np.intp], seed: Any) -> list[str]:
