@@ -56,8 +56,8 @@ def _wrap(a: np.ndarray) -> np.ndarray:
 
 
 def _flipped(robot):
-    """The same arm as a URDF-convention robot with joint 1's axis reversed (same geometry, q1 -> -q1):
-    the DH-pattern families no longer match it, so the geometric family answers."""
+    """The same arm as a URDF-convention robot with joint 1's axis reversed (same geometry, q1 -> -q1): its
+    DH twin has a twist one ulp off -pi/2 (round-off, so still an exact arm: the UR family answers it)."""
     from armkit.model.robot import Joint, Robot
 
     c = robot.chain

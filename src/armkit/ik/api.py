@@ -16,6 +16,7 @@ from typing import Any, Literal, Optional
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from .. import _jit_loader
 from .._checks import real_array, short_repr
 from ..errors import IKInputError, ShapeError, UnreachableError
 from ..model.robot import Robot
@@ -196,6 +197,17 @@ def _reshape(res: IKResult, lead: tuple[int, ...]) -> IKResult:
     return res._map(f, trace)
 
 
+def _one_row(a: Any) -> Any:
+    """A field of one target's result with a leading axis of 1 (the ``(B, m)`` rows that
+    :func:`.scene.sort_branches` sorts)."""
+    return np.asarray(a)[None]
+
+
+def _first(a: Any) -> Any:
+    """A field of one target's branches ``(m, ...)``: its first branch ``(...)``, a view."""
+    return np.asarray(a)[0, ...]
+
+
 def _scene(robot: Robot, scene: Any) -> Any:
     """``scene=`` by the one collision rule (:func:`armkit.collision.resolve_scene`): a Scene, or None for no check.
 
@@ -321,6 +333,59 @@ def _one_target(robot: Robot, target: Any, q0: Any, tol: Any, enforce_limits: bo
                         check, nearest, batch_axis)
 
 
+_run_one: Any = None   # analytic.run_one once imported
+_NDARRAY = np.ndarray
+
+
+def _fast_record(robot: Robot) -> Any:
+    """What :func:`_fast` needs of ``robot``, made once (``robot.cache["ik_fast"]``): the one-call record of
+    :func:`armkit.ik.analytic.one_call_record` (it names the target shapes its family takes); False where
+    the defaults of :func:`ik` and :func:`ik_all` never take the one-call path without more checks (no closed
+    form, a pitch family, a 7-joint arm, collision keys: the robot's own scene); None while the Numba back
+    end does not serve (asked again next time; a pickled record also comes back as None)."""
+    global _run_one
+    rec: Any = False
+    if len(robot.joints) != 7 and robot.__dict__.get("collision") is None:
+        from .analytic import closed_form, one_call_record, run_one
+
+        _run_one = run_one
+        solver = closed_form(robot)
+        if solver is not None and solver.target_kind != "pitch":
+            rec = one_call_record(robot, solver)
+            if rec is None:
+                return None
+    robot.cache["ik_fast"] = rec
+    return rec
+
+
+def _fast(robot: Any, target: np.ndarray, q0: Any, enforce_limits: Any, check: Any, nearest: bool
+          ) -> IKResult | None:
+    """:func:`ik` / :func:`ik_all` with their default options (no ``tol``, ``scene``, ``branch``, ...) for one
+    float64 ``target``: the one-call path of :func:`_one_target` with the robot's record looked up once
+    (:func:`_fast_record`), or None where the general code answers (it also raises every error)."""
+    if not ONE_CALL or type(robot) is not Robot or target.dtype is not _F64:
+        return None
+    rec = robot.cache.get("ik_fast")
+    if rec is None:
+        rec = _fast_record(robot)
+    if not rec or _jit_loader._ACTIVE is None:
+        return None
+    c = rec
+    if target.shape not in c.shapes:
+        return None
+    if q0 is not None:
+        if type(q0) is not _NDARRAY or q0.dtype is not _F64 or q0.shape != (c.n,):
+            return None
+        q0 = q0.ravel()
+    if enforce_limits is True and check is True:
+        ctx = c.ctx
+    elif type(enforce_limits) is bool and type(check) is bool:
+        ctx = c.context(None, enforce_limits, check)
+    else:
+        return None
+    return _run_one(robot, c, target, q0, ctx, None, check, nearest)
+
+
 def _nearest_branch(robot: Robot, target: Array, q0: Array, position_only: bool, tol: Any,
                     enforce_limits: bool, solver: Any = None, lead: tuple[int, ...] | None = None) -> IKResult:
     from .analytic import solve_nearest
@@ -406,6 +471,11 @@ def ik_all(robot: Robot, target: ArrayLike, q0: ArrayLike | None = None, *, phi:
     >>> bool(np.allclose(armkit.fk(arm, res.q)[..., :2, 3], [1.2, 0.3]))
     True
     """
+    if type(target) is _NDARRAY and phi is None and tol is None and scene is None and pitch is None \
+            and direction is None and fixed is None and sweep is None:   # the common call: the fast path
+        one = _fast(robot, target, q0, enforce_limits, check, False)
+        if one is not None:
+            return one
     _check_call(robot)
     if (fixed is not None or sweep is not None) and (pitch is not None or direction is not None):
         raise IKInputError.of("fixed= and sweep= are for pose targets; they do not go with pitch= or direction=")
@@ -421,13 +491,17 @@ def ik_all(robot: Robot, target: ArrayLike, q0: ArrayLike | None = None, *, phi:
         return _checked(robot, ik_pitch(robot, target, q0, pitch, phi=phi, tol=tol, enforce_limits=enforce_limits,
                                         scene=scene, every=True), scene)
     if fixed is None and sweep is None and phi is None:   # one target: one compiled call
-        one = _one_target(robot, target, q0, tol, enforce_limits, check, False, scene is not None)
+        one = _one_target(robot, target, q0, tol, enforce_limits, check, False)
         if one is not None:
             if scene is None:
                 return one
             from .scene import mark, sort_branches
 
-            return _checked(robot, _reshape(sort_branches(mark(robot, one, scene)), ()), scene)
+            marked = mark(robot, one, scene)
+            if marked is one:   # nothing collides: the branches and their order stand
+                return _checked(robot, one, scene)
+            rows = marked._map(_one_row, None)   # (1, m): the rows sort_branches sorts
+            return _checked(robot, _reshape(sort_branches(rows), ()), scene)
     flat, lead, position_only, q0f = _targets_and_start(robot, target, q0, phi, check)
     res = _all_branches(robot, flat, q0f, position_only, tol, enforce_limits, fixed, sweep)
     if scene is not None:   # success also means collision-free (armkit.collision)
@@ -514,6 +588,13 @@ def ik(robot: Robot, target: ArrayLike, q0: ArrayLike | None = None,
     >>> bool(res.success), str(res.branch), np.round(np.degrees(res.q), 2).tolist()
     (True, 'front/elbow-down', [30.0, 45.0, 60.0])
     """
+    if type(target) is _NDARRAY and type(method) is str and (method == "auto" or method == "analytic") \
+            and branch is None and phi is None and mask is None and tol is None and scene is None and pitch is None \
+            and direction is None and fixed is None and seed is None and max_iterations is None \
+            and restarts is None and raise_unreachable is False:   # the common call: the fast path
+        one = _fast(robot, target, q0, enforce_limits, check, True)
+        if one is not None:
+            return one
     if method not in METHODS:
         raise IKInputError.of("method must be one of {names}; got {method}", names=", ".join(METHODS),
                               method=short_repr(method))
@@ -522,11 +603,15 @@ def ik(robot: Robot, target: ArrayLike, q0: ArrayLike | None = None,
     one = None
     if (method == "auto" or method == "analytic") and branch is None and mask is None and phi is None \
             and pitch is None and direction is None and fixed is None:   # one target: one compiled call
-        one = _one_target(robot, target, q0, tol, enforce_limits, check, scene is None, scene is not None)
+        one = _one_target(robot, target, q0, tol, enforce_limits, check, scene is None)
         if one is not None and scene is not None:   # the nearest branch that does not collide
             from .scene import mark, sort_branches
 
-            one = _reshape(sort_branches(mark(robot, one, scene))[np.arange(1), 0], ())
+            marked = mark(robot, one, scene)
+            if marked is one:   # nothing collides: the first branch (the nearest successful one) as it is
+                one = one._map(_first, None)
+            else:               # the first branch that does not collide, from every branch marked and sorted
+                one = _reshape(sort_branches(marked._map(_one_row, None))[np.arange(1), 0], ())
     numeric: dict[str, Any] = {} if one is not None else {   # tol checked here (and by _one_target)
         "mask": mask, "tol": None if tol is None else _tolerance(robot, tol), "seed": seed,
         "enforce_limits": enforce_limits, "trace": trace, "max_iterations": max_iterations, "restarts": restarts}

@@ -361,7 +361,7 @@ class _Single:
 
     __slots__ = ("kernels", "kernel", "solver", "geometry", "joints", "F", "labels", "labels0", "blank", "m", "n",
                  "mn", "at", "fsize", "isize", "bsize", "q0", "scale", "window", "above", "sign", "default_tol",
-                 "ctx", "ctxs")
+                 "ctx", "ctxs", "converged", "shapes")
 
     def __init__(self, robot: Robot, solver: ClosedForm, kernels) -> None:
         from ...kinematics import packed
@@ -377,6 +377,8 @@ class _Single:
         self.m, self.n = solver.m, robot.n
         self.mn = self.m * self.n
         self.blank = np.full(self.m, "", dtype=object)
+        self.converged = _REASON_TEXT[np.zeros(self.m, dtype=np.int64)]   # every branch's reason, copied per use
+        self.shapes = ((4, 4),) if solver.pose_only else ((4, 4), (3,))   # the targets the family takes
         lay = kernels.layout(self.m, self.n)
         self.at = lay
         self.fsize, self.isize, self.bsize = lay["fb"], lay["ib"], lay["bb"]
@@ -388,6 +390,11 @@ class _Single:
         self.default_tol = default_tolerance(robot)
         self.ctxs: dict = {}
         self.ctx = self.context(None, True, True)
+
+    def __reduce__(self) -> tuple:
+        """Pickled as None (a pickled robot's cache holds it): the copy makes its own record when first used,
+        since the compiled kernels it refers to are code of this process, not data."""
+        return (_no_record, ())
 
     def context(self, tol: tuple[float, float] | None, enforce_limits: bool, check: bool) -> Array:
         """The kernels' ``ctx`` for these options, made once."""
@@ -401,7 +408,27 @@ class _Single:
         return ctx
 
 
+def _no_record() -> None:
+    """What an unpickled :class:`_Single` becomes: no record (made again on first use)."""
+    return None
+
+
 _REASON_0D = [_REASON_TEXT[k:k + 1].reshape(()) for k in range(3)]   # 0-d reasons, copied per use
+
+
+def one_call_record(robot: Robot, solver: ClosedForm) -> "_Single | None":
+    """What the one-call path keeps of ``robot`` and ``solver`` (:class:`_Single`, made once and kept in
+    ``robot.cache``), or None while the Numba back end does not serve (``set_backend``, or the kernels
+    still compiling)."""
+    c = robot.cache.get("closed_form_one_call")
+    if c is None or c.solver is not solver:
+        kernels = _jit_loader.kernels("ik.analytic._single")
+        if kernels is None:
+            return None
+        c = robot.cache["closed_form_one_call"] = _Single(robot, solver, kernels)
+    elif _jit_loader._ACTIVE is None and _jit_loader.kernels("ik.analytic._single") is None:
+        return None
+    return c
 
 
 def single_call(robot: Robot, solver: ClosedForm, target: Array, q0: Array | None, tol: tuple[float, float] | None,
@@ -417,58 +444,63 @@ def single_call(robot: Robot, solver: ClosedForm, target: Array, q0: Array | Non
     the caller then takes it. See :mod:`._single`. The messages of failed branches are made when the
     ``message`` field is first read (:class:`~armkit.ik.result.IKResult`).
     """
-    c = robot.cache.get("closed_form_one_call")
-    if c is None or c.solver is not solver:
-        kernels = _jit_loader.kernels("ik.analytic._single")
-        if kernels is None:
-            return None
-        c = robot.cache["closed_form_one_call"] = _Single(robot, solver, kernels)
-    elif _jit_loader._ACTIVE is None and _jit_loader.kernels("ik.analytic._single") is None:
-        return None   # the NumPy back end serves now (set_backend, or the kernels still compiling)
+    c = one_call_record(robot, solver)
+    if c is None:
+        return None
     ctx = c.ctx if tol is None and enforce_limits and check else c.context(tol, enforce_limits, check)
+    return run_one(robot, c, target, q0, ctx, tol, check, nearest, batch_axis)
+
+
+def run_one(robot: Robot, c: "_Single", target: Array, q0: Array | None, ctx: Array, tol: tuple[float, float] | None,
+            check: bool, nearest: bool, batch_axis: bool = False) -> IKResult | None:
+    """:func:`single_call` once its record ``c`` and options ``ctx`` (:meth:`_Single.context` of ``tol`` and the
+    flags) are known: the path :func:`armkit.ik` and :func:`armkit.ik_all` take with their default options."""
+    fb, ib, bb = np.empty(c.fsize), np.empty(c.isize, np.int64), np.empty(c.bsize, np.bool_)
     if q0 is None:
         q0 = c.q0
-    t = target.ravel()
-    fb, ib, bb = np.empty(c.fsize), np.empty(c.isize, np.int64), np.empty(c.bsize, np.bool_)
     raw = None
     if c.kernel is not None:   # the family's kernel and the rest in one call
-        r = c.kernel(t, q0, ctx, fb, ib, bb)
+        r = c.kernel(target.ravel(), q0, ctx, fb, ib, bb)
     else:                      # a family solved in Python (the geometric family): its solve, then one call
+        t = target.ravel()
         kernels = c.kernels
         if not kernels.usable(t, q0, check):
             return None
+        solver = c.solver
         raw = solver.solve(target[None], (q0 + solver.sf.theta)[None])
         missing = raw.missing[0] if raw.missing is not None else np.zeros(c.m, dtype=bool)
         r = kernels.post(raw.q[0], raw.unreachable[0], missing, t, q0, ctx, fb, ib, bb)
     if r & 3:
         return None
-    m, n = c.m, c.n
+    m = c.m
     if nearest:
-        k = int(ib[0])
+        k = ib.item(0)
         if raw is None:
-            label = c.labels0[ib[m]].copy()
+            label = c.labels0[ib.item(m)].copy()
             message = "" if k == 0 else None
         else:
             label = np.array(raw.label[0][ib[3 * m]], dtype=object)
             message = str(raw.note[0][ib[3 * m]]) if k == 0 else None
-        values = (fb[:n], bb[0, ...], fb[c.mn, ...], fb[c.mn + m, ...], ib[2 * m, ...], label, bb[m, ...],
+        values = (fb[:c.n], bb[0, ...], fb[c.mn, ...], fb[c.mn + m, ...], ib[2 * m, ...], label, bb[m, ...],
                   _REASON_0D[k].copy(), message)
         if message is None:
-            return _result(values, _Messages(robot, c, raw, target, fb, ib, tol, True))
-        return _result(values)
+            return IKResult._later(values, _Messages(robot, c, raw, target, fb, ib, tol, True))
+        return IKResult._later(values)
     if raw is None:
         labels = c.labels[ib[m:2 * m]]
         texts = c.blank.copy() if r == 0 else None
     else:
         labels = raw.label[0][ib[3 * m:4 * m]]
         texts = None if r or any(raw.note[0]) else c.blank.copy()
-    every: tuple[Any, ...] = (fb[:c.mn].reshape(m, n), bb[:m], fb[c.mn:c.mn + m], fb[c.mn + m:c.mn + 2 * m],
-                              ib[2 * m:3 * m], labels, bb[m:], _REASON_TEXT[ib[:m]], texts)
+    mn = c.mn
+    every: tuple[Any, ...] = (fb[:mn].reshape(m, c.n), bb[:m], fb[mn:mn + m], fb[mn + m:mn + 2 * m],
+                              ib[2 * m:3 * m], labels, bb[m:], _REASON_TEXT[ib[:m]] if r else c.converged.copy(),
+                              texts)
     if batch_axis:
         every = tuple(None if v is None else v[None] for v in every)
     if texts is None:
-        return _result(every, _Messages(robot, c, raw, target, fb, ib, tol, False, batch_axis))
-    return _result(every)
+        return IKResult._later(every, _Messages(robot, c, raw, target, fb, ib, tol, False, batch_axis))
+    return IKResult._later(every)
 
 
 class _Messages:

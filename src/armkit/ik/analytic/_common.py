@@ -105,12 +105,20 @@ class StandardForm:
         return p @ self.base_inv[:3, :3].T + self.base_inv[:3, 3]
 
 
+ROUND_OFF = 4.0 * float(np.finfo(float).eps)
+"""A twist this close (relative) to a multiple of 90 deg is that multiple up to floating-point round-off: a
+URDF axis reversed gives a DH twist of -pi/2 one ulp off. Snapping it does not make the arm an ideal one."""
+
+
 def _snap(values: Array, step: float, tol: float) -> tuple[Array, bool]:
-    """Values within ``tol`` of a multiple of ``step`` (or of 0 when ``step`` is 0) set exactly there."""
+    """Values within ``tol`` of a multiple of ``step`` (or of 0 when ``step`` is 0) set exactly there, and
+    whether any moved (by more than :data:`ROUND_OFF`, relative, for a multiple of a nonzero ``step``)."""
     if step:
         k = np.round(values / step)
         near = np.abs(values - k * step) <= tol
         exact_multiple = np.where(near, k * step, values)   # k * (pi/2) is exact for the k that occur
+        moved = np.abs(exact_multiple - values) > ROUND_OFF * np.maximum(np.abs(values), 1.0)
+        return exact_multiple, bool(np.any(moved))
     else:
         near = np.abs(values) <= tol
         exact_multiple = np.where(near, 0.0, values)

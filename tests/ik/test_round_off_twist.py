@@ -1,0 +1,97 @@
+"""A DH twist one ulp off 90 deg is round-off, not a rounded robot file (issue 19).
+
+A UR5 whose joint 1 axis is reversed in its URDF has the DH twist -pi/2 one ulp off
+(-1.5707963267948968). It used to count as the "ideal arm of a real file" (``sf.exact`` False): every
+out-of-reach branch within 6e-3 of the reach went to the Gauss-Newton touch-up, and the one-call path
+handed those targets to the batched path (7 of 300 random targets, ~40 µs a call on average instead of
+~13). A twist moved by round-off only now leaves the arm exact; a twist from a file's ``rpy="1.5708"``
+(3.7e-6 off) still makes it ideal.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+import armkit
+from armkit.ik.analytic import closed_form, single_call
+from armkit.ik.analytic._common import HALF_PI, IDEAL_ANGLE_TOL, _snap
+from armkit.model.robot import Joint, Robot
+
+
+def _flipped(robot: Robot) -> Robot:
+    """The same arm as a URDF chain with joint 1's axis reversed (q1 -> -q1)."""
+    c = robot.chain
+    joints, X, prev = [], c.base.copy(), np.eye(4)
+    for k in range(robot.n):
+        A = X @ c.pre[k]
+        j = robot.joints[k]
+        origin = tuple(tuple(float(v) for v in row) for row in np.linalg.inv(prev) @ A)
+        joints.append(Joint(name=j.name, kind=j.kind, lower=-np.inf, upper=np.inf, origin=origin,
+                            axis=(0.0, 0.0, -1.0 if k == 0 else 1.0)))
+        X, prev = A @ c.post[k], A
+    return Robot(joints, convention="urdf", name=robot.name + "-flipped", unit=robot.unit,
+                 tool=np.linalg.inv(prev) @ X @ c.tool)
+
+
+@settings(max_examples=200, deadline=None)
+@given(k=st.integers(-4, 4), ulps=st.integers(-4, 4))
+def test_a_twist_moved_by_round_off_is_not_moved(k, ulps):
+    exact = k * HALF_PI
+    v = exact
+    for _ in range(abs(ulps)):
+        v = math.nextafter(v, math.inf if ulps > 0 else -math.inf)
+    snapped, moved = _snap(np.array([0.3, v]), HALF_PI, IDEAL_ANGLE_TOL)
+    assert snapped[1] == exact and snapped[0] == 0.3
+    assert moved is False
+
+
+@settings(max_examples=200, deadline=None)
+@given(k=st.integers(-4, 4), off=st.floats(1e-12, 0.9e-4), sign=st.sampled_from([-1.0, 1.0]))
+def test_a_twist_from_a_rounded_file_is_moved(k, off, sign):
+    v = k * HALF_PI + sign * off          # e.g. rpy 1.5708: 3.7e-6 from 90 deg
+    snapped, moved = _snap(np.array([v]), HALF_PI, IDEAL_ANGLE_TOL)
+    assert snapped[0] == k * HALF_PI
+    assert moved is True
+
+
+def test_so101_file_stays_ideal_and_the_flipped_ur5_is_exact():
+    assert closed_form(armkit.load("so101")).sf.exact is False     # its file's 1.5708: the ideal arm
+    flipped = _flipped(armkit.load("ur5"))
+    cf = closed_form(flipped)
+    assert cf is not None and cf.family == "ur" and cf.sf.exact is True
+
+
+def test_the_flipped_ur5_is_answered_by_one_call():
+    """The 7 targets of 300 that went back to the batched path (clipped branches 0.2-6.6 mm from the
+    target, inside the ideal arm's 6e-3 polish window) are answered by the one compiled call, with the
+    batched path's answer."""
+    if importlib.util.find_spec("numba") is None:
+        pytest.skip("Numba is not available")
+    armkit.set_backend("numba")
+    api = importlib.import_module("armkit.ik.api")
+    try:
+        robot = _flipped(armkit.load("ur5"))
+        rng = np.random.default_rng(7)
+        T = armkit.fk(robot, rng.uniform(-np.pi, np.pi, (300, robot.n)))
+        cf = closed_form(robot)
+        assert all(single_call(robot, cf, t, None, None) is not None for t in T)
+        for i in (40, 56, 80, 155, 195, 261, 280):     # the targets that used to fall back
+            fast = armkit.ik_all(robot, T[i])
+            api.ONE_CALL = False
+            try:
+                slow = armkit.ik_all(robot, T[i])
+            finally:
+                api.ONE_CALL = True
+            for f in ("q", "success", "position_error", "rotation_error", "branch", "reason", "message"):
+                assert np.array_equal(np.asarray(getattr(fast, f)), np.asarray(getattr(slow, f))), f
+            assert fast.success.any()
+            good = fast.q[fast.success]
+            assert np.abs(armkit.fk(robot, good) - T[i]).max() <= 1e-9
+    finally:
+        armkit.set_backend("auto")
