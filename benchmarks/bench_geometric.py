@@ -4,6 +4,9 @@ Run: ``.venv/bin/python benchmarks/bench_geometric.py [--targets 500] [--repeat 
 are compiled (or loaded from the cache) and warmed up first; each figure is the best of ``--repeat``
 passes over ``--targets`` random reachable targets, in µs per call (one target per call, all solutions).
 
+``--search-profile``: where the 1-D searches TI and TP spend their time (branch evaluations per target by the
+part of the engine that asks for them, on 20 targets; the compiled grid scan alone against the whole search).
+
 ``--searches [--search-targets 200]``: only the 1-D searches (:mod:`armkit.ik.geometric.search`), one
 random arm of each 1-D class per target, median milliseconds per target (one call, all solutions, FK
 checked), as CPU time of this process and as wall time (the machine is shared: the CPU time is the
@@ -41,6 +44,18 @@ class                           eb5cee8: call / again / search this tree: call /
 wrist is closed form since eb5cee8, its 'search' column times the SW search on the same arm.) IK-Geo's
 0.13-0.33 ms is met by SW and SM, not yet by TI and TP (about 500-550 branch evaluations a target:
 241 samples, ~130-160 near branch ends, ~100-125 in sub-sampled steps).
+
+Where the time goes (``--search-profile``, 20 targets, load 5): TI 454 evaluations a target (scan 241,
+sub-sampled steps 93, branch ends 85, refinement 34), TP 458 (241, 101, 88, 27); the compiled scan alone
+0.25 / 0.30 ms of a 0.68 / 0.81 ms search. So with N = 240 the scan alone is near the 0.3 ms goal: each
+evaluation costs 0.9-1.2 µs, nearly all of it in SP6 (the 2 x 2 trigonometric system, the quartic
+~150 ns of it; the branch rows after it matter for TI only at the 5 % level). Compiling with
+``error_model="numpy"`` or ``fastmath`` changes nothing measurable. Removing, one at a time, the work of
+the branch ends, refinement, extrema and sub-sampled steps frees 0.13, 0.05, 0.06-0.08 and 0.01-0.05 ms.
+Tried and dropped: sub-sampling an ambiguous step in two levels of 4 (4 x, then 4 x again only in the
+sub-steps that stay ambiguous and their neighbours) instead of 16 x at once: 4-5 % faster, the same roots
+on 150 bench targets, but the dense-scan test of TI then loses 2 targets / 4 roots instead of 1 / 2
+(close roots beside a branch end that the coarser level no longer brackets).
 """
 
 from __future__ import annotations
@@ -163,13 +178,80 @@ def _search_target(kind: int, S, H: np.ndarray, P: np.ndarray, R06: np.ndarray, 
     return C
 
 
+def search_profile(n: int) -> None:
+    """Where a 1-D search spends its time: branch evaluations per target by the part of the engine that asks for
+    them (counted on the plain Python engine, ``n`` targets of TI and TP), and the compiled grid scan alone
+    (``_scan`` of the N + 1 samples) against the whole compiled ``_search`` (thread CPU, median)."""
+    import collections
+    import sys
+
+    from armkit.ik.geometric import search as S
+    from armkit.ik.geometric.solvers import _prepare
+
+    ek = S.kernels()
+    count: collections.Counter = collections.Counter()
+    plain = S._eval
+
+    def counted(*a):                      # the caller's name (through _pick: its caller's)
+        f = sys._getframe(1)
+        name = f.f_code.co_name
+        if name == "_pick":
+            name = sys._getframe(2).f_code.co_name
+        count[name] += 1
+        return plain(*a)
+
+    kinds = ((S.TI, "two_intersecting", lambda g: _random_arm(int(g.integers(1 << 30)), slice(4, 6))),
+             (S.TP, "two_parallel", _two_parallel_arm))
+    print(f"1-D search profile, {S.N} samples a turn, {n} targets each: branch evaluations per target by caller,")
+    print("CPU ms per target of the compiled grid scan alone and of the whole compiled search")
+    T = time.thread_time
+    for kind, name, make in kinds:
+        g = np.random.default_rng(0)
+        count.clear()
+        scan, whole = [], []
+        roots = np.zeros((S.MAXROOT, 4))
+        xs = -np.pi + np.arange(S.N + 1) * (2 * np.pi / S.N)
+        Sx = np.zeros((S.N + 1, 4, 3))
+        E = np.zeros((S.N + 1, 4))
+        cnt = np.zeros(S.N + 1, dtype=np.int64)
+        for i in range(n):
+            form = make(g)
+            R, p = form.fk(g.uniform(-np.pi, np.pi, 6))
+            prep = _prepare(form, name)
+            C = _search_target(kind, S, prep.Hi, prep.Pi, R @ np.asarray(form.R_nT).T, p)
+            S._eval = counted
+            try:
+                S._search(kind, prep.Hi, prep.Pi, C, S.N, roots)
+            finally:
+                S._eval = plain
+            ek._search(kind, prep.Hi, prep.Pi, C, S.N, roots)      # compiled: warm
+            t0 = T()
+            ek._scan(kind, prep.Hi, prep.Pi, C, xs, Sx, E, cnt)
+            t1 = T()
+            ek._search(kind, prep.Hi, prep.Pi, C, S.N, roots)
+            t2 = T()
+            scan.append(t1 - t0)
+            whole.append(t2 - t1)
+        parts = ", ".join(f"{k.lstrip('_')} {v / n:.0f}" for k, v in count.most_common())
+        print(f"{name:18s} evaluations {sum(count.values()) / n:.0f} ({parts}); scan {1e3 * np.median(scan):.3f} ms, "
+              f"search {1e3 * np.median(whole):.3f} ms")
+    load = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
+    print(f"(load average {load:.1f} on {os.cpu_count()} cores while measuring)")
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__)
     ap.add_argument("--targets", type=int, default=500)
     ap.add_argument("--repeat", type=int, default=5)
     ap.add_argument("--searches", action="store_true", help="only the 1-D searches (median ms per target)")
     ap.add_argument("--search-targets", type=int, default=200)
+    ap.add_argument("--search-profile", action="store_true",
+                    help="where the 1-D searches TI, TP spend their time (evaluations by caller; scan against search)")
     args = ap.parse_args()
+    if args.search_profile:
+        G.kernels()
+        search_profile(min(args.search_targets, 20))
+        return
     if args.searches:
         G.kernels()
         searches(args.search_targets)
