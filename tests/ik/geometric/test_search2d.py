@@ -208,3 +208,64 @@ def test_ik_all_answers_a_general_6r():
     assert contains(good, q)
     sol = S.gen_six_dof(form, T[:3, :3], T[:3, 3], jit=True)
     assert len(sol.q) == ok.sum()
+
+
+# ------------------------------------------------------------------ the grid point's shortcuts
+@settings(max_examples=300, deadline=None, derandomize=True)
+@given(st.integers(0, 2**32 - 1), st.integers(-6, 6), st.integers(-6, 6))
+def test_early_rejection_never_skips_a_solvable_system(seed, k0, k1):
+    """:func:`search2d._reject` on a system built from a known pair (θ1, θ2) (so it has a solution by construction),
+    rows scaled by 10^k0 and 10^k1: never rejected. And on a system whose right side is out of reach along the first
+    row (``|e0| > ‖a0‖ + ‖b0‖``, no solution by the triangle inequality) it is rejected."""
+    g = np.random.default_rng(seed)
+    A, B = g.normal(size=(2, 2)), g.normal(size=(2, 2))
+    t1, t2 = g.uniform(-np.pi, np.pi, 2)
+    e = A @ [math.cos(t1), math.sin(t1)] + B @ [math.cos(t2), math.sin(t2)]
+    sc = np.array([10.0 ** k0, 10.0 ** k1])
+    A, B, e = A * sc[:, None], B * sc[:, None], e * sc
+    assert not S._reject(A[0, 0], A[0, 1], B[0, 0], B[0, 1], e[0], A[1, 0], A[1, 1], B[1, 0], B[1, 1], e[1])
+    far = 1.01 * (np.linalg.norm(A[0]) + np.linalg.norm(B[0])) * (1 if g.random() < 0.5 else -1)
+    assert S._reject(A[0, 0], A[0, 1], B[0, 0], B[0, 1], far, A[1, 0], A[1, 1], B[1, 0], B[1, 1], e[1])
+
+
+@settings(max_examples=200, deadline=None, derandomize=True)
+@given(st.integers(0, 2**32 - 1))
+def test_early_rejection_only_where_there_is_no_solution(seed):
+    """Wherever :func:`search2d._reject` skips a system, the residual ``A c(θ1) + B c(θ2) − e`` stays away from 0 on
+    a dense grid of (θ1, θ2) (400 x 400), and the closed form finds nothing either."""
+    from armkit.ik.geometric import _kernels as K
+
+    g = np.random.default_rng(seed)
+    A, B = g.normal(size=(2, 2)), g.normal(size=(2, 2))
+    e = g.normal(size=2) * g.uniform(0.5, 3.0)
+    if not S._reject(A[0, 0], A[0, 1], B[0, 0], B[0, 1], e[0], A[1, 0], A[1, 1], B[1, 0], B[1, 1], e[1]):
+        return
+    th = np.linspace(-np.pi, np.pi, 400, endpoint=False)
+    c = np.stack([np.cos(th), np.sin(th)])
+    r = (A @ c)[:, :, None] + (B @ c)[:, None, :] - e[:, None, None]
+    assert np.hypot(r[0], r[1]).min() > 1e-3
+    T1, T2 = np.zeros(4), np.zeros(4)
+    n = K._trig2_rows(A[0, 0], A[0, 1], B[0, 0], B[0, 1], e[0], A[1, 0], A[1, 1], B[1, 0], B[1, 1], e[1], T1, T2)
+    assert n == 0
+
+
+def test_branches_give_the_wrist_direction():
+    """:func:`search2d._branches` beside each (q3, q4, q5) gives ``rot(h3, q3) rot(h4, q4) rot(h5, q5) h6`` (checked
+    with the rotation matrices), and the same triples as :func:`search2d._q345`."""
+    from armkit.ik.geometric.subproblems import rotm
+
+    g = np.random.default_rng(12)
+    for _ in range(100):
+        form = general_arm(g)
+        H, P = np.asarray(form.H), np.asarray(form.P)
+        t = g.uniform(-np.pi, np.pi, 3)
+        u = rotm(H[2], t[0]) @ (P[3] + rotm(H[3], t[1]) @ (P[4] + rotm(H[4], t[2]) @ P[5]))
+        full = np.zeros((4, 6))
+        n = S._branches(H, P, S._arm(H, P), u, np.zeros(4), np.zeros(4), full)
+        out = np.zeros((4, 3))
+        assert S._q345(H, P, u, out, np.zeros((5, 5))) == n
+        np.testing.assert_allclose(full[:n, :3], out[:n], atol=1e-12)
+        for k in range(n):
+            d = rotm(H[2], full[k, 0]) @ rotm(H[3], full[k, 1]) @ rotm(H[4], full[k, 2]) @ H[5]
+            assert np.abs(full[k, 3:] - d).max() < 1e-12
+        assert contains(full[:n, :3], t, 1e-6)

@@ -30,6 +30,14 @@ zeros of e in one cell: their windings cancel and Newton from there finds one of
 arms that happened for 1 target in 120 (tests/ik/geometric/test_search2d.py); a finer grid
 (``samples=``) shrinks it.
 
+**Cost.** For a row of the grid (q1 held) the target's vectors are turned by ``R_01ᵀ`` once; each point
+turns them by ``R_12ᵀ``, solves its (q3, q4, q5) problem without temporary arrays and keeps, per branch,
+the angle and length of e (read by the cell walk instead of recomputed per corner). A point whose two
+equations cannot be met (:func:`_reject`: a row of the system, or their sum or difference, asks for more
+than its terms can reach, by a margin far above the closed form's tolerance) skips the quartic; a cell
+walk is skipped when e stays in one half-plane at all four corners (it cannot wind). Neither shortcut
+changes what is found: same candidates, same branches (tests/ik/geometric/test_search2d.py).
+
 The search is compiled with Numba (``njit(cache=True)``, on first use; :func:`kernels`), the whole
 grid, the candidates, the Newton polish and the check in one call; without Numba the same functions
 run as plain Python (seconds per target).
@@ -46,7 +54,8 @@ from numpy.typing import NDArray
 
 from . import _kernels as _kk
 from . import subproblems as _sp
-from ._kernels import _move, _rmul_rot, _trig2_rows
+from ._kernels import (_move, _rmul_rot, _t, _tadd, _tcross, _tdot, _tmtv, _tmul, _tmv, _tnorm, _trig2_rows, _trot_cs,
+                       _tsub)
 from .poe import POE
 from .subproblems import _cross, _dot, _norm, _wrap, rot, rotm
 
@@ -64,6 +73,10 @@ EDGE_THRESH = 0.9
 fast): below this, a candidate whether or not it is least among its neighbours."""
 MATCH = 1.2
 """Largest change (rad, in q3, q4 or q5) between neighbouring grid points taken as the same branch."""
+REJECT = 1e-6
+"""Margin of the early rejection of a grid point (:func:`_reject`): a point is skipped without the closed form
+only when a combination of its two equations misses what its terms can reach by more than this (relative to the
+equations' size; the closed form accepts residuals of 1e-9 of it)."""
 MAXCAND = 512
 MAXSOL = 32
 NEWTON = 60
@@ -84,116 +97,219 @@ def _lin2(h, k, p):
     return _dot(h, p) - c, b, c
 
 
+def _arm(H, P):
+    """What the (q3, q4, q5) problem of every grid point shares, as an array (:func:`_branches` reads it):
+    ``h4 × h3``, ``p34 × h3``, ``h4ᵀ h3``, ``p34ᵀ h3``, the coefficients of q5 in both equations, and the
+    constant parts of their right-hand sides."""
+    h3 = _t(H[2])
+    h4 = _t(H[3])
+    P34 = _t(P[3])
+    P45 = _t(P[4])
+    P56 = _t(P[5])
+    a_hp, b_hp, c_hp = _lin2(H[3], H[4], P[5])
+    a_pp, b_pp, c_pp = _lin2(P[4], H[4], P[5])
+    k = np.empty(14)
+    x = _tcross(h4, h3)
+    y = _tcross(P34, h3)
+    for i in range(3):
+        k[i] = x[i]
+        k[3 + i] = y[i]
+    k[6] = _tdot(h4, h3)
+    k[7] = _tdot(P34, h3)
+    k[8] = -a_hp
+    k[9] = -b_hp
+    k[10] = -2.0 * a_pp
+    k[11] = -2.0 * b_pp
+    k[12] = _tdot(h4, P34) + _tdot(h4, P45) + c_hp
+    k[13] = _tdot(P45, P45) + _tdot(P56, P56) + 2.0 * c_pp - _tdot(P34, P34)
+    return k
+
+
+def _reject(a00, a01, b00, b01, e0, a10, a11, b10, b11, e1):
+    """True when ``a_r· (cos θ1, sin θ1) + b_r· (cos θ2, sin θ2) = e_r`` (r = 0, 1) surely has no solution: for
+    λ = (1, 0), (0, 1), (1, 1), (1, −1) on the rows scaled to unit size, ``|λᵀ e|`` exceeds ``‖Aᵀ λ‖ + ‖Bᵀ λ‖``
+    (what the left side can reach along λ) by more than :data:`REJECT` ``(2 + |e0| + |e1|) ‖λ‖``."""
+    n0 = math.sqrt(a00 * a00 + a01 * a01 + b00 * b00 + b01 * b01)
+    n1 = math.sqrt(a10 * a10 + a11 * a11 + b10 * b10 + b11 * b11)
+    if n0 <= 0.0 or n1 <= 0.0:
+        return False
+    a00 /= n0
+    a01 /= n0
+    b00 /= n0
+    b01 /= n0
+    e0 /= n0
+    a10 /= n1
+    a11 /= n1
+    b10 /= n1
+    b11 /= n1
+    e1 /= n1
+    m = REJECT * (2.0 + abs(e0) + abs(e1))
+    if abs(e0) > math.sqrt(a00 * a00 + a01 * a01) + math.sqrt(b00 * b00 + b01 * b01) + m:
+        return True
+    if abs(e1) > math.sqrt(a10 * a10 + a11 * a11) + math.sqrt(b10 * b10 + b11 * b11) + m:
+        return True
+    m *= math.sqrt(2.0)
+    if abs(e0 + e1) > (math.sqrt((a00 + a10) ** 2 + (a01 + a11) ** 2) + math.sqrt((b00 + b10) ** 2 + (b01 + b11) ** 2)
+                       + m):
+        return True
+    return abs(e0 - e1) > (math.sqrt((a00 - a10) ** 2 + (a01 - a11) ** 2)
+                           + math.sqrt((b00 - b10) ** 2 + (b01 - b11) ** 2) + m)
+
+
+def _branches(H, P, k, u, T3, T5, out):
+    """Up to 4 ``(q3, q4, q5)`` with ``rot(h3, q3) (p_34 + rot(h4, q4) (p_45 + rot(h5, q5) p_56)) = u`` into
+    ``out[:, 0:3]``, and for each ``rot(h3, q3) rot(h4, q4) rot(h5, q5) h6`` into ``out[:, 3:6]`` (``out (4, 6)``);
+    returns their count. ``k``: :func:`_arm` of the chain; ``T3``, ``T5`` (4,): work space. The closed form of
+    :mod:`._kernels` (:func:`._kernels._trig2_rows`, exact solutions only), then q4 by SP1; no temporary arrays."""
+    h3 = _t(H[2])
+    h4 = _t(H[3])
+    h5 = _t(H[4])
+    h6 = _t(H[5])
+    P34 = _t(P[3])
+    P45 = _t(P[4])
+    P56 = _t(P[5])
+    uu = _t(u)
+    # h4ᵀ rot(h3, -θ3) u = c + a cos θ3 - b sin θ3, and p34ᵀ rot(h3, -θ3) u likewise
+    h3u = _tdot(h3, uu)
+    c_hu = k[6] * h3u
+    a_hu = _tdot(h4, uu) - c_hu
+    b_hu = k[0] * uu[0] + k[1] * uu[1] + k[2] * uu[2]
+    c_pu = k[7] * h3u
+    a_pu = _tdot(P34, uu) - c_pu
+    b_pu = k[3] * uu[0] + k[4] * uu[1] + k[5] * uu[2]
+    e0 = k[12] - c_hu
+    e1 = k[13] - _tdot(uu, uu) + 2.0 * c_pu
+    # early rejection: A (cos θ3, sin θ3) + B (cos θ5, sin θ5) = e has no solution when for some λ
+    # |λᵀ e| > ‖Aᵀ λ‖ + ‖Bᵀ λ‖; λ = each row and their sum and difference (rows scaled to unit size first), with a
+    # margin far above the closed form's tolerance, so that nothing it would accept is skipped
+    if _reject(a_hu, -b_hu, k[8], k[9], e0, -2.0 * a_pu, 2.0 * b_pu, k[10], k[11], e1):
+        return 0
+    # the 2 x 2 trigonometric system in (q3, q5), rows scaled alike: the shared closed form (exact solutions)
+    n = _trig2_rows(a_hu, -b_hu, k[8], k[9], e0, -2.0 * a_pu, 2.0 * b_pu, k[10], k[11], e1, T3, T5)
+    for b in range(n):
+        q3 = T3[b]
+        q5 = T5[b]
+        c3 = math.cos(q3)
+        s3 = math.sin(q3)
+        c5 = math.cos(q5)
+        s5 = math.sin(q5)
+        v = _tsub(_trot_cs(h3, c3, -s3, uu), P34)
+        w = _tadd(P45, _trot_cs(h5, c5, s5, P56))
+        # SP1 about h4 from w to v: the parts along h4 drop out of h4ᵀ (w × v)
+        y = _tdot(h4, _tcross(w, v))
+        x = _tdot(w, v) - _tdot(h4, w) * _tdot(h4, v)
+        r = math.sqrt(x * x + y * y)
+        c4 = x / r if r > 0.0 else 1.0
+        s4 = y / r if r > 0.0 else 0.0
+        d = _trot_cs(h3, c3, s3, _trot_cs(h4, c4, s4, _trot_cs(h5, c5, s5, h6)))
+        out[b, 0] = q3
+        out[b, 1] = _wrap(math.atan2(y, x))
+        out[b, 2] = q5
+        out[b, 3] = d[0]
+        out[b, 4] = d[1]
+        out[b, 5] = d[2]
+    return n
+
+
 def _q345(H, P, u, out, W):
     """Up to 4 ``(q3, q4, q5)`` with ``rot(h3, q3) (p_34 + rot(h4, q4) (p_45 + rot(h5, q5) p_56)) = u`` into
-    ``out (4, 3)``; returns their count (``W (5, 5)``: work space). The closed form of :mod:`._kernels`
-    (:func:`._kernels._trig2_rows`, exact solutions only), then q4 by SP1."""
-    h3 = H[2]
-    h4 = H[3]
-    h5 = H[4]
-    P34 = P[3]
-    P45 = P[4]
-    P56 = P[5]
-    # h4ᵀ rot(h3, -θ3) u = c + a cos θ3 - b sin θ3, and P34ᵀ rot(h3, -θ3) u likewise
-    a_hu, b_hu, c_hu = _lin2(h4, h3, u)
-    a_pu, b_pu, c_pu = _lin2(P34, h3, u)
-    a_hp, b_hp, c_hp = _lin2(h4, h5, P56)
-    a_pp, b_pp, c_pp = _lin2(P45, h5, P56)
-    A00 = a_hu
-    A01 = -b_hu
-    B00 = -a_hp
-    B01 = -b_hp
-    e0 = _dot(h4, P34) + _dot(h4, P45) + c_hp - c_hu
-    A10 = -2.0 * a_pu
-    A11 = 2.0 * b_pu
-    B10 = -2.0 * a_pp
-    B11 = -2.0 * b_pp
-    e1 = _dot(P45, P45) + _dot(P56, P56) + 2.0 * c_pp - _dot(u, u) - _dot(P34, P34) + 2.0 * c_pu
-    # the 2 x 2 trigonometric system in (q3, q5), rows scaled alike: the shared closed form (exact solutions)
-    T3 = W[0]
-    T5 = W[1]
-    n = _trig2_rows(A00, A01, B00, B01, e0, A10, A11, B10, B11, e1, T3, T5)
-    for k in range(n):
-        q3 = T3[k]
-        q5 = T5[k]
-        v = rot(h3, -q3, u) - P34
-        w = P45 + rot(h5, q5, P56)
-        wp = w - h4 * _dot(h4, w)
-        vp = v - h4 * _dot(h4, v)
-        q4 = math.atan2(_dot(h4, _cross(wp, vp)), _dot(wp, vp))
-        out[k, 0] = q3
-        out[k, 1] = _wrap(q4)
-        out[k, 2] = q5
+    ``out (4, 3)``; returns their count (``W (5, 5)``: work space). :func:`_branches` on its own."""
+    full = np.empty((4, 6))
+    n = _branches(H, P, _arm(H, P), u, W[0], W[1], full)
+    for b in range(n):
+        for m in range(3):
+            out[b, m] = full[b, m]
     return n
 
 
 # --------------------------------------------------------------------------- the grid
 def _grid(H, P, R06, p, samples, Q, E, C):
-    """Every grid point's branches: ``(q3, q4, q5)`` into ``Q (S, S, 4, 3)``, the residual
-    ``(xᵀ d, yᵀ d, tᵀ d)`` (``d = R_05 h6``, ``t = R_06 h6``, x, y across t) into ``E (S, S, 4, 3)``, counts
-    into ``C (S, S)``."""
-    t = np.empty(3)
-    for i in range(3):
-        t[i] = R06[i, 0] * H[5, 0] + R06[i, 1] * H[5, 1] + R06[i, 2] * H[5, 2]
-    e = np.zeros(3)
+    """Every grid point's branches: ``(q3, q4, q5)`` into ``Q (S, S, 4, 3)``; into ``E (S, S, 4, 5)`` the residual
+    ``(xᵀ d, yᵀ d, tᵀ d)`` (``d = R_05 h6``, ``t = R_06 h6``, x, y across t), the angle of ``(xᵀ d, yᵀ d)`` and its
+    length; counts into ``C (S, S)``. For a row (q1 held) ``R_01ᵀ`` is applied to the target's vectors once; each
+    point then turns them by ``R_12ᵀ`` and compares them with its branches' ``R_25 h6``."""
+    t = _tmv(R06, _t(H[5]))
     if abs(t[0]) < 0.6:
-        e[0] = 1.0
+        x = _tcross(t, (1.0, 0.0, 0.0))
     else:
-        e[1] = 1.0
-    x = _cross(t, e)
-    x = x / _norm(x)
-    y = _cross(t, x)
-    w = np.empty(3)                      # p − p_0 − R_06 p_6T: the point of axis 6
-    for i in range(3):
-        w[i] = p[i] - P[0, i] - (R06[i, 0] * P[6, 0] + R06[i, 1] * P[6, 1] + R06[i, 2] * P[6, 2])
+        x = _tcross(t, (0.0, 1.0, 0.0))
+    x = _tmul(x, 1.0 / _tnorm(x))
+    y = _tcross(t, x)
+    w = _tsub(_tsub(_t(p), _t(P[0])), _tmv(R06, _t(P[6])))      # p − p_0 − R_06 p_6T: the point of axis 6
+    P1 = _t(P[1])
+    P2 = _t(P[2])
     R1s = np.empty((samples, 3, 3))
     R2s = np.empty((samples, 3, 3))
     for i in range(samples):
         ang = -math.pi + 2.0 * math.pi * i / samples
         R1s[i] = rotm(H[0], ang)
         R2s[i] = rotm(H[1], ang)
-    out = np.empty((4, 3))
-    W = np.empty((5, 5))
-    a = np.empty(3)
+    k = _arm(H, P)
+    out = np.empty((4, 6))
+    T3 = np.empty(4)
+    T5 = np.empty(4)
     u = np.empty(3)
-    R02 = np.empty((3, 3))
     for i in range(samples):
         R1 = R1s[i]
-        for k in range(3):
-            a[k] = w[k] - (R1[k, 0] * P[1, 0] + R1[k, 1] * P[1, 1] + R1[k, 2] * P[1, 2])
+        a1 = _tsub(_tmtv(R1, w), P1)
+        x1 = _tmtv(R1, x)
+        y1 = _tmtv(R1, y)
+        t1 = _tmtv(R1, t)
         for j in range(samples):
             R2 = R2s[j]
-            for r in range(3):
-                for c in range(3):
-                    R02[r, c] = R1[r, 0] * R2[0, c] + R1[r, 1] * R2[1, c] + R1[r, 2] * R2[2, c]
-            for k in range(3):
-                u[k] = R02[0, k] * a[0] + R02[1, k] * a[1] + R02[2, k] * a[2] - P[2, k]
-            n = _q345(H, P, u, out, W)
+            ur = _tsub(_tmtv(R2, a1), P2)
+            u[0] = ur[0]
+            u[1] = ur[1]
+            u[2] = ur[2]
+            xr = _tmtv(R2, x1)
+            yr = _tmtv(R2, y1)
+            tr = _tmtv(R2, t1)
+            n = _branches(H, P, k, u, T3, T5, out)
             C[i, j] = n
             for b in range(n):
-                d = rot(H[2], out[b, 0], rot(H[3], out[b, 1], rot(H[4], out[b, 2], H[5])))
-                dw0 = R02[0, 0] * d[0] + R02[0, 1] * d[1] + R02[0, 2] * d[2]
-                dw1 = R02[1, 0] * d[0] + R02[1, 1] * d[1] + R02[1, 2] * d[2]
-                dw2 = R02[2, 0] * d[0] + R02[2, 1] * d[1] + R02[2, 2] * d[2]
+                d = (out[b, 3], out[b, 4], out[b, 5])
+                ex = _tdot(xr, d)
+                ey = _tdot(yr, d)
                 Q[i, j, b, 0] = out[b, 0]
                 Q[i, j, b, 1] = out[b, 1]
                 Q[i, j, b, 2] = out[b, 2]
-                E[i, j, b, 0] = x[0] * dw0 + x[1] * dw1 + x[2] * dw2
-                E[i, j, b, 1] = y[0] * dw0 + y[1] * dw1 + y[2] * dw2
-                E[i, j, b, 2] = t[0] * dw0 + t[1] * dw1 + t[2] * dw2
+                E[i, j, b, 0] = ex
+                E[i, j, b, 1] = ey
+                E[i, j, b, 2] = _tdot(tr, d)
+                E[i, j, b, 3] = math.atan2(ey, ex)
+                E[i, j, b, 4] = math.hypot(ex, ey)
+
+
+def _adiff(a, b):
+    """``|wrap(a − b)|`` for angles in (-π, π] (their difference is within (-2π, 2π))."""
+    d = abs(a - b)
+    return 2.0 * math.pi - d if d > math.pi else d
 
 
 def _near(Q, C, i, j, ref):
     """The branch at grid point (i, j) nearest ``ref (3,)`` (q3, q4, q5), -1 if none within :data:`MATCH`."""
     best = -1
     bd = MATCH
+    r0 = ref[0]
+    r1 = ref[1]
+    r2 = ref[2]
     for b in range(C[i, j]):
-        d = max(abs(_wrap(Q[i, j, b, 0] - ref[0])), abs(_wrap(Q[i, j, b, 1] - ref[1])),
-                abs(_wrap(Q[i, j, b, 2] - ref[2])))
+        d = _adiff(Q[i, j, b, 0], r0)
+        if d >= bd:
+            continue
+        d = max(d, _adiff(Q[i, j, b, 1], r1))
+        if d >= bd:
+            continue
+        d = max(d, _adiff(Q[i, j, b, 2], r2))
         if d < bd:
             bd = d
             best = b
     return best
+
+
+def _halves(x, y):
+    """The open half-planes holding ``(x, y)``: bit 1 ``x > 0``, 2 ``x < 0``, 4 ``y > 0``, 8 ``y < 0``."""
+    return (1 if x > 0.0 else (2 if x < 0.0 else 0)) | (4 if y > 0.0 else (8 if y < 0.0 else 0))
 
 
 def _candidates(Q, E, C, samples, cand):
@@ -206,6 +322,16 @@ def _candidates(Q, E, C, samples, cand):
     be = np.empty((4, 2))
     ci = np.empty(5, dtype=np.int64)
     cj = np.empty(5, dtype=np.int64)
+    # at each grid point, the half-planes (xᵀ d > 0, < 0, yᵀ d > 0, < 0: bits 1, 2, 4, 8) that hold e on every branch
+    # with tᵀ d > 0: a cell whose corners share one with the starting branch cannot wind (no atan2 jump)
+    half = np.empty((samples, samples), dtype=np.int64)
+    for i in range(samples):
+        for j in range(samples):
+            m = 15
+            for b in range(C[i, j]):
+                if E[i, j, b, 2] > 0.0:
+                    m &= _halves(E[i, j, b, 0], E[i, j, b, 1])
+            half[i, j] = m
     for i in range(samples):
         i1 = (i + 1) % samples
         for j in range(samples):
@@ -222,20 +348,21 @@ def _candidates(Q, E, C, samples, cand):
             cj[4] = j
             for b0 in range(C[i, j]):
                 # a local minimum of ‖e‖ on this branch
-                r0 = math.hypot(E[i, j, b0, 0], E[i, j, b0, 1])
+                r0 = E[i, j, b0, 4]
                 if r0 < EDGE_THRESH and E[i, j, b0, 2] > 0.0:
                     low = True
                     edge = False
-                    for di in range(-1, 2):
-                        for dj in range(-1, 2):
-                            if di != 0 or dj != 0:
-                                ni = (i + di) % samples
-                                nj = (j + dj) % samples
-                                k = _near(Q, C, ni, nj, Q[i, j, b0])
-                                if k < 0:
-                                    edge = True
-                                elif E[ni, nj, k, 2] > 0.0 and math.hypot(E[ni, nj, k, 0], E[ni, nj, k, 1]) < r0:
-                                    low = False
+                    for nb in range(8):           # the 8 neighbours; stop at the first lower one
+                        di = nb // 3 - 1 if nb < 4 else (nb + 1) // 3 - 1
+                        dj = nb % 3 - 1 if nb < 4 else (nb + 1) % 3 - 1
+                        ni = (i + di) % samples
+                        nj = (j + dj) % samples
+                        k = _near(Q, C, ni, nj, Q[i, j, b0])
+                        if k < 0:
+                            edge = True
+                        elif E[ni, nj, k, 2] > 0.0 and E[ni, nj, k, 4] < r0:
+                            low = False
+                            break
                     if low and (edge or r0 < THRESH) and nc < cand.shape[0]:
                         cand[nc, 0] = -math.pi + step * i
                         cand[nc, 1] = -math.pi + step * j
@@ -245,7 +372,8 @@ def _candidates(Q, E, C, samples, cand):
                 # the winding of e around the cell on this branch
                 b = b0
                 total = 0.0
-                ok = E[i, j, b0, 2] > 0.0
+                ok = E[i, j, b0, 2] > 0.0 and (_halves(E[i, j, b0, 0], E[i, j, b0, 1]) & half[i1, j] & half[i1, j1]
+                                                & half[i, j1]) == 0
                 for k in range(3):
                     bq[0, k] = Q[i, j, b0, k]
                 be[0, 0] = E[i, j, b0, 0]
@@ -257,9 +385,7 @@ def _candidates(Q, E, C, samples, cand):
                     if k < 0 or E[ci[s], cj[s], k, 2] <= 0.0:
                         ok = False
                         break
-                    a0 = math.atan2(E[ci[s - 1], cj[s - 1], b, 1], E[ci[s - 1], cj[s - 1], b, 0])
-                    a1 = math.atan2(E[ci[s], cj[s], k, 1], E[ci[s], cj[s], k, 0])
-                    total += _wrap(a1 - a0)
+                    total += _wrap(E[ci[s], cj[s], k, 3] - E[ci[s - 1], cj[s - 1], b, 3])
                     b = k
                     if s < 4:
                         for m in range(3):     # unwrapped next to corner 0
@@ -444,8 +570,8 @@ def _search(H, P, RnT, R, p, samples, tol, Qout, errs):
     for r in range(3):
         for c in range(3):
             R06[r, c] = R[r, 0] * RnT[c, 0] + R[r, 1] * RnT[c, 1] + R[r, 2] * RnT[c, 2]
-    Q = np.zeros((samples, samples, 4, 3))
-    E = np.zeros((samples, samples, 4, 3))
+    Q = np.empty((samples, samples, 4, 3))          # only the first C[i, j] branches of a point are written and read
+    E = np.empty((samples, samples, 4, 5))
     C = np.zeros((samples, samples), dtype=np.int64)
     _grid(H, P, R06, p, samples, Q, E, C)
     cand = np.zeros((MAXCAND, 5))
@@ -498,8 +624,8 @@ def _search(H, P, RnT, R, p, samples, tol, Qout, errs):
     return m, nc
 
 
-KERNELS = ("_lin2", "_q345", "_grid",
-           "_near", "_candidates", "_fkj", "_err", "_solve6", "_newton", "_search")
+KERNELS = ("_lin2", "_arm", "_reject", "_branches", "_q345", "_grid",
+           "_adiff", "_near", "_halves", "_candidates", "_fkj", "_err", "_solve6", "_newton", "_search")
 _KERNELS: Optional[types.SimpleNamespace] = None
 
 
