@@ -14,7 +14,11 @@ Branches are numbered in the order the solver finds them (``s1``, ``s2``, ...). 
 which fewer real solutions exist than the class allows gets the remaining branches marked
 unreachable (with the least-squares candidates where the solver gave some); every branch is
 verified by FK of the true model in :func:`armkit.ik.analytic.solve_all`, which also wraps,
-polishes and sorts them, exactly as for the other families.
+polishes and sorts them, exactly as for the other families. A single target of :func:`armkit.ik` or
+:func:`armkit.ik_all` is solved, verified, wrapped and sorted in one compiled call
+(:mod:`armkit.ik.geometric.one_call`, through :attr:`Geometric.geometry`) for the classes solved in
+closed form, with the same results; the classes of the 1-D and 2-D searches solve in Python and
+verify in one call.
 """
 
 from __future__ import annotations
@@ -70,6 +74,17 @@ def solver_name(robot: Robot) -> tuple[str, int, bool, Any] | None:
     return hit[0], hit[1], bool(cls.inverted), cls
 
 
+_UNSET: Any = object()
+
+
+def _why(found: int, m: int) -> str:
+    """Why a branch is out of reach when the target has ``found`` solutions (0: none) of the class's ``m``."""
+    if found:
+        return (f"this target has {found} solution{'s' if found > 1 else ''}; the arm's class allows "
+                f"up to {m}, and this branch is not one of them.")
+    return "no configuration of this arm reaches the target (the closest is shown)."
+
+
 class Geometric:
     """A :class:`~armkit.ik.analytic.ClosedFormFamily` built on the subproblem solvers."""
 
@@ -93,6 +108,7 @@ class Geometric:
         self.form = solvers.reverse(form) if inverted else form
         self._solve: Callable[..., Any] = solvers.SOLVERS[solver]
         self.m = m
+        self._geometry: Array | None = _UNSET
         self.branch_labels = tuple(f"s{k + 1}" for k in range(m))
         n = robot.n
         eye = np.eye(4)
@@ -109,7 +125,21 @@ class Geometric:
 
     @property
     def geometry(self) -> Array | None:
-        return None
+        """The packed vector of the one-call kernel (:func:`armkit.ik.geometric.one_call.geometry`), built once,
+        when that kernel serves this class (the closed forms, not the searches); else None.
+        Read only by the one-call path of :func:`armkit.ik.analytic.single_call`, which runs with Numba only:
+        reading it compiles the kernel on first use and registers it for the family."""
+        if self._geometry is _UNSET:
+            from ..geometric import one_call
+
+            g = one_call.geometry(self.form, self.solver, self.m, self.inverted)
+            self._geometry = g if g is not None and one_call.kernel() is not None else None
+        return self._geometry
+
+    def reach_why(self, lateral_out: bool, rho: float, r: float, target: Array | None) -> str:
+        """Why a branch is out of reach, from the one-call kernel's numbers: ``rho`` is the count of solutions the
+        target has (0: none); the sentence :meth:`solve`'s ``why`` gives."""
+        return _why(int(rho), self.m)
 
     def solve(self, target: Array, q0phi: Array) -> Raw:
         """Every branch for pose targets ``(B, 4, 4)``; ``q0phi`` ``(B, n)`` (the singular wrist's free joint)."""
@@ -146,10 +176,6 @@ class Geometric:
         label = np.broadcast_to(np.array(self.branch_labels, dtype=object), (B, m)).copy()
 
         def why(i: int) -> str:
-            b = i // m
-            if found[b]:
-                return (f"this target has {found[b]} solution{'s' if found[b] > 1 else ''}; the arm's class allows "
-                        f"up to {m}, and this branch is not one of them.")
-            return "no configuration of this arm reaches the target (the closest is shown)."
+            return _why(int(found[i // m]), m)
         missing = unreachable.copy()
         return Raw(q, label, unreachable, why, note, missing)

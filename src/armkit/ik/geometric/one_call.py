@@ -1,0 +1,218 @@
+"""The geometric family's single IK call in one compiled call: solve, verify, wrap and sort one target.
+
+:class:`armkit.ik.analytic.geometric.Geometric` answers one target in :func:`armkit.ik` and
+:func:`armkit.ik_all` through the one-call path of :func:`armkit.ik.analytic.single_call`, like the
+hand-written families: its ``geometry`` is the packed vector of :func:`geometry` and its kernel is
+:func:`kernel` (registered under ``"geometric"`` in :data:`armkit.ik.analytic._single.KERNELS`). For one
+target the kernel does in one call what :meth:`Geometric.solve` and :func:`armkit.ik.analytic._single.post`
+do in several:
+
+1. the target checked and, for a class solved on the reversed chain, inverted;
+2. the solver's kernel of :mod:`.solvers` (the core and its FK check on the true chain, the same
+   function :func:`.solvers.solve_batch` loops over), for the classes solved in closed form (spherical
+   wrist, three parallel axes; :func:`closed_form_only`);
+3. the branches laid out as :meth:`Geometric.solve` lays them out (solutions in the solver's order,
+   the rest padded with the first and marked unreachable; an unreachable target: the least-squares
+   candidates, or the start);
+4. the steps of :func:`armkit.ik.analytic._single._finish`: wrap, FK of the robot, check, sort.
+
+What the one call does not do the same way returns :data:`FALLBACK` (the caller answers by the
+batched path, with the same result): a candidate the Python polish of :func:`.solvers.solve_batch`
+would touch up, and a singular wrist (its branch carries a note).
+
+The geometry vector (float64, read by the kernel at the indices below):
+
+==========  =====  =================================================================
+index       size   value
+==========  =====  =================================================================
+``WHICH``   1      the solver kernel (:data:`.solvers._WHICH`: 0 or 1 here)
+``KIND``    1      its case (:data:`.solvers._CASES`)
+``INV``     1      1.0: solved on the reversed chain for the inverse target
+``EXACT``   1      1.0: the ideal chain is the true one (up to rounding)
+``TOL_P``   1      the position tolerance of the check (:data:`.solvers.TOL` x arm size)
+``TOL_R``   1      the rotation tolerance (:data:`.solvers.TOL`)
+``NS``      1      samples of the 1-D searches (:data:`.solvers.SEARCH_N`)
+``M``       1      branches of the class
+``HI``      18     the ideal chain's axes (6, 3)
+``PI``      21     its offsets (7, 3)
+``RNT``     9      the tool rotation at q = 0 (3, 3)
+``PRISM``   6      1.0 for a prismatic joint
+``HT``      18     the true chain's axes
+``PT``      21     its offsets
+==========  =====  =================================================================
+"""
+
+from __future__ import annotations
+
+from typing import Any, Optional
+
+import numpy as np
+from numpy.typing import NDArray
+
+__all__ = ["geometry", "kernel", "SIZE"]
+
+WHICH, KIND, INV, EXACT, TOL_P, TOL_R, NS, M = range(8)
+HI, PI, RNT, PRISM, HT, PT, SIZE = 8, 26, 47, 56, 62, 80, 101
+DONE, FALLBACK, BAD_TARGET = 0, 1, 2
+"""The statuses of :mod:`armkit.ik.analytic._single` (a test checks that they agree)."""
+THETA = 0
+"""Row of the DH offsets in the joint table (:data:`armkit.ik.analytic._layout.JOINT_THETA`)."""
+MAXSOL = 32
+"""Rows of the solvers' candidate buffers (:data:`.solvers.MAXSOL`)."""
+
+
+def geometry(form: Any, solver: str, m: int, inverted: bool) -> Optional[NDArray[np.float64]]:
+    """The packed vector of the table above for the chain ``form`` (already reversed for an inverted class) and
+    the solver named ``solver`` (:data:`.solvers.SOLVERS`), or None when no compiled kernel serves it."""
+    from . import solvers
+
+    name = solver
+    if name == "spherical_wrist":
+        name = solvers._cached(form, "wrist case", lambda: solvers._wrist_case(form))
+    if name not in solvers._CASES or solvers._WHICH[solvers._CASES[name][0]] > 1:
+        return None            # the 1-D searches (and the general 6R's 2-D search): see closed_form_only
+    prep = solvers._prepare(form, name)
+    if not closed_form_only(prep.Hi, prep.kind):
+        return None
+    g = np.zeros(SIZE)
+    g[WHICH] = solvers._WHICH[prep.solve]
+    g[KIND] = prep.kind
+    g[INV] = 1.0 if inverted else 0.0
+    g[EXACT] = 1.0 if prep.exact else 0.0
+    g[TOL_P] = solvers.TOL * prep.scale
+    g[TOL_R] = solvers.TOL
+    g[NS] = solvers.SEARCH_N
+    g[M] = m
+    g[HI:PI] = prep.Hi.ravel()
+    g[PI:RNT] = prep.Pi.ravel()
+    g[RNT:PRISM] = prep.RnT.ravel()
+    g[PRISM:HT] = prep.prism
+    g[HT:PT] = prep.Ht.ravel()
+    g[PT:SIZE] = prep.Pt.ravel()
+    g.setflags(write=False)
+    return g
+
+
+def closed_form_only(Hi: NDArray[np.float64], kind: int) -> bool:
+    """Whether the spherical-wrist case ``kind`` of the ideal chain's axes ``Hi`` solves the position in closed
+    form: the general case (2) searches when axes 1 and 2 are parallel and 2, 3 are not (the test of
+    :func:`.solvers_wrist._pos_general`, with its arithmetic).
+
+    Only the closed forms run in the one call. A 1-D search compiled into this kernel rounds differently
+    in the last bits (4e-15 rad seen) from the same search compiled into :func:`.solvers_check._batch`, so
+    its branches would not be those of the batched path to the bit; those classes keep the path of
+    ``Geometric.solve`` and ``_single.post`` (the search dominates their time anyway)."""
+    from .subproblems import _cross, _norm
+
+    if kind != 2:
+        return True
+    return bool(_norm(_cross(Hi[1], Hi[2])) < 1e-9 or not _norm(_cross(Hi[0], Hi[1])) < 1e-9)
+
+
+def _geometric(t, q0, ctx, fb, ib, bb):
+    """The kernel ``(t, q0, ctx, fb, ib, bb) -> status`` of :mod:`armkit.ik.analytic._single` for the geometric
+    family (steps 1-4 of the module docstring). Compiled by :func:`kernel` in a namespace that binds the names
+    of the solvers' and ``_single``'s compiled functions; never run as Python."""
+    _, g, joints, _, opts = _parts(ctx)  # noqa: F821
+    T, good = _target(t, opts[8] != 0.0)  # noqa: F821
+    if not good or not _usable_start(q0):  # noqa: F821
+        return BAD_TARGET
+    n = 6
+    which, kind, inverted, exact = int(g[WHICH]), int(g[KIND]), g[INV] != 0.0, g[EXACT] != 0.0
+    tol_p, tol_r, N, m = g[TOL_P], g[TOL_R], int(g[NS]), int(g[M])
+    Hi = g[HI:PI].copy().reshape((6, 3))
+    Pi = g[PI:RNT].copy().reshape((7, 3))
+    RnT = g[RNT:PRISM].copy().reshape((3, 3))
+    Ht = g[HT:PT].copy().reshape((6, 3))
+    Pt = g[PT:SIZE].copy().reshape((7, 3))
+    prism = np.empty(n, np.bool_)
+    for k in range(n):
+        prism[k] = g[PRISM + k] != 0.0
+    R, p, qref = np.empty((3, 3)), np.empty(3), np.empty(n)
+    if inverted:   # the reversed chain, for the inverse target (Geometric.solve's einsum, term by term)
+        for i in range(3):
+            for j in range(3):
+                R[i, j] = T[j, i]
+        for i in range(3):
+            p[i] = -(R[i, 0] * T[0, 3] + R[i, 1] * T[1, 3] + R[i, 2] * T[2, 3])
+        for k in range(n):
+            qref[k] = q0[n - 1 - k] + joints[THETA, n - 1 - k]
+    else:
+        for i in range(3):
+            for j in range(3):
+                R[i, j] = T[i, j]
+            p[i] = T[i, 3]
+        for k in range(n):
+            qref[k] = q0[k] + joints[THETA, k]
+    Q = np.zeros((MAXSOL, n))
+    LS = np.zeros(MAXSOL, np.bool_)
+    SG = np.zeros(MAXSOL, np.bool_)
+    ST = np.zeros(MAXSOL, np.int64)
+    if which == 0:
+        ng, nf = _solve_spherical(kind, Hi, Pi, RnT, prism, Ht, Pt, R, p, qref, N, tol_p, tol_r, Q, LS, SG, ST)  # noqa
+    else:
+        ng, nf = _solve_three_parallel(kind, Hi, Pi, RnT, prism, Ht, Pt, R, p, qref, N, tol_p, tol_r,  # noqa: F821
+                                       Q, LS, SG, ST)
+    if nf > 0:     # solve_batch polishes these in Python unless every one is a least-squares candidate of an exact chain
+        if not exact:
+            return FALLBACK
+        for i in range(ng, ng + nf):
+            if not LS[i]:
+                return FALLBACK
+    count = ng if ng > 0 else nf
+    k = min(count, m)
+    rawq = np.empty((m, n))
+    unreach = np.empty(m, np.bool_)
+    for b in range(k):
+        if ng > 0 and SG[b]:
+            return FALLBACK   # a singular wrist: the branch has a note
+        for j in range(n):
+            rawq[b, j] = Q[b, n - 1 - j] if inverted else Q[b, j]
+        unreach[b] = ng == 0
+    for b in range(k, m):
+        for j in range(n):
+            rawq[b, j] = rawq[0, j] if k > 0 else q0[j] + joints[THETA, j]
+        unreach[b] = True
+    lab = np.empty(m, np.int64)
+    for b in range(m):
+        lab[b] = b
+    found = float(k) if ng > 0 else 0.0
+    return _finish(rawq, unreach, unreach, lab, ctx, q0, T, True, False, found, np.zeros(1), m + 1,  # noqa: F821
+                   fb, ib, bb)
+
+
+_KERNEL: Any = None
+
+
+def kernel() -> Any:
+    """The compiled :func:`_geometric`, registered in :data:`armkit.ik.analytic._single.KERNELS` under
+    ``"geometric"``; None without Numba. Compiled on first use (cached on disk)."""
+    global _KERNEL
+    if _KERNEL is None:
+        from . import solvers
+
+        K = solvers.kernels()
+        if K is None:
+            _KERNEL = False
+            return None
+        from .. import _jit_verify  # noqa: F401  (the dependency of _single, imported before it)
+        from ..analytic import _single
+        from .subproblems import jit_namespace
+
+        assert (_single.DONE, _single.FALLBACK, _single.BAD_TARGET) == (DONE, FALLBACK, BAD_TARGET)
+        extra = {name: getattr(K, name) for name in ("_solve_spherical", "_solve_three_parallel")}
+        extra.update({name: getattr(_single, name) for name in ("_parts", "_target", "_usable_start", "_finish")})
+        ns = jit_namespace(globals(), ("_geometric",), extra=extra)
+        from ... import _jit_loader
+
+        _jit_loader.forget_stale_cache({"__file__": __file__, "_geometric": ns["_geometric"]}, SOURCES)
+        _KERNEL = ns["_geometric"]
+        _single.KERNELS.setdefault("geometric", _KERNEL)
+    return _KERNEL or None
+
+
+SOURCES = tuple(f"ik/geometric/{name}.py" for name in ("solvers", "solvers_wrist", "solvers_parallel", "solvers_search",
+                                                       "solvers_check", "subproblems", "search", "_kernels")) + (
+    "ik/analytic/_single.py", "ik/analytic/_jit.py", "ik/analytic/_layout.py", "kinematics/_jit.py",
+    "ik/_jit_verify.py")
+"""The files whose compiled functions the kernel contains: a change to any of them compiles it anew."""

@@ -1,0 +1,119 @@
+"""The solvers' kernels (:mod:`.solvers`): each core, then the FK check of its candidates on the true chain; one
+target, a batch, or a sweep of chains.
+
+Plain functions; :func:`.solvers.kernels` compiles them with the other cores.
+"""
+
+from __future__ import annotations
+
+from ._kernels import _fk_err
+from .solvers_parallel import _core_three_parallel
+from .solvers_search import _core_spherical_middle, _core_two_intersecting_end, _core_two_parallel
+from .solvers_wrist import _core_spherical
+from .subproblems import _wrap
+
+
+def _solve_two_intersecting_end(kind, Hi, Pi, RnT, prism, Ht, Pt, R, p, qref, N, tol_p, tol_r, Q, LS, SG, ST):
+    m = _core_two_intersecting_end(kind, Hi, Pi, RnT, prism, R, p, qref, N, Q, LS, SG)
+    return _check(m, Ht, Pt, RnT, prism, R, p, tol_p, tol_r, Q, LS, SG, ST)
+
+
+def _solve_two_parallel(kind, Hi, Pi, RnT, prism, Ht, Pt, R, p, qref, N, tol_p, tol_r, Q, LS, SG, ST):
+    m = _core_two_parallel(kind, Hi, Pi, RnT, prism, R, p, qref, N, Q, LS, SG)
+    return _check(m, Ht, Pt, RnT, prism, R, p, tol_p, tol_r, Q, LS, SG, ST)
+
+
+def _solve_spherical_middle(kind, Hi, Pi, RnT, prism, Ht, Pt, R, p, qref, N, tol_p, tol_r, Q, LS, SG, ST):
+    m = _core_spherical_middle(kind, Hi, Pi, RnT, prism, R, p, qref, N, Q, LS, SG)
+    return _check(m, Ht, Pt, RnT, prism, R, p, tol_p, tol_r, Q, LS, SG, ST)
+
+
+def _check(m, H, P, RnT, prism, R, p, tol_p, tol_r, Q, LS, SG, ST):
+    """Wrap the angles of the ``m`` candidates and check each on the true chain; then put the ones that
+    pass (repeats dropped) first and the ones that fail after them (rows of Q, LS, SG; ``ST`` 1 / 0).
+    Returns ``(passing, failing)``."""
+    for i in range(m):
+        for k in range(Q.shape[1]):
+            if not prism[k]:
+                Q[i, k] = _wrap(Q[i, k])
+        ep, er = _fk_err(H, P, RnT, prism, Q[i], R, p)
+        ST[i] = 1 if (ep <= tol_p and er <= tol_r) else 0
+        if ST[i] == 1:
+            for j in range(i):
+                if ST[j] == 1 and _close(Q[i], Q[j], prism):
+                    ST[i] = 2
+                    break
+    Qc = Q[:m].copy()
+    LSc = LS[:m].copy()
+    SGc = SG[:m].copy()
+    STc = ST[:m].copy()
+    ng = 0
+    for i in range(m):
+        if STc[i] == 1:
+            Q[ng] = Qc[i]
+            LS[ng] = LSc[i]
+            SG[ng] = SGc[i]
+            ST[ng] = 1
+            ng += 1
+    nf = 0
+    for i in range(m):
+        if STc[i] == 0:
+            Q[ng + nf] = Qc[i]
+            LS[ng + nf] = LSc[i]
+            SG[ng + nf] = SGc[i]
+            ST[ng + nf] = 0
+            nf += 1
+    return ng, nf
+
+
+def _close(a, b, prism):
+    for k in range(a.shape[0]):
+        d = abs(a[k] - b[k])
+        if not prism[k]:
+            d = abs(_wrap(a[k] - b[k]))
+        if d > 1e-8:
+            return False
+    return True
+
+
+def _solve_spherical(kind, Hi, Pi, RnT, prism, Ht, Pt, R, p, qref, N, tol_p, tol_r, Q, LS, SG, ST):
+    m = _core_spherical(kind, Hi, Pi, RnT, prism, R, p, qref, N, Q, LS, SG)
+    return _check(m, Ht, Pt, RnT, prism, R, p, tol_p, tol_r, Q, LS, SG, ST)
+
+
+def _solve_three_parallel(kind, Hi, Pi, RnT, prism, Ht, Pt, R, p, qref, N, tol_p, tol_r, Q, LS, SG, ST):
+    m = _core_three_parallel(kind, Hi, Pi, RnT, prism, R, p, qref, N, Q, LS, SG)
+    return _check(m, Ht, Pt, RnT, prism, R, p, tol_p, tol_r, Q, LS, SG, ST)
+
+
+def _batch(which, kind, Hi, Pi, RnT, prism, Ht, Pt, R, p, qref, N, tol_p, tol_r, Q, LS, SG, ST, NG, NF):
+    """Every target of a batch in one call: ``R (B, 3, 3)``, ``p (B, 3)``, ``qref (B, n)``; per target
+    the solutions ``Q[b]`` and flags as one call of the kernel ``which`` (0 spherical, 1 three parallel,
+    2 two intersecting, 3 two parallel, 4 spherical middle) would give them, and their counts ``NG`` (good), ``NF`` (failed the check)."""
+    for b in range(R.shape[0]):
+        if which == 0:
+            ng, nf = _solve_spherical(kind, Hi, Pi, RnT, prism, Ht, Pt, R[b], p[b], qref[b], N, tol_p, tol_r,
+                                      Q[b], LS[b], SG[b], ST[b])
+        elif which == 1:
+            ng, nf = _solve_three_parallel(kind, Hi, Pi, RnT, prism, Ht, Pt, R[b], p[b], qref[b], N, tol_p, tol_r,
+                                           Q[b], LS[b], SG[b], ST[b])
+        elif which == 2:
+            ng, nf = _solve_two_intersecting_end(kind, Hi, Pi, RnT, prism, Ht, Pt, R[b], p[b], qref[b], N, tol_p,
+                                                 tol_r, Q[b], LS[b], SG[b], ST[b])
+        elif which == 3:
+            ng, nf = _solve_two_parallel(kind, Hi, Pi, RnT, prism, Ht, Pt, R[b], p[b], qref[b], N, tol_p, tol_r,
+                                         Q[b], LS[b], SG[b], ST[b])
+        else:
+            ng, nf = _solve_spherical_middle(kind, Hi, Pi, RnT, prism, Ht, Pt, R[b], p[b], qref[b], N, tol_p, tol_r,
+                                             Q[b], LS[b], SG[b], ST[b])
+        NG[b] = ng
+        NF[b] = nf
+
+
+def _sweep(which, kind, Hi, Pi, RnT, prism, Ht, Pt, R, p, qref, N, tol_p, tol_r, Q, LS, SG, ST, NG, NF):
+    """:func:`_batch` for ``V`` chains of one class at once (a joint of a 7-joint arm held at ``V`` values,
+    :mod:`.locked`): ``Hi (V, 6, 3)``, ``Pi (V, 7, 3)``, ``RnT (V, 3, 3)``, ``Ht``, ``Pt`` likewise, ``tol_p (V,)``;
+    outputs with a leading ``V`` axis."""
+    for v in range(Hi.shape[0]):
+        _batch(which, kind, Hi[v], Pi[v], RnT[v], prism, Ht[v], Pt[v], R, p, qref, N, tol_p[v], tol_r, Q[v], LS[v],
+               SG[v], ST[v], NG[v], NF[v])

@@ -1,0 +1,341 @@
+"""The spherical-wrist solvers' cores (:mod:`.solvers`): the wrist, the 3R position, and the small 3 x 3 helpers
+the other cores share.
+
+Plain functions of scalars and small arrays; :func:`.solvers.kernels` compiles them with Numba in one
+namespace with the other cores (see :mod:`.solvers` for the classes and the calling convention).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .search import MAXROOT, SW, _search
+from .subproblems import _cross, _dot, _norm, _wrap, rot, rotm, sp1, sp2, sp3, sp4, sp5
+
+SING = 1e-10
+"""``‖h4 × R_36 h6‖`` below this: the wrist is singular (axes 4 and 6 in line)."""
+
+
+# ------------------------------------------------------------------------------ small helpers
+def _mv(M, v):
+    out = np.empty(3)
+    for i in range(3):
+        out[i] = M[i, 0] * v[0] + M[i, 1] * v[1] + M[i, 2] * v[2]
+    return out
+
+
+def _mtv(M, v):
+    out = np.empty(3)
+    for i in range(3):
+        out[i] = M[0, i] * v[0] + M[1, i] * v[1] + M[2, i] * v[2]
+    return out
+
+
+def _mm(A, B):
+    C = np.empty((3, 3))
+    for i in range(3):
+        for j in range(3):
+            C[i, j] = A[i, 0] * B[0, j] + A[i, 1] * B[1, j] + A[i, 2] * B[2, j]
+    return C
+
+
+def _mtm(A, B):
+    """``Aᵀ B``."""
+    C = np.empty((3, 3))
+    for i in range(3):
+        for j in range(3):
+            C[i, j] = A[0, i] * B[0, j] + A[1, i] * B[1, j] + A[2, i] * B[2, j]
+    return C
+
+
+def _perp(h):
+    """A unit vector perpendicular to the unit vector ``h``."""
+    e = np.zeros(3)
+    a0 = abs(h[0])
+    a1 = abs(h[1])
+    a2 = abs(h[2])
+    if a0 <= a1 and a0 <= a2:
+        e[0] = 1.0
+    elif a1 <= a2:
+        e[1] = 1.0
+    else:
+        e[2] = 1.0
+    x = _cross(h, e)
+    return x / _norm(x)
+
+
+# the same products into buffers the caller owns (no allocation; the same arithmetic, so the same bits)
+def _rotm_to(k, theta, R):
+    """:func:`.subproblems.rotm` into ``R`` (3, 3)."""
+    c = math.cos(theta)
+    s = math.sin(theta)
+    v = 1.0 - c
+    R[0, 0] = c + k[0] * k[0] * v
+    R[0, 1] = k[0] * k[1] * v - k[2] * s
+    R[0, 2] = k[0] * k[2] * v + k[1] * s
+    R[1, 0] = k[1] * k[0] * v + k[2] * s
+    R[1, 1] = c + k[1] * k[1] * v
+    R[1, 2] = k[1] * k[2] * v - k[0] * s
+    R[2, 0] = k[2] * k[0] * v - k[1] * s
+    R[2, 1] = k[2] * k[1] * v + k[0] * s
+    R[2, 2] = c + k[2] * k[2] * v
+
+
+def _mm_to(A, B, C):
+    """:func:`_mm` into ``C`` (not ``A`` or ``B``)."""
+    for i in range(3):
+        for j in range(3):
+            C[i, j] = A[i, 0] * B[0, j] + A[i, 1] * B[1, j] + A[i, 2] * B[2, j]
+
+
+def _mtm_to(A, B, C):
+    """:func:`_mtm` into ``C`` (not ``A`` or ``B``)."""
+    for i in range(3):
+        for j in range(3):
+            C[i, j] = A[0, i] * B[0, j] + A[1, i] * B[1, j] + A[2, i] * B[2, j]
+
+
+def _mv_to(M, v, out):
+    """:func:`_mv` into ``out``."""
+    for i in range(3):
+        out[i] = M[i, 0] * v[0] + M[i, 1] * v[1] + M[i, 2] * v[2]
+
+
+def _mtv_to(M, v, out):
+    """:func:`_mtv` into ``out``."""
+    for i in range(3):
+        out[i] = M[0, i] * v[0] + M[1, i] * v[1] + M[2, i] * v[2]
+
+
+def _perp_to(h, out):
+    """:func:`_perp` into ``out``."""
+    e0 = 0.0
+    e1 = 0.0
+    e2 = 0.0
+    a0 = abs(h[0])
+    a1 = abs(h[1])
+    a2 = abs(h[2])
+    if a0 <= a1 and a0 <= a2:
+        e0 = 1.0
+    elif a1 <= a2:
+        e1 = 1.0
+    else:
+        e2 = 1.0
+    x0 = h[1] * e2 - h[2] * e1
+    x1 = h[2] * e0 - h[0] * e2
+    x2 = h[0] * e1 - h[1] * e0
+    n = math.sqrt(x0 * x0 + x1 * x1 + x2 * x2)
+    out[0] = x0 / n
+    out[1] = x1 / n
+    out[2] = x2 / n
+
+
+# ------------------------------------------------------------------------------------ the wrist
+def _wrist(h3, h4, h5, R36, q3ref, W):
+    """q4, q5, q6 (0-based 3, 4, 5) with ``rot(h4, q4) rot(h5, q5) rot(h6, q6) = R36``, into ``W (2, 3)``:
+    ``(count, ls, singular)``. Its vectors and matrices live in two buffers made once per call."""
+    S = np.empty((5, 3))
+    M = np.empty((3, 3, 3))
+    v = S[0]
+    x = S[1]
+    y = S[2]
+    w = S[3]
+    nh3 = S[4]
+    _mv_to(R36, h5, v)
+    _perp_to(h5, x)
+    _mv_to(R36, x, y)
+    c0 = h3[1] * v[2] - h3[2] * v[1]     # _norm(_cross(h3, v))
+    c1 = h3[2] * v[0] - h3[0] * v[2]
+    c2 = h3[0] * v[1] - h3[1] * v[0]
+    if math.sqrt(c0 * c0 + c1 * c1 + c2 * c2) < SING:     # axes 4 and 6 in line: q4 free
+        q3 = q3ref
+        u = rot(h3, -q3, v)
+        q4, l1 = sp1(h5, u, h4)
+        _rotm_to(h3, q3, M[0])
+        _rotm_to(h4, q4, M[1])
+        _mm_to(M[0], M[1], M[2])
+        _mtv_to(M[2], y, w)
+        q5, l2 = sp1(x, w, h5)
+        W[0, 0] = _wrap(q3)
+        W[0, 1] = q4
+        W[0, 2] = q5
+        return 1, bool(l1) or bool(l2), True
+    for k in range(3):
+        nh3[k] = -h3[k]
+    t3, t4, m, ls = sp2(v, h5, nh3, h4)
+    for i in range(m):
+        _rotm_to(h3, t3[i], M[0])
+        _rotm_to(h4, t4[i], M[1])
+        _mm_to(M[0], M[1], M[2])
+        _mtv_to(M[2], y, w)
+        q5, l2 = sp1(x, w, h5)
+        W[i, 0] = t3[i]
+        W[i, 1] = t4[i]
+        W[i, 2] = q5
+        ls = bool(ls) or bool(l2)
+    return m, ls, False
+
+
+# ------------------------------------------------------------------ spherical wrist: position
+def _pos_two_intersecting(H, P, prism2, p0W, Qp, LSp):
+    """Axes 1, 2 meet (P[1] = 0): ``p0W = rot(h1, q1) rot(h2, q2) (P2 + rot(h3, q3) P3)``
+    (joint 3 prismatic: ``P2 + q3 h3 + P3``)."""
+    h0 = H[0]
+    h1 = H[1]
+    h2 = H[2]
+    d = _norm(p0W)
+    t2 = np.zeros(2)
+    if prism2:
+        a = P[2] + P[3]
+        b = _dot(h2, a)
+        c = _dot(a, a) - d * d
+        disc = b * b - c
+        scale = max(_dot(a, a) + d * d, 1e-300)
+        if disc > 1e-12 * scale:
+            s = math.sqrt(disc)
+            t2[0] = -b + s
+            t2[1] = -b - s
+            n2 = 2
+        else:
+            t2[0] = -b
+            n2 = 1
+        ls2 = disc < -1e-12 * scale
+    else:
+        t2, n2, ls2 = sp3(P[3], -P[2], h2, d)
+    m = 0
+    for j in range(n2):
+        if prism2:
+            w = P[2] + t2[j] * h2 + P[3]
+        else:
+            w = P[2] + rot(h2, t2[j], P[3])
+        t0, t1, n, ls = sp2(p0W, w, -h0, h1)
+        for i in range(n):
+            Qp[m, 0] = t0[i]
+            Qp[m, 1] = t1[i]
+            Qp[m, 2] = t2[j]
+            LSp[m] = bool(ls) or bool(ls2)
+            m += 1
+    return m
+
+
+def _pos_two_parallel(H, P, p0W, Qp, LSp):
+    """Axes 2 ∥ 3: the axis-2 component of ``rot(h1, q1)ᵀ p0W`` fixes q1 (SP4), then SP3, SP1."""
+    h0 = H[0]
+    h1 = H[1]
+    h2 = H[2]
+    t0, n0, ls0 = sp4(h1, p0W, -h0, _dot(h1, P[1] + P[2] + P[3]))
+    m = 0
+    for i in range(n0):
+        v = rot(h0, -t0[i], p0W) - P[1]
+        t2, n2, ls2 = sp3(P[3], -P[2], h2, _norm(v))
+        for j in range(n2):
+            w = P[2] + rot(h2, t2[j], P[3])
+            t1, ls1 = sp1(w, v, h1)
+            Qp[m, 0] = t0[i]
+            Qp[m, 1] = t1
+            Qp[m, 2] = t2[j]
+            LSp[m] = bool(ls0) or bool(ls2) or bool(ls1)
+            m += 1
+    return m
+
+
+def _pos_general(H, P, p0W, N, Qp, LSp):
+    """General 3R position ``p0W = rot(h1, q1) (P1 + rot(h2, q2) (P2 + rot(h3, q3) P3))`` in closed form:
+    moved to ``-P1 + rot(h1, -q1) p0W = rot(h2, q2) (P2 + rot(h3, q3) P3)``, which is SP5 (a quartic; up to
+    4 solutions, least-squares ones flagged). SP5's length equation depends on q1 only through the distance of
+    the point chosen on axis 2 from axis 1, so that point is slid along axis 2 (``P1 + s h2``, ``P2 - s h2``: the
+    same chain) until that distance is about the arm's size; where axes 1 and 2 meet it would be 0 and the
+    system singular. Axes 2 ∥ 3 make its component equation independent of q3: :func:`_pos_two_parallel`
+    answers. Axes 1 ∥ 2 make it independent of q1: that chain takes the 1-D search (:func:`_pos_search`)."""
+    h0 = H[0]
+    h1 = H[1]
+    if _norm(_cross(h1, H[2])) < 1e-9:
+        return _pos_two_parallel(H, P, p0W, Qp, LSp)
+    if _norm(_cross(h0, h1)) < 1e-9:
+        return _pos_search(H, P, p0W, N, Qp, LSp)
+    size = _norm(P[1]) + _norm(P[2]) + _norm(P[3]) + _norm(p0W) + 1e-300
+    h1p = h1 - _dot(h1, h0) * h0                        # axis 2's direction away from axis 1
+    v = P[1] - _dot(P[1], h0) * h0                      # the axis-2 point's offset from axis 1
+    sign = 1.0 if _dot(v, h1p) >= 0.0 else -1.0
+    s = sign * size / _norm(h1p)
+    t1, t2, t3, count, ls = sp5(-(P[1] + s * h1), p0W, P[2] - s * h1, P[3], h0, h1, H[2])
+    for i in range(count):
+        Qp[i, 0] = _wrap(-t1[i])
+        Qp[i, 1] = t2[i]
+        Qp[i, 2] = t3[i]
+        LSp[i] = bool(ls)
+    return count
+
+
+def _pos_search(H, P, p0W, N, Qp, LSp):
+    """General 3R position by the 1-D search over q1 of :mod:`.search` (kind SW: q3 by SP3, the residual along
+    axis 2), then q2 by SP1 (the chains with axes 1 ∥ 2, where SP5 does not apply)."""
+    C = np.zeros((4, 3))
+    for k in range(3):
+        C[0, k] = p0W[k]
+    roots = np.zeros((MAXROOT, 4))
+    nroot = _search(SW, H, P, C, N, roots)
+    m = 0
+    for r in range(nroot):
+        q0 = roots[r, 0]
+        q2 = roots[r, 1]
+        v = rot(H[0], -q0, p0W) - P[1]
+        w = P[2] + rot(H[2], q2, P[3])
+        q1, ls1 = sp1(w, v, H[1])
+        q0w = _wrap(q0)
+        dup = False
+        for j in range(m):
+            if abs(_wrap(Qp[j, 0] - q0w)) < 1e-9 and abs(_wrap(Qp[j, 2] - q2)) < 1e-9:
+                dup = True
+        if dup or m >= Qp.shape[0]:
+            continue
+        Qp[m, 0] = q0w
+        Qp[m, 1] = q1
+        Qp[m, 2] = q2
+        LSp[m] = False
+        m += 1
+    return m
+
+
+def _core_spherical(kind, H, P, RnT, prism, R, p, qref, N, Q, LS, SG):
+    """Spherical wrist at the end (P[4] = P[5] = 0): candidates into Q, LS, SG; returns their count.
+    ``kind``: 0 axes 1, 2 meet; 1 axes 2 ∥ 3; 2 general (SP5)."""
+    R06 = _mm(R, RnT.T.copy())
+    p0W = p - P[0] - _mv(R06, P[6])
+    Qp = np.zeros((8, 3))
+    LSp = np.zeros(8, dtype=np.bool_)
+    if kind == 0:
+        mp = _pos_two_intersecting(H, P, prism[2], p0W, Qp, LSp)
+    elif kind == 1:
+        mp = _pos_two_parallel(H, P, p0W, Qp, LSp)
+    else:
+        mp = _pos_general(H, P, p0W, N, Qp, LSp)
+    W = np.zeros((2, 3))
+    B = np.empty((5, 3, 3))      # the rotations of joints 1-3, their products, R_36
+    m = 0
+    for i in range(mp):
+        _rotm_to(H[0], Qp[i, 0], B[0])
+        _rotm_to(H[1], Qp[i, 1], B[1])
+        _mm_to(B[0], B[1], B[2])
+        R03 = B[2]
+        if not prism[2]:
+            _rotm_to(H[2], Qp[i, 2], B[3])
+            _mm_to(B[2], B[3], B[4])
+            R03 = B[4]
+        _mtm_to(R03, R06, B[0])
+        mw, lsw, sing = _wrist(H[3], H[4], H[5], B[0], qref[3], W)
+        for j in range(mw):
+            if m >= Q.shape[0]:
+                break
+            Q[m, 0] = Qp[i, 0]
+            Q[m, 1] = Qp[i, 1]
+            Q[m, 2] = Qp[i, 2]
+            Q[m, 3] = W[j, 0]
+            Q[m, 4] = W[j, 1]
+            Q[m, 5] = W[j, 2]
+            LS[m] = LSp[i] or lsw
+            SG[m] = sing
+            m += 1
+    return m
