@@ -113,11 +113,10 @@ def _cubic_max(a2, a1, a0):
     p = a1 - a2 * a2 / 3.0
     q = 2.0 * a2 * a2 * a2 / 27.0 - a2 * a1 / 3.0 + a0
     disc = 0.25 * q * q + p * p * p / 27.0
-    if disc > 0.0:
-        sd = math.sqrt(disc)
-        u = -0.5 * q + sd
-        v = -0.5 * q - sd
-        w = math.copysign(abs(u) ** (1.0 / 3.0), u) + math.copysign(abs(v) ** (1.0 / 3.0), v)
+    if disc > 0.0:                        # Cardano: ∛u + ∛v with ∛u ∛v = −p / 3 (u the larger, one cube root)
+        u = -0.5 * q - math.copysign(math.sqrt(disc), q)
+        cu = math.copysign(abs(u) ** (1.0 / 3.0), u)
+        w = cu - p / (3.0 * cu)
     elif p < 0.0:
         m = math.sqrt(-p / 3.0)
         arg = -0.5 * q / (m * m * m)
@@ -157,10 +156,11 @@ def _quartic4(c4, c3, c2, c1, c0):
     near it) as ``(re0, im0, …, re3, im3)``: Ferrari's factorisation into two quadratics, each root polished by
     Newton steps on the quartic (in real arithmetic for the real roots; a complex root only when it is nearly
     real, the others are of no use to the callers)."""
-    b = c3 / c4
-    c = c2 / c4
-    d = c1 / c4
-    e = c0 / c4
+    ic4 = 1.0 / c4
+    b = c3 * ic4
+    c = c2 * ic4
+    d = c1 * ic4
+    e = c0 * ic4
     s = 0.25 * b
     p = c - 6.0 * s * s
     q = d - 2.0 * c * s + 8.0 * s * s * s
@@ -171,8 +171,21 @@ def _quartic4(c4, c3, c2, c1, c0):
         z0 = _cubic_max(2.0 * p, p * p - 4.0 * r, -q * q)
     if z0 > 1e-14 * big:
         u = math.sqrt(z0)
-        r0, i0, r1, i1 = _quad(u, 0.5 * (p + z0 - q / u))
-        r2, i2, r3, i3 = _quad(-u, 0.5 * (p + z0 + q / u))
+        qu = q / u
+        r0, i0, r1, i1 = _quad(u, 0.5 * (p + z0 - qu))
+        r2, i2, r3, i3 = _quad(-u, 0.5 * (p + z0 + qu))
+        # each quadratic gives two reals or a conjugate pair: polish one of a pair, conjugate it for the other
+        r0, j0 = _polish(r0 - s, i0, b, c, d, e)
+        if i0 != 0.0:
+            r1, i1 = r0, -j0
+        else:
+            r1, i1 = _polish(r1 - s, i1, b, c, d, e)
+        r2, j2 = _polish(r2 - s, i2, b, c, d, e)
+        if i2 != 0.0:
+            r3, i3 = r2, -j2
+        else:
+            r3, i3 = _polish(r3 - s, i3, b, c, d, e)
+        return r0, j0, r1, i1, r2, j2, r3, i3
     else:                                 # biquadratic: y² = z, z² + p z + r = 0
         dz = p * p - 4.0 * r
         if dz >= 0.0:
@@ -196,18 +209,24 @@ def _quartic4(c4, c3, c2, c1, c0):
 
 def _newton4(t, b, c, d, e):
     """Up to 3 Newton steps on ``t⁴ + b t³ + c t² + d t + e`` from ``t`` (a float or a complex: compiled for
-    each), stopped when one does not decrease ``|f|``."""
+    each), stopped when one does not decrease ``|f|``, when ``f(t)`` is 0, or after a step below
+    ``1e-15 (1 + |t|)`` (the next would change ``t`` by rounding only)."""
     f = (((t + b) * t + c) * t + d) * t + e
     for _ in range(3):
+        if f == 0.0:
+            break
         df = ((4.0 * t + 3.0 * b) * t + 2.0 * c) * t + d
         if df == 0.0:
             break
-        tn = t - f / df
+        dt = f / df
+        tn = t - dt
         fn = (((tn + b) * tn + c) * tn + d) * tn + e
         if abs(fn) >= abs(f):
             break
         t = tn
         f = fn
+        if abs(dt) <= 1e-15 * (1.0 + abs(t)):
+            break
     return t
 
 
@@ -243,28 +262,45 @@ def _res2(a00, a01, a10, a11, b00, b01, b10, b11, e0, e1, t1, t2):
     return a00 * c1 + a01 * s1 + b00 * c2 + b01 * s2 - e0, a10 * c1 + a11 * s1 + b10 * c2 + b11 * s2 - e1
 
 
+def _angle(c, s):
+    """``atan2(s, c)`` for a unit ``(c, s)`` by the half-angle tangent (one ``atan``, cheaper than ``atan2``), in
+    ``[−π, π]`` as ``atan2`` (−π when ``s`` rounds it there: :func:`_wrap` after)."""
+    if c >= -0.5:
+        return 2.0 * math.atan(s / (1.0 + c))
+    if s >= 0.0:
+        return _PI - 2.0 * math.atan(s / (1.0 - c))
+    return -_PI - 2.0 * math.atan(s / (1.0 - c))
+
+
 def _trig2(a00, a01, a10, a11, b00, b01, b10, b11, e0, e1, T1, T2):
     """θ1, θ2 with ``A (cos θ1, sin θ1) + B (cos θ2, sin θ2) = e`` (rows of equal scale) into ``T1``, ``T2``;
     returns their count (0 when no exact solution). As :func:`.subproblems._trig2` (eliminate the better
     conditioned unknown, a quartic in the other), the quartic in closed form and shifted so that its root at
     infinity is far from every solution."""
-    na = math.sqrt(a00 * a00 + a01 * a01 + a10 * a10 + a11 * a11)
-    nb = math.sqrt(b00 * b00 + b01 * b01 + b10 * b10 + b11 * b11)
-    scale = max(na, nb, math.sqrt(e0 * e0 + e1 * e1), 1e-300)
-    da = abs(a00 * a11 - a01 * a10) / max(na * na, 1e-300)
-    db = abs(b00 * b11 - b01 * b10) / max(nb * nb, 1e-300)
+    na2 = a00 * a00 + a01 * a01 + a10 * a10 + a11 * a11
+    nb2 = b00 * b00 + b01 * b01 + b10 * b10 + b11 * b11
+    scale = max(math.sqrt(max(na2, nb2, e0 * e0 + e1 * e1)), 1e-300)
+    tol12 = 1e-12 * scale                 # residuals compared in squares (no square roots per root)
+    tol12 *= tol12
+    tol14 = 1e-14 * scale
+    tol14 *= tol14
+    tol9 = 1e-9 * scale
+    tol9 *= tol9
+    da = abs(a00 * a11 - a01 * a10) / max(na2, 1e-300)
+    db = abs(b00 * b11 - b01 * b10) / max(nb2, 1e-300)
     swap = db > da
     if swap:
         x00, x01, x10, x11, y00, y01, y10, y11 = b00, b01, b10, b11, a00, a01, a10, a11
     else:
         x00, x01, x10, x11, y00, y01, y10, y11 = a00, a01, a10, a11, b00, b01, b10, b11
     det = x00 * x11 - x01 * x10
-    if abs(det) <= 1e-14 * max(na, nb) ** 2:
+    if abs(det) <= 1e-14 * max(na2, nb2):
         return 0
-    i00 = x11 / det
-    i01 = -x01 / det
-    i10 = -x10 / det
-    i11 = x00 / det
+    idet = 1.0 / det
+    i00 = x11 * idet
+    i01 = -x01 * idet
+    i10 = -x10 * idet
+    i11 = x00 * idet
     f0 = i00 * e0 + i01 * e1
     f1 = i10 * e0 + i11 * e1
     m00 = i00 * y00 + i01 * y10
@@ -281,12 +317,16 @@ def _trig2(a00, a01, a10, a11, b00, b01, b10, b11, e0, e1, T1, T2):
     a2 = 0.5 * (q11 - q22)
     b2 = q12
     # θ = φ + α with g(α + π) largest of 8 (the quartic in tan(φ / 2) then has its largest leading coefficient)
+    # (cos 2α, sin 2α) for α = k π / 4 is (1, 0), (0, 1), (−1, 0), (0, −1), repeated: the 8 values unrolled
+    ra = _R2 * (a1 + b1)
+    rb = _R2 * (b1 - a1)
+    gv = (abs(a0 - a1 + a2), abs(a0 - ra + b2), abs(a0 - b1 - a2), abs(a0 - rb - b2),
+          abs(a0 + a1 + a2), abs(a0 + ra + b2), abs(a0 + b1 - a2), abs(a0 + rb - b2))
     best = -1.0
     kb = 0
     for k in range(8):
-        g = abs(a0 - a1 * _C8[k] - b1 * _S8[k] + a2 * _C8[(2 * k) % 8] + b2 * _S8[(2 * k) % 8])
-        if g > best:
-            best = g
+        if gv[k] > best:
+            best = gv[k]
             kb = k
     if best <= 1e-300:
         return 0
@@ -305,26 +345,35 @@ def _trig2(a00, a01, a10, a11, b00, b01, b10, b11, e0, e1, T1, T2):
         ti = roots[2 * i + 1]
         if abs(ti) > 1e-5 * (1.0 + math.sqrt(t * t + ti * ti)):
             continue
-        cf = (1.0 - t * t) / (1.0 + t * t)
-        sf = 2.0 * t / (1.0 + t * t)
+        w = 1.0 / (1.0 + t * t)
+        cf = (1.0 - t * t) * w
+        sf = 2.0 * t * w
         cy = cf * ca - sf * sa
         sy = sf * ca + cf * sa
         x0 = f0 - (m00 * cy + m01 * sy)
         x1 = f1 - (m10 * cy + m11 * sy)
-        nx = math.sqrt(x0 * x0 + x1 * x1)
-        if nx <= 0.0:
+        nx2 = x0 * x0 + x1 * x1
+        if nx2 <= 0.0:
             continue
-        cx = x0 / nx
-        sx = x1 / nx
+        inx = 1.0 / math.sqrt(nx2)
+        cx = x0 * inx
+        sx = x1 * inx
         if swap:
             c1, s1, c2, s2 = cy, sy, cx, sx
         else:
             c1, s1, c2, s2 = cx, sx, cy, sy
         r0 = a00 * c1 + a01 * s1 + b00 * c2 + b01 * s2 - e0
         r1 = a10 * c1 + a11 * s1 + b10 * c2 + b11 * s2 - e1
-        t1 = math.atan2(s1, c1)
-        t2 = math.atan2(s2, c2)
-        for _ in range(6 if math.sqrt(r0 * r0 + r1 * r1) > 1e-12 * scale else 0):   # Newton on the 2 x 2 system
+        # the angles: the quartic's unknown is tan((θ − α) / 2), the other one from its unit (cos, sin)
+        ty = 2.0 * math.atan(t) + 0.25 * _PI * kb
+        if ty > _PI:
+            ty -= 2.0 * _PI
+        tx = _angle(cx, sx)
+        if swap:
+            t1, t2 = ty, tx
+        else:
+            t1, t2 = tx, ty
+        for _ in range(6 if r0 * r0 + r1 * r1 > tol12 else 0):   # Newton on the 2 x 2 system
             j00 = -a00 * s1 + a01 * c1
             j10 = -a10 * s1 + a11 * c1
             j01 = -b00 * s2 + b01 * c2
@@ -344,15 +393,17 @@ def _trig2(a00, a01, a10, a11, b00, b01, b10, b11, e0, e1, T1, T2):
             s2 = math.sin(t2)
             r0 = a00 * c1 + a01 * s1 + b00 * c2 + b01 * s2 - e0
             r1 = a10 * c1 + a11 * s1 + b10 * c2 + b11 * s2 - e1
-            if abs(d1) + abs(d2) < 1e-15 or math.sqrt(r0 * r0 + r1 * r1) <= 1e-14 * scale:
+            if abs(d1) + abs(d2) < 1e-15 or r0 * r0 + r1 * r1 <= tol14:
                 break
-        if math.sqrt(r0 * r0 + r1 * r1) > 1e-9 * scale:
+        if r0 * r0 + r1 * r1 > tol9:
             continue
-        t1 = _wrap(t1)
+        t1 = _wrap(t1)                    # atan2 is already in (−π, π]: the fast path unless Newton moved it
         t2 = _wrap(t2)
         dup = False
-        for j in range(count):
-            if abs(_wrap(T1[j] - t1)) < 1e-7 and abs(_wrap(T2[j] - t2)) < 1e-7:
+        for j in range(count):            # both in (−π, π]: a difference within 1e-7 of 0 or of ±2π
+            d1 = abs(T1[j] - t1)
+            d2 = abs(T2[j] - t2)
+            if (d1 < 1e-7 or d1 > 2.0 * _PI - 1e-7) and (d2 < 1e-7 or d2 > 2.0 * _PI - 1e-7):
                 dup = True
         if not dup:
             T1[count] = t1
@@ -375,18 +426,20 @@ def _trig2_rows(a00, a01, b00, b01, e0, a10, a11, b10, b11, e1, T1, T2):
     size first, so that its tolerances mean the same in both equations."""
     s = math.sqrt(a00 * a00 + a01 * a01 + b00 * b00 + b01 * b01)
     if s > 0.0:
-        a00 /= s
-        a01 /= s
-        b00 /= s
-        b01 /= s
-        e0 /= s
+        s = 1.0 / s
+        a00 *= s
+        a01 *= s
+        b00 *= s
+        b01 *= s
+        e0 *= s
     s = math.sqrt(a10 * a10 + a11 * a11 + b10 * b10 + b11 * b11)
     if s > 0.0:
-        a10 /= s
-        a11 /= s
-        b10 /= s
-        b11 /= s
-        e1 /= s
+        s = 1.0 / s
+        a10 *= s
+        a11 *= s
+        b10 *= s
+        b11 *= s
+        e1 *= s
     return _trig2(a00, a01, a10, a11, b00, b01, b10, b11, e0, e1, T1, T2)
 
 
@@ -477,7 +530,7 @@ def _fk_err(H, P, RnT, prism, q, Rt, pt):
 # ---------------------------------------------------------------------------------- compiled
 KERNELS = ("_t", "_tdot", "_tcross", "_tadd", "_tsub", "_tmul", "_tnorm", "_trot_cs", "_trot", "_tmv", "_tmtv",
            "_tlin", "_tsp1", "_wrap", "_cubic_max", "_quad", "_newton4", "_polish", "_quartic4", "_quartic", "_res2",
-           "_trig2", "_trig2_rows", "_sp6", "_sp3", "_rmul_rot", "_move", "_fk_err")
+           "_angle", "_trig2", "_trig2_rows", "_sp6", "_sp3", "_rmul_rot", "_move", "_fk_err")
 """The functions :func:`kernels` compiles, callees before callers."""
 _KERNELS: Optional[types.SimpleNamespace] = None
 
