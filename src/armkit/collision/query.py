@@ -21,8 +21,8 @@ from . import kernels as K
 from .geometry import ArmGeometry, Solid, arm_geometry, robot_collision, robot_scene
 from .shapes import KIND_TABLE, Scene, SceneError, Shape
 
-__all__ = ["Collisions", "collisions", "clearance", "in_collision", "as_scene", "resolve_scene", "checked_against",
-           "checked_note"]
+__all__ = ["Collisions", "collisions", "clearance", "in_collision", "colliding_rows", "as_scene", "resolve_scene",
+           "checked_against", "checked_note"]
 
 Array = NDArray[np.float64]
 
@@ -344,6 +344,66 @@ BLOCK = 16384
 """Configurations per block on the Numba path: frames of a block stay in cache between FK and the check."""
 
 
+class _Prepared:
+    """What one check of a robot against one scene needs, built once (:func:`_prepared`): the pairs, their
+    names, the packed kernel items (:func:`_packed`) and the inverse tool pose that gives the flange frame."""
+
+    __slots__ = ("geo", "shapes", "poses", "sizes", "scene_pairs", "self_pairs", "names", "flange", "pack")
+
+    def __init__(self, robot: Robot, geo: ArmGeometry, sc: Scene, self_collision: bool) -> None:
+        self.geo = geo
+        self.shapes = sc.shapes
+        self.poses = tuple(s.pose.tobytes() for s in sc.shapes)
+        self.sizes = tuple(s.size for s in sc.shapes)
+        self.scene_pairs, self.self_pairs = _pairs(geo, sc, self_collision)
+        self.names = tuple((geo.solids[i].name, s.name) for i, s in self.scene_pairs) + tuple(
+            (geo.solids[j].name, geo.solids[i].name) if geo.solids[j].level > geo.solids[i].level
+            else (geo.solids[i].name, geo.solids[j].name) for i, j in self.self_pairs)
+        tool = np.asarray(robot.tool)
+        self.flange: Array | None = np.linalg.inv(tool).astype(float) if np.any(tool[:3, 3]) else None
+        self.pack: tuple | None = None    # _packed(...) on the first Numba check
+
+    def holds(self, geo: ArmGeometry, sc: Scene) -> bool:
+        """True while this record still describes ``sc`` (the same shapes, poses and sizes) on ``geo``."""
+        return geo is self.geo and len(sc.shapes) == len(self.shapes) and all(
+            a is b and a.pose.tobytes() == p and a.size == z
+            for a, b, p, z in zip(sc.shapes, self.shapes, self.poses, self.sizes))
+
+
+PREPARED_KEPT = 16
+"""Prepared checks kept per robot (:func:`_prepared`), as :data:`PACKS_KEPT`."""
+
+
+def _prepared(robot: Robot, sc: Scene, self_collision: bool) -> _Prepared:
+    """The :class:`_Prepared` record of ``robot`` against ``sc``, remembered in ``robot.cache`` under the
+    scene's shapes (kept alive by the record, so their ids stay theirs) and checked against their contents."""
+    geo = arm_geometry(robot)
+    key = (self_collision,) + tuple(map(id, sc.shapes))
+    kept = robot.cache.setdefault("collision_prepared", {})
+    rec = kept.get(key)
+    if rec is not None and rec.holds(geo, sc):
+        return rec  # type: ignore[no-any-return]
+    rec = _Prepared(robot, geo, sc, self_collision)
+    if len(kept) >= PREPARED_KEPT:
+        kept.clear()
+    kept[key] = rec
+    return rec
+
+
+def _frames(robot: Robot, q: Array, flange: Array | None) -> Array:
+    """:func:`chain_frames` with the inverse tool pose given (``None``: no flange frame to add)."""
+    from ..kinematics import fk_frames
+
+    frames = fk_frames(robot, q)
+    if flange is None:
+        return frames
+    n = robot.n
+    out = np.empty((frames.shape[0], n + 2, 4, 4))
+    out[:, :n + 1] = frames
+    np.matmul(frames[:, n], flange, out=out[:, n + 1])
+    return out
+
+
 def _evaluate(robot: Robot, geo: ArmGeometry, q: Array, scene_pairs: list[tuple[int, Shape]],
               self_pairs: Sequence[tuple[int, int]], only_min: bool = False, stop: float = -np.inf
               ) -> tuple[Array | None, Array, NDArray[np.int64]]:
@@ -363,7 +423,30 @@ def _evaluate(robot: Robot, geo: ArmGeometry, q: Array, scene_pairs: list[tuple[
         d_all = None if only_min else np.concatenate([p_[0] for p_ in parts])  # type: ignore[misc]
         return d_all, np.concatenate([p_[1] for p_ in parts]), np.concatenate([p_[2] for p_ in parts])
     frames = np.ascontiguousarray(chain_frames(robot, q))
-    packed, pairs, cols, rest = _packed(robot, geo, scene_pairs, self_pairs)
+    return _evaluate_jit(_jit, geo, frames, _packed(robot, geo, scene_pairs, self_pairs), scene_pairs, self_pairs,
+                         only_min, stop)
+
+
+def _evaluate_prepared(robot: Robot, rec: _Prepared, q: Array, only_min: bool = False, stop: float = -np.inf
+                       ) -> tuple[Array | None, Array, NDArray[np.int64]]:
+    """:func:`_evaluate` of a prepared check: the same kernels and results, without rebuilding its parts."""
+    if not rec.scene_pairs and not rec.self_pairs or q.shape[0] > BLOCK:
+        return _evaluate(robot, rec.geo, q, rec.scene_pairs, rec.self_pairs, only_min, stop)
+    _jit = _kernels()
+    if _jit is None:
+        return _evaluate(robot, rec.geo, q, rec.scene_pairs, rec.self_pairs, only_min, stop)
+    if rec.pack is None:
+        rec.pack = _packed(robot, rec.geo, rec.scene_pairs, rec.self_pairs)
+    frames = np.ascontiguousarray(_frames(robot, q, rec.flange))
+    return _evaluate_jit(_jit, rec.geo, frames, rec.pack, rec.scene_pairs, rec.self_pairs, only_min, stop)
+
+
+def _evaluate_jit(_jit: Any, geo: ArmGeometry, frames: Array, pack: tuple, scene_pairs: list[tuple[int, Shape]],
+                  self_pairs: Sequence[tuple[int, int]], only_min: bool, stop: float
+                  ) -> tuple[Array | None, Array, NDArray[np.int64]]:
+    """:func:`_evaluate` on the Numba back end for one block of chain ``frames`` and its :func:`_packed` items."""
+    B = frames.shape[0]
+    packed, pairs, cols, rest = pack
     if only_min:
         dist, arg = _jit.min_distance(frames, packed, pairs, stop) if len(pairs) else (
             np.full(B, np.inf), np.full(B, -1, dtype=np.int64))
@@ -378,10 +461,17 @@ def _evaluate(robot: Robot, geo: ArmGeometry, q: Array, scene_pairs: list[tuple[
             dist = np.where(better, m2, dist)
             arg = np.where(better, rest[a2], arg)
         return None, dist, arg
-    d = np.empty((B, P))
-    if len(pairs):
-        d[:, cols] = _jit.all_distances(frames, packed, pairs)
-    if len(rest):
+    P = len(scene_pairs) + len(self_pairs)
+    if not len(rest):   # every pair compiled: the kernel's columns are the pairs in order
+        d = _jit.all_distances(frames, packed, pairs)
+        if not np.array_equal(cols, np.arange(P)):
+            d_full = np.empty((B, P))
+            d_full[:, cols] = d
+            d = d_full
+    else:
+        d = np.empty((B, P))
+        if len(pairs):
+            d[:, cols] = _jit.all_distances(frames, packed, pairs)
         sp = [scene_pairs[c] for c in rest if c < len(scene_pairs)]
         selfp = [self_pairs[c - len(scene_pairs)] for c in rest if c >= len(scene_pairs)]
         d[:, rest] = _pair_distances(geo, frames, sp, selfp)
@@ -420,16 +510,15 @@ def collisions(robot: Robot, q: ArrayLike, scene: Scene | Sequence[Shape] | str 
     'the link2 hits the floor by 1.34 m (2 pairs in collision)'
     """
     sc = as_scene(robot, scene)
-    geo = arm_geometry(robot)
     qa = robot.check_q(q)
-    lead = qa.shape[:-1]
-    scene_pairs, self_pairs = _pairs(geo, sc, self_collision)
-    d, dist, closest = _evaluate(robot, geo, qa.reshape(-1, robot.n), scene_pairs, self_pairs)
+    return _collisions(robot, _prepared(robot, sc, self_collision), qa.reshape(-1, robot.n), qa.shape[:-1])
+
+
+def _collisions(robot: Robot, rec: _Prepared, q: Array, lead: tuple[int, ...]) -> Collisions:
+    """:func:`collisions` of checked ``q`` ``(B, n)`` by a prepared check, shaped ``lead``."""
+    d, dist, closest = _evaluate_prepared(robot, rec, q)
     assert d is not None
-    names = tuple((geo.solids[i].name, s.name) for i, s in scene_pairs) + tuple(
-        (geo.solids[j].name, geo.solids[i].name) if geo.solids[j].level > geo.solids[i].level
-        else (geo.solids[i].name, geo.solids[j].name) for i, j in self_pairs)
-    return Collisions(colliding=(dist < 0).reshape(lead), distance=dist.reshape(lead), pairs=names,
+    return Collisions(colliding=(dist < 0).reshape(lead), distance=dist.reshape(lead), pairs=rec.names,
                       distances=d.reshape(lead + (d.shape[1],)), closest=closest.reshape(lead), unit=robot.unit)
 
 
@@ -440,10 +529,9 @@ def clearance(robot: Robot, q: ArrayLike, scene: Scene | Sequence[Shape] | str |
     Positive: the gap (robot unit); negative: minus the deepest penetration. See :func:`collisions`.
     """
     sc = as_scene(robot, scene)
-    geo = arm_geometry(robot)
     qa = robot.check_q(q)
-    scene_pairs, self_pairs = _pairs(geo, sc, self_collision)
-    _, dist, _ = _evaluate(robot, geo, qa.reshape(-1, robot.n), scene_pairs, self_pairs, only_min=True)
+    _, dist, _ = _evaluate_prepared(robot, _prepared(robot, sc, self_collision), qa.reshape(-1, robot.n),
+                                    only_min=True)
     return dist.reshape(qa.shape[:-1])
 
 
@@ -455,12 +543,36 @@ def in_collision(robot: Robot, q: ArrayLike, scene: Scene | Sequence[Shape] | st
     stops at its first overlapping pair and skips pairs whose bounding spheres are apart.
     """
     sc = as_scene(robot, scene)
-    geo = arm_geometry(robot)
     qa = robot.check_q(q)
-    scene_pairs, self_pairs = _pairs(geo, sc, self_collision)
-    _, dist, _ = _evaluate(robot, geo, qa.reshape(-1, robot.n), scene_pairs, self_pairs,
-                           only_min=True, stop=0.0)
+    _, dist, _ = _evaluate_prepared(robot, _prepared(robot, sc, self_collision), qa.reshape(-1, robot.n),
+                                    only_min=True, stop=0.0)
     return (dist < 0).reshape(qa.shape[:-1])
+
+
+def colliding_rows(robot: Robot, q: Array, scene: Scene) -> tuple[NDArray[np.intp], list[str]]:
+    """The rows of ``q`` that collide with ``scene`` or the arm itself, and a message for each: for IK.
+
+    The same answer as ``np.flatnonzero(in_collision(robot, q, scene))`` and then
+    ``collisions(robot, q[rows], scene).message(m)`` for each, in one call without checking the
+    arguments again: ``q`` is a finite float array ``(B, n)`` the library made (IK solutions) and
+    ``scene`` a :class:`Scene` in the robot's unit (a :func:`resolve_scene` answer).
+
+    Returns
+    -------
+    rows : ndarray of int, shape (k,)
+        Indices of the colliding configurations, increasing.
+    messages : list of str
+        ``Collisions.message`` of each, in the order of ``rows``.
+    """
+    if scene.unit != robot.unit:
+        scene = as_scene(robot, scene)
+    rec = _prepared(robot, scene, True)
+    _, dist, _ = _evaluate_prepared(robot, rec, q, only_min=True, stop=0.0)
+    rows = np.flatnonzero(dist < 0)
+    if not len(rows):
+        return rows, []
+    hits = _collisions(robot, rec, q[rows], (len(rows),))
+    return rows, [hits.message(m) for m in range(len(rows))]
 
 
 def _pairs(geo: ArmGeometry, scene: Scene, self_collision: bool
