@@ -205,7 +205,8 @@ def test_a_missing_map_is_reported_in_korean_by_the_command_line(tmp_path):
 FILES = ("reach/_store.py", "reach/_build.py", "reach/_base.py", "reach/_map.py", "reach/_scene.py",
          "viz/view/server.py", "collision/shapes.py", "ik/geometric/locked.py", "ik/numeric.py", "ik/fabrik.py",
          "ik/ccd.py", "cli/shell.py", "model/dh_extract.py", "model/axes.py", "ik/geometric/classify.py",
-         "_jit_loader.py")
+         "_jit_loader.py", "ik/_numeric_inputs.py", "ik/_numeric_report.py", "viz/view/players.py",
+         "viz/view/screenshots.py")
 
 
 def test_every_template_of_these_modules_is_in_the_catalogue():

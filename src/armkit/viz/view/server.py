@@ -9,6 +9,10 @@ would otherwise hold it for up to 1/60 s to collect a window of messages).
 
 Nothing typed in the page is ever evaluated: numbers arrive as numbers from viser's
 widgets, an uploaded CSV is parsed by :func:`numpy.loadtxt`.
+
+This module holds the handle's state, IK and life cycle; its parts live next to it and are
+re-exported here: the first pose (:mod:`.home`), the port handling (:mod:`.network`), the
+players (:mod:`.players`) and the screenshots (:mod:`.screenshots`).
 """
 
 from __future__ import annotations
@@ -17,10 +21,7 @@ import collections
 import contextlib
 import html
 import io
-import itertools
 import math
-import re
-import socket
 import threading
 import time
 from pathlib import Path
@@ -36,108 +37,23 @@ from ...kinematics import condition_number, fk, fk_frames, manipulability
 from ...model import Robot, load
 from ...ik import IKResult, ik, ik_all
 from ...ik.analytic import closed_form
+# the view's parts, re-exported here (the panels, the tests and armkit.viz.view import them from this module)
+from .home import HOME_STEPS, NEAR_SINGULAR, SINGULAR, home_pose
+from .network import _port_free, _quiet, free_port
+from .players import MAX_SWEEPS, Players
+from .screenshots import Screenshots
 
 __all__ = ["View", "ViewError", "view", "IK_METHODS", "home_pose"]
 
 Array = NDArray[np.float64]
 IK_METHODS = ("auto", "lm", "newton", "ccd", "fabrik")
-NEAR_SINGULAR = 100.0        # condition number above which the panel warns
-SINGULAR = 1e12              # above it the page says "singular" (the number itself is rounding noise)
-MAX_SWEEPS = 40              # sweeps animated by "show sweeps"
-HOME_STEPS = (math.pi / 6, -math.pi / 6, math.pi / 3, -math.pi / 3)   # joint offsets tried for a home pose
 
 
-def home_pose(robot: Robot, scene: Any = None) -> Array:
-    """A home pose of ``robot``, shape ``(n,)``: zeros (moved inside the limits) unless that pose is singular.
-
-    Most arms are singular at zero (stretched out, or a wrist lined up). Then the joints after
-    the first are moved by +-30 deg or +-60 deg (revolute joints only), fewest joints first,
-    and the best-conditioned pose among the fewest wins: within the limits, condition number
-    of the task Jacobian below ``NEAR_SINGULAR / 2`` and clear of ``scene`` and of itself
-    (``scene`` as in :func:`armkit.collisions`; ``False``: no collision check). The search is
-    deterministic (the same pose every time) and costs a few milliseconds.
-
-    Parameters
-    ----------
-    robot : Robot
-    scene : Scene, None or False
-        Surroundings the pose must be clear of (None: the robot's own).
-
-    Returns
-    -------
-    ndarray, shape (n,)
-        The pose; zeros moved inside the limits when no candidate qualifies.
-    """
-    from ...collision import collisions
-
-    zero = np.clip(np.zeros(robot.n), robot.lower, robot.upper)
-    free = [k for k in range(1, robot.n) if not robot.joints[k].is_prismatic]
-    limit = NEAR_SINGULAR / 2
-    for moved in range(0, len(free) + 1):
-        rows = []
-        for joints in itertools.combinations(free, moved):
-            for offsets in itertools.product(HOME_STEPS, repeat=moved):
-                q = zero.copy()
-                q[list(joints)] += offsets
-                rows.append(q)
-        Q = np.array(rows).reshape(-1, robot.n)
-        Q = Q[robot.within_limits(Q)]
-        if len(Q) == 0:
-            continue
-        c = np.asarray(condition_number(robot, Q), dtype=float)
-        good = np.isfinite(c) & (c < limit)
-        if not good.any():
-            continue
-        Q, c = Q[good], c[good]
-        order = np.argsort(c, kind="stable")
-        Q = Q[order]
-        if scene is not False:
-            try:
-                clear = ~np.asarray(collisions(robot, Q, None if scene is None else scene).colliding)
-            except ArmkitError:        # a robot whose geometry cannot be checked: conditioning alone
-                clear = np.ones(len(Q), dtype=bool)
-            Q = Q[clear]
-        if len(Q):
-            return Q[0].copy()
-    return zero
-
-
-def _port_free(host: str, port: int) -> bool:
-    family = socket.AF_INET6 if ":" in host else socket.AF_INET
-    with socket.socket(family, socket.SOCK_STREAM) as s:
-        s.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
-        try:
-            s.bind((host, port))
-        except OSError:
-            return False
-    return True
-
-
-@contextlib.contextmanager
-def _quiet() -> Any:
-    """Nothing printed: stdout, and rich's global console (viser's banner; in Jupyter rich shows it as output)."""
-    import rich
-    import rich.console
-
-    saved = rich._console
-    rich._console = rich.console.Console(file=io.StringIO(), force_jupyter=False)
-    try:
-        with contextlib.redirect_stdout(io.StringIO()):
-            yield
-    finally:
-        rich._console = saved
-
-
-def free_port(host: str = "127.0.0.1") -> int:
-    """A TCP port that is free on ``host`` right now."""
-    family = socket.AF_INET6 if ":" in host else socket.AF_INET
-    with socket.socket(family, socket.SOCK_STREAM) as s:
-        s.bind((host, 0))
-        return int(s.getsockname()[1])
-
-
-class View:
+class View(Players, Screenshots):
     """A live 3-D view of one arm in the browser (see :func:`view`).
+
+    The players (:class:`~armkit.viz.view.players.Players`) and the screenshots
+    (:class:`~armkit.viz.view.screenshots.Screenshots`) are its base classes.
 
     Attributes
     ----------
@@ -557,173 +473,6 @@ class View:
             self.show_configuration(branches[label], lambda: self.panels.show_target(t, res, False), follow=False)
             self.branches, self._every, self.branch = branches, every, label
 
-    # ------------------------------------------------------------------ players
-    # A player (a path, a tracking run, IK sweeps) is a thread running ``body(token)``; it stops when
-    # ``player_alive(token)`` turns False (another player started, stop_player, the view closed).
-    def stop_player(self) -> None:
-        """Stop the running player (if any) and wait for it (at most 2 s)."""
-        with self._lock:
-            self._player_token += 1
-        th = self._player
-        if th is not None and th is not threading.current_thread():
-            th.join(timeout=2.0)
-        self._player = None
-
-    def start_player(self, body: Callable[[int], None]) -> None:
-        """Stop the running player and run ``body(token)`` in a new daemon thread."""
-        self.stop_player()
-        with self._lock:
-            token = self._player_token
-        th = threading.Thread(target=body, args=(token,), daemon=True, name="armkit-view-player")
-        self._player = th
-        th.start()
-
-    def player_alive(self, token: int) -> bool:
-        """True while the player started with ``token`` should go on."""
-        return token == self._player_token and not self._stop.is_set()
-
-    def player_wait(self, seconds: float) -> bool:
-        """Sleep ``seconds`` between a player's frames; returns True at once when the view closes."""
-        return self._stop.wait(seconds)
-
-    def _play_sweeps(self, t: Array, q_start: Array, method: str, final: IKResult) -> None:
-        p = t[:3, 3] if t.shape == (4, 4) else t
-        count = int(min(max(int(np.asarray(final.iterations)), 1), MAX_SWEEPS))
-
-        def body(token: int) -> None:
-            for k in range(1, count + 1):
-                if not self.player_alive(token):
-                    return
-                step = ik(self.robot, p, q0=q_start, method=method, max_iterations=k,  # type: ignore[arg-type]
-                          restarts=0, seed=0)
-                qk = np.asarray(step.q, dtype=float)
-                if np.all(np.isfinite(qk)) and self.robot.within_limits(qk):
-                    err = float(np.asarray(step.position_error))
-                    self.show_configuration(qk, lambda: self.panels.show_sweep(k, count, err), follow=False)
-                self._stop.wait(0.12)
-            if self.player_alive(token) and bool(np.asarray(final.success)):
-                self.show_configuration(np.asarray(final.q, dtype=float),
-                                        lambda: self.panels.show_target(t, final, False), follow=False)
-
-        self.start_player(body)
-
-    def show_path(self, path: Any, *, method: str = "ccd", frames: int = 200, seed: int = 0,
-                  times: ArrayLike | None = None, fps: float = 20.0, play: bool = True) -> Any:
-        """Play a path in the view.
-
-        Parameters
-        ----------
-        path : array_like shape (m, n), Trajectory, TrackResult or str
-            A joint path (rad / length units), a :class:`armkit.motion.trajectory.Trajectory`
-            (played against its time stamps, with the time slider), a
-            :class:`armkit.viz.tracking.TrackResult`, or a tracking path name
-            (``"random"``, ``"circle"``, ``"figure8"``, or a CSV file of x,y[,z] rows)
-            that is tracked here with ``method``.
-        method : {"ccd", "fabrik", "lm", "newton", "analytic"}
-            IK per frame for a tracking path name.
-        frames, seed : int
-            Frames and seed of a generated tracking path.
-        times : array_like, shape (m,), optional
-            Time stamps (s) of a joint path; default ``1 / fps`` apart.
-        fps : float
-            Playback rate (frames per second).
-        play : bool
-            Start playing now (else paused at the first sample).
-
-        Returns
-        -------
-        Trajectory or TrackResult
-            What is being played.
-        """
-        from ...motion.trajectory import Trajectory
-        from ..tracking import TrackResult, track
-
-        if isinstance(path, str):
-            if not 1 <= int(frames) <= 100_000:
-                raise ViewError.of("frames must be between 1 and 100000, got {frames!r}", frames=frames)
-            res = track(self.robot, path=path, method=method, frames=int(frames), seed=seed, q0=self.q)
-            self.panels.play_track(res, fps=fps, play=play)
-            return res
-        if isinstance(path, TrackResult):
-            self.panels.play_track(path, fps=fps, play=play)
-            return path
-        if isinstance(path, Trajectory):
-            traj = path
-        else:
-            Q = self.robot.check_q(path, "path")
-            if Q.ndim != 2 or len(Q) < 1:
-                raise ShapeError.of("path must have shape (m, {n}), got {shape}", n=self.robot.n, shape=Q.shape)
-            bad = ~self.robot.within_limits(Q)
-            if bad.any():
-                k = int(np.argmax(bad))
-                raise JointLimitError.of("path row {k}: joint limit: {details}", k=k,
-                                         details="; ".join(self.robot.limit_violations(Q[k])))
-            t = np.arange(len(Q)) / float(fps) if times is None else np.asarray(times, dtype=float)
-            if t.shape != (len(Q),) or not np.all(np.isfinite(t)) or np.any(np.diff(t) < 0):
-                raise ShapeError.of("times must be {m} increasing finite numbers, got shape {shape}", m=len(Q),
-                                    shape=t.shape)
-            z = np.zeros_like(Q)
-            traj = Trajectory(t=t - t[0], q=Q, qd=z, qdd=z, label="joint path")
-        self.panels.play_trajectory(traj, play=play)
-        return traj
-
-    # ------------------------------------------------------------------ misc
-    def screenshot_png(self, client: Any, width: int = 1280, height: int = 800) -> bytes:
-        """A PNG of what ``client`` (a connected browser) renders now."""
-        Image = require("PIL.Image", "a screenshot of the view")
-
-        img = client.get_render(height=height, width=width, transport_format="png")
-        buf = io.BytesIO()
-        Image.fromarray(np.asarray(img)).save(buf, format="PNG")
-        return buf.getvalue()
-
-    def save_screenshot(self, path: Any = None, *, client: Any = None, width: int = 1280,
-                        height: int = 800) -> Path:
-        """Write what a connected browser shows to a PNG file and return its path.
-
-        The file is written atomically (a temporary file in the same folder, renamed into
-        place: :func:`armkit._io.atomic_path`), so a reader never sees half a picture.
-
-        Parameters
-        ----------
-        path : str or Path, optional
-            A ``.png`` file; default ``armkit-ROBOT-YYYYmmdd-HHMMSS.png`` in
-            :attr:`screenshot_dir` (the current folder when the view started).
-        client : viser.ClientHandle, optional
-            The browser to render in; default the first one connected.
-        width, height : int
-            Size of the picture in pixels.
-
-        Raises
-        ------
-        ViewError
-            No browser has the view open (nothing renders the scene).
-        WriteError
-            ``path`` cannot be written.
-        """
-        if client is None:
-            clients = list(self.server.get_clients().values())
-            if not clients:
-                raise ViewError.of("no browser shows the view: open {url} first, then take the screenshot",
-                                   url=self.url)
-            client = clients[0]
-        return self.write_png(self.screenshot_png(client, width, height), path)
-
-    def write_png(self, png: bytes, path: Any = None) -> Path:
-        """Write PNG bytes to ``path`` (default: a new name in :attr:`screenshot_dir`) atomically."""
-        from ..._io import atomic_path
-
-        if path is None:
-            safe = re.sub(r"[^A-Za-z0-9_.-]", "_", self.robot.name) or "arm"
-            stem = f"armkit-{safe}-{time.strftime('%Y%m%d-%H%M%S')}"
-            path = Path(self.screenshot_dir) / f"{stem}.png"
-            k = 2
-            while path.exists():
-                path = Path(self.screenshot_dir) / f"{stem}-{k}.png"
-                k += 1
-        with atomic_path(path, suffixes=(".png",), what="screenshot") as tmp:
-            tmp.write_bytes(png)
-        return Path(path)
 
     def _close_from_page(self) -> None:
         """The page's close button: :meth:`wait` returns and the view closes."""
