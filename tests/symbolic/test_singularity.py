@@ -13,9 +13,19 @@ sp = pytest.importorskip("sympy")
 from armkit.analysis.singularity import analyze_singularities, factor_trig, plot_manipulability  # noqa: E402
 
 
+class _Analyzed(dict):
+    """Analyzes a robot the first time a test asks for it: a worker of ``pytest -n`` that runs only the planar2
+    tests never pays for puma560's analysis (~9 s of CPU with its derivation, ~2.5 s without)."""
+
+    def __missing__(self, name: str):
+        self[name] = analyze_singularities(armkit.load(name))
+        return self[name]
+
+
 @pytest.fixture(scope="module")
 def results():
-    return {name: analyze_singularities(armkit.load(name)) for name in ("planar2", "fighter", "puma560")}
+    """One analysis per robot (planar2, fighter, puma560) for the whole module, made on first use."""
+    return _Analyzed()
 
 
 def _by_kind(res, kind):

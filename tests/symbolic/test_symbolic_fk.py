@@ -39,14 +39,34 @@ class _Derived(dict):
     def __missing__(self, name: str) -> tuple:
         r = _custom() if name == "custom" else armkit.load(name)
         d = derive(r, simplify=r.n <= 6 and r.is_dh)   # URDF arms (so101: offsets like -76.03 deg) raw
+        self[name] = (r, d)
+        return self[name]
+
+
+class _Lambdified(dict):
+    """The lambdified T and J of a derived robot, made the first time a test asks for them: only the numeric
+    comparison needs them, and for the raw so101 products they cost ~13 s of CPU (``Derivation.lambdify``)."""
+
+    def __init__(self, derived: _Derived) -> None:
+        super().__init__()
+        self.derived = derived
+
+    def __missing__(self, name: str) -> tuple:
+        r, d = self.derived[name]
         self[name] = (r, d, d.lambdify("T"), d.lambdify("J"))
         return self[name]
 
 
 @pytest.fixture(scope="module")
 def derived():
-    """One derivation and its lambdified T, J per robot (simplified up to 6 joints, raw products for 7 and URDF arms)."""
+    """One derivation per robot (simplified up to 6 joints, raw products for 7 and URDF arms): (robot, derivation)."""
     return _Derived()
+
+
+@pytest.fixture(scope="module")
+def lambdified(derived):
+    """One lambdified T, J per robot on top of :func:`derived`: (robot, derivation, T(q), J(q))."""
+    return _Lambdified(derived)
 
 
 def _q_in_limits(r: armkit.Robot, u: list[float]) -> np.ndarray:
@@ -58,8 +78,8 @@ def _q_in_limits(r: armkit.Robot, u: list[float]) -> np.ndarray:
 @pytest.mark.parametrize("name", ROBOTS + ["custom"])
 @settings(max_examples=8)
 @given(u=st.lists(st.floats(0, 1), min_size=7, max_size=7))
-def test_symbolic_fk_and_jacobian_match_numeric(derived, name, u):
-    r, d, f_T, f_J = derived[name]
+def test_symbolic_fk_and_jacobian_match_numeric(lambdified, name, u):
+    r, d, f_T, f_J = lambdified[name]
     q = _q_in_limits(r, u)
     scale = max(1.0, r.reach)
     np.testing.assert_allclose(np.array(f_T(q), dtype=float), armkit.fk(r, q), atol=1e-12 * scale)
@@ -68,7 +88,7 @@ def test_symbolic_fk_and_jacobian_match_numeric(derived, name, u):
 
 @pytest.mark.parametrize("name", [n for n in ROBOTS if armkit.load(n).n <= 6] + ["custom"])
 def test_generated_numpy_module_imports_and_matches(derived, name, tmp_path):
-    r, d, _, _ = derived[name]
+    r, d = derived[name]
     path = tmp_path / f"gen_{name}.py"
     path.write_text(to_numpy_source(d))
     spec = importlib.util.spec_from_file_location(f"gen_{name}", path)
@@ -85,7 +105,7 @@ def test_generated_numpy_module_imports_and_matches(derived, name, tmp_path):
 
 
 def test_planar2_hand_formulas(derived):
-    _, d, _, _ = derived["planar2"]
+    _, d = derived["planar2"]
     q1, q2 = d.q
     a1, a2 = sp.symbols("a1 a2", real=True)
     assert sp.simplify(d.T[0, 3] - (a1 * sp.cos(q1) + a2 * sp.cos(q1 + q2))) == 0
@@ -98,7 +118,7 @@ def test_planar2_hand_formulas(derived):
 
 def test_planar3_modified_dh_hand_formula(derived):
     """Craig's 3R arm: x = l1 c1 + l2 c12 + l3 c123 with l3 the tool (a_{i-1} named a1, a2)."""
-    _, d, _, _ = derived["planar3"]
+    _, d = derived["planar3"]
     q1, q2, q3 = d.q
     a1, a2, tx = sp.symbols("a1 a2 t_x", real=True)
     x = a1 * sp.cos(q1) + a2 * sp.cos(q1 + q2) + tx * sp.cos(q1 + q2 + q3)
@@ -108,11 +128,11 @@ def test_planar3_modified_dh_hand_formula(derived):
 
 
 def test_exact_angles_make_exact_zeros(derived):
-    _, d, _, _ = derived["fighter"]
+    _, d = derived["fighter"]
     A1 = d.links[0]
     assert A1[1, 1] == 0 and A1[2, 1] == 1 and A1[2, 2] == 0      # alpha = 90 deg exactly
     assert exact_angle(math.radians(90)) == sp.pi / 2 and exact_angle(0.4) is None
-    _, dc, _, _ = derived["custom"]
+    _, dc = derived["custom"]
     assert "alpha2" in {s.name for s in dc.values}                # -0.4 rad stays a named parameter
 
 
@@ -123,7 +143,7 @@ def test_shorthand_only_plain_joint_sums():
 
 
 def test_latex_has_every_link_product_and_jacobian(derived):
-    _, d, _, _ = derived["fighter"]
+    _, d = derived["fighter"]
     tex = to_latex(d)
     assert tex.startswith("\\documentclass") and tex.rstrip().endswith("\\end{document}")
     for i in (1, 2, 3):
