@@ -57,7 +57,7 @@ FLOORS: tuple[tuple[str, tuple[str, ...]], ...] = (
     ("ik", ("ik",)),
     ("analysis", ("analysis", "motion", "reach", "symbolic")),
     ("viz", ("viz",)),
-    ("top", ("cli", "warmup", "lerobot", "__init__")),
+    ("top", ("cli", "warmup", "lerobot", "_lerobot_kinematics", "__init__")),
 )
 """The floors, lowest first, and the rooms on each. ``__init__`` is ``armkit/__init__.py``."""
 
