@@ -21,22 +21,7 @@ from hypothesis import strategies as st
 import armkit
 from armkit.ik.analytic import closed_form, single_call
 from armkit.ik.analytic._common import HALF_PI, IDEAL_ANGLE_TOL, _snap
-from armkit.model.robot import Joint, Robot
-
-
-def _flipped(robot: Robot) -> Robot:
-    """The same arm as a URDF chain with joint 1's axis reversed (q1 -> -q1)."""
-    c = robot.chain
-    joints, X, prev = [], c.base.copy(), np.eye(4)
-    for k in range(robot.n):
-        A = X @ c.pre[k]
-        j = robot.joints[k]
-        origin = tuple(tuple(float(v) for v in row) for row in np.linalg.inv(prev) @ A)
-        joints.append(Joint(name=j.name, kind=j.kind, lower=-np.inf, upper=np.inf, origin=origin,
-                            axis=(0.0, 0.0, -1.0 if k == 0 else 1.0)))
-        X, prev = A @ c.post[k], A
-    return Robot(joints, convention="urdf", name=robot.name + "-flipped", unit=robot.unit,
-                 tool=np.linalg.inv(prev) @ X @ c.tool)
+from test_single_call import _flipped          # the reversed-axis arm, built once for both files
 
 
 @settings(max_examples=200, deadline=None)
