@@ -56,21 +56,11 @@ def _wrap(a: np.ndarray) -> np.ndarray:
 
 
 def _flipped(robot):
-    """The same arm as a URDF-convention robot with joint 1's axis reversed (same geometry, q1 -> -q1): its
-    DH twin has a twist one ulp off -pi/2 (round-off, so still an exact arm: the UR family answers it)."""
-    from armkit.model.robot import Joint, Robot
+    """The same arm with joint 1's axis reversed (same geometry, q1 -> -q1; :func:`armkit.model.axes.with_axes_reversed`):
+    its DH twin has a twist one ulp off -pi/2 (round-off, so still an exact arm: the UR family answers it)."""
+    from armkit.model.axes import with_axes_reversed
 
-    c = robot.chain
-    joints, X, prev = [], c.base.copy(), np.eye(4)
-    for k in range(robot.n):
-        A = X @ c.pre[k]
-        j = robot.joints[k]
-        origin = tuple(tuple(float(v) for v in row) for row in np.linalg.inv(prev) @ A)
-        joints.append(Joint(name=j.name, kind=j.kind, lower=-np.inf, upper=np.inf, origin=origin,
-                            axis=(0.0, 0.0, -1.0 if k == 0 else 1.0)))
-        X, prev = A @ c.post[k], A
-    return Robot(joints, convention="urdf", name=robot.name + "-flipped", unit=robot.unit,
-                 tool=np.linalg.inv(prev) @ X @ c.tool)
+    return with_axes_reversed(robot)
 
 
 def _best(fn, repeat: int) -> float:

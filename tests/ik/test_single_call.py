@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import importlib
 import importlib.util
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -24,7 +25,8 @@ from hypothesis import strategies as st
 import armkit
 from armkit.errors import IKInputError, ShapeError
 from armkit.ik.analytic import closed_form, single_call
-from armkit.model.robot import Joint, Robot
+from armkit.model.axes import with_axes_reversed
+from armkit.model.robot import Robot
 
 api = importlib.import_module("armkit.ik.api")
 FIELDS = ("q", "success", "position_error", "rotation_error", "iterations", "branch", "within_limits", "reason",
@@ -32,19 +34,11 @@ FIELDS = ("q", "success", "position_error", "rotation_error", "iterations", "bra
 
 
 def _flipped(robot: Robot) -> Robot:
-    """The same arm as a URDF-convention robot with joint 1's axis reversed (q1 -> -q1): the DH-pattern
+    """The same arm as a URDF-convention robot with joint 1's axis reversed (q1 -> -q1), limits off: the DH-pattern
     families no longer match it, so the geometric family answers."""
-    c = robot.chain
-    joints, X, prev = [], c.base.copy(), np.eye(4)
-    for k in range(robot.n):
-        A = X @ c.pre[k]
-        j = robot.joints[k]
-        origin = tuple(tuple(float(v) for v in row) for row in np.linalg.inv(prev) @ A)
-        joints.append(Joint(name=j.name, kind=j.kind, lower=-np.inf, upper=np.inf, origin=origin,
-                            axis=(0.0, 0.0, -1.0 if k == 0 else 1.0)))
-        X, prev = A @ c.post[k], A
-    return Robot(joints, convention="urdf", name=robot.name + "-flipped", unit=robot.unit,
-                 tool=np.linalg.inv(prev) @ X @ c.tool)
+    flipped = with_axes_reversed(robot)
+    return Robot([replace(j, lower=-np.inf, upper=np.inf) for j in flipped.joints], convention="urdf",
+                 name=flipped.name, unit=flipped.unit, tool=flipped.chain.tool)
 
 
 ARMS = {"planar2": "point", "planar3": "pose", "fighter": "point", "puma560": "pose", "ur5": "pose",

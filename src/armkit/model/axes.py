@@ -15,14 +15,15 @@ and the pictures read the same axes.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ..errors import ShapeError
-from .robot import Robot
+from .robot import Joint, Robot
 
-__all__ = ["joint_axes", "home_pose"]
+__all__ = ["joint_axes", "home_pose", "with_axes_reversed"]
 
 Array = NDArray[np.float64]
 
@@ -77,3 +78,48 @@ def home_pose(robot: Robot) -> Array:
     for F in c.fixed:                        # base·pre_1, post_1·pre_2, ..., post_n·tool: every M_i is 1 at q = 0
         T = T @ F
     return T
+
+
+def with_axes_reversed(robot: Robot, joints: Sequence[int] = (0,)) -> Robot:
+    """The same arm written as a URDF-convention robot whose listed joints turn (or slide) the other way.
+
+    Joint ``k`` in ``joints`` (0-based) gets the axis ``(0, 0, -1)`` in its own frame, so ``q_k`` of the new robot
+    is ``-q_k`` of the old one, and its limits become ``[-upper, -lower]``; every other joint, the base and the
+    tool stay as they are. The geometry is unchanged, which makes it the test of anything that must not depend
+    on which way an axis points (the closed-form classes, ``armkit info``).
+
+    Parameters
+    ----------
+    robot : Robot
+    joints : sequence of int
+        Indices of the joints to reverse, 0-based (joint 1 by default).
+
+    Returns
+    -------
+    Robot
+        Named ``<name>-flipped``; ``fk(new, q') == fk(robot, q)`` where ``q'`` is ``q`` with the listed entries
+        negated.
+
+    >>> import armkit, numpy as np
+    >>> ur5 = armkit.load("ur5")
+    >>> flipped = with_axes_reversed(ur5)
+    >>> q = np.array([0.3, -1.0, 0.5, 0.2, 1.1, -0.4])
+    >>> bool(np.allclose(armkit.fk(flipped, q * [-1, 1, 1, 1, 1, 1]), armkit.fk(ur5, q), atol=1e-12))
+    True
+    """
+    flip = {int(k) for k in joints}
+    bad = sorted(k for k in flip if not 0 <= k < robot.n)
+    if bad:
+        raise ShapeError.of("joint index {k} is outside 0..{last}", k=bad[0], last=robot.n - 1)
+    c = robot.chain
+    new: list[Joint] = []
+    X, prev = c.base.copy(), np.eye(4)
+    for k, j in enumerate(robot.joints):
+        A = X @ c.pre[k]                     # joint k's frame in the world: its z axis is the joint axis
+        origin = tuple(tuple(float(v) for v in row) for row in np.linalg.inv(prev) @ A)
+        lower, upper = (-j.upper, -j.lower) if k in flip else (j.lower, j.upper)
+        new.append(Joint(name=j.name, kind=j.kind, lower=lower, upper=upper, origin=origin,
+                         axis=(0.0, 0.0, -1.0 if k in flip else 1.0)))
+        X, prev = A @ c.post[k], A
+    return Robot(new, convention="urdf", name=robot.name + "-flipped", unit=robot.unit,
+                 tool=np.linalg.inv(prev) @ X @ c.tool)
