@@ -21,10 +21,10 @@ is one row of :data:`KIND_TABLE` (``docs/adding-a-primitive.md``).
 from __future__ import annotations
 
 from .geometry import ArmGeometry, RobotCollision, arm_geometry, robot_collision, robot_scene
-from .query import (Collisions, as_scene, checked_against, checked_note, clearance, collisions, in_collision,
-                    resolve_scene)
+from .query import (Collisions, as_scene, checked_against, checked_note, clearance, colliding_rows, collisions,
+                    in_collision, resolve_scene)
 from .shapes import KIND_TABLE, KINDS, Scene, SceneError, Shape, ShapeKind
 
-__all__ = ["Scene", "Shape", "SceneError", "KINDS", "KIND_TABLE", "ShapeKind", "Collisions", "collisions", "clearance", "in_collision", "as_scene",
+__all__ = ["Scene", "Shape", "SceneError", "KINDS", "KIND_TABLE", "ShapeKind", "Collisions", "collisions", "clearance", "in_collision", "colliding_rows", "as_scene",
            "resolve_scene", "checked_against", "checked_note",
            "ArmGeometry", "RobotCollision", "arm_geometry", "robot_collision", "robot_scene"]

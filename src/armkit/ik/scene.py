@@ -1,9 +1,9 @@
 """IK with a scene: solutions that collide are not solutions.
 
 On the ik floor, above collision (docs/architecture.md): it uses the collision package's
-public API only (:func:`armkit.collision.in_collision`, :func:`armkit.collision.collisions`,
-:func:`armkit.collision.as_scene`), and is imported by :mod:`armkit.ik.api` only when a
-``scene=`` is given (the collision package is not loaded at ``import armkit``).
+public API only (:func:`armkit.collision.colliding_rows`, :func:`armkit.collision.as_scene`), and
+is imported by :mod:`armkit.ik.api` only when a ``scene=`` is given (the collision package is not
+loaded at ``import armkit``).
 
 :func:`mark` turns successful IK results whose configuration collides into failures with
 ``reason="collision"`` and a message naming the pair and the depth; :func:`sort_branches`
@@ -18,7 +18,7 @@ from typing import Any, Callable
 
 import numpy as np
 
-from ..collision import Scene, as_scene, collisions, in_collision
+from ..collision import Scene, as_scene, colliding_rows
 from ..model.robot import Robot
 from .result import IKResult
 
@@ -39,10 +39,9 @@ def mark(robot: Robot, res: IKResult, scene: Scene) -> IKResult:
         return res
     q = np.asarray(res.q)
     candidates = q[ok]
-    bad_rows = np.flatnonzero(in_collision(robot, candidates, scene))   # the fast yes/no check first
+    bad_rows, messages = colliding_rows(robot, candidates, scene)   # one pass: rows, then pairs and depths
     if not len(bad_rows):
         return res
-    hits = collisions(robot, candidates[bad_rows], scene)               # pairs and depths for the messages
     success = ok.copy()
     reason = np.array(res.reason, dtype=object, copy=True)
     message = np.array(res.message, dtype=object, copy=True)
@@ -51,7 +50,7 @@ def mark(robot: Robot, res: IKResult, scene: Scene) -> IKResult:
         idx = tuple(where[k])
         success[idx] = False
         reason[idx] = "collision"
-        message[idx] = hits.message(m)
+        message[idx] = messages[m]
     ok_out: Any = success if np.ndim(res.success) else np.bool_(success[()])
     return replace(res, success=ok_out, reason=_like(res.reason, reason), message=_like(res.message, message))
 
