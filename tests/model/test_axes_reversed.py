@@ -58,5 +58,5 @@ def test_urdf_arm_and_bad_index():
     q = np.array([0.3, -1.0, 0.5, 0.2, 1.1, -0.4])
     assert np.allclose(armkit.fk(new, q * [-1, 1, 1, -1, 1, 1]), armkit.fk(ur5, q), atol=1e-12)
     assert new.name == "ur5-flipped" and new.joint_names == ur5.joint_names
-    with pytest.raises(ShapeError, match="outside 0..5"):
+    with pytest.raises(ShapeError, match="numbered from 0 to 5"):
         with_axes_reversed(ur5, [6])

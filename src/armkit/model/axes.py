@@ -110,7 +110,7 @@ def with_axes_reversed(robot: Robot, joints: Sequence[int] = (0,)) -> Robot:
     flip = {int(k) for k in joints}
     bad = sorted(k for k in flip if not 0 <= k < robot.n)
     if bad:
-        raise ShapeError.of("joint index {k} is outside 0..{last}", k=bad[0], last=robot.n - 1)
+        raise ShapeError.of("there is no joint {k}: the joints are numbered from 0 to {last}", k=bad[0], last=robot.n - 1)
     c = robot.chain
     new: list[Joint] = []
     X, prev = c.base.copy(), np.eye(4)
