@@ -667,10 +667,10 @@ def _closed_one(robot: Robot, flat: Array, q0f: Array, lead: tuple[int, ...], po
     if branch is None and scene is None and fixed is None:   # shaped lead + (...) already
         return _nearest_branch(robot, flat, q0f, position_only, tol, enforce_limits, solver, lead)
     every = _all_branches(robot, flat, q0f, position_only, tol, enforce_limits, fixed)
-    if branch is None:   # with a scene: the nearest branch that does not collide
+    if branch is None:   # the nearest branch (with a scene: the nearest that does not collide)
         from .scene import mark, sort_branches
 
-        every = sort_branches(mark(robot, every, scene))
+        every = sort_branches(mark(robot, every, scene) if scene is not None else every)
         return _reshape(every[np.arange(len(flat)), 0], lead)
     hit = every.branch == branch
     if not hit.any(axis=1).all():
