@@ -109,14 +109,20 @@ def _wrap(x):
 
 # -------------------------------------------------------------------------------- the quartic
 def _cubic_max(a2, a1, a0):
-    """The largest real root of ``z³ + a2 z² + a1 z + a0`` (trigonometric or Cardano form, then Newton)."""
+    """The largest real root of ``z³ + a2 z² + a1 z + a0`` (trigonometric or Cardano form, then Newton steps
+    that are small and each decrease the cubic's size: a double largest root is kept as the closed form gives it)."""
     p = a1 - a2 * a2 / 3.0
     q = 2.0 * a2 * a2 * a2 / 27.0 - a2 * a1 / 3.0 + a0
     disc = 0.25 * q * q + p * p * p / 27.0
-    if disc > 0.0:                        # Cardano: ∛u + ∛v with ∛u ∛v = −p / 3 (u the larger, one cube root)
+    if disc > 1e-12 * 0.25 * q * q:       # Cardano: ∛u + ∛v with ∛u ∛v = −p / 3 (u the larger, one cube root);
+        # below that, a double root where rounding made disc > 0: Cardano would give the simple root, the
+        # trigonometric form (its argument clamped to ±1) the double one too
         u = -0.5 * q - math.copysign(math.sqrt(disc), q)
         cu = math.copysign(abs(u) ** (1.0 / 3.0), u)
         w = cu - p / (3.0 * cu)
+        wp = -0.5 * w                     # the real part of the complex pair (the three sum to 0)
+        if wp > w and abs((wp * wp + p) * wp + q) <= 1e-13 * (abs(a2) ** 3 + abs(a2 * a1) + abs(a0)):
+            w = wp                        # a pair real up to the rounding of p, q (a double root above w)
     elif p < 0.0:
         m = math.sqrt(-p / 3.0)
         arg = -0.5 * q / (m * m * m)
@@ -125,13 +131,22 @@ def _cubic_max(a2, a1, a0):
     else:
         w = 0.0
     z = w - a2 / 3.0
-    for _ in range(3):
-        f = ((z + a2) * z + a1) * z + a0
+    f = ((z + a2) * z + a1) * z + a0
+    for _ in range(3):                    # Newton, a step kept only when it is small and decreases |f|: at a
+        if f == 0.0:                      # double root f and f' are both rounding, and their ratio would throw
+            break                         # z far away (onto another root, even)
         d = (3.0 * z + 2.0 * a2) * z + a1
         if d == 0.0:
             break
         dz = f / d
-        z -= dz
+        if abs(dz) > 1e-4 * (1.0 + abs(z)):
+            break
+        zn = z - dz
+        fn = ((zn + a2) * zn + a1) * zn + a0
+        if abs(fn) >= abs(f):
+            break
+        z = zn
+        f = fn
         if abs(dz) <= 1e-16 * (1.0 + abs(z)):
             break
     return z
