@@ -32,6 +32,12 @@ samples by distance (a step where they do not pair up one to one within 0.1 rad 
   :data:`EDGE_N` more times towards it, quadratically spaced, then as above (sign changes, and
   extrema turning back towards 0).
 
+The turn is closed: its last sample is its first (copied; evaluated again at ``−π + N step`` ≈ π, rounding could
+give the two copies residuals of opposite signs around a root at ±π, which then fell between them). A residual
+within :data:`ZERO` of 0 at a sample is a root there (a joint value such as 0 or ±π puts one exactly on a
+sample), and the sign changes of the steps beside it are tested :data:`NUDGE` of a step inside (a second root
+can share the step: its sign at the sample is rounding).
+
 Resolution: :data:`N` = 240 samples (1.5° apart), :data:`SUB_N` × finer in ambiguous steps. A root
 can be missed only when three or more roots of one branch lie within one step, two within 3e-10
 rad of a branch end, or a double root's residual stays above 1e-12, or two roots crowd within one
@@ -71,6 +77,10 @@ EDGE_N = 6
 """Samples (quadratically spaced) between the last sample of a branch and where it ends (was 10; with the end
 bracketed by :func:`_settled`, 6 lose nothing against the dense scan of the tests)."""
 MAXROOT = 64
+ZERO = 1e-12
+"""A residual at a sample within this of 0 is a root on the sample (its sign is rounding)."""
+NUDGE = 1e-6
+"""Where a step with such a sample at an end is tested for a sign change instead (fraction of the step)."""
 TI, TP, SW, SM = 0, 1, 2, 3
 """The kinds of search (see the table above)."""
 
@@ -412,7 +422,7 @@ def _edge(kind, H, P, C, x0, ref, x1, roots, m):
         if fa * fb < 0.0:
             if _refine(kind, H, P, C, xa, fa, prev, xb, fb, out):
                 m = _add(roots, m, out)
-        elif fb == 0.0:
+        elif abs(fb) <= ZERO:
             out[0] = xb
             out[1] = S[i, 0]
             out[2] = S[i, 1]
@@ -435,7 +445,7 @@ def _dists(Sa, ca, Sb, cb, D):
             D[j, k] = _adist(Sa[j], Sb[k])
 
 
-def _pair(kind, H, P, C, xa, Sa, Ea, ca, xb, Sb, Eb, cb, D, roots, m, out, pp):
+def _pair(kind, H, P, C, xa, Sa, Ea, ca, xb, Sb, Eb, cb, D, roots, m, out, pp, wk):
     """Roots between two neighbouring samples: their branches paired one to one, nearest pairs first (within
     0.5 rad; ``D`` from :func:`_dists`), sign changes refined; a branch left without a partner ends in between
     (:func:`_edge`). ``out (4,)``, ``pp (2, 4)``: work space."""
@@ -470,16 +480,39 @@ def _pair(kind, H, P, C, xa, Sa, Ea, ca, xb, Sb, Eb, cb, D, roots, m, out, pp):
             continue
         fa = Ea[j]
         fb = Eb[k]
-        if fa == 0.0:
+        a = xa
+        b = xb
+        ra = Sa[j]
+        rb = Sb[k]
+        if abs(fa) <= ZERO:          # a root on the sample itself: kept, and the step looked at from just inside
             out[0] = xa
             out[1] = Sa[j, 0]
             out[2] = Sa[j, 1]
             out[3] = Sa[j, 2]
             m = _add(roots, m, out)
-        elif fa * fb < 0.0:
-            if _refine(kind, H, P, C, xa, fa, Sa[j], xb, fb, out):
+            a = xa + NUDGE * (xb - xa)
+            fa = _near(kind, H, P, C, a, Sa[j], wk[0])
+            ra = wk[0]
+        if abs(fb) <= ZERO:          # (its own root is kept from the next step, which begins there)
+            b = xb - NUDGE * (xb - xa)
+            fb = _near(kind, H, P, C, b, Sb[k], wk[1])
+        if fa * fb < 0.0:
+            if _refine(kind, H, P, C, a, fa, ra, b, fb, out):
                 m = _add(roots, m, out)
     return m
+
+
+def _near(kind, H, P, C, x, ref, cur):
+    """The residual at ``x`` of the branch nearest ``ref`` (within 0.5 rad; that branch into ``cur``), 0 if
+    none (no sign change to refine then)."""
+    S = np.empty((4, 3))
+    E = np.empty(4)
+    i, d = _pick(kind, H, P, C, x, ref, S, E)
+    if i < 0 or d > 0.5:
+        return 0.0
+    for k in range(3):
+        cur[k] = S[i, k]
+    return E[i]
 
 
 def _ambiguous(D, ca, cb):
@@ -581,7 +614,12 @@ def _search(kind, H, P, C, n, roots):
     xs = np.empty(n + 1)
     for i in range(n + 1):
         xs[i] = -_PI + i * step
-    _scan(kind, H, P, C, xs, S, E, cnt)
+    _scan(kind, H, P, C, xs[:n], S, E, cnt)
+    # the last sample is the first one a turn on: the same branches, the same residuals (evaluated again at
+    # ``−π + n step`` ≈ π they differ by rounding, and a root at ±π would fall between the two copies)
+    S[n] = S[0]
+    E[n] = E[0]
+    cnt[n] = cnt[0]
     D = np.empty((n, 4, 4))
     for i in range(n):
         _dists(S[i], cnt[i], S[i + 1], cnt[i + 1], D[i])
@@ -593,6 +631,7 @@ def _search(kind, H, P, C, n, roots):
     out = np.empty(4)
     mid = np.empty(3)
     pp = np.empty((2, 4), dtype=np.int64)
+    wk = np.empty((2, 3))
     for i in range(n):
         xa = -_PI + i * step
         if cnt[i] == 0 and cnt[i + 1] == 0:
@@ -614,18 +653,18 @@ def _search(kind, H, P, C, n, roots):
                 _dists(Ss[k], cs[k], Ss[k + 1], cs[k + 1], Ds[k])
             for k in range(SUB_N):
                 m = _pair(kind, H, P, C, xa + k * h, Ss[k], Es[k], cs[k], xa + (k + 1) * h, Ss[k + 1], Es[k + 1],
-                          cs[k + 1], Ds[k], roots, m, out, pp)
+                          cs[k + 1], Ds[k], roots, m, out, pp, wk)
                 if k + 2 <= SUB_N:
                     m = _extrema(kind, H, P, C, xa, h, Ss, Es, cs, Ds, k, roots, m, out, mid)
         else:
             m = _pair(kind, H, P, C, xa, S[i], E[i], cnt[i], xa + step, S[i + 1], E[i + 1], cnt[i + 1], D[i], roots,
-                      m, out, pp)
+                      m, out, pp, wk)
         m = _extrema(kind, H, P, C, -_PI, step, S, E, cnt, D, i, roots, m, out, mid)
     return m
 
 
 KERNELS = ("_eval_ti", "_point5", "_eval_tp", "_eval_sw", "_eval_sm", "_eval", "_adist", "_nearest", "_pick",
-           "_refine", "_add", "_dip", "_settled", "_edge", "_dists", "_pair", "_ambiguous", "_match", "_extrema", "_scan",
+           "_refine", "_add", "_dip", "_settled", "_edge", "_dists", "_near", "_pair", "_ambiguous", "_match", "_extrema", "_scan",
            "_search")
 """The functions :func:`kernels` compiles, callees before callers (the scalar helpers: :mod:`._kernels`)."""
 _KERNELS: Optional[types.SimpleNamespace] = None
