@@ -198,6 +198,8 @@ class Locked:
         # steps, ~10 ms) only when the robot's own relations are approximate (a calibrated file)
         self.polish_unreachable = bool(classify(robot).near > 1e-12) if swept is not None else cls.near > 1e-12
         self.free = np.array([j for j in free if swept is None or j != swept[0]], dtype=np.int64)
+        self._held_idx = np.array(sorted(self.held), dtype=np.int64)     # the compiled layout's (locked_jit.layout)
+        self._held_val = np.array([self.held[k] for k in sorted(self.held)], dtype=float)
         self.V = len(forms)
         self.m = self.V * self.m6
         names = robot.joint_names
@@ -209,6 +211,7 @@ class Locked:
             self.branch_labels = tuple(f"{names[swept[0]]}={v:.4f}/s{j + 1}" for v in self.values
                                        for j in range(self.m6))
         self.notes = self._notes()
+        self._labels = np.array(self.branch_labels, dtype=object)
         own = closed_form(robot)     # the joint table of solve_all is kept per robot: use the same DH offsets
         theta = np.zeros(robot.n) if own is None else np.asarray(own.sf.theta, dtype=float)
         eye = np.eye(4)
@@ -253,10 +256,12 @@ class Locked:
             cand[:] = NF
             # candidates that failed the check while the target is in reach (a value where the ideal chain is
             # only nearly the true one): Newton steps on the full arm, all of them in one batch
-            idx = np.arange(M)
-            near = ~LS & (idx >= good[..., None]) & (idx < (good + NF)[..., None])
-            if near.any():
-                self._polish_near(Q, good, near, target, q0)
+            lj = _layout_kernels()
+            if lj is None or lj.near_count(LS, good, NF):
+                idx = np.arange(M)
+                near = ~LS & (idx >= good[..., None]) & (idx < (good + NF)[..., None])
+                if near.any():
+                    self._polish_near(Q, good, near, target, q0)
             return Q, good, cand
         for v in range(V):            # without the compiled kernels: the solvers one target at a time
             for b in range(B):
@@ -341,6 +346,16 @@ class Locked:
             ref = ref[:, ::-1]
         R, p, ref = (np.ascontiguousarray(a, dtype=float) for a in (R, p, ref))
         Q, good, cand = self._candidates(R, p, ref, target, q0)
+        lj = _layout_kernels()
+        if lj is not None:      # the layout below in one compiled call (the same values)
+            q = np.empty((B, m, self.robot.n))
+            unreachable = np.empty((B, m), dtype=np.bool_)
+            found = np.empty((B, V), dtype=np.int64)
+            lj.layout(Q, good, cand, m6, self.inverted, self.free, self._held_idx, self._held_val,
+                      -1 if self.swept is None else self.swept[0], self.values, q0phi, theta, q, unreachable, found)
+            label = np.broadcast_to(self._labels, (B, m)).copy()
+            note = np.broadcast_to(self.notes, (B, m)).copy()
+            return Raw(q, label, unreachable, self._why(found), note, unreachable.copy())
         Q = np.swapaxes(Q[:, :, :m6], 0, 1)              # (B, V, m6, 6)
         if self.inverted:
             Q = Q[..., ::-1]
@@ -356,7 +371,7 @@ class Locked:
         if self.swept is not None:
             q[:, :, self.swept[0]] = np.repeat(self.values, m6)[None, :]
         unreachable = ~(idx < np.minimum(good, m6)[..., None]).reshape(B, m)
-        label = np.broadcast_to(np.array(self.branch_labels, dtype=object), (B, m)).copy()
+        label = np.broadcast_to(self._labels, (B, m)).copy()
         note = np.broadcast_to(self.notes, (B, m)).copy()
         return Raw(q + theta, label, unreachable, self._why(np.minimum(good, m6)), note, unreachable.copy())
 
@@ -390,6 +405,13 @@ class Locked:
             memo[(b, v)] = text
             return text
         return why
+
+
+def _layout_kernels() -> Any:
+    """:mod:`.locked_jit` while the Numba back end serves, else None (the NumPy layout of :meth:`Locked.solve`)."""
+    from ... import _jit_loader
+
+    return _jit_loader.kernels("ik.geometric.locked_jit")
 
 
 def _with_name(cls: Any, name: str, inverted: bool) -> Any:
