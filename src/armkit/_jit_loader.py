@@ -56,7 +56,8 @@ _PKG = Path(__file__).resolve().parent
 _SOURCES = ("kinematics/_jit.py", "ik/_jit_lm.py", "ik/_jit_verify.py", "ik/analytic/_jit.py", "ik/analytic/_layout.py",
             "ik/geometric/_kernels.py", "ik/geometric/subproblems.py", "ik/geometric/solvers.py", "ik/geometric/solvers_wrist.py",
             "ik/geometric/solvers_parallel.py", "ik/geometric/solvers_search.py", "ik/geometric/solvers_check.py",
-            "ik/geometric/solvers_chain.py", "ik/geometric/one_call.py", "ik/geometric/search.py",
+            "ik/geometric/solvers_chain.py", "ik/geometric/one_call.py", "ik/geometric/locked_jit.py",
+            "ik/geometric/batched.py", "ik/geometric/search.py",
             "ik/geometric/search2d.py", "ik/analytic/_yaw_pitch3_jit.py", "ik/analytic/_yaw_pitch3_teleop.py",
             "ik/analytic/_single.py", "_jit_loader.py", "_jit_twins.py", "warmup.py")
 COMPILE_SECONDS = 45

@@ -94,6 +94,7 @@ def _exercise_families() -> None:
     T = fk(stanford, stanford.random_q(rng=4))
     ik(stanford, T)
     ik_all(stanford, T)
+    ik_all(stanford, fk(stanford, stanford.random_q(4, rng=5)))   # a batch: ik/geometric/batched.py
     iiwa = load("iiwa14")                      # the sweep of 7-joint arms (solvers._sweep, ik.geometric.locked)
     ik_all(iiwa, fk(iiwa, iiwa.random_q(rng=3)))
     from .lerobot import RobotKinematics      # the SO-101's single-call kernels (ik/analytic/_yaw_pitch3_teleop.py)
@@ -110,6 +111,12 @@ def _exercise_parallel() -> None:
         for serial, parallel in _jit_loader.module(name).parallel_twins():
             for sig in list(serial.signatures):
                 parallel.compile(sig)
+    from .ik.geometric import batched          # the geometric family's batch layout (its own twin)
+
+    K = batched.kernels()
+    if K is not None:
+        for sig in list(K.serial.signatures):
+            K.parallel.compile(sig)
 
 
 def _run_serial_phase() -> None:

@@ -75,6 +75,7 @@ def solver_name(robot: Robot) -> tuple[str, int, bool, Any] | None:
 
 
 _UNSET: Any = object()
+_SINGULAR = "singular wrist: a family of solutions; this one keeps the free joint at its start value."
 
 
 def _why(found: int, m: int) -> str:
@@ -136,6 +137,24 @@ class Geometric:
             self._geometry = g if g is not None and one_call.kernel() is not None else None
         return self._geometry
 
+    def _batched(self, target: Array, q0phi: Array) -> tuple | None:
+        """``(solver case, the arrays of :func:`armkit.ik.geometric.batched.solve`)``: the batch in one compiled
+        call when Numba is there (as :func:`~armkit.ik.geometric.solvers.solve_batch` takes it) and the class is
+        solved by a kernel of :data:`armkit.ik.geometric.solvers._CASES`; else None."""
+        from ..geometric import solvers
+
+        name = self.solver
+        if name == "spherical_wrist":
+            name = solvers._cached(self.form, "wrist case", lambda: solvers._wrist_case(self.form))
+        if name not in solvers._CASES:
+            return None
+        from ..geometric import batched
+
+        prep = solvers._prepare(self.form, name)
+        out = batched.solve(prep, self.inverted, self.m, target, q0phi, solvers.SEARCH_N, solvers.TOL * prep.scale,
+                            solvers.TOL)
+        return None if out is None else (name, out)
+
     def reach_why(self, lateral_out: bool, rho: float, r: float, target: Array | None) -> str:
         """Why a branch is out of reach, from the one-call kernel's numbers: ``rho`` is the count of solutions the
         target has (0: none); the sentence :meth:`solve`'s ``why`` gives."""
@@ -153,17 +172,27 @@ class Geometric:
             R = np.swapaxes(R, 1, 2)
             p = -np.einsum("bij,bj->bi", R, p)
             ref = ref[:, ::-1]
+        from ..geometric import solvers
         from ..geometric.solvers import solve_batch
 
-        for b, sol in enumerate(solve_batch(self.solver, self.form, R, p, ref)):
+        rows: Any = range(B)
+        fast = self._batched(target, q0phi)
+        if fast is not None:   # one compiled call for the batch; only the targets it leaves go on below
+            name, (q, unreachable, singular, found, redo) = fast
+            for b, i in zip(*np.nonzero(singular)):
+                note[b, i] = _SINGULAR
+            rows = np.flatnonzero(redo)
+            sols = [solvers._run(name, self.form, R[b], p[b], ref[b], None) for b in rows]
+        else:
+            sols = solve_batch(self.solver, self.form, R, p, ref)
+        for b, sol in zip(rows, sols):
             qs = sol.q[:, ::-1] if self.inverted else sol.q
             k = min(len(qs), m)
             if k and not sol.ls.any():
                 q[b, :k] = qs[:k]
                 found[b] = k
                 for i in np.flatnonzero(sol.singular[:k]):
-                    note[b, i] = ("singular wrist: a family of solutions; this one keeps the free joint at its "
-                                  "start value.")
+                    note[b, i] = _SINGULAR
                 q[b, k:] = qs[0]                 # padding, marked unreachable below
                 unreachable[b, k:] = True
             else:                                # out of reach: the least-squares candidates, or the start

@@ -1,0 +1,144 @@
+"""A batch of the geometric family in one compiled call (armkit.ik.geometric.batched).
+
+Reference: the path before it, independent of the new kernel (the solvers' one-thread loop
+``solvers.solve_batch``, then the layout in Python; forced by hiding ``Geometric._batched``). The new path
+must give the same raw branches bit for bit (joint values, unreachable flags, notes, sentences), the threaded
+kernel the same as the one-thread kernel, and, as a check of the answer itself, every successful branch of
+``ik_all`` must reproduce its target by FK of the true model and the configuration a target was made from
+must be among the branches.
+"""
+
+from __future__ import annotations
+
+import importlib
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import armkit
+from armkit.ik.analytic import closed_form
+from armkit.model.robot import Joint, Robot
+
+sys.path.insert(0, str(Path(__file__).parent))
+from test_family import _random_arm, _tup  # noqa: E402
+from test_one_call import ARMS, _arm  # noqa: E402
+
+batched = importlib.import_module("armkit.ik.geometric.batched")
+
+
+@pytest.fixture(scope="module", autouse=True)
+def compiled():
+    if importlib.util.find_spec("numba") is None:
+        pytest.skip("Numba is not available")
+    armkit.set_backend("numba")
+    yield
+    armkit.set_backend("auto")
+
+
+def _nearly(rng: np.random.Generator) -> Robot:
+    """A spherical-wrist arm whose wrist axes only nearly meet (1e-9 apart, as in a calibrated file): the
+    solvers work on the ideal chain and the Python polish touches up the candidates on the true one."""
+    robot = _random_arm(rng, "spherical-general")
+    joints = list(robot.joints)
+    j = joints[4]
+    origin = np.array(j.origin)
+    origin[:3, 3] += 1e-9 * np.array([0.3, -0.7, 0.2])
+    joints[4] = Joint(name=j.name, kind=j.kind, lower=j.lower, upper=j.upper, origin=_tup(origin), axis=j.axis)
+    return Robot(joints, convention="urdf", name="nearly-spherical", tool=robot.chain.tool)
+
+
+def _targets(robot: Robot, rng: np.random.Generator, B: int = 120):
+    q = rng.uniform(-np.pi, np.pi, (B, robot.n))
+    q[::9, 4] = 0.0                      # the wrist straight: a singular wrist for the spherical classes
+    T = armkit.fk(robot, q)
+    T[::7, :3, 3] *= 4.0                 # out of reach
+    return q, T
+
+
+def _both(cf, T, q0):
+    new = cf.solve(T, q0)
+    cf._batched = lambda *a: None        # the path before: solve_batch, then the Python layout
+    try:
+        old = cf.solve(T, q0)
+    finally:
+        del cf._batched
+    return new, old
+
+
+def _assert_same_raw(new, old, m: int, B: int) -> None:
+    for f in ("q", "unreachable", "note", "missing", "label"):
+        a, b = getattr(new, f), getattr(old, f)
+        assert a.dtype == b.dtype and a.shape == b.shape, f
+        assert np.array_equal(a, b), f
+    for i in range(B * m):
+        assert new.why(i) == old.why(i)
+
+
+@pytest.mark.parametrize("name", ARMS + ("nearly/4",))
+def test_same_raw_branches_as_the_path_before(name):
+    rng = np.random.default_rng(17)
+    robot = _nearly(np.random.default_rng(4)) if name == "nearly/4" else _arm(name)
+    cf = closed_form(robot)
+    if cf is None or cf.family != "geometric":
+        pytest.skip("not an arm of the geometric family (a degenerate random draw)")
+    B = 40 if name.startswith("two-") else 120          # the 1-D searches take ~1 ms a target
+    q, T = _targets(robot, rng, B)
+    q0 = rng.uniform(-1.0, 1.0, (B, robot.n))
+    new, old = _both(cf, T, q0)
+    _assert_same_raw(new, old, cf.m, B)
+    if name == "nearly/4":      # the case the kernel leaves to Python: it must have come up
+        prep_name, out = cf._batched(T, q0)
+        assert out[4].any()
+
+
+@pytest.mark.parametrize("name", ("kinova", "stanford", "spherical-base/1", "three-parallel/2"))
+def test_threads_give_the_same_bits(name):
+    robot = _arm(name)
+    cf = closed_form(robot)
+    if cf is None or cf.family != "geometric":
+        pytest.skip("degenerate random draw")
+    from armkit.ik.geometric import solvers
+
+    rng = np.random.default_rng(5)
+    _, T = _targets(robot, rng, 200)
+    q0 = rng.uniform(-1.0, 1.0, (200, robot.n))
+    sname = cf.solver if cf.solver != "spherical_wrist" else solvers._wrist_case(cf.form)
+    prep = solvers._prepare(cf.form, sname)
+    K = batched.kernels()
+    outs = []
+    for fn in (K.serial, K.parallel):
+        o = (np.zeros((200, cf.m, 6)), np.zeros((200, cf.m), np.bool_), np.zeros((200, cf.m), np.bool_),
+             np.zeros(200, np.int64), np.zeros(200, np.bool_))
+        fn(solvers._WHICH[prep.solve], prep.kind, cf.inverted, prep.exact, prep.Hi, prep.Pi, prep.RnT, prep.prism,
+           prep.Ht, prep.Pt, np.ascontiguousarray(T), q0, solvers.SEARCH_N, solvers.TOL * prep.scale, solvers.TOL, *o)
+        outs.append(o)
+    for a, b in zip(*outs):
+        assert np.array_equal(a, b)
+
+
+@pytest.mark.parametrize("name", ("kinova", "stanford", "spherical-general/1", "spherical-base/1",
+                                  "three-parallel/2"))
+def test_batched_ik_all_is_right(name):
+    """Every successful branch reproduces its target (FK of the true model, 1e-9 of the reach) and the
+    configuration the target came from is one of them (angles compared modulo a turn)."""
+    robot = _arm(name)
+    cf = closed_form(robot)
+    if cf is None or cf.family != "geometric":
+        pytest.skip("degenerate random draw")
+    rng = np.random.default_rng(23)
+    lo = np.where(np.isfinite(robot.lower), robot.lower, -np.pi)
+    hi = np.where(np.isfinite(robot.upper), robot.upper, np.pi)
+    q = rng.uniform(lo, hi, (150, robot.n))
+    T = armkit.fk(robot, q)
+    res = armkit.ik_all(robot, T, enforce_limits=False)
+    ok = res.success
+    assert ok.any(axis=1).all()
+    back = armkit.fk(robot, res.q[ok])
+    Tb = np.broadcast_to(T[:, None], res.q.shape[:2] + (4, 4))[ok]
+    assert np.abs(back - Tb).max() < 1e-9 * max(1.0, robot.reach)
+    d = res.q - q[:, None]
+    d = np.where(robot.prismatic, d, (d + np.pi) % (2 * np.pi) - np.pi)
+    d = np.where(ok, np.abs(d).max(axis=-1), np.inf)
+    assert (d.min(axis=1) < 1e-6).all()
