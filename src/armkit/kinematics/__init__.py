@@ -57,6 +57,8 @@ def __getattr__(name: str) -> object:
 
 _ndarray, _empty = np.ndarray, np.empty  # module-level names: the single-call path counts nanoseconds
 _float64 = np.dtype(np.float64)  # native float64 (a byte-swapped '>f8' is another object: general path)
+_fk_entry: Any = None    # kinematics._jit.fk_one_entry, once the general path has loaded it
+_jac_entry: Any = None   # kinematics._jit.jacobian_one_entry, likewise
 
 
 def packed(robot: Robot) -> tuple[Array, Array]:
@@ -138,17 +140,18 @@ def fk(robot: Robot, q: ArrayLike, link: str | None = None, *, out: Array | None
     True
     """
     # the single-call fast path: every test is one cheap Python operation; anything unusual (a list, another
-    # dtype, a batch, a link, out=, the NumPy back end, a Robot not seen yet) goes to the general path
-    jit = _jit_loader._ACTIVE
-    if jit is not None and type(q) is _ndarray and q.dtype is _float64 and q.ndim == 1 and link is None \
-            and out is None:
+    # dtype, a batch, a link, out=, the NumPy back end, a Robot not seen yet) goes to the general path. These
+    # tests are also what makes the direct call of the compiled kernel safe (kinematics._jit.__getattr__)
+    kernel = _fk_entry
+    if kernel is not None and type(q) is _ndarray and q.dtype is _float64 and q.ndim == 1 and link is None \
+            and out is None and _jit_loader._ACTIVE is not None:
         try:
             F = robot.cache["single_call"][0]
         except (AttributeError, KeyError, TypeError):   # not a Robot, or its packed chain not built yet
             return _fk(robot, q, link, out)
         T = _empty((4, 4))
         try:
-            jit.fk_one_fast(F, q, T)  # one compiled signature: no copy, no extra pass
+            kernel(F, q, T)  # the compiled kernel itself: no dispatcher, no copy, no extra pass
             return T
         except (ValueError, TypeError):  # wrong length or NaN: the general path says what is wrong
             pass
@@ -157,6 +160,7 @@ def fk(robot: Robot, q: ArrayLike, link: str | None = None, *, out: Array | None
 
 def _fk(robot: Robot, q: ArrayLike, link: str | None, out: Array | None) -> Array:
     """:func:`fk` for every argument, checked."""
+    global _fk_entry
     if not isinstance(robot, Robot):   # one check at the entry (issue 24)
         raise _not_a_robot(robot)
     if link is not None:
@@ -169,11 +173,12 @@ def _fk(robot: Robot, q: ArrayLike, link: str | None, out: Array | None) -> Arra
         return _into(out, _numpy.fk(robot.chain, flat).reshape(lead + (4, 4)), q)
     F = packed(robot)[0]
     if type(q) is _ndarray and q.ndim == 1 and q.dtype is _float64 and out is None:
+        kernel = _fk_entry = jit.fk_one_entry   # from now on fk's fast path calls it
         T = _empty((4, 4))
         try:
-            jit.fk_one_fast(_single_call(robot)[0], q, T)
+            kernel(_single_call(robot)[0], q, T)
             return T
-        except (ValueError, TypeError):  # wrong length or NaN (or an odd q): the batch path below
+        except (ValueError, TypeError):  # wrong length or NaN: the batch path below
             pass
     flat, lead = _flat_unchecked(robot, q)
     dest = None if out is None else _out_array(out, lead + (4, 4), flat).reshape(flat.shape[0], 4, 4)
@@ -311,8 +316,9 @@ def jacobian(robot: Robot, q: ArrayLike, frame: Literal["base", "tool"] = "base"
     -------
     J : ndarray, shape (..., 6, n)
     """
-    jit = _jit_loader._ACTIVE
-    if jit is not None and type(q) is _ndarray and q.dtype is _float64 and q.ndim == 1 and out is None:
+    kernel = _jac_entry   # the fast path's tests make the direct call safe, as in fk
+    if kernel is not None and type(q) is _ndarray and q.dtype is _float64 and q.ndim == 1 and out is None \
+            and _jit_loader._ACTIVE is not None:
         if frame == "base":
             flag = 0
         elif frame == "tool":
@@ -325,7 +331,7 @@ def jacobian(robot: Robot, q: ArrayLike, frame: Literal["base", "tool"] = "base"
             return _jacobian(robot, q, frame, out)
         J = _empty(shape)  # (6, n): the kernel checks len(q) == n
         try:
-            jit.jacobian_one_fast(F, q, flag, J)  # an int flag: a bool is typed off the dispatcher's quick path
+            kernel(F, q, flag, J)  # the compiled kernel itself (an int flag, as its signature says)
             return J
         except (ValueError, TypeError):  # wrong length or NaN: the general path says what is wrong
             pass
@@ -334,6 +340,7 @@ def jacobian(robot: Robot, q: ArrayLike, frame: Literal["base", "tool"] = "base"
 
 def _jacobian(robot: Robot, q: ArrayLike, frame: str, out: Array | None) -> Array:
     """:func:`jacobian` for every argument, checked."""
+    global _jac_entry
     if not isinstance(robot, Robot):   # one check at the entry (issue 24)
         raise _not_a_robot(robot)
     tool_frame = frame == "tool"
@@ -345,12 +352,13 @@ def _jacobian(robot: Robot, q: ArrayLike, frame: str, out: Array | None) -> Arra
         return _into(out, _numpy.jacobian(robot.chain, flat, tool_frame).reshape(lead + (6, robot.n)), q)
     F = packed(robot)[0]
     if type(q) is _ndarray and q.ndim == 1 and q.dtype is _float64 and out is None:
+        kernel = _jac_entry = jit.jacobian_one_entry   # from now on jacobian's fast path calls it
         Fw, shape = _single_call(robot)
         J = _empty(shape)
         try:
-            jit.jacobian_one_fast(Fw, q, int(tool_frame), J)
+            kernel(Fw, q, int(tool_frame), J)
             return J
-        except (ValueError, TypeError):  # wrong length or NaN (or an odd q): the batch path below
+        except (ValueError, TypeError):  # wrong length or NaN: the batch path below
             pass
     flat, lead = _flat_unchecked(robot, q)
     n = robot.n

@@ -19,7 +19,10 @@ How they are fast (numbers in ``docs/performance.md``):
   for a wrong length or a non-finite value; :mod:`armkit.kinematics` catches it and lets
   :meth:`Robot.check_q` produce the real message. Each is compiled for one signature on
   first use (module ``__getattr__``), after which any other argument type fails at once
-  with ``TypeError`` instead of compiling anew.
+  with ``TypeError`` instead of compiling anew. ``armkit.fk`` and ``armkit.jacobian`` call
+  the compiled function itself (``fk_one_entry``, ``jacobian_one_entry``), skipping the
+  dispatcher's typing of every argument (a third of their single-call time), once their own
+  checks have made sure of the types.
 
 No ``fastmath``: results agree with the NumPy back end to about 1e-15.
 Compiled functions are cached on disk (``cache=True``). Importing this module compiles
@@ -31,6 +34,7 @@ NumPy kernels answer (:mod:`armkit._jit_loader`, docs/performance.md "First use"
 from __future__ import annotations
 
 import math
+import threading
 
 import numpy as np
 
@@ -335,11 +339,17 @@ def _jacobian_one(F, q, tool_frame, out):
     _jacobian_cols(F, q, 0, out[0:2], 0, tool_frame, out.reshape((1, 6, n)), 0)
 
 
+# armkit.fk / armkit.jacobian's q: as _Q1 but not assumed aligned: their entry points (below) take any float64
+# 1-D ndarray, a view at an odd byte offset included (numba.typeof calls even that one aligned)
+_Q1U = types.Array(types.float64, 1, "A", readonly=True, aligned=False)
 _SIGNATURES = {"fk_one_float64": (fk_one, types.void(_RO2, _Q1, _OUT2).args),
                "jacobian_one_float64": (jacobian_one, types.void(_RO2, _Q1, types.boolean, _OUT2).args),
                # armkit.fk / armkit.jacobian: F a writable copy (_OUT2's type), the frame flag an int64
-               "fk_one_fast": (fk_one_w, types.void(_OUT2, _Q1, _OUT2).args),
-               "jacobian_one_fast": (jacobian_one_w, types.void(_OUT2, _Q1, types.int64, _OUT2).args)}
+               "fk_one_fast": (fk_one_w, types.void(_OUT2, _Q1U, _OUT2).args),
+               "jacobian_one_fast": (jacobian_one_w, types.void(_OUT2, _Q1U, types.int64, _OUT2).args)}
+_ENTRIES = {"fk_one_entry": "fk_one_fast", "jacobian_one_entry": "jacobian_one_fast"}
+"""The compiled functions of ``fk_one_fast`` and ``jacobian_one_fast`` themselves, called without the dispatcher."""
+_compile_lock = threading.Lock()
 
 
 def __getattr__(name):
@@ -349,14 +359,27 @@ def __getattr__(name):
 
     Only Numba's public API: ``dispatcher.compile(signature)`` then ``disable_compile()``, so any other
     argument types raise ``TypeError`` at once instead of compiling anew.
+
+    ``fk_one_entry`` and ``jacobian_one_entry`` are what ``compile`` returns for ``fk_one_fast`` and
+    ``jacobian_one_fast``: the compiled function, callable without the dispatcher's typing of every argument
+    (a third of a single ``armkit.fk``'s time). It checks nothing but each array's item size, so the caller
+    guarantees the types of the signature: ``F`` and ``out`` C-contiguous 2-D float64, ``q`` an exact
+    ``numpy.ndarray``, 1-D, dtype ``numpy.dtype(numpy.float64)`` (native byte order), the flag an ``int``.
+    Lengths and NaN are checked by the kernel (``ValueError``), as through the dispatcher.
     """
-    if name not in _SIGNATURES:
+    fast = _ENTRIES.get(name, name)
+    if fast not in _SIGNATURES:
         raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    dispatcher, signature = _SIGNATURES[name]
-    dispatcher.compile(signature)
-    dispatcher.disable_compile()
-    globals()[name] = dispatcher
-    return dispatcher
+    with _compile_lock:   # two threads asking at once: the second finds the globals set
+        if name not in globals():
+            dispatcher, signature = _SIGNATURES[fast]
+            entry = dispatcher.compile(signature)
+            dispatcher.disable_compile()
+            globals()[fast] = dispatcher
+            for alias, kernel in _ENTRIES.items():
+                if kernel == fast:
+                    globals()[alias] = entry
+    return globals()[name]
 
 
 # ---------------------------------------------------------------------------- batches
