@@ -25,7 +25,9 @@ def test_budget_bounds_the_time_and_the_result_stays_exact():
     d = derive(r, cache=False, simplify_budget=1.0)
     elapsed = time.process_time() - t0
     assert "budget" in d.meta.get("note", "")
-    assert elapsed < 60, elapsed              # the unbounded derivation ran past 900 s in the hostile-user test
+    # the unbounded derivation ran past 900 s in the hostile-user test; with the budget checked only between
+    # entries (each expanded before the check) this arm still took ~9 s, with every step under it ~1.2 s
+    assert elapsed < 5, elapsed
     f_T = d.lambdify("T")
     for q in r.random_q(5, rng=1):
         assert np.allclose(np.array(f_T(q), dtype=float), armkit.fk(r, q), atol=1e-12)

@@ -245,19 +245,23 @@ SIMPLIFY_BUDGET = 60.0
 (CPU time, not wall time: the same arm gives the same result on a busy machine as on an idle one)."""
 
 
-class _Timeout(Exception):
-    pass
+class _Timeout(BaseException):
+    """Raised by the profiling timer inside sympy: a BaseException, so that no ``except Exception`` of sympy's
+    swallows it and lets the entry run on past the budget."""
 
 
 class _Simplifier:
     """``simplify_entry`` under a time budget: past it (or when one entry overruns it), entries stay raw.
 
     The budget is this process's CPU time (:func:`time.process_time`), so a loaded machine does not
-    change the result. A single slow entry is interrupted with ``SIGPROF`` (a profiling timer, which
-    counts the same CPU time) where that is available (the main thread of a Unix process); elsewhere
-    the budget is checked between entries. The same entry recurs (a
-    Jacobian's rotation rows are entries of T, 6R arms repeat whole products), so each result is
-    kept by its expanded input: :func:`simplify_entry` depends on nothing else.
+    change the result. All the work on an entry (expanding it into its memo key, then simplifying it) runs
+    under the budget: the deadline is checked before an entry is touched, and a single slow entry is
+    interrupted with ``SIGPROF`` (a profiling timer, which counts the same CPU time) where that is available
+    (the main thread of a Unix process); elsewhere the budget is checked between entries. Past the deadline an
+    entry is returned as given, not even expanded (expanding the raw products of an arm with arbitrary twists
+    alone took seconds per entry). The same entry recurs (a Jacobian's rotation rows are entries of T, 6R arms
+    repeat whole products), so each result is kept by its expanded input: :func:`simplify_entry` depends on
+    nothing else.
     """
 
     def __init__(self, params: tuple[sp.Symbol, ...], budget: float | None):
@@ -270,29 +274,17 @@ class _Simplifier:
         self.done: dict[sp.Expr, sp.Expr] = {}
 
     def __call__(self, e: sp.Expr) -> sp.Expr:
-        key = sp.expand(e)
-        found = self.done.get(key)
-        if found is not None:
-            return found
-        skipped = self.skipped
-        out = self._simplify(key)
-        if self.skipped != skipped:       # past the budget: the entry stays raw, as given, and is not remembered
-            return e
-        self.done[key] = out
-        return out
-
-    def _simplify(self, e: sp.Expr) -> sp.Expr:
         if self.deadline is None:
-            return simplify_entry(e, self.params)
+            return self._work(e)
         left = self.deadline - self.clock()
-        if left <= 0:
+        if left <= 0:                     # past the budget: the entry stays raw, as given, and is not remembered
             self.skipped += 1
             return e
         import signal
         import threading
 
         if not hasattr(signal, "setitimer") or threading.current_thread() is not threading.main_thread():
-            return simplify_entry(e, self.params)
+            return self._work(e)
 
         def _alarm(signum: int, frame: Any) -> None:
             raise _Timeout
@@ -300,7 +292,7 @@ class _Simplifier:
         old = signal.signal(signal.SIGPROF, _alarm)
         signal.setitimer(signal.ITIMER_PROF, left)
         try:
-            return simplify_entry(e, self.params)
+            return self._work(e)
         except _Timeout:
             self.skipped += 1
             self.deadline = self.clock()
@@ -308,6 +300,15 @@ class _Simplifier:
         finally:
             signal.setitimer(signal.ITIMER_PROF, 0)
             signal.signal(signal.SIGPROF, old)
+
+    def _work(self, e: sp.Expr) -> sp.Expr:
+        """The simplified ``e``: remembered by its expanded form, computed on the first sight of that form."""
+        key = sp.expand(e)
+        found = self.done.get(key)
+        if found is None:
+            found = simplify_entry(key, self.params)
+            self.done[key] = found
+        return found
 
 
 def derive(robot: Robot, simplify: bool = True, cache: bool = True,
