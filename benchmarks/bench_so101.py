@@ -4,7 +4,8 @@ Part 1, the modes. Targets are FK of ``--n`` (default 10,000) joint vectors draw
 the limits (seeded); ``--far`` (default 1,000) unreachable targets lie 1-30 cm beyond the reach
 measured from the shoulder, in random directions. Modes:
 
-* position only (``armkit.ik(arm, xyz)``: Levenberg-Marquardt);
+* position only (``armkit.ik(arm, xyz)``: Levenberg-Marquardt), and the closed form for it
+  (:func:`armkit.ik.analytic.yaw_pitch3.position_ik`: the member of the 1-D family nearest q0);
 * position + tool pitch (``armkit.ik(arm, xyz, pitch=...)``: the yaw-pitch3 closed form, the
   roll joint kept at q0, which is given the roll the target came from), and ``ik_all``;
 * position + pointing direction of the tool's z axis (``armkit.ik(arm, xyz, direction=...)``);
@@ -44,7 +45,7 @@ import numpy as np
 os.environ.setdefault("ARMKIT_JIT", "wait")   # compile in this process: time compiled kernels, never the NumPy stand-in
 
 import armkit  # noqa: E402
-from armkit.ik.analytic.yaw_pitch3 import pitch_of, shoulder_reach  # noqa: E402
+from armkit.ik.analytic.yaw_pitch3 import pitch_of, position_ik, shoulder_reach  # noqa: E402
 from armkit.ik.numeric import shoulder_distance  # noqa: E402
 from armkit.lerobot import RobotKinematics  # noqa: E402
 from armkit.model.files import BUNDLED_DIR  # noqa: E402
@@ -115,6 +116,19 @@ def modes(args) -> None:
     one = per_call(lambda i: armkit.ik(arm, p[i], seed=1), args.single)[0]
     out = armkit.ik(arm, far, seed=1)
     rows.append(("position (LM)", res.success, check(arm, res.q, p), t, one, out))
+
+    # the closed form for a position alone (issue 20): position_ik, armkit.ik's answer once its dispatch routes
+    # the SO-101's position-only targets there (None: the general path, as armkit.ik would go)
+    def closed(pts, q0=None):
+        r = position_ik(arm, pts, q0)
+        return r if r is not None else armkit.ik(arm, pts, q0)
+
+    closed(p[:50])
+    closed(p[0])
+    res, t = timed(lambda: closed(p))
+    one = per_call(lambda i: closed(p[i]), args.single)[0]
+    out = closed(far)
+    rows.append(("position (closed form)", res.success, check(arm, res.q, p), t, one, out))
 
     res, t = timed(lambda: armkit.ik(arm, p, q0=q0, pitch=psi))
     one = per_call(lambda i: armkit.ik(arm, p[i], q0=q0[i], pitch=psi[i]), args.single)[0]

@@ -20,11 +20,14 @@ _jit_loader.install_cache_fallback()  # before the first cache=True: read-only i
 
 from numba import njit  # noqa: E402
 
-from ._yaw_pitch3_jit import (DIRECTION, G_LOWER, G_PAN, G_SIZE, G_UPPER, LM, NUMPY, PITCH, POSE,  # noqa: E402
-                              POSITION, _closed_form, _cross, _fk, _nearest, _pitch, _polish_branch,
-                              _rotation_angle, _solve4, _within, direction_branches)
+from ._yaw_pitch3_jit import (DIRECTION, FRONT, G_A1, G_A2, G_A3, G_A4, G_BASE_INV, G_BETA, G_D1,  # noqa: E402
+                              G_D5, G_LAT0, G_LOWER, G_PAN, G_S1, G_S4, G_SCALE, G_SIZE, G_T, G_THETA, G_UP,
+                              G_UPPER, LATERAL_SLACK, LM, NUMPY, PITCH, POSE, POSITION, TWO_PI, _closed_form, _cross,
+                              _fk, _nearest, _pitch, _polish_branch, _rotation_angle, _solve4, _within,
+                              _wrap_limits, direction_branches)
 
-__all__ = ["teleop", "teleop_call", "teleop_ctx", "pack_context", "INVALID", "C_TOL", "C_INDEX", "C_SIZE"]
+__all__ = ["teleop", "teleop_call", "teleop_ctx", "pack_context", "position_nearest", "position_rows", "INVALID",
+           "UNREACHABLE", "C_TOL", "C_INDEX", "C_REACH", "C_SIZE"]
 
 
 @njit(cache=True)
@@ -178,6 +181,279 @@ def teleop(g, T, q0, orient, tol0, tol1, q_out, info):
     return stage
 
 
+# ------------------------------------------------------------------ the position alone (armkit.ik(so101, xyz))
+UNREACHABLE = -4     # position_nearest: beyond the reach measured from the shoulder (q: the arm stretched towards it)
+_SWEEP = 8          # pitches sampled per target (one of them the start's own pitch), then the best refined
+_SWEEP_FINE = 128    # pitches sampled where those find no member
+_BACK = np.array([0.0, 1e-4, 1e-3, 3e-3, 1e-2, 3e-2, 0.1, 0.3, 1.0])   # fractions of the way back to the sample
+_LOCAL = np.array([0.0, -0.02, 0.02, -0.05, 0.05, -0.1, 0.1])   # offsets from the start's pitch sampled first
+_REFINE = 20         # golden-section steps on the best sample's bracket (1.57 rad * 0.618^20: ~1e-4 rad)
+
+
+@njit(cache=True)
+def _family_parts(g, p, q0, pre):
+    """What the members of the position's 1-D family share (the roll kept at ``q0[4]``), into ``pre`` (9,):
+    the height term, the wrist-to-tool offset in the arm's plane (2), per half (front, back) the pan angle and
+    the in-plane distance from the shoulder, then cos and sin of ``beta``. Returns False where the position-only answer is left to LM (a target
+    inside the sideways offset, or on the pan axis)."""
+    B = G_BASE_INV
+    x = g[B] * p[0] + g[B + 1] * p[1] + g[B + 2] * p[2] + g[B + 3]
+    y = g[B + 4] * p[0] + g[B + 5] * p[1] + g[B + 6] * p[2] + g[B + 7]
+    z = g[B + 8] * p[0] + g[B + 9] * p[1] + g[B + 10] * p[2] + g[B + 11]
+    scale = g[G_SCALE]
+    phi5 = q0[4] + g[G_THETA + 4]
+    c5, s5 = math.cos(phi5), math.sin(phi5)
+    t0, t1, t2 = g[G_T], g[G_T + 1], g[G_T + 2]
+    vx, vy, vz = c5 * t0 - s5 * t1, s5 * t0 + c5 * t1, t2 + g[G_D5]
+    s4 = g[G_S4]
+    L = g[G_LAT0] + s4 * vy
+    rho = math.hypot(x, y)
+    if rho < abs(L) + LATERAL_SLACK * scale or rho <= 1e-9 * scale:
+        return False
+    Xf = math.sqrt(rho * rho - L * L)
+    yaw = math.atan2(y, x)
+    s1 = g[G_S1]
+    pre[0], pre[1], pre[2] = s1 * (z - g[G_D1]), g[G_A4] + vx, -s4 * vz
+    pre[7], pre[8] = math.cos(g[G_BETA]), math.sin(g[G_BETA])
+    for jf in range(2):
+        Xs = Xf * FRONT[2 * jf]
+        pre[3 + jf] = yaw - math.atan2(-s1 * L, Xs)
+        pre[5 + jf] = Xs - g[G_A1]
+    return True
+
+
+@njit(cache=True)
+def _members(g, pre, psi, q0, only, Q, LAB, D):
+    """The members of the family at pitch ``psi`` (the closed form of :func:`._yaw_pitch3_jit._closed_form_at` on
+    the ideal arm, wrapped into the limits nearest ``q0``): all four (``only`` -1) or branch ``only`` alone, into
+    ``Q`` (4, 5) and ``LAB`` (4,); ``D`` (4,): each one's squared joint distance from ``q0``, ``inf`` where the
+    wrist is out of reach at ``psi`` or a joint leaves its limits. The tool's in-plane angle is ``up * psi - beta``
+    (front) and ``pi - up * psi - beta`` (back), and the second elbow mirrors the first: eight transcendental
+    calls for the four."""
+    sp, cp = math.sin(psi), math.cos(psi)
+    a2, a3 = g[G_A2], g[G_A3]
+    sg = math.copysign(1.0, a2 * a3)
+    gx, gy, Py = pre[1], pre[2], pre[0]
+    up, cb, sb = g[G_UP], pre[7], pre[8]
+    for jf in range(2):
+        if only >= 0 and only // 2 != jf:
+            continue
+        f = FRONT[2 * jf]
+        Theta = (up * psi if jf == 0 else math.pi - up * psi) - g[G_BETA]
+        ct, st = f * cp * cb + up * sp * sb, up * sp * cb - f * cp * sb
+        Wx, Wy = pre[5 + jf] - (ct * gx - st * gy), Py - (st * gx + ct * gy)
+        c = (Wx * Wx + Wy * Wy - a2 * a2 - a3 * a3) / (2.0 * a2 * a3)
+        out = c > 1.0 or c < -1.0
+        cc = min(max(c, -1.0), 1.0)
+        sn0 = math.sqrt((1.0 - cc) * (1.0 + cc))
+        ang = math.atan2(Wy, Wx)
+        fwd = 1.0 if Wx > 0 else (-1.0 if Wx < 0 else f)
+        d1 = math.atan2(a3 * sn0, a2 + a3 * cc)
+        t2 = math.atan2(sn0, cc)
+        for k in range(2):
+            j = 2 * jf + k
+            if only >= 0 and only != j:
+                continue
+            e = 1.0 if k == 0 else -1.0
+            th1, th2 = ang - e * d1, e * t2
+            qb = Q[j]
+            qb[0] = pre[3 + jf] - g[G_THETA]
+            qb[1] = th1 - g[G_THETA + 1]
+            qb[2] = th2 - g[G_THETA + 2]
+            qb[3] = Theta - th1 - th2 - g[G_THETA + 3]
+            qb[4] = q0[4]
+            _wrap_limits(g, qb, q0)
+            LAB[j] = 2 * (1 if f > 0 else 0) + (1 if -fwd * up * sg * e > 0 else 0)
+            if out or not _within(g, qb):
+                D[j] = np.inf
+            else:
+                s = 0.0
+                for m in range(5):
+                    s += (qb[m] - q0[m]) ** 2
+                D[j] = s
+
+
+@njit(cache=True)
+def _stretch(g, q, p, X, Z, P):
+    """Levenberg-Marquardt steps on the position alone from ``q`` (in place, held inside the limits; a step that
+    does not bring the tool closer is undone and the damping raised): the configuration closest to an unreachable
+    ``p`` (the arm stretched towards it) that these steps find. Returns its position error."""
+    J = np.empty((3, 5))
+    A = np.empty((3, 3))
+    y = np.empty(3)
+    old = np.empty(5)
+    s2 = g[G_SCALE] * g[G_SCALE]
+    lam = 1e-3 * s2
+    _fk(g, q, X, Z, P)
+    ex, ey, ez = p[0] - X[0, 3], p[1] - X[1, 3], p[2] - X[2, 3]
+    dp = math.sqrt(ex * ex + ey * ey + ez * ez)
+    for _ in range(40):
+        for j in range(5):
+            v = _cross(Z[j, 0], Z[j, 1], Z[j, 2], X[0, 3] - P[j, 0], X[1, 3] - P[j, 1], X[2, 3] - P[j, 2])
+            J[0, j], J[1, j], J[2, j] = v[0], v[1], v[2]
+        for i in range(3):
+            for k in range(3):
+                s = 0.0
+                for j in range(5):
+                    s += J[i, j] * J[k, j]
+                A[i, k] = s + (lam if i == k else 0.0)
+        y[0], y[1], y[2] = ex, ey, ez
+        _solve4(A, y, 3)
+        for j in range(5):
+            old[j] = q[j]
+            q[j] = min(max(q[j] + J[0, j] * y[0] + J[1, j] * y[1] + J[2, j] * y[2], g[G_LOWER + j]), g[G_UPPER + j])
+        _fk(g, q, X, Z, P)
+        nx, ny, nz = p[0] - X[0, 3], p[1] - X[1, 3], p[2] - X[2, 3]
+        dn = math.sqrt(nx * nx + ny * ny + nz * nz)
+        if dn < dp:
+            gain = dp - dn
+            ex, ey, ez, dp = nx, ny, nz, dn
+            lam = max(lam * 0.3, 1e-9 * s2)
+            if gain <= 1e-12 * g[G_SCALE]:
+                break
+        else:
+            for j in range(5):
+                q[j] = old[j]
+            lam *= 10.0
+            if lam > 1e3 * s2:
+                break
+            _fk(g, q, X, Z, P)
+    return dp
+
+
+@njit(cache=True)
+def _newton_answer(g, qn, p, dn, q_out, info, X, Z, P):
+    """:func:`position_nearest`'s answer by the Newton steps ``qn`` (label index 4: ``"newton"``)."""
+    _fk(g, qn, X, Z, P)
+    dx, dy, dz = p[0] - X[0, 3], p[1] - X[1, 3], p[2] - X[2, 3]
+    for k in range(5):
+        q_out[k] = qn[k]
+    info[0], info[1], info[2], info[3] = math.sqrt(dx * dx + dy * dy + dz * dz), np.nan, dn, 4.0
+    return POSITION
+
+
+@njit(cache=True)
+def position_nearest(g, p, q0, tol0, tol1, reach, q_out, info):
+    """``armkit.ik(arm, p, q0)`` of a 5-joint yaw-pitch3 arm (position only) in closed form: the member of the
+    position's 1-D family of solutions (the tool pitch free, the roll kept at ``q0[4]``) nearest ``q0``.
+
+    The pitch is sampled at :data:`_SWEEP` values starting at ``q0``'s own pitch (:data:`_SWEEP_FINE` where
+    none has a member), each of the four branches
+    scored by its squared joint distance from ``q0`` (inside the limits), the best refined by golden-section
+    steps, then polished on the true model (Newton on position and pitch) and checked by FK. ``reach``: the
+    reach measured from the shoulder (:func:`.yaw_pitch3.shoulder_reach`). Writes ``q_out`` (5,) and ``info``
+    (4,) = (position error, pitch, squared distance from ``q0``, label index); returns :data:`POSITION`,
+    :data:`UNREACHABLE` (beyond ``reach`` from the shoulder: ``q_out`` is the arm stretched towards ``p``,
+    ``info[1]`` the distance from the shoulder) or :data:`LM` (not settled here: LM answers).
+    """
+    X = np.empty((3, 4))
+    Z = np.empty((5, 3))
+    P = np.empty((5, 3))
+    B = G_BASE_INV
+    x = g[B] * p[0] + g[B + 1] * p[1] + g[B + 2] * p[2] + g[B + 3]
+    y = g[B + 4] * p[0] + g[B + 5] * p[1] + g[B + 6] * p[2] + g[B + 7]
+    z = g[B + 8] * p[0] + g[B + 9] * p[1] + g[B + 10] * p[2] + g[B + 11]
+    dist = math.hypot(math.hypot(x, y) - abs(g[G_A1]), z - g[G_D1])
+    if dist > reach * (1.0 + 1e-9) + tol0:
+        for k in range(5):
+            q_out[k] = q0[k]
+        info[0], info[1], info[2], info[3] = _stretch(g, q_out, p, X, Z, P), dist, 0.0, -1.0
+        return UNREACHABLE
+    qn = np.empty(5)              # minimum-norm Newton steps from q0 (all five joints, as LM moves them): the
+    for k in range(5):            # nearest solution where q0 lies close to the family; the pitch search covers
+        qn[k] = q0[k]             # the rest, and the nearer of the two is the answer
+    dn = np.inf
+    if _within(g, qn) and _position_newton(g, qn, p, tol0, X, Z, P) <= tol0 and _within(g, qn):
+        dn = 0.0
+        for k in range(5):
+            dn += (qn[k] - q0[k]) ** 2
+    pre = np.empty(9)
+    if not _family_parts(g, p, q0, pre):
+        if dn < np.inf:
+            return _newton_answer(g, qn, p, dn, q_out, info, X, Z, P)
+        return LM
+    ah = np.empty(6)
+    _fk(g, q0, X, Z, P)
+    psi0, _, _ = _pitch(g, q0, X, p[0], p[1], p[2], ah)
+    Q = np.empty((4, 5))
+    LAB = np.empty(4, dtype=np.int64)
+    D = np.empty(4)
+    bd, bj, bpsi, spsi, h = np.inf, -1, psi0, psi0, 0.0
+    for i in range(_LOCAL.shape[0]):      # near the start's pitch first: windows there can be narrow (a joint
+        psi = psi0 + _LOCAL[i]            # near its limit, a wrist near the edge of reach at that pitch)
+        _members(g, pre, psi, q0, -1, Q, LAB, D)
+        for j in range(4):
+            if D[j] < bd:
+                bd, bj, bpsi, spsi, h = D[j], j, psi, psi, 0.05
+    for n in (_SWEEP, _SWEEP_FINE):      # a finer sweep where no sample has a member
+        for i in range(1, n):
+            psi = psi0 + TWO_PI / n * (i if i <= n // 2 else i - n)
+            _members(g, pre, psi, q0, -1, Q, LAB, D)
+            for j in range(4):
+                if D[j] < bd:
+                    bd, bj, bpsi, spsi, h = D[j], j, psi, psi, TWO_PI / n
+        if bj >= 0:
+            break
+    if bj < 0:
+        if dn < np.inf:
+            return _newton_answer(g, qn, p, dn, q_out, info, X, Z, P)
+        return LM            # no member at the sampled pitches (a target at the edge of reach): LM decides
+    if bd > 0.0:             # golden section on the best branch about the best sample (outside: inf)
+        r = 0.5 * (math.sqrt(5.0) - 1.0)
+        a, b = bpsi - h, bpsi + h
+        c1, c2 = b - r * (b - a), a + r * (b - a)
+        _members(g, pre, c1, q0, bj, Q, LAB, D)
+        f1 = D[bj]
+        _members(g, pre, c2, q0, bj, Q, LAB, D)
+        f2 = D[bj]
+        for _ in range(_REFINE):
+            if f1 <= f2:
+                b, c2, f2 = c2, c1, f1
+                c1 = b - r * (b - a)
+                _members(g, pre, c1, q0, bj, Q, LAB, D)
+                f1 = D[bj]
+            else:
+                a, c1, f1 = c1, c2, f2
+                c2 = a + r * (b - a)
+                _members(g, pre, c2, q0, bj, Q, LAB, D)
+                f2 = D[bj]
+            if f1 < bd:
+                bd, bpsi = f1, c1
+            if f2 < bd:
+                bd, bpsi = f2, c2
+    keep = np.empty(5)
+    qb = Q[bj]
+    bpsi0 = bpsi
+    ok = False
+    dp = 0.0
+    for t in range(_BACK.shape[0]):   # the best member, else nearer the sample's pitch (a member at a joint limit
+        bpsi = bpsi0 + (spsi - bpsi0) * _BACK[t]   # or at the edge of reach, which the true model's polish would
+        _members(g, pre, bpsi, q0, bj, Q, LAB, D)  # push past)
+        if D[bj] < np.inf:
+            dp, _, wi, ok = _polish_branch(g, qb, p, bpsi, bj, tol0, tol1, True, 1e-6, True, X, Z, P, ah, keep)
+            if ok:
+                break
+    s = 0.0
+    for k in range(5):
+        s += (qb[k] - q0[k]) ** 2
+    if not ok or dn < s:
+        if dn < np.inf:
+            return _newton_answer(g, qn, p, dn, q_out, info, X, Z, P)
+        return LM
+    for k in range(5):
+        q_out[k] = qb[k]
+    info[0], info[1], info[2], info[3] = dp, bpsi, s, float(LAB[bj])
+    return POSITION
+
+
+@njit(cache=True)
+def position_rows(g, p, q0, tol0, tol1, reach, q_out, info, code):
+    """:func:`position_nearest` for rows ``p`` (B, 3), ``q0`` (B, 5) into ``q_out`` (B, 5), ``info`` (B, 4),
+    ``code`` (B,)."""
+    for i in range(p.shape[0]):
+        code[i] = position_nearest(g, p[i], q0[i], tol0, tol1, reach, q_out[i], info[i])
+
+
 INVALID = -2
 
 
@@ -224,17 +500,20 @@ def teleop_call(g, cur_deg, index, T, orient, tol0, tol1, out_deg, info):
     return code
 
 
-C_TOL = G_SIZE          # context of teleop_ctx: the geometry, then the tolerances (2) and the chain's indices (5)
+C_TOL = G_SIZE          # context of teleop_ctx: the geometry, the tolerances (2), the chain's indices (5), the reach
 C_INDEX = G_SIZE + 2
-C_SIZE = G_SIZE + 7
+C_REACH = G_SIZE + 7
+C_SIZE = G_SIZE + 8
 
 
-def pack_context(g: np.ndarray, tol: tuple[float, float], index: np.ndarray) -> np.ndarray:
-    """The one array :func:`teleop_ctx` reads: geometry ``g`` (:func:`pack`), ``tol`` and the chain's ``index`` (5,)."""
+def pack_context(g: np.ndarray, tol: tuple[float, float], index: np.ndarray, reach: float = math.inf) -> np.ndarray:
+    """The one array :func:`teleop_ctx` reads: geometry ``g`` (:func:`pack`), ``tol``, the chain's ``index`` (5,)
+    and the reach measured from the shoulder (:func:`.yaw_pitch3.shoulder_reach`; inf: not checked)."""
     ctx = np.empty(C_SIZE)
     ctx[:G_SIZE] = g
     ctx[C_TOL], ctx[C_TOL + 1] = tol
     ctx[C_INDEX:C_INDEX + 5] = index
+    ctx[C_REACH] = reach
     ctx.setflags(write=False)
     return ctx
 
@@ -242,7 +521,19 @@ def pack_context(g: np.ndarray, tol: tuple[float, float], index: np.ndarray) -> 
 @njit(cache=True)
 def teleop_ctx(ctx, cur_deg, T, orient, out_deg, info):
     """:func:`teleop_call` with its constant arguments in one array (:func:`pack_context`): fewer arguments
-    for the dispatcher to check on every call of ``RobotKinematics.inverse_kinematics``."""
+    for the dispatcher to check on every call of ``RobotKinematics.inverse_kinematics``. A desired position
+    beyond the reach from the shoulder returns :data:`LM` at once (no stage can meet it; the caller's
+    position stage reports the failure)."""
+    B = G_BASE_INV
+    x = ctx[B] * T[0, 3] + ctx[B + 1] * T[1, 3] + ctx[B + 2] * T[2, 3] + ctx[B + 3]
+    y = ctx[B + 4] * T[0, 3] + ctx[B + 5] * T[1, 3] + ctx[B + 6] * T[2, 3] + ctx[B + 7]
+    z = ctx[B + 8] * T[0, 3] + ctx[B + 9] * T[1, 3] + ctx[B + 10] * T[2, 3] + ctx[B + 11]
+    if math.hypot(math.hypot(x, y) - abs(ctx[G_A1]), z - ctx[G_D1]) > ctx[C_REACH] * (1.0 + 1e-9) + ctx[C_TOL]:
+        ok = True           # (NaN compares False above; teleop_call rejects it)
+        for i in range(cur_deg.shape[0]):
+            ok = ok and math.isfinite(cur_deg[i])
+        if ok and T[3, 0] == 0.0 and T[3, 1] == 0.0 and T[3, 2] == 0.0 and T[3, 3] == 1.0:
+            return LM
     index = np.empty(5, dtype=np.int64)
     for k in range(5):
         index[k] = int(ctx[C_INDEX + k])
