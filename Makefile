@@ -45,9 +45,16 @@ fonts: $(VENV)/.installed
 	@pkgs="$$($(PY) -m armkit.locale.fonts)" && { [ -z "$$pkgs" ] || \
 		($(SUDO) apt-get update && $(SUDO) apt-get install -y $$pkgs); }
 
+# mypy (~30 s on one core) runs beside pytest: it fills the moments when one core idles (the end of the kernels'
+# two-process warm-up in tests/conftest.py, the last tests of a worker) instead of adding its time at the end;
+# its report follows pytest's, and the target fails if either does
+# pytest: two workers (pytest-xdist; the suite is CPU-bound, this machine has 2 cores); an idle worker takes queued
+# tests from the busy one (--dist worksteal)
 test: $(VENV)/.installed chromium locale fonts
-	$(PY) -m pytest -n 2 --dist worksteal   # two workers (pytest-xdist; the suite is CPU-bound, this machine has 2 cores); an idle worker takes queued tests from the busy one
-	$(PY) -m mypy
+	@$(PY) -m mypy > $(VENV)/mypy.log 2>&1 & types=$$!; \
+	echo "$(PY) -m pytest -n 2 --dist worksteal   (mypy beside it)"; \
+	$(PY) -m pytest -n 2 --dist worksteal; tests=$$?; \
+	wait $$types; typed=$$?; echo "$(PY) -m mypy"; cat $(VENV)/mypy.log; [ $$tests = 0 ] && [ $$typed = 0 ]
 
 # the long fuzz and corruption run (issue 24): reach stores, URDF and scene files, CLI arguments, 10 minutes;
 # it prints its seed first and a table of outcomes per surface (exit 1 on any traceback, hang or wrong value).
