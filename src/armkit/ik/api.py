@@ -378,9 +378,9 @@ def _fast(robot: Any, target: np.ndarray, q0: Any, enforce_limits: Any, check: A
             return None
         q0 = q0.ravel()
     if enforce_limits is True and check is True:
-        ctx = c.ctx
+        ctx = c.ctx_near if nearest else c.ctx
     elif type(enforce_limits) is bool and type(check) is bool:
-        ctx = c.context(None, enforce_limits, check)
+        ctx = c.context(None, enforce_limits, check, nearest)
     else:
         return None
     return _run_one(robot, c, target, q0, ctx, None, check, nearest)

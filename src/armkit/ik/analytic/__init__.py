@@ -361,7 +361,7 @@ class _Single:
 
     __slots__ = ("kernels", "kernel", "solver", "geometry", "joints", "F", "labels", "labels0", "blank", "m", "n",
                  "mn", "at", "fsize", "isize", "bsize", "q0", "scale", "window", "above", "sign", "default_tol",
-                 "ctx", "ctxs", "converged", "shapes")
+                 "ctx", "ctx_near", "ctxs", "converged", "shapes", "entry")
 
     def __init__(self, robot: Robot, solver: ClosedForm, kernels) -> None:
         from ...kinematics import packed
@@ -390,20 +390,30 @@ class _Single:
         self.default_tol = default_tolerance(robot)
         self.ctxs: dict = {}
         self.ctx = self.context(None, True, True)
+        self.ctx_near = self.context(None, True, True, True)
+        self.entry = self.kernel
+        if self.kernel is not None:   # the compiled function itself, called without the dispatcher's typing
+            import numba              # of six arrays (~0.35 us of a ~12 us call); see run_one for why it is safe
+
+            args = (np.empty(16), self.q0, self.ctx, np.empty(self.fsize), np.empty(self.isize, np.int64),
+                    np.empty(self.bsize, np.bool_))
+            self.entry = self.kernel.compile(tuple(numba.typeof(a) for a in args))
 
     def __reduce__(self) -> tuple:
         """Pickled as None (a pickled robot's cache holds it): the copy makes its own record when first used,
         since the compiled kernels it refers to are code of this process, not data."""
         return (_no_record, ())
 
-    def context(self, tol: tuple[float, float] | None, enforce_limits: bool, check: bool) -> Array:
-        """The kernels' ``ctx`` for these options, made once."""
-        key = (tol, enforce_limits, check)
+    def context(self, tol: tuple[float, float] | None, enforce_limits: bool, check: bool, nearest: bool = False
+                ) -> Array:
+        """The kernels' ``ctx`` for these options, made once (``nearest``: for :func:`armkit.ik`, which keeps the
+        first branch only)."""
+        key = (tol, enforce_limits, check, nearest)
         ctx = self.ctxs.get(key)
         if ctx is None:
             k = self.kernels
             opts = k.options(self.default_tol if tol is None else tol, enforce_limits, self.window, self.above,
-                             self.scale, self.sign, check)
+                             self.scale, self.sign, check, nearest)
             ctx = self.ctxs[key] = k.context(self.geometry, self.joints, self.F, opts)
         return ctx
 
@@ -447,7 +457,10 @@ def single_call(robot: Robot, solver: ClosedForm, target: Array, q0: Array | Non
     c = one_call_record(robot, solver)
     if c is None:
         return None
-    ctx = c.ctx if tol is None and enforce_limits and check else c.context(tol, enforce_limits, check)
+    if tol is None and enforce_limits and check:
+        ctx = c.ctx_near if nearest else c.ctx
+    else:
+        ctx = c.context(tol, enforce_limits, check, nearest)
     return run_one(robot, c, target, q0, ctx, tol, check, nearest, batch_axis)
 
 
@@ -459,8 +472,11 @@ def run_one(robot: Robot, c: "_Single", target: Array, q0: Array | None, ctx: Ar
     if q0 is None:
         q0 = c.q0
     raw = None
-    if c.kernel is not None:   # the family's kernel and the rest in one call
-        r = c.kernel(target.ravel(), q0, ctx, fb, ib, bb)
+    if c.kernel is not None:   # the family's kernel and the rest in one call: its compiled function (c.entry),
+        # which trusts the types of its one signature. Both callers hand over what it takes: a native float64
+        # target and q0 (armkit.ik.api checks the dtype), each 1-D and C-contiguous (ravel of a (4, 4), a (3,)
+        # or an (n,) array); ctx and the buffers are the record's own. The kernel writes only the buffers.
+        r = c.entry(target.ravel(), q0, ctx, fb, ib, bb)
     else:                      # a family solved in Python (the geometric family): its solve, then one call
         t = target.ravel()
         kernels = c.kernels

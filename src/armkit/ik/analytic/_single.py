@@ -66,20 +66,21 @@ DONE, FALLBACK, BAD_TARGET = 0, 1, 2
 LIMIT_FAILURES, OTHER_FAILURES = 4, 8
 """Bits of a kernel's return value besides the status: some branch failed by the limits alone; some
 branch failed otherwise (unreachable)."""
-OPTS = ("tol_p", "tol_r", "enforce", "window_p", "window_r", "above_p", "above_r", "sign", "check")
+OPTS = ("tol_p", "tol_r", "enforce", "window_p", "window_r", "above_p", "above_r", "sign", "check", "nearest")
 """The options at the end of ``ctx``: FK tolerances, enforce limits (1.0/0.0), the polish window and
 threshold of ``solve_all`` (position entries already times the reach), the planar-2r joint-2 sign,
-check rigidity (1.0/0.0)."""
+check rigidity (1.0/0.0), and whether only the nearest branch is wanted (1.0/0.0: :func:`armkit.ik`; see
+:func:`_nearest_first`)."""
 CTX = ("n", "geometry", "joints", "F", "opts")
 """The header of ``ctx``: the number of joints, then where the geometry, the joint table, the packed
 chain and the options start."""
 RIGID_TOL = 1e-6   # check_transform's default
 
 
-def options(tol, enforce, window, above, scale, sign, check):
+def options(tol, enforce, window, above, scale, sign, check, nearest=False):
     """The options (:data:`OPTS`), products formed as ``solve_all`` forms them."""
     return np.array([tol[0], tol[1], 1.0 if enforce else 0.0, window * scale, window, above * scale, above,
-                     float(sign), 1.0 if check else 0.0])
+                     float(sign), 1.0 if check else 0.0, 1.0 if nearest else 0.0])
 
 
 def context(geometry, joints, F, opts):
@@ -167,15 +168,23 @@ def _finish(rawq, unreach, missing, lab, ctx, q0, T, pose, lat, rho, r, per, fb,
         hi[j] = joints[JOINT_UPPER, j] + 1e-12
     q = np.empty((m, n))
     dist = np.empty(m)
+    finite = True
     for b in range(m):    # solve_all: jit.wrap_dist
         s = 0.0
         for j in range(n):
             revolute = joints[JOINT_PRISMATIC, j] == 0.0
             v = _wrap_one(rawq[b, j] - joints[JOINT_THETA, j], q0[j], lo[j], hi[j], revolute)
             q[b, j] = v
+            if not math.isfinite(v):
+                finite = False
             if revolute:
                 s += (v - q0[j]) ** 2
         dist[b] = math.sqrt(s)
+    if opts[9] != 0.0 and finite:   # armkit.ik: the nearest branch that succeeds, if there is one
+        s = _nearest_first(q, dist, unreach, missing, lab, F, joints, opts, T, pose, lat, rho, r, per, lo, hi,
+                           fb, ib, bb)
+        if s >= 0:
+            return s
     Tq = np.empty((m, 4, 4))
     if _fk_serial(F, q, Tq):   # a value that is not finite: the batched path says what
         return FALLBACK
@@ -230,6 +239,58 @@ def _finish(rawq, unreach, missing, lab, ctx, q0, T, pose, lat, rho, r, per, fb,
         ib[b], ib[m + b], ib[2 * m + b], ib[3 * m + b], ib[4 * m + b] = code[s], lab[s], 0, s, bits
         bb[b], bb[m + b] = ok[s], within[s]
     return flags
+
+
+@njit(cache=True)
+def _nearest_first(q, dist, unreach, missing, lab, F, joints, opts, T, pose, lat, rho, r, per, lo, hi, fb, ib, bb):
+    """:func:`_finish` for :func:`armkit.ik`, which keeps only the first branch of the sorted ones: the branches
+    are verified in order of distance from ``q0`` (stable, as the sort), and the first that succeeds is that
+    first branch, written as :func:`_finish` writes it; the branches beyond it are never checked. Returns the
+    status (:data:`DONE`; :data:`FALLBACK` for a nearer branch the polish would touch up, as :func:`_finish`),
+    or -1 when no branch succeeds: :func:`_finish` then checks them all (the failures' sentences need each)."""
+    m, n = q.shape
+    order = np.empty(m, np.int64)
+    key = np.empty(m)
+    for b in range(m):    # stable insertion sort by distance
+        k = dist[b]
+        j = b - 1
+        while j >= 0 and key[j] > k:
+            key[j + 1] = key[j]
+            order[j + 1] = order[j]
+            j -= 1
+        key[j + 1] = k
+        order[j + 1] = b
+    tol_p, tol_r, enforce = opts[0], opts[1], opts[2] != 0.0
+    win_p, win_r, above_p, above_r = opts[3], opts[4], opts[5], opts[6]
+    one = np.empty((1, n))
+    Tq = np.empty((1, 4, 4))
+    for i in range(m):
+        s = order[i]
+        for j in range(n):
+            one[0, j] = q[s, j]
+        _fk_serial(F, one, Tq)
+        e_p, e_r, w = _check(Tq[0], T, pose, one[0], joints[JOINT_LOWER], joints[JOINT_UPPER], 1e-12)
+        if e_p <= win_p and e_r <= win_r and (e_p > above_p or e_r > above_r):
+            return FALLBACK   # _polish would touch this branch up
+        if e_p <= tol_p and e_r <= tol_r and not missing[s] and (w or not enforce):
+            mn = m * n
+            bits = 0
+            for j in range(n):
+                v = q[s, j]
+                fb[j] = v
+                if v < lo[j] or v > hi[j]:
+                    bits |= 1 << j
+            fb[mn] = fb[mn + 2 * m] = e_p
+            fb[mn + m] = fb[mn + 3 * m] = e_r
+            at = mn + 4 * m
+            fb[at] = 1.0 if unreach[s] else 0.0
+            fb[at + 1] = 1.0 if lat else 0.0
+            fb[at + 2] = rho
+            fb[at + 3] = r[s // per]
+            ib[0], ib[m], ib[2 * m], ib[3 * m], ib[4 * m] = 0, lab[s], 0, s, bits
+            bb[0], bb[m] = True, w
+            return DONE
+    return -1
 
 
 @njit(cache=True)
