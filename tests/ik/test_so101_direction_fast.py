@@ -9,22 +9,14 @@ Every answer is checked here by FK on its own. Timing lives in benchmarks, not h
 from __future__ import annotations
 
 import numpy as np
-import pytest
 
 import armkit
 from armkit.ik import partial
-from armkit.ik.analytic.yaw_pitch3 import _solver_of, fast_geometry
+from armkit.ik.analytic.yaw_pitch3 import _solver_of
 from armkit.ik.result import default_tolerance
+from test_so101_single_call import arm  # noqa: F401  (the SO-101 with its kernels, a module fixture)
 
 
-@pytest.fixture(scope="module")
-def arm():
-    arm = armkit.load("so101")
-    if fast_geometry(arm) is None:
-        armkit.set_backend("numba")    # the kernels only serve the Numba back end
-    if fast_geometry(arm) is None:
-        pytest.skip("Numba is not available")
-    return arm
 
 
 def targets(arm, n, seed):

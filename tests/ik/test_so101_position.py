@@ -17,22 +17,14 @@ from __future__ import annotations
 import math
 
 import numpy as np
-import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 import armkit
-from armkit.ik.analytic.yaw_pitch3 import fast_geometry, pitch_of, position_ik, shoulder_reach
+from armkit.ik.analytic.yaw_pitch3 import pitch_of, position_ik, shoulder_reach
+from test_so101_single_call import arm  # noqa: F401  (the SO-101 with its kernels, a module fixture)
 
 
-@pytest.fixture(scope="module")
-def arm():
-    arm = armkit.load("so101")
-    if fast_geometry(arm) is None:
-        armkit.set_backend("numba")    # the kernels only serve the Numba back end
-    if fast_geometry(arm) is None:
-        pytest.skip("Numba is not available")
-    return arm
 
 
 def solve(arm, p, q0=None):

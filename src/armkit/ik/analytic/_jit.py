@@ -470,21 +470,32 @@ def wrap_dist(rawq, joints, q0):
 
 
 # ------------------------------------------------------------------------- sort
+@njit(cache=True, inline="always")
+def stable_order(k_of, idx):
+    """``idx (m,)`` := the indices that sort ``k_of (m,)`` ascending, ties in index order (an insertion sort:
+    ``m`` is a handful of branches)."""
+    m = k_of.shape[0]
+    key = np.empty(m)
+    for b in range(m):
+        k = k_of[b]
+        j = b - 1
+        while j >= 0 and key[j] > k:
+            key[j + 1] = key[j]
+            idx[j + 1] = idx[j]
+            j -= 1
+        key[j + 1] = k
+        idx[j + 1] = b
+
+
 @njit(cache=True)  # outputs: one array per argument, never a tuple (Numba 0.68's parfors loses writes through tuples)
 def _sort_run(ok, dist, q, dp, dr, within, order, qs, oks, dps, drs, ws, first, last):
     m = ok.shape[1]
     for i in prange(first, last):
-        key = np.empty(m)
+        k_of = np.empty(m)
         idx = np.empty(m, np.int64)
-        for b in range(m):   # successful branches first, each group by distance (a stable insertion sort)
-            k = (0.0 if ok[i, b] else 1e9) + dist[i, b]
-            j = b - 1
-            while j >= 0 and key[j] > k:
-                key[j + 1] = key[j]
-                idx[j + 1] = idx[j]
-                j -= 1
-            key[j + 1] = k
-            idx[j + 1] = b
+        for b in range(m):   # successful branches first, each group by distance (a stable sort)
+            k_of[b] = (0.0 if ok[i, b] else 1e9) + dist[i, b]
+        stable_order(k_of, idx)
         for b in range(m):
             s = idx[b]
             order[i, b] = s

@@ -58,7 +58,7 @@ from numba import njit  # noqa: E402
 
 from ...kinematics._jit import ROW, _fk_serial  # noqa: E402
 from .._jit_verify import _check  # noqa: E402
-from ._jit import _planar2_run, _planar3_run, _puma_run, _ur_run, _wrap_one, _ypp_run  # noqa: E402
+from ._jit import _planar2_run, _planar3_run, _puma_run, _ur_run, _wrap_one, _ypp_run, stable_order  # noqa: E402
 from ._layout import JOINT_LOWER, JOINT_PRISMATIC, JOINT_ROWS, JOINT_THETA, JOINT_UPPER  # noqa: E402
 
 DONE, FALLBACK, BAD_TARGET = 0, 1, 2
@@ -209,17 +209,11 @@ def _finish(rawq, unreach, missing, lab, ctx, q0, T, pose, lat, rho, r, per, fb,
         else:
             code[b] = 1
             flags |= OTHER_FAILURES
-    key = np.empty(m)
+    k_of = np.empty(m)
     idx = np.empty(m, np.int64)
-    for b in range(m):    # solve_all: jit.sort_branches (a stable insertion sort)
-        k = (0.0 if ok[b] else 1e9) + dist[b]
-        j = b - 1
-        while j >= 0 and key[j] > k:
-            key[j + 1] = key[j]
-            idx[j + 1] = idx[j]
-            j -= 1
-        key[j + 1] = k
-        idx[j + 1] = b
+    for b in range(m):    # solve_all: jit.sort_branches (a stable sort)
+        k_of[b] = (0.0 if ok[b] else 1e9) + dist[b]
+    stable_order(k_of, idx)
     mn = m * n
     for b in range(m):
         s = idx[b]
@@ -250,16 +244,7 @@ def _nearest_first(q, dist, unreach, missing, lab, F, joints, opts, T, pose, lat
     or -1 when no branch succeeds: :func:`_finish` then checks them all (the failures' sentences need each)."""
     m, n = q.shape
     order = np.empty(m, np.int64)
-    key = np.empty(m)
-    for b in range(m):    # stable insertion sort by distance
-        k = dist[b]
-        j = b - 1
-        while j >= 0 and key[j] > k:
-            key[j + 1] = key[j]
-            order[j + 1] = order[j]
-            j -= 1
-        key[j + 1] = k
-        order[j + 1] = b
+    stable_order(dist, order)   # by distance, as the sort (a successful branch's key is its distance)
     tol_p, tol_r, enforce = opts[0], opts[1], opts[2] != 0.0
     win_p, win_r, above_p, above_r = opts[3], opts[4], opts[5], opts[6]
     one = np.empty((1, n))
