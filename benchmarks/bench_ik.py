@@ -6,7 +6,8 @@ For each arm (default: puma560, ur5, panda, fighter, planar3) it draws ``--n`` (
 solves them from the zero initial guess with
 
 * armkit ``method="auto"`` (the closed form where the structure admits one) and ``"lm"``,
-  one call per target (single-call latency) and one call for the whole batch;
+  one call per target (single-call latency: ``armkit.ik`` on one (4, 4) pose or (3,) point, ``solve_lm`` on a
+  batch of one) and one call for the whole batch;
 * the peers when importable (run under ``.venv-bench/bin/python``): RTB ``ETS.ik_LM``
   (C++, tolerance set tight), ikpy, pytorch_kinematics ``PseudoInverseIK`` (batched) and a
   Pinocchio damped-least-squares loop (the library's own example algorithm). Slow
@@ -126,6 +127,8 @@ def bench_armkit(robot: armkit.Robot, targets: np.ndarray, single_n: int, seed: 
         t0 = time.perf_counter()
         solve(targets[:1], zeros[:1])
         cold = time.perf_counter() - t0
+        if name == "armkit auto":
+            solve(targets[0], zeros[0])
         solve(targets[:2], zeros[:2])
         solve(targets, zeros)
         t0 = time.perf_counter()
@@ -134,8 +137,11 @@ def bench_armkit(robot: armkit.Robot, targets: np.ndarray, single_n: int, seed: 
         ok = judge(robot, res.q, targets)
         flagged = np.asarray(res.success)
         m = min(single_n, B)
-        singles, times = timed_loop(lambda i: solve(targets[i:i + 1], zeros[i:i + 1]), m)
-        ok_s = judge(robot, np.concatenate([r.q for r in singles]), targets[:m])
+        if name == "armkit auto":   # armkit.ik: one target as a user passes it, a (4, 4) pose or (3,) point
+            singles, times = timed_loop(lambda i: solve(targets[i], zeros[i]), m)
+        else:                       # solve_lm takes batches: a batch of one
+            singles, times = timed_loop(lambda i: solve(targets[i:i + 1], zeros[i:i + 1]), m)
+        ok_s = judge(robot, np.concatenate([np.asarray(r.q).reshape(-1, n) for r in singles]), targets[:m])
         fl_s = np.concatenate([np.asarray(r.success).reshape(-1) for r in singles])
         note = ("" if m == B else f"single calls on {m}") + f" first call {1e3 * cold:.0f} ms"
         if np.any(ok_s != ok[:m]):
