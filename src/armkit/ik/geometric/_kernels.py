@@ -516,8 +516,15 @@ def _move(R, P, k, p0, p1, p2):
 def _fk_err(H, P, RnT, prism, q, Rt, pt):
     """``(position error, rotation error)`` of ``q`` for the target ``(Rt, pt)`` on the chain ``(H, P, RnT)``
     (the formula of :meth:`.poe.POE.fk`, without temporary arrays; the rotation error ``‖ΔR‖_F / √2``)."""
-    R = np.eye(3)
-    T = np.empty((3, 3))
+    return _fk_err_to(H, P, RnT, prism, q, Rt, pt, np.empty((3, 3)), np.empty((3, 3)))
+
+
+def _fk_err_to(H, P, RnT, prism, q, Rt, pt, R, T):
+    """:func:`_fk_err` with its work space given: ``R``, ``T`` (3, 3), overwritten (a caller that checks many
+    candidates makes them once)."""
+    for i in range(3):
+        for j in range(3):
+            R[i, j] = 1.0 if i == j else 0.0
     p0 = P[0, 0]
     p1 = P[0, 1]
     p2 = P[0, 2]
@@ -545,7 +552,7 @@ def _fk_err(H, P, RnT, prism, q, Rt, pt):
 # ---------------------------------------------------------------------------------- compiled
 KERNELS = ("_t", "_tdot", "_tcross", "_tadd", "_tsub", "_tmul", "_tnorm", "_trot_cs", "_trot", "_tmv", "_tmtv",
            "_tlin", "_tsp1", "_wrap", "_cubic_max", "_quad", "_newton4", "_polish", "_quartic4", "_quartic", "_res2",
-           "_angle", "_trig2", "_trig2_rows", "_sp6", "_sp3", "_rmul_rot", "_move", "_fk_err")
+           "_angle", "_trig2", "_trig2_rows", "_sp6", "_sp3", "_rmul_rot", "_move", "_fk_err_to", "_fk_err")
 """The functions :func:`kernels` compiles, callees before callers."""
 _KERNELS: Optional[types.SimpleNamespace] = None
 

@@ -6,7 +6,9 @@ Plain functions; :func:`.solvers.kernels` compiles them with the other cores.
 
 from __future__ import annotations
 
-from ._kernels import _fk_err
+import numpy as np
+
+from ._kernels import _fk_err_to
 from .solvers_parallel import _core_three_parallel
 from .solvers_search import _core_spherical_middle, _core_two_intersecting_end, _core_two_parallel
 from .solvers_wrist import _core_spherical
@@ -32,11 +34,12 @@ def _check(m, H, P, RnT, prism, R, p, tol_p, tol_r, Q, LS, SG, ST):
     """Wrap the angles of the ``m`` candidates and check each on the true chain; then put the ones that
     pass (repeats dropped) first and the ones that fail after them (rows of Q, LS, SG; ``ST`` 1 / 0).
     Returns ``(passing, failing)``."""
+    F = np.empty((2, 3, 3))      # the FK's work space, made once for the m candidates
     for i in range(m):
         for k in range(Q.shape[1]):
             if not prism[k]:
                 Q[i, k] = _wrap(Q[i, k])
-        ep, er = _fk_err(H, P, RnT, prism, Q[i], R, p)
+        ep, er = _fk_err_to(H, P, RnT, prism, Q[i], R, p, F[0], F[1])
         ST[i] = 1 if (ep <= tol_p and er <= tol_r) else 0
         if ST[i] == 1:
             for j in range(i):

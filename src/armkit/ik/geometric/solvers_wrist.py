@@ -12,6 +12,8 @@ import math
 import numpy as np
 
 from .search import MAXROOT, SW, _search
+from .subproblems import TOL as _SP_TOL
+from .subproblems import _TINY as _SP_TINY
 from .subproblems import _cross, _dot, _norm, _wrap, rot, rotm, sp1, sp2, sp3, sp4, sp5
 
 SING = 1e-10
@@ -132,6 +134,82 @@ def _perp_to(h, out):
     out[2] = x2 / n
 
 
+
+# SP1 and SP2 on scalars (no temporary arrays: the wrist and the position of the sweep call them ~10 times per
+# chain); the arithmetic of :func:`.subproblems.sp1` and :func:`.subproblems.sp2`, so the same bits
+def _sp1s(p0, p1, p2, q0, q1, q2, k0, k1, k2):
+    """:func:`.subproblems.sp1` of ``p1 = (p0, p1, p2)``, ``p2 = (q0, q1, q2)``, ``k = (k0, k1, k2)``: ``(θ, ls)``."""
+    kp1 = k0 * p0 + k1 * p1 + k2 * p2
+    kp2 = k0 * q0 + k1 * q1 + k2 * q2
+    x0 = k1 * p2 - k2 * p1               # k × p1
+    x1 = k2 * p0 - k0 * p2
+    x2 = k0 * p1 - k1 * p0
+    y0 = p0 - k0 * kp1                   # p1 ⊥ k
+    y1 = p1 - k1 * kp1
+    y2 = p2 - k2 * kp1
+    s = x0 * q0 + x1 * q1 + x2 * q2
+    c = y0 * q0 + y1 * q1 + y2 * q2
+    theta = math.atan2(s, c)
+    n1 = math.sqrt(y0 * y0 + y1 * y1 + y2 * y2)
+    r0 = q0 - k0 * kp2
+    r1 = q1 - k1 * kp2
+    r2 = q2 - k2 * kp2
+    n2 = math.sqrt(r0 * r0 + r1 * r1 + r2 * r2)
+    scale = max(math.sqrt(p0 * p0 + p1 * p1 + p2 * p2), math.sqrt(q0 * q0 + q1 * q1 + q2 * q2), _SP_TINY)
+    ls = abs(n1 - n2) > _SP_TOL * scale or abs(kp1 - kp2) > _SP_TOL * scale
+    return theta, ls
+
+
+def _sp2s(a0, a1, a2, b0, b1, b2, k0, k1, k2, l0, l1, l2):
+    """:func:`.subproblems.sp2` of ``p1 = (a0, a1, a2)``, ``p2 = (b0, b1, b2)``, ``k1 = (k0, k1, k2)``,
+    ``k2 = (l0, l1, l2)``: ``(θ1[0], θ1[1], θ2[0], θ2[1], count, ls)`` (0.0 past ``count``)."""
+    n1 = math.sqrt(a0 * a0 + a1 * a1 + a2 * a2)
+    n2 = math.sqrt(b0 * b0 + b1 * b1 + b2 * b2)
+    if n1 <= _SP_TINY or n2 <= _SP_TINY:
+        return 0.0, 0.0, 0.0, 0.0, 1, n1 + n2 > _SP_TOL
+    ls = abs(n1 - n2) > _SP_TOL * max(n1, n2)
+    u0 = a0 / n1
+    u1 = a1 / n1
+    u2 = a2 / n1
+    w0 = b0 / n2
+    w1 = b1 / n2
+    w2 = b2 / n2
+    c = k0 * l0 + k1 * l1 + k2 * l2
+    den = 1.0 - c * c
+    if den < 1e-14:                      # parallel axes: a family of solutions, give θ1 = 0
+        th, lb = _sp1s(w0, w1, w2, u0, u1, u2, l0, l1, l2)
+        return 0.0, 0.0, th, 0.0, 1, bool(ls) or bool(lb)
+    d1 = k0 * u0 + k1 * u1 + k2 * u2
+    d2 = l0 * w0 + l1 * w1 + l2 * w2
+    alpha = (d1 - c * d2) / den
+    beta = (d2 - c * d1) / den
+    x0 = k1 * l2 - k2 * l1
+    x1 = k2 * l0 - k0 * l2
+    x2 = k0 * l1 - k1 * l0
+    v0 = alpha * k0 + beta * l0
+    v1 = alpha * k1 + beta * l1
+    v2 = alpha * k2 + beta * l2
+    g2 = (1.0 - (v0 * v0 + v1 * v1 + v2 * v2)) / den
+    if g2 > 0.0:
+        g = math.sqrt(g2)
+        e0 = v0 + g * x0
+        e1 = v1 + g * x1
+        e2 = v2 + g * x2
+        s10 = _sp1s(u0, u1, u2, e0, e1, e2, k0, k1, k2)[0]
+        s20 = _sp1s(w0, w1, w2, e0, e1, e2, l0, l1, l2)[0]
+        ng = -g
+        e0 = v0 + ng * x0
+        e1 = v1 + ng * x1
+        e2 = v2 + ng * x2
+        s11 = _sp1s(u0, u1, u2, e0, e1, e2, k0, k1, k2)[0]
+        s21 = _sp1s(w0, w1, w2, e0, e1, e2, l0, l1, l2)[0]
+        return s10, s11, s20, s21, 2, bool(ls)
+    # tangent (one solution, up to rounding) or none (least squares: the points of both circles nearest v0)
+    s10 = _sp1s(u0, u1, u2, v0, v1, v2, k0, k1, k2)[0]
+    s20 = _sp1s(w0, w1, w2, v0, v1, v2, l0, l1, l2)[0]
+    return s10, 0.0, s20, 0.0, 1, bool(ls) or g2 < -1e-14
+
+
 # ------------------------------------------------------------------------------------ the wrist
 def _wrist(h3, h4, h5, R36, q3ref, W):
     """q4, q5, q6 (0-based 3, 4, 5) with ``rot(h4, q4) rot(h5, q5) rot(h6, q6) = R36``, into ``W (2, 3)``:
@@ -142,7 +220,6 @@ def _wrist(h3, h4, h5, R36, q3ref, W):
     x = S[1]
     y = S[2]
     w = S[3]
-    nh3 = S[4]
     _mv_to(R36, h5, v)
     _perp_to(h5, x)
     _mv_to(R36, x, y)
@@ -162,17 +239,17 @@ def _wrist(h3, h4, h5, R36, q3ref, W):
         W[0, 1] = q4
         W[0, 2] = q5
         return 1, bool(l1) or bool(l2), True
-    for k in range(3):
-        nh3[k] = -h3[k]
-    t3, t4, m, ls = sp2(v, h5, nh3, h4)
+    a0, a1, b0, b1, m, ls = _sp2s(v[0], v[1], v[2], h5[0], h5[1], h5[2], -h3[0], -h3[1], -h3[2], h4[0], h4[1], h4[2])
     for i in range(m):
-        _rotm_to(h3, t3[i], M[0])
-        _rotm_to(h4, t4[i], M[1])
+        t3 = a0 if i == 0 else a1
+        t4 = b0 if i == 0 else b1
+        _rotm_to(h3, t3, M[0])
+        _rotm_to(h4, t4, M[1])
         _mm_to(M[0], M[1], M[2])
         _mtv_to(M[2], y, w)
-        q5, l2 = sp1(x, w, h5)
-        W[i, 0] = t3[i]
-        W[i, 1] = t4[i]
+        q5, l2 = _sp1s(x[0], x[1], x[2], w[0], w[1], w[2], h5[0], h5[1], h5[2])
+        W[i, 0] = t3
+        W[i, 1] = t4
         W[i, 2] = q5
         ls = bool(ls) or bool(l2)
     return m, ls, False
@@ -210,10 +287,11 @@ def _pos_two_intersecting(H, P, prism2, p0W, Qp, LSp):
             w = P[2] + t2[j] * h2 + P[3]
         else:
             w = P[2] + rot(h2, t2[j], P[3])
-        t0, t1, n, ls = sp2(p0W, w, -h0, h1)
+        a0, a1, b0, b1, n, ls = _sp2s(p0W[0], p0W[1], p0W[2], w[0], w[1], w[2], -h0[0], -h0[1], -h0[2],
+                                      h1[0], h1[1], h1[2])
         for i in range(n):
-            Qp[m, 0] = t0[i]
-            Qp[m, 1] = t1[i]
+            Qp[m, 0] = a0 if i == 0 else a1
+            Qp[m, 1] = b0 if i == 0 else b1
             Qp[m, 2] = t2[j]
             LSp[m] = bool(ls) or bool(ls2)
             m += 1
