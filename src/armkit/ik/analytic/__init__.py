@@ -275,6 +275,8 @@ def _polish(robot: Robot, branches: tuple, target: Array, position_only: bool, t
     six steps. A step is kept only where it makes the FK error smaller; success is still
     judged by FK of the true model.
     """
+    if above == math.inf:     # no branch is above it (a family that polishes itself, e.g. a sweep's 32 x 8 branches)
+        return branches
     from ...kinematics import fk, jacobian
     from ...spatial import so3_log
 
@@ -341,7 +343,8 @@ def solve_all(robot: Robot, solver: ClosedForm, target: Array, q0: Array, positi
         order = np.argsort(np.where(ok, 0.0, 1e9) + dist, axis=-1, kind="stable")
         q = np.take_along_axis(q, order[..., None], axis=1)
         ok, dp, dr, within = (np.take_along_axis(a, order, axis=1) for a in (ok, dp, dr, within))
-    take = lambda a: np.take_along_axis(a, order, axis=1)  # noqa: E731
+    rows = np.arange(order.shape[0])[:, None]
+    take = lambda a: a[rows, order]  # noqa: E731  (np.take_along_axis(a, order, axis=1), without its set-up)
 
     def messages() -> NDArray[np.object_]:
         """The branches' sentences (a sweep has hundreds per target), made when ``message`` is first read."""
