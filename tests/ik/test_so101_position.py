@@ -85,7 +85,6 @@ def test_nearest_member_rate(arm):
     res = solve(arm, fk_point(arm, q), q0)
     assert res.success.all()
     farther = np.linalg.norm(res.q - q0, axis=1) > np.linalg.norm(q - q0, axis=1) + 1e-3
-    print(f"farther: {farther.mean():.4f}")
     assert farther.mean() <= 0.01, farther.mean()
 
 
