@@ -146,7 +146,7 @@ def modes(args) -> None:
     out = armkit.ik(arm, far, direction=far_dir, seed=2)
     rows.append(("position + direction", res.success, check(arm, res.q, p, direction=d), t, one, out))
 
-    print(f"SO-101, {n:,} random reachable and {m:,} unreachable targets per mode (seed {args.seed})\n")
+    print(f"SO-101, {n:,} random reachable and {m:,} unreachable targets per mode (random numbers seeded with {args.seed})\n")
     print(f"{'mode':32} {'solved':>9} {'wrong':>6} {'batch us/target':>16} {'single us':>10} "
           f"{'unreachable: honest':>20}")
     for name, success, good, t, one, out in rows:

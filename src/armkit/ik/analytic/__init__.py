@@ -394,7 +394,7 @@ class _Single:
         self.ctxs: dict = {}
         self.ctx = self.context(None, True, True)
         self.ctx_near = self.context(None, True, True, True)
-        self.entry = self.kernel
+        self.entry: Any = self.kernel
         if self.kernel is not None:   # the compiled function itself, called without the dispatcher's typing
             import numba              # of six arrays (~0.35 us of a ~12 us call); see run_one for why it is safe
 
