@@ -188,18 +188,16 @@ def _finish(rawq, unreach, missing, lab, ctx, q0, T, pose, lat, rho, r, per, fb,
     Tq = np.empty((m, 4, 4))
     if _fk_serial(F, q, Tq):   # a value that is not finite: the batched path says what
         return FALLBACK
-    tol_p, tol_r, enforce = opts[0], opts[1], opts[2] != 0.0
-    win_p, win_r, above_p, above_r = opts[3], opts[4], opts[5], opts[6]
     dp, dr = np.empty(m), np.empty(m)
     ok, within = np.empty(m, np.bool_), np.empty(m, np.bool_)
     code = np.empty(m, np.int64)
     flags = DONE
     for b in range(m):    # solve_all: verify, the polish test, the reason codes
         e_p, e_r, w = _check(Tq[b], T, pose, q[b], joints[JOINT_LOWER], joints[JOINT_UPPER], 1e-12)
-        if e_p <= win_p and e_r <= win_r and (e_p > above_p or e_r > above_r):
+        if _polishable(e_p, e_r, opts):
             return FALLBACK   # _polish would touch this branch up
-        fk_ok = e_p <= tol_p and e_r <= tol_r and not missing[b]
-        good = fk_ok and (w or not enforce)
+        fk_ok = e_p <= opts[0] and e_r <= opts[1] and not missing[b]
+        good = fk_ok and (w or opts[2] == 0.0)
         dp[b], dr[b], ok[b], within[b] = e_p, e_r, good, w
         if good:
             code[b] = 0
@@ -214,25 +212,40 @@ def _finish(rawq, unreach, missing, lab, ctx, q0, T, pose, lat, rho, r, per, fb,
     for b in range(m):    # solve_all: jit.sort_branches (a stable sort)
         k_of[b] = (0.0 if ok[b] else 1e9) + dist[b]
     stable_order(k_of, idx)
-    mn = m * n
     for b in range(m):
         s = idx[b]
-        bits = 0
-        for j in range(n):
-            v = q[s, j]
-            fb[b * n + j] = v
-            if v < lo[j] or v > hi[j]:
-                bits |= 1 << j
-        fb[mn + b] = fb[mn + 2 * m + b] = dp[s]
-        fb[mn + m + b] = fb[mn + 3 * m + b] = dr[s]
-        at = mn + 4 * m + 4 * b
-        fb[at] = 1.0 if unreach[s] else 0.0
-        fb[at + 1] = 1.0 if lat else 0.0
-        fb[at + 2] = rho
-        fb[at + 3] = r[s // per]
-        ib[b], ib[m + b], ib[2 * m + b], ib[3 * m + b], ib[4 * m + b] = code[s], lab[s], 0, s, bits
-        bb[b], bb[m + b] = ok[s], within[s]
+        _put(b, s, q, dp[s], dr[s], ok[s], within[s], code[s], unreach, lab, lat, rho, r, per, lo, hi, fb, ib, bb)
     return flags
+
+
+@njit(cache=True, inline="always")
+def _polishable(e_p, e_r, opts):
+    """Whether ``solve_all``'s Gauss-Newton touch-up would polish a branch with these FK errors (in its window,
+    above its threshold): then the batched path answers."""
+    return e_p <= opts[3] and e_r <= opts[4] and (e_p > opts[5] or e_r > opts[6])
+
+
+@njit(cache=True, inline="always")
+def _put(b, s, q, e_p, e_r, good, w, code, unreach, lab, lat, rho, r, per, lo, hi, fb, ib, bb):
+    """Branch ``s`` of ``q (m, n)`` (its FK errors, success, within limits, reason code) written as sorted branch
+    ``b`` of the buffers (the layout of the module docstring), with the numbers of its out-of-reach sentence."""
+    m, n = q.shape
+    mn = m * n
+    bits = 0
+    for j in range(n):
+        v = q[s, j]
+        fb[b * n + j] = v
+        if v < lo[j] or v > hi[j]:
+            bits |= 1 << j
+    fb[mn + b] = fb[mn + 2 * m + b] = e_p
+    fb[mn + m + b] = fb[mn + 3 * m + b] = e_r
+    at = mn + 4 * m + 4 * b
+    fb[at] = 1.0 if unreach[s] else 0.0
+    fb[at + 1] = 1.0 if lat else 0.0
+    fb[at + 2] = rho
+    fb[at + 3] = r[s // per]
+    ib[b], ib[m + b], ib[2 * m + b], ib[3 * m + b], ib[4 * m + b] = code, lab[s], 0, s, bits
+    bb[b], bb[m + b] = good, w
 
 
 @njit(cache=True)
@@ -245,8 +258,6 @@ def _nearest_first(q, dist, unreach, missing, lab, F, joints, opts, T, pose, lat
     m, n = q.shape
     order = np.empty(m, np.int64)
     stable_order(dist, order)   # by distance, as the sort (a successful branch's key is its distance)
-    tol_p, tol_r, enforce = opts[0], opts[1], opts[2] != 0.0
-    win_p, win_r, above_p, above_r = opts[3], opts[4], opts[5], opts[6]
     one = np.empty((1, n))
     Tq = np.empty((1, 4, 4))
     for i in range(m):
@@ -255,25 +266,10 @@ def _nearest_first(q, dist, unreach, missing, lab, F, joints, opts, T, pose, lat
             one[0, j] = q[s, j]
         _fk_serial(F, one, Tq)
         e_p, e_r, w = _check(Tq[0], T, pose, one[0], joints[JOINT_LOWER], joints[JOINT_UPPER], 1e-12)
-        if e_p <= win_p and e_r <= win_r and (e_p > above_p or e_r > above_r):
+        if _polishable(e_p, e_r, opts):
             return FALLBACK   # _polish would touch this branch up
-        if e_p <= tol_p and e_r <= tol_r and not missing[s] and (w or not enforce):
-            mn = m * n
-            bits = 0
-            for j in range(n):
-                v = q[s, j]
-                fb[j] = v
-                if v < lo[j] or v > hi[j]:
-                    bits |= 1 << j
-            fb[mn] = fb[mn + 2 * m] = e_p
-            fb[mn + m] = fb[mn + 3 * m] = e_r
-            at = mn + 4 * m
-            fb[at] = 1.0 if unreach[s] else 0.0
-            fb[at + 1] = 1.0 if lat else 0.0
-            fb[at + 2] = rho
-            fb[at + 3] = r[s // per]
-            ib[0], ib[m], ib[2 * m], ib[3 * m], ib[4 * m] = 0, lab[s], 0, s, bits
-            bb[0], bb[m] = True, w
+        if e_p <= opts[0] and e_r <= opts[1] and not missing[s] and (w or opts[2] == 0.0):
+            _put(0, s, q, e_p, e_r, True, w, 0, unreach, lab, lat, rho, r, per, lo, hi, fb, ib, bb)
             return DONE
     return -1
 
