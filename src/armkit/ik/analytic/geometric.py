@@ -143,9 +143,7 @@ class Geometric:
         solved by a kernel of :data:`armkit.ik.geometric.solvers._CASES`; else None."""
         from ..geometric import solvers
 
-        name = self.solver
-        if name == "spherical_wrist":
-            name = solvers._cached(self.form, "wrist case", lambda: solvers._wrist_case(self.form))
+        name = solvers.case_of(self.solver, self.form)
         if name not in solvers._CASES:
             return None
         from ..geometric import batched
@@ -173,7 +171,6 @@ class Geometric:
             p = -np.einsum("bij,bj->bi", R, p)
             ref = ref[:, ::-1]
         from ..geometric import solvers
-        from ..geometric.solvers import solve_batch
 
         rows: Any = range(B)
         fast = self._batched(target, q0phi)
@@ -184,7 +181,7 @@ class Geometric:
             rows = np.flatnonzero(redo)
             sols = [solvers._run(name, self.form, R[b], p[b], ref[b], None) for b in rows]
         else:
-            sols = solve_batch(self.solver, self.form, R, p, ref)
+            sols = solvers.solve_batch(self.solver, self.form, R, p, ref)
         for b, sol in zip(rows, sols):
             qs = sol.q[:, ::-1] if self.inverted else sol.q
             k = min(len(qs), m)

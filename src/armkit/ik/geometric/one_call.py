@@ -66,9 +66,7 @@ def geometry(form: Any, solver: str, m: int, inverted: bool) -> Optional[NDArray
     the solver named ``solver`` (:data:`.solvers.SOLVERS`), or None when no compiled kernel serves it."""
     from . import solvers
 
-    name = solver
-    if name == "spherical_wrist":
-        name = solvers._cached(form, "wrist case", lambda: solvers._wrist_case(form))
+    name = solvers.case_of(solver, form)
     if name not in solvers._CASES or solvers._WHICH[solvers._CASES[name][0]] > 1:
         return None            # the 1-D searches (and the general 6R's 2-D search): see closed_form_only
     prep = solvers._prepare(form, name)

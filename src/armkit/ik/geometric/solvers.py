@@ -256,13 +256,20 @@ _WHICH = {"_solve_spherical": 0, "_solve_three_parallel": 1, "_solve_two_interse
           "_solve_spherical_middle": 4}
 
 
+def case_of(name: str, form: POE) -> str:
+    """The solver that answers ``name``'s class on ``form``: a spherical wrist resolves to its case (cached per
+    form); a name in :data:`_CASES` has a compiled batch kernel."""
+    if name == "spherical_wrist":
+        return _cached(form, "wrist case", lambda: _wrist_case(form))
+    return name
+
+
 def solve_batch(name: str, form: POE, R: Array, p: Array, q_ref: Array, *, jit: Optional[bool] = None
                 ) -> list[Solutions]:
     """:data:`SOLVERS` ``[name]`` on every target of ``R (B, 3, 3)``, ``p (B, 3)``, ``q_ref (B, n)``, the
     kernel looping over the batch in one compiled call (each target as :func:`_run` would solve it; a target
     whose candidates need the Python polish goes through :func:`_run`)."""
-    if name == "spherical_wrist":
-        name = _cached(form, "wrist case", lambda: _wrist_case(form))
+    name = case_of(name, form)
     if name not in _CASES:
         return [SOLVERS[name](form, R[b], p[b], q_ref[b], jit=jit) for b in range(len(R))]
     prep = _prepare(form, name)
@@ -346,7 +353,7 @@ def spherical_wrist(form: POE, R: Array, p: Array, q_ref: Optional[Array] = None
                     jit: Optional[bool] = None) -> Solutions:
     """Axes 4, 5, 6 meet: :func:`spherical_two_intersecting` when axes 1, 2 meet,
     :func:`spherical_two_parallel` when 2 ∥ 3, :func:`spherical` otherwise."""
-    return _run(_cached(form, "wrist case", lambda: _wrist_case(form)), form, R, p, q_ref, jit)
+    return _run(case_of("spherical_wrist", form), form, R, p, q_ref, jit)
 
 
 def three_parallel(form: POE, R: Array, p: Array, q_ref: Optional[Array] = None, *,
