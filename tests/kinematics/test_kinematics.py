@@ -21,7 +21,7 @@ from hypothesis import strategies as st
 
 import armkit
 from armkit import Joint, Robot
-from armkit.spatial import rotx
+from armkit.spatial import rotx, rotz
 
 BUNDLED = armkit.bundled_robots()
 
@@ -118,9 +118,17 @@ def test_planar3_modified_equals_hand_written_standard_table():
     assert np.allclose(armkit.fk(std, q), armkit.fk(armkit.load("planar3"), q), atol=1e-12)
 
 
+def random_pose(draw) -> np.ndarray:
+    """A random rigid transform: two rotations and a translation."""
+    T = rotz(draw(st.floats(-np.pi, np.pi))) @ rotx(draw(st.floats(-np.pi, np.pi)))   # 4x4 rotations
+    T[:3, 3] = [draw(st.floats(-2.0, 2.0)) for _ in range(3)]
+    return T
+
+
 @st.composite
-def random_arm(draw):
-    n = draw(st.integers(1, 7))
+def random_arm(draw, max_joints: int = 7, placed: bool = False):
+    """1 to ``max_joints`` joints, revolute or prismatic, either DH convention; ``placed``: a random base and tool."""
+    n = draw(st.integers(1, max_joints))
     joints = []
     for i in range(n):
         kind = draw(st.sampled_from(["revolute", "revolute", "prismatic"]))
@@ -128,6 +136,8 @@ def random_arm(draw):
         lo, hi = (-3.0, 3.0) if kind == "revolute" else (-0.5, 0.5)
         joints.append(Joint(kind, vals[0], vals[1], vals[2], vals[3], lo, hi))
     conv = draw(st.sampled_from(["standard", "modified"]))
+    if placed:
+        return Robot(joints, conv, base=random_pose(draw), tool=random_pose(draw))
     return Robot(joints, conv)
 
 

@@ -17,34 +17,12 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import armkit
-from armkit import Joint, Robot, kinematics
+from armkit import Robot, kinematics
 from armkit.errors import ArgumentError, ShapeError
-from armkit.spatial import rotx, rotz
+from test_kinematics import random_arm   # random DH arms of both conventions, prismatic joints included
 
 jit = pytest.importorskip("armkit.kinematics._jit")
 BUNDLED = sorted(armkit.bundled_robots())
-
-
-def _pose(draw) -> np.ndarray:
-    """A random rigid transform: two rotations and a translation."""
-    T = rotz(draw(st.floats(-np.pi, np.pi))) @ rotx(draw(st.floats(-np.pi, np.pi)))   # 4x4 rotations
-    T[:3, 3] = [draw(st.floats(-2.0, 2.0)) for _ in range(3)]
-    return T
-
-
-@st.composite
-def random_arm(draw) -> Robot:
-    """1-9 joints (past the kernel's 8-joint branch), revolute or prismatic, either DH convention,
-    random base and tool."""
-    n = draw(st.integers(1, 9))
-    joints = []
-    for _ in range(n):
-        kind = draw(st.sampled_from(["revolute", "revolute", "prismatic"]))
-        vals = [draw(st.floats(-1.5, 1.5)) for _ in range(4)]
-        lo, hi = (-3.0, 3.0) if kind == "revolute" else (-0.5, 0.5)
-        joints.append(Joint(kind, vals[0], vals[1], vals[2], vals[3], lo, hi))
-    conv = draw(st.sampled_from(["standard", "modified"]))
-    return Robot(joints, conv, base=_pose(draw), tool=_pose(draw))
 
 
 def _variants(q: np.ndarray) -> list[np.ndarray]:
@@ -87,7 +65,8 @@ def _check_fast_equals_batched(robot: Robot, q: np.ndarray) -> None:
     assert np.array_equal(q, before)               # q untouched
 
 
-@given(random_arm(), st.integers(0, 2**32 - 1), st.sampled_from([1.0, 1.0, 40.0, 2e5]))
+@given(random_arm(max_joints=9, placed=True), st.integers(0, 2**32 - 1),   # past the kernel's 8-joint branch
+       st.sampled_from([1.0, 1.0, 40.0, 2e5]))
 @settings(max_examples=60, deadline=None)
 def test_fast_single_call_equals_batched_bit_for_bit_on_random_arms(arm, seed, spread):
     # spread 40 and 2e5: joint values past one turn and past the short range reduction (libm's sin/cos)
