@@ -364,6 +364,19 @@ def test_close_frees_port_and_bad_input() -> None:
             w.choose_branch("nope")
 
 
+def test_close_with_an_unopened_connection_stops_the_server_thread() -> None:
+    """Browsers open a spare connection they may never use (Chromium does on every page load): a socket that
+    sends nothing. Closing the view still ends viser's server thread at once; it used to wait for that
+    connection's opening timeout (10 s), and viser's stop() gave up on the thread after 6 s."""
+    v = View("planar2", lang="en")
+    thread = v.server._websock_server._server_thread
+    with socket.create_connection(("127.0.0.1", v.port)):   # connected, and silent
+        time.sleep(0.2)                                     # accepted by the server's loop
+        v.close()
+        thread.join(timeout=2.0)        # the thread's own wind-down (viser: ~0.5 s at worst), not the 10 s timeout
+        assert not thread.is_alive()
+
+
 @pytest.mark.parametrize("args, text", [
     (["view", "fighter", "--lang", "fr"], "--lang must be one of en, ko"),
     (["view", "fighter", "--port", "70000"], "--port must be between 1 and 65535"),

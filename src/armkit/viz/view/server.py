@@ -39,7 +39,7 @@ from ...ik import IKResult, ik, ik_all
 from ...ik.analytic import closed_form
 # the view's parts, re-exported here (the panels, the tests and armkit.viz.view import them from this module)
 from .home import HOME_STEPS, NEAR_SINGULAR, SINGULAR, home_pose
-from .network import _port_free, _quiet, free_port
+from .network import _port_free, _quiet, drop_unopened_connections, free_port
 from .players import MAX_SWEEPS, Players
 from .screenshots import Screenshots
 
@@ -522,6 +522,7 @@ class View(Players, Screenshots):
             self.stop_player()
             with self._lock:
                 self._closed = True
+            drop_unopened_connections(self.server)              # a browser's spare connection: 6 s otherwise
             with contextlib.redirect_stdout(io.StringIO()):       # viser's "Server stopped" line
                 self.server.stop()
             deadline = time.monotonic() + 5.0
