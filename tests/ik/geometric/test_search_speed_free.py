@@ -94,6 +94,12 @@ def _coords(kind: str, Q: np.ndarray, H) -> np.ndarray:
     return out
 
 
+def _circle_distance(a, b):
+    """``|_wrap(a - b)|`` for angles in [-pi, pi] (the scan's atan2 values), without the slow float modulo."""
+    d = np.abs(a - b)
+    return np.where(d > np.pi, TWO_PI - d, d)
+
+
 def dense_roots(kind: str, H, P, C) -> np.ndarray:
     """Roots ``(x, branch)`` of the class's residual from DENSE samples of the searched joint: branches of
     neighbouring samples paired by nearest neighbour (mutual, within 0.05 rad), a root where a pair's
@@ -104,23 +110,26 @@ def dense_roots(kind: str, H, P, C) -> np.ndarray:
     E = np.zeros((DENSE + 1, 4))
     cnt = np.zeros(DENSE + 1, dtype=np.int64)
     K._scan(getattr(S, kind), H, P, C, xs, Sx, E, cnt)
+    assert np.abs(Sx).max() <= np.pi                        # what _circle_distance takes
     valid = np.arange(4)[None, :] < cnt[:, None]
-    D = np.abs(_wrap(Sx[:-1, :, None, :] - Sx[1:, None, :, :])).max(axis=-1)    # (n, 4, 4)
+    D = _circle_distance(Sx[:-1, :, None, 0], Sx[1:, None, :, 0])              # (n, 4, 4): the largest of the
+    for c in (1, 2):                                                            # three coordinates' distances
+        np.maximum(D, _circle_distance(Sx[:-1, :, None, c], Sx[1:, None, :, c]), out=D)
     D = np.where(valid[:-1, :, None] & valid[1:, None, :], D, np.inf)
-    fwd = D.argmin(axis=2)
-    back = D.argmin(axis=1)
-    roots = []
-    for i, j in zip(*np.nonzero(valid[:-1])):
-        k = fwd[i, j]
-        if not (D[i, j, k] < 0.05 and back[i, k] == j):
-            continue
-        fa, fb = E[i, j], E[i + 1, k]
-        if fa == 0.0 or fa * fb < 0.0:
-            t = 0.0 if fa == 0.0 else fa / (fa - fb)
-            x = xs[i] + t * (xs[i + 1] - xs[i])
-            s = Sx[i, j] + t * _wrap(Sx[i + 1, k] - Sx[i, j])
-            roots.append(np.concatenate([[x], s]))
-    return np.array(roots).reshape(-1, 4)
+    fwd = D.argmin(axis=2)                                  # (n, 4): each branch's nearest at the next sample
+    back = D.argmin(axis=1)                                 # (n, 4): each next branch's nearest at this sample
+    i, j = np.nonzero(valid[:-1])                           # every (sample, branch), at once
+    k = fwd[i, j]
+    paired = (D[i, j, k] < 0.05) & (back[i, k] == j)        # mutual nearest neighbours within 0.05 rad
+    i, j, k = i[paired], j[paired], k[paired]
+    fa, fb = E[i, j], E[i + 1, k]
+    root = (fa == 0.0) | (fa * fb < 0.0)                    # the residual changes sign between the pair
+    i, j, k, fa, fb = i[root], j[root], k[root], fa[root], fb[root]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t = np.where(fa == 0.0, 0.0, fa / (fa - fb))        # linear interpolation
+    x = xs[i] + t * (xs[i + 1] - xs[i])
+    s = Sx[i, j] + t[:, None] * _wrap(Sx[i + 1, k] - Sx[i, j])
+    return np.column_stack([x, s]).reshape(-1, 4)
 
 
 def feasible(kind: str, H, P, R06, p, root) -> bool:
