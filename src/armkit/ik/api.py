@@ -334,6 +334,8 @@ def _one_target(robot: Robot, target: Any, q0: Any, tol: Any, enforce_limits: bo
 
 
 _run_one: Any = None   # analytic.run_one once imported
+_run_small: Any = None   # analytic.run_small_batch once imported
+_SMALL = 0               # analytic.SMALL_BATCH once imported
 _NDARRAY = np.ndarray
 
 
@@ -343,12 +345,12 @@ def _fast_record(robot: Robot) -> Any:
     the defaults of :func:`ik` and :func:`ik_all` never take the one-call path without more checks (no closed
     form, a pitch family, a 7-joint arm, collision keys: the robot's own scene); None while the Numba back
     end does not serve (asked again next time; a pickled record also comes back as None)."""
-    global _run_one
+    global _run_one, _run_small, _SMALL
     rec: Any = False
     if len(robot.joints) != 7 and robot.__dict__.get("collision") is None:
-        from .analytic import closed_form, one_call_record, run_one
+        from .analytic import SMALL_BATCH, closed_form, one_call_record, run_one, run_small_batch
 
-        _run_one = run_one
+        _run_one, _run_small, _SMALL = run_one, run_small_batch, SMALL_BATCH
         solver = closed_form(robot)
         if solver is not None and solver.target_kind != "pitch":
             rec = one_call_record(robot, solver)
@@ -371,19 +373,33 @@ def _fast(robot: Any, target: np.ndarray, q0: Any, enforce_limits: Any, check: A
     if not rec or _jit_loader._ACTIVE is None:
         return None
     c = rec
-    if target.shape not in c.shapes:
-        return None
-    if q0 is not None:
-        if type(q0) is not _NDARRAY or q0.dtype is not _F64 or q0.shape != (c.n,):
+    shape = target.shape
+    lead: tuple[int, ...] = ()
+    if shape not in c.shapes:   # a few targets (..., 4, 4) or (..., 3): one call each (analytic.run_small_batch)
+        lead = shape[:-2] if shape[-2:] == (4, 4) else shape[:-1]
+        if not lead or shape[len(lead):] not in c.shapes or not 0 < math.prod(lead) <= _SMALL:
             return None
-        q0 = q0.ravel()
+    if q0 is not None:
+        if type(q0) is not _NDARRAY or q0.dtype is not _F64:
+            return None
+        if q0.shape == (c.n,):
+            q0 = q0.ravel()
+        elif not lead or q0.shape != lead + (c.n,):   # one start for all, or one per target
+            return None
     if enforce_limits is True and check is True:
         ctx = c.ctx_near if nearest else c.ctx
     elif type(enforce_limits) is bool and type(check) is bool:
         ctx = c.context(None, enforce_limits, check, nearest)
     else:
         return None
-    return _run_one(robot, c, target, q0, ctx, None, check, nearest)
+    if not lead:
+        return _run_one(robot, c, target, q0, ctx, None, check, nearest)
+    tail = shape[len(lead):]
+    starts = q0 if q0 is None or q0.ndim == 1 else q0.reshape(-1, c.n)
+    res = _run_small(robot, c, target.reshape((-1,) + tail), starts, ctx, check, nearest)
+    if res is None or len(lead) == 1:
+        return res
+    return res._map(lambda a: a.reshape(lead + np.shape(a)[1:]), None)
 
 
 def _nearest_branch(robot: Robot, target: Array, q0: Array, position_only: bool, tol: Any,

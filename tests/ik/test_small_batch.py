@@ -1,0 +1,85 @@
+"""A few targets at once take the one-call path target by target (``analytic.run_small_batch``): the same answers
+as the batched path.
+
+``armkit.ik(robot, T)`` and ``armkit.ik_all(robot, T)`` with ``T`` of shape ``(B, 4, 4)`` or ``(B, 3)`` (or any
+leading shape of at most :data:`armkit.ik.analytic.SMALL_BATCH` targets), default options, answer by one
+compiled call per target and stack the results, instead of the batched NumPy path whose fixed cost (~0.3 ms)
+dwarfs a few targets. Every field, its dtype and shape, the messages (made when read) and the order of the
+branches must equal what the batched path gives (reached with ``api.ONE_CALL = False``), to the bit.
+Timing lives in benchmarks/bench_analytic.py.
+"""
+
+from __future__ import annotations
+
+import importlib
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+import armkit
+from armkit.ik.analytic import SMALL_BATCH
+
+from test_single_call import ARMS, _arm, _assert_same, _both, _target, compiled  # noqa: F401 (the fixture)
+
+api = importlib.import_module("armkit.ik.api")
+analytic = importlib.import_module("armkit.ik.analytic")
+
+
+def _batch(robot, kind, us, fars):
+    n = robot.n
+    lo = np.where(np.isfinite(robot.lower), robot.lower, -np.pi)
+    hi = np.where(np.isfinite(robot.upper), robot.upper, np.pi)
+    return np.stack([_target(robot, kind, lo + (hi - lo) * (np.asarray(u[:n]) + 1.0) / 2.0, far)
+                     for u, far in zip(us, fars)])
+
+
+unit7 = st.lists(st.floats(-1.0, 1.0), min_size=7, max_size=7)
+
+
+@settings(max_examples=40, deadline=None)
+@given(name=st.sampled_from(sorted(ARMS)), data=st.data(), size=st.integers(1, 6),
+       start=st.sampled_from(["none", "one", "each"]), enforce=st.booleans())
+def test_a_few_targets_equal_the_batched_path(name, data, size, start, enforce):
+    robot = _arm(name)
+    us = data.draw(st.lists(unit7, min_size=size, max_size=size))
+    fars = data.draw(st.lists(st.sampled_from([1.0, 1.0, 1.0, 1.4, 3.0]), min_size=size, max_size=size))
+    targets = _batch(robot, ARMS[name], us, fars)
+    v = np.asarray(data.draw(st.lists(unit7, min_size=size, max_size=size)))[:, :robot.n] * 4.0
+    q0 = None if start == "none" else v[0] if start == "one" else v     # starts far out: branches outside limits
+    for fn in (armkit.ik_all, armkit.ik):
+        fast, slow = _both(lambda: fn(robot, targets, q0, enforce_limits=enforce))
+        assert fast.q.shape[0] == size and fast.success.shape[0] == size
+        _assert_same(fast, slow)
+
+
+def test_any_leading_shape_and_the_path_is_taken(monkeypatch, rng):
+    """(2, 3) targets come back as (2, 3) results, equal to the batched path's; the small path answered (counted);
+    more than SMALL_BATCH targets take the batched path."""
+    robot = _arm("ur5")
+    targets = np.stack([armkit.fk(robot, robot.random_q(rng=rng)) for _ in range(6)]).reshape(2, 3, 4, 4)
+    calls = []
+    real = analytic.run_small_batch
+    monkeypatch.setattr(api, "_run_small", lambda *a: calls.append(len(a[2])) or real(*a))
+    for fn in (armkit.ik_all, armkit.ik):
+        fast, slow = _both(lambda: fn(robot, targets))
+        assert fast.success.shape[:2] == (2, 3) and fast.q.shape[:2] == (2, 3)
+        _assert_same(fast, slow)
+    assert calls == [6, 6]
+    many = np.stack([armkit.fk(robot, robot.random_q(rng=rng)) for _ in range(SMALL_BATCH + 1)])
+    armkit.ik(robot, many)
+    assert calls == [6, 6]
+
+
+def test_failures_say_why_in_a_small_batch():
+    """Unreachable targets among reachable ones: the messages (made when first read) are the batched path's."""
+    robot = _arm("puma560")
+    T = armkit.fk(robot, np.full(6, 0.3))
+    far = T.copy()
+    far[:3, 3] *= 5.0
+    fast, slow = _both(lambda: armkit.ik(robot, np.stack([T, far, T])))
+    assert list(fast.success) == [True, False, True]
+    assert "_later" in fast.__dict__                    # nothing made until read
+    _assert_same(fast, slow)
+    assert fast.message[1] and fast.message[0] == ""
