@@ -239,6 +239,54 @@ def single_calls(targets: int, repeat: int) -> None:
     print(f"\nload average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores")
 
 
+def small_batches(repeat: int) -> None:
+    """A few targets in one call (``armkit.ik_all`` / ``armkit.ik`` of ``(B, 4, 4)``): up to
+    ``armkit.ik.analytic.SMALL_BATCH`` they take the one-call path target by target, above it the batched path;
+    both columns of each size are timed (``api.ONE_CALL`` off: the batched path for every size), µs per call,
+    CPU time of the thread, and EAIK's batched call of the same poses where EAIK is installed."""
+    import importlib
+
+    from armkit.ik.analytic import SMALL_BATCH
+
+    api = importlib.import_module("armkit.ik.api")
+    try:
+        import eaik  # noqa: F401
+    except ImportError:
+        eaik = None
+    sizes = (1, 2, 8, SMALL_BATCH, SMALL_BATCH + 1)
+    print(f"\nsmall batches: µs per call of B targets (one call answers up to B = {SMALL_BATCH}), best of {repeat}; "
+          "CPU time of the thread\n")
+    print("| arm | B | ik_all | ik_all batched path | ik | ik batched path | EAIK IK_batched (1 thread) |")
+    print("|---|---|---|---|---|---|---|")
+    for label in ("ur5", "puma560", "ur5, axis 1 reversed"):
+        name, tip = ARMS.get(label, (label, None))
+        robot = _flipped(armkit.load(name)) if tip == "flip" else armkit.load(name)
+        rng = np.random.default_rng(11)
+        T = armkit.fk(robot, rng.uniform(-np.pi, np.pi, (40 * max(sizes), robot.n)))
+        e = None
+        if eaik is not None:
+            form = poe(robot)
+            e = _eaik_robot(form)
+            Tfix = T.copy()
+            Tfix[:, :3, :3] = T[:, :3, :3] @ form.R_nT.T
+        for B in sizes:
+            batches = list(T[:40 * B].reshape(40, B, 4, 4))
+            cells = []
+            for fn in (armkit.ik_all, armkit.ik):
+                for one in (True, False):
+                    api.ONE_CALL = one
+                    fn(robot, batches[0])
+                    cells.append(f"{_cpu_best(lambda t: fn(robot, t), batches, repeat) * 1e6:.0f}")
+                api.ONE_CALL = True
+            if e is not None:
+                eb = list(Tfix[:40 * B].reshape(40, B, 4, 4))
+                cells.append(f"{_cpu_best(lambda t: e.IK_batched(t, 1), eb, repeat) * 1e6:.0f}")
+            else:
+                cells.append("-")
+            print(f"| {label} | {B} | " + " | ".join(cells) + " |", flush=True)
+    print(f"\nload average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores")
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--targets", type=int, default=1000)
@@ -249,7 +297,13 @@ def main() -> None:
     ap.add_argument("--search-targets", type=int, default=100)
     ap.add_argument("--single-only", action="store_true",
                     help="only the single-call times, one compiled call against the batched path (no EAIK needed)")
+    ap.add_argument("--small-only", action="store_true",
+                    help="only the small batches (2-25 targets in one call), both paths, and EAIK's where installed")
     args = ap.parse_args()
+    if args.small_only:
+        G.kernels()
+        small_batches(args.repeat)
+        return
     if args.single_only:
         G.kernels()
         single_calls(min(args.targets, 300), args.repeat)
@@ -309,6 +363,7 @@ def main() -> None:
               f"| {c['armkit fails FK']} | {us(es)} | {us(raw)}{'' if raw is None else f' ({raw / es:.2g}x)'} | "
               f"{us(aa)} ({aa / es:.2g}x) | {us(a1)} ({a1 / es:.2g}x) | {us(eb)} | {us(ab)} ({ab / eb:.2g}x) |")
     single_calls(min(args.targets, 300), args.repeat)
+    small_batches(args.repeat)
     searches(args.search_targets)
 
 

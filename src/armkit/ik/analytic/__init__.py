@@ -522,10 +522,12 @@ def run_one(robot: Robot, c: "_Single", target: Array, q0: Array | None, ctx: Ar
     return IKResult._later(every)
 
 
-SMALL_BATCH = 24
+SMALL_BATCH = 16
 """Batches of at most this many targets take the one-call path target by target (:func:`run_small_batch`): the
-batched path starts at ~0.3-0.5 ms whatever the size (then ~0.007 ms a target), the one-call path costs ~0.02 ms
-a target (UR5, ``armkit.ik`` and ``armkit.ik_all``: equal near 24-32 targets on this project's 2-core machine)."""
+batched path starts at ~0.3-0.5 ms whatever the size (then ~0.01 ms a target), the one-call path costs ~0.02 ms
+a target for ``armkit.ik`` and ~0.03 ms for ``armkit.ik_all`` (UR5, Puma 560: the two are equal near 16-24
+targets for ``ik_all`` and 24-32 for ``ik`` on this project's 2-core machine; benchmarks/bench_analytic.py
+--small-only)."""
 
 
 def run_small_batch(robot: Robot, c: "_Single", targets: Array, q0: Array | None, ctx: Array, check: bool,
