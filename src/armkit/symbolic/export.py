@@ -155,7 +155,7 @@ def _emit(name: str, M: sp.Matrix, q: tuple[sp.Symbol, ...], printer: _Printer, 
           shape_doc: str) -> list[str]:
     m = shorthand_symbols(list(M), q)
     Ms = M.xreplace(m)
-    subexprs, (red,) = sp.cse(Ms, symbols=sp.numbered_symbols("x"), optimizations="basic")
+    subexprs, (red,) = sp.cse(Ms, symbols=sp.numbered_symbols("x"))   # "basic" optimisations: 20-45x slower, more operations
     n = len(q)
     out = [f"def {name}(q):", f'    """{doc}', "", "    Parameters", "    ----------",
            f"    q : array_like, shape (..., {n})", "", "    Returns", "    -------", f"    {shape_doc}",
