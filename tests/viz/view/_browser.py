@@ -17,6 +17,20 @@ from typing import Any, Iterator
 CHROMIUM = os.environ.get("ARMKIT_CHROMIUM", "/usr/bin/chromium")
 ARGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
         "--disable-background-networking", "--disable-component-update", "--disable-sync"]
+# An init script for every page and frame: WebGL keeps its renderer's name to itself (as privacy-minded browsers
+# do), so viser skips its software-rendering check and never shows its "Software WebGL rendering detected" note
+# (true here, harmless, but it covers the top left of the canvas and of the docs' pictures; closing it waited for
+# its entry animation and its close animation, 1.5-5 s a page on the shared machine). Nothing else in the page
+# reads the renderer's name: three.js and viser draw the same either way.
+RENDERER_NAME_HIDDEN = """(() => {
+  for (const ctx of [window.WebGLRenderingContext, window.WebGL2RenderingContext]) {
+    if (!ctx) continue;
+    const getExtension = ctx.prototype.getExtension;
+    ctx.prototype.getExtension = function (name) {
+      return name === "WEBGL_debug_renderer_info" ? null : getExtension.call(this, name);
+    };
+  }
+})();"""
 INSTALL_HINT = ("cannot start chromium for the browser tests ({why}). Install Debian's chromium: "
                 "`sudo apt-get install -y chromium` (or `make chromium`); never `playwright install`. "
                 "Set ARMKIT_CHROMIUM to use another chromium binary.")
@@ -33,6 +47,7 @@ def browser_context(width: int = 1000, height: int = 640) -> Iterator[Any]:
             ctx = p.chromium.launch_persistent_context(
                 profile, executable_path=CHROMIUM, args=ARGS, headless=True,
                 viewport={"width": width, "height": height}, accept_downloads=True)
+            ctx.add_init_script(RENDERER_NAME_HIDDEN)
             try:
                 yield ctx
             finally:
@@ -50,18 +65,54 @@ def open_page(ctx: Any, url: str, ready_label: str) -> Any:
     return page
 
 
-def dismiss_software_gl_notice(page: Any, wait_ms: int = 1500) -> None:
-    """Close viser's "Software WebGL rendering detected" note (headless chromium has no GPU here).
+def dismiss_software_gl_notice(page: Any, wait_ms: int = 0) -> None:
+    """Close viser's "Software WebGL rendering detected" note if the page shows it.
 
-    It is true and harmless, but it covers the top left of the screenshots in the docs.
+    A context from :func:`browser_context` hides the renderer's name, so viser shows no such note and this
+    returns at once. ``wait_ms`` > 0 first waits that long for the note to appear (a context without the
+    init script, whose headless chromium renders WebGL in software).
     """
     note = page.locator(".mantine-Notification-root", has_text="Software WebGL rendering detected")
-    try:
-        note.first.wait_for(timeout=wait_ms)
-    except Exception:  # noqa: BLE001 - a browser with a GPU shows no such note
+    if wait_ms > 0:
+        try:
+            note.first.wait_for(timeout=wait_ms)
+        except Exception:  # noqa: BLE001 - a browser with a GPU shows no such note
+            return
+    if note.count() == 0:
         return
     note.first.locator("button").first.click()
     note.first.wait_for(state="detached", timeout=5_000)
+
+
+def settled(page: Any, target: Any = None, interval: float = 0.25, agree: int = 2, timeout: float = 30.0,
+            tolerance: int = 20) -> Any:
+    """A screenshot (PNG bytes) of ``target`` (default: the page) once it has stopped changing.
+
+    Shots ``interval`` s apart are compared; the last one is returned once ``agree`` shots in a row each differ
+    from the one before in fewer than ``tolerance`` pixels (a channel sum over 60). This waits for what a fixed
+    sleep hoped for: the page has drawn the last change (a mesh loaded, the camera placed).
+    """
+    import io
+
+    import numpy as np
+    from PIL import Image
+
+    def pixels(png: bytes) -> Any:
+        return np.asarray(Image.open(io.BytesIO(png)).convert("RGB")).astype(int)
+
+    shoot = (page if target is None else target).screenshot
+    last = shoot()
+    run = 0
+    end = time.monotonic() + timeout
+    while time.monotonic() < end:
+        time.sleep(interval)
+        now = shoot()
+        a, b = pixels(last), pixels(now)
+        run = run + 1 if a.shape == b.shape and int((np.abs(a - b).sum(axis=-1) > 60).sum()) < tolerance else 0
+        if run >= agree:
+            return now
+        last = now
+    raise AssertionError(f"the page kept changing for {timeout} s")
 
 
 def row(page: Any, label: str) -> Any:
@@ -90,6 +141,16 @@ def type_number(page: Any, label: str, value: float) -> None:
 def open_folder(page: Any, title: str) -> None:
     """Expand a collapsed panel folder."""
     page.get_by_text(title, exact=True).first.click()
+
+
+def picture(page: Any, path: str) -> None:
+    """Save a screenshot of ``page`` to ``path``; for the docs (``make pictures``) once the page has settled.
+
+    The tests' own screenshots go to a temporary folder and nobody looks at them: they are taken at once.
+    """
+    if os.environ.get("ARMKIT_UPDATE_PICTURES") == "1":
+        settled(page, interval=0.5)
+    page.screenshot(path=path)
 
 
 def wait_until(cond: Any, timeout: float = 30.0, what: str = "condition") -> None:

@@ -6,7 +6,8 @@ displays the handle, the test reads the iframe's address from the cell's HTML ou
 opens it in headless chromium (Playwright), executes the notebook's next cell (``v.q =
 ...``) and checks that the page shows the moved arm. The picture of the notebook cell (its
 source and its HTML output with the live iframe, laid out as Jupyter shows a cell) goes
-to a temporary folder, or to docs/img with ``make pictures``.
+to a temporary folder, or to docs/img with ``make pictures``. One page load serves both: the cell's page, whose
+iframe is the view's page, checked through the frame.
 """
 
 from __future__ import annotations
@@ -21,7 +22,7 @@ from typing import Any
 
 import pytest
 
-from _browser import dismiss_software_gl_notice, text_of, wait_until
+from _browser import dismiss_software_gl_notice, picture, text_of, wait_until
 
 pytestmark = pytest.mark.browser
 NOTEBOOK = Path(__file__).resolve().parents[3] / "examples" / "16_view_notebook.ipynb"
@@ -82,7 +83,8 @@ def test_notebook_shows_the_view_and_moves_the_arm(browser, docs_img: Path, tmp_
     tags = {i: set(c.get("metadata", {}).get("tags", [])) for i, c in enumerate(nb.cells)}
     shown = next(i for i, t in tags.items() if "display" in t)
     move = next(i for i, t in tags.items() if "move" in t)
-    client = nbclient.NotebookClient(nb, kernel_name=_kernel_name(tmp_path), timeout=600,
+    # the kernel is stopped at the end without its graceful shutdown (the notebook's last cell closed the view)
+    client = nbclient.NotebookClient(nb, kernel_name=_kernel_name(tmp_path), timeout=600, shutdown_kernel="immediate",
                                      resources={"metadata": {"path": str(tmp_path)}})
     with client.setup_kernel():
         check = nbformat.v4.new_code_cell("import sys; print(sys.executable)")
@@ -97,32 +99,24 @@ def test_notebook_shows_the_view_and_moves_the_arm(browser, docs_img: Path, tmp_
         frame = _html(nb.cells[shown])
         src = re.search(r'<iframe class="armkit-view" src="([^"]+)"', frame)
         assert src and src.group(1) == urls[0], frame
-        # the iframe's page, in chromium
-        page = browser.new_page()
-        page.goto(src.group(1))
+        # the cell (its source and its output, the live iframe) as a notebook shows it, in chromium
+        cell_file = tmp_path / "cell.html"
+        cell_file.write_text(_cell_page(nb.cells[shown].source, frame, 2), encoding="utf-8")
+        pic = browser.new_page()
+        pic.set_viewport_size({"width": 1000, "height": 700})
+        pic.goto(cell_file.as_uri())
+        assert [f.url for f in pic.frames[1:]] == [src.group(1)]         # the iframe shows the view's address
+        page = pic.frame_locator("iframe.armkit-view")                  # the view's page, inside the iframe
         page.get_by_text("yaw (°)", exact=True).first.wait_for(timeout=60_000)
-        dismiss_software_gl_notice(page)
+        dismiss_software_gl_notice(page)     # none shown (browser_context); it would cover the picture
+        # the picture, before the arm moves
+        picture(pic, str(docs_img / "view-notebook.png"))
         before = text_of(page, "end point (mm)")
         # the notebook's next cell moves the arm: the page follows
         client.execute_cell(nb.cells[move], move)
         assert [float(x) for x in re.findall(r"-?\d+\.\d+", _text(nb.cells[move]))] == [24.861, 14.353, 187.181]
         wait_until(lambda: text_of(page, "end point (mm)") == "24.861, 14.353, 187.181", 60, "the page follows v.q")
         assert before != "24.861, 14.353, 187.181"
-        page.close()
-        # the picture: the cell (its source and its output, the live iframe) as a notebook shows it
-        cell_file = tmp_path / "cell.html"
-        cell_file.write_text(_cell_page(nb.cells[shown].source, frame, 2), encoding="utf-8")
-        pic = browser.new_page()
-        pic.set_viewport_size({"width": 1000, "height": 700})
-        pic.goto(cell_file.as_uri())
-        inner = pic.frame_locator("iframe.armkit-view")
-        inner.get_by_text("yaw (°)", exact=True).first.wait_for(timeout=60_000)
-        pic.wait_for_timeout(1500)
-        note = inner.locator(".mantine-Notification-root", has_text="Software WebGL rendering detected")
-        if note.count():                 # viser's note on software WebGL (no GPU here) covers the picture
-            note.first.locator("button").first.click()
-            pic.wait_for_timeout(500)
-        pic.screenshot(path=str(docs_img / "view-notebook.png"))
         pic.close()
         # the rest of the notebook runs: IK from the notebook, then close
         for i in range(move + 1, len(nb.cells)):

@@ -24,7 +24,7 @@ from armkit.viz.view import View, ViewError, free_port
 from armkit.viz.view.drawing import ARM_COLOUR
 from armkit.viz.view.panels import format_numbers
 
-from _browser import numbers_of, open_folder, open_page, row, text_of, type_number, wait_until
+from _browser import numbers_of, open_folder, open_page, picture, row, settled, text_of, type_number, wait_until
 
 pytestmark = pytest.mark.browser
 ARMKIT = str(Path(sys.executable).parent / "armkit")
@@ -157,7 +157,7 @@ def test_track_mode_advances_and_paths(browser, docs_img: Path) -> None:
         q_a = v.q
         wait_until(lambda: not np.allclose(v.q, q_a), 10, "the arm moving")
         page.get_by_role("button", name="Pause").first.click()
-        time.sleep(0.3)
+        wait_until(lambda: v._player is None, 10, "the player stopped")    # Pause joins the player's thread
         k = v.track_frame
         page.get_by_role("button", name="Step").first.click()
         wait_until(lambda: v.track_frame == (k + 1) % 200, 10, "one step")
@@ -225,10 +225,9 @@ def test_urdf_arm_with_meshes(browser, docs_img: Path) -> None:
         assert v.drawing.meshes
         v.set_q(np.array([0.3, -1.2, 1.4, -0.8, -1.5, 0.0]))
         page = open_page(browser, v.url, "shoulder_pan_joint (°)")
-        time.sleep(1.5)
-        img = _pixels(page.locator("canvas").first.screenshot())
-        assert img.std() > 10
-        page.screenshot(path=str(docs_img / "view-urdf-ur5.png"))
+        canvas = page.locator("canvas").first
+        wait_until(lambda: _pixels(canvas.screenshot()).std() > 10, 20, "the arm's meshes drawn")
+        picture(page, str(docs_img / "view-urdf-ur5.png"))
         page.close()
     with View("so101", lang="en") as v:        # meshes when its mesh files are found, capsules otherwise
         has_files = any(sh.mesh_path for link in v.robot.links for sh in link.visuals)
@@ -250,8 +249,7 @@ def test_scene_drawn_and_collisions_turn_red(browser, docs_img: Path) -> None:
         v.set_q(np.radians([0.0, 45.0, 0.0]))          # clear: 17 mm above everything (docs/scene.md)
         assert v.obstacles.colliding == ()
         wait_until(lambda: _arm_pixels(_pixels(page.screenshot())) > 300, 20, "the arm drawn")
-        time.sleep(1.0)
-        free = _red_pixels(_pixels(page.screenshot()))
+        free = _red_pixels(_pixels(settled(page, interval=0.5, agree=1)))     # the scene drawn: two shots agree
         assert page.locator(".armkit-collision").count() == 0
         v.set_q(np.radians([0.0, -30.0, 0.0]))         # the forearm 35.6 mm into the ground, 16.8 mm into the torso
         assert v.obstacles.colliding == ("ground", "torso")
@@ -328,17 +326,25 @@ def test_every_robot_renders(browser, name: str) -> None:
         label = f"{arm.joint_names[0]} ({arm.unit if arm.joints[0].is_prismatic else '°'})"
         page = open_page(browser, v.url, label)
         pose = f"end point ({arm.unit})"
-        time.sleep(1.0)
-        before = _pixels(page.locator("canvas").first.screenshot())
+        canvas = page.locator("canvas").first
+        # the first pose, drawn (meshes loaded, camera placed): two shots of the canvas 0.5 s apart agree (it
+        # slept 1 s and took one; a settled shot costs about the same and would see the page still changing)
+        before = _pixels(settled(page, canvas, interval=0.5, agree=1))
         assert before.std() > 10
         q = arm.random_q(rng=7)
         v.set_q(q)
         expected = format_numbers(armkit.fk(arm, q)[:3, 3], v.panels.dec)
         wait_until(lambda: text_of(page, pose) == expected, 20, "the end-pose text of the new q")
-        time.sleep(1.0)
-        after = _pixels(page.locator("canvas").first.screenshot())
-        moved = int(np.sum(np.abs(after - before).sum(axis=-1) > 60))
-        assert moved > 300, f"{name}: only {moved} pixels changed when the arm moved"
+        moved = [0]
+
+        def arm_moved() -> bool:
+            moved[0] = int(np.sum(np.abs(_pixels(canvas.screenshot()) - before).sum(axis=-1) > 60))
+            return moved[0] > 300
+
+        try:
+            wait_until(arm_moved, 20, "the arm redrawn at the new q")
+        except AssertionError:
+            raise AssertionError(f"{name}: only {moved[0]} pixels changed when the arm moved") from None
         page.close()
 
 

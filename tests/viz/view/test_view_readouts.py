@@ -27,7 +27,7 @@ from armkit.errors import ViewError
 from armkit.viz.view import View
 from armkit.viz.view.drawing import rotation_from_wxyz
 from armkit.viz.view.readouts import (
-    MAX_STORED, camera_preset, configurations_toml, frame_number_groups, matrix_text, parse_configurations_toml)
+    MAX_STORED, STORAGE_KEY, camera_preset, configurations_toml, frame_number_groups, matrix_text, parse_configurations_toml)
 
 from _browser import open_folder, open_page, row, type_number, wait_until
 
@@ -284,10 +284,12 @@ def test_stored_configurations_save_recall_rename_export_import(browser, tmp_pat
 def test_stored_list_left_out_when_the_browser_copy_is_bad(browser) -> None:
     """A list in localStorage that is not ours (or is broken) is left out with a message, never evaluated."""
     with View("fighter", lang="en") as v:
-        page = open_page(browser, v.url, "yaw (°)")
-        page.evaluate("localStorage.setItem(Object.keys(localStorage).find(k => k.endsWith('fighter'))"
-                      " || 'viser-user:armkit-configurations-fighter', '{\"configurations\": 5}')")
-        page.reload()
+        # the bad list is in the browser's storage before the page's own scripts run (viser keeps a page's
+        # values under "viser-user:" + their key): one page load, not a load and a reload
+        key = "viser-user:" + STORAGE_KEY.format(robot="fighter")
+        page = browser.new_page()
+        page.add_init_script(f"localStorage.setItem({key!r}, '{{\"configurations\": 5}}')")
+        page.goto(v.url)
         page.get_by_text("yaw (°)", exact=True).first.wait_for(timeout=30_000)
         open_folder(page, "Stored configurations")
         wait_until(lambda: "could not be read and was left out" in _status(page), 20, "the bad list reported")
