@@ -45,6 +45,10 @@ from ._jit_pairs import (BOX, CYL, PLANE, SEGF, SEGL, _convex, _cyl_plane, _poin
                          _seg_box, _seg_cyl, _seg_seg)
 
 PARALLEL_MIN = 2048
+EXACT = np.True_
+"""``exact`` of :func:`_chunk_all`: a NumPy True, which Numba types as ``bool`` (a literal ``True`` would compile
+:func:`._jit_pairs._convex` and :func:`._jit_pairs._seg_cyl` once more, for that literal, beside the ``bool`` of
+:func:`_chunk_min`)."""
 
 
 @njit(cache=True)
@@ -171,7 +175,7 @@ def _chunk_all(frames, items, pairs, out, c):
         _place(frames[b], items, placed, not first)
         first = False
         for p in range(pairs.shape[0]):
-            out[b, p] = _pair(pairs[p, 0], pairs[p, 1], items, placed, ts, S, True)
+            out[b, p] = _pair(pairs[p, 0], pairs[p, 1], items, placed, ts, S, EXACT)
 
 
 @njit(cache=True)

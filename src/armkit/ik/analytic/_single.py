@@ -75,6 +75,10 @@ CTX = ("n", "geometry", "joints", "F", "opts")
 """The header of ``ctx``: the number of joints, then where the geometry, the joint table, the packed
 chain and the options start."""
 RIGID_TOL = 1e-6   # check_transform's default
+_YES, _NO = np.True_, np.False_
+"""True and False that Numba types as ``bool``, not as the literals ``True``/``False``: the kernels pass them
+(and counts as ``np.int64``) to :func:`_finish`, so that one compiled signature of it serves every family
+(a literal argument compiles a copy of :func:`_finish` per value)."""
 
 
 def options(tol, enforce, window, above, scale, sign, check, nearest=False):
@@ -292,7 +296,7 @@ def post(rawq, unreach, missing, t, q0, ctx, fb, ib, bb):
     lab = np.empty(m, np.int64)
     for b in range(m):
         lab[b] = b
-    return _finish(rawq, unreach, missing, lab, ctx, q0, T, t.shape[0] == 16, False, 0.0, np.zeros(1), m + 1,
+    return _finish(rawq, unreach, missing, lab, ctx, q0, T, t.shape[0] == 16, _NO, 0.0, np.zeros(1), m + 1,
                    fb, ib, bb)
 
 
@@ -323,8 +327,8 @@ def planar2(t, q0, ctx, fb, ib, bb):
     if opts[7] < 0:
         for b in range(2):
             q[0, b, 1] *= -1.0
-    return _finish(q[0], unreach[0], np.zeros(2, np.bool_), up[0], ctx, q0, T, t.shape[0] == 16, False, 0.0, r, 2,
-                   fb, ib, bb)
+    return _finish(q[0], unreach[0], np.zeros(2, np.bool_), up[0], ctx, q0, T, t.shape[0] == 16, _NO, 0.0, r,
+                   np.int64(2), fb, ib, bb)
 
 
 @njit(cache=True)
@@ -340,7 +344,8 @@ def planar3(t, q0, ctx, fb, ib, bb):
     _planar3_run(Tb, g, q, up, c, r, unreach, edge, 0, 1)
     if edge[0]:
         return FALLBACK
-    return _finish(q[0], unreach[0], np.zeros(2, np.bool_), up[0], ctx, q0, T, True, False, 0.0, r, 2, fb, ib, bb)
+    return _finish(q[0], unreach[0], np.zeros(2, np.bool_), up[0], ctx, q0, T, _YES, _NO, 0.0, r, np.int64(2), fb,
+                   ib, bb)
 
 
 @njit(cache=True)
@@ -363,7 +368,7 @@ def yaw_pitch_pitch(t, q0, ctx, fb, ib, bb):
     if on_axis[0] or edge[0, 0] or edge[0, 1]:
         return FALLBACK
     return _finish(phi[0], unreach[0], np.zeros(4, np.bool_), lab[0], ctx, q0, T, t.shape[0] == 16, lat[0], rho[0],
-                   r[0], 2, fb, ib, bb)
+                   r[0], np.int64(2), fb, ib, bb)
 
 
 @njit(cache=True)
@@ -388,8 +393,8 @@ def spherical_wrist(t, q0, ctx, fb, ib, bb):
         if singular[0, b]:
             return FALLBACK
         unreach[2 * b] = unreach[2 * b + 1] = unreach4[0, b]
-    return _finish(out.reshape(8, 6), unreach, np.zeros(8, np.bool_), lab.reshape(8), ctx, q0, T, True, lat[0],
-                   rho[0], r[0], 4, fb, ib, bb)
+    return _finish(out.reshape(8, 6), unreach, np.zeros(8, np.bool_), lab.reshape(8), ctx, q0, T, _YES, lat[0],
+                   rho[0], r[0], np.int64(4), fb, ib, bb)
 
 
 @njit(cache=True)
@@ -408,8 +413,8 @@ def ur(t, q0, ctx, fb, ib, bb):
     _ur_run(Tb, g, q0phi, out, up, lab, unreach, lat, rho, r, on_axis, singular, 0, 1)
     if on_axis[0] or singular[0, 0, 0] or singular[0, 0, 1] or singular[0, 1, 0] or singular[0, 1, 1]:
         return FALLBACK
-    return _finish(out.reshape(8, 6), unreach.reshape(8), np.zeros(8, np.bool_), lab.reshape(8), ctx, q0, T, True,
-                   lat[0], rho[0], r[0].reshape(4), 2, fb, ib, bb)
+    return _finish(out.reshape(8, 6), unreach.reshape(8), np.zeros(8, np.bool_), lab.reshape(8), ctx, q0, T, _YES,
+                   lat[0], rho[0], r[0].reshape(4), np.int64(2), fb, ib, bb)
 
 
 KERNELS = {"planar-2r": planar2, "planar-3r": planar3, "yaw-pitch-pitch": yaw_pitch_pitch,

@@ -81,8 +81,9 @@ ZERO = 1e-12
 """A residual at a sample within this of 0 is a root on the sample (its sign is rounding)."""
 NUDGE = 1e-6
 """Where a step with such a sample at an end is tested for a sign change instead (fraction of the step)."""
-TI, TP, SW, SM = 0, 1, 2, 3
-"""The kinds of search (see the table above)."""
+TI, TP, SW, SM = np.int64(0), np.int64(1), np.int64(2), np.int64(3)
+"""The kinds of search (see the table above): NumPy integers, which Numba types as ``int64`` (a Python int
+constant would be a literal, and each kind would compile its own copy of every function of the engine)."""
 
 # ------------------------------------------------------------------------------ the branches
 def _eval(kind, H, P, C, x, S, E):
@@ -623,7 +624,7 @@ def _search(kind, H, P, C, n, roots):
     D = np.empty((n, 4, 4))
     for i in range(n):
         _dists(S[i], cnt[i], S[i + 1], cnt[i + 1], D[i])
-    m = 0
+    m = np.int64(0)   # not the literal 0: the calls in the loop would be compiled for it as well as for int64
     Ss = np.zeros((SUB_N + 1, 4, 3))
     Es = np.zeros((SUB_N + 1, 4))
     cs = np.zeros(SUB_N + 1, dtype=np.int64)

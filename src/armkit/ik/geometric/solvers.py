@@ -211,10 +211,12 @@ def _prepare(form: POE, name: str) -> _Prepared:
         if name == "spherical_middle" and not (_meets(form, 1, 2, 1e-6) and _meets(form, 2, 3, 1e-6)):
             raise ValueError("spherical_middle: axes 2, 3 and 4 must meet in a point")
         ideal, dev = align(form, meet, parallel)
-        c = np.ascontiguousarray
-        return _Prepared(solve, kind, c(ideal.H), c(ideal.P), c(np.asarray(form.R_nT, dtype=float)),
-                         c(np.asarray(form.prismatic, dtype=np.bool_)), c(np.asarray(form.H, dtype=float)),
-                         c(np.asarray(form.P, dtype=float)), dev < 1e-13, _size(form))
+        # writable C-contiguous copies: the POE's own arrays may be read-only, and the compiled kernels would then
+        # be compiled a second time for read-only arrays (the 7-joint sweep of .locked passes writable ones)
+        def c(x: Any, dtype: Any = float) -> Any:
+            return np.array(x, dtype=dtype, order="C")
+        return _Prepared(solve, kind, c(ideal.H), c(ideal.P), c(form.R_nT), c(form.prismatic, np.bool_), c(form.H),
+                         c(form.P), dev < 1e-13, _size(form))
     return _cached(form, name, make)
 
 
