@@ -74,6 +74,12 @@ def _constant_args(call: ast.Call) -> list[object]:
 
 @pytest.mark.parametrize("path, callee, count", [
     (SRC / "ik" / "analytic" / "_single.py", "_finish", 6),
+    (SRC / "ik" / "geometric" / "one_call.py", "_finish", 1),
+    (SRC / "ik" / "analytic" / "_single.py", "_planar2_run", 1),
+    (SRC / "ik" / "analytic" / "_single.py", "_planar3_run", 1),
+    (SRC / "ik" / "analytic" / "_single.py", "_ypp_run", 1),
+    (SRC / "ik" / "analytic" / "_single.py", "_puma_run", 1),
+    (SRC / "ik" / "analytic" / "_single.py", "_ur_run", 1),
     (SRC / "collision" / "_jit.py", "_pair", 2),
     (SRC / "collision" / "_jit.py", "_convex", 1),
     (SRC / "collision" / "_jit.py", "_seg_cyl", 1),

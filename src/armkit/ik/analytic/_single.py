@@ -76,6 +76,7 @@ CTX = ("n", "geometry", "joints", "F", "opts")
 chain and the options start."""
 RIGID_TOL = 1e-6   # check_transform's default
 _YES, _NO = np.True_, np.False_
+_FIRST, _ONE = np.int64(0), np.int64(1)   # the family kernels' row range (0, 1), typed int64 as in their batched use
 """True and False that Numba types as ``bool``, not as the literals ``True``/``False``: the kernels pass them
 (and counts as ``np.int64``) to :func:`_finish`, so that one compiled signature of it serves every family
 (a literal argument compiles a copy of :func:`_finish` per value)."""
@@ -321,7 +322,7 @@ def planar2(t, q0, ctx, fb, ib, bb):
         p[0, k] = T[k, 3]
     q, up, c, r = np.empty((1, 2, 2)), np.empty((1, 2), np.int64), np.empty(1), np.empty(1)
     unreach, edge = np.empty((1, 2), np.bool_), np.empty(1, np.bool_)
-    _planar2_run(p, g, q, up, c, r, unreach, edge, 0, 1)
+    _planar2_run(p, g, q, up, c, r, unreach, edge, _FIRST, _ONE)
     if edge[0]:
         return FALLBACK
     if opts[7] < 0:
@@ -341,7 +342,7 @@ def planar3(t, q0, ctx, fb, ib, bb):
     Tb = T.reshape((1, 4, 4))
     q, up, c, r = np.empty((1, 2, 3)), np.empty((1, 2), np.int64), np.empty(1), np.empty(1)
     unreach, edge = np.empty((1, 2), np.bool_), np.empty(1, np.bool_)
-    _planar3_run(Tb, g, q, up, c, r, unreach, edge, 0, 1)
+    _planar3_run(Tb, g, q, up, c, r, unreach, edge, _FIRST, _ONE)
     if edge[0]:
         return FALLBACK
     return _finish(q[0], unreach[0], np.zeros(2, np.bool_), up[0], ctx, q0, T, _YES, _NO, 0.0, r, np.int64(2), fb,
@@ -364,7 +365,7 @@ def yaw_pitch_pitch(t, q0, ctx, fb, ib, bb):
     c, r, rho = np.empty((1, 2)), np.empty((1, 2)), np.empty(1)
     lat, on_axis, edge, lab = np.empty(1, np.bool_), np.empty(1, np.bool_), np.empty((1, 2), np.bool_), \
         np.empty((1, 4), np.int64)
-    _ypp_run(p, g, yaw0, phi, up, unreach, c, r, rho, lat, on_axis, edge, lab, 0, 1)
+    _ypp_run(p, g, yaw0, phi, up, unreach, c, r, rho, lat, on_axis, edge, lab, _FIRST, _ONE)
     if on_axis[0] or edge[0, 0] or edge[0, 1]:
         return FALLBACK
     return _finish(phi[0], unreach[0], np.zeros(4, np.bool_), lab[0], ctx, q0, T, t.shape[0] == 16, lat[0], rho[0],
@@ -385,7 +386,7 @@ def spherical_wrist(t, q0, ctx, fb, ib, bb):
     c, r, rho = np.empty((1, 2)), np.empty((1, 2)), np.empty(1)
     lat, on_axis, edge, lab4 = np.empty(1, np.bool_), np.empty(1, np.bool_), np.empty((1, 2), np.bool_), \
         np.empty((1, 4), np.int64)
-    _puma_run(Tb, g, q0phi, out, lab, singular, phi, up, unreach4, c, r, rho, lat, on_axis, edge, lab4, 0, 1)
+    _puma_run(Tb, g, q0phi, out, lab, singular, phi, up, unreach4, c, r, rho, lat, on_axis, edge, lab4, _FIRST, _ONE)
     if on_axis[0] or edge[0, 0] or edge[0, 1]:
         return FALLBACK
     unreach = np.empty(8, np.bool_)
@@ -410,7 +411,7 @@ def ur(t, q0, ctx, fb, ib, bb):
     lab = np.empty((1, 2, 2, 2), np.int64)
     lat, rho, r = np.empty(1, np.bool_), np.empty(1), np.empty((1, 2, 2))
     on_axis, singular = np.empty(1, np.bool_), np.empty((1, 2, 2), np.bool_)
-    _ur_run(Tb, g, q0phi, out, up, lab, unreach, lat, rho, r, on_axis, singular, 0, 1)
+    _ur_run(Tb, g, q0phi, out, up, lab, unreach, lat, rho, r, on_axis, singular, _FIRST, _ONE)
     if on_axis[0] or singular[0, 0, 0] or singular[0, 0, 1] or singular[0, 1, 0] or singular[0, 1, 1]:
         return FALLBACK
     return _finish(out.reshape(8, 6), unreach.reshape(8), np.zeros(8, np.bool_), lab.reshape(8), ctx, q0, T, _YES,

@@ -175,11 +175,12 @@ def _geometric(t, q0, ctx, fb, ib, bb):
     for b in range(m):
         lab[b] = b
     found = float(k) if ng > 0 else 0.0
-    return _finish(rawq, unreach, unreach, lab, ctx, q0, T, True, False, found, np.zeros(1), m + 1,  # noqa: F821
+    return _finish(rawq, unreach, unreach, lab, ctx, q0, T, _YES, _NO, found, np.zeros(1), m + 1,  # noqa: F821
                    fb, ib, bb)
 
 
 _KERNEL: Any = None
+_YES, _NO = np.True_, np.False_   # typed bool, not literal True/False: one signature of _finish (see _single)
 
 
 def kernel() -> Any:
