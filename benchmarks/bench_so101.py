@@ -4,8 +4,10 @@ Part 1, the modes. Targets are FK of ``--n`` (default 10,000) joint vectors draw
 the limits (seeded); ``--far`` (default 1,000) unreachable targets lie 1-30 cm beyond the reach
 measured from the shoulder, in random directions. Modes:
 
-* position only (``armkit.ik(arm, xyz)``: Levenberg-Marquardt), and the closed form for it
-  (:func:`armkit.ik.analytic.yaw_pitch3.position_ik`: the member of the 1-D family nearest q0);
+* position only: Levenberg-Marquardt (``armkit.ik(arm, xyz, method="lm")``, what ``armkit.ik`` did by
+  default before issue 20), the closed form (:func:`armkit.ik.analytic.yaw_pitch3.position_ik`: the member
+  of the 1-D family nearest q0), and ``armkit.ik(arm, xyz)`` with its defaults, which routes a single
+  SO-101 position to that closed form (LM for the few targets it leaves, and beyond the reach);
 * position + tool pitch (``armkit.ik(arm, xyz, pitch=...)``: the yaw-pitch3 closed form, the
   roll joint kept at q0, which is given the roll the target came from), and ``ik_all``;
 * position + pointing direction of the tool's z axis (``armkit.ik(arm, xyz, direction=...)``);
@@ -112,13 +114,12 @@ def modes(args) -> None:
     armkit.ik(arm, p[:50], direction=d[:50])
     rows = []
 
-    res, t = timed(lambda: armkit.ik(arm, p, seed=1))
-    one = per_call(lambda i: armkit.ik(arm, p[i], seed=1), args.single)[0]
-    out = armkit.ik(arm, far, seed=1)
+    res, t = timed(lambda: armkit.ik(arm, p, method="lm", seed=1))
+    one = per_call(lambda i: armkit.ik(arm, p[i], method="lm", seed=1), args.single)[0]
+    out = armkit.ik(arm, far, method="lm", seed=1)
     rows.append(("position (LM)", res.success, check(arm, res.q, p), t, one, out))
 
-    # the closed form for a position alone (issue 20): position_ik, armkit.ik's answer once its dispatch routes
-    # the SO-101's position-only targets there (None: the general path, as armkit.ik would go)
+    # the closed form for a position alone (issue 20): position_ik (None: the general path, as armkit.ik goes)
     def closed(pts, q0=None):
         r = position_ik(arm, pts, q0)
         return r if r is not None else armkit.ik(arm, pts, q0)
@@ -129,6 +130,19 @@ def modes(args) -> None:
     one = per_call(lambda i: closed(p[i]), args.single)[0]
     out = closed(far)
     rows.append(("position (closed form)", res.success, check(arm, res.q, p), t, one, out))
+
+    # armkit.ik(arm, xyz) with its defaults: a single target goes to the closed form (a batch: LM, as before);
+    # its "batch" column is a Python loop of single calls over the targets
+    armkit.ik(arm, p[0])
+    qs, ok = np.empty((n, 5)), np.empty(n, dtype=bool)
+    t0 = time.perf_counter()
+    for i in range(n):
+        r = armkit.ik(arm, p[i])
+        qs[i], ok[i] = r.q, r.success
+    t = time.perf_counter() - t0
+    one = per_call(lambda i: armkit.ik(arm, p[i]), args.single)[0]
+    out = armkit.ik(arm, far)
+    rows.append(("position (armkit.ik default)", ok, check(arm, qs, p), t, one, out))
 
     res, t = timed(lambda: armkit.ik(arm, p, q0=q0, pitch=psi))
     one = per_call(lambda i: armkit.ik(arm, p[i], q0=q0[i], pitch=psi[i]), args.single)[0]

@@ -17,6 +17,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
@@ -142,3 +143,62 @@ def test_other_input_is_left_to_the_general_path(arm):
     assert position_ik(arm, p, np.zeros(4)) is None              # a wrong q0: armkit.ik raises its error
     assert position_ik(armkit.load("puma560"), p) is None        # another family
     assert position_ik(arm, p, np.full(5, 1e7)) is None
+
+
+# ---------------------------------------------------------------- armkit.ik's route (issue 20)
+def test_armkit_ik_routes_one_position_to_the_closed_form(arm):
+    """``armkit.ik(so101, xyz)`` with its defaults answers by the closed form: the same answer as position_ik,
+    field by field; the label names the closed form's branch (or "newton"), never LM's; FK meets the target."""
+    q = arm.random_q(40, rng=18)
+    p = fk_point(arm, q)
+    closed = 0
+    for i in range(len(p)):
+        res = armkit.ik(arm, p[i])
+        ref = position_ik(arm, p[i])
+        if ref is None:                                    # one of LM's few targets
+            assert str(res.branch) == "lm"
+            continue
+        closed += 1
+        for k in ("q", "success", "position_error", "rotation_error", "iterations", "branch", "within_limits",
+                  "reason"):
+            a, b = getattr(res, k), getattr(ref, k)
+            assert type(a) is type(b) and np.shape(a) == np.shape(b) == (() if k != "q" else (5,))
+            assert np.array_equal(a, b) and np.asarray(a).dtype == np.asarray(b).dtype, k
+        assert res.message == "" and bool(res.success) and int(res.iterations) == 0
+        assert str(res.branch) not in ("lm", "")
+        assert np.linalg.norm(fk_point(arm, res.q) - p[i]) <= 1e-9
+        assert np.all((res.q >= arm.lower - 1e-12) & (res.q <= arm.upper + 1e-12))
+        listed = armkit.ik(arm, p[i].tolist(), q0=[0.0] * 5)    # lists are normalised, then take the same route
+        assert np.array_equal(listed.q, position_ik(arm, p[i], np.zeros(5)).q)
+    assert closed >= 35
+
+
+def test_other_options_and_arms_keep_their_path(arm):
+    p = fk_point(arm, arm.random_q(1, rng=19))[0]
+    for kw in ({"method": "lm"}, {"seed": 1}, {"tol": 1e-7}, {"mask": [1, 1, 1, 0, 0, 0]}, {"trace": True},
+               {"max_iterations": 200}):
+        assert str(armkit.ik(arm, p, **kw).branch) == "lm", kw
+    assert str(armkit.ik(arm, np.stack([p, p])).branch[0]) == "lm"          # a batch: as before
+    ur = armkit.load("ur5")
+    target = armkit.fk(ur, [0.3, -1.0, 1.2, 0.4, 0.5, 2.0])[:3, 3]
+    assert str(armkit.ik(ur, target, seed=0).branch) == "lm"
+    assert str(armkit.ik(arm, p).branch) != "lm"
+    try:
+        armkit.set_backend("numpy")                                         # the NumPy back end: LM
+        assert str(armkit.ik(arm, p).branch) == "lm"
+    finally:
+        armkit.set_backend("numba")                                         # as the arm fixture left it
+    armkit.fk(arm, np.zeros(5))          # the kernels serve from the next kinematics call on (as armkit.ik's other
+    assert str(armkit.ik(arm, p).branch) != "lm"                            # one-call paths)
+
+
+def test_armkit_ik_beyond_the_reach_fails_as_before(arm):
+    """A target beyond the reach from the shoulder: "unreachable", the same result and message as LM gives."""
+    c, u, rs, _, reach = shoulder_reach(arm)
+    far = c + np.array([0.3, -0.2, 0.5]) / np.linalg.norm([0.3, -0.2, 0.5]) * (reach + rs + 0.05)
+    res = armkit.ik(arm, far)
+    lm = armkit.ik(arm, far, method="lm")
+    assert not bool(res.success) and str(res.reason) == "unreachable" and "from the shoulder" in res.message
+    assert res.message == lm.message and np.array_equal(res.q, lm.q)
+    with pytest.raises(armkit.UnreachableError):
+        armkit.ik(arm, far, raise_unreachable=True)

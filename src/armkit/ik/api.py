@@ -611,6 +611,21 @@ def ik(robot: Robot, target: ArrayLike, q0: ArrayLike | None = None,
         one = _fast(robot, target, q0, enforce_limits, check, True)
         if one is not None:
             return one
+    if type(robot) is Robot and (pos := robot.cache.get("yaw_pitch3_position")) is not False \
+            and type(method) is str and method == "auto" and enforce_limits is True and trace is False \
+            and branch is None and phi is None and mask is None and tol is None and scene is None and pitch is None \
+            and direction is None and fixed is None and seed is None and max_iterations is None \
+            and restarts is None and _jit_loader._ACTIVE is not None:   # the SO-101's position: its closed form
+        if pos is None:      # the record is made by the first call (False for every other arm: not asked again)
+            from .analytic.yaw_pitch3_position import position_route
+
+            one = position_route(robot, target, q0)
+        else:
+            one = pos.route(robot, target, q0)   # None: another target, LM's few targets, beyond the reach
+        if one is not None:
+            if raise_unreachable:
+                _raise_if_unreachable(one)
+            return one
     if method not in METHODS:
         raise IKInputError.of("method must be one of {names}; got {method}", names=", ".join(METHODS),
                               method=short_repr(method))

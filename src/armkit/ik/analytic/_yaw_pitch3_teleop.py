@@ -24,10 +24,10 @@ from ._yaw_pitch3_jit import (DIRECTION, FRONT, G_A1, G_A2, G_A3, G_A4, G_BASE_I
                               G_D5, G_LAT0, G_LOWER, G_PAN, G_S1, G_S4, G_SCALE, G_SIZE, G_T, G_THETA, G_UP,
                               G_UPPER, LATERAL_SLACK, LM, NUMPY, PITCH, POSE, POSITION, TWO_PI, _closed_form, _cross,
                               _fk, _nearest, _pitch, _polish_branch, _rotation_angle, _solve4, _within,
-                              _wrap_limits, direction_branches)
+                              _rint, _wrap_limits, direction_branches)
 
-__all__ = ["teleop", "teleop_call", "teleop_ctx", "pack_context", "position_nearest", "position_rows", "INVALID",
-           "UNREACHABLE", "C_TOL", "C_INDEX", "C_REACH", "C_SIZE"]
+__all__ = ["teleop", "teleop_call", "teleop_ctx", "pack_context", "position_nearest", "position_rows", "position_one",
+           "pack_position", "INVALID", "UNREACHABLE", "C_TOL", "C_INDEX", "C_REACH", "C_SIZE", "P_SIZE"]
 
 
 @njit(cache=True)
@@ -190,12 +190,42 @@ _LOCAL = np.array([0.0, -0.02, 0.02, -0.05, 0.05, -0.1, 0.1])   # offsets from t
 _REFINE = 20         # golden-section steps on the best sample's bracket (1.57 rad * 0.618^20: ~1e-4 rad)
 
 
+@njit(cache=True, inline="always")
+def _wrap_one(g, k, x, ref):
+    """Joint ``k``'s value ``x`` wrapped into its limits nearest ``ref``: :func:`._yaw_pitch3_jit._wrap_limits` for
+    one joint (the same operations, so the same number)."""
+    v = x + TWO_PI * _rint((ref - x) / TWO_PI)
+    lo, hi = g[G_LOWER + k] - 1e-12, g[G_UPPER + k] + 1e-12
+    if v < lo or v > hi:
+        if v < lo:
+            cand = v + TWO_PI * math.ceil((lo - v) / TWO_PI)
+        else:
+            cand = v + TWO_PI * math.floor((hi - v) / TWO_PI)
+        if lo <= cand <= hi:
+            v = cand
+        else:
+            v = v + TWO_PI * _rint((0.5 * (lo + hi) - v) / TWO_PI)
+    return v
+
+
+@njit(cache=True, inline="always")
+def _inside(g, k, v):
+    """Joint ``k``'s value ``v`` inside its limits (:func:`._yaw_pitch3_jit._within`'s test for one joint)."""
+    return g[G_LOWER + k] - 1e-12 <= v <= g[G_UPPER + k] + 1e-12
+
+
+_PRE = 15            # size of _family_parts' output
+
+
 @njit(cache=True)
 def _family_parts(g, p, q0, pre):
-    """What the members of the position's 1-D family share (the roll kept at ``q0[4]``), into ``pre`` (9,):
-    the height term, the wrist-to-tool offset in the arm's plane (2), per half (front, back) the pan angle and
-    the in-plane distance from the shoulder, then cos and sin of ``beta``. Returns False where the position-only answer is left to LM (a target
-    inside the sideways offset, or on the pan axis)."""
+    """What the members of the position's 1-D family share (the roll kept at ``q0[4]``), into ``pre``
+    (:data:`_PRE`,): the height term, the wrist-to-tool offset in the arm's plane (2), per half (front, back) the
+    pan angle and the in-plane distance from the shoulder, cos and sin of ``beta``; then, the same for every
+    pitch, the pan joint's value wrapped into its limits nearest ``q0`` per half (2), the roll joint's (1), and
+    per half the squared joint distance of these two from ``q0`` (2, ``inf`` where either leaves its limits:
+    no member of that half). Returns False where the position-only answer is left to LM (a target inside the
+    sideways offset, or on the pan axis)."""
     B = G_BASE_INV
     x = g[B] * p[0] + g[B + 1] * p[1] + g[B + 2] * p[2] + g[B + 3]
     y = g[B + 4] * p[0] + g[B + 5] * p[1] + g[B + 6] * p[2] + g[B + 7]
@@ -215,62 +245,106 @@ def _family_parts(g, p, q0, pre):
     s1 = g[G_S1]
     pre[0], pre[1], pre[2] = s1 * (z - g[G_D1]), g[G_A4] + vx, -s4 * vz
     pre[7], pre[8] = math.cos(g[G_BETA]), math.sin(g[G_BETA])
+    roll = _wrap_one(g, 4, q0[4], q0[4])
+    pre[11] = roll
     for jf in range(2):
         Xs = Xf * FRONT[2 * jf]
         pre[3 + jf] = yaw - math.atan2(-s1 * L, Xs)
         pre[5 + jf] = Xs - g[G_A1]
+        pan = _wrap_one(g, 0, pre[3 + jf] - g[G_THETA], q0[0])
+        pre[9 + jf] = pan
+        pre[12 + jf] = (pan - q0[0]) ** 2 if _inside(g, 0, pan) and _inside(g, 4, roll) else np.inf
+    pre[14] = (roll - q0[4]) ** 2
     return True
+
+
+@njit(cache=True, inline="always")
+def _half(g, pre, psi, jf):
+    """The wrist of half ``jf`` (0 front, 1 back) of the family at pitch ``psi`` (the closed form of
+    :func:`._yaw_pitch3_jit._closed_form_at` on the ideal arm): ``(reached, Theta, ang, d1, t2, Wx)``, the
+    tool's in-plane angle (``up * psi - beta`` front, ``pi - up * psi - beta`` back), the wrist's direction and
+    the two-link angles both elbows share; ``reached`` False where the wrist is out of reach at ``psi``."""
+    sp, cp = math.sin(psi), math.cos(psi)
+    a2, a3 = g[G_A2], g[G_A3]
+    up, cb, sb = g[G_UP], pre[7], pre[8]
+    f = FRONT[2 * jf]
+    Theta = (up * psi if jf == 0 else math.pi - up * psi) - g[G_BETA]
+    ct, st = f * cp * cb + up * sp * sb, up * sp * cb - f * cp * sb
+    Wx, Wy = pre[5 + jf] - (ct * pre[1] - st * pre[2]), pre[0] - (st * pre[1] + ct * pre[2])
+    c = (Wx * Wx + Wy * Wy - a2 * a2 - a3 * a3) / (2.0 * a2 * a3)
+    if c > 1.0 or c < -1.0:
+        return False, Theta, 0.0, 0.0, 0.0, Wx
+    sn0 = math.sqrt((1.0 - c) * (1.0 + c))
+    return True, Theta, math.atan2(Wy, Wx), math.atan2(a3 * sn0, a2 + a3 * c), math.atan2(sn0, c), Wx
+
+
+@njit(cache=True, inline="always")
+def _branch(g, pre, q0, jf, e, Theta, ang, d1, t2):
+    """Elbow ``e`` (+-1) of half ``jf`` from :func:`_half`'s angles, wrapped into the limits nearest ``q0``:
+    ``(D, q1, q2, q3)``, ``D`` the squared joint distance from ``q0`` (``inf`` where a joint leaves its limits;
+    the pan and roll joints are :func:`_family_parts`')."""
+    th1, th2 = ang - e * d1, e * t2
+    v2 = _wrap_one(g, 2, th2 - g[G_THETA + 2], q0[2])     # the elbow first: the joint most often out
+    if not _inside(g, 2, v2):
+        return np.inf, 0.0, v2, 0.0
+    v1 = _wrap_one(g, 1, th1 - g[G_THETA + 1], q0[1])
+    if not _inside(g, 1, v1):
+        return np.inf, v1, v2, 0.0
+    v3 = _wrap_one(g, 3, Theta - th1 - th2 - g[G_THETA + 3], q0[3])
+    if not _inside(g, 3, v3):
+        return np.inf, v1, v2, v3
+    s = pre[12 + jf]
+    s += (v1 - q0[1]) ** 2
+    s += (v2 - q0[2]) ** 2
+    s += (v3 - q0[3]) ** 2
+    return s + pre[14], v1, v2, v3
+
+
+@njit(cache=True, inline="always")
+def _distance(g, pre, psi, q0, j):
+    """Branch ``j``'s member at pitch ``psi``: its squared joint distance from ``q0`` alone (:func:`_members`'
+    ``D[j]``, the same number)."""
+    jf = j // 2
+    if pre[12 + jf] == np.inf:
+        return np.inf
+    reached, Theta, ang, d1, t2, _ = _half(g, pre, psi, jf)
+    if not reached:
+        return np.inf
+    return _branch(g, pre, q0, jf, 1.0 if j % 2 == 0 else -1.0, Theta, ang, d1, t2)[0]
 
 
 @njit(cache=True)
 def _members(g, pre, psi, q0, only, Q, LAB, D):
     """The members of the family at pitch ``psi`` (the closed form of :func:`._yaw_pitch3_jit._closed_form_at` on
-    the ideal arm, wrapped into the limits nearest ``q0``): all four (``only`` -1) or branch ``only`` alone, into
-    ``Q`` (4, 5) and ``LAB`` (4,); ``D`` (4,): each one's squared joint distance from ``q0``, ``inf`` where the
-    wrist is out of reach at ``psi`` or a joint leaves its limits. The tool's in-plane angle is ``up * psi - beta``
-    (front) and ``pi - up * psi - beta`` (back), and the second elbow mirrors the first: eight transcendental
-    calls for the four."""
-    sp, cp = math.sin(psi), math.cos(psi)
-    a2, a3 = g[G_A2], g[G_A3]
-    sg = math.copysign(1.0, a2 * a3)
-    gx, gy, Py = pre[1], pre[2], pre[0]
-    up, cb, sb = g[G_UP], pre[7], pre[8]
+    the ideal arm, wrapped into the limits nearest ``q0``): all four (``only`` -1) or branch ``only`` alone.
+    ``D`` (4,): each one's squared joint distance from ``q0``, ``inf`` where the wrist is out of reach at
+    ``psi`` or a joint leaves its limits; ``Q`` (4, 5) and ``LAB`` (4,) hold the members of finite ``D`` (the
+    rows of the others are left part-written). The second elbow mirrors the first: eight transcendental calls
+    for the four, none for a half whose pan joint (the same at every pitch) is outside its limits."""
+    sg = math.copysign(1.0, g[G_A2] * g[G_A3])
+    up = g[G_UP]
     for jf in range(2):
         if only >= 0 and only // 2 != jf:
             continue
+        if pre[12 + jf] == np.inf:   # the pan (or the roll) outside its limits: no member of this half
+            D[2 * jf] = D[2 * jf + 1] = np.inf
+            continue
+        reached, Theta, ang, d1, t2, Wx = _half(g, pre, psi, jf)
+        if not reached:              # the wrist out of reach at this pitch
+            D[2 * jf] = D[2 * jf + 1] = np.inf
+            continue
         f = FRONT[2 * jf]
-        Theta = (up * psi if jf == 0 else math.pi - up * psi) - g[G_BETA]
-        ct, st = f * cp * cb + up * sp * sb, up * sp * cb - f * cp * sb
-        Wx, Wy = pre[5 + jf] - (ct * gx - st * gy), Py - (st * gx + ct * gy)
-        c = (Wx * Wx + Wy * Wy - a2 * a2 - a3 * a3) / (2.0 * a2 * a3)
-        out = c > 1.0 or c < -1.0
-        cc = min(max(c, -1.0), 1.0)
-        sn0 = math.sqrt((1.0 - cc) * (1.0 + cc))
-        ang = math.atan2(Wy, Wx)
         fwd = 1.0 if Wx > 0 else (-1.0 if Wx < 0 else f)
-        d1 = math.atan2(a3 * sn0, a2 + a3 * cc)
-        t2 = math.atan2(sn0, cc)
         for k in range(2):
             j = 2 * jf + k
             if only >= 0 and only != j:
                 continue
             e = 1.0 if k == 0 else -1.0
-            th1, th2 = ang - e * d1, e * t2
-            qb = Q[j]
-            qb[0] = pre[3 + jf] - g[G_THETA]
-            qb[1] = th1 - g[G_THETA + 1]
-            qb[2] = th2 - g[G_THETA + 2]
-            qb[3] = Theta - th1 - th2 - g[G_THETA + 3]
-            qb[4] = q0[4]
-            _wrap_limits(g, qb, q0)
-            LAB[j] = 2 * (1 if f > 0 else 0) + (1 if -fwd * up * sg * e > 0 else 0)
-            if out or not _within(g, qb):
-                D[j] = np.inf
-            else:
-                s = 0.0
-                for m in range(5):
-                    s += (qb[m] - q0[m]) ** 2
-                D[j] = s
+            D[j], v1, v2, v3 = _branch(g, pre, q0, jf, e, Theta, ang, d1, t2)
+            if D[j] < np.inf:
+                qb = Q[j]
+                qb[0], qb[1], qb[2], qb[3], qb[4] = pre[9 + jf], v1, v2, v3, pre[11]
+                LAB[j] = 2 * (1 if f > 0 else 0) + (1 if -fwd * up * sg * e > 0 else 0)
 
 
 @njit(cache=True)
@@ -367,7 +441,7 @@ def position_nearest(g, p, q0, tol0, tol1, reach, q_out, info):
         dn = 0.0
         for k in range(5):
             dn += (qn[k] - q0[k]) ** 2
-    pre = np.empty(9)
+    pre = np.empty(_PRE)
     if not _family_parts(g, p, q0, pre):
         if dn < np.inf:
             return _newton_answer(g, qn, p, dn, q_out, info, X, Z, P)
@@ -402,21 +476,17 @@ def position_nearest(g, p, q0, tol0, tol1, reach, q_out, info):
         r = 0.5 * (math.sqrt(5.0) - 1.0)
         a, b = bpsi - h, bpsi + h
         c1, c2 = b - r * (b - a), a + r * (b - a)
-        _members(g, pre, c1, q0, bj, Q, LAB, D)
-        f1 = D[bj]
-        _members(g, pre, c2, q0, bj, Q, LAB, D)
-        f2 = D[bj]
+        f1 = _distance(g, pre, c1, q0, bj)
+        f2 = _distance(g, pre, c2, q0, bj)
         for _ in range(_REFINE):
             if f1 <= f2:
                 b, c2, f2 = c2, c1, f1
                 c1 = b - r * (b - a)
-                _members(g, pre, c1, q0, bj, Q, LAB, D)
-                f1 = D[bj]
+                f1 = _distance(g, pre, c1, q0, bj)
             else:
                 a, c1, f1 = c1, c2, f2
                 c2 = a + r * (b - a)
-                _members(g, pre, c2, q0, bj, Q, LAB, D)
-                f2 = D[bj]
+                f2 = _distance(g, pre, c2, q0, bj)
             if f1 < bd:
                 bd, bpsi = f1, c1
             if f2 < bd:
@@ -455,6 +525,37 @@ def position_rows(g, p, q0, tol0, tol1, reach, q_out, info, code):
 
 
 INVALID = -2
+
+P_TOL = G_SIZE          # context of position_one: the geometry, the tolerances (2), the reach from the shoulder
+P_REACH = G_SIZE + 2
+P_SIZE = G_SIZE + 3
+
+
+def pack_position(g: np.ndarray, tol: tuple[float, float], reach: float) -> np.ndarray:
+    """The one array :func:`position_one` reads: geometry ``g`` (:func:`._yaw_pitch3_jit.pack`), ``tol`` and the
+    reach measured from the shoulder (:func:`.yaw_pitch3.shoulder_reach`)."""
+    ctx = np.empty(P_SIZE)
+    ctx[:G_SIZE] = g
+    ctx[P_TOL], ctx[P_TOL + 1] = tol
+    ctx[P_REACH] = reach
+    ctx.setflags(write=False)
+    return ctx
+
+
+@njit(cache=True)
+def position_one(ctx, p, q0, out):
+    """:func:`position_nearest` for one target ``p`` (3,) from ``q0`` (5,) with its constants in one array
+    (:func:`pack_position`): ``out`` (9,) = ``q_out`` (5,), then ``info`` (4,). Returns its code, or
+    :data:`INVALID` for input the general path must check (a coordinate of ``p`` not finite; a value of ``q0``
+    NaN or beyond 1e6 rad, which :func:`armkit.ik` takes modulo 2 pi)."""
+    for i in range(3):
+        if not math.isfinite(p[i]):
+            return INVALID
+    for k in range(5):
+        if not abs(q0[k]) <= 1e6:
+            return INVALID
+    return position_nearest(ctx, p, q0, ctx[P_TOL], ctx[P_TOL + 1], ctx[P_REACH], out[:5], out[5:])
+
 
 
 @njit(cache=True)

@@ -559,12 +559,21 @@ _DIRECTION_NAMES = frozenset({"_VERTICAL", "_NEAR_VERTICAL", "_ROLL_SWEEP", "_di
                               "_polish_direction", "direction_to_pitch", "_roll_candidates", "solve_direction"})
 
 
+_POSITION_NAMES = frozenset({"position_ik", "position_route"})
+
+
 def __getattr__(name: str) -> Any:
-    """The direction part lives in :mod:`.yaw_pitch3_direction` (it uses this module): loaded on first use."""
+    """The direction part lives in :mod:`.yaw_pitch3_direction`, the position alone in :mod:`.yaw_pitch3_position`
+    (both use this module): loaded on first use; a position name is then kept here (no second lookup)."""
     if name in _DIRECTION_NAMES:
         from . import yaw_pitch3_direction
 
         return getattr(yaw_pitch3_direction, name)
+    if name in _POSITION_NAMES:
+        from . import yaw_pitch3_position
+
+        value = globals()[name] = getattr(yaw_pitch3_position, name)
+        return value
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
@@ -643,124 +652,3 @@ def nearest_pitch(robot: Robot, solver: YawPitch3, pts: Array, psi: Array, q0: A
 def branch_label(index: int) -> str:
     """The branch label of a kernel's label index (``""`` for -1: no branch, e.g. the current joints kept)."""
     return str(_LABELS[index]) if 0 <= index < len(_LABELS) else ""
-
-
-# ------------------------------------------------- the position alone in closed form (armkit.ik(so101, xyz))
-_POSITION_MODULE = "ik.analytic._yaw_pitch3_teleop"
-_POS_LABELS = np.append(_LABELS, ["newton", ""])   # 4: Newton steps from q0; -1: the arm stretched (unreachable)
-
-
-def _position_record(robot: Robot) -> Any:
-    """``(kernels, geometry, shoulder reach, tolerance)`` of :func:`position_ik` for ``robot``, made once
-    (``robot.cache["yaw_pitch3_position"]``); False for an arm it does not serve; None while the Numba back
-    end does not serve (asked again next time)."""
-    rec = robot.cache.get("yaw_pitch3_position")
-    if rec is not None:
-        return rec
-    from ... import _jit_loader
-
-    kern = _jit_loader.kernels(_POSITION_MODULE)
-    if kern is None:
-        return None
-    g = fast_geometry(robot) if type(robot) is Robot and robot.__dict__.get("collision") is None else None
-    rec = False if g is None else (kern, g, float(shoulder_reach(robot)[-1]), default_tolerance(robot))  # type: ignore[index]
-    robot.cache["yaw_pitch3_position"] = rec
-    return rec
-
-
-def _unreachable_message(robot: Robot, rec: Any, info: Array) -> Any:
-    """The message of a target beyond the reach from the shoulder (``info``: the kernel's), as armkit.ik's LM
-    path words it."""
-    from .._numeric_report import _fmt, residual_note, unreachable_note
-    from ..._text import Fielded
-
-    unit = robot.unit
-    text = unreachable_note(f"{_fmt(float(info[1]))} {unit}", f"{_fmt(rec[2])} {unit}", "the shoulder")
-    return Fielded.of("{text}; {residual}.", text=text, residual=residual_note(float(info[0]), None, unit))
-
-
-def _position_fields(robot: Robot, rec: Any, code: NDArray[np.int64], q: Array, info: Array) -> dict[str, Any]:
-    """The result fields ``(B,)`` of :func:`position_ik` from the kernel's answers (no row with the code LM)."""
-    B = len(code)
-    ok = code == 3
-    message = np.full(B, "", dtype=object)
-    for i in np.flatnonzero(~ok):     # beyond the reach from the shoulder
-        message[i] = _unreachable_message(robot, rec, info[i])
-    return dict(q=q, success=ok, position_error=info[:, 0].copy(), rotation_error=np.zeros(B),
-                iterations=np.zeros(B, dtype=np.int64), branch=_POS_LABELS[info[:, 3].astype(np.int64)],
-                within_limits=np.ones(B, dtype=bool), reason=np.where(ok, "converged", "unreachable"), message=message)
-
-
-def position_ik(robot: Robot, target: Any, q0: Any = None, seed: Any = None) -> IKResult | None:
-    """:func:`armkit.ik` of a position alone (``target`` ``(3,)`` or ``(..., 3)``, float64) for a 5-joint
-    yaw-pitch3 arm (the SO-101), in closed form; None where the general path answers (another arm, the NumPy
-    back end, input it must check or reject: it raises the errors).
-
-    The answer is the member of the position's 1-D family of solutions (the tool pitch free, the roll kept at
-    ``q0``'s) nearest ``q0`` (default: zero, clipped to the limits, as :func:`armkit.ik`) inside the limits
-    (:func:`._yaw_pitch3_teleop.position_nearest`), polished on the true model and checked by FK: ``success``,
-    ``reason`` and the residual as LM gives them. A target beyond the reach from the shoulder fails as
-    ``"unreachable"`` (``q``: the arm stretched towards it). The few targets the sampled pitches miss (about 1
-    in 200, a narrow window at a joint limit) are solved by LM (``solve_lm`` with ``seed``), one target at a
-    time, so a batch gives the same answers as single calls.
-    """
-    rec = robot.cache.get("yaw_pitch3_position")
-    if rec is None:
-        rec = _position_record(robot)
-    if not rec or type(target) is not np.ndarray or target.dtype != np.float64 or not target.shape \
-            or target.shape[-1] != 3:
-        return None
-    lead = target.shape[:-1]
-    p = target.reshape(-1, 3)
-    if q0 is None:
-        base = robot.cache.get("ik_q0")   # armkit.ik's default start, kept as armkit.ik.api keeps it
-        if base is None:
-            base = robot.cache["ik_q0"] = np.clip(np.zeros(robot.n), robot.lower, robot.upper)
-        q0r = np.broadcast_to(base, (len(p), 5))
-    elif type(q0) is np.ndarray and q0.dtype == np.float64 and q0.shape in ((5,), lead + (5,)):
-        q0r = np.broadcast_to(q0, lead + (5,)).reshape(-1, 5)
-        if not np.all(np.abs(q0r) <= 1e6):    # NaN, infinity or beyond any meaning: the general path
-            return None
-    else:
-        return None
-    if not np.isfinite(p).all():
-        return None
-    kern, g, reach, tol = rec
-    B = len(p)
-    q = np.empty((B, 5))
-    info = np.empty((B, 4))
-    code = np.empty(B, dtype=np.int64)
-    if B == 1:
-        code[0] = c = kern.position_nearest(g, p[0], np.ascontiguousarray(q0r[0]), tol[0], tol[1], reach, q[0],
-                                            info[0])
-        if c == -3:
-            return None                       # LM answers (the general path, the same call as ever)
-        if not lead:                          # one target: the fields built directly (microseconds count)
-            ok = c == 3
-            return IKResult._of(q=q[0], success=np.array(ok), position_error=np.array(info[0, 0]),
-                                rotation_error=np.array(0.0), iterations=np.array(0, dtype=np.int64),
-                                branch=np.array(_POS_LABELS[int(info[0, 3])], dtype=object),
-                                within_limits=np.array(True), reason=np.array("converged" if ok else "unreachable"),
-                                message="" if ok else _unreachable_message(robot, rec, info[0]), trace=None)
-    else:
-        kern.position_rows(g, np.ascontiguousarray(p), np.ascontiguousarray(q0r), tol[0], tol[1], reach, q, info, code)
-    lm = np.flatnonzero(code == -3)
-    if len(lm) == 0:
-        fields = _position_fields(robot, rec, code, q, info)
-    else:
-        from ..numeric import solve_lm
-
-        done = np.flatnonzero(code != -3)
-        part = _position_fields(robot, rec, code[done], q[done], info[done])
-        fields = {k: np.empty((B,) + np.shape(v)[1:], dtype=object if k in ("branch", "message", "reason")
-                              else np.asarray(v).dtype) for k, v in part.items()}
-        for k, v in part.items():
-            fields[k][done] = v
-        for i in lm.tolist():
-            r = solve_lm(robot, p[i:i + 1], np.ascontiguousarray(q0r[i:i + 1]), seed=seed)
-            for k in fields:
-                fields[k][i] = getattr(r, k)[0]
-        fields["reason"] = fields["reason"].astype(str)
-    if lead != (B,):
-        fields = {k: v.reshape(lead + np.shape(v)[1:]) for k, v in fields.items()}
-    return IKResult._of(**fields, trace=None)
