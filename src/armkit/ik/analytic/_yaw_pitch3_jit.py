@@ -158,22 +158,29 @@ def _within(g, q, margin=1e-12):
     return True
 
 
+@njit(cache=True, inline="always")
+def _wrap_joint(g, k, x, ref):
+    """Joint ``k``'s value ``x`` wrapped by whole turns into its limits nearest ``ref``
+    (:func:`~armkit.ik.analytic.wrap_to_limits` for one revolute joint)."""
+    v = x + TWO_PI * _rint((ref - x) / TWO_PI)
+    lo, hi = g[G_LOWER + k] - 1e-12, g[G_UPPER + k] + 1e-12
+    if v < lo or v > hi:
+        if v < lo:
+            cand = v + TWO_PI * math.ceil((lo - v) / TWO_PI)
+        else:
+            cand = v + TWO_PI * math.floor((hi - v) / TWO_PI)
+        if lo <= cand <= hi:
+            v = cand
+        else:
+            v = v + TWO_PI * _rint((0.5 * (lo + hi) - v) / TWO_PI)
+    return v
+
+
 @njit(cache=True)
 def _wrap_limits(g, q, q0):
     """:func:`~armkit.ik.analytic.wrap_to_limits` for one revolute configuration, in place."""
     for k in range(5):
-        v = q[k] + TWO_PI * _rint((q0[k] - q[k]) / TWO_PI)
-        lo, hi = g[G_LOWER + k] - 1e-12, g[G_UPPER + k] + 1e-12
-        if v < lo or v > hi:
-            if v < lo:
-                cand = v + TWO_PI * math.ceil((lo - v) / TWO_PI)
-            else:
-                cand = v + TWO_PI * math.floor((hi - v) / TWO_PI)
-            if lo <= cand <= hi:
-                v = cand
-            else:
-                v = v + TWO_PI * _rint((0.5 * (lo + hi) - v) / TWO_PI)
-        q[k] = v
+        q[k] = _wrap_joint(g, k, q[k], q0[k])
 
 
 @njit(cache=True)

@@ -24,7 +24,7 @@ from ._yaw_pitch3_jit import (DIRECTION, FRONT, G_A1, G_A2, G_A3, G_A4, G_BASE_I
                               G_D5, G_LAT0, G_LOWER, G_PAN, G_S1, G_S4, G_SCALE, G_SIZE, G_T, G_THETA, G_UP,
                               G_UPPER, LATERAL_SLACK, LM, NUMPY, PITCH, POSE, POSITION, TWO_PI, _closed_form, _cross,
                               _fk, _nearest, _pitch, _polish_branch, _rotation_angle, _solve4, _within,
-                              _rint, _wrap_limits, direction_branches)
+                              _rint, _wrap_joint, direction_branches)
 
 __all__ = ["teleop", "teleop_call", "teleop_ctx", "pack_context", "position_nearest", "position_rows", "position_one",
            "pack_position", "INVALID", "UNREACHABLE", "C_TOL", "C_INDEX", "C_REACH", "C_SIZE", "P_SIZE"]
@@ -191,24 +191,6 @@ _REFINE = 20         # golden-section steps on the best sample's bracket (1.57 r
 
 
 @njit(cache=True, inline="always")
-def _wrap_one(g, k, x, ref):
-    """Joint ``k``'s value ``x`` wrapped into its limits nearest ``ref``: :func:`._yaw_pitch3_jit._wrap_limits` for
-    one joint (the same operations, so the same number)."""
-    v = x + TWO_PI * _rint((ref - x) / TWO_PI)
-    lo, hi = g[G_LOWER + k] - 1e-12, g[G_UPPER + k] + 1e-12
-    if v < lo or v > hi:
-        if v < lo:
-            cand = v + TWO_PI * math.ceil((lo - v) / TWO_PI)
-        else:
-            cand = v + TWO_PI * math.floor((hi - v) / TWO_PI)
-        if lo <= cand <= hi:
-            v = cand
-        else:
-            v = v + TWO_PI * _rint((0.5 * (lo + hi) - v) / TWO_PI)
-    return v
-
-
-@njit(cache=True, inline="always")
 def _inside(g, k, v):
     """Joint ``k``'s value ``v`` inside its limits (:func:`._yaw_pitch3_jit._within`'s test for one joint)."""
     return g[G_LOWER + k] - 1e-12 <= v <= g[G_UPPER + k] + 1e-12
@@ -245,13 +227,13 @@ def _family_parts(g, p, q0, pre):
     s1 = g[G_S1]
     pre[0], pre[1], pre[2] = s1 * (z - g[G_D1]), g[G_A4] + vx, -s4 * vz
     pre[7], pre[8] = math.cos(g[G_BETA]), math.sin(g[G_BETA])
-    roll = _wrap_one(g, 4, q0[4], q0[4])
+    roll = _wrap_joint(g, 4, q0[4], q0[4])
     pre[11] = roll
     for jf in range(2):
         Xs = Xf * FRONT[2 * jf]
         pre[3 + jf] = yaw - math.atan2(-s1 * L, Xs)
         pre[5 + jf] = Xs - g[G_A1]
-        pan = _wrap_one(g, 0, pre[3 + jf] - g[G_THETA], q0[0])
+        pan = _wrap_joint(g, 0, pre[3 + jf] - g[G_THETA], q0[0])
         pre[9 + jf] = pan
         pre[12 + jf] = (pan - q0[0]) ** 2 if _inside(g, 0, pan) and _inside(g, 4, roll) else np.inf
     pre[14] = (roll - q0[4]) ** 2
@@ -284,13 +266,13 @@ def _branch(g, pre, q0, jf, e, Theta, ang, d1, t2):
     ``(D, q1, q2, q3)``, ``D`` the squared joint distance from ``q0`` (``inf`` where a joint leaves its limits;
     the pan and roll joints are :func:`_family_parts`')."""
     th1, th2 = ang - e * d1, e * t2
-    v2 = _wrap_one(g, 2, th2 - g[G_THETA + 2], q0[2])     # the elbow first: the joint most often out
+    v2 = _wrap_joint(g, 2, th2 - g[G_THETA + 2], q0[2])     # the elbow first: the joint most often out
     if not _inside(g, 2, v2):
         return np.inf, 0.0, v2, 0.0
-    v1 = _wrap_one(g, 1, th1 - g[G_THETA + 1], q0[1])
+    v1 = _wrap_joint(g, 1, th1 - g[G_THETA + 1], q0[1])
     if not _inside(g, 1, v1):
         return np.inf, v1, v2, 0.0
-    v3 = _wrap_one(g, 3, Theta - th1 - th2 - g[G_THETA + 3], q0[3])
+    v3 = _wrap_joint(g, 3, Theta - th1 - th2 - g[G_THETA + 3], q0[3])
     if not _inside(g, 3, v3):
         return np.inf, v1, v2, v3
     s = pre[12 + jf]
