@@ -42,7 +42,7 @@ has no sideways offset), and :func:`pitch_of` measures it on any configuration.
 from __future__ import annotations
 
 import math
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -560,6 +560,8 @@ _DIRECTION_NAMES = frozenset({"_VERTICAL", "_NEAR_VERTICAL", "_ROLL_SWEEP", "_di
 
 
 _POSITION_NAMES = frozenset({"position_ik", "position_route"})
+if TYPE_CHECKING:   # the names __getattr__ gives, with their types
+    from .yaw_pitch3_position import position_ik, position_route  # noqa: F401
 
 
 def __getattr__(name: str) -> Any:
