@@ -150,10 +150,16 @@ def _wrap_pi(x):
     return (x + math.pi) % TWO_PI - math.pi
 
 
+@njit(cache=True, inline="always")
+def _inside(g, k, v, margin=1e-12):
+    """Joint ``k``'s value ``v`` inside its limits, widened by ``margin``."""
+    return g[G_LOWER + k] - margin <= v <= g[G_UPPER + k] + margin
+
+
 @njit(cache=True)
 def _within(g, q, margin=1e-12):
     for k in range(5):
-        if not (g[G_LOWER + k] - margin <= q[k] <= g[G_UPPER + k] + margin):
+        if not _inside(g, k, q[k], margin):
             return False
     return True
 

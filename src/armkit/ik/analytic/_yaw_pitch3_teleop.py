@@ -24,7 +24,7 @@ from ._yaw_pitch3_jit import (DIRECTION, FRONT, G_A1, G_A2, G_A3, G_A4, G_BASE_I
                               G_D5, G_LAT0, G_LOWER, G_PAN, G_S1, G_S4, G_SCALE, G_SIZE, G_T, G_THETA, G_UP,
                               G_UPPER, LATERAL_SLACK, LM, NUMPY, PITCH, POSE, POSITION, TWO_PI, _closed_form, _cross,
                               _fk, _nearest, _pitch, _polish_branch, _rotation_angle, _solve4, _within,
-                              _rint, _wrap_joint, direction_branches)
+                              _inside, _wrap_joint, direction_branches)
 
 __all__ = ["teleop", "teleop_call", "teleop_ctx", "pack_context", "position_nearest", "position_rows", "position_one",
            "pack_position", "INVALID", "UNREACHABLE", "C_TOL", "C_INDEX", "C_REACH", "C_SIZE", "P_SIZE"]
@@ -188,12 +188,6 @@ _SWEEP_FINE = 128    # pitches sampled where those find no member
 _BACK = np.array([0.0, 1e-4, 1e-3, 3e-3, 1e-2, 3e-2, 0.1, 0.3, 1.0])   # fractions of the way back to the sample
 _LOCAL = np.array([0.0, -0.02, 0.02, -0.05, 0.05, -0.1, 0.1])   # offsets from the start's pitch sampled first
 _REFINE = 20         # golden-section steps on the best sample's bracket (1.57 rad * 0.618^20: ~1e-4 rad)
-
-
-@njit(cache=True, inline="always")
-def _inside(g, k, v):
-    """Joint ``k``'s value ``v`` inside its limits (:func:`._yaw_pitch3_jit._within`'s test for one joint)."""
-    return g[G_LOWER + k] - 1e-12 <= v <= g[G_UPPER + k] + 1e-12
 
 
 _PRE = 15            # size of _family_parts' output
@@ -537,7 +531,6 @@ def position_one(ctx, p, q0, out):
         if not abs(q0[k]) <= 1e6:
             return INVALID
     return position_nearest(ctx, p, q0, ctx[P_TOL], ctx[P_TOL + 1], ctx[P_REACH], out[:5], out[5:])
-
 
 
 @njit(cache=True)
