@@ -84,6 +84,16 @@ def dismiss_software_gl_notice(page: Any, wait_ms: int = 0) -> None:
     note.first.wait_for(state="detached", timeout=5_000)
 
 
+def pixels(png: bytes) -> Any:
+    """A PNG screenshot as an int array ``(height, width, 3)`` of its RGB values."""
+    import io
+
+    import numpy as np
+    from PIL import Image
+
+    return np.asarray(Image.open(io.BytesIO(png)).convert("RGB")).astype(int)
+
+
 def settled(page: Any, target: Any = None, interval: float = 0.25, agree: int = 2, timeout: float = 30.0,
             tolerance: int = 20) -> Any:
     """A screenshot (PNG bytes) of ``target`` (default: the page) once it has stopped changing.
@@ -92,13 +102,7 @@ def settled(page: Any, target: Any = None, interval: float = 0.25, agree: int = 
     from the one before in fewer than ``tolerance`` pixels (a channel sum over 60). This waits for what a fixed
     sleep hoped for: the page has drawn the last change (a mesh loaded, the camera placed).
     """
-    import io
-
     import numpy as np
-    from PIL import Image
-
-    def pixels(png: bytes) -> Any:
-        return np.asarray(Image.open(io.BytesIO(png)).convert("RGB")).astype(int)
 
     shoot = (page if target is None else target).screenshot
     last = shoot()

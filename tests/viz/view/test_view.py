@@ -7,7 +7,6 @@ the handle. Screenshots the tests take go to a temporary folder; `make pictures`
 from __future__ import annotations
 
 import glob
-import io
 import math
 import os
 import socket
@@ -25,15 +24,10 @@ from armkit.viz.view.drawing import ARM_COLOUR
 from armkit.viz.view.panels import format_numbers
 
 from _browser import numbers_of, open_folder, open_page, picture, row, settled, text_of, type_number, wait_until
+from _browser import pixels as _pixels
 
 pytestmark = pytest.mark.browser
 ARMKIT = str(Path(sys.executable).parent / "armkit")
-
-
-def _pixels(png: bytes) -> np.ndarray:
-    from PIL import Image
-
-    return np.asarray(Image.open(io.BytesIO(png)).convert("RGB")).astype(int)
 
 
 def _arm_pixels(img: np.ndarray) -> int:

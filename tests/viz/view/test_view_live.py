@@ -8,7 +8,6 @@ keystroke in the typed target ran IK (typing 500 left the arm at the x = 5 solut
 
 from __future__ import annotations
 
-import io
 import math
 import os
 import re
@@ -30,6 +29,7 @@ from armkit.viz.view.panels import format_numbers
 from armkit.viz.view.server import home_pose
 
 from _browser import dismiss_software_gl_notice, open_page, row, settled, text_of
+from _browser import pixels as _pixels
 from _browser import wait_until as _wait_until
 
 
@@ -169,12 +169,6 @@ def test_home_pose_is_not_singular_and_clear() -> None:
     assert np.array_equal(home_pose(armkit.load("so101")), np.zeros(5))
     assert condition_number(armkit.load("fighter"), np.zeros(3)) > 1e12
     assert np.allclose(np.degrees(home_pose(armkit.load("fighter"))), [0.0, 0.0, 60.0])
-
-
-def _pixels(png: bytes) -> np.ndarray:
-    from PIL import Image
-
-    return np.asarray(Image.open(io.BytesIO(png)).convert("RGB")).astype(int)
 
 
 def _arm_mask(img: np.ndarray) -> np.ndarray:

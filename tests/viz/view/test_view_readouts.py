@@ -11,7 +11,6 @@ ARMKIT_UPDATE_PICTURES=1, `make pictures`).
 
 from __future__ import annotations
 
-import io
 import math
 import re
 import time
@@ -30,14 +29,9 @@ from armkit.viz.view.readouts import (
     MAX_STORED, STORAGE_KEY, camera_preset, configurations_toml, frame_number_groups, matrix_text, parse_configurations_toml)
 
 from _browser import open_folder, open_page, row, type_number, wait_until
+from _browser import pixels as _pixels
 
 pytestmark = pytest.mark.browser
-
-
-def _pixels(png: bytes) -> np.ndarray:
-    from PIL import Image
-
-    return np.asarray(Image.open(io.BytesIO(png)).convert("RGB")).astype(int)
 
 
 def _matrix(page, css: str) -> np.ndarray:
