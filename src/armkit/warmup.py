@@ -75,6 +75,9 @@ def _exercise_arms() -> None:
             far *= 4.0
         for target in (one, many[:4], many[:16], far):  # single, < 8 and >= 8 targets, unreachable
             ik(arm, target, method="lm", restarts=2)
+        if name in ("planar3", "ur5"):                   # CCD's kernel (ik/_ccd_jit.py): one signature
+            for target in (one, many[:16]):
+                ik(arm, target, method="ccd", restarts=1, max_iterations=20)
     poses = np.tile(np.eye(4), (2, 1, 1))   # check_transform's pass over big batches
     _jit_loader.module("kinematics._jit").rigidity(poses, np.empty(2), np.empty(2), np.empty(2, dtype=bool))
 
@@ -107,7 +110,7 @@ def _exercise_families() -> None:
 
 def _exercise_parallel() -> None:
     """Compile the multi-threaded twin of every serial kernel for the signatures the serial one got."""
-    for name in ("kinematics._jit", "ik._jit_verify", "ik.analytic._jit", "ik._jit_lm"):
+    for name in ("kinematics._jit", "ik._jit_verify", "ik.analytic._jit", "ik._jit_lm", "ik._ccd_jit"):
         for serial, parallel in _jit_loader.module(name).parallel_twins():
             for sig in list(serial.signatures):
                 parallel.compile(sig)

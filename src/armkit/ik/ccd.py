@@ -15,6 +15,13 @@ all frames per sweep suffices: the tool point is turned with each joint.
 Unlike the CCD graphics assignment's version this works in radians, stops when the position error is below
 the tolerance (not after a fixed number of sweeps), respects joint limits, restarts from
 random configurations when it stalls, and records the error after every sweep.
+
+Two back ends give the same answers: the compiled kernel of :mod:`armkit.ik._ccd_jit` (the
+whole loop per target, one target per iteration of a ``prange``) while Numba serves, else the
+NumPy loop here, batched over targets. Target ``i``'s restart draws come from the splitmix64
+generator (:func:`_splitmix64`, the one function both back ends run) started at a state made
+of the seed, ``i`` and the attempt only, so a target's answer does not depend on the other
+targets of its batch, and a batch needs no more memory than its targets.
 """
 
 from __future__ import annotations
@@ -24,15 +31,17 @@ from typing import Any, Optional
 import numpy as np
 from numpy.typing import ArrayLike
 
+from .. import _jit_loader
 from .._text import Fielded
 from ..errors import IKInputError
 from ..model.robot import Robot
-from .numeric import _TOL_FACTOR, Problem, _project, _trace_array, assemble, unreachable_note
+from .numeric import _TOL_FACTOR, Problem, _project, _seeds, _trace_array, assemble, unreachable_note
 from .result import DEFAULT_MAX_SWEEPS, DEFAULT_SWEEP_RESTARTS, IKResult
 
 __all__ = ["solve_ccd"]
 
 _STALL_SWEEPS = 30
+_ON_AXIS = 1e-20   # a point this close to a joint's axis, relative to its distance (squared), lies on it
 
 
 def _position_problem(robot: Robot, target: ArrayLike, q0: ArrayLike, mask: Optional[ArrayLike],
@@ -82,7 +91,8 @@ def solve_ccd(robot: Robot, target: ArrayLike, q0: ArrayLike, *, mask: Optional[
     restarts : int, default :data:`~armkit.ik.DEFAULT_SWEEP_RESTARTS` (20)
         Further attempts from random configurations when an attempt stalls.
     seed : int, optional
-        Seeds the restarts.
+        Seeds the restarts (default 0: the same call gives the same answer); target ``i``'s restarts depend on
+        the seed, ``i`` and the attempt only.
     enforce_limits : bool, default True
     trace : bool, default False
         Position error after every sweep: ``trace`` of shape (B, sweeps).
@@ -105,11 +115,79 @@ def solve_ccd(robot: Robot, target: ArrayLike, q0: ArrayLike, *, mask: Optional[
     prob, note = _position_problem(robot, target, q0, mask, tol, enforce_limits, "CCD")
     max_iterations = DEFAULT_MAX_SWEEPS if max_iterations is None else int(max_iterations)
     restarts = DEFAULT_SWEEP_RESTARTS if restarts is None else int(restarts)
-    rng = np.random.default_rng(0 if seed is None else seed)   # seeded by default: reproducible
-    n, B = robot.n, prob.B
-    goal = prob.target
+    seeds = _seeds(seed, prob.B)   # seeded by default: reproducible; target i's draws depend on (seed, i) only
     tol_p = prob.tol[0] * _TOL_FACTOR
     unreachable, dist = prob.unreachable()
+    kernels = _jit_loader.kernels("ik._ccd_jit")
+    run = _run_numpy if kernels is None else _run_jit
+    q, iters, used, best_err, rows = run(prob, tol_p, max_iterations, restarts, seeds, unreachable, trace)
+    reasons = _reasons(prob, unreachable, dist, ~unreachable & (best_err > tol_p), iters, used)
+    tr = _trace_array(rows) if trace else None
+    return assemble(prob, q, iters, "ccd", reasons, tr, note)
+
+
+def _splitmix64(state: Any) -> tuple[Any, Any]:
+    """One step of the splitmix64 generator: ``(next state, uniform float in [0, 1))``.
+
+    ``state`` is uint64: an array here (NumPy wraps array products modulo 2**64 silently), a
+    scalar in the compiled kernel (:mod:`armkit.ik._ccd_jit` compiles this very function), so
+    both back ends draw the same bits.
+    """
+    state = state + np.uint64(0x9E3779B97F4A7C15)
+    z = (state ^ (state >> np.uint64(30))) * np.uint64(0xBF58476D1CE4E5B9)
+    z = (z ^ (z >> np.uint64(27))) * np.uint64(0x94D049BB133111EB)
+    z = z ^ (z >> np.uint64(31))
+    return state, (z >> np.uint64(11)) * (1.0 / 9007199254740992.0)
+
+
+def _start_state(seed: Any, attempt: Any) -> Any:
+    """The generator state of restart ``attempt`` (1, 2, ...) of the target with restart seed ``seed`` (both uint64):
+    each target's draws depend on (seed, target index, attempt) only, never on the rest of its batch."""
+    return seed * np.uint64(1000003) + attempt
+
+
+def _run_jit(prob: Problem, tol_p: float, max_iterations: int, restarts: int, seeds: np.ndarray,
+             unreachable: np.ndarray, trace: bool) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, list]:
+    """The compiled back end: ``(q, sweeps, attempts used, best error, trace rows)``."""
+    K = _jit_loader.module("ik._ccd_jit")
+    from ..kinematics import packed
+
+    B = prob.B
+    params = np.empty(K.N_PARAMS)
+    params[K.TOL_P], params[K.MAX_SWEEPS], params[K.RESTARTS], params[K.STALL] = \
+        tol_p, max_iterations, restarts, _STALL_SWEEPS
+    # fresh writable C arrays (a read-only target would be another signature: one more compile)
+    args = (packed(prob.robot)[1], np.array(prob.packed_limits, dtype=float, order="C"), params,
+            np.array(prob.target, dtype=float, order="C"), seeds, np.array(unreachable, dtype=np.bool_, order="C"))
+    # the trace: room for a few hundred sweeps a target (at most ~32 MB); a target that needed more is solved again
+    # (the same sweeps, deterministically) with room for them all
+    cap = max(max_iterations, 0) * (max(restarts, 0) + 1)      # the most sweeps a target can make
+    width = min(cap, max(256, 2 ** 22 // max(B, 1))) if trace else 0
+    while True:
+        q = np.array(prob.q0, dtype=float, order="C")
+        info = np.zeros((B, 3))
+        tr = np.empty((B, width))
+        K.ccd_batch(*args, q, tr, info)
+        iters = info[:, K.ITERATIONS].astype(np.int64)
+        if not trace or B == 0 or int(iters.max()) <= width:
+            break
+        width = int(iters.max())
+    rows = [tr[i, :iters[i]].tolist() for i in range(B)] if trace else []
+    return q, iters, info[:, K.USED].astype(np.int64), info[:, K.BEST], rows
+
+
+def _run_numpy(prob: Problem, tol_p: float, max_iterations: int, restarts: int, seeds: np.ndarray,
+               unreachable: np.ndarray, trace: bool) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, list]:
+    """The NumPy back end, batched over targets: ``(q, sweeps, attempts used, best error, trace rows)``.
+
+    Each target goes through the same steps as in the compiled kernel: its attempt's bookkeeping (best error,
+    convergence, stall) runs only after its own sweeps and restarts, so a target's answer does not depend on
+    the other targets of its batch.
+    """
+    from ..kinematics import fk
+
+    robot, goal = prob.robot, prob.target
+    n, B = robot.n, prob.B
     q = _project(prob, prob.q0.copy())
     best_q, best_err = q.copy(), np.full(B, np.inf)
     iters = np.zeros(B, np.int64)
@@ -119,30 +197,34 @@ def solve_ccd(robot: Robot, target: ArrayLike, q0: ArrayLike, *, mask: Optional[
     attempt_best = np.full(B, np.inf)
     active = np.ones(B, bool)
     rows: list = [[] for _ in range(B)] if trace else []
-    from ..kinematics import fk
-
     err = np.linalg.norm(fk(robot, q)[:, :3, 3] - goal, axis=-1)
-    while True:
-        better = err < best_err
-        best_err = np.where(better, err, best_err)
-        best_q[better] = q[better]
-        active &= err > tol_p
-        impr = err < attempt_best * (1.0 - 1e-3)
-        attempt_best = np.where(impr, err, attempt_best)
-        stale = np.where(impr, 0, stale + 1)
-        over = active & ((sweeps >= max_iterations) | (stale >= _STALL_SWEEPS))
-        if np.any(over):
-            more = over & (used <= restarts) & ~unreachable
-            active &= ~(over & ~more)
-            k = np.flatnonzero(more)
+    k = np.arange(B)
+    while len(k):
+        while len(k):   # the attempt's bookkeeping of the targets in k; restarts, and their bookkeeping in turn
+            e = err[k]
+            better = e < best_err[k]
+            best_err[k[better]] = e[better]
+            best_q[k[better]] = q[k[better]]
+            active[k] &= e > tol_p
+            impr = e < attempt_best[k] * (1.0 - 1e-3)
+            attempt_best[k[impr]] = e[impr]
+            stale[k] = np.where(impr, 0, stale[k] + 1)
+            over = k[active[k] & ((sweeps[k] >= max_iterations) | (stale[k] >= _STALL_SWEEPS))]
+            more = (used[over] <= restarts) & ~unreachable[over]
+            active[over[~more]] = False
+            k = over[more]
             if len(k):
-                q[k] = _project(prob, rng.uniform(prob.rand_lo[None], prob.rand_hi[None], size=(len(k), n)))
+                state = _start_state(seeds[k], used[k].astype(np.uint64))
+                draw = np.empty((len(k), n))
+                for j in range(n):
+                    state, u = _splitmix64(state)
+                    draw[:, j] = prob.rand_lo[j] + (prob.rand_hi[j] - prob.rand_lo[j]) * u
+                q[k] = _project(prob, draw)
                 used[k] += 1
                 sweeps[k] = 0
                 stale[k] = 0
                 attempt_best[k] = np.inf
                 err[k] = np.linalg.norm(fk(robot, q[k])[:, :3, 3] - goal[k], axis=-1)
-                continue
         k = np.flatnonzero(active)
         if len(k) == 0:
             break
@@ -150,12 +232,10 @@ def solve_ccd(robot: Robot, target: ArrayLike, q0: ArrayLike, *, mask: Optional[
         iters[k] += 1
         sweeps[k] += 1
         if trace:
-            for i, v in zip(k, err[k]):
+            for i, v in zip(k.tolist(), err[k].tolist()):
                 rows[i].append(v)
     q = np.where((err <= tol_p)[:, None], q, best_q)
-    reasons = _reasons(prob, unreachable, dist, ~unreachable & (best_err > tol_p), iters, used)
-    tr = _trace_array(rows) if trace else None
-    return assemble(prob, q, iters, "ccd", reasons, tr, note)
+    return q, iters, used, best_err, rows
 
 
 def _sweep(prob: Problem, q: np.ndarray, k: np.ndarray) -> np.ndarray:
@@ -174,9 +254,13 @@ def _sweep(prob: Problem, q: np.ndarray, k: np.ndarray) -> np.ndarray:
             step = np.einsum("bi,bi->b", z, t - e)
         else:
             u, v = e - p, t - p
+            u0, v0 = np.einsum("bi,bi->b", u, u), np.einsum("bi,bi->b", v, v)
             u = u - np.einsum("bi,bi->b", u, z)[:, None] * z
             v = v - np.einsum("bi,bi->b", v, z)[:, None] * z
             step = np.arctan2(np.einsum("bi,bi->b", z, np.cross(u, v)), np.einsum("bi,bi->b", u, v))
+            # the tool point or the target on the axis (to round-off): no angle is better than another, so none
+            on_axis = (np.einsum("bi,bi->b", u, u) <= _ON_AXIS * u0) | (np.einsum("bi,bi->b", v, v) <= _ON_AXIS * v0)
+            step = np.where(on_axis, 0.0, step)
         new = q[k].copy()
         new[:, j] += step
         new = _project(prob, new)
