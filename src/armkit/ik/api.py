@@ -367,13 +367,14 @@ def _fast(robot: Any, target: np.ndarray, q0: Any, enforce_limits: Any, check: A
     (:func:`_fast_record`), or None where the general code answers (it also raises every error)."""
     if not ONE_CALL or type(robot) is not Robot or target.dtype is not _F64:
         return None
-    rec = robot.cache.get("ik_fast")
-    if rec is None:
-        rec = _fast_record(robot)
-    if not rec or _jit_loader._ACTIVE is None:
+    c = robot.cache.get("ik_fast")
+    if c is None:
+        c = _fast_record(robot)
+    if not c or _jit_loader._ACTIVE is None:
         return None
-    c = rec
     shape = target.shape
+    if q0 is None and enforce_limits is True and check is True and shape in c.shapes:   # the most common call
+        return _run_one(robot, c, target, None, c.ctx_near if nearest else c.ctx, None, True, nearest)
     lead: tuple[int, ...] = ()
     if shape not in c.shapes:   # a few targets (..., 4, 4) or (..., 3): one call each (analytic.run_small_batch)
         lead = shape[:-2] if shape[-2:] == (4, 4) else shape[:-1]

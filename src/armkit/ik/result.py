@@ -180,6 +180,30 @@ class _LaterMessage:
 
 
 setattr(IKResult, "message", _LaterMessage())
+
+_NEW = object.__new__
+
+
+def _result_of(q: Any, success: Any, position_error: Any, rotation_error: Any, iterations: Any, branch: Any,
+               within_limits: Any, reason: Any, message: Any) -> IKResult:
+    """:meth:`IKResult._later` with the fields given one by one and no ``later`` (~0.15 µs less than building and
+    unpacking a tuple): the single-call path of :func:`armkit.ik` when its answer succeeded. The fields are
+    already normalised (``message`` a str for one target, an array of str for several); ``trace`` is None."""
+    self = _NEW(IKResult)
+    d = self.__dict__
+    d["q"] = q
+    d["success"] = success
+    d["position_error"] = position_error
+    d["rotation_error"] = rotation_error
+    d["iterations"] = iterations
+    d["branch"] = branch
+    d["within_limits"] = within_limits
+    d["reason"] = reason
+    d["message"] = message
+    d["trace"] = None
+    return self
+
+
 _FIELDS = tuple(f.name for f in fields(IKResult))
 _PER_TARGET = tuple(f for f in _FIELDS if f != "trace")   # the fields with the targets' leading shape
 _OPTIONAL = {f.name: f.default for f in fields(IKResult) if f.default is not MISSING}

@@ -33,7 +33,7 @@ from numpy.typing import NDArray
 
 from ... import _jit_loader
 from ...model.robot import Robot
-from ..result import IKResult, default_tolerance, verify
+from ..result import IKResult, _result_of, default_tolerance, verify
 from ._common import Raw, StandardForm, jit_kernels, keep_better, standard_form
 from ._layout import joint_table
 from .geometric import Geometric
@@ -363,8 +363,8 @@ class _Single:
     kernel, its ``ctx`` vectors (one per options: :func:`._single.context`), the buffer sizes and the label table."""
 
     __slots__ = ("kernels", "kernel", "solver", "geometry", "joints", "F", "labels", "labels0", "blank", "m", "n",
-                 "mn", "at", "fsize", "isize", "bsize", "q0", "scale", "window", "above", "sign", "default_tol",
-                 "ctx", "ctx_near", "ctxs", "converged", "shapes", "entry")
+                 "mn", "at", "near_at", "fsize", "isize", "bsize", "q0", "scale", "window", "above", "sign",
+                 "default_tol", "ctx", "ctx_near", "ctxs", "converged", "shapes", "entry")
 
     def __init__(self, robot: Robot, solver: ClosedForm, kernels) -> None:
         from ...kinematics import packed
@@ -384,6 +384,9 @@ class _Single:
         self.shapes = ((4, 4),) if solver.pose_only else ((4, 4), (3,))   # the targets the family takes
         lay = kernels.layout(self.m, self.n)
         self.at = lay
+        self.near_at = (self.n, lay["dp"], lay["dr"], 2 * self.m)   # armkit.ik's answer: q, errors, iterations
+        global _NEAREST, _LABEL_SHIFT
+        _NEAREST, _LABEL_SHIFT = kernels.NEAREST, kernels.LABEL_SHIFT
         self.fsize, self.isize, self.bsize = lay["fb"], lay["ib"], lay["bb"]
         self.q0 = np.clip(np.zeros(robot.n), robot.lower, robot.upper)   # armkit.ik's start when none is given
         self.scale = robot.reach
@@ -427,6 +430,9 @@ def _no_record() -> None:
 
 
 _REASON_0D = [_REASON_TEXT[k:k + 1].reshape(()) for k in range(3)]   # 0-d reasons, copied per use
+_CONVERGED = _REASON_0D[0]
+_I64, _BOOL = np.dtype(np.int64), np.dtype(np.bool_)   # dtype objects: np.empty takes them faster than types
+_NEAREST = _LABEL_SHIFT = 0   # _single.NEAREST and LABEL_SHIFT, set with the first record (_single imports Numba)
 
 
 def one_call_record(robot: Robot, solver: ClosedForm) -> "_Single | None":
@@ -471,7 +477,7 @@ def run_one(robot: Robot, c: "_Single", target: Array, q0: Array | None, ctx: Ar
             check: bool, nearest: bool, batch_axis: bool = False) -> IKResult | None:
     """:func:`single_call` once its record ``c`` and options ``ctx`` (:meth:`_Single.context` of ``tol`` and the
     flags) are known: the path :func:`armkit.ik` and :func:`armkit.ik_all` take with their default options."""
-    fb, ib, bb = np.empty(c.fsize), np.empty(c.isize, np.int64), np.empty(c.bsize, np.bool_)
+    fb, ib, bb = np.empty(c.fsize), np.empty(c.isize, _I64), np.empty(c.bsize, _BOOL)
     if q0 is None:
         q0 = c.q0
     raw = None
@@ -493,6 +499,12 @@ def run_one(robot: Robot, c: "_Single", target: Array, q0: Array | None, ctx: Ar
         return None
     m = c.m
     if nearest:
+        if r & _NEAREST:   # the nearest branch succeeded (its label index given with the status): no sentence
+            n, dp, dr, it = c.near_at
+            return _result_of(fb[:n], bb[0, ...], fb[dp, ...], fb[dr, ...], ib[it, ...],
+                              c.labels0[r >> _LABEL_SHIFT].copy() if raw is None else
+                              np.array(raw.label[0][ib[3 * m]], dtype=object), bb[m, ...], _CONVERGED.copy(),
+                              "" if raw is None else str(raw.note[0][ib[3 * m]]))
         k = ib.item(0)
         if raw is None:
             label = c.labels0[ib.item(m)].copy()

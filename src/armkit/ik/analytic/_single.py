@@ -8,8 +8,9 @@ the answers are the same to the last bit:
 1. the family's kernel (:mod:`._jit`, ``lo, hi = 0, 1``) on the target and ``q0 + theta``;
 2. every branch wrapped by 2 pi into the limits nearest ``q0`` (:func:`._jit._wrap_one`) with its
    distance to ``q0``;
-3. forward kinematics of every branch (:func:`armkit.kinematics._jit._fk_serial`, the batch
-   kernel ``verify`` uses) and its check (:func:`armkit.ik._jit_verify._check`);
+3. forward kinematics of every branch (:func:`armkit.kinematics._jit._fk_serial`, the batch kernel
+   ``verify`` uses; for :func:`armkit.ik`, branch by branch nearest first, :func:`_fk_row`: its steps for
+   one row, the same bits) and its check (:func:`armkit.ik._jit_verify._check`);
 4. the reason code of each branch and the sort: successful branches first, each group by distance
    (the stable insertion sort of :func:`._jit.sort_branches`).
 
@@ -41,7 +42,8 @@ returned array boxed; the buffers are made by the caller): every kernel takes
 
 and returns one int: the status (:data:`DONE`, :data:`FALLBACK`, :data:`BAD_TARGET`) plus
 :data:`LIMIT_FAILURES` when a branch failed by the limits only and :data:`OTHER_FAILURES` when
-one failed otherwise.
+one failed otherwise (for :func:`armkit.ik`, whose nearest successful branch is all it keeps:
+:data:`NEAREST` and that branch's label index instead, so that the caller reads nothing else of ``ib``).
 """
 
 from __future__ import annotations
@@ -56,7 +58,7 @@ _jit_loader.install_cache_fallback()  # before the first cache=True: read-only i
 
 from numba import njit  # noqa: E402
 
-from ...kinematics._jit import ROW, _fk_serial  # noqa: E402
+from ...kinematics._jit import PRISMATIC, ROW, _fk_serial, _load, _move, _mul, _sincos, _store2  # noqa: E402
 from .._jit_verify import _check  # noqa: E402
 from ._jit import _planar2_run, _planar3_run, _puma_run, _ur_run, _wrap_one, _ypp_run, stable_order  # noqa: E402
 from ._layout import JOINT_LOWER, JOINT_PRISMATIC, JOINT_ROWS, JOINT_THETA, JOINT_UPPER  # noqa: E402
@@ -66,6 +68,10 @@ DONE, FALLBACK, BAD_TARGET = 0, 1, 2
 LIMIT_FAILURES, OTHER_FAILURES = 4, 8
 """Bits of a kernel's return value besides the status: some branch failed by the limits alone; some
 branch failed otherwise (unreachable)."""
+NEAREST, LABEL_SHIFT = 16, 5
+"""With ``nearest`` (:func:`armkit.ik`), when the nearest branch succeeds, the return value also has the bit
+:data:`NEAREST` and that branch's label index shifted left by :data:`LABEL_SHIFT` (the caller then reads nothing
+else from ``ib``; the buffers hold the same values as without)."""
 OPTS = ("tol_p", "tol_r", "enforce", "window_p", "window_r", "above_p", "above_r", "sign", "check", "nearest")
 """The options at the end of ``ctx``: FK tolerances, enforce limits (1.0/0.0), the polish window and
 threshold of ``solve_all`` (position entries already times the reach), the planar-2r joint-2 sign,
@@ -161,18 +167,36 @@ def _usable_start(q0):
     return True
 
 
+@njit(cache=True, inline="always")
+def _fk_row(F, q, s, out):
+    """FK of row ``s`` of ``q`` (m, n) into ``out`` (4, 4): the operations of
+    :func:`armkit.kinematics._jit._fk_serial` for one configuration, in the same order (the same bits), without
+    its block of sines and cosines. The caller has checked that the row is finite."""
+    n = q.shape[1]
+    X = _load(F, 0)
+    for k in range(n):
+        t = q[s, k]
+        sk, ck = _sincos(t)
+        X = _mul(_move(X, t, sk, ck, F[k + 1, PRISMATIC] != 0.0), F, k + 1)
+    _store2(X, out)
+
+
 @njit(cache=True)
 def _finish(rawq, unreach, missing, lab, ctx, q0, T, pose, lat, rho, r, per, fb, ib, bb):
     """Steps 2-4 of the module docstring for raw DH angles ``rawq`` (m, n) of one target ``T`` (4, 4), into
     the buffers; ``lat, rho, r[b // per]``: the numbers of branch ``b``'s out-of-reach sentence."""
     m, n = rawq.shape
     _, _, joints, F, opts = _parts(ctx)
-    lo, hi = np.empty(n), np.empty(n)
+    # one work vector for the floats (one for the ints, one for the flags) instead of a dozen small arrays: lo, hi
+    # (n), dist, dp, dr, key (m); each call has its own (a record is shared by threads)
+    w = np.empty(2 * n + 4 * m)
+    lo, hi = w[:n], w[n:2 * n]
+    dist, dp, dr = w[2 * n:2 * n + m], w[2 * n + m:2 * n + 2 * m], w[2 * n + 2 * m:2 * n + 3 * m]
+    k_of = w[2 * n + 3 * m:]
+    q, Tq = np.empty((m, n)), np.empty((4, 4))
     for j in range(n):
         lo[j] = joints[JOINT_LOWER, j] - 1e-12
         hi[j] = joints[JOINT_UPPER, j] + 1e-12
-    q = np.empty((m, n))
-    dist = np.empty(m)
     finite = True
     for b in range(m):    # solve_all: jit.wrap_dist
         s = 0.0
@@ -185,35 +209,40 @@ def _finish(rawq, unreach, missing, lab, ctx, q0, T, pose, lat, rho, r, per, fb,
             if revolute:
                 s += (v - q0[j]) ** 2
         dist[b] = math.sqrt(s)
-    if opts[9] != 0.0 and finite:   # armkit.ik: the nearest branch that succeeds, if there is one
+    if not finite:   # a value that is not finite: the batched path says what
+        return FALLBACK
+    iw = np.empty(2 * m, np.int64)   # the reason codes, the order
+    code, idx = iw[:m], iw[m:2 * m]
+    bw = np.empty(2 * m, np.bool_)
+    ok, within = bw[:m], bw[m:]
+    if opts[9] != 0.0:   # armkit.ik: the nearest branch that succeeds, if there is one
         s = _nearest_first(q, dist, unreach, missing, lab, F, joints, opts, T, pose, lat, rho, r, per, lo, hi,
-                           fb, ib, bb)
+                           Tq, idx, dp, dr, within, fb, ib, bb)
         if s >= 0:
             return s
-    Tq = np.empty((m, 4, 4))
-    if _fk_serial(F, q, Tq):   # a value that is not finite: the batched path says what
-        return FALLBACK
-    dp, dr = np.empty(m), np.empty(m)
-    ok, within = np.empty(m, np.bool_), np.empty(m, np.bool_)
-    code = np.empty(m, np.int64)
+        # none succeeds: every branch was checked on the way, its errors are in dp, dr, within
+    else:
+        Tm = np.empty((m, 4, 4))
+        _fk_serial(F, q, Tm)   # every branch at once (the sines and cosines of all of them in one vector loop)
+        for b in range(m):    # solve_all: verify and the polish test
+            e_p, e_r, w_b = _check(Tm[b], T, pose, q[b], joints[JOINT_LOWER], joints[JOINT_UPPER], 1e-12)
+            if _polishable(e_p, e_r, opts):
+                return FALLBACK   # _polish would touch this branch up
+            dp[b], dr[b], within[b] = e_p, e_r, w_b
     flags = DONE
-    for b in range(m):    # solve_all: verify, the polish test, the reason codes
-        e_p, e_r, w = _check(Tq[b], T, pose, q[b], joints[JOINT_LOWER], joints[JOINT_UPPER], 1e-12)
-        if _polishable(e_p, e_r, opts):
-            return FALLBACK   # _polish would touch this branch up
+    for b in range(m):    # solve_all: the reason codes
+        e_p, e_r, w_b = dp[b], dr[b], within[b]
         fk_ok = e_p <= opts[0] and e_r <= opts[1] and not missing[b]
-        good = fk_ok and (w or opts[2] == 0.0)
-        dp[b], dr[b], ok[b], within[b] = e_p, e_r, good, w
+        good = fk_ok and (w_b or opts[2] == 0.0)
+        ok[b] = good
         if good:
             code[b] = 0
-        elif fk_ok and not w:
+        elif fk_ok and not w_b:
             code[b] = 2
             flags |= LIMIT_FAILURES
         else:
             code[b] = 1
             flags |= OTHER_FAILURES
-    k_of = np.empty(m)
-    idx = np.empty(m, np.int64)
     for b in range(m):    # solve_all: jit.sort_branches (a stable sort)
         k_of[b] = (0.0 if ok[b] else 1e9) + dist[b]
     stable_order(k_of, idx)
@@ -254,28 +283,27 @@ def _put(b, s, q, e_p, e_r, good, w, code, unreach, lab, lat, rho, r, per, lo, h
 
 
 @njit(cache=True)
-def _nearest_first(q, dist, unreach, missing, lab, F, joints, opts, T, pose, lat, rho, r, per, lo, hi, fb, ib, bb):
+def _nearest_first(q, dist, unreach, missing, lab, F, joints, opts, T, pose, lat, rho, r, per, lo, hi, Tq, order,
+                   dp, dr, within, fb, ib, bb):
     """:func:`_finish` for :func:`armkit.ik`, which keeps only the first branch of the sorted ones: the branches
     are verified in order of distance from ``q0`` (stable, as the sort), and the first that succeeds is that
     first branch, written as :func:`_finish` writes it; the branches beyond it are never checked. Returns the
-    status (:data:`DONE`; :data:`FALLBACK` for a nearer branch the polish would touch up, as :func:`_finish`),
-    or -1 when no branch succeeds: :func:`_finish` then checks them all (the failures' sentences need each)."""
-    m, n = q.shape
-    order = np.empty(m, np.int64)
+    status (:data:`DONE` with :data:`NEAREST` and the label index; :data:`FALLBACK` for a nearer branch the polish
+    would touch up, as :func:`_finish`), or -1 when no branch succeeds: then every branch has been checked, its
+    errors left in ``dp``, ``dr`` and ``within`` (m,) for :func:`_finish` (the failures' sentences need each).
+    ``Tq`` (4, 4) and ``order`` (m,) are work space."""
+    m = q.shape[0]
     stable_order(dist, order)   # by distance, as the sort (a successful branch's key is its distance)
-    one = np.empty((1, n))
-    Tq = np.empty((1, 4, 4))
     for i in range(m):
         s = order[i]
-        for j in range(n):
-            one[0, j] = q[s, j]
-        _fk_serial(F, one, Tq)
-        e_p, e_r, w = _check(Tq[0], T, pose, one[0], joints[JOINT_LOWER], joints[JOINT_UPPER], 1e-12)
+        _fk_row(F, q, s, Tq)
+        e_p, e_r, w = _check(Tq, T, pose, q[s], joints[JOINT_LOWER], joints[JOINT_UPPER], 1e-12)
         if _polishable(e_p, e_r, opts):
             return FALLBACK   # _polish would touch this branch up
         if e_p <= opts[0] and e_r <= opts[1] and not missing[s] and (w or opts[2] == 0.0):
             _put(0, s, q, e_p, e_r, True, w, 0, unreach, lab, lat, rho, r, per, lo, hi, fb, ib, bb)
-            return DONE
+            return DONE | NEAREST | (lab[s] << LABEL_SHIFT)
+        dp[s], dr[s], within[s] = e_p, e_r, w
     return -1
 
 
