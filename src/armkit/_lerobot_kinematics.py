@@ -39,6 +39,20 @@ _STAGES = ("pose", "direction", "pitch", "position")   # the compiled kernel's c
 _PLAIN = (float, int, np.float64)                         # weights the compiled call takes as they are
 
 
+def _entry(kernel: Any, ctx: np.ndarray, k: int) -> Any:
+    """The compiled ``kernel`` (``teleop_ctx``) itself for the one signature :meth:`RobotKinematics.inverse_kinematics`
+    calls it with (``ctx``; float64 C-contiguous 1-D joints of length ``k`` and up, a 4x4 pose; a bool; two float64
+    outputs), without the dispatcher's typing of its six arguments on every call; the dispatcher where it has none
+    (another back end). The joints and pose are only read, so a read-only array of that type is safe."""
+    compile_ = getattr(kernel, "compile", None)
+    if compile_ is None:
+        return kernel
+    import numba
+
+    args = (ctx, np.empty(k), np.empty((4, 4)), True, np.empty(k), np.empty(9))
+    return compile_(tuple(numba.typeof(a) for a in args))
+
+
 def _rotation_angle(Tq: np.ndarray, T: np.ndarray) -> float:
     """The angle (rad) between the rotations of two poses, precise near 0 and near pi."""
     E = Tq[:3, :3].T @ T[:3, :3]
@@ -314,7 +328,7 @@ class RobotKinematics:
             from .ik.analytic.yaw_pitch3 import shoulder_reach
 
             self._ctx = kern.pack_context(g, self._tol, self._index, float(shoulder_reach(self.robot)[-1]))  # type: ignore[index]
-        self._teleop = kern.teleop_ctx
+        self._teleop = _entry(kern.teleop_ctx, self._ctx, self._k)
         return self._teleop
 
     def _position_only(self, cur: np.ndarray, T: np.ndarray) -> np.ndarray | None:

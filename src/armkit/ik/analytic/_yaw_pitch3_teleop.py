@@ -23,7 +23,7 @@ from numba import njit  # noqa: E402
 from ._yaw_pitch3_jit import (DIRECTION, FRONT, G_A1, G_A2, G_A3, G_A4, G_BASE_INV, G_BETA, G_D1,  # noqa: E402
                               G_D5, G_LAT0, G_LOWER, G_PAN, G_S1, G_S4, G_SCALE, G_SIZE, G_T, G_THETA, G_UP,
                               G_UPPER, LATERAL_SLACK, LM, NUMPY, PITCH, POSE, POSITION, TWO_PI, _closed_form, _cross,
-                              _fk, _nearest, _pitch, _polish_branch, _rotation_angle, _solve4, _within,
+                              _fk, _nearest, _pitch, _polish_branch, _rotation_angle, _solve4, _within, _wrap_pi,
                               _inside, _wrap_joint, direction_branches)
 
 __all__ = ["teleop", "teleop_call", "teleop_ctx", "pack_context", "position_nearest", "position_rows", "position_one",
@@ -190,7 +190,7 @@ _LOCAL = np.array([0.0, -0.02, 0.02, -0.05, 0.05, -0.1, 0.1])   # offsets from t
 _REFINE = 20         # golden-section steps on the best sample's bracket (1.57 rad * 0.618^20: ~1e-4 rad)
 
 
-_PRE = 15            # size of _family_parts' output
+_PRE = 16            # size of _family_parts' output
 
 
 @njit(cache=True)
@@ -200,7 +200,8 @@ def _family_parts(g, p, q0, pre):
     pan angle and the in-plane distance from the shoulder, cos and sin of ``beta``; then, the same for every
     pitch, the pan joint's value wrapped into its limits nearest ``q0`` per half (2), the roll joint's (1), and
     per half the squared joint distance of these two from ``q0`` (2, ``inf`` where either leaves its limits:
-    no member of that half). Returns False where the position-only answer is left to LM (a target inside the
+    no member of that half), and the sum of ``q0``'s three pitch joints with their offsets (1, for
+    :func:`_lower_bound`). Returns False where the position-only answer is left to LM (a target inside the
     sideways offset, or on the pan axis)."""
     B = G_BASE_INV
     x = g[B] * p[0] + g[B + 1] * p[1] + g[B + 2] * p[2] + g[B + 3]
@@ -231,16 +232,17 @@ def _family_parts(g, p, q0, pre):
         pre[9 + jf] = pan
         pre[12 + jf] = (pan - q0[0]) ** 2 if _inside(g, 0, pan) and _inside(g, 4, roll) else np.inf
     pre[14] = (roll - q0[4]) ** 2
+    pre[15] = q0[1] + q0[2] + q0[3] + g[G_THETA + 1] + g[G_THETA + 2] + g[G_THETA + 3]
     return True
 
 
 @njit(cache=True, inline="always")
-def _half(g, pre, psi, jf):
-    """The wrist of half ``jf`` (0 front, 1 back) of the family at pitch ``psi`` (the closed form of
-    :func:`._yaw_pitch3_jit._closed_form_at` on the ideal arm): ``(reached, Theta, ang, d1, t2, Wx)``, the
-    tool's in-plane angle (``up * psi - beta`` front, ``pi - up * psi - beta`` back), the wrist's direction and
-    the two-link angles both elbows share; ``reached`` False where the wrist is out of reach at ``psi``."""
-    sp, cp = math.sin(psi), math.cos(psi)
+def _half(g, pre, psi, sp, cp, jf):
+    """The wrist of half ``jf`` (0 front, 1 back) of the family at pitch ``psi`` (``sp``, ``cp``: its sine and
+    cosine; the closed form of :func:`._yaw_pitch3_jit._closed_form_at` on the ideal arm):
+    ``(reached, Theta, ang, d1, t2, Wx)``, the tool's in-plane angle (``up * psi - beta`` front,
+    ``pi - up * psi - beta`` back), the wrist's direction and the two-link angles both elbows share; ``reached``
+    False where the wrist is out of reach at ``psi``."""
     a2, a3 = g[G_A2], g[G_A3]
     up, cb, sb = g[G_UP], pre[7], pre[8]
     f = FRONT[2 * jf]
@@ -252,6 +254,18 @@ def _half(g, pre, psi, jf):
         return False, Theta, 0.0, 0.0, 0.0, Wx
     sn0 = math.sqrt((1.0 - c) * (1.0 + c))
     return True, Theta, math.atan2(Wy, Wx), math.atan2(a3 * sn0, a2 + a3 * c), math.atan2(sn0, c), Wx
+
+
+@njit(cache=True, inline="always")
+def _lower_bound(g, pre, psi, jf):
+    """A lower bound of the squared joint distance from ``q0`` of every member of half ``jf`` at pitch ``psi``:
+    the pan and roll terms (the same for all, :func:`_family_parts`) plus ``delta**2 / 3``, where the three pitch
+    joints' sum differs from ``q0``'s by ``delta`` at least (it equals the tool's in-plane angle less the joints'
+    offsets, modulo 2 pi: ``pre[15]`` holds ``q0``'s side of it), and ``a**2 + b**2 + c**2 >= (a + b + c)**2 / 3``.
+    Shrunk by 1e-9 (relative) for rounding: a member it rules out is farther than the bound by more than that."""
+    Theta = (g[G_UP] * psi if jf == 0 else math.pi - g[G_UP] * psi) - g[G_BETA]
+    delta = _wrap_pi(Theta - pre[15])
+    return (pre[12 + jf] + pre[14] + delta * delta / 3.0) * (1.0 - 1e-9)
 
 
 @njit(cache=True, inline="always")
@@ -283,29 +297,35 @@ def _distance(g, pre, psi, q0, j):
     jf = j // 2
     if pre[12 + jf] == np.inf:
         return np.inf
-    reached, Theta, ang, d1, t2, _ = _half(g, pre, psi, jf)
+    reached, Theta, ang, d1, t2, _ = _half(g, pre, psi, math.sin(psi), math.cos(psi), jf)
     if not reached:
         return np.inf
     return _branch(g, pre, q0, jf, 1.0 if j % 2 == 0 else -1.0, Theta, ang, d1, t2)[0]
 
 
 @njit(cache=True)
-def _members(g, pre, psi, q0, only, Q, LAB, D):
+def _members(g, pre, psi, q0, only, Q, LAB, D, bound=np.inf):
     """The members of the family at pitch ``psi`` (the closed form of :func:`._yaw_pitch3_jit._closed_form_at` on
     the ideal arm, wrapped into the limits nearest ``q0``): all four (``only`` -1) or branch ``only`` alone.
     ``D`` (4,): each one's squared joint distance from ``q0``, ``inf`` where the wrist is out of reach at
     ``psi`` or a joint leaves its limits; ``Q`` (4, 5) and ``LAB`` (4,) hold the members of finite ``D`` (the
-    rows of the others are left part-written). The second elbow mirrors the first: eight transcendental calls
-    for the four, none for a half whose pan joint (the same at every pitch) is outside its limits."""
+    rows of the others are left part-written). The second elbow mirrors the first: the pitch's sine and cosine,
+    then four transcendental calls per half; none for a half whose pan joint (the same at every pitch) is outside
+    its limits, nor for a half
+    whose members cannot be nearer ``q0`` than ``bound`` (:func:`_lower_bound`; their ``D``: ``inf``)."""
     sg = math.copysign(1.0, g[G_A2] * g[G_A3])
     up = g[G_UP]
+    sp, cp = math.sin(psi), math.cos(psi)
     for jf in range(2):
         if only >= 0 and only // 2 != jf:
             continue
         if pre[12 + jf] == np.inf:   # the pan (or the roll) outside its limits: no member of this half
             D[2 * jf] = D[2 * jf + 1] = np.inf
             continue
-        reached, Theta, ang, d1, t2, Wx = _half(g, pre, psi, jf)
+        if bound < np.inf and _lower_bound(g, pre, psi, jf) >= bound:   # none nearer than the best so far
+            D[2 * jf] = D[2 * jf + 1] = np.inf
+            continue
+        reached, Theta, ang, d1, t2, Wx = _half(g, pre, psi, sp, cp, jf)
         if not reached:              # the wrist out of reach at this pitch
             D[2 * jf] = D[2 * jf + 1] = np.inf
             continue
@@ -431,14 +451,14 @@ def position_nearest(g, p, q0, tol0, tol1, reach, q_out, info):
     bd, bj, bpsi, spsi, h = np.inf, -1, psi0, psi0, 0.0
     for i in range(_LOCAL.shape[0]):      # near the start's pitch first: windows there can be narrow (a joint
         psi = psi0 + _LOCAL[i]            # near its limit, a wrist near the edge of reach at that pitch)
-        _members(g, pre, psi, q0, -1, Q, LAB, D)
+        _members(g, pre, psi, q0, -1, Q, LAB, D, bd)
         for j in range(4):
             if D[j] < bd:
                 bd, bj, bpsi, spsi, h = D[j], j, psi, psi, 0.05
     for n in (_SWEEP, _SWEEP_FINE):      # a finer sweep where no sample has a member
         for i in range(1, n):
             psi = psi0 + TWO_PI / n * (i if i <= n // 2 else i - n)
-            _members(g, pre, psi, q0, -1, Q, LAB, D)
+            _members(g, pre, psi, q0, -1, Q, LAB, D, bd)
             for j in range(4):
                 if D[j] < bd:
                     bd, bj, bpsi, spsi, h = D[j], j, psi, psi, TWO_PI / n

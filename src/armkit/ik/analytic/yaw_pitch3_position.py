@@ -38,6 +38,8 @@ _REASON_0D = (np.array("unreachable"), np.array("converged"))
 _BOOL_0D = (np.array(False), np.array(True))
 _ZERO_0D = np.array(0.0)
 _NONE_0D = np.array(0, dtype=np.int64)
+_TRUE_0D, _CONVERGED_0D = _BOOL_0D[1], _REASON_0D[1]
+_LATER = IKResult._later
 
 
 class _Record:
@@ -132,19 +134,21 @@ def _one(robot: Robot, rec: Any, target: Array, q0: Any, far: bool = True) -> IK
     fields as 0-d arrays. None where the general path answers: LM, input it must check or reject, and with
     ``far`` False a target beyond the reach (LM's closest configuration and message, as before the route)."""
     if q0 is None:
-        q0 = rec.q0
+        q0 = rec.q0               # C-contiguous already
     elif type(q0) is not np.ndarray or q0.dtype is not _F64 or q0.shape != (5,):
         return None
+    else:
+        q0 = q0.ravel()           # ravel: C-contiguous, as the signature says
     out = np.empty(9)
-    c = rec.entry(rec.ctx, target.ravel(), q0.ravel(), out)   # ravel: C-contiguous, as the signature says
-    if c < 0 and (c != -4 or not far):   # LM answers (-3), the input is not finite / q0 beyond 1e6 rad (-2)
+    c = rec.entry(rec.ctx, target.ravel(), q0, out)
+    if c == 3:                    # the common answer: its fields with no test more
+        return _LATER((out[:5], _TRUE_0D.copy(), out[5, ...], _ZERO_0D.copy(), _NONE_0D.copy(),
+                       _LABELS_0D[int(out[8])].copy(), _TRUE_0D.copy(), _CONVERGED_0D.copy(), ""))
+    if c != -4 or not far:        # LM answers (-3), the input is not finite / q0 beyond 1e6 rad (-2)
         return None
-    ok = c == 3
-    values = (out[:5], _BOOL_0D[ok].copy(), out[5, ...], _ZERO_0D.copy(), _NONE_0D.copy(),
-              _LABELS_0D[int(out[8])].copy(), _BOOL_0D[1].copy(), _REASON_0D[ok].copy(), "" if ok else None)
-    if ok:
-        return IKResult._later(values)
-    return IKResult._later(values, _LaterUnreachable(robot, rec, out))
+    values = (out[:5], _BOOL_0D[0].copy(), out[5, ...], _ZERO_0D.copy(), _NONE_0D.copy(),
+              _LABELS_0D[int(out[8])].copy(), _TRUE_0D.copy(), _REASON_0D[0].copy(), None)
+    return _LATER(values, _LaterUnreachable(robot, rec, out))
 
 
 def position_ik(robot: Robot, target: Any, q0: Any = None, seed: Any = None) -> IKResult | None:
@@ -155,7 +159,10 @@ def position_ik(robot: Robot, target: Any, q0: Any = None, seed: Any = None) -> 
     The answer is the member of the position's 1-D family of solutions (the tool pitch free, the roll kept at
     ``q0``'s) nearest ``q0`` (default: zero, clipped to the limits, as :func:`armkit.ik`) inside the limits
     (:func:`._yaw_pitch3_teleop.position_nearest`), polished on the true model and checked by FK: ``success``,
-    ``reason`` and the residual as LM gives them. A target beyond the reach from the shoulder fails as
+    ``reason`` and the residual as LM gives them. "Nearest" is that of a sampled search (15 pitches, the best
+    sample's branch refined): a dense scan of the pitch finds a nearer member for about 1 start in 5 far from the
+    answer (21.6 % of random starts, 14.8 % of q0 = 0) and 1 in 250 of 5 mm teleoperation steps
+    (tests/ik/test_so101_nearest_scan.py); the answer is always an exact, verified solution. A target beyond the reach from the shoulder fails as
     ``"unreachable"`` (``q``: the arm stretched towards it). The few targets the sampled pitches miss (about 1
     in 200, a narrow window at a joint limit) are solved by LM (``solve_lm`` with ``seed``), one target at a
     time, so a batch gives the same answers as single calls (a single call returns None for them: the general
