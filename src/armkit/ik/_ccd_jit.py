@@ -27,6 +27,7 @@ from .._jit_twins import parallel_twin  # noqa: E402
 
 # the 12-scalar pose helpers of the kinematics kernels and their packed chain layout (see ik/_jit_lm.py)
 from ..kinematics._jit import PRISMATIC, _load, _move, _mul  # noqa: E402
+from ._jit_lm import _project1  # noqa: E402  (one rule for the limits, LM's)
 from .ccd import _ON_AXIS, _splitmix64, _start_state  # noqa: E402
 
 # The packed arguments of the kernels (built by armkit.ik.ccd):
@@ -43,28 +44,6 @@ ITERATIONS, USED, BEST = 0, 1, 2
 
 _next = njit(inline="always")(_splitmix64)
 _state = njit(inline="always")(_start_state)
-
-
-@njit(cache=True, inline="always")
-def _project1(v, limits, j, prismatic):
-    """Joint ``j``'s value ``v`` inside its limits: a revolute joint by whole turns where that suffices, then clamping
-    (the rule of the NumPy back end's ``_project``)."""
-    lo, up = limits[0, j], limits[1, j]
-    if not prismatic:
-        two_pi = 2.0 * math.pi
-        if v > up:
-            down = v - two_pi * math.ceil((v - up) / two_pi)
-            if down >= lo:
-                v = down
-        elif v < lo:
-            upw = v + two_pi * math.ceil((lo - v) / two_pi)
-            if upw <= up:
-                v = upw
-    if v > up:
-        v = up
-    elif v < lo:
-        v = lo
-    return v
 
 
 @njit(cache=True)
@@ -214,5 +193,6 @@ def parallel_twins():
     return [(ccd_serial, _ccd_parallel)]
 
 
-# the cached kernels inline the pose helpers of kinematics/_jit.py and the splitmix64 step of ik/ccd.py
-_jit_loader.forget_stale_cache(globals(), ("kinematics/_jit.py", "ik/ccd.py"))
+# the cached kernels inline the pose helpers of kinematics/_jit.py, the limit rule of ik/_jit_lm.py (_project1) and
+# the splitmix64 step of ik/ccd.py
+_jit_loader.forget_stale_cache(globals(), ("kinematics/_jit.py", "ik/_jit_lm.py", "ik/ccd.py"))

@@ -157,27 +157,33 @@ def _rotate_rows(J, Tt, n):
         J[5, k] = Tt[0, 2] * a + Tt[1, 2] * b + Tt[2, 2] * c
 
 
+@njit(cache=True, inline="always")
+def _project1(v, limits, j, prismatic):
+    """Joint ``j``'s value ``v`` inside its limits: a revolute joint by whole turns where that suffices, then
+    clamping (the rule of the NumPy back end's ``_project``; CCD's kernel uses it too)."""
+    lo, up = limits[0, j], limits[1, j]
+    if not prismatic:
+        two_pi = 2.0 * math.pi
+        if v > up:
+            v2 = v - two_pi * math.ceil((v - up) / two_pi)
+            if v2 >= lo:
+                v = v2
+        elif v < lo:
+            v2 = v + two_pi * math.ceil((lo - v) / two_pi)
+            if v2 <= up:
+                v = v2
+    if v > up:
+        v = up
+    elif v < lo:
+        v = lo
+    return v
+
+
 @njit(cache=True)
 def _project(q, limits, P):
     """Bring revolute joints into their limits by whole turns where possible, then clamp."""
-    two_pi = 2.0 * math.pi
     for j in range(q.shape[0]):
-        v = q[j]
-        lo, up = limits[0, j], limits[1, j]
-        if not _prismatic(P, j):
-            if v > up:
-                v2 = v - two_pi * math.ceil((v - up) / two_pi)
-                if v2 >= lo:
-                    v = v2
-            elif v < lo:
-                v2 = v + two_pi * math.ceil((lo - v) / two_pi)
-                if v2 <= up:
-                    v = v2
-        if v > up:
-            v = up
-        elif v < lo:
-            v = lo
-        q[j] = v
+        q[j] = _project1(q[j], limits, j, _prismatic(P, j))
 
 
 @njit(cache=True)
