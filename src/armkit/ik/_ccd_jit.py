@@ -26,8 +26,8 @@ from numba import njit, prange  # noqa: E402
 from .._jit_twins import parallel_twin  # noqa: E402
 
 # the 12-scalar pose helpers of the kinematics kernels and their packed chain layout (see ik/_jit_lm.py)
-from ..kinematics._jit import PRISMATIC, _load, _move, _mul  # noqa: E402
-from ._jit_lm import _project1  # noqa: E402  (one rule for the limits, LM's)
+from ..kinematics._jit import _load, _move, _mul  # noqa: E402
+from ._jit_lm import _prismatic, _project, _project1  # noqa: E402  (one rule for the limits, LM's)
 from .ccd import _ON_AXIS, _splitmix64, _start_state  # noqa: E402
 
 # The packed arguments of the kernels (built by armkit.ik.ccd):
@@ -57,7 +57,7 @@ def _frames(P, q, Z):
         Z[k, 0], Z[k, 1], Z[k, 2] = X[2], X[6], X[10]
         Z[k, 3], Z[k, 4], Z[k, 5] = X[3], X[7], X[11]
         t = q[k]
-        X = _mul(_move(X, t, math.sin(t), math.cos(t), P[1 + k, PRISMATIC] != 0.0), P, 1 + n + k)
+        X = _mul(_move(X, t, math.sin(t), math.cos(t), _prismatic(P, k)), P, 1 + n + k)
     X = _mul(X, P, 2 * n + 1)
     return X[3], X[7], X[11]
 
@@ -70,7 +70,7 @@ def _sweep(P, limits, q, t, Z):
     tx, ty, tz = t[0], t[1], t[2]
     for j in range(q.shape[0] - 1, -1, -1):
         zx, zy, zz, px, py, pz = Z[j, 0], Z[j, 1], Z[j, 2], Z[j, 3], Z[j, 4], Z[j, 5]
-        prismatic = P[1 + j, PRISMATIC] != 0.0
+        prismatic = _prismatic(P, j)
         if prismatic:
             step = zx * (tx - ex) + zy * (ty - ey) + zz * (tz - ez)
         else:
@@ -120,8 +120,7 @@ def _ccd_one(P, limits, params, t, seed, unreachable, q, trace, info):
     tol_p = params[TOL_P]
     max_sweeps, restarts, stall = int(params[MAX_SWEEPS]), int(params[RESTARTS]), int(params[STALL])
     Z = np.empty((n, 6))
-    for j in range(n):
-        q[j] = _project1(q[j], limits, j, P[1 + j, PRISMATIC] != 0.0)
+    _project(q, limits, P)
     best_q = q.copy()
     err = _distance(P, q, t, Z)
     best_err = np.inf
@@ -157,7 +156,8 @@ def _ccd_one(P, limits, params, t, seed, unreachable, q, trace, info):
         state = _state(seed, np.uint64(used))
         for j in range(n):
             state, u = _next(state)
-            q[j] = _project1(limits[2, j] + (limits[3, j] - limits[2, j]) * u, limits, j, P[1 + j, PRISMATIC] != 0.0)
+            q[j] = limits[2, j] + (limits[3, j] - limits[2, j]) * u
+        _project(q, limits, P)
         used += 1
         err = _distance(P, q, t, Z)
     if not err <= tol_p:
