@@ -50,7 +50,8 @@ from .errors import ArgumentError, ArmkitError
 
 __all__ = ["set_backend", "get_backend", "jit_module", "serve", "load_jit", "backend_choice", "ready", "parallel_ok",
            "cache_dir", "fallback_cache_dir", "install_cache_fallback", "module", "kernels", "forget_stale_cache",
-           "compiling_here", "serial_only", "marker", "lock_alive", "forget_other_builds", "say_compiling", "release_lock"]
+           "compiling_here", "serial_only", "marker", "lock_alive", "forget_other_builds", "say_compiling", "release_lock",
+           "compiled_entry"]
 
 _PKG = Path(__file__).resolve().parent
 _SOURCES = ("kinematics/_jit.py", "ik/_jit_lm.py", "ik/_jit_verify.py", "ik/analytic/_jit.py", "ik/analytic/_layout.py",
@@ -206,6 +207,19 @@ def module(name: str) -> Any:
             mod = False
         _MODULES[name] = mod
     return mod or None
+
+
+def compiled_entry(kernel: Any, *sample: Any) -> Any:
+    """The compiled function of the Numba ``kernel`` for the types of the ``sample`` arguments (compiled now if
+    it is not yet), which a hot caller then calls without the dispatcher typing every argument on every call; the
+    ``kernel`` itself where it has no ``compile`` (not a Numba dispatcher). The caller must pass arguments of
+    exactly those types (a read-only array where the kernel only reads it is the same type to the compiled code)."""
+    compile_ = getattr(kernel, "compile", None)
+    if compile_ is None:
+        return kernel
+    import numba
+
+    return compile_(tuple(numba.typeof(a) for a in sample))
 
 
 def kernels(name: str) -> Any:

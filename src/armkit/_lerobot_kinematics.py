@@ -44,13 +44,7 @@ def _entry(kernel: Any, ctx: np.ndarray, k: int) -> Any:
     calls it with (``ctx``; float64 C-contiguous 1-D joints of length ``k`` and up, a 4x4 pose; a bool; two float64
     outputs), without the dispatcher's typing of its six arguments on every call; the dispatcher where it has none
     (another back end). The joints and pose are only read, so a read-only array of that type is safe."""
-    compile_ = getattr(kernel, "compile", None)
-    if compile_ is None:
-        return kernel
-    import numba
-
-    args = (ctx, np.empty(k), np.empty((4, 4)), True, np.empty(k), np.empty(9))
-    return compile_(tuple(numba.typeof(a) for a in args))
+    return _jit_loader.compiled_entry(kernel, ctx, np.empty(k), np.empty((4, 4)), True, np.empty(k), np.empty(9))
 
 
 def _rotation_angle(Tq: np.ndarray, T: np.ndarray) -> float:

@@ -399,11 +399,9 @@ class _Single:
         self.ctx_near = self.context(None, True, True, True)
         self.entry: Any = self.kernel
         if self.kernel is not None:   # the compiled function itself, called without the dispatcher's typing
-            import numba              # of six arrays (~0.35 us of a ~12 us call); see run_one for why it is safe
-
-            args = (np.empty(16), self.q0, self.ctx, np.empty(self.fsize), np.empty(self.isize, np.int64),
-                    np.empty(self.bsize, np.bool_))
-            self.entry = self.kernel.compile(tuple(numba.typeof(a) for a in args))
+            # of six arrays (~0.35 us of a ~12 us call); see run_one for why it is safe
+            self.entry = _jit_loader.compiled_entry(self.kernel, np.empty(16), self.q0, self.ctx, np.empty(self.fsize),
+                                                    np.empty(self.isize, np.int64), np.empty(self.bsize, np.bool_))
 
     def __reduce__(self) -> tuple:
         """Pickled as None (a pickled robot's cache holds it): the copy makes its own record when first used,

@@ -22,6 +22,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from ... import _jit_loader
 from ...model.robot import Robot
 from ..result import IKResult, _message, default_tolerance
 from ._common import Array
@@ -56,10 +57,7 @@ class _Record:
         self.q0.setflags(write=False)
         # the compiled function itself, without the dispatcher's typing of four arrays: _one hands it what its
         # one signature takes (float64, 1-D, C-contiguous; it only reads p and q0, so a read-only one is safe)
-        import numba
-
-        args = (self.ctx, np.empty(3), np.empty(5), np.empty(9))
-        self.entry = kern.position_one.compile(tuple(numba.typeof(a) for a in args))
+        self.entry = _jit_loader.compiled_entry(kern.position_one, self.ctx, np.empty(3), np.empty(5), np.empty(9))
 
     def __reduce__(self) -> tuple:
         """Pickled as None (a pickled robot's cache holds it): compiled code belongs to this process."""
