@@ -35,7 +35,7 @@ from ... import _jit_loader
 from ...model.robot import Robot
 from ..result import IKResult, _result_of, default_tolerance, verify
 from ._common import Raw, StandardForm, jit_kernels, keep_better, standard_form
-from ._layout import joint_table
+from ._layout import LABEL_SHIFT, NEAREST, joint_table
 from .geometric import Geometric
 from .planar import Planar2R, Planar3R
 from .spherical_wrist import SphericalWrist
@@ -385,8 +385,6 @@ class _Single:
         lay = kernels.layout(self.m, self.n)
         self.at = lay
         self.near_at = (self.n, lay["dp"], lay["dr"], 2 * self.m)   # armkit.ik's answer: q, errors, iterations
-        global _NEAREST, _LABEL_SHIFT
-        _NEAREST, _LABEL_SHIFT = kernels.NEAREST, kernels.LABEL_SHIFT
         self.fsize, self.isize, self.bsize = lay["fb"], lay["ib"], lay["bb"]
         self.q0 = np.clip(np.zeros(robot.n), robot.lower, robot.upper)   # armkit.ik's start when none is given
         self.scale = robot.reach
@@ -430,7 +428,6 @@ def _no_record() -> None:
 _REASON_0D = [_REASON_TEXT[k:k + 1].reshape(()) for k in range(3)]   # 0-d reasons, copied per use
 _CONVERGED = _REASON_0D[0]
 _I64, _BOOL = np.dtype(np.int64), np.dtype(np.bool_)   # dtype objects: np.empty takes them faster than types
-_NEAREST = _LABEL_SHIFT = 0   # _single.NEAREST and LABEL_SHIFT, set with the first record (_single imports Numba)
 
 
 def one_call_record(robot: Robot, solver: ClosedForm) -> "_Single | None":
@@ -497,10 +494,10 @@ def run_one(robot: Robot, c: "_Single", target: Array, q0: Array | None, ctx: Ar
         return None
     m = c.m
     if nearest:
-        if r & _NEAREST:   # the nearest branch succeeded (its label index given with the status): no sentence
+        if r & NEAREST:   # the nearest branch succeeded (its label index given with the status): no sentence
             n, dp, dr, it = c.near_at
             return _result_of(fb[:n], bb[0, ...], fb[dp, ...], fb[dr, ...], ib[it, ...],
-                              c.labels0[r >> _LABEL_SHIFT].copy() if raw is None else
+                              c.labels0[r >> LABEL_SHIFT].copy() if raw is None else
                               np.array(raw.label[0][ib[3 * m]], dtype=object), bb[m, ...], _CONVERGED.copy(),
                               "" if raw is None else str(raw.note[0][ib[3 * m]]))
         k = ib.item(0)

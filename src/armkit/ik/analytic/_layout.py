@@ -33,6 +33,12 @@ SW_D6, SW_S4, SW_S5, SW_CS, SW_SIZE = 40, 41, 42, 43, 51
 # ur: twist signs s_1, s_4, s_5, the shoulder offset D, lengths d_1, d_4, d_5, d_6, a_2, a_3, and zero length
 UR_S1, UR_S4, UR_S5, UR_D, UR_D1, UR_D4, UR_D5, UR_D6, UR_A2, UR_A3, UR_TINY, UR_SIZE = range(32, 44)
 
+NEAREST, LABEL_SHIFT = 16, 5
+"""In the return value of a one-call kernel (:mod:`._single`) with ``nearest`` (:func:`armkit.ik`), when the
+nearest branch succeeds: the bit :data:`NEAREST` and that branch's label index shifted left by
+:data:`LABEL_SHIFT` (the caller then reads nothing else from ``ib``; the buffers hold the same values as without).
+Here, not in :mod:`._single`, so that the caller reads them without importing Numba."""
+
 JOINT_THETA, JOINT_LOWER, JOINT_UPPER, JOINT_PRISMATIC, JOINT_ROWS = 0, 1, 2, 3, 4
 """Rows of the joint table ``(JOINT_ROWS, n)``: DH offset theta, lower and upper limit, 1.0 for prismatic."""
 

@@ -61,17 +61,14 @@ from numba import njit  # noqa: E402
 from ...kinematics._jit import PRISMATIC, ROW, _fk_serial, _load, _move, _mul, _sincos, _store2  # noqa: E402
 from .._jit_verify import _check  # noqa: E402
 from ._jit import _planar2_run, _planar3_run, _puma_run, _ur_run, _wrap_one, _ypp_run, stable_order  # noqa: E402
-from ._layout import JOINT_LOWER, JOINT_PRISMATIC, JOINT_ROWS, JOINT_THETA, JOINT_UPPER  # noqa: E402
+from ._layout import (JOINT_LOWER, JOINT_PRISMATIC, JOINT_ROWS, JOINT_THETA, JOINT_UPPER,  # noqa: E402
+                      LABEL_SHIFT, NEAREST)
 
 DONE, FALLBACK, BAD_TARGET = 0, 1, 2
 """Kernel status: answered; answer by the batched path (same result); target not finite or not rigid."""
 LIMIT_FAILURES, OTHER_FAILURES = 4, 8
 """Bits of a kernel's return value besides the status: some branch failed by the limits alone; some
 branch failed otherwise (unreachable)."""
-NEAREST, LABEL_SHIFT = 16, 5
-"""With ``nearest`` (:func:`armkit.ik`), when the nearest branch succeeds, the return value also has the bit
-:data:`NEAREST` and that branch's label index shifted left by :data:`LABEL_SHIFT` (the caller then reads nothing
-else from ``ib``; the buffers hold the same values as without)."""
 OPTS = ("tol_p", "tol_r", "enforce", "window_p", "window_r", "above_p", "above_r", "sign", "check", "nearest")
 """The options at the end of ``ctx``: FK tolerances, enforce limits (1.0/0.0), the polish window and
 threshold of ``solve_all`` (position entries already times the reach), the planar-2r joint-2 sign,
