@@ -30,7 +30,13 @@ samples by distance (a step where they do not pair up one to one within 0.1 rad 
   until the branch and the one it meets there have residuals of one sign that differ by under a
   quarter of the smaller: the rest of that fold cannot reach 0, :func:`_settled`) and is sampled
   :data:`EDGE_N` more times towards it, quadratically spaced, then as above (sign changes, and
-  extrema turning back towards 0).
+  extrema turning back towards 0);
+* SW, SM: a pair of branches that is born and dies between two samples with none (an *island*: SP3
+  has solutions only on an interval of the searched joint narrower than a step) is looked for where
+  SP3's margin (how far it is from having solutions) peaks between empty samples: its maximum by
+  golden section, the island's ends by bisection, then :data:`SUB_N` samples between them
+  (:func:`_islands`). benchmarks/bench_coverage.py found such a target (tests/ik/geometric/
+  test_search_islands.py): the search had answered "unreachable" where four solutions exist.
 
 The turn is closed: its last sample is its first (copied; evaluated again at ``−π + N step`` ≈ π, rounding could
 give the two copies residuals of opposite signs around a root at ±π, which then fell between them). A residual
@@ -41,7 +47,7 @@ can share the step: its sign at the sample is rounding).
 Resolution: :data:`N` = 240 samples (1.5° apart), :data:`SUB_N` × finer in ambiguous steps. A root
 can be missed only when three or more roots of one branch lie within one step, two within 3e-10
 rad of a branch end, or a double root's residual stays above 1e-12, or two roots crowd within one
-step next to a branch end (measured against a dense scan of 20,000 samples on 200 random targets
+step next to a branch end, or (TI, TP) a pair of branches lives only between two samples (measured against a dense scan of 20,000 samples on 200 random targets
 of each class, tests/ik/geometric/test_search_speed_free.py: 0 missing for TP, SW, SM; for TI one
 target lost both roots of a near-double root, residual peak 2e-6, 4e-3 rad from a branch end). The
 solvers of :mod:`.solvers` complete each root to the six joints and check every solution by FK of
@@ -62,7 +68,8 @@ from numpy.typing import NDArray
 
 from . import _kernels as _kk
 from . import subproblems as _sp
-from ._kernels import _PI, _sp3, _sp6, _t, _tadd, _tdot, _tmul, _tmv, _tnorm, _trot, _trot_cs, _tsp1, _tsub, _wrap
+from ._kernels import (_PI, _sp3, _sp6, _t, _tadd, _tdot, _tlin, _tmul, _tmv, _tnorm, _trot, _trot_cs, _tsp1, _tsub,
+                       _wrap)
 from .poe import POE
 
 __all__ = ["two_parallel", "N", "SUB_N", "EDGE_N", "MAXROOT", "kernels", "TI", "TP", "SW", "SM"]
@@ -182,9 +189,12 @@ def _eval_tp(H, P, C, x, S, E):
 
 def _eval_sw(H, P, C, x, S, E):
     """Axes 4, 5, 6 meet, q1 = ``x``: q3 by SP3 ``‖rot(h3, q3) P3 + P2‖ = ‖v‖`` for ``v = rot(h1, −x) p0W − P1``;
-    residual ``h2ᵀ v − h2ᵀ (P2 + rot(h3, q3) P3)``."""
+    residual ``h2ᵀ v − h2ᵀ (P2 + rot(h3, q3) P3)``. Without branches, ``E[0]`` is SP3's :func:`_sp3_margin`."""
     v = _tsub(_trot(_t(H[0]), -x, _t(C[0])), _t(P[1]))
     n = _sp3(_t(P[3]), _tmul(_t(P[2]), -1.0), _t(H[2]), _tnorm(v), S[:, 0])
+    if n == 0:   # how far from having branches: kept for the island check (_islands)
+        E[0] = _sp3_margin(_t(P[3]), _tmul(_t(P[2]), -1.0), _t(H[2]), _tnorm(v))
+        return 0
     h1 = _t(H[1])
     hv = _tdot(h1, v) - _tdot(h1, _t(P[2]))
     for i in range(n):
@@ -196,17 +206,132 @@ def _eval_sw(H, P, C, x, S, E):
 
 def _eval_sm(H, P, C, x, S, E):
     """Axes 2, 3, 4 meet (P[2] = P[3] = 0), q6 = ``x``: q1 by SP3 ``‖rot(h1, q1) P1 − u‖ = ‖P4‖`` for
-    ``u = p − P0 − R_05 P5 − R_06 P6``; residual ``(R_05 h5)ᵀ (u − rot(h1, q1) P1) − h5ᵀ P4``."""
+    ``u = p − P0 − R_05 P5 − R_06 P6``; residual ``(R_05 h5)ᵀ (u − rot(h1, q1) P1) − h5ᵀ P4``. Without branches,
+    ``E[0]`` is SP3's :func:`_sp3_margin`."""
     h4 = _t(H[4])
     u, z = _point5(H, P, C, x)
     p1 = _t(P[1])
     n = _sp3(p1, u, _t(H[0]), _tnorm(_t(P[4])), S[:, 0])
+    if n == 0:   # how far from having branches: kept for the island check (_islands)
+        E[0] = _sp3_margin(p1, u, _t(H[0]), _tnorm(_t(P[4])))
+        return 0
     c = _tdot(h4, _t(P[4]))
     for i in range(n):
         S[i, 1] = 0.0
         S[i, 2] = 0.0
         E[i] = _tdot(z, _tsub(u, _trot(_t(H[0]), S[i, 0], p1))) - c
     return n
+
+
+def _sp3_margin(p1, p2, k, d):
+    """How near SP3 ``‖rot(k, θ) p1 − p2‖ = d`` is to having solutions: ``1 − |x|`` for the cosine ``x`` whose arc
+    cosine :func:`._kernels._sp3` takes (>= 0: it has them; -inf: degenerate, no margin)."""
+    a, b, c = _tlin(p2, k, p1)
+    rhs = 0.5 * (_tdot(p1, p1) + _tdot(p2, p2) - d * d) - c
+    r = math.sqrt(a * a + b * b)
+    if r <= 1e-14 * (_tdot(p1, p1) + _tdot(p2, p2) + d * d):
+        return -math.inf
+    return 1.0 - abs(rhs / r)
+
+
+def _margin(kind, H, P, C, x, S, E):
+    """For the kinds whose branches come from SP3 (SW, SM): 1 where there are branches at ``x``, else SP3's
+    :func:`_sp3_margin` there (< 0), which :func:`_eval` leaves in ``E[0]``. ``S (4, 3)``, ``E (4,)``: work
+    space."""
+    if _eval(kind, H, P, C, x, S, E) > 0:
+        return 1.0
+    return E[0]
+
+
+def _island(kind, H, P, C, a, b):
+    """A point of ``[a, b]`` where the margin (:func:`_margin`) is >= 0, by golden section towards its maximum (the
+    margin is below 0 at ``a``, at ``b`` and at their midpoint, and the midpoint's is the largest of the three);
+    ``nan`` if the maximum stays below 0."""
+    S = np.empty((4, 3))
+    E = np.empty(4)
+    r = 0.6180339887498949
+    c = b - r * (b - a)
+    d = a + r * (b - a)
+    fc = _margin(kind, H, P, C, c, S, E)
+    fd = _margin(kind, H, P, C, d, S, E)
+    for _ in range(80):
+        if fc >= 0.0:
+            return c
+        if fd >= 0.0:
+            return d
+        if b - a < 1e-12:
+            break
+        if fc > fd:
+            b, d, fd = d, c, fc
+            c = b - r * (b - a)
+            fc = _margin(kind, H, P, C, c, S, E)
+        else:
+            a, c, fc = c, d, fd
+            d = a + r * (b - a)
+            fd = _margin(kind, H, P, C, d, S, E)
+    return np.nan
+
+
+def _rim(kind, H, P, C, inside, outside):
+    """The end of an island (:func:`_islands`) between ``inside`` (margin >= 0) and ``outside`` (< 0), by bisection
+    of the margin to rounding: the last point found inside."""
+    S = np.empty((4, 3))
+    E = np.empty(4)
+    for _ in range(200):
+        x = 0.5 * (inside + outside)
+        if x == inside or x == outside:
+            break
+        if _margin(kind, H, P, C, x, S, E) >= 0.0:
+            inside = x
+        else:
+            outside = x
+    return inside
+
+
+def _islands(kind, H, P, C, n, step, cnt, E, roots, m, out, pp, wk):
+    """Branches that live only between two samples without any (SW, SM: SP3 has solutions on an interval of the
+    searched joint narrower than a step): where the margin of three neighbouring empty samples peaks in the
+    middle one and the parabola through them comes within one second difference of 0 (as :func:`_extrema` looks
+    at residuals), its maximum is searched (:func:`_island`). An island found has its two ends found by
+    bisection of the margin (:func:`_rim`; there its two branches meet) and is sampled :data:`SUB_N` times
+    between them, closer towards the ends (cosine spacing: the branches move like the square root of the
+    distance to an end), the sign changes refined as between any samples (:func:`_pair`). Returns the new
+    count of ``roots``."""
+    if kind != SW and kind != SM:
+        return m
+    M = np.full(n, -np.inf)
+    for i in range(n):
+        if cnt[i] == 0:
+            M[i] = E[i, 0]   # the margin, left there by _eval_sw / _eval_sm
+    Ss = np.zeros((SUB_N + 1, 4, 3))
+    Es = np.zeros((SUB_N + 1, 4))
+    cs = np.zeros(SUB_N + 1, dtype=np.int64)
+    D = np.zeros((4, 4))
+    for c in range(n):
+        ma = M[c - 1 if c > 0 else n - 1]
+        mb = M[c]
+        mc = M[c + 1 if c + 1 < n else 0]
+        if not (ma < mb and mc < mb and ma > -np.inf and mc > -np.inf):
+            continue
+        d2 = ma - 2.0 * mb + mc
+        if mb - (mc - ma) * (mc - ma) / (8.0 * d2) < d2:   # the parabola's peak below 0 by more than |d2|
+            continue
+        xc = -_PI + c * step
+        x = _island(kind, H, P, C, xc - step, xc + step)
+        if x != x:
+            continue
+        xa = xc - step if x < xc else xc
+        lo = _rim(kind, H, P, C, x, xa)
+        hi = _rim(kind, H, P, C, x, xa + step)
+        for k in range(SUB_N + 1):
+            cs[k] = _eval(kind, H, P, C, lo + (hi - lo) * 0.5 * (1.0 - math.cos(_PI * k / SUB_N)), Ss[k], Es[k])
+        for k in range(SUB_N):
+            xk = lo + (hi - lo) * 0.5 * (1.0 - math.cos(_PI * k / SUB_N))
+            xn = lo + (hi - lo) * 0.5 * (1.0 - math.cos(_PI * (k + 1) / SUB_N))
+            _dists(Ss[k], cs[k], Ss[k + 1], cs[k + 1], D)
+            m = _pair(kind, H, P, C, xk, Ss[k], Es[k], cs[k], xn, Ss[k + 1], Es[k + 1], cs[k + 1], D, roots, m, out,
+                      pp, wk)
+    return m
 
 
 # ---------------------------------------------------------------------------------- the engine
@@ -661,12 +786,12 @@ def _search(kind, H, P, C, n, roots):
             m = _pair(kind, H, P, C, xa, S[i], E[i], cnt[i], xa + step, S[i + 1], E[i + 1], cnt[i + 1], D[i], roots,
                       m, out, pp, wk)
         m = _extrema(kind, H, P, C, -_PI, step, S, E, cnt, D, i, roots, m, out, mid)
-    return m
+    return _islands(kind, H, P, C, n, step, cnt, E, roots, m, out, pp, wk)
 
 
-KERNELS = ("_eval_ti", "_point5", "_eval_tp", "_eval_sw", "_eval_sm", "_eval", "_adist", "_nearest", "_pick",
-           "_refine", "_add", "_dip", "_settled", "_edge", "_dists", "_near", "_pair", "_ambiguous", "_match", "_extrema", "_scan",
-           "_search")
+KERNELS = ("_sp3_margin", "_eval_ti", "_point5", "_eval_tp", "_eval_sw", "_eval_sm", "_eval", "_margin", "_island",
+           "_rim", "_adist", "_nearest", "_pick", "_refine", "_add", "_dip", "_settled", "_edge", "_dists", "_near",
+           "_pair", "_islands", "_ambiguous", "_match", "_extrema", "_scan", "_search")
 """The functions :func:`kernels` compiles, callees before callers (the scalar helpers: :mod:`._kernels`)."""
 _KERNELS: Optional[types.SimpleNamespace] = None
 

@@ -28,7 +28,11 @@ joints, the true model) and kept only when FK of the chain meets the target to :
 can be missed when another lies within about one grid step of it in (q1, q2) on the same branch (two
 zeros of e in one cell: their windings cancel and Newton from there finds one of them). On random
 arms that happened for 1 target in 120 (tests/ik/geometric/test_search2d.py); a finer grid
-(``samples=``) shrinks it.
+(``samples=``) shrinks it. Since the real solutions of a general 6R come in pairs, an odd count says
+that one is missing: Newton steps then start from each solution found a little way along the direction
+in which the Jacobian is nearest singular (where such a twin lies), until the count is even
+(:func:`_twins`). benchmarks/bench_coverage.py's dense check (Levenberg-Marquardt from 200 random
+starts per target) found 3 missing of 2,158 on 500 random arms before this step.
 
 **Cost.** For a row of the grid (q1 held) the target's vectors are turned by ``R_01ᵀ`` once; each point
 turns them by ``R_12ᵀ``, solves its (q3, q4, q5) problem without temporary arrays and keeps, per branch,
@@ -616,6 +620,8 @@ def _search(H, P, RnT, R, p, samples, tol, Qout, errs):
         elif m == 0 and err < best:
             best = err
             bestq[:] = q
+    if m % 2 == 1:
+        m = _twins(H, P, RnT, R, p, scale, tol, Qout, m)
     if m == 0:
         errs[0] = best
         if nc:
@@ -624,8 +630,74 @@ def _search(H, P, RnT, R, p, samples, tol, Qout, errs):
     return m, nc
 
 
+def _twins(H, P, RnT, R, p, scale, tol, Qout, m):
+    """An odd count of solutions means one is missing (a general 6R's real solutions come in pairs: its other
+    solutions are complex and come in conjugate pairs), most likely the twin of a solution found, which lay within
+    a grid cell of it (the two windings cancel, and Newton from the cell finds one). So from each solution found,
+    Newton steps start a little way along the direction in which the chain's Jacobian is nearest singular (its
+    smallest singular vector, by inverse iteration), both ways, at distances 0.002-0.2 rad, until a new solution
+    makes the count even. Returns the new count (unchanged if none is found: a target on a singularity can have
+    an odd count of distinct solutions)."""
+    J = np.empty((6, 6))
+    JtJ = np.empty((6, 6))
+    Rq = np.empty((3, 3))
+    pq = np.empty(3)
+    Wk = np.empty((18, 3))
+    Ms = np.empty((6, 6))
+    vs = np.empty(6)
+    v = np.empty(6)
+    w = np.empty(6)
+    q = np.empty(6)
+    m0 = m
+    for o in range(m0):
+        _fkj(H, P, RnT, Qout[o], J, Rq, pq, Wk)
+        for r in range(3):
+            for k in range(6):
+                J[r, k] /= scale
+        for r in range(6):
+            for c in range(6):
+                t = 0.0
+                for k in range(6):
+                    t += J[k, r] * J[k, c]
+                JtJ[r, c] = t
+            JtJ[r, r] += 1e-12
+            v[r] = 1.0 / math.sqrt(6.0) if r % 2 == 0 else -1.0 / math.sqrt(6.0)
+        for _ in range(8):          # inverse iteration: v -> the eigenvector of JᵀJ of its least eigenvalue
+            if not _solve6(JtJ, v, w, Ms, vs):
+                break
+            n = 0.0
+            for r in range(6):
+                n += w[r] * w[r]
+            n = math.sqrt(n)
+            if not n > 0.0:
+                break
+            for r in range(6):
+                v[r] = w[r] / n
+        for step in (0.002, 0.006, 0.02, 0.06, 0.2):
+            for sign in (1.0, -1.0):
+                for k in range(6):
+                    q[k] = Qout[o, k] + sign * step * v[k]
+                err = _newton(H, P, RnT, R, p, scale, q)
+                if err > tol:
+                    continue
+                new = True
+                for j in range(m):
+                    d = 0.0
+                    for k in range(6):
+                        d = max(d, abs(_wrap(q[k] - Qout[j, k])))
+                    if d < 1e-7:
+                        new = False
+                        break
+                if new and m < Qout.shape[0]:
+                    for k in range(6):
+                        Qout[m, k] = _wrap(q[k])
+                    m += 1
+                    return m
+    return m
+
+
 KERNELS = ("_lin2", "_arm", "_reject", "_branches", "_q345", "_grid",
-           "_adiff", "_near", "_halves", "_candidates", "_fkj", "_err", "_solve6", "_newton", "_search")
+           "_adiff", "_near", "_halves", "_candidates", "_fkj", "_err", "_solve6", "_newton", "_twins", "_search")
 _KERNELS: Optional[types.SimpleNamespace] = None
 
 
