@@ -9,11 +9,15 @@ The DH table becomes SymPy matrices:
 * angles that are simple multiples of pi (``alpha = 90 deg``) become exact
   (``pi/2``), so ``cos(alpha)`` is exactly 0; other angles become parameters too.
 
-Simplification never calls ``simplify`` on a whole product (slow for 6 joints): each
-entry is expanded, split into coefficients of the parameter monomials, every
-coefficient (a pure trigonometric polynomial in ``q``) goes through ``trigsimp``, and
-common factors are pulled out. The simplified results are cached on disk (pickle,
-keyed by the DH model and the SymPy version), see :func:`cache_dir`.
+Simplification never calls ``simplify`` on a whole product (slow for 6 joints). When every
+twist and angle offset is an exact multiple of pi (every bundled DH arm), the products are
+formed directly in the cumulative angles of the runs of parallel joints (``q2 + q3``), as
+exact polynomials reduced by :math:`\sin^2 = 1 - \cos^2` (:mod:`._angle_sums`, no
+``trigsimp``: a 6-joint arm in well under a second). Otherwise each entry is expanded, split
+into coefficients of the parameter monomials, every coefficient (a pure trigonometric
+polynomial in ``q``) goes through ``trigsimp`` (:func:`simplify_entry`). Either way common
+factors are pulled out. The simplified results are cached on disk (pickle, keyed by the DH
+model and the SymPy version), see :func:`cache_dir`.
 """
 
 from __future__ import annotations
@@ -24,16 +28,19 @@ import os
 import pickle
 from dataclasses import dataclass, field, replace
 from pathlib import Path
-from typing import Any
+from typing import Any, Callable, TypeVar
 
 import numpy as np
 import sympy as sp
 
 from ..model.robot import Robot
+from ._angle_sums import angle_basis, chain
 
 __all__ = ["Derivation", "derive", "link_transform", "exact_angle", "simplify_entry", "cache_dir"]
 
 _CACHE_VERSION = 3
+
+_R = TypeVar("_R")
 
 
 def exact_angle(x: float) -> sp.Expr | None:
@@ -261,7 +268,7 @@ class _Simplifier:
     entry is returned as given, not even expanded (expanding the raw products of an arm with arbitrary twists
     alone took seconds per entry). The same entry recurs (a Jacobian's rotation rows are entries of T, 6R arms
     repeat whole products), so each result is kept by its expanded input: :func:`simplify_entry` depends on
-    nothing else.
+    nothing else. :meth:`run` puts any other piece of work (the fast path of :func:`derive`) under the same budget.
     """
 
     def __init__(self, params: tuple[sp.Symbol, ...], budget: float | None):
@@ -276,15 +283,24 @@ class _Simplifier:
     def __call__(self, e: sp.Expr) -> sp.Expr:
         if self.deadline is None:
             return self._work(e)
-        left = self.deadline - self.clock()
-        if left <= 0:                     # past the budget: the entry stays raw, as given, and is not remembered
+        found = self.run(lambda: self._work(e))
+        if found is None:                 # past the budget: the entry stays raw, as given, and is not remembered
             self.skipped += 1
             return e
+        return found
+
+    def run(self, work: Callable[[], _R]) -> _R | None:
+        """``work()`` under what is left of the budget; None when the budget runs out first (it is then spent)."""
+        if self.deadline is None:
+            return work()
+        left = self.deadline - self.clock()
+        if left <= 0:
+            return None
         import signal
         import threading
 
         if not hasattr(signal, "setitimer") or threading.current_thread() is not threading.main_thread():
-            return self._work(e)
+            return work()
 
         def _alarm(signum: int, frame: Any) -> None:
             raise _Timeout
@@ -292,11 +308,10 @@ class _Simplifier:
         old = signal.signal(signal.SIGPROF, _alarm)
         signal.setitimer(signal.ITIMER_PROF, left)
         try:
-            return self._work(e)
+            return work()
         except _Timeout:
-            self.skipped += 1
             self.deadline = self.clock()
-            return e
+            return None
         finally:
             signal.setitimer(signal.ITIMER_PROF, 0)
             signal.signal(signal.SIGPROF, old)
@@ -311,6 +326,41 @@ class _Simplifier:
         return found
 
 
+def _fast_chain(robot: Robot, q: tuple[sp.Symbol, ...], rows: list[tuple], raw: list[sp.Matrix], base: sp.Matrix,
+                tool: sp.Matrix, params: tuple[sp.Symbol, ...]) -> tuple[sp.Matrix, sp.Matrix] | None:
+    """``T`` and ``J`` in the cumulative angles of the runs of parallel joints (:mod:`._angle_sums`), or None for an
+    arm that path does not cover (a twist or an offset that is not an exact multiple of pi, float rotations)."""
+    prismatic = [j.is_prismatic for j in robot.joints]
+    basis = angle_basis(robot.convention, q, rows, prismatic)
+    if basis is None:
+        return None
+    return chain(robot.convention, raw, base, tool, basis, params, [x for x, p in zip(q, prismatic) if p], prismatic)
+
+
+def _general_chain(robot: Robot, links: tuple[sp.Matrix, ...], base: sp.Matrix, tool: sp.Matrix,
+                   simp: Any) -> tuple[sp.Matrix, sp.Matrix]:
+    """``T`` and ``J`` from the link transforms, every entry through ``simp`` (:func:`simplify_entry`, budgeted)."""
+    # cumulative frames base·A1···Ak; simplified step by step so that the products stay small
+    frames = [base]
+    for A in links:
+        frames.append((frames[-1] * A).applyfunc(simp))
+    T = (frames[-1] * tool).applyfunc(simp)
+    p_e = T[:3, 3]
+    cols = []
+    for i in range(robot.n):
+        # joint i+1 moves about/along the z axis of the frame before its motion
+        F = frames[i] if robot.convention == "standard" else frames[i + 1]
+        z = F[:3, 2]
+        p = F[:3, 3]
+        if robot.joints[i].is_prismatic:
+            col = list(z) + [0, 0, 0]
+        else:
+            v = z.cross(p_e - p)
+            col = list(v) + list(z)
+        cols.append([simp(c) for c in col])
+    return T, sp.Matrix(6, robot.n, lambda r, c: cols[c][r])
+
+
 def derive(robot: Robot, simplify: bool = True, cache: bool = True,
            simplify_budget: float | None = SIMPLIFY_BUDGET) -> Derivation:
     """Derive the symbolic link transforms, FK and geometric Jacobian of ``robot``.
@@ -319,7 +369,8 @@ def derive(robot: Robot, simplify: bool = True, cache: bool = True,
     ----------
     robot : Robot
     simplify : bool
-        Simplify every entry (see :func:`simplify_entry`); off gives the raw products.
+        Simplify every entry (in the angle sums of :mod:`._angle_sums` where the arm's twists and offsets are
+        exact multiples of pi, else with :func:`simplify_entry`); off gives the raw products.
     cache : bool
         Read/write the on-disk cache (:func:`cache_dir`) for simplified derivations.
     simplify_budget : float or None
@@ -363,27 +414,15 @@ def derive(robot: Robot, simplify: bool = True, cache: bool = True,
     psyms = tuple(params)
     simplifier = _Simplifier(psyms, simplify_budget) if simplify else None
     simp = simplifier if simplifier is not None else (lambda e: e)
-    links = tuple(link_transform(robot.convention, *r).applyfunc(simp) for r in rows)
-
-    # cumulative frames base·A1···Ak; simplified step by step so that the products stay small
-    frames = [base]
-    for A in links:
-        frames.append((frames[-1] * A).applyfunc(simp))
-    T = (frames[-1] * tool).applyfunc(simp)
-    p_e = T[:3, 3]
-    cols = []
-    for i in range(robot.n):
-        # joint i+1 moves about/along the z axis of the frame before its motion
-        F = frames[i] if robot.convention == "standard" else frames[i + 1]
-        z = F[:3, 2]
-        p = F[:3, 3]
-        if robot.joints[i].is_prismatic:
-            col = list(z) + [0, 0, 0]
-        else:
-            v = z.cross(p_e - p)
-            col = list(v) + list(z)
-        cols.append([simp(c) for c in col])
-    J = sp.Matrix(6, robot.n, lambda r, c: cols[c][r])
+    raw = [link_transform(robot.convention, *r) for r in rows]
+    links = tuple(A.applyfunc(simp) for A in raw)
+    fast = None
+    if simplifier is not None:            # the fast path, under the same budget: past it, the entries stay raw
+        fast = simplifier.run(lambda: _fast_chain(robot, q, rows, raw, base, tool, psyms))
+    if fast is not None:
+        T, J = fast
+    else:
+        T, J = _general_chain(robot, links, base, tool, simp)
     d = Derivation(robot.name, robot.convention, q, robot.joint_names, robot.joint_types, params, links,
                    base, tool, T, J, robot.unit)
     if simplifier is not None and simplifier.skipped:
