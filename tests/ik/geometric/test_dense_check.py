@@ -56,6 +56,18 @@ def dense_solutions(robot: Robot, T: np.ndarray, seed: int) -> list[np.ndarray]:
     return out
 
 
+def ik_all_misses(form: POE, R: np.ndarray, p: np.ndarray, seed: int) -> list[np.ndarray]:
+    """What :func:`dense_solutions` reaches on the chain ``form`` for the target ``(R, p)`` and ``armkit.ik_all``
+    (limits off) does not list; asserts the reference found at least two solutions."""
+    robot = robot_of(form)
+    T = np.eye(4)
+    T[:3, :3], T[:3, 3] = R, p
+    res = armkit.ik_all(robot, T, enforce_limits=False)
+    reference = dense_solutions(robot, T, seed)
+    assert len(reference) >= 2
+    return _missing(np.asarray(res.q)[np.asarray(res.success)], reference)
+
+
 def _missing(found: np.ndarray, reference: list[np.ndarray]) -> list[np.ndarray]:
     return [u for u in reference if not any(np.abs(_wrapped(u - s)).max() < 1e-6 for s in found)]
 

@@ -605,18 +605,7 @@ def _search(H, P, RnT, R, p, samples, tol, Qout, errs):
         for k in range(6):
             q[k] = _wrap(q[k])
         if err <= tol:
-            new = True
-            for o in range(m):
-                d = 0.0
-                for k in range(6):
-                    d = max(d, abs(_wrap(q[k] - Qout[o, k])))
-                if d < 1e-7:
-                    new = False
-                    break
-            if new and m < Qout.shape[0]:
-                for k in range(6):
-                    Qout[m, k] = q[k]
-                m += 1
+            m = _keep(Qout, m, q)
         elif m == 0 and err < best:
             best = err
             bestq[:] = q
@@ -677,27 +666,34 @@ def _twins(H, P, RnT, R, p, scale, tol, Qout, m):
             for sign in (1.0, -1.0):
                 for k in range(6):
                     q[k] = Qout[o, k] + sign * step * v[k]
-                err = _newton(H, P, RnT, R, p, scale, q)
-                if err > tol:
+                if _newton(H, P, RnT, R, p, scale, q) > tol:
                     continue
-                new = True
-                for j in range(m):
-                    d = 0.0
-                    for k in range(6):
-                        d = max(d, abs(_wrap(q[k] - Qout[j, k])))
-                    if d < 1e-7:
-                        new = False
-                        break
-                if new and m < Qout.shape[0]:
-                    for k in range(6):
-                        Qout[m, k] = _wrap(q[k])
-                    m += 1
-                    return m
+                for k in range(6):
+                    q[k] = _wrap(q[k])
+                found = _keep(Qout, m, q)
+                if found > m:
+                    return found
+    return m
+
+
+def _keep(Qout, m, q):
+    """Append the solution ``q`` (wrapped) to ``Qout[:m]`` unless one within 1e-7 rad is there (or it is full);
+    returns the new count."""
+    for o in range(m):
+        d = 0.0
+        for k in range(6):
+            d = max(d, abs(_wrap(q[k] - Qout[o, k])))
+        if d < 1e-7:
+            return m
+    if m < Qout.shape[0]:
+        for k in range(6):
+            Qout[m, k] = q[k]
+        return m + 1
     return m
 
 
 KERNELS = ("_lin2", "_arm", "_reject", "_branches", "_q345", "_grid",
-           "_adiff", "_near", "_halves", "_candidates", "_fkj", "_err", "_solve6", "_newton", "_twins", "_search")
+           "_adiff", "_near", "_halves", "_candidates", "_fkj", "_err", "_solve6", "_newton", "_keep", "_twins", "_search")
 _KERNELS: Optional[types.SimpleNamespace] = None
 
 
