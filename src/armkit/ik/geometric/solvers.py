@@ -54,7 +54,8 @@ The cores live in one file per class, all importable from here: :mod:`.solvers_w
 the 3R position, the 3 x 3 helpers), :mod:`.solvers_parallel` (three parallel axes),
 :mod:`.solvers_search` (the classes of the 1-D searches), :mod:`.solvers_check` (each core with
 its FK check; one target, a batch, a sweep) and :mod:`.solvers_chain` (:func:`align`,
-:func:`reverse`, :func:`polish`). :func:`kernels` compiles them in one namespace. For one target
+:func:`reverse`, :func:`polish`). :func:`kernels` compiles them in one namespace, the kernels of
+:data:`INLINE` inline into their one caller (fewer levels of calls to compile: see there). For one target
 of :func:`armkit.ik` / :func:`armkit.ik_all`, :mod:`.one_call` runs a solver and the rest of the
 call in one compiled call.
 """
@@ -78,7 +79,7 @@ from .search import MAXROOT, SM, SW, TI, TP, _search  # noqa: F401  (in the kern
 from .search import N as _SEARCH_N
 from .search import kernels as _search_kernels
 from .solvers_chain import _jacobian, _log_vec, _points, _size, align, polish, reverse  # noqa: F401
-from .solvers_check import (_batch, _check, _close, _solve_spherical, _solve_spherical_middle,  # noqa: F401
+from .solvers_check import (_batch, _check, _close, _solve, _solve_spherical, _solve_spherical_middle,  # noqa: F401
                             _solve_three_parallel, _solve_two_intersecting_end, _solve_two_parallel, _sweep)
 from .solvers_parallel import _core_three_parallel  # noqa: F401
 from .solvers_search import (_core_spherical_middle, _core_two_intersecting_end, _core_two_parallel,  # noqa: F401
@@ -116,7 +117,14 @@ KERNELS = ("_mv", "_mtv", "_mm", "_mtm", "_perp", "_rotm_to", "_mm_to", "_mtm_to
            "_pos_search", "_pos_general", "_core_spherical", "_core_three_parallel", "_close", "_check", "_solve_spherical",
            "_solve_three_parallel", "_target_rows", "_core_two_intersecting_end", "_core_two_parallel",
            "_core_spherical_middle", "_solve_two_intersecting_end", "_solve_two_parallel", "_solve_spherical_middle",
-           "_batch", "_sweep")
+           "_solve", "_batch", "_sweep")
+INLINE = ("_pos_search", "_pos_general", "_core_spherical", "_core_three_parallel", "_core_two_intersecting_end",
+          "_core_two_parallel", "_core_spherical_middle", "_solve")
+"""Kernels with one caller each (a core in its ``_solve_*``, the 3R position in the spherical core, the dispatch in
+the batch loops): compiled inline into that caller (Numba's ``inline="always"``), not as functions of their own.
+Numba links a called kernel's whole compiled code into its caller and optimises and compiles it there again, so
+every level of calls between a kernel and its entry points repeats that work; inlining these removes a level
+(same operations, same results)."""
 _PARTS = ("solvers", "solvers_wrist", "solvers_parallel", "solvers_search", "solvers_check")
 SOURCES = tuple(f"ik/geometric/{name}.py" for name in _PARTS + ("subproblems", "search", "_kernels"))
 """The files whose functions the compiled solver cores contain (relative to the package): a change to any of
@@ -138,6 +146,12 @@ def kernels() -> Optional[types.SimpleNamespace]:
         extra.update({name: sk.namespace[name] for name in _sp.KERNELS})
         extra["_search"] = ek._search
         ns = _sp.jit_namespace(globals(), KERNELS, extra=extra)
+        from numba import njit
+
+        for name in INLINE:     # the same copies, compiled inline into their callers (they share ns as globals)
+            f = globals()[name]
+            ns[name] = njit(cache=True, inline="always")(types.FunctionType(f.__code__, ns, f.__name__, f.__defaults__,
+                                                                             f.__closure__))
         from ... import _jit_loader
 
         for stem in _PARTS:     # each file's cached copies follow every file they call into
@@ -279,16 +293,18 @@ def solve_batch(name: str, form: POE, R: Array, p: Array, q_ref: Array, *, jit: 
     K = kernels() if jit is not False else None
     if K is None:
         return [_run(name, form, R[b], p[b], q_ref[b], jit) for b in range(B)]
-    Q = np.zeros((B, MAXSOL, n))
-    LS = np.zeros((B, MAXSOL), dtype=np.bool_)
-    SG = np.zeros((B, MAXSOL), dtype=np.bool_)
-    ST = np.zeros((B, MAXSOL), dtype=np.int64)
-    NG = np.zeros(B, dtype=np.int64)
-    NF = np.zeros(B, dtype=np.int64)
+    Q = np.zeros((1, B, MAXSOL, n))
+    LS = np.zeros((1, B, MAXSOL), dtype=np.bool_)
+    SG = np.zeros((1, B, MAXSOL), dtype=np.bool_)
+    ST = np.zeros((1, B, MAXSOL), dtype=np.int64)
+    NG = np.zeros((1, B), dtype=np.int64)
+    NF = np.zeros((1, B), dtype=np.int64)
     c = np.ascontiguousarray
-    K._batch(_WHICH[prep.solve], prep.kind, prep.Hi, prep.Pi, prep.RnT, prep.prism, prep.Ht, prep.Pt,
-             c(R, dtype=float), c(p, dtype=float), c(q_ref, dtype=float), SEARCH_N, TOL * prep.scale, TOL,
-             Q, LS, SG, ST, NG, NF)
+    # the sweep over one chain (the loop of _batch): one compiled kernel serves this and the 7-joint sweep of .locked
+    K._sweep(_WHICH[prep.solve], prep.kind, prep.Hi[None], prep.Pi[None], prep.RnT[None], prep.prism, prep.Ht[None],
+             prep.Pt[None], c(R, dtype=float), c(p, dtype=float), c(q_ref, dtype=float), SEARCH_N,
+             np.array([TOL * prep.scale]), TOL, Q, LS, SG, ST, NG, NF)
+    Q, LS, SG, NG, NF = Q[0], LS[0], SG[0], NG[0], NF[0]
     out: list[Solutions] = []
     for b in range(B):
         ng, nf = int(NG[b]), int(NF[b])

@@ -89,34 +89,42 @@ def _solve_three_parallel(kind, Hi, Pi, RnT, prism, Ht, Pt, R, p, qref, N, tol_p
     return _check(m, Ht, Pt, RnT, prism, R, p, tol_p, tol_r, Q, LS, SG, ST)
 
 
+def _solve(which, kind, Hi, Pi, RnT, prism, Ht, Pt, R, p, qref, N, tol_p, tol_r, Q, LS, SG, ST):
+    """The solver kernel ``which`` (0 spherical, 1 three parallel, 2 two intersecting, 3 two parallel, 4 spherical
+    middle) on one target: ``(passing, failing)`` as that kernel returns them. Compiled inline into its callers
+    (:data:`.solvers.INLINE`): one copy of the dispatch per batch loop, no call of its own."""
+    if which == 0:
+        return _solve_spherical(kind, Hi, Pi, RnT, prism, Ht, Pt, R, p, qref, N, tol_p, tol_r, Q, LS, SG, ST)
+    if which == 1:
+        return _solve_three_parallel(kind, Hi, Pi, RnT, prism, Ht, Pt, R, p, qref, N, tol_p, tol_r, Q, LS, SG, ST)
+    if which == 2:
+        return _solve_two_intersecting_end(kind, Hi, Pi, RnT, prism, Ht, Pt, R, p, qref, N, tol_p, tol_r, Q, LS, SG,
+                                           ST)
+    if which == 3:
+        return _solve_two_parallel(kind, Hi, Pi, RnT, prism, Ht, Pt, R, p, qref, N, tol_p, tol_r, Q, LS, SG, ST)
+    return _solve_spherical_middle(kind, Hi, Pi, RnT, prism, Ht, Pt, R, p, qref, N, tol_p, tol_r, Q, LS, SG, ST)
+
+
 def _batch(which, kind, Hi, Pi, RnT, prism, Ht, Pt, R, p, qref, N, tol_p, tol_r, Q, LS, SG, ST, NG, NF):
     """Every target of a batch in one call: ``R (B, 3, 3)``, ``p (B, 3)``, ``qref (B, n)``; per target
-    the solutions ``Q[b]`` and flags as one call of the kernel ``which`` (0 spherical, 1 three parallel,
-    2 two intersecting, 3 two parallel, 4 spherical middle) would give them, and their counts ``NG`` (good), ``NF`` (failed the check)."""
+    the solutions ``Q[b]`` and flags as one call of the kernel ``which`` (:func:`_solve`) would give them, and
+    their counts ``NG`` (good), ``NF`` (failed the check). :func:`.solvers.solve_batch` calls :func:`_sweep` for
+    one chain instead (the same loop; one compiled kernel fewer to build)."""
     for b in range(R.shape[0]):
-        if which == 0:
-            ng, nf = _solve_spherical(kind, Hi, Pi, RnT, prism, Ht, Pt, R[b], p[b], qref[b], N, tol_p, tol_r,
-                                      Q[b], LS[b], SG[b], ST[b])
-        elif which == 1:
-            ng, nf = _solve_three_parallel(kind, Hi, Pi, RnT, prism, Ht, Pt, R[b], p[b], qref[b], N, tol_p, tol_r,
-                                           Q[b], LS[b], SG[b], ST[b])
-        elif which == 2:
-            ng, nf = _solve_two_intersecting_end(kind, Hi, Pi, RnT, prism, Ht, Pt, R[b], p[b], qref[b], N, tol_p,
-                                                 tol_r, Q[b], LS[b], SG[b], ST[b])
-        elif which == 3:
-            ng, nf = _solve_two_parallel(kind, Hi, Pi, RnT, prism, Ht, Pt, R[b], p[b], qref[b], N, tol_p, tol_r,
-                                         Q[b], LS[b], SG[b], ST[b])
-        else:
-            ng, nf = _solve_spherical_middle(kind, Hi, Pi, RnT, prism, Ht, Pt, R[b], p[b], qref[b], N, tol_p, tol_r,
-                                             Q[b], LS[b], SG[b], ST[b])
+        ng, nf = _solve(which, kind, Hi, Pi, RnT, prism, Ht, Pt, R[b], p[b], qref[b], N, tol_p, tol_r, Q[b], LS[b],
+                        SG[b], ST[b])
         NG[b] = ng
         NF[b] = nf
 
 
 def _sweep(which, kind, Hi, Pi, RnT, prism, Ht, Pt, R, p, qref, N, tol_p, tol_r, Q, LS, SG, ST, NG, NF):
     """:func:`_batch` for ``V`` chains of one class at once (a joint of a 7-joint arm held at ``V`` values,
-    :mod:`.locked`): ``Hi (V, 6, 3)``, ``Pi (V, 7, 3)``, ``RnT (V, 3, 3)``, ``Ht``, ``Pt`` likewise, ``tol_p (V,)``;
-    outputs with a leading ``V`` axis."""
+    :mod:`.locked`; one chain for :func:`.solvers.solve_batch`): ``Hi (V, 6, 3)``, ``Pi (V, 7, 3)``,
+    ``RnT (V, 3, 3)``, ``Ht``, ``Pt`` likewise, ``tol_p (V,)``; outputs with a leading ``V`` axis. Its own loop
+    over the targets (not a call of :func:`_batch`: the solvers are compiled into one kernel, not two)."""
     for v in range(Hi.shape[0]):
-        _batch(which, kind, Hi[v], Pi[v], RnT[v], prism, Ht[v], Pt[v], R, p, qref, N, tol_p[v], tol_r, Q[v], LS[v],
-               SG[v], ST[v], NG[v], NF[v])
+        for b in range(R.shape[0]):
+            ng, nf = _solve(which, kind, Hi[v], Pi[v], RnT[v], prism, Ht[v], Pt[v], R[b], p[b], qref[b], N, tol_p[v],
+                            tol_r, Q[v, b], LS[v, b], SG[v, b], ST[v, b])
+            NG[v, b] = ng
+            NF[v, b] = nf
