@@ -25,6 +25,8 @@ from typing import Any, Optional
 import numpy as np
 from numpy.typing import NDArray
 
+from . import solvers as _solvers
+
 __all__ = ["solve", "kernels", "PARALLEL_MIN"]
 
 PARALLEL_MIN = 32
@@ -164,6 +166,5 @@ def solve(prep: Any, inverted: bool, m: int, target: NDArray[np.float64], q0phi:
     return q, unreach, sing, found, redo
 
 
-SOURCES = tuple(f"ik/geometric/{name}.py" for name in ("solvers", "solvers_wrist", "solvers_parallel", "solvers_search",
-                                                       "solvers_check", "subproblems", "search", "_kernels"))
+SOURCES = _solvers.SOURCES
 """The files whose compiled functions the kernel contains: a change to any of them compiles it anew."""

@@ -49,6 +49,8 @@ from typing import Any, Optional
 import numpy as np
 from numpy.typing import NDArray
 
+from . import solvers as _solvers
+
 __all__ = ["geometry", "kernel", "SIZE"]
 
 WHICH, KIND, INV, EXACT, TOL_P, TOL_R, NS, M = range(8)
@@ -210,8 +212,7 @@ def kernel() -> Any:
     return _KERNEL or None
 
 
-SOURCES = tuple(f"ik/geometric/{name}.py" for name in ("solvers", "solvers_wrist", "solvers_parallel", "solvers_search",
-                                                       "solvers_check", "subproblems", "search", "_kernels")) + (
+SOURCES = _solvers.SOURCES + (
     "ik/analytic/_single.py", "ik/analytic/_jit.py", "ik/analytic/_layout.py", "kinematics/_jit.py",
     "ik/_jit_verify.py")
 """The files whose compiled functions the kernel contains: a change to any of them compiles it anew."""

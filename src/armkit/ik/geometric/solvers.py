@@ -79,7 +79,7 @@ from .search import MAXROOT, SM, SW, TI, TP, _search  # noqa: F401  (in the kern
 from .search import N as _SEARCH_N
 from .search import kernels as _search_kernels
 from .solvers_chain import _jacobian, _log_vec, _points, _size, align, polish, reverse  # noqa: F401
-from .solvers_check import (_batch, _check, _close, _solve, _solve_spherical, _solve_spherical_middle,  # noqa: F401
+from .solvers_check import (_batch, _check, _close, _paired, _solve, _solve_spherical, _solve_spherical_middle,  # noqa: F401
                             _solve_three_parallel, _solve_two_intersecting_end, _solve_two_parallel, _sweep)
 from .solvers_parallel import _core_three_parallel  # noqa: F401
 from .solvers_search import (_core_spherical_middle, _core_two_intersecting_end, _core_two_parallel,  # noqa: F401
@@ -116,7 +116,8 @@ KERNELS = ("_mv", "_mtv", "_mm", "_mtm", "_perp", "_rotm_to", "_mm_to", "_mtm_to
            "_sp1s", "_sp2s", "_wrist", "_pos_two_intersecting", "_pos_two_parallel",
            "_pos_search", "_pos_general", "_core_spherical", "_core_three_parallel", "_close", "_check", "_solve_spherical",
            "_solve_three_parallel", "_target_rows", "_core_two_intersecting_end", "_core_two_parallel",
-           "_core_spherical_middle", "_solve_two_intersecting_end", "_solve_two_parallel", "_solve_spherical_middle",
+           "_core_spherical_middle", "_paired", "_solve_two_intersecting_end", "_solve_two_parallel",
+           "_solve_spherical_middle",
            "_solve", "_batch", "_sweep")
 INLINE = ("_pos_search", "_pos_general", "_core_spherical", "_core_three_parallel", "_core_two_intersecting_end",
           "_core_two_parallel", "_core_spherical_middle", "_solve")
@@ -126,7 +127,7 @@ Numba links a called kernel's whole compiled code into its caller and optimises 
 every level of calls between a kernel and its entry points repeats that work; inlining these removes a level
 (same operations, same results)."""
 _PARTS = ("solvers", "solvers_wrist", "solvers_parallel", "solvers_search", "solvers_check")
-SOURCES = tuple(f"ik/geometric/{name}.py" for name in _PARTS + ("subproblems", "search", "_kernels"))
+SOURCES = tuple(f"ik/geometric/{name}.py" for name in _PARTS + ("subproblems", "search", "search2d", "_kernels"))
 """The files whose functions the compiled solver cores contain (relative to the package): a change to any of
 them makes the cached copies compile anew."""
 _KERNELS: Optional[types.SimpleNamespace] = None
@@ -145,6 +146,13 @@ def kernels() -> Optional[types.SimpleNamespace]:
         extra = _kk.extra()                 # the shared helpers (_fk_err), then the subproblems
         extra.update({name: sk.namespace[name] for name in _sp.KERNELS})
         extra["_search"] = ek._search
+        from . import search2d
+
+        s2 = search2d.kernels()
+        if s2 is None:
+            _NO_NUMBA = True
+            return None
+        extra["_twins"] = s2._twins   # the odd-count step of the 1-D searches (solvers_check._paired)
         ns = _sp.jit_namespace(globals(), KERNELS, extra=extra)
         from numba import njit
 

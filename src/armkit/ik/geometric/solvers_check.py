@@ -12,22 +12,26 @@ from ._kernels import _fk_err_to
 from .solvers_parallel import _core_three_parallel
 from .solvers_search import _core_spherical_middle, _core_two_intersecting_end, _core_two_parallel
 from .solvers_wrist import _core_spherical
+from .search2d import _twins
 from .subproblems import _wrap
 
 
 def _solve_two_intersecting_end(kind, Hi, Pi, RnT, prism, Ht, Pt, R, p, qref, N, tol_p, tol_r, Q, LS, SG, ST):
     m = _core_two_intersecting_end(kind, Hi, Pi, RnT, prism, R, p, qref, N, Q, LS, SG)
-    return _check(m, Ht, Pt, RnT, prism, R, p, tol_p, tol_r, Q, LS, SG, ST)
+    ng, nf = _check(m, Ht, Pt, RnT, prism, R, p, tol_p, tol_r, Q, LS, SG, ST)
+    return _paired(Ht, Pt, RnT, R, p, tol_p, tol_r, Q, LS, SG, ST, ng, nf)
 
 
 def _solve_two_parallel(kind, Hi, Pi, RnT, prism, Ht, Pt, R, p, qref, N, tol_p, tol_r, Q, LS, SG, ST):
     m = _core_two_parallel(kind, Hi, Pi, RnT, prism, R, p, qref, N, Q, LS, SG)
-    return _check(m, Ht, Pt, RnT, prism, R, p, tol_p, tol_r, Q, LS, SG, ST)
+    ng, nf = _check(m, Ht, Pt, RnT, prism, R, p, tol_p, tol_r, Q, LS, SG, ST)
+    return _paired(Ht, Pt, RnT, R, p, tol_p, tol_r, Q, LS, SG, ST, ng, nf)
 
 
 def _solve_spherical_middle(kind, Hi, Pi, RnT, prism, Ht, Pt, R, p, qref, N, tol_p, tol_r, Q, LS, SG, ST):
     m = _core_spherical_middle(kind, Hi, Pi, RnT, prism, R, p, qref, N, Q, LS, SG)
-    return _check(m, Ht, Pt, RnT, prism, R, p, tol_p, tol_r, Q, LS, SG, ST)
+    ng, nf = _check(m, Ht, Pt, RnT, prism, R, p, tol_p, tol_r, Q, LS, SG, ST)
+    return _paired(Ht, Pt, RnT, R, p, tol_p, tol_r, Q, LS, SG, ST, ng, nf)
 
 
 def _check(m, H, P, RnT, prism, R, p, tol_p, tol_r, Q, LS, SG, ST):
@@ -67,6 +71,36 @@ def _check(m, H, P, RnT, prism, R, p, tol_p, tol_r, Q, LS, SG, ST):
             ST[ng + nf] = 0
             nf += 1
     return ng, nf
+
+
+def _paired(H, P, RnT, R, p, tol_p, tol_r, Q, LS, SG, ST, ng, nf):
+    """After a 1-D search (6R, every joint revolute): an odd count ``ng`` of solutions means one is missing (the
+    real solutions come in pairs), most likely the twin of one found, within one step of the search; Newton steps
+    look for it from each solution along the Jacobian's most singular direction (:func:`.search2d._twins`). A
+    twin found goes in as the last passing row (the failing rows move down one; the last drops when full).
+    Returns the new ``(passing, failing)``."""
+    if ng % 2 == 0:
+        return ng, nf
+    G = np.empty((ng + 1, 6))
+    for i in range(ng):
+        for k in range(6):
+            G[i, k] = Q[i, k]
+    if _twins(H, P, RnT, R, p, tol_p / tol_r, tol_r, G, ng) == ng:
+        return ng, nf
+    if ng + nf >= Q.shape[0]:
+        nf -= 1
+    for i in range(ng + nf - 1, ng - 1, -1):
+        for k in range(6):
+            Q[i + 1, k] = Q[i, k]
+        LS[i + 1] = LS[i]
+        SG[i + 1] = SG[i]
+        ST[i + 1] = ST[i]
+    for k in range(6):
+        Q[ng, k] = G[ng, k]
+    LS[ng] = False
+    SG[ng] = False
+    ST[ng] = 1
+    return ng + 1, nf
 
 
 def _close(a, b, prism):
