@@ -1,0 +1,133 @@
+"""Solutions the searches once missed, each found by benchmarks/bench_coverage.py's dense check (Levenberg-Marquardt
+from random starts on random arms), each arm and target kept here as a case.
+
+* ``island`` (only axes 2, 3, 4 meet: '6R-spherical-middle', searched over q6): SP3 has solutions for q6 only
+  on an interval about 0.015 rad wide, less than the search's step (1.5 degrees), and no sample fell inside it:
+  the search answered "unreachable" where four solutions exist (search._islands).
+* ``twin2d`` (no two axes meet or are parallel: '6R-general', the 2-D search over q1, q2): two of four
+  solutions lie 0.0026 rad apart, inside one grid cell; their windings cancel and Newton from the cell found
+  one of them (search2d._twins).
+* ``odd`` (only axes 5 and 6 meet: '6R-two-intersecting', searched over q1): two solutions 0.07 rad apart,
+  one found (solvers_check._paired).
+
+For the last two an odd count told that one was missing: the real solutions of a 6R come in pairs (the
+others are complex, in conjugate pairs). Each target is the FK of the solution that was missed (the test's
+own POE.fk); checked: it is found, every solution passes FK, the count is even (``twin2d``, ``odd``), and
+nothing Levenberg-Marquardt reaches from 300 random starts is missing from ``ik_all``.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from armkit.ik.geometric import solvers as G
+from armkit.ik.geometric.poe import POE
+from armkit.ik.geometric.search2d import gen_six_dof
+
+from test_dense_check import ik_all_misses   # same folder, on pytest's path
+
+ISLAND_H = np.array([[0.5053153615672773, 0.6757777664671428, -0.5366384217634921],
+                     [0.04729237999017623, 0.7659360173609043, -0.6411750526214985],
+                     [-0.6918896663948987, 0.08534183610622581, -0.7169417413890572],
+                     [0.8872417968246721, -0.4347714929497068, -0.1541938484039179],
+                     [0.30326317191973284, -0.23578198367482572, -0.9232758551654792],
+                     [0.23284351596827574, 0.6478158895760275, 0.7253402444951966]])
+ISLAND_P = np.array([[0.05031570840882769, -0.3713389598056643, 0.2822082593913328],
+                     [0.18813578117787214, 0.32357461777997404, -0.2454298968218931],
+                     [-0.2941806326171596, -0.03957366153247477, -0.23699240663794577],
+                     [0.5615439096784283, -0.16900546890998713, 0.2527425888862121],
+                     [-0.8605716281267273, -0.40081602865218224, 0.18667076843502353],
+                     [1.4472699845353179, 1.2999233750216392, -0.07775770554331046],
+                     [-0.015886001604538347, 0.41729972452990793, -0.0614875305375758]])
+ISLAND_R_NT = np.array([[0.43198391734457847, 0.806107223621593, 0.4044515288396359],
+                        [-0.8728085775357639, 0.486609716312829, -0.037632047113394525],
+                        [-0.2271455087287207, -0.3367523244389478, 0.9137848706612168]])
+ISLAND_Q_GEN = np.array([-0.9723891439896288, -3.118913592061787, 0.8457404282423275, 1.6313918826583436,
+                         0.7101891304933359, 0.29854948072365195])
+
+TWIN2D_H = np.array([[-0.9213647868700736, 0.29742220179060236, -0.25025379796897035],
+                     [-0.5773054039433662, 0.30168160467723326, -0.758753372300352],
+                     [0.25827941536977667, 0.9122257842244504, -0.3180186506988746],
+                     [-0.2338940749567354, 0.8709768175960093, -0.4320797899815044],
+                     [-0.0863613154885782, -0.9156521397369646, -0.3925848725845161],
+                     [0.5690190430034422, 0.7917123463247308, 0.2222811044070923]])
+TWIN2D_P = np.array([[0.027257924665504356, -0.4032826596077723, -0.46923729120820684],
+                     [-0.5227075416541064, 0.656956197219959, 1.272311675061557],
+                     [1.3817146166332388, 0.19405726103892906, -0.28706965695912756],
+                     [-1.6405171793798419, -0.7682694541144741, -0.4929397502693875],
+                     [0.47113736032531256, 1.1708621246789042, 0.21651857712773703],
+                     [0.1990746381701851, -1.4027747553893075, -0.9974912744590252],
+                     [0.3670683468483007, 0.07288533085964766, -0.18487396509383602]])
+TWIN2D_R_NT = np.array([[-0.34733397605899013, 0.23041578188455425, 0.9089926713310639],
+                        [0.12553620928463755, -0.9491920755655117, 0.28857419122658734],
+                        [0.9293006882777478, 0.2143431154531558, 0.3007611338327115]])
+TWIN2D_Q_GEN = np.array([1.327448389909279, -1.6874864131362841, -2.8228681407352547, -2.4371807548018305,
+                         -0.7085201145803046, 2.795368735760448])
+
+ODD_H = np.array([[-0.3805095955108391, 0.922286535800985, 0.0678232526822186],
+                  [-0.9740962392449966, -0.16509279234294566, -0.15453441883659272],
+                  [-0.402588038371625, -0.723128045761676, -0.5612563592450301],
+                  [0.7627829227962857, 0.6128665020046766, -0.20629314920982592],
+                  [0.8320465326101575, -0.18484096931860147, 0.5230032348205642],
+                  [0.7241056674329921, 0.30161689393248853, 0.6202404627932131]])
+ODD_P = np.array([[0.1604531681599257, -1.5112347516448557, 0.25910697458050486],
+                  [0.258970018765712, 0.7599365139806585, 1.024278993797313],
+                  [-0.6366300420847565, 0.9635098968014395, -1.6946851528656055],
+                  [0.26071377950830926, 0.7125373514353751, 0.3298034392417458],
+                  [-0.37687184588931893, -0.32516033699001834, 0.6017357179023125],
+                  [-0.3571628327406504, 0.05772249617464109, -0.23222163224858178],
+                  [0.19036448111382276, -0.14834616235672315, -0.17676273367628947]])
+ODD_R_NT = np.array([[-0.8339556694557925, -0.22927532367423875, 0.5019469766186602],
+                     [-0.24271004696833848, -0.6645013469202973, -0.706774216452283],
+                     [0.4955903292873738, -0.7112459391062874, 0.49851724104753703]])
+ODD_Q_GEN = np.array([-1.0230442061359053, 2.518021161518157, 1.069510402495878, 1.6522080417056144,
+                      2.0496860078814287, -1.4080111190816298])
+
+CASES = {   # name: (H, P, R_nT, the missed solution, the solver, even count, the dense search's seed)
+    "island": (ISLAND_H, ISLAND_P, ISLAND_R_NT, ISLAND_Q_GEN, G.spherical_middle, False, 11),
+    "twin2d": (TWIN2D_H, TWIN2D_P, TWIN2D_R_NT, TWIN2D_Q_GEN, gen_six_dof, True, 13),
+    "odd": (ODD_H, ODD_P, ODD_R_NT, ODD_Q_GEN, G.two_intersecting, True, 17),
+}
+
+
+def _wrap(a):
+    return (np.asarray(a) + math.pi) % (2 * math.pi) - math.pi
+
+
+def _case(name):
+    H, P, R_nT, q_gen, solver, even, seed = CASES[name]
+    form = POE(H, P, R_nT, np.zeros(6, dtype=bool))
+    R, p = form.fk(q_gen)
+    return form, R, p, q_gen, solver, even, seed
+
+
+@pytest.mark.parametrize("jit", [True, False], ids=["compiled", "plain"])
+@pytest.mark.parametrize("name", ["island", "odd"])
+def test_the_missed_solution_is_found(name, jit):
+    _check_solver(name, jit)
+
+
+def test_the_missed_solution_is_found_2d():
+    _check_solver("twin2d", None)   # the plain 2-D search takes seconds: the compiled one only
+
+
+def _check_solver(name, jit):
+    form, R, p, q_gen, solver, even, _ = _case(name)
+    q = np.asarray(solver(form, R, p, jit=jit).q)
+    assert len(q) >= 1, "the search found nothing"
+    for x in q:                                           # every solution passes FK (the test's own POE.fk)
+        Rq, pq = form.fk(x)
+        assert np.abs(pq - p).max() < 1e-9 and np.abs(Rq - R).max() < 1e-9
+    assert np.abs(_wrap(q - q_gen)).max(axis=1).min() < 1e-7   # the generating configuration is found
+    if even:
+        assert len(q) % 2 == 0
+
+
+@pytest.mark.parametrize("name", sorted(CASES))
+def test_against_a_dense_search(name):
+    """Every distinct solution Levenberg-Marquardt reaches from 300 random starts is among ``ik_all``'s."""
+    form, R, p, _, _, _, seed = _case(name)
+    assert ik_all_misses(form, R, p, seed) == []
