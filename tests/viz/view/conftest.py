@@ -28,7 +28,8 @@ def pytest_configure(config: Any) -> None:
 @pytest.fixture(scope="session")
 def browser() -> Iterator[Any]:
     try:
-        cm = browser_context()
+        # antialiasing only for the docs' pictures (`make pictures`): the tests' own runs draw without it (cheaper)
+        cm = browser_context(antialiasing=os.environ.get("ARMKIT_UPDATE_PICTURES") == "1")
         ctx = cm.__enter__()
     except Exception as exc:  # noqa: BLE001 - any failure to start the browser gets the install hint
         msg = INSTALL_HINT.format(why=f"{type(exc).__name__}: {str(exc).splitlines()[0] if str(exc) else ''}")

@@ -75,7 +75,7 @@ def test_names_with_html_markdown_and_scripts_are_text(browser, tmp_path: Path) 
         page = browser.new_page()
         page.on("dialog", lambda d: (dialogs.append(d.message), d.dismiss()))
         page.goto(v.url)
-        page.get_by_text("Home", exact=True).first.wait_for(timeout=30_000)
+        page.get_by_text("Home", exact=True).first.wait_for(timeout=60_000)
         v.set_q(np.zeros(2))
         assert v.obstacles.colliding == (SHAPE,)
         # printed literally: each joint's slider label, and the collision line with the link and shape names

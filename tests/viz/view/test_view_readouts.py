@@ -192,7 +192,7 @@ def _choose(page, label: str, option: str) -> None:
     choice.wait_for(timeout=20_000)
     time.sleep(0.3)
     choice.click(force=True)
-    wait_until(lambda: box.input_value() == option, timeout=30.0, what=f"{option!r} chosen")
+    wait_until(lambda: box.input_value() == option, timeout=60.0, what=f"{option!r} chosen")
 
 
 def _status(page) -> str:
@@ -228,7 +228,7 @@ def test_stored_configurations_save_recall_rename_export_import(browser, tmp_pat
         box.fill("reach")
         box.press("Enter")
         page.get_by_role("button", name="Rename").click()
-        wait_until(lambda: "exists; choose another name" in _status(page), timeout=30.0, what="name taken")
+        wait_until(lambda: "exists; choose another name" in _status(page), timeout=60.0, what="name taken")
         assert _stored(v) == ["start", "reach"]
         # export: a TOML download that the standard library reads back to the saved q
         with page.expect_download(timeout=30_000) as dl:
