@@ -458,14 +458,21 @@ def _trig2_rows(a00, a01, b00, b01, e0, a10, a11, b10, b11, e1, T1, T2):
     return _trig2(a00, a01, a10, a11, b00, b01, b10, b11, e0, e1, T1, T2)
 
 
-def _sp3(p1, p2, k, d, T):
-    """θ with ``‖rot(k, θ) p1 − p2‖ = d`` into ``T``: the count (0 when none; a double root counts twice)."""
+def _sp3_cos(p1, p2, k, d):
+    """SP3 ``‖rot(k, θ) p1 − p2‖ = d`` as ``cos(θ − atan2(b, a)) = x``: ``(x, a, b)``; ``x`` is inf when the
+    equation does not depend on θ (degenerate). Solutions exist where ``|x| <= 1`` (:func:`_sp3`; the 1-D
+    searches watch ``1 − |x|`` where there are none, :func:`.search._islands`)."""
     a, b, c = _tlin(p2, k, p1)
     rhs = 0.5 * (_tdot(p1, p1) + _tdot(p2, p2) - d * d) - c
     r = math.sqrt(a * a + b * b)
     if r <= 1e-14 * (_tdot(p1, p1) + _tdot(p2, p2) + d * d):
-        return 0
-    x = rhs / r
+        return math.inf, a, b
+    return rhs / r, a, b
+
+
+def _sp3(p1, p2, k, d, T):
+    """θ with ``‖rot(k, θ) p1 − p2‖ = d`` into ``T``: the count (0 when none; a double root counts twice)."""
+    x, a, b = _sp3_cos(p1, p2, k, d)
     if abs(x) > 1.0:
         return 0
     phi = math.atan2(b, a)
@@ -552,7 +559,7 @@ def _fk_err_to(H, P, RnT, prism, q, Rt, pt, R, T):
 # ---------------------------------------------------------------------------------- compiled
 KERNELS = ("_t", "_tdot", "_tcross", "_tadd", "_tsub", "_tmul", "_tnorm", "_trot_cs", "_trot", "_tmv", "_tmtv",
            "_tlin", "_tsp1", "_wrap", "_cubic_max", "_quad", "_newton4", "_polish", "_quartic4", "_quartic", "_res2",
-           "_angle", "_trig2", "_trig2_rows", "_sp6", "_sp3", "_rmul_rot", "_move", "_fk_err_to", "_fk_err")
+           "_angle", "_trig2", "_trig2_rows", "_sp6", "_sp3_cos", "_sp3", "_rmul_rot", "_move", "_fk_err_to", "_fk_err")
 """The functions :func:`kernels` compiles, callees before callers."""
 _KERNELS: Optional[types.SimpleNamespace] = None
 

@@ -36,7 +36,7 @@ samples by distance (a step where they do not pair up one to one within 0.1 rad 
   SP3's margin (how far it is from having solutions) peaks between empty samples: its maximum by
   golden section, the island's ends by bisection, then :data:`SUB_N` samples between them
   (:func:`_islands`). benchmarks/bench_coverage.py found such a target (tests/ik/geometric/
-  test_search_islands.py): the search had answered "unreachable" where four solutions exist.
+  test_search_found_cases.py): the search had answered "unreachable" where four solutions exist.
 
 The turn is closed: its last sample is its first (copied; evaluated again at ``−π + N step`` ≈ π, rounding could
 give the two copies residuals of opposite signs around a root at ±π, which then fell between them). A residual
@@ -47,7 +47,8 @@ can share the step: its sign at the sample is rounding).
 Resolution: :data:`N` = 240 samples (1.5° apart), :data:`SUB_N` × finer in ambiguous steps. A root
 can be missed only when three or more roots of one branch lie within one step, two within 3e-10
 rad of a branch end, or a double root's residual stays above 1e-12, or two roots crowd within one
-step next to a branch end, or (TI, TP) a pair of branches lives only between two samples (measured against a dense scan of 20,000 samples on 200 random targets
+step next to a branch end, or (TI, TP) a pair of branches lives only between two samples (measured
+against a dense scan of 20,000 samples on 200 random targets
 of each class, tests/ik/geometric/test_search_speed_free.py: 0 missing for TP, SW, SM; for TI one
 target lost both roots of a near-double root, residual peak 2e-6, 4e-3 rad from a branch end). The
 solvers of :mod:`.solvers` complete each root to the six joints and check every solution by FK of
@@ -68,8 +69,8 @@ from numpy.typing import NDArray
 
 from . import _kernels as _kk
 from . import subproblems as _sp
-from ._kernels import (_PI, _sp3, _sp6, _t, _tadd, _tdot, _tlin, _tmul, _tmv, _tnorm, _trot, _trot_cs, _tsp1, _tsub,
-                       _wrap)
+from ._kernels import (_PI, _sp3, _sp3_cos, _sp6, _t, _tadd, _tdot, _tmul, _tmv, _tnorm, _trot, _trot_cs, _tsp1,
+                       _tsub, _wrap)
 from .poe import POE
 
 __all__ = ["two_parallel", "N", "SUB_N", "EDGE_N", "MAXROOT", "kernels", "TI", "TP", "SW", "SM"]
@@ -189,11 +190,11 @@ def _eval_tp(H, P, C, x, S, E):
 
 def _eval_sw(H, P, C, x, S, E):
     """Axes 4, 5, 6 meet, q1 = ``x``: q3 by SP3 ``‖rot(h3, q3) P3 + P2‖ = ‖v‖`` for ``v = rot(h1, −x) p0W − P1``;
-    residual ``h2ᵀ v − h2ᵀ (P2 + rot(h3, q3) P3)``. Without branches, ``E[0]`` is SP3's :func:`_sp3_margin`."""
+    residual ``h2ᵀ v − h2ᵀ (P2 + rot(h3, q3) P3)``. Without branches, ``E[0]`` is SP3's margin (:func:`_margin`)."""
     v = _tsub(_trot(_t(H[0]), -x, _t(C[0])), _t(P[1]))
     n = _sp3(_t(P[3]), _tmul(_t(P[2]), -1.0), _t(H[2]), _tnorm(v), S[:, 0])
     if n == 0:   # how far from having branches: kept for the island check (_islands)
-        E[0] = _sp3_margin(_t(P[3]), _tmul(_t(P[2]), -1.0), _t(H[2]), _tnorm(v))
+        E[0] = 1.0 - abs(_sp3_cos(_t(P[3]), _tmul(_t(P[2]), -1.0), _t(H[2]), _tnorm(v))[0])
         return 0
     h1 = _t(H[1])
     hv = _tdot(h1, v) - _tdot(h1, _t(P[2]))
@@ -207,13 +208,13 @@ def _eval_sw(H, P, C, x, S, E):
 def _eval_sm(H, P, C, x, S, E):
     """Axes 2, 3, 4 meet (P[2] = P[3] = 0), q6 = ``x``: q1 by SP3 ``‖rot(h1, q1) P1 − u‖ = ‖P4‖`` for
     ``u = p − P0 − R_05 P5 − R_06 P6``; residual ``(R_05 h5)ᵀ (u − rot(h1, q1) P1) − h5ᵀ P4``. Without branches,
-    ``E[0]`` is SP3's :func:`_sp3_margin`."""
+    ``E[0]`` is SP3's margin (:func:`_margin`)."""
     h4 = _t(H[4])
     u, z = _point5(H, P, C, x)
     p1 = _t(P[1])
     n = _sp3(p1, u, _t(H[0]), _tnorm(_t(P[4])), S[:, 0])
     if n == 0:   # how far from having branches: kept for the island check (_islands)
-        E[0] = _sp3_margin(p1, u, _t(H[0]), _tnorm(_t(P[4])))
+        E[0] = 1.0 - abs(_sp3_cos(p1, u, _t(H[0]), _tnorm(_t(P[4])))[0])
         return 0
     c = _tdot(h4, _t(P[4]))
     for i in range(n):
@@ -223,21 +224,10 @@ def _eval_sm(H, P, C, x, S, E):
     return n
 
 
-def _sp3_margin(p1, p2, k, d):
-    """How near SP3 ``‖rot(k, θ) p1 − p2‖ = d`` is to having solutions: ``1 − |x|`` for the cosine ``x`` whose arc
-    cosine :func:`._kernels._sp3` takes (>= 0: it has them; -inf: degenerate, no margin)."""
-    a, b, c = _tlin(p2, k, p1)
-    rhs = 0.5 * (_tdot(p1, p1) + _tdot(p2, p2) - d * d) - c
-    r = math.sqrt(a * a + b * b)
-    if r <= 1e-14 * (_tdot(p1, p1) + _tdot(p2, p2) + d * d):
-        return -math.inf
-    return 1.0 - abs(rhs / r)
-
-
 def _margin(kind, H, P, C, x, S, E):
-    """For the kinds whose branches come from SP3 (SW, SM): 1 where there are branches at ``x``, else SP3's
-    :func:`_sp3_margin` there (< 0), which :func:`_eval` leaves in ``E[0]``. ``S (4, 3)``, ``E (4,)``: work
-    space."""
+    """For the kinds whose branches come from SP3 (SW, SM): 1 where there are branches at ``x``, else how far SP3
+    is from having solutions there, ``1 − |x|`` of :func:`._kernels._sp3_cos` (< 0; -inf where it is degenerate),
+    which :func:`_eval` leaves in ``E[0]``. ``S (4, 3)``, ``E (4,)``: work space."""
     if _eval(kind, H, P, C, x, S, E) > 0:
         return 1.0
     return E[0]
@@ -306,6 +296,7 @@ def _islands(kind, H, P, C, n, step, cnt, E, roots, m, out, pp, wk):
     Ss = np.zeros((SUB_N + 1, 4, 3))
     Es = np.zeros((SUB_N + 1, 4))
     cs = np.zeros(SUB_N + 1, dtype=np.int64)
+    xs = np.zeros(SUB_N + 1)
     D = np.zeros((4, 4))
     for c in range(n):
         ma = M[c - 1 if c > 0 else n - 1]
@@ -324,13 +315,12 @@ def _islands(kind, H, P, C, n, step, cnt, E, roots, m, out, pp, wk):
         lo = _rim(kind, H, P, C, x, xa)
         hi = _rim(kind, H, P, C, x, xa + step)
         for k in range(SUB_N + 1):
-            cs[k] = _eval(kind, H, P, C, lo + (hi - lo) * 0.5 * (1.0 - math.cos(_PI * k / SUB_N)), Ss[k], Es[k])
+            xs[k] = lo + (hi - lo) * 0.5 * (1.0 - math.cos(_PI * k / SUB_N))
+            cs[k] = _eval(kind, H, P, C, xs[k], Ss[k], Es[k])
         for k in range(SUB_N):
-            xk = lo + (hi - lo) * 0.5 * (1.0 - math.cos(_PI * k / SUB_N))
-            xn = lo + (hi - lo) * 0.5 * (1.0 - math.cos(_PI * (k + 1) / SUB_N))
             _dists(Ss[k], cs[k], Ss[k + 1], cs[k + 1], D)
-            m = _pair(kind, H, P, C, xk, Ss[k], Es[k], cs[k], xn, Ss[k + 1], Es[k + 1], cs[k + 1], D, roots, m, out,
-                      pp, wk)
+            m = _pair(kind, H, P, C, xs[k], Ss[k], Es[k], cs[k], xs[k + 1], Ss[k + 1], Es[k + 1], cs[k + 1], D, roots,
+                      m, out, pp, wk)
     return m
 
 
@@ -789,7 +779,7 @@ def _search(kind, H, P, C, n, roots):
     return _islands(kind, H, P, C, n, step, cnt, E, roots, m, out, pp, wk)
 
 
-KERNELS = ("_sp3_margin", "_eval_ti", "_point5", "_eval_tp", "_eval_sw", "_eval_sm", "_eval", "_margin", "_island",
+KERNELS = ("_eval_ti", "_point5", "_eval_tp", "_eval_sw", "_eval_sm", "_eval", "_margin", "_island",
            "_rim", "_adist", "_nearest", "_pick", "_refine", "_add", "_dip", "_settled", "_edge", "_dists", "_near",
            "_pair", "_islands", "_ambiguous", "_match", "_extrema", "_scan", "_search")
 """The functions :func:`kernels` compiles, callees before callers (the scalar helpers: :mod:`._kernels`)."""
