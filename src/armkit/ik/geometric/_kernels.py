@@ -458,6 +458,24 @@ def _trig2_rows(a00, a01, b00, b01, e0, a10, a11, b10, b11, e1, T1, T2):
     return _trig2(a00, a01, a10, a11, b00, b01, b10, b11, e0, e1, T1, T2)
 
 
+def _add_row(rows, m, x, tol):
+    """Append ``x`` to ``rows[:m]`` unless a row within ``tol`` of it in every column (angles wrapped) is there
+    (or ``rows`` is full); returns the new count. The 1-D searches' roots and the 2-D search's solutions."""
+    for j in range(m):
+        same = True
+        for k in range(x.shape[0]):
+            if abs(_wrap(rows[j, k] - x[k])) > tol:
+                same = False
+                break
+        if same:
+            return m
+    if m < rows.shape[0]:
+        for k in range(x.shape[0]):
+            rows[m, k] = x[k]
+        return m + 1
+    return m
+
+
 def _sp3_cos(p1, p2, k, d):
     """SP3 ``‖rot(k, θ) p1 − p2‖ = d`` as ``cos(θ − atan2(b, a)) = x``: ``(x, a, b)``; ``x`` is inf when the
     equation does not depend on θ (degenerate). Solutions exist where ``|x| <= 1`` (:func:`_sp3`; the 1-D
@@ -559,7 +577,7 @@ def _fk_err_to(H, P, RnT, prism, q, Rt, pt, R, T):
 # ---------------------------------------------------------------------------------- compiled
 KERNELS = ("_t", "_tdot", "_tcross", "_tadd", "_tsub", "_tmul", "_tnorm", "_trot_cs", "_trot", "_tmv", "_tmtv",
            "_tlin", "_tsp1", "_wrap", "_cubic_max", "_quad", "_newton4", "_polish", "_quartic4", "_quartic", "_res2",
-           "_angle", "_trig2", "_trig2_rows", "_sp6", "_sp3_cos", "_sp3", "_rmul_rot", "_move", "_fk_err_to", "_fk_err")
+           "_angle", "_trig2", "_trig2_rows", "_sp6", "_add_row", "_sp3_cos", "_sp3", "_rmul_rot", "_move", "_fk_err_to", "_fk_err")
 """The functions :func:`kernels` compiles, callees before callers."""
 _KERNELS: Optional[types.SimpleNamespace] = None
 

@@ -69,8 +69,8 @@ from numpy.typing import NDArray
 
 from . import _kernels as _kk
 from . import subproblems as _sp
-from ._kernels import (_PI, _sp3, _sp3_cos, _sp6, _t, _tadd, _tdot, _tmul, _tmv, _tnorm, _trot, _trot_cs, _tsp1,
-                       _tsub, _wrap)
+from ._kernels import (_PI, _add_row, _sp3, _sp3_cos, _sp6, _t, _tadd, _tdot, _tmul, _tmv, _tnorm, _trot, _trot_cs,
+                       _tsp1, _tsub, _wrap)
 from .poe import POE
 
 __all__ = ["two_parallel", "N", "SUB_N", "EDGE_N", "MAXROOT", "kernels", "TI", "TP", "SW", "SM"]
@@ -392,20 +392,8 @@ def _refine(kind, H, P, C, a, fa, ref, b, fb, out):
 
 
 def _add(roots, m, out):
-    """Append ``out`` to ``roots[:m]`` unless there already (or full); returns the new count."""
-    for j in range(m):
-        same = True
-        for k in range(4):
-            if abs(_wrap(roots[j, k] - out[k])) > 1e-9:
-                same = False
-                break
-        if same:
-            return m
-    if m < roots.shape[0]:
-        for k in range(4):
-            roots[m, k] = out[k]
-        return m + 1
-    return m
+    """Append the root ``out`` to ``roots[:m]`` unless there already (to 1e-9, or full); returns the new count."""
+    return _add_row(roots, m, out, 1e-9)
 
 
 def _dip(kind, H, P, C, a, b, ref, sg, out):

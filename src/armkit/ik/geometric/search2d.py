@@ -58,8 +58,8 @@ from numpy.typing import NDArray
 
 from . import _kernels as _kk
 from . import subproblems as _sp
-from ._kernels import (_move, _rmul_rot, _t, _tadd, _tcross, _tdot, _tmtv, _tmul, _tmv, _tnorm, _trig2_rows, _trot_cs,
-                       _tsub)
+from ._kernels import (_add_row, _move, _rmul_rot, _t, _tadd, _tcross, _tdot, _tmtv, _tmul, _tmv, _tnorm,
+                       _trig2_rows, _trot_cs, _tsub)
 from .poe import POE
 from .subproblems import _cross, _dot, _norm, _wrap, rot, rotm
 
@@ -605,7 +605,7 @@ def _search(H, P, RnT, R, p, samples, tol, Qout, errs):
         for k in range(6):
             q[k] = _wrap(q[k])
         if err <= tol:
-            m = _keep(Qout, m, q)
+            m = _add_row(Qout, m, q, 1e-7)
         elif m == 0 and err < best:
             best = err
             bestq[:] = q
@@ -670,30 +670,14 @@ def _twins(H, P, RnT, R, p, scale, tol, Qout, m):
                     continue
                 for k in range(6):
                     q[k] = _wrap(q[k])
-                found = _keep(Qout, m, q)
+                found = _add_row(Qout, m, q, 1e-7)
                 if found > m:
                     return found
     return m
 
 
-def _keep(Qout, m, q):
-    """Append the solution ``q`` (wrapped) to ``Qout[:m]`` unless one within 1e-7 rad is there (or it is full);
-    returns the new count."""
-    for o in range(m):
-        d = 0.0
-        for k in range(6):
-            d = max(d, abs(_wrap(q[k] - Qout[o, k])))
-        if d < 1e-7:
-            return m
-    if m < Qout.shape[0]:
-        for k in range(6):
-            Qout[m, k] = q[k]
-        return m + 1
-    return m
-
-
 KERNELS = ("_lin2", "_arm", "_reject", "_branches", "_q345", "_grid",
-           "_adiff", "_near", "_halves", "_candidates", "_fkj", "_err", "_solve6", "_newton", "_keep", "_twins", "_search")
+           "_adiff", "_near", "_halves", "_candidates", "_fkj", "_err", "_solve6", "_newton", "_twins", "_search")
 _KERNELS: Optional[types.SimpleNamespace] = None
 
 
