@@ -183,13 +183,29 @@ def _stored(v: View) -> list[str]:
     return [[n for n, _ in st.entries] for st in clients.values()][-1] if clients else []
 
 
+def _typed(v: View) -> str:
+    """The name box as the server has it (the browser sends a typed value a moment after the keys: a button clicked
+    at once can reach the server first, which a person's hand never does)."""
+    clients = v.panels.readouts.stored
+    return str([st.name_box.value for st in clients.values()][-1]) if clients else ""
+
+
 def _choose(page, label: str, option: str) -> None:
+    from playwright.sync_api import TimeoutError as PlaywrightTimeout
+
     box = row(page, label).locator("input").first
-    box.click()
+    choice = page.locator("[role=option]", has_text=option).first
+    # a click on the box opens the list; after a page reload the first click can land while the box is still
+    # being set up and the list stays shut (the option is in the page but hidden): click again until it shows
+    for _ in range(10):
+        box.click()
+        try:
+            choice.wait_for(state="visible", timeout=5_000)
+            break
+        except PlaywrightTimeout:
+            continue
     # the list's opening animation can leave a neighbour over the option for a moment on a busy machine:
     # wait for the option to be stable, then click it (a forced click once the list is open)
-    choice = page.locator("[role=option]", has_text=option).first
-    choice.wait_for(timeout=20_000)
     time.sleep(0.3)
     choice.click(force=True)
     wait_until(lambda: box.input_value() == option, timeout=60.0, what=f"{option!r} chosen")
@@ -213,6 +229,7 @@ def test_stored_configurations_save_recall_rename_export_import(browser, tmp_pat
         wait_until(lambda: box.input_value() == "pose 2", what="the next default name")
         box.fill("reach")
         box.press("Enter")
+        wait_until(lambda: _typed(v) == "reach", what="the name typed")
         page.get_by_role("button", name="Save current").click()
         wait_until(lambda: _stored(v) == ["pose 1", "reach"], what="two stored")
         # recall: the arm goes back to what was saved, bit for bit
@@ -223,10 +240,12 @@ def test_stored_configurations_save_recall_rename_export_import(browser, tmp_pat
         # rename, and a taken name is refused
         box.fill("start")
         box.press("Enter")
+        wait_until(lambda: _typed(v) == "start", what="the new name typed")
         page.get_by_role("button", name="Rename").click()
         wait_until(lambda: _stored(v) == ["start", "reach"], what="renamed")
         box.fill("reach")
         box.press("Enter")
+        wait_until(lambda: _typed(v) == "reach", what="the taken name typed")
         page.get_by_role("button", name="Rename").click()
         wait_until(lambda: "exists; choose another name" in _status(page), timeout=60.0, what="name taken")
         assert _stored(v) == ["start", "reach"]
