@@ -3,7 +3,7 @@
 
 :meth:`armkit.ik.analytic.geometric.Geometric.solve` answers a batch ``(B, 4, 4)`` of :func:`armkit.ik_all` /
 :func:`armkit.ik`: per target, the solver's kernel (:func:`.solvers_check._solve_spherical` and the others,
-the core and its FK check on the true chain, the same functions :func:`.solvers_check._batch` and the one-call
+the core and its FK check on the true chain, the same functions :func:`.solvers_check._sweep` and the one-call
 kernel of :mod:`.one_call` call), then the layout of its branches (solutions in the solver's order, padded with
 the first and marked unreachable; an unreachable target: the least-squares candidates, or the start). Before
 this module the layout ran in Python, one target at a time, after a one-thread compiled loop over the solvers.

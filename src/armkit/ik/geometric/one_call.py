@@ -99,7 +99,7 @@ def closed_form_only(Hi: NDArray[np.float64], kind: int) -> bool:
     :func:`.solvers_wrist._pos_general`, with its arithmetic).
 
     Only the closed forms run in the one call. A 1-D search compiled into this kernel rounds differently
-    in the last bits (4e-15 rad seen) from the same search compiled into :func:`.solvers_check._batch`, so
+    in the last bits (4e-15 rad seen) from the same search compiled into :func:`.solvers_check._sweep`, so
     its branches would not be those of the batched path to the bit; those classes keep the path of
     ``Geometric.solve`` and ``_single.post`` (the search dominates their time anyway)."""
     from .subproblems import _cross, _norm

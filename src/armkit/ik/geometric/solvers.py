@@ -79,7 +79,7 @@ from .search import MAXROOT, SM, SW, TI, TP, _search  # noqa: F401  (in the kern
 from .search import N as _SEARCH_N
 from .search import kernels as _search_kernels
 from .solvers_chain import _jacobian, _log_vec, _points, _size, align, polish, reverse  # noqa: F401
-from .solvers_check import (_batch, _check, _close, _paired, _solve, _solve_spherical, _solve_spherical_middle,  # noqa: F401
+from .solvers_check import (_check, _close, _paired, _solve, _solve_spherical, _solve_spherical_middle,  # noqa: F401
                             _solve_three_parallel, _solve_two_intersecting_end, _solve_two_parallel, _sweep)
 from .solvers_parallel import _core_three_parallel  # noqa: F401
 from .solvers_search import (_core_spherical_middle, _core_two_intersecting_end, _core_two_parallel,  # noqa: F401
@@ -118,7 +118,7 @@ KERNELS = ("_mv", "_mtv", "_mm", "_mtm", "_perp", "_rotm_to", "_mm_to", "_mtm_to
            "_solve_three_parallel", "_target_rows", "_core_two_intersecting_end", "_core_two_parallel",
            "_core_spherical_middle", "_paired", "_solve_two_intersecting_end", "_solve_two_parallel",
            "_solve_spherical_middle",
-           "_solve", "_batch", "_sweep")
+           "_solve", "_sweep")
 INLINE = ("_pos_search", "_pos_general", "_core_spherical", "_core_three_parallel", "_core_two_intersecting_end",
           "_core_two_parallel", "_core_spherical_middle", "_solve")
 """Kernels with one caller each (a core in its ``_solve_*``, the 3R position in the spherical core, the dispatch in
@@ -308,7 +308,7 @@ def solve_batch(name: str, form: POE, R: Array, p: Array, q_ref: Array, *, jit: 
     NG = np.zeros((1, B), dtype=np.int64)
     NF = np.zeros((1, B), dtype=np.int64)
     c = np.ascontiguousarray
-    # the sweep over one chain (the loop of _batch): one compiled kernel serves this and the 7-joint sweep of .locked
+    # the sweep over one chain: one compiled kernel serves this and the 7-joint sweep of .locked
     K._sweep(_WHICH[prep.solve], prep.kind, prep.Hi[None], prep.Pi[None], prep.RnT[None], prep.prism, prep.Ht[None],
              prep.Pt[None], c(R, dtype=float), c(p, dtype=float), c(q_ref, dtype=float), SEARCH_N,
              np.array([TOL * prep.scale]), TOL, Q, LS, SG, ST, NG, NF)

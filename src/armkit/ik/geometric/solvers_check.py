@@ -139,23 +139,12 @@ def _solve(which, kind, Hi, Pi, RnT, prism, Ht, Pt, R, p, qref, N, tol_p, tol_r,
     return _solve_spherical_middle(kind, Hi, Pi, RnT, prism, Ht, Pt, R, p, qref, N, tol_p, tol_r, Q, LS, SG, ST)
 
 
-def _batch(which, kind, Hi, Pi, RnT, prism, Ht, Pt, R, p, qref, N, tol_p, tol_r, Q, LS, SG, ST, NG, NF):
-    """Every target of a batch in one call: ``R (B, 3, 3)``, ``p (B, 3)``, ``qref (B, n)``; per target
-    the solutions ``Q[b]`` and flags as one call of the kernel ``which`` (:func:`_solve`) would give them, and
-    their counts ``NG`` (good), ``NF`` (failed the check). :func:`.solvers.solve_batch` calls :func:`_sweep` for
-    one chain instead (the same loop; one compiled kernel fewer to build)."""
-    for b in range(R.shape[0]):
-        ng, nf = _solve(which, kind, Hi, Pi, RnT, prism, Ht, Pt, R[b], p[b], qref[b], N, tol_p, tol_r, Q[b], LS[b],
-                        SG[b], ST[b])
-        NG[b] = ng
-        NF[b] = nf
-
-
 def _sweep(which, kind, Hi, Pi, RnT, prism, Ht, Pt, R, p, qref, N, tol_p, tol_r, Q, LS, SG, ST, NG, NF):
-    """:func:`_batch` for ``V`` chains of one class at once (a joint of a 7-joint arm held at ``V`` values,
+    """Every target of a batch for ``V`` chains of one class at once (a joint of a 7-joint arm held at ``V`` values,
     :mod:`.locked`; one chain for :func:`.solvers.solve_batch`): ``Hi (V, 6, 3)``, ``Pi (V, 7, 3)``,
-    ``RnT (V, 3, 3)``, ``Ht``, ``Pt`` likewise, ``tol_p (V,)``; outputs with a leading ``V`` axis. Its own loop
-    over the targets (not a call of :func:`_batch`: the solvers are compiled into one kernel, not two)."""
+    ``RnT (V, 3, 3)``, ``Ht``, ``Pt`` likewise, ``tol_p (V,)``; ``R (B, 3, 3)``, ``p (B, 3)``, ``qref (B, n)``.
+    Per chain and target the solutions ``Q[v, b]`` and flags as one call of the kernel ``which`` (:func:`_solve`)
+    would give them, and their counts ``NG`` (good), ``NF`` (failed the check)."""
     for v in range(Hi.shape[0]):
         for b in range(R.shape[0]):
             ng, nf = _solve(which, kind, Hi[v], Pi[v], RnT[v], prism, Ht[v], Pt[v], R[b], p[b], qref[b], N, tol_p[v],
