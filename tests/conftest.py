@@ -129,10 +129,10 @@ def _compile_kernels_once(config: pytest.Config) -> None:
     here = str(Path(__file__).parent)
     run = "import sys; sys.path.insert(0, sys.argv[1]); import conftest; conftest._warm_part(sys.argv[2])"
     env = dict(os.environ, ARMKIT_JIT="wait", ARMKIT_BACKEND="auto")
-    logs = [tempfile.TemporaryFile(mode="w+") for _ in range(2)]     # files, not pipes: neither can block
+    logs = [tempfile.TemporaryFile(mode="w+") for _ in WARM_PARTS]     # files, not pipes: neither can block
     parts = [subprocess.Popen([sys.executable, "-c", run, here, part], env=env, stdin=subprocess.DEVNULL,
                               stdout=log, stderr=subprocess.STDOUT, text=True)
-             for part, log in zip(("core", "families"), logs)]
+             for part, log in zip(WARM_PARTS, logs)]
     outs = []
     for p, log in zip(parts, logs):
         p.wait()
@@ -149,19 +149,24 @@ def _compile_kernels_once(config: pytest.Config) -> None:
 
 
 def _warm_part(part: str) -> None:
-    """One half of :func:`armkit.warmup`'s work, run in its own process by :func:`_compile_kernels_once`:
-    ``"core"`` its first half (:func:`armkit.warmup._exercise_arms`) and then the multi-threaded twins,
-    ``"families"`` its second half (:func:`armkit.warmup._exercise_families`). The two took about the same
-    time cold (the cache files' times of one cold warm-up). Anything either half misses is compiled by the
-    workers on first use, as before."""
+    """One part of :func:`armkit.warmup`'s work (:data:`WARM_PARTS`), run in its own process by
+    :func:`_compile_kernels_once`: its serial kernels, then the multi-threaded twins of those. Anything the parts
+    miss is compiled by the workers on first use, as before."""
     import importlib
 
     from armkit import _jit_loader
 
     warmup = importlib.import_module("armkit.warmup")     # the module (armkit.warmup is also the function's name)
+    serial, parallel = WARM_PARTS[part]
     with _jit_loader.compiling_here(parallel=True, backend="numba"):
         with _jit_loader.serial_only():
-            (warmup._exercise_arms if part == "core" else warmup._exercise_families)()
-        if part == "core":
-            warmup._exercise_parallel()
+            for name in serial:
+                getattr(warmup, name)()
+        getattr(warmup, parallel)()
 
+
+WARM_PARTS = {"core": (("_exercise_arms",), "_parallel_core"),
+              "families": (("_exercise_families", "_exercise_so101"), "_parallel_families")}
+"""The parts of armkit.warmup's work, each compiled in its own process: (its serial exercises in order, the function
+compiling their multi-threaded twins). The SO-101's kernels follow the arms' in one process: they call FK, the IK
+check and LM, which are then cached (run beside the arms in a third process, they compiled those again)."""

@@ -21,7 +21,7 @@ from . import _jit_loader
 from .ik import ik, ik_all
 from .ik.api import closed_form_family
 from .kinematics import fk, fk_frames, jacobian
-from .model import load
+from .model import Joint, Robot, load
 
 __all__ = ["warmup", "Warmup"]
 
@@ -42,9 +42,18 @@ def _exercise_serial() -> None:
     _exercise_families()
 
 
+def _exercise_later() -> None:
+    """The one-thread kernels of :func:`_exercise_searches` and :func:`_exercise_so101`: after the first marker
+    (they take 2-3 minutes cold, and every other call waits for that marker in the background mode), before the
+    multi-threaded twins."""
+    with _jit_loader.serial_only():
+        _exercise_searches()
+        _exercise_so101()
+
+
 def _exercise_arms() -> None:
-    """The first half of :func:`_exercise_serial` (about half its compile time, cold): FK, Jacobians, the closed
-    forms, LM and the rigidity check on the bundled arms. The test suite compiles the halves in two processes."""
+    """The first part of :func:`_exercise_serial`: FK, Jacobians, the closed forms, LM and the rigidity check on
+    the bundled arms. The test suite compiles the parts in parallel processes (tests/conftest.py)."""
     for name in ("puma560", "ur5", "panda", "fighter", "planar2", "planar3"):
         arm = load(name)
         q = arm.random_q(rng=0)
@@ -83,8 +92,8 @@ def _exercise_arms() -> None:
 
 
 def _exercise_families() -> None:
-    """The second half of :func:`_exercise_serial`: the geometric solvers, the 7-joint sweep and the SO-101's
-    kernels."""
+    """The second part of :func:`_exercise_serial`: the geometric solvers, the 7-joint sweep, the 1-D and 2-D
+    searches."""
     from .ik.geometric import solvers          # the geometric family's kernels (subproblems, 6R solvers): Numba
     from .ik.geometric.poe import poe
 
@@ -100,21 +109,96 @@ def _exercise_families() -> None:
     ik_all(stanford, fk(stanford, stanford.random_q(4, rng=5)))   # a batch: ik/geometric/batched.py
     iiwa = load("iiwa14")                      # the sweep of 7-joint arms (solvers._sweep, ik.geometric.locked)
     ik_all(iiwa, fk(iiwa, iiwa.random_q(rng=3)))
-    from .lerobot import RobotKinematics      # the SO-101's single-call kernels (ik/analytic/_yaw_pitch3_teleop.py)
+
+
+def _exercise_searches() -> None:
+    """The searches of the geometric family on two random 6R arms: the general 6R's 2-D search, and a 1-D search
+    (two axes meet) one target at a time and in a batch."""
+    general = _chain(7)                        # a general 6R: the 2-D search (ik/geometric/search2d.py)
+    T = fk(general, general.random_q(rng=2))
+    ik_all(general, T)
+    ik(general, T)
+    pair = _chain(7, meet=1)                   # axes 1 and 2 meet: a 1-D search, solved in Python and then one
+    T = fk(pair, pair.random_q(24, rng=1))     # call (_single.post); a batch (> SMALL_BATCH): ik/geometric/batched.py
+    ik(pair, T[0])
+    ik_all(pair, T)
+
+
+def _chain(seed: int, meet: int | None = None) -> Robot:
+    """A 6R arm of random axes and points (seeded; no two axes meet or are parallel), or with the points of
+    joints ``meet`` and ``meet + 1`` made one, so that those two axes meet."""
+    g = np.random.default_rng(seed)
+    H = g.normal(size=(6, 3))
+    H /= np.linalg.norm(H, axis=1, keepdims=True)
+    P = g.normal(size=(7, 3)) * 0.4
+    if meet is not None:
+        P[meet] = 0.0
+    joints = []
+    for k in range(6):
+        origin = np.eye(4)
+        origin[:3, 3] = P[k]
+        joints.append(Joint(origin=tuple(map(tuple, origin.tolist())), axis=tuple(H[k].tolist()), lower=-np.pi,
+                            upper=np.pi, name=f"j{k + 1}"))
+    tool = np.eye(4)
+    tool[:3, 3] = P[6]
+    return Robot(joints, convention="urdf", name="chain", tool=tool)
+
+
+def _exercise_so101() -> None:
+    """The SO-101's kernels (ik/analytic/_yaw_pitch3_jit.py, _yaw_pitch3_teleop.py): every IK mode of
+    ``armkit.ik`` (position, ``pitch=``, ``direction=``; one target, a few, a batch; beyond the reach) and each
+    stage of the LeRobot class's ``inverse_kinematics`` (the pose held, a step, a target out of reach). Without
+    them the first ``armkit.ik(so101, xyz)`` after a warm-up compiled for 49 s."""
+    from .ik.analytic.yaw_pitch3 import position_ik
+    from .lerobot import RobotKinematics
 
     kin = RobotKinematics("so101")
-    for w in (0.01, 0.0):
-        kin.inverse_kinematics(np.zeros(6), kin.forward_kinematics(np.zeros(6)), orientation_weight=w)
-    ik(kin.robot, fk(kin.robot, np.zeros(5))[:3, 3], pitch=0.0)
+    arm = kin.robot
+    q = arm.random_q(24, rng=6)
+    T = fk(arm, q)
+    p, z = T[:, :3, 3], T[:, :3, 2]
+    for k in (None, 4, 24):                    # one target, a few (one call each), a batch
+        tp, tz = (p[0], z[0]) if k is None else (p[:k], z[:k])
+        ik(arm, tp)
+        ik(arm, tp, pitch=-0.5)
+        ik_all(arm, tp, pitch=-0.5)
+        ik(arm, tp, direction=tz)
+    ik(arm, 3.0 * p[0])
+    ik(arm, 3.0 * p[0], pitch=0.0)
+    position_ik(arm, p[0], arm.random_q(rng=1))
+    position_ik(arm, p[:4], arm.random_q(4, rng=1))
+    current = np.append(np.degrees(q[0]), 0.0)
+    for step in (0.0, 0.01, 0.3):              # held, a step, beyond the reach
+        X = kin.forward_kinematics(current)
+        X[:3, 3] += step
+        for w in (0.01, 0.0):
+            kin.inverse_kinematics(current, X, orientation_weight=w)
 
 
 def _exercise_parallel() -> None:
     """Compile the multi-threaded twin of every serial kernel for the signatures the serial one got."""
+    _parallel_core()
+    _parallel_families()
+
+
+def _parallel_core() -> None:
+    """The multi-threaded twins of the kernels :func:`_exercise_arms` compiles (FK, the IK check, the closed forms,
+    LM, CCD, the collision checks of the fighter's surroundings)."""
     for name in ("kinematics._jit", "ik._jit_verify", "ik.analytic._jit", "ik._jit_lm", "ik._ccd_jit"):
         for serial, parallel in _jit_loader.module(name).parallel_twins():
             for sig in list(serial.signatures):
                 parallel.compile(sig)
-    from .ik.geometric import batched          # the geometric family's batch layout (its own twin)
+    from .collision import _jit as collision_jit
+
+    for serial, parallel in collision_jit.parallel_twins():
+        for sig in list(serial.signatures):
+            parallel.compile(sig)
+
+
+def _parallel_families() -> None:
+    """The multi-threaded twin of the geometric family's batch layout (ik/geometric/batched.py), compiled by
+    :func:`_exercise_families`."""
+    from .ik.geometric import batched
 
     K = batched.kernels()
     if K is not None:
@@ -163,6 +247,7 @@ def warmup(*, parallel: bool = True) -> Warmup:
                 if first is not None:
                     first.touch()
                     _jit_loader.forget_other_builds()
+            _exercise_later()
             if parallel:
                 _exercise_parallel()
                 if second is not None:
@@ -187,6 +272,7 @@ def _worker_main(parent: str) -> int:
             _jit_loader.forget_other_builds()
             print(f"one-thread kernels compiled in {time.perf_counter() - t0:.1f} s (for process {parent})",
                   flush=True)
+            _exercise_later()
             _exercise_parallel()
             second.touch()
             print(f"all kernels compiled in {time.perf_counter() - t0:.1f} s", flush=True)
