@@ -204,3 +204,69 @@ def test_a_warm_up_cut_short_after_its_first_phase_is_finished_in_the_background
     assert res.returncode == 0, res.stderr
     out = _last_json(res.stdout)
     assert out["spawned"] == 0 and out["parallel_ok"] is True
+
+
+def test_after_the_warm_up_the_so101_searches_and_scenes_compile_nothing_more():
+    """Every kernel a user's call needs is in the warm-up: in a fresh process (the run's own cache, so the kernels
+    load instead of compiling), the warm-up's exercises run first, then calls it does not make itself (other
+    targets, the LeRobot class's steps, another general 6R, a scene with every primitive): no Numba function
+    of armkit gains a signature. The first ``armkit.ik(so101, xyz)`` after ``armkit warmup`` compiled for 49 s
+    before the SO-101's position IK was in the warm-up."""
+    code = """
+        import json, sys
+        import numpy as np
+        import armkit
+        from armkit import warmup as _
+        import importlib
+        W = importlib.import_module("armkit.warmup")
+        from armkit import _jit_loader
+        from numba.core.dispatcher import Dispatcher
+
+        def signatures():
+            out = {}
+            for name, mod in list(sys.modules.items()):
+                if name.startswith("armkit.") and mod is not None:
+                    for attr, f in list(vars(mod).items()):
+                        if isinstance(f, Dispatcher):
+                            out[f"{name}.{attr}"] = len(f.signatures)
+            return out
+
+        with _jit_loader.compiling_here(parallel=True, backend="numba"):
+            with _jit_loader.serial_only():
+                W._exercise_serial()
+            W._exercise_later()
+        before = signatures()
+        with _jit_loader.serial_only():
+            so = armkit.load("so101")
+            P = armkit.fk(so, so.random_q(6, rng=11))
+            for p, z in zip(P[:, :3, 3], P[:, :3, 2]):
+                armkit.ik(so, p, q0=so.random_q(rng=12))
+                armkit.ik(so, p, pitch=0.3)
+                armkit.ik(so, p, direction=z)
+            from armkit.lerobot import RobotKinematics
+            kin = RobotKinematics("so101")
+            cur = np.zeros(6)
+            for step in (0.002, 0.05):
+                X = kin.forward_kinematics(cur)
+                X[:3, 3] += step
+                cur = kin.inverse_kinematics(cur, X)
+            general = W._chain(21)
+            armkit.ik_all(general, armkit.fk(general, general.random_q(rng=3)))
+            fighter = armkit.load("fighter")
+            scene = armkit.Scene([armkit.Scene.plane([0, 0, 1], -5.0), armkit.Scene.box([150, 0, 100], [40, 40, 40]),
+                                  armkit.Scene.sphere([0, 150, 100], 20), armkit.Scene.cylinder([-150, 0, 100], 15, 60),
+                                  armkit.Scene.capsule([0, -150, 50], [0, -150, 150], 10)])
+            from armkit.collision import clearance, collisions
+            Q = fighter.random_q(8, rng=4)
+            collisions(fighter, Q, scene)
+            clearance(fighter, Q, scene)
+        after = signatures()
+        print(json.dumps({k: [before.get(k, 0), v] for k, v in after.items() if v > before.get(k, 0)}))
+    """
+    env = {"ARMKIT_JIT": "wait"}
+    for key in ("NUMBA_CACHE_DIR", "ARMKIT_CACHE_DIR"):
+        if key in os.environ:
+            env[key] = os.environ[key]
+    res = _run(code, env)
+    assert res.returncode == 0, res.stderr[-3000:]
+    assert _last_json(res.stdout) == {}
