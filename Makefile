@@ -2,6 +2,12 @@
 #   make demo   create .venv, install armkit, run the main job on the bundled fighter arm
 #   make test   create .venv, install armkit with test extras, run the whole suite
 PYTHON ?= python3
+# Python writes each module's bytecode (.pyc, in __pycache__ folders git ignores) the first time it imports it, in
+# .venv and src/. Where PYTHONDONTWRITEBYTECODE is set (it is on this project's machines) nothing was written and uv
+# compiles nothing at install, so every new process (each test worker, each CLI command a test runs) parsed numpy,
+# matplotlib, typer, rich ... from source again: `armkit info fighter` took 2.0 s in a fresh clone instead of 1.0 s.
+# Compiling all of .venv at install instead (uv --compile-bytecode, ~10,000 files) took 47 s more in a clean clone.
+unexport PYTHONDONTWRITEBYTECODE
 VENV   := .venv
 PY     := $(VENV)/bin/python
 PIP    := $(PY) -m pip
@@ -11,17 +17,12 @@ PIP    := $(PY) -m pip
 
 # uv installs the ~140 packages of [test] (about 1 GB) with parallel downloads: 44 s on this machine with its
 # download cache empty, 22 s with it filled, where pip took 139 s the same day; where uv cannot be had or fails,
-# pip does the same install.
-# Both leave every module byte-compiled (.pyc), armkit's own sources too (compileall): uv does not compile unless
-# asked, and where PYTHONDONTWRITEBYTECODE is set (it is on this project's machines) Python never writes a .pyc
-# itself, so every new process (each test worker, each CLI command a test runs) parsed numpy, matplotlib, typer,
-# rich ... from source again: `armkit info fighter` took 2.0 s in a fresh clone instead of 1.0 s.
+# pip does the same install
 $(VENV)/.installed: pyproject.toml
 	$(PYTHON) -m venv $(VENV)
 	$(PIP) install --quiet --upgrade pip
-	($(PIP) install --quiet uv && $(PY) -m uv pip install --python $(PY) --quiet --compile-bytecode -e '.[test]') || \
+	($(PIP) install --quiet uv && $(PY) -m uv pip install --python $(PY) --quiet -e '.[test]') || \
 		$(PIP) install --quiet -e '.[test]'   # [test] pulls armkit[all]: every optional extra
-	$(PY) -m compileall -q -j 0 src
 	touch $@
 
 demo: $(VENV)/.installed locale fonts
