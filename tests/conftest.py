@@ -169,6 +169,6 @@ WARM_PARTS = {"core": (("_exercise_arms",), "_parallel_core"),
               "families": (("_exercise_families",), "_parallel_families")}
 """The parts of armkit.warmup's work compiled before the workers start, each in its own process: (its serial
 exercises in order, the function compiling their multi-threaded twins). What every worker needs at once is here;
-the SO-101's kernels and the searches (:func:`armkit.warmup._exercise_later`) compile in the tests that use them
-first. With them here (a clean clone, 2026-12-03) the warm-up took 343 s instead of 166 and the tests saved only
-about 130 worker-seconds: a worker that compiles lets the other go on with other tests, the warm-up holds both."""
+the SO-101's kernels and the searches (:func:`armkit.warmup._exercise_so101`, ``_exercise_later``) compile in the
+tests that use them first. With them here (a clean clone, 2026-12-03) the warm-up took 343 s instead of 166 and the
+tests saved only about 130 worker-seconds: a worker that compiles lets the other go on, the warm-up holds both."""

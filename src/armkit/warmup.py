@@ -40,15 +40,15 @@ def _exercise_serial() -> None:
     (below the thresholds of the multi-threaded kernels)."""
     _exercise_arms()
     _exercise_families()
+    _exercise_so101()
 
 
 def _exercise_later() -> None:
-    """The one-thread kernels of :func:`_exercise_searches` and :func:`_exercise_so101`: after the first marker
-    (they take 2-3 minutes cold, and every other call waits for that marker in the background mode), before the
-    multi-threaded twins."""
+    """The one-thread kernels of :func:`_exercise_searches`: after the first marker, before the multi-threaded
+    twins. Every call of the background mode waits for that marker; the searches (about a minute cold) serve only
+    arms whose class has no closed form, which compile what they need on first use until this is done."""
     with _jit_loader.serial_only():
         _exercise_searches()
-        _exercise_so101()
 
 
 def _exercise_arms() -> None:
