@@ -92,8 +92,8 @@ def _exercise_arms() -> None:
 
 
 def _exercise_families() -> None:
-    """The second part of :func:`_exercise_serial`: the geometric solvers, the 7-joint sweep, the 1-D and 2-D
-    searches."""
+    """The second part of :func:`_exercise_serial`: the geometric solvers, their one-call kernel and the 7-joint
+    sweep."""
     from .ik.geometric import solvers          # the geometric family's kernels (subproblems, 6R solvers): Numba
     from .ik.geometric.poe import poe
 
@@ -106,7 +106,7 @@ def _exercise_families() -> None:
     T = fk(stanford, stanford.random_q(rng=4))
     ik(stanford, T)
     ik_all(stanford, T)
-    ik_all(stanford, fk(stanford, stanford.random_q(4, rng=5)))   # a batch: ik/geometric/batched.py
+    ik_all(stanford, fk(stanford, stanford.random_q(4, rng=5)))   # a few targets: one call each
     iiwa = load("iiwa14")                      # the sweep of 7-joint arms (solvers._sweep, ik.geometric.locked)
     ik_all(iiwa, fk(iiwa, iiwa.random_q(rng=3)))
 
@@ -125,8 +125,8 @@ def _exercise_searches() -> None:
 
 
 def _chain(seed: int, meet: int | None = None) -> Robot:
-    """A 6R arm of random axes and points (seeded; no two axes meet or are parallel), or with the points of
-    joints ``meet`` and ``meet + 1`` made one, so that those two axes meet."""
+    """A 6R arm of random axes and points (seeded; no two axes meet or are parallel), or with the offset
+    ``P[meet]`` zero, so that the axes of joints ``meet`` and ``meet + 1`` (counted from 1) meet."""
     g = np.random.default_rng(seed)
     H = g.normal(size=(6, 3))
     H /= np.linalg.norm(H, axis=1, keepdims=True)
@@ -196,8 +196,8 @@ def _parallel_core() -> None:
 
 
 def _parallel_families() -> None:
-    """The multi-threaded twin of the geometric family's batch layout (ik/geometric/batched.py), compiled by
-    :func:`_exercise_families`."""
+    """The multi-threaded twin of the geometric family's batch layout (ik/geometric/batched.py), for the signatures
+    its serial kernel got in this process (:func:`_exercise_searches`' batch; none in the tests' warm-up part)."""
     from .ik.geometric import batched
 
     K = batched.kernels()
