@@ -290,7 +290,7 @@ def _branch(g, pre, q0, jf, e, Theta, ang, d1, t2):
     return s + pre[14], v1, v2, v3
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _distance(g, pre, psi, q0, j):
     """Branch ``j``'s member at pitch ``psi``: its squared joint distance from ``q0`` alone (:func:`_members`'
     ``D[j]``, the same number)."""
@@ -448,17 +448,18 @@ def position_nearest(g, p, q0, tol0, tol1, reach, q_out, info):
     Q = np.empty((4, 5))
     LAB = np.empty(4, dtype=np.int64)
     D = np.empty(4)
-    bd, bj, bpsi, spsi, h = np.inf, -1, psi0, psi0, 0.0
+    every = np.int64(-1)   # "all four branches" as a typed value, not a constant: a constant argument compiles
+    bd, bj, bpsi, spsi, h = np.inf, every, psi0, psi0, 0.0   # its own signature of _members and _distance
     for i in range(_LOCAL.shape[0]):      # near the start's pitch first: windows there can be narrow (a joint
         psi = psi0 + _LOCAL[i]            # near its limit, a wrist near the edge of reach at that pitch)
-        _members(g, pre, psi, q0, -1, Q, LAB, D, bd)
+        _members(g, pre, psi, q0, every, Q, LAB, D, bd)
         for j in range(4):
             if D[j] < bd:
                 bd, bj, bpsi, spsi, h = D[j], j, psi, psi, 0.05
     for n in (_SWEEP, _SWEEP_FINE):      # a finer sweep where no sample has a member
         for i in range(1, n):
             psi = psi0 + TWO_PI / n * (i if i <= n // 2 else i - n)
-            _members(g, pre, psi, q0, -1, Q, LAB, D, bd)
+            _members(g, pre, psi, q0, every, Q, LAB, D, bd)
             for j in range(4):
                 if D[j] < bd:
                     bd, bj, bpsi, spsi, h = D[j], j, psi, psi, TWO_PI / n
@@ -494,7 +495,7 @@ def position_nearest(g, p, q0, tol0, tol1, reach, q_out, info):
     dp = 0.0
     for t in range(_BACK.shape[0]):   # the best member, else nearer the sample's pitch (a member at a joint limit
         bpsi = bpsi0 + (spsi - bpsi0) * _BACK[t]   # or at the edge of reach, which the true model's polish would
-        _members(g, pre, bpsi, q0, bj, Q, LAB, D)  # push past)
+        _members(g, pre, bpsi, q0, bj, Q, LAB, D, np.inf)  # push past)
         if D[bj] < np.inf:
             dp, _, wi, ok = _polish_branch(g, qb, p, bpsi, bj, tol0, tol1, True, 1e-6, True, X, Z, P, ah, keep)
             if ok:

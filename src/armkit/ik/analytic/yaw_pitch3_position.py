@@ -191,7 +191,10 @@ def position_ik(robot: Robot, target: Any, q0: Any = None, seed: Any = None) -> 
     q = np.empty((B, 5))
     info = np.empty((B, 4))
     code = np.empty(B, dtype=np.int64)
-    kern.position_rows(g, np.ascontiguousarray(p), np.ascontiguousarray(q0r), tol[0], tol[1], reach, q, info, code)
+    # writable C-contiguous copies where they are not (a broadcast start is read-only): the kernel's one signature,
+    # the one position_one's entry also compiles position_nearest for (a read-only array would compile another)
+    kern.position_rows(g, np.require(p, _F64, ("C", "W")), np.require(q0r, _F64, ("C", "W")), tol[0], tol[1], reach,
+                       q, info, code)
     lm = np.flatnonzero(code == -3)
     if len(lm) == 0:
         fields = _position_fields(robot, rec, code, q, info)
