@@ -190,25 +190,49 @@ def _typed(v: View) -> str:
     return str([st.name_box.value for st in clients.values()][-1]) if clients else ""
 
 
+def _type_name(box, v: View, text: str, what: str) -> None:
+    """Type ``text`` in the name box and press Enter until the server has it. The server sets the box itself after
+    a save, recall or rename (the next default name); on a busy machine that update can arrive after the keys and
+    overwrite them, and a person would then type the name again."""
+    for _ in range(6):
+        box.fill(text)
+        box.press("Enter")
+        try:
+            wait_until(lambda: _typed(v) == text, timeout=10.0, what=what)
+            return
+        except AssertionError:
+            continue
+    assert _typed(v) == text, f"timed out waiting for {what}"
+
+
 def _choose(page, label: str, option: str) -> None:
+    """Pick ``option`` in the drop-down list labelled ``label``, as a person would: open the list, click the option,
+    and look again until the box shows it.
+
+    Each step can be undone under the test on a busy machine, and is then done again: after a page reload the first
+    click on the box can land while it is still being set up (the list stays shut); the list's opening animation can
+    leave a neighbour over the option for a moment; and the server's copy of the options, arriving a moment after a
+    reload, draws the list anew and shuts it (the option hidden just before the click)."""
+    from playwright.sync_api import Error as PlaywrightError
     from playwright.sync_api import TimeoutError as PlaywrightTimeout
 
     box = row(page, label).locator("input").first
     choice = page.locator("[role=option]", has_text=option).first
-    # a click on the box opens the list; after a page reload the first click can land while the box is still
-    # being set up and the list stays shut (the option is in the page but hidden): click again until it shows
-    for _ in range(10):
-        box.click()
+    for _ in range(10):      # always one click at least: the box can show the option before the server has it
         try:
-            choice.wait_for(state="visible", timeout=5_000)
-            break
-        except PlaywrightTimeout:
+            if not choice.is_visible():
+                box.click()
+                choice.wait_for(state="visible", timeout=5_000)
+            time.sleep(0.3)                                  # the opening animation settles
+            choice.click(force=True, timeout=5_000)
+        except (PlaywrightTimeout, PlaywrightError):         # shut again before the click: open it again
             continue
-    # the list's opening animation can leave a neighbour over the option for a moment on a busy machine:
-    # wait for the option to be stable, then click it (a forced click once the list is open)
-    time.sleep(0.3)
-    choice.click(force=True)
-    wait_until(lambda: box.input_value() == option, timeout=60.0, what=f"{option!r} chosen")
+        try:
+            wait_until(lambda: box.input_value() == option, timeout=5.0, what=f"{option!r} chosen")
+            return
+        except AssertionError:
+            continue
+    assert box.input_value() == option, f"{option!r} could not be chosen in the list {label!r}"
 
 
 def _status(page) -> str:
@@ -227,9 +251,7 @@ def test_stored_configurations_save_recall_rename_export_import(browser, tmp_pat
         v.set_q(q2)
         box = row(page, "name").locator("input").first
         wait_until(lambda: box.input_value() == "pose 2", what="the next default name")
-        box.fill("reach")
-        box.press("Enter")
-        wait_until(lambda: _typed(v) == "reach", what="the name typed")
+        _type_name(box, v, "reach", "the name typed")
         page.get_by_role("button", name="Save current").click()
         wait_until(lambda: _stored(v) == ["pose 1", "reach"], what="two stored")
         # recall: the arm goes back to what was saved, bit for bit
@@ -238,14 +260,10 @@ def test_stored_configurations_save_recall_rename_export_import(browser, tmp_pat
         wait_until(lambda: np.array_equal(v.q, q1), what="q back to pose 1")
         wait_until(lambda: _status(page) == "recalled 'pose 1'", what="recalled said")
         # rename, and a taken name is refused
-        box.fill("start")
-        box.press("Enter")
-        wait_until(lambda: _typed(v) == "start", what="the new name typed")
+        _type_name(box, v, "start", "the new name typed")
         page.get_by_role("button", name="Rename").click()
         wait_until(lambda: _stored(v) == ["start", "reach"], what="renamed")
-        box.fill("reach")
-        box.press("Enter")
-        wait_until(lambda: _typed(v) == "reach", what="the taken name typed")
+        _type_name(box, v, "reach", "the taken name typed")
         page.get_by_role("button", name="Rename").click()
         wait_until(lambda: "exists; choose another name" in _status(page), timeout=60.0, what="name taken")
         assert _stored(v) == ["start", "reach"]
