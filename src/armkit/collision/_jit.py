@@ -180,8 +180,8 @@ def _chunk_all(frames, items, pairs, out, c):
 
 @njit(cache=True)
 def _all_serial(frames, items, pairs, out):
-    for c in prange((frames.shape[0] + CHUNK - 1) // CHUNK):
-        _chunk_all(frames, items, pairs, out, c)
+    for c in prange((frames.shape[0] + CHUNK - 1) // CHUNK):   # int64: the multi-threaded twin's prange counts in
+        _chunk_all(frames, items, pairs, out, np.int64(c))       # uint64, which compiled the chunk a second time
 
 
 _all_parallel = parallel_twin(_all_serial)
@@ -249,7 +249,7 @@ def _chunk_min(frames, items, pairs, dist, arg, stop, c):
 @njit(cache=True)
 def _min_serial(frames, items, pairs, dist, arg, stop):
     for c in prange((frames.shape[0] + CHUNK - 1) // CHUNK):
-        _chunk_min(frames, items, pairs, dist, arg, stop, c)
+        _chunk_min(frames, items, pairs, dist, arg, stop, np.int64(c))   # one signature for both twins
 
 
 _min_parallel = parallel_twin(_min_serial)
