@@ -166,9 +166,11 @@ def _warm_part(part: str) -> None:
 
 
 WARM_PARTS = {"core": (("_exercise_arms",), "_parallel_core"),
-              "families": (("_exercise_families",), "_parallel_families")}
+              "families": (("_exercise_families", "_exercise_so101"), "_parallel_families")}
 """The parts of armkit.warmup's work compiled before the workers start, each in its own process: (its serial
-exercises in order, the function compiling their multi-threaded twins). What every worker needs at once is here;
-the SO-101's kernels and the searches (:func:`armkit.warmup._exercise_so101`, ``_exercise_later``) compile in the
-tests that use them first. With them here (a clean clone, 2026-12-03) the warm-up took 343 s instead of 166 and the
-tests saved only about 130 worker-seconds: a worker that compiles lets the other go on, the warm-up holds both."""
+exercises in order, the function compiling their multi-threaded twins). What every worker needs at once is here, and
+the SO-101's kernels (:func:`armkit.warmup._exercise_so101`), which fill the families part up to the core part's
+time: measured 2026-12-04 in a fresh cache, core 69 s and families 73 s with them (50 s without: a core idled for
+23 s). Before their kernels compiled once each they took 54 s alone, and putting them here with the searches made
+the warm-up 343 s instead of 166 (2026-12-03, a slower machine). The searches (``_exercise_later``, 14 s) still compile in the tests that use
+them first: a worker that compiles lets the other go on, the warm-up holds both."""
