@@ -56,11 +56,13 @@ def _same(a, b):
     A target that failed ends at the best of its iterates, next to a minimum of the error where the error is flat
     (quadratic): iterates 1e-8 apart, or the ends of two attempts at the same minimum (a redundant arm), differ in
     error by round-off only, so which one is best may differ by round-off. There the errors must agree to round-off,
-    the configurations need not.
+    the configurations need not. A successful target's joints agree to 1e-8 rad: the two back ends order the same
+    floating-point operations differently, and a link of almost no length amplifies the difference (three coaxial
+    joints and a link 2**-23 long gave 1.15e-9 rad after three sweeps; hypothesis found it on 2026-12-04).
     """
     assert np.array_equal(a.success, b.success)
     ok = a.success
-    assert np.allclose(a.q[ok], b.q[ok], atol=1e-9, rtol=0)
+    assert np.allclose(a.q[ok], b.q[ok], atol=1e-8, rtol=0), np.abs(a.q[ok] - b.q[ok]).max()
     assert np.allclose(a.position_error, b.position_error, atol=1e-12, rtol=0)
     assert np.array_equal(a.iterations, b.iterations)
     assert list(a.reason) == list(b.reason)
