@@ -241,19 +241,25 @@ def _raise_if_unreachable(res: IKResult) -> None:
 
 
 # --------------------------------------------------------------------------- solvers
-def _analytic_solver(robot: Robot, position_only: bool, why_not: list[str], pitch: bool = False):
+def _analytic_solver(robot: Robot, position_only: bool, why_not: list[str] | None, pitch: bool = False):
+    """The closed-form solver that answers ``robot`` for this kind of target, or None with the reason appended to
+    ``why_not`` (None: the caller falls back to LM and reads no reason, so none is written)."""
     from .analytic import closed_form
 
     from .._text import Fielded   # the why-not sentences keep their template and fields (any language)
 
     solver = closed_form(robot)
     if solver is None:
+        if why_not is None:
+            return None
         why_not.append(Fielded.of("robot {robot!r} ({n} DOF {types}) has no closed form in armkit: it solves 2R and "
                                   "3R planar, yaw-pitch-pitch 3R, yaw + three pitch joints (+ roll), 6R spherical-wrist "
                                   "(Puma-like) and UR-type 6R arms; use method='lm'", robot=robot.name, n=robot.n,
                                   types=robot.joint_types))
         return None
     if pitch != (getattr(solver, "target_kind", None) == "pitch"):   # position + tool pitch: armkit.ik.partial
+        if why_not is None:
+            return None
         why_not.append(Fielded.of(
             "robot {robot!r} ({family}, {n} joints) has a closed form for a position and the tool pitch: give pitch= "
             "(rad); for a position alone, a pointing direction (direction=) or a pose use method='lm' (armkit.ik's "
@@ -265,6 +271,8 @@ def _analytic_solver(robot: Robot, position_only: bool, why_not: list[str], pitc
     if pitch:
         return solver
     if position_only and solver.pose_only:
+        if why_not is None:
+            return None
         why_not.append(Fielded.of(
             "robot {robot!r} ({family}) needs a pose target for its closed form: give the end angle with phi=, or use "
             "method='lm' for position-only IK" if solver.family == "planar-3r" else
@@ -660,8 +668,8 @@ def ik(robot: Robot, target: ArrayLike, q0: ArrayLike | None = None,
     else:
         flat, lead, position_only, q0f = _targets_and_start(robot, target, q0, phi, check)
         solver = None
-        if method == "auto" and mask is None:
-            solver = _analytic_solver(robot, position_only, [])
+        if method == "auto" and mask is None:   # no reason wanted: LM answers where there is no closed form
+            solver = _analytic_solver(robot, position_only, None)
         use_closed = method == "analytic" or solver is not None
         if branch is not None and not use_closed:
             raise IKInputError.of("branch= picks a closed-form solution; method {method!r} is numeric"
