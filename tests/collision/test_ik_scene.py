@@ -60,6 +60,29 @@ def test_ik_nearest_branch_is_collision_free(name):
         assert not collisions(robot, res.q[b], scene).colliding
 
 
+@pytest.mark.parametrize("name", ["fighter", "puma560", "ur5"])
+def test_one_target_answer_is_the_first_of_every_branch_marked_and_sorted(name):
+    """One target by the one-call path with a scene: the yes/no check picks the first successful branch that does
+    not collide, which must be what marking every branch (collisions named) and sorting them puts first, whether
+    the nearest branch collides, a farther one does, or all do (then the answer names the collision)."""
+    robot = armkit.load(name)
+    kinds = set()
+    for scene in (table_and_wall(robot), None):      # None: the robot's own surroundings (the fighter's torso)
+        for target in _targets(robot, 40, 3):
+            res = armkit.ik(robot, target, scene=scene)
+            every = armkit.ik_all(robot, target, scene=scene)
+            first = every[0]
+            plain = armkit.ik_all(robot, target, scene=False)
+            kinds.add("nearest collides" if plain.success[0] and every.reason[0] == "collision"
+                      or plain.branch[0] != every.branch[0] else "nearest free")
+            kinds.add("none free" if not every.success.any() else "one free")
+            assert res.q.shape == (robot.n,) and np.array_equal(res.q, first.q)
+            assert (bool(res.success), str(res.branch), str(res.reason), str(res.message)) == \
+                (bool(first.success), str(first.branch), str(first.reason), str(first.message))
+            assert float(res.position_error) == float(first.position_error)
+    assert "nearest collides" in kinds and "nearest free" in kinds and "one free" in kinds
+
+
 @pytest.mark.parametrize("name", ["panda", "iiwa14", "fighter"])
 def test_lm_restarts_away_from_collisions(name):
     robot = armkit.load(name)

@@ -549,7 +549,7 @@ def in_collision(robot: Robot, q: ArrayLike, scene: Scene | Sequence[Shape] | st
     return (dist < 0).reshape(qa.shape[:-1])
 
 
-def colliding_rows(robot: Robot, q: Array, scene: Scene) -> tuple[NDArray[np.intp], list[str]]:
+def colliding_rows(robot: Robot, q: Array, scene: Scene, messages: bool = True) -> tuple[NDArray[np.intp], list[str]]:
     """The rows of ``q`` that collide with ``scene`` or the arm itself, and a message for each: for IK.
 
     The same answer as ``np.flatnonzero(in_collision(robot, q, scene))`` and then
@@ -562,14 +562,15 @@ def colliding_rows(robot: Robot, q: Array, scene: Scene) -> tuple[NDArray[np.int
     rows : ndarray of int, shape (k,)
         Indices of the colliding configurations, increasing.
     messages : list of str
-        ``Collisions.message`` of each, in the order of ``rows``.
+        ``Collisions.message`` of each, in the order of ``rows``; empty with ``messages=False`` (the yes/no
+        check alone: no pair's depth is measured, no sentence made).
     """
     if scene.unit != robot.unit:
         scene = as_scene(robot, scene)
     rec = _prepared(robot, scene, True)
     _, dist, _ = _evaluate_prepared(robot, rec, q, only_min=True, stop=0.0)
     rows = np.flatnonzero(dist < 0)
-    if not len(rows):
+    if not len(rows) or not messages:
         return rows, []
     hits = _collisions(robot, rec, q[rows], (len(rows),))
     return rows, [hits.message(m) for m in range(len(rows))]

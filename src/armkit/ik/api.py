@@ -645,13 +645,15 @@ def ik(robot: Robot, target: ArrayLike, q0: ArrayLike | None = None,
             and pitch is None and direction is None and fixed is None:   # one target: one compiled call
         one = _one_target(robot, target, q0, tol, enforce_limits, check, scene is None)
         if one is not None and scene is not None:   # the nearest branch that does not collide
-            from .scene import mark, sort_branches
+            from .scene import first_free, mark, sort_branches
 
-            marked = mark(robot, one, scene)
-            if marked is one:   # nothing collides: the first branch (the nearest successful one) as it is
-                one = one._map(_first, None)
-            else:               # the first branch that does not collide, from every branch marked and sorted
-                one = _reshape(sort_branches(marked._map(_one_row, None))[np.arange(1), 0], ())
+            k = first_free(robot, one, scene)   # the yes/no check: no sentence for the branches passed over
+            if k >= 0:          # that branch as it is (what marking and sorting every branch put first)
+                one = one._map(_first if k == 0 else (lambda a: np.asarray(a)[k, ...]), None)
+            else:               # none: every branch marked (collisions named) and sorted, the first taken
+                marked = mark(robot, one, scene)
+                one = one._map(_first, None) if marked is one else \
+                    _reshape(sort_branches(marked._map(_one_row, None))[np.arange(1), 0], ())
     numeric: dict[str, Any] = {} if one is not None else {   # tol checked here (and by _one_target)
         "mask": mask, "tol": None if tol is None else _tolerance(robot, tol), "seed": seed,
         "enforce_limits": enforce_limits, "trace": trace, "max_iterations": max_iterations, "restarts": restarts}

@@ -22,7 +22,7 @@ from ..collision import Scene, as_scene, colliding_rows
 from ..model.robot import Robot
 from .result import IKResult
 
-__all__ = ["mark", "sort_branches", "retry_numeric", "scene_or_none"]
+__all__ = ["mark", "first_free", "sort_branches", "retry_numeric", "scene_or_none"]
 
 
 def scene_or_none(robot: Robot, scene: Any) -> Scene | None:
@@ -53,6 +53,23 @@ def mark(robot: Robot, res: IKResult, scene: Scene) -> IKResult:
         message[idx] = messages[m]
     ok_out: Any = success if np.ndim(res.success) else np.bool_(success[()])
     return replace(res, success=ok_out, reason=_like(res.reason, reason), message=_like(res.message, message))
+
+
+def first_free(robot: Robot, res: IKResult, scene: Scene) -> int:
+    """The index of the first successful branch of one target's branches ``res`` (fields ``(m, ...)``) that does
+    not collide, or -1 where none: what :func:`mark` then :func:`sort_branches` would put first, found by the
+    yes/no check alone (no depth measured, no sentence made for the branches that collide)."""
+    ok = np.flatnonzero(np.asarray(res.success, dtype=bool))
+    if not len(ok):
+        return -1
+    bad, _ = colliding_rows(robot, np.asarray(res.q)[ok], scene, messages=False)
+    if len(bad) == len(ok):
+        return -1
+    if not len(bad):
+        return int(ok[0])
+    free = np.ones(len(ok), dtype=bool)
+    free[bad] = False
+    return int(ok[np.argmax(free)])
 
 
 def _like(old: Any, new: np.ndarray) -> Any:
