@@ -203,6 +203,12 @@ def _one_row(a: Any) -> Any:
     return np.asarray(a)[None]
 
 
+def _zero_d(a: Any) -> Any:
+    """A field of one target's result as a 0-d array (:func:`.scene.mark` gives a NumPy scalar); text as it is (a
+    message keeps its template and fields for every language)."""
+    return a if isinstance(a, str) else np.asarray(a)
+
+
 def _first(a: Any) -> Any:
     """A field of one target's branches ``(m, ...)``: its first branch ``(...)``, a view."""
     return np.asarray(a)[0, ...]
@@ -645,15 +651,15 @@ def ik(robot: Robot, target: ArrayLike, q0: ArrayLike | None = None,
             and pitch is None and direction is None and fixed is None:   # one target: one compiled call
         one = _one_target(robot, target, q0, tol, enforce_limits, check, scene is None)
         if one is not None and scene is not None:   # the nearest branch that does not collide
-            from .scene import first_free, mark, sort_branches
+            from .scene import first_free, mark
 
             k = first_free(robot, one, scene)   # the yes/no check: no sentence for the branches passed over
             if k >= 0:          # that branch as it is (what marking and sorting every branch put first)
                 one = one._map(_first if k == 0 else (lambda a: np.asarray(a)[k, ...]), None)
-            else:               # none: every branch marked (collisions named) and sorted, the first taken
-                marked = mark(robot, one, scene)
-                one = one._map(_first, None) if marked is one else \
-                    _reshape(sort_branches(marked._map(_one_row, None))[np.arange(1), 0], ())
+            else:               # none is free: the first branch, its collision named (marking and sorting
+                first = one._map(_first, None)   # every branch leaves it first: none succeeds), as 0-d arrays
+                marked = mark(robot, first, scene)
+                one = first if marked is first else marked._map(_zero_d, None)
     numeric: dict[str, Any] = {} if one is not None else {   # tol checked here (and by _one_target)
         "mask": mask, "tol": None if tol is None else _tolerance(robot, tol), "seed": seed,
         "enforce_limits": enforce_limits, "trace": trace, "max_iterations": max_iterations, "restarts": restarts}

@@ -52,7 +52,9 @@ def mark(robot: Robot, res: IKResult, scene: Scene) -> IKResult:
         reason[idx] = "collision"
         message[idx] = messages[m]
     ok_out: Any = success if np.ndim(res.success) else np.bool_(success[()])
-    return replace(res, success=ok_out, reason=_like(res.reason, reason), message=_like(res.message, message))
+    # one target's message stays the text it is (a collision's keeps its template and fields for every language)
+    text = _like(res.message, message) if np.ndim(res.message) else message[()]
+    return replace(res, success=ok_out, reason=_like(res.reason, reason), message=text)
 
 
 def first_free(robot: Robot, res: IKResult, scene: Scene) -> int:
