@@ -172,5 +172,6 @@ exercises in order, the function compiling their multi-threaded twins). What eve
 the SO-101's kernels (:func:`armkit.warmup._exercise_so101`), which fill the families part up to the core part's
 time: measured 2026-12-04 in a fresh cache, core 69 s and families 73 s with them (50 s without: a core idled for
 23 s). Before their kernels compiled once each they took 54 s alone, and putting them here with the searches made
-the warm-up 343 s instead of 166 (2026-12-03, a slower machine). The searches (``_exercise_later``, 14 s) still compile in the tests that use
-them first: a worker that compiles lets the other go on, the warm-up holds both."""
+the warm-up 343 s instead of 166 (2026-12-03, a slower machine). The searches (``_exercise_later``) still compile in
+the tests that use them first: in the core part with their batch twin they made it 107 s instead of 69 (2026-12-04),
+while a worker that compiles lets the other go on with other tests."""
