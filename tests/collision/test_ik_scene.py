@@ -134,3 +134,22 @@ def test_cli_scene_file_errors_exit_2(tmp_path):
     good.write_text('unit = "mm"\n\n[[shapes]]\ntype = "plane"\nnormal = [0, 0, 1]\noffset = -30\n')
     out = _cli("ik", "fighter", "100", "0", "60", "--scene", str(good), "--json")
     assert out.returncode == 0
+
+
+def test_a_chosen_branch_that_collides_has_the_fields_of_one_that_does_not():
+    """``branch=`` with a scene: a branch marked as colliding keeps each field's kind (0-d arrays, the message as
+    its text), as an unmarked one has them; marking once turned ``success`` into a NumPy scalar."""
+    fighter = armkit.load("fighter")
+    for seed in range(60):
+        p = armkit.fk(fighter, fighter.random_q(rng=seed))[:3, 3]
+        every = armkit.ik_all(fighter, p)
+        hit = [str(b) for b, r in zip(every.branch, every.reason) if r == "collision"]
+        free = [str(b) for b, ok in zip(every.branch, every.success) if ok]
+        if hit and free:
+            break
+    bad, good = armkit.ik(fighter, p, branch=hit[0]), armkit.ik(fighter, p, branch=free[0])
+    assert str(bad.reason) == "collision" and not bad.success and good.success
+    for f in ("q", "success", "position_error", "rotation_error", "iterations", "branch", "within_limits", "reason",
+              "message"):
+        assert type(getattr(bad, f)) is type(getattr(good, f)) or f == "message", f
+    assert isinstance(bad.message, str) and " hits the " in bad.message

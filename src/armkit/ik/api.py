@@ -203,12 +203,6 @@ def _one_row(a: Any) -> Any:
     return np.asarray(a)[None]
 
 
-def _zero_d(a: Any) -> Any:
-    """A field of one target's result as a 0-d array (:func:`.scene.mark` gives a NumPy scalar); text as it is (a
-    message keeps its template and fields for every language)."""
-    return a if isinstance(a, str) else np.asarray(a)
-
-
 def _first(a: Any) -> Any:
     """A field of one target's branches ``(m, ...)``: its first branch ``(...)``, a view."""
     return np.asarray(a)[0, ...]
@@ -657,9 +651,7 @@ def ik(robot: Robot, target: ArrayLike, q0: ArrayLike | None = None,
             if k >= 0:          # that branch as it is (what marking and sorting every branch put first)
                 one = one._map(_first if k == 0 else (lambda a: np.asarray(a)[k, ...]), None)
             else:               # none is free: the first branch, its collision named (marking and sorting
-                first = one._map(_first, None)   # every branch leaves it first: none succeeds), as 0-d arrays
-                marked = mark(robot, first, scene)
-                one = first if marked is first else marked._map(_zero_d, None)
+                one = mark(robot, one._map(_first, None), scene)   # every branch leaves it first: none succeeds)
     numeric: dict[str, Any] = {} if one is not None else {   # tol checked here (and by _one_target)
         "mask": mask, "tol": None if tol is None else _tolerance(robot, tol), "seed": seed,
         "enforce_limits": enforce_limits, "trace": trace, "max_iterations": max_iterations, "restarts": restarts}

@@ -51,8 +51,9 @@ def mark(robot: Robot, res: IKResult, scene: Scene) -> IKResult:
         success[idx] = False
         reason[idx] = "collision"
         message[idx] = messages[m]
-    ok_out: Any = success if np.ndim(res.success) else np.bool_(success[()])
-    # one target's message stays the text it is (a collision's keeps its template and fields for every language)
+    # each field keeps its kind: an array (one target's a 0-d array) stays one, and one target's message stays the
+    # text it is (a collision's keeps its template and fields for every language)
+    ok_out: Any = success if isinstance(res.success, np.ndarray) else np.bool_(success[()])
     text = _like(res.message, message) if np.ndim(res.message) else message[()]
     return replace(res, success=ok_out, reason=_like(res.reason, reason), message=text)
 
@@ -65,13 +66,8 @@ def first_free(robot: Robot, res: IKResult, scene: Scene) -> int:
     if not len(ok):
         return -1
     bad, _ = colliding_rows(robot, np.asarray(res.q)[ok], scene, messages=False)
-    if len(bad) == len(ok):
-        return -1
-    if not len(bad):
-        return int(ok[0])
-    free = np.ones(len(ok), dtype=bool)
-    free[bad] = False
-    return int(ok[np.argmax(free)])
+    free = np.delete(ok, bad)      # the successful branches that do not collide, in their order
+    return int(free[0]) if len(free) else -1
 
 
 def _like(old: Any, new: np.ndarray) -> Any:
