@@ -433,8 +433,16 @@ def test_camera_presets_move_the_browser_camera(browser) -> None:
                         and np.allclose(off / np.linalg.norm(off), d / np.linalg.norm(d), atol=2e-3))
 
         for name, d in expected.items():
-            page.get_by_role("button", name=name, exact=True).click()
-            wait_until(lambda: looks(np.array(d)), 10, f"the browser's camera at the {name} preset")
+            # a click that lands while the folder above still opens can be lost on a busy machine (a clean clone's
+            # make test, 2026-12-04): a person clicks again; the camera must then reach the preset all the same
+            for attempt in range(3):
+                page.get_by_role("button", name=name, exact=True).click()
+                try:
+                    wait_until(lambda: looks(np.array(d)), 10, f"the browser's camera at the {name} preset")
+                    break
+                except AssertionError:
+                    if attempt == 2:
+                        raise
         page.close()
 
 
