@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import importlib
 import subprocess
 import sys
 
@@ -153,3 +154,42 @@ def test_a_chosen_branch_that_collides_has_the_fields_of_one_that_does_not():
               "message"):
         assert type(getattr(bad, f)) is type(getattr(good, f)) or f == "message", f
     assert isinstance(bad.message, str) and " hits the " in bad.message
+
+
+@pytest.mark.parametrize("call", ["ik", "ik_all", "ik_all batch"])
+def test_collision_sentences_are_made_when_read_and_name_the_pair(call, monkeypatch):
+    """A loop that reads only ``success`` measures no depth: the sentences of the branches that collide are made
+    when ``message`` is first read, once, and are then those of ``collisions(...).message()`` (the depth measured
+    on its own) for each of them, also after the branches are sorted or the result is indexed."""
+    ik_scene = importlib.import_module("armkit.ik.scene")   # (armkit.ik is also the function's name)
+    robot = armkit.load("fighter")
+    made = []
+    real = ik_scene.row_messages
+
+    def counted(*args, **kw):
+        made.append(len(args[1]))
+        return real(*args, **kw)
+
+    monkeypatch.setattr(ik_scene, "row_messages", counted)
+    scene = table_and_wall(robot)
+    targets = _targets(robot, 40, 5)
+    if call == "ik_all batch":
+        res = armkit.ik_all(robot, targets, scene=scene)
+    else:   # the first target whose nearest configuration collides
+        solve = getattr(armkit, call)
+        res = next(r for r in (solve(robot, t, scene=scene) for t in targets)
+                   if (np.asarray(r.reason) == "collision").any())
+    hit = np.asarray(res.reason) == "collision"
+    assert hit.any() and not np.asarray(res.success)[hit].any() and made == []
+    picked = res[0] if call == "ik_all batch" else res      # a part of a result made before its sentences
+    messages = np.asarray(res.message, dtype=object)
+    assert made == [int(hit.sum())]                          # one pass over the colliding branches, when read
+    q = np.asarray(res.q)
+    for idx in zip(*np.nonzero(hit)) if hit.ndim else [()]:
+        assert messages[idx] == collisions(robot, q[idx], scene).message(), idx
+        assert " hits the " in messages[idx] and "mm" in messages[idx]
+    assert all(m == "" for m in messages[np.asarray(res.success)])   # a success has no sentence
+    if call == "ik_all batch":
+        assert list(picked.message) == list(messages[0])     # the part's sentences are the whole's
+    res.message                                              # noqa: B018 - read again: made once
+    assert len(made) == 1

@@ -22,9 +22,9 @@ from __future__ import annotations
 
 from .geometry import ArmGeometry, RobotCollision, arm_geometry, robot_collision, robot_scene
 from .query import (Collisions, as_scene, checked_against, checked_note, clearance, colliding_rows, collisions,
-                    in_collision, resolve_scene)
+                    in_collision, resolve_scene, row_messages)
 from .shapes import KIND_TABLE, KINDS, Scene, SceneError, Shape, ShapeKind
 
-__all__ = ["Scene", "Shape", "SceneError", "KINDS", "KIND_TABLE", "ShapeKind", "Collisions", "collisions", "clearance", "in_collision", "colliding_rows", "as_scene",
+__all__ = ["Scene", "Shape", "SceneError", "KINDS", "KIND_TABLE", "ShapeKind", "Collisions", "collisions", "clearance", "in_collision", "colliding_rows", "row_messages", "as_scene",
            "resolve_scene", "checked_against", "checked_note",
            "ArmGeometry", "RobotCollision", "arm_geometry", "robot_collision", "robot_scene"]

@@ -572,8 +572,20 @@ def colliding_rows(robot: Robot, q: Array, scene: Scene, messages: bool = True) 
     rows = np.flatnonzero(dist < 0)
     if not len(rows) or not messages:
         return rows, []
-    hits = _collisions(robot, rec, q[rows], (len(rows),))
-    return rows, [hits.message(m) for m in range(len(rows))]
+    return rows, _row_messages(robot, rec, q[rows])
+
+
+def row_messages(robot: Robot, q: Array, scene: Scene) -> list[str]:
+    """The messages :func:`colliding_rows` gives, for configurations ``q (k, n)`` found colliding by its yes/no
+    check (``messages=False``): the sentences made later, for the rows whose message is read (IK with a scene)."""
+    if scene.unit != robot.unit:
+        scene = as_scene(robot, scene)
+    return _row_messages(robot, _prepared(robot, scene, True), q)
+
+
+def _row_messages(robot: Robot, rec: Any, q: Array) -> list[str]:
+    hits = _collisions(robot, rec, q, (len(q),))
+    return [hits.message(m) for m in range(len(q))]
 
 
 def _pairs(geo: ArmGeometry, scene: Scene, self_collision: bool

@@ -203,11 +203,6 @@ def _one_row(a: Any) -> Any:
     return np.asarray(a)[None]
 
 
-def _first(a: Any) -> Any:
-    """A field of one target's branches ``(m, ...)``: its first branch ``(...)``, a view."""
-    return np.asarray(a)[0, ...]
-
-
 def _scene(robot: Robot, scene: Any) -> Any:
     """``scene=`` by the one collision rule (:func:`armkit.collision.resolve_scene`): a Scene, or None for no check.
 
@@ -645,13 +640,9 @@ def ik(robot: Robot, target: ArrayLike, q0: ArrayLike | None = None,
             and pitch is None and direction is None and fixed is None:   # one target: one compiled call
         one = _one_target(robot, target, q0, tol, enforce_limits, check, scene is None)
         if one is not None and scene is not None:   # the nearest branch that does not collide
-            from .scene import first_free, mark
+            from .scene import nearest_free
 
-            k = first_free(robot, one, scene)   # the yes/no check: no sentence for the branches passed over
-            if k >= 0:          # that branch as it is (what marking and sorting every branch put first)
-                one = one._map(_first if k == 0 else (lambda a: np.asarray(a)[k, ...]), None)
-            else:               # none is free: the first branch, its collision named (marking and sorting
-                one = mark(robot, one._map(_first, None), scene)   # every branch leaves it first: none succeeds)
+            one = nearest_free(robot, one, scene)
     numeric: dict[str, Any] = {} if one is not None else {   # tol checked here (and by _one_target)
         "mask": mask, "tol": None if tol is None else _tolerance(robot, tol), "seed": seed,
         "enforce_limits": enforce_limits, "trace": trace, "max_iterations": max_iterations, "restarts": restarts}

@@ -13,16 +13,15 @@ numeric solver from random configurations for the targets whose answer collided.
 
 from __future__ import annotations
 
-from dataclasses import replace
 from typing import Any, Callable
 
 import numpy as np
 
-from ..collision import Scene, as_scene, colliding_rows
+from ..collision import Scene, as_scene, colliding_rows, row_messages
 from ..model.robot import Robot
-from .result import IKResult
+from .result import IKResult, _message
 
-__all__ = ["mark", "first_free", "sort_branches", "retry_numeric", "scene_or_none"]
+__all__ = ["mark", "nearest_free", "sort_branches", "retry_numeric", "scene_or_none"]
 
 
 def scene_or_none(robot: Robot, scene: Any) -> Scene | None:
@@ -33,41 +32,65 @@ def scene_or_none(robot: Robot, scene: Any) -> Scene | None:
 
 
 def mark(robot: Robot, res: IKResult, scene: Scene) -> IKResult:
-    """``res`` with every successful but colliding configuration made a ``"collision"`` failure."""
+    """``res`` with every successful but colliding configuration made a ``"collision"`` failure.
+
+    Which configurations collide is the yes/no check's answer (:func:`armkit.collision.colliding_rows` with
+    ``messages=False``); the sentences naming the pair and the depth (:func:`armkit.collision.row_messages`) are made
+    when the result's ``message`` is first read (:meth:`IKResult._later`): a loop that reads ``success`` alone
+    measures no depth.
+    """
     ok = np.asarray(res.success, dtype=bool)
     if not ok.any():
         return res
-    q = np.asarray(res.q)
-    candidates = q[ok]
-    bad_rows, messages = colliding_rows(robot, candidates, scene)   # one pass: rows, then pairs and depths
+    candidates = np.asarray(res.q)[ok]
+    bad_rows, _ = colliding_rows(robot, candidates, scene, messages=False)
     if not len(bad_rows):
         return res
-    success = ok.copy()
-    reason = np.array(res.reason, dtype=object, copy=True)
-    message = np.array(res.message, dtype=object, copy=True)
     where = np.argwhere(ok)
-    for m, k in enumerate(bad_rows):
-        idx = tuple(where[k])
+    return _collided(robot, res, [tuple(where[k]) for k in bad_rows], candidates[bad_rows], scene)
+
+
+def nearest_free(robot: Robot, res: IKResult, scene: Scene) -> IKResult:
+    """One target's answer from its branches ``res`` (fields ``(m, ...)``, sorted): the first successful branch
+    that does not collide, as it is; where none, the first branch, a ``"collision"`` failure if it succeeded. What
+    :func:`mark` then :func:`sort_branches` would put first, found by the yes/no check alone: no depth is measured
+    and no sentence made for the branches passed over, and the first branch's is made when it is read."""
+    ok = np.flatnonzero(np.asarray(res.success, dtype=bool))
+    k, collides = 0, False
+    if len(ok):
+        bad, _ = colliding_rows(robot, np.asarray(res.q)[ok], scene, messages=False)
+        free = np.delete(ok, bad)      # the successful branches that do not collide, in their order
+        k = int(free[0]) if len(free) else 0
+        collides = not len(free) and ok[0] == 0   # none free: the first branch collides if it succeeded
+    one = res._map(lambda a: np.asarray(a)[k, ...], None)
+    return _collided(robot, one, [()], np.asarray(one.q)[None], scene) if collides else one
+
+
+def _collided(robot: Robot, res: IKResult, hit: list[tuple], hit_q: np.ndarray, scene: Scene) -> IKResult:
+    """``res`` with the successful configurations at the indices ``hit`` (their joints ``hit_q (k, n)``, each found
+    colliding) made ``"collision"`` failures; their sentences are made when ``message`` is first read."""
+    success = np.array(res.success, dtype=bool, copy=True)
+    reason = np.array(res.reason, dtype=object, copy=True)
+    for idx in hit:
         success[idx] = False
         reason[idx] = "collision"
-        message[idx] = messages[m]
-    # each field keeps its kind: an array (one target's a 0-d array) stays one, and one target's message stays the
-    # text it is (a collision's keeps its template and fields for every language)
+
+    def message() -> Any:
+        texts = row_messages(robot, hit_q, scene)
+        old = res.message
+        out = np.array(old, dtype=object, copy=True)
+        for idx, text in zip(hit, texts):
+            out[idx] = text
+        # each field keeps its kind: one target's message stays the text it is (a collision's keeps its template
+        # and fields for every language), a batch's an array
+        return _message(_like(old, out) if np.ndim(old) else out[()], success.shape)
+
+    # an array (one target's a 0-d array) stays one
     ok_out: Any = success if isinstance(res.success, np.ndarray) else np.bool_(success[()])
-    text = _like(res.message, message) if np.ndim(res.message) else message[()]
-    return replace(res, success=ok_out, reason=_like(res.reason, reason), message=text)
-
-
-def first_free(robot: Robot, res: IKResult, scene: Scene) -> int:
-    """The index of the first successful branch of one target's branches ``res`` (fields ``(m, ...)``) that does
-    not collide, or -1 where none: what :func:`mark` then :func:`sort_branches` would put first, found by the
-    yes/no check alone (no depth measured, no sentence made for the branches that collide)."""
-    ok = np.flatnonzero(np.asarray(res.success, dtype=bool))
-    if not len(ok):
-        return -1
-    bad, _ = colliding_rows(robot, np.asarray(res.q)[ok], scene, messages=False)
-    free = np.delete(ok, bad)      # the successful branches that do not collide, in their order
-    return int(free[0]) if len(free) else -1
+    new = IKResult._later((res.q, ok_out, res.position_error, res.rotation_error, res.iterations, res.branch,
+                           res.within_limits, _like(res.reason, reason), None), message)
+    new.__dict__["trace"] = res.trace
+    return new
 
 
 def _like(old: Any, new: np.ndarray) -> Any:
@@ -88,10 +111,7 @@ def sort_branches(res: IKResult) -> IKResult:
     def take(a: Any) -> Any:
         return np.asarray(a)[rows, order]
 
-    return IKResult(q=take(res.q), success=take(res.success), position_error=take(res.position_error),
-                    rotation_error=take(res.rotation_error), iterations=take(res.iterations), branch=take(res.branch),
-                    within_limits=take(res.within_limits), reason=take(res.reason), message=take(res.message),
-                    trace=res.trace)
+    return res._map(take, res.trace)   # a message not made yet (mark) is sorted when it is made
 
 
 def retry_numeric(robot: Robot, res: IKResult, scene: Scene, solve: Callable[[np.ndarray, np.ndarray], IKResult],
