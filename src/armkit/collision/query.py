@@ -568,11 +568,22 @@ def colliding_rows(robot: Robot, q: Array, scene: Scene, messages: bool = True) 
     if scene.unit != robot.unit:
         scene = as_scene(robot, scene)
     rec = _prepared(robot, scene, True)
-    _, dist, _ = _evaluate_prepared(robot, rec, q, only_min=True, stop=0.0)
-    rows = np.flatnonzero(dist < 0)
+    rows = np.flatnonzero(_overlap_depths(robot, rec, q) < 0)
     if not len(rows) or not messages:
         return rows, []
     return rows, _row_messages(robot, rec, q[rows])
+
+
+def _overlap_depths(robot: Robot, rec: _Prepared, q: Array) -> Array:
+    """Per configuration of ``q (B, n)``, a number < 0 where the arm overlaps (the depth of the first pair found),
+    else the smallest distance: :func:`_evaluate_prepared` with ``stop=0``, calling the kernel directly on the
+    usual path (the Numba back end, every pair compiled, one block), which IK with a scene takes on every call."""
+    pack = rec.pack
+    if pack is not None and not len(pack[3]) and len(pack[1]) and q.shape[0] <= BLOCK:
+        _jit = _kernels()
+        if _jit is not None:
+            return _jit.min_distance(np.ascontiguousarray(_frames(robot, q, rec.flange)), pack[0], pack[1], 0.0)[0]
+    return _evaluate_prepared(robot, rec, q, only_min=True, stop=0.0)[1]
 
 
 def row_messages(robot: Robot, q: Array, scene: Scene) -> list[str]:

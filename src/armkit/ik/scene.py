@@ -59,9 +59,10 @@ def nearest_free(robot: Robot, res: IKResult, scene: Scene) -> IKResult:
     k, collides = 0, False
     if len(ok):
         bad, _ = colliding_rows(robot, np.asarray(res.q)[ok], scene, messages=False)
-        free = np.delete(ok, bad)      # the successful branches that do not collide, in their order
-        k = int(free[0]) if len(free) else 0
-        collides = not len(free) and ok[0] == 0   # none free: the first branch collides if it succeeded
+        hit = set(bad.tolist())
+        free = [int(b) for i, b in enumerate(ok.tolist()) if i not in hit]   # the successful ones that do not
+        k = free[0] if free else 0                                           # collide, in their order
+        collides = not free and ok[0] == 0   # none free: the first branch collides if it succeeded
     one = res._map(lambda a: np.asarray(a)[k, ...], None)
     return _collided(robot, one, [()], np.asarray(one.q)[None], scene) if collides else one
 
