@@ -84,7 +84,7 @@ KEPT = {"en", "ko", "deg", "rad", "mm", "tool", "lang", "strict", "armkit", "hel
         # robot and scene files' element, attribute and key names, arguments and variables a user writes (issue 21)
         "robot", "joint", "joints", "link", "links", "limit", "lower", "upper", "origin", "axis", "mimic", "geometry",
         "mesh", "sphere", "cylinder", "filename", "type", "unit", "convention", "frame", "base", "tip", "mask",
-        "direction", "method", "allow", "outside", "out", "dtype", "float", "True", "ARMKIT", "PACKAGE", "PATH",
+        "direction", "method", "fixed", "allow", "outside", "out", "dtype", "float", "True", "ARMKIT", "PACKAGE", "PATH",
         "Joint", "Link", "XML", "CLI", "IK", "FABRIK", "UR", "Puma", "R", "C", "e", "all", "i", "names", "init", "py"}   # + software, formats, protocols, NaN      # + commands, formats, formulas and their symbols, methods, option values
 
 
