@@ -79,11 +79,17 @@ _SINGULAR = "singular wrist: a family of solutions; this one keeps the free join
 
 
 def _why(found: int, m: int) -> str:
-    """Why a branch is out of reach when the target has ``found`` solutions (0: none) of the class's ``m``."""
+    """Why a branch is out of reach when the target has ``found`` solutions (0: none) of the class's ``m``: a sentence
+    that keeps its template and fields (rendered in the user's language)."""
+    from ..._text import Fielded
+
+    if found == 1:
+        return Fielded.of("this target has 1 solution; the arm's class allows up to {m}, and this branch is not one "
+                          "of them.", m=m)
     if found:
-        return (f"this target has {found} solution{'s' if found > 1 else ''}; the arm's class allows "
-                f"up to {m}, and this branch is not one of them.")
-    return "no configuration of this arm reaches the target (the closest is shown)."
+        return Fielded.of("this target has {count} solutions; the arm's class allows up to {m}, and this branch is "
+                          "not one of them.", count=found, m=m)
+    return Fielded.of("no configuration of this arm reaches the target (the closest is shown).")
 
 
 class Geometric:
@@ -205,3 +211,177 @@ class Geometric:
             return _why(int(found[i // m]), m)
         missing = unreachable.copy()
         return Raw(q, label, unreachable, why, note, missing)
+
+
+PARALLEL_TOL = 1e-4
+"""Two axes of a 3R arm whose directions differ by less than this (rad) are solved as parallel (and polished); a
+tool point nearer than this times the arm's size to axis 3 counts as on it."""
+MEET_TOL = 1e-9
+"""Two axes of a 3R arm closer than this times the arm's size are solved as meeting. Axes that only nearly meet
+go to SP5, which slides its point along axis 2 away from axis 1 and stays well conditioned there; solving them as
+meeting and polishing lost solutions (hypothesis found an arm whose axes 1, 2 missed by 6e-5 of its size)."""
+
+
+class Geometric3R:
+    """Every branch of a position target for a 3R arm the hand-written families do not match: the classes
+    ``3R-general``, ``3R-two-parallel`` and ``3R-elbow`` of :func:`armkit.ik.geometric.classify.classify` (an arm
+    with offsets, axes that only meet or lie parallel in the geometry, not in the DH pattern; the fighter's
+    family answers the fighter itself).
+
+    The tool point is ``p = p_01 + rot(h1, q1) (p_12 + rot(h2, q2) (p_23 + rot(h3, q3) p_3T))`` (the chain's
+    product-of-exponentials form, :mod:`armkit.ik.geometric.poe`), solved as the spherical wrist's position
+    part is (:func:`armkit.ik.geometric.solvers_wrist._pos_general`): SP5 (a quartic, up to 4 solutions) in
+    general, SP4 then SP3 and SP1 where axes 2 ∥ 3, and where axes 1 ∥ 2 the mirror of that: the component along
+axis 1 fixes q3 (SP4), the distance from axis 1 then q2 (SP3), and q1 turns the rest onto the target (SP1)
+(:func:`_first_two_parallel`). Where axes 1 and 2 meet, the distance from their common point fixes q3 (SP3) and
+SP2 gives q1, q2; where axes 2 and 3 meet, the distance from theirs fixes q1 (SP3) and SP2 gives q2, q3
+(:func:`_second_two_meet`). Axes that nearly meet or are nearly parallel are solved on the nearest ideal chain
+and polished on the robot. Every branch is
+    verified by FK of the robot (:func:`armkit.ik.analytic.solve_all`); a target out of reach gets the
+    least-squares candidates, marked unreachable.
+    """
+
+    family = "geometric-3r"
+    pose_only = False
+    target_kind = "position"
+    polish_above = 1e-12
+    m = 4
+    branch_labels = ("s1", "s2", "s3", "s4")
+    geometry = None      # no one-call kernel of its own: the one-call path verifies the solve's branches in one call
+
+    def __init__(self, robot: Robot, form: Any, chain_class: Any) -> None:
+        self.robot = robot
+        self.chain_class = chain_class
+        from ..geometric.solvers_chain import align
+
+        # axes parallel within the classifier's tolerance are made exactly parallel (the ideal chain); its branches
+        # are then polished by Newton steps on the robot itself (solve_all, as for the other families' ideal arms)
+        size = max(float(robot.reach), 1e-300)
+        near = [(i, i + 1) for i in (0, 1) if np.linalg.norm(np.cross(form.H[i], form.H[i + 1])) < PARALLEL_TOL]
+        meet = [] if near else [(i, i + 1) for i in (0, 1) if _meet(form, i, size)]
+        ideal, dev = align(form, tuple(meet[:1]), tuple(near[:1]))
+        self.H = np.array(ideal.H, dtype=float, order="C")     # writable copies: one signature of the kernel
+        self.P = np.array(ideal.P, dtype=float, order="C")
+        self.case = ("1 || 2" if near[:1] == [(0, 1)] else "2 || 3" if near else
+                     "1, 2 meet" if meet[:1] == [(0, 1)] else "2, 3 meet" if meet else "general")
+        eye = np.eye(4)
+        zero = np.zeros(3)
+        self.sf = StandardForm(zero, zero, zero, zero, eye, eye, eye, eye, float(robot.reach), exact=dev < 1e-13)
+
+    @classmethod
+    def detect(cls, sf: StandardForm | None, robot: Robot) -> "Geometric3R | None":
+        """The family for ``robot`` when it has 3 revolute joints of one of the classes above, else None (a planar
+        3R has a whole curve of solutions for a position, three concurrent axes move the point on a sphere, a
+        tool point on axis 3 is not moved by joint 3, and two axes on one line turn the arm as one joint)."""
+        if robot.n != 3 or any(robot.chain.prismatic):
+            return None
+        from ..geometric.classify import classify
+        from ..geometric.poe import poe
+
+        cls_ = classify(robot)
+        if cls_.degenerate or cls_.name not in ("3R-general", "3R-two-parallel", "3R-elbow"):
+            return None
+        form = poe(robot)
+        size = max(float(robot.reach), 1e-300)
+        if np.linalg.norm(np.cross(form.H[2], form.P[3])) < PARALLEL_TOL * size:
+            return None     # the tool point on (or within 1e-4 of the arm's size from) axis 3
+        parallel = [bool(np.linalg.norm(np.cross(form.H[i], form.H[i + 1])) < PARALLEL_TOL) for i in (0, 1)]
+        for i in (0, 1):    # two axes on (nearly) one line: they turn the arm as one joint, a curve of solutions
+            if parallel[i] and np.linalg.norm(np.cross(form.H[i], form.P[i + 1])) < PARALLEL_TOL * size:
+                return None
+        return cls(robot, form, cls_)
+
+    def reach_why(self, lateral_out: bool, rho: float, r: float, target: Array | None) -> str:
+        return _why(int(rho), self.m)
+
+    def solve(self, target: Array, q0phi: Array) -> Raw:
+        """Every branch for position targets ``(B, 3)`` (or the positions of poses ``(B, 4, 4)``)."""
+        from ..geometric import solvers
+
+        pts = target[:, :3, 3] if target.ndim == 3 else target
+        B, m = len(pts), self.m
+        K = solvers.kernels() if solvers._use_jit(None) else None
+        position = K._pos_general if K is not None else solvers._pos_general
+        meet12 = K._pos_two_intersecting if K is not None else solvers._pos_two_intersecting
+        q = np.zeros((B, m, 3))
+        unreachable = np.zeros((B, m), dtype=bool)
+        found = np.zeros(B, dtype=np.int64)
+        Qp = np.zeros((8, 3))
+        LSp = np.zeros(8, dtype=np.bool_)
+        for b in range(B):
+            p0W = np.ascontiguousarray(pts[b] - self.P[0], dtype=float)
+            if self.case == "1 || 2":
+                c = _first_two_parallel(self.H, self.P, p0W, Qp, LSp)
+            elif self.case == "1, 2 meet":
+                c = int(meet12(self.H, self.P, False, p0W, Qp, LSp))
+            elif self.case == "2, 3 meet":
+                c = _second_two_meet(self.H, self.P, p0W, Qp, LSp)
+            else:                                # SP5, or SP4-SP3-SP1 where axes 2 ∥ 3
+                c = int(position(self.H, self.P, p0W, solvers.SEARCH_N, Qp, LSp))
+            exact = np.flatnonzero(~LSp[:c])[:m]  # a root of q1 may give a least-squares rest while another solves
+            if len(exact):
+                k = len(exact)
+                q[b, :k] = Qp[exact]
+                found[b] = k
+                q[b, k:] = Qp[exact[0]]          # padding, marked unreachable below
+                unreachable[b, k:] = True
+            else:                                # out of reach: the least-squares candidates, or the start
+                k = min(c, m)
+                q[b] = Qp[0] if k else q0phi[b]
+                q[b, :k] = Qp[:k]
+                unreachable[b] = True
+        label = np.broadcast_to(np.array(self.branch_labels, dtype=object), (B, m)).copy()
+
+        def why(i: int) -> str:
+            return _why(int(found[i // m]), m)
+        return Raw(q, label, unreachable, why, np.full((B, m), "", dtype=object), unreachable.copy())
+
+
+def _first_two_parallel(H: Array, P: Array, p0W: Array, Q: Array, LS: NDArray[np.bool_]) -> int:
+    """The positions of a 3R chain whose axes 1 and 2 are parallel, ``p0W = rot(h1, q1) (p_12 + rot(h2, q2)
+    (p_23 + rot(h3, q3) p_3T))``: turning about axes 1 and 2 keeps the component along them, so
+    ``h1 · p0W = h1 · (p_12 + p_23 + rot(h3, q3) p_3T)`` fixes q3 (SP4); then ``|p_12 + rot(h2, q2) w| = |p0W|``
+    fixes q2 (SP3) and ``rot(h1, q1) u = p0W`` q1 (SP1). Up to 4 candidates into ``Q (8, 3)``, each flagged in
+    ``LS`` when a subproblem had only a least-squares answer; returns their count."""
+    from ..geometric.subproblems import rot, sp1, sp3, sp4
+
+    h1, h2, h3 = H[0], H[1], H[2]
+    t3, n3, ls3 = sp4(h1, P[3], h3, float(h1 @ p0W - h1 @ (P[1] + P[2])))
+    reach = float(np.linalg.norm(p0W))
+    m = 0
+    for i in range(n3):
+        w = P[2] + rot(h3, t3[i], P[3])
+        t2, n2, ls2 = sp3(w, -P[1], h2, reach)
+        for j in range(n2):
+            u = P[1] + rot(h2, t2[j], w)
+            t1, ls1 = sp1(u, p0W, h1)
+            Q[m] = (t1, t2[j], t3[i])
+            LS[m] = bool(ls3) or bool(ls2) or bool(ls1)
+            m += 1
+    return m
+
+
+def _meet(form: Any, i: int, size: float) -> bool:
+    """Whether axes ``i`` and ``i + 1`` (0-based) of the chain ``form`` meet, within :data:`MEET_TOL` of its size."""
+    n = np.cross(form.H[i], form.H[i + 1])
+    return bool(abs(float(n @ form.P[i + 1])) < MEET_TOL * size * float(np.linalg.norm(n)))
+
+
+def _second_two_meet(H: Array, P: Array, p0W: Array, Q: Array, LS: NDArray[np.bool_]) -> int:
+    """The positions of a 3R chain whose axes 2 and 3 meet (``p_23 = 0``): ``p0W = rot(h1, q1) p_12 +
+    rot(h1, q1) rot(h2, q2) rot(h3, q3) p_3T``, so the tool point's distance from the common point,
+    ``|p0W - rot(h1, q1) p_12| = |p_3T|``, fixes q1 (SP3), and ``rot(h2, q2) rot(h3, q3) p_3T = rot(h1, -q1) p0W -
+    p_12`` gives q2, q3 (SP2). Up to 4 candidates into ``Q (8, 3)`` (``LS``: a least-squares answer); their count."""
+    from ..geometric.subproblems import rot, sp2, sp3
+
+    h1, h2, h3 = H[0], H[1], H[2]
+    t1, n1, ls1 = sp3(P[1], p0W, h1, float(np.linalg.norm(P[3])))
+    m = 0
+    for i in range(n1):
+        v = rot(h1, -t1[i], p0W) - P[1]
+        a, b, n2, ls2 = sp2(v, P[3], -h2, h3)
+        for j in range(n2):
+            Q[m] = (t1[i], a[j], b[j])
+            LS[m] = bool(ls1) or bool(ls2)
+            m += 1
+    return m

@@ -38,6 +38,7 @@ from typing import Any, Mapping, Sequence
 import numpy as np
 from numpy.typing import NDArray
 
+from ..._text import Fielded
 from ...model.robot import Robot
 from .poe import POE, poe
 from .subproblems import rotm
@@ -379,7 +380,7 @@ class Locked:
         """``why(i)`` of :class:`~armkit.ik.analytic._common.Raw`: ``found (B, V)`` solutions per target and value."""
         names = self.robot.joint_names
         m6, m, V = self.m6, self.m, self.V
-        held = ", ".join(f"{names[k]} at {x:.6g}" for k, x in sorted(self.held.items()))
+        held = ", ".join(f"{names[k]} = {x:.6g}" for k, x in sorted(self.held.items()))
         memo: dict[tuple[int, int], str] = {}
 
         def why(i: int) -> str:
@@ -388,20 +389,29 @@ class Locked:
             text = memo.get((b, v))
             if text is not None:
                 return text
+            # sentences that keep their templates and fields (rendered in the user's language)
             if self.swept is None:
-                where = f"with {held}"
+                where = Fielded.of("with {held}", held=held)
+            elif held:
+                where = Fielded.of("with {joint} = {value} and {held}", joint=names[self.swept[0]],
+                                   value=f"{self.values[v]:.6g}", held=held)
             else:
-                where = f"with {names[self.swept[0]]} at {self.values[v]:.6g}" + (f" and {held}" if held else "")
+                where = Fielded.of("with {joint} = {value}", joint=names[self.swept[0]], value=f"{self.values[v]:.6g}")
             c = int(found[b, v])
-            if c:
-                text = (f"{where} this target has {c} solution{'s' if c > 1 else ''}; the class allows up to {m6}, "
-                        "and this branch is not one of them.")
+            if c == 1:
+                text = Fielded.of("{where} this target has 1 solution; the class allows up to {m}, and this branch "
+                                  "is not one of them.", where=where, m=m6)
+            elif c:
+                text = Fielded.of("{where} this target has {count} solutions; the class allows up to {m}, and this "
+                                  "branch is not one of them.", where=where, count=c, m=m6)
             elif self.swept is not None and found[b].any():
-                text = f"{where} no configuration reaches the target (other values of the sweep do)."
+                text = Fielded.of("{where} no configuration reaches the target (other values of the sweep do).",
+                                  where=where)
             elif V > 1:
-                text = f"{where} no configuration reaches the target (nor at any of the {V} swept values)."
+                text = Fielded.of("{where} no configuration reaches the target (nor at any of the {count} swept "
+                                  "values).", where=where, count=V)
             else:
-                text = f"{where} no configuration reaches the target (the closest is shown)."
+                text = Fielded.of("{where} no configuration reaches the target (the closest is shown).", where=where)
             memo[(b, v)] = text
             return text
         return why
