@@ -109,6 +109,10 @@ def _exercise_families() -> None:
     ik_all(stanford, fk(stanford, stanford.random_q(4, rng=5)))   # a few targets: one call each
     iiwa = load("iiwa14")                      # the sweep of 7-joint arms (solvers._sweep, ik.geometric.locked)
     ik_all(iiwa, fk(iiwa, iiwa.random_q(rng=3)))
+    for a1 in (0.3, 0.0):                      # any other 3R arm (ik.analytic.geometric.Geometric3R): SP5, and SP3
+        arm = Robot([Joint(d=0.1, a=a1, alpha=0.7), Joint(d=0.2, a=0.5, alpha=-1.1),     # + SP2 where axes 1, 2 meet
+                     Joint(a=0.4, alpha=0.4)], name="three")
+        ik_all(arm, fk(arm, arm.random_q(rng=2))[:3, 3])
 
 
 def _exercise_searches() -> None:

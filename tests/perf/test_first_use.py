@@ -209,11 +209,11 @@ def test_a_warm_up_cut_short_after_its_first_phase_is_finished_in_the_background
 def test_after_the_warm_up_the_so101_searches_and_scenes_compile_nothing_more():
     """Every kernel a user's call needs is in the warm-up: in a fresh process (the run's own cache, so the kernels
     load instead of compiling), the warm-up's exercises run first, then calls it does not make itself (other
-    targets, the LeRobot class's steps, another general 6R, a scene with every primitive): no Numba function
-    of armkit gains a signature. The first ``armkit.ik(so101, xyz)`` after ``armkit warmup`` compiled for 49 s
+    targets, the LeRobot class's steps, another general 6R, 3R arms of each case, a scene with every primitive): no
+    Numba function of armkit gains a signature. The first ``armkit.ik(so101, xyz)`` after ``armkit warmup`` compiled for 49 s
     before the SO-101's position IK was in the warm-up."""
     code = """
-        import json, sys
+        import json, sys, types
         import numpy as np
         import armkit
         from armkit import warmup as _
@@ -229,6 +229,10 @@ def test_after_the_warm_up_the_so101_searches_and_scenes_compile_nothing_more():
                     for attr, f in list(vars(mod).items()):
                         if isinstance(f, Dispatcher):
                             out[f"{name}.{attr}"] = len(f.signatures)
+                        elif isinstance(f, types.SimpleNamespace):   # a module's compiled set (kernels())
+                            for part, g in vars(f).items():
+                                if isinstance(g, Dispatcher):
+                                    out[f"{name}.{attr}.{part}"] = len(g.signatures)
             return out
 
         with _jit_loader.compiling_here(parallel=True, backend="numba"):
@@ -252,6 +256,10 @@ def test_after_the_warm_up_the_so101_searches_and_scenes_compile_nothing_more():
                 cur = kin.inverse_kinematics(cur, X)
             general = W._chain(21)
             armkit.ik_all(general, armkit.fk(general, general.random_q(rng=3)))
+            for a1, al2, a2 in ((0.25, -0.9, 0.4), (0.0, -0.9, 0.4), (0.25, 0.0, 0.4), (0.25, -0.9, 0.0)):
+                three = armkit.Robot([armkit.Joint(d=0.15, a=a1, alpha=0.6), armkit.Joint(d=0.1 if a2 else 0.0, a=a2,
+                                      alpha=al2), armkit.Joint(a=0.3, alpha=0.2)], name="three")   # other 3R arms of
+                armkit.ik_all(three, armkit.fk(three, three.random_q(rng=5))[:3, 3])   # each case, meeting, parallel
             fighter = armkit.load("fighter")
             scene = armkit.Scene([armkit.Scene.plane([0, 0, 1], -5.0), armkit.Scene.box([150, 0, 100], [40, 40, 40]),
                                   armkit.Scene.sphere([0, 150, 100], 20), armkit.Scene.cylinder([-150, 0, 100], 15, 60),
