@@ -1,4 +1,5 @@
-"""Position IK of any 3R arm by subproblems (the ``geometric-3r`` family), against independent references.
+"""Position IK of any 3R (and spatial 2R) arm by subproblems (the ``geometric-3r`` and ``geometric-2r`` families),
+against independent references.
 
 The laws: every successful branch puts the tool point on the target (FK of the robot, not of the solver's
 chain) and the configuration the target was made from is one of them; no solution found by Levenberg-Marquardt
@@ -17,7 +18,7 @@ from hypothesis import strategies as st
 import armkit
 from armkit import Joint, Robot, _jit_loader
 from armkit.ik.analytic import closed_form, solve_all
-from armkit.ik.analytic.geometric import Geometric3R
+from armkit.ik.analytic.geometric import Geometric2R, Geometric3R
 from armkit.ik.geometric.classify import classify
 from armkit.ik.geometric.poe import poe
 
@@ -148,3 +149,34 @@ def test_classes_without_a_finite_answer_are_left_to_the_numeric_solvers():
     assert classify(planar).name == "3R-planar" and not isinstance(closed_form(planar), Geometric3R)
     on_axis = _arm([[0.1, 0.2, 0.3, 0.7], [0.2, 0.1, 0.4, -0.9], [0.3, 0.0, 0.0, 0.0]], "modified")
     assert Geometric3R.detect(None, on_axis) is None     # the tool point on axis 3: joint 3 does not move it
+
+
+# ---------------------------------------------------------------- spatial 2R arms (the geometric-2r family)
+@pytest.mark.parametrize("meet", [False, True], ids=["offset shoulder", "pan-tilt"])
+def test_two_joints_every_branch_reaches_the_target_and_the_start_is_among_them(meet):
+    g = np.random.default_rng(7 if meet else 8)
+    counts = []
+    for t in range(60):
+        rows = g.uniform(-1.0, 1.0, (2, 4))
+        if meet:
+            rows[0, 2] = 0.0                         # a1 = 0: the two axes meet (a pan-tilt head)
+        arm = _arm(rows.tolist(), tool_xyz=g.uniform(-0.5, 0.5, 3))
+        family = closed_form(arm)
+        assert isinstance(family, Geometric2R) and family.case == ("1, 2 meet" if meet else "general")
+        q = arm.random_q(rng=t)
+        p = armkit.fk(arm, q)[:3, 3]
+        res = armkit.ik_all(arm, p, enforce_limits=False)
+        ok = np.asarray(res.success)
+        counts.append(int(ok.sum()))
+        assert np.abs(armkit.fk(arm, res.q[ok])[:, :3, 3] - p).max() <= 1e-9
+        assert _has(res.q[ok], q, 1e-6)
+    # a pan-tilt reaches each point of its sphere twice (pan by pi, tilt mirrored); an offset shoulder once
+    assert set(counts) == ({2} if meet else {1})
+
+
+def test_two_joints_off_their_surface_say_unreachable():
+    arm = _arm([[0.1, 0.2, 0.3, 0.7], [0.0, 0.1, 0.4, 0.0]], tool_xyz=(0.2, 0.1, 0.0))
+    p = armkit.fk(arm, np.array([0.4, -0.3]))[:3, 3] + np.array([0.0, 0.0, 0.2])
+    res = armkit.ik_all(arm, p)
+    assert not np.asarray(res.success).any() and set(res.reason) == {"unreachable"}
+    assert np.all(np.asarray(res.position_error) > 1e-3)

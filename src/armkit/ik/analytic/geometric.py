@@ -246,7 +246,7 @@ and polished on the robot. Every branch is
     target_kind = "position"
     polish_above = 1e-12
     m = 4
-    branch_labels = ("s1", "s2", "s3", "s4")
+    branch_labels: tuple[str, ...] = ("s1", "s2", "s3", "s4")
     geometry = None      # no one-call kernel of its own: the one-call path verifies the solve's branches in one call
 
     def __init__(self, robot: Robot, form: Any, chain_class: Any) -> None:
@@ -385,3 +385,96 @@ def _second_two_meet(H: Array, P: Array, p0W: Array, Q: Array, LS: NDArray[np.bo
             LS[m] = bool(ls1) or bool(ls2)
             m += 1
     return m
+
+
+class Geometric2R(Geometric3R):
+    """Every branch of a position target for a spatial 2R arm (classes ``2R-general`` and ``2R-intersecting``: a
+    pan-tilt head, a shoulder with an offset; the planar 2R has a family of its own).
+
+    The tool point is ``p = p_01 + rot(h1, q1) (p_12 + rot(h2, q2) p_2T)``: where the axes meet (``p_12 = 0`` on the
+    ideal chain) SP2 gives both angles; otherwise the distance from axis 1's point, ``|p - p_01| = |p_12 + rot(h2,
+    q2) p_2T|``, gives q2 (SP3) and SP1 q1. Two joints reach a surface, not every point: a target off it gets the
+    least-squares candidates, marked unreachable, with the distance left in ``position_error``.
+    """
+
+    family = "geometric-2r"
+    m = 2
+    branch_labels = ("s1", "s2")
+
+    def __init__(self, robot: Robot, form: Any, chain_class: Any) -> None:
+        from ..geometric.solvers_chain import align
+
+        size = max(float(robot.reach), 1e-300)
+        meet = [(0, 1)] if _meet(form, 0, size) else []
+        ideal, dev = align(form, tuple(meet), ())
+        self.robot = robot
+        self.chain_class = chain_class
+        self.H = np.array(ideal.H, dtype=float, order="C")
+        self.P = np.array(ideal.P, dtype=float, order="C")
+        self.case = "1, 2 meet" if meet else "general"
+        eye = np.eye(4)
+        zero = np.zeros(2)
+        self.sf = StandardForm(zero, zero, zero, zero, eye, eye, eye, eye, float(robot.reach), exact=dev < 1e-13)
+
+    @classmethod
+    def detect(cls, sf: StandardForm | None, robot: Robot) -> "Geometric2R | None":   # type: ignore[override]
+        """The family for a 2-joint revolute arm of the classes above whose tool point is off axis 2, else None."""
+        if robot.n != 2 or any(robot.chain.prismatic):
+            return None
+        from ..geometric.classify import classify
+        from ..geometric.poe import poe
+
+        cls_ = classify(robot)
+        if cls_.degenerate or cls_.name not in ("2R-general", "2R-intersecting"):
+            return None
+        form = poe(robot)
+        if np.linalg.norm(np.cross(form.H[1], form.P[2])) < PARALLEL_TOL * max(float(robot.reach), 1e-300):
+            return None     # the tool point on axis 2: joint 2 does not move it
+        return cls(robot, form, cls_)
+
+    def _candidates(self, p0W: Array, Q: Array, LS: NDArray[np.bool_]) -> int:
+        from ..geometric.subproblems import rot, sp1, sp2, sp3
+
+        h1, h2 = self.H[0], self.H[1]
+        P = self.P
+        if self.case == "1, 2 meet":
+            a, b, n, ls = sp2(p0W, P[2], -h1, h2)      # rot(h1, q1) rot(h2, q2) p_2T = p0W
+            for j in range(n):
+                Q[j, :2] = (a[j], b[j])
+                LS[j] = bool(ls)
+            return int(n)
+        t2, n2, ls2 = sp3(P[2], -P[1], h2, float(np.linalg.norm(p0W)))
+        for j in range(n2):
+            t1, ls1 = sp1(P[1] + rot(h2, t2[j], P[2]), p0W, h1)
+            Q[j, :2] = (t1, t2[j])
+            LS[j] = bool(ls1) or bool(ls2)
+        return int(n2)
+
+    def solve(self, target: Array, q0phi: Array) -> Raw:
+        """Every branch for position targets ``(B, 3)`` (or the positions of poses ``(B, 4, 4)``)."""
+        pts = target[:, :3, 3] if target.ndim == 3 else target
+        B, m = len(pts), self.m
+        q = np.zeros((B, m, 2))
+        unreachable = np.zeros((B, m), dtype=bool)
+        found = np.zeros(B, dtype=np.int64)
+        Qp = np.zeros((4, 3))
+        LSp = np.zeros(4, dtype=np.bool_)
+        for b in range(B):
+            c = self._candidates(np.asarray(pts[b] - self.P[0], dtype=float), Qp, LSp)
+            exact = np.flatnonzero(~LSp[:c])[:m]
+            if len(exact):
+                k = len(exact)
+                q[b, :k] = Qp[exact, :2]
+                found[b] = k
+                q[b, k:] = Qp[exact[0], :2]
+                unreachable[b, k:] = True
+            else:
+                k = min(c, m)
+                q[b] = Qp[0, :2] if k else q0phi[b]
+                q[b, :k] = Qp[:k, :2]
+                unreachable[b] = True
+        label = np.broadcast_to(np.array(self.branch_labels, dtype=object), (B, m)).copy()
+
+        def why(i: int) -> str:
+            return _why(int(found[i // m]), m)
+        return Raw(q, label, unreachable, why, np.full((B, m), "", dtype=object), unreachable.copy())
