@@ -263,10 +263,10 @@ KEYED = (
     N_("{n} joints cannot reach {what}; the nearest pose found misses by {angle} and {distance}"),
     N_("an arbitrary orientation"),
     N_("this position and pointing direction"),
-    N_("robot {robot!r} ({n} DOF {types}) has no closed form in armkit: it solves 2R and 3R planar arms, "
-       "yaw-pitch-pitch 3R, yaw + three pitch joints (+ roll), 6R arms (by subproblems, or a 1-D or 2-D search "
-       "where the axes need one; a prismatic joint where the class allows it, as in the Stanford arm) and 7-joint "
-       "arms with a joint held (fixed=) or swept (ik_all); use method='lm'"),
+    N_("robot {robot!r} ({n} DOF {types}) has no closed form in armkit: it solves 2R and 3R arms (a position; a "
+       "planar 3R with the end angle), yaw + three pitch joints (+ roll), 6R arms (by subproblems, or a 1-D or "
+       "2-D search where the axes need one; a prismatic joint where the class allows it, as in the Stanford arm) "
+       "and 7-joint arms with a joint held (fixed=) or swept (ik_all); use method='lm'"),
     N_("robot {robot!r} ({family}, {n} joints) has a closed form for a position and the tool pitch: give "
        "pitch= (rad); for a position alone, a pointing direction (direction=) or a pose use method='lm' "
        "(armkit.ik's default)"),
