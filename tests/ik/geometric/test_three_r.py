@@ -18,7 +18,7 @@ from hypothesis import strategies as st
 import armkit
 from armkit import Joint, Robot, _jit_loader
 from armkit.ik.analytic import closed_form, solve_all
-from armkit.ik.analytic.geometric import Geometric2R, Geometric3R
+from armkit.ik.analytic.geometric import Geometric1R, Geometric2R, Geometric3R
 from armkit.ik.geometric.classify import classify
 from armkit.ik.geometric.poe import poe
 
@@ -180,3 +180,20 @@ def test_two_joints_off_their_surface_say_unreachable():
     res = armkit.ik_all(arm, p)
     assert not np.asarray(res.success).any() and set(res.reason) == {"unreachable"}
     assert np.all(np.asarray(res.position_error) > 1e-3)
+
+
+def test_one_joint_turns_the_tool_point_onto_the_target_or_says_how_far_it_is():
+    arm = Robot([Joint("revolute", 0.1, 0.2, 0.3, 0.7, -np.pi, np.pi)], tool=_arm([[0, 0, 0, 0]] * 3,
+                                                                                   tool_xyz=(0.2, 0.1, 0.3)).tool)
+    assert isinstance(closed_form(arm), Geometric1R)
+    for t in range(20):
+        q = arm.random_q(rng=t)
+        res = armkit.ik_all(arm, armkit.fk(arm, q)[:3, 3])
+        assert bool(res.success[0]) and abs(np.angle(np.exp(1j * (res.q[0, 0] - q[0])))) <= 1e-12
+    # off the circle: the nearest angle (a dense scan of the turn agrees), reported unreachable
+    p = np.array([0.3, -0.2, 0.1])
+    res = armkit.ik(arm, p)
+    assert not bool(res.success) and str(res.reason) == "unreachable"
+    scan = np.linspace(-np.pi, np.pi, 20001)[:, None]
+    miss = np.linalg.norm(armkit.fk(arm, scan)[:, :3, 3] - p, axis=1)
+    assert float(res.position_error) <= miss.min() + 1e-9

@@ -399,7 +399,7 @@ class Geometric2R(Geometric3R):
 
     family = "geometric-2r"
     m = 2
-    branch_labels = ("s1", "s2")
+    branch_labels: tuple[str, ...] = ("s1", "s2")
 
     def __init__(self, robot: Robot, form: Any, chain_class: Any) -> None:
         from ..geometric.solvers_chain import align
@@ -453,8 +453,8 @@ class Geometric2R(Geometric3R):
     def solve(self, target: Array, q0phi: Array) -> Raw:
         """Every branch for position targets ``(B, 3)`` (or the positions of poses ``(B, 4, 4)``)."""
         pts = target[:, :3, 3] if target.ndim == 3 else target
-        B, m = len(pts), self.m
-        q = np.zeros((B, m, 2))
+        B, m, n = len(pts), self.m, self.robot.n
+        q = np.zeros((B, m, n))
         unreachable = np.zeros((B, m), dtype=bool)
         found = np.zeros(B, dtype=np.int64)
         Qp = np.zeros((4, 3))
@@ -464,17 +464,59 @@ class Geometric2R(Geometric3R):
             exact = np.flatnonzero(~LSp[:c])[:m]
             if len(exact):
                 k = len(exact)
-                q[b, :k] = Qp[exact, :2]
+                q[b, :k] = Qp[exact, :n]
                 found[b] = k
-                q[b, k:] = Qp[exact[0], :2]
+                q[b, k:] = Qp[exact[0], :n]
                 unreachable[b, k:] = True
             else:
                 k = min(c, m)
-                q[b] = Qp[0, :2] if k else q0phi[b]
-                q[b, :k] = Qp[:k, :2]
+                q[b] = Qp[0, :n] if k else q0phi[b]
+                q[b, :k] = Qp[:k, :n]
                 unreachable[b] = True
         label = np.broadcast_to(np.array(self.branch_labels, dtype=object), (B, m)).copy()
 
         def why(i: int) -> str:
             return _why(int(found[i // m]), m)
         return Raw(q, label, unreachable, why, np.full((B, m), "", dtype=object), unreachable.copy())
+
+
+class Geometric1R(Geometric2R):
+    """The one branch of a position target for a single revolute joint (class ``1R``): the tool point turns on a
+    circle about the axis, ``p = p_01 + rot(h1, q1) p_1T``, and SP1 gives q1; a target off the circle is reported
+    unreachable with the nearest angle."""
+
+    family = "geometric-1r"
+    m = 1
+    branch_labels = ("s1",)
+
+    def __init__(self, robot: Robot, form: Any, chain_class: Any) -> None:
+        self.robot = robot
+        self.chain_class = chain_class
+        self.H = np.array(form.H, dtype=float, order="C")
+        self.P = np.array(form.P, dtype=float, order="C")
+        self.case = "1R"
+        eye = np.eye(4)
+        zero = np.zeros(1)
+        self.sf = StandardForm(zero, zero, zero, zero, eye, eye, eye, eye, float(robot.reach), exact=True)
+
+    @classmethod
+    def detect(cls, sf: StandardForm | None, robot: Robot) -> "Geometric1R | None":   # type: ignore[override]
+        """The family for a single revolute joint whose tool point is off its axis, else None."""
+        if robot.n != 1 or any(robot.chain.prismatic):
+            return None
+        from ..geometric.classify import classify
+        from ..geometric.poe import poe
+
+        form = poe(robot)
+        if np.linalg.norm(np.cross(form.H[0], form.P[1])) < PARALLEL_TOL * max(float(robot.reach), 1e-300):
+            return None     # the tool point on the axis: the joint does not move it
+        return cls(robot, form, classify(robot))
+
+    def _candidates(self, p0W: Array, Q: Array, LS: NDArray[np.bool_]) -> int:
+        from ..geometric.subproblems import sp1
+
+        t, ls = sp1(self.P[1], p0W, self.H[0])
+        Q[0, 0] = t
+        LS[0] = bool(ls)
+        return 1
+
