@@ -231,14 +231,13 @@ class Geometric3R:
     The tool point is ``p = p_01 + rot(h1, q1) (p_12 + rot(h2, q2) (p_23 + rot(h3, q3) p_3T))`` (the chain's
     product-of-exponentials form, :mod:`armkit.ik.geometric.poe`), solved as the spherical wrist's position
     part is (:func:`armkit.ik.geometric.solvers_wrist._pos_general`): SP5 (a quartic, up to 4 solutions) in
-    general, SP4 then SP3 and SP1 where axes 2 ∥ 3, and where axes 1 ∥ 2 the mirror of that: the component along
-axis 1 fixes q3 (SP4), the distance from axis 1 then q2 (SP3), and q1 turns the rest onto the target (SP1)
-(:func:`_first_two_parallel`). Where axes 1 and 2 meet, the distance from their common point fixes q3 (SP3) and
-SP2 gives q1, q2; where axes 2 and 3 meet, the distance from theirs fixes q1 (SP3) and SP2 gives q2, q3
-(:func:`_second_two_meet`). Axes that nearly meet or are nearly parallel are solved on the nearest ideal chain
-and polished on the robot. Every branch is
-    verified by FK of the robot (:func:`armkit.ik.analytic.solve_all`); a target out of reach gets the
-    least-squares candidates, marked unreachable.
+    general, SP4 then SP3 and SP1 where axes 2 ∥ 3, and where axes 1 ∥ 2 the mirror of that: the component
+    along axis 1 fixes q3 (SP4), the distance from axis 1 then q2 (SP3), and q1 turns the rest onto the target
+    (SP1) (:func:`_first_two_parallel`). Where axes 1 and 2 meet, the distance from their common point fixes q3
+    (SP3) and SP2 gives q1, q2; where axes 2 and 3 meet, the distance from theirs fixes q1 (SP3) and SP2 gives
+    q2, q3 (:func:`_second_two_meet`). Axes that are nearly parallel are solved on the nearest ideal chain and
+    polished on the robot. Every branch is verified by FK of the robot (:func:`armkit.ik.analytic.solve_all`); a
+    target out of reach gets the least-squares candidates, marked unreachable.
     """
 
     family = "geometric-3r"
@@ -294,41 +293,46 @@ and polished on the robot. Every branch is
     def reach_why(self, lateral_out: bool, rho: float, r: float, target: Array | None) -> str:
         return _why(int(rho), self.m)
 
+    def _candidates(self, p0W: Array, Q: Array, LS: NDArray[np.bool_], K: Any) -> int:
+        """The solutions of ``p0W = p - p_01`` (least-squares ones flagged in ``LS``) into the rows of ``Q (8, 3)``;
+        their count. ``K``: the compiled solvers (None: their Python functions)."""
+        from ..geometric import solvers
+
+        if self.case == "1 || 2":
+            return _first_two_parallel(self.H, self.P, p0W, Q, LS)
+        if self.case == "2, 3 meet":
+            return _second_two_meet(self.H, self.P, p0W, Q, LS)
+        if self.case == "1, 2 meet":
+            meet12 = K._pos_two_intersecting if K is not None else solvers._pos_two_intersecting
+            return int(meet12(self.H, self.P, False, p0W, Q, LS))
+        position = K._pos_general if K is not None else solvers._pos_general    # SP5, or SP4-SP3-SP1 (2 ∥ 3)
+        return int(position(self.H, self.P, p0W, solvers.SEARCH_N, Q, LS))
+
     def solve(self, target: Array, q0phi: Array) -> Raw:
         """Every branch for position targets ``(B, 3)`` (or the positions of poses ``(B, 4, 4)``)."""
         from ..geometric import solvers
 
         pts = target[:, :3, 3] if target.ndim == 3 else target
-        B, m = len(pts), self.m
+        B, m, n = len(pts), self.m, self.robot.n
         K = solvers.kernels() if solvers._use_jit(None) else None
-        position = K._pos_general if K is not None else solvers._pos_general
-        meet12 = K._pos_two_intersecting if K is not None else solvers._pos_two_intersecting
-        q = np.zeros((B, m, 3))
+        q = np.zeros((B, m, n))
         unreachable = np.zeros((B, m), dtype=bool)
         found = np.zeros(B, dtype=np.int64)
         Qp = np.zeros((8, 3))
         LSp = np.zeros(8, dtype=np.bool_)
         for b in range(B):
-            p0W = np.ascontiguousarray(pts[b] - self.P[0], dtype=float)
-            if self.case == "1 || 2":
-                c = _first_two_parallel(self.H, self.P, p0W, Qp, LSp)
-            elif self.case == "1, 2 meet":
-                c = int(meet12(self.H, self.P, False, p0W, Qp, LSp))
-            elif self.case == "2, 3 meet":
-                c = _second_two_meet(self.H, self.P, p0W, Qp, LSp)
-            else:                                # SP5, or SP4-SP3-SP1 where axes 2 ∥ 3
-                c = int(position(self.H, self.P, p0W, solvers.SEARCH_N, Qp, LSp))
+            c = self._candidates(np.ascontiguousarray(pts[b] - self.P[0], dtype=float), Qp, LSp, K)
             exact = np.flatnonzero(~LSp[:c])[:m]  # a root of q1 may give a least-squares rest while another solves
             if len(exact):
                 k = len(exact)
-                q[b, :k] = Qp[exact]
+                q[b, :k] = Qp[exact, :n]
                 found[b] = k
-                q[b, k:] = Qp[exact[0]]          # padding, marked unreachable below
+                q[b, k:] = Qp[exact[0], :n]      # padding, marked unreachable below
                 unreachable[b, k:] = True
             else:                                # out of reach: the least-squares candidates, or the start
                 k = min(c, m)
-                q[b] = Qp[0] if k else q0phi[b]
-                q[b, :k] = Qp[:k]
+                q[b] = Qp[0, :n] if k else q0phi[b]
+                q[b, :k] = Qp[:k, :n]
                 unreachable[b] = True
         label = np.broadcast_to(np.array(self.branch_labels, dtype=object), (B, m)).copy()
 
@@ -432,7 +436,7 @@ class Geometric2R(Geometric3R):
             return None     # the tool point on axis 2: joint 2 does not move it
         return cls(robot, form, cls_)
 
-    def _candidates(self, p0W: Array, Q: Array, LS: NDArray[np.bool_]) -> int:
+    def _candidates(self, p0W: Array, Q: Array, LS: NDArray[np.bool_], K: Any) -> int:
         from ..geometric.subproblems import rot, sp1, sp2, sp3
 
         h1, h2 = self.H[0], self.H[1]
@@ -449,35 +453,6 @@ class Geometric2R(Geometric3R):
             Q[j, :2] = (t1, t2[j])
             LS[j] = bool(ls1) or bool(ls2)
         return int(n2)
-
-    def solve(self, target: Array, q0phi: Array) -> Raw:
-        """Every branch for position targets ``(B, 3)`` (or the positions of poses ``(B, 4, 4)``)."""
-        pts = target[:, :3, 3] if target.ndim == 3 else target
-        B, m, n = len(pts), self.m, self.robot.n
-        q = np.zeros((B, m, n))
-        unreachable = np.zeros((B, m), dtype=bool)
-        found = np.zeros(B, dtype=np.int64)
-        Qp = np.zeros((4, 3))
-        LSp = np.zeros(4, dtype=np.bool_)
-        for b in range(B):
-            c = self._candidates(np.asarray(pts[b] - self.P[0], dtype=float), Qp, LSp)
-            exact = np.flatnonzero(~LSp[:c])[:m]
-            if len(exact):
-                k = len(exact)
-                q[b, :k] = Qp[exact, :n]
-                found[b] = k
-                q[b, k:] = Qp[exact[0], :n]
-                unreachable[b, k:] = True
-            else:
-                k = min(c, m)
-                q[b] = Qp[0, :n] if k else q0phi[b]
-                q[b, :k] = Qp[:k, :n]
-                unreachable[b] = True
-        label = np.broadcast_to(np.array(self.branch_labels, dtype=object), (B, m)).copy()
-
-        def why(i: int) -> str:
-            return _why(int(found[i // m]), m)
-        return Raw(q, label, unreachable, why, np.full((B, m), "", dtype=object), unreachable.copy())
 
 
 class Geometric1R(Geometric2R):
@@ -512,7 +487,7 @@ class Geometric1R(Geometric2R):
             return None     # the tool point on the axis: the joint does not move it
         return cls(robot, form, classify(robot))
 
-    def _candidates(self, p0W: Array, Q: Array, LS: NDArray[np.bool_]) -> int:
+    def _candidates(self, p0W: Array, Q: Array, LS: NDArray[np.bool_], K: Any) -> int:
         from ..geometric.subproblems import sp1
 
         t, ls = sp1(self.P[1], p0W, self.H[0])
