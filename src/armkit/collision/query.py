@@ -406,7 +406,7 @@ def _frames(robot: Robot, q: Array, flange: Array | None) -> Array:
 
 def _evaluate(robot: Robot, geo: ArmGeometry, q: Array, scene_pairs: list[tuple[int, Shape]],
               self_pairs: Sequence[tuple[int, int]], only_min: bool = False, stop: float = -np.inf
-              ) -> tuple[Array | None, Array, NDArray[np.int64]]:
+              ) -> tuple[Array | None, Array, NDArray[np.int64] | None]:
     """``(distances (B, P) or None, min (B,), argmin (B,))`` by the Numba kernels where they apply, NumPy/coal otherwise."""
     B = q.shape[0]
     P = len(scene_pairs) + len(self_pairs)
@@ -427,9 +427,10 @@ def _evaluate(robot: Robot, geo: ArmGeometry, q: Array, scene_pairs: list[tuple[
                          only_min, stop)
 
 
-def _evaluate_prepared(robot: Robot, rec: _Prepared, q: Array, only_min: bool = False, stop: float = -np.inf
-                       ) -> tuple[Array | None, Array, NDArray[np.int64]]:
-    """:func:`_evaluate` of a prepared check: the same kernels and results, without rebuilding its parts."""
+def _evaluate_prepared(robot: Robot, rec: _Prepared, q: Array, only_min: bool = False, stop: float = -np.inf,
+                       closest: bool = True) -> tuple[Array | None, Array, NDArray[np.int64] | None]:
+    """:func:`_evaluate` of a prepared check: the same kernels and results, without rebuilding its parts.
+    ``closest=False``: the caller reads the distances only, and the closest pairs may be left out (None)."""
     if not rec.scene_pairs and not rec.self_pairs or q.shape[0] > BLOCK:
         return _evaluate(robot, rec.geo, q, rec.scene_pairs, rec.self_pairs, only_min, stop)
     _jit = _kernels()
@@ -438,18 +439,20 @@ def _evaluate_prepared(robot: Robot, rec: _Prepared, q: Array, only_min: bool = 
     if rec.pack is None:
         rec.pack = _packed(robot, rec.geo, rec.scene_pairs, rec.self_pairs)
     frames = np.ascontiguousarray(_frames(robot, q, rec.flange))
-    return _evaluate_jit(_jit, rec.geo, frames, rec.pack, rec.scene_pairs, rec.self_pairs, only_min, stop)
+    return _evaluate_jit(_jit, rec.geo, frames, rec.pack, rec.scene_pairs, rec.self_pairs, only_min, stop, closest)
 
 
 def _evaluate_jit(_jit: Any, geo: ArmGeometry, frames: Array, pack: tuple, scene_pairs: list[tuple[int, Shape]],
-                  self_pairs: Sequence[tuple[int, int]], only_min: bool, stop: float
-                  ) -> tuple[Array | None, Array, NDArray[np.int64]]:
+                  self_pairs: Sequence[tuple[int, int]], only_min: bool, stop: float, closest: bool = True
+                  ) -> tuple[Array | None, Array, NDArray[np.int64] | None]:
     """:func:`_evaluate` on the Numba back end for one block of chain ``frames`` and its :func:`_packed` items."""
     B = frames.shape[0]
     packed, pairs, cols, rest = pack
     if only_min:
         dist, arg = _jit.min_distance(frames, packed, pairs, stop) if len(pairs) else (
             np.full(B, np.inf), np.full(B, -1, dtype=np.int64))
+        if not closest and not len(rest):   # the distances alone (IK's yes/no check on every call)
+            return None, dist, None
         arg = np.where(arg >= 0, cols[np.maximum(arg, 0)] if len(cols) else -1, -1)
         if len(rest):
             sp = [scene_pairs[c] for c in rest if c < len(scene_pairs)]
@@ -517,7 +520,7 @@ def collisions(robot: Robot, q: ArrayLike, scene: Scene | Sequence[Shape] | str 
 def _collisions(robot: Robot, rec: _Prepared, q: Array, lead: tuple[int, ...]) -> Collisions:
     """:func:`collisions` of checked ``q`` ``(B, n)`` by a prepared check, shaped ``lead``."""
     d, dist, closest = _evaluate_prepared(robot, rec, q)
-    assert d is not None
+    assert d is not None and closest is not None
     return Collisions(colliding=(dist < 0).reshape(lead), distance=dist.reshape(lead), pairs=rec.names,
                       distances=d.reshape(lead + (d.shape[1],)), closest=closest.reshape(lead), unit=robot.unit)
 
@@ -531,7 +534,7 @@ def clearance(robot: Robot, q: ArrayLike, scene: Scene | Sequence[Shape] | str |
     sc = as_scene(robot, scene)
     qa = robot.check_q(q)
     _, dist, _ = _evaluate_prepared(robot, _prepared(robot, sc, self_collision), qa.reshape(-1, robot.n),
-                                    only_min=True)
+                                    only_min=True, closest=False)
     return dist.reshape(qa.shape[:-1])
 
 
@@ -545,7 +548,7 @@ def in_collision(robot: Robot, q: ArrayLike, scene: Scene | Sequence[Shape] | st
     sc = as_scene(robot, scene)
     qa = robot.check_q(q)
     _, dist, _ = _evaluate_prepared(robot, _prepared(robot, sc, self_collision), qa.reshape(-1, robot.n),
-                                    only_min=True, stop=0.0)
+                                    only_min=True, stop=0.0, closest=False)
     return (dist < 0).reshape(qa.shape[:-1])
 
 
@@ -568,22 +571,10 @@ def colliding_rows(robot: Robot, q: Array, scene: Scene, messages: bool = True) 
     if scene.unit != robot.unit:
         scene = as_scene(robot, scene)
     rec = _prepared(robot, scene, True)
-    rows = np.flatnonzero(_overlap_depths(robot, rec, q) < 0)
+    rows = np.flatnonzero(_evaluate_prepared(robot, rec, q, only_min=True, stop=0.0, closest=False)[1] < 0)
     if not len(rows) or not messages:
         return rows, []
     return rows, _row_messages(robot, rec, q[rows])
-
-
-def _overlap_depths(robot: Robot, rec: _Prepared, q: Array) -> Array:
-    """Per configuration of ``q (B, n)``, a number < 0 where the arm overlaps (the depth of the first pair found),
-    else the smallest distance: :func:`_evaluate_prepared` with ``stop=0``, calling the kernel directly on the
-    usual path (the Numba back end, every pair compiled, one block), which IK with a scene takes on every call."""
-    pack = rec.pack
-    if pack is not None and not len(pack[3]) and len(pack[1]) and q.shape[0] <= BLOCK:
-        _jit = _kernels()
-        if _jit is not None:
-            return _jit.min_distance(np.ascontiguousarray(_frames(robot, q, rec.flange)), pack[0], pack[1], 0.0)[0]
-    return _evaluate_prepared(robot, rec, q, only_min=True, stop=0.0)[1]
 
 
 def row_messages(robot: Robot, q: Array, scene: Scene) -> list[str]:
