@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import importlib
 import math
-from typing import Any, Literal, Optional
+from typing import Any, Callable, Literal, Optional
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -236,6 +236,13 @@ def _raise_if_unreachable(res: IKResult) -> None:
 
 
 # --------------------------------------------------------------------------- solvers
+def _refused(why_not: list[str] | None, sentence: Callable[[], str]) -> None:
+    """No closed-form solver: the reason ``sentence()`` appended to ``why_not``, made only where one is wanted."""
+    if why_not is not None:
+        why_not.append(sentence())
+    return None
+
+
 def _analytic_solver(robot: Robot, position_only: bool, why_not: list[str] | None, pitch: bool = False):
     """The closed-form solver that answers ``robot`` for this kind of target, or None with the reason appended to
     ``why_not`` (None: the caller falls back to LM and reads no reason, so none is written)."""
@@ -245,38 +252,28 @@ def _analytic_solver(robot: Robot, position_only: bool, why_not: list[str] | Non
 
     solver = closed_form(robot)
     if solver is None:
-        if why_not is None:
-            return None
-        why_not.append(Fielded.of("robot {robot!r} ({n} DOF {types}) has no closed form in armkit: it solves 2R and "
-                                  "3R arms (a position; a planar 3R with the end angle), yaw + three pitch joints (+ "
-                                  "roll), 6R arms (by "
-                                  "subproblems, or a 1-D or 2-D search where the axes need one; a prismatic joint where "
-                                  "the class allows it, as in the Stanford arm) and 7-joint arms with a joint held "
-                                  "(fixed=) or swept (ik_all); use method='lm'", robot=robot.name, n=robot.n,
-                                  types=robot.joint_types))
-        return None
+        return _refused(why_not, lambda: Fielded.of(
+            "robot {robot!r} ({n} DOF {types}) has no closed form in armkit: it solves 2R and 3R arms (a position; a "
+            "planar 3R with the end angle), yaw + three pitch joints (+ roll), 6R arms (by subproblems, or a 1-D or "
+            "2-D search where the axes need one; a prismatic joint where the class allows it, as in the Stanford arm) "
+            "and 7-joint arms with a joint held (fixed=) or swept (ik_all); use method='lm'", robot=robot.name,
+            n=robot.n, types=robot.joint_types))
     if pitch != (getattr(solver, "target_kind", None) == "pitch"):   # position + tool pitch: armkit.ik.partial
-        if why_not is None:
-            return None
-        why_not.append(Fielded.of(
+        return _refused(why_not, lambda: Fielded.of(
             "robot {robot!r} ({family}, {n} joints) has a closed form for a position and the tool pitch: give pitch= "
             "(rad); for a position alone, a pointing direction (direction=) or a pose use method='lm' (armkit.ik's "
             "default)" if not pitch else
             "robot {robot!r} ({family}, {n} joints) has no closed form for a position and a pitch (pitch= is for arms "
             "with a yaw joint and three parallel pitch joints, like the SO-101); leave pitch out",
             robot=robot.name, family=solver.family, n=robot.n))
-        return None
     if pitch:
         return solver
     if position_only and solver.pose_only:
-        if why_not is None:
-            return None
-        why_not.append(Fielded.of(
+        return _refused(why_not, lambda: Fielded.of(
             "robot {robot!r} ({family}) needs a pose target for its closed form: give the end angle with phi=, or use "
             "method='lm' for position-only IK" if solver.family == "planar-3r" else
             "robot {robot!r} ({family}) needs a pose target for its closed form: give a (4, 4) pose, or use "
             "method='lm' for position-only IK", robot=robot.name, family=solver.family))
-        return None
     return solver
 
 
