@@ -245,50 +245,51 @@ class Geometric3R:
     target_kind = "position"
     polish_above = 1e-12
     m = 4
+    m_joints = 3
     branch_labels: tuple[str, ...] = ("s1", "s2", "s3", "s4")
     geometry = None      # no one-call kernel of its own: the one-call path verifies the solve's branches in one call
 
+    classes: tuple[str, ...] = ("3R-general", "3R-two-parallel", "3R-elbow")
+    """The classes of :func:`armkit.ik.geometric.classify.classify` this family answers."""
+
     def __init__(self, robot: Robot, form: Any, chain_class: Any) -> None:
-        self.robot = robot
-        self.chain_class = chain_class
         from ..geometric.solvers_chain import align
 
-        # axes parallel within the classifier's tolerance are made exactly parallel (the ideal chain); its branches
-        # are then polished by Newton steps on the robot itself (solve_all, as for the other families' ideal arms)
-        size = max(float(robot.reach), 1e-300)
-        near = [(i, i + 1) for i in (0, 1) if np.linalg.norm(np.cross(form.H[i], form.H[i + 1])) < PARALLEL_TOL]
-        meet = [] if near else [(i, i + 1) for i in (0, 1) if _meet(form, i, size)]
-        ideal, dev = align(form, tuple(meet[:1]), tuple(near[:1]))
+        self.robot = robot
+        self.chain_class = chain_class
+        # axes parallel within PARALLEL_TOL are made exactly parallel (the ideal chain); its branches are then
+        # polished by Newton steps on the robot itself (solve_all, as for the other families' ideal arms)
+        size = _size(robot)
+        near = _parallel_pairs(form)
+        meet = [] if near else [i for i in range(robot.n - 1) if _meet(form, i, size)]
+        ideal, dev = align(form, tuple((i, i + 1) for i in meet[:1]), tuple((i, i + 1) for i in near[:1]))
         self.H = np.array(ideal.H, dtype=float, order="C")     # writable copies: one signature of the kernel
         self.P = np.array(ideal.P, dtype=float, order="C")
-        self.case = ("1 || 2" if near[:1] == [(0, 1)] else "2 || 3" if near else
-                     "1, 2 meet" if meet[:1] == [(0, 1)] else "2, 3 meet" if meet else "general")
+        self.case = (f"{near[0] + 1} || {near[0] + 2}" if near else f"{meet[0] + 1}, {meet[0] + 2} meet" if meet
+                     else "general")
         eye = np.eye(4)
-        zero = np.zeros(3)
+        zero = np.zeros(robot.n)
         self.sf = StandardForm(zero, zero, zero, zero, eye, eye, eye, eye, float(robot.reach), exact=dev < 1e-13)
 
     @classmethod
-    def detect(cls, sf: StandardForm | None, robot: Robot) -> "Geometric3R | None":
-        """The family for ``robot`` when it has 3 revolute joints of one of the classes above, else None (a planar
-        3R has a whole curve of solutions for a position, three concurrent axes move the point on a sphere, a
-        tool point on axis 3 is not moved by joint 3, and two axes on one line turn the arm as one joint)."""
-        if robot.n != 3 or any(robot.chain.prismatic):
+    def detect(cls, sf: StandardForm | None, robot: Robot) -> Any:
+        """The family for an all-revolute arm of :attr:`classes`, else None: where the tool point lies on the last
+        axis the last joint does not move it, and two parallel axes on one line turn the arm as one joint (a
+        curve of solutions). (A planar 3R has a curve of solutions for a position, and three concurrent axes move
+        the point on a sphere: their classes are not among these.)"""
+        if robot.n != cls.m_joints or any(robot.chain.prismatic):
             return None
         from ..geometric.classify import classify
         from ..geometric.poe import poe
 
-        cls_ = classify(robot)
-        if cls_.degenerate or cls_.name not in ("3R-general", "3R-two-parallel", "3R-elbow"):
+        chain_class = classify(robot)
+        if chain_class.degenerate or chain_class.name not in cls.classes:
             return None
         form = poe(robot)
-        size = max(float(robot.reach), 1e-300)
-        if np.linalg.norm(np.cross(form.H[2], form.P[3])) < PARALLEL_TOL * size:
-            return None     # the tool point on (or within 1e-4 of the arm's size from) axis 3
-        parallel = [bool(np.linalg.norm(np.cross(form.H[i], form.H[i + 1])) < PARALLEL_TOL) for i in (0, 1)]
-        for i in (0, 1):    # two axes on (nearly) one line: they turn the arm as one joint, a curve of solutions
-            if parallel[i] and np.linalg.norm(np.cross(form.H[i], form.P[i + 1])) < PARALLEL_TOL * size:
-                return None
-        return cls(robot, form, cls_)
+        n, size = robot.n, _size(robot)
+        if _on_line(form, n - 1, n, size) or any(_on_line(form, i, i + 1, size) for i in _parallel_pairs(form)):
+            return None
+        return cls(robot, form, chain_class)
 
     def reach_why(self, lateral_out: bool, rho: float, r: float, target: Array | None) -> str:
         return _why(int(rho), self.m)
@@ -365,6 +366,21 @@ def _first_two_parallel(H: Array, P: Array, p0W: Array, Q: Array, LS: NDArray[np
     return m
 
 
+def _size(robot: Robot) -> float:
+    return max(float(robot.reach), 1e-300)
+
+
+def _parallel_pairs(form: Any) -> list[int]:
+    """The ``i`` (0-based) whose axes ``i`` and ``i + 1`` are parallel within :data:`PARALLEL_TOL`."""
+    return [i for i in range(form.n - 1) if np.linalg.norm(np.cross(form.H[i], form.H[i + 1])) < PARALLEL_TOL]
+
+
+def _on_line(form: Any, i: int, k: int, size: float) -> bool:
+    """Whether the point ``P[k]`` from axis ``i``'s point (the next axis's point, or the tool's) lies on axis ``i``,
+    within :data:`PARALLEL_TOL` of the arm's size."""
+    return bool(np.linalg.norm(np.cross(form.H[i], form.P[k])) < PARALLEL_TOL * size)
+
+
 def _meet(form: Any, i: int, size: float) -> bool:
     """Whether axes ``i`` and ``i + 1`` (0-based) of the chain ``form`` meet, within :data:`MEET_TOL` of its size."""
     n = np.cross(form.H[i], form.H[i + 1])
@@ -403,38 +419,9 @@ class Geometric2R(Geometric3R):
 
     family = "geometric-2r"
     m = 2
+    m_joints = 2
     branch_labels: tuple[str, ...] = ("s1", "s2")
-
-    def __init__(self, robot: Robot, form: Any, chain_class: Any) -> None:
-        from ..geometric.solvers_chain import align
-
-        size = max(float(robot.reach), 1e-300)
-        meet = [(0, 1)] if _meet(form, 0, size) else []
-        ideal, dev = align(form, tuple(meet), ())
-        self.robot = robot
-        self.chain_class = chain_class
-        self.H = np.array(ideal.H, dtype=float, order="C")
-        self.P = np.array(ideal.P, dtype=float, order="C")
-        self.case = "1, 2 meet" if meet else "general"
-        eye = np.eye(4)
-        zero = np.zeros(2)
-        self.sf = StandardForm(zero, zero, zero, zero, eye, eye, eye, eye, float(robot.reach), exact=dev < 1e-13)
-
-    @classmethod
-    def detect(cls, sf: StandardForm | None, robot: Robot) -> "Geometric2R | None":   # type: ignore[override]
-        """The family for a 2-joint revolute arm of the classes above whose tool point is off axis 2, else None."""
-        if robot.n != 2 or any(robot.chain.prismatic):
-            return None
-        from ..geometric.classify import classify
-        from ..geometric.poe import poe
-
-        cls_ = classify(robot)
-        if cls_.degenerate or cls_.name not in ("2R-general", "2R-intersecting"):
-            return None
-        form = poe(robot)
-        if np.linalg.norm(np.cross(form.H[1], form.P[2])) < PARALLEL_TOL * max(float(robot.reach), 1e-300):
-            return None     # the tool point on axis 2: joint 2 does not move it
-        return cls(robot, form, cls_)
+    classes: tuple[str, ...] = ("2R-general", "2R-intersecting")
 
     def _candidates(self, p0W: Array, Q: Array, LS: NDArray[np.bool_], K: Any) -> int:
         from ..geometric.subproblems import rot, sp1, sp2, sp3
@@ -462,30 +449,9 @@ class Geometric1R(Geometric2R):
 
     family = "geometric-1r"
     m = 1
+    m_joints = 1
     branch_labels = ("s1",)
-
-    def __init__(self, robot: Robot, form: Any, chain_class: Any) -> None:
-        self.robot = robot
-        self.chain_class = chain_class
-        self.H = np.array(form.H, dtype=float, order="C")
-        self.P = np.array(form.P, dtype=float, order="C")
-        self.case = "1R"
-        eye = np.eye(4)
-        zero = np.zeros(1)
-        self.sf = StandardForm(zero, zero, zero, zero, eye, eye, eye, eye, float(robot.reach), exact=True)
-
-    @classmethod
-    def detect(cls, sf: StandardForm | None, robot: Robot) -> "Geometric1R | None":   # type: ignore[override]
-        """The family for a single revolute joint whose tool point is off its axis, else None."""
-        if robot.n != 1 or any(robot.chain.prismatic):
-            return None
-        from ..geometric.classify import classify
-        from ..geometric.poe import poe
-
-        form = poe(robot)
-        if np.linalg.norm(np.cross(form.H[0], form.P[1])) < PARALLEL_TOL * max(float(robot.reach), 1e-300):
-            return None     # the tool point on the axis: the joint does not move it
-        return cls(robot, form, classify(robot))
+    classes = ("1R",)
 
     def _candidates(self, p0W: Array, Q: Array, LS: NDArray[np.bool_], K: Any) -> int:
         from ..geometric.subproblems import sp1
