@@ -49,11 +49,7 @@ def three_r(draw):
         if draw(st.booleans()):
             row[3] = 0.0                   # a twist of 0: two consecutive axes parallel
         else:
-            row[2] = 0.0                   # no common normal's length: the two axes meet
-            if convention == "standard":
-                row[1] = 0.0
-            else:
-                rows[special][1] = 0.0 if special + 1 < 3 else rows[special][1]
+            row[2] = 0.0                   # no common normal's length (a = 0): the two axes meet
     tool = [draw(st.floats(-0.5, 0.5)) for _ in range(3)]
     return _arm(rows, convention, tool)
 
@@ -183,8 +179,9 @@ def test_two_joints_off_their_surface_say_unreachable():
 
 
 def test_one_joint_turns_the_tool_point_onto_the_target_or_says_how_far_it_is():
-    arm = Robot([Joint("revolute", 0.1, 0.2, 0.3, 0.7, -np.pi, np.pi)], tool=_arm([[0, 0, 0, 0]] * 3,
-                                                                                   tool_xyz=(0.2, 0.1, 0.3)).tool)
+    tool = np.eye(4)
+    tool[:3, 3] = (0.2, 0.1, 0.3)
+    arm = Robot([Joint("revolute", 0.1, 0.2, 0.3, 0.7, -np.pi, np.pi)], tool=tool)
     assert isinstance(closed_form(arm), Geometric1R)
     for t in range(20):
         q = arm.random_q(rng=t)
