@@ -210,8 +210,8 @@ def test_after_the_warm_up_the_so101_searches_and_scenes_compile_nothing_more():
     """Every kernel a user's call needs is in the warm-up: in a fresh process (the run's own cache, so the kernels
     load instead of compiling), the warm-up's exercises run first, then calls it does not make itself (other
     targets, the LeRobot class's steps, another general 6R, 3R arms of each case, a scene with every primitive): no
-    Numba function of armkit gains a signature. The first ``armkit.ik(so101, xyz)`` after ``armkit warmup`` compiled for 49 s
-    before the SO-101's position IK was in the warm-up."""
+    Numba function of armkit gains a signature. The first ``armkit.ik(so101, xyz)`` after ``armkit warmup``
+    compiled for 49 s before the SO-101's position IK was in the warm-up."""
     code = """
         import json, sys, types
         import numpy as np
