@@ -23,9 +23,9 @@ import armkit
 from armkit.errors import IKInputError
 from armkit.ik.analytic import closed_form
 
+from test_single_call import _assert_same as _same   # field by field, type by type
+
 api = importlib.import_module("armkit.ik.api")
-FIELDS = ("q", "success", "position_error", "rotation_error", "iterations", "branch", "within_limits", "reason",
-          "message")
 
 
 @pytest.fixture(scope="module", autouse=True)
@@ -35,19 +35,6 @@ def compiled():
         pytest.skip("Numba is not available")
     yield
     armkit.set_backend("auto")
-
-
-def _same(a, b) -> None:
-    for f in FIELDS:
-        x, y = getattr(a, f), getattr(b, f)
-        assert type(x) is type(y), f
-        if isinstance(x, np.ndarray):   # text: the same kind (str), whatever the width (the longest text of the
-            same = x.dtype.kind == y.dtype.kind == "U" or x.dtype == y.dtype   # array it was taken from)
-            assert same and x.shape == y.shape, f
-            assert np.array_equal(x, y), (f, x, y)
-        else:
-            assert x == y, f
-    assert a.checked_against == b.checked_against
 
 
 def _batched(fn):
