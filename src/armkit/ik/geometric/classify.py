@@ -425,7 +425,7 @@ def _classify_poe(H: Array, P: Array, prismatic: NDArray[np.bool_], tol: float) 
         return ChainClass(**base, name=f"{prefix}-degenerate", solver="numeric", max_solutions=None,
                           near=rel.near, degenerate=True)
     if prismatic.any():
-        return _prismatic_class(rel, base, prefix, n)
+        return _prismatic_class(H, P, prismatic, rel, base, prefix, n)
     if n <= 5:
         name, solver, m, inv = _small_family(rel)
         return ChainClass(**base, name=name, solver=solver, max_solutions=m, near=rel.near, inverted=inv)
@@ -470,16 +470,77 @@ def _seven_r(H: Array, P: Array, prismatic: NDArray[np.bool_], tol: float, rel: 
                       alternatives=alts)
 
 
-def _prismatic_class(rel: _Relations, base: dict, prefix: str, n: int) -> ChainClass:
+def _prismatic_class(H: Array, P: Array, prismatic: NDArray[np.bool_], rel: _Relations, base: dict, prefix: str,
+                     n: int) -> ChainClass:
     """Chains with prismatic joints: a spherical wrist on three revolute joints at either end of a 6-joint chain
-    leaves a 3-joint positioning problem, closed form (at most a quartic) with at most 4 × 2 solutions."""
+    leaves a 3-joint positioning problem, closed form (at most a quartic) with at most 4 × 2 solutions; a chain of
+    1 to 3 joints is itself such a positioning problem (:mod:`armkit.ik.analytic.geometric_prismatic`) where its
+    joints move the tool point in every direction they can (``n`` of them)."""
     if n == 6 and rel.concurrent(3, 4, 5):
         return ChainClass(**base, name=f"{prefix}-spherical-wrist", solver="closed form", max_solutions=8,
                           near=rel.near)
     if n == 6 and rel.concurrent(0, 1, 2):
         return ChainClass(**base, name=f"{prefix}-spherical-wrist-base", solver="closed form", max_solutions=8,
                           near=rel.near, inverted=True)
+    if n <= 3:
+        if _position_rank(H, P, prismatic) < n:
+            return ChainClass(**base, name=f"{prefix}-degenerate", solver="numeric", max_solutions=None,
+                              near=rel.near, degenerate=True)
+        name, m = _positioner(H, prismatic, rel, prefix)
+        return ChainClass(**base, name=name, solver="closed form", max_solutions=m, near=rel.near)
     return ChainClass(**base, name=f"{prefix}-general", solver="numeric", max_solutions=None, near=rel.near)
+
+
+def _positioner(H: Array, prismatic: NDArray[np.bool_], rel: _Relations, prefix: str) -> tuple[str, int]:
+    """The class name and the most solutions of a position target for 1 to 3 joints with a prismatic one: the
+    textbook names where the axes fit them (Cartesian: three perpendicular slides; cylindrical: a turn, a slide
+    along it and one across; spherical: two meeting axes and a slide across the second; SCARA: all three
+    parallel), else the joint types; 1 solution without a revolute joint, 2 with one, 4 with two (2 for the
+    SCARA, whose slide along the axes is fixed by the height)."""
+    turns = int((~prismatic).sum())
+    if turns == 0:
+        perpendicular = len(H) == 3 and abs(np.linalg.det(H)) > 1.0 - 1e-9
+        return (f"{prefix}-cartesian" if perpendicular else prefix), 1
+    if turns == 1:
+        if prefix == "RPP":
+            along = [abs(float(H[0] @ H[k])) > 1.0 - 1e-9 for k in (1, 2)]
+            across = [abs(float(H[0] @ H[k])) < 1e-9 for k in (1, 2)]
+            if (along[0] and across[1]) or (along[1] and across[0]):
+                return "RPP-cylindrical", 2
+        return (f"{prefix}-general" if len(H) == 3 else prefix), 2
+    if prefix == "RRP":
+        if all(rel.par):
+            return "RRP-scara", 2
+        if rel.inter[0] and abs(float(H[1] @ H[2])) < 1e-9:
+            return "RRP-spherical", 4
+    return f"{prefix}-general", 4
+
+
+def _position_rank(H: Array, P: Array, prismatic: NDArray[np.bool_]) -> int:
+    """The rank of the tool point's Jacobian ``(3, n)`` at generic configurations."""
+    n = H.shape[0]
+    scale = _scale(P)
+    rng = np.random.default_rng(20240611)
+    best = 0
+    for _ in range(3):
+        q = rng.uniform(-np.pi, np.pi, size=n)
+        R = np.eye(3)
+        p = np.asarray(P[0], dtype=float).copy()
+        axes = []                                 # (joint, direction, a point on its axis) at q
+        for k in range(n):
+            w = R @ H[k]
+            if prismatic[k]:
+                p = p + q[k] * w
+            else:
+                R = R @ rotm(H[k], float(q[k]))
+            axes.append((k, w, p))
+            p = p + R @ P[k + 1]
+        J = np.zeros((3, n))                      # a slide moves the point along w, a turn by w × (p - o)
+        for k, w, o in axes:
+            J[:, k] = (w if prismatic[k] else np.cross(w, p - o)) / scale
+        s = np.linalg.svd(J, compute_uv=False)
+        best = max(best, int(np.sum(s > 1e-9 * max(s[0], 1e-300))))
+    return best
 
 
 def classify(robot_or_poe: Union[Robot, POE], tol: float = DEFAULT_TOL) -> ChainClass:

@@ -1,0 +1,303 @@
+"""Every branch of a position target for a chain of 1 to 3 joints with prismatic ones: the textbook arms.
+
+Cartesian (PPP), cylindrical (RPP), spherical (RRP, the Stanford arm's first three joints), a SCARA's
+RRP and every other order of revolute (R) and prismatic (P) joints, as long as the joints can move the
+tool point in every direction (:func:`armkit.ik.geometric.classify.classify` says "degenerate"
+otherwise, and the numeric solvers answer).
+
+The tool point is ``p = p_01 + F_1(p_12 + F_2(p_23 + F_3 p_3T))``, where ``F_k x = rot(h_k, q_k) x`` for a
+revolute joint and ``F_k x = q_k h_k + x`` for a prismatic one (the chain's product-of-exponentials form,
+:mod:`armkit.ik.geometric.poe`). One revolute joint ``l`` is chosen, and the chain is cut there:
+``rot(h_l, q_l) A = B``, with ``A`` what comes after the joint and ``B`` the target taken back through
+what comes before it. A turn about ``h_l`` keeps two things, the component along ``h_l`` and the
+length, so
+
+* ``h_l · A = h_l · B``, linear in the slides, and
+* ``|A|² = |B|²``, quadratic in them,
+
+and ``q_l`` turns ``A`` onto ``B`` (SP1). With one revolute joint the two equations are a line and a
+conic in the two slides (at most 2 solutions); with two, ``l`` is the one nearer the slide, so that the
+other joint's angle ``θ`` appears only through ``cos θ`` and ``sin θ`` of a fixed vector: the linear
+equation gives the slide as a function of ``θ`` and the quadratic becomes a quartic in ``tan(θ / 2)``
+(at most 4; where the slide is perpendicular to ``h_l`` the linear one gives ``θ`` directly and the
+quadratic the slide). Without a revolute joint the slides solve a linear system.
+
+Every branch is verified by FK of the robot in :func:`armkit.ik.analytic.solve_all`, wrapped into the
+limits and sorted there, as for every family; a slide outside its stroke is a branch outside the joint
+limits.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ...model.robot import Robot
+from ..geometric.subproblems import TOL, _quartic_roots, _trig1, sp1
+from ._common import StandardForm
+from .geometric import Geometric3R
+
+__all__ = ["GeometricPrismatic"]
+
+Array = NDArray[np.float64]
+
+_C, _S = 3, 4
+"""Columns of ``cos θ`` and ``sin θ`` in an expression; 0 is the constant, 1 and 2 the slides."""
+
+
+class GeometricPrismatic(Geometric3R):
+    """Every branch of a position target for a chain of 1 to 3 joints with at least one prismatic joint (the
+    classes ``PPP-cartesian``, ``RPP-cylindrical``, ``RRP-spherical``, ``RRP-scara``, ``RP``, ... of
+    :func:`armkit.ik.geometric.classify.classify`); see the module docstring for the method."""
+
+    family = "geometric-prismatic"
+    m_joints = 3
+    classes: tuple[str, ...] = ()     # any class of such a chain that classify solves in closed form
+
+    def __init__(self, robot: Robot, form: Any, chain_class: Any) -> None:
+        n = robot.n
+        self.robot = robot
+        self.chain_class = chain_class
+        self.H = np.array(form.H, dtype=float)
+        self.P = np.array(form.P, dtype=float)
+        self.slide = np.asarray(form.prismatic, dtype=bool).copy()
+        self.m = int(chain_class.max_solutions)
+        self.branch_labels = tuple(f"s{k + 1}" for k in range(self.m))
+        self.case = robot.joint_types
+        turns = [k for k in range(n) if not self.slide[k]]
+        slides = [k for k in range(n) if self.slide[k]]
+        self.column = {k: 1 + i for i, k in enumerate(slides)}
+        # the joint to cut at: with two revolute joints the one nearer the slide (the other is then never
+        # between them, so a slide is never turned by the unknown angle θ); with one, that one
+        self.cut = (min(turns, key=lambda k: (abs(k - slides[0]), k)) if len(turns) == 2 else
+                    turns[0] if turns else -1)
+        self.other = next((k for k in turns if k != self.cut), -1)
+        self.size = max(float(robot.reach), 1e-300)
+        if not turns:
+            dirs = self.H[slides].T
+            self._pinv = np.linalg.pinv(dirs)
+            self._dirs = dirs
+        eye = np.eye(4)
+        zero = np.zeros(n)
+        self.sf = StandardForm(zero, zero, zero, zero, eye, eye, eye, eye, float(robot.reach), exact=True)
+
+    @classmethod
+    def detect(cls, sf: StandardForm | None, robot: Robot) -> Any:
+        """The family for a chain of 1 to 3 joints with a prismatic one whose class has a closed form, else None."""
+        if not 1 <= robot.n <= cls.m_joints or not any(robot.chain.prismatic):
+            return None
+        from ..geometric.classify import classify
+        from ..geometric.poe import poe
+
+        chain_class = classify(robot)
+        if chain_class.degenerate or chain_class.solver != "closed form" or not chain_class.max_solutions:
+            return None
+        return cls(robot, poe(robot), chain_class)
+
+    # ------------------------------------------------------------------------------------ the two sides
+    def _sides(self, t: Array) -> tuple[Array, Array]:
+        """``A`` and ``B`` as ``(3, 5)`` expressions (columns: 1, slide 1, slide 2, cos θ, sin θ) for the target
+        ``t`` taken from axis 1's point."""
+        H, P, n, cut = self.H, self.P, self.robot.n, self.cut
+        A = np.zeros((3, 5))
+        A[:, 0] = P[n]
+        for k in range(n - 1, cut, -1):           # A = P_{cut+1} + F_{cut+1}(P_{cut+2} + ... F_n P_nT)
+            if self.slide[k]:
+                A[:, self.column[k]] += H[k]
+            else:
+                A = _turned(H[k], A[:, 0], 1.0)
+            A[:, 0] += P[k]
+        B = np.zeros((3, 5))
+        B[:, 0] = t
+        for k in range(cut):                      # B = F_cut^-1 ... taken back through the joints before
+            if self.slide[k]:
+                B[:, self.column[k]] -= H[k]
+            else:
+                B = _turned(H[k], B[:, 0], -1.0)
+            B[:, 0] -= P[k + 1]
+        return A, B
+
+    def _candidates(self, p0W: Array, Q: Array, LS: NDArray[np.bool_], K: Any) -> int:
+        """The solutions for ``p0W = p - p_01`` into the rows of ``Q (8, 3)`` (least-squares ones flagged in
+        ``LS``); their count."""
+        n = self.robot.n
+        scale = max(self.size, float(np.linalg.norm(p0W)))
+        if self.cut < 0:                          # slides only: a linear system
+            rest = p0W - self.P[1:].sum(axis=0)
+            x = self._pinv @ rest
+            Q[0, :n] = x
+            LS[0] = bool(np.linalg.norm(self._dirs @ x - rest) > TOL * scale)
+            return 1
+        A, B = self._sides(p0W)
+        h = self.H[self.cut]
+        line = h @ (A - B)                        # h · A - h · B, over (1, slide 1, slide 2, cos, sin)
+        M = A.T @ A - B.T @ B                     # |A|² - |B|² = mᵀ M m for m = (1, slide 1, slide 2, cos, sin)
+        slides = len(self.column)
+        if self.other >= 0:
+            found = _one_slide_one_angle(line, M, scale)
+        elif slides == 2:
+            found = _two_slides(line, M, scale)
+        else:
+            found = _one_slide(line, M, float(h @ B[:, 0]), scale)
+        count = 0
+        for mono, ls in found[:8]:
+            qv = np.zeros(n)
+            for k, col in self.column.items():
+                qv[k] = mono[col]
+            if self.other >= 0:
+                qv[self.other] = math.atan2(mono[_S], mono[_C])
+            a, b = A @ mono, B @ mono
+            qv[self.cut], ls1 = sp1(a, b, h)
+            Q[count, :n] = qv
+            LS[count] = bool(ls) or bool(ls1)
+            count += 1
+        return count
+
+
+def _turned(h: Array, v: Array, sign: float) -> Array:
+    """``rot(h, sign θ) v`` as a ``(3, 5)`` expression: ``(h·v) h + cos θ (v - (h·v) h) + sign sin θ (h × v)``."""
+    E = np.zeros((3, 5))
+    along = float(h @ v) * h
+    E[:, 0] = along
+    E[:, _C] = v - along
+    E[:, _S] = sign * np.cross(h, v)
+    return E
+
+
+def _mono(x1: float = 0.0, x2: float = 0.0, c: float = 0.0, s: float = 0.0) -> Array:
+    return np.array([1.0, x1, x2, c, s])
+
+
+def _quadratic(a: float, b: float, c: float, size: float) -> tuple[list[float], bool]:
+    """The real roots of ``a x² + b x + c``; where there is none, the vertex, with ``ls`` True where the value
+    there is above ``TOL · size`` (``size``: of ``c``, a squared length)."""
+    big = max(abs(a), abs(b), abs(c), 1e-300)
+    if abs(a) <= 1e-12 * big:
+        if abs(b) <= 1e-12 * big:
+            return [0.0], abs(c) > TOL * size
+        return [-c / b], False
+    disc = b * b - 4.0 * a * c
+    # a double root within rounding (whose two roots would lie ~1e-7 of the size apart, both half wrong), or
+    # none (least squares): the vertex
+    if disc <= 4e-14 * abs(a) * size:
+        vertex = -b / (2.0 * a)
+        return [vertex], -disc / (4.0 * abs(a)) > TOL * size
+    root = math.sqrt(disc)
+    q = -0.5 * (b + math.copysign(root, b))        # the stable pair of roots
+    x1 = q / a
+    x2 = c / q if q != 0.0 else x1
+    return ([x1] if abs(x1 - x2) <= 1e-15 * max(abs(x1), 1.0) else [x1, x2]), False
+
+
+def _one_slide(line: Array, M: Array, hB: float, scale: float) -> list[tuple[Array, bool]]:
+    """One revolute joint, one slide (two joints, a position target: the arm reaches a surface). The slide
+    from the linear equation where it appears there, else from the quadratic; ``ls`` where the other
+    equation is not met (a target off the surface). Where the slide is perpendicular to the axis, the surface
+    is a plane across it (less a disc): the target is first moved along the axis onto that plane (``hB``: its
+    component along the axis), so that an unreachable target gets the nearest point."""
+    L0, L1 = float(line[0]), float(line[1])
+    a, b, c = float(M[1, 1]), 2.0 * float(M[0, 1]), float(M[0, 0])
+    if abs(L1) > 1e-9:
+        x = -L0 / L1
+        return [(_mono(x), abs(a * x * x + b * x + c) > TOL * scale * scale)]
+    # |B + L0 h|² = |B|² + 2 L0 (h · B) + L0²: the target moved onto the plane
+    roots, ls = _quadratic(a, b, c - 2.0 * L0 * hB - L0 * L0, scale * scale)
+    off = abs(L0) > TOL * scale
+    return [(_mono(x), ls or off) for x in roots]
+
+
+def _two_slides(line: Array, M: Array, scale: float) -> list[tuple[Array, bool]]:
+    """One revolute joint, two slides: the line ``L0 + L1 x1 + L2 x2 = 0`` meets the conic
+    ``(1, x1, x2) M (1, x1, x2)ᵀ = 0`` in at most two points."""
+    L = line[1:3]
+    nL = float(np.hypot(L[0], L[1]))
+    v = np.array([-L[1], L[0]]) / nL
+    x0 = -float(line[0]) * L / (nL * nL)
+    Mx, g = M[1:3, 1:3], M[1:3, 0]
+    a = float(v @ Mx @ v)
+    b = 2.0 * float(v @ (Mx @ x0 + g))
+    c = float(x0 @ Mx @ x0 + 2.0 * g @ x0 + M[0, 0])
+    roots, ls = _quadratic(a, b, c, scale * scale)
+    return [(_mono(*(x0 + s * v)), ls) for s in roots]
+
+
+def _times(a: tuple[float, float, float], b: tuple[float, float, float]) -> Array:
+    """The product of ``a0 + a1 cos θ + a2 sin θ`` and the same of ``b``, as coefficients of
+    ``(1, cos, sin, cos², cos sin, sin²)``."""
+    return np.array([a[0] * b[0], a[0] * b[1] + a[1] * b[0], a[0] * b[2] + a[2] * b[0], a[1] * b[1],
+                     a[1] * b[2] + a[2] * b[1], a[2] * b[2]])
+
+
+def _trig_value(k: Array, t: float) -> tuple[float, float]:
+    """``f(θ) = k · (1, c, s, c², cs, s²)`` and ``f'(θ)``."""
+    c, s = math.cos(t), math.sin(t)
+    f = k[0] + k[1] * c + k[2] * s + k[3] * c * c + k[4] * c * s + k[5] * s * s
+    df = -k[1] * s + k[2] * c - 2.0 * k[3] * c * s + k[4] * (c * c - s * s) + 2.0 * k[5] * s * c
+    return f, df
+
+
+def _trig_roots(k: Array) -> tuple[list[float], float]:
+    """The angles where ``k · (1, cos θ, sin θ, cos² θ, cos θ sin θ, sin² θ) = 0``: the quartic in ``tan(θ / 2)``
+    (and θ = π, its root at infinity), near-real roots polished by Newton steps. Also the angle of the smallest
+    ``|f|`` among the candidates (for a target out of reach)."""
+    k0, kc, ks, kcc, kcs, kss = (float(v) for v in k)
+    roots = _quartic_roots(k0 - kc + kcc, 2.0 * ks - 2.0 * kcs, 2.0 * k0 - 2.0 * kcc + 4.0 * kss,
+                           2.0 * ks + 2.0 * kcs, k0 + kc + kcc)
+    size = max(float(np.abs(k).max()), 1e-300)
+    cands = [(2.0 * math.atan(r.real), abs(r.imag) <= 1e-5 * (1.0 + abs(r))) for r in roots]
+    cands.append((math.pi, True))
+    out: list[float] = []
+    best, best_t = math.inf, 0.0
+    for t, real in cands:
+        f, _ = _trig_value(k, t)
+        if abs(f) < best:
+            best, best_t = abs(f), t
+        if not real:
+            continue
+        for _ in range(6):
+            f, df = _trig_value(k, t)
+            if df == 0.0 or abs(f / df) > 0.5:
+                break
+            t -= f / df
+            if abs(f / df) < 1e-16:
+                break
+        f, _ = _trig_value(k, t)
+        if abs(f) > 1e-9 * size:
+            continue
+        t = math.remainder(t, 2.0 * math.pi)
+        if all(abs(math.remainder(t - u, 2.0 * math.pi)) > 1e-7 for u in out):
+            out.append(t)
+    return out, best_t
+
+
+def _one_slide_one_angle(line: Array, M: Array, scale: float) -> list[tuple[Array, bool]]:
+    """Two revolute joints and a slide: ``L0 + α x + Lc cos θ + Ls sin θ = 0`` and the quadratic ``mᵀ M m = 0``
+    in ``m = (1, x, cos θ, sin θ)``."""
+    L0, alpha, Lc, Ls = float(line[0]), float(line[1]), float(line[_C]), float(line[_S])
+    lin = (L0, Lc, Ls)
+    # the quadratic in x: xx x² + x (x0 + xc c + xs s) + (rest: a trig polynomial of degree 2)
+    xx = float(M[1, 1])
+    xlin = (2.0 * float(M[0, 1]), 2.0 * float(M[1, _C]), 2.0 * float(M[1, _S]))
+    rest = np.array([M[0, 0], 2.0 * M[0, _C], 2.0 * M[0, _S], M[_C, _C], 2.0 * M[_C, _S], M[_S, _S]], dtype=float)
+    found: list[tuple[Array, bool]] = []
+    if abs(alpha) > 1e-9:
+        # x = -u / α with u = L0 + Lc c + Ls s; α² times the quadratic: xx u² - α u xlin + α² rest = 0
+        k = xx * _times(lin, lin) - alpha * _times(lin, xlin) + alpha * alpha * rest
+        angles, best = _trig_roots(k)
+        ls = not angles
+        for t in angles or [best]:
+            c, s = math.cos(t), math.sin(t)
+            found.append((_mono(-(L0 + Lc * c + Ls * s) / alpha, 0.0, c, s), ls))
+        return found
+    # the slide does not change the component along h_l: the linear equation gives θ, the quadratic x
+    ts, count, ls = _trig1(Lc, Ls, -L0, scale)
+    for i in range(count):
+        c, s = math.cos(ts[i]), math.sin(ts[i])
+        b = xlin[0] + xlin[1] * c + xlin[2] * s
+        r = rest @ np.array([1.0, c, s, c * c, c * s, s * s])
+        xs, lsx = _quadratic(xx, b, r, scale * scale)
+        found.extend((_mono(x, 0.0, c, s), bool(ls) or lsx) for x in xs)
+    return found

@@ -1,0 +1,214 @@
+"""Position IK of chains of 1 to 3 joints with prismatic ones (the ``geometric-prismatic`` family): the textbook
+arms (Cartesian, cylindrical, spherical, SCARA) and every other order of turns and slides.
+
+References, independent of the solver: each textbook arm's IK derived by hand from its DH rows in the test; the
+Stanford arm's first three joints against its own 6-joint closed form (another solver: the spherical wrist's
+position part); Levenberg-Marquardt from many random starts (no solution it finds is missing); the rank of a
+finite-difference Jacobian for the classes called degenerate; and for random chains FK of the robot (every
+branch reaches the target, the configuration the target came from is among them).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+import armkit
+from armkit import Joint, Robot
+from armkit.ik.analytic import closed_form
+from armkit.ik.analytic.geometric_prismatic import GeometricPrismatic
+from armkit.ik.geometric.classify import classify
+
+R, P = "revolute", "prismatic"
+HALF = math.pi / 2
+
+
+def _joint(kind: str, theta=0.0, d=0.0, a=0.0, alpha=0.0) -> Joint:
+    lo, hi = (-math.pi, math.pi) if kind == R else (-2.0, 2.0)
+    return Joint(kind, theta, d, a, alpha, lo, hi)
+
+
+def _same(a: np.ndarray, b: np.ndarray, slides: np.ndarray, tol: float) -> bool:
+    d = np.asarray(a - b, dtype=float)
+    d[..., ~slides] = np.angle(np.exp(1j * d[..., ~slides]))
+    return bool(np.abs(d).max() <= tol)
+
+
+def _has(qs: np.ndarray, q: np.ndarray, slides: np.ndarray, tol: float) -> bool:
+    return any(_same(x, q, slides, tol) for x in qs)
+
+
+def _solved(robot: Robot, p: np.ndarray) -> np.ndarray:
+    res = armkit.ik_all(robot, p, enforce_limits=False)
+    return res.q[np.asarray(res.success)]
+
+
+def _fd_rank(robot: Robot, q: np.ndarray) -> int:
+    """The rank of the tool point's Jacobian by central differences of FK (not the code under test)."""
+    h = 1e-6
+    cols = []
+    for k in range(robot.n):
+        e = np.zeros(robot.n)
+        e[k] = h
+        cols.append((armkit.fk(robot, q + e)[:3, 3] - armkit.fk(robot, q - e)[:3, 3]) / (2 * h))
+    s = np.linalg.svd(np.array(cols).T, compute_uv=False)
+    return int((s > 1e-6 * max(s[0], 1e-12)).sum())
+
+
+# ---------------------------------------------------------------- random chains
+@st.composite
+def chains(draw):
+    """1 to 3 joints with at least one slide, random DH rows of either convention (some twists of 0 or 90 deg,
+    some lengths of 0) and a tool offset."""
+    n = draw(st.integers(1, 3))
+    kinds = [draw(st.sampled_from([R, P])) for _ in range(n)]
+    if P not in kinds:
+        kinds[draw(st.integers(0, n - 1))] = P
+    joints = []
+    for kind in kinds:
+        theta, d, a = (draw(st.floats(-1.0, 1.0)) for _ in range(3))
+        alpha = draw(st.one_of(st.floats(-1.5, 1.5), st.sampled_from([0.0, HALF, -HALF])))
+        if draw(st.booleans()):
+            a = 0.0
+        joints.append(_joint(kind, theta, d, a, alpha))
+    tool = np.eye(4)
+    tool[:3, 3] = [draw(st.floats(-0.5, 0.5)) for _ in range(3)]
+    convention = draw(st.sampled_from(["standard", "modified"]))
+    return Robot(joints, convention, tool=tool, name="chain")
+
+
+@settings(max_examples=80, deadline=None)
+@given(arm=chains(), seed=st.integers(0, 2**31 - 1))
+def test_every_branch_reaches_the_target_and_the_start_is_among_them(arm, seed):
+    cls = classify(arm)
+    q = arm.random_q(rng=seed)
+    slides = np.asarray(arm.chain.prismatic)
+    if cls.degenerate:          # the joints cannot move the point in every direction: the numeric solvers answer
+        assert _fd_rank(arm, q) < arm.n and closed_form(arm) is None
+        return
+    assert _fd_rank(arm, q) == arm.n or _fd_rank(arm, arm.random_q(rng=seed + 1)) == arm.n
+    family = closed_form(arm)
+    assert isinstance(family, GeometricPrismatic) and cls.solver == "closed form"
+    p = armkit.fk(arm, q)[:3, 3]
+    res = armkit.ik_all(arm, p, enforce_limits=False)
+    ok = np.asarray(res.success)
+    assert res.q.shape == (cls.max_solutions, arm.n) and ok.sum() >= 1
+    ends = armkit.fk(arm, res.q[ok])[:, :3, 3]
+    assert np.abs(ends - p).max() <= 1e-9
+    assert _has(res.q[ok], q, slides, 1e-6), (res.q[ok], q)
+    assert set(np.asarray(res.reason)[~ok]) <= {"unreachable"}
+
+
+@pytest.mark.parametrize("seed", range(2))
+@pytest.mark.parametrize("kinds", ["RPP", "PRP", "PPR", "RRP", "RPR", "PRR", "RP", "PR"])
+def test_no_solution_missed_against_many_lm_starts(kinds, seed):
+    g = np.random.default_rng(seed + 10 * len(kinds))
+    rows = g.uniform(-1.0, 1.0, (len(kinds), 4))
+    tool = np.eye(4)
+    tool[:3, 3] = g.uniform(-0.5, 0.5, 3)
+    arm = Robot([_joint(R if k == "R" else P, *row) for k, row in zip(kinds, rows)], tool=tool, name="chain")
+    assert isinstance(closed_form(arm), GeometricPrismatic)
+    slides = np.asarray(arm.chain.prismatic)
+    for t in range(3):
+        p = armkit.fk(arm, arm.random_q(rng=100 * seed + t))[:3, 3]
+        found = _solved(arm, p)
+        lm = armkit.ik(arm, np.tile(p, (40, 1)), arm.random_q(40, rng=t), method="lm", restarts=0,
+                       enforce_limits=False, seed=t)
+        solved = lm.q[np.asarray(lm.success)]
+        assert len(solved) >= 5
+        for x in solved:
+            assert _has(found, x, slides, 1e-5), (x, found)
+
+
+# ---------------------------------------------------------------- the textbook arms, by hand
+def test_cylindrical_arm_by_hand():
+    """A turn about z at height d1, a vertical lift d2, a horizontal reach d3 (standard DH rows (q1, 0.3, 0, 0),
+    (0, d2, 0, -90 deg), (0, d3, 0, 0)). From the rows: the tool is at (-d3 sin q1, d3 cos q1, 0.3 + d2), so
+    d2 = z - 0.3, d3 = ±√(x² + y²), q1 = atan2(-x / d3, y / d3)."""
+    arm = Robot([_joint(R, d=0.3), _joint(P, alpha=-HALF), _joint(P)], name="cylindrical")
+    assert classify(arm).name == "RPP-cylindrical" and classify(arm).max_solutions == 2
+    for x, y, z in [(0.2, 0.3, 0.5), (-0.4, 0.1, 0.1), (0.0, -0.7, 0.9)]:
+        found = _solved(arm, np.array([x, y, z]))
+        assert len(found) == 2
+        for d3 in (math.hypot(x, y), -math.hypot(x, y)):
+            hand = np.array([math.atan2(-x / d3, y / d3), z - 0.3, d3])
+            assert _has(found, hand, np.array([False, True, True]), 1e-12)
+
+
+def test_scara_rrp_by_hand():
+    """Two parallel turns (links 0.4 and 0.3) and a slide along them: standard DH (q1, 0.2, 0.4, 0), (q2, 0, 0.3,
+    180 deg), (0, d3, 0, 0). The slide points down (the twist of 180 deg), so z = 0.2 - d3; in the plane the law of
+    cosines gives q2 = ±acos((x² + y² - 0.4² - 0.3²) / (2 · 0.4 · 0.3)) and q1 = atan2(y, x) - atan2(0.3 sin q2,
+    0.4 + 0.3 cos q2)."""
+    arm = Robot([_joint(R, d=0.2, a=0.4), _joint(R, a=0.3, alpha=math.pi), _joint(P)], name="scara")
+    assert classify(arm).name == "RRP-scara" and classify(arm).max_solutions == 2
+    for x, y, z in [(0.5, 0.2, 0.05), (-0.1, 0.6, -0.3)]:
+        found = _solved(arm, np.array([x, y, z]))
+        assert len(found) == 2
+        for sign in (1, -1):
+            q2 = sign * math.acos((x * x + y * y - 0.16 - 0.09) / 0.24)
+            q1 = math.atan2(y, x) - math.atan2(0.3 * math.sin(q2), 0.4 + 0.3 * math.cos(q2))
+            assert _has(found, np.array([q1, q2, 0.2 - z]), np.array([False, False, True]), 1e-12)
+
+
+def test_cartesian_arm_by_hand():
+    """Three perpendicular slides: modified DH (Craig) rows (alpha, a, theta, d) = (0, 0, 0, d1), (-90 deg, 0,
+    -90 deg, d2), (-90 deg, 0, 0, d3) put the tool at (d3 ... ) read off by FK of unit moves: one solution,
+    the differences of the target from the zero position along the three slide directions."""
+    arm = Robot([_joint(P), _joint(P, theta=-HALF, alpha=-HALF), _joint(P, alpha=-HALF)], "modified", name="xyz")
+    assert classify(arm).name == "PPP-cartesian" and classify(arm).max_solutions == 1
+    origin = armkit.fk(arm, np.zeros(3))[:3, 3]
+    dirs = np.array([armkit.fk(arm, np.eye(3)[k])[:3, 3] - origin for k in range(3)])
+    assert np.allclose(np.abs(dirs @ dirs.T), np.eye(3), atol=1e-12)       # perpendicular unit slides
+    target = np.array([0.3, -0.2, 0.7])
+    found = _solved(arm, target)
+    assert len(found) == 1
+    np.testing.assert_allclose(found[0], dirs @ (target - origin), atol=1e-12)
+
+
+def test_stanford_arm_position_part_agrees_with_its_six_joint_closed_form():
+    stanford = armkit.load("stanford")
+    three = Robot(stanford.joints[:3], stanford.convention, base=stanford.base, name="stanford3")
+    assert classify(three).name == "RRP-spherical" and classify(three).max_solutions == 4
+    slides = np.array([False, False, True])
+    for seed in range(10):
+        q = stanford.random_q(rng=seed)
+        six = armkit.ik_all(stanford, armkit.fk(stanford, q), enforce_limits=False)
+        theirs = six.q[np.asarray(six.success)][:, :3]
+        wrist = armkit.fk(three, q[:3])[:3, 3]          # axes 4, 5, 6 meet at joint 4's origin (d4 = 0)
+        ours = _solved(three, wrist)
+        assert len(ours) == 4 and len(theirs) == 8
+        assert all(_has(ours, x, slides, 1e-9) for x in theirs) and all(_has(theirs, x, slides, 1e-9) for x in ours)
+
+
+# ---------------------------------------------------------------- honest answers
+def test_off_the_surface_of_a_two_joint_arm_is_unreachable_with_its_distance():
+    arm = Robot([_joint(R, alpha=HALF), _joint(P)], name="polar")      # turn about z, slide in the xy-plane
+    assert classify(arm).name == "RP" and isinstance(closed_form(arm), GeometricPrismatic)
+    found = _solved(arm, np.array([0.3, 0.4, 0.0]))
+    assert len(found) == 2 and sorted(np.round(np.abs(found[:, 1]), 12)) == [0.5, 0.5]
+    res = armkit.ik_all(arm, np.array([0.3, 0.4, 0.25]), enforce_limits=False)
+    assert not np.asarray(res.success).any() and set(res.reason) == {"unreachable"}
+    np.testing.assert_allclose(res.position_error, 0.25, atol=1e-12)
+
+
+def test_a_slide_beyond_its_stroke_is_a_joint_limit():
+    arm = Robot([Joint(R, d=0.3), Joint(P, alpha=-HALF, lower=0.0, upper=0.5), Joint(P, lower=0.1, upper=0.6)],
+                name="cylindrical")
+    res = armkit.ik_all(arm, np.array([0.2, 0.3, 0.5]))
+    assert list(np.asarray(res.success)) == [True, False]
+    assert res.reason[1] == "joint limits" and res.q[1, 2] < 0.0
+    far = armkit.ik(arm, np.array([0.0, 0.0, 2.0]))      # the lift would need 1.7 m of its 0.5
+    assert not bool(far.success) and str(far.reason) == "joint limits"
+
+
+def test_a_turntable_under_two_level_slides_is_degenerate_and_left_to_the_numeric_solvers():
+    """Slides in the plane perpendicular to the turn: the tool point cannot rise, so a position has a circle of
+    solutions or none."""
+    arm = Robot([_joint(R, alpha=HALF), _joint(P, theta=HALF, alpha=HALF), _joint(P)], name="table")
+    assert _fd_rank(arm, arm.random_q(rng=1)) == 2
+    assert classify(arm).degenerate and closed_form(arm) is None
