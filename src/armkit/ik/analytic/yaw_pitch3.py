@@ -18,7 +18,8 @@ z0``) the tool point is
 
 with ``g`` the in-plane tool offset in joint 4's frame (it depends on the roll angle) and the
 sideways (lateral) offset ``L = d_2 + d_3 + d_4 + g_z``. The approach axis (the roll axis,
-pointing from the wrist to the tool; for four joints the tool's z axis) makes the angle
+pointing from the wrist to the tool; for four joints the tool's z axis, or its x axis, along the last
+link, where z lies nearer the pitch axis than the plane, as on a DH arm without a tool frame) makes the angle
 ``Phi_a = Theta + beta`` with ``x1``. Then, as for the yaw-pitch-pitch family,
 ``a_1 + X = +-sqrt(rho^2 - L^2)`` (front/back),
 ``phi_1 = atan2(p_y, p_x) - atan2(-s1 L, a_1 + X)``, ``Y = s1 (p_z - d_1)``; the pitch fixes
@@ -58,7 +59,15 @@ _LABELS = np.array(["back/elbow-down", "back/elbow-up", "front/elbow-down", "fro
 _FRONT = np.array([1.0, 1.0, -1.0, -1.0])    # branch order: (front, e0), (front, e1), (back, e0), (back, e1)
 _ELBOW = np.array([0, 1, 0, 1])
 _REASON_TEXT = np.array(["converged", "unreachable", "joint limits"])
-_APPROACH_TOL = 1e-9    # four joints: the tool's z axis must lie in the arm's plane this closely
+_APPROACH_COS = math.sqrt(0.5)   # four joints: the tool's z axis is the approach unless nearer the pitch axis
+
+
+def _approach_axis(tool: Array) -> int:
+    """Which axis of the tool frame is a four-joint arm's approach axis (2: z, 0: x), from the tool frame in joint
+    4's frame ``tool`` (4, 4) (standard DH: the pitch axis is its z). The tool's z axis, unless it lies nearer
+    the pitch axis than the arm's plane (a DH arm without a tool frame, whose z is the last pitch axis itself):
+    then its x axis, which points along the last link."""
+    return 2 if abs(float(tool[2, 2])) <= _APPROACH_COS else 0
 _LATERAL_SLACK = 1e-5   # relative to the reach: a target this much inside the sideways offset is on it
 
 
@@ -91,13 +100,14 @@ class YawPitch3:
     target_kind = "pitch"   # the closed form needs pitch= (see armkit.ik.api)
     m = 4
 
-    def __init__(self, sf: StandardForm, robot: Robot, beta: float, g_fixed: Array | None):
+    def __init__(self, sf: StandardForm, robot: Robot, beta: float, g_fixed: Array | None, approach: int = 2):
         self.sf, self.unit = sf, robot.unit
         self.yaw_name = robot.joint_names[0]
         self.roll = sf.n == 5
         self.s1 = int(sf.twist(0) or 1)
         self.beta = beta                     # angle of the approach axis in joint 4's frame
         self.g_fixed = g_fixed               # four joints: the tool point in joint 4's frame
+        self.approach = approach             # four joints: the tool frame's axis that is the approach (2: z, 0: x)
         self.lateral0 = float(sf.d[1] + sf.d[2] + sf.d[3])
         # "up": the yaw axis' direction with a non-negative world z (its own direction if horizontal)
         zw = float(sf.base[2, 2])
@@ -117,10 +127,9 @@ class YawPitch3:
             # the roll axis in joint 4's frame is Rx(alpha_4) z = (0, -s4, 0); point it towards the tool's z
             sigma = -1.0 if sf.tool[2, 2] < 0 else 1.0
             return cls(sf, robot, math.atan2(-sigma * s4, 0.0), None)
-        z = sf.tool[:3, 2]
-        if abs(z[2]) > _APPROACH_TOL:   # the tool's z axis leaves the arm's plane: no pitch to control
-            return None
-        return cls(sf, robot, math.atan2(z[1], z[0]), sf.tool[:3, 3].copy())
+        axis = _approach_axis(sf.tool)
+        a = sf.tool[:3, axis]           # its angle in the arm's plane (the part along the pitch axes drops out)
+        return cls(sf, robot, math.atan2(a[1], a[0]), sf.tool[:3, 3].copy(), axis)
 
     def _tool_point(self, phi5: Array) -> tuple[Array, Array, Array]:
         """The tool point in joint 4's frame ``(gx, gy, gz)`` for roll DH angles ``phi5`` ``(B,)``."""
@@ -260,7 +269,7 @@ def _geometry(robot: Robot) -> tuple[Array, Array, Array]:
             if a_tool[2] < 0:                                         # towards the tool's z
                 a_tool = -a_tool
         else:
-            a_tool = np.array([0.0, 0.0, 1.0])
+            a_tool = np.eye(3)[solver.approach if solver is not None else 2]
         geo = (u, first[:3, 3].copy(), a_tool)
         robot.cache["yaw_pitch3_geometry"] = geo
     return geo

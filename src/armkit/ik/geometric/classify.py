@@ -31,6 +31,8 @@ every value of joint ``i + 1``.
 
 from __future__ import annotations
 
+import math
+
 from dataclasses import dataclass, field
 from typing import Any, Sequence, Union
 
@@ -351,7 +353,7 @@ def _six_r_families(r: _Relations) -> list[tuple[str, str, int | None, bool]]:
     return out
 
 
-def _small_family(r: _Relations) -> tuple[str, str, int | None, bool]:
+def _small_family(r: _Relations, H: Array, tol: float) -> tuple[str, str, int | None, bool]:
     """Classes of all-revolute arms with 1 to 5 joints (their IK is for the pose components they control)."""
     n = r.n
     allpar = all(r.par)
@@ -373,14 +375,19 @@ def _small_family(r: _Relations) -> tuple[str, str, int | None, bool]:
         if r.par[1] or r.par[0]:
             return ("3R-two-parallel", "closed form", 4, False)
         return ("3R-general", "closed form", 4, False)
+    # yaw + three parallel pitch axes (+ roll): the yaw-pitch3 family, whose yaw (and roll) axes are perpendicular
+    # to the pitch axes (within the 1e-4 rad its ideal arm snaps, as a URDF's rounded rpy needs); a yaw axis at
+    # another angle has no closed form here
+    right = math.sin(max(tol, 1e-4))
+    across = abs(float(H[0] @ H[1])) < right
     if n == 4:
         if allpar:
             return ("4R-planar", "numeric", None, False)
-        if not r.par[0] and r.three_parallel(1):
+        if r.three_parallel(1) and across:
             return ("4R-yaw-three-parallel", "closed form", 4, False)
         return ("4R-general", "numeric", None, False)
     # n == 5
-    if not r.par[0] and r.three_parallel(1) and not r.par[3]:
+    if r.three_parallel(1) and across and abs(float(H[3] @ H[4])) < right:
         return ("5R-yaw-three-parallel-roll", "closed form", 4, False)
     return ("5R-general", "numeric", None, False)
 
@@ -427,7 +434,7 @@ def _classify_poe(H: Array, P: Array, prismatic: NDArray[np.bool_], tol: float) 
     if prismatic.any():
         return _prismatic_class(H, P, prismatic, rel, base, prefix, n)
     if n <= 5:
-        name, solver, m, inv = _small_family(rel)
+        name, solver, m, inv = _small_family(rel, H, tol)
         return ChainClass(**base, name=name, solver=solver, max_solutions=m, near=rel.near, inverted=inv)
     if n == 6:
         fams = _six_r_families(rel)
@@ -523,7 +530,7 @@ def _position_rank(H: Array, P: Array, prismatic: NDArray[np.bool_]) -> int:
     rng = np.random.default_rng(20240611)
     best = 0
     for _ in range(3):
-        q = rng.uniform(-np.pi, np.pi, size=n)
+        q: Array = np.asarray(rng.uniform(-np.pi, np.pi, size=n), dtype=float)
         R = np.eye(3)
         p = np.asarray(P[0], dtype=float).copy()
         axes = []                                 # (joint, direction, a point on its axis) at q
