@@ -212,3 +212,71 @@ def test_a_turntable_under_two_level_slides_is_degenerate_and_left_to_the_numeri
     arm = Robot([_joint(R, alpha=HALF), _joint(P, theta=HALF, alpha=HALF), _joint(P)], name="table")
     assert _fd_rank(arm, arm.random_q(rng=1)) == 2
     assert classify(arm).degenerate and closed_form(arm) is None
+
+
+# ---------------------------------------------------------------- six joints: a slide and a spherical wrist
+def _wrist_arm(seed: int, at_base: bool) -> Robot:
+    """Six standard-DH joints with one or two slides: three positioning joints of random rows and a spherical
+    wrist (a = 0 on the wrist rows, d = 0 on the middle one, twists of ±90 deg), the wrist at the end or, read
+    the other way, at the base."""
+    g = np.random.default_rng(seed)
+    rows = g.uniform(-0.5, 0.5, (6, 4))
+    w = (0, 1) if at_base else (3, 4)
+    rows[w[0], 2] = rows[w[1], 1] = rows[w[1], 2] = 0.0
+    rows[w[0], 3], rows[w[1], 3] = g.choice([HALF, -HALF], 2)
+    if not at_base:
+        rows[5, 2] = 0.0
+    kinds = [R] * 6
+    for k in g.choice(3, size=g.integers(1, 3), replace=False):
+        kinds[k + (3 if at_base else 0)] = P
+    tool = np.eye(4)
+    tool[:3, 3] = g.uniform(-0.2, 0.2, 3)
+    return Robot([_joint(k, *row) for k, row in zip(kinds, rows)], tool=tool, name="wrist")
+
+
+@pytest.mark.parametrize("at_base", [False, True], ids=["wrist at the end", "wrist at the base"])
+def test_a_slide_and_a_spherical_wrist_every_branch_reaches_the_pose(at_base):
+    from armkit.ik.analytic.geometric_prismatic import GeometricPrismaticWrist
+
+    solved = 0
+    for seed in range(40):
+        arm = _wrist_arm(seed, at_base)
+        cls = classify(arm)
+        if cls.degenerate:
+            assert _fd_rank(arm, arm.random_q(rng=seed)) < 6 or closed_form(arm) is None
+            continue
+        assert cls.name.endswith("spherical-wrist-base" if at_base else "spherical-wrist")
+        family = closed_form(arm)
+        assert family is not None and (family.family == "geometric-prismatic-wrist" or "RRP" in arm.joint_types)
+        q = arm.random_q(rng=seed)
+        T = armkit.fk(arm, q)
+        res = armkit.ik_all(arm, T, enforce_limits=False)
+        ok = np.asarray(res.success)
+        assert res.q.shape[0] == cls.max_solutions and ok.any()
+        assert np.abs(armkit.fk(arm, res.q[ok]) - T).max() <= 1e-9
+        assert _has(res.q[ok], q, np.asarray(arm.chain.prismatic), 1e-6)
+        solved += isinstance(family, GeometricPrismaticWrist)
+    assert solved >= 20
+
+
+def test_a_stanford_arm_whose_first_axes_miss_each_other_still_gets_every_branch():
+    """The Stanford arm with an offset between axes 1 and 2 (a1 = 0.05 m): its own compiled solver needs them to
+    meet, so this family answers; LM from 40 random starts finds nothing it missed."""
+    stanford = armkit.load("stanford")
+    joints = list(stanford.joints)
+    j = joints[0]
+    joints[0] = Joint(j.kind, j.theta, j.d, 0.05, j.alpha, j.lower, j.upper, j.name)
+    arm = Robot(joints, stanford.convention, name="stanford-offset")
+    assert closed_form(stanford).family == "geometric"
+    assert closed_form(arm).family == "geometric-prismatic-wrist"
+    slides = np.asarray(arm.chain.prismatic)
+    for t in range(3):
+        T = armkit.fk(arm, arm.random_q(rng=t))
+        every = armkit.ik_all(arm, T, enforce_limits=False)
+        found = every.q[np.asarray(every.success)]
+        lm = armkit.ik(arm, np.tile(T, (40, 1, 1)), arm.random_q(40, rng=t), method="lm", restarts=0,
+                       enforce_limits=False, seed=t)
+        solved = lm.q[np.asarray(lm.success)]
+        assert len(solved) >= 5
+        for x in solved:
+            assert _has(found, x, slides, 1e-5), (x, found)

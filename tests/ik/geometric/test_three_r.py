@@ -57,7 +57,7 @@ def three_r(draw):
 @settings(max_examples=60, deadline=None)
 @given(arm=three_r(), seed=st.integers(0, 2**31 - 1))
 def test_every_branch_reaches_the_target_and_the_start_is_among_them(arm, seed):
-    assume(isinstance(closed_form(arm), Geometric3R))
+    assume(getattr(closed_form(arm), "family", None) == "geometric-3r")    # (three axes through one point: the gimbal)
     q = arm.random_q(rng=seed)
     p = armkit.fk(arm, q)[:3, 3]
     res = armkit.ik_all(arm, p, enforce_limits=False)

@@ -31,7 +31,7 @@ from numpy.typing import NDArray
 from ...model.robot import Robot
 from ._common import Raw, StandardForm
 
-__all__ = ["Geometric", "solver_name"]
+__all__ = ["Geometric", "GeometricGimbal", "across", "solver_name", "three_axes"]
 
 Array = NDArray[np.float64]
 
@@ -64,6 +64,11 @@ def solver_name(robot: Robot) -> tuple[str, int, bool, Any] | None:
     hit = _CLASSES.get(key)
     if hit is None:
         return None
+    if hit[0] == "spherical_two_intersecting" and "P" in cls.joint_types:
+        from ..geometric.poe import poe      # the Stanford arm's layout: axes 1 and 2 meet (else geometric-prismatic-wrist)
+
+        if not _meets(poe(robot), 0, 1, 1e-6):
+            return None
     if hit[0] == "two_intersecting":      # the 1-D search here needs axes 5 and 6 to meet (1 and 2 reversed)
         from ..geometric.poe import poe
         from ..geometric.solvers import reverse
@@ -214,8 +219,7 @@ class Geometric:
 
 
 PARALLEL_TOL = 1e-4
-"""Two axes of a 3R arm whose directions differ by less than this (rad) are solved as parallel (and polished); a
-tool point nearer than this times the arm's size to axis 3 counts as on it."""
+"""Two axes of a 3R arm whose directions differ by less than this (rad) are solved as parallel (and polished)."""
 MEET_TOL = 1e-9
 """Two axes of a 3R arm closer than this times the arm's size are solved as meeting. Axes that only nearly meet
 go to SP5, which slides its point along axis 2 away from axis 1 and stays well conditioned there; solving them as
@@ -273,10 +277,11 @@ class Geometric3R:
 
     @classmethod
     def detect(cls, sf: StandardForm | None, robot: Robot) -> Any:
-        """The family for an all-revolute arm of :attr:`classes`, else None: where the tool point lies on the last
-        axis the last joint does not move it, and two parallel axes on one line turn the arm as one joint (a
-        curve of solutions). (A planar 3R has a curve of solutions for a position, and three concurrent axes move
-        the point on a sphere: their classes are not among these.)"""
+        """The family for an all-revolute arm of :attr:`classes`, else None. Where the tool point lies on the last
+        axis (the last joint does not move it) or two parallel axes lie on one line (they turn the arm as one
+        joint), a position has a curve of solutions: ``classify`` calls such an arm degenerate (the tool point's
+        Jacobian, :data:`~armkit.ik.geometric.classify.POSITION_RANK_TOL`). (A planar 3R has a curve of solutions
+        for a position, and three concurrent axes move the point on a sphere: their classes are not among these.)"""
         if robot.n != cls.m_joints or any(robot.chain.prismatic):
             return None
         from ..geometric.classify import classify
@@ -285,11 +290,7 @@ class Geometric3R:
         chain_class = classify(robot)
         if chain_class.degenerate or chain_class.name not in cls.classes:
             return None
-        form = poe(robot)
-        n, size = robot.n, _size(robot)
-        if _on_line(form, n - 1, n, size) or any(_on_line(form, i, i + 1, size) for i in _parallel_pairs(form)):
-            return None
-        return cls(robot, form, chain_class)
+        return cls(robot, poe(robot), chain_class)
 
     def reach_why(self, lateral_out: bool, rho: float, r: float, target: Array | None) -> str:
         return _why(int(rho), self.m)
@@ -309,20 +310,27 @@ class Geometric3R:
         position = K._pos_general if K is not None else solvers._pos_general    # SP5, or SP4-SP3-SP1 (2 ∥ 3)
         return int(position(self.H, self.P, p0W, solvers.SEARCH_N, Q, LS))
 
+    buffer = (8, 3)
+    """The shape of the candidates' buffer ``Q`` that :meth:`_candidates` fills (rows: candidates)."""
+
+    def _candidates_of(self, target: Array, Q: Array, LS: NDArray[np.bool_], K: Any) -> int:
+        """:meth:`_candidates` for one target: a position ``(3,)`` or the position of a pose ``(4, 4)``."""
+        p = target[:3, 3] if target.ndim == 2 else target
+        return self._candidates(np.ascontiguousarray(p - self.P[0], dtype=float), Q, LS, K)
+
     def solve(self, target: Array, q0phi: Array) -> Raw:
         """Every branch for position targets ``(B, 3)`` (or the positions of poses ``(B, 4, 4)``)."""
         from ..geometric import solvers
 
-        pts = target[:, :3, 3] if target.ndim == 3 else target
-        B, m, n = len(pts), self.m, self.robot.n
+        B, m, n = len(target), self.m, self.robot.n
         K = solvers.kernels() if solvers._use_jit(None) else None
         q = np.zeros((B, m, n))
         unreachable = np.zeros((B, m), dtype=bool)
         found = np.zeros(B, dtype=np.int64)
-        Qp = np.zeros((8, 3))
-        LSp = np.zeros(8, dtype=np.bool_)
+        Qp = np.zeros(self.buffer)
+        LSp = np.zeros(self.buffer[0], dtype=np.bool_)
         for b in range(B):
-            c = self._candidates(np.ascontiguousarray(pts[b] - self.P[0], dtype=float), Qp, LSp, K)
+            c = self._candidates_of(target[b], Qp, LSp, K)
             exact = np.flatnonzero(~LSp[:c])[:m]  # a root of q1 may give a least-squares rest while another solves
             if len(exact):
                 k = len(exact)
@@ -375,12 +383,6 @@ def _parallel_pairs(form: Any) -> list[int]:
     return [i for i in range(form.n - 1) if np.linalg.norm(np.cross(form.H[i], form.H[i + 1])) < PARALLEL_TOL]
 
 
-def _on_line(form: Any, i: int, k: int, size: float) -> bool:
-    """Whether the point ``P[k]`` from axis ``i``'s point (the next axis's point, or the tool's) lies on axis ``i``,
-    within :data:`PARALLEL_TOL` of the arm's size."""
-    return bool(np.linalg.norm(np.cross(form.H[i], form.P[k])) < PARALLEL_TOL * size)
-
-
 def _meet(form: Any, i: int, size: float) -> bool:
     """Whether axes ``i`` and ``i + 1`` (0-based) of the chain ``form`` meet, within :data:`MEET_TOL` of its size."""
     n = np.cross(form.H[i], form.H[i + 1])
@@ -405,6 +407,80 @@ def _second_two_meet(H: Array, P: Array, p0W: Array, Q: Array, LS: NDArray[np.bo
             LS[m] = bool(ls1) or bool(ls2)
             m += 1
     return m
+
+
+def across(h: Array) -> Array:
+    """A unit vector perpendicular to the unit vector ``h`` (3,)."""
+    other = np.eye(3)[int(np.argmin(np.abs(h)))]
+    v = np.cross(h, other)
+    return v / np.linalg.norm(v)
+
+
+def three_axes(Rw: Array, H: Array, v: Array) -> list[tuple[float, float, float, bool]]:
+    """The angles of three axes through one point with ``rot(H[0], a) rot(H[1], b) rot(H[2], c) = Rw`` (3, 3), as
+    ``(a, b, c, ls)`` (up to 2; ``ls``: only a least-squares answer): where axis 3 goes fixes ``a`` and ``b``
+    (SP2), and ``c`` turns ``v``, a vector across axis 3 (:func:`across`), onto where it must go (SP1)."""
+    from ..geometric.subproblems import rot, sp1, sp2
+
+    h1, h2, h3 = H[0], H[1], H[2]
+    ta, tb, count, ls2 = sp2(Rw @ h3, h3, -h1, h2)
+    out = []
+    for j in range(count):
+        w = rot(h2, -tb[j], rot(h1, -ta[j], Rw @ v))
+        tc, ls1 = sp1(v, w, h3)
+        out.append((float(ta[j]), float(tb[j]), float(tc), bool(ls2) or bool(ls1)))
+    return out
+
+
+class GeometricGimbal(Geometric3R):
+    """Both branches of an orientation for three revolute axes through one point (class ``3R-spherical``: a
+    camera gimbal, a spherical wrist on its own). The target is a pose: its rotation gives the angles by SP2 and
+    SP1 (:func:`three_axes`), and its position must be where that rotation puts the tool (every branch is
+    verified by FK; a position elsewhere is unreachable, with the distance in ``position_error``). Axes that only
+    nearly meet are solved on the ideal chain and polished on the robot."""
+
+    family = "geometric-gimbal"
+    pose_only = True
+    target_kind = "pose"
+    m = 2
+    branch_labels = ("s1", "s2")
+    classes = ("3R-spherical",)
+
+    def __init__(self, robot: Robot, form: Any, chain_class: Any) -> None:
+        from ..geometric.solvers_chain import align
+
+        self.robot = robot
+        self.chain_class = chain_class
+        ideal, dev = align(form, ((0, 1, 2),))
+        self.form = ideal
+        self.H = np.array(ideal.H, dtype=float)
+        self.P = np.array(ideal.P, dtype=float)
+        self._across3 = across(self.H[2])
+        self.case = "concurrent"
+        eye = np.eye(4)
+        zero = np.zeros(3)
+        self.sf = StandardForm(zero, zero, zero, zero, eye, eye, eye, eye, float(robot.reach), exact=dev < 1e-13)
+
+    @classmethod
+    def detect(cls, sf: StandardForm | None, robot: Robot) -> Any:
+        """The family for three revolute joints whose axes meet in one point, else None."""
+        if robot.n != 3 or any(robot.chain.prismatic):
+            return None
+        from ..geometric.classify import classify
+        from ..geometric.poe import poe
+
+        chain_class = classify(robot)
+        if chain_class.degenerate or chain_class.name not in cls.classes:
+            return None
+        return cls(robot, poe(robot), chain_class)
+
+    def _candidates_of(self, target: Array, Q: Array, LS: NDArray[np.bool_], K: Any) -> int:
+        """Both branches of one pose ``(4, 4)`` into the rows of ``Q (8, 3)``; their count."""
+        found = three_axes(target[:3, :3] @ self.form.R_nT.T, self.H, self._across3)
+        for i, (a, b, c, ls) in enumerate(found):
+            Q[i] = (a, b, c)
+            LS[i] = ls
+        return len(found)
 
 
 class Geometric2R(Geometric3R):

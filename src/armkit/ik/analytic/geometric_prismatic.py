@@ -38,9 +38,9 @@ from numpy.typing import NDArray
 from ...model.robot import Robot
 from ..geometric.subproblems import TOL, _quartic_roots, _trig1, sp1
 from ._common import StandardForm
-from .geometric import Geometric3R
+from .geometric import Geometric3R, across, three_axes
 
-__all__ = ["GeometricPrismatic"]
+__all__ = ["GeometricPrismatic", "GeometricPrismaticWrist", "Positioner"]
 
 Array = NDArray[np.float64]
 
@@ -48,25 +48,16 @@ _C, _S = 3, 4
 """Columns of ``cos θ`` and ``sin θ`` in an expression; 0 is the constant, 1 and 2 the slides."""
 
 
-class GeometricPrismatic(Geometric3R):
-    """Every branch of a position target for a chain of 1 to 3 joints with at least one prismatic joint (the
-    classes ``PPP-cartesian``, ``RPP-cylindrical``, ``RRP-spherical``, ``RRP-scara``, ``RP``, ... of
-    :func:`armkit.ik.geometric.classify.classify`); see the module docstring for the method."""
+class Positioner:
+    """The position equations of a chain of 1 to 3 joints with a slide, ``H (n, 3)``, ``P (n + 1, 3)`` and the
+    slide flags ``(n,)`` of its product-of-exponentials form; ``size``: a length typical of the arm."""
 
-    family = "geometric-prismatic"
-    m_joints = 3
-    classes: tuple[str, ...] = ()     # any class of such a chain that classify solves in closed form
-
-    def __init__(self, robot: Robot, form: Any, chain_class: Any) -> None:
-        n = robot.n
-        self.robot = robot
-        self.chain_class = chain_class
-        self.H = np.array(form.H, dtype=float)
-        self.P = np.array(form.P, dtype=float)
-        self.slide = np.asarray(form.prismatic, dtype=bool).copy()
-        self.m = int(chain_class.max_solutions)
-        self.branch_labels = tuple(f"s{k + 1}" for k in range(self.m))
-        self.case = robot.joint_types
+    def __init__(self, H: Array, P: Array, slide: NDArray[np.bool_], size: float) -> None:
+        self.H = np.array(H, dtype=float)
+        self.P = np.array(P, dtype=float)
+        self.slide = np.asarray(slide, dtype=bool).copy()
+        self.n = n = len(self.H)
+        self.size = max(float(size), 1e-300)
         turns = [k for k in range(n) if not self.slide[k]]
         slides = [k for k in range(n) if self.slide[k]]
         self.column = {k: 1 + i for i, k in enumerate(slides)}
@@ -75,33 +66,14 @@ class GeometricPrismatic(Geometric3R):
         self.cut = (min(turns, key=lambda k: (abs(k - slides[0]), k)) if len(turns) == 2 else
                     turns[0] if turns else -1)
         self.other = next((k for k in turns if k != self.cut), -1)
-        self.size = max(float(robot.reach), 1e-300)
         if not turns:
-            dirs = self.H[slides].T
-            self._pinv = np.linalg.pinv(dirs)
-            self._dirs = dirs
-        eye = np.eye(4)
-        zero = np.zeros(n)
-        self.sf = StandardForm(zero, zero, zero, zero, eye, eye, eye, eye, float(robot.reach), exact=True)
+            self._dirs = self.H[slides].T
+            self._pinv = np.linalg.pinv(self._dirs)
 
-    @classmethod
-    def detect(cls, sf: StandardForm | None, robot: Robot) -> Any:
-        """The family for a chain of 1 to 3 joints with a prismatic one whose class has a closed form, else None."""
-        if not 1 <= robot.n <= cls.m_joints or not any(robot.chain.prismatic):
-            return None
-        from ..geometric.classify import classify
-        from ..geometric.poe import poe
-
-        chain_class = classify(robot)
-        if chain_class.degenerate or chain_class.solver != "closed form" or not chain_class.max_solutions:
-            return None
-        return cls(robot, poe(robot), chain_class)
-
-    # ------------------------------------------------------------------------------------ the two sides
-    def _sides(self, t: Array) -> tuple[Array, Array]:
+    def sides(self, t: Array) -> tuple[Array, Array]:
         """``A`` and ``B`` as ``(3, 5)`` expressions (columns: 1, slide 1, slide 2, cos θ, sin θ) for the target
         ``t`` taken from axis 1's point."""
-        H, P, n, cut = self.H, self.P, self.robot.n, self.cut
+        H, P, n, cut = self.H, self.P, self.n, self.cut
         A = np.zeros((3, 5))
         A[:, 0] = P[n]
         for k in range(n - 1, cut, -1):           # A = P_{cut+1} + F_{cut+1}(P_{cut+2} + ... F_n P_nT)
@@ -120,40 +92,156 @@ class GeometricPrismatic(Geometric3R):
             B[:, 0] -= P[k + 1]
         return A, B
 
-    def _candidates(self, p0W: Array, Q: Array, LS: NDArray[np.bool_], K: Any) -> int:
-        """The solutions for ``p0W = p - p_01`` into the rows of ``Q (8, 3)`` (least-squares ones flagged in
-        ``LS``); their count."""
-        n = self.robot.n
+    def solutions(self, p0W: Array) -> list[tuple[Array, bool]]:
+        """Every ``(q (n,), ls)`` for the point ``p0W = p - p_01``; ``ls``: only a least-squares answer."""
+        n = self.n
         scale = max(self.size, float(np.linalg.norm(p0W)))
         if self.cut < 0:                          # slides only: a linear system
             rest = p0W - self.P[1:].sum(axis=0)
             x = self._pinv @ rest
-            Q[0, :n] = x
-            LS[0] = bool(np.linalg.norm(self._dirs @ x - rest) > TOL * scale)
-            return 1
-        A, B = self._sides(p0W)
+            return [(x, bool(np.linalg.norm(self._dirs @ x - rest) > TOL * scale))]
+        A, B = self.sides(p0W)
         h = self.H[self.cut]
         line = h @ (A - B)                        # h · A - h · B, over (1, slide 1, slide 2, cos, sin)
         M = A.T @ A - B.T @ B                     # |A|² - |B|² = mᵀ M m for m = (1, slide 1, slide 2, cos, sin)
-        slides = len(self.column)
         if self.other >= 0:
             found = _one_slide_one_angle(line, M, scale)
-        elif slides == 2:
+        elif len(self.column) == 2:
             found = _two_slides(line, M, scale)
         else:
             found = _one_slide(line, M, float(h @ B[:, 0]), scale)
-        count = 0
+        out = []
         for mono, ls in found[:8]:
             qv = np.zeros(n)
             for k, col in self.column.items():
                 qv[k] = mono[col]
             if self.other >= 0:
                 qv[self.other] = math.atan2(mono[_S], mono[_C])
-            a, b = A @ mono, B @ mono
-            qv[self.cut], ls1 = sp1(a, b, h)
-            Q[count, :n] = qv
-            LS[count] = bool(ls) or bool(ls1)
-            count += 1
+            qv[self.cut], ls1 = sp1(A @ mono, B @ mono, h)
+            out.append((qv, bool(ls) or bool(ls1)))
+        return out
+
+
+class GeometricPrismatic(Geometric3R):
+    """Every branch of a position target for a chain of 1 to 3 joints with at least one prismatic joint (the
+    classes ``PPP-cartesian``, ``RPP-cylindrical``, ``RRP-spherical``, ``RRP-scara``, ``RP``, ... of
+    :func:`armkit.ik.geometric.classify.classify`); see the module docstring for the method."""
+
+    family = "geometric-prismatic"
+    m_joints = 3
+    classes: tuple[str, ...] = ()     # any class of such a chain that classify solves in closed form
+
+    def __init__(self, robot: Robot, form: Any, chain_class: Any) -> None:
+        n = robot.n
+        self.robot = robot
+        self.chain_class = chain_class
+        self.P = np.array(form.P, dtype=float)
+        self.chain = Positioner(form.H, form.P, form.prismatic, float(robot.reach))
+        self.m = int(chain_class.max_solutions)
+        self.branch_labels = tuple(f"s{k + 1}" for k in range(self.m))
+        self.case = robot.joint_types
+        eye = np.eye(4)
+        zero = np.zeros(n)
+        self.sf = StandardForm(zero, zero, zero, zero, eye, eye, eye, eye, float(robot.reach), exact=True)
+
+    @classmethod
+    def detect(cls, sf: StandardForm | None, robot: Robot) -> Any:
+        """The family for a chain of 1 to 3 joints with a prismatic one whose class has a closed form, else None."""
+        if not 1 <= robot.n <= cls.m_joints or not any(robot.chain.prismatic):
+            return None
+        from ..geometric.classify import classify
+        from ..geometric.poe import poe
+
+        chain_class = classify(robot)
+        if chain_class.degenerate or chain_class.solver != "closed form" or not chain_class.max_solutions:
+            return None
+        return cls(robot, poe(robot), chain_class)
+
+    def _candidates(self, p0W: Array, Q: Array, LS: NDArray[np.bool_], K: Any) -> int:
+        """The solutions for ``p0W = p - p_01`` into the rows of ``Q (8, 3)`` (least-squares ones flagged in
+        ``LS``); their count."""
+        found = self.chain.solutions(p0W)
+        for i, (qv, ls) in enumerate(found):
+            Q[i, :len(qv)] = qv
+            LS[i] = ls
+        return len(found)
+
+
+class GeometricPrismaticWrist(GeometricPrismatic):
+    """Every branch of a pose for six joints: three positioning joints with a slide and a spherical wrist (axes
+    4, 5, 6 meet in a point; the classes ``PRRRRR-spherical-wrist``, ``RPRRRR-spherical-wrist``, ... of
+    :func:`armkit.ik.geometric.classify.classify`, and ``...-spherical-wrist-base`` solved on the reversed
+    chain). The Stanford arm's own layout (axes 1 and 2 meet) keeps the compiled solver of the
+    :class:`~armkit.ik.analytic.geometric.Geometric` family.
+
+    Where the wrist axes meet, ``p = c(q1, q2, q3) + R_06 p_6T``: the wrist centre ``c`` is the tool point of
+    the first three joints (:class:`Positioner`, up to 4 solutions), and ``rot(h4, q4) rot(h5, q5) rot(h6, q6) =
+    R_03ᵀ R_06`` gives q4 and q5 by SP2 (where axis 6 goes) and q6 by SP1: up to twice as many branches. Wrist
+    axes that only nearly meet are solved on the ideal chain and polished on the robot (solve_all)."""
+
+    family = "geometric-prismatic-wrist"
+    pose_only = True
+    target_kind = "pose"
+    m_joints = 6
+    buffer = (8, 6)
+
+    def __init__(self, robot: Robot, form: Any, chain_class: Any) -> None:
+        from ..geometric.solvers_chain import align, reverse
+
+        self.robot = robot
+        self.chain_class = chain_class
+        self.inverted = bool(chain_class.inverted)
+        ideal, dev = align(reverse(form) if self.inverted else form, ((3, 4, 5),))
+        self.form = ideal
+        self.P = np.array(ideal.P, dtype=float)
+        self.chain = Positioner(ideal.H[:3], ideal.P[:4], ideal.prismatic[:3], float(robot.reach))
+        self.m = int(chain_class.max_solutions)
+        self.branch_labels = tuple(f"s{k + 1}" for k in range(self.m))
+        self.case = robot.joint_types
+        self._across6 = across(ideal.H[5])
+        eye = np.eye(4)
+        zero = np.zeros(6)
+        self.sf = StandardForm(zero, zero, zero, zero, eye, eye, eye, eye, float(robot.reach), exact=dev < 1e-13)
+
+    @classmethod
+    def detect(cls, sf: StandardForm | None, robot: Robot) -> Any:
+        """The family for a six-joint chain with a slide among the first three (the last three, reversed) and a
+        spherical wrist that the :class:`~armkit.ik.analytic.geometric.Geometric` family does not solve, else
+        None."""
+        if robot.n != cls.m_joints or not any(robot.chain.prismatic):
+            return None
+        from ..geometric.classify import classify
+        from ..geometric.poe import poe
+
+        chain_class = classify(robot)
+        if (chain_class.degenerate or chain_class.solver != "closed form" or not chain_class.max_solutions
+                or "spherical-wrist" not in chain_class.name):
+            return None
+        return cls(robot, poe(robot), chain_class)
+
+    def _candidates_of(self, target: Array, Q: Array, LS: NDArray[np.bool_], K: Any) -> int:
+        """Every branch of one pose ``(4, 4)`` into the rows of ``Q (8, 6)``; their count."""
+        from ..geometric.subproblems import rotm
+
+        form = self.form
+        R, p = target[:3, :3], target[:3, 3]
+        if self.inverted:                         # the reversed chain, for the inverse target
+            R = R.T
+            p = -R @ p
+        R06 = R @ form.R_nT.T
+        centre = p - R06 @ form.P[6] - form.P[0]
+        count = 0
+        for q3, ls in self.chain.solutions(centre):
+            R03 = np.eye(3)
+            for k in range(3):
+                if not form.prismatic[k]:
+                    R03 = R03 @ rotm(form.H[k], float(q3[k]))
+            for t4, t5, t6, ls3 in three_axes(R03.T @ R06, form.H[3:6], self._across6):
+                if count < len(Q):
+                    row = (*q3, t4, t5, t6)
+                    Q[count] = row[::-1] if self.inverted else row
+                    LS[count] = ls or ls3
+                    count += 1
         return count
 
 

@@ -236,10 +236,16 @@ def _merge(rels: Sequence[_Relations]) -> _Relations:
     return _Relations(r0.n, par, inter, inter2, groups, near)
 
 
+def _sampled_scale(P: Array, prismatic: NDArray[np.bool_]) -> float:
+    """The size of the chain at the configurations the rank checks draw: its offsets, and the slides' values
+    (drawn like the angles, up to pi) where it has slides, so that a chain of slides alone is not of size 0."""
+    return _scale(P) + (math.pi if np.any(prismatic) else 0.0)
+
+
 def _rank_deficient(H: Array, P: Array, prismatic: NDArray[np.bool_]) -> bool:
     """True when the chain's Jacobian has rank below ``min(n, 6)`` at generic configurations."""
     n = H.shape[0]
-    scale = _scale(P)
+    scale = _sampled_scale(P, prismatic)
     rng = np.random.default_rng(20240611)
     best = 0
     for _ in range(3):
@@ -353,6 +359,13 @@ def _six_r_families(r: _Relations) -> list[tuple[str, str, int | None, bool]]:
     return out
 
 
+_POSITION_CLASSES = frozenset({"1R", "2R-planar", "2R-intersecting", "2R-general", "3R-elbow", "3R-two-parallel",
+                               "3R-general"})
+"""The classes of 1 to 3 revolute joints whose closed form is for a position."""
+_TARGET_CLASSES = _POSITION_CLASSES | {"3R-planar", "3R-spherical"}
+"""... and those whose target turns the tool too (3R-planar takes the end angle, 3R-spherical an orientation)."""
+
+
 def _small_family(r: _Relations, H: Array, tol: float) -> tuple[str, str, int | None, bool]:
     """Classes of all-revolute arms with 1 to 5 joints (their IK is for the pose components they control)."""
     n = r.n
@@ -417,7 +430,10 @@ def _lock(H: Array, P: Array, prismatic: NDArray[np.bool_], k: int, t: float) ->
     return H2, P2, np.delete(np.asarray(prismatic, dtype=bool), k)
 
 
-def _classify_poe(H: Array, P: Array, prismatic: NDArray[np.bool_], tol: float) -> ChainClass:
+def _classify_poe(H: Array, P: Array, prismatic: NDArray[np.bool_], tol: float, size: float | None = None
+                  ) -> ChainClass:
+    """The class of the chain ``(H, P)``; ``size``: the arm's size for the tool point's rank (the robot's reach;
+    default: the offsets, :func:`_sampled_scale`)."""
     H = np.asarray(H, dtype=float)
     H = H / np.linalg.norm(H, axis=1, keepdims=True)
     P = np.asarray(P, dtype=float)
@@ -432,9 +448,14 @@ def _classify_poe(H: Array, P: Array, prismatic: NDArray[np.bool_], tol: float) 
         return ChainClass(**base, name=f"{prefix}-degenerate", solver="numeric", max_solutions=None,
                           near=rel.near, degenerate=True)
     if prismatic.any():
-        return _prismatic_class(H, P, prismatic, rel, base, prefix, n)
+        return _prismatic_class(H, P, prismatic, rel, base, prefix, n, size)
     if n <= 5:
         name, solver, m, inv = _small_family(rel, H, tol)
+        if name in _TARGET_CLASSES and _position_rank(H, P, prismatic, size, name not in _POSITION_CLASSES) < n:
+            # the joints cannot move the tool in every direction of the class's target (a tool point on the last
+            # axis, two axes on one line, a link of length ~0): a curve of solutions or none
+            return ChainClass(**base, name=f"{n}R-degenerate", solver="numeric", max_solutions=None, near=rel.near,
+                              degenerate=True)
         return ChainClass(**base, name=name, solver=solver, max_solutions=m, near=rel.near, inverted=inv)
     if n == 6:
         fams = _six_r_families(rel)
@@ -478,19 +499,28 @@ def _seven_r(H: Array, P: Array, prismatic: NDArray[np.bool_], tol: float, rel: 
 
 
 def _prismatic_class(H: Array, P: Array, prismatic: NDArray[np.bool_], rel: _Relations, base: dict, prefix: str,
-                     n: int) -> ChainClass:
+                     n: int, size: float | None = None) -> ChainClass:
     """Chains with prismatic joints: a spherical wrist on three revolute joints at either end of a 6-joint chain
     leaves a 3-joint positioning problem, closed form (at most a quartic) with at most 4 × 2 solutions; a chain of
     1 to 3 joints is itself such a positioning problem (:mod:`armkit.ik.analytic.geometric_prismatic`) where its
     joints move the tool point in every direction they can (``n`` of them)."""
-    if n == 6 and rel.concurrent(3, 4, 5):
-        return ChainClass(**base, name=f"{prefix}-spherical-wrist", solver="closed form", max_solutions=8,
-                          near=rel.near)
-    if n == 6 and rel.concurrent(0, 1, 2):
-        return ChainClass(**base, name=f"{prefix}-spherical-wrist-base", solver="closed form", max_solutions=8,
-                          near=rel.near, inverted=True)
+    if n == 6 and (rel.concurrent(3, 4, 5) or rel.concurrent(0, 1, 2)):
+        at_base = not rel.concurrent(3, 4, 5)
+        if at_base:                               # the chain read from the tool: its wrist is then at the end
+            H, P, prismatic = -H[::-1], -P[::-1], prismatic[::-1]
+        pts = axis_points(P)
+        centre, _ = common_point(H, pts, (3, 4, 5))
+        # the first three joints move the wrist centre: the positioning problem of a 3-joint chain
+        Hs, Ps, slides = H[:3], np.vstack([P[:3], centre - pts[2]]), prismatic[:3]
+        if _position_rank(Hs, Ps, slides, size) < 3:
+            return ChainClass(**base, name=f"{prefix}-degenerate", solver="numeric", max_solutions=None,
+                              near=rel.near, degenerate=True)
+        kinds = "".join("P" if k else "R" for k in slides)
+        m = _positioner(Hs, slides, _relations(Hs, Ps, slides, base["tol"]), kinds)[1]
+        return ChainClass(**base, name=f"{prefix}-spherical-wrist{'-base' if at_base else ''}", solver="closed form",
+                          max_solutions=2 * m, near=rel.near, inverted=at_base)
     if n <= 3:
-        if _position_rank(H, P, prismatic) < n:
+        if _position_rank(H, P, prismatic, size) < n:
             return ChainClass(**base, name=f"{prefix}-degenerate", solver="numeric", max_solutions=None,
                               near=rel.near, degenerate=True)
         name, m = _positioner(H, prismatic, rel, prefix)
@@ -523,16 +553,25 @@ def _positioner(H: Array, prismatic: NDArray[np.bool_], rel: _Relations, prefix:
     return f"{prefix}-general", 4
 
 
-def _position_rank(H: Array, P: Array, prismatic: NDArray[np.bool_]) -> int:
-    """The rank of the tool point's Jacobian ``(3, n)`` at generic configurations."""
+POSITION_RANK_TOL = 1e-4
+"""A direction the tool point moves in by less than this (per rad or per unit of slide, in units of the arm's size)
+does not count: a tool point this close to an axis, or two slides this close to parallel, leave a curve of
+solutions within rounding (the geometric families' ``PARALLEL_TOL``: they solve on the ideal chain below it)."""
+
+
+def _position_rank(H: Array, P: Array, prismatic: NDArray[np.bool_], size: float | None = None,
+                   turning: bool = False) -> int:
+    """The rank of the tool point's Jacobian ``(3, n)`` at generic configurations (:data:`POSITION_RANK_TOL`), its
+    columns in units of ``size`` (default: :func:`_sampled_scale`); ``turning``: of the tool's whole Jacobian
+    ``(6, n)``, its turning too (a planar 3R's end angle, a gimbal's orientation)."""
     n = H.shape[0]
-    scale = _scale(P)
+    scale = size if size is not None and size > 0 else _sampled_scale(P, prismatic)
     rng = np.random.default_rng(20240611)
     best = 0
     for _ in range(3):
         q: Array = np.asarray(rng.uniform(-np.pi, np.pi, size=n), dtype=float)
         R = np.eye(3)
-        p = np.asarray(P[0], dtype=float).copy()
+        p = np.zeros(3)                           # from axis 1's point (P[0], the base offset, would only round)
         axes = []                                 # (joint, direction, a point on its axis) at q
         for k in range(n):
             w = R @ H[k]
@@ -542,11 +581,13 @@ def _position_rank(H: Array, P: Array, prismatic: NDArray[np.bool_]) -> int:
                 R = R @ rotm(H[k], float(q[k]))
             axes.append((k, w, p))
             p = p + R @ P[k + 1]
-        J = np.zeros((3, n))                      # a slide moves the point along w, a turn by w × (p - o)
+        J = np.zeros((6 if turning else 3, n))    # a slide moves the point along w, a turn by w × (p - o)
         for k, w, o in axes:
-            J[:, k] = (w if prismatic[k] else np.cross(w, p - o)) / scale
-        s = np.linalg.svd(J, compute_uv=False)
-        best = max(best, int(np.sum(s > 1e-9 * max(s[0], 1e-300))))
+            J[:3, k] = (w if prismatic[k] else np.cross(w, p - o)) / scale
+            if turning and not prismatic[k]:
+                J[3:, k] = w
+        s = np.linalg.svd(J, compute_uv=False)       # columns of about 1 (a tool point on every axis: all ~0)
+        best = max(best, int(np.sum(s > POSITION_RANK_TOL * max(s[0], 1.0))))
     return best
 
 
@@ -565,7 +606,8 @@ def classify(robot_or_poe: Union[Robot, POE], tol: float = DEFAULT_TOL) -> Chain
     form = robot_or_poe if isinstance(robot_or_poe, POE) else poe(robot_or_poe)
     if not (tol > 0 and np.isfinite(tol)):
         raise ArgumentError.of("tol must be a positive number, got {tol!r}", tol=tol)
-    return _classify_poe(np.asarray(form.H), np.asarray(form.P), np.asarray(form.prismatic), float(tol))
+    size = float(robot_or_poe.reach) if isinstance(robot_or_poe, Robot) else None
+    return _classify_poe(np.asarray(form.H), np.asarray(form.P), np.asarray(form.prismatic), float(tol), size)
 
 
 # ------------------------------------------------------------------ one line for users
