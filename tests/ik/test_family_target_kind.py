@@ -9,7 +9,7 @@ import pytest
 import armkit
 from armkit.ik import analytic
 from armkit.ik.analytic.geometric import Geometric, Geometric1R, Geometric2R, Geometric3R, GeometricGimbal
-from armkit.ik.analytic.geometric_prismatic import GeometricPrismatic, GeometricPrismaticWrist
+from armkit.ik.analytic.geometric_prismatic import GeometricPrismatic, GeometricPrismaticWrist, GeometricScara
 from armkit.ik.geometric.locked import Locked
 
 KINDS = ("position", "pose", "pitch")
@@ -22,7 +22,8 @@ def test_target_kind_is_in_the_protocol():
     assert "target_kind" in analytic.ClosedFormFamily.__annotations__
 
 
-@pytest.mark.parametrize("cls", [*analytic.FAMILIES, Geometric, Geometric3R, Geometric2R, Geometric1R, GeometricGimbal, GeometricPrismatic, GeometricPrismaticWrist, Locked], ids=lambda c: c.__name__)
+@pytest.mark.parametrize("cls", [*analytic.FAMILIES, Geometric, Geometric3R, Geometric2R, Geometric1R, GeometricGimbal, GeometricPrismatic, GeometricPrismaticWrist,
+                                 GeometricScara, Locked], ids=lambda c: c.__name__)
 def test_every_family_declares_a_known_target_kind(cls):
     assert cls.target_kind in KINDS
     assert cls.pose_only == (cls.target_kind != "position")

@@ -16,12 +16,14 @@ import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from scipy.spatial.transform import Rotation
 
 import armkit
 from armkit import Joint, Robot
 from armkit.ik.analytic import closed_form
 from armkit.ik.analytic.geometric_prismatic import GeometricPrismatic
 from armkit.ik.geometric.classify import classify
+from test_gimbal import _fd_ranks  # noqa: E402  (the tool's Jacobian rank by central differences of FK)
 
 R, P = "revolute", "prismatic"
 HALF = math.pi / 2
@@ -47,16 +49,18 @@ def _solved(robot: Robot, p: np.ndarray) -> np.ndarray:
     return res.q[np.asarray(res.success)]
 
 
-def _fd_rank(robot: Robot, q: np.ndarray) -> int:
-    """The rank of the tool point's Jacobian by central differences of FK (not the code under test)."""
+def _fd_rank(robot: Robot, q: np.ndarray, tol: float = 1e-6) -> int:
+    """The rank of the tool point's Jacobian by central differences of FK (not the code under test): directions
+    the point moves in by more than ``tol`` per unit of slide, or of the arm's size per rad of turn."""
     h = 1e-6
     cols = []
     for k in range(robot.n):
         e = np.zeros(robot.n)
         e[k] = h
-        cols.append((armkit.fk(robot, q + e)[:3, 3] - armkit.fk(robot, q - e)[:3, 3]) / (2 * h))
+        col = (armkit.fk(robot, q + e)[:3, 3] - armkit.fk(robot, q - e)[:3, 3]) / (2 * h)
+        cols.append(col if robot.joints[k].is_prismatic else col / max(float(robot.reach), 1e-9))
     s = np.linalg.svd(np.array(cols).T, compute_uv=False)
-    return int((s > 1e-6 * max(s[0], 1e-12)).sum())
+    return int((s > tol * max(s[0], 1.0)).sum())
 
 
 # ---------------------------------------------------------------- random chains
@@ -87,8 +91,9 @@ def test_every_branch_reaches_the_target_and_the_start_is_among_them(arm, seed):
     cls = classify(arm)
     q = arm.random_q(rng=seed)
     slides = np.asarray(arm.chain.prismatic)
-    if cls.degenerate:          # the joints cannot move the point in every direction: the numeric solvers answer
-        assert _fd_rank(arm, q) < arm.n and closed_form(arm) is None
+    if cls.degenerate:          # the joints cannot move the point in every direction (classify: by 1e-4 of the
+        # arm's size; checked here at 1e-2): the numeric solvers answer
+        assert _fd_rank(arm, q, 1e-2) < arm.n and closed_form(arm) is None
         return
     assert _fd_rank(arm, q) == arm.n or _fd_rank(arm, arm.random_q(rng=seed + 1)) == arm.n
     family = closed_form(arm)
@@ -242,8 +247,8 @@ def test_a_slide_and_a_spherical_wrist_every_branch_reaches_the_pose(at_base):
     for seed in range(40):
         arm = _wrist_arm(seed, at_base)
         cls = classify(arm)
-        if cls.degenerate:
-            assert _fd_rank(arm, arm.random_q(rng=seed)) < 6 or closed_form(arm) is None
+        if cls.degenerate:        # the first three cannot move the wrist centre every way: no full-rank Jacobian
+            assert _fd_ranks(arm, arm.random_q(rng=seed))[0] < 6 and closed_form(arm) is None
             continue
         assert cls.name.endswith("spherical-wrist-base" if at_base else "spherical-wrist")
         family = closed_form(arm)
@@ -280,3 +285,58 @@ def test_a_stanford_arm_whose_first_axes_miss_each_other_still_gets_every_branch
         assert len(solved) >= 5
         for x in solved:
             assert _has(found, x, slides, 1e-5), (x, found)
+
+
+# ---------------------------------------------------------------- four joints: the SCARA
+def test_scara_rrpr_by_hand():
+    """Standard DH (q1, 0.4, 0.35, 0), (q2, 0, 0.3, 180 deg), (0, d3, 0, 0), (q4, 0.05, 0, 0). From the rows: the
+    tool is at (0.35 c1 + 0.3 c12, 0.35 s1 + 0.3 s12, 0.4 - d3 - 0.05) and turned by Rz(q1 + q2 - q4) Rx(180 deg)
+    (Rx(180 deg) Rz(q4) = Rz(-q4) Rx(180 deg)). So d3 = 0.35 - z, q2 = ±acos((x² + y² - 0.35² - 0.3²) / (2 · 0.35 ·
+    0.3)), q1 = atan2(y, x) - atan2(0.3 sin q2, 0.35 + 0.3 cos q2) and q4 = q1 + q2 - ψ."""
+    arm = Robot([_joint(R, d=0.4, a=0.35), _joint(R, a=0.3, alpha=math.pi), _joint(P), _joint(R, d=0.05)],
+                name="scara")
+    assert classify(arm).name == "RRPR-scara" and closed_form(arm).family == "geometric-scara"
+    slides = np.array([False, False, True, False])
+    g = np.random.default_rng(5)
+    for _ in range(10):
+        r, th, z, psi = g.uniform(0.1, 0.6), g.uniform(-3, 3), g.uniform(-0.2, 0.3), g.uniform(-3, 3)
+        x, y = r * math.cos(th), r * math.sin(th)
+        T = np.eye(4)
+        T[:3, :3] = Rotation.from_euler("ZX", [psi, math.pi]).as_matrix()     # Rz(psi) Rx(180 deg)
+        T[:3, 3] = (x, y, z)
+        res = armkit.ik_all(arm, T, enforce_limits=False)
+        found = res.q[np.asarray(res.success)]
+        assert len(found) == 2
+        for sign in (1, -1):
+            q2 = sign * math.acos((x * x + y * y - 0.35**2 - 0.3**2) / (2 * 0.35 * 0.3))
+            q1 = math.atan2(y, x) - math.atan2(0.3 * math.sin(q2), 0.35 + 0.3 * math.cos(q2))
+            assert _has(found, np.array([q1, q2, 0.35 - z, q1 + q2 - psi]), slides, 1e-9)
+
+
+def test_a_scara_cannot_tilt_its_tool_and_says_so():
+    arm = Robot([_joint(R, d=0.4, a=0.35), _joint(R, a=0.3, alpha=math.pi), _joint(P), _joint(R, d=0.05)],
+                name="scara")
+    T = armkit.fk(arm, np.array([0.3, 0.8, 0.1, -0.5]))
+    T[:3, :3] = T[:3, :3] @ Rotation.from_rotvec([0.2, 0.0, 0.0]).as_matrix()     # tilted by 0.2 rad
+    res = armkit.ik_all(arm, T, enforce_limits=False)
+    assert not np.asarray(res.success).any() and set(res.reason) == {"unreachable"}
+    assert np.all(np.asarray(res.rotation_error) >= 0.2 - 1e-9)
+
+
+@pytest.mark.parametrize("order", ["PRRR", "RPRR", "RRRP"])
+def test_scara_in_any_order_every_branch_reaches_the_pose(order):
+    g = np.random.default_rng(len(order) + ord(order[1]))
+    for t in range(10):
+        rows = g.uniform(-0.5, 0.5, (4, 4))
+        rows[:, 2] = g.choice([-1.0, 1.0], 4) * g.uniform(0.05, 0.5, 4)      # links, none of about 0 length
+        rows[:, 3] = g.choice([0.0, math.pi], 4)
+        tool = np.eye(4)
+        tool[:3, 3] = g.uniform(-0.2, 0.2, 3)
+        arm = Robot([_joint(R if k == "R" else P, *row) for k, row in zip(order, rows)], tool=tool, name="scara")
+        assert classify(arm).name == f"{order}-scara" and closed_form(arm).family == "geometric-scara"
+        q = arm.random_q(rng=t)
+        T = armkit.fk(arm, q)
+        res = armkit.ik_all(arm, T, enforce_limits=False)
+        ok = np.asarray(res.success)
+        assert ok.any() and np.abs(armkit.fk(arm, res.q[ok]) - T).max() <= 1e-9
+        assert _has(res.q[ok], q, np.asarray(arm.chain.prismatic), 1e-6)

@@ -37,7 +37,7 @@ from ..result import IKResult, _result_of, default_tolerance, verify
 from ._common import Raw, StandardForm, jit_kernels, keep_better, standard_form
 from ._layout import LABEL_SHIFT, NEAREST, joint_table
 from .geometric import Geometric, Geometric1R, Geometric2R, Geometric3R, GeometricGimbal
-from .geometric_prismatic import GeometricPrismatic, GeometricPrismaticWrist
+from .geometric_prismatic import GeometricPrismatic, GeometricPrismaticWrist, GeometricScara
 from .planar import Planar2R, Planar3R
 from .spherical_wrist import SphericalWrist
 from .ur import ParallelAxes
@@ -120,7 +120,7 @@ def closed_form(robot: Robot) -> ClosedForm | None:
         found = (Geometric.detect(sf, robot) or Geometric3R.detect(sf, robot)  # type: ignore[assignment]
                  or Geometric2R.detect(sf, robot) or Geometric1R.detect(sf, robot)
                  or GeometricGimbal.detect(sf, robot) or GeometricPrismatic.detect(sf, robot)
-                 or GeometricPrismaticWrist.detect(sf, robot))
+                 or GeometricPrismaticWrist.detect(sf, robot) or GeometricScara.detect(sf, robot))
     robot.cache["closed_form"] = found
     return found
 

@@ -40,7 +40,7 @@ from ..geometric.subproblems import TOL, _quartic_roots, _trig1, sp1
 from ._common import StandardForm
 from .geometric import Geometric3R, across, three_axes
 
-__all__ = ["GeometricPrismatic", "GeometricPrismaticWrist", "Positioner"]
+__all__ = ["GeometricPrismatic", "GeometricPrismaticWrist", "GeometricScara", "Positioner"]
 
 Array = NDArray[np.float64]
 
@@ -243,6 +243,86 @@ class GeometricPrismaticWrist(GeometricPrismatic):
                     LS[count] = ls or ls3
                     count += 1
         return count
+
+
+class GeometricScara(GeometricPrismatic):
+    """Both branches of a pose for four joints: three revolute axes parallel to one direction ``h`` and a slide
+    along it, in any order (the SCARA: two arm joints, a vertical quill, a wrist turn; class ``RRPR-scara`` and
+    the other orders of :func:`armkit.ik.geometric.classify.classify`). Such an arm controls the tool position
+    and its turn about ``h``; the target is a pose, whose rotation must be such a turn (else no branch reaches
+    it, and the error says by how much).
+
+    Every turn is about ``h``, so they add up: the pose's rotation gives the sum ``ψ`` of the signed angles
+    (SP1), the component of the position along ``h`` gives the slide, and across ``h`` the offsets after the
+    first, second and third turn make a planar two-link problem (SP3 for the elbow, SP1 for the shoulder); the
+    third angle is what is left of ``ψ``."""
+
+    family = "geometric-scara"
+    pose_only = True
+    target_kind = "pose"
+    m = 2
+    m_joints = 4
+    buffer = (8, 4)
+
+    def __init__(self, robot: Robot, form: Any, chain_class: Any) -> None:
+        self.robot = robot
+        self.chain_class = chain_class
+        self.form = form
+        self.P = np.array(form.P, dtype=float)
+        self.m = 2
+        self.branch_labels = ("s1", "s2")
+        self.case = robot.joint_types
+        slide = np.asarray(form.prismatic, dtype=bool)
+        self.turns = [k for k in range(4) if not slide[k]]
+        self.slide_joint = int(np.flatnonzero(slide)[0])
+        h = np.array(form.H[self.turns[0]], dtype=float)
+        self.h = h
+        # each turn's direction along h (named not `sign`, which is planar-2r's option in the one-call path)
+        self.turn_sign = np.array([1.0 if float(form.H[k] @ h) > 0 else -1.0 for k in self.turns])
+        self.slide_along = float(form.H[self.slide_joint] @ h)
+        # the offsets P[1..4] grouped by how many turns come before them (the slide's own vector is along h)
+        self.A = np.zeros((4, 3))
+        for k in range(1, 5):
+            self.A[sum(1 for t in self.turns if t < k)] += form.P[k]
+        self._across = across(h)
+        eye = np.eye(4)
+        zero = np.zeros(4)
+        self.sf = StandardForm(zero, zero, zero, zero, eye, eye, eye, eye, float(robot.reach), exact=True)
+
+    @classmethod
+    def detect(cls, sf: StandardForm | None, robot: Robot) -> Any:
+        """The family for four joints, one a slide, whose axes are all parallel, else None."""
+        if robot.n != cls.m_joints or sum(robot.chain.prismatic) != 1:
+            return None
+        from ..geometric.classify import classify
+        from ..geometric.poe import poe
+
+        chain_class = classify(robot)
+        if chain_class.degenerate or not chain_class.name.endswith("-scara"):
+            return None
+        return cls(robot, poe(robot), chain_class)
+
+    def _candidates_of(self, target: Array, Q: Array, LS: NDArray[np.bool_], K: Any) -> int:
+        """Both branches of one pose ``(4, 4)`` into the rows of ``Q (8, 4)``; their count."""
+        from ..geometric.subproblems import rot, sp3
+
+        h, A = self.h, self.A
+        Rw = target[:3, :3] @ self.form.R_nT.T             # = rot(h, ψ) where the pose is one this arm reaches
+        psi, ls_psi = sp1(self._across, Rw @ self._across, h)
+        t = target[:3, 3] - self.P[0] - rot(h, psi, A[3]) - A[0]
+        slide = float(h @ (t - A[1] - A[2])) / self.slide_along
+        u = t - slide * self.h * self.slide_along           # across h: rot(h, φ1) (A1 + rot(h, δ) A2)
+        u = u - float(h @ u) * h
+        a1, a2 = A[1] - float(h @ A[1]) * h, A[2] - float(h @ A[2]) * h
+        deltas, count, ls3 = sp3(a2, -a1, h, float(np.linalg.norm(u)))
+        for i in range(count):
+            phi1, ls1 = sp1(a1 + rot(h, deltas[i], a2), u, h)
+            q = np.zeros(4)
+            q[self.slide_joint] = slide
+            q[self.turns] = np.array([phi1, deltas[i], psi - phi1 - deltas[i]]) * self.turn_sign
+            Q[i] = q
+            LS[i] = bool(ls_psi) or bool(ls3) or bool(ls1)
+        return int(count)
 
 
 def _turned(h: Array, v: Array, sign: float) -> Array:

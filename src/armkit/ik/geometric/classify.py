@@ -525,6 +525,13 @@ def _prismatic_class(H: Array, P: Array, prismatic: NDArray[np.bool_], rel: _Rel
                               near=rel.near, degenerate=True)
         name, m = _positioner(H, prismatic, rel, prefix)
         return ChainClass(**base, name=name, solver="closed form", max_solutions=m, near=rel.near)
+    if n == 4 and int(prismatic.sum()) == 1 and all(rel.par):
+        # a SCARA in any order: three parallel turns and a slide along them, for a position and the turn about
+        # them (the tool's Jacobian has rank 4)
+        if _position_rank(H, P, prismatic, size, turning=True) < 4:
+            return ChainClass(**base, name=f"{prefix}-degenerate", solver="numeric", max_solutions=None,
+                              near=rel.near, degenerate=True)
+        return ChainClass(**base, name=f"{prefix}-scara", solver="closed form", max_solutions=2, near=rel.near)
     return ChainClass(**base, name=f"{prefix}-general", solver="numeric", max_solutions=None, near=rel.near)
 
 
