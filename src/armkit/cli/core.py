@@ -159,7 +159,7 @@ def _dh_records(r: Robot) -> None:
 _CLASS_TEXTS = (N_("axes {axes} meet"), N_("axes {axes} meet in a point"), N_("spherical wrist"),
                 N_("spherical shoulder"), N_("axes {a} and {b} always meet"), N_("axes {axes}"),
                 N_("no axes meet or are parallel"), N_("closed form"), N_("1-D search"), N_("2-D search"),
-                N_("up to {n} solutions"), N_("no closed form, numeric IK"),
+                N_("up to {n} solutions"), N_("one solution"), N_("no closed form, numeric IK"),
                 N_("degenerate (the axes cannot move the tool in every direction), numeric IK only"),
                 N_("locking joint {k} leaves a closed form ({cls!r}): sweep joint {k}, up to {n} solutions per value"),
                 N_("relations snapped by up to {dev}: polish the solutions"))

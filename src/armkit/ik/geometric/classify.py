@@ -630,6 +630,7 @@ TEXTS = (
     "1-D search",
     "2-D search",
     "up to {n} solutions",
+    "one solution",
     "no closed form, numeric IK",
     "degenerate (the axes cannot move the tool in every direction), numeric IK only",
     "locking joint {k} leaves a closed form ({cls!r}): sweep joint {k}, up to {n} solutions per value",
@@ -692,7 +693,9 @@ def describe(cls: ChainClass, tr=None) -> str:
             text += " (" + t("one joint sampled {n} times, {step} deg apart, then refined" if cls.solver == "1-D search"
                              else "two joints on a {n} x {n} grid, {step} deg apart, then refined",
                              n=n, step=f"{360.0 / n:.2g}") + ")"
-        if cls.max_solutions is not None:
+        if cls.max_solutions == 1:
+            text += ", " + t("one solution")
+        elif cls.max_solutions is not None:
             text += ", " + t("up to {n} solutions", n=cls.max_solutions)
     if cls.near > EXACT:
         text += " (" + t("relations snapped by up to {dev}: polish the solutions", dev=f"{cls.near:.1e}") + ")"
