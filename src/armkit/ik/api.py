@@ -254,9 +254,10 @@ def _analytic_solver(robot: Robot, position_only: bool, why_not: list[str] | Non
     if solver is None:
         return _refused(why_not, lambda: Fielded.of(
             "robot {robot!r} ({n} DOF {types}) has no closed form in armkit: it solves 2R and 3R arms (a position; a "
-            "planar 3R with the end angle), 1 to 3 joints with prismatic ones (a position: Cartesian, "
-            "cylindrical, spherical, SCARA and the rest), yaw + three pitch joints (+ roll), 6R arms (by subproblems, or a 1-D or "
-            "2-D search where the axes need one; a prismatic joint where the class allows it, as in the Stanford arm) "
+            "planar 3R with the end angle; three axes through one point, an orientation), 1 to 3 joints "
+            "with prismatic ones (a position: Cartesian, cylindrical, spherical, SCARA and the rest), a 4-joint SCARA "
+            "(position and turn), yaw + three pitch joints (+ roll), 6R arms (by subproblems, or a 1-D or "
+            "2-D search where the axes need one; prismatic joints before a spherical wrist, as in the Stanford arm) "
             "and 7-joint arms with a joint held (fixed=) or swept (ik_all); use method='lm'", robot=robot.name,
             n=robot.n, types=robot.joint_types))
     if pitch != (getattr(solver, "target_kind", None) == "pitch"):   # position + tool pitch: armkit.ik.partial

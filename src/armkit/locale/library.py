@@ -264,9 +264,10 @@ KEYED = (
     N_("an arbitrary orientation"),
     N_("this position and pointing direction"),
     N_("robot {robot!r} ({n} DOF {types}) has no closed form in armkit: it solves 2R and 3R arms (a position; a "
-       "planar 3R with the end angle), 1 to 3 joints with prismatic ones (a position: Cartesian, "
-       "cylindrical, spherical, SCARA and the rest), yaw + three pitch joints (+ roll), 6R arms (by subproblems, or a 1-D or "
-       "2-D search where the axes need one; a prismatic joint where the class allows it, as in the Stanford arm) "
+       "planar 3R with the end angle; three axes through one point, an orientation), 1 to 3 joints "
+       "with prismatic ones (a position: Cartesian, cylindrical, spherical, SCARA and the rest), a 4-joint SCARA "
+       "(position and turn), yaw + three pitch joints (+ roll), 6R arms (by subproblems, or a 1-D or "
+       "2-D search where the axes need one; prismatic joints before a spherical wrist, as in the Stanford arm) "
        "and 7-joint arms with a joint held (fixed=) or swept (ik_all); use method='lm'"),
     N_("robot {robot!r} ({family}, {n} joints) has a closed form for a position and the tool pitch: give "
        "pitch= (rad); for a position alone, a pointing direction (direction=) or a pose use method='lm' "

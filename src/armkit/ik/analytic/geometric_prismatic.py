@@ -285,9 +285,13 @@ class GeometricScara(GeometricPrismatic):
         for k in range(1, 5):
             self.A[sum(1 for t in self.turns if t < k)] += form.P[k]
         self._across = across(h)
+        # axes parallel only within classify's tolerance (a URDF's rounding): solved as parallel to h, then
+        # polished on the robot by solve_all
+        dev = max(float(np.linalg.norm(np.cross(form.H[k], h))) for k in range(4))
+        self.tilt_tol = max(TOL, 100.0 * dev)      # a pose turned off h by more than this is out of reach
         eye = np.eye(4)
         zero = np.zeros(4)
-        self.sf = StandardForm(zero, zero, zero, zero, eye, eye, eye, eye, float(robot.reach), exact=True)
+        self.sf = StandardForm(zero, zero, zero, zero, eye, eye, eye, eye, float(robot.reach), exact=dev < 1e-13)
 
     @classmethod
     def detect(cls, sf: StandardForm | None, robot: Robot) -> Any:
@@ -308,7 +312,9 @@ class GeometricScara(GeometricPrismatic):
 
         h, A = self.h, self.A
         Rw = target[:3, :3] @ self.form.R_nT.T             # = rot(h, ψ) where the pose is one this arm reaches
-        psi, ls_psi = sp1(self._across, Rw @ self._across, h)
+        turned = Rw @ self._across
+        psi, _ = sp1(self._across, turned, h)
+        ls_psi = abs(float(h @ turned)) > self.tilt_tol     # the pose tilts the tool off h: no branch reaches it
         t = target[:3, 3] - self.P[0] - rot(h, psi, A[3]) - A[0]
         slide = float(h @ (t - A[1] - A[2])) / self.slide_along
         u = t - slide * self.h * self.slide_along           # across h: rot(h, φ1) (A1 + rot(h, δ) A2)
