@@ -69,6 +69,11 @@ class Positioner:
         if not turns:
             self._dirs = self.H[slides].T
             self._pinv = np.linalg.pinv(self._dirs)
+        else:   # A does not depend on the target and B is affine in it: both made once
+            self._A, self._B0 = self.sides(np.zeros(3))
+            self._Bt = np.stack([self.sides(e)[1] - self._B0 for e in np.eye(3)])    # (3, 3, 5): d B / d t_i
+            self._hA = self.H[self.cut] @ self._A
+            self._AtA = self._A.T @ self._A
 
     def sides(self, t: Array) -> tuple[Array, Array]:
         """``A`` and ``B`` as ``(3, 5)`` expressions (columns: 1, slide 1, slide 2, cos θ, sin θ) for the target
@@ -100,10 +105,11 @@ class Positioner:
             rest = p0W - self.P[1:].sum(axis=0)
             x = self._pinv @ rest
             return [(x, bool(np.linalg.norm(self._dirs @ x - rest) > TOL * scale))]
-        A, B = self.sides(p0W)
+        A = self._A                               # = self.sides(p0W), from the parts made once
+        B = self._B0 + np.tensordot(p0W, self._Bt, 1)
         h = self.H[self.cut]
-        line = h @ (A - B)                        # h · A - h · B, over (1, slide 1, slide 2, cos, sin)
-        M = A.T @ A - B.T @ B                     # |A|² - |B|² = mᵀ M m for m = (1, slide 1, slide 2, cos, sin)
+        line = self._hA - h @ B                   # h · A - h · B, over (1, slide 1, slide 2, cos, sin)
+        M = self._AtA - B.T @ B                   # |A|² - |B|² = mᵀ M m for m = (1, slide 1, slide 2, cos, sin)
         if self.other >= 0:
             found = _one_slide_one_angle(line, M, scale)
         elif len(self.column) == 2:
