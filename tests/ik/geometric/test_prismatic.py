@@ -117,16 +117,20 @@ def test_no_solution_missed_against_many_lm_starts(kinds, seed):
     tool[:3, 3] = g.uniform(-0.5, 0.5, 3)
     arm = Robot([_joint(R if k == "R" else P, *row) for k, row in zip(kinds, rows)], tool=tool, name="chain")
     assert isinstance(closed_form(arm), GeometricPrismatic)
-    slides = np.asarray(arm.chain.prismatic)
     for t in range(3):
-        p = armkit.fk(arm, arm.random_q(rng=100 * seed + t))[:3, 3]
-        found = _solved(arm, p)
-        lm = armkit.ik(arm, np.tile(p, (40, 1)), arm.random_q(40, rng=t), method="lm", restarts=0,
-                       enforce_limits=False, seed=t)
-        solved = lm.q[np.asarray(lm.success)]
-        assert len(solved) >= 5
-        for x in solved:
-            assert _has(found, x, slides, 1e-5), (x, found)
+        _nothing_missed(arm, armkit.fk(arm, arm.random_q(rng=100 * seed + t))[:3, 3], t)
+
+
+def _nothing_missed(arm: Robot, target: np.ndarray, seed: int) -> None:
+    """Levenberg-Marquardt from 40 random starts: every solution it finds is among the closed form's branches."""
+    every = armkit.ik_all(arm, target, enforce_limits=False)
+    found = every.q[np.asarray(every.success)]
+    lm = armkit.ik(arm, np.tile(target, (40,) + (1,) * target.ndim), arm.random_q(40, rng=seed), method="lm",
+                   restarts=0, enforce_limits=False, seed=seed)
+    solved = lm.q[np.asarray(lm.success)]
+    assert len(solved) >= 5
+    for x in solved:
+        assert _has(found, x, np.asarray(arm.chain.prismatic), 1e-5), (x, found)
 
 
 # ---------------------------------------------------------------- the textbook arms, by hand
@@ -274,17 +278,8 @@ def test_a_stanford_arm_whose_first_axes_miss_each_other_still_gets_every_branch
     arm = Robot(joints, stanford.convention, name="stanford-offset")
     assert closed_form(stanford).family == "geometric"
     assert closed_form(arm).family == "geometric-prismatic-wrist"
-    slides = np.asarray(arm.chain.prismatic)
     for t in range(3):
-        T = armkit.fk(arm, arm.random_q(rng=t))
-        every = armkit.ik_all(arm, T, enforce_limits=False)
-        found = every.q[np.asarray(every.success)]
-        lm = armkit.ik(arm, np.tile(T, (40, 1, 1)), arm.random_q(40, rng=t), method="lm", restarts=0,
-                       enforce_limits=False, seed=t)
-        solved = lm.q[np.asarray(lm.success)]
-        assert len(solved) >= 5
-        for x in solved:
-            assert _has(found, x, slides, 1e-5), (x, found)
+        _nothing_missed(arm, armkit.fk(arm, arm.random_q(rng=t)), t)
 
 
 # ---------------------------------------------------------------- four joints: the SCARA
