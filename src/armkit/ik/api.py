@@ -52,8 +52,10 @@ def _planar_plane(robot: Robot) -> tuple[float, Array, float]:
     from ..kinematics import fk, jacobian
 
     J = jacobian(robot, robot.random_q(rng=0))
+    # every turn about z and every slide across it (J's z row and its x, y turning rows are 0): a planar arm, its
+    # slides included (a polar arm's turn and reach)
     axes_z = np.allclose(J[3:5], 0.0, atol=1e-9) and np.allclose(J[2], 0.0, atol=1e-9 * robot.reach)
-    if not axes_z or robot.prismatic.any():
+    if not axes_z:
         raise ShapeError.of("2-D targets (x, y) are for planar arms moving in the world xy plane; robot "
                             "{robot!r} is not one: give (x, y, z) or a pose", robot=robot.name)
     T0 = fk(robot, np.zeros(robot.n))

@@ -335,3 +335,19 @@ def test_scara_in_any_order_every_branch_reaches_the_pose(order):
         ok = np.asarray(res.success)
         assert ok.any() and np.abs(armkit.fk(arm, res.q[ok]) - T).max() <= 1e-9
         assert _has(res.q[ok], q, np.asarray(arm.chain.prismatic), 1e-6)
+
+
+def test_a_polar_arm_takes_planar_targets_by_hand():
+    """A turn about z and a reach across it move the tool in the world xy plane, so (x, y) targets apply (as for a
+    planar 2R arm): standard DH (q1, 0, 0, 90 deg), (0, d2, 0, 0) put the tool at (d2 sin q1, -d2 cos q1, 0), so
+    d2 = ±√(x² + y²) and q1 = atan2(x / d2, -y / d2)."""
+    arm = Robot([Joint(R, alpha=HALF, lower=-math.pi, upper=math.pi), Joint(P, lower=0.1, upper=1.0)], name="polar")
+    for x, y in [(0.3, 0.4), (-0.5, 0.2), (0.0, -0.9)]:
+        res = armkit.ik_all(arm, np.array([x, y]))
+        d = math.hypot(x, y)
+        assert list(np.asarray(res.success)).count(True) == 1            # the negative reach is outside its stroke
+        q = res.q[np.asarray(res.success)][0]
+        assert _same(q, np.array([math.atan2(x / d, -y / d), d]), np.array([False, True]), 1e-12)
+    with pytest.raises(armkit.ArmkitError, match="2-D targets"):     # a slide along z (a lift): not planar
+        armkit.ik_all(Robot([Joint(R, lower=-3, upper=3), Joint(P, alpha=0.3, lower=0, upper=1)], name="tilted"),
+                      np.array([0.3, 0.4]))
