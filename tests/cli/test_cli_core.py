@@ -74,7 +74,7 @@ def test_user_robot_file(tmp_path):
     (("fk", "fighter", "1", "2"), "has 3 joints"),
     (("fk", "fighter", "1", "x", "2"), "'x' is not a number"),
     (("fk", "fighter", "1", "nan", "2"), "not a finite number"),
-    (("fk", "fightr", "1", "2", "3"), "bundled robots are: fighter"),
+    (("fk", "fightr", "1", "2", "3"), "bundled robots are: cobra600, fighter"),
     (("jacobian", "ur5", "0", "0", "0", "0", "0", "0", "--frame", "world"), "--frame must be 'base' or 'tool'"),
     (("fk", "fighter", "0", "0", "270", "--deg", "--strict"), "elbow = 270.000 deg outside"),
 ])

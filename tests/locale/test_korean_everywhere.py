@@ -71,7 +71,7 @@ def _robot_words(names: tuple[str, ...]) -> tuple[set[str], list[str]]:
     return words, texts
 
 
-ROBOTS = ("fighter", "planar2", "planar3", "puma560", "so101", "ur5", "panda", "iiwa14", "stanford")
+ROBOTS = ("fighter", "planar2", "planar3", "puma560", "so101", "ur5", "panda", "iiwa14", "stanford", "cobra600")
 NAMES, ROBOT_TEXTS = _robot_words(ROBOTS)
 # names written with spaces in sentences ("the upper arm hits ..." for the link upper_arm): removed as whole phrases
 NAME_PHRASES = sorted({n.replace("_", " ") for n in NAMES if "_" in n}, key=len, reverse=True)

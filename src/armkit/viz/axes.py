@@ -123,6 +123,7 @@ GALLERY: tuple[tuple[str, Optional[str], tuple[tuple[int, ...], ...], tuple[tupl
     (N_("two parallel"), None, (), ((1, 2),)),
     (N_("general 6R"), None, (), ()),
     ("panda", "panda", (), ()),
+    ("cobra600", "cobra600", (), ()),
 )
 """The panels of :func:`class_gallery`: (title, bundled robot or None, meeting groups, parallel groups); a panel
 without a robot draws :func:`random_chain` with those groups (0-based joints)."""
@@ -133,9 +134,11 @@ def class_gallery(seed: int = 3) -> Any:
     from .. import load
 
     plt = pyplot()
-    fig = plt.figure(figsize=(13, 7))
+    cols = 5
+    rows = -(-len(GALLERY) // cols)
+    fig = plt.figure(figsize=(16, 3.5 * rows))
     for k, entry in enumerate(GALLERY):
-        ax = fig.add_subplot(2, 4, k + 1, projection="3d")
+        ax = fig.add_subplot(rows, cols, k + 1, projection="3d")
         title, name, meet, par = entry
         if name is not None:
             plot_axes(load(name), ax=ax)

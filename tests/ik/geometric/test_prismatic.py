@@ -283,18 +283,25 @@ def test_a_stanford_arm_whose_first_axes_miss_each_other_still_gets_every_branch
 
 
 # ---------------------------------------------------------------- four joints: the SCARA
-def test_scara_rrpr_by_hand():
-    """Standard DH (q1, 0.4, 0.35, 0), (q2, 0, 0.3, 180 deg), (0, d3, 0, 0), (q4, 0.05, 0, 0). From the rows: the
-    tool is at (0.35 c1 + 0.3 c12, 0.35 s1 + 0.3 s12, 0.4 - d3 - 0.05) and turned by Rz(q1 + q2 - q4) Rx(180 deg)
-    (Rx(180 deg) Rz(q4) = Rz(-q4) Rx(180 deg)). So d3 = 0.35 - z, q2 = ±acos((x² + y² - 0.35² - 0.3²) / (2 · 0.35 ·
-    0.3)), q1 = atan2(y, x) - atan2(0.3 sin q2, 0.35 + 0.3 cos q2) and q4 = q1 + q2 - ψ."""
-    arm = Robot([_joint(R, d=0.4, a=0.35), _joint(R, a=0.3, alpha=math.pi), _joint(P), _joint(R, d=0.05)],
-                name="scara")
+@pytest.mark.parametrize("name", ["textbook", "cobra600"])
+def test_scara_rrpr_by_hand(name):
+    """Standard DH (q1, d1, a1, 0), (q2, 0, a2, 180 deg), (0, d3, 0, 0), (q4, d4, 0, 0): a SCARA of the textbook
+    (d1, a1, a2, d4 = 0.4, 0.35, 0.3, 0.05) and the bundled Omron eCobra 600 (0.387, 0.325, 0.275, 0, its file
+    read here). From the rows: the tool is at (a1 c1 + a2 c12, a1 s1 + a2 s12, d1 - d3 - d4) and turned by
+    Rz(q1 + q2 - q4) Rx(180 deg) (Rx(180 deg) Rz(q4) = Rz(-q4) Rx(180 deg)). So d3 = d1 - d4 - z,
+    q2 = ±acos((x² + y² - a1² - a2²) / (2 a1 a2)), q1 = atan2(y, x) - atan2(a2 sin q2, a1 + a2 cos q2) and
+    q4 = q1 + q2 - ψ."""
+    if name == "cobra600":
+        arm, (d1, a1, a2, d4) = armkit.load("cobra600"), (0.387, 0.325, 0.275, 0.0)
+    else:
+        d1, a1, a2, d4 = 0.4, 0.35, 0.3, 0.05
+        arm = Robot([_joint(R, d=d1, a=a1), _joint(R, a=a2, alpha=math.pi), _joint(P), _joint(R, d=d4)],
+                    name="scara")
     assert classify(arm).name == "RRPR-scara" and closed_form(arm).family == "geometric-scara"
     slides = np.array([False, False, True, False])
     g = np.random.default_rng(5)
     for _ in range(10):
-        r, th, z, psi = g.uniform(0.1, 0.6), g.uniform(-3, 3), g.uniform(-0.2, 0.3), g.uniform(-3, 3)
+        r, th, z, psi = g.uniform(0.1, 0.55), g.uniform(-3, 3), g.uniform(-0.2, 0.3), g.uniform(-3, 3)
         x, y = r * math.cos(th), r * math.sin(th)
         T = np.eye(4)
         T[:3, :3] = Rotation.from_euler("ZX", [psi, math.pi]).as_matrix()     # Rz(psi) Rx(180 deg)
@@ -303,9 +310,9 @@ def test_scara_rrpr_by_hand():
         found = res.q[np.asarray(res.success)]
         assert len(found) == 2
         for sign in (1, -1):
-            q2 = sign * math.acos((x * x + y * y - 0.35**2 - 0.3**2) / (2 * 0.35 * 0.3))
-            q1 = math.atan2(y, x) - math.atan2(0.3 * math.sin(q2), 0.35 + 0.3 * math.cos(q2))
-            assert _has(found, np.array([q1, q2, 0.35 - z, q1 + q2 - psi]), slides, 1e-9)
+            q2 = sign * math.acos((x * x + y * y - a1 * a1 - a2 * a2) / (2 * a1 * a2))
+            q1 = math.atan2(y, x) - math.atan2(a2 * math.sin(q2), a1 + a2 * math.cos(q2))
+            assert _has(found, np.array([q1, q2, d1 - d4 - z, q1 + q2 - psi]), slides, 1e-9)
 
 
 def test_a_scara_cannot_tilt_its_tool_and_says_so():
