@@ -93,3 +93,19 @@ def test_rtb_rejects_a_wrong_arm():
     _, ets = _peers.build_rtb(other)
     q = robot.random_q(rng=1)
     assert np.abs(ets.fk(q) - armkit.fk(robot, q)).max() > 1e-4
+
+
+def test_the_bundled_cobra600_is_rtbs_own_model():
+    """The SCARA's file against RTB's own Cobra600 model (its DH rows typed by RTB's authors, not built from armkit's
+    table): the same FK everywhere, and every closed-form branch puts RTB's arm on the target."""
+    rtb = pytest.importorskip("roboticstoolbox")
+    theirs = rtb.models.DH.Cobra600()
+    robot = armkit.load("cobra600")
+    Q = _configurations(robot)
+    T = armkit.fk(robot, Q)
+    for i, q in enumerate(Q):
+        np.testing.assert_allclose(theirs.fkine(q).A, T[i], rtol=0, atol=TOL * _scale(robot))
+    res = armkit.ik_all(robot, T[:5], enforce_limits=False)
+    for i in range(5):
+        for q in res.q[i][np.asarray(res.success[i])]:
+            np.testing.assert_allclose(theirs.fkine(q).A, T[i], rtol=0, atol=1e-9)
