@@ -25,6 +25,11 @@ quadratic the slide). Without a revolute joint the slides solve a linear system.
 Every branch is verified by FK of the robot in :func:`armkit.ik.analytic.solve_all`, wrapped into the
 limits and sorted there, as for every family; a slide outside its stroke is a branch outside the joint
 limits.
+
+Two more families build on these equations: :class:`GeometricPrismaticWrist` (six joints: such a
+positioning part and a spherical wrist, solved for the wrist centre and then as a gimbal) and
+:class:`GeometricScara` (four joints: three parallel turns and a slide along them, for a pose).
+They solve in NumPy, one target at a time (docs/ik.md gives their cost).
 """
 
 from __future__ import annotations
