@@ -358,3 +358,24 @@ def test_a_polar_arm_takes_planar_targets_by_hand():
     with pytest.raises(armkit.ArmkitError, match="2-D targets"):     # a slide along z (a lift): not planar
         armkit.ik_all(Robot([Joint(R, lower=-3, upper=3), Joint(P, alpha=0.3, lower=0, upper=1)], name="tilted"),
                       np.array([0.3, 0.4]))
+
+
+# ---------------------------------------------------------------- seven joints: a 6R arm on a rail
+def test_a_ur5_on_a_rail_is_swept_along_the_rail():
+    """A slide along the world x axis under the UR5 (standard DH rail row (0, d, 0, -90 deg) then the UR5's rows):
+    holding the rail leaves the UR5's class at every position, so ik_all without fixed= sweeps the rail over its
+    stroke (32 evenly spaced values, np.linspace of the limits) and every branch reaches the pose; holding it at the
+    value the pose came from gives that configuration among its branches."""
+    ur = armkit.load("ur5")
+    arm = Robot([Joint(P, alpha=-HALF, lower=-1.0, upper=1.0, name="rail"), *ur.joints], name="ur5_on_rail")
+    cls = classify(arm)
+    assert cls.name == "PRRRRRR-lock-1-three-parallel-two-intersecting" and cls.solver == "sweep joint 1"
+    q = np.r_[0.3, ur.random_q(rng=1)]
+    T = armkit.fk(arm, q)
+    res = armkit.ik_all(arm, T)
+    ok = np.asarray(res.success)
+    assert ok.sum() >= 16 and np.abs(armkit.fk(arm, res.q[ok]) - T).max() <= 1e-9
+    rails = np.unique(np.round(res.q[:, 0], 12))
+    assert set(rails) <= set(np.round(np.linspace(-1.0, 1.0, 32), 12))
+    held = armkit.ik_all(arm, T, fixed={"rail": 0.3})
+    assert _has(held.q[np.asarray(held.success)], q, np.asarray(arm.chain.prismatic), 1e-9)

@@ -417,9 +417,16 @@ def _display(r: _Relations) -> tuple[tuple[tuple[int, ...], ...], tuple[tuple[in
 
 
 def _lock(H: Array, P: Array, prismatic: NDArray[np.bool_], k: int, t: float) -> tuple[Array, Array, NDArray]:
-    """The chain with joint ``k`` (0-based, revolute) locked at ``t``: one axis fewer, later axes moved."""
+    """The chain with joint ``k`` (0-based) locked at ``t``: one axis fewer, later axes turned (a revolute joint)
+    or moved along its axis (a prismatic one)."""
     pts = axis_points(P)
     n = H.shape[0]
+    if prismatic[k]:
+        shift = t * H[k]
+        allp = np.vstack([[pts[m] if m < k else pts[m] + shift for m in range(n) if m != k],
+                          (pts[-1] + P[-1] + shift)[None, :]])
+        return (np.delete(H, k, axis=0), np.vstack([allp[:1], np.diff(allp, axis=0)]),
+                np.delete(np.asarray(prismatic, dtype=bool), k))
     Rk = rotm(H[k], t)
     H2 = np.array([H[m] if m < k else Rk @ H[m] for m in range(n) if m != k])
     tip = pts[-1] + P[-1]
@@ -447,6 +454,8 @@ def _classify_poe(H: Array, P: Array, prismatic: NDArray[np.bool_], tol: float, 
     if _rank_deficient(H, P, prismatic):
         return ChainClass(**base, name=f"{prefix}-degenerate", solver="numeric", max_solutions=None,
                           near=rel.near, degenerate=True)
+    if n == 7 and int(prismatic.sum()) == 1:        # a 6R arm on a rail (or with a slide elsewhere): lock the slide
+        return _seven_r(H, P, prismatic, tol, rel, base)
     if prismatic.any():
         return _prismatic_class(H, P, prismatic, rel, base, prefix, n, size)
     if n <= 5:
@@ -473,10 +482,12 @@ _RANK = {"closed form": 0, "1-D search": 1, "2-D search": 2}
 
 def _seven_r(H: Array, P: Array, prismatic: NDArray[np.bool_], tol: float, rel: _Relations,
              base: dict) -> ChainClass:
-    """A 7R arm: the joint whose locking (at any value) leaves the best 6R class."""
+    """A 7R arm: the joint whose locking (at any value) leaves the best 6R class. With one prismatic joint (a 6R arm on
+    a rail) that joint: moving it moves the rest of the chain along it, so one value tells the class."""
     cands = []
-    for k in range(7):
-        locked = [_lock(H, P, prismatic, k, t) for t in _SWEEP]
+    slide = [k for k in range(7) if prismatic[k]]
+    for k in (slide or range(7)):
+        locked = [_lock(H, P, prismatic, k, t) for t in ((0.0,) if slide else _SWEEP)]
         if any(_rank_deficient(*g) for g in locked):
             continue          # e.g. locking the elbow between two spherical joints
         r6 = _merge([_relations(*g, tol) for g in locked])
@@ -484,16 +495,17 @@ def _seven_r(H: Array, P: Array, prismatic: NDArray[np.bool_], tol: float, rel: 
         quartic = fam[0] in ("6R-spherical-wrist", "6R-spherical-wrist-base", "6R-three-parallel")
         # best solver, then quadratic over quartic, then nearest the middle joint, then the lower one
         cands.append(((_RANK[fam[1]], quartic, abs(k - 3), k), k, fam, r6.near))
+    head = base["joint_types"] if slide else "7R"       # PRRRRRR-lock-1-...: the rail held
     if not cands:
-        return ChainClass(**base, name="7R-degenerate", solver="numeric", max_solutions=None, near=rel.near,
+        return ChainClass(**base, name=f"{head}-degenerate", solver="numeric", max_solutions=None, near=rel.near,
                           degenerate=True)
     cands.sort(key=lambda c: c[0])
     _, k, (name6, solver6, m, inv), near6 = cands[0]
-    alts = tuple(f"7R-lock-{c[1] + 1}-{c[2][0][3:]}" for c in cands[1:] if c[2][1] == "closed form")
+    alts = tuple(f"{head}-lock-{c[1] + 1}-{c[2][0][3:]}" for c in cands[1:] if c[2][1] == "closed form")
     if solver6 != "closed form":
-        return ChainClass(**base, name="7R-general", solver="numeric", max_solutions=None,
+        return ChainClass(**base, name=f"{head}-general", solver="numeric", max_solutions=None,
                           near=max(rel.near, near6), locked=k + 1, locked_class=name6, alternatives=alts)
-    return ChainClass(**base, name=f"7R-lock-{k + 1}-{name6[3:]}", solver=f"sweep joint {k + 1}", max_solutions=m,
+    return ChainClass(**base, name=f"{head}-lock-{k + 1}-{name6[3:]}", solver=f"sweep joint {k + 1}", max_solutions=m,
                       near=max(rel.near, near6), inverted=inv, locked=k + 1, locked_class=name6,
                       alternatives=alts)
 

@@ -94,10 +94,15 @@ def lock(form: POE, k: int, value: float) -> POE:
 def sweep_values(robot: Robot, k: int, count: int = DEFAULT_SWEEP) -> Array:
     """``count`` values of joint ``k`` (0-based) evenly spaced over its limits, both ends included.
 
-    A joint without finite limits (or whose range is a turn or more) takes ``count`` values a
-    ``2 pi / count`` apart over one turn, from its lower limit (or -pi).
+    A revolute joint without finite limits (or whose range is a turn or more) takes ``count`` values a
+    ``2 pi / count`` apart over one turn, from its lower limit (or -pi); a prismatic one without finite limits
+    takes them over plus and minus the arm's reach.
     """
     lo, hi = float(robot.lower[k]), float(robot.upper[k])
+    if robot.prismatic[k]:        # a slide (a rail): over its stroke, or as far as the arm reaches either way
+        lo = lo if math.isfinite(lo) else -float(robot.reach)
+        hi = hi if math.isfinite(hi) else float(robot.reach)
+        return np.array([0.5 * (lo + hi)]) if count == 1 else np.linspace(lo, hi, count)
     if not (math.isfinite(lo) and math.isfinite(hi)) or hi - lo >= 2.0 * math.pi:
         start = lo if math.isfinite(lo) else -math.pi
         return np.asarray(start + 2.0 * math.pi * np.arange(count) / count, dtype=float)
