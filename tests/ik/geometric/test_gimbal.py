@@ -133,10 +133,20 @@ def chains(draw):
     return Robot(joints, draw(st.sampled_from(["standard", "modified"])), tool=tool, name="chain")
 
 
+def _in_mm(arm: Robot) -> Robot:
+    """The same arm with every length 1000 times larger (written in mm instead of m)."""
+    joints = [Joint(j.kind, j.theta, 1000 * j.d, 1000 * j.a, j.alpha, *((1000 * j.lower, 1000 * j.upper)
+                    if j.is_prismatic else (j.lower, j.upper))) for j in arm.joints]
+    tool = arm.tool.copy()
+    tool[:3, 3] *= 1000
+    return Robot(joints, arm.convention, tool=tool, name=arm.name, unit="mm")
+
+
 @settings(max_examples=150, deadline=None)
 @given(arm=chains())
 def test_the_class_line_and_the_solvers_agree(arm):
     cls = classify(arm)
+    assert classify(_in_mm(arm)).name == cls.name            # the unit decides nothing
     claimed = cls.solver in ("closed form", "1-D search", "2-D search")
     assert claimed == (closed_form(arm) is not None), (cls.name, cls.solver, closed_form(arm))
     if cls.degenerate:

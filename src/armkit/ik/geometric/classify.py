@@ -589,6 +589,7 @@ def _position_rank(H: Array, P: Array, prismatic: NDArray[np.bool_], size: float
     best = 0
     for _ in range(3):
         q: Array = np.asarray(rng.uniform(-np.pi, np.pi, size=n), dtype=float)
+        q[prismatic] *= scale / np.pi             # slides over the arm's size, in any unit
         R = np.eye(3)
         p = np.zeros(3)                           # from axis 1's point (P[0], the base offset, would only round)
         axes = []                                 # (joint, direction, a point on its axis) at q
@@ -601,8 +602,8 @@ def _position_rank(H: Array, P: Array, prismatic: NDArray[np.bool_], size: float
             axes.append((k, w, p))
             p = p + R @ P[k + 1]
         J = np.zeros((6 if turning else 3, n))    # a slide moves the point along w, a turn by w × (p - o)
-        for k, w, o in axes:
-            J[:3, k] = (w if prismatic[k] else np.cross(w, p - o)) / scale
+        for k, w, o in axes:                      # (per unit of slide; per rad, in units of the arm's size)
+            J[:3, k] = w if prismatic[k] else np.cross(w, p - o) / scale
             if turning and not prismatic[k]:
                 J[3:, k] = w
         s = np.linalg.svd(J, compute_uv=False)       # columns of about 1 (a tool point on every axis: all ~0)
