@@ -31,7 +31,8 @@ def home_pose(robot: Robot, scene: Any = None) -> Array:
     the first are moved by +-30 deg or +-60 deg (revolute joints only), fewest joints first,
     and the best-conditioned pose among the fewest wins: within the limits, condition number
     of the task Jacobian below ``NEAR_SINGULAR / 2`` and clear of ``scene`` and of itself
-    (``scene`` as in :func:`armkit.collisions`; ``False``: no collision check). The search is
+    (``scene`` as in :func:`armkit.collisions`; ``False``: no collision check). Where no pose near
+    zeros qualifies, the search starts again with the slides at the middle of their strokes. The search is
     deterministic (the same pose every time) and costs a few milliseconds.
 
     Parameters
@@ -45,9 +46,31 @@ def home_pose(robot: Robot, scene: Any = None) -> Array:
     ndarray, shape (n,)
         The pose; zeros moved inside the limits when no candidate qualifies.
     """
+    zero = np.clip(np.zeros(robot.n), robot.lower, robot.upper)
+    for start in _starts(robot, zero):
+        found = _search(robot, start, scene)
+        if found is not None:
+            return found
+    return zero
+
+
+def _starts(robot: Robot, zero: Array) -> list[Array]:
+    """Where the search starts: zeros; then, for an arm with slides, each slide at the middle of its stroke (a
+    SCARA's quill fully up puts its tip at the elbow)."""
+    starts = [zero]
+    slides = [k for k in range(robot.n) if robot.joints[k].is_prismatic
+              and math.isfinite(robot.lower[k]) and math.isfinite(robot.upper[k])]
+    if slides:
+        mid = zero.copy()
+        mid[slides] = 0.5 * (robot.lower[slides] + robot.upper[slides])
+        starts.append(mid)
+    return starts
+
+
+def _search(robot: Robot, zero: Array, scene: Any) -> Array | None:
+    """The best pose of :func:`home_pose`'s search from ``zero``, or None."""
     from ...collision import collisions
 
-    zero = np.clip(np.zeros(robot.n), robot.lower, robot.upper)
     free = [k for k in range(1, robot.n) if not robot.joints[k].is_prismatic]
     limit = NEAR_SINGULAR / 2
     for moved in range(0, len(free) + 1):
@@ -76,4 +99,4 @@ def home_pose(robot: Robot, scene: Any = None) -> Array:
             Q = Q[clear]
         if len(Q):
             return Q[0].copy()
-    return zero
+    return None
