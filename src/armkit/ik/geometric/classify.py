@@ -528,14 +528,14 @@ def _prismatic_class(H: Array, P: Array, prismatic: NDArray[np.bool_], rel: _Rel
             return ChainClass(**base, name=f"{prefix}-degenerate", solver="numeric", max_solutions=None,
                               near=rel.near, degenerate=True)
         kinds = "".join("P" if k else "R" for k in slides)
-        m = _positioner(Hs, slides, _relations(Hs, Ps, slides, base["tol"]), kinds)[1]
+        m = _positioner(Hs, slides, _relations(Hs, Ps, slides, base["tol"]), kinds, base["tol"])[1]
         return ChainClass(**base, name=f"{prefix}-spherical-wrist{'-base' if at_base else ''}", solver="closed form",
                           max_solutions=2 * m, near=rel.near, inverted=at_base)
     if n <= 3:
         if _position_rank(H, P, prismatic, size) < n:
             return ChainClass(**base, name=f"{prefix}-degenerate", solver="numeric", max_solutions=None,
                               near=rel.near, degenerate=True)
-        name, m = _positioner(H, prismatic, rel, prefix)
+        name, m = _positioner(H, prismatic, rel, prefix, base["tol"])
         return ChainClass(**base, name=name, solver="closed form", max_solutions=m, near=rel.near)
     if n == 4 and int(prismatic.sum()) == 1 and all(rel.par):
         # a SCARA in any order: three parallel turns and a slide along them, for a position and the turn about
@@ -547,27 +547,29 @@ def _prismatic_class(H: Array, P: Array, prismatic: NDArray[np.bool_], rel: _Rel
     return ChainClass(**base, name=f"{prefix}-general", solver="numeric", max_solutions=None, near=rel.near)
 
 
-def _positioner(H: Array, prismatic: NDArray[np.bool_], rel: _Relations, prefix: str) -> tuple[str, int]:
+def _positioner(H: Array, prismatic: NDArray[np.bool_], rel: _Relations, prefix: str, tol: float
+                ) -> tuple[str, int]:
     """The class name and the most solutions of a position target for 1 to 3 joints with a prismatic one: the
     textbook names where the axes fit them (Cartesian: three perpendicular slides; cylindrical: a turn, a slide
     along it and one across; spherical: two meeting axes and a slide across the second; SCARA: all three
     parallel), else the joint types; 1 solution without a revolute joint, 2 with one, 4 with two (2 for the
-    SCARA, whose slide along the axes is fixed by the height)."""
+    SCARA, whose slide along the axes is fixed by the height). ``tol``: as for parallel axes (rad)."""
+    right = math.sin(tol)                         # |cos| of an angle within tol of 90 deg
     turns = int((~prismatic).sum())
     if turns == 0:
-        perpendicular = len(H) == 3 and abs(np.linalg.det(H)) > 1.0 - 1e-9
+        perpendicular = len(H) == 3 and abs(np.linalg.det(H)) > math.cos(tol)
         return (f"{prefix}-cartesian" if perpendicular else prefix), 1
     if turns == 1:
         if prefix == "RPP":
-            along = [abs(float(H[0] @ H[k])) > 1.0 - 1e-9 for k in (1, 2)]
-            across = [abs(float(H[0] @ H[k])) < 1e-9 for k in (1, 2)]
+            along = [abs(float(H[0] @ H[k])) > math.cos(tol) for k in (1, 2)]
+            across = [abs(float(H[0] @ H[k])) < right for k in (1, 2)]
             if (along[0] and across[1]) or (along[1] and across[0]):
                 return "RPP-cylindrical", 2
         return (f"{prefix}-general" if len(H) == 3 else prefix), 2
     if prefix == "RRP":
         if all(rel.par):
             return "RRP-scara", 2
-        if rel.inter[0] and abs(float(H[1] @ H[2])) < 1e-9:
+        if rel.inter[0] and abs(float(H[1] @ H[2])) < right:
             return "RRP-spherical", 4
     return f"{prefix}-general", 4
 
