@@ -319,7 +319,8 @@ class Geometric3R:
         return self._candidates(np.ascontiguousarray(p - self.P[0], dtype=float), Q, LS, K)
 
     def solve(self, target: Array, q0phi: Array) -> Raw:
-        """Every branch for position targets ``(B, 3)`` (or the positions of poses ``(B, 4, 4)``)."""
+        """Every branch for position targets ``(B, 3)`` (or the positions of poses ``(B, 4, 4)``; the families of
+        a pose, the gimbal's and the prismatic ones', read the whole pose in :meth:`_candidates_of`)."""
         from ..geometric import solvers
 
         B, m, n = len(target), self.m, self.robot.n

@@ -60,6 +60,7 @@ _FRONT = np.array([1.0, 1.0, -1.0, -1.0])    # branch order: (front, e0), (front
 _ELBOW = np.array([0, 1, 0, 1])
 _REASON_TEXT = np.array(["converged", "unreachable", "joint limits"])
 _APPROACH_COS = math.sqrt(0.5)   # four joints: the tool's z axis is the approach unless nearer the pitch axis
+_LATERAL_SLACK = 1e-5   # relative to the reach: a target this much inside the sideways offset is on it
 
 
 def _approach_axis(tool: Array) -> int:
@@ -68,7 +69,6 @@ def _approach_axis(tool: Array) -> int:
     the pitch axis than the arm's plane (a DH arm without a tool frame, whose z is the last pitch axis itself):
     then its x axis, which points along the last link."""
     return 2 if abs(float(tool[2, 2])) <= _APPROACH_COS else 0
-_LATERAL_SLACK = 1e-5   # relative to the reach: a target this much inside the sideways offset is on it
 
 
 def _cross(a: Array, b: Array) -> Array:
