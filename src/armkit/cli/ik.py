@@ -376,6 +376,9 @@ def ik(robot: RobotArg,
             return _locked(r, target, where, _fixed_values(r, fixed or [], deg), sweep, json_out, scene)
         if all_branches and (method not in ("auto", "analytic") or branch is not None):
             fail(_("--all lists the closed-form branches; it does not go with --branch or a numeric --method"))
+        if all_branches and not closed_ok and solver is not None and position_only and solver.pose_only:
+            fail(_("--all: the closed form of robot {robot!r} ({family}) is for a pose; add the tool's orientation "
+                   "(--rpy or --quat), or try --method lm", robot=r.name, family=solver.family))
         if all_branches and not closed_ok:
             fail(_("--all needs a closed form; robot {robot!r} has none for this target (try --method lm)",
                    robot=r.name))
