@@ -31,7 +31,7 @@ from numpy.typing import NDArray
 from ...model.robot import Robot
 from ._common import Raw, StandardForm
 
-__all__ = ["Geometric", "GeometricGimbal", "across", "solver_name", "three_axes"]
+__all__ = ["Geometric", "GeometricGimbal", "across", "chain_form", "solver_name", "three_axes"]
 
 Array = NDArray[np.float64]
 
@@ -79,6 +79,15 @@ def solver_name(robot: Robot) -> tuple[str, int, bool, Any] | None:
     return hit[0], hit[1], bool(cls.inverted), cls
 
 
+def chain_form(robot: Robot, exact: bool) -> StandardForm:
+    """The :class:`StandardForm` of a family that solves the robot's product-of-exponentials chain itself: no DH
+    offsets, identity base and tool, the robot's reach as the scale; ``exact`` False where it solves a nearby ideal
+    chain (:func:`armkit.ik.analytic.solve_all` then polishes the branches on the robot)."""
+    eye = np.eye(4)
+    zero = np.zeros(robot.n)
+    return StandardForm(zero, zero, zero, zero, eye, eye, eye, eye, float(robot.reach), exact=exact)
+
+
 _UNSET: Any = object()
 _SINGULAR = "singular wrist: a family of solutions; this one keeps the free joint at its start value."
 
@@ -122,10 +131,7 @@ class Geometric:
         self.m = m
         self._geometry: Array | None = _UNSET
         self.branch_labels = tuple(f"s{k + 1}" for k in range(m))
-        n = robot.n
-        eye = np.eye(4)
-        self.sf = StandardForm(np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(n), eye, eye, eye, eye,
-                               float(robot.reach), exact=True)   # the solvers polish on the true chain themselves
+        self.sf = chain_form(robot, exact=True)   # the solvers polish on the true chain themselves
 
     @classmethod
     def detect(cls, sf: StandardForm | None, robot: Robot) -> "Geometric | None":
@@ -271,9 +277,7 @@ class Geometric3R:
         self.P = np.array(ideal.P, dtype=float, order="C")
         self.case = (f"{near[0] + 1} || {near[0] + 2}" if near else f"{meet[0] + 1}, {meet[0] + 2} meet" if meet
                      else "general")
-        eye = np.eye(4)
-        zero = np.zeros(robot.n)
-        self.sf = StandardForm(zero, zero, zero, zero, eye, eye, eye, eye, float(robot.reach), exact=dev < 1e-13)
+        self.sf = chain_form(robot, exact=dev < 1e-13)
 
     @classmethod
     def detect(cls, sf: StandardForm | None, robot: Robot) -> Any:
@@ -282,15 +286,25 @@ class Geometric3R:
         joint), a position has a curve of solutions: ``classify`` calls such an arm degenerate (the tool point's
         Jacobian, :data:`~armkit.ik.geometric.classify.POSITION_RANK_TOL`). (A planar 3R has a curve of solutions
         for a position, and three concurrent axes move the point on a sphere: their classes are not among these.)"""
-        if robot.n != cls.m_joints or any(robot.chain.prismatic):
+        if not cls._shape(robot):
             return None
         from ..geometric.classify import classify
         from ..geometric.poe import poe
 
         chain_class = classify(robot)
-        if chain_class.degenerate or chain_class.name not in cls.classes:
+        if chain_class.degenerate or not cls._takes(chain_class):
             return None
         return cls(robot, poe(robot), chain_class)
+
+    @classmethod
+    def _shape(cls, robot: Robot) -> bool:
+        """Whether :meth:`detect` classifies the robot at all: :attr:`m_joints` revolute joints."""
+        return robot.n == cls.m_joints and not any(robot.chain.prismatic)
+
+    @classmethod
+    def _takes(cls, chain_class: Any) -> bool:
+        """Whether the family answers a (not degenerate) class: one of :attr:`classes`."""
+        return chain_class.name in cls.classes
 
     def reach_why(self, lateral_out: bool, rho: float, r: float, target: Array | None) -> str:
         return _why(int(rho), self.m)
@@ -445,7 +459,7 @@ class GeometricGimbal(Geometric3R):
     target_kind = "pose"
     m = 2
     branch_labels = ("s1", "s2")
-    classes = ("3R-spherical",)
+    classes = ("3R-spherical",)     # three revolute joints (Geometric3R's detect)
 
     def __init__(self, robot: Robot, form: Any, chain_class: Any) -> None:
         from ..geometric.solvers_chain import align
@@ -458,22 +472,7 @@ class GeometricGimbal(Geometric3R):
         self.P = np.array(ideal.P, dtype=float)
         self._across3 = across(self.H[2])
         self.case = "concurrent"
-        eye = np.eye(4)
-        zero = np.zeros(3)
-        self.sf = StandardForm(zero, zero, zero, zero, eye, eye, eye, eye, float(robot.reach), exact=dev < 1e-13)
-
-    @classmethod
-    def detect(cls, sf: StandardForm | None, robot: Robot) -> Any:
-        """The family for three revolute joints whose axes meet in one point, else None."""
-        if robot.n != 3 or any(robot.chain.prismatic):
-            return None
-        from ..geometric.classify import classify
-        from ..geometric.poe import poe
-
-        chain_class = classify(robot)
-        if chain_class.degenerate or chain_class.name not in cls.classes:
-            return None
-        return cls(robot, poe(robot), chain_class)
+        self.sf = chain_form(robot, exact=dev < 1e-13)
 
     def _candidates_of(self, target: Array, Q: Array, LS: NDArray[np.bool_], K: Any) -> int:
         """Both branches of one pose ``(4, 4)`` into the rows of ``Q (8, 3)``; their count."""

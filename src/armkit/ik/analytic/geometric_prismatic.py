@@ -42,8 +42,7 @@ from numpy.typing import NDArray
 
 from ...model.robot import Robot
 from ..geometric.subproblems import TOL, _quartic_roots, _trig1, sp1
-from ._common import StandardForm
-from .geometric import Geometric3R, across, three_axes
+from .geometric import Geometric3R, across, chain_form, three_axes
 
 __all__ = ["GeometricPrismatic", "GeometricPrismaticWrist", "GeometricScara", "Positioner"]
 
@@ -140,10 +139,8 @@ class GeometricPrismatic(Geometric3R):
 
     family = "geometric-prismatic"
     m_joints = 3
-    classes: tuple[str, ...] = ()     # any class of such a chain that classify solves in closed form
 
     def __init__(self, robot: Robot, form: Any, chain_class: Any) -> None:
-        n = robot.n
         self.robot = robot
         self.chain_class = chain_class
         self.P = np.array(form.P, dtype=float)
@@ -151,22 +148,17 @@ class GeometricPrismatic(Geometric3R):
         self.m = int(chain_class.max_solutions)
         self.branch_labels = tuple(f"s{k + 1}" for k in range(self.m))
         self.case = robot.joint_types
-        eye = np.eye(4)
-        zero = np.zeros(n)
-        self.sf = StandardForm(zero, zero, zero, zero, eye, eye, eye, eye, float(robot.reach), exact=True)
+        self.sf = chain_form(robot, exact=True)
 
     @classmethod
-    def detect(cls, sf: StandardForm | None, robot: Robot) -> Any:
-        """The family for a chain of 1 to 3 joints with a prismatic one whose class has a closed form, else None."""
-        if not 1 <= robot.n <= cls.m_joints or not any(robot.chain.prismatic):
-            return None
-        from ..geometric.classify import classify
-        from ..geometric.poe import poe
+    def _shape(cls, robot: Robot) -> bool:
+        """1 to 3 joints, one of them prismatic."""
+        return 1 <= robot.n <= cls.m_joints and any(robot.chain.prismatic)
 
-        chain_class = classify(robot)
-        if chain_class.degenerate or chain_class.solver != "closed form" or not chain_class.max_solutions:
-            return None
-        return cls(robot, poe(robot), chain_class)
+    @classmethod
+    def _takes(cls, chain_class: Any) -> bool:
+        """Any class of such a chain that classify solves in closed form."""
+        return chain_class.solver == "closed form" and bool(chain_class.max_solutions)
 
     def _candidates(self, p0W: Array, Q: Array, LS: NDArray[np.bool_], K: Any) -> int:
         """The solutions for ``p0W = p - p_01`` into the rows of ``Q (8, 3)`` (least-squares ones flagged in
@@ -210,25 +202,18 @@ class GeometricPrismaticWrist(GeometricPrismatic):
         self.branch_labels = tuple(f"s{k + 1}" for k in range(self.m))
         self.case = robot.joint_types
         self._across6 = across(ideal.H[5])
-        eye = np.eye(4)
-        zero = np.zeros(6)
-        self.sf = StandardForm(zero, zero, zero, zero, eye, eye, eye, eye, float(robot.reach), exact=dev < 1e-13)
+        self.sf = chain_form(robot, exact=dev < 1e-13)
 
     @classmethod
-    def detect(cls, sf: StandardForm | None, robot: Robot) -> Any:
-        """The family for a six-joint chain with a slide among the first three (the last three, reversed) and a
-        spherical wrist that the :class:`~armkit.ik.analytic.geometric.Geometric` family does not solve, else
-        None."""
-        if robot.n != cls.m_joints or not any(robot.chain.prismatic):
-            return None
-        from ..geometric.classify import classify
-        from ..geometric.poe import poe
+    def _shape(cls, robot: Robot) -> bool:
+        """Six joints with a slide (among the first three, or the last three: the chain is read reversed)."""
+        return robot.n == cls.m_joints and any(robot.chain.prismatic)
 
-        chain_class = classify(robot)
-        if (chain_class.degenerate or chain_class.solver != "closed form" or not chain_class.max_solutions
-                or "spherical-wrist" not in chain_class.name):
-            return None
-        return cls(robot, poe(robot), chain_class)
+    @classmethod
+    def _takes(cls, chain_class: Any) -> bool:
+        """A spherical wrist that the :class:`~armkit.ik.analytic.geometric.Geometric` family (registered first)
+        does not solve."""
+        return super()._takes(chain_class) and "spherical-wrist" in chain_class.name
 
     def _candidates_of(self, target: Array, Q: Array, LS: NDArray[np.bool_], K: Any) -> int:
         """Every branch of one pose ``(4, 4)`` into the rows of ``Q (8, 6)``; their count."""
@@ -300,22 +285,17 @@ class GeometricScara(GeometricPrismatic):
         # polished on the robot by solve_all
         dev = max(float(np.linalg.norm(np.cross(form.H[k], h))) for k in range(4))
         self.tilt_tol = max(TOL, 100.0 * dev)      # a pose turned off h by more than this is out of reach
-        eye = np.eye(4)
-        zero = np.zeros(4)
-        self.sf = StandardForm(zero, zero, zero, zero, eye, eye, eye, eye, float(robot.reach), exact=dev < 1e-13)
+        self.sf = chain_form(robot, exact=dev < 1e-13)
 
     @classmethod
-    def detect(cls, sf: StandardForm | None, robot: Robot) -> Any:
-        """The family for four joints, one a slide, whose axes are all parallel, else None."""
-        if robot.n != cls.m_joints or sum(robot.chain.prismatic) != 1:
-            return None
-        from ..geometric.classify import classify
-        from ..geometric.poe import poe
+    def _shape(cls, robot: Robot) -> bool:
+        """Four joints, one a slide."""
+        return robot.n == cls.m_joints and sum(robot.chain.prismatic) == 1
 
-        chain_class = classify(robot)
-        if chain_class.degenerate or not chain_class.name.endswith("-scara"):
-            return None
-        return cls(robot, poe(robot), chain_class)
+    @classmethod
+    def _takes(cls, chain_class: Any) -> bool:
+        """Its axes all parallel: the class ``...-scara``."""
+        return chain_class.name.endswith("-scara")
 
     def _candidates_of(self, target: Array, Q: Array, LS: NDArray[np.bool_], K: Any) -> int:
         """Both branches of one pose ``(4, 4)`` into the rows of ``Q (8, 4)``; their count."""
@@ -328,8 +308,7 @@ class GeometricScara(GeometricPrismatic):
         ls_psi = abs(float(h @ turned)) > self.tilt_tol     # the pose tilts the tool off h: no branch reaches it
         t = target[:3, 3] - self.P[0] - rot(h, psi, A[3]) - A[0]
         slide = float(h @ (t - A[1] - A[2])) / self.slide_along
-        u = t - slide * self.h * self.slide_along           # across h: rot(h, φ1) (A1 + rot(h, δ) A2)
-        u = u - float(h @ u) * h
+        u = t - float(h @ t) * h                             # across h: rot(h, φ1) (A1 + rot(h, δ) A2)
         a1, a2 = A[1] - float(h @ A[1]) * h, A[2] - float(h @ A[2]) * h
         deltas, count, ls3 = sp3(a2, -a1, h, float(np.linalg.norm(u)))
         for i in range(count):
