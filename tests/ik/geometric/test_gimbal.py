@@ -11,6 +11,8 @@ the matrix entries; finite differences of FK for the Jacobian's rank; FK of the 
 from __future__ import annotations
 
 import math
+import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -22,6 +24,9 @@ import armkit
 from armkit import Joint, Robot
 from armkit.ik.analytic import closed_form
 from armkit.ik.geometric.classify import classify
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "kinematics"))
+from test_kinematics import _fd_jacobian as numeric_jacobian  # noqa: E402  (central differences of FK)
 
 HALF = math.pi / 2
 
@@ -91,15 +96,7 @@ def test_random_gimbals_every_branch_reaches_the_pose(convention):
 # ---------------------------------------------------------------- the class line and the solvers agree
 def _fd_ranks(robot: Robot, q: np.ndarray) -> tuple[int, int]:
     """Ranks of the tool's full (6, n) and position (3, n) Jacobians by central differences of FK."""
-    h = 1e-6
-    cols = []
-    for k in range(robot.n):
-        e = np.zeros(robot.n)
-        e[k] = h
-        A, B = armkit.fk(robot, q + e), armkit.fk(robot, q - e)
-        dR = (A[:3, :3] - B[:3, :3]) @ A[:3, :3].T / (2 * h)
-        cols.append(np.r_[(A[:3, 3] - B[:3, 3]) / (2 * h), dR[2, 1], dR[0, 2], dR[1, 0]])
-    J = np.array(cols).T
+    J = numeric_jacobian(robot, q)
     J[:3] /= max(float(robot.reach), 1e-9)          # lengths in units of the arm's size: columns of about 1
 
     def rank(M):       # directions the tool moves in by at least 1 % of the arm's size per rad (or per length)

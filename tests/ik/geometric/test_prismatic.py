@@ -23,7 +23,7 @@ from armkit import Joint, Robot
 from armkit.ik.analytic import closed_form
 from armkit.ik.analytic.geometric_prismatic import GeometricPrismatic
 from armkit.ik.geometric.classify import classify
-from test_gimbal import _fd_ranks  # noqa: E402  (the tool's Jacobian rank by central differences of FK)
+from test_gimbal import _fd_ranks, numeric_jacobian  # noqa: E402  (central differences of FK, and their ranks)
 
 R, P = "revolute", "prismatic"
 HALF = math.pi / 2
@@ -52,14 +52,9 @@ def _solved(robot: Robot, p: np.ndarray) -> np.ndarray:
 def _fd_rank(robot: Robot, q: np.ndarray, tol: float = 1e-6) -> int:
     """The rank of the tool point's Jacobian by central differences of FK (not the code under test): directions
     the point moves in by more than ``tol`` per unit of slide, or of the arm's size per rad of turn."""
-    h = 1e-6
-    cols = []
-    for k in range(robot.n):
-        e = np.zeros(robot.n)
-        e[k] = h
-        col = (armkit.fk(robot, q + e)[:3, 3] - armkit.fk(robot, q - e)[:3, 3]) / (2 * h)
-        cols.append(col if robot.joints[k].is_prismatic else col / max(float(robot.reach), 1e-9))
-    s = np.linalg.svd(np.array(cols).T, compute_uv=False)
+    J = numeric_jacobian(robot, q)[:3]
+    J[:, ~np.asarray(robot.chain.prismatic)] /= max(float(robot.reach), 1e-9)
+    s = np.linalg.svd(J, compute_uv=False)
     return int((s > tol * max(s[0], 1.0)).sum())
 
 
