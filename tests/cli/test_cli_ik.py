@@ -33,13 +33,16 @@ def test_fighter_lists_all_four_branches():
     assert "4 of 4 branches" in res.output
 
 
-def test_a_scara_lists_both_branches_of_a_pose_and_says_what_a_position_lacks():
+def test_a_scara_lists_both_branches_of_a_pose_and_of_a_position_and_a_ur5_needs_the_turn():
     res = run("cobra600", "0.4", "0.2", "0.25", "--rpy", "180", "0", "30", "--deg", "--all")
     assert res.exit_code == 0, res.output
     # the elbow by the law of cosines (a1 = 0.325 m, a2 = 0.275 m): both signs of acos((x² + y² - a1² - a2²) / 2 a1 a2)
     elbow = math.degrees(math.acos((0.4**2 + 0.2**2 - 0.325**2 - 0.275**2) / (2 * 0.325 * 0.275)))
     assert "2 of 2 branches" in res.output and f"{elbow:.4f}" in res.output and f"-{elbow:.4f}" in res.output
-    res = run("cobra600", "0.4", "0.2", "0.25", "--all")          # its turn left out: the closed form needs it
+    res = run("cobra600", "0.4", "0.2", "0.25", "--all")   # a position: the wrist never moves the point, held at q0
+    assert res.exit_code == 0 and "2 of 2 branches" in res.output and "wrist held at the start q0" in res.output
+    assert f"{elbow:.4f}" in res.output and f"-{elbow:.4f}" in res.output
+    res = run("ur5", "0.4", "0.2", "0.25", "--all")        # five joints move the point: the closed form needs the turn
     assert res.exit_code == 2 and "is for a pose" in res.output and "--rpy" in res.output
 
 

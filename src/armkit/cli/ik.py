@@ -243,7 +243,7 @@ def _locked(r, target, where: str, fixed: Optional[dict], sweep: Optional[int], 
     position_only = np.ndim(target) == 1
     res = ik_all(r, target, fixed=fixed, sweep=sweep, scene=scene_off(scene))
     solver = resolve(r, fixed, sweep, position_only)
-    swept = None if solver is None else solver.swept
+    swept = getattr(solver, "swept", None)
     every = _rows(r, res)
     rows = [every[i] for i in np.flatnonzero(np.atleast_1d(res.success))]
     if swept is not None:   # in the order of the swept value (stable: nearest q = 0 first among equals)
@@ -369,6 +369,12 @@ def ik(robot: RobotArg,
         position_only = target.ndim == 1 and ph is None
         closed_ok = solver is not None and not (position_only and solver.pose_only) \
             and getattr(solver, "target_kind", None) != "pitch"   # yaw-pitch3 needs pitch= (docs/so101.md)
+        if position_only and not closed_ok:   # a wrist that never moves the tool point, held at q0 (ik.analytic.held)
+            from ..ik.analytic.held import position_solver
+
+            held = position_solver(r)
+            if held is not None:
+                solver, closed_ok = held, True
         if fixed or sweep is not None or (all_branches and not closed_ok and r.n == 7):
             if method not in ("auto", "analytic") or branch is not None:
                 fail(_("--sweep and --fixed list the closed-form branches; they do not go with --branch or a "

@@ -253,6 +253,12 @@ def _analytic_solver(robot: Robot, position_only: bool, why_not: list[str] | Non
     from .._text import Fielded   # the why-not sentences keep their template and fields (any language)
 
     solver = closed_form(robot)
+    if position_only and not pitch and (solver is None or solver.target_kind != "position"):
+        from .analytic.held import position_solver   # a wrist that never moves the tool point, held at q0
+
+        held = position_solver(robot)
+        if held is not None:
+            return held
     if solver is None:
         return _refused(why_not, lambda: Fielded.of(
             "robot {robot!r} ({n} DOF {types}) has no closed form in armkit: it solves 2R and 3R arms (a position; a "
@@ -295,6 +301,9 @@ def _all_branches(robot: Robot, target: Array, q0: Array, position_only: bool, t
         solver = _analytic_solver(robot, position_only, why)
     if solver is None:
         raise IKInputError(why[0])
+    if fixed is not None and solver.held:   # the held joints start at their values: wrapping by 2 pi keeps them
+        q0 = q0.copy()
+        q0[:, list(solver.held)] = list(solver.held.values())
     return solve_all(robot, solver, target, q0, position_only, _tolerance(robot, tol), enforce_limits)
 
 

@@ -487,11 +487,14 @@ def joint_indices(robot: Robot, names: Sequence[str]) -> list[int]:
     return out
 
 
-def resolve(robot: Robot, fixed: Any, sweep: Any, position_only: bool) -> Locked | None:
+def resolve(robot: Robot, fixed: Any, sweep: Any, position_only: bool) -> Any:
     """The solver ``ik_all(robot, ..., fixed=, sweep=)`` uses, or None (no ``fixed``/``sweep``, not a sweepable arm).
 
-    Raises :class:`~armkit.errors.IKInputError` for bad ``fixed``/``sweep`` values, a position target, or a
-    chain that holding the joints does not make solvable; the message says which and why.
+    For a position target with ``fixed``: the joints left in closed form for a position
+    (:class:`armkit.ik.analytic.held.Held`, :func:`held_position`); otherwise a :class:`Locked`.
+
+    Raises :class:`~armkit.errors.IKInputError` for bad ``fixed``/``sweep`` values, a position target of a sweep,
+    or a chain that holding the joints does not make solvable; the message says which and why.
     """
     from ..._checks import short_repr
     from ...errors import IKInputError
@@ -512,10 +515,12 @@ def resolve(robot: Robot, fixed: Any, sweep: Any, position_only: bool) -> Locked
                                   "swept joint), not both")
     if fixed is None and sweep is None and robot.n != 7:
         return None
+    if position_only and fixed is not None:   # a position: the joints left (1 to 3) by a position closed form
+        return held_position(robot, fixed)
     if position_only:
-        what = "fixed=" if fixed is not None else "the sweep of a 7-joint arm"
-        raise IKInputError.of("{what} needs a pose target (4, 4): the closed form of the joints left solves a full "
-                              "pose; for a position alone use armkit.ik (method='lm')", what=what)
+        raise IKInputError.of("the sweep of a 7-joint arm needs a pose target (4, 4): the closed form of the joints "
+                              "left solves a full pose; for a position alone hold joints with fixed= (1 to 3 left) "
+                              "or use armkit.ik (method='lm')")
     if fixed is None:
         solver = sweep_solver(robot, DEFAULT_SWEEP if sweep is None else int(sweep))
         if solver is None:
@@ -526,6 +531,25 @@ def resolve(robot: Robot, fixed: Any, sweep: Any, position_only: bool) -> Locked
                                   "{robot!r} is {chain}. Hold joints with fixed= instead, or use armkit.ik "
                                   "(method='lm')", robot=robot.name, chain=described(cls))
         return solver
+    held = held_values(robot, fixed)
+    try:
+        return held_solver(robot, held)
+    except LookupError as exc:
+        cls = exc.args[0]
+        left = robot.n - len(held)
+        need = " (the closed forms here are for 6 joints)" if left != 6 else ""
+        raise IKInputError.of("holding {names} leaves a {left}-joint chain{need} without a closed form in armkit: "
+                              "{chain}; use armkit.ik (method='lm')",
+                              names=', '.join(robot.joint_names[k] for k in sorted(held)), left=left, need=need,
+                              chain=described(cls)) from None
+
+
+def held_values(robot: Robot, fixed: Mapping[str, Any]) -> dict[int, float]:
+    """``fixed=`` as ``{0-based joint index: value}``, each name and value checked; raises
+    :class:`~armkit.errors.IKInputError` naming the joints or the value at fault."""
+    from ..._checks import short_repr
+    from ...errors import IKInputError
+
     held: dict[int, float] = {}
     for name, value in fixed.items():
         if not isinstance(name, str) or name not in robot.joint_names:
@@ -543,13 +567,23 @@ def resolve(robot: Robot, fixed: Any, sweep: Any, position_only: bool) -> Locked
     if len(held) >= robot.n:
         raise IKInputError.of("fixed holds every joint of robot {robot!r}; leave some free (use armkit.fk to see where "
                               "the held values put the tool)", robot=robot.name)
+    return held
+
+
+def held_position(robot: Robot, fixed: Mapping[str, Any]) -> Any:
+    """The solver of a position target with the joints ``fixed`` (name -> value, already a non-empty mapping)
+    held: the joints left, 1 to 3, by a closed form for a position (:func:`armkit.ik.analytic.held.held_solver`).
+    Raises :class:`~armkit.errors.IKInputError` when they have none (too many left, or a class without one)."""
+    from ...errors import IKInputError
+    from ..analytic.held import MAX_LEFT, held_solver
+    from .classify import classify, described
+
+    held = held_values(robot, fixed)
     try:
         return held_solver(robot, held)
     except LookupError as exc:
-        cls = exc.args[0]
         left = robot.n - len(held)
-        need = " (the closed forms here are for 6 joints)" if left != 6 else ""
-        raise IKInputError.of("holding {names} leaves a {left}-joint chain{need} without a closed form in armkit: "
-                              "{chain}; use armkit.ik (method='lm')",
-                              names=', '.join(robot.joint_names[k] for k in sorted(held)), left=left, need=need,
-                              chain=described(cls)) from None
+        raise IKInputError.of("holding {names} leaves {left} joints ({chain}) without a closed form for a position "
+                              "(a position fixes {most} joints: hold more, or use armkit.ik with method='lm')",
+                              names=", ".join(robot.joint_names[k] for k in sorted(held)), left=left, most=MAX_LEFT,
+                              chain=described(classify(exc.args[0]))) from None
