@@ -148,3 +148,12 @@ def test_bad_fixed_values_say_what_is_wrong():
         armkit.ik_all(ur5, p, fixed=[0.1])
     with pytest.raises(IKInputError, match="needs a pose target"):   # no idle joints to hold: the pose closed form
         armkit.ik_all(ur5, p)
+
+
+def test_the_note_keeps_its_template_so_it_reads_in_korean():
+    from armkit.locale.library import fielded, localize
+
+    res = armkit.ik_all(armkit.load("cobra600"), np.array([[0.3, 0.2, 0.25]]))
+    note = res.message[0, 0]
+    assert fielded(note) is not None and note == "wrist held at the start q0 (turning about the tool point, never moving it)"
+    assert "고정" in localize(note, "ko") and "wrist" in localize(note, "ko")

@@ -181,6 +181,14 @@ def _class_line(r: Robot) -> str:
              line=esc(describe(cls, lambda text, **fields: _(text, **fields))))
 
 
+def _held_position(r: Robot):
+    """The closed form of a position target with the arm's idle wrist held at q0 (:mod:`armkit.ik.analytic.held`),
+    or None."""
+    from ..ik.analytic.held import position_solver
+
+    return position_solver(r)
+
+
 def info(robot: RobotArg,
          json_out: JsonOut = False,
          dh: bool = typer.Option(False, "--dh", help="Show the equivalent DH table of a URDF arm "
@@ -207,6 +215,7 @@ def info(robot: RobotArg,
                 row.update(origin=j.origin_matrix(), axis=j.axis_vector())
             joints.append(row)
         cls = _chain_class(r)
+        held = _held_position(r)
         print_json({"name": shown.name, "description": shown.description, "source": shown.source,
                     "convention": shown.convention, "unit": shown.unit, "joints": joints, "base": shown.base,
                     "tool": shown.tool, "links": [lk.name for lk in r.links],
@@ -214,7 +223,10 @@ def info(robot: RobotArg,
                     "class": {"name": cls.name, "solver": cls.solver,
                               "intersecting": [list(g) for g in cls.intersecting],
                               "parallel": [list(g) for g in cls.parallel], "max_solutions": cls.max_solutions,
-                              "near": cls.near, "locked": cls.locked}})
+                              "near": cls.near, "locked": cls.locked},
+                    "position_held": None if held is None else {
+                        "held": [r.joint_names[k] for k in sorted(held.held)], "family": held.inner.family,
+                        "max_solutions": held.m}})
         return
     console.print(f"[bold]{esc(r.name)}[/]: {esc(r.description)}")
     if shown.is_dh:
@@ -233,6 +245,12 @@ def info(robot: RobotArg,
         else:
             _urdf_joints_records(shown)
     console.print(_class_line(r))
+    held = _held_position(r)
+    if held is not None:
+        console.print(_("a position alone: closed form ({family}) with {joints} held at q0 (turning about the tool "
+                        "point, they never move it), up to {n} solutions",
+                        family=held.inner.family, joints=esc(", ".join(r.joint_names[k] for k in sorted(held.held))),
+                        n=held.m))
     for which in ("base", "tool"):
         T = getattr(shown, which)
         if not np.allclose(T, np.eye(4)):

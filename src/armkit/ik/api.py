@@ -482,7 +482,9 @@ def ik_all(robot: Robot, target: ArrayLike, q0: ArrayLike | None = None, *, phi:
     fixed : dict of str to float, optional
         Joints held at these values (rad, or lengths), e.g. ``{"A3": 0.5}`` on a 7-joint arm:
         the joints left are solved in closed form (when their class has one) and every branch
-        keeps the held values exactly (:mod:`armkit.ik.geometric.locked`).
+        keeps the held values exactly (:mod:`armkit.ik.geometric.locked`). With a position
+        target, 1 to 3 joints left are solved for it (:mod:`armkit.ik.analytic.held`); without
+        ``fixed``, a wrist whose axes pass through the tool point is held at ``q0``.
     sweep : int, optional
         7-joint arms without ``fixed``: the number of values (default 32, evenly spaced over
         its limits) of the joint whose locking leaves a closed form (``armkit info`` names it);

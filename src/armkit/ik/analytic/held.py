@@ -191,7 +191,8 @@ class Held:
         if not self.at_start:
             for k, v in self.held.items():
                 q[:, :, k] = v
-        note = np.full((B, m), self.note, dtype=object)
+        note = np.empty((B, m), dtype=object)
+        note[...] = self.note        # the sentence itself in every cell (np.full would make it a plain str)
         for b, i in zip(*np.nonzero(raw.note != "")):   # the family's own note (rare) goes first
             note[b, i] = Fielded.of("{note}, {held}", note=raw.note[b, i], held=self.note)
         return Raw(q + self.sf.theta, raw.label, raw.unreachable, raw.why, note, raw.missing)
