@@ -184,3 +184,17 @@ def test_position_targets_and_six_joint_arms(iiwa):
         armkit.ik_all(ur5, armkit.fk(ur5, np.full(6, 0.3)), sweep=8)
     with pytest.raises(IKInputError, match="do not go with pitch="):
         armkit.ik_all(iiwa, [0.3, 0.2, 0.5], pitch=0.3, fixed={"A3": 0.2})
+
+
+def test_the_notes_of_held_and_swept_branches_read_in_korean():
+    from armkit.locale.library import fielded, localize
+
+    panda = armkit.load("panda")
+    T = armkit.fk(panda, np.array([0.3, -0.5, 0.2, -2.0, 0.4, 1.6, 0.7]))
+    held = armkit.ik_all(panda, T, fixed={"panda_joint6": 1.6})
+    swept = armkit.ik_all(panda, T)
+    for res, english, korean in ((held, "panda_joint6 held at 1.6", "1.6에 고정"),
+                                 (swept, "panda_joint6 swept over 32 values from", "값 32개로 스윕")):
+        note = res.message[res.success][0]
+        assert fielded(note) is not None and note.startswith(english)
+        assert korean in localize(note, "ko") and "swept" not in localize(note, "ko")

@@ -225,17 +225,23 @@ class Locked:
         self.sf = StandardForm(theta, z, z, z, eye, eye, eye, eye, float(robot.reach), exact=True)
 
     def _notes(self) -> NDArray[np.object_]:
+        """Each branch's note: the held joints and values, and for a sweep the value of this branch; sentences that
+        keep their templates and fields (shown in the user's language)."""
         names = self.robot.joint_names
-        held = ", ".join(f"{names[k]} held at {v:.6g}" for k, v in sorted(self.held.items()))
+        held = Fielded.of("{joints} held at {values}", joints=", ".join(names[k] for k in sorted(self.held)),
+                          values=", ".join(f"{self.held[k]:.6g}" for k in sorted(self.held)))
+        out = np.empty(self.m, dtype=object)
         if self.swept is None:
-            return np.full(self.m, held, dtype=object)
+            out[...] = held   # the sentence itself in every cell (np.full would make it a plain str)
+            return out
         k = self.swept[0]
         lo, hi = float(self.values[0]), float(self.values[-1])
-        out = np.empty(self.m, dtype=object)
         for v in range(self.V):
-            text = (f"{names[k]} swept over {self.V} values from {lo:.4f} to {hi:.4f}: this branch holds it at "
-                    f"{self.values[v]:.6g} ({v + 1} of {self.V})")
-            out[v * self.m6:(v + 1) * self.m6] = text + (f"; {held}" if held else "")
+            text = Fielded.of("{joint} swept over {count} values from {lo} to {hi}: this branch holds it at {value} "
+                              "({index} of {count})", joint=names[k], count=self.V, lo=f"{lo:.4f}", hi=f"{hi:.4f}",
+                              value=f"{self.values[v]:.6g}", index=v + 1)
+            out[v * self.m6:(v + 1) * self.m6] = Fielded.of("{note}, {held}", note=text, held=held) if self.held \
+                else text
         return out
 
     def _candidates(self, R: Array, p: Array, ref: Array, target: Array, q0: Array
