@@ -393,14 +393,17 @@ def ik(robot: RobotArg,
             warn(_("--seed only matters for the numeric methods; the closed form ignores it"))
         if trace and (listing or method == "analytic" or (method == "auto" and closed_ok)):
             warn(_("--trace shows the iterations of a numeric method; the closed form has none"))
+        closed = None if solver is None else _("closed form ({family})", family=solver.family) \
+            if not hasattr(solver, "inner") else \
+            _("closed form ({family}) with {joints} held", family=solver.inner.family,  # ik.analytic.held
+              joints=", ".join(r.joint_names[k] for k in sorted(solver.held)))  # type: ignore[attr-defined]
         if listing:
             res = ik_all(r, target, phi=ph, scene=scene_off(scene))
-            used = _("closed form ({family})", family=solver.family)  # type: ignore[union-attr]
+            used = closed
         else:
             res = solve(r, target, method=method, branch=branch, phi=ph, seed=seed, trace=trace,  # type: ignore[arg-type]
                         scene=scene_off(scene))
-            used = _("closed form ({family})", family=solver.family) if (  # type: ignore[union-attr]
-                method in ("auto", "analytic") and closed_ok) else (
+            used = closed if (method in ("auto", "analytic") and closed_ok) else (
                 "lm" if method == "auto" else method)
     except ArmkitError as exc:
         fail(str(exc), EXIT_BAD_INPUT)

@@ -143,7 +143,8 @@ class Held:
 
         self.robot = robot
         self.at_start = not isinstance(held, Mapping)
-        self.held = {int(k): 0.0 for k in held} if self.at_start else {int(k): float(v) for k, v in held.items()}
+        self.held: dict[int, float] = ({int(k): float(v) for k, v in held.items()} if isinstance(held, Mapping)
+                                       else {int(k): 0.0 for k in held})
         self.free = np.array([k for k in range(robot.n) if k not in self.held], dtype=np.int64)
         self.small = reduced(robot, self.held)
         inner = closed_form(self.small) if 1 <= len(self.free) <= MAX_LEFT else None
