@@ -123,18 +123,25 @@ def test_the_reduced_arm_is_the_arm_with_its_joints_held(name, seed, convention)
 
 
 @settings(max_examples=40, deadline=None)
-@given(name=st.sampled_from(["cobra600", "puma560", "stanford"]), seed=st.integers(0, 2**32 - 1))
-def test_fk_of_every_branch_is_the_target_and_the_start_is_among_them(name, seed):
-    arm = armkit.load(name)
+@given(name=st.sampled_from(["cobra600", "puma560", "stanford"]), seed=st.integers(0, 2**32 - 1),
+       convention=st.sampled_from(["standard", "modified"]))
+def test_fk_of_every_branch_is_the_target_and_the_start_is_among_them(name, seed, convention):
+    arm = armkit.load(name).to_dh(convention)
     g = np.random.default_rng(seed)
-    q = arm.random_q(rng=g)
+    q, other = arm.random_q(2, rng=g)
     p = armkit.fk(arm, q)[:3, 3]
     res = armkit.ik_all(arm, p, q0=q, enforce_limits=False)
     ok = np.asarray(res.success)
     assert ok.any() and _wrapped_close(res.q[0], q, arm.prismatic, 1e-8)
     assert np.allclose(armkit.fk(arm, res.q[ok])[:, :3, 3], p, atol=1e-9 * max(arm.reach, 1))
-    batched = armkit.ik_all(arm, np.stack([p, p]), q0=np.stack([q, q]), enforce_limits=False)
-    assert np.array_equal(batched.q[0], res.q) and np.array_equal(batched.success[1], res.success)
+    # batched == looped, each target's wrist held at its own start
+    p2 = armkit.fk(arm, other)[:3, 3]
+    batched = armkit.ik_all(arm, np.stack([p, p2]), q0=np.stack([q, other]), enforce_limits=False)
+    second = armkit.ik_all(arm, p2, q0=other, enforce_limits=False)
+    assert np.array_equal(batched.q[0], res.q) and np.array_equal(batched.success[0], res.success)
+    assert np.array_equal(batched.q[1], second.q) and np.array_equal(batched.branch[1], second.branch)
+    idle = idle_tail(arm)
+    assert np.all(batched.q[1][:, idle] == other[idle]) and np.all(batched.q[0][:, idle] == q[idle])
 
 
 def test_bad_fixed_values_say_what_is_wrong():
