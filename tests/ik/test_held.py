@@ -164,3 +164,12 @@ def test_the_note_keeps_its_template_so_it_reads_in_korean():
     note = res.message[0, 0]
     assert fielded(note) is not None and note == "wrist held at the start q0 (turning about the tool point, never moving it)"
     assert "고정" in localize(note, "ko") and "wrist" in localize(note, "ko")
+
+
+def test_an_arm_whose_every_joint_is_idle_has_no_held_solver():
+    """One joint whose axis passes through the tool point: it never moves the point, and nothing is left to solve
+    (armkit info printed 'no joints' here, exit 2, while the class line was being extended)."""
+    arm = Robot([Joint(R, d=0.3)], name="turntable")
+    assert idle_tail(arm) == [0] and position_solver(arm) is None
+    with pytest.raises(IKInputError):
+        armkit.ik_all(arm, [0.0, 0.0, 0.3])

@@ -126,8 +126,8 @@ class Held:
     target_kind = "position"
     pose_only = False
     polish_above = math.inf
-    """No Gauss-Newton touch-up on the full arm (it would move the held joints): the reduced arm's own
-    :func:`~armkit.ik.analytic.solve_all` polishes its branches."""
+    """No Gauss-Newton touch-up on the full arm (it would move the held joints): :meth:`solve` polishes the
+    branches on the reduced arm where its family solved a nearby ideal arm."""
 
     @classmethod
     def detect(cls, sf: Any, robot: Robot) -> None:
@@ -219,8 +219,8 @@ def position_solver(robot: Robot) -> Held | None:
         if own is not None and own.target_kind == "position":
             return None
         idle = idle_tail(robot)
-        if not idle or robot.n - len(idle) > MAX_LEFT:
-            return None
+        if not idle or not 1 <= robot.n - len(idle) <= MAX_LEFT:   # none idle, all idle (a 1R whose tool is on
+            return None                                            # its axis), or too many left
         try:
             return Held(robot, sorted(idle))
         except LookupError:
