@@ -374,3 +374,28 @@ def test_a_ur5_on_a_rail_is_swept_along_the_rail():
     assert set(rails) <= set(np.round(np.linspace(-1.0, 1.0, 32), 12))
     held = armkit.ik_all(arm, T, fixed={"rail": 0.3})
     assert _has(held.q[np.asarray(held.success)], q, np.asarray(arm.chain.prismatic), 1e-9)
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.lists(st.floats(-3, 3), min_size=4, max_size=4))
+def test_an_isotropic_trig_quadratic_has_the_roots_of_its_quartic(c):
+    """k0 + kc cos + ks sin + kq (cos² + sin²): the linear shortcut of _trig_roots (a SCARA's slide along its turns)
+    finds the roots the quartic in tan(θ/2) finds, each a zero of the trigonometric polynomial."""
+    from armkit.ik.analytic import geometric_prismatic as gp
+
+    k = np.array([c[0], c[1], c[2], c[3], 0.0, c[3]])
+    fast, _ = gp._trig_roots(k)
+    saved = gp.ISOTROPIC
+    gp.ISOTROPIC = -1.0
+    try:
+        slow, _ = gp._trig_roots(k)
+    finally:
+        gp.ISOTROPIC = saved
+    size = np.abs(k).max()
+    for t in fast:
+        assert abs(gp._trig_value(k, t)[0]) <= 1e-9 * max(size, 1e-300)
+    margin = math.hypot(c[1], c[2]) - abs(c[0] + c[3])     # two roots, one (tangent) or none
+    if abs(margin) > 1e-6:
+        assert len(fast) == len(slow) == (2 if margin > 0 else 0), (fast, slow)
+        for t in slow:
+            assert min(abs(math.remainder(t - u, 2 * math.pi)) for u in fast) < 1e-7

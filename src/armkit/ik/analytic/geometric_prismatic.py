@@ -395,6 +395,11 @@ def _times(a: tuple[float, float, float], b: tuple[float, float, float]) -> Arra
                      a[1] * b[2] + a[2] * b[1], a[2] * b[2]])
 
 
+ISOTROPIC = 1e-12
+"""A trigonometric quadratic whose ``cos²`` and ``sin²`` coefficients agree and whose ``cos sin`` one vanishes to this
+fraction of its largest coefficient is solved as the linear ``a cos θ + b sin θ = c``."""
+
+
 def _trig_value(k: Array, t: float) -> tuple[float, float]:
     """``f(θ) = k · (1, c, s, c², cs, s²)`` and ``f'(θ)``."""
     c, s = math.cos(t), math.sin(t)
@@ -408,9 +413,14 @@ def _trig_roots(k: Array) -> tuple[list[float], float]:
     (and θ = π, its root at infinity), near-real roots polished by Newton steps. Also the angle of the smallest
     ``|f|`` among the candidates (for a target out of reach)."""
     k0, kc, ks, kcc, kcs, kss = (float(v) for v in k)
+    size = max(abs(k0), abs(kc), abs(ks), abs(kcc), abs(kcs), abs(kss), 1e-300)
+    if abs(kcc - kss) <= ISOTROPIC * size and abs(kcs) <= ISOTROPIC * size:
+        # the quadratic part is kcc (cos² + sin²) = kcc (a SCARA's slide along its turns): kc cos θ + ks sin θ =
+        # -(k0 + kcc), at most two roots in closed form (SP4's equation), no quartic
+        ts, count, ls = _trig1(kc, ks, -(k0 + kcc), size)
+        return ([] if ls else [float(t) for t in ts[:count]]), float(ts[0])
     roots = _quartic_roots(k0 - kc + kcc, 2.0 * ks - 2.0 * kcs, 2.0 * k0 - 2.0 * kcc + 4.0 * kss,
                            2.0 * ks + 2.0 * kcs, k0 + kc + kcc)
-    size = max(float(np.abs(k).max()), 1e-300)
     cands = [(2.0 * math.atan(r.real), abs(r.imag) <= 1e-5 * (1.0 + abs(r))) for r in roots]
     cands.append((math.pi, True))
     out: list[float] = []
