@@ -72,6 +72,19 @@ def main(out_dir=None):
     print(f"\ncylindrical by hand: q1 = {math.degrees(hand[0]):.4f} deg, d2 = {hand[1]:.4f} m, d3 = {hand[2]:.4f} m;"
           f" armkit.ik agrees to {np.abs(best.q - hand).max():.1e}")
     assert np.allclose(best.q, hand, atol=1e-12)
+    # the SCARA given a position alone: its wrist turns the tool about the tool point and never moves it, so it is
+    # held where it starts (q0) and the first three joints give both elbow branches in closed form
+    robot = arms()[3][0]
+    point = np.array([0.45, 0.25, 0.2])
+    start = np.array([0.0, 0.0, 0.0, 0.7])
+    every = armkit.ik_all(robot, point, q0=start)
+    print(f"\nscara, a position alone {point.tolist()} m: {every.message[0]}")
+    for b in range(len(every.q)):
+        print(f"  {every.branch[b]:<6} shoulder {math.degrees(every.q[b, 0]):9.4f} deg, elbow "
+              f"{math.degrees(every.q[b, 1]):9.4f} deg, quill {every.q[b, 2]:.4f} m, wrist "
+              f"{math.degrees(every.q[b, 3]):.4f} deg: {every.reason[b]}")
+    assert every.success.all() and np.all(every.q[:, 3] == 0.7)
+    assert np.allclose(armkit.fk(robot, every.q)[:, :3, 3], point, atol=1e-12)
 
 
 if __name__ == "__main__":
