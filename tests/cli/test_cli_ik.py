@@ -132,3 +132,30 @@ def test_bad_input_exits_2(args, message):
     res = run(*args)
     assert res.exit_code == 2, res.output
     assert message in res.output
+
+
+def test_info_names_the_closed_form_of_a_position_with_the_wrist_held():
+    res = runner.invoke(app, ["info", "puma560"])
+    assert res.exit_code == 0
+    text = " ".join(res.output.split())
+    assert "a position alone: closed form (yaw-pitch-pitch) with wrist_roll, wrist_bend, wrist_swivel held at q0" in text
+    assert "up to 4 solutions" in text
+    data = json.loads(runner.invoke(app, ["info", "cobra600", "--json"]).output)
+    assert data["position_held"] == {"held": ["wrist"], "family": "geometric-prismatic", "max_solutions": 2}
+    assert json.loads(runner.invoke(app, ["info", "ur5", "--json"]).output)["position_held"] is None
+    assert "a position alone" not in runner.invoke(app, ["info", "ur5"]).output
+
+
+def test_a_position_with_fixed_joints_on_the_command_line():
+    """The UR5 with its wrist held: the four shoulder/elbow branches, each reaching the point (FK of the printed q)."""
+    res = run("ur5", "0.3", "0.2", "0.25", "--fixed", "wrist_1=0", "--fixed", "wrist_2=0", "--fixed", "wrist_3=0",
+              "--json")
+    assert res.exit_code == 0, res.output
+    data = json.loads(res.output)
+    assert data["branches_found"] == 4
+    ur5 = armkit.load("ur5")
+    for row in data["solutions"]:
+        assert row["q_rad"][3:] == [0.0, 0.0, 0.0]
+        assert np.allclose(armkit.fk(ur5, np.array(row["q_rad"]))[:3, 3], [0.3, 0.2, 0.25], atol=1e-12)
+    res = run("ur5", "0.3", "0.2", "0.25", "--fixed", "wrist_3=0")
+    assert res.exit_code == 2 and "without a closed form for a position" in " ".join(res.output.split())
