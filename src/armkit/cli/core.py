@@ -155,16 +155,6 @@ def _dh_records(r: Robot) -> None:
     print_records(_("DH table ({convention} DH); * marks the joint variable", convention=_(r.convention)), records)
 
 
-# the phrases of a chain's geometric class line (armkit.ik.geometric.classify.TEXTS), for the catalogue
-_CLASS_TEXTS = (N_("axes {axes} meet"), N_("axes {axes} meet in a point"), N_("spherical wrist"),
-                N_("spherical shoulder"), N_("axes {a} and {b} always meet"), N_("axes {axes}"),
-                N_("no axes meet or are parallel"), N_("closed form"), N_("1-D search"), N_("2-D search"),
-                N_("up to {n} solutions"), N_("one solution"), N_("no closed form, numeric IK"),
-                N_("degenerate (the axes cannot move the tool in every direction), numeric IK only"),
-                N_("locking joint {k} leaves a closed form ({cls!r}): sweep joint {k}, up to {n} solutions per value"),
-                N_("relations snapped by up to {dev}: polish the solutions"))
-
-
 def _chain_class(r: Robot):
     """Which axes of ``r`` meet or are parallel, and the closed-form class that follows (see ik/geometric)."""
     from ..ik.geometric.classify import classify

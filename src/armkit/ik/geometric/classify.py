@@ -633,27 +633,32 @@ def classify(robot_or_poe: Union[Robot, POE], tol: float = DEFAULT_TOL) -> Chain
 
 
 # ------------------------------------------------------------------ one line for users
+def N_(text: str) -> str:
+    """Mark ``text`` for the catalogue (:func:`armkit.locale.N_`, without importing the language machinery here)."""
+    return text
+
+
 TEXTS = (
-    "axes {axes} meet",
-    "axes {axes} meet in a point",
-    "spherical wrist",
-    "spherical shoulder",
-    "axes {a} and {b} always meet",
-    "axes {axes}",
-    "no axes meet or are parallel",
-    "closed form",
-    "1-D search",
-    "2-D search",
-    "up to {n} solutions",
-    "one solution",
-    "no closed form, numeric IK",
-    "degenerate (the axes cannot move the tool in every direction), numeric IK only",
-    "locking joint {k} leaves a closed form ({cls!r}): sweep joint {k}, up to {n} solutions per value",
-    "relations snapped by up to {dev}: polish the solutions",
-    "one joint sampled {n} times, {step} deg apart, then refined",
-    "two joints on a {n} x {n} grid, {step} deg apart, then refined",
+    N_("axes {axes} meet"),
+    N_("axes {axes} meet in a point"),
+    N_("spherical wrist"),
+    N_("spherical shoulder"),
+    N_("axes {a} and {b} always meet"),
+    N_("axes {axes}"),
+    N_("no axes meet or are parallel"),
+    N_("closed form"),
+    N_("1-D search"),
+    N_("2-D search"),
+    N_("up to {n} solutions"),
+    N_("one solution"),
+    N_("no closed form, numeric IK"),
+    N_("degenerate (the axes cannot move the tool in every direction), numeric IK only"),
+    N_("locking joint {k} leaves a closed form ({cls!r}): sweep joint {k}, up to {n} solutions per value"),
+    N_("relations snapped by up to {dev}: polish the solutions"),
+    N_("one joint sampled {n} times, {step} deg apart, then refined"),
+    N_("two joints on a {n} x {n} grid, {step} deg apart, then refined"),
 )
-"""Every English phrase :func:`describe` writes (the command line marks them for its gettext catalogue)."""
+"""Every English phrase :func:`describe` writes, marked for the gettext catalogue (``babel.cfg`` reads this file)."""
 
 
 def _english(text: str, /, **fields: object) -> str:
