@@ -23,13 +23,14 @@ from numpy.typing import ArrayLike, NDArray
 from ..errors import ShapeError
 from .robot import Joint, Robot
 
-__all__ = ["joint_axes", "home_pose", "with_axes_reversed"]
+__all__ = ["joint_axes", "joint_motion", "home_pose", "with_axes_reversed"]
 
 Array = NDArray[np.float64]
 
 
-def _motion(value: float, prismatic: bool) -> Array:
-    """``M(q)``: a turn about, or a slide along, the local z axis."""
+def joint_motion(value: float, prismatic: bool) -> Array:
+    """``M(q)`` ``(4, 4)`` of the compiled chain (:class:`~armkit.model.robot.Chain`): a turn about, or a slide
+    along, the local z axis."""
     M = np.eye(4)
     if prismatic:
         M[2, 3] = value
@@ -67,7 +68,7 @@ def joint_axes(robot: Robot, q: ArrayLike | None = None) -> tuple[Array, Array]:
     for k in range(robot.n):
         A = X @ c.pre[k]                     # joint k's frame: its z axis is the joint axis
         points[k], directions[k] = A[:3, 3], A[:3, 2]
-        X = A @ _motion(float(qv[k]), bool(c.prismatic[k])) @ c.post[k]
+        X = A @ joint_motion(float(qv[k]), bool(c.prismatic[k])) @ c.post[k]
     return points, directions
 
 

@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Callable
+from typing import Any, Callable
 
 import numpy as np
 from numpy.typing import NDArray
@@ -242,6 +242,24 @@ def elbow_up(forward: Array, up_sign: float, l1: float, l2: float, elbow_index: 
 def forward_sign(x: Array, default: Array | float = 1.0) -> Array:
     """``sign(x)``, with ``default`` where ``x == 0``."""
     return np.where(x > 0, 1.0, np.where(x < 0, -1.0, default))
+
+
+class Built:
+    """The part of :class:`~armkit.ik.analytic.ClosedFormFamily` shared by the solvers built for a call rather than
+    detected from a robot's structure (joints held, :mod:`.held` and :mod:`armkit.ik.geometric.locked`; a sweep)."""
+
+    polish_above = math.inf
+    """No Gauss-Newton touch-up in :func:`~armkit.ik.analytic.solve_all`: it would move the held joints."""
+
+    @classmethod
+    def detect(cls, sf: Any, robot: Any) -> None:
+        """Never detected from a robot's structure: built where ``fixed=``, a sweep or a held wrist asks for it."""
+        return None
+
+    @property
+    def geometry(self) -> None:
+        """No one-call kernel of its own."""
+        return None
 
 
 @dataclass

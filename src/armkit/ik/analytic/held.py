@@ -37,8 +37,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..._text import Fielded
+from ...model.axes import joint_motion
 from ...model.robot import Joint, Robot
-from ._common import Raw, StandardForm
+from ._common import Built, Raw, StandardForm
 
 __all__ = ["Held", "reduced", "idle_tail", "position_solver", "held_solver", "MAX_LEFT"]
 
@@ -48,17 +49,6 @@ MAX_LEFT = 3
 IDLE_TOL = 1e-9
 """A joint axis passes through the tool point when the point is within this many reaches of it."""
 _CACHE = "held_position"
-
-
-def _motion(prismatic: bool, value: float) -> Array:
-    """The joint's own motion at ``value``: a turn about z or a slide along it (the chain's ``M(q)``)."""
-    M = np.eye(4)
-    if prismatic:
-        M[2, 3] = value
-    else:
-        c, s = math.cos(value), math.sin(value)
-        M[:2, :2] = [[c, -s], [s, c]]
-    return M
 
 
 def reduced(robot: Robot, held: Mapping[int, float]) -> Robot:
@@ -79,7 +69,7 @@ def reduced(robot: Robot, held: Mapping[int, float]) -> Robot:
     joints = []
     for k, j in enumerate(robot.joints):
         if k in held:
-            acc = acc @ ch.pre[k] @ _motion(bool(ch.prismatic[k]), float(held[k])) @ ch.post[k]
+            acc = acc @ ch.pre[k] @ joint_motion(float(held[k]), bool(ch.prismatic[k])) @ ch.post[k]
             continue
         joints.append(Joint(kind=j.kind, origin=acc @ ch.pre[k], axis=(0.0, 0.0, 1.0), lower=j.lower, upper=j.upper,
                             name=j.name))
@@ -112,7 +102,7 @@ def idle_tail(robot: Robot) -> list[int]:
     return out
 
 
-class Held:
+class Held(Built):
     """Every branch of a position target with some joints held and the rest (1 to 3) solved in closed form.
 
     Parameters
@@ -125,18 +115,7 @@ class Held:
 
     target_kind = "position"
     pose_only = False
-    polish_above = math.inf
-    """No Gauss-Newton touch-up on the full arm (it would move the held joints): :meth:`solve` polishes the
-    branches on the reduced arm where its family solved a nearby ideal arm."""
-
-    @classmethod
-    def detect(cls, sf: Any, robot: Robot) -> None:
-        """Never detected from a robot's structure: :func:`position_solver` and :func:`held_solver` build it."""
-        return None
-
-    @property
-    def geometry(self) -> None:
-        return None
+    # no Gauss-Newton touch-up on the full arm (Built.polish_above): solve polishes on the reduced arm instead
 
     def __init__(self, robot: Robot, held: Mapping[int, float] | list[int]) -> None:
         from . import closed_form

@@ -39,6 +39,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..._text import Fielded
+from ..analytic._common import Built
 from ...model.robot import Robot
 from .poe import POE, poe
 from .subproblems import rotm
@@ -120,7 +121,7 @@ def _solver_for(cls: Any) -> tuple[str, int] | None:
     return _CLASSES.get(cls.name.replace("-base", ""))
 
 
-class Locked:
+class Locked(Built):
     """Every branch of an arm with some joints held (``fixed``) and at most one swept over given values.
 
     Parameters
@@ -138,17 +139,6 @@ class Locked:
     sf: Any
     pose_only = True
     target_kind = "pose"
-    polish_above = math.inf
-    """No Gauss-Newton touch-up in :func:`~armkit.ik.analytic.solve_all`: it would move the held joints."""
-
-    @classmethod
-    def detect(cls, sf: Any, robot: Robot) -> None:
-        """Never detected from a robot's structure: :func:`resolve` builds it for ``fixed=`` or a sweep."""
-        return None
-
-    @property
-    def geometry(self) -> None:
-        return None
 
     def __init__(self, robot: Robot, held: Mapping[int, float], swept: tuple[int, Array] | None) -> None:
         from ..analytic import closed_form
