@@ -124,7 +124,7 @@ def test_ccd_trace_prints_the_iterations():
     (("ur5", "0.3", "0.2", "0.4", "--rpy", "0", "0", "0", "--quat", "0", "0", "0", "1"), "not both"),
     (("fighter", "10", "20", "30", "--method", "magic"), "--method must be one of"),
     (("fighter", "10", "20", "30", "--all", "--method", "lm"), "--all lists the closed-form branches"),
-    (("panda", "0.4", "0.1", "0.5", "--all"), "needs a pose target"),   # 7 joints: --all sweeps (issue 19)
+    (("panda", "0.4", "0.1", "0.5", "--all"), "sweep a joint for a pose"),   # 7 joints: --all sweeps (issue 19)
     (("planar2", "1.0", "0.2", "--phi", "10"), "cannot also choose the end angle"),
     (("nosuchrobot", "1", "2", "3"), "unknown robot"),
 ])
@@ -159,3 +159,16 @@ def test_a_position_with_fixed_joints_on_the_command_line():
         assert np.allclose(armkit.fk(ur5, np.array(row["q_rad"]))[:3, 3], [0.3, 0.2, 0.25], atol=1e-12)
     res = run("ur5", "0.3", "0.2", "0.25", "--fixed", "wrist_3=0")
     assert res.exit_code == 2 and "without a closed form for a position" in " ".join(res.output.split())
+
+
+def test_a_position_on_a_seven_joint_arm_with_all_names_the_options_of_the_command_line():
+    res = run("panda", "0.4", "0.1", "0.5", "--all")
+    text = " ".join(res.output.split())
+    assert res.exit_code == 2 and "--fixed NAME=VALUE" in text and "--method lm" in text and "fixed=" not in text
+    res = run("panda", "0.4", "0.1", "0.5", "--fixed", "panda_joint3=0", "--fixed", "panda_joint5=0", "--fixed",
+              "panda_joint6=90", "--fixed", "panda_joint7=0", "--deg", "--json")
+    assert res.exit_code == 0, res.output
+    panda = armkit.load("panda")
+    rows = json.loads(res.output)["solutions"]
+    assert rows and all(np.allclose(armkit.fk(panda, np.array(r["q_rad"]))[:3, 3], [0.4, 0.1, 0.5], atol=1e-12)
+                        for r in rows)

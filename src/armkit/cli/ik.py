@@ -379,6 +379,9 @@ def ik(robot: RobotArg,
             if method not in ("auto", "analytic") or branch is not None:
                 fail(_("--sweep and --fixed list the closed-form branches; they do not go with --branch or a "
                        "numeric --method"))
+            if position_only and not fixed and r.n == 7:   # the sweep's closed form solves a pose
+                fail(_("--all and --sweep on a 7-joint arm sweep a joint for a pose (add --rpy or --quat); for a "
+                       "position alone hold joints with --fixed NAME=VALUE (1 to 3 left), or use --method lm"))
             return _locked(r, target, where, _fixed_values(r, fixed or [], deg), sweep, json_out, scene)
         if all_branches and (method not in ("auto", "analytic") or branch is not None):
             fail(_("--all lists the closed-form branches; it does not go with --branch or a numeric --method"))
