@@ -97,3 +97,19 @@ def test_cli_picture_commands(tmp_path):
     assert res.exit_code == 0 and "24.86" in res.output
     for cmd in ("plot", "shell", "workspace", "maps", "track"):
         assert "Example: armkit" in run(app, [cmd, "--help"]).output
+
+
+@pytest.mark.parametrize("method", ["analytic", "lm", "ccd"])
+def test_a_scara_tracks_paths_in_the_middle_of_its_flat_workspace(method):
+    """The eCobra 600 reaches a slab 0.21 m high (its quill's stroke) between radii 0.127 m (the elbow at its
+    157.5 deg limit: sqrt(a1² + a2² + 2 a1 a2 cos 157.5°)) and a1 + a2 = 0.6 m: its paths lie at mid-stroke,
+    z = d1 - 0.105 = 0.282 m, inside that ring, and every frame is reached (the tilted 3D circle of other arms
+    left the slab: 69 of 200 frames failed, and 145 of the random path's)."""
+    r = armkit.load("cobra600")
+    for path in ("circle", "figure8"):
+        p = target_path(r, path, frames=60)
+        rad = np.hypot(p[:, 0], p[:, 1])
+        assert np.allclose(p[:, 2], 0.387 - 0.105, atol=1e-3) and rad.min() > 0.127 and rad.max() < 0.6
+        res = track(r, path=path, method=method, frames=60, scene=False)
+        assert res.reached.all(), (path, res.stats())
+        assert np.linalg.norm(armkit.fk(r, res.q)[:, :3, 3] - res.targets, axis=1).max() <= res.tol

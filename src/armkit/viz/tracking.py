@@ -107,27 +107,59 @@ class TrackResult:
         }
 
 
+FLAT = 0.5
+"""A spatial arm's workspace is *flat* (a SCARA's: a slab as high as its quill's stroke) when its thickness across
+its plane is under this fraction of its outer radius: the paths then lie in its middle plane."""
+
+
 def _frame_of_motion(robot: Robot) -> tuple[Array, float, float, bool, Array, Array]:
-    """(centre, inner radius, outer radius, planar, in-plane unit vectors e1, e2) for the paths."""
-    from ..analysis.workspace import is_planar, workspace
+    """(centre, inner radius, outer radius, in a plane, in-plane unit vectors e1, e2) for the paths.
+
+    A planar arm: its plane (x, y). A spatial arm whose workspace is flat (:data:`FLAT`): the middle plane of the
+    slab, ``e1`` towards where the arm reaches on average (a SCARA with limited turns reaches to one side), the
+    radii in that plane about the axis through the centre. Any other arm: the workspace's centre and radii."""
+    from ..analysis.workspace import workspace
 
     ws = workspace(robot, samples=20_000, seed=0, scene=False)   # the paths' size: the arm's reach alone
     c = ws.centre.copy()
-    planar = ws.planar
-    if planar:
+    if ws.planar:
         c[2] = float(fk(robot, np.zeros(robot.n))[2, 3])
         return c, ws.inner_radius, ws.outer_radius, True, np.array([1.0, 0, 0]), np.array([0, 1.0, 0])
+    flat = _flat_frame(ws.points, c, ws.outer_radius)
+    if flat is not None:
+        return flat
     return c, ws.inner_radius, ws.outer_radius, False, np.array([0, 1.0, 0]), np.array([-1.0, 0, 1.0]) / math.sqrt(2)
+
+
+def _flat_frame(points: Array, c: Array, r_out: float) -> Optional[tuple[Array, float, float, bool, Array, Array]]:
+    """The frame of :func:`_frame_of_motion` for a flat workspace (sampled ``points (N, 3)`` around ``c``), or None."""
+    d = points - c
+    _, _, vt = np.linalg.svd(d - d.mean(axis=0), full_matrices=False)
+    normal = vt[2]                                          # the direction of least spread (sampled)
+    k = int(np.argmax(np.abs(normal)))
+    if abs(normal[k]) > 0.999:                              # a world axis (a SCARA's z): taken exactly
+        normal = np.eye(3)[k]
+    h = d @ normal
+    if not r_out > 0.0 or h.max() - h.min() >= FLAT * r_out:
+        return None
+    mid = c + normal * 0.5 * (h.max() + h.min())            # the middle of the slab, on the axis through c
+    inplane = d - h[:, None] * normal[None, :]
+    radius = np.linalg.norm(inplane, axis=1)
+    ahead = inplane.mean(axis=0)                            # where the arm reaches on average
+    e1 = ahead / np.linalg.norm(ahead) if np.linalg.norm(ahead) > 0.1 * r_out else vt[0]
+    e2 = np.cross(normal, e1)
+    return mid, float(np.quantile(radius, 0.005)), float(np.quantile(radius, 0.995)), True, e1, e2
 
 
 def target_path(robot: Robot, path: str = "circle", frames: int = 200, seed: Optional[int] = 0) -> Array:
     """Target positions ``(F, 3)`` for :func:`track`.
 
     ``circle`` and ``figure8`` lie well inside the workspace (between the inner and outer
-    boundary radii, in the plane of a planar arm, in a tilted plane in front of a spatial
-    arm's shoulder); ``random`` is a smooth random curve (a few random sinusoids) that may
-    leave the workspace now and then; any other string is a CSV file with columns
-    ``x, y[, z]`` (an optional header row), one row per frame.
+    boundary radii, in the plane of a planar arm or the middle plane of a flat workspace such as a
+    SCARA's, in a tilted plane in front of another spatial arm's shoulder); ``random`` is a smooth
+    random curve (a few random sinusoids, in that plane where there is one) that may leave the
+    workspace now and then; any other string is a CSV file with columns ``x, y[, z]`` (an optional
+    header row), one row per frame.
     """
     if not isinstance(frames, (int, np.integer)) or frames < 2:
         raise ArgumentError.of("frames must be an integer >= 2, got {frames!r}", frames=frames)
@@ -136,8 +168,8 @@ def target_path(robot: Robot, path: str = "circle", frames: int = 200, seed: Opt
     c, r_in, r_out, planar, e1, e2 = _frame_of_motion(robot)
     r_mid = 0.5 * (r_in + r_out)
     rho = 0.35 * (r_out - r_in)
-    radial = np.array([1.0, 0, 0]) if planar else np.array([1.0, 0, 1.0]) / math.sqrt(2)
-    p0 = c + r_mid * radial if planar else c + r_mid * radial
+    radial = e1 if planar else np.array([1.0, 0, 1.0]) / math.sqrt(2)
+    p0 = c + r_mid * radial
     if not planar:
         e1, e2 = np.array([0, 1.0, 0]), np.cross(radial, [0, 1.0, 0])
     t = np.linspace(0.0, 2 * math.pi, frames, endpoint=False)
@@ -148,15 +180,15 @@ def target_path(robot: Robot, path: str = "circle", frames: int = 200, seed: Opt
     else:
         rng = np.random.default_rng(seed)
         amp = 0.62 * r_out
-        dims = 2 if planar else 3
+        axes = (e1, e2) if planar else (np.eye(3)[0], np.eye(3)[1], np.eye(3)[2])
         offs = np.zeros((frames, 3))
-        for d in range(dims):
+        for axis in axes:
             k = rng.integers(1, 4, size=3)
             ph = rng.uniform(0, 2 * math.pi, size=3)
             w = rng.uniform(0.3, 1.0, size=3)
             wave = (w[:, None] * np.sin(k[:, None] * t[None] + ph[:, None])).sum(axis=0) / w.sum()
-            offs[:, d] = amp * wave
-        base = np.array([c[0] + 0.25 * r_out, c[1], c[2]]) if planar else c + 0.3 * r_out * radial
+            offs += amp * wave[:, None] * axis[None, :]
+        base = c + 0.25 * r_out * e1 if planar else c + 0.3 * r_out * radial
         pts = base + offs
     return pts
 
