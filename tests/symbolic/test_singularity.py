@@ -42,6 +42,19 @@ def test_planar2_det_and_sets(results):
     assert [lab for _, lab in elbow.solutions] == ["stretched", "folded"]
 
 
+def test_scara_det_of_its_four_moving_rows():
+    """The eCobra 600 moves its tool along vx, vy, vz and turns it about z: four rows for four joints, so det J of
+    those rows (det(J Jᵀ) was a square of it that sympy could not tidy). By hand, rows (vx, vy, vz, wz), columns
+    (q1, q2, d3, q4): [[-a1 s1 - a2 s12, -a2 s12, 0, 0], [a1 c1 + a2 c12, a2 c12, 0, 0], [0, 0, -1, 0],
+    [1, 1, 0, -1]] -> det = (a1 a2 s2)(-1)(-1) = a1 a2 s2: singular with the elbow stretched or folded only."""
+    res = analyze_singularities(armkit.load("cobra600"))
+    q2, a1, a2 = sp.symbols("q2 a1 a2", real=True)
+    assert res.method == "det(J)" and res.rows == ("vx", "vy", "vz", "wz")
+    assert sp.simplify(res.determinant - a1 * a2 * sp.sin(q2)) == 0
+    (elbow,) = _by_kind(res, "elbow")
+    assert [lab for _, lab in elbow.solutions] == ["stretched", "folded"] and elbow.joints == (2,)
+
+
 def test_fighter_stretched_folded_and_yaw_axis(results):
     res = results["fighter"]
     assert res.method == "det(J_v)"

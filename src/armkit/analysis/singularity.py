@@ -5,6 +5,7 @@ The determinant is taken of the task rows the arm can move:
 * 6 joints, 6 rows: :math:`\det J`;
 * a spatial 3-joint arm positioning its tool point (``fighter``): :math:`\det J_v` (3x3);
 * a planar arm (only ``vx, vy, wz`` move): the 3x3 (or 2x2) planar Jacobian;
+* as many moving rows as joints (a SCARA: ``vx, vy, vz, wz``): :math:`\det J_r` of those rows;
 * anything else (redundant or short arms): :math:`\det(J_r J_r^T)` of the moving rows.
 
 Neither a rotation of the reference frame nor the choice of the row set above changes
@@ -211,6 +212,8 @@ def _task_matrix(d: Any) -> tuple[sp.Matrix, str, tuple[str, ...], list[sp.Matri
         M = Jf[:3, :]
         return M, "det(J_v)", ROW_NAMES[:3], [M]
     M = d.J.extract(moving, list(range(n)))
+    if len(moving) == n:      # as many rows move as there are joints (a SCARA: vx, vy, vz, wz): det of those rows
+        return M, "det(J)", tuple(ROW_NAMES[i] for i in moving), [M]
     return M, "det(J J^T)", tuple(ROW_NAMES[i] for i in moving), [M * M.T]
 
 
