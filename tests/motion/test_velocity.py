@@ -123,3 +123,22 @@ def test_cli_velocity_both_ways():
     assert res.exit_code == 2 and "2 (vx vy)" in res.output
     res = runner.invoke(app, ["velocity", "planar2", "30", "45"])
     assert res.exit_code == 2 and "exactly one" in res.output
+
+
+def test_a_scara_is_conditioned_by_the_rows_it_can_move():
+    """The eCobra 600 never turns its tool about x or y: a full twist is not 'near a singularity' at a regular
+    configuration. By hand, rows (vx, vy, vz, wz) at q2 = 45 deg: det = a1 a2 sin q2 != 0, well-conditioned; at
+    q2 = 0 the elbow is stretched and the arm cannot move along its own direction (cos q1, sin q1)."""
+    from armkit.motion.velocity import joint_rates
+
+    cobra = armkit.load("cobra600")
+    q = np.array([np.radians(30), np.radians(45), 0.1, 0.2])
+    r = joint_rates(cobra, q, [0.1, 0.0, 0.0, 0.0, 0.0, 0.0])
+    assert not r.singular and r.residual < 1e-12 and "never moves" not in r.message
+    r = joint_rates(cobra, q, [0.1, 0.0, 0.0, 0.2, 0.0, 0.0])      # wx asked: dropped, and said
+    assert not r.singular and abs(r.residual - 0.2) < 1e-12 and "never moves along wx" in r.message
+    stretched = joint_rates(cobra, np.array([np.radians(30), 0.0, 0.1, 0.2]), [0.1, 0.0, 0.0, 0.0, 0.0, 0.0])
+    assert stretched.singular
+    d = stretched.direction[:2] / np.linalg.norm(stretched.direction[:2])
+    assert abs(abs(d @ [np.cos(np.radians(30)), np.sin(np.radians(30))]) - 1.0) < 1e-9
+    assert np.allclose(stretched.direction[3:5], 0.0)

@@ -34,7 +34,7 @@ from ..model.robot import Robot
 from . import _numpy
 
 __all__ = ["fk", "fk_frames", "link_frames", "jacobian", "manipulability", "condition_number", "is_singular",
-           "SINGULAR_THRESHOLD", "task_rows", "set_backend", "get_backend"]
+           "SINGULAR_THRESHOLD", "task_rows", "movable_rows", "set_backend", "get_backend"]
 
 Array = NDArray[np.float64]
 
@@ -370,6 +370,21 @@ def _jacobian(robot: Robot, q: ArrayLike, frame: str, out: Array | None) -> Arra
     return J.reshape(lead + (6, n)) if out is None else out
 
 
+def movable_rows(robot: Robot) -> tuple[int, ...]:
+    """The twist rows ``(vx, vy, vz, wx, wy, wz)`` = 0-5 the arm changes at all (its Jacobian's nonzero rows at
+    random configurations): a SCARA never turns its tool about x or y.
+
+    >>> import armkit
+    >>> movable_rows(armkit.load("cobra600")), movable_rows(armkit.load("planar2"))
+    ((0, 1, 2, 5), (0, 1, 5))
+    """
+    if not isinstance(robot, Robot):   # one check at the entry (issue 24)
+        raise _not_a_robot(robot)
+    probe = robot.random_q(8, rng=0)
+    J = np.abs(_numpy.jacobian(robot.chain, probe, False))
+    return tuple(r for r in range(6) if J[:, r, :].max() > 1e-12)
+
+
 def task_rows(robot: Robot) -> tuple[int, ...]:
     """The Jacobian rows that make up the arm's task, used by the manipulability measures.
 
@@ -384,11 +399,7 @@ def task_rows(robot: Robot) -> tuple[int, ...]:
     >>> [task_rows(armkit.load(n)) for n in ("planar2", "planar3", "fighter")]
     [(0, 1), (0, 1, 5), (0, 1, 2)]
     """
-    if not isinstance(robot, Robot):   # one check at the entry (issue 24)
-        raise _not_a_robot(robot)
-    probe = robot.random_q(8, rng=0)
-    J = np.abs(_numpy.jacobian(robot.chain, probe, False))
-    movable = [r for r in range(6) if J[:, r, :].max() > 1e-12]
+    movable = movable_rows(robot)
     pos = [r for r in movable if r < 3]
     rot = [r for r in movable if r >= 3]
     return tuple(pos + rot[: max(0, robot.n - len(pos))])

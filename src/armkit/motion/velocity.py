@@ -31,7 +31,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from .._text import Fielded
 from ..errors import ArgumentError, LimitError, ShapeError
-from ..kinematics import fk, jacobian
+from ..kinematics import fk, jacobian, movable_rows
 from ..model.robot import Robot
 
 __all__ = ["ROW_NAMES", "SINGULAR_SIGMA", "DLS_EPSILON", "DLS_LAMBDA_MAX", "JointRates", "twist",
@@ -193,6 +193,15 @@ def joint_rates(robot: Robot, q: ArrayLike, xd: ArrayLike, method: Literal["pinv
     U, S, Vt = np.linalg.svd(Js)
     k = min(Js.shape)
     sigma_min = float(S[k - 1]) if len(idx) <= robot.n else 0.0
+    movable = movable_rows(robot)
+    never = tuple(i for i in idx if i not in movable)      # rows the arm never changes (a SCARA's wx, wy)
+    kept = [j for j, i in enumerate(idx) if i in movable]
+    weakest = None     # the direction it cannot move in, among the rows it can move (when some never move)
+    if never and len(idx) > robot.n and 0 < len(kept) <= robot.n:   # conditioned by the rows it can move
+        Uk, Sk, _ = np.linalg.svd(Js[kept])
+        sigma_min = float(Sk[len(kept) - 1])
+        weakest = np.zeros(len(idx))
+        weakest[kept] = Uk[:, len(kept) - 1]
     if method == "pinv":
         lam2 = 0.0
         # Singular values below 1e-12 x max(1, sigma_max) (lengths in metres) are dropped: that is
@@ -217,7 +226,7 @@ def joint_rates(robot: Robot, q: ArrayLike, xd: ArrayLike, method: Literal["pinv
     if not (np.all(np.isfinite(qd)) and np.all(np.isfinite(achieved)) and math.isfinite(residual)):
         raise LimitError.of("the requested velocity (largest component {largest:.3g}) is too large: the joint rates "
                             "overflow float64; ask for a smaller velocity", largest=float(np.max(np.abs(x))))
-    direction = U[:, len(idx) - 1] if len(idx) > robot.n else U[:, k - 1]
+    direction = weakest if weakest is not None else U[:, len(idx) - 1] if len(idx) > robot.n else U[:, k - 1]
     direction = direction * (1 if direction[np.argmax(np.abs(direction))] > 0 else -1)
     names = tuple(ROW_NAMES[i] for i in idx)
     singular = sigma_min < SINGULAR_SIGMA
@@ -230,6 +239,10 @@ def joint_rates(robot: Robot, q: ArrayLike, xd: ArrayLike, method: Literal["pinv
                          sigma=f"{sigma_min:.2e}", direction=dir_txt)
     else:
         msg = Fielded.of("well-conditioned (smallest singular value {sigma} m)", sigma=f"{sigma_min:.3g}")
+    asked = [ROW_NAMES[i] for j, i in enumerate(idx) if i in never and x[j] != 0.0]
+    if asked:          # a component the arm can never produce: said, not hidden in the residual
+        msg = Fielded.of("{note}; the arm never moves along {rows} (its {n} joints cannot), so those components are "
+                         "dropped", note=msg, rows=", ".join(asked), n=robot.n)
     return JointRates(qd, achieved, residual, sigma_min, singular, direction, lam2, method, names, msg)
 
 
