@@ -103,7 +103,8 @@ def test_bad_input_exits_2_with_a_message(extra, text):
 
 def test_a_position_alone_cannot_be_swept():
     res = run("panda", "0.3", "0.2", "0.5", "--all")
-    assert res.exit_code == 2 and "needs a pose target" in " ".join(res.output.split())
+    text = " ".join(res.output.split())
+    assert res.exit_code == 2 and "sweep a joint for a pose" in text and "--fixed NAME=VALUE" in text
 
 
 def test_korean(panda):
