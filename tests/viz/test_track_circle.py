@@ -113,3 +113,12 @@ def test_a_scara_tracks_paths_in_the_middle_of_its_flat_workspace(method):
         res = track(r, path=path, method=method, frames=60, scene=False)
         assert res.reached.all(), (path, res.stats())
         assert np.linalg.norm(armkit.fk(r, res.q)[:, :3, 3] - res.targets, axis=1).max() <= res.tol
+
+
+@pytest.mark.parametrize("name, words", [("ur5", "(ur) needs more than a position"), ("panda", "has none")])
+def test_analytic_tracking_without_a_position_closed_form_names_the_methods_that_work(name, words):
+    with pytest.raises(armkit.ArmkitError, match="track it with method 'lm', 'newton' or 'ccd'") as info:
+        track(armkit.load(name), path="circle", method="analytic", frames=5)
+    assert words in str(info.value)
+    res = track(armkit.load("puma560"), path="circle", method="analytic", frames=20, scene=False)   # wrist held
+    assert res.reached.all()

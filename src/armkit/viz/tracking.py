@@ -222,6 +222,28 @@ def _read_csv(robot: Robot, file: Path) -> Array:
     return data
 
 
+def _check_analytic(robot: Robot) -> None:
+    """``method="analytic"`` follows a point: the arm needs a closed form for a position (its own, a planar arm's
+    with the end angle kept, or with a wrist that never moves the point held); else an error naming the methods
+    that work, in words that fit the API and the command line alike."""
+    from ..analysis.workspace import is_planar
+    from ..ik.analytic import closed_form
+    from ..ik.analytic.held import position_solver
+
+    own = closed_form(robot)
+    if own is not None and (own.target_kind == "position" or is_planar(robot)):
+        return
+    if position_solver(robot) is not None:
+        return
+    if own is None:
+        raise ArgumentError.of("method 'analytic' follows the target with a closed form for a position; robot "
+                               "{robot!r} has none; track it with method 'lm', 'newton' or 'ccd'", robot=robot.name)
+    raise ArgumentError.of("method 'analytic' follows the target with a closed form for a position; the closed form "
+                           "of robot {robot!r} ({family}) needs more than a position; track it with method 'lm', "
+                           "'newton' or 'ccd'",
+                           robot=robot.name, family=own.family)
+
+
 def track(robot: Robot, path: str = "random", method: str = "ccd", frames: int = 200, seed: Optional[int] = 0,
           tol: Optional[float] = None, max_iterations: Optional[int] = None, q0: Optional[Any] = None,
           scene: Any = None) -> TrackResult:
@@ -260,6 +282,8 @@ def track(robot: Robot, path: str = "random", method: str = "ccd", frames: int =
     if method not in TRACK_METHODS:
         raise ArgumentError.of("method must be one of {names}, got {method!r}", names=", ".join(TRACK_METHODS),
                                method=method)
+    if method == "analytic":
+        _check_analytic(robot)
     targets = target_path(robot, path, frames, seed)
     F = len(targets)
     tol_p = float(tol) if tol is not None else 1e-6 * (robot.reach or 1.0)
