@@ -141,3 +141,29 @@ def test_cli_maps_constant_panel_and_colour_bars_span_the_data(monkeypatch: pyte
 def test_cli_maps_bad_ranges_exit_2(monkeypatch: pytest.MonkeyPatch, tmp_path, args, msg) -> None:
     _, _, _, out = capture_maps(monkeypatch, "planar2", *args, "-o", str(tmp_path / "m.png"), code=2)
     assert msg in out and "Traceback" not in out
+
+
+def test_scara_ik_maps_at_mid_stroke(tmp_path):
+    """The eCobra 600's IK maps: targets at the middle of the slab it reaches (z = 0.387 - 0.105 m, the quill at
+    mid-stroke) by default, its wrist held at q0; every map value reaches its target (FK), the two branches are
+    the two signs of the elbow (a 2R in the plane: q2 = ±acos(...)), and the quill is 0.105 m everywhere."""
+    from typer.testing import CliRunner
+
+    from armkit.cli import app
+
+    r = armkit.load("cobra600")
+    gx = gy = np.linspace(-0.6, 0.6, 25)
+    m = ik_maps(r, gx, gy)
+    assert abs(m.z - 0.282) < 1e-3 and m.branches == ("s1", "s2")
+    X, Y = np.meshgrid(gx, gy, indexing="ij")
+    hits = 0
+    for b in range(2):
+        ok = np.all(np.isfinite(m.q[:, :, b]), axis=-1)
+        hits += ok.sum()
+        p = armkit.fk(r, m.q[:, :, b][ok])[:, :3, 3]
+        assert np.allclose(p, np.stack([X[ok], Y[ok], np.full(ok.sum(), m.z)], axis=-1), atol=1e-9)
+        assert np.allclose(m.q[:, :, b][ok][:, 2], 0.387 - m.z, atol=1e-12)
+    both = np.all(np.isfinite(m.q[:, :, 0]), axis=-1) & np.all(np.isfinite(m.q[:, :, 1]), axis=-1)
+    assert hits > 200 and np.all(np.sign(m.q[:, :, 0, 1][both]) == -np.sign(m.q[:, :, 1, 1][both]))
+    res = CliRunner().invoke(app, ["maps", "cobra600", "-o", str(tmp_path / "maps.png")])
+    assert res.exit_code == 0 and "FK maps only" not in res.output

@@ -130,6 +130,17 @@ ELBOW_JOINT = {"planar-2r": 1, "planar-3r": 1}
 """Closed-form families whose branches :func:`ik_maps` names by the sign of one joint (0-based index)."""
 
 
+def _default_height(robot: Robot) -> float:
+    """The IK maps' target height of a spatial arm: the middle of a flat, horizontal workspace (a SCARA's quill at
+    mid-stroke, :func:`~.workspace.flat_frame`), else the shoulder's height."""
+    from .workspace import flat_frame, shoulder_point, workspace
+
+    flat = flat_frame(workspace(robot, samples=20_000, seed=0, scene=False))
+    if flat is not None and abs(flat[3][2]) == 1.0:
+        return float(flat[0][2])
+    return float(shoulder_point(robot)[2])
+
+
 def ik_maps(robot: Robot, x_grid: ArrayLike, y_grid: ArrayLike, z: float | None = None,
             phi: float | None = None, continuous: bool = True) -> IKMaps:
     r"""Every closed-form IK branch over a grid of targets (the symbolic 2-link tutorial's IK maps).
@@ -142,7 +153,8 @@ def ik_maps(robot: Robot, x_grid: ArrayLike, y_grid: ArrayLike, z: float | None 
     x_grid, y_grid : array_like, shapes (A,) and (B,)
         Target coordinates (length units).
     z : float, optional
-        Target height for a spatial arm (default: the height of the shoulder).
+        Target height for a spatial arm (default: the height of the shoulder; the middle of the slab a SCARA
+        reaches, its quill at mid-stroke).
     phi : float, optional
         End angle (rad) for planar arms that need one (``planar3``).
     continuous : bool
@@ -169,7 +181,7 @@ def ik_maps(robot: Robot, x_grid: ArrayLike, y_grid: ArrayLike, z: float | None 
         target = np.stack([X, Y], axis=-1)
         zval = None
     else:
-        zval = float(shoulder_point(robot)[2]) if z is None else float(z)
+        zval = _default_height(robot) if z is None else float(z)
         target = np.stack([X, Y, np.full_like(X, zval)], axis=-1)
     res = ik_all(robot, target, phi=phi) if phi is not None else ik_all(robot, target)
     labels = np.asarray(res.branch).astype(str)

@@ -251,6 +251,45 @@ class WorkspaceResult:
         return s + (f"; checked against: {', '.join(self.checked_against)}" if self.checked_against else "")
 
 
+FLAT = 0.5
+"""A spatial arm's workspace is *flat* (a SCARA's: a slab as high as its quill's stroke) when its thickness across
+its plane is under this fraction of its outer radius (:func:`flat_frame`)."""
+
+
+def flat_frame(ws: "WorkspaceResult") -> tuple[Array, float, float, Array, Array, Array] | None:
+    """The middle plane of a flat workspace, or None (a planar arm's, or one that is not flat: :data:`FLAT`).
+
+    Returns ``(mid, r_in, r_out, normal, e1, e2)``: the point of the slab's middle plane on the axis through the
+    centre, the inner and outer radii about that axis in the plane (0.5 % and 99.5 % quantiles of the samples),
+    the plane's unit normal (a world axis where it is within 0.999 of one: a SCARA's z), and two unit vectors in
+    the plane, ``e1`` towards where the arm reaches on average (a SCARA with limited turns reaches to one side).
+
+    >>> import armkit
+    >>> mid, r_in, r_out, normal, e1, e2 = flat_frame(workspace(armkit.load("cobra600"), 20_000, scene=False))
+    >>> round(float(mid[2]), 3), normal.tolist()          # the quill at mid-stroke: 0.387 - 0.105 m
+    (0.282, [0.0, 0.0, 1.0])
+    """
+    if ws.planar:
+        return None
+    c = ws.centre
+    d = ws.points - c
+    _, _, vt = np.linalg.svd(d - d.mean(axis=0), full_matrices=False)
+    normal = vt[2]                                          # the direction of least spread (sampled)
+    k = int(np.argmax(np.abs(normal)))
+    if abs(normal[k]) > 0.999:                              # a world axis (a SCARA's z): taken exactly
+        normal = np.eye(3)[k]
+    h = d @ normal
+    r_out = ws.outer_radius
+    if not r_out > 0.0 or h.max() - h.min() >= FLAT * r_out:
+        return None
+    mid = c + normal * 0.5 * (h.max() + h.min())            # the middle of the slab, on the axis through c
+    inplane = d - h[:, None] * normal[None, :]
+    radius = np.linalg.norm(inplane, axis=1)
+    ahead = inplane.mean(axis=0)                            # where the arm reaches on average
+    e1 = ahead / np.linalg.norm(ahead) if np.linalg.norm(ahead) > 0.1 * r_out else vt[0]
+    return mid, float(np.quantile(radius, 0.005)), float(np.quantile(radius, 0.995)), normal, e1, np.cross(normal, e1)
+
+
 def format_measure(value: float, error: float) -> str:
     """``(2.28 ± 0.17) × 10⁷`` style text for a value with its error bar."""
     e = int(math.floor(math.log10(abs(value)))) if value else 0

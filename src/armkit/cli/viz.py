@@ -304,8 +304,9 @@ def maps(robot: RobotArg,
     im = None
     if not no_ik:
         from ..ik import closed_form_family
+        from ..ik.analytic.held import position_solver
 
-        if closed_form_family(r) is None or r.n > 3:
+        if (closed_form_family(r) is None or r.n > 3) and position_solver(r) is None:   # a held wrist: a SCARA
             warn(_("robot {name!r} has no closed-form position IK with named branches; drawing the FK maps only",
                    name=r.name))
         else:

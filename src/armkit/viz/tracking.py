@@ -107,48 +107,24 @@ class TrackResult:
         }
 
 
-FLAT = 0.5
-"""A spatial arm's workspace is *flat* (a SCARA's: a slab as high as its quill's stroke) when its thickness across
-its plane is under this fraction of its outer radius: the paths then lie in its middle plane."""
-
-
 def _frame_of_motion(robot: Robot) -> tuple[Array, float, float, bool, Array, Array]:
     """(centre, inner radius, outer radius, in a plane, in-plane unit vectors e1, e2) for the paths.
 
-    A planar arm: its plane (x, y). A spatial arm whose workspace is flat (:data:`FLAT`): the middle plane of the
-    slab, ``e1`` towards where the arm reaches on average (a SCARA with limited turns reaches to one side), the
-    radii in that plane about the axis through the centre. Any other arm: the workspace's centre and radii."""
-    from ..analysis.workspace import workspace
+    A planar arm: its plane (x, y). A spatial arm whose workspace is flat (a SCARA's slab,
+    :func:`armkit.analysis.workspace.flat_frame`): the middle plane of the slab, ``e1`` towards where the arm
+    reaches on average. Any other arm: the workspace's centre and radii."""
+    from ..analysis.workspace import flat_frame, workspace
 
     ws = workspace(robot, samples=20_000, seed=0, scene=False)   # the paths' size: the arm's reach alone
     c = ws.centre.copy()
     if ws.planar:
         c[2] = float(fk(robot, np.zeros(robot.n))[2, 3])
         return c, ws.inner_radius, ws.outer_radius, True, np.array([1.0, 0, 0]), np.array([0, 1.0, 0])
-    flat = _flat_frame(ws.points, c, ws.outer_radius)
+    flat = flat_frame(ws)
     if flat is not None:
-        return flat
+        mid, r_in, r_out, _, e1, e2 = flat
+        return mid, r_in, r_out, True, e1, e2
     return c, ws.inner_radius, ws.outer_radius, False, np.array([0, 1.0, 0]), np.array([-1.0, 0, 1.0]) / math.sqrt(2)
-
-
-def _flat_frame(points: Array, c: Array, r_out: float) -> Optional[tuple[Array, float, float, bool, Array, Array]]:
-    """The frame of :func:`_frame_of_motion` for a flat workspace (sampled ``points (N, 3)`` around ``c``), or None."""
-    d = points - c
-    _, _, vt = np.linalg.svd(d - d.mean(axis=0), full_matrices=False)
-    normal = vt[2]                                          # the direction of least spread (sampled)
-    k = int(np.argmax(np.abs(normal)))
-    if abs(normal[k]) > 0.999:                              # a world axis (a SCARA's z): taken exactly
-        normal = np.eye(3)[k]
-    h = d @ normal
-    if not r_out > 0.0 or h.max() - h.min() >= FLAT * r_out:
-        return None
-    mid = c + normal * 0.5 * (h.max() + h.min())            # the middle of the slab, on the axis through c
-    inplane = d - h[:, None] * normal[None, :]
-    radius = np.linalg.norm(inplane, axis=1)
-    ahead = inplane.mean(axis=0)                            # where the arm reaches on average
-    e1 = ahead / np.linalg.norm(ahead) if np.linalg.norm(ahead) > 0.1 * r_out else vt[0]
-    e2 = np.cross(normal, e1)
-    return mid, float(np.quantile(radius, 0.005)), float(np.quantile(radius, 0.995)), True, e1, e2
 
 
 def target_path(robot: Robot, path: str = "circle", frames: int = 200, seed: Optional[int] = 0) -> Array:
