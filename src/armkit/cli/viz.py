@@ -282,7 +282,7 @@ def maps(robot: RobotArg,
         fail(_("maps need at least 2 joints; {name!r} has {n}", name=r.name, n=r.n))
     planar, tutorial = is_planar(r), _tutorial_layout(r)
     if joints is None:
-        jj = (0, 1) if planar or r.n == 2 else (1, 2)
+        jj = (0, 1) if planar or r.n == 2 else _parallel_pair(r)
     else:
         v = parse_numbers([w for w in joints.split(",") if w], "--joints")
         if len(v) != 2 or not all(float(x).is_integer() and 1 <= x <= r.n for x in v) or v[0] == v[1]:
@@ -323,6 +323,18 @@ def maps(robot: RobotArg,
         fail(_("--branch is for the IK maps; drop --no-ik"))
     path = save_figure(plot_maps(fm, im), out)
     console.print(_("wrote {path}", path=esc(path)))
+
+
+def _parallel_pair(r: Any) -> tuple[int, int]:
+    """The FK maps' default joints of a spatial arm: its first two consecutive parallel turning axes, the plane
+    the tutorial's two links move in (the fighter's and the Puma's 2 and 3, a SCARA's 1 and 2), else 2 and 3."""
+    from ..ik.geometric.classify import classify
+
+    for run in classify(r).parallel:
+        for a, b in zip(run, run[1:]):
+            if not (r.prismatic[a - 1] or r.prismatic[b - 1]):
+                return a - 1, b - 1
+    return 1, 2
 
 
 OLD_BRANCH_NAMES = {"q2+": "elbow-down", "q2-": "elbow-up"}
