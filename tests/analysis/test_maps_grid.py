@@ -167,3 +167,16 @@ def test_scara_ik_maps_at_mid_stroke(tmp_path):
     assert hits > 200 and np.all(np.sign(m.q[:, :, 0, 1][both]) == -np.sign(m.q[:, :, 1, 1][both]))
     res = CliRunner().invoke(app, ["maps", "cobra600", "-o", str(tmp_path / "maps.png")])
     assert res.exit_code == 0 and "FK maps only" not in res.output
+
+
+@pytest.mark.parametrize("name, pair", [("cobra600", (0, 1)), ("fighter", (1, 2)), ("puma560", (1, 2)),
+                                        ("ur5", (1, 2))])
+def test_fk_maps_default_to_the_first_two_parallel_turning_joints(name, pair):
+    """The tutorial's maps are of two links turning in one plane: a SCARA's shoulder and elbow (vertical axes 1, 2),
+    the fighter's, Puma's and UR's shoulder and elbow (horizontal axes 2, 3)."""
+    from armkit.cli.viz import _parallel_pair
+
+    r = armkit.load(name)
+    assert _parallel_pair(r) == pair
+    a, b = (armkit.kinematics.jacobian(r, r.random_q(rng=1))[3:, k] for k in pair)
+    assert np.linalg.norm(np.cross(a, b)) < 1e-9                  # the two axes are parallel (by the Jacobian)
