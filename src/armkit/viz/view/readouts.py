@@ -375,6 +375,8 @@ class _Stored:
         self.kept: Optional[str] = None
         note = ""
         try:
+            if client.client_id not in owner.view.server.get_clients():   # closed as soon as it opened: no one to ask
+                raise RuntimeError("the browser left")
             raw = client.local_storage.get_item(self.key, timeout=10.0)
             self.kept = owner.view.url
             if raw:
