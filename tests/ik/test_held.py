@@ -173,3 +173,15 @@ def test_an_arm_whose_every_joint_is_idle_has_no_held_solver():
     assert idle_tail(arm) == [0] and position_solver(arm) is None
     with pytest.raises(IKInputError):
         armkit.ik_all(arm, [0.0, 0.0, 0.3])
+
+
+def test_an_empty_fixed_holds_nothing():
+    """fixed={} is the call without it: the UR5's own closed form for a pose (it raised AttributeError), the
+    SCARA's wrist held at its start for a position (it was set to 0)."""
+    ur5 = armkit.load("ur5")
+    T = armkit.fk(ur5, np.full(6, 0.3))
+    assert np.array_equal(armkit.ik_all(ur5, T, fixed={}).q, armkit.ik_all(ur5, T).q)
+    cobra = armkit.load("cobra600")
+    q0 = np.array([0.0, 0.0, 0.0, 0.5])
+    res = armkit.ik_all(cobra, np.array([0.3, 0.2, 0.25]), q0=q0, fixed={})
+    assert np.all(res.q[:, 3] == 0.5)

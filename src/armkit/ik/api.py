@@ -301,9 +301,10 @@ def _all_branches(robot: Robot, target: Array, q0: Array, position_only: bool, t
         solver = _analytic_solver(robot, position_only, why)
     if solver is None:
         raise IKInputError(why[0])
-    if fixed is not None and solver.held:   # the held joints start at their values: wrapping by 2 pi keeps them
+    held = getattr(solver, "held", None) if fixed else None   # fixed={} holds nothing: the arm's own solver
+    if held and not getattr(solver, "at_start", False):   # the held joints start at their values: 2 pi wrapping keeps them
         q0 = q0.copy()
-        q0[:, list(solver.held)] = list(solver.held.values())
+        q0[:, list(held)] = list(held.values())
     return solve_all(robot, solver, target, q0, position_only, _tolerance(robot, tol), enforce_limits)
 
 
