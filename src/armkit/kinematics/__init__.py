@@ -380,9 +380,12 @@ def movable_rows(robot: Robot) -> tuple[int, ...]:
     """
     if not isinstance(robot, Robot):   # one check at the entry (issue 24)
         raise _not_a_robot(robot)
-    probe = robot.random_q(8, rng=0)
-    J = np.abs(_numpy.jacobian(robot.chain, probe, False))
-    return tuple(r for r in range(6) if J[:, r, :].max() > 1e-12)
+    rows = robot.cache.get("movable_rows")   # a property of the arm: found once (a rate loop asks every step)
+    if rows is None:
+        probe = robot.random_q(8, rng=0)
+        J = np.abs(_numpy.jacobian(robot.chain, probe, False))
+        rows = robot.cache["movable_rows"] = tuple(r for r in range(6) if J[:, r, :].max() > 1e-12)
+    return rows  # type: ignore[no-any-return]
 
 
 def task_rows(robot: Robot) -> tuple[int, ...]:

@@ -197,9 +197,9 @@ def joint_rates(robot: Robot, q: ArrayLike, xd: ArrayLike, method: Literal["pinv
     never = tuple(i for i in idx if i not in movable)      # rows the arm never changes (a SCARA's wx, wy)
     kept = [j for j, i in enumerate(idx) if i in movable]
     weakest = None     # the direction it cannot move in, among the rows it can move (when some never move)
-    if never and len(idx) > robot.n and 0 < len(kept) <= robot.n:   # conditioned by the rows it can move
+    if never and kept:   # conditioned by the rows it can move; the others' components are dropped
         Uk, Sk, _ = np.linalg.svd(Js[kept])
-        sigma_min = float(Sk[len(kept) - 1])
+        sigma_min = float(Sk[len(kept) - 1]) if len(kept) <= robot.n else 0.0
         weakest = np.zeros(len(idx))
         weakest[kept] = Uk[:, len(kept) - 1]
     if method == "pinv":
