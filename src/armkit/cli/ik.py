@@ -353,6 +353,8 @@ def ik(robot: RobotArg,
     from ..errors import ArmkitError
     from ..ik import ik as solve, ik_all
     from ..ik.analytic import closed_form
+    from ..ik.analytic.held import Held
+    from ..ik.api import _analytic_solver
 
     if method not in METHOD_CHOICES:
         fail(_("--method must be one of {choices}; got {value!r}", choices=", ".join(METHOD_CHOICES), value=method))
@@ -367,14 +369,9 @@ def ik(robot: RobotArg,
         if pitch is not None or direction_v is not None:
             return _partial_target(r, target, where, pitch, direction_v, deg, method, seed, json_out, scene)
         position_only = target.ndim == 1 and ph is None
-        closed_ok = solver is not None and not (position_only and solver.pose_only) \
-            and getattr(solver, "target_kind", None) != "pitch"   # yaw-pitch3 needs pitch= (docs/so101.md)
-        if position_only and not closed_ok:   # a wrist that never moves the tool point, held at q0 (ik.analytic.held)
-            from ..ik.analytic.held import position_solver
-
-            held = position_solver(r)
-            if held is not None:
-                solver, closed_ok = held, True
+        answer = _analytic_solver(r, position_only, None)   # armkit.ik's rule: the closed form that takes this target
+        closed_ok = answer is not None                      # (a held wrist for a position; yaw-pitch3 needs pitch=)
+        solver = answer if closed_ok else solver
         if fixed or sweep is not None or (all_branches and not closed_ok and r.n == 7):
             if method not in ("auto", "analytic") or branch is not None:
                 fail(_("--sweep and --fixed list the closed-form branches; they do not go with --branch or a "
@@ -396,10 +393,9 @@ def ik(robot: RobotArg,
             warn(_("--seed only matters for the numeric methods; the closed form ignores it"))
         if trace and (listing or method == "analytic" or (method == "auto" and closed_ok)):
             warn(_("--trace shows the iterations of a numeric method; the closed form has none"))
-        closed = None if solver is None else _("closed form ({family})", family=solver.family) \
-            if not hasattr(solver, "inner") else \
-            _("closed form ({family}) with {joints} held", family=solver.inner.family,  # ik.analytic.held
-              joints=", ".join(r.joint_names[k] for k in sorted(solver.held)))  # type: ignore[attr-defined]
+        closed = None if solver is None else _("closed form ({family}) with {joints} held", family=solver.inner.family,
+                                                 joints=", ".join(r.joint_names[k] for k in sorted(solver.held))) \
+            if isinstance(solver, Held) else _("closed form ({family})", family=solver.family)
         if listing:
             res = ik_all(r, target, phi=ph, scene=scene_off(scene))
             used = closed

@@ -204,13 +204,11 @@ def _check_analytic(robot: Robot) -> None:
     that work, in words that fit the API and the command line alike."""
     from ..analysis.workspace import is_planar
     from ..ik.analytic import closed_form
-    from ..ik.analytic.held import position_solver
+    from ..ik.api import _analytic_solver
 
     own = closed_form(robot)
-    if own is not None and (own.target_kind == "position" or is_planar(robot)):
-        return
-    if position_solver(robot) is not None:
-        return
+    if (own is not None and is_planar(robot)) or _analytic_solver(robot, True, None) is not None:
+        return   # a planar arm keeps its end angle (phi); any other arm: armkit.ik's rule for a position
     if own is None:
         raise ArgumentError.of("method 'analytic' follows the target with a closed form for a position; robot "
                                "{robot!r} has none; track it with method 'lm', 'newton' or 'ccd'", robot=robot.name)
