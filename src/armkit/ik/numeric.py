@@ -375,7 +375,9 @@ def solve_lm(robot: Robot, target: ArrayLike, q0: ArrayLike, *, mask: Optional[A
     IKResult
         Batched over B. ``reason`` is "converged", "unreachable" (the position lies beyond
         ``robot.reach`` from the base: q is the closest configuration found), "joint limits"
-        (a solution exists only outside the limits), "singular" (stalled where the Jacobian
+        (the solutions found lie outside the limits; LM is local, so where the target's only
+        in-limit solutions sit within a degree or so of a limit it can miss them: the closed form,
+        ``ik(..., method="auto")``, says for sure where the arm has one), "singular" (stalled where the Jacobian
         lost rank) or "max iterations" (budget spent; the residual is in ``message``).
 
     Examples
