@@ -122,3 +122,74 @@ def test_analytic_tracking_without_a_position_closed_form_names_the_methods_that
     assert words in str(info.value)
     res = track(armkit.load("puma560"), path="circle", method="analytic", frames=20, scene=False)   # wrist held
     assert res.reached.all()
+
+
+# ---- why a frame was missed: decided by the closed form, the same for every method --------------------------------
+@pytest.mark.parametrize("method", ["ccd", "fabrik", "lm", "analytic"])
+def test_planar2_frames_out_of_reach_by_the_law_of_cosines_for_every_method(method):
+    """planar2 (links 1 and 0.5, joints turning all the way round) reaches exactly the annulus 0.5 <= r <= 1.5. The
+    random path leaves it; every method says so for the same frames (CCD, FABRIK and LM said 'not converged' for
+    the 79 frames the closed form called out of reach)."""
+    r = armkit.load("planar2")
+    res = track(r, path="random", method=method, frames=200, scene=False)
+    l1, l2 = (j.a for j in r.joints)
+    rad = np.hypot(res.targets[:, 0], res.targets[:, 1])
+    outside = (rad > l1 + l2 + 1e-9) | (rad < abs(l1 - l2) - 1e-9)
+    assert outside.sum() >= 20                               # the path does leave the annulus
+    np.testing.assert_array_equal(res.out_of_reach, outside)
+    assert not res.reached[outside].any() and res.reached[~outside].all()
+    st = res.stats()
+    assert st["frames_not_converged"] == 0 and st["frames_outside_limits"] == 0
+    assert st["frames_out_of_reach"] == int(outside.sum())
+
+
+def test_frames_reachable_only_outside_the_limits_are_named_alike_by_every_method():
+    """puma560's random path: some frames are reachable only outside its joint limits. CCD, LM and the closed form
+    flag the same frames; each such frame is reached by LM with the limits off (an independent numeric check), and
+    no frame flagged out of reach is."""
+    r = armkit.load("puma560")
+    runs = {m: track(r, path="random", method=m, frames=120, seed=3) for m in ("ccd", "lm", "analytic")}
+    missed = np.logical_and.reduce([~res.reached for res in runs.values()])
+    limits = runs["lm"].outside_limits
+    out = runs["lm"].out_of_reach
+    assert limits.any() and out.any()
+    for res in runs.values():
+        np.testing.assert_array_equal(res.outside_limits[missed], limits[missed])
+        np.testing.assert_array_equal(res.out_of_reach[missed], out[missed])
+    free = armkit.ik(r, runs["lm"].targets[limits], method="lm", enforce_limits=False, restarts=20)
+    assert np.all(free.success)
+    far = armkit.ik(r, runs["lm"].targets[out], method="lm", enforce_limits=False, restarts=20)
+    assert not np.any(far.success)
+
+
+def test_analytic_frames_where_every_solution_collides():
+    """The fighter with its torso and ground, tracked by the closed form: a frame it misses although the point is
+    reachable inside the limits is one where every such branch collides (checked here with armkit.collision)."""
+    from armkit.collision import in_collision
+
+    r = armkit.load("fighter")
+    res = track(r, path="random", method="analytic", frames=120)
+    blocked = np.flatnonzero(res.blocked)
+    assert blocked.size
+    assert res.stats()["frames_every_solution_collides"] == blocked.size
+    for k in blocked:
+        every = armkit.ik_all(r, res.targets[k], scene=False)
+        ok = np.asarray(every.success)
+        assert ok.any() and in_collision(r, np.asarray(every.q)[ok], "robot").all()
+    # without a scene there is nothing to collide with: no frame is blocked
+    assert not track(r, path="random", method="analytic", frames=120, scene=False).blocked.any()
+
+
+def test_cli_track_line_names_why_frames_were_missed():
+    from armkit.cli import app
+
+    out = CliRunner().invoke(app, ["track", "puma560", "--no-animation", "--frames", "120", "--seed", "3"])
+    assert out.exit_code == 0, out.output
+    line = " ".join(out.output.split())
+    assert "only outside the joint limits:" in line and "not converged: 0" in line
+    out = CliRunner().invoke(app, ["track", "puma560", "--no-animation", "--frames", "120", "--seed", "3", "--json"])
+    import json
+
+    st = json.loads(out.output)
+    assert st["frames_reached"] + st["frames_out_of_reach"] + st["frames_outside_limits"] + \
+        st["frames_every_solution_collides"] + st["frames_not_converged"] == 120

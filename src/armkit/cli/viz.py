@@ -435,9 +435,15 @@ def track(robot: RobotArg,
         u = r.unit
         message(_("{robot} tracking a {path} target with {method}: {n} frames", robot=f"[bold]{esc(r.name)}[/]",
                   path=res.path, method=method, n=count(st["frames"])))
-        console.print("  " + _("reached: {reached}   out of reach: {out}   not converged: {failed}",
-                               reached=count(st["frames_reached"]), out=count(st["frames_out_of_reach"]),
-                               failed=count(st["frames_not_converged"])))
+        # why frames were missed: the same counts for every method where the closed form decides (armkit.viz.track)
+        parts = [_("reached: {reached}   out of reach: {out}", reached=count(st["frames_reached"]),
+                   out=count(st["frames_out_of_reach"]))]
+        if st["frames_outside_limits"]:
+            parts.append(_("only outside the joint limits: {k}", k=count(st["frames_outside_limits"])))
+        if st["frames_every_solution_collides"]:
+            parts.append(_("every solution collides: {k}", k=count(st["frames_every_solution_collides"])))
+        parts.append(_("not converged: {failed}", failed=count(st["frames_not_converged"])))
+        console.print("  " + "   ".join(parts))
         if st["frames_reached"]:
             console.print("  " + _("error on reached frames: mean {mean} {unit}, max {max} {unit} (tolerance {tol} "
                                    "{unit}); worst frame {worst} {unit}", mean=f"{st['mean_error']:.3g}",

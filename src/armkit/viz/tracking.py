@@ -55,7 +55,9 @@ class TrackResult:
     reached : ndarray of bool, shape (F,)
         The IK solve met the tolerance (and the limits).
     out_of_reach : ndarray of bool, shape (F,)
-        The target lies outside the workspace (the solver's reason ``"unreachable"``).
+        The target lies outside the workspace. Where the arm has a closed form for a position, it decides
+        for every method alike (no branch reaches the point); elsewhere the solver's reason
+        ``"unreachable"`` (beyond ``robot.reach``).
     branch : ndarray of str, shape (F,)
         The IK branch label per frame (the method name for numeric solvers).
     iterations : ndarray of int, shape (F,)
@@ -66,6 +68,12 @@ class TrackResult:
     checked_against : tuple of str
         What the frames were checked against (``("ground", "torso")`` for the fighter by
         default; ``()``: not checked).
+    outside_limits : ndarray of bool, shape (F,)
+        Not reached, and the closed form reaches the point only outside the joint limits.
+    blocked : ndarray of bool, shape (F,)
+        ``method="analytic"`` with a scene: not reached because every solution inside the limits
+        collides. The frames not reached and in none of these three were missed by the method (a
+        solution exists): ``stats()["frames_not_converged"]``.
     """
 
     robot: Robot
@@ -81,6 +89,8 @@ class TrackResult:
     tol: float
     colliding: Optional[NDArray[np.bool_]] = None
     checked_against: tuple[str, ...] = ()
+    outside_limits: Optional[NDArray[np.bool_]] = None
+    blocked: Optional[NDArray[np.bool_]] = None
 
     def stats(self) -> dict[str, Any]:
         """Tracking statistics: errors over the reached frames, frame counts, branch changes, joint jumps."""
@@ -89,11 +99,16 @@ class TrackResult:
         dq[:, rev] = np.angle(np.exp(1j * dq[:, rev]))   # a step across ±180° is the same pose
         jump = float(np.degrees(np.abs(dq[:, rev]).max())) if len(dq) and rev.any() else 0.0
         err = self.error[self.reached]
+        none = np.zeros(len(self.q), dtype=bool)
+        limits = none if self.outside_limits is None else self.outside_limits
+        blocked = none if self.blocked is None else self.blocked
         return {
             "frames": int(len(self.q)),
             "frames_reached": int(self.reached.sum()),
             "frames_out_of_reach": int(self.out_of_reach.sum()),
-            "frames_not_converged": int((~self.reached & ~self.out_of_reach).sum()),
+            "frames_outside_limits": int(limits.sum()),
+            "frames_every_solution_collides": int(blocked.sum()),
+            "frames_not_converged": int((~self.reached & ~self.out_of_reach & ~limits & ~blocked).sum()),
             "mean_error": float(err.mean()) if len(err) else float("nan"),
             "max_error": float(err.max()) if len(err) else float("nan"),
             "max_error_all_frames": float(self.error.max()),
@@ -218,6 +233,35 @@ def _check_analytic(robot: Robot) -> None:
                            robot=robot.name, family=own.family)
 
 
+def _why_missed(robot: Robot, targets: Array, missed: NDArray[np.bool_], planar: bool, tol_p: float,
+                analytic_scene: bool) -> Optional[tuple[NDArray[np.bool_], NDArray[np.bool_], NDArray[np.bool_]]]:
+    """Why the frames ``missed`` (F,) were not reached, decided by the closed form for a position, the same for
+    every method: ``(out of reach, outside the limits, blocked)`` (F,) each. ``blocked``: an in-limit solution
+    exists, and the frame was missed by the closed form itself with a scene (so every such solution collides); the
+    other missed frames with an in-limit solution were missed by the method. None where the arm has no closed form
+    for a point (a planar arm of three or more joints: its end angle is free; the UR5): the solvers' own reasons
+    stand."""
+    from ..ik import ik_all
+    from ..ik.api import _analytic_solver
+
+    F = len(targets)
+    out, limits, blocked = (np.zeros(F, dtype=bool) for _ in range(3))
+    if planar and robot.n != 2 or _analytic_solver(robot, True, None) is None:
+        return None
+    idx = np.flatnonzero(missed)
+    if idx.size:
+        pts = targets[idx, :2] if planar else targets[idx]
+        res = ik_all(robot, pts, tol=(tol_p, 1e-6), scene=False)
+        success = np.asarray(res.success).reshape(idx.size, -1)
+        reason = np.asarray(res.reason).reshape(idx.size, -1)
+        solvable = success.any(axis=1)
+        only_outside = ~solvable & (reason == "joint limits").any(axis=1)
+        out[idx] = ~solvable & ~only_outside
+        limits[idx] = only_outside
+        blocked[idx] = solvable & analytic_scene
+    return out, limits, blocked
+
+
 def track(robot: Robot, path: str = "random", method: str = "ccd", frames: int = 200, seed: Optional[int] = 0,
           tol: Optional[float] = None, max_iterations: Optional[int] = None, q0: Optional[Any] = None,
           scene: Any = None) -> TrackResult:
@@ -323,6 +367,10 @@ def track(robot: Robot, path: str = "random", method: str = "ccd", frames: int =
         Q[k] = q_new
         q_prev = q_new
     err = np.linalg.norm(fk(robot, Q)[:, :3, 3] - targets, axis=1)
+    why = _why_missed(robot, targets, ~reached, planar, tol_p, method == "analytic" and scene is not None)
+    limits = blocked = np.zeros(F, dtype=bool)
+    if why is not None:
+        out, limits, blocked = why
     name = path if path in PATHS else Path(path).name
     colliding = None
     if scene is not None:   # flag the frames where the arm collides (armkit.collision)
@@ -330,4 +378,4 @@ def track(robot: Robot, path: str = "random", method: str = "ccd", frames: int =
 
         colliding = in_collision(robot, Q, scene)
     return TrackResult(robot, method, name, Q, targets, err, reached, out, branch.astype(str), iters, tol_p,
-                       colliding, checked_against(robot, scene))
+                       colliding, checked_against(robot, scene), limits, blocked)

@@ -52,6 +52,8 @@ LABELS: dict[str, str] = {     # English here, Korean in the catalogue (armkit/l
     "state_reached": N_("reached"),
     "state_out": N_("out of reach"),
     "state_not_converged": N_("not converged"),
+    "state_limits": N_("only outside the joint limits"),
+    "state_blocked": N_("every solution collides"),
     "workspace": N_("Workspace"),
     "show_workspace": N_("reach cloud (colour: manipulability)"),
     "trajectory": N_("Trajectory"),

@@ -436,8 +436,9 @@ class Panels:
         ends = self._track_ends[lo:k + 1] * s
         sc = self.server.scene
         ok = bool(res.reached[k])
-        state = self._l("state_reached") if ok else (self._l("state_out") if res.out_of_reach[k]
-                                                      else self._l("state_not_converged"))
+        state = self._l("state_reached" if ok else "state_out" if res.out_of_reach[k] else
+                        "state_limits" if res.outside_limits is not None and res.outside_limits[k] else
+                        "state_blocked" if res.blocked is not None and res.blocked[k] else "state_not_converged")
 
         def extra() -> None:
             self._track_ball.position = tuple(res.targets[k] * s)
