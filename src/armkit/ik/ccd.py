@@ -37,6 +37,7 @@ from ..errors import IKInputError
 from ..model.robot import Robot
 from .numeric import _TOL_FACTOR, Problem, _project, _seeds, _trace_array, assemble, unreachable_note
 from .result import DEFAULT_MAX_SWEEPS, DEFAULT_SWEEP_RESTARTS, IKResult
+from .verdict import settle
 
 __all__ = ["solve_ccd"]
 
@@ -284,5 +285,6 @@ def _reasons(prob: Problem, unreachable: np.ndarray, dist: np.ndarray, failed: n
     for i in np.flatnonzero(failed):
         reasons[int(i)] = ("max iterations", Fielded.of("CCD did not converge in {n} sweeps ({starts} starts)",
                                                         n=int(iters[i]), starts=int(used[i])))
+    settle(prob, reasons)   # where a closed form settles it (armkit.ik.verdict)
     return reasons
 

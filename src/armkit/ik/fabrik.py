@@ -46,6 +46,7 @@ from ..model.robot import Robot
 from .ccd import _position_problem
 from .numeric import _TOL_FACTOR, Problem, _project, _trace_array, assemble, unreachable_note
 from .result import DEFAULT_MAX_SWEEPS, DEFAULT_SWEEP_RESTARTS, IKResult
+from .verdict import settle
 
 __all__ = ["solve_fabrik", "fabrik_structure"]
 
@@ -298,6 +299,7 @@ def _reasons(prob: Problem, st: dict, failed: np.ndarray, passes: np.ndarray) ->
         else:
             reasons[i] = ("max iterations", Fielded.of("FABRIK did not converge in {n} passes ({kind} structure)",
                                                        n=int(passes[i]), kind=st["kind"]))
+    settle(prob, reasons)   # where a closed form settles it (armkit.ik.verdict)
     return reasons
 
 

@@ -104,6 +104,7 @@ from ._numeric_numpy import (_STALL_STEPS, _errors, _evaluate, _leaves_range, _p
 from ._numeric_report import _fmt, _trace_array, assemble, check, residual_note, unreachable_note
 from .result import (DEFAULT_MAX_ITERATIONS, DEFAULT_NEWTON_RESTARTS, DEFAULT_RESTARTS, IKResult, default_tolerance,
                      verify)
+from .verdict import settle
 
 __all__ = ["solve_lm", "solve_newton"]
 
@@ -334,6 +335,7 @@ def _diagnose(prob: Problem, res: IKResult, failed: NDArray[np.intp], reasons: d
             reasons[i] = ("max iterations", Fielded.of("no solution within {n} iterations ({starts} starts of at most "
                                                        "{steps} steps)", n=int(res.iterations[i]), starts=int(used[i]),
                                                        steps=max_iterations))
+    settle(prob, reasons)   # where a closed form settles it: out of reach, only outside the limits, or missed
 
 
 def solve_lm(robot: Robot, target: ArrayLike, q0: ArrayLike, *, mask: Optional[ArrayLike] = None,

@@ -233,32 +233,27 @@ def _check_analytic(robot: Robot) -> None:
                            robot=robot.name, family=own.family)
 
 
-def _why_missed(robot: Robot, targets: Array, missed: NDArray[np.bool_], planar: bool, tol_p: float,
+def _why_missed(robot: Robot, targets: Array, missed: NDArray[np.bool_], tol_p: float,
                 analytic_scene: bool) -> Optional[tuple[NDArray[np.bool_], NDArray[np.bool_], NDArray[np.bool_]]]:
-    """Why the frames ``missed`` (F,) were not reached, decided by the closed form for a position, the same for
-    every method: ``(out of reach, outside the limits, blocked)`` (F,) each. ``blocked``: an in-limit solution
-    exists, and the frame was missed by the closed form itself with a scene (so every such solution collides); the
-    other missed frames with an in-limit solution were missed by the method. None where the arm has no closed form
-    for a point (a planar arm of three or more joints: its end angle is free; the UR5): the solvers' own reasons
-    stand."""
-    from ..ik import ik_all
-    from ..ik.api import _analytic_solver
+    """Why the frames ``missed`` (F,) were not reached, from the closed form's verdict on their points
+    (:func:`armkit.ik.verdict.closed_form_verdict`), the same for every method: ``(out of reach, outside the
+    limits, blocked)`` (F,) each. ``blocked``: an in-limit solution exists and the frame was missed by the closed
+    form itself with a scene, so every such solution collides; the other missed frames with an in-limit solution
+    were missed by the method. None where the arm has no exact closed form for a point (a planar arm of three or
+    more joints: its end angle is free; the UR5): the solvers' own reasons stand."""
+    from ..ik.verdict import LIMITS, UNREACHABLE, closed_form_verdict
 
     F = len(targets)
     out, limits, blocked = (np.zeros(F, dtype=bool) for _ in range(3))
-    if planar and robot.n != 2 or _analytic_solver(robot, True, None) is None:
-        return None
     idx = np.flatnonzero(missed)
-    if idx.size:
-        pts = targets[idx, :2] if planar else targets[idx]
-        res = ik_all(robot, pts, tol=(tol_p, 1e-6), scene=False)
-        success = np.asarray(res.success).reshape(idx.size, -1)
-        reason = np.asarray(res.reason).reshape(idx.size, -1)
-        solvable = success.any(axis=1)
-        only_outside = ~solvable & (reason == "joint limits").any(axis=1)
-        out[idx] = ~solvable & ~only_outside
-        limits[idx] = only_outside
-        blocked[idx] = solvable & analytic_scene
+    if idx.size == 0:
+        return out, limits, blocked
+    v = closed_form_verdict(robot, targets[idx], True, (tol_p, 1e-6))
+    if v is None:
+        return None
+    out[idx] = v.code == UNREACHABLE
+    limits[idx] = v.code == LIMITS
+    blocked[idx] = (v.code != UNREACHABLE) & (v.code != LIMITS) & analytic_scene
     return out, limits, blocked
 
 
@@ -367,7 +362,7 @@ def track(robot: Robot, path: str = "random", method: str = "ccd", frames: int =
         Q[k] = q_new
         q_prev = q_new
     err = np.linalg.norm(fk(robot, Q)[:, :3, 3] - targets, axis=1)
-    why = _why_missed(robot, targets, ~reached, planar, tol_p, method == "analytic" and scene is not None)
+    why = _why_missed(robot, targets, ~reached, tol_p, method == "analytic" and scene is not None)
     limits = blocked = np.zeros(F, dtype=bool)
     if why is not None:
         out, limits, blocked = why
