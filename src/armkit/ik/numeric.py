@@ -377,10 +377,12 @@ def solve_lm(robot: Robot, target: ArrayLike, q0: ArrayLike, *, mask: Optional[A
     IKResult
         Batched over B. ``reason`` is "converged", "unreachable" (the position lies beyond
         ``robot.reach`` from the base: q is the closest configuration found), "joint limits"
-        (the solutions found lie outside the limits; LM is local, so where the target's only
-        in-limit solutions sit within a degree or so of a limit it can miss them: the closed form,
-        ``ik(..., method="auto")``, says for sure where the arm has one), "singular" (stalled where the Jacobian
-        lost rank) or "max iterations" (budget spent; the residual is in ``message``).
+        (the solutions found lie outside the limits), "singular" (stalled where the Jacobian
+        lost rank) or "max iterations" (budget spent; the residual is in ``message``). LM is
+        local: where the arm has a closed form with every branch for the target, it settles a
+        failure (:mod:`armkit.ik.verdict`): "unreachable" or "joint limits" when it finds no
+        in-limit solution, else the message says how many in-limit solutions LM missed (a target
+        whose only one has a joint within a degree of its limit can be missed).
 
     Examples
     --------
