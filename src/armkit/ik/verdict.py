@@ -19,7 +19,7 @@ from .._text import Fielded
 from ..errors import ArmkitError
 from ..model.robot import Robot
 
-__all__ = ["Verdict", "closed_form_verdict", "of_problem", "reason_of", "settle", "SOLVABLE", "LIMITS", "UNREACHABLE"]
+__all__ = ["Verdict", "closed_form_verdict", "of_problem", "reason_of", "settle", "settles", "SOLVABLE", "LIMITS", "UNREACHABLE"]
 
 SOLVABLE, LIMITS, UNREACHABLE = 0, 1, 2
 
@@ -48,6 +48,12 @@ def _exact_solver(robot: Robot, position_only: bool) -> Any:
         if kind != "closed form":
             return None
     return solver
+
+
+def settles(robot: Robot, position_only: bool) -> bool:
+    """Whether the closed form settles the failures of a numeric method on this kind of target (:func:`settle`):
+    then a failure's reason "unreachable" or "joint limits" means that no in-limit solution exists."""
+    return _exact_solver(robot, position_only) is not None
 
 
 def closed_form_verdict(robot: Robot, target: Any, position_only: bool,

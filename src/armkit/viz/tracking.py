@@ -237,16 +237,12 @@ def _check_analytic(robot: Robot) -> None:
                            robot=robot.name, family=own.family)
 
 
-def _may_exist(robot: Robot, p: Array, one: Any, tol_p: float) -> bool:
-    """Whether a frame the warm-started solve ``one`` missed may still have a solution in the limits: not when the
-    target lies beyond the reach, nor when the closed form for a point says none exists (out of reach, or only
-    outside the limits: :func:`armkit.ik.verdict.closed_form_verdict`)."""
-    from ..ik.verdict import SOLVABLE, closed_form_verdict
-
-    v = closed_form_verdict(robot, p[None], True, (tol_p, 1e-6))
-    if v is not None:
-        return int(v.code[0]) == SOLVABLE
-    return str(np.asarray(one.reason)) != "unreachable"    # beyond robot.reach: proven by the distance
+def _may_exist(one: Any, settled: bool) -> bool:
+    """Whether a frame the warm-started numeric solve ``one`` missed may still have a solution in the limits. Where
+    the closed form settles a point's failures (``settled``: :func:`armkit.ik.verdict.settles`), the solver's reason
+    is its verdict: "unreachable" or "joint limits" mean none exists. Elsewhere only "unreachable" (beyond
+    ``robot.reach``) is a proof."""
+    return str(np.asarray(one.reason)) not in (("unreachable", "joint limits") if settled else ("unreachable",))
 
 
 def _why_missed(robot: Robot, targets: Array, missed: NDArray[np.bool_], tol_p: float,
@@ -307,6 +303,7 @@ def track(robot: Robot, path: str = "random", method: str = "ccd", frames: int =
     TrackResult
     """
     from ..ik import ik, ik_all
+    from ..ik.verdict import settles
 
     if method not in TRACK_METHODS:
         raise ArgumentError.of("method must be one of {names}, got {method!r}", names=", ".join(TRACK_METHODS),
@@ -330,6 +327,7 @@ def track(robot: Robot, path: str = "random", method: str = "ccd", frames: int =
     branch = np.empty(F, dtype=object)
     iters = np.zeros(F, dtype=np.int64)
     label: Optional[str] = None
+    settled = method != "analytic" and settles(robot, True)   # a numeric failure's reason is the closed form's
     for k, p in enumerate(targets):
         if method == "analytic":
             kw: dict[str, Any] = {}
@@ -373,7 +371,7 @@ def track(robot: Robot, path: str = "random", method: str = "ccd", frames: int =
             one = ik(robot, p, q0=q_prev, method=method, tol=(tol_p, 1e-6),  # type: ignore[arg-type]
                      max_iterations=max_iterations, restarts=0, scene=False)
             spent = int(np.asarray(one.iterations))
-            if not bool(np.asarray(one.success)) and _may_exist(robot, p, one, tol_p):
+            if not bool(np.asarray(one.success)) and _may_exist(one, settled):
                 one = ik(robot, p, q0=q_prev, method=method, tol=(tol_p, 1e-6),  # type: ignore[arg-type]
                          max_iterations=max_iterations, restarts=RETRY_STARTS.get(method), scene=False)
                 spent += int(np.asarray(one.iterations))
