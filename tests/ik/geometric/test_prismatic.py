@@ -14,7 +14,7 @@ import math
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 from scipy.spatial.transform import Rotation
 
@@ -378,6 +378,7 @@ def test_a_ur5_on_a_rail_is_swept_along_the_rail():
 
 @settings(max_examples=200, deadline=None)
 @given(st.lists(st.floats(-3, 3), min_size=4, max_size=4))
+@example([0.0, 0.0, 8.253527970530516e-162, 8.253527970530516e-162])   # tiny: squares below the smallest normal
 def test_an_isotropic_trig_quadratic_has_the_roots_of_its_quartic(c):
     """k0 + kc cos + ks sin + kq (cos² + sin²): the linear shortcut of _trig_roots (a SCARA's slide along its turns)
     finds the roots the quartic in tan(θ/2) finds, each a zero of the trigonometric polynomial."""

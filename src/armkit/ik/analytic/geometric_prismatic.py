@@ -412,6 +412,12 @@ def _trig_roots(k: Array) -> tuple[list[float], float]:
     """The angles where ``k · (1, cos θ, sin θ, cos² θ, cos θ sin θ, sin² θ) = 0``: the quartic in ``tan(θ / 2)``
     (and θ = π, its root at infinity), near-real roots polished by Newton steps. Also the angle of the smallest
     ``|f|`` among the candidates (for a target out of reach)."""
+    # the roots do not change with the scale of k: divided by its largest entry, tiny coefficients keep their digits
+    # (hypothesis: entries of 8e-162, whose squares lose digits below the smallest normal float, gave a root 0.8 %
+    # of |k| off; the polish of a root stops at 1e-9 of |k|)
+    size = float(np.max(np.abs(k))) if len(k) else 0.0
+    if 0.0 < size < math.inf:
+        k = np.asarray(k, dtype=float) / size
     k0, kc, ks, kcc, kcs, kss = (float(v) for v in k)
     size = max(abs(k0), abs(kc), abs(ks), abs(kcc), abs(kcs), abs(kss), 1e-300)
     if abs(kcc - kss) <= ISOTROPIC * size and abs(kcs) <= ISOTROPIC * size:
