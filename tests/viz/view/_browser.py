@@ -38,29 +38,16 @@ RENDERER_NAME_HIDDEN = """(() => {
 # took 22.9 CPU-s instead of 25.6 (all processes, mean of 3 alternating runs each). The tests count pixels of a
 # colour (an arm, a red obstacle, the DH arrows), which the blending of the edges does not change.
 NO_ANTIALIASING = ["--webgl-antialiasing-mode=none", "--webgl-msaa-sample-count=0"]
-# The tests' own runs also draw at most 10 frames a second (:func:`frame_interval`): chromium draws WebGL in software
-# (SwiftShader, in its GPU process), and the page draws every animation frame (60 a second) for a while after each
-# change. Measured on the 2-core test machine (fighter page): five moves of the arm, a second apart, cost the GPU
-# process 2.6 CPU-s at 60 frames a second and 1.1 at 10; the tests wait for what they check, so they see the same
-# pictures, one frame (0.1 s) later at most. The benchmarks (benchmarks/bench_view.py) keep the browser's own pace.
-def frame_interval(ms: float) -> str:
-    """An init script that runs each ``requestAnimationFrame`` callback ``ms`` ms after it was asked for."""
-    return ("(() => { window.requestAnimationFrame = (cb) => window.setTimeout(() => cb(performance.now()), %g);"
-            " window.cancelAnimationFrame = (id) => window.clearTimeout(id); })();" % ms)
-
-
 INSTALL_HINT = ("cannot start chromium for the browser tests ({why}). Install Debian's chromium: "
                 "`sudo apt-get install -y chromium` (or `make chromium`); never `playwright install`. "
                 "Set ARMKIT_CHROMIUM to use another chromium binary.")
 
 
 @contextmanager
-def browser_context(width: int = 1000, height: int = 640, antialiasing: bool = True,
-                    frame_ms: float = 0.0) -> Iterator[Any]:
+def browser_context(width: int = 1000, height: int = 640, antialiasing: bool = True) -> Iterator[Any]:
     """A persistent Chromium context with a fresh user-data dir, removed afterwards.
 
     ``antialiasing=False`` draws WebGL without multisampling (:data:`NO_ANTIALIASING`): cheaper, with jagged edges.
-    ``frame_ms`` > 0 draws at most one frame per ``frame_ms`` ms (:func:`frame_interval`): cheaper, slower to react.
     """
     from playwright.sync_api import sync_playwright
 
@@ -72,8 +59,6 @@ def browser_context(width: int = 1000, height: int = 640, antialiasing: bool = T
                 profile, executable_path=CHROMIUM, args=args, headless=True,
                 viewport={"width": width, "height": height}, accept_downloads=True)
             ctx.add_init_script(RENDERER_NAME_HIDDEN)
-            if frame_ms > 0:
-                ctx.add_init_script(frame_interval(frame_ms))
             try:
                 yield ctx
             finally:

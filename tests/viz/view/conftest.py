@@ -28,10 +28,8 @@ def pytest_configure(config: Any) -> None:
 @pytest.fixture(scope="session")
 def browser() -> Iterator[Any]:
     try:
-        # antialiasing and 60 frames a second only for the docs' pictures (`make pictures`): the tests' own runs
-        # draw without antialiasing, at most 10 frames a second (cheaper: _browser.NO_ANTIALIASING, frame_interval)
-        pictures = os.environ.get("ARMKIT_UPDATE_PICTURES") == "1"
-        cm = browser_context(antialiasing=pictures, frame_ms=0 if pictures else 100)
+        # antialiasing only for the docs' pictures (`make pictures`): the tests' own runs draw without it (cheaper)
+        cm = browser_context(antialiasing=os.environ.get("ARMKIT_UPDATE_PICTURES") == "1")
         ctx = cm.__enter__()
     except Exception as exc:  # noqa: BLE001 - any failure to start the browser gets the install hint
         msg = INSTALL_HINT.format(why=f"{type(exc).__name__}: {str(exc).splitlines()[0] if str(exc) else ''}")
