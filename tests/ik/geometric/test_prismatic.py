@@ -339,6 +339,39 @@ def test_scara_in_any_order_every_branch_reaches_the_pose(order):
         assert _has(res.q[ok], q, np.asarray(arm.chain.prismatic), 1e-6)
 
 
+@pytest.mark.parametrize("order", ["RRPR", "PRRR", "RPRR", "RRRP"])
+def test_scara_batch_is_the_same_as_target_by_target(order):
+    """From geometric.MANY targets a SCARA's branches come from its whole-batch form (_candidates_many); they are
+    each target's own (its one-target form, _one_by_one): the same unreachable marks and found counts, angles and
+    slides to 1e-12, on poses it reaches, poses beyond its reach and poses tilted off its axes."""
+    from armkit.ik.analytic.geometric import MANY, _assemble
+
+    g = np.random.default_rng(ord(order[0]) + 7 * ord(order[2]))
+    rows = g.uniform(-0.5, 0.5, (4, 4))
+    rows[:, 2] = g.choice([-1.0, 1.0], 4) * g.uniform(0.05, 0.5, 4)
+    rows[:, 3] = g.choice([0.0, math.pi], 4)
+    arm = Robot([_joint(R if k == "R" else P, *row) for k, row in zip(order, rows)], name="scara")
+    if order == "RRPR":
+        arm = armkit.load("cobra600")
+    solver = closed_form(arm)
+    assert solver.family == "geometric-scara"
+    T = armkit.fk(arm, arm.random_q(300, rng=5))
+    T[:60, :3, 3] *= 4.0                                                     # beyond the reach
+    T[60:100, :3, :3] = T[60:100, :3, :3] @ Rotation.from_rotvec([0.2, 0.0, 0.0]).as_matrix()   # tilted
+    q0 = np.zeros((len(T), arm.n))
+    one = solver._one_by_one(T, q0, None)
+    many = _assemble(*solver._candidates_many(T), solver.m, arm.n, q0)
+    assert np.array_equal(one[1], many[1]) and np.array_equal(one[2], many[2])
+    assert np.abs(one[0] - many[0]).max() <= 1e-12
+    assert len(T) >= MANY and 0 < one[2].sum() < 2 * len(T)                   # both kinds of target are here
+    # and through the public call: a batch equals its targets one at a time
+    batch = armkit.ik_all(arm, T[95:95 + 2 * MANY])
+    for i in range(2 * MANY):
+        single = armkit.ik_all(arm, T[95 + i])
+        assert list(batch.success[i]) == list(single.success) and list(batch.reason[i]) == list(single.reason)
+        assert np.abs(batch.q[i] - single.q).max() <= 1e-9
+
+
 def test_a_polar_arm_takes_planar_targets_by_hand():
     """A turn about z and a reach across it move the tool in the world xy plane, so (x, y) targets apply (as for a
     planar 2R arm): standard DH (q1, 0, 0, 90 deg), (0, d2, 0, 0) put the tool at (d2 sin q1, -d2 cos q1, 0), so

@@ -310,3 +310,38 @@ def test_compiled_match_plain():
         H, Kk, P, d1, d2, _, _ = _sp6_instance(g)
         for x, y in zip(S.sp6(H, Kk, P, d1, d2), K.sp6(H, Kk, P, d1, d2)):
             assert np.allclose(x, y, atol=1e-12)
+
+
+# ---------------------------------------------------------------- many instances at once (subproblems_many)
+@settings(max_examples=40, deadline=None)
+@given(seed=st.integers(0, 2**31 - 1))
+def test_many_at_once_equal_the_one_at_a_time(seed):
+    """rot, SP1 and SP3 on a batch (subproblems_many) give each row what the scalar function gives it: the same
+    count and least-squares flag, angles to 1e-14 (NumPy's and math's cos, atan2, acos may differ in the last bits),
+    on exact instances, least-squares ones (SP3 past its reach, SP1 with unequal lengths), and tangent ones."""
+    from armkit.ik.geometric import subproblems_many as M
+
+    g = np.random.default_rng(seed)
+    k = g.normal(size=3)
+    k /= np.linalg.norm(k)
+    B = 64
+    theta = g.uniform(-4, 4, B)
+    p = g.normal(size=3)
+    out = M.rot_many(k, theta, p)
+    for b in range(B):
+        assert np.abs(out[b] - S.rot(k, theta[b], p)).max() <= 1e-14
+    p1 = g.normal(size=(B, 3))
+    p2 = np.array([S.rot(k, t, v) for t, v in zip(theta, p1)])
+    p2[::3] *= 1.3                                                   # every third: no exact answer (lengths)
+    t1, ls1 = M.sp1_many(p1, p2, k)
+    for b in range(B):
+        t, ls = S.sp1(p1[b], p2[b], k)
+        assert ls1[b] == ls and abs(t1[b] - t) <= 1e-14
+    a, c = g.normal(size=3), g.normal(size=3)
+    reach = np.array([np.linalg.norm(S.rot(k, t, a) - c) for t in theta])
+    reach[::4] *= g.uniform(0.0, 3.0, len(reach[::4]))               # some past the reach (least squares)
+    t3, n3, ls3 = M.sp3_many(a, c, k, reach)
+    for b in range(B):
+        t, n, ls = S.sp3(a, c, k, float(reach[b]))
+        assert n3[b] == n and ls3[b] == ls
+        assert np.abs(t3[b, :n] - t[:n]).max() <= 1e-12

@@ -338,7 +338,23 @@ class Geometric3R:
         from ..geometric import solvers
 
         B, m, n = len(target), self.m, self.robot.n
-        K = solvers.kernels() if solvers._use_jit(None) else None
+        many = getattr(self, "_candidates_many", None)
+        if many is not None and B >= MANY:       # a family with a whole-batch form (the SCARA's), many targets
+            Qc, LSc, count = many(target)
+            q, unreachable, found = _assemble(Qc, LSc, count, m, n, q0phi)
+        else:
+            q, unreachable, found = self._one_by_one(target, q0phi, solvers.kernels() if solvers._use_jit(None)
+                                                     else None)
+        label = np.broadcast_to(np.array(self.branch_labels, dtype=object), (B, m)).copy()
+
+        def why(i: int) -> str:
+            return _why(int(found[i // m]), m)
+        return Raw(q, label, unreachable, why, np.full((B, m), "", dtype=object), unreachable.copy())
+
+    def _one_by_one(self, target: Array, q0phi: Array, K: Any) -> tuple[Array, NDArray[np.bool_], NDArray[np.int64]]:
+        """:meth:`solve`'s ``(q (B, m, n), unreachable (B, m), found (B,))``, target by target
+        (:meth:`_candidates_of`; ``K``: the compiled solvers or None)."""
+        B, m, n = len(target), self.m, self.robot.n
         q = np.zeros((B, m, n))
         unreachable = np.zeros((B, m), dtype=bool)
         found = np.zeros(B, dtype=np.int64)
@@ -358,11 +374,36 @@ class Geometric3R:
                 q[b] = Qp[0, :n] if k else q0phi[b]
                 q[b, :k] = Qp[:k, :n]
                 unreachable[b] = True
-        label = np.broadcast_to(np.array(self.branch_labels, dtype=object), (B, m)).copy()
+        return q, unreachable, found
 
-        def why(i: int) -> str:
-            return _why(int(found[i // m]), m)
-        return Raw(q, label, unreachable, why, np.full((B, m), "", dtype=object), unreachable.copy())
+
+MANY = 8
+"""From this many targets :meth:`Geometric3R.solve` takes a family's whole-batch form (``_candidates_many``, the
+SCARA's) instead of its target-by-target one: about 60 NumPy operations whatever the count, which cost more than
+the loop below ~8 targets (cobra600, this project's 2-core machine)."""
+
+
+def _assemble(Q: Array, LS: NDArray[np.bool_], count: NDArray[np.int64], m: int, n: int, q0phi: Array
+              ) -> tuple[Array, NDArray[np.bool_], NDArray[np.int64]]:
+    """What :meth:`Geometric3R._one_by_one` makes of each target's candidates, for a whole batch at once: the
+    candidates ``Q (B, C, n)`` (``C >= m``; the first ``count (B,)`` rows hold), least-squares flags ``LS (B, C)``
+    -> ``(q (B, m, n), unreachable (B, m), found (B,))``: the exact candidates first in their order, padded with
+    the first of them (marked unreachable); where none is exact, the candidates (all unreachable), padded with
+    the first, or the start ``q0phi (B, n)`` where there is none."""
+    B, C = LS.shape
+    exact = (np.arange(C) < count[:, None]) & ~LS
+    nex = np.minimum(exact.sum(axis=1), m)
+    order = np.argsort(~exact, axis=1, kind="stable")[:, :m]      # the exact ones first, in their order
+    j = np.arange(m)[None, :]
+    padded_exact = np.where(j < nex[:, None], order, order[:, :1])
+    padded_rest = np.where(j < np.minimum(count, m)[:, None], j, 0)
+    pick = np.where((nex > 0)[:, None], padded_exact, padded_rest)
+    q = Q[np.arange(B)[:, None], pick, :n]
+    none = count == 0
+    if none.any():
+        q[none] = q0phi[none][:, None, :n]
+    unreachable = j >= nex[:, None]
+    return q, unreachable, nex.astype(np.int64)
 
 
 def _first_two_parallel(H: Array, P: Array, p0W: Array, Q: Array, LS: NDArray[np.bool_]) -> int:

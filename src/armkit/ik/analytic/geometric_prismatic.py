@@ -29,7 +29,8 @@ limits.
 Two more families build on these equations: :class:`GeometricPrismaticWrist` (six joints: such a
 positioning part and a spherical wrist, solved for the wrist centre and then as a gimbal) and
 :class:`GeometricScara` (four joints: three parallel turns and a slide along them, for a pose).
-They solve in NumPy, one target at a time (docs/ik.md gives their cost).
+They solve in NumPy, one target at a time (docs/ik.md gives their cost); the SCARA's also a whole batch at once
+(:meth:`GeometricScara._candidates_many`, from :data:`armkit.ik.analytic.geometric.MANY` targets).
 """
 
 from __future__ import annotations
@@ -319,6 +320,32 @@ class GeometricScara(GeometricPrismatic):
             Q[i] = q
             LS[i] = bool(ls_psi) or bool(ls3) or bool(ls1)
         return int(count)
+
+
+    def _candidates_many(self, target: Array) -> tuple[Array, NDArray[np.bool_], NDArray[np.int64]]:
+        """:meth:`_candidates_of` for a batch of poses ``(B, 4, 4)`` at once (:mod:`..geometric.subproblems_many`,
+        the same steps on arrays): ``(Q (B, 2, 4), LS (B, 2), count (B,))``."""
+        from ..geometric.subproblems_many import _dot, rot_many, sp1_many, sp3_many
+
+        h, A, ac, RnT = self.h, self.A, self._across, self.form.R_nT
+        B = len(target)
+        turned = (target[:, :3, :3] @ RnT.T) @ ac
+        psi, _ = sp1_many(np.broadcast_to(ac, (B, 3)), turned, h)
+        ls_psi = np.abs(_dot(h, turned)) > self.tilt_tol
+        t = target[:, :3, 3] - self.P[0] - rot_many(h, psi, A[3]) - A[0]
+        slide = _dot(h, t - A[1] - A[2]) / self.slide_along
+        u = t - _dot(h, t)[:, None] * h
+        a1, a2 = A[1] - float(h @ A[1]) * h, A[2] - float(h @ A[2]) * h
+        deltas, count, ls3 = sp3_many(a2, -a1, h, np.sqrt(_dot(u, u)))
+        Q = np.zeros((B, 2, 4))
+        LS = np.zeros((B, 2), dtype=bool)
+        for i in range(2):
+            phi1, ls1 = sp1_many(a1 + rot_many(h, deltas[:, i], a2), u, h)
+            Q[:, i, self.slide_joint] = slide
+            for col, angle in zip(self.turns, (phi1, deltas[:, i], psi - phi1 - deltas[:, i])):
+                Q[:, i, col] = angle * self.turn_sign[self.turns.index(col)]
+            LS[:, i] = ls_psi | ls3 | ls1
+        return Q, LS, count
 
 
 def _turned(h: Array, v: Array, sign: float) -> Array:
