@@ -21,6 +21,9 @@ Then (also alone, without EAIK: ``--searches-only``) what EAIK refuses: the swee
 the iiwa (32 values of the lockable joint), one joint held (``fixed=``), and the 1-D search of
 random '6R-two-intersecting' arms, median milliseconds per target.
 
+Then (also alone: ``--scara-only``) the SCARA (cobra600), which EAIK does not take: a batch of poses in one call,
+its whole-batch form against the target-by-target loop, and LM.
+
 EAIK takes a chain as axes ``H`` and offsets ``P`` with the tool frame's rotation equal to the
 last joint frame's; armkit's :func:`armkit.ik.geometric.poe.poe` gives the same form plus
 ``R_nT``, so targets are handed to EAIK as ``T · diag(R_nT^T, 1)``.
@@ -287,6 +290,42 @@ def small_batches(repeat: int) -> None:
     print(f"\nload average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores")
 
 
+def scara_batches(repeat: int) -> None:
+    """The SCARA (cobra600, ``geometric-scara``; EAIK takes revolute joints only): ``ik_all`` and ``ik`` of a batch
+    of poses in one call, its whole-batch form against the target-by-target loop it replaced (forced by raising
+    :data:`armkit.ik.analytic.geometric.MANY`) and against LM, µs per target (wall clock, best of ``repeat``)."""
+    from armkit.ik.analytic import geometric
+
+    robot = armkit.load("cobra600")
+    print("\nSCARA batches (cobra600, poses; EAIK takes revolute joints only): µs per target, best of "
+          f"{repeat}, wall clock\n")
+    print("| targets | ik_all | ik_all, target by target | ik | ik, target by target | ik method='lm' |")
+    print("|---|---|---|---|---|---|")
+    many = geometric.MANY
+    for B in (1000, 10000):
+        T = armkit.fk(robot, robot.random_q(B, rng=B))
+        columns = ((lambda: armkit.ik_all(robot, T), many), (lambda: armkit.ik_all(robot, T), 10**12),
+                   (lambda: armkit.ik(robot, T), many), (lambda: armkit.ik(robot, T), 10**12),
+                   (lambda: armkit.ik(robot, T, method="lm"), many))
+        cells = []
+        for fn, threshold in columns:
+            geometric.MANY = threshold
+            try:
+                fn()   # the first call of a kind compiles or fills caches
+                best = min(_timed(fn) for _ in range(repeat))
+            finally:
+                geometric.MANY = many
+            cells.append(f"{best / B * 1e6:.2f}")
+        print(f"| {B:,} | " + " | ".join(cells) + " |", flush=True)
+    print(f"\nload average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores")
+
+
+def _timed(fn) -> float:
+    t0 = time.perf_counter()
+    fn()
+    return time.perf_counter() - t0
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--targets", type=int, default=1000)
@@ -297,9 +336,14 @@ def main() -> None:
     ap.add_argument("--search-targets", type=int, default=100)
     ap.add_argument("--single-only", action="store_true",
                     help="only the single-call times, one compiled call against the batched path (no EAIK needed)")
+    ap.add_argument("--scara-only", action="store_true",
+                    help="only the SCARA's batches (cobra600), its whole-batch form against the loop (no EAIK needed)")
     ap.add_argument("--small-only", action="store_true",
                     help="only the small batches (2-25 targets in one call), both paths, and EAIK's where installed")
     args = ap.parse_args()
+    if args.scara_only:
+        scara_batches(args.repeat)
+        return
     if args.small_only:
         G.kernels()
         small_batches(args.repeat)
@@ -365,6 +409,7 @@ def main() -> None:
     single_calls(min(args.targets, 300), args.repeat)
     small_batches(args.repeat)
     searches(args.search_targets)
+    scara_batches(args.repeat)
 
 
 if __name__ == "__main__":
