@@ -338,10 +338,9 @@ class Geometric3R:
         from ..geometric import solvers
 
         B, m, n = len(target), self.m, self.robot.n
-        many = getattr(self, "_candidates_many", None)
-        if many is not None and B >= MANY:       # a family with a whole-batch form (the SCARA's), many targets
-            Qc, LSc, count = many(target)
-            q, unreachable, found = _assemble(Qc, LSc, count, m, n, q0phi)
+        batch = self._candidates_many(target) if B >= MANY else None
+        if batch is not None:                    # a family with a whole-batch form (the SCARA's), many targets
+            q, unreachable, found = _assemble(*batch, m, n, q0phi)
         else:
             q, unreachable, found = self._one_by_one(target, q0phi, solvers.kernels() if solvers._use_jit(None)
                                                      else None)
@@ -350,6 +349,12 @@ class Geometric3R:
         def why(i: int) -> str:
             return _why(int(found[i // m]), m)
         return Raw(q, label, unreachable, why, np.full((B, m), "", dtype=object), unreachable.copy())
+
+    def _candidates_many(self, target: Array) -> tuple[Array, NDArray[np.bool_], NDArray[np.int64]] | None:
+        """:meth:`_candidates_of` for a whole batch at once, ``(Q (B, C, n), LS (B, C), count (B,))`` with ``C >= m``,
+        where a family has such a form (the SCARA's: :class:`.geometric_prismatic.GeometricScara`); None here, and
+        :meth:`solve` goes target by target."""
+        return None
 
     def _one_by_one(self, target: Array, q0phi: Array, K: Any) -> tuple[Array, NDArray[np.bool_], NDArray[np.int64]]:
         """:meth:`solve`'s ``(q (B, m, n), unreachable (B, m), found (B,))``, target by target

@@ -322,7 +322,7 @@ class GeometricScara(GeometricPrismatic):
         return int(count)
 
 
-    def _candidates_many(self, target: Array) -> tuple[Array, NDArray[np.bool_], NDArray[np.int64]]:
+    def _candidates_many(self, target: Array) -> tuple[Array, NDArray[np.bool_], NDArray[np.int64]] | None:
         """:meth:`_candidates_of` for a batch of poses ``(B, 4, 4)`` at once (:mod:`..geometric.subproblems_many`,
         the same steps on arrays): ``(Q (B, 2, 4), LS (B, 2), count (B,))``."""
         from ..geometric.subproblems_many import _dot, rot_many, sp1_many, sp3_many
