@@ -321,7 +321,6 @@ class GeometricScara(GeometricPrismatic):
             LS[i] = bool(ls_psi) or bool(ls3) or bool(ls1)
         return int(count)
 
-
     def _candidates_many(self, target: Array) -> tuple[Array, NDArray[np.bool_], NDArray[np.int64]] | None:
         """:meth:`_candidates_of` for a batch of poses ``(B, 4, 4)`` at once (:mod:`..geometric.subproblems_many`,
         the same steps on arrays): ``(Q (B, 2, 4), LS (B, 2), count (B,))``."""
@@ -442,9 +441,9 @@ def _trig_roots(k: Array) -> tuple[list[float], float]:
     # the roots do not change with the scale of k: divided by its largest entry, tiny coefficients keep their digits
     # (hypothesis: entries of 8e-162, whose squares lose digits below the smallest normal float, gave a root 0.8 %
     # of |k| off; the polish of a root stops at 1e-9 of |k|)
-    size = float(np.max(np.abs(k))) if len(k) else 0.0
-    if 0.0 < size < math.inf:
-        k = np.asarray(k, dtype=float) / size
+    big = float(np.max(np.abs(k)))
+    if 0.0 < big < math.inf:
+        k = np.asarray(k, dtype=float) / big
     k0, kc, ks, kcc, kcs, kss = (float(v) for v in k)
     size = max(abs(k0), abs(kc), abs(ks), abs(kcc), abs(kcs), abs(kss), 1e-300)
     if abs(kcc - kss) <= ISOTROPIC * size and abs(kcs) <= ISOTROPIC * size:
