@@ -352,7 +352,6 @@ def _one_target(robot: Robot, target: Any, q0: Any, tol: Any, enforce_limits: bo
 
 _run_one: Any = None   # analytic.run_one once imported
 _run_small: Any = None   # analytic.run_small_batch once imported
-_SMALL = 0               # analytic.SMALL_BATCH once imported
 _NDARRAY = np.ndarray
 
 
@@ -362,12 +361,12 @@ def _fast_record(robot: Robot) -> Any:
     the defaults of :func:`ik` and :func:`ik_all` never take the one-call path without more checks (no closed
     form, a pitch family, a 7-joint arm, collision keys: the robot's own scene); None while the Numba back
     end does not serve (asked again next time; a pickled record also comes back as None)."""
-    global _run_one, _run_small, _SMALL
+    global _run_one, _run_small
     rec: Any = False
     if len(robot.joints) != 7 and robot.__dict__.get("collision") is None:
-        from .analytic import SMALL_BATCH, closed_form, one_call_record, run_one, run_small_batch
+        from .analytic import closed_form, one_call_record, run_one, run_small_batch
 
-        _run_one, _run_small, _SMALL = run_one, run_small_batch, SMALL_BATCH
+        _run_one, _run_small = run_one, run_small_batch
         solver = closed_form(robot)
         if solver is not None and solver.target_kind != "pitch":
             rec = one_call_record(robot, solver)
@@ -395,7 +394,7 @@ def _fast(robot: Any, target: np.ndarray, q0: Any, enforce_limits: Any, check: A
     lead: tuple[int, ...] = ()
     if shape not in c.shapes:   # a few targets (..., 4, 4) or (..., 3): one call each (analytic.run_small_batch)
         lead = shape[:-2] if shape[-2:] == (4, 4) else shape[:-1]
-        if not lead or shape[len(lead):] not in c.shapes or not 0 < math.prod(lead) <= _SMALL:
+        if not lead or shape[len(lead):] not in c.shapes or not 0 < math.prod(lead) <= c.small:
             return None
     if q0 is not None:
         if type(q0) is not _NDARRAY or q0.dtype is not _F64:

@@ -372,6 +372,27 @@ def test_scara_batch_is_the_same_as_target_by_target(order):
         assert np.abs(batch.q[i] - single.q).max() <= 1e-9
 
 
+def test_a_scara_batch_takes_the_batch_form(monkeypatch):
+    """armkit.ik_all of MANY or more cobra600 poses answers from the whole-batch form: with the target-by-target
+    form made to fail, the batch still solves (and a single pose, which takes that form, fails)."""
+    from armkit.ik.analytic.geometric import MANY
+    from armkit.ik.analytic.geometric_prismatic import GeometricScara
+
+    arm = armkit.load("cobra600")
+    T = armkit.fk(arm, arm.random_q(MANY, rng=3))
+
+    def refuse(*args, **kwargs):
+        raise RuntimeError("target by target")
+
+    monkeypatch.setattr(GeometricScara, "_candidates_of", refuse)
+    res = armkit.ik_all(arm, T)
+    assert np.asarray(res.success).any(axis=-1).all()
+    assert np.abs(armkit.fk(arm, res.q[np.asarray(res.success)]) - np.repeat(T, 2, axis=0)[np.asarray(
+        res.success).ravel()]).max() <= 1e-9
+    with pytest.raises(RuntimeError, match="target by target"):
+        armkit.ik_all(arm, T[0])
+
+
 def test_a_polar_arm_takes_planar_targets_by_hand():
     """A turn about z and a reach across it move the tool in the world xy plane, so (x, y) targets apply (as for a
     planar 2R arm): standard DH (q1, 0, 0, 90 deg), (0, d2, 0, 0) put the tool at (d2 sin q1, -d2 cos q1, 0), so

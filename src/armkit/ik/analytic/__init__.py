@@ -36,7 +36,7 @@ from ...model.robot import Robot
 from ..result import IKResult, _result_of, default_tolerance, verify
 from ._common import Raw, StandardForm, jit_kernels, keep_better, standard_form
 from ._layout import LABEL_SHIFT, NEAREST, joint_table
-from .geometric import Geometric, Geometric1R, Geometric2R, Geometric3R, GeometricGimbal
+from .geometric import MANY, Geometric, Geometric1R, Geometric2R, Geometric3R, GeometricGimbal
 from .geometric_prismatic import GeometricPrismatic, GeometricPrismaticWrist, GeometricScara
 from .planar import Planar2R, Planar3R
 from .spherical_wrist import SphericalWrist
@@ -368,7 +368,7 @@ class _Single:
 
     __slots__ = ("kernels", "kernel", "solver", "geometry", "joints", "F", "labels", "labels0", "blank", "m", "n",
                  "mn", "at", "near_at", "fsize", "isize", "bsize", "q0", "scale", "window", "above", "sign",
-                 "default_tol", "ctx", "ctx_near", "ctxs", "converged", "shapes", "entry")
+                 "default_tol", "ctx", "ctx_near", "ctxs", "converged", "shapes", "entry", "small")
 
     def __init__(self, robot: Robot, solver: ClosedForm, kernels) -> None:
         from ...kinematics import packed
@@ -386,6 +386,9 @@ class _Single:
         self.blank = np.full(self.m, "", dtype=object)
         self.converged = _REASON_TEXT[np.zeros(self.m, dtype=np.int64)]   # every branch's reason, copied per use
         self.shapes = ((4, 4),) if solver.pose_only else ((4, 4), (3,))   # the targets the family takes
+        # the most targets of one call answered target by target (run_small_batch): fewer where the family solves
+        # a batch faster as a whole (the SCARA's whole-batch form, from geometric.MANY targets)
+        self.small = min(SMALL_BATCH, MANY - 1) if isinstance(solver, GeometricScara) else SMALL_BATCH
         lay = kernels.layout(self.m, self.n)
         self.at = lay
         self.near_at = (self.n, lay["dp"], lay["dr"], 2 * self.m)   # armkit.ik's answer: q, errors, iterations
@@ -544,9 +547,9 @@ targets for ``ik_all`` and 24-32 for ``ik`` on this project's 2-core machine; be
 def run_small_batch(robot: Robot, c: "_Single", targets: Array, q0: Array | None, ctx: Array, check: bool,
                     nearest: bool) -> IKResult | None:
     """:func:`run_one` for each of a few targets (``targets`` float64 ``(B,) + shape`` the family takes, ``B``
-    at most :data:`SMALL_BATCH`; ``q0`` None, one start ``(n,)`` or one per target ``(B, n)``, float64), the
-    results stacked as the batched path gives them: fields ``(B,)`` (``(B, m)`` for every branch), the same
-    values and types (tests/ik/test_small_batch.py). None where any target needs the batched path (the caller
+    at most ``c.small``: :data:`SMALL_BATCH`, fewer for a family with a whole-batch form; ``q0`` None, one start
+    ``(n,)`` or one per target ``(B, n)``, float64), the results stacked as the batched path gives them: fields
+    ``(B,)`` (``(B, m)`` for every branch), the same values and types (tests/ik/test_small_batch.py). None where any target needs the batched path (the caller
     then takes it for all: a branch to polish, a note to give, a target or start to reject)."""
     B = targets.shape[0]
     if q0 is not None:
