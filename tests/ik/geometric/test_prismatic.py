@@ -346,13 +346,14 @@ def test_scara_batch_is_the_same_as_target_by_target(order):
     slides to 1e-12, on poses it reaches, poses beyond its reach and poses tilted off its axes."""
     from armkit.ik.analytic.geometric import MANY, _assemble
 
-    g = np.random.default_rng(ord(order[0]) + 7 * ord(order[2]))
-    rows = g.uniform(-0.5, 0.5, (4, 4))
-    rows[:, 2] = g.choice([-1.0, 1.0], 4) * g.uniform(0.05, 0.5, 4)
-    rows[:, 3] = g.choice([0.0, math.pi], 4)
-    arm = Robot([_joint(R if k == "R" else P, *row) for k, row in zip(order, rows)], name="scara")
     if order == "RRPR":
         arm = armkit.load("cobra600")
+    else:                                   # a random SCARA of this order, as in the test above
+        g = np.random.default_rng(ord(order[0]) + 7 * ord(order[2]))
+        rows = g.uniform(-0.5, 0.5, (4, 4))
+        rows[:, 2] = g.choice([-1.0, 1.0], 4) * g.uniform(0.05, 0.5, 4)
+        rows[:, 3] = g.choice([0.0, math.pi], 4)
+        arm = Robot([_joint(R if k == "R" else P, *row) for k, row in zip(order, rows)], name="scara")
     solver = closed_form(arm)
     assert solver.family == "geometric-scara"
     T = armkit.fk(arm, arm.random_q(300, rng=5))

@@ -318,7 +318,7 @@ def test_compiled_match_plain():
 def test_many_at_once_equal_the_one_at_a_time(seed):
     """rot, SP1 and SP3 on a batch (subproblems_many) give each row what the scalar function gives it: the same
     count and least-squares flag, angles to 1e-14 (NumPy's and math's cos, atan2, acos may differ in the last bits),
-    on exact instances, least-squares ones (SP3 past its reach, SP1 with unequal lengths), and tangent ones."""
+    on exact instances and least-squares ones (SP3 past its reach, SP1 with unequal lengths)."""
     from armkit.ik.geometric import subproblems_many as M
 
     g = np.random.default_rng(seed)

@@ -549,8 +549,9 @@ def run_small_batch(robot: Robot, c: "_Single", targets: Array, q0: Array | None
     """:func:`run_one` for each of a few targets (``targets`` float64 ``(B,) + shape`` the family takes, ``B``
     at most ``c.small``: :data:`SMALL_BATCH`, fewer for a family with a whole-batch form; ``q0`` None, one start
     ``(n,)`` or one per target ``(B, n)``, float64), the results stacked as the batched path gives them: fields
-    ``(B,)`` (``(B, m)`` for every branch), the same values and types (tests/ik/test_small_batch.py). None where any target needs the batched path (the caller
-    then takes it for all: a branch to polish, a note to give, a target or start to reject)."""
+    ``(B,)`` (``(B, m)`` for every branch), the same values and types (tests/ik/test_small_batch.py). None where
+    any target needs the batched path (the caller then takes it for all: a branch to polish, a note to give, a
+    target or start to reject)."""
     B = targets.shape[0]
     if q0 is not None:
         q0 = np.ascontiguousarray(q0)
