@@ -312,18 +312,12 @@ def scara_batches(repeat: int) -> None:
             geometric.MANY = threshold
             try:
                 fn()   # the first call of a kind compiles or fills caches
-                best = min(_timed(fn) for _ in range(repeat))
+                best = _best(fn, repeat)
             finally:
                 geometric.MANY = many
             cells.append(f"{best / B * 1e6:.2f}")
         print(f"| {B:,} | " + " | ".join(cells) + " |", flush=True)
     print(f"\nload average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores")
-
-
-def _timed(fn) -> float:
-    t0 = time.perf_counter()
-    fn()
-    return time.perf_counter() - t0
 
 
 def main() -> None:

@@ -329,7 +329,7 @@ class GeometricScara(GeometricPrismatic):
         h, A, ac, RnT = self.h, self.A, self._across, self.form.R_nT
         B = len(target)
         turned = (target[:, :3, :3] @ RnT.T) @ ac
-        psi, _ = sp1_many(np.broadcast_to(ac, (B, 3)), turned, h)
+        psi, _ = sp1_many(ac, turned, h)
         ls_psi = np.abs(_dot(h, turned)) > self.tilt_tol
         t = target[:, :3, 3] - self.P[0] - rot_many(h, psi, A[3]) - A[0]
         slide = _dot(h, t - A[1] - A[2]) / self.slide_along
@@ -341,8 +341,8 @@ class GeometricScara(GeometricPrismatic):
         for i in range(2):
             phi1, ls1 = sp1_many(a1 + rot_many(h, deltas[:, i], a2), u, h)
             Q[:, i, self.slide_joint] = slide
-            for col, angle in zip(self.turns, (phi1, deltas[:, i], psi - phi1 - deltas[:, i])):
-                Q[:, i, col] = angle * self.turn_sign[self.turns.index(col)]
+            for col, sign, angle in zip(self.turns, self.turn_sign, (phi1, deltas[:, i], psi - phi1 - deltas[:, i])):
+                Q[:, i, col] = angle * sign
             LS[:, i] = ls_psi | ls3 | ls1
         return Q, LS, count
 
