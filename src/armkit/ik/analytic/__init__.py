@@ -36,7 +36,7 @@ from ...model.robot import Robot
 from ..result import IKResult, _result_of, default_tolerance, verify
 from ._common import Raw, StandardForm, jit_kernels, keep_better, standard_form
 from ._layout import LABEL_SHIFT, NEAREST, joint_table
-from .geometric import MANY, Geometric, Geometric1R, Geometric2R, Geometric3R, GeometricGimbal
+from .geometric import MANY, Geometric, Geometric1R, Geometric2R, Geometric3R, GeometricGimbal, has_batch_form
 from .geometric_prismatic import GeometricPrismatic, GeometricPrismaticWrist, GeometricScara
 from .planar import Planar2R, Planar3R
 from .spherical_wrist import SphericalWrist
@@ -387,8 +387,8 @@ class _Single:
         self.converged = _REASON_TEXT[np.zeros(self.m, dtype=np.int64)]   # every branch's reason, copied per use
         self.shapes = ((4, 4),) if solver.pose_only else ((4, 4), (3,))   # the targets the family takes
         # the most targets of one call answered target by target (run_small_batch): fewer where the family solves
-        # a batch faster as a whole (the SCARA's whole-batch form, from geometric.MANY targets)
-        self.small = min(SMALL_BATCH, MANY - 1) if isinstance(solver, GeometricScara) else SMALL_BATCH
+        # a batch faster as a whole (a whole-batch form, from geometric.MANY targets: the SCARA's)
+        self.small = min(SMALL_BATCH, MANY - 1) if has_batch_form(solver) else SMALL_BATCH
         lay = kernels.layout(self.m, self.n)
         self.at = lay
         self.near_at = (self.n, lay["dp"], lay["dr"], 2 * self.m)   # armkit.ik's answer: q, errors, iterations

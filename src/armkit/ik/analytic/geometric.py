@@ -382,6 +382,13 @@ class Geometric3R:
         return q, unreachable, found
 
 
+def has_batch_form(solver: object) -> bool:
+    """Whether ``solver``'s family solves a whole batch at once: its class overrides
+    :meth:`Geometric3R._candidates_many` (the SCARA's)."""
+    form = getattr(type(solver), "_candidates_many", None)
+    return form is not None and form is not Geometric3R._candidates_many
+
+
 MANY = 8
 """From this many targets :meth:`Geometric3R.solve` takes a family's whole-batch form (``_candidates_many``, the
 SCARA's) instead of its target-by-target one: the batch form costs ~0.3 ms of NumPy calls whatever the count, more
