@@ -296,3 +296,37 @@ def test_rotm_matches_scipy():
 
     k = np.array([1.0, 2.0, 2.0]) / 3.0
     assert np.allclose(rotm(k, 0.7), axis_angle_to_rotation(k, 0.7), atol=1e-15)
+
+
+# ------------------------------------------------------------------------------ the check's FK
+@settings(max_examples=30)
+@given(seed=SEEDS)
+def test_fk_check_taken_up_after_shared_joints_is_bit_for_bit_the_whole_fk(seed):
+    """The solvers' check (``solvers_check._check``) takes each candidate's FK up after the joints it shares with
+    the one before (``_kernels._fk_err_from``): for candidates that share 0 to 6 leading joints (some prismatic),
+    in a row, the errors are those of the FK from the base (``_kernels._fk_err_to``) to the bit, compiled and
+    plain."""
+    from armkit.ik.geometric import _kernels as kk
+
+    rng = np.random.default_rng(seed)
+    H = rng.normal(size=(6, 3))
+    H /= np.linalg.norm(H, axis=1, keepdims=True)
+    P = rng.normal(size=(7, 3))
+    RnT = rotm(H[0], rng.uniform(-np.pi, np.pi))
+    prism = rng.random(6) < 0.3
+    Rt, pt = rotm(H[1], 0.4), rng.normal(size=3)
+    rows = [rng.uniform(-np.pi, np.pi, 6)]
+    for _ in range(12):                       # each row keeps the first s joints of the row before
+        s = int(rng.integers(0, 7))
+        rows.append(np.concatenate([rows[-1][:s], rng.uniform(-np.pi, np.pi, 6 - s)]))
+    K = kk.kernels()
+    for fn_from, fn_to in ((kk._fk_err_from, kk._fk_err_to),) + (((K._fk_err_from, K._fk_err_to),) if K else ()):
+        RS, PS, T = np.empty((7, 3, 3)), np.empty((7, 3)), np.empty((3, 3))
+        for i, q in enumerate(rows):
+            s = 0
+            while i > 0 and s < 6 and q[s] == rows[i - 1][s]:
+                s += 1
+            got = fn_from(H, P, RnT, prism, q, Rt, pt, RS, PS, s, T)
+            want = fn_to(H, P, RnT, prism, q, Rt, pt, np.empty((3, 3)), np.empty((3, 3)))
+            assert got == want, (i, s, got, want)
+            assert want[0] > 0.0 and want[1] > 0.0          # a real comparison: errors that are not both zero

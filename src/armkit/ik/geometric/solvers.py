@@ -73,7 +73,7 @@ from numpy.typing import NDArray
 from . import _kernels as _kk
 from . import search2d as _search2d
 from . import subproblems as _sp
-from ._kernels import _fk_err, _fk_err_to  # noqa: F401  (in the kernels' namespace)
+from ._kernels import _fk_err, _fk_err_from, _fk_err_to  # noqa: F401  (in the kernels' namespace)
 from .poe import POE
 from .search import MAXROOT, SM, SW, TI, TP, _search  # noqa: F401  (in the kernels' namespace)
 from .search import N as _SEARCH_N

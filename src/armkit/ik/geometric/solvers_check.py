@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._kernels import _fk_err_to
+from ._kernels import _fk_err_from
 from .solvers_parallel import _core_three_parallel
 from .solvers_search import _core_spherical_middle, _core_two_intersecting_end, _core_two_parallel
 from .solvers_wrist import _core_spherical
@@ -38,12 +38,19 @@ def _check(m, H, P, RnT, prism, R, p, tol_p, tol_r, Q, LS, SG, ST):
     """Wrap the angles of the ``m`` candidates and check each on the true chain; then put the ones that
     pass (repeats dropped) first and the ones that fail after them (rows of Q, LS, SG; ``ST`` 1 / 0).
     Returns ``(passing, failing)``."""
-    F = np.empty((2, 3, 3))      # the FK's work space, made once for the m candidates
+    n = Q.shape[1]
+    F = np.empty((3, 3))      # the FK's work space, made once for the m candidates: the rotation and position
+    RS = np.empty((n + 1, 3, 3))  # after each joint of the last candidate, taken up by the next where their
+    PS = np.empty((n + 1, 3))     # first joints agree (the branches come in pairs that differ in the wrist)
     for i in range(m):
-        for k in range(Q.shape[1]):
+        for k in range(n):
             if not prism[k]:
                 Q[i, k] = _wrap(Q[i, k])
-        ep, er = _fk_err_to(H, P, RnT, prism, Q[i], R, p, F[0], F[1])
+        s = 0
+        if i > 0:
+            while s < n and Q[i, s] == Q[i - 1, s]:
+                s += 1
+        ep, er = _fk_err_from(H, P, RnT, prism, Q[i], R, p, RS, PS, s, F)
         ST[i] = 1 if (ep <= tol_p and er <= tol_r) else 0
         if ST[i] == 1:
             for j in range(i):
