@@ -270,3 +270,20 @@ def test_quartic_two_real(rs, zr, zi, lead):
         for want, have in zip(sorted(rs), real):
             assert abs(want - have) < 1e-8 * (1.0 + abs(want)) / min(1.0, sep)
     assert sorted(abs(i) for i in im)[-1] == pytest.approx(zi, rel=1e-6, abs=1e-6)
+
+
+def test_newton_step_off_to_overflow_is_refused_without_a_warning():
+    """A Newton step of the quartic polish where the slope is nearly 0 would jump to 1e300, where the quartic
+    overflows (the plain functions, run with NumPy scalars, warned of it): the step is refused and ``t`` kept,
+    compiled and plain alike, with no warning."""
+    import warnings
+
+    from armkit.ik.geometric import _kernels as kk
+
+    K = kk.kernels()
+    b, c, d, e = (np.float64(v) for v in (0.0, 0.0, 1e-300, 1.0))   # t⁴ + 1e-300 t + 1 from t = 0: f = 1, f' ~ 0
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert kk._newton4(np.float64(0.0), b, c, d, e) == 0.0
+    if K is not None:
+        assert K._newton4(0.0, 0.0, 0.0, 1e-300, 1.0) == 0.0

@@ -224,7 +224,8 @@ def _quartic4(c4, c3, c2, c1, c0):
 
 def _newton4(t, b, c, d, e):
     """Up to 3 Newton steps on ``t⁴ + b t³ + c t² + d t + e`` from ``t`` (a float or a complex: compiled for
-    each), stopped when one does not decrease ``|f|``, when ``f(t)`` is 0, or after a step below
+    each), stopped when one does not decrease ``|f|`` (or would leave for ``|t| > 1e60``, where ``f`` overflows: the
+    roots of the callers' quartics lie within a few units), when ``f(t)`` is 0, or after a step below
     ``1e-15 (1 + |t|)`` (the next would change ``t`` by rounding only)."""
     f = (((t + b) * t + c) * t + d) * t + e
     for _ in range(3):
@@ -235,6 +236,8 @@ def _newton4(t, b, c, d, e):
             break
         dt = f / df
         tn = t - dt
+        if not abs(tn) <= 1e60:   # a step off to where the quartic overflows (df nearly 0) cannot decrease |f|
+            break
         fn = (((tn + b) * tn + c) * tn + d) * tn + e
         if abs(fn) >= abs(f):
             break
