@@ -332,8 +332,11 @@ def ik(robot: RobotArg,
        json_out: JsonOut = False) -> None:
     """Inverse kinematics: joint angles that put the tool at a target.
 
-    For arms with a closed form (planar2, planar3 with --phi, fighter, puma560, ur5) every
-    branch is listed; otherwise, or with --method, a numeric solver gives one answer.
+    Every branch is listed for arms that `armkit info ROBOT` gives a class with a solver:
+    every arm of 1-3 joints (planar3 with --phi), 6-joint arms in closed form (a spherical
+    wrist, three parallel axes: puma560, ur5, stanford, a Kinova Jaco URDF) or by a 1-D or
+    2-D search, the SCARA (cobra600), and 7-joint arms with --all (a sweep) or --fixed.
+    Otherwise, or with --method, a numeric solver gives one answer.
     Exit code 0: solved, 1: no solution (the reason is printed), 2: bad input.
 
     Example: armkit ik fighter 24.861 14.353 187.181
