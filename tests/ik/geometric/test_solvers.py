@@ -304,8 +304,8 @@ def test_rotm_matches_scipy():
 def test_fk_check_taken_up_after_shared_joints_is_bit_for_bit_the_whole_fk(seed):
     """The solvers' check (``solvers_check._check``) takes each candidate's FK up after the joints it shares with
     the one before (``_kernels._fk_err_from``): for candidates that share 0 to 6 leading joints (some prismatic),
-    in a row, the errors are those of the FK from the base (``_kernels._fk_err_to``) to the bit, compiled and
-    plain."""
+    in a row, the errors are those of the FK from the base to the bit, and those of :meth:`POE.fk` (NumPy) to
+    rounding; compiled and plain."""
     from armkit.ik.geometric import _kernels as kk
 
     rng = np.random.default_rng(seed)
@@ -314,19 +314,22 @@ def test_fk_check_taken_up_after_shared_joints_is_bit_for_bit_the_whole_fk(seed)
     P = rng.normal(size=(7, 3))
     RnT = rotm(H[0], rng.uniform(-np.pi, np.pi))
     prism = rng.random(6) < 0.3
+    form = POE(H, P, RnT, prism)
     Rt, pt = rotm(H[1], 0.4), rng.normal(size=3)
     rows = [rng.uniform(-np.pi, np.pi, 6)]
     for _ in range(12):                       # each row keeps the first s joints of the row before
         s = int(rng.integers(0, 7))
         rows.append(np.concatenate([rows[-1][:s], rng.uniform(-np.pi, np.pi, 6 - s)]))
     K = kk.kernels()
-    for fn_from, fn_to in ((kk._fk_err_from, kk._fk_err_to),) + (((K._fk_err_from, K._fk_err_to),) if K else ()):
+    for fn in (kk._fk_err_from,) + ((K._fk_err_from,) if K else ()):
         RS, PS, T = np.empty((7, 3, 3)), np.empty((7, 3)), np.empty((3, 3))
         for i, q in enumerate(rows):
             s = 0
             while i > 0 and s < 6 and q[s] == rows[i - 1][s]:
                 s += 1
-            got = fn_from(H, P, RnT, prism, q, Rt, pt, RS, PS, s, T)
-            want = fn_to(H, P, RnT, prism, q, Rt, pt, np.empty((3, 3)), np.empty((3, 3)))
-            assert got == want, (i, s, got, want)
-            assert want[0] > 0.0 and want[1] > 0.0          # a real comparison: errors that are not both zero
+            got = fn(H, P, RnT, prism, q, Rt, pt, RS, PS, s, T)
+            base = fn(H, P, RnT, prism, q, Rt, pt, np.empty((7, 3, 3)), np.empty((7, 3)), 0, np.empty((3, 3)))
+            assert got == base, (i, s, got, base)
+            Rq, pq = form.fk(q)
+            assert got[0] == pytest.approx(np.linalg.norm(pq - pt), rel=1e-12, abs=1e-14)
+            assert got[1] == pytest.approx(np.linalg.norm(Rq - Rt) / math.sqrt(2.0), rel=1e-12, abs=1e-14)

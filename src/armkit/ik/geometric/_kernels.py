@@ -541,50 +541,15 @@ def _move(R, P, k, p0, p1, p2):
             p2 + (R[2, 0] * x + R[2, 1] * y + R[2, 2] * z))
 
 
-def _fk_err(H, P, RnT, prism, q, Rt, pt):
-    """``(position error, rotation error)`` of ``q`` for the target ``(Rt, pt)`` on the chain ``(H, P, RnT)``
-    (the formula of :meth:`.poe.POE.fk`, without temporary arrays; the rotation error ``‖ΔR‖_F / √2``)."""
-    return _fk_err_to(H, P, RnT, prism, q, Rt, pt, np.empty((3, 3)), np.empty((3, 3)))
-
-
-def _fk_err_to(H, P, RnT, prism, q, Rt, pt, R, T):
-    """:func:`_fk_err` with its work space given: ``R``, ``T`` (3, 3), overwritten (a caller that checks many
-    candidates makes them once)."""
-    for i in range(3):
-        for j in range(3):
-            R[i, j] = 1.0 if i == j else 0.0
-    p0 = P[0, 0]
-    p1 = P[0, 1]
-    p2 = P[0, 2]
-    n = H.shape[0]
-    for k in range(n):
-        h0 = H[k, 0]
-        h1 = H[k, 1]
-        h2 = H[k, 2]
-        if prism[k]:
-            p0 += q[k] * (R[0, 0] * h0 + R[0, 1] * h1 + R[0, 2] * h2)
-            p1 += q[k] * (R[1, 0] * h0 + R[1, 1] * h1 + R[1, 2] * h2)
-            p2 += q[k] * (R[2, 0] * h0 + R[2, 1] * h1 + R[2, 2] * h2)
-        else:
-            _rmul_rot(R, T, h0, h1, h2, q[k])
-        p0, p1, p2 = _move(R, P, k + 1, p0, p1, p2)
-    dp = math.sqrt((p0 - pt[0]) ** 2 + (p1 - pt[1]) ** 2 + (p2 - pt[2]) ** 2)
-    e = 0.0
-    for i in range(3):
-        for j in range(3):
-            rij = R[i, 0] * RnT[0, j] + R[i, 1] * RnT[1, j] + R[i, 2] * RnT[2, j]
-            e += (rij - Rt[i, j]) ** 2
-    return dp, math.sqrt(0.5 * e)
-
-
-
 def _fk_err_from(H, P, RnT, prism, q, Rt, pt, RS, PS, s, T):
-    """:func:`_fk_err_to` for ``q`` whose first ``s`` joints are those of the previous call, which left the
-    rotation and position after each of its joints in ``RS (n + 1, 3, 3)``, ``PS (n + 1, 3)``: the chain is taken
-    up after joint ``s`` (``s = 0``: from the base), and this call leaves its own there. The same operations in
-    the same order as :func:`_fk_err_to`, so the same bits; a caller checking candidates that share their first
-    joints (the branches of a closed form come in pairs that differ only in the wrist) skips those joints' work.
-    ``T (3, 3)``: work space."""
+    """``(position error, rotation error)`` of ``q`` for the target ``(Rt, pt)`` on the chain ``(H, P, RnT)`` (the
+    formula of :meth:`.poe.POE.fk`, without temporary arrays; the rotation error ``‖ΔR‖_F / √2``).
+
+    The rotation and position after each joint are left in ``RS (n + 1, 3, 3)``, ``PS (n + 1, 3)``, and the chain
+    is taken up after joint ``s`` from what the previous call left there (``s = 0``: from the base): a caller
+    checking candidates that share their first joints (the branches of a closed form come in pairs that differ
+    only in the wrist) skips those joints' work. Each joint's operations are the same whatever ``s``: the same
+    bits. ``T (3, 3)``: work space."""
     n = H.shape[0]
     if s == 0:
         for i in range(3):
@@ -621,11 +586,11 @@ def _fk_err_from(H, P, RnT, prism, q, Rt, pt, RS, PS, s, T):
             e += (rij - Rt[i, j]) ** 2
     return dp, math.sqrt(0.5 * e)
 
+
 # ---------------------------------------------------------------------------------- compiled
 KERNELS = ("_t", "_tdot", "_tcross", "_tadd", "_tsub", "_tmul", "_tnorm", "_trot_cs", "_trot", "_tmv", "_tmtv",
            "_tlin", "_tsp1", "_wrap", "_cubic_max", "_quad", "_newton4", "_polish", "_quartic4", "_quartic", "_res2",
-           "_angle", "_trig2", "_trig2_rows", "_sp6", "_add_row", "_sp3_cos", "_sp3", "_rmul_rot", "_move", "_fk_err_to",
-           "_fk_err", "_fk_err_from")
+           "_angle", "_trig2", "_trig2_rows", "_sp6", "_add_row", "_sp3_cos", "_sp3", "_rmul_rot", "_move", "_fk_err_from")
 """The functions :func:`kernels` compiles, callees before callers."""
 _KERNELS: Optional[types.SimpleNamespace] = None
 

@@ -73,7 +73,7 @@ from numpy.typing import NDArray
 from . import _kernels as _kk
 from . import search2d as _search2d
 from . import subproblems as _sp
-from ._kernels import _fk_err, _fk_err_from, _fk_err_to  # noqa: F401  (in the kernels' namespace)
+from ._kernels import _fk_err_from  # noqa: F401  (in the kernels' namespace)
 from .poe import POE
 from .search import MAXROOT, SM, SW, TI, TP, _search  # noqa: F401  (in the kernels' namespace)
 from .search import N as _SEARCH_N
@@ -143,7 +143,7 @@ def kernels() -> Optional[types.SimpleNamespace]:
         if sk is None or ek is None:
             _NO_NUMBA = True
             return None
-        extra = _kk.extra()                 # the shared helpers (_fk_err), then the subproblems
+        extra = _kk.extra()                 # the shared helpers (_fk_err_from), then the subproblems
         extra.update({name: sk.namespace[name] for name in _sp.KERNELS})
         extra["_search"] = ek._search
         from . import search2d
