@@ -11,7 +11,7 @@ import math
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 from armkit.ik.geometric import subproblems as S
@@ -234,11 +234,15 @@ def test_sp6_exact(seed):
 
 @settings(max_examples=25, deadline=None, derandomize=True)
 @given(SEEDS)
+@example(1)   # two of its 4 solutions lie within one step of the 20,000-sample grid (found by a 300-example run)
 def test_sp6_count(seed):
     g = np.random.default_rng(seed)
     H, K, P, d1, d2, _, _ = _sp6_instance(g)
     *_, n, ls = S.sp6(H, K, P, d1, d2)
-    assert n == _sp6_count(H, K, P, d1, d2)
+    count = _sp6_count(H, K, P, d1, d2)
+    if count != n:     # two roots within one step of the grid look like none: count again, 20 times finer
+        count = _sp6_count(H, K, P, d1, d2, 400_000)
+    assert n == count
 
 
 def test_sp6_four_solutions_exist_and_are_found():
