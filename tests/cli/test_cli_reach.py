@@ -65,6 +65,11 @@ def test_query_exit_codes(fighter_map: Path) -> None:
     (["build", "fighter", "-o", "{tmp}/b.zarr", "--method", "guess"], "--method must be fk or ik"),
     (["build", "no-such-arm", "-o", "{tmp}/b.zarr"], "unknown robot"),
     (["base", "{map}", "{tmp}/missing.csv"], "task file .* not found"),
+    # a name longer than the system takes (ENAMETOOLONG; a 300-example fuzz run found the traceback)
+    (["show", "{tmp}/" + "x" * 300], "no reachability map at"),
+    (["query", "{tmp}/" + "x" * 300, "1", "2", "3"], "no reachability map at"),
+    (["build", "fighter", "-o", "{tmp}/" + "y" * 300 + ".zarr"], r"cannot use '.*\.zarr': the name is too long"),
+    (["build", "fighter", "-o", "{tmp}/" + "y" * 300 + ".zarr", "--lang", "ko"], "사용할 수 없습니다: 이름이 너무 깁니다"),
 ])
 def test_bad_input_exits_2(fighter_map: Path, tmp_path: Path, args: list[str], match: str) -> None:
     import re
@@ -90,3 +95,25 @@ def test_base_placement_from_csv(fighter_map: Path, tmp_path: Path) -> None:
     bad.write_text("1,2,3\n4,5,oops\n", encoding="utf-8")
     r = runner.invoke(app, ["reach", "base", str(fighter_map), str(bad)])
     assert r.exit_code == 2 and "bad.csv:2: field z" in r.output
+
+
+def test_os_errors_are_named_in_the_language_or_in_the_systems_words() -> None:
+    """The command line's last net for OS errors (armkit.cli.common.os_reason): the errors armkit names are said in
+    the current language, any other in the system's own words."""
+    import errno
+
+    from armkit.cli.common import os_reason
+    from armkit.locale import LANG
+
+    long_name = OSError(errno.ENAMETOOLONG, "File name too long", "x" * 300)
+    other = OSError(errno.EIO, "Input/output error", "disk")
+    saved = LANG.get("lang")
+    try:
+        LANG["lang"] = "en"
+        assert os_reason(long_name) == "the name is too long"
+        assert os_reason(other) == "Input/output error"
+        LANG["lang"] = "ko"
+        assert os_reason(long_name) == "이름이 너무 깁니다"
+        assert os_reason(other) == "Input/output error"
+    finally:
+        LANG["lang"] = saved

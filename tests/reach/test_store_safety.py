@@ -313,3 +313,11 @@ def test_base_placement_candidates_are_bounded(store: Path, tmp_path: Path, opts
     tasks.write_text("x,y,z\n0.5,0,0\n")
     r = runner.invoke(app, ["reach", "base", str(store), str(tasks), *opts])
     assert r.exit_code == 2 and "candidate base poses" in r.output and "Traceback" not in r.output, r.output
+
+
+@pytest.mark.parametrize("name", ["x" * 300, "bad\x00name"])
+def test_a_name_the_system_cannot_look_up_is_no_map(tmp_path: Path, name: str) -> None:
+    """A path too long for the system (ENAMETOOLONG) or with a NUL byte: MapFileError "no reachability map", as
+    for a missing one, not the OSError or ValueError of the lookup."""
+    with pytest.raises(MapFileError, match="no reachability map at"):
+        ReachabilityMap.open(str(tmp_path / name))

@@ -122,6 +122,18 @@ class _ArmkitGroup(TyperGroup):
             what = _("a number is too large") if isinstance(exc, OverflowError) else _("not enough memory")
             say(_("error:"), "bold red", f"{what} ({type(exc).__name__}: {exc})")
             raise SystemExit(EXIT_BAD_INPUT) from None
+        except OSError as exc:
+            # a path the system refuses that no command's own check caught (a name too long, a NUL byte's kin, a
+            # device error): the user's input, said in one line, exit 2; a closed output pipe is not an error
+            if isinstance(exc, BrokenPipeError):
+                raise
+            from .common import EXIT_BAD_INPUT, _, os_reason, say
+
+            reason = os_reason(exc)
+            message = (_("the operating system refused: {reason}", reason=reason) if exc.filename is None else
+                       _("cannot use {path!r}: {reason}", path=os.fsdecode(exc.filename), reason=reason))
+            say(_("error:"), "bold red", message)
+            raise SystemExit(EXIT_BAD_INPUT) from None
 
 
 _TYPE_LABELS = {"float": "FLOAT", "int": "INT", "str": "TEXT", "path": "PATH", "list[str]": "TEXT"}

@@ -87,9 +87,13 @@ def read_attrs(path: str | os.PathLike[str], *, complete: bool = True) -> dict[s
     """The attributes of the armkit map at ``path``, checked (MapFileError names what is wrong)."""
     p = Path(path)
     shown = os.fspath(path)
-    if not p.exists():
+    try:
+        folder = p.is_dir()
+    except (OSError, ValueError):     # a name the system cannot look up (too long: ENAMETOOLONG; a NUL byte)
+        folder = None
+    if folder is None or not (folder or os.path.lexists(p)):
         raise MapFileError.of("no reachability map at {shown!r}", shown=shown)
-    if not p.is_dir():
+    if not folder:
         raise MapFileError.of("{shown!r} is a file; a reachability map is a folder (a Zarr store)", shown=shown)
     doc = _group_json(p)
     if doc is None:
