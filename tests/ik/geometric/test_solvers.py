@@ -8,7 +8,7 @@ import math
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 import armkit
@@ -234,6 +234,7 @@ def test_random_arms(kind, solver, prismatic3, seed):
 
 @settings(max_examples=40, deadline=None, derandomize=True)
 @given(seed=SEEDS)
+@example(seed=676909)   # q is one of two roots 0.0017 rad apart beside a step sampled finer (search._seam)
 def test_random_arms_two_intersecting(seed):
     """General 6R with axes 5, 6 meeting (1-D search with SP5): q found, every solution valid, even count."""
     g = np.random.default_rng(seed)

@@ -24,7 +24,9 @@ samples by distance (a step where they do not pair up one to one within 0.1 rad 
 * a local extremum of the residual on the side away from 0 whose parabola through three samples
   comes within one second difference of 0 is searched by golden section (stopping as soon as the
   residual changes sign): two roots within one step, or a double root (kept when its residual is
-  below 1e-12);
+  below 1e-12); where a step sampled finer meets a plain one, the three samples about the seam are
+  unequally spaced and looked at the same way (:func:`_seam`: a branch that moves more than 0.5 rad
+  in the plain step is not matched across it, and two roots beside it were missed);
 * a branch that ends between two samples (two subproblem solutions meet, the residual changes
   like the square root of the distance there) has its end found by bisection (to 3e-10 rad, or
   until the branch and the one it meets there have residuals of one sign that differ by under a
@@ -49,8 +51,9 @@ can be missed only when three or more roots of one branch lie within one step, t
 rad of a branch end, or a double root's residual stays above 1e-12, or two roots crowd within one
 step next to a branch end, or (TI, TP) a pair of branches lives only between two samples (measured
 against a dense scan of 20,000 samples on 200 random targets
-of each class, tests/ik/geometric/test_search_speed_free.py: 0 missing for TP, SW, SM; for TI one
-target lost both roots of a near-double root, residual peak 2e-6, 4e-3 rad from a branch end). The
+of each class, tests/ik/geometric/test_search_speed_free.py: 0 missing for all four; TI lost one target's
+near-double root, residual peak 2e-6, beside a step sampled finer, until the seams of those steps were looked at,
+:func:`_seam`). The
 solvers of :mod:`.solvers` complete each root to the six joints and check every solution by FK of
 the true chain (TOL 1e-9), polishing by Newton steps where the chain's axes only nearly meet.
 
@@ -687,18 +690,60 @@ def _extrema(kind, H, P, C, x0, h, S, E, cnt, D, i, roots, m, out, mid):
         est = fb - (fc - fa) * (fc - fa) / (8.0 * d2)
         if sg * est > abs(d2) + 1e-12:
             continue
-        xm, fx = _dip(kind, H, P, C, xa, xa + 2.0 * h, S[i + 1, k], sg, mid)
-        if sg * fx < 0.0:
-            if _refine(kind, H, P, C, xa, fa, S[i, j], xm, fx, out):
-                m = _add(roots, m, out)
-            if _refine(kind, H, P, C, xm, fx, mid, xa + 2.0 * h, fc, out):
-                m = _add(roots, m, out)
-        elif abs(fx) <= 1e-12:
-            out[0] = xm
-            out[1] = mid[0]
-            out[2] = mid[1]
-            out[3] = mid[2]
+        m = _dip_roots(kind, H, P, C, xa, fa, S[i, j], xa + 2.0 * h, fc, S[i + 1, k], sg, roots, m, out, mid)
+    return m
+
+
+def _dip_roots(kind, H, P, C, xa, fa, ra, xc, fc, ref, sg, roots, m, out, mid):
+    """The dip of the branch through ``ref`` between ``xa`` (residual ``fa``, branch ``ra``) and ``xc`` (``fc``),
+    both on the side ``sg`` of 0: its minimum by :func:`_dip`; below 0, the two roots either side of it refined,
+    at 0 (within 1e-12) a double root kept. Returns the new count of ``roots``."""
+    xm, fx = _dip(kind, H, P, C, xa, xc, ref, sg, mid)
+    if sg * fx < 0.0:
+        if _refine(kind, H, P, C, xa, fa, ra, xm, fx, out):
             m = _add(roots, m, out)
+        if _refine(kind, H, P, C, xm, fx, mid, xc, fc, out):
+            m = _add(roots, m, out)
+    elif abs(fx) <= 1e-12:
+        out[0] = xm
+        out[1] = mid[0]
+        out[2] = mid[1]
+        out[3] = mid[2]
+        m = _add(roots, m, out)
+    return m
+
+
+def _seam(kind, H, P, C, xa, Sa, Ea, ca, Dab, xb, Sb, Eb, cb, Dbc, xc, Sc, Ec, cc, roots, m, out, mid):
+    """:func:`_extrema` for three samples ``xa < xb < xc`` spaced unequally: where a step sampled :data:`SUB_N`
+    times finer meets a plain one, the last sub-step, the sample between and the next sample (or the other way
+    round). Neither the sub-steps' triples nor the plain ones see an extremum there (a branch that moves more than
+    0.5 rad in the plain step is not matched across it), and two roots close together beside such a step were
+    missed (a 600-example run found one 0.0017 rad apart). ``Dab``, ``Dbc``: the distances of :func:`_dists`
+    between the samples. The parabola through the three points, its vertex within one second difference (at the
+    larger spacing) of 0, as :func:`_extrema` asks. Returns the new count of ``roots``."""
+    h0 = xb - xa
+    h1 = xc - xb
+    for j in range(ca):
+        k = _match(Dab, cb, j)
+        if k < 0:
+            continue
+        k2 = _match(Dbc, cc, k)
+        if k2 < 0:
+            continue
+        fa = Ea[j]
+        fb = Eb[k]
+        fc = Ec[k2]
+        if not ((fb - fa) * (fc - fb) < 0.0 and fa * fb > 0.0 and fb * fc > 0.0):
+            continue
+        sg = 1.0 if fb > 0.0 else -1.0
+        if sg * (fb - fa) > 0.0:     # an extremum away from 0
+            continue
+        a = ((fc - fb) / h1 + (fa - fb) / h0) / (h0 + h1)
+        b = (fc - fb) / h1 - a * h1
+        est = fb - b * b / (4.0 * a)
+        if sg * est > 2.0 * abs(a) * max(h0, h1) ** 2 + 1e-12:
+            continue
+        m = _dip_roots(kind, H, P, C, xa, fa, Sa[j], xc, fc, Sb[k], sg, roots, m, out, mid)
     return m
 
 
@@ -760,6 +805,13 @@ def _search(kind, H, P, C, n, roots):
                           cs[k + 1], Ds[k], roots, m, out, pp, wk)
                 if k + 2 <= SUB_N:
                     m = _extrema(kind, H, P, C, xa, h, Ss, Es, cs, Ds, k, roots, m, out, mid)
+            if i >= 1:             # the seams with the plain steps before and after (_seam)
+                m = _seam(kind, H, P, C, xa - step, S[i - 1], E[i - 1], cnt[i - 1], D[i - 1], xa, Ss[0], Es[0], cs[0],
+                          Ds[0], xa + h, Ss[1], Es[1], cs[1], roots, m, out, mid)
+            if i + 2 <= n:
+                m = _seam(kind, H, P, C, xa + step - h, Ss[SUB_N - 1], Es[SUB_N - 1], cs[SUB_N - 1], Ds[SUB_N - 1],
+                          xa + step, S[i + 1], E[i + 1], cnt[i + 1], D[i + 1], xa + 2.0 * step, S[i + 2], E[i + 2],
+                          cnt[i + 2], roots, m, out, mid)
         else:
             m = _pair(kind, H, P, C, xa, S[i], E[i], cnt[i], xa + step, S[i + 1], E[i + 1], cnt[i + 1], D[i], roots,
                       m, out, pp, wk)
@@ -769,7 +821,7 @@ def _search(kind, H, P, C, n, roots):
 
 KERNELS = ("_eval_ti", "_point5", "_eval_tp", "_eval_sw", "_eval_sm", "_eval", "_margin", "_island",
            "_rim", "_adist", "_nearest", "_pick", "_refine", "_add", "_dip", "_settled", "_edge", "_dists", "_near",
-           "_pair", "_islands", "_ambiguous", "_match", "_extrema", "_scan", "_search")
+           "_pair", "_islands", "_ambiguous", "_match", "_dip_roots", "_extrema", "_seam", "_scan", "_search")
 """The functions :func:`kernels` compiles, callees before callers (the scalar helpers: :mod:`._kernels`)."""
 _KERNELS: Optional[types.SimpleNamespace] = None
 
