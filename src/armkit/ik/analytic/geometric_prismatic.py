@@ -450,7 +450,10 @@ def _trig_roots(k: Array) -> tuple[list[float], float]:
         # the quadratic part is kcc (cos² + sin²) = kcc (a SCARA's slide along its turns): kc cos θ + ks sin θ =
         # -(k0 + kcc), at most two roots in closed form (SP4's equation), no quartic
         ts, count, ls = _trig1(kc, ks, -(k0 + kcc), size)
-        return ([] if ls else [float(t) for t in ts[:count]]), float(ts[0])
+        # a root is a zero to 1e-9 of |k|, as the quartic's polished roots below (SP4's equation takes 1e-8: a
+        # near-tangent line 1e-8 short of the circle gave a "root" the quartic path does not)
+        roots1 = [] if ls else [float(t) for t in ts[:count] if abs(_trig_value(k, float(t))[0]) <= 1e-9 * size]
+        return roots1, float(ts[0])
     roots = _quartic_roots(k0 - kc + kcc, 2.0 * ks - 2.0 * kcs, 2.0 * k0 - 2.0 * kcc + 4.0 * kss,
                            2.0 * ks + 2.0 * kcs, k0 + kc + kcc)
     cands = [(2.0 * math.atan(r.real), abs(r.imag) <= 1e-5 * (1.0 + abs(r))) for r in roots]
@@ -465,10 +468,11 @@ def _trig_roots(k: Array) -> tuple[list[float], float]:
             continue
         for _ in range(6):
             f, df = _trig_value(k, t)
-            if df == 0.0 or abs(f / df) > 0.5:
+            if df == 0.0 or abs(f) > 0.5 * abs(df):   # a step over 0.5 rad (compared so that f / df cannot overflow)
                 break
-            t -= f / df
-            if abs(f / df) < 1e-16:
+            step = f / df
+            t -= step
+            if abs(step) < 1e-16:
                 break
         f, _ = _trig_value(k, t)
         if abs(f) > 1e-9 * size:
