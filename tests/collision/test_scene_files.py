@@ -70,6 +70,9 @@ def test_scene_file_builds_every_shape(tmp_path):
     ('[[shapes]]\ntype = "box"\ncenter = [0, 0, 0]\nsize = [1, 1, 1]\ncolour = "red"\n', "scene.toml:5: shapes[1].colour"),
     ('unit = "inch"\n', "scene.toml:1: unit"),
     ('[[shapes]]\ntype = "sphere"\ncenter = [0, 0, "x"]\nradius = 1\n', "scene.toml:3: shapes[1].center"),
+    # TOML integers have any size: one beyond the float range raised OverflowError (a fuzz run's traceback)
+    ('[[shapes]]\ntype = "sphere"\ncenter = [0, 0, 1' + "0" * 400 + ']\nradius = 1\n', "scene.toml:3: shapes[1].center"),
+    ('[[shapes]]\ntype = "sphere"\ncenter = [0, 0, 0]\nradius = 1' + "0" * 400 + '\n', "scene.toml:4: shapes[1].radius"),
     ('shapes = 3\n', "scene.toml:1: shapes"),
     ('[[shapes]\n', "scene.toml:1: not valid TOML"),
 ])
@@ -144,6 +147,7 @@ def test_robot_file_collision_keys(tmp_path):
     (('type = "box"', 'type = "plane"'), "two.toml:16: body[1].center: unknown key for a plane"),
     (('size = [0.4, 0.4, 0.5]', 'size = [0.4, 0.4]'), "two.toml:17: body[1].size"),
     (('offset = -0.5', 'offset = "low"'), "two.toml:23: scene[1].offset"),
+    (("link_radius = 0.05", "link_radius = 1" + "0" * 400), "two.toml:3: link_radius"),     # beyond the float range
 ])
 def test_robot_file_collision_errors(tmp_path, change, where):
     path = tmp_path / "two.toml"

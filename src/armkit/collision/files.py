@@ -110,6 +110,18 @@ def shape_from_table(row: Any, where: str, fail: Callable[..., Exception], angle
     return shape, {k: row[k] for k in extra if k in row}
 
 
+def finite_number(v: object) -> bool:
+    """Whether a value read from a file is a number armkit can use: an int or float (not a bool), finite as a float.
+    TOML integers have any size; one beyond the float range is not finite (``math.isfinite`` raised OverflowError on
+    it: a fuzzed scene file's traceback)."""
+    if isinstance(v, bool) or not isinstance(v, (int, float)):
+        return False
+    try:
+        return math.isfinite(v)
+    except OverflowError:
+        return False
+
+
 class _Fields:
     """One file table as a kind's ``read`` sees it (:class:`armkit.collision.shapes.Fields`): every malformed or
     missing key raises the file's error naming it."""
@@ -123,7 +135,7 @@ class _Fields:
         v = self.row.get(key, default)
         if v is None:
             raise self.fail("a {kind} needs {entry} = <number>", f"{self.where}.{key}", key, kind=self.kind, entry=key)
-        if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+        if not finite_number(v):
             raise self.fail("must be a finite number, got {got}", f"{self.where}.{key}", key, got=repr(v))
         return float(v)
 
@@ -131,8 +143,7 @@ class _Fields:
         v = self.row.get(key, default)
         if v is None:
             raise self.fail("a {kind} needs {entry} = [x, y, z]", f"{self.where}.{key}", key, kind=self.kind, entry=key)
-        if not isinstance(v, list) or len(v) != 3 or any(
-                isinstance(x, bool) or not isinstance(x, (int, float)) or not math.isfinite(x) for x in v):
+        if not isinstance(v, list) or len(v) != 3 or not all(finite_number(x) for x in v):
             raise self.fail("must be a list of 3 finite numbers, got {got!r}", f"{self.where}.{key}", key, got=v)
         return [float(x) for x in v]
 

@@ -32,7 +32,7 @@ from typing import Any
 
 from ..errors import RobotFileError
 from ..model.robot import Robot
-from .files import MAX_SHAPES, block_line, mesh_lookup, shape_from_table
+from .files import MAX_SHAPES, block_line, finite_number, mesh_lookup, shape_from_table
 from .geometry import RobotCollision
 from .shapes import KIND_TABLE
 
@@ -51,7 +51,7 @@ def attach(robot: Robot, data: dict, text: str, path: str, allow_outside: bool =
         return next((i + 1 for i, ln in enumerate(lines) if re.match(rf"\s*{re.escape(key)}\s*=", ln)), None)
 
     def finite_radius(v: Any, field: str, line: int | None) -> float:
-        if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) or v < 0:
+        if not finite_number(v) or v < 0:
             raise RobotFileError(path, "must be a finite number >= 0 (a radius in {unit}), got {got!r}", line,
                                  field, unit=robot.unit, got=v)
         return float(v)
