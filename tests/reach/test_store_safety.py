@@ -321,3 +321,11 @@ def test_a_name_the_system_cannot_look_up_is_no_map(tmp_path: Path, name: str) -
     for a missing one, not the OSError or ValueError of the lookup."""
     with pytest.raises(MapFileError, match="no reachability map at"):
         ReachabilityMap.open(str(tmp_path / name))
+
+
+def test_a_broken_symbolic_link_is_no_map(tmp_path: Path) -> None:
+    """A link to nothing is "no reachability map", as before the lookup above was guarded (not "is a file")."""
+    link = tmp_path / "gone.zarr"
+    link.symlink_to(tmp_path / "nothing")
+    with pytest.raises(MapFileError, match="no reachability map at"):
+        ReachabilityMap.open(str(link))

@@ -88,10 +88,10 @@ def read_attrs(path: str | os.PathLike[str], *, complete: bool = True) -> dict[s
     p = Path(path)
     shown = os.fspath(path)
     try:
-        folder = p.is_dir()
+        exists, folder = p.exists(), p.is_dir()
     except (OSError, ValueError):     # a name the system cannot look up (too long: ENAMETOOLONG; a NUL byte)
-        folder = None
-    if folder is None or not (folder or os.path.lexists(p)):
+        exists = folder = False
+    if not exists:
         raise MapFileError.of("no reachability map at {shown!r}", shown=shown)
     if not folder:
         raise MapFileError.of("{shown!r} is a file; a reachability map is a folder (a Zarr store)", shown=shown)
