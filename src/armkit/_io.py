@@ -39,18 +39,18 @@ from .errors import WriteError, WriteInterrupted
 __all__ = ["atomic_path", "atomic_write", "check_writable", "clean_stale"]
 
 
+N_ = str   # armkit.locale.N_, the catalogue's mark (pybabel -k N_), without importing the locale here
+OS_REASONS = {errno.ENAMETOOLONG: N_("the name is too long"), errno.EACCES: N_("permission denied"),
+              errno.EPERM: N_("permission denied"), errno.ENOENT: N_("no such file or folder"),
+              errno.ENOTDIR: N_("a part of the folder path is a file, not a folder"), errno.EISDIR: N_("it is a folder"),
+              errno.EROFS: N_("the file system is read-only"), errno.ENOSPC: N_("no space left on the device"),
+              errno.ELOOP: N_("too many symbolic links"), errno.EEXIST: N_("it exists already")}
+"""armkit's words for the OS errors it meets most, in English: the reasons of :class:`WriteError`, and of the command
+line's one-line OS errors in the current language (:func:`armkit.cli.common.os_reason`). Others keep the system's."""
+
+
 def _reason(exc: OSError) -> str:
-    if exc.errno == errno.ENOTDIR:
-        return "a part of the folder path is a file, not a folder"
-    if exc.errno == errno.EISDIR:
-        return "it is a folder"
-    if exc.errno in (errno.EACCES, errno.EPERM):
-        return "permission denied"
-    if exc.errno == errno.EROFS:
-        return "the file system is read-only"
-    if exc.errno == errno.ENOSPC:
-        return "no space left on the device"
-    return exc.strerror or str(exc)
+    return OS_REASONS.get(exc.errno or 0) or exc.strerror or str(exc)
 
 
 def check_writable(path: str | os.PathLike[str], suffixes: Optional[Sequence[str]] = None,

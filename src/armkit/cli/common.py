@@ -60,19 +60,12 @@ EXIT_OK, EXIT_FAILED, EXIT_BAD_INPUT = 0, 1, 2
 NUMERIC_ARGS = {"ignore_unknown_options": True, "allow_extra_args": False}
 
 
-_OS_REASONS = {"ENAMETOOLONG": N_("the name is too long"), "EACCES": N_("permission denied"),
-               "EPERM": N_("permission denied"), "ENOENT": N_("no such file or folder"),
-               "ENOTDIR": N_("a part of the folder path is a file, not a folder"), "EISDIR": N_("it is a folder"),
-               "EROFS": N_("the file system is read-only"), "ENOSPC": N_("no space left on the device"),
-               "ELOOP": N_("too many symbolic links"), "EEXIST": N_("it exists already")}
-
-
 def os_reason(exc: OSError) -> str:
-    """Why the system refused, in the current language for the errors armkit names (the system's own words for
-    the others)."""
-    import errno
+    """Why the system refused, in the current language for the errors armkit words itself
+    (:data:`armkit._io.OS_REASONS`), in the system's own words for the others."""
+    from .._io import OS_REASONS
 
-    key = _OS_REASONS.get(errno.errorcode.get(exc.errno or 0, ""))
+    key = OS_REASONS.get(exc.errno or 0)
     return _(key) if key else (exc.strerror or type(exc).__name__)
 
 
