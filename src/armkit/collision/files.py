@@ -35,6 +35,7 @@ from pathlib import Path
 from typing import Any, Callable
 
 from ..errors import SceneFileError
+from ..model.files import finite_number
 from .shapes import KIND_TABLE, Scene, SceneError, Shape
 
 if sys.version_info >= (3, 11):
@@ -108,18 +109,6 @@ def shape_from_table(row: Any, where: str, fail: Callable[..., Exception], angle
         key = next((k for k in ("size", "radius", "length", "normal", "offset") if k in str(exc)), None)
         raise _refail(fail, exc, f"{where}.{key}" if key else where, key) from None
     return shape, {k: row[k] for k in extra if k in row}
-
-
-def finite_number(v: object) -> bool:
-    """Whether a value read from a file is a number armkit can use: an int or float (not a bool), finite as a float.
-    TOML integers have any size; one beyond the float range is not finite (``math.isfinite`` raised OverflowError on
-    it: a fuzzed scene file's traceback)."""
-    if isinstance(v, bool) or not isinstance(v, (int, float)):
-        return False
-    try:
-        return math.isfinite(v)
-    except OverflowError:
-        return False
 
 
 class _Fields:

@@ -32,7 +32,8 @@ from typing import Any
 
 from ..errors import RobotFileError
 from ..model.robot import Robot
-from .files import MAX_SHAPES, block_line, finite_number, mesh_lookup, shape_from_table
+from ..model.files import finite_number
+from .files import MAX_SHAPES, block_line, mesh_lookup, shape_from_table
 from .geometry import RobotCollision
 from .shapes import KIND_TABLE
 

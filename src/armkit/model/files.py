@@ -100,14 +100,21 @@ class _Locator:
         return lo + 1 if joint is not None else None
 
 
+def finite_number(value: object) -> bool:
+    """Whether a value read from a file is a number armkit can use: an int or float (not a bool), finite, an integer
+    within the float range (TOML integers have any size; ``math.isfinite`` raises OverflowError beyond it). The rule
+    of robot files and of scene files (:mod:`armkit.collision.files`)."""
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        return False
+    if isinstance(value, int):
+        return abs(value) <= 2 ** 1023
+    return math.isfinite(value)
+
+
 def _number(value: Any, path: str, loc: _Locator, key: str, field: str, joint: int | None = None,
             table: str | None = None, infinite: bool = False) -> float:
     """A finite float (``infinite``: +-inf allowed too, for limits); integers beyond float range refused."""
-    ok = not isinstance(value, bool) and isinstance(value, (int, float))
-    if ok and isinstance(value, int) and abs(value) > 2 ** 1023:
-        ok = False
-    if ok and not (math.isfinite(value) or (infinite and not math.isnan(value))):
-        ok = False
+    ok = finite_number(value) or (infinite and isinstance(value, float) and math.isinf(value))
     if not ok:
         shown = repr(value)
         raise RobotFileError(path, "must be a number (inf allowed), got {got}" if infinite else
