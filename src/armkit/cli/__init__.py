@@ -123,8 +123,8 @@ class _ArmkitGroup(TyperGroup):
             say(_("error:"), "bold red", f"{what} ({type(exc).__name__}: {exc})")
             raise SystemExit(EXIT_BAD_INPUT) from None
         except OSError as exc:
-            # a path the system refuses that no command's own check caught (a name too long, a NUL byte's kin, a
-            # device error): the user's input, said in one line, exit 2; a closed output pipe is not an error
+            # a path the system refuses that no command's own check caught (a name too long, a device error): the
+            # user's input, said in one line, exit 2; a closed output pipe is not an error
             if isinstance(exc, BrokenPipeError):
                 raise
             from .common import EXIT_BAD_INPUT, _, os_reason, say
