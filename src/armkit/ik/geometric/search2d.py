@@ -29,10 +29,14 @@ can be missed when another lies within about one grid step of it in (q1, q2) on 
 zeros of e in one cell: their windings cancel and Newton from there finds one of them). On random
 arms that happened for 1 target in 120 (tests/ik/geometric/test_search2d.py); a finer grid
 (``samples=``) shrinks it. Since the real solutions of a general 6R come in pairs, an odd count says
-that one is missing: Newton steps then start from each solution found a little way along the direction
-in which the Jacobian is nearest singular (where such a twin lies), until the count is even
-(:func:`_twins`). benchmarks/bench_coverage.py's dense check (Levenberg-Marquardt from 200 random
-starts per target) found 3 missing of 2,158 on 500 random arms before this step.
+that one is missing: Newton steps then start from each solution found, 0.002 to 1 rad along the
+direction in which the Jacobian is nearest singular (where such a twin lies), until the count is even
+(:func:`_twins`); if it is still odd, a grid twice as fine is searched too, and its solutions merged.
+benchmarks/bench_coverage.py's dense check (Levenberg-Marquardt from 200 random starts per target)
+found 3 missing of 2,158 on 500 random arms before the Newton steps, and 2 of 2,192 with steps up to
+0.2 rad and no finer grid (one twin lay 0.44 rad away; another target had a pair and a twin within a
+cell of others). Odd counts on random targets, each on its own random arm: 10 of 3,000 before, 0 of
+3,000 and 0 of 5,000 (other seeds) since (2026-12-05).
 
 **Cost.** For a row of the grid (q1 held) the target's vectors are turned by ``R_01ᵀ`` once; each point
 turns them by ``R_12ᵀ``, solves its (q3, q4, q5) problem without temporary arrays and keeps, per branch,
@@ -566,37 +570,28 @@ def _newton(H, P, RnT, Rt, pt, scale, q):
     return err
 
 
-def _search(H, P, RnT, R, p, samples, tol, Qout, errs):
-    """The whole search for one target ``(R, p)``: verified solutions into ``Qout (MAXSOL, 6)``. Returns
-    ``(solutions, candidates)``; ``errs[0]`` gets the least error reached when there is no solution, and
-    ``Qout[0]`` that configuration (a least-squares answer)."""
-    R06 = np.empty((3, 3))
-    for r in range(3):
-        for c in range(3):
-            R06[r, c] = R[r, 0] * RnT[c, 0] + R[r, 1] * RnT[c, 1] + R[r, 2] * RnT[c, 2]
+def _pass(H, P, RnT, R, R06, p, samples, tol, scale, Qout, m, best, bestq):
+    """One grid of ``samples`` × ``samples`` for the target ``(R, p)`` (``R06`` its orientation times ``R_6T``ᵀ):
+    every candidate polished by Newton steps, and those that meet ``tol`` added to ``Qout[:m]`` (duplicates
+    merged). Returns ``(new count, candidates)``; while no solution is known, ``best[0]`` and ``bestq`` keep the
+    least error reached and its configuration (a least-squares answer)."""
     Q = np.empty((samples, samples, 4, 3))          # only the first C[i, j] branches of a point are written and read
     E = np.empty((samples, samples, 4, 5))
     C = np.zeros((samples, samples), dtype=np.int64)
     _grid(H, P, R06, p, samples, Q, E, C)
     cand = np.zeros((MAXCAND, 5))
     nc = _candidates(Q, E, C, samples, cand)
-    scale = 0.0
-    for k in range(7):
-        scale += _norm(P[k])
-    scale = max(scale, 1e-12)
     q = np.empty(6)
-    m = 0
-    best = 1e300
-    bestq = np.zeros(6)
+    x = _cross(H[5], H[4])
+    x = x / _norm(x)
+    y0 = np.empty(3)
+    for r in range(3):
+        y0[r] = R06[r, 0] * x[0] + R06[r, 1] * x[1] + R06[r, 2] * x[2]
     for c in range(nc):
         for k in range(5):
             q[k] = cand[c, k]
         # q6 from the target's orientation (SP1 about h6 on a vector across it)
-        x = _cross(H[5], H[4])
-        x = x / _norm(x)
-        y = np.empty(3)
-        for r in range(3):
-            y[r] = R06[r, 0] * x[0] + R06[r, 1] * x[1] + R06[r, 2] * x[2]
+        y = y0.copy()
         for k in range(5):               # R_05ᵀ R_06 x
             y = rot(H[k], -q[k], y)
         yp = y - H[5] * _dot(H[5], y)
@@ -606,13 +601,40 @@ def _search(H, P, RnT, R, p, samples, tol, Qout, errs):
             q[k] = _wrap(q[k])
         if err <= tol:
             m = _add_row(Qout, m, q, 1e-7)
-        elif m == 0 and err < best:
-            best = err
+        elif m == 0 and err < best[0]:
+            best[0] = err
             bestq[:] = q
+    return m, nc
+
+
+def _search(H, P, RnT, R, p, samples, tol, Qout, errs):
+    """The whole search for one target ``(R, p)``: verified solutions into ``Qout (MAXSOL, 6)``. Returns
+    ``(solutions, candidates)``; ``errs[0]`` gets the least error reached when there is no solution, and
+    ``Qout[0]`` that configuration (a least-squares answer).
+
+    An odd count means a solution is missing (a general 6R's real solutions come in pairs): first Newton steps
+    from the solutions found (:func:`_twins`), then, if the count is still odd, a grid twice as fine (each cell a
+    quarter of the size) and its twins, all merged."""
+    R06 = np.empty((3, 3))
+    for r in range(3):
+        for c in range(3):
+            R06[r, c] = R[r, 0] * RnT[c, 0] + R[r, 1] * RnT[c, 1] + R[r, 2] * RnT[c, 2]
+    scale = 0.0
+    for k in range(7):
+        scale += _norm(P[k])
+    scale = max(scale, 1e-12)
+    best = np.full(1, 1e300)
+    bestq = np.zeros(6)
+    m, nc = _pass(H, P, RnT, R, R06, p, samples, tol, scale, Qout, 0, best, bestq)
     if m % 2 == 1:
         m = _twins(H, P, RnT, R, p, scale, tol, Qout, m)
+    if m % 2 == 1:
+        m, nc2 = _pass(H, P, RnT, R, R06, p, 2 * samples, tol, scale, Qout, m, best, bestq)
+        nc += nc2
+        if m % 2 == 1:
+            m = _twins(H, P, RnT, R, p, scale, tol, Qout, m)
     if m == 0:
-        errs[0] = best
+        errs[0] = best[0]
         if nc:
             for k in range(6):
                 Qout[0, k] = bestq[k]
@@ -624,7 +646,7 @@ def _twins(H, P, RnT, R, p, scale, tol, Qout, m):
     solutions are complex and come in conjugate pairs), most likely the twin of a solution found, which lay within
     a grid cell of it (the two windings cancel, and Newton from the cell finds one). So from each solution found,
     Newton steps start a little way along the direction in which the chain's Jacobian is nearest singular (its
-    smallest singular vector, by inverse iteration), both ways, at distances 0.002-0.2 rad, until a new solution
+    smallest singular vector, by inverse iteration), both ways, at distances 0.002-1 rad, until a new solution
     makes the count even. Returns the new count (unchanged if none is found: a target on a singularity can have
     an odd count of distinct solutions)."""
     J = np.empty((6, 6))
@@ -662,7 +684,7 @@ def _twins(H, P, RnT, R, p, scale, tol, Qout, m):
                 break
             for r in range(6):
                 v[r] = w[r] / n
-        for step in (0.002, 0.006, 0.02, 0.06, 0.2):
+        for step in (0.002, 0.006, 0.02, 0.06, 0.2, 0.4, 0.7, 1.0):
             for sign in (1.0, -1.0):
                 for k in range(6):
                     q[k] = Qout[o, k] + sign * step * v[k]
@@ -677,7 +699,8 @@ def _twins(H, P, RnT, R, p, scale, tol, Qout, m):
 
 
 KERNELS = ("_lin2", "_arm", "_reject", "_branches", "_q345", "_grid",
-           "_adiff", "_near", "_halves", "_candidates", "_fkj", "_err", "_solve6", "_newton", "_twins", "_search")
+           "_adiff", "_near", "_halves", "_candidates", "_fkj", "_err", "_solve6", "_newton", "_pass", "_twins",
+           "_search")
 _KERNELS: Optional[types.SimpleNamespace] = None
 
 
