@@ -22,6 +22,8 @@ from typing import Optional, Sequence
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from .._limits import CHUNK, check_memory
+from .._text import Fielded
 from ..errors import ArgumentError, ShapeError
 from ..kinematics import fk
 from ..model.robot import Robot
@@ -119,15 +121,26 @@ def fk_maps(robot: Robot, q1_grid: ArrayLike, q2_grid: ArrayLike, q_rest: ArrayL
     rest = np.zeros(robot.n) if q_rest is None else robot.check_q(q_rest, "q_rest")
     if rest.shape != (robot.n,):
         raise ShapeError.of("q_rest must have shape ({n},), got {shape}", n=robot.n, shape=rest.shape)
-    Q = np.broadcast_to(rest, (len(g1), len(g2), robot.n)).copy()
-    Q[..., j[0]] = g1[:, None]
-    Q[..., j[1]] = g2[None, :]
-    p = fk(robot, Q)[..., :3, 3]
-    return FKMaps(robot, j, g1, g2, p[..., 0].copy(), p[..., 1].copy(), p[..., 2].copy(), rest)
+    A, B = len(g1), len(g2)
+    check_memory(A * B * 8.0 * 6, Fielded.of("FK maps over {a} x {b} joint values", a=A, b=B),
+                 Fielded.of("use a coarser grid"))
+    xyz = np.empty((3, A, B))
+    rows = max(1, CHUNK // B)            # a few rows of the grid at a time: the chunk's FK, not the grid's, is held
+    for i in range(0, A, rows):
+        Q = np.broadcast_to(rest, (len(g1[i:i + rows]), B, robot.n)).copy()
+        Q[..., j[0]] = g1[i:i + rows, None]
+        Q[..., j[1]] = g2[None, :]
+        p = fk(robot, Q)[..., :3, 3]
+        xyz[:, i:i + rows] = np.moveaxis(p, -1, 0)
+    return FKMaps(robot, j, g1, g2, xyz[0], xyz[1], xyz[2], rest)
 
 
 ELBOW_JOINT = {"planar-2r": 1, "planar-3r": 1}
 """Closed-form families whose branches :func:`ik_maps` names by the sign of one joint (0-based index)."""
+
+
+IK_CHUNK = 20_000
+"""Targets per ``ik_all`` call of :func:`ik_maps` (a few rows of the grid at a time)."""
 
 
 def _default_height(robot: Robot) -> float:
@@ -176,39 +189,48 @@ def ik_maps(robot: Robot, x_grid: ArrayLike, y_grid: ArrayLike, z: float | None 
     from .workspace import is_planar, shoulder_point
 
     gx, gy = _grid(x_grid, "x_grid"), _grid(y_grid, "y_grid")
-    X, Y = np.meshgrid(gx, gy, indexing="ij")
-    if is_planar(robot):
-        target = np.stack([X, Y], axis=-1)
-        zval = None
-    else:
-        zval = _default_height(robot) if z is None else float(z)
-        target = np.stack([X, Y, np.full_like(X, zval)], axis=-1)
-    res = ik_all(robot, target, phi=phi) if phi is not None else ik_all(robot, target)
-    labels = np.asarray(res.branch).astype(str)
-    qa = np.asarray(res.q, dtype=float)
-    sa = np.asarray(res.success, dtype=bool)
+    A, B = len(gx), len(gy)
+    planar = is_planar(robot)
+    zval = None if planar else (_default_height(robot) if z is None else float(z))
     elbow = ELBOW_JOINT.get(closed_form_family(robot) or "") if continuous else None
-    if elbow is not None and labels.shape[-1] == 2:
-        labels = _sign_labels(qa[..., elbow], robot.joint_names[elbow] if robot.joint_names[elbow].startswith("q")
-                              else f"q{elbow + 1}")
-    # ik_all sorts the branches of each target by distance to q0; put them in one fixed order by label
+    # a few rows of the target grid at a time (IK_CHUNK targets): ik_all's result for the whole grid (labels, errors,
+    # reasons of every branch: ~1.6-3.4 kB a target) is never held, only each branch's joint values
+    rows = max(1, IK_CHUNK // B)
+    maps: dict[str, tuple[Array, NDArray[np.bool_]]] = {}     # label -> (its q (A, B, n), reached (A, B))
+    first: list[str] = []
+    for i in range(0, A, rows):
+        X, Y = np.meshgrid(gx[i:i + rows], gy, indexing="ij")
+        target = np.stack([X, Y] if planar else [X, Y, np.full_like(X, zval)], axis=-1)
+        res = ik_all(robot, target, phi=phi) if phi is not None else ik_all(robot, target)
+        labels = np.asarray(res.branch).astype(str)
+        qa = np.asarray(res.q, dtype=float)
+        sa = np.asarray(res.success, dtype=bool)
+        if elbow is not None and labels.shape[-1] == 2:
+            labels = _sign_labels(qa[..., elbow], robot.joint_names[elbow] if robot.joint_names[elbow].startswith("q")
+                                  else f"q{elbow + 1}")
+        if i == 0:
+            first = [str(lab) for lab in labels.reshape(-1, labels.shape[-1])[0]]
+            check_memory(A * B * 8.0 * (robot.n + 1) * 2 * max(labels.shape[-1], 1),
+                         Fielded.of("IK maps over {a} x {b} targets", a=A, b=B), Fielded.of("use a coarser grid"))
+        for lab in np.unique(labels):
+            if lab not in maps:
+                maps[str(lab)] = (np.full((A, B, robot.n), np.nan), np.zeros((A, B), dtype=bool))
+            qm, okm = maps[str(lab)]
+            hit = labels == lab                               # (rows, B, m): at most one True per target
+            has = hit.any(axis=-1)
+            idx = np.argmax(hit, axis=-1)
+            qb = np.take_along_axis(qa, idx[..., None, None], axis=-2)[..., 0, :]
+            sb = np.take_along_axis(sa, idx[..., None], axis=-1)[..., 0] & has
+            okm[i:i + rows] = sb
+            qm[i:i + rows] = np.where(sb[..., None], qb, np.nan)
+    # ik_all sorts the branches of each target by distance to q0; put them in one fixed order by label: the first
+    # target's, then the others by name
     order: list[str] = []
-    for lab in labels.reshape(-1, labels.shape[-1])[0]:
+    for lab in first + sorted(maps):
         if lab not in order:
-            order.append(str(lab))
-    for lab in np.unique(labels):
-        if lab not in order:
-            order.append(str(lab))
-    q = np.full(X.shape + (len(order), robot.n), np.nan)
-    ok = np.zeros(X.shape + (len(order),), dtype=bool)
-    for b, lab in enumerate(order):
-        hit = labels == lab                                   # (A, B, m): at most one True per target
-        has = hit.any(axis=-1)
-        idx = np.argmax(hit, axis=-1)
-        qb = np.take_along_axis(qa, idx[..., None, None], axis=-2)[..., 0, :]
-        sb = np.take_along_axis(sa, idx[..., None], axis=-1)[..., 0] & has
-        ok[..., b] = sb
-        q[..., b, :] = np.where(sb[..., None], qb, np.nan)
+            order.append(lab)
+    q = np.stack([maps[lab][0] for lab in order], axis=2)
+    ok = np.stack([maps[lab][1] for lab in order], axis=2)
     return IKMaps(robot, gx, gy, zval, q, tuple(order), ok)
 
 

@@ -15,6 +15,8 @@ from .common import (EXIT_FAILED, NUMERIC_ARGS, console, esc, fail, get_robot, p
 from .common import N_, _, current_language  # noqa: E402
 from .common import Deg, JsonOut, Lang, NoScene, Picture, RobotArg, Seed, Strict, check_lang  # noqa: E402  (the shared options)
 from ..locale.library import localize  # noqa: E402
+from .._limits import check_memory  # noqa: E402
+from .._text import Fielded  # noqa: E402
 
 from .ik import _explain  # noqa: E402
 
@@ -300,8 +302,7 @@ def maps(robot: RobotArg,
             grids.append(np.linspace(lo, hi, steps))
         else:
             grids.append(_range(text, what, scale, steps))
-    fm = fk_maps(r, grids[0], grids[1], joints=jj)
-    im = None
+    ik_grid = None
     if not no_ik:
         from ..ik import closed_form_family
         from ..ik.analytic.held import position_solver
@@ -315,12 +316,26 @@ def maps(robot: RobotArg,
             gx = _range(x if x is not None else span[0], "--x", 1.0, steps)
             gy = _range(y if y is not None else span[1], "--y", 1.0, steps)
             needs_phi = closed_form_family(r) == "planar-3r"
-            by_sign = _old_branch_name(branch)
-            im = ik_maps(r, gx, gy, z=z, phi=math.radians(phi) if needs_phi else None, continuous=by_sign)
-            if branch is not None:
-                im = _one_branch(im, branch)
+            ik_kw: dict[str, Any] = dict(z=z, phi=math.radians(phi) if needs_phi else None,
+                                         continuous=_old_branch_name(branch))
+            ik_grid = (gx, gy, ik_kw)
     elif branch is not None:
         fail(_("--branch is for the IK maps; drop --no-ik"))
+    # before any map is computed: matplotlib's filled contours hold about 80 bytes a grid point of each panel
+    # (measured: the fighter's 15 panels of 1001 x 1001 points peaked at 1.3 GB); the maps themselves are computed
+    # in bounded chunks (armkit.analysis.maps)
+    points = len(grids[0]) * len(grids[1]) * 3
+    if ik_grid is not None:   # the IK panels: one per branch and joint (the branches counted on one target)
+        probe = ik_maps(r, ik_grid[0][:1], ik_grid[1][:1], **ik_grid[2])
+        points += len(ik_grid[0]) * len(ik_grid[1]) * probe.q.shape[-2] * probe.q.shape[-1]
+    check_memory(80.0 * points, Fielded.of("pictures of {points:,} map points", points=points),
+                 Fielded.of("use fewer --steps or a larger :step"))
+    fm = fk_maps(r, grids[0], grids[1], joints=jj)
+    im = None
+    if ik_grid is not None:
+        im = ik_maps(r, ik_grid[0], ik_grid[1], **ik_grid[2])
+        if branch is not None:
+            im = _one_branch(im, branch)
     path = save_figure(plot_maps(fm, im), out)
     console.print(_("wrote {path}", path=esc(path)))
 
