@@ -62,3 +62,21 @@ def test_singular_fighter_names_the_sets(tmp_path):
     res = runner.invoke(app, ["singular", "planar2", "--json", "-o", str(tmp_path / "m.png")])
     data = json.loads(res.output)
     assert data["determinant"] == "a1*a2*sin(q2)" and (tmp_path / "m.png").exists()
+
+
+def test_singular_stops_at_its_budget_with_exit_2(monkeypatch):
+    """`armkit singular so101` ran for more than 15 minutes without a word (a CAD export's offsets); with --budget
+    (CPU seconds for the derivation and for the determinant) it stops and says why, in Korean too, exit 2; the
+    budget's own rule is derive's (a number of seconds >= 0)."""
+    monkeypatch.setenv("ARMKIT_CACHE_DIR", str(__import__("tempfile").mkdtemp()))
+    res = runner.invoke(app, ["singular", "so101", "--budget", "1"])
+    assert res.exit_code == 2, res.output
+    assert "not factored within 1 s of CPU time" in res.output and "--budget" in res.output
+    assert "Traceback" not in res.output
+    res = runner.invoke(app, ["singular", "so101", "--budget", "1", "--lang", "ko"])
+    assert res.exit_code == 2 and "인수분해하지 못했습니다" in res.output
+    for bad in ("-1", "inf", "nan"):
+        res = runner.invoke(app, ["singular", "planar2", "--budget", bad])
+        assert res.exit_code == 2 and "--budget must be a number of seconds >= 0" in res.output, res.output
+    res = runner.invoke(app, ["singular", "planar2", "--budget", "0"])          # 0: no limit
+    assert res.exit_code == 0 and "= a1*a2*s2" in res.output, res.output

@@ -117,3 +117,30 @@ def test_manipulability_plot(tmp_path, results):
     assert out.stat().st_size > 1000 and fig.axes
     with pytest.raises(armkit.ArmkitError, match="revolute joints"):
         plot_manipulability(armkit.load("planar2"), None, joints=(1, 5))
+
+
+def test_a_determinant_past_its_budget_is_said_not_waited_for():
+    """The SO-101's URDF (a CAD export: offsets such as 1.3e-11 rad off pi/2 and 0.0276 rad) kept sympy busy for
+    more than 15 minutes (measured) before the budget covered the determinant and its factoring. With 1 s each for
+    the derivation and the determinant, the analysis stops with a LimitError that names the budget and the way on;
+    a budget that is not a positive number of seconds is refused."""
+    from armkit.errors import ArgumentError, LimitError
+    from armkit.symbolic import derive
+
+    so101 = armkit.load("so101")
+    d = derive(so101, cache=False, simplify_budget=1.0)
+    with pytest.raises(LimitError, match=r"'so101' was not factored within 1 s of CPU time.*armkit.manipulability"):
+        analyze_singularities(so101, d, budget=1.0)
+    for bad in (0, -1.0, float("nan")):
+        with pytest.raises(ArgumentError, match="budget must be a number of CPU seconds"):
+            analyze_singularities(so101, d, budget=bad)
+
+
+def test_the_budget_leaves_the_round_arms_alone():
+    """A budget does not change an answer that fits in it: planar2's determinant with the default budget and with
+    none is the hand derivation a1*a2*sin(q2)."""
+    r = armkit.load("planar2")
+    a1, a2, q2 = sp.symbols("a1 a2 q2", real=True)
+    for budget in (60.0, None):
+        det = analyze_singularities(r, budget=budget).determinant
+        assert sp.simplify(det - a1 * a2 * sp.sin(q2)) == 0

@@ -398,8 +398,14 @@ def _zero_set(f_num: Any, robot: Robot, joints: tuple[int, ...], rng: np.random.
     return np.array(out).reshape(-1, robot.n)
 
 
+SYMBOLIC_BUDGET = 60.0
+"""CPU seconds :func:`analyze_singularities` gives the determinant and its factoring (the derivation has its own
+budget, :data:`armkit.symbolic.derive.SIMPLIFY_BUDGET`)."""
+
+
 def analyze_singularities(robot: Robot, derivation: Any = None, samples: int = 4,
-                          rng: np.random.Generator | int | None = 0) -> SingularityAnalysis:
+                          rng: np.random.Generator | int | None = 0,
+                          budget: float | None = SYMBOLIC_BUDGET) -> SingularityAnalysis:
     """Factor the Jacobian determinant of ``robot`` and name the singular configurations.
 
     Parameters
@@ -410,6 +416,10 @@ def analyze_singularities(robot: Robot, derivation: Any = None, samples: int = 4
     samples : int
         Configurations per factor used for the numeric check.
     rng : Generator or int, optional
+    budget : float or None
+        CPU seconds for the determinant and its factoring (default :data:`SYMBOLIC_BUDGET`; None: no bound).
+        An arm whose DH offsets and twists are not round numbers (a CAD export such as the SO-101's URDF)
+        can keep sympy busy far longer: past the budget, :class:`~armkit.errors.LimitError` says so.
 
     Returns
     -------
@@ -420,6 +430,8 @@ def analyze_singularities(robot: Robot, derivation: Any = None, samples: int = 4
     ArmkitError
         For arms with 7 or more joints (``det(J J^T)`` of a 6x7 Jacobian is too large to
         factor symbolically; use the numeric manipulability instead).
+    LimitError
+        When the determinant is not factored within ``budget`` CPU seconds.
 
     Examples
     --------
@@ -430,22 +442,38 @@ def analyze_singularities(robot: Robot, derivation: Any = None, samples: int = 4
     >>> [(round(float(np.degrees(v))), label) for v, label in res.singular_factors[0].solutions]
     [(0, 'stretched'), (180, 'folded')]
     """
-    from ..errors import ArgumentError
+    from ..errors import ArgumentError, LimitError
     from ..symbolic import derive
+    from ..symbolic.derive import within_cpu_budget
     from ..symbolic.export import shorthand
 
     if robot.n >= 7:
         raise ArgumentError.of("robot {robot!r} has {n} joints: det(J J^T) of a 6x{n} Jacobian is too large to factor "
                                "symbolically; use armkit.manipulability numerically", robot=robot.name, n=robot.n)
+    if budget is not None and not budget > 0:
+        raise ArgumentError.of("budget must be a number of CPU seconds > 0 (or None: no bound), got {budget}",
+                               budget=budget)
     g = np.random.default_rng(rng)
     d = derivation if derivation is not None else derive(robot)
-    _, method, rows, blocks = _task_matrix(d)
-    const: sp.Expr = sp.Integer(1)
-    facs: list[tuple[sp.Expr, int]] = []
-    for B in blocks:
-        c, f = factor_trig(B.det(method="berkowitz"), d.params, expand_first=B.shape[0] <= 3)
-        const *= c
-        facs.extend(f)
+
+    def factored() -> tuple[str, tuple[str, ...], sp.Expr, list[tuple[sp.Expr, int]]]:
+        _, method, rows, blocks = _task_matrix(d)     # J in joint 1's frame, each entry simplified: in the budget too
+        const: sp.Expr = sp.Integer(1)
+        facs: list[tuple[sp.Expr, int]] = []
+        for B in blocks:
+            c, f = factor_trig(B.det(method="berkowitz"), d.params, expand_first=B.shape[0] <= 3)
+            const *= c
+            facs.extend(f)
+        return method, rows, const, facs
+
+    done = within_cpu_budget(factored, budget)
+    if done is None:
+        raise LimitError.of("the determinant of {robot!r} was not factored within {budget:g} s of CPU time (its DH "
+                            "offsets and twists are not round numbers{partly}); raise the budget (armkit singular "
+                            "--budget, 0: no limit) or use armkit.manipulability numerically", robot=robot.name,
+                            budget=budget, partly=Fielded.of(", and its derivation was only partly simplified")
+                            if d.meta.get("note") else "")
+    method, rows, const, facs = done
     det = const * sp.Mul(*(b ** k for b, k in facs))
     typical = float(np.median(manipulability(robot, robot.random_q(64, rng=g))))
     out = []

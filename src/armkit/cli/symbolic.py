@@ -9,7 +9,7 @@ import math
 import sys
 import time
 from pathlib import Path
-from typing import Any, List, Optional
+from typing import Annotated, Any, List, Optional
 
 import numpy as np
 import typer
@@ -60,9 +60,19 @@ def _derive_outputs(latex: bool, python: bool, ik_export: bool, output: Optional
                name=output.name))
     if output is not None:
         output_path(output, (".py",) if python else (".tex",) if latex else (".txt", ".md"), "--output")
+    _check_budget(budget)
+    return png, output
+
+
+Budget = Annotated[float, typer.Option("--budget", help="CPU seconds of symbolic work at most (simplifying the "
+                                       "derivation; for singular also factoring the determinant); past it the "
+                                       "remaining entries stay raw (exact) products, and singular stops. 0: no "
+                                       "limit.")]
+
+
+def _check_budget(budget: float) -> None:
     if not budget >= 0 or budget == float("inf"):
         fail(_("--budget must be a number of seconds >= 0 (0: no limit), got {value}", value=budget))
-    return png, output
 
 
 def derive(robot: RobotArg,
@@ -82,8 +92,7 @@ def derive(robot: RobotArg,
            png: Optional[Path] = typer.Option(None, "--png", help="Also render the FK and Jacobian entries to a PNG."),
            links: bool = typer.Option(False, "--links", help="Also print every link transform."),
            no_cache: bool = typer.Option(False, "--no-cache", help="Derive again, ignoring the on-disk cache."),
-           budget: float = typer.Option(60.0, "--budget", help="CPU seconds of simplification at most; past it the "
-                                        "remaining entries stay raw (exact) products. 0: no limit."),
+           budget: Budget = 60.0,
            json_out: JsonOut = False) -> None:
     """Symbolic FK, Jacobian (and 2R closed-form IK) with the c12 = cos(q1 + q2) short-hand.
 
@@ -205,6 +214,7 @@ def singular(robot: RobotArg,
              plot: Optional[Path] = typer.Option(None, "-o", "--output",
                                                  help="Save a manipulability map over two joints (PNG)."),
              plot_alias: Optional[Path] = typer.Option(None, "--plot", hidden=True),
+             budget: Budget = 60.0,
              json_out: JsonOut = False) -> None:
     """Singularities: det(J) factored, each factor named (stretched, folded, on the yaw axis, wrist) and checked.
 
@@ -217,7 +227,12 @@ def singular(robot: RobotArg,
     plot = plot if plot is not None else plot_alias     # --plot: the old spelling of --output
     if plot is not None:
         output_path(plot, (".png", ".pdf", ".svg"), "--output")
-    res = analyze_singularities(r)
+    _check_budget(budget)
+    limit = budget if budget > 0 else None
+    from ..symbolic import derive as do_derive
+
+    d = do_derive(r, simplify_budget=limit)
+    res = analyze_singularities(r, d, budget=limit)
     if json_out:
         print_json({"robot": r.name, "method": res.method, "rows": list(res.rows),
                     "determinant": str(res.determinant),
@@ -230,8 +245,6 @@ def singular(robot: RobotArg,
                     "typical_manipulability": res.typical_manipulability})
     else:
         from ..symbolic.export import shorthand
-        from ..symbolic import derive as do_derive
-        d = do_derive(r)
         console.print(_("{robot}: {method} over rows ({rows})", robot=f"[bold]{esc(r.name)}[/]", method=res.method,
                         rows=", ".join(res.rows)))
         console.print(f"  = {shorthand(res.determinant, d.q)[0]}")

@@ -36,7 +36,7 @@ import sympy as sp
 from ..model.robot import Robot
 from ._angle_sums import angle_basis, chain
 
-__all__ = ["Derivation", "derive", "link_transform", "exact_angle", "simplify_entry", "cache_dir"]
+__all__ = ["Derivation", "derive", "link_transform", "exact_angle", "simplify_entry", "cache_dir", "within_cpu_budget"]
 
 _CACHE_VERSION = 3
 
@@ -324,6 +324,17 @@ class _Simplifier:
             found = simplify_entry(key, self.params)
             self.done[key] = found
         return found
+
+
+def within_cpu_budget(work: Callable[[], _R], seconds: float | None) -> _R | None:
+    """``work()`` within ``seconds`` of this process's CPU time (None: no bound), or None when it runs out first:
+    interrupted by a profiling timer where the platform has one (the main thread of a Unix process), otherwise
+    ``work`` runs to its end. The bound :func:`derive` puts on its simplification, for other symbolic work.
+
+    >>> within_cpu_budget(lambda: 6 * 7, 1.0)
+    42
+    """
+    return _Simplifier((), seconds).run(work)
 
 
 def _fast_chain(robot: Robot, q: tuple[sp.Symbol, ...], rows: list[tuple], raw: list[sp.Matrix], base: sp.Matrix,
