@@ -66,7 +66,8 @@ test: $(VENV)/.installed chromium locale fonts
 	$(PY) -m pytest -n 2 --dist worksteal; tests=$$?; \
 	wait $$types; typed=$$?; echo "$(PY) -m mypy"; cat $(VENV)/mypy.log; [ $$tests = 0 ] && [ $$typed = 0 ]
 
-# the long fuzz and corruption run (issue 24): reach stores, URDF and scene files, CLI arguments, 10 minutes;
+# the long fuzz and corruption run (issue 24): reach stores, URDF and scene files, CLI arguments (reach, so101, info,
+# view, convert; and the computing commands), 10 minutes;
 # it prints its seed first and a table of outcomes per surface (exit 1 on any traceback, hang or wrong value).
 # Rerun a run with `make fuzz SEED=<seed>`; the quick Hypothesis part is tests/hardening/test_fuzz_quick.py.
 fuzz: $(VENV)/.installed

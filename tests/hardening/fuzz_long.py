@@ -1,6 +1,6 @@
 """Issue 24, item 8: the fuzz and corruption suite, long run (``make fuzz``; ``make fuzz SEED=123``).
 
-Four surfaces, each a generator of hostile inputs driven by a :class:`random.Random` and a judge that
+Five surfaces, each a generator of hostile inputs driven by a :class:`random.Random` and a judge that
 puts the answer in one outcome class:
 
 ``store``  a tiny reachability map (planar2, 0.1 m voxels) copied and corrupted: byte flips and
@@ -18,6 +18,10 @@ puts the answer in one outcome class:
 ``cli``    ``reach build/show/query/base``, ``so101 pose``, ``info``, ``view`` (the server is never
            started: ``armkit.viz.view.view`` is replaced by a stub), ``convert`` with option values
            replaced, added, dropped and duplicated: exit 0, 1 or 2 and no traceback.
+``commands`` the same for the computing commands: ``fk``, ``jacobian``, ``ik``, ``velocity``, ``singular``,
+           ``derive``, ``workspace``, ``maps``, ``traj``, ``track`` and ``plot`` on bundled arms and a URDF, every
+           option of each (added 2026-12-05: its first runs found ``maps`` at 6 GB past the 2 GiB memory limit
+           and ``singular so101`` running for over 15 minutes). Not in the quick test: one case can take a minute.
 
 Outcome classes: ``ok`` (accepted, and right), ``clean error`` (the documented error), ``traceback``
 (any other exception, or "Traceback" in the output), ``hang`` (past the time bound), ``wrong value``
@@ -63,7 +67,7 @@ OK, CLEAN, TRACEBACK, HANG, WRONG, MODIFIED, RUNAWAY = (
     "ok", "clean error", "traceback", "hang", "wrong value", "modified", "runaway")
 OUTCOMES = (OK, CLEAN, TRACEBACK, HANG, WRONG, MODIFIED, RUNAWAY)
 BAD = (TRACEBACK, HANG, WRONG, MODIFIED, RUNAWAY)
-SURFACES = ("store", "urdf", "scene", "cli")
+SURFACES = ("store", "urdf", "scene", "cli", "commands")
 
 
 # ---------------------------------------------------------------------------------------------- time bound
@@ -704,6 +708,59 @@ CLI_BASES: list[tuple[list[str], dict[str, str]]] = [
 ]
 WRITES = ("build", "show", "convert")          # commands that write: no system paths anywhere in their arguments
 
+# the computing commands (the ``commands`` surface): every option of each, values from ARG_JUNK and the paths a
+# writing command may take (each writes a picture, a text or a table where -o says)
+ROBOT_OPTS = {"--base": "v", "--tip": "v", "--allow-outside": "flag", "--json": "flag"}
+FK = {"--deg": "flag", "--strict": "flag", "--link": "v", "--links": "flag"}
+JAC = {"--deg": "flag", "--strict": "flag", "--frame": "v"}
+IK = {"--rpy": "v", "--quat": "v", "--deg": "flag", "--method": "v", "--branch": "v", "--all": "flag", "--seed": "v",
+      "--phi": "v", "--pitch": "v", "--direction": "v", "--trace": "flag", "--scene": "r", "--no-scene": "flag",
+      "--sweep": "v", "--fixed": "v"}
+VEL = {"--deg": "flag", "--ee-vel": "v", "--q-vel": "v", "--method": "v", "--damping": "v"}
+SING = {"-o": "w", "--output": "w", "--budget": "v"}
+DERIVE = {"--latex": "flag", "--python": "flag", "--ik": "flag", "--fragment": "flag", "-o": "w", "--png": "w",
+          "--links": "flag", "--no-cache": "flag", "--budget": "v"}
+WORK = {"-n": "v", "--samples": "v", "--seed": "v", "--ground": "v", "--box": "v", "--manipulability": "flag",
+        "-o": "w", "--scene": "r", "--no-scene": "flag"}
+MAPS = {"-o": "w", "--steps": "v", "--joints": "v", "--q1": "v", "--q2": "v", "--x": "v", "--y": "v", "--branch": "v",
+        "--z": "v", "--phi": "v", "--no-ik": "flag"}
+TRAJ = {"--joint": "flag", "--line": "flag", "--blend": "v", "--blend-shape": "v", "--speed": "v", "--arc": "v",
+        "--deg": "flag", "--profile": "v", "--duration": "v", "--qd-max": "v", "--qdd-max": "v", "--steps": "v",
+        "--method": "v", "--dt": "v", "-o": "w", "--scene": "r", "--no-scene": "flag", "--refuse-collisions": "flag"}
+TRACK = {"--path": "v", "--method": "v", "--frames": "v", "--fps": "v", "--seed": "v", "-o": "w",
+         "--no-animation": "flag", "--scene": "r", "--no-scene": "flag", "--refuse-collisions": "flag"}
+PLOT = {"--deg": "flag", "--all-branches": "v", "-o": "w", "--no-frames": "flag", "--scene": "r", "--no-scene": "flag",
+        "--strict": "flag"}
+SIX = ["0", "0.1", "0.2", "0.3", "0.4", "0"]
+POSE = ["--rpy", "180,0,0", "--deg"]
+COMMAND_BASES: list[tuple[list[str], dict[str, str]]] = [(args, {**ROBOT_OPTS, **opts}) for args, opts in [
+    (["fk", "fighter", "30", "45", "60", "--deg"], FK), (["fk", "{S}/so101.urdf", *SIX], FK), (["fk", "ur5", *SIX], FK),
+    (["jacobian", "puma560", *SIX], JAC), (["jacobian", "{S}/planar.toml", "0.3", "0.4"], JAC),
+    (["ik", "fighter", "24.861", "14.353", "187.181"], IK), (["ik", "ur5", "0.3", "0.2", "0.4", *POSE], IK),
+    (["ik", "planar2", "1.2", "0.3"], IK),
+    (["ik", "panda", "0.4", "0.1", "0.5", *POSE, "--fixed", "panda_joint3=0"], IK),
+    (["ik", "{S}/so101.urdf", "0.2", "0.0", "0.1", "--pitch", "0.3"], IK),
+    (["ik", "stanford", "0.3", "0.2", "0.4", *POSE, "--method", "lm"], IK),
+    (["velocity", "fighter", "30", "45", "60", "--deg", "--ee-vel", "1,0,0"], VEL),
+    (["velocity", "ur5", *SIX, "--q-vel", "1,0,0,0,0,0"], VEL),
+    (["singular", "fighter"], SING), (["singular", "planar2", "-o", "{S}/s{n}.png"], SING),
+    (["derive", "planar2"], DERIVE), (["derive", "fighter", "--budget", "2"], DERIVE),
+    (["workspace", "fighter", "-n", "2000"], WORK),
+    (["workspace", "planar2", "-n", "2000", "-o", "{S}/w{n}.png"], WORK),
+    (["maps", "planar2", "--steps", "21", "-o", "{S}/m{n}.png"], MAPS),
+    (["maps", "fighter", "--steps", "21", "-o", "{S}/m{n}.png"], MAPS),
+    (["traj", "planar2", "--joint", "0,0", "1,1", "--deg"], TRAJ),
+    (["traj", "planar2", "--line", "1.2,0.3", "0.8,0.8", "-o", "{S}/t{n}.csv"], TRAJ),
+    (["traj", "fighter", "--line", "24,14,187", "60,10,150", "--steps", "20"], TRAJ),
+    (["track", "planar3", "--frames", "20", "--no-animation"], TRACK),
+    (["track", "planar2", "--frames", "10", "-o", "{S}/k{n}.gif", "--path", "circle"], TRACK),
+    (["plot", "fighter", "30", "45", "60", "--deg", "-o", "{S}/p{n}.png"], PLOT),
+    (["plot", "puma560", "--all-branches", "0.4,0.2,0.3", "-o", "{S}/p{n}.png"], PLOT)]]
+ARG_JUNK += ["180,0,0", "0,0,0,1", "elbow-up", "front/elbow-down", "base", "tool", "dls", "pinv", "0:90", "0:90:0",
+             "0:0", "1:2:-1", "circle", "figure8", "ccd", "fabrik", "newton", "analytic", "quintic", "trapezoid",
+             "cubic", "rate", "parabolic", "A1=0", "panda_joint3=1e308", "x=1", "=", "1e-300", "2,3", "0,5",
+             "1,1,1,1,1,1", "tool0", "link2", "link9", "3", "10", "100000000"]
+
 
 class ViewStarted(Exception):
     """Raised by the stub that replaces ``armkit.viz.view.view``: the command would have served the page."""
@@ -714,8 +771,12 @@ def _stub_view(*a: Any, **k: Any) -> Any:
 
 
 class CliFuzz:
-    def __init__(self, scratch: Path, store: Path, bound: float = 30.0, heavy: bool = False) -> None:
-        """``heavy``: also local Dask clusters (--workers N) and --scheduler addresses (seconds each)."""
+    def __init__(self, scratch: Path, store: Path, bound: float = 30.0, heavy: bool = False,
+                 bases: list[tuple[list[str], dict[str, str]]] | None = None) -> None:
+        """``heavy``: also local Dask clusters (--workers N) and --scheduler addresses (seconds each); ``bases``:
+        the commands mutated (default :data:`CLI_BASES`; :data:`COMMAND_BASES` for the ``commands`` surface, whose
+        commands all write)."""
+        self.bases = CLI_BASES if bases is None else bases
         self.S = scratch
         self.bound = bound
         self.heavy = heavy
@@ -751,8 +812,8 @@ class CliFuzz:
 
     def mutate(self, rnd: random.Random) -> list[str]:
         self.n += 1
-        base, opts = rnd.choice(CLI_BASES)
-        writes = base[1] in WRITES or base[0] in WRITES
+        base, opts = rnd.choice(self.bases)
+        writes = self.bases is COMMAND_BASES or base[1] in WRITES or base[0] in WRITES
         args = [self._fill(a) for a in base]
         if not self.heavy and "--scheduler" in opts:
             opts = {k: v for k, v in opts.items() if k != "scheduler"}
@@ -855,7 +916,7 @@ def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--seed", type=int, default=None, help="master seed (default: random; printed first)")
     ap.add_argument("--minutes", type=float, default=10.0, help="wall time for all surfaces together")
-    ap.add_argument("--surfaces", default=",".join(SURFACES), help="comma-separated: store,urdf,scene,cli")
+    ap.add_argument("--surfaces", default=",".join(SURFACES), help="comma-separated: store,urdf,scene,cli,commands")
     ap.add_argument("--bound", type=float, default=30.0, help="seconds one case may take before it is a hang")
     ap.add_argument("--light", action="store_true", help="no local Dask clusters or --scheduler addresses")
     ap.add_argument("--show", type=int, default=5, help="findings printed per surface and class")
@@ -870,7 +931,8 @@ def main(argv: list[str] | None = None) -> int:
         store = StoreFuzz(root, a.bound)
         makers: dict[str, Callable[[], Any]] = {
             "store": lambda: store, "urdf": lambda: UrdfFuzz(a.bound), "scene": lambda: SceneFuzz(a.bound),
-            "cli": lambda: CliFuzz(root / "cli", store.path, a.bound, heavy=not a.light)}
+            "cli": lambda: CliFuzz(root / "cli", store.path, a.bound, heavy=not a.light),
+            "commands": lambda: CliFuzz(root / "commands", store.path, a.bound, bases=COMMAND_BASES)}
         fuzzers = {s: makers[s]() for s in surfaces}
         counts: dict[str, Counter[str]] = {s: Counter() for s in surfaces}
         findings: dict[str, dict[str, list[str]]] = {s: {} for s in surfaces}
@@ -917,7 +979,8 @@ def replay(surface: str, case_seed: int, bound: float = 30.0) -> tuple[str, str]
         root = Path(tmp)
         store = StoreFuzz(root, bound)
         fuzz = {"store": lambda: store, "urdf": lambda: UrdfFuzz(bound), "scene": lambda: SceneFuzz(bound),
-                "cli": lambda: CliFuzz(root / "cli", store.path, bound, heavy=True)}[surface]()
+                "cli": lambda: CliFuzz(root / "cli", store.path, bound, heavy=True),
+                "commands": lambda: CliFuzz(root / "commands", store.path, bound, bases=COMMAND_BASES)}[surface]()
         work = root / "work"
         work.mkdir()
         return run_case(fuzz, random.Random(case_seed), work)
