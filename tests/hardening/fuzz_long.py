@@ -756,6 +756,9 @@ COMMAND_BASES: list[tuple[list[str], dict[str, str]]] = [(args, {**ROBOT_OPTS, *
     (["track", "planar2", "--frames", "10", "-o", "{S}/k{n}.gif", "--path", "circle"], TRACK),
     (["plot", "fighter", "30", "45", "60", "--deg", "-o", "{S}/p{n}.png"], PLOT),
     (["plot", "puma560", "--all-branches", "0.4,0.2,0.3", "-o", "{S}/p{n}.png"], PLOT)]]
+SYMBOLIC_BOUND = 150.0
+"""The ``commands`` surface's bound on one case (s): ``derive`` and ``singular`` may use their budgets of 60 s of
+CPU for the derivation and 60 s for the determinant (``derive so101`` does), and then say so."""
 ARG_JUNK += ["180,0,0", "0,0,0,1", "elbow-up", "front/elbow-down", "base", "tool", "dls", "pinv", "0:90", "0:90:0",
              "0:0", "1:2:-1", "circle", "figure8", "ccd", "fabrik", "newton", "analytic", "quintic", "trapezoid",
              "cubic", "rate", "parabolic", "A1=0", "panda_joint3=1e308", "x=1", "=", "1e-300", "2,3", "0,5",
@@ -932,7 +935,8 @@ def main(argv: list[str] | None = None) -> int:
         makers: dict[str, Callable[[], Any]] = {
             "store": lambda: store, "urdf": lambda: UrdfFuzz(a.bound), "scene": lambda: SceneFuzz(a.bound),
             "cli": lambda: CliFuzz(root / "cli", store.path, a.bound, heavy=not a.light),
-            "commands": lambda: CliFuzz(root / "commands", store.path, a.bound, bases=COMMAND_BASES)}
+            "commands": lambda: CliFuzz(root / "commands", store.path, max(a.bound, SYMBOLIC_BOUND),
+                                        bases=COMMAND_BASES)}
         fuzzers = {s: makers[s]() for s in surfaces}
         counts: dict[str, Counter[str]] = {s: Counter() for s in surfaces}
         findings: dict[str, dict[str, list[str]]] = {s: {} for s in surfaces}
@@ -980,7 +984,8 @@ def replay(surface: str, case_seed: int, bound: float = 30.0) -> tuple[str, str]
         store = StoreFuzz(root, bound)
         fuzz = {"store": lambda: store, "urdf": lambda: UrdfFuzz(bound), "scene": lambda: SceneFuzz(bound),
                 "cli": lambda: CliFuzz(root / "cli", store.path, bound, heavy=True),
-                "commands": lambda: CliFuzz(root / "commands", store.path, bound, bases=COMMAND_BASES)}[surface]()
+                "commands": lambda: CliFuzz(root / "commands", store.path, max(bound, SYMBOLIC_BOUND),
+                                            bases=COMMAND_BASES)}[surface]()
         work = root / "work"
         work.mkdir()
         return run_case(fuzz, random.Random(case_seed), work)
