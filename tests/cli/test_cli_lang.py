@@ -132,3 +132,24 @@ def test_compiled_catalogue_is_current():
 
     _catalogue.cache_clear()
     assert _catalogue("ko").gettext("error:") == "오류:"
+
+
+def test_a_commands_language_and_printer_end_with_it():
+    """A program (or a test) that calls the app in-process goes on after the command: --lang ko and the command
+    line's warning printer were left set, so a picture the library made afterwards had Korean labels (a test of
+    derive's picture failed after a Korean command had run in the same worker). After a command, its success and
+    its error alike, the language is the one before it and warnings print as before."""
+    import warnings
+
+    from typer.testing import CliRunner
+
+    from armkit.cli import app
+    from armkit.locale import current_language
+
+    before_lang, before_show = current_language(), warnings.showwarning
+    for args, code in ((["info", "planar2", "--lang", "ko"], 0), (["ik", "planar2", "9", "9", "--lang", "ko"], 1),
+                       (["fk", "planar2", "x", "--lang", "ko"], 2)):
+        res = CliRunner().invoke(app, args)
+        assert res.exit_code == code, res.output
+        assert current_language() == before_lang
+        assert warnings.showwarning is before_show

@@ -160,8 +160,9 @@ def _analysed_once(analyze):
     """``analyze`` (:func:`analyze_singularities`) remembered per robot and arguments: ``armkit singular ROBOT`` at
     each width prints the same analysis (its default rng is fixed), and puma560's costs sympy seconds each time."""
     def once(robot: armkit.Robot, *args, **kwargs):
-        key = (robot.name, robot.convention, np.asarray(robot.dh_table()).tobytes(), args,
-               tuple(sorted(kwargs.items())))
+        # the command hands over its derivation (a new, equal object each time): the robot stands for it
+        key = (robot.name, robot.convention, np.asarray(robot.dh_table()).tobytes(),
+               tuple(a for a in args if not hasattr(a, "links")), tuple(sorted(kwargs.items())))
         if key not in _ANALYSED:
             _ANALYSED[key] = analyze(robot, *args, **kwargs)
         return _ANALYSED[key]

@@ -90,6 +90,7 @@ class _ArmkitGroup(TyperGroup):
 
             warn(localize(message, current_language()))   # one line, never a source line or a class name
 
+        shown = warnings.showwarning
         warnings.showwarning = show
         try:
             return super().invoke(ctx)
@@ -134,6 +135,15 @@ class _ArmkitGroup(TyperGroup):
                        _("cannot use {path!r}: {reason}", path=os.fsdecode(exc.filename), reason=reason))
             say(_("error:"), "bold red", message)
             raise SystemExit(EXIT_BAD_INPUT) from None
+        finally:
+            # what parse_args set for this command ends with it: in a process that goes on (a program or a test
+            # calling the app, the shell), the library's messages and pictures made afterwards were in the last
+            # command's --lang, and its warnings went through the command line's printer
+            from . import common
+
+            common.LANG.update(lang=None)
+            common.CHAIN.update(base=None, tip=None, allow_outside=None)
+            warnings.showwarning = shown
 
 
 _TYPE_LABELS = {"float": "FLOAT", "int": "INT", "str": "TEXT", "path": "PATH", "list[str]": "TEXT"}
