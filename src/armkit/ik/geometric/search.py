@@ -757,20 +757,22 @@ def _search(kind, H, P, C, n, roots):
     """Every root ``(x, branch)`` of the search ``kind`` into ``roots (MAXROOT, 4)``, ``n`` samples over a turn;
     returns their count."""
     step = 2.0 * _PI / n
-    S = np.zeros((n + 1, 4, 3))
-    E = np.zeros((n + 1, 4))
-    cnt = np.zeros(n + 1, dtype=np.int64)
-    xs = np.empty(n + 1)
-    for i in range(n + 1):
-        xs[i] = -_PI + i * step
-    _scan(kind, H, P, C, xs[:n], S, E, cnt)
-    # the last sample is the first one a turn on: the same branches, the same residuals (evaluated again at
-    # ``−π + n step`` ≈ π they differ by rounding, and a root at ±π would fall between the two copies)
-    S[n] = S[0]
-    E[n] = E[0]
-    cnt[n] = cnt[0]
-    D = np.empty((n, 4, 4))
+    S = np.zeros((n + 2, 4, 3))
+    E = np.zeros((n + 2, 4))
+    cnt = np.zeros(n + 2, dtype=np.int64)
+    xs = np.empty(n)
     for i in range(n):
+        xs[i] = -_PI + i * step
+    _scan(kind, H, P, C, xs, S, E, cnt)
+    # the last two samples are the first two a turn on: the same branches, the same residuals (evaluated again at
+    # ``−π + n step`` ≈ π they differ by rounding, and a root at ±π would fall between the two copies); the second
+    # gives the triple of samples about ±π to _extrema (a dip there, both roots within one step of −π, was missed)
+    for k in range(2):
+        S[n + k] = S[k]
+        E[n + k] = E[k]
+        cnt[n + k] = cnt[k]
+    D = np.empty((n + 1, 4, 4))
+    for i in range(n + 1):
         _dists(S[i], cnt[i], S[i + 1], cnt[i + 1], D[i])
     m = np.int64(0)   # not the literal 0: the calls in the loop would be compiled for it as well as for int64
     Ss = np.zeros((SUB_N + 1, 4, 3))
@@ -805,10 +807,10 @@ def _search(kind, H, P, C, n, roots):
                           cs[k + 1], Ds[k], roots, m, out, pp, wk)
                 if k + 2 <= SUB_N:
                     m = _extrema(kind, H, P, C, xa, h, Ss, Es, cs, Ds, k, roots, m, out, mid)
-            if i >= 1:             # the seams with the plain steps before and after (_seam)
-                m = _seam(kind, H, P, C, xa - step, S[i - 1], E[i - 1], cnt[i - 1], D[i - 1], xa, Ss[0], Es[0], cs[0],
-                          Ds[0], xa + h, Ss[1], Es[1], cs[1], roots, m, out, mid)
-            if i + 2 <= n:
+            b = i - 1 if i >= 1 else n - 1   # the seams with the plain steps before and after (_seam), about ±π too
+            m = _seam(kind, H, P, C, xa - step, S[b], E[b], cnt[b], D[b], xa, Ss[0], Es[0], cs[0],
+                      Ds[0], xa + h, Ss[1], Es[1], cs[1], roots, m, out, mid)
+            if i + 2 <= n + 1:
                 m = _seam(kind, H, P, C, xa + step - h, Ss[SUB_N - 1], Es[SUB_N - 1], cs[SUB_N - 1], Ds[SUB_N - 1],
                           xa + step, S[i + 1], E[i + 1], cnt[i + 1], D[i + 1], xa + 2.0 * step, S[i + 2], E[i + 2],
                           cnt[i + 2], roots, m, out, mid)
