@@ -43,6 +43,7 @@ import sympy as sp  # noqa: E402 - after the check that names the missing extra
 
 from ..kinematics import fk_frames, jacobian, manipulability
 from ..model.robot import Robot
+from ..symbolic.derive import SIMPLIFY_BUDGET, within_cpu_budget
 
 __all__ = ["SingularFactor", "SingularityAnalysis", "analyze_singularities", "factor_trig",
            "plot_manipulability"]
@@ -398,14 +399,9 @@ def _zero_set(f_num: Any, robot: Robot, joints: tuple[int, ...], rng: np.random.
     return np.array(out).reshape(-1, robot.n)
 
 
-SYMBOLIC_BUDGET = 60.0
-"""CPU seconds :func:`analyze_singularities` gives the determinant and its factoring (the derivation has its own
-budget, :data:`armkit.symbolic.derive.SIMPLIFY_BUDGET`)."""
-
-
 def analyze_singularities(robot: Robot, derivation: Any = None, samples: int = 4,
                           rng: np.random.Generator | int | None = 0,
-                          budget: float | None = SYMBOLIC_BUDGET) -> SingularityAnalysis:
+                          budget: float | None = SIMPLIFY_BUDGET) -> SingularityAnalysis:
     """Factor the Jacobian determinant of ``robot`` and name the singular configurations.
 
     Parameters
@@ -417,7 +413,8 @@ def analyze_singularities(robot: Robot, derivation: Any = None, samples: int = 4
         Configurations per factor used for the numeric check.
     rng : Generator or int, optional
     budget : float or None
-        CPU seconds for the determinant and its factoring (default :data:`SYMBOLIC_BUDGET`; None: no bound).
+        CPU seconds for the determinant and its factoring (default: the derivation's,
+        :data:`armkit.symbolic.derive.SIMPLIFY_BUDGET`; None: no bound).
         An arm whose DH offsets and twists are not round numbers (a CAD export such as the SO-101's URDF)
         can keep sympy busy far longer: past the budget, :class:`~armkit.errors.LimitError` says so.
 
@@ -444,7 +441,6 @@ def analyze_singularities(robot: Robot, derivation: Any = None, samples: int = 4
     """
     from ..errors import ArgumentError, LimitError
     from ..symbolic import derive
-    from ..symbolic.derive import within_cpu_budget
     from ..symbolic.export import shorthand
 
     if robot.n >= 7:

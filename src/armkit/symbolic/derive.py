@@ -293,28 +293,10 @@ class _Simplifier:
         """``work()`` under what is left of the budget; None when the budget runs out first (it is then spent)."""
         if self.deadline is None:
             return work()
-        left = self.deadline - self.clock()
-        if left <= 0:
-            return None
-        import signal
-        import threading
-
-        if not hasattr(signal, "setitimer") or threading.current_thread() is not threading.main_thread():
-            return work()
-
-        def _alarm(signum: int, frame: Any) -> None:
-            raise _Timeout
-
-        old = signal.signal(signal.SIGPROF, _alarm)
-        signal.setitimer(signal.ITIMER_PROF, left)
-        try:
-            return work()
-        except _Timeout:
+        done, value = _timed(work, self.deadline - self.clock())
+        if not done:
             self.deadline = self.clock()
-            return None
-        finally:
-            signal.setitimer(signal.ITIMER_PROF, 0)
-            signal.signal(signal.SIGPROF, old)
+        return value
 
     def _work(self, e: sp.Expr) -> sp.Expr:
         """The simplified ``e``: remembered by its expanded form, computed on the first sight of that form."""
@@ -326,6 +308,34 @@ class _Simplifier:
         return found
 
 
+def _timed(work: Callable[[], _R], seconds: float | None) -> tuple[bool, _R | None]:
+    """``(True, work())``, or ``(False, None)`` when ``seconds`` of this process's CPU time run out first (none
+    left: not started). Interrupted with ``SIGPROF`` (a profiling timer, which counts the same CPU time) where that
+    is available (the main thread of a Unix process); elsewhere ``work`` runs to its end."""
+    if seconds is None:
+        return True, work()
+    if seconds <= 0:
+        return False, None
+    import signal
+    import threading
+
+    if not hasattr(signal, "setitimer") or threading.current_thread() is not threading.main_thread():
+        return True, work()
+
+    def _alarm(signum: int, frame: Any) -> None:
+        raise _Timeout
+
+    old = signal.signal(signal.SIGPROF, _alarm)
+    signal.setitimer(signal.ITIMER_PROF, seconds)
+    try:
+        return True, work()
+    except _Timeout:
+        return False, None
+    finally:
+        signal.setitimer(signal.ITIMER_PROF, 0)
+        signal.signal(signal.SIGPROF, old)
+
+
 def within_cpu_budget(work: Callable[[], _R], seconds: float | None) -> _R | None:
     """``work()`` within ``seconds`` of this process's CPU time (None: no bound), or None when it runs out first:
     interrupted by a profiling timer where the platform has one (the main thread of a Unix process), otherwise
@@ -334,7 +344,7 @@ def within_cpu_budget(work: Callable[[], _R], seconds: float | None) -> _R | Non
     >>> within_cpu_budget(lambda: 6 * 7, 1.0)
     42
     """
-    return _Simplifier((), seconds).run(work)
+    return _timed(work, seconds)[1]
 
 
 def _fast_chain(robot: Robot, q: tuple[sp.Symbol, ...], rows: list[tuple], raw: list[sp.Matrix], base: sp.Matrix,
