@@ -328,6 +328,7 @@ def maps(robot: RobotArg,
     if ik_grid is not None:   # the IK panels: one per branch and joint (the branches counted on one target)
         probe = ik_maps(r, ik_grid[0][:1], ik_grid[1][:1], **ik_grid[2])
         points += len(ik_grid[0]) * len(ik_grid[1]) * probe.q.shape[-2] * probe.q.shape[-1]
+        ik_grid[2]["z"] = probe.z      # a spatial arm's default height (a workspace sample) found once
     check_memory(80.0 * points, Fielded.of("pictures of {points:,} map points", points=points),
                  Fielded.of("use fewer --steps or a larger :step"))
     fm = fk_maps(r, grids[0], grids[1], joints=jj)
