@@ -772,8 +772,9 @@ def _search(kind, H, P, C, n, roots):
         E[n + k] = E[k]
         cnt[n + k] = cnt[k]
     D = np.empty((n + 1, 4, 4))
-    for i in range(n + 1):
+    for i in range(n):
         _dists(S[i], cnt[i], S[i + 1], cnt[i + 1], D[i])
+    D[n] = D[0]                     # the first step a turn on
     m = np.int64(0)   # not the literal 0: the calls in the loop would be compiled for it as well as for int64
     Ss = np.zeros((SUB_N + 1, 4, 3))
     Es = np.zeros((SUB_N + 1, 4))
