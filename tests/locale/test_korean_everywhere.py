@@ -53,13 +53,15 @@ def _robot_words(names: tuple[str, ...]) -> tuple[set[str], list[str]]:
     from armkit.ik import ik_all
     from armkit.ik.analytic import closed_form
     from armkit.kinematics import fk
+    from armkit.locale.library import localize
 
     words, texts = set(armkit.bundled_robots()), []
     for name in names:
         r = armkit.load(name)
         for n in (*r.joint_names, *r.link_names, *(lk.name for lk in r.links), *r.ignored_joints):
             words.update(re.split(r"[^A-Za-z0-9_]+", n))
-        texts += [r.description, " ".join(r.source.split())]
+        texts += [r.description, " ".join(r.source.split()),   # the file's own words, and as the Korean output
+                  localize(r.description, "ko"), " ".join(localize(r.source, "ko").split())]   # shows ours around them
         if closed_form(r) is not None:
             words.update(re.split(r"[^A-Za-z0-9_]+", closed_form(r).family))   # the solver family's name
             try:

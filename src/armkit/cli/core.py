@@ -10,7 +10,7 @@ import typer
 from rich.table import Table
 
 from ..model.robot import Joint, Robot
-from .common import (NOISE, NUMERIC_ARGS, N_, _, console, esc, fail, fixed, get_robot, message,
+from .common import (NOISE, NUMERIC_ARGS, N_, _, console, current_language, esc, fail, fixed, get_robot, message,
                      natural_width,
                      out_width, parse_q, pose_table, print_fitted, print_json, print_records, print_table, q_display)
 from .common import Deg, JointValues, JsonOut, RobotArg, Strict  # noqa: E402  (the shared options)
@@ -218,7 +218,9 @@ def info(robot: RobotArg,
                         "held": [r.joint_names[k] for k in sorted(held.held)], "family": held.inner.family,
                         "max_solutions": held.m}})
         return
-    console.print(f"[bold]{esc(r.name)}[/]: {esc(r.description)}")
+    from ..locale.library import localize   # a URDF's own description is built from fields (its name)
+
+    console.print(f"[bold]{esc(r.name)}[/]: {esc(localize(r.description, current_language()))}")
     if shown.is_dh:
         if shown is not r:
             console.print(_("equivalent {convention} DH table (same FK for every q; base and tool absorb the rest):",
@@ -261,7 +263,8 @@ def info(robot: RobotArg,
         if not dh:
             console.print("[dim]" + _("armkit info ... --dh shows the equivalent DH table") + "[/]")
     if r.source:
-        console.print("[dim]" + _("source: {text}", text=esc(" ".join(r.source.split()))) + "[/]")
+        console.print("[dim]" + _("source: {text}", text=esc(" ".join(localize(r.source, current_language()).split())))
+                      + "[/]")
 
 
 def convert(src: str = typer.Argument(..., help="Robot to read: bundled name, .toml or .urdf (--base/--tip for "
