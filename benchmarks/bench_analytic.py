@@ -21,6 +21,9 @@ Then (also alone, without EAIK: ``--searches-only``) what EAIK refuses: the swee
 the iiwa (32 values of the lockable joint), one joint held (``fixed=``), and the 1-D search of
 random '6R-two-intersecting' arms, median milliseconds per target.
 
+Then (also alone: ``--random-only``) random arms of each closed-form 6R class, one target per call, against
+EAIK where installed: the classes without a DH pattern are solved by the geometric family.
+
 Then (also alone: ``--scara-only``) the SCARA (cobra600), which EAIK does not take: a batch of poses in one call,
 its whole-batch form against the target-by-target loop, and LM.
 
@@ -320,6 +323,56 @@ def scara_batches(repeat: int) -> None:
     print(f"\nload average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores")
 
 
+def random_classes(arms: int, targets: int, repeat: int) -> None:
+    """One target per call on random arms of each closed-form 6R class (bench_coverage's URDF generator, so the
+    arm goes through the URDF reader and the geometric classification as a user's would): armkit's ``ik_all``
+    and ``ik`` against EAIK's ``IK`` (where EAIK is installed), median over the arms of the CPU-best time per
+    target. The classes without a DH pattern (a general spherical wrist, three parallel axes at random angles) are
+    the geometric family's: SP5 (the general wrist's position) and SP6 (three parallel axes) solve their quartic in
+    closed form."""
+    import tempfile
+
+    from bench_coverage import KINDS, random_arm_urdf
+
+    try:
+        import eaik  # noqa: F401
+    except ImportError:
+        eaik = None
+    print(f"\nrandom arms of each closed-form class: {arms} arms x {targets} targets, one target per call; median over "
+          "the arms of the CPU-best µs per target (ratio armkit/EAIK)\n")
+    print("| class drawn | armkit's class | EAIK single | armkit ik_all single | armkit ik single | branches per target |")
+    print("|---|---|---|---|---|---|")
+    g = np.random.default_rng(5)
+    with tempfile.TemporaryDirectory() as tmp:
+        for kind, relations in KINDS.items():
+            e_t, a_t, o_t, names, count = [], [], [], set(), []
+            for a in range(arms):
+                path = Path(tmp) / f"arm{a}.urdf"
+                path.write_text(random_arm_urdf(g, relations))
+                robot = armkit.load(str(path), tip="tool")
+                cf = closed_form(robot)
+                names.add(cf.family if cf is not None else "none")
+                T = list(armkit.fk(robot, g.uniform(-np.pi, np.pi, (targets, 6))))
+                armkit.ik_all(robot, T[0])
+                armkit.ik(robot, T[0])
+                a_t.append(_cpu_best(lambda t: armkit.ik_all(robot, t), T, repeat))
+                o_t.append(_cpu_best(lambda t: armkit.ik(robot, t), T, repeat))
+                count.append(np.mean([armkit.ik_all(robot, t, enforce_limits=False).success.sum() for t in T]))
+                if eaik is not None:
+                    form = poe(robot)
+                    e = _eaik_robot(form)
+                    Tfix = [t.copy() for t in T]
+                    for t in Tfix:
+                        t[:3, :3] = t[:3, :3] @ form.R_nT.T
+                    e.IK(Tfix[0])
+                    e_t.append(_cpu_best(lambda t: e.IK(t), Tfix, repeat))
+            es = float(np.median(e_t)) if e_t else None
+            aa, oo = float(np.median(a_t)), float(np.median(o_t))
+            ratio = (lambda x: "" if es is None else f" ({x / es:.2g}x)")  # noqa: E731
+            print(f"| {kind} | {' / '.join(sorted(names))} | {'-' if es is None else f'{es * 1e6:.1f}'} | "
+                  f"{aa * 1e6:.1f}{ratio(aa)} | {oo * 1e6:.1f}{ratio(oo)} | {np.mean(count):.1f} |")
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--targets", type=int, default=1000)
@@ -334,7 +387,14 @@ def main() -> None:
                     help="only the SCARA's batches (cobra600), its whole-batch form against the loop (no EAIK needed)")
     ap.add_argument("--small-only", action="store_true",
                     help="only the small batches (2-25 targets in one call), both paths, and EAIK's where installed")
+    ap.add_argument("--random-only", action="store_true",
+                    help="only the random arms of each closed-form class, one target per call (EAIK where installed)")
+    ap.add_argument("--random-arms", type=int, default=10)
     args = ap.parse_args()
+    if args.random_only:
+        G.kernels()
+        random_classes(args.random_arms, 100, args.repeat)
+        return
     if args.scara_only:
         scara_batches(args.repeat)
         return
@@ -403,6 +463,7 @@ def main() -> None:
     single_calls(min(args.targets, 300), args.repeat)
     small_batches(args.repeat)
     searches(args.search_targets)
+    random_classes(args.random_arms, 100, args.repeat)
     scara_batches(args.repeat)
 
 

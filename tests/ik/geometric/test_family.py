@@ -30,7 +30,8 @@ def _wrapped(a: np.ndarray) -> np.ndarray:
 
 
 def _check_every_branch(robot: Robot, q: np.ndarray) -> None:
-    """The arm's own q is among the branches, and every solved branch reproduces the target."""
+    """The arm's own q is among the branches, every solved branch reproduces the target, and no two solved branches
+    of a target are the same configuration."""
     T = armkit.fk(robot, q)
     res = armkit.ik_all(robot, T, enforce_limits=False)
     assert res.q.shape[:2] == (len(q), closed_form(robot).m)
@@ -40,6 +41,10 @@ def _check_every_branch(robot: Robot, q: np.ndarray) -> None:
     back = armkit.fk(robot, res.q[ok])
     Tb = np.broadcast_to(T[:, None], res.q.shape[:2] + (4, 4))[ok]
     assert np.abs(back - Tb).max() < 1e-9 * max(1.0, robot.reach)
+    for b in range(len(q)):
+        Q = res.q[b][ok[b]]
+        d = np.abs(np.where(robot.prismatic, Q[:, None] - Q[None], _wrapped(Q[:, None] - Q[None]))).max(axis=-1)
+        assert (d + np.eye(len(Q)) > 1e-6).all(), d
 
 
 def _tup(M: np.ndarray) -> tuple:
@@ -158,3 +163,54 @@ def test_stanford_arm_prismatic_joint_gets_every_branch() -> None:
     rng = np.random.default_rng(11)
     q = r.random_q(25, rng=rng)
     _check_every_branch(r, q)
+
+
+# bench_coverage's random three-parallel arm 12 (generator seed 123) and its target 54: joint origins (m, rpy 0;
+# the last is the tool's, with the rpy below) and axes, as its URDF has them
+DOUBLE_ROOT_ORIGINS = [(0.06549154387744684, -0.19678750167327294, -0.0071141969382871335),
+                       (0.7043953014196311, -0.3884680076945015, 0.07319130309125338),
+                       (-0.9466951217193871, 0.8923898884071841, 0.315207274940723),
+                       (0.8107030752420095, -0.36689443974576313, -0.06777999214771968),
+                       (-1.5202826899430195, 0.16593705222312713, -1.530806775582887),
+                       (1.517133998185967, 0.28671748677391434, 1.1392034787459253),
+                       (0.4828898299144101, 0.39316040567486316, 0.21977781492770826)]
+DOUBLE_ROOT_TOOL_RPY = (0.11928260354432921, 0.3905083938142133, 0.13898772773342447)
+DOUBLE_ROOT_AXES = [(0.8220860803847644, 0.32361945385681523, 0.46844949089846544),
+                    (-0.7726851139092753, -0.5510371592048341, -0.31514403678076575),
+                    (0.7726851139092753, 0.5510371592048341, 0.31514403678076575),
+                    (-0.7726851139092753, -0.5510371592048341, -0.31514403678076575),
+                    (-0.28374603588382047, 0.9282273730013382, -0.24058705520300214),
+                    (-0.798558610392446, -0.2662411629971941, 0.5398331120763037)]
+DOUBLE_ROOT_Q = np.array([2.577075716684246, -0.22077885584382528, -0.15782423988104233, -0.00623834214332053,
+                          -2.871485443111667, 0.2011016757447881])
+
+
+def test_a_double_root_is_one_branch_not_two(tmp_path) -> None:
+    """SP6 (q1, q5 of a three-parallel arm) has a double root at this target. The quartic's companion matrix gave
+    it twice, 1e-7 rad apart, each passing the FK check; the polish then put both on one configuration, and
+    ``ik_all`` listed 4 branches where 2 exist, each twice. Every configuration Levenberg-Marquardt reaches from
+    300 random starts is among the branches, and no two branches are the same configuration."""
+    from test_dense_check import dense_solutions
+
+    links = "".join(f'<link name="l{k}"/>' for k in range(7)) + '<link name="tool"/>'
+    joints = "".join(
+        f'<joint name="j{k + 1}" type="revolute"><parent link="l{k}"/><child link="l{k + 1}"/>'
+        f'<origin xyz="{" ".join(map(repr, o))}" rpy="0 0 0"/><axis xyz="{" ".join(map(repr, a))}"/>'
+        '<limit lower="-6.283185307179586" upper="6.283185307179586" effort="1" velocity="1"/></joint>'
+        for k, (o, a) in enumerate(zip(DOUBLE_ROOT_ORIGINS, DOUBLE_ROOT_AXES)))
+    joints += (f'<joint name="tool_joint" type="fixed"><parent link="l6"/><child link="tool"/><origin '
+               f'xyz="{" ".join(map(repr, DOUBLE_ROOT_ORIGINS[6]))}" rpy="{" ".join(map(repr, DOUBLE_ROOT_TOOL_RPY))}"/>'
+               '</joint>')
+    path = tmp_path / "arm.urdf"
+    path.write_text(f'<?xml version="1.0"?><robot name="random">{links}{joints}</robot>')
+    robot = armkit.load(str(path), tip="tool")
+    assert closed_form(robot).solver == "three_parallel"
+    T = armkit.fk(robot, DOUBLE_ROOT_Q)
+    res = armkit.ik_all(robot, T, enforce_limits=False)
+    found = res.q[res.success]
+    assert np.abs(armkit.fk(robot, found) - T).max() < 1e-9 * robot.reach
+    gaps = np.abs(_wrapped(found[:, None] - found[None])).max(axis=-1) + np.eye(len(found))
+    assert gaps.min() > 1e-6, gaps
+    reference = dense_solutions(robot, T, 0)
+    assert [u for u in reference if not (np.abs(_wrapped(found - u)).max(axis=-1) < 1e-6).any()] == []
+    assert len(found) == len(reference)
