@@ -165,7 +165,7 @@ def test_stanford_arm_prismatic_joint_gets_every_branch() -> None:
     _check_every_branch(r, q)
 
 
-# bench_coverage's random three-parallel arm 12 (generator seed 123) and its target 54: joint origins (m, rpy 0;
+# bench_coverage's random three-parallel arm 12 (numpy generator started from 123) and its target 54: joint origins (m, rpy 0;
 # the last is the tool's, with the rpy below) and axes, as its URDF has them
 DOUBLE_ROOT_ORIGINS = [(0.06549154387744684, -0.19678750167327294, -0.0071141969382871335),
                        (0.7043953014196311, -0.3884680076945015, 0.07319130309125338),
