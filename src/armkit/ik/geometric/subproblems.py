@@ -261,38 +261,12 @@ def _res2(A, B, e, t1, t2):
     return r0, r1
 
 
-def _newton2(A, B, e, t1, t2, steps):
-    """A few Newton steps on ``A (cos t1, sin t1) + B (cos t2, sin t2) = e``."""
+def _newton2(A, B, e, t1, t2, steps, reach=0.5):
+    """At most ``steps`` Newton steps on ``A (cos t1, sin t1) + B (cos t2, sin t2) = e``: none that moves an angle
+    by more than ``reach`` (farther than that is not this root's convergence: the angles are left as they are),
+    the last one below 1e-15 rad (the next would change them by rounding only). The residual is
+    :func:`_res2`'s, term by term."""
     for _ in range(steps):
-        r0, r1 = _res2(A, B, e, t1, t2)
-        c1 = math.cos(t1)
-        s1 = math.sin(t1)
-        c2 = math.cos(t2)
-        s2 = math.sin(t2)
-        j00 = -A[0, 0] * s1 + A[0, 1] * c1
-        j10 = -A[1, 0] * s1 + A[1, 1] * c1
-        j01 = -B[0, 0] * s2 + B[0, 1] * c2
-        j11 = -B[1, 0] * s2 + B[1, 1] * c2
-        det = j00 * j11 - j01 * j10
-        if abs(det) < 1e-300:
-            break
-        d1 = (j11 * r0 - j01 * r1) / det
-        d2 = (-j10 * r0 + j00 * r1) / det
-        if abs(d1) > 0.5 or abs(d2) > 0.5:   # far from a root: leave it as it is
-            break
-        t1 -= d1
-        t2 -= d2
-        if abs(d1) + abs(d2) < 1e-15:
-            break
-    return t1, t2
-
-
-def _refine2(A, B, e, t1, t2):
-    """Newton steps on ``A (cos t1, sin t1) + B (cos t2, sin t2) = e`` from a root met to about 1e-12, to full
-    precision (an ill-conditioned root, 1e-12 in the residual, can be 1e-7 rad off in the angles): at most 6,
-    none longer than 1e-4 rad (farther than that is not this root's quadratic convergence), the last one below
-    1e-15 rad (the next would change the angles by rounding only)."""
-    for _ in range(6):
         c1 = math.cos(t1)
         s1 = math.sin(t1)
         c2 = math.cos(t2)
@@ -308,12 +282,11 @@ def _refine2(A, B, e, t1, t2):
             break
         d1 = (j11 * r0 - j01 * r1) / det
         d2 = (-j10 * r0 + j00 * r1) / det
-        step = abs(d1) + abs(d2)
-        if not step <= 1e-4:
+        if abs(d1) > reach or abs(d2) > reach:
             break
         t1 -= d1
         t2 -= d2
-        if step <= 1e-15:
+        if abs(d1) + abs(d2) < 1e-15:
             break
     return t1, t2
 
@@ -326,7 +299,7 @@ def _trig2(A, B, e):
 
     The exact solutions come from :func:`._kernels._trig2`, the solver of the 1-D and 2-D searches (the
     quartic in closed form, shifted so that no solution lies near its root at infinity), each then taken to
-    full precision (:func:`_refine2`). Only when it finds none does the quartic go to its companion matrix
+    full precision (:func:`_newton2`). Only when it finds none does the quartic go to its companion matrix
     here: its near-real roots (and θ = π, the root at infinity) are polished by Newton steps on the 2x2 system
     and kept when they meet it (an exact solution the closed form missed), else the nearest candidate is the
     least-squares answer.
@@ -336,8 +309,10 @@ def _trig2(A, B, e):
     count = _trig2_exact(A[0, 0], A[0, 1], A[1, 0], A[1, 1], B[0, 0], B[0, 1], B[1, 0], B[1, 1], e[0], e[1], out1,
                          out2)
     if count > 0:
-        for i in range(count):   # its roots meet the system to 1e-12 (enough for the searches, which polish
-            t1, t2 = _refine2(A, B, e, out1[i], out2[i])   # later); here they are final: to full precision
+        for i in range(count):   # its roots meet the system to 1e-12, enough for the searches (they polish
+            # later); here they are final: to full precision (an ill-conditioned root, 1e-12 in the residual,
+            # can be 1e-7 rad off in the angles), by steps of this root's convergence only
+            t1, t2 = _newton2(A, B, e, out1[i], out2[i], 6, 1e-4)
             out1[i] = _wrap(t1)
             out2[i] = _wrap(t2)
         return out1, out2, count, False
@@ -490,7 +465,7 @@ def sp5(p0, p1, p2, p3, k1, k2, k3):
 
 # ---------------------------------------------------------------------------------- compiling
 KERNELS = ("_dot", "_cross", "_norm", "_wrap", "rot", "rotm", "_lin", "sp1", "_trig1", "sp4", "sp3", "sp2",
-           "_quartic_roots", "_res2", "_newton2", "_refine2", "_trig2", "sp6", "sp5")
+           "_quartic_roots", "_res2", "_newton2", "_trig2", "sp6", "sp5")
 """The functions :func:`kernels` compiles, callees before callers."""
 
 
