@@ -340,7 +340,7 @@ def random_classes(arms: int, targets: int, repeat: int) -> None:
         eaik = None
     print(f"\nrandom arms of each closed-form class: {arms} arms x {targets} targets, one target per call; median over "
           "the arms of the CPU-best µs per target (ratio armkit/EAIK)\n")
-    print("| class drawn | armkit's class | EAIK single | armkit ik_all single | armkit ik single | branches per target |")
+    print("| class drawn | armkit family | EAIK single | armkit ik_all single | armkit ik single | branches per target |")
     print("|---|---|---|---|---|---|")
     g = np.random.default_rng(5)
     with tempfile.TemporaryDirectory() as tmp:
