@@ -165,8 +165,8 @@ def test_stanford_arm_prismatic_joint_gets_every_branch() -> None:
     _check_every_branch(r, q)
 
 
-# bench_coverage's random three-parallel arm 12 (numpy generator started from 123) and its target 54: joint origins (m, rpy 0;
-# the last is the tool's, with the rpy below) and axes, as its URDF has them
+# bench_coverage's random three-parallel arm 12 (numpy generator started from 123) and its target 54, as its URDF
+# has them: joint origins (m, rpy 0; the last is the tool's, with the rpy below) and axes, i.e. the POE form's P and H
 DOUBLE_ROOT_ORIGINS = [(0.06549154387744684, -0.19678750167327294, -0.0071141969382871335),
                        (0.7043953014196311, -0.3884680076945015, 0.07319130309125338),
                        (-0.9466951217193871, 0.8923898884071841, 0.315207274940723),
@@ -185,25 +185,18 @@ DOUBLE_ROOT_Q = np.array([2.577075716684246, -0.22077885584382528, -0.1578242398
                           -2.871485443111667, 0.2011016757447881])
 
 
-def test_a_double_root_is_one_branch_not_two(tmp_path) -> None:
+def test_a_double_root_is_one_branch_not_two() -> None:
     """SP6 (q1, q5 of a three-parallel arm) has a double root at this target. The quartic's companion matrix gave
     it twice, 1e-7 rad apart, each passing the FK check; the polish then put both on one configuration, and
     ``ik_all`` listed 4 branches where 2 exist, each twice. Every configuration Levenberg-Marquardt reaches from
     300 random starts is among the branches, and no two branches are the same configuration."""
-    from test_dense_check import dense_solutions
+    from test_dense_check import dense_solutions, robot_of
 
-    links = "".join(f'<link name="l{k}"/>' for k in range(7)) + '<link name="tool"/>'
-    joints = "".join(
-        f'<joint name="j{k + 1}" type="revolute"><parent link="l{k}"/><child link="l{k + 1}"/>'
-        f'<origin xyz="{" ".join(map(repr, o))}" rpy="0 0 0"/><axis xyz="{" ".join(map(repr, a))}"/>'
-        '<limit lower="-6.283185307179586" upper="6.283185307179586" effort="1" velocity="1"/></joint>'
-        for k, (o, a) in enumerate(zip(DOUBLE_ROOT_ORIGINS, DOUBLE_ROOT_AXES)))
-    joints += (f'<joint name="tool_joint" type="fixed"><parent link="l6"/><child link="tool"/><origin '
-               f'xyz="{" ".join(map(repr, DOUBLE_ROOT_ORIGINS[6]))}" rpy="{" ".join(map(repr, DOUBLE_ROOT_TOOL_RPY))}"/>'
-               '</joint>')
-    path = tmp_path / "arm.urdf"
-    path.write_text(f'<?xml version="1.0"?><robot name="random">{links}{joints}</robot>')
-    robot = armkit.load(str(path), tip="tool")
+    from armkit.ik.geometric.poe import POE
+    from armkit.spatial import rpy_to_rotation
+
+    robot = robot_of(POE(np.array(DOUBLE_ROOT_AXES), np.array(DOUBLE_ROOT_ORIGINS),
+                         rpy_to_rotation(np.array(DOUBLE_ROOT_TOOL_RPY)), np.zeros(6, dtype=bool)))
     assert closed_form(robot).solver == "three_parallel"
     T = armkit.fk(robot, DOUBLE_ROOT_Q)
     res = armkit.ik_all(robot, T, enforce_limits=False)
