@@ -50,6 +50,7 @@ from typing import Any, Optional
 
 import numpy as np
 
+from . import _kernels
 from ._kernels import _trig2 as _trig2_exact
 
 __all__ = ["sp1", "sp2", "sp3", "sp4", "sp5", "sp6", "rot", "rotm", "kernels", "jit_namespace", "TOL", "KERNELS"]
@@ -511,8 +512,6 @@ def kernels() -> Optional[types.SimpleNamespace]:
     when Numba cannot be imported. Compiled on first call of each (cached on disk)."""
     global _KERNELS
     if _KERNELS is None:
-        from . import _kernels
-
         kk = _kernels.kernels()
         if kk is None:
             return None
