@@ -225,10 +225,12 @@ def _near_or_equal(robot, T: np.ndarray, a: np.ndarray, b: np.ndarray) -> bool:
     return bool(gap <= 1e-3 and np.abs(armkit.fk(robot, b + 0.5 * step) - T).max() <= 1e-9 * max(1.0, robot.reach))
 
 
-def dense(kind: str, targets: int, starts: int, g: np.random.Generator, folder: Path) -> tuple[str, dict]:
+def dense(kind: str, targets: int, starts: int, g: np.random.Generator, folder: Path,
+          keep: Path | None = None) -> tuple[str, dict]:
     """``ik_all`` of random arms of a class EAIK refuses against every distinct solution that Levenberg-Marquardt
     (``method="lm"``, no restarts) reaches from ``starts`` random starts per target: the reference's resolution
-    is its starts; it may miss solutions, armkit may not."""
+    is its starts; it may miss solutions, armkit may not. ``keep``: a folder where each target with a missed
+    solution leaves its arm (``missed-K.urdf``) and ``missed-K.npz`` (the target ``T``, the missed ``q``)."""
     out = {"targets": targets, "reference": 0, "armkit": 0, "missing": 0, "fails FK": 0}
     names: set[str] = set()
     for i in range(targets):
@@ -250,7 +252,12 @@ def dense(kind: str, targets: int, starts: int, g: np.random.Generator, folder: 
                 ref.append(x)
         out["reference"] += len(ref)
         out["armkit"] += len(ours)
-        out["missing"] += sum(not any(_near_or_equal(robot, T, u, s) for s in ours) for u in ref)
+        missed = [u for u in ref if not any(_near_or_equal(robot, T, u, s) for s in ours)]
+        out["missing"] += len(missed)
+        if missed and keep is not None:
+            k = len(list(keep.glob("missed-*.npz")))
+            (keep / f"missed-{k}.urdf").write_text(path.read_text())
+            np.savez(keep / f"missed-{k}.npz", T=T, q=np.array(missed))
     return " / ".join(sorted(names)), out
 
 
@@ -262,8 +269,12 @@ def main() -> None:
                     help="targets per class EAIK refuses (each on its own random arm), checked by a dense search")
     ap.add_argument("--starts", type=int, default=200, help="random starts of the dense least-squares search")
     ap.add_argument("--dense-only", action="store_true", help="only the classes EAIK refuses (no EAIK needed)")
+    ap.add_argument("--seed", type=int, default=2026,
+                    help="where the generator of arms and targets starts (the README's numbers: 2026)")
+    ap.add_argument("--keep-missed", type=Path, default=None, metavar="FOLDER",
+                    help="write each arm and target with a missed solution of the dense check into FOLDER")
     args = ap.parse_args()
-    g = np.random.default_rng(2026)
+    g = np.random.default_rng(args.seed)
     t0 = time.perf_counter()
     with tempfile.TemporaryDirectory() as tmp:
         if not args.dense_only:
@@ -273,7 +284,9 @@ def main() -> None:
         print("| arm | armkit's class (solver) | reference solutions | armkit branches | missing | armkit fails FK |")
         print("|---|---|---|---|---|---|")
         for kind in REFUSED:
-            cls, c = dense(kind, args.dense_targets, args.starts, g, Path(tmp))
+            if args.keep_missed is not None:
+                args.keep_missed.mkdir(parents=True, exist_ok=True)
+            cls, c = dense(kind, args.dense_targets, args.starts, g, Path(tmp), args.keep_missed)
             print(f"| random: {kind} | {cls} | {c['reference']:,} | {c['armkit']:,} | {c['missing']} | {c['fails FK']} |",
                   flush=True)
     print(f"\n{time.perf_counter() - t0:.0f} s; load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores")

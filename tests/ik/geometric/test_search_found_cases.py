@@ -86,10 +86,11 @@ ODD_R_NT = np.array([[-0.8339556694557925, -0.22927532367423875, 0.5019469766186
 ODD_Q_GEN = np.array([-1.0230442061359053, 2.518021161518157, 1.069510402495878, 1.6522080417056144,
                       2.0496860078814287, -1.4080111190816298])
 
-# Not fixed (found 2026-12-05 by bench_coverage.py with its generator started from 7): a '6R-two-parallel' arm
-# whose search over q6 has two folds in one step (a pair of branches born between two samples, two others meeting
-# 0.003 rad after the next); the root 0.0004 rad past that sample is missed, 3 of 4 solutions found. Sampling the
-# ambiguous steps 32 times finer instead of 16 finds it, at 12-20 % more time for every target of the search.
+# Found 2026-12-05 by bench_coverage.py with its generator started from 7: a '6R-two-parallel' arm whose search
+# over q6 has two folds 0.04 step apart about one sample (a pair of branches born just before it, one of them
+# meeting a third branch just after it). The root 0.0004 rad past the sample, on the member that ends, was missed
+# (3 of 4 solutions found): the bisection towards that branch's end took the other member of its pair, 0.43 rad
+# away, for it. A branch found there must now be nearer to the ending branch than to any other (search._owned).
 FOLDS_H = np.array([[-0.25205918078580586,  0.8122088042104001 , -0.5261017275629312 ],
        [ 0.8087409425908648 ,  0.5136844732168402 , -0.28647224953418626],
        [-0.8087409425908648 , -0.5136844732168401 ,  0.28647224953418626],
@@ -156,10 +157,9 @@ def test_against_a_dense_search(name):
     assert ik_all_misses(form, R, p, seed) == []
 
 
-@pytest.mark.xfail(strict=True, reason="known miss of the 1-D search: two folds within one step (see FOLDS_H)")
 @pytest.mark.parametrize("jit", [True, False], ids=["compiled", "plain"])
 def test_two_folds_in_one_step_of_the_two_parallel_search(jit):
-    """Strict: when the search finds this solution, the test fails until the mark is taken off."""
+    """The solution beside the two folds (FOLDS_H) is found, every solution passes FK, and they come in pairs."""
     form = POE(FOLDS_H, FOLDS_P, FOLDS_R_NT, np.zeros(6, dtype=bool))
     R, p = form.fk(FOLDS_Q_GEN)
     q = np.asarray(G.two_parallel(form, R, p, jit=jit).q)

@@ -352,6 +352,15 @@ def _nearest(S, n, ref):
     return best, bd
 
 
+def _owned(row, d, S0, c0, j0):
+    """Whether ``row``, at distance ``d`` from the last point of branch ``j0`` of a sample (branches
+    ``S0[:c0]``), lies nearer to that point than to every other branch of the sample (:func:`_edge`)."""
+    for o in range(c0):
+        if o != j0 and _adist(row, S0[o]) < d:
+            return False
+    return True
+
+
 def _refine(kind, H, P, C, a, fa, ref, b, fb, out):
     """The zero between ``a`` (branch ``ref``, residual ``fa``) and ``b`` (residual ``fb`` of the same branch,
     opposite sign) by false position (Illinois), following the branch; ``(x, branch)`` into ``out (4,)``.
@@ -472,12 +481,18 @@ def _settled(S, E, i, n):
     return a * b > 0.0 and abs(a - b) < 0.25 * min(abs(a), abs(b))
 
 
-def _edge(kind, H, P, C, x0, ref, x1, roots, m):
-    """A branch at ``x0`` (``ref``) without a match at the neighbouring sample ``x1``: find where it ends
-    (bisection), sample it towards the end quadratically spaced (the residual changes like a square root
-    there) and refine the sign changes. Returns the new count of ``roots``."""
+def _edge(kind, H, P, C, x0, S0, c0, j0, x1, roots, m):
+    """Branch ``j0`` of the sample at ``x0`` (its branches ``S0[:c0]``) without a match at the neighbouring
+    sample ``x1``: find where it ends (bisection), sample it towards the end quadratically spaced (the residual
+    changes like a square root there) and refine the sign changes. Returns the new count of ``roots``.
+
+    A branch found while bisecting is taken as this one only if it lies nearer to this one's last point than to
+    every other branch of ``x0`` (:func:`_owned`): a pair of branches born just before ``x0`` has one member end
+    just after it, and the other member, 0.43 rad away in ``(q1, q4, θ)``, was taken for it by the nearest-branch
+    rule alone (bench_coverage found such a target: the root on the ending member was missed)."""
     S = np.empty((4, 3))
     E = np.empty(4)
+    ref = S0[j0]
     cur = ref.copy()
     good = x0
     bad = x1
@@ -485,7 +500,7 @@ def _edge(kind, H, P, C, x0, ref, x1, roots, m):
         x = 0.5 * (good + bad)
         n = _eval(kind, H, P, C, x, S, E)
         i, d = _nearest(S, n, cur)
-        if i >= 0 and d < 0.5:
+        if i >= 0 and d < 0.5 and _owned(S[i], d, S0, c0, j0):
             good = x
             for k in range(3):
                 cur[k] = S[i, k]
@@ -497,7 +512,7 @@ def _edge(kind, H, P, C, x0, ref, x1, roots, m):
     # meet at the end) to the end
     far = x0 + (x0 - good)
     i, d = _pick(kind, H, P, C, far, ref, S, E)
-    if i < 0 or d > 0.5:
+    if i < 0 or d > 0.5 or not _owned(S[i], d, S0, c0, j0):
         far = x0
         i, d = _pick(kind, H, P, C, x0, ref, S, E)
         if i < 0:
@@ -579,11 +594,11 @@ def _pair(kind, H, P, C, xa, Sa, Ea, ca, xb, Sb, Eb, cb, D, roots, m, out, pp, w
         pb[bk] = bj
     for k in range(cb):             # branches that begin between the samples
         if pb[k] < 0:
-            m = _edge(kind, H, P, C, xb, Sb[k], xa, roots, m)
+            m = _edge(kind, H, P, C, xb, Sb, cb, k, xa, roots, m)
     for j in range(ca):
         k = pa[j]
         if k < 0:                   # the branch ends between the samples
-            m = _edge(kind, H, P, C, xa, Sa[j], xb, roots, m)
+            m = _edge(kind, H, P, C, xa, Sa, ca, j, xb, roots, m)
             continue
         fa = Ea[j]
         fb = Eb[k]
@@ -823,7 +838,7 @@ def _search(kind, H, P, C, n, roots):
 
 
 KERNELS = ("_eval_ti", "_point5", "_eval_tp", "_eval_sw", "_eval_sm", "_eval", "_margin", "_island",
-           "_rim", "_adist", "_nearest", "_pick", "_refine", "_add", "_dip", "_settled", "_edge", "_dists", "_near",
+           "_rim", "_adist", "_nearest", "_owned", "_pick", "_refine", "_add", "_dip", "_settled", "_edge", "_dists", "_near",
            "_pair", "_islands", "_ambiguous", "_match", "_dip_roots", "_extrema", "_seam", "_scan", "_search")
 """The functions :func:`kernels` compiles, callees before callers (the scalar helpers: :mod:`._kernels`)."""
 _KERNELS: Optional[types.SimpleNamespace] = None
