@@ -110,10 +110,60 @@ FOLDS_R_NT = np.array([[ 0.6507205266398742 ,  0.7019298958162763 ,  0.289581107
 FOLDS_Q_GEN = np.array([ 0.6938870599932141,  3.1020111791457357, -1.6214537902068282,  1.1539553003957899,  1.464142245907862 ,
         0.5763929294965124])
 
+# Found 2026-12-05 by bench_coverage.py --dense-only --seed 7: a '6R-two-parallel' arm whose search over q6 has a
+# pair of branches that lives only between two samples (0.02 rad of a 0.026 rad step; two roots of SP6's quartic turn
+# real and back), with two solutions on it, 0.012 rad apart: both were missed (4 of 6 found). The search now
+# watches how near SP6's complex roots are to turning real (_kernels._trig2m) and looks between samples where
+# that margin peaks (search._islands), as it did for SP3's islands.
+ISLAND6_H = np.array([[-0.4420184425651005 , -0.1276833224417144 , -0.8878719871707679 ],
+       [ 0.16632190501815936, -0.8148684699538468 , -0.555271465669007  ],
+       [-0.16632190501815936,  0.8148684699538468 ,  0.5552714656690071 ],
+       [ 0.44240529976858867,  0.8905951058643652 ,  0.10544149158232444],
+       [-0.22882540953803648, -0.753578866475139  ,  0.6162449382768141 ],
+       [-0.35576973454420535, -0.9322487718884391 ,  0.06587961213336574]])
+ISLAND6_P = np.array([[-0.5142017364482178  ,  0.24601911491713038 ,  0.8293594472202019  ],
+       [ 0.8881615746757336  , -0.8350939599978549  , -0.860446136636012   ],
+       [-0.4635247303412422  ,  1.395196795134762   , -0.4119869552284658  ],
+       [-0.4705126250913372  , -0.5005245290425423  ,  0.3404117445223487  ],
+       [ 1.4721488935562828  , -1.1486970485001848  ,  0.34650732872080064 ],
+       [-0.5071927825047288  ,  0.7794555599181064  , -0.8656450477521781  ],
+       [-0.06975210367310442 ,  0.21563804356994104 ,  0.009044930006615215]])
+ISLAND6_R_NT = np.array([[-0.48640797132711094,  0.38013583274659657,  0.7867045405306211 ],
+       [ 0.7246356784975756 , -0.3275577866727161 ,  0.6063077022753621 ],
+       [ 0.4881704813667067 ,  0.864987077968291  , -0.11613326857569656]])
+ISLAND6_Q_GEN = np.array([-2.3286532057354714 , -0.29588174557049296,  0.31162750440280185,  2.1475155901101566 ,
+        0.7064649788979764 ,  2.5341135076639585 ])
+
+# Found 2026-12-05 by bench_coverage.py --dense-only --seed 2026: a '6R-two-parallel' arm whose search over q6 had
+# two branches end between two samples, the residual of one dipping below 0 and back 0.0004 and 0.00007 rad before
+# the end (two solutions, ik_all found none). The step was sampled finer, the last sub-sample fell 1e-5 rad before
+# the end, and the samples towards the end started only as far again back from there. They now start at least one
+# (sub-)step back (search._edge).
+END2_H = np.array([[ 0.5850018375274371 ,  0.7866191468627535 , -0.1974921970064539 ],
+       [-0.691055354994824  , -0.38356928109728555,  0.6126312944434764 ],
+       [-0.691055354994824  , -0.38356928109728566,  0.6126312944434762 ],
+       [ 0.1536809985705233 , -0.9849039516893864 ,  0.0796640234045319 ],
+       [ 0.5835094536458288 , -0.538620279492332  ,  0.6077868968853709 ],
+       [-0.7237358175991161 ,  0.6765866914086116 ,  0.1357826032041194 ]])
+END2_P = np.array([[ 1.0593943911131904e+00, -8.4654098352180340e-01, -3.2860496557184277e-01],
+       [-1.2928234413110498e+00,  1.1607759155157915e+00,  9.8318114916823562e-01],
+       [-1.3355513609788483e-02, -2.1841939142671835e-01, -4.5212546494166395e-02],
+       [-1.7084928803308497e-01, -7.3391485290840675e-01, -1.2676049675256809e+00],
+       [ 2.4107878679090550e-01,  3.8470699865016128e-01, -6.8767138704455943e-02],
+       [ 1.0114591073294690e+00, -5.6863478823563773e-01,  1.0137509871695205e+00],
+       [ 2.8073623184999152e-01,  6.7233929209098431e-04, -2.6441030507924373e-01]])
+END2_R_NT = np.array([[ 0.7381324670758096  , -0.3003486159836025  , -0.604111885270694   ],
+       [-0.036308437981607114,  0.8764545611614141  , -0.4801136319150796  ],
+       [ 0.6736780821578756  ,  0.37632181852250707 ,  0.6360343784136185  ]])
+END2_Q_GEN = np.array([ 2.587421579294828  , -3.009494131998509  , -1.8912553124323839 , -0.44222638831898964,
+        0.5239246367237946 ,  0.6655323823423309 ])
+
 CASES = {   # name: (H, P, R_nT, the missed solution, the solver, even count, the dense search's seed)
     "island": (ISLAND_H, ISLAND_P, ISLAND_R_NT, ISLAND_Q_GEN, G.spherical_middle, False, 11),
     "twin2d": (TWIN2D_H, TWIN2D_P, TWIN2D_R_NT, TWIN2D_Q_GEN, gen_six_dof, True, 13),
     "odd": (ODD_H, ODD_P, ODD_R_NT, ODD_Q_GEN, G.two_intersecting, True, 17),
+    "island6": (ISLAND6_H, ISLAND6_P, ISLAND6_R_NT, ISLAND6_Q_GEN, G.two_parallel, True, 19),
+    "end2": (END2_H, END2_P, END2_R_NT, END2_Q_GEN, G.two_parallel, True, 23),
 }
 
 
@@ -129,7 +179,7 @@ def _case(name):
 
 
 @pytest.mark.parametrize("jit", [True, False], ids=["compiled", "plain"])
-@pytest.mark.parametrize("name", ["island", "odd"])
+@pytest.mark.parametrize("name", ["island", "odd", "island6", "end2"])
 def test_the_missed_solution_is_found(name, jit):
     _check_solver(name, jit)
 

@@ -48,7 +48,7 @@ def _solver(which):
 def _solve(f, A, B, e):
     T1 = np.zeros(4)
     T2 = np.zeros(4)
-    n = f(A[0, 0], A[0, 1], B[0, 0], B[0, 1], e[0], A[1, 0], A[1, 1], B[1, 0], B[1, 1], e[1], T1, T2)
+    n, _ = f(A[0, 0], A[0, 1], B[0, 0], B[0, 1], e[0], A[1, 0], A[1, 1], B[1, 0], B[1, 1], e[1], T1, T2)
     return [(T1[i], T2[i]) for i in range(n)]
 
 
@@ -293,3 +293,51 @@ def test_newton_step_off_to_overflow_is_refused_without_a_warning():
         assert kk._newton4(np.float64(0.0), b, c, d, e) == 0.0
     if K is not None:
         assert K._newton4(0.0, 0.0, 0.0, 1e-300, 1.0) == 0.0
+
+
+def _count_margin(f, A, B, e):
+    T1 = np.zeros(4)
+    T2 = np.zeros(4)
+    return f(A[0, 0], A[0, 1], B[0, 0], B[0, 1], e[0], A[1, 0], A[1, 1], B[1, 0], B[1, 1], e[1], T1, T2)
+
+
+@pytest.mark.parametrize("which", _SOLVERS)
+@settings(max_examples=30, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(seed=st.integers(0, 2**31 - 1))
+def test_the_margin_closes_where_two_solutions_appear(which, seed):
+    """The margin (how near a complex pair of the quartic is to turning real, what the 1-D search watches for
+    branches born and dying between two samples) goes to 0 where two more solutions appear. Along
+    ``e(s) = s e1`` the count is found to change by 2 at ``s*`` (by bisection on the count alone); on the side
+    with fewer solutions the margin is small next to ``s*`` and shrinks towards it (like the square root of the
+    distance), and it is ``inf`` wherever there are 4 solutions (no complex root left)."""
+    f = _solver(which)
+    rng = np.random.default_rng(seed)
+    A, B = rng.normal(size=(2, 2)), rng.normal(size=(2, 2))
+    e1 = rng.normal(size=2)
+    e1 /= np.linalg.norm(e1)
+    s = np.linspace(0.0, 3.0 * (np.abs(A).sum() + np.abs(B).sum()), 600)
+    counts = [_count_margin(f, A, B, si * e1) for si in s]
+    for c, mg in counts:
+        if c == 4:
+            assert mg == math.inf
+    steps = [i for i in range(len(s) - 1) if abs(counts[i + 1][0] - counts[i][0]) == 2]
+    if not steps:
+        return
+    i = steps[0]
+    few = min(counts[i][0], counts[i + 1][0])
+    side = -1.0 if counts[i][0] == few else 1.0      # the fewer solutions before s* (-1) or after it (+1)
+    lo, hi = s[i], s[i + 1]                            # counts[lo side] != counts[hi side]
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        if _count_margin(f, A, B, mid * e1)[0] == counts[i][0]:
+            lo = mid
+        else:
+            hi = mid
+    edge = lo if side < 0 else hi
+    h = s[1] - s[0]
+    far = _count_margin(f, A, B, (edge + side * 1e-3 * h) * e1)
+    near = _count_margin(f, A, B, (edge + side * 1e-9 * h) * e1)
+    if far[0] != few or near[0] != few:
+        return          # another change of count that close: not this test's case
+    assert near[1] < far[1]
+    assert near[1] < 1e-3

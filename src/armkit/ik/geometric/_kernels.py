@@ -294,7 +294,17 @@ def _trig2(a00, a01, a10, a11, b00, b01, b10, b11, e0, e1, T1, T2):
     """θ1, θ2 with ``A (cos θ1, sin θ1) + B (cos θ2, sin θ2) = e`` (rows of equal scale) into ``T1``, ``T2``;
     returns their count (0 when no exact solution). As :func:`.subproblems._trig2` (eliminate the better
     conditioned unknown, a quartic in the other), the quartic in closed form and shifted so that its root at
-    infinity is far from every solution."""
+    infinity is far from every solution. :func:`_trig2m` with its margin dropped."""
+    return _trig2m(a00, a01, a10, a11, b00, b01, b10, b11, e0, e1, T1, T2)[0]
+
+
+def _trig2m(a00, a01, a10, a11, b00, b01, b10, b11, e0, e1, T1, T2):
+    """:func:`_trig2`, returning ``(count, margin)``: the margin is how near the quartic's nearest complex root
+    is to being real, as an angle, ``2 |Im t| / (1 + |t|²)`` for ``t = tan(φ / 2)``, over the roots that give no
+    solution of their own (complex, failing the check, or a repeat of one found: a pair about to turn complex);
+    ``inf`` when every root gives one. Two more solutions appear where it reaches 0 (a pair of complex roots
+    turning real): the 1-D search looks for pairs of branches born and dying between two of its samples where it
+    dips (``search._islands``)."""
     na2 = a00 * a00 + a01 * a01 + a10 * a10 + a11 * a11
     nb2 = b00 * b00 + b01 * b01 + b10 * b10 + b11 * b11
     scale = max(math.sqrt(max(na2, nb2, e0 * e0 + e1 * e1)), 1e-300)
@@ -313,7 +323,7 @@ def _trig2(a00, a01, a10, a11, b00, b01, b10, b11, e0, e1, T1, T2):
         x00, x01, x10, x11, y00, y01, y10, y11 = a00, a01, a10, a11, b00, b01, b10, b11
     det = x00 * x11 - x01 * x10
     if abs(det) <= 1e-14 * max(na2, nb2):
-        return 0
+        return 0, np.inf
     idet = 1.0 / det
     i00 = x11 * idet
     i01 = -x01 * idet
@@ -347,7 +357,7 @@ def _trig2(a00, a01, a10, a11, b00, b01, b10, b11, e0, e1, T1, T2):
             best = gv[k]
             kb = k
     if best <= 1e-300:
-        return 0
+        return 0, np.inf
     ca = _C8[kb]
     sa = _S8[kb]
     c2a = _C8[(2 * kb) % 8]
@@ -358,10 +368,12 @@ def _trig2(a00, a01, a10, a11, b00, b01, b10, b11, e0, e1, T1, T2):
     B2 = b2 * c2a - a2 * s2a
     roots = _quartic4(a0 - A1 + A2, 2.0 * B1 - 4.0 * B2, 2.0 * a0 - 6.0 * A2, 2.0 * B1 + 4.0 * B2, a0 + A1 + A2)
     count = 0
+    margin = np.inf
     for i in range(4):
         t = roots[2 * i]
         ti = roots[2 * i + 1]
         if abs(ti) > 1e-5 * (1.0 + math.sqrt(t * t + ti * ti)):
+            margin = min(margin, 2.0 * abs(ti) / (1.0 + t * t + ti * ti))
             continue
         w = 1.0 / (1.0 + t * t)
         cf = (1.0 - t * t) * w
@@ -414,6 +426,7 @@ def _trig2(a00, a01, a10, a11, b00, b01, b10, b11, e0, e1, T1, T2):
             if abs(d1) + abs(d2) < 1e-15 or r0 * r0 + r1 * r1 <= tol14:
                 break
         if r0 * r0 + r1 * r1 > tol9:
+            margin = min(margin, 2.0 * abs(ti) / (1.0 + t * t + ti * ti))
             continue
         t1 = _wrap(t1)                    # atan2 is already in (−π, π]: the fast path unless Newton moved it
         t2 = _wrap(t2)
@@ -427,11 +440,14 @@ def _trig2(a00, a01, a10, a11, b00, b01, b10, b11, e0, e1, T1, T2):
             T1[count] = t1
             T2[count] = t2
             count += 1
-    return count
+        else:      # a pair that has nearly met (a double root): as near to turning complex as its roots are apart
+            margin = min(margin, 2.0 * abs(ti) / (1.0 + t * t + ti * ti))
+    return count, margin
 
 
 def _sp6(h0, k0, p0, h1, k1, p1, h2, k2, p2, h3, k3, p3, d1, d2, T1, T2):
-    """SP6 (as :func:`.subproblems.sp6`, exact solutions only) on scalar vectors: the count into ``T1``, ``T2``."""
+    """SP6 (as :func:`.subproblems.sp6`, exact solutions only) on scalar vectors: the count into ``T1``, ``T2``;
+    returns ``(count, margin)`` (:func:`_trig2m`)."""
     a00, a01, c0 = _tlin(h0, k0, p0)
     b00, b01, c1 = _tlin(h1, k1, p1)
     a10, a11, c2 = _tlin(h2, k2, p2)
@@ -440,8 +456,8 @@ def _sp6(h0, k0, p0, h1, k1, p1, h2, k2, p2, h3, k3, p3, d1, d2, T1, T2):
 
 
 def _trig2_rows(a00, a01, b00, b01, e0, a10, a11, b10, b11, e1, T1, T2):
-    """:func:`_trig2` on the rows ``a0· (cos θ1, sin θ1) + b0· (cos θ2, sin θ2) = e0`` (and row 1) scaled to unit
-    size first, so that its tolerances mean the same in both equations."""
+    """:func:`_trig2m` on the rows ``a0· (cos θ1, sin θ1) + b0· (cos θ2, sin θ2) = e0`` (and row 1) scaled to unit
+    size first, so that its tolerances mean the same in both equations: ``(count, margin)``."""
     s = math.sqrt(a00 * a00 + a01 * a01 + b00 * b00 + b01 * b01)
     if s > 0.0:
         s = 1.0 / s
@@ -458,7 +474,7 @@ def _trig2_rows(a00, a01, b00, b01, e0, a10, a11, b10, b11, e1, T1, T2):
         b10 *= s
         b11 *= s
         e1 *= s
-    return _trig2(a00, a01, a10, a11, b00, b01, b10, b11, e0, e1, T1, T2)
+    return _trig2m(a00, a01, a10, a11, b00, b01, b10, b11, e0, e1, T1, T2)
 
 
 def _add_row(rows, m, x, tol):
@@ -590,7 +606,7 @@ def _fk_err_from(H, P, RnT, prism, q, Rt, pt, RS, PS, s, T):
 # ---------------------------------------------------------------------------------- compiled
 KERNELS = ("_t", "_tdot", "_tcross", "_tadd", "_tsub", "_tmul", "_tnorm", "_trot_cs", "_trot", "_tmv", "_tmtv",
            "_tlin", "_tsp1", "_wrap", "_cubic_max", "_quad", "_newton4", "_polish", "_quartic4", "_quartic", "_res2",
-           "_angle", "_trig2", "_trig2_rows", "_sp6", "_add_row", "_sp3_cos", "_sp3", "_rmul_rot", "_move", "_fk_err_from")
+           "_angle", "_trig2m", "_trig2", "_trig2_rows", "_sp6", "_add_row", "_sp3_cos", "_sp3", "_rmul_rot", "_move", "_fk_err_from")
 """The functions :func:`kernels` compiles, callees before callers."""
 _KERNELS: Optional[types.SimpleNamespace] = None
 

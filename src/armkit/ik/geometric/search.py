@@ -33,12 +33,14 @@ samples by distance (a step where they do not pair up one to one within 0.1 rad 
   quarter of the smaller: the rest of that fold cannot reach 0, :func:`_settled`) and is sampled
   :data:`EDGE_N` more times towards it, quadratically spaced, then as above (sign changes, and
   extrema turning back towards 0);
-* SW, SM: a pair of branches that is born and dies between two samples with none (an *island*: SP3
-  has solutions only on an interval of the searched joint narrower than a step) is looked for where
-  SP3's margin (how far it is from having solutions) peaks between empty samples: its maximum by
-  golden section, the island's ends by bisection, then :data:`SUB_N` samples between them
-  (:func:`_islands`). benchmarks/bench_coverage.py found such a target (tests/ik/geometric/
-  test_search_found_cases.py): the search had answered "unreachable" where four solutions exist.
+* a pair of branches that is born and dies between two samples (an *island*: SW, SM, SP3 has solutions
+  only on an interval of the searched joint narrower than a step; TI, TP, two roots of SP6's quartic turn
+  real there and back) is looked for where the subproblem's margin (how far it is from giving two more
+  solutions: SP3's, or how near SP6's complex roots are to real, :func:`._kernels._trig2m`) peaks between
+  samples with as many branches: its maximum by golden section, the island's ends by bisection, then
+  :data:`SUB_N` samples between them (:func:`_islands`). benchmarks/bench_coverage.py found such targets
+  (tests/ik/geometric/test_search_found_cases.py): an SM search had answered "unreachable" where four
+  solutions exist, and a TP search had missed the two solutions of an island 0.02 rad wide.
 
 The turn is closed: its last sample is its first (copied; evaluated again at ``−π + N step`` ≈ π, rounding could
 give the two copies residuals of opposite signs around a root at ±π, which then fell between them). A residual
@@ -49,8 +51,8 @@ can share the step: its sign at the sample is rounding).
 Resolution: :data:`N` = 240 samples (1.5° apart), :data:`SUB_N` × finer in ambiguous steps. A root
 can be missed only when three or more roots of one branch lie within one step, two within 3e-10
 rad of a branch end, or a double root's residual stays above 1e-12, or two roots crowd within one
-step next to a branch end, or (TI, TP) a pair of branches lives only between two samples (measured
-against a dense scan of 20,000 samples on 200 random targets
+step next to a branch end, or an island lies where the three samples about it differ in count, or the parabola
+of its margin through them peaks more than one second difference below 0 (measured against a dense scan of 20,000 samples on 200 random targets
 of each class, tests/ik/geometric/test_search_speed_free.py: 0 missing for all four; TI lost one target's
 near-double root, residual peak 2e-6, beside a step sampled finer, until the seams of those steps were looked at,
 :func:`_seam`). The
@@ -112,7 +114,8 @@ def _eval(kind, H, P, C, x, S, E):
 
 def _eval_ti(H, P, C, x, S, E):
     """Axes 5, 6 meet (P[5] = 0), q1 = ``x``: SP5 ``−P2 + rot(−h2, q2) v = rot(h3, q3) (P3 + rot(h4, q4) P4)``
-    for ``v = rot(h1, −x) p0w − P1``; residual ``(R_04 h5)ᵀ e6 − h5ᵀ h6``."""
+    for ``v = rot(h1, −x) p0w − P1``; residual ``(R_04 h5)ᵀ e6 − h5ᵀ h6``. With fewer than 4 branches, ``E[3]`` is
+    SP6's margin, squared and negated (:func:`._kernels._trig2m`, :func:`_margin`)."""
     h0 = _t(H[0])
     k1 = _tmul(_t(H[1]), -1.0)
     k2 = _t(H[2])
@@ -121,7 +124,7 @@ def _eval_ti(H, P, C, x, S, E):
     p1 = _tsub(_trot(h0, -x, _t(C[1])), _t(P[1]))
     p2 = _t(P[3])
     p3 = _t(P[4])
-    n = _sp6(k2, k1, p1, _tmul(k2, -1.0), k3, p3, _tmul(p0, 2.0), k1, p1, _tmul(p2, -2.0), k3, p3,
+    n, mg = _sp6(k2, k1, p1, _tmul(k2, -1.0), k3, p3, _tmul(p0, 2.0), k1, p1, _tmul(p2, -2.0), k3, p3,
              _tdot(k2, p2) - _tdot(k2, p0), _tdot(p2, p2) + _tdot(p3, p3) - _tdot(p0, p0) - _tdot(p1, p1),
              S[:, 0], S[:, 2])              # q2, q4 straight into the branch rows (no temporary arrays)
     c = _tdot(_t(H[4]), _t(H[5]))
@@ -143,6 +146,8 @@ def _eval_ti(H, P, C, x, S, E):
         a = _trot_cs(k1, c1, -s1, a)      # rot(−h2, −q2) = rot(h2, q2)
         a = _trot_cs(h0, cx, sx, a)
         E[i] = _tdot(a, e6) - c
+    if n < 4:      # how near SP6 is to two more branches, kept for the island check (_islands)
+        E[3] = -mg * mg
     return n
 
 
@@ -166,7 +171,8 @@ def _point5(H, P, C, x):
 
 
 def _eval_tp(H, P, C, x, S, E):
-    """Axes 2 ∥ 3, q6 = ``x``: SP6 in (q1, q4), θ = q2 ± q3 by SP1; residual ``|d| − |P3|`` (see :func:`two_parallel`)."""
+    """Axes 2 ∥ 3, q6 = ``x``: SP6 in (q1, q4), θ = q2 ± q3 by SP1; residual ``|d| − |P3|`` (see :func:`two_parallel`).
+    With fewer than 4 branches, ``E[3]`` is SP6's margin, squared and negated (:func:`_margin`)."""
     h0 = _t(H[0])
     h1 = _t(H[1])
     h3 = _t(H[3])
@@ -174,7 +180,7 @@ def _eval_tp(H, P, C, x, S, E):
     w, v = _point5(H, P, C, x)
     mh1 = _tmul(h1, -1.0)
     mh0 = _tmul(h0, -1.0)
-    n = _sp6(h1, mh0, w, mh1, h3, _t(P[4]), h1, mh0, v, mh1, h3, h4,
+    n, mg = _sp6(h1, mh0, w, mh1, h3, _t(P[4]), h1, mh0, v, mh1, h3, h4,
              _tdot(h1, _tadd(_tadd(_t(P[1]), _t(P[2])), _t(P[3]))), 0.0, S[:, 0], S[:, 1])
     n2 = _tnorm(_t(P[2]))
     for i in range(n):
@@ -188,6 +194,8 @@ def _eval_tp(H, P, C, x, S, E):
                   _trot(h1, th, _tadd(_t(P[3]), _trot_cs(h3, c3, s3, _t(P[4])))))
         S[i, 2] = th
         E[i] = _tnorm(d) - n2
+    if n < 4:      # how near SP6 is to two more branches, kept for the island check (_islands)
+        E[3] = -mg * mg
     return n
 
 
@@ -227,16 +235,21 @@ def _eval_sm(H, P, C, x, S, E):
     return n
 
 
-def _margin(kind, H, P, C, x, S, E):
-    """For the kinds whose branches come from SP3 (SW, SM): 1 where there are branches at ``x``, else how far SP3
-    is from having solutions there, ``1 − |x|`` of :func:`._kernels._sp3_cos` (< 0; -inf where it is degenerate),
-    which :func:`_eval` leaves in ``E[0]``. ``S (4, 3)``, ``E (4,)``: work space."""
-    if _eval(kind, H, P, C, x, S, E) > 0:
+def _margin(kind, H, P, C, x, S, E, base):
+    """1 where there are more than ``base`` branches at ``x``; else how far the subproblem is from giving two more
+    (< 0; -inf where it cannot): for SP3 (SW, SM, ``base`` 0) ``1 − |x|`` of :func:`._kernels._sp3_cos`, which
+    :func:`_eval` leaves in ``E[0]``; for SP6 (TI, TP) minus the square of :func:`._kernels._trig2m`'s margin (it
+    changes like the distance to where a complex pair of the quartic turns real), left in ``E[3]``. ``S (4, 3)``,
+    ``E (4,)``: work space."""
+    c = _eval(kind, H, P, C, x, S, E)
+    if c > base:
         return 1.0
-    return E[0]
+    if kind == SW or kind == SM:
+        return E[0]
+    return E[3] if c < 4 else -np.inf
 
 
-def _island(kind, H, P, C, a, b):
+def _island(kind, H, P, C, a, b, base):
     """A point of ``[a, b]`` where the margin (:func:`_margin`) is >= 0, by golden section towards its maximum (the
     margin is below 0 at ``a``, at ``b`` and at their midpoint, and the midpoint's is the largest of the three);
     ``nan`` if the maximum stays below 0."""
@@ -245,8 +258,8 @@ def _island(kind, H, P, C, a, b):
     r = 0.6180339887498949
     c = b - r * (b - a)
     d = a + r * (b - a)
-    fc = _margin(kind, H, P, C, c, S, E)
-    fd = _margin(kind, H, P, C, d, S, E)
+    fc = _margin(kind, H, P, C, c, S, E, base)
+    fd = _margin(kind, H, P, C, d, S, E, base)
     for _ in range(80):
         if fc >= 0.0:
             return c
@@ -257,15 +270,15 @@ def _island(kind, H, P, C, a, b):
         if fc > fd:
             b, d, fd = d, c, fc
             c = b - r * (b - a)
-            fc = _margin(kind, H, P, C, c, S, E)
+            fc = _margin(kind, H, P, C, c, S, E, base)
         else:
             a, c, fc = c, d, fd
             d = a + r * (b - a)
-            fd = _margin(kind, H, P, C, d, S, E)
+            fd = _margin(kind, H, P, C, d, S, E, base)
     return np.nan
 
 
-def _rim(kind, H, P, C, inside, outside):
+def _rim(kind, H, P, C, inside, outside, base):
     """The end of an island (:func:`_islands`) between ``inside`` (margin >= 0) and ``outside`` (< 0), by bisection
     of the margin to rounding: the last point found inside."""
     S = np.empty((4, 3))
@@ -274,7 +287,7 @@ def _rim(kind, H, P, C, inside, outside):
         x = 0.5 * (inside + outside)
         if x == inside or x == outside:
             break
-        if _margin(kind, H, P, C, x, S, E) >= 0.0:
+        if _margin(kind, H, P, C, x, S, E, base) >= 0.0:
             inside = x
         else:
             outside = x
@@ -282,41 +295,46 @@ def _rim(kind, H, P, C, inside, outside):
 
 
 def _islands(kind, H, P, C, n, step, cnt, E, roots, m, out, pp, wk):
-    """Branches that live only between two samples without any (SW, SM: SP3 has solutions on an interval of the
-    searched joint narrower than a step): where the margin of three neighbouring empty samples peaks in the
-    middle one and the parabola through them comes within one second difference of 0 (as :func:`_extrema` looks
-    at residuals), its maximum is searched (:func:`_island`). An island found has its two ends found by
-    bisection of the margin (:func:`_rim`; there its two branches meet) and is sampled :data:`SUB_N` times
-    between them, closer towards the ends (cosine spacing: the branches move like the square root of the
-    distance to an end), the sign changes refined as between any samples (:func:`_pair`). Returns the new
-    count of ``roots``."""
-    if kind != SW and kind != SM:
-        return m
+    """A pair of branches that lives only between two samples (an *island*: SW, SM, SP3 has solutions on an
+    interval of the searched joint narrower than a step; TI, TP, two roots of SP6's quartic turn real and back
+    there): where three neighbouring samples have as many branches and the margin of the subproblem (how near it
+    is to two more, :func:`_margin`) peaks in the middle one, and the parabola through them comes within one second
+    difference of 0 (as :func:`_extrema` looks at residuals), its maximum is searched (:func:`_island`). An island
+    found has its two ends found by bisection of the margin (:func:`_rim`; there its two branches meet) and is
+    sampled :data:`SUB_N` times between them, closer towards the ends (cosine spacing: the branches move like
+    the square root of the distance to an end), the sign changes refined as between any samples (:func:`_pair`;
+    roots found twice are kept once). Returns the new count of ``roots``."""
+    sp3 = kind == SW or kind == SM
     M = np.full(n, -np.inf)
     for i in range(n):
-        if cnt[i] == 0:
+        if sp3 and cnt[i] == 0:
             M[i] = E[i, 0]   # the margin, left there by _eval_sw / _eval_sm
+        elif not sp3 and cnt[i] < 4:
+            M[i] = E[i, 3]   # by _eval_ti / _eval_tp
     Ss = np.zeros((SUB_N + 1, 4, 3))
     Es = np.zeros((SUB_N + 1, 4))
     cs = np.zeros(SUB_N + 1, dtype=np.int64)
     xs = np.zeros(SUB_N + 1)
     D = np.zeros((4, 4))
     for c in range(n):
-        ma = M[c - 1 if c > 0 else n - 1]
+        a = c - 1 if c > 0 else n - 1
+        b = c + 1 if c + 1 < n else 0
+        ma = M[a]
         mb = M[c]
-        mc = M[c + 1 if c + 1 < n else 0]
-        if not (ma < mb and mc < mb and ma > -np.inf and mc > -np.inf):
+        mc = M[b]
+        if not (ma < mb and mc < mb and ma > -np.inf and mc > -np.inf and cnt[a] == cnt[c] and cnt[b] == cnt[c]):
             continue
         d2 = ma - 2.0 * mb + mc
         if mb - (mc - ma) * (mc - ma) / (8.0 * d2) < d2:   # the parabola's peak below 0 by more than |d2|
             continue
+        base = cnt[c]
         xc = -_PI + c * step
-        x = _island(kind, H, P, C, xc - step, xc + step)
+        x = _island(kind, H, P, C, xc - step, xc + step, base)
         if x != x:
             continue
         xa = xc - step if x < xc else xc
-        lo = _rim(kind, H, P, C, x, xa)
-        hi = _rim(kind, H, P, C, x, xa + step)
+        lo = _rim(kind, H, P, C, x, xa, base)
+        hi = _rim(kind, H, P, C, x, xa + step, base)
         for k in range(SUB_N + 1):
             xs[k] = lo + (hi - lo) * 0.5 * (1.0 - math.cos(_PI * k / SUB_N))
             cs[k] = _eval(kind, H, P, C, xs[k], Ss[k], Es[k])
@@ -509,8 +527,11 @@ def _edge(kind, H, P, C, x0, S0, c0, j0, x1, roots, m):
         else:
             bad = x
     # from as far again beyond x0 (where matching between samples can still confuse the two branches that
-    # meet at the end) to the end
-    far = x0 + (x0 - good)
+    # meet at the end), and at least one step (x0 to x1) back, to the end: where x0 is a sub-sample just before
+    # the end, as far again was a sliver, and two roots just before x0 (the residual dipping below 0 and back
+    # between the last two sub-samples) were missed (bench_coverage found such a target)
+    back = max(abs(x0 - good), abs(x1 - x0))
+    far = x0 - back if x1 > x0 else x0 + back
     i, d = _pick(kind, H, P, C, far, ref, S, E)
     if i < 0 or d > 0.5 or not _owned(S[i], d, S0, c0, j0):
         far = x0
