@@ -158,12 +158,61 @@ END2_R_NT = np.array([[ 0.7381324670758096  , -0.3003486159836025  , -0.60411188
 END2_Q_GEN = np.array([ 2.587421579294828  , -3.009494131998509  , -1.8912553124323839 , -0.44222638831898964,
         0.5239246367237946 ,  0.6655323823423309 ])
 
+# Found 2026-12-05 by bench_coverage.py --dense-only --seed 99: a '6R-two-parallel' arm whose search over q6 has two
+# branches that end and begin again 0.003 rad apart within one step; the step's branches paired up across the gap
+# (0.47 rad apart, three times nearer than any other), so the solutions at its two ends were missed (4 of 6 found).
+# A pair more than 0.25 rad apart (was 0.5) now sends the step to be sampled finer (search._ambiguous).
+GAP_H = np.array([[-0.4793758463055681  , -0.47262383771432676 ,  0.739476508080549   ],
+       [-0.07657175956924975 , -0.833997419088481   ,  0.5464293829857811  ],
+       [ 0.07657175956924976 ,  0.833997419088481   , -0.5464293829857813  ],
+       [-0.022166352626096498, -0.21571453437823807 , -0.9762048414493936  ],
+       [-0.19586323096370994 ,  0.9681924962142389  ,  0.15569484587133095 ],
+       [ 0.641887046323497   ,  0.6846843110263627  ,  0.3452367506457734  ]])
+GAP_P = np.array([[-0.07904975188472387 , -0.26420805993809243 ,  0.4032098005008604  ],
+       [-0.23255091309683068 ,  0.22809969671934174 ,  0.8375725735970616  ],
+       [ 0.3249327157869123  ,  0.21727089589884596 , -2.091359112793087   ],
+       [ 0.03777297136964316 ,  0.3343061631546165  ,  0.867542389432881   ],
+       [-0.005800748381273917, -0.08040323317651937 , -0.042889016378162254],
+       [ 0.5014424294680888  ,  0.03799141802046807 ,  0.6320439362787345  ],
+       [-0.49753081817349215 , -0.0672294161014112  ,  0.24006706336709693 ]])
+GAP_R_NT = np.array([[-0.1608917777374552 ,  0.33138145500320015,  0.9296774532796004 ],
+       [-0.2623441804592888 , -0.9224226468174818 ,  0.2833937042655937 ],
+       [ 0.9514669551989835 , -0.19829975269322148,  0.23534621570397474]])
+GAP_Q_GEN = np.array([-0.8708785393152461 , -0.06257454764479808,  0.8549819818059832 , -2.8298929762372493 ,
+        0.3531147093963769 , -2.796005318994768  ])
+
+# Found 2026-12-05 by bench_coverage.py --dense-only --seed 99: a '6R-spherical-middle' arm whose search over q6 has
+# a pair of branches born between two samples with both roots of one of them 5e-5 and 1e-5 rad from the birth,
+# between the last two samples towards it, where that branch's residual alone showed no extremum (4 solutions,
+# none found). The residuals of the two branches at the last sample and at the fold are now read as one curve
+# through the fold (search._fold_dip).
+FOLD_H = np.array([[ 0.10910096590129875 , -0.32862982926363005 ,  0.9381361386054591  ],
+       [-0.9431824819426702  ,  0.275246952477154   ,  0.18613414761538014 ],
+       [-0.18055621846545175 ,  0.9834815944504893  ,  0.012783010231521815],
+       [-0.27336417959758097 , -0.9573637789860528  , -0.09341637971194143 ],
+       [-0.5903052430785158  ,  0.5699617092812078  , -0.571562218789222   ],
+       [-0.2352807532628211  , -0.3823227693145864  , -0.8935727542890421  ]])
+FOLD_P = np.array([[ 0.4262313717287658  ,  0.187480564223307   , -0.12617524308546044 ],
+       [ 1.0384492894624953  , -0.26033501995033015 , -0.30491960401334284 ],
+       [-0.3794170565831416  ,  0.1704655302018907  ,  0.07341024966288195 ],
+       [ 0.027888960881602864, -0.00603678932447585 ,  0.004749823980087053],
+       [-0.8107993224877738  ,  0.6006076510143697  , -0.11777125084103962 ],
+       [ 0.17456424345295385 , -0.9190084567994788  ,  1.013228857321473   ],
+       [-0.03193646445709608 ,  0.3653529475124951  ,  0.9107068288093405  ]])
+FOLD_R_NT = np.array([[ 0.5406060405485538 , -0.5210176951815662 , -0.6605192428916097 ],
+       [-0.6974551941223124 ,  0.16146633504775204, -0.6982011707509919 ],
+       [ 0.4704267861359766 ,  0.8381343471985485 , -0.27609682166196714]])
+FOLD_Q_GEN = np.array([ 3.0765708757433057  ,  0.023688460246013676, -1.1733045045906214  , -1.631679316919623   ,
+        0.20631255407039006 , -1.0304603349865138  ])
+
 CASES = {   # name: (H, P, R_nT, the missed solution, the solver, even count, the dense search's seed)
     "island": (ISLAND_H, ISLAND_P, ISLAND_R_NT, ISLAND_Q_GEN, G.spherical_middle, False, 11),
     "twin2d": (TWIN2D_H, TWIN2D_P, TWIN2D_R_NT, TWIN2D_Q_GEN, gen_six_dof, True, 13),
     "odd": (ODD_H, ODD_P, ODD_R_NT, ODD_Q_GEN, G.two_intersecting, True, 17),
     "island6": (ISLAND6_H, ISLAND6_P, ISLAND6_R_NT, ISLAND6_Q_GEN, G.two_parallel, True, 19),
     "end2": (END2_H, END2_P, END2_R_NT, END2_Q_GEN, G.two_parallel, True, 23),
+    "gap": (GAP_H, GAP_P, GAP_R_NT, GAP_Q_GEN, G.two_parallel, True, 29),
+    "fold": (FOLD_H, FOLD_P, FOLD_R_NT, FOLD_Q_GEN, G.spherical_middle, False, 31),
 }
 
 
@@ -179,7 +228,7 @@ def _case(name):
 
 
 @pytest.mark.parametrize("jit", [True, False], ids=["compiled", "plain"])
-@pytest.mark.parametrize("name", ["island", "odd", "island6", "end2"])
+@pytest.mark.parametrize("name", ["island", "odd", "island6", "end2", "gap", "fold"])
 def test_the_missed_solution_is_found(name, jit):
     _check_solver(name, jit)
 

@@ -16,8 +16,8 @@ kind   class (0-based axes)   searched joint         branch (subproblem)        
 
 The engine (:func:`_search`) samples ``x`` at :data:`N` points over a turn (compiled, the closed-form
 quartic of :mod:`._kernels` inside SP5/SP6, no Python and no temporary arrays per sample) and pairs the branches of neighbouring
-samples by distance (a step where they do not pair up one to one within 0.1 rad is sampled
-:data:`SUB_N` times finer). Then, along each branch:
+samples by distance (a step where they do not pair up one to one, each within 0.25 rad and three times nearer
+than any other, is sampled :data:`SUB_N` times finer). Then, along each branch:
 
 * a sign change between two samples is refined by false position (Illinois) that follows the
   branch, to 1e-14 rad;
@@ -31,8 +31,10 @@ samples by distance (a step where they do not pair up one to one within 0.1 rad 
   like the square root of the distance there) has its end found by bisection (to 3e-10 rad, or
   until the branch and the one it meets there have residuals of one sign that differ by under a
   quarter of the smaller: the rest of that fold cannot reach 0, :func:`_settled`) and is sampled
-  :data:`EDGE_N` more times towards it, quadratically spaced, then as above (sign changes, and
-  extrema turning back towards 0);
+  :data:`EDGE_N` more times towards it, quadratically spaced (from at least one step back), then as above
+  (sign changes, and extrema turning back towards 0); the two branches that meet there are one curve
+  through the end, evenly sampled in the square root of the distance to it, and a dip of that curve between
+  the last samples is searched too (:func:`_fold_dip`);
 * a pair of branches that is born and dies between two samples (an *island*: SW, SM, SP3 has solutions
   only on an interval of the searched joint narrower than a step; TI, TP, two roots of SP6's quartic turn
   real there and back) is looked for where the subproblem's margin (how far it is from giving two more
@@ -546,13 +548,24 @@ def _edge(kind, H, P, C, x0, S0, c0, j0, x1, roots, m):
     pl = prev.copy()
     out = np.empty(4)
     mid = np.empty(3)
+    rp = np.empty(3)      # the branch that meets this one at the end, at the last sample before it
+    fp = 0.0
+    reached = False
     for k in range(1, EDGE_N + 1):
         t = 1.0 - k / EDGE_N
         xb = good + (far - good) * t * t
-        i, d = _pick(kind, H, P, C, xb, prev, S, E)
+        nb = _eval(kind, H, P, C, xb, S, E)
+        i, d = _nearest(S, nb, prev)
         if i < 0 or d > 0.5:
             break
         fb = E[i]
+        if k == EDGE_N - 1:
+            jp, dp = _nearest_other(S, nb, i)
+            if jp >= 0 and dp < 0.5:
+                fp = E[jp]
+                for j in range(3):
+                    rp[j] = S[jp, j]
+        reached = k == EDGE_N
         if k >= 2 and (fa - fl) * (fb - fa) < 0.0 and fl * fa > 0.0 and fa * fb > 0.0 and \
                 (fa > 0.0) == (fa - fl < 0.0):      # an extremum turning back towards 0: two close roots?
             sg = 1.0 if fa > 0.0 else -1.0
@@ -578,7 +591,46 @@ def _edge(kind, H, P, C, x0, S0, c0, j0, x1, roots, m):
         for j in range(3):
             pl[j] = prev[j]
             prev[j] = S[i, j]
+    if reached and fp != 0.0:
+        m = _fold_dip(kind, H, P, C, xl, fl, pl, xa, fa, fp, rp, roots, m, out, mid)
     return m
+
+
+def _nearest_other(S, n, i):
+    """The row of ``S[:n]`` other than ``i`` nearest to row ``i``: ``(index, distance)``; index -1 if none."""
+    best = -1
+    bd = 1e300
+    for k in range(n):
+        if k != i:
+            d = _adist(S[k], S[i])
+            if d < bd:
+                bd = d
+                best = k
+    return best, bd
+
+
+def _fold_dip(kind, H, P, C, xl, fl, rl, xe, fe, fp, rp, roots, m, out, mid):
+    """Two roots crowded between the last sample ``xl`` of an ending branch (residual ``fl``, branch ``rl``) and
+    its end ``xe`` (``fe``), where its partner (the branch it meets there) has residual ``fp`` (branch ``rp``) at
+    ``xl`` too. The two branches are one curve through the end, smooth in ``s = ±√(x_end − x)``, and the samples
+    towards the end are evenly spaced in ``s``: ``fl``, ``fe``, ``fp`` are that curve at ``s = 1, 0, −1``. Where
+    they share a sign and their parabola turns back to within one second difference of 0, the dip is searched
+    on the side of its vertex (:func:`_dip_roots`). bench_coverage found a target with both its roots 1e-5 and
+    5e-5 rad before a branch end, between the last two samples, where the residual of that branch alone showed
+    no extremum. Returns the new count of ``roots``."""
+    if not (fl * fe > 0.0 and fe * fp > 0.0):
+        return m
+    sg = 1.0 if fe > 0.0 else -1.0
+    b = 0.5 * (fl - fp)
+    c = 0.5 * (fl + fp) - fe
+    if sg * c <= 0.0:                 # no extremum towards 0
+        return m
+    v = fe - b * b / (4.0 * c)
+    if sg * v > 2.0 * abs(c) + 1e-12:
+        return m
+    if -b / (2.0 * c) >= 0.0:        # the vertex on the ending branch's side
+        return _dip_roots(kind, H, P, C, xl, fl, rl, xe, fe, rl, sg, roots, m, out, mid)
+    return _dip_roots(kind, H, P, C, xl, fp, rp, xe, fe, rp, sg, roots, m, out, mid)
 
 
 def _dists(Sa, ca, Sb, cb, D):
@@ -660,8 +712,9 @@ def _near(kind, H, P, C, x, ref, cur):
 
 def _ambiguous(D, ca, cb):
     """True unless the branches of two samples pair up clearly (``D`` from :func:`_dists`): each branch's nearest
-    on the other side is within 0.5 rad and three times nearer than any other branch of either side; checked
-    both ways."""
+    on the other side is within 0.25 rad and three times nearer than any other branch of either side; checked
+    both ways. (0.5 rad until bench_coverage found two branches that end and begin again 0.003 rad apart within
+    one step, paired across the gap 0.47 rad apart: the two solutions at its ends were missed.)"""
     for side in range(2):
         na = ca if side == 0 else cb
         nb = cb if side == 0 else ca
@@ -677,7 +730,7 @@ def _ambiguous(D, ca, cb):
                     k = kk
                 elif d < sd:
                     sd = d
-            if k < 0 or bd >= 0.5:
+            if k < 0 or bd >= 0.25:
                 return True                 # a branch ends or begins here (or moves fast): a closer look
             if sd < 3.0 * bd:
                 return True
@@ -859,8 +912,9 @@ def _search(kind, H, P, C, n, roots):
 
 
 KERNELS = ("_eval_ti", "_point5", "_eval_tp", "_eval_sw", "_eval_sm", "_eval", "_margin", "_island",
-           "_rim", "_adist", "_nearest", "_owned", "_pick", "_refine", "_add", "_dip", "_settled", "_edge", "_dists", "_near",
-           "_pair", "_islands", "_ambiguous", "_match", "_dip_roots", "_extrema", "_seam", "_scan", "_search")
+           "_rim", "_adist", "_nearest", "_owned", "_pick", "_refine", "_add", "_dip", "_settled", "_nearest_other",
+           "_dip_roots", "_fold_dip", "_edge", "_dists", "_near", "_pair", "_islands", "_ambiguous", "_match",
+           "_extrema", "_seam", "_scan", "_search")
 """The functions :func:`kernels` compiles, callees before callers (the scalar helpers: :mod:`._kernels`)."""
 _KERNELS: Optional[types.SimpleNamespace] = None
 
