@@ -283,9 +283,9 @@ def main() -> None:
               f"Levenberg-Marquardt from {args.starts} random starts a target, every distinct solution it reaches\n")
         print("| arm | armkit's class (solver) | reference solutions | armkit branches | missing | armkit fails FK |")
         print("|---|---|---|---|---|---|")
+        if args.keep_missed is not None:
+            args.keep_missed.mkdir(parents=True, exist_ok=True)
         for kind in REFUSED:
-            if args.keep_missed is not None:
-                args.keep_missed.mkdir(parents=True, exist_ok=True)
             cls, c = dense(kind, args.dense_targets, args.starts, g, Path(tmp), args.keep_missed)
             print(f"| random: {kind} | {cls} | {c['reference']:,} | {c['armkit']:,} | {c['missing']} | {c['fails FK']} |",
                   flush=True)

@@ -480,21 +480,27 @@ def _dip(kind, H, P, C, a, b, ref, sg, out):
     return x, E[i]
 
 
+def _nearest_other(S, n, i):
+    """The row of ``S[:n]`` other than ``i`` nearest to row ``i``: ``(index, distance)``; index -1 if none."""
+    best = -1
+    bd = 1e300
+    for k in range(n):
+        if k != i:
+            d = _adist(S[k], S[i])
+            if d < bd:
+                bd = d
+                best = k
+    return best, bd
+
+
 def _settled(S, E, i, n):
     """Near a branch end: whether no root can lie between here and the end on branch ``i`` or on the branch that
     meets it there. Its partner is the nearest other branch (within 0.05 rad); near the end both residuals go
     like ``E0 ± a √(x_end − x)``, so while they have one sign and differ by under a quarter of the smaller
     (the fold's residuals from here to the end lie between them, up to higher-order terms), the rest of the fold
     keeps that sign."""
-    j = -1
-    bd = 0.05
-    for k in range(n):
-        if k != i:
-            d = _adist(S[k], S[i])
-            if d < bd:
-                bd = d
-                j = k
-    if j < 0:
+    j, d = _nearest_other(S, n, i)
+    if j < 0 or not d < 0.05:
         return False
     a = E[i]
     b = E[j]
@@ -591,22 +597,9 @@ def _edge(kind, H, P, C, x0, S0, c0, j0, x1, roots, m):
         for j in range(3):
             pl[j] = prev[j]
             prev[j] = S[i, j]
-    if reached and fp != 0.0:
+    if reached:   # (without a partner fp is 0: _fold_dip looks no further)
         m = _fold_dip(kind, H, P, C, xl, fl, pl, xa, fa, fp, rp, roots, m, out, mid)
     return m
-
-
-def _nearest_other(S, n, i):
-    """The row of ``S[:n]`` other than ``i`` nearest to row ``i``: ``(index, distance)``; index -1 if none."""
-    best = -1
-    bd = 1e300
-    for k in range(n):
-        if k != i:
-            d = _adist(S[k], S[i])
-            if d < bd:
-                bd = d
-                best = k
-    return best, bd
 
 
 def _fold_dip(kind, H, P, C, xl, fl, rl, xe, fe, fp, rp, roots, m, out, mid):
@@ -912,7 +905,7 @@ def _search(kind, H, P, C, n, roots):
 
 
 KERNELS = ("_eval_ti", "_point5", "_eval_tp", "_eval_sw", "_eval_sm", "_eval", "_margin", "_island",
-           "_rim", "_adist", "_nearest", "_owned", "_pick", "_refine", "_add", "_dip", "_settled", "_nearest_other",
+           "_rim", "_adist", "_nearest", "_owned", "_pick", "_refine", "_add", "_dip", "_nearest_other", "_settled",
            "_dip_roots", "_fold_dip", "_edge", "_dists", "_near", "_pair", "_islands", "_ambiguous", "_match",
            "_extrema", "_seam", "_scan", "_search")
 """The functions :func:`kernels` compiles, callees before callers (the scalar helpers: :mod:`._kernels`)."""
