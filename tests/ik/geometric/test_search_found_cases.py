@@ -205,6 +205,31 @@ FOLD_R_NT = np.array([[ 0.5406060405485538 , -0.5210176951815662 , -0.6605192428
 FOLD_Q_GEN = np.array([ 3.0765708757433057  ,  0.023688460246013676, -1.1733045045906214  , -1.631679316919623   ,
         0.20631255407039006 , -1.0304603349865138  ])
 
+# Found 2026-12-05 by bench_coverage.py --dense-only --seed 31: a '6R-two-intersecting' arm whose search over q1 has
+# two roots 0.0011 rad apart just before four branches end, on a branch whose other joints swing by 1.6 rad within
+# 0.0025 rad of q1 there: 5 solutions found, the sixth missed. The odd count told that one was missing, but the twin
+# step (Newton from each solution found) could not reach it: it is 4 rad away in the other joints. A count still odd
+# after the twin step now sends the search again at twice the samples, and what it finds is merged in
+# (solvers_check._merged).
+FAR_TWIN_H = np.array([[-0.6921110712752172  ,  0.5921709829849562  ,  0.41269333884726317 ],
+       [ 0.9972007405561042  ,  0.007286151006849445, -0.0744150188998356  ],
+       [ 0.6864099256780195  , -0.3375922660669913  , -0.6441062612818241  ],
+       [ 0.40411426401291956 , -0.4031524663871698  ,  0.8210723174405761  ],
+       [ 0.14430918624717162 ,  0.9873559720593107  ,  0.0655975853480355  ],
+       [ 0.32406300750770434 , -0.6960025523779     , -0.6407523813834095  ]])
+FAR_TWIN_P = np.array([[-0.6737709303375465   , -0.2831848324050712   ,  1.307943517622658    ],
+       [ 0.3731036615107593   ,  0.38410577887169095  , -1.054521452836996    ],
+       [-0.5149346022144967   ,  0.16080823471184802  ,  0.06566561082867767  ],
+       [ 0.8644255036729563   , -0.24925520317116728  , -1.398767964680365    ],
+       [-0.4422344880288015   , -0.07531003579853562  ,  0.8280250964459783   ],
+       [ 0.09425901942420628  ,  0.25656689979867714  , -0.062205878112311375 ],
+       [-0.46608858287420557  , -0.026103301887435038 ,  0.0063663026897337605]])
+FAR_TWIN_R_NT = np.array([[ 0.663534011017526  , -0.7102367232019007 ,  0.2351306301578345 ],
+       [ 0.25343445802596176, -0.08232009897102217, -0.9638435437302507 ],
+       [ 0.7039130569239929 ,  0.6991331763840332 ,  0.12537627355720649]])
+FAR_TWIN_Q_GEN = np.array([-2.7200810400014    ,  2.6191393608993208 ,  0.8068383993319523 , -3.0491951414057197 ,
+        0.8154291891874954 ,  0.01206126523083828])
+
 CASES = {   # name: (H, P, R_nT, the missed solution, the solver, even count, the dense search's seed)
     "island": (ISLAND_H, ISLAND_P, ISLAND_R_NT, ISLAND_Q_GEN, G.spherical_middle, False, 11),
     "twin2d": (TWIN2D_H, TWIN2D_P, TWIN2D_R_NT, TWIN2D_Q_GEN, gen_six_dof, True, 13),
@@ -213,6 +238,7 @@ CASES = {   # name: (H, P, R_nT, the missed solution, the solver, even count, th
     "end2": (END2_H, END2_P, END2_R_NT, END2_Q_GEN, G.two_parallel, True, 23),
     "gap": (GAP_H, GAP_P, GAP_R_NT, GAP_Q_GEN, G.two_parallel, True, 29),
     "fold": (FOLD_H, FOLD_P, FOLD_R_NT, FOLD_Q_GEN, G.spherical_middle, False, 31),
+    "far_twin": (FAR_TWIN_H, FAR_TWIN_P, FAR_TWIN_R_NT, FAR_TWIN_Q_GEN, G.two_intersecting, True, 37),
 }
 
 
@@ -228,7 +254,7 @@ def _case(name):
 
 
 @pytest.mark.parametrize("jit", [True, False], ids=["compiled", "plain"])
-@pytest.mark.parametrize("name", ["island", "odd", "island6", "end2", "gap", "fold"])
+@pytest.mark.parametrize("name", ["island", "odd", "island6", "end2", "gap", "fold", "far_twin"])
 def test_the_missed_solution_is_found(name, jit):
     _check_solver(name, jit)
 

@@ -19,19 +19,37 @@ from .subproblems import _wrap
 def _solve_two_intersecting_end(kind, Hi, Pi, RnT, prism, Ht, Pt, R, p, qref, N, tol_p, tol_r, Q, LS, SG, ST):
     m = _core_two_intersecting_end(kind, Hi, Pi, RnT, prism, R, p, qref, N, Q, LS, SG)
     ng, nf = _check(m, Ht, Pt, RnT, prism, R, p, tol_p, tol_r, Q, LS, SG, ST)
-    return _paired(Ht, Pt, RnT, R, p, tol_p, tol_r, Q, LS, SG, ST, ng, nf)
+    ng, nf = _paired(Ht, Pt, RnT, R, p, tol_p, tol_r, Q, LS, SG, ST, ng, nf)
+    if ng % 2 == 1:     # still odd: a solution is missing, and it is not beside one found; search at twice the samples
+        Q2, LS2, SG2, ST2 = np.zeros_like(Q), np.zeros_like(LS), np.zeros_like(SG), np.zeros_like(ST)
+        m2 = _core_two_intersecting_end(kind, Hi, Pi, RnT, prism, R, p, qref, 2 * N, Q2, LS2, SG2)
+        ng2 = _check(m2, Ht, Pt, RnT, prism, R, p, tol_p, tol_r, Q2, LS2, SG2, ST2)[0]
+        ng, nf = _merged(Q, LS, SG, ST, ng, nf, Q2, SG2, ng2, prism)
+    return ng, nf
 
 
 def _solve_two_parallel(kind, Hi, Pi, RnT, prism, Ht, Pt, R, p, qref, N, tol_p, tol_r, Q, LS, SG, ST):
     m = _core_two_parallel(kind, Hi, Pi, RnT, prism, R, p, qref, N, Q, LS, SG)
     ng, nf = _check(m, Ht, Pt, RnT, prism, R, p, tol_p, tol_r, Q, LS, SG, ST)
-    return _paired(Ht, Pt, RnT, R, p, tol_p, tol_r, Q, LS, SG, ST, ng, nf)
+    ng, nf = _paired(Ht, Pt, RnT, R, p, tol_p, tol_r, Q, LS, SG, ST, ng, nf)
+    if ng % 2 == 1:     # still odd: a solution is missing, and it is not beside one found; search at twice the samples
+        Q2, LS2, SG2, ST2 = np.zeros_like(Q), np.zeros_like(LS), np.zeros_like(SG), np.zeros_like(ST)
+        m2 = _core_two_parallel(kind, Hi, Pi, RnT, prism, R, p, qref, 2 * N, Q2, LS2, SG2)
+        ng2 = _check(m2, Ht, Pt, RnT, prism, R, p, tol_p, tol_r, Q2, LS2, SG2, ST2)[0]
+        ng, nf = _merged(Q, LS, SG, ST, ng, nf, Q2, SG2, ng2, prism)
+    return ng, nf
 
 
 def _solve_spherical_middle(kind, Hi, Pi, RnT, prism, Ht, Pt, R, p, qref, N, tol_p, tol_r, Q, LS, SG, ST):
     m = _core_spherical_middle(kind, Hi, Pi, RnT, prism, R, p, qref, N, Q, LS, SG)
     ng, nf = _check(m, Ht, Pt, RnT, prism, R, p, tol_p, tol_r, Q, LS, SG, ST)
-    return _paired(Ht, Pt, RnT, R, p, tol_p, tol_r, Q, LS, SG, ST, ng, nf)
+    ng, nf = _paired(Ht, Pt, RnT, R, p, tol_p, tol_r, Q, LS, SG, ST, ng, nf)
+    if ng % 2 == 1:     # still odd: a solution is missing, and it is not beside one found; search at twice the samples
+        Q2, LS2, SG2, ST2 = np.zeros_like(Q), np.zeros_like(LS), np.zeros_like(SG), np.zeros_like(ST)
+        m2 = _core_spherical_middle(kind, Hi, Pi, RnT, prism, R, p, qref, 2 * N, Q2, LS2, SG2)
+        ng2 = _check(m2, Ht, Pt, RnT, prism, R, p, tol_p, tol_r, Q2, LS2, SG2, ST2)[0]
+        ng, nf = _merged(Q, LS, SG, ST, ng, nf, Q2, SG2, ng2, prism)
+    return ng, nf
 
 
 def _check(m, H, P, RnT, prism, R, p, tol_p, tol_r, Q, LS, SG, ST):
@@ -85,7 +103,8 @@ def _paired(H, P, RnT, R, p, tol_p, tol_r, Q, LS, SG, ST, ng, nf):
     real solutions come in pairs), most likely the twin of one found, within one step of the search; Newton steps
     look for it from each solution along the Jacobian's most singular direction (:func:`.search2d._twins`). A
     twin found goes in as the last passing row (the failing rows move down one; the last drops when full).
-    Returns the new ``(passing, failing)``."""
+    Returns the new ``(passing, failing)``. A count still odd after this sends the caller's search again with twice
+    the samples (:func:`_merged`): a twin near in the searched joint can be far in the others."""
     if ng % 2 == 0:
         return ng, nf
     G = np.empty((ng + 1, 6))
@@ -108,6 +127,38 @@ def _paired(H, P, RnT, R, p, tol_p, tol_r, Q, LS, SG, ST, ng, nf):
     SG[ng] = False
     ST[ng] = 1
     return ng + 1, nf
+
+
+def _merged(Q, LS, SG, ST, ng, nf, Q2, SG2, ng2, prism):
+    """The passing rows of a second search (``Q2``, ``SG2``: its first ``ng2`` rows) that are not among the ``ng``
+    passing rows of ``Q``, put in after them as passing rows (the failing rows move down; the last drop when full).
+    Returns the new ``(passing, failing)``."""
+    rows = Q.shape[0]
+    for i in range(ng2):
+        new = True
+        for j in range(ng):
+            if _close(Q2[i], Q[j], prism):
+                new = False
+                break
+        if not new:
+            continue
+        if ng + nf >= rows:
+            nf -= 1
+            if nf < 0:
+                return ng, 0
+        for r in range(ng + nf - 1, ng - 1, -1):
+            for k in range(Q.shape[1]):
+                Q[r + 1, k] = Q[r, k]
+            LS[r + 1] = LS[r]
+            SG[r + 1] = SG[r]
+            ST[r + 1] = ST[r]
+        for k in range(Q.shape[1]):
+            Q[ng, k] = Q2[i, k]
+        LS[ng] = False
+        SG[ng] = SG2[i]
+        ST[ng] = 1
+        ng += 1
+    return ng, nf
 
 
 def _close(a, b, prism):
