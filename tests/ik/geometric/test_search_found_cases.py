@@ -230,6 +230,53 @@ FAR_TWIN_R_NT = np.array([[ 0.663534011017526  , -0.7102367232019007 ,  0.235130
 FAR_TWIN_Q_GEN = np.array([-2.7200810400014    ,  2.6191393608993208 ,  0.8068383993319523 , -3.0491951414057197 ,
         0.8154291891874954 ,  0.01206126523083828])
 
+# Found 2026-12-05 by bench_coverage.py --dense-only --seed 41: a '6R-two-parallel' arm whose residual over q6 is
+# S-shaped about a sample: a root 0.008 rad before it (a sign change, found), then the residual flat across the next
+# step with a dip through 0 inside it, two roots 0.022 rad apart; the samples rise monotonically through it, so no
+# extremum showed (2 of 4 found). The cubic through four samples now shows such a dip (search._wiggle).
+WIGGLE_H = np.array([[ 0.3870653185825919 , -0.7715596159380268 ,  0.5048526499921747 ],
+       [-0.21907499128887986, -0.9169338773800885 ,  0.33352423106049467],
+       [-0.2190749912888798 , -0.9169338773800885 ,  0.33352423106049467],
+       [-0.6899679710109924 ,  0.7184378794292001 ,  0.08826784454289605],
+       [-0.7405301626692598 , -0.5904140427608232 , -0.32097715851421676],
+       [-0.10369969470678911, -0.953405992812535  ,  0.28330793526984616]])
+WIGGLE_P = np.array([[-0.7292135263420625  , -0.05687466867277006 ,  0.18711053695183844 ],
+       [ 0.7810102390377376  ,  0.29437383527351274 ,  0.04092780467596707 ],
+       [ 0.04275495783123648 ,  0.08140542177752222 ,  0.39536016717801375 ],
+       [-0.019673064208786617, -0.24829572957079463 , -1.144702626987356   ],
+       [-0.36006909602147574 , -0.5752174400341009  ,  0.6338351880606533  ],
+       [ 0.5008863549592697  ,  0.6847146557681427  , -0.41543285168438165 ],
+       [-0.40841374492070587 , -0.09424286652705485 , -0.038078488685961476]])
+WIGGLE_R_NT = np.array([[ 0.956901296024454  ,  0.28849563720021243, -0.03331931846786791],
+       [ 0.15001918257909427, -0.5892810760192123 , -0.7938778610743229 ],
+       [-0.24866474322875023,  0.7546642172264987 , -0.6071637050358801 ]])
+WIGGLE_Q_GEN = np.array([-1.10165996558562   ,  1.8489622981786695 ,  0.13943442259953764, -1.8732785301064114 ,
+       -2.0164103495284573 , -1.756648142886104  ])
+
+# Found 2026-12-05 by bench_coverage.py --dense-only --seed 41: a '6R-two-intersecting' arm whose search over q1 has
+# two islands of SP6 (a pair of branches living between samples) with a sample in the 0.003 rad gap between them
+# and none on either: the island search found the first (no root on it) and never looked at the second, which
+# holds two solutions (2 of 4 found). Where it finds one island, it now looks in the other step beside that sample
+# too (search._islands).
+ISLANDS2_H = np.array([[ 0.9348806653994391 ,  0.29775150163365655,  0.19324126044197903],
+       [ 0.14032434276495778,  0.2677420169962637 ,  0.9532173367927983 ],
+       [ 0.05087190271596026,  0.13516477585502573, -0.9895163125902062 ],
+       [ 0.16978571619728897,  0.04807660318916331, -0.9843075996867876 ],
+       [-0.5269688406942123 , -0.7079565862738676 ,  0.47021411387669965],
+       [ 0.6201281289443408 , -0.44841664302322576, -0.6437108185759908 ]])
+ISLANDS2_P = np.array([[ 0.5853236146839311   ,  0.3546233300249294   , -0.3061727210326463   ],
+       [-0.26454921086505345  , -0.6785126816541137   ,  1.3025559482100961   ],
+       [ 0.6783937984537574   ,  1.9896243547094468   , -2.0203022110824453   ],
+       [-0.8759534750400207   , -1.4514424471626814   ,  1.5289624469471863   ],
+       [ 0.2828247762430215   ,  0.1054890769339773   , -0.6811030181888763   ],
+       [-0.01570740319847236  , -0.27439607791157294  , -0.0038460538601400585],
+       [-0.02218751807574515  ,  0.14216308808163697  , -0.22800520151845652  ]])
+ISLANDS2_R_NT = np.array([[-0.6560633204952775 ,  0.515347815716016  , -0.5513597268004276 ],
+       [-0.6893899521743742 , -0.11192430187091826,  0.7156915847568153 ],
+       [ 0.3071195424288805 ,  0.8496408532359061 ,  0.42870503515918296]])
+ISLANDS2_Q_GEN = np.array([ 2.6567840852426343, -1.8076643903871685, -2.442834614710094 , -0.2780648981779854,
+       -3.1154779562573642,  1.0707802342564472])
+
 CASES = {   # name: (H, P, R_nT, the missed solution, the solver, even count, the dense search's seed)
     "island": (ISLAND_H, ISLAND_P, ISLAND_R_NT, ISLAND_Q_GEN, G.spherical_middle, False, 11),
     "twin2d": (TWIN2D_H, TWIN2D_P, TWIN2D_R_NT, TWIN2D_Q_GEN, gen_six_dof, True, 13),
@@ -239,6 +286,8 @@ CASES = {   # name: (H, P, R_nT, the missed solution, the solver, even count, th
     "gap": (GAP_H, GAP_P, GAP_R_NT, GAP_Q_GEN, G.two_parallel, True, 29),
     "fold": (FOLD_H, FOLD_P, FOLD_R_NT, FOLD_Q_GEN, G.spherical_middle, False, 31),
     "far_twin": (FAR_TWIN_H, FAR_TWIN_P, FAR_TWIN_R_NT, FAR_TWIN_Q_GEN, G.two_intersecting, True, 37),
+    "wiggle": (WIGGLE_H, WIGGLE_P, WIGGLE_R_NT, WIGGLE_Q_GEN, G.two_parallel, True, 41),
+    "islands2": (ISLANDS2_H, ISLANDS2_P, ISLANDS2_R_NT, ISLANDS2_Q_GEN, G.two_intersecting, True, 43),
 }
 
 
@@ -254,7 +303,8 @@ def _case(name):
 
 
 @pytest.mark.parametrize("jit", [True, False], ids=["compiled", "plain"])
-@pytest.mark.parametrize("name", ["island", "odd", "island6", "end2", "gap", "fold", "far_twin"])
+@pytest.mark.parametrize("name", ["island", "odd", "island6", "end2", "gap", "fold", "far_twin",
+                                  "wiggle", "islands2"])
 def test_the_missed_solution_is_found(name, jit):
     _check_solver(name, jit)
 

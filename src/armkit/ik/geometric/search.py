@@ -27,6 +27,10 @@ than any other, is sampled :data:`SUB_N` times finer). Then, along each branch:
   below 1e-12); where a step sampled finer meets a plain one, the three samples about the seam are
   unequally spaced and looked at the same way (:func:`_seam`: a branch that moves more than 0.5 rad
   in the plain step is not matched across it, and two roots beside it were missed);
+* a step across which the residual keeps its sign, where the cubic through the four samples about it has a
+  minimum (of the residual's distance from 0) inside the step beyond 0, is searched
+  the same way (:func:`_wiggle`: an S-shaped stretch, a root just before the step and two inside it, rises
+  through the samples without an extremum at any of them);
 * a branch that ends between two samples (two subproblem solutions meet, the residual changes
   like the square root of the distance there) has its end found by bisection (to 3e-10 rad, or
   until the branch and the one it meets there have residuals of one sign that differ by under a
@@ -40,7 +44,8 @@ than any other, is sampled :data:`SUB_N` times finer). Then, along each branch:
   real there and back) is looked for where the subproblem's margin (how far it is from giving two more
   solutions: SP3's, or how near SP6's complex roots are to real, :func:`._kernels._trig2m`) peaks between
   samples with as many branches: its maximum by golden section, the island's ends by bisection, then
-  :data:`SUB_N` samples between them (:func:`_islands`). benchmarks/bench_coverage.py found such targets
+  :data:`SUB_N` samples between them, and the same in the other step beside that sample, which can sit in the
+  gap between two islands (:func:`_islands`). benchmarks/bench_coverage.py found such targets
   (tests/ik/geometric/test_search_found_cases.py): an SM search had answered "unreachable" where four
   solutions exist, and a TP search had missed the two solutions of an island 0.02 rad wide.
 
@@ -96,6 +101,9 @@ ZERO = 1e-12
 """A residual at a sample within this of 0 is a root on the sample (its sign is rounding)."""
 NUDGE = 1e-6
 """Where a step with such a sample at an end is tested for a sign change instead (fraction of the step)."""
+_YES, _NO = np.True_, np.False_
+"""True and False that Numba types as ``bool``, not as the literals (which would compile a copy of the callee for
+each)."""
 TI, TP, SW, SM = np.int64(0), np.int64(1), np.int64(2), np.int64(3)
 """The kinds of search (see the table above): NumPy integers, which Numba types as ``int64`` (a Python int
 constant would be a literal, and each kind would compile its own copy of every function of the engine)."""
@@ -305,7 +313,9 @@ def _islands(kind, H, P, C, n, step, cnt, E, roots, m, out, pp, wk):
     found has its two ends found by bisection of the margin (:func:`_rim`; there its two branches meet) and is
     sampled :data:`SUB_N` times between them, closer towards the ends (cosine spacing: the branches move like
     the square root of the distance to an end), the sign changes refined as between any samples (:func:`_pair`;
-    roots found twice are kept once). Returns the new count of ``roots``."""
+    roots found twice are kept once). Where one is found, the other step beside the middle sample is searched too:
+    a coverage check found a sample in a gap 0.003 rad wide between two islands, the second one holding two
+    solutions. Returns the new count of ``roots``."""
     sp3 = kind == SW or kind == SM
     M = np.full(n, -np.inf)
     for i in range(n):
@@ -331,19 +341,26 @@ def _islands(kind, H, P, C, n, step, cnt, E, roots, m, out, pp, wk):
             continue
         base = cnt[c]
         xc = -_PI + c * step
-        x = _island(kind, H, P, C, xc - step, xc + step, base)
-        if x != x:
+        first = _island(kind, H, P, C, xc - step, xc + step, base)
+        if first != first:
             continue
-        xa = xc - step if x < xc else xc
-        lo = _rim(kind, H, P, C, x, xa, base)
-        hi = _rim(kind, H, P, C, x, xa + step, base)
-        for k in range(SUB_N + 1):
-            xs[k] = lo + (hi - lo) * 0.5 * (1.0 - math.cos(_PI * k / SUB_N))
-            cs[k] = _eval(kind, H, P, C, xs[k], Ss[k], Es[k])
-        for k in range(SUB_N):
-            _dists(Ss[k], cs[k], Ss[k + 1], cs[k + 1], D)
-            m = _pair(kind, H, P, C, xs[k], Ss[k], Es[k], cs[k], xs[k + 1], Ss[k + 1], Es[k + 1], cs[k + 1], D, roots,
-                      m, out, pp, wk)
+        for side in range(2):
+            x = first
+            if side == 1:   # the other step beside the sample: it can sit in the gap between two islands
+                x = _island(kind, H, P, C, xc, xc + step, base) if first < xc else \
+                    _island(kind, H, P, C, xc - step, xc, base)
+                if x != x:
+                    break
+            xa = xc - step if x < xc else xc
+            lo = _rim(kind, H, P, C, x, xa, base)
+            hi = _rim(kind, H, P, C, x, xa + step, base)
+            for k in range(SUB_N + 1):
+                xs[k] = lo + (hi - lo) * 0.5 * (1.0 - math.cos(_PI * k / SUB_N))
+                cs[k] = _eval(kind, H, P, C, xs[k], Ss[k], Es[k])
+            for k in range(SUB_N):
+                _dists(Ss[k], cs[k], Ss[k + 1], cs[k + 1], D)
+                m = _pair(kind, H, P, C, xs[k], Ss[k], Es[k], cs[k], xs[k + 1], Ss[k + 1], Es[k + 1], cs[k + 1], D,
+                          roots, m, out, pp, wk)
     return m
 
 
@@ -745,11 +762,14 @@ def _match(D, cb, j):
     return best
 
 
-def _extrema(kind, H, P, C, x0, h, S, E, cnt, D, i, roots, m, out, mid):
+def _extrema(kind, H, P, C, x0, h, S, E, cnt, D, i, roots, m, out, mid, cubic):
     """Samples ``i``, ``i + 1``, ``i + 2`` (at ``x0 + k h``; ``D[i]`` the distances of :func:`_dists` from sample
     ``i`` to ``i + 1``) of a branch with an extremum in the middle, on one side of 0 and turning back towards it:
     when the parabola through them comes within one second difference of 0, two close roots (or a double one)
-    may hide there: :func:`_dip`, then both roots refined. ``out (4,)``, ``mid (3,)``: work space."""
+    may hide there: :func:`_dip`, then both roots refined. With ``cubic`` (the plain samples, not those of a step
+    sampled finer), where the branch keeps one sign from sample ``i + 1`` to ``i + 2``, the cubic through those and
+    the samples either side is looked at too (:func:`_wiggle`).
+    ``out (4,)``, ``mid (3,)``: work space."""
     if i + 2 >= S.shape[0]:
         return m
     xa = x0 + i * h
@@ -763,6 +783,11 @@ def _extrema(kind, H, P, C, x0, h, S, E, cnt, D, i, roots, m, out, mid):
         fa = E[i, j]
         fb = E[i + 1, k]
         fc = E[i + 2, k2]
+        # the step between, near 0 for its change: a dip the samples do not show (_wiggle)
+        if cubic and fb * fc > 0.0 and min(abs(fb), abs(fc)) < abs(fb - fa) + abs(fc - fb) and i + 3 < S.shape[0]:
+            k3 = _match(D[i + 2], cnt[i + 3], k2)
+            if k3 >= 0:
+                m = _wiggle(kind, H, P, C, xa + h, h, fa, fb, fc, E[i + 3, k3], S[i + 1, k], roots, m, out, mid)
         if not ((fb - fa) * (fc - fb) < 0.0 and fa * fb > 0.0 and fb * fc > 0.0):
             continue
         sg = 1.0 if fb > 0.0 else -1.0
@@ -773,6 +798,34 @@ def _extrema(kind, H, P, C, x0, h, S, E, cnt, D, i, roots, m, out, mid):
         if sg * est > abs(d2) + 1e-12:
             continue
         m = _dip_roots(kind, H, P, C, xa, fa, S[i, j], xa + 2.0 * h, fc, S[i + 1, k], sg, roots, m, out, mid)
+    return m
+
+
+def _wiggle(kind, H, P, C, xb, h, f0, f1, f2, f3, ref, roots, m, out, mid):
+    """Four samples ``f0 .. f3`` (at ``xb - h``, ``xb``, ``xb + h``, ``xb + 2 h``) of the branch through ``ref`` (at
+    ``xb``) whose residual keeps one sign over the middle step: where their cubic has a minimum (of the residual's
+    distance from 0) inside the middle step beyond 0, two roots may hide there, on an
+    S-shaped stretch that rises through the samples without an extremum at any of them (a coverage check found a
+    pair 0.022 rad apart, a third root 0.009 rad before them). The middle step is then searched as
+    :func:`_extrema` searches a dip (:func:`_dip_roots`). Called by :func:`_extrema`, which has matched the branch
+    across the samples. Returns the new count of ``roots``."""
+    d1 = f1 - f0
+    d2 = f2 - 2.0 * f1 + f0
+    d3 = f3 - 3.0 * f2 + 3.0 * f1 - f0
+    # p(t) = f0 + d1 t + d2 t(t-1)/2 + d3 t(t-1)(t-2)/6 through the four at t = 0..3; p'(t) = a t² + b t + c
+    a = 0.5 * d3
+    b = d2 - d3
+    c = d1 - 0.5 * d2 + d3 / 3.0
+    disc = b * b - 4.0 * a * c
+    if a == 0.0 or disc < 0.0:
+        return m
+    sg = 1.0 if f1 > 0.0 else -1.0
+    r = math.sqrt(disc)
+    for t in ((-b - r) / (2.0 * a), (-b + r) / (2.0 * a)):
+        if 1.0 < t < 2.0 and sg * (2.0 * a * t + b) > 0.0:      # a minimum of sg p inside the middle step
+            v = f0 + d1 * t + d2 * t * (t - 1.0) / 2.0 + d3 * t * (t - 1.0) * (t - 2.0) / 6.0
+            if sg * v < 0.0:
+                return _dip_roots(kind, H, P, C, xb, f1, ref, xb + h, f2, ref, sg, roots, m, out, mid)
     return m
 
 
@@ -889,7 +942,7 @@ def _search(kind, H, P, C, n, roots):
                 m = _pair(kind, H, P, C, xa + k * h, Ss[k], Es[k], cs[k], xa + (k + 1) * h, Ss[k + 1], Es[k + 1],
                           cs[k + 1], Ds[k], roots, m, out, pp, wk)
                 if k + 2 <= SUB_N:
-                    m = _extrema(kind, H, P, C, xa, h, Ss, Es, cs, Ds, k, roots, m, out, mid)
+                    m = _extrema(kind, H, P, C, xa, h, Ss, Es, cs, Ds, k, roots, m, out, mid, _NO)
             b = i - 1 if i >= 1 else n - 1   # the seams with the plain steps before and after (_seam), about ±π too
             m = _seam(kind, H, P, C, xa - step, S[b], E[b], cnt[b], D[b], xa, Ss[0], Es[0], cs[0],
                       Ds[0], xa + h, Ss[1], Es[1], cs[1], roots, m, out, mid)
@@ -900,14 +953,14 @@ def _search(kind, H, P, C, n, roots):
         else:
             m = _pair(kind, H, P, C, xa, S[i], E[i], cnt[i], xa + step, S[i + 1], E[i + 1], cnt[i + 1], D[i], roots,
                       m, out, pp, wk)
-        m = _extrema(kind, H, P, C, -_PI, step, S, E, cnt, D, i, roots, m, out, mid)
+        m = _extrema(kind, H, P, C, -_PI, step, S, E, cnt, D, i, roots, m, out, mid, _YES)
     return _islands(kind, H, P, C, n, step, cnt, E, roots, m, out, pp, wk)
 
 
 KERNELS = ("_eval_ti", "_point5", "_eval_tp", "_eval_sw", "_eval_sm", "_eval", "_margin", "_island",
            "_rim", "_adist", "_nearest", "_owned", "_pick", "_refine", "_add", "_dip", "_nearest_other", "_settled",
            "_dip_roots", "_fold_dip", "_edge", "_dists", "_near", "_pair", "_islands", "_ambiguous", "_match",
-           "_extrema", "_seam", "_scan", "_search")
+           "_wiggle", "_extrema", "_seam", "_scan", "_search")
 """The functions :func:`kernels` compiles, callees before callers (the scalar helpers: :mod:`._kernels`)."""
 _KERNELS: Optional[types.SimpleNamespace] = None
 
