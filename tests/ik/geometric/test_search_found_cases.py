@@ -277,6 +277,30 @@ ISLANDS2_R_NT = np.array([[-0.6560633204952775 ,  0.515347815716016  , -0.551359
 ISLANDS2_Q_GEN = np.array([ 2.6567840852426343, -1.8076643903871685, -2.442834614710094 , -0.2780648981779854,
        -3.1154779562573642,  1.0707802342564472])
 
+# Found 2026-12-05 by bench_coverage.py --dense-only --seed 73: a '6R-two-intersecting' arm whose search over q1 has
+# an island of SP6 (found) with two roots 0.00013 rad apart inside it, under a dip of one branch's residual between
+# two of the island's samples, which only had their sign changes looked at (4 of 6 found). The island's samples now
+# have their dips searched too, as at a seam (search._islands, search._seam).
+ISLAND_DIP_H = np.array([[ 0.14737228203651306 ,  0.18243847439368324 , -0.9721098773020753  ],
+       [ 0.017345997927802198,  0.3959511354205173  , -0.9181077358976407  ],
+       [-0.8198133539095815  , -0.06469666319529183 , -0.5689643279880717  ],
+       [ 0.6830247523675321  ,  0.4642393946428525  ,  0.563878508293151   ],
+       [-0.9221281852353646  ,  0.23569263928729692 , -0.30680382947466833 ],
+       [ 0.7572224407538996  , -0.20709167364515582 , -0.6194571929726505  ]])
+ISLAND_DIP_P = np.array([[ 0.211097867117996   , -1.0120936724271834  ,  0.6384482554423051  ],
+       [-0.8812003698809077  ,  0.9950618090992582  , -1.0217216452391353  ],
+       [ 1.0340962733545207  , -0.03995171098913636 , -0.666664862632338   ],
+       [-0.8796285255849535  , -0.15978562101571295 ,  0.4371412049851673  ],
+       [ 0.9955589492621633  ,  0.8189608138007435  ,  0.8608491351041269  ],
+       [ 0.061530712914749985, -0.014566404095653573,  0.09512041133624133 ],
+       [ 0.1833728052827177  ,  0.11017438167541083 ,  0.1703554300341768  ]])
+ISLAND_DIP_R_NT = np.array([[-0.3977536610126339 ,  0.2626978516448617 ,  0.8790801237044441 ],
+       [ 0.28424400501531905,  0.946275728723019  , -0.15416741173986717],
+       [-0.8723516325220567 ,  0.18855260266273935, -0.4510549248874343 ]])
+ISLAND_DIP_Q_GEN = np.array([ 0.5013516890599603 , -0.13249913347139808,  0.1860885404355237 , -2.0080845711710436 ,
+        1.0356920201183701 ,
+        1.168197564231411  ])
+
 CASES = {   # name: (H, P, R_nT, the missed solution, the solver, even count, the dense search's seed)
     "island": (ISLAND_H, ISLAND_P, ISLAND_R_NT, ISLAND_Q_GEN, G.spherical_middle, False, 11),
     "twin2d": (TWIN2D_H, TWIN2D_P, TWIN2D_R_NT, TWIN2D_Q_GEN, gen_six_dof, True, 13),
@@ -288,6 +312,7 @@ CASES = {   # name: (H, P, R_nT, the missed solution, the solver, even count, th
     "far_twin": (FAR_TWIN_H, FAR_TWIN_P, FAR_TWIN_R_NT, FAR_TWIN_Q_GEN, G.two_intersecting, True, 37),
     "wiggle": (WIGGLE_H, WIGGLE_P, WIGGLE_R_NT, WIGGLE_Q_GEN, G.two_parallel, True, 41),
     "islands2": (ISLANDS2_H, ISLANDS2_P, ISLANDS2_R_NT, ISLANDS2_Q_GEN, G.two_intersecting, True, 43),
+    "island_dip": (ISLAND_DIP_H, ISLAND_DIP_P, ISLAND_DIP_R_NT, ISLAND_DIP_Q_GEN, G.two_intersecting, True, 47),
 }
 
 
@@ -304,7 +329,7 @@ def _case(name):
 
 @pytest.mark.parametrize("jit", [True, False], ids=["compiled", "plain"])
 @pytest.mark.parametrize("name", ["island", "odd", "island6", "end2", "gap", "fold", "far_twin",
-                                  "wiggle", "islands2"])
+                                  "wiggle", "islands2", "island_dip"])
 def test_the_missed_solution_is_found(name, jit):
     _check_solver(name, jit)
 

@@ -44,8 +44,8 @@ than any other, is sampled :data:`SUB_N` times finer). Then, along each branch:
   real there and back) is looked for where the subproblem's margin (how far it is from giving two more
   solutions: SP3's, or how near SP6's complex roots are to real, :func:`._kernels._trig2m`) peaks between
   samples with as many branches: its maximum by golden section, the island's ends by bisection, then
-  :data:`SUB_N` samples between them, and the same in the other step beside that sample, which can sit in the
-  gap between two islands (:func:`_islands`). benchmarks/bench_coverage.py found such targets
+  :data:`SUB_N` samples between them (sign changes, and dips turning back towards 0), and the same in the other
+  step beside that sample, which can sit in the gap between two islands (:func:`_islands`). benchmarks/bench_coverage.py found such targets
   (tests/ik/geometric/test_search_found_cases.py): an SM search had answered "unreachable" where four
   solutions exist, and a TP search had missed the two solutions of an island 0.02 rad wide.
 
@@ -304,7 +304,7 @@ def _rim(kind, H, P, C, inside, outside, base):
     return inside
 
 
-def _islands(kind, H, P, C, n, step, cnt, E, roots, m, out, pp, wk):
+def _islands(kind, H, P, C, n, step, cnt, E, roots, m, out, pp, wk, mid):
     """A pair of branches that lives only between two samples (an *island*: SW, SM, SP3 has solutions on an
     interval of the searched joint narrower than a step; TI, TP, two roots of SP6's quartic turn real and back
     there): where three neighbouring samples have as many branches and the margin of the subproblem (how near it
@@ -313,9 +313,10 @@ def _islands(kind, H, P, C, n, step, cnt, E, roots, m, out, pp, wk):
     found has its two ends found by bisection of the margin (:func:`_rim`; there its two branches meet) and is
     sampled :data:`SUB_N` times between them, closer towards the ends (cosine spacing: the branches move like
     the square root of the distance to an end), the sign changes refined as between any samples (:func:`_pair`;
-    roots found twice are kept once). Where one is found, the other step beside the middle sample is searched too:
-    a coverage check found a sample in a gap 0.003 rad wide between two islands, the second one holding two
-    solutions. Returns the new count of ``roots``."""
+    roots found twice are kept once), and dips turning back towards 0 searched as at a seam (:func:`_seam`: a
+    coverage check found two roots 0.00013 rad apart inside an island). Where one is found, the other step beside
+    the middle sample is searched too: a coverage check found a sample in a gap 0.003 rad wide between two islands,
+    the second one holding two solutions. Returns the new count of ``roots``."""
     sp3 = kind == SW or kind == SM
     M = np.full(n, -np.inf)
     for i in range(n):
@@ -327,7 +328,7 @@ def _islands(kind, H, P, C, n, step, cnt, E, roots, m, out, pp, wk):
     Es = np.zeros((SUB_N + 1, 4))
     cs = np.zeros(SUB_N + 1, dtype=np.int64)
     xs = np.zeros(SUB_N + 1)
-    D = np.zeros((4, 4))
+    D = np.zeros((SUB_N, 4, 4))
     for c in range(n):
         a = c - 1 if c > 0 else n - 1
         b = c + 1 if c + 1 < n else 0
@@ -358,9 +359,12 @@ def _islands(kind, H, P, C, n, step, cnt, E, roots, m, out, pp, wk):
                 xs[k] = lo + (hi - lo) * 0.5 * (1.0 - math.cos(_PI * k / SUB_N))
                 cs[k] = _eval(kind, H, P, C, xs[k], Ss[k], Es[k])
             for k in range(SUB_N):
-                _dists(Ss[k], cs[k], Ss[k + 1], cs[k + 1], D)
-                m = _pair(kind, H, P, C, xs[k], Ss[k], Es[k], cs[k], xs[k + 1], Ss[k + 1], Es[k + 1], cs[k + 1], D,
+                _dists(Ss[k], cs[k], Ss[k + 1], cs[k + 1], D[k])
+                m = _pair(kind, H, P, C, xs[k], Ss[k], Es[k], cs[k], xs[k + 1], Ss[k + 1], Es[k + 1], cs[k + 1], D[k],
                           roots, m, out, pp, wk)
+            for k in range(SUB_N - 1):   # and the dips between them (unequally spaced: _seam's parabola)
+                m = _seam(kind, H, P, C, xs[k], Ss[k], Es[k], cs[k], D[k], xs[k + 1], Ss[k + 1], Es[k + 1], cs[k + 1],
+                          D[k + 1], xs[k + 2], Ss[k + 2], Es[k + 2], cs[k + 2], roots, m, out, mid)
     return m
 
 
@@ -954,13 +958,13 @@ def _search(kind, H, P, C, n, roots):
             m = _pair(kind, H, P, C, xa, S[i], E[i], cnt[i], xa + step, S[i + 1], E[i + 1], cnt[i + 1], D[i], roots,
                       m, out, pp, wk)
         m = _extrema(kind, H, P, C, -_PI, step, S, E, cnt, D, i, roots, m, out, mid, _YES)
-    return _islands(kind, H, P, C, n, step, cnt, E, roots, m, out, pp, wk)
+    return _islands(kind, H, P, C, n, step, cnt, E, roots, m, out, pp, wk, mid)
 
 
 KERNELS = ("_eval_ti", "_point5", "_eval_tp", "_eval_sw", "_eval_sm", "_eval", "_margin", "_island",
            "_rim", "_adist", "_nearest", "_owned", "_pick", "_refine", "_add", "_dip", "_nearest_other", "_settled",
-           "_dip_roots", "_fold_dip", "_edge", "_dists", "_near", "_pair", "_islands", "_ambiguous", "_match",
-           "_wiggle", "_extrema", "_seam", "_scan", "_search")
+           "_dip_roots", "_fold_dip", "_edge", "_dists", "_near", "_pair", "_ambiguous", "_match",
+           "_wiggle", "_extrema", "_seam", "_islands", "_scan", "_search")
 """The functions :func:`kernels` compiles, callees before callers (the scalar helpers: :mod:`._kernels`)."""
 _KERNELS: Optional[types.SimpleNamespace] = None
 
