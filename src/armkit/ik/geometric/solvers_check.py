@@ -17,36 +17,41 @@ from .subproblems import _wrap
 
 
 def _solve_two_intersecting_end(kind, Hi, Pi, RnT, prism, Ht, Pt, R, p, qref, N, tol_p, tol_r, Q, LS, SG, ST):
-    m = _core_two_intersecting_end(kind, Hi, Pi, RnT, prism, R, p, qref, N, Q, LS, SG)
-    ng, nf = _check(m, Ht, Pt, RnT, prism, R, p, tol_p, tol_r, Q, LS, SG, ST)
-    ng, nf = _paired(Ht, Pt, RnT, R, p, tol_p, tol_r, Q, LS, SG, ST, ng, nf)
-    if ng % 2 == 1:     # still odd: a solution is missing, and it is not beside one found; search at twice the samples
-        Q2, LS2, SG2, ST2 = np.zeros_like(Q), np.zeros_like(LS), np.zeros_like(SG), np.zeros_like(ST)
-        m2 = _core_two_intersecting_end(kind, Hi, Pi, RnT, prism, R, p, qref, 2 * N, Q2, LS2, SG2)
-        ng2 = _check(m2, Ht, Pt, RnT, prism, R, p, tol_p, tol_r, Q2, LS2, SG2, ST2)[0]
-        ng, nf = _merged(Q, LS, SG, ST, ng, nf, Q2, SG2, ng2, prism)
-    return ng, nf
+    return _solve_searched(_TI_END, kind, Hi, Pi, RnT, prism, Ht, Pt, R, p, qref, N, tol_p, tol_r, Q, LS, SG, ST)
 
 
 def _solve_two_parallel(kind, Hi, Pi, RnT, prism, Ht, Pt, R, p, qref, N, tol_p, tol_r, Q, LS, SG, ST):
-    m = _core_two_parallel(kind, Hi, Pi, RnT, prism, R, p, qref, N, Q, LS, SG)
-    ng, nf = _check(m, Ht, Pt, RnT, prism, R, p, tol_p, tol_r, Q, LS, SG, ST)
-    ng, nf = _paired(Ht, Pt, RnT, R, p, tol_p, tol_r, Q, LS, SG, ST, ng, nf)
-    if ng % 2 == 1:     # still odd: a solution is missing, and it is not beside one found; search at twice the samples
-        Q2, LS2, SG2, ST2 = np.zeros_like(Q), np.zeros_like(LS), np.zeros_like(SG), np.zeros_like(ST)
-        m2 = _core_two_parallel(kind, Hi, Pi, RnT, prism, R, p, qref, 2 * N, Q2, LS2, SG2)
-        ng2 = _check(m2, Ht, Pt, RnT, prism, R, p, tol_p, tol_r, Q2, LS2, SG2, ST2)[0]
-        ng, nf = _merged(Q, LS, SG, ST, ng, nf, Q2, SG2, ng2, prism)
-    return ng, nf
+    return _solve_searched(_TWO_PAR, kind, Hi, Pi, RnT, prism, Ht, Pt, R, p, qref, N, tol_p, tol_r, Q, LS, SG, ST)
 
 
 def _solve_spherical_middle(kind, Hi, Pi, RnT, prism, Ht, Pt, R, p, qref, N, tol_p, tol_r, Q, LS, SG, ST):
-    m = _core_spherical_middle(kind, Hi, Pi, RnT, prism, R, p, qref, N, Q, LS, SG)
+    return _solve_searched(_SPH_MID, kind, Hi, Pi, RnT, prism, Ht, Pt, R, p, qref, N, tol_p, tol_r, Q, LS, SG, ST)
+
+
+_TI_END, _TWO_PAR, _SPH_MID = np.int64(2), np.int64(3), np.int64(4)
+"""The cores of the 1-D searches (the numbers of :func:`_solve`), typed ``int64``, not as literals (one compiled
+copy of :func:`_solve_searched` serves all three)."""
+
+
+def _searched_core(which, kind, Hi, Pi, RnT, prism, R, p, qref, N, Q, LS, SG):
+    if which == _TI_END:
+        return _core_two_intersecting_end(kind, Hi, Pi, RnT, prism, R, p, qref, N, Q, LS, SG)
+    if which == _TWO_PAR:
+        return _core_two_parallel(kind, Hi, Pi, RnT, prism, R, p, qref, N, Q, LS, SG)
+    return _core_spherical_middle(kind, Hi, Pi, RnT, prism, R, p, qref, N, Q, LS, SG)
+
+
+def _solve_searched(which, kind, Hi, Pi, RnT, prism, Ht, Pt, R, p, qref, N, tol_p, tol_r, Q, LS, SG, ST):
+    """A class solved by a 1-D search (the core ``which``): its candidates checked (:func:`_check`), an odd count
+    made even where a twin lies beside a solution (:func:`_paired`); a count still odd, whose missing solution is
+    not beside one found (near in the searched joint, it can be far in the others), sends the search again with
+    twice the samples, and its new solutions are merged in (:func:`_merged`)."""
+    m = _searched_core(which, kind, Hi, Pi, RnT, prism, R, p, qref, N, Q, LS, SG)
     ng, nf = _check(m, Ht, Pt, RnT, prism, R, p, tol_p, tol_r, Q, LS, SG, ST)
     ng, nf = _paired(Ht, Pt, RnT, R, p, tol_p, tol_r, Q, LS, SG, ST, ng, nf)
-    if ng % 2 == 1:     # still odd: a solution is missing, and it is not beside one found; search at twice the samples
+    if ng % 2 == 1:
         Q2, LS2, SG2, ST2 = np.zeros_like(Q), np.zeros_like(LS), np.zeros_like(SG), np.zeros_like(ST)
-        m2 = _core_spherical_middle(kind, Hi, Pi, RnT, prism, R, p, qref, 2 * N, Q2, LS2, SG2)
+        m2 = _searched_core(which, kind, Hi, Pi, RnT, prism, R, p, qref, 2 * N, Q2, LS2, SG2)
         ng2 = _check(m2, Ht, Pt, RnT, prism, R, p, tol_p, tol_r, Q2, LS2, SG2, ST2)[0]
         ng, nf = _merged(Q, LS, SG, ST, ng, nf, Q2, SG2, ng2, prism)
     return ng, nf
