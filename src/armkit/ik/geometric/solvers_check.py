@@ -118,51 +118,42 @@ def _paired(H, P, RnT, R, p, tol_p, tol_r, Q, LS, SG, ST, ng, nf):
             G[i, k] = Q[i, k]
     if _twins(H, P, RnT, R, p, tol_p / tol_r, tol_r, G, ng) == ng:
         return ng, nf
+    return _put_passing(Q, LS, SG, ST, ng, nf, G[ng], False)
+
+
+def _put_passing(Q, LS, SG, ST, ng, nf, q, sg):
+    """Put the solution ``q`` (its singular flag ``sg``) in as passing row ``ng``: the ``nf`` failing rows after it
+    move down one, the last dropping when the buffer is full. Returns the new ``(passing, failing)`` (unchanged when
+    every row already passes)."""
     if ng + nf >= Q.shape[0]:
+        if nf == 0:
+            return ng, nf
         nf -= 1
     for i in range(ng + nf - 1, ng - 1, -1):
-        for k in range(6):
+        for k in range(Q.shape[1]):
             Q[i + 1, k] = Q[i, k]
         LS[i + 1] = LS[i]
         SG[i + 1] = SG[i]
         ST[i + 1] = ST[i]
-    for k in range(6):
-        Q[ng, k] = G[ng, k]
+    for k in range(Q.shape[1]):
+        Q[ng, k] = q[k]
     LS[ng] = False
-    SG[ng] = False
+    SG[ng] = sg
     ST[ng] = 1
     return ng + 1, nf
 
 
 def _merged(Q, LS, SG, ST, ng, nf, Q2, SG2, ng2, prism):
     """The passing rows of a second search (``Q2``, ``SG2``: its first ``ng2`` rows) that are not among the ``ng``
-    passing rows of ``Q``, put in after them as passing rows (the failing rows move down; the last drop when full).
-    Returns the new ``(passing, failing)``."""
-    rows = Q.shape[0]
+    passing rows of ``Q``, put in after them (:func:`_put_passing`). Returns the new ``(passing, failing)``."""
     for i in range(ng2):
         new = True
         for j in range(ng):
             if _close(Q2[i], Q[j], prism):
                 new = False
                 break
-        if not new:
-            continue
-        if ng + nf >= rows:
-            nf -= 1
-            if nf < 0:
-                return ng, 0
-        for r in range(ng + nf - 1, ng - 1, -1):
-            for k in range(Q.shape[1]):
-                Q[r + 1, k] = Q[r, k]
-            LS[r + 1] = LS[r]
-            SG[r + 1] = SG[r]
-            ST[r + 1] = ST[r]
-        for k in range(Q.shape[1]):
-            Q[ng, k] = Q2[i, k]
-        LS[ng] = False
-        SG[ng] = SG2[i]
-        ST[ng] = 1
-        ng += 1
+        if new:
+            ng, nf = _put_passing(Q, LS, SG, ST, ng, nf, Q2[i], SG2[i])
     return ng, nf
 
 
