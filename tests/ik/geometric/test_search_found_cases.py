@@ -301,6 +301,30 @@ ISLAND_DIP_Q_GEN = np.array([ 0.5013516890599603 , -0.13249913347139808,  0.1860
         1.0356920201183701 ,
         1.168197564231411  ])
 
+# Found 2026-12-05 by bench_coverage.py --dense-only --seed 83: a '6R-two-intersecting' arm whose search over q1 found
+# 3 of 4 solutions. The fourth lies where a branch is born and its other joints swing 1.2 rad within 0.0026 rad of
+# q1: neither the twin step nor the second search (twice the samples) found it. The second search had it as a
+# candidate with q1 right and the other joints 0.05-0.35 rad off, which failed the check and was dropped; its failing
+# candidates now get Newton steps on the whole chain (solvers_check._newton_failing).
+STEEP_H = np.array([[0.9463923224256089, -0.25884218831728245, 0.1932415421201737],
+                    [0.2788041795786866, -0.6727000955660535, -0.685377859924639],
+                    [-0.5333249858393085, -0.7724165419530135, 0.34487265069420914],
+                    [-0.39640701454015514, -0.18622132743166847, -0.8989900422323646],
+                    [0.7936663811012575, -0.5877310898933364, 0.15705362613586557],
+                    [-0.6786382135412697, 0.2328753700727424, 0.6965767991650291]])
+STEEP_P = np.array([[0.28516362119014504, -0.8095754790171609, 0.35139572471116903],
+                    [-0.38538696054875204, 0.9839422970268654, -0.2958599426686158],
+                    [1.1283780534893637, -0.7604693898719099, 0.6668048297331195],
+                    [-0.12974669151454976, 0.31904858510247214, -0.4830885404781384],
+                    [-0.2292613772135419, -0.07267982586912503, -1.0097979128848784],
+                    [0.0645095177998638, -0.1117437314231271, 0.2098657244295583],
+                    [-0.12734476321041632, -0.06669301021490304, -0.11047099087666967]])
+STEEP_R_NT = np.array([[0.4688551624022152, 0.6677042939239513, -0.5782264371025508],
+                       [0.4080244253386642, 0.4168793136034918, 0.812236237936066],
+                       [0.7833842639572512, -0.6167516629608699, -0.07698364254278961]])
+STEEP_Q_GEN = np.array([1.4811962686924565, -1.9105348339579153, 1.165465532166528, 0.9048737307060506,
+                        -0.131108208581467, -2.0020173433133146])
+
 CASES = {   # name: (H, P, R_nT, the missed solution, the solver, even count, the dense search's seed)
     "island": (ISLAND_H, ISLAND_P, ISLAND_R_NT, ISLAND_Q_GEN, G.spherical_middle, False, 11),
     "twin2d": (TWIN2D_H, TWIN2D_P, TWIN2D_R_NT, TWIN2D_Q_GEN, gen_six_dof, True, 13),
@@ -313,6 +337,7 @@ CASES = {   # name: (H, P, R_nT, the missed solution, the solver, even count, th
     "wiggle": (WIGGLE_H, WIGGLE_P, WIGGLE_R_NT, WIGGLE_Q_GEN, G.two_parallel, True, 41),
     "islands2": (ISLANDS2_H, ISLANDS2_P, ISLANDS2_R_NT, ISLANDS2_Q_GEN, G.two_intersecting, True, 43),
     "island_dip": (ISLAND_DIP_H, ISLAND_DIP_P, ISLAND_DIP_R_NT, ISLAND_DIP_Q_GEN, G.two_intersecting, True, 47),
+    "steep": (STEEP_H, STEEP_P, STEEP_R_NT, STEEP_Q_GEN, G.two_intersecting, True, 53),
 }
 
 
@@ -329,7 +354,7 @@ def _case(name):
 
 @pytest.mark.parametrize("jit", [True, False], ids=["compiled", "plain"])
 @pytest.mark.parametrize("name", ["island", "odd", "island6", "end2", "gap", "fold", "far_twin",
-                                  "wiggle", "islands2", "island_dip"])
+                                  "wiggle", "islands2", "island_dip", "steep"])
 def test_the_missed_solution_is_found(name, jit):
     _check_solver(name, jit)
 
