@@ -305,7 +305,7 @@ ISLAND_DIP_Q_GEN = np.array([ 0.5013516890599603 , -0.13249913347139808,  0.1860
 # 3 of 4 solutions. The fourth lies where a branch is born and its other joints swing 1.2 rad within 0.0026 rad of
 # q1: neither the twin step nor the second search (twice the samples) found it. The second search had it as a
 # candidate with q1 right and the other joints 0.05-0.35 rad off, which failed the check and was dropped; its failing
-# candidates now get Newton steps on the whole chain (solvers_check._newton_failing).
+# candidates now get Newton steps on the whole chain (solvers_check._promote).
 STEEP_H = np.array([[0.9463923224256089, -0.25884218831728245, 0.1932415421201737],
                     [0.2788041795786866, -0.6727000955660535, -0.685377859924639],
                     [-0.5333249858393085, -0.7724165419530135, 0.34487265069420914],
@@ -325,6 +325,30 @@ STEEP_R_NT = np.array([[0.4688551624022152, 0.6677042939239513, -0.5782264371025
 STEEP_Q_GEN = np.array([1.4811962686924565, -1.9105348339579153, 1.165465532166528, 0.9048737307060506,
                         -0.131108208581467, -2.0020173433133146])
 
+# Found 2026-12-06 by bench_coverage.py --dense-only --seed 139: a '6R-two-parallel' arm and target with 4 solutions,
+# of which the search found 2 and a failing candidate that Python's polish made a third, after the odd-count steps
+# had looked at an even count. Failing candidates are now brought onto the target by Newton steps before the count
+# is looked at (solvers_check._promote), and only the search with four times the samples finds the fourth: an odd
+# count now sends the search again with 2N samples, then with 4N (solvers_check.RETRIES).
+ODD4_H = np.array([[-0.05118597555581894, 0.9241513143164127, -0.37858201773677286],
+                   [-0.38344424118134035, -0.34272318850314143, 0.8576195718190591],
+                   [0.38344424118134035, 0.34272318850314143, -0.8576195718190591],
+                   [-0.1842940520448335, 0.2208302837106736, -0.957741973694982],
+                   [-0.32564009191389065, -0.34610823361062387, -0.8798679566646616],
+                   [0.5370771345100955, 0.490440818697914, -0.6863060213500568]])
+ODD4_P = np.array([[0.5594798553184283, 0.6057838993630226, -0.019908142314204087],
+                   [-0.4921749306885736, -0.23037889571576986, 0.4323519600364101],
+                   [0.33315947372711774, 0.18629644350293817, -1.2318857690142198],
+                   [-0.2829625642006187, -0.1760486095864483, 0.0664665088890738],
+                   [1.0956755534973543, -0.6124345200789041, -0.2238303813704403],
+                   [-1.0613783773632883, 0.3460805355297586, 0.9630921226802587],
+                   [-0.7623319968130223, -0.01985282750492294, -0.2906477462827248]])
+ODD4_R_NT = np.array([[-0.7688731794832013, -0.2043945746466534, -0.6058522028732797],
+                      [0.49241774846328223, -0.7937077741584891, -0.3571452508976262],
+                      [-0.40787105176727523, -0.5729317822353637, 0.7109081361433881]])
+ODD4_Q_GEN = np.array([2.2357909234308124, 1.9650642988491, 2.268046140720168, -2.142388991900031,
+                       1.0015282236294825, 1.7465395378298831])
+
 CASES = {   # name: (H, P, R_nT, the missed solution, the solver, even count, the dense search's seed)
     "island": (ISLAND_H, ISLAND_P, ISLAND_R_NT, ISLAND_Q_GEN, G.spherical_middle, False, 11),
     "twin2d": (TWIN2D_H, TWIN2D_P, TWIN2D_R_NT, TWIN2D_Q_GEN, gen_six_dof, True, 13),
@@ -338,6 +362,7 @@ CASES = {   # name: (H, P, R_nT, the missed solution, the solver, even count, th
     "islands2": (ISLANDS2_H, ISLANDS2_P, ISLANDS2_R_NT, ISLANDS2_Q_GEN, G.two_intersecting, True, 43),
     "island_dip": (ISLAND_DIP_H, ISLAND_DIP_P, ISLAND_DIP_R_NT, ISLAND_DIP_Q_GEN, G.two_intersecting, True, 47),
     "steep": (STEEP_H, STEEP_P, STEEP_R_NT, STEEP_Q_GEN, G.two_intersecting, True, 53),
+    "odd4": (ODD4_H, ODD4_P, ODD4_R_NT, ODD4_Q_GEN, G.two_parallel, True, 59),
 }
 
 
@@ -354,7 +379,7 @@ def _case(name):
 
 @pytest.mark.parametrize("jit", [True, False], ids=["compiled", "plain"])
 @pytest.mark.parametrize("name", ["island", "odd", "island6", "end2", "gap", "fold", "far_twin",
-                                  "wiggle", "islands2", "island_dip", "steep"])
+                                  "wiggle", "islands2", "island_dip", "steep", "odd4"])
 def test_the_missed_solution_is_found(name, jit):
     _check_solver(name, jit)
 

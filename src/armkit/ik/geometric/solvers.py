@@ -79,9 +79,10 @@ from .search import MAXROOT, SM, SW, TI, TP, _search  # noqa: F401  (in the kern
 from .search import N as _SEARCH_N
 from .search import kernels as _search_kernels
 from .solvers_chain import _jacobian, _log_vec, _points, _size, align, polish, reverse  # noqa: F401
-from .solvers_check import (_SPH_MID, _TI_END, _TWO_PAR, _check, _close, _merged, _newton_failing,  # noqa: F401
-                            _paired, _put_passing, _searched_core, _solve, _solve_searched, _solve_spherical, _solve_spherical_middle,
-                            _solve_three_parallel, _solve_two_intersecting_end, _solve_two_parallel, _sweep)
+from .solvers_check import (RETRIES, SHARP, _SPH_MID, _TI_END, _TWO_PAR, _check, _close, _copy_row,  # noqa: F401
+                            _merged, _paired, _promote, _put_passing, _searched_core, _sharpen, _solve,
+                            _solve_searched, _solve_spherical, _solve_spherical_middle, _solve_three_parallel,
+                            _solve_two_intersecting_end, _solve_two_parallel, _sweep)
 from .solvers_parallel import _core_three_parallel  # noqa: F401
 from .solvers_search import (_core_spherical_middle, _core_two_intersecting_end, _core_two_parallel,  # noqa: F401
                              _target_rows)
@@ -116,7 +117,7 @@ class Solutions(NamedTuple):
 KERNELS = ("_mv", "_mtv", "_mm", "_mtm", "_perp", "_rotm_to", "_mm_to", "_mtm_to", "_mv_to", "_mtv_to", "_perp_to",
            "_sp1s", "_sp2s", "_wrist", "_pos_two_intersecting", "_pos_two_parallel",
            "_pos_search", "_pos_general", "_core_spherical", "_core_three_parallel", "_close", "_put_passing",
-           "_merged", "_newton_failing", "_check", "_solve_spherical", "_solve_three_parallel", "_target_rows",
+           "_merged", "_copy_row", "_promote", "_sharpen", "_check", "_solve_spherical", "_solve_three_parallel", "_target_rows",
            "_core_two_intersecting_end", "_core_two_parallel", "_core_spherical_middle", "_paired", "_searched_core",
            "_solve_searched",
            "_solve_two_intersecting_end", "_solve_two_parallel", "_solve_spherical_middle", "_solve", "_sweep")
@@ -154,7 +155,7 @@ def kernels() -> Optional[types.SimpleNamespace]:
             _NO_NUMBA = True
             return None
         extra["_twins"] = s2._twins   # the odd-count step of the 1-D searches (solvers_check._paired)
-        extra["_newton"] = s2._newton   # and its second search's failing candidates (solvers_check._newton_failing)
+        extra["_newton"] = s2._newton   # and its second search's failing candidates (solvers_check._promote)
         ns = _sp.jit_namespace(globals(), KERNELS, extra=extra)
         from numba import njit
 

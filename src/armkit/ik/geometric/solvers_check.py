@@ -42,53 +42,129 @@ def _searched_core(which, kind, Hi, Pi, RnT, prism, R, p, qref, N, Q, LS, SG):
 
 
 def _solve_searched(which, kind, Hi, Pi, RnT, prism, Ht, Pt, R, p, qref, N, tol_p, tol_r, Q, LS, SG, ST):
-    """A class solved by a 1-D search (the core ``which``): its candidates checked (:func:`_check`), an odd count
-    made even where a twin lies beside a solution (:func:`_paired`); a count still odd, whose missing solution is
-    not beside one found (near in the searched joint, it can be far in the others), sends the search again with
-    twice the samples, and its new solutions are merged in (:func:`_merged`), with those of its candidates that
-    failed the check and that Newton steps on the whole chain bring onto the target (:func:`_newton_failing`)."""
+    """A class solved by a 1-D search (the core ``which``): its candidates checked (:func:`_check`), those that fail
+    the check brought onto the target by Newton steps where they can be (:func:`_promote`), an odd count made even
+    where a twin lies beside a solution (:func:`_paired`). A count still odd, whose missing solution is not beside
+    one found (near in the searched joint, it can be far in the others), sends the search again with twice the
+    samples, then four times (:data:`RETRIES`), while the count stays odd; the new solutions of each are merged in
+    (:func:`_merged`)."""
     m = _searched_core(which, kind, Hi, Pi, RnT, prism, R, p, qref, N, Q, LS, SG)
     ng, nf = _check(m, Ht, Pt, RnT, prism, R, p, tol_p, tol_r, Q, LS, SG, ST)
+    ng, nf = _promote(Ht, Pt, RnT, prism, R, p, tol_p, tol_r, Q, LS, SG, ST, ng, nf)
     ng, nf = _paired(Ht, Pt, RnT, R, p, tol_p, tol_r, Q, LS, SG, ST, ng, nf)
-    if ng % 2 == 1:
+    n2 = N
+    for _ in range(RETRIES):
+        if ng % 2 == 0:
+            break
+        n2 *= 2
         Q2, LS2, SG2, ST2 = np.zeros_like(Q), np.zeros_like(LS), np.zeros_like(SG), np.zeros_like(ST)
-        m2 = _searched_core(which, kind, Hi, Pi, RnT, prism, R, p, qref, 2 * N, Q2, LS2, SG2)
+        m2 = _searched_core(which, kind, Hi, Pi, RnT, prism, R, p, qref, n2, Q2, LS2, SG2)
         ng2, nf2 = _check(m2, Ht, Pt, RnT, prism, R, p, tol_p, tol_r, Q2, LS2, SG2, ST2)
-        ng2 = _newton_failing(Ht, Pt, RnT, prism, R, p, tol_p, tol_r, Q2, LS2, SG2, ng2, nf2)
+        ng2 = _promote(Ht, Pt, RnT, prism, R, p, tol_p, tol_r, Q2, LS2, SG2, ST2, ng2, nf2)[0]
         ng, nf = _merged(Q, LS, SG, ST, ng, nf, Q2, SG2, ng2, prism)
+    _sharpen(Ht, Pt, RnT, prism, R, p, tol_p, tol_r, Q, ng)
     return ng, nf
 
 
-def _newton_failing(H, P, RnT, prism, R, p, tol_p, tol_r, Q, LS, SG, ng, nf):
-    """Newton steps on the whole chain (:func:`.search2d._newton`; 6R, every joint revolute) from each of the
-    ``nf`` failing candidates after the ``ng`` passing rows of ``Q`` that is not a least-squares one. Where a
-    branch's other joints swing fast with the searched one (1.2 rad within 0.0026 rad of q1 seen, near a branch's
-    birth), the searched joint's root can be right and the others a few hundredths off; from there Newton reaches
-    the solution. Each candidate that then passes the check (:func:`_fk_err_from`, angles wrapped) is put after the
-    passing rows (repeats are left to the caller). Returns the new count of passing rows."""
+def _sharpen(H, P, RnT, prism, R, p, tol_p, tol_r, Q, ng):
+    """Newton steps on the whole chain from each of the ``ng`` passing rows of ``Q`` whose FK error is above
+    :data:`SHARP` times the check's tolerances. Near a double root (two solutions that nearly meet, where the
+    search's refinement in one joint leaves the others least sure) a solution passed the check 2e-9 from the
+    target on an arm 6.7 long; Newton takes it to the last digits. The row keeps the new value only where its error
+    is smaller and it repeats no other row."""
     q = np.empty(6)
     F = np.empty((3, 3))
     RS = np.empty((7, 3, 3))
     PS = np.empty((7, 3))
-    w = ng
-    for i in range(ng, ng + nf):
+    for i in range(ng):
+        ep, er = _fk_err_from(H, P, RnT, prism, Q[i], R, p, RS, PS, 0, F)
+        if ep <= SHARP * tol_p and er <= SHARP * tol_r:
+            continue
+        for k in range(6):
+            q[k] = Q[i, k]
+        _newton(H, P, RnT, R, p, tol_p / tol_r, q)
+        for k in range(6):
+            q[k] = _wrap(q[k])
+        ep2, er2 = _fk_err_from(H, P, RnT, prism, q, R, p, RS, PS, 0, F)
+        if max(ep2 / tol_p, er2 / tol_r) >= max(ep / tol_p, er / tol_r):
+            continue
+        new = True
+        for j in range(ng):
+            if j != i and _close(q, Q[j], prism):
+                new = False
+                break
+        if new:
+            for k in range(6):
+                Q[i, k] = q[k]
+
+
+SHARP = 1e-3
+"""The FK error, as a fraction of the check's tolerances, above which :func:`_sharpen` polishes a solution of a
+1-D search (1e-12 times the arm's size in position, 1e-12 rad in rotation)."""
+
+RETRIES = 2
+"""How many times a 1-D search with an odd count of solutions runs again, each time with twice the samples of
+the last (2N, then 4N). Found by bench_coverage: a twin 4 rad away in the other joints that 2N finds (seed 31), and
+one of a `6R-two-parallel` target that only 4N finds (seed 139)."""
+
+
+def _promote(H, P, RnT, prism, R, p, tol_p, tol_r, Q, LS, SG, ST, ng, nf):
+    """Newton steps on the whole chain (:func:`.search2d._newton`; 6R, every joint revolute) from each of the ``nf``
+    failing candidates after the ``ng`` passing rows of ``Q`` that is not a least-squares one. Where a branch's
+    other joints swing fast with the searched one (1.2 rad within 0.0026 rad of q1 seen, near a branch's birth),
+    the searched joint's root can be right and the others a few hundredths off; from there Newton reaches the
+    solution. A candidate that then passes the check (:func:`_fk_err_from`, angles wrapped) becomes the last
+    passing row, unless it repeats one (then it is dropped); the other failing rows stay, after the passing ones.
+    Returns the new ``(passing, failing)``."""
+    q = np.empty(6)
+    F = np.empty((3, 3))
+    RS = np.empty((7, 3, 3))
+    PS = np.empty((7, 3))
+    i = ng
+    while i < ng + nf:
         if LS[i]:
+            i += 1
             continue
         for k in range(6):
             q[k] = Q[i, k]
         if _newton(H, P, RnT, R, p, tol_p / tol_r, q) > tol_r:
+            i += 1
             continue
         for k in range(6):
             q[k] = _wrap(q[k])
         ep, er = _fk_err_from(H, P, RnT, prism, q, R, p, RS, PS, 0, F)
         if not (ep <= tol_p and er <= tol_r):
+            i += 1
             continue
-        for k in range(6):
-            Q[w, k] = q[k]
-        LS[w] = False
-        SG[w] = SG[i]
-        w += 1
-    return w
+        new = True
+        for j in range(ng):
+            if _close(q, Q[j], prism):
+                new = False
+                break
+        sg = SG[i]
+        last = ng + nf - 1
+        if new:       # row i takes the first failing row's place, and q becomes the last passing row
+            _copy_row(Q, LS, SG, ST, ng, i)
+            for k in range(6):
+                Q[ng, k] = q[k]
+            LS[ng] = False
+            SG[ng] = sg
+            ST[ng] = 1
+            ng += 1
+            nf -= 1
+            i += 1
+        else:         # a repeat: the last failing row takes its place
+            _copy_row(Q, LS, SG, ST, last, i)
+            nf -= 1
+    return ng, nf
+
+
+def _copy_row(Q, LS, SG, ST, src, dst):
+    for k in range(Q.shape[1]):
+        Q[dst, k] = Q[src, k]
+    LS[dst] = LS[src]
+    SG[dst] = SG[src]
+    ST[dst] = ST[src]
 
 
 def _check(m, H, P, RnT, prism, R, p, tol_p, tol_r, Q, LS, SG, ST):
