@@ -117,9 +117,9 @@ class Solutions(NamedTuple):
 KERNELS = ("_mv", "_mtv", "_mm", "_mtm", "_perp", "_rotm_to", "_mm_to", "_mtm_to", "_mv_to", "_mtv_to", "_perp_to",
            "_sp1s", "_sp2s", "_wrist", "_pos_two_intersecting", "_pos_two_parallel",
            "_pos_search", "_pos_general", "_core_spherical", "_core_three_parallel", "_close", "_put_passing",
-           "_merged", "_copy_row", "_promote", "_sharpen", "_check", "_solve_spherical", "_solve_three_parallel", "_target_rows",
-           "_core_two_intersecting_end", "_core_two_parallel", "_core_spherical_middle", "_paired", "_searched_core",
-           "_solve_searched",
+           "_merged", "_copy_row", "_promote", "_sharpen", "_check", "_solve_spherical", "_solve_three_parallel",
+           "_target_rows", "_core_two_intersecting_end", "_core_two_parallel", "_core_spherical_middle", "_paired",
+           "_searched_core", "_solve_searched",
            "_solve_two_intersecting_end", "_solve_two_parallel", "_solve_spherical_middle", "_solve", "_sweep")
 INLINE = ("_pos_search", "_pos_general", "_core_spherical", "_core_three_parallel", "_core_two_intersecting_end",
           "_core_two_parallel", "_core_spherical_middle", "_searched_core", "_solve")

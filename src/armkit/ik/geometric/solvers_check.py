@@ -219,7 +219,7 @@ def _paired(H, P, RnT, R, p, tol_p, tol_r, Q, LS, SG, ST, ng, nf):
     look for it from each solution along the Jacobian's most singular direction (:func:`.search2d._twins`). A
     twin found goes in as the last passing row (the failing rows move down one; the last drops when full).
     Returns the new ``(passing, failing)``. A count still odd after this sends the caller's search again with twice
-    the samples (:func:`_merged`): a twin near in the searched joint can be far in the others."""
+    the samples, then four times (:func:`_merged`): a twin near in the searched joint can be far in the others."""
     if ng % 2 == 0:
         return ng, nf
     G = np.empty((ng + 1, 6))
