@@ -325,7 +325,7 @@ STEEP_R_NT = np.array([[0.4688551624022152, 0.6677042939239513, -0.5782264371025
 STEEP_Q_GEN = np.array([1.4811962686924565, -1.9105348339579153, 1.165465532166528, 0.9048737307060506,
                         -0.131108208581467, -2.0020173433133146])
 
-# Found 2026-12-06 by bench_coverage.py --dense-only --seed 139: a '6R-two-parallel' arm and target with 4 solutions,
+# Found 2026-12-06 by bench_coverage.py --dense-only --seed=139: a '6R-two-parallel' arm and target with 4 solutions,
 # of which the search found 2 and a failing candidate that Python's polish made a third, after the odd-count steps
 # had looked at an even count. Failing candidates are now brought onto the target by Newton steps before the count
 # is looked at (solvers_check._promote), and only the search with four times the samples finds the fourth: an odd

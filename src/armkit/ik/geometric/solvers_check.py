@@ -105,7 +105,7 @@ SHARP = 1e-3
 RETRIES = 2
 """How many times a 1-D search with an odd count of solutions runs again, each time with twice the samples of
 the last (2N, then 4N). Found by bench_coverage: a twin 4 rad away in the other joints that 2N finds (seed 31), and
-one of a `6R-two-parallel` target that only 4N finds (seed 139)."""
+one of a `6R-two-parallel` target that only 4N finds (`--seed=139`)."""
 
 
 def _promote(H, P, RnT, prism, R, p, tol_p, tol_r, Q, LS, SG, ST, ng, nf):
