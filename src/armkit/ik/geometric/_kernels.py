@@ -567,39 +567,66 @@ def _fk_err_from(H, P, RnT, prism, q, Rt, pt, RS, PS, s, T):
     only in the wrist) skips those joints' work. Each joint's operations are the same whatever ``s``: the same
     bits. ``T (3, 3)``: work space."""
     n = H.shape[0]
+    # the rotation in nine scalars and the position in three, stored after each joint for the next call; the
+    # operations of _rmul_rot and _move, in their order (the same bits), without reading back what was stored
     if s == 0:
+        a00, a01, a02, a10, a11, a12, a20, a21, a22 = 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0
+        p0, p1, p2 = P[0, 0], P[0, 1], P[0, 2]
         for i in range(3):
             for j in range(3):
                 RS[0, i, j] = 1.0 if i == j else 0.0
             PS[0, i] = P[0, i]
+    else:
+        a00, a01, a02 = RS[s, 0, 0], RS[s, 0, 1], RS[s, 0, 2]
+        a10, a11, a12 = RS[s, 1, 0], RS[s, 1, 1], RS[s, 1, 2]
+        a20, a21, a22 = RS[s, 2, 0], RS[s, 2, 1], RS[s, 2, 2]
+        p0, p1, p2 = PS[s, 0], PS[s, 1], PS[s, 2]
     for k in range(s, n):
-        R = RS[k + 1]
-        for i in range(3):
-            for j in range(3):
-                R[i, j] = RS[k, i, j]
-        p0 = PS[k, 0]
-        p1 = PS[k, 1]
-        p2 = PS[k, 2]
         h0 = H[k, 0]
         h1 = H[k, 1]
         h2 = H[k, 2]
         if prism[k]:
-            p0 += q[k] * (R[0, 0] * h0 + R[0, 1] * h1 + R[0, 2] * h2)
-            p1 += q[k] * (R[1, 0] * h0 + R[1, 1] * h1 + R[1, 2] * h2)
-            p2 += q[k] * (R[2, 0] * h0 + R[2, 1] * h1 + R[2, 2] * h2)
+            p0 += q[k] * (a00 * h0 + a01 * h1 + a02 * h2)
+            p1 += q[k] * (a10 * h0 + a11 * h1 + a12 * h2)
+            p2 += q[k] * (a20 * h0 + a21 * h1 + a22 * h2)
         else:
-            _rmul_rot(R, T, h0, h1, h2, q[k])
-        p0, p1, p2 = _move(R, P, k + 1, p0, p1, p2)
+            c = math.cos(q[k])
+            sn = math.sin(q[k])
+            v = 1.0 - c
+            r00 = c + h0 * h0 * v
+            r01 = h0 * h1 * v - h2 * sn
+            r02 = h0 * h2 * v + h1 * sn
+            r10 = h1 * h0 * v + h2 * sn
+            r11 = c + h1 * h1 * v
+            r12 = h1 * h2 * v - h0 * sn
+            r20 = h2 * h0 * v - h1 * sn
+            r21 = h2 * h1 * v + h0 * sn
+            r22 = c + h2 * h2 * v
+            a00, a01, a02 = (a00 * r00 + a01 * r10 + a02 * r20, a00 * r01 + a01 * r11 + a02 * r21,
+                             a00 * r02 + a01 * r12 + a02 * r22)
+            a10, a11, a12 = (a10 * r00 + a11 * r10 + a12 * r20, a10 * r01 + a11 * r11 + a12 * r21,
+                             a10 * r02 + a11 * r12 + a12 * r22)
+            a20, a21, a22 = (a20 * r00 + a21 * r10 + a22 * r20, a20 * r01 + a21 * r11 + a22 * r21,
+                             a20 * r02 + a21 * r12 + a22 * r22)
+        x = P[k + 1, 0]
+        y = P[k + 1, 1]
+        z = P[k + 1, 2]
+        p0, p1, p2 = (p0 + (a00 * x + a01 * y + a02 * z), p1 + (a10 * x + a11 * y + a12 * z),
+                      p2 + (a20 * x + a21 * y + a22 * z))
+        RS[k + 1, 0, 0], RS[k + 1, 0, 1], RS[k + 1, 0, 2] = a00, a01, a02
+        RS[k + 1, 1, 0], RS[k + 1, 1, 1], RS[k + 1, 1, 2] = a10, a11, a12
+        RS[k + 1, 2, 0], RS[k + 1, 2, 1], RS[k + 1, 2, 2] = a20, a21, a22
         PS[k + 1, 0] = p0
         PS[k + 1, 1] = p1
         PS[k + 1, 2] = p2
-    R = RS[n]
-    dp = math.sqrt((PS[n, 0] - pt[0]) ** 2 + (PS[n, 1] - pt[1]) ** 2 + (PS[n, 2] - pt[2]) ** 2)
+    dp = math.sqrt((p0 - pt[0]) ** 2 + (p1 - pt[1]) ** 2 + (p2 - pt[2]) ** 2)
     e = 0.0
-    for i in range(3):
-        for j in range(3):
-            rij = R[i, 0] * RnT[0, j] + R[i, 1] * RnT[1, j] + R[i, 2] * RnT[2, j]
-            e += (rij - Rt[i, j]) ** 2
+    for j in range(3):     # row 0 of R RnT against the target's, then rows 1 and 2 (the order of the sum)
+        e += (a00 * RnT[0, j] + a01 * RnT[1, j] + a02 * RnT[2, j] - Rt[0, j]) ** 2
+    for j in range(3):
+        e += (a10 * RnT[0, j] + a11 * RnT[1, j] + a12 * RnT[2, j] - Rt[1, j]) ** 2
+    for j in range(3):
+        e += (a20 * RnT[0, j] + a21 * RnT[1, j] + a22 * RnT[2, j] - Rt[2, j]) ** 2
     return dp, math.sqrt(0.5 * e)
 
 
