@@ -349,6 +349,30 @@ ODD4_R_NT = np.array([[-0.7688731794832013, -0.2043945746466534, -0.605852202873
 ODD4_Q_GEN = np.array([2.2357909234308124, 1.9650642988491, 2.268046140720168, -2.142388991900031,
                        1.0015282236294825, 1.7465395378298831])
 
+# Found 2026-12-06 by bench_coverage.py --dense-only --seed=193: a '6R-two-intersecting' arm whose search over q1 found
+# 2 of 6 solutions. The other 4 lie on two islands of SP5, 0.01 rad wide, between samples. The margin of SP5 is near
+# -1 away from an island and rises to 0 within a few thousandths of a radian of it; at the samples about the first
+# it reads -0.99, -0.77, -0.89, a peak no parabola through them brings near 0, so the island was never searched. A
+# margin peak above search.STEEP (-0.9) is now searched too.
+STEEP_ISLAND_H = np.array([[0.3775176963214992, -0.9001004375065711, -0.21748469225347267],
+                           [-0.9472267936170474, -0.2777415370979752, 0.16006573657226483],
+                           [0.4058778105142001, 0.9114053564743547, 0.06784894341147465],
+                           [-0.3724361686728109, -0.8606081812041644, -0.3473396877824039],
+                           [-0.9077736256025436, -0.4016921923339375, -0.1207908410367614],
+                           [0.06176674391013218, 0.84902885846035, -0.5247236099588575]])
+STEEP_ISLAND_P = np.array([[0.20462370854890227, -0.26940755708673586, -0.16076761142550028],
+                           [-0.17890627660157604, 0.1819542146136438, -0.2181387224435143],
+                           [-0.198025934622673, 0.01801162957347946, 1.1347930649829174],
+                           [0.4031067162221219, -0.9246702041426285, -1.2061499349742557],
+                           [0.48478558069265576, 1.1444648853642778, 0.4905657439205112],
+                           [-0.0008732127688303448, -0.11648701292945904, 0.07518523114665591],
+                           [-0.521225864315505, 0.016801471164900758, -0.5637159715582039]])
+STEEP_ISLAND_R_NT = np.array([[-0.6696434563243293, -0.3286965324266423, -0.665985158222544],
+                              [0.6714152806236305, 0.11537270907769691, -0.7320455306503575],
+                              [0.3174573394128673, -0.9373621112306456, 0.1434332948869579]])
+STEEP_ISLAND_Q_GEN = np.array([0.29999050355269175, 2.5703803102680514, 1.7455985786279866, -1.6481163570468647,
+                               -2.107317569683753, 0.8623831364827437])
+
 CASES = {   # name: (H, P, R_nT, the missed solution, the solver, even count, the dense search's seed)
     "island": (ISLAND_H, ISLAND_P, ISLAND_R_NT, ISLAND_Q_GEN, G.spherical_middle, False, 11),
     "twin2d": (TWIN2D_H, TWIN2D_P, TWIN2D_R_NT, TWIN2D_Q_GEN, gen_six_dof, True, 13),
@@ -363,6 +387,8 @@ CASES = {   # name: (H, P, R_nT, the missed solution, the solver, even count, th
     "island_dip": (ISLAND_DIP_H, ISLAND_DIP_P, ISLAND_DIP_R_NT, ISLAND_DIP_Q_GEN, G.two_intersecting, True, 47),
     "steep": (STEEP_H, STEEP_P, STEEP_R_NT, STEEP_Q_GEN, G.two_intersecting, True, 53),
     "odd4": (ODD4_H, ODD4_P, ODD4_R_NT, ODD4_Q_GEN, G.two_parallel, True, 59),
+    "steep_island": (STEEP_ISLAND_H, STEEP_ISLAND_P, STEEP_ISLAND_R_NT, STEEP_ISLAND_Q_GEN, G.two_intersecting, True,
+                     61),
 }
 
 
@@ -379,7 +405,8 @@ def _case(name):
 
 @pytest.mark.parametrize("jit", [True, False], ids=["compiled", "plain"])
 @pytest.mark.parametrize("name", ["island", "odd", "island6", "end2", "gap", "fold", "far_twin",
-                                  "wiggle", "islands2", "island_dip", "steep", "odd4"])
+                                  "wiggle", "islands2", "island_dip", "steep", "odd4",
+                                  "steep_island"])
 def test_the_missed_solution_is_found(name, jit):
     _check_solver(name, jit)
 

@@ -101,6 +101,11 @@ ZERO = 1e-12
 """A residual at a sample within this of 0 is a root on the sample (its sign is rounding)."""
 NUDGE = 1e-6
 """Where a step with such a sample at an end is tested for a sign change instead (fraction of the step)."""
+STEEP = -0.9
+"""A margin peak at a sample above this is searched for an island even where the parabola through the three
+samples stays far below 0: the margin of SP5/SP6 lies near -1 away from an island and rises to 0 within a few
+thousandths of a radian of it (bench_coverage found islands 0.009-0.01 rad wide whose samples read -0.99, -0.77,
+-0.89), steeper than any parabola through the samples."""
 _YES, _NO = np.True_, np.False_
 """True and False that Numba types as ``bool``, not as the literals (which would compile a copy of the callee for
 each)."""
@@ -338,8 +343,8 @@ def _islands(kind, H, P, C, n, step, cnt, E, roots, m, out, pp, wk, mid):
         if not (ma < mb and mc < mb and ma > -np.inf and mc > -np.inf and cnt[a] == cnt[c] and cnt[b] == cnt[c]):
             continue
         d2 = ma - 2.0 * mb + mc
-        if mb - (mc - ma) * (mc - ma) / (8.0 * d2) < d2:   # the parabola's peak below 0 by more than |d2|
-            continue
+        if mb - (mc - ma) * (mc - ma) / (8.0 * d2) < d2 and not mb > STEEP:   # the parabola's peak below 0 by
+            continue                                                            # more than |d2|, the peak low
         base = cnt[c]
         xc = -_PI + c * step
         first = _island(kind, H, P, C, xc - step, xc + step, base)
