@@ -565,7 +565,7 @@ def _fk_err_from(H, P, RnT, prism, q, Rt, pt, RS, PS, s, T):
     is taken up after joint ``s`` from what the previous call left there (``s = 0``: from the base): a caller
     checking candidates that share their first joints (the branches of a closed form come in pairs that differ
     only in the wrist) skips those joints' work. Each joint's operations are the same whatever ``s``: the same
-    bits. ``T (3, 3)``: work space."""
+    bits. ``T (3, 3)``: unused (the rotation lives in scalars), kept so that no caller changes."""
     n = H.shape[0]
     # the rotation in nine scalars and the position in three, stored after each joint for the next call; the
     # operations of _rmul_rot and _move, in their order (the same bits), without reading back what was stored

@@ -155,7 +155,7 @@ def kernels() -> Optional[types.SimpleNamespace]:
             _NO_NUMBA = True
             return None
         extra["_twins"] = s2._twins   # the odd-count step of the 1-D searches (solvers_check._paired)
-        extra["_newton"] = s2._newton   # and its second search's failing candidates (solvers_check._promote)
+        extra["_newton"] = s2._newton   # failing candidates and rough solutions (_promote, _sharpen)
         ns = _sp.jit_namespace(globals(), KERNELS, extra=extra)
         from numba import njit
 
