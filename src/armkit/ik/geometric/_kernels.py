@@ -522,20 +522,19 @@ def _sp3(p1, p2, k, d, T):
 
 
 # ------------------------------------------------------------------------- forward kinematics
-def _rmul_rot(R, T, h0, h1, h2, q):
-    """``R ← R rot(h, q)`` in place (``T (3, 3)``: work space)."""
+def _rot_entries(h0, h1, h2, q):
+    """The nine entries of ``rot(h, q)`` (Rodrigues), row by row."""
     c = math.cos(q)
     s = math.sin(q)
     v = 1.0 - c
-    r00 = c + h0 * h0 * v
-    r01 = h0 * h1 * v - h2 * s
-    r02 = h0 * h2 * v + h1 * s
-    r10 = h1 * h0 * v + h2 * s
-    r11 = c + h1 * h1 * v
-    r12 = h1 * h2 * v - h0 * s
-    r20 = h2 * h0 * v - h1 * s
-    r21 = h2 * h1 * v + h0 * s
-    r22 = c + h2 * h2 * v
+    return (c + h0 * h0 * v, h0 * h1 * v - h2 * s, h0 * h2 * v + h1 * s,
+            h1 * h0 * v + h2 * s, c + h1 * h1 * v, h1 * h2 * v - h0 * s,
+            h2 * h0 * v - h1 * s, h2 * h1 * v + h0 * s, c + h2 * h2 * v)
+
+
+def _rmul_rot(R, T, h0, h1, h2, q):
+    """``R ← R rot(h, q)`` in place (``T (3, 3)``: work space)."""
+    r00, r01, r02, r10, r11, r12, r20, r21, r22 = _rot_entries(h0, h1, h2, q)
     for i in range(3):
         a0 = R[i, 0]
         a1 = R[i, 1]
@@ -568,7 +567,8 @@ def _fk_err_from(H, P, RnT, prism, q, Rt, pt, RS, PS, s, T):
     bits. ``T (3, 3)``: unused (the rotation lives in scalars), kept so that no caller changes."""
     n = H.shape[0]
     # the rotation in nine scalars and the position in three, stored after each joint for the next call; the
-    # operations of _rmul_rot and _move, in their order (the same bits), without reading back what was stored
+    # operations of _rmul_rot (its _rot_entries) and _move, in their order (the same bits), without reading back
+    # what was stored
     if s == 0:
         a00, a01, a02, a10, a11, a12, a20, a21, a22 = 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0
         p0, p1, p2 = P[0, 0], P[0, 1], P[0, 2]
@@ -590,18 +590,7 @@ def _fk_err_from(H, P, RnT, prism, q, Rt, pt, RS, PS, s, T):
             p1 += q[k] * (a10 * h0 + a11 * h1 + a12 * h2)
             p2 += q[k] * (a20 * h0 + a21 * h1 + a22 * h2)
         else:
-            c = math.cos(q[k])
-            sn = math.sin(q[k])
-            v = 1.0 - c
-            r00 = c + h0 * h0 * v
-            r01 = h0 * h1 * v - h2 * sn
-            r02 = h0 * h2 * v + h1 * sn
-            r10 = h1 * h0 * v + h2 * sn
-            r11 = c + h1 * h1 * v
-            r12 = h1 * h2 * v - h0 * sn
-            r20 = h2 * h0 * v - h1 * sn
-            r21 = h2 * h1 * v + h0 * sn
-            r22 = c + h2 * h2 * v
+            r00, r01, r02, r10, r11, r12, r20, r21, r22 = _rot_entries(h0, h1, h2, q[k])
             a00, a01, a02 = (a00 * r00 + a01 * r10 + a02 * r20, a00 * r01 + a01 * r11 + a02 * r21,
                              a00 * r02 + a01 * r12 + a02 * r22)
             a10, a11, a12 = (a10 * r00 + a11 * r10 + a12 * r20, a10 * r01 + a11 * r11 + a12 * r21,
@@ -633,7 +622,8 @@ def _fk_err_from(H, P, RnT, prism, q, Rt, pt, RS, PS, s, T):
 # ---------------------------------------------------------------------------------- compiled
 KERNELS = ("_t", "_tdot", "_tcross", "_tadd", "_tsub", "_tmul", "_tnorm", "_trot_cs", "_trot", "_tmv", "_tmtv",
            "_tlin", "_tsp1", "_wrap", "_cubic_max", "_quad", "_newton4", "_polish", "_quartic4", "_quartic", "_res2",
-           "_angle", "_trig2m", "_trig2", "_trig2_rows", "_sp6", "_add_row", "_sp3_cos", "_sp3", "_rmul_rot", "_move", "_fk_err_from")
+           "_angle", "_trig2m", "_trig2", "_trig2_rows", "_sp6", "_add_row", "_sp3_cos", "_sp3", "_rot_entries",
+           "_rmul_rot", "_move", "_fk_err_from")
 """The functions :func:`kernels` compiles, callees before callers."""
 _KERNELS: Optional[types.SimpleNamespace] = None
 

@@ -80,20 +80,10 @@ def _sharpen(H, P, RnT, prism, R, p, tol_p, tol_r, Q, ng):
         ep, er = _fk_err_from(H, P, RnT, prism, Q[i], R, p, RS, PS, 0, F)
         if ep <= SHARP * tol_p and er <= SHARP * tol_r:
             continue
-        for k in range(6):
-            q[k] = Q[i, k]
-        _newton(H, P, RnT, R, p, tol_p / tol_r, q)
-        for k in range(6):
-            q[k] = _wrap(q[k])
-        ep2, er2 = _fk_err_from(H, P, RnT, prism, q, R, p, RS, PS, 0, F)
+        _, ep2, er2 = _newton_from(H, P, RnT, prism, R, p, tol_p, tol_r, Q[i], q, RS, PS, F)
         if max(ep2 / tol_p, er2 / tol_r) >= max(ep / tol_p, er / tol_r):
             continue
-        new = True
-        for j in range(ng):
-            if j != i and _close(q, Q[j], prism):
-                new = False
-                break
-        if new:
+        if not _repeats(q, Q, ng, i, prism):
             for k in range(6):
                 Q[i, k] = q[k]
 
@@ -125,25 +115,13 @@ def _promote(H, P, RnT, prism, R, p, tol_p, tol_r, Q, LS, SG, ST, ng, nf):
         if LS[i]:
             i += 1
             continue
-        for k in range(6):
-            q[k] = Q[i, k]
-        if _newton(H, P, RnT, R, p, tol_p / tol_r, q) > tol_r:
+        err, ep, er = _newton_from(H, P, RnT, prism, R, p, tol_p, tol_r, Q[i], q, RS, PS, F)
+        if err > tol_r or not (ep <= tol_p and er <= tol_r):
             i += 1
             continue
-        for k in range(6):
-            q[k] = _wrap(q[k])
-        ep, er = _fk_err_from(H, P, RnT, prism, q, R, p, RS, PS, 0, F)
-        if not (ep <= tol_p and er <= tol_r):
-            i += 1
-            continue
-        new = True
-        for j in range(ng):
-            if _close(q, Q[j], prism):
-                new = False
-                break
         sg = SG[i]
         last = ng + nf - 1
-        if new:       # row i takes the first failing row's place, and q becomes the last passing row
+        if not _repeats(q, Q, ng, -1, prism):   # row i takes the first failing row's place, q the last passing one
             _copy_row(Q, LS, SG, ST, ng, i)
             for k in range(6):
                 Q[ng, k] = q[k]
@@ -157,6 +135,19 @@ def _promote(H, P, RnT, prism, R, p, tol_p, tol_r, Q, LS, SG, ST, ng, nf):
             _copy_row(Q, LS, SG, ST, last, i)
             nf -= 1
     return ng, nf
+
+
+def _newton_from(H, P, RnT, prism, R, p, tol_p, tol_r, row, q, RS, PS, F):
+    """Newton steps on the whole chain (:func:`.search2d._newton`) from ``row`` into ``q`` (6,), its angles then
+    wrapped: ``(Newton's last error, position error, rotation error)``, the last two by the check's FK
+    (:func:`_fk_err_from`; ``RS``, ``PS``, ``F`` its work space)."""
+    for k in range(6):
+        q[k] = row[k]
+    err = _newton(H, P, RnT, R, p, tol_p / tol_r, q)
+    for k in range(6):
+        q[k] = _wrap(q[k])
+    ep, er = _fk_err_from(H, P, RnT, prism, q, R, p, RS, PS, 0, F)
+    return err, ep, er
 
 
 def _copy_row(Q, LS, SG, ST, src, dst):
@@ -257,14 +248,18 @@ def _merged(Q, LS, SG, ST, ng, nf, Q2, SG2, ng2, prism):
     """The passing rows of a second search (``Q2``, ``SG2``: its first ``ng2`` rows) that are not among the ``ng``
     passing rows of ``Q``, put in after them (:func:`_put_passing`). Returns the new ``(passing, failing)``."""
     for i in range(ng2):
-        new = True
-        for j in range(ng):
-            if _close(Q2[i], Q[j], prism):
-                new = False
-                break
-        if new:
+        if not _repeats(Q2[i], Q, ng, -1, prism):
             ng, nf = _put_passing(Q, LS, SG, ST, ng, nf, Q2[i], SG2[i])
     return ng, nf
+
+
+def _repeats(q, Q, ng, skip, prism):
+    """Whether ``q`` is one of the first ``ng`` rows of ``Q`` other than row ``skip`` (-1: none), up to
+    :func:`_close`."""
+    for j in range(ng):
+        if j != skip and _close(q, Q[j], prism):
+            return True
+    return False
 
 
 def _close(a, b, prism):
