@@ -73,7 +73,7 @@ def _symbolic_cache(request: pytest.FixtureRequest):
 # ---- the Numba kernels, compiled once for the whole run ------------------------------------------------------------
 # In a fresh clone no kernel is cached, and with ARMKIT_JIT=wait every xdist worker compiled the kernels its tests
 # touch, at the same time as the other worker compiled the same ones: the cold compile was paid once per worker.
-# The controller of a whole-suite ``pytest -n N`` run (N >= 2) compiles them first, in two processes (both cores
+# The controller of a whole-suite ``pytest -n N`` run (N >= 2) compiles them first, in three processes (both cores
 # work), and the workers then load them from Numba's on-disk cache. ARMKIT_TEST_WARMUP=1 does this for any run,
 # ARMKIT_TEST_WARMUP=0 never. With the kernels cached already (armkit warmup's marker files), it costs one check.
 
@@ -88,7 +88,7 @@ def _wants_kernels_first(config: pytest.Config) -> bool:
 
 def _stamps() -> tuple:
     """The marker files of this build's kernels: ``armkit warmup``'s two, and the one this file writes when its
-    two halves have compiled the same kernels (None where Numba's cache is off)."""
+    parts (:data:`WARM_PARTS`) have compiled the same kernels (None where Numba's cache is off)."""
     from armkit import _jit_loader, kinematics  # noqa: F401  (kinematics names the kernel module the markers follow)
 
     _jit_loader.install_cache_fallback()
@@ -104,7 +104,7 @@ def _kernels_cached() -> bool:
 
 
 def _compile_kernels_once(config: pytest.Config) -> None:
-    """Two processes compile the parts of the warm-up's kernels (:data:`WARM_PARTS`) into Numba's cache
+    """One process per part compiles the warm-up's kernels (:data:`WARM_PARTS`) into Numba's cache
     (``_warm_part``); the workers load them from there. A failure only costs time: the workers then compile on first
     use, as without this step. The marker written afterwards is this file's own (``armkit-kernels-<build>.tests``):
     armkit's markers keep meaning that ``armkit.warmup()`` ran."""
@@ -125,7 +125,7 @@ def _compile_kernels_once(config: pytest.Config) -> None:
             print(text, file=sys.stderr, flush=True)
 
     t0 = time.perf_counter()
-    say("armkit tests: compiling the Numba kernels once for all workers, in two processes ...")
+    say(f"armkit tests: compiling the Numba kernels once for all workers, in {len(WARM_PARTS)} processes ...")
     here = str(Path(__file__).parent)
     run = "import sys; sys.path.insert(0, sys.argv[1]); import conftest; conftest._warm_part(sys.argv[2])"
     env = dict(os.environ, ARMKIT_JIT="wait", ARMKIT_BACKEND="auto")
@@ -162,16 +162,19 @@ def _warm_part(part: str) -> None:
         with _jit_loader.serial_only():
             for name in serial:
                 getattr(warmup, name)()
-        getattr(warmup, parallel)()
+        if parallel is not None:
+            getattr(warmup, parallel)()
 
 
 WARM_PARTS = {"core": (("_exercise_arms",), "_parallel_core"),
-              "families": (("_exercise_families", "_exercise_so101"), "_parallel_families")}
+              "families": (("_exercise_families",), "_parallel_families"),
+              "so101": (("_exercise_so101",), None)}
 """The parts of armkit.warmup's work compiled before the workers start, each in its own process: (its serial
-exercises in order, the function compiling their multi-threaded twins). What every worker needs at once is here, and
-the SO-101's kernels (:func:`armkit.warmup._exercise_so101`), which fill the families part up to the core part's
-time: measured 2026-12-04 in a fresh cache, core 69 s and families 73 s with them (50 s without: a core idled for
-23 s). Before their kernels compiled once each they took 54 s alone, and putting them here with the searches made
-the warm-up 343 s instead of 166 (2026-12-03, a slower machine). The searches (``_exercise_later``) still compile in
-the tests that use them first: in the core part with their batch twin they made it 107 s instead of 69 (2026-12-04),
-while a worker that compiles lets the other go on with other tests."""
+exercises in order, the function compiling their multi-threaded twins, or None). What every worker needs at once is
+here, and the SO-101's kernels (:func:`armkit.warmup._exercise_so101`). Three processes on the two cores, not two:
+the SO-101's kernels share little with the others, and the parts then end close together. Measured 2026-12-06 in a
+fresh cache (each part's wall time, all started together): core 98 s, families 107 s, SO-101 55 s, all done in
+107 s; with the SO-101 inside the families part (two processes, as until then) core 84 s and families 120 s, all
+done in 120 s (a core idled for 36 s). The searches (``_exercise_later``) still compile in the tests that use
+them first: in the core part with their batch twin they made it 107 s instead of 69 (2026-12-04), while a worker
+that compiles lets the other go on with other tests."""
