@@ -373,6 +373,30 @@ STEEP_ISLAND_R_NT = np.array([[-0.6696434563243293, -0.3286965324266423, -0.6659
 STEEP_ISLAND_Q_GEN = np.array([0.29999050355269175, 2.5703803102680514, 1.7455985786279866, -1.6481163570468647,
                                -2.107317569683753, 0.8623831364827437])
 
+# Found 2026-12-06 by bench_coverage.py --dense-only --seed=263: a '6R-two-intersecting' arm whose search over q1 found
+# 2 of 4 solutions. The other 2 lie on an island of SP5 0.004 rad wide, between samples whose margins read -0.996,
+# -0.966, -0.972: below search.STEEP, and no parabola through them comes near 0. Near an island the margin rises like
+# -1 + A / ((x - x0)^2 + e), so 1 / (1 + margin) is a parabola: through those samples it dips to 0.55, below the
+# island's level 1 (search._sharp_peak).
+SHARP_ISLAND_H = np.array([[-0.27339486445775635, -0.12496234609712506, 0.9537503133137244],
+                           [-0.5788919387024997, 0.6494794012719104, 0.4930117956284029],
+                           [0.7625186345431729, 0.6350342191837595, 0.12368052571075328],
+                           [-0.8241458690591753, -0.5663648189844406, -0.0038050400022540073],
+                           [-0.5658659667869345, 0.20672337190270954, -0.7981611085122239],
+                           [0.11068927070989548, -0.8181315631635201, 0.5642770868158007]])
+SHARP_ISLAND_P = np.array([[-0.23994518824013839, -0.27879766908793713, 0.2657057327155521],
+                           [0.24510554433659143, 1.3478456373131245, 0.09930441054177569],
+                           [-0.9104203761791756, 0.3241890772808118, 0.12857993787855632],
+                           [1.0330007882313628, -1.4272536596155998, -1.0027870476127017],
+                           [-0.20473533337020966, -0.01386113009233575, -0.17856919978066588],
+                           [0.14928810240853285, -0.22971760187786444, 0.30251014550063277],
+                           [0.07283960558851438, 0.312205853342702, 0.3397420237747471]])
+SHARP_ISLAND_R_NT = np.array([[-0.09845632063117715, -0.6137186812557441, 0.783361815003438],
+                              [-0.9902370904289435, 0.13847552954332518, -0.01596973564326812],
+                              [-0.09867551705763175, -0.7772862458550299, -0.6213607924048664]])
+SHARP_ISLAND_Q_GEN = np.array([2.5800846578624648, 1.3117223506780264, -1.0557418028986103, 0.7909555386225613,
+                               -2.3501498866230874, 2.7196926833765342])
+
 CASES = {   # name: (H, P, R_nT, the missed solution, the solver, even count, the dense search's seed)
     "island": (ISLAND_H, ISLAND_P, ISLAND_R_NT, ISLAND_Q_GEN, G.spherical_middle, False, 11),
     "twin2d": (TWIN2D_H, TWIN2D_P, TWIN2D_R_NT, TWIN2D_Q_GEN, gen_six_dof, True, 13),
@@ -389,6 +413,8 @@ CASES = {   # name: (H, P, R_nT, the missed solution, the solver, even count, th
     "odd4": (ODD4_H, ODD4_P, ODD4_R_NT, ODD4_Q_GEN, G.two_parallel, True, 59),
     "steep_island": (STEEP_ISLAND_H, STEEP_ISLAND_P, STEEP_ISLAND_R_NT, STEEP_ISLAND_Q_GEN, G.two_intersecting, True,
                      61),
+    "sharp_island": (SHARP_ISLAND_H, SHARP_ISLAND_P, SHARP_ISLAND_R_NT, SHARP_ISLAND_Q_GEN, G.two_intersecting, True,
+                     67),
 }
 
 
@@ -406,7 +432,7 @@ def _case(name):
 @pytest.mark.parametrize("jit", [True, False], ids=["compiled", "plain"])
 @pytest.mark.parametrize("name", ["island", "odd", "island6", "end2", "gap", "fold", "far_twin",
                                   "wiggle", "islands2", "island_dip", "steep", "odd4",
-                                  "steep_island"])
+                                  "steep_island", "sharp_island"])
 def test_the_missed_solution_is_found(name, jit):
     _check_solver(name, jit)
 

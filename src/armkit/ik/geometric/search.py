@@ -106,6 +106,9 @@ STEEP = -0.9
 samples stays far below 0: the margin of SP5/SP6 lies near -1 away from an island and rises to 0 within a few
 thousandths of a radian of it (bench_coverage found islands 0.009-0.01 rad wide whose samples read -0.99, -0.77,
 -0.89), steeper than any parabola through the samples."""
+SHARP_U = 2.0
+"""The level of ``1 / (1 + margin)`` below which :func:`_sharp_peak` sends a peak of SP6's margin to the island
+search (2: the margin's peak predicted above -0.5; an island is where it reaches 0, level 1)."""
 _YES, _NO = np.True_, np.False_
 """True and False that Numba types as ``bool``, not as the literals (which would compile a copy of the callee for
 each)."""
@@ -309,6 +312,21 @@ def _rim(kind, H, P, C, inside, outside, base):
     return inside
 
 
+def _sharp_peak(ma, mb, mc):
+    """Whether SP6's margin (TI, TP), at three neighbouring samples ``ma < mb > mc``, may reach 0 between them by the
+    shape of its peaks: near an island it rises like ``-1 + A / ((x - x0)^2 + e)`` (measured on a coverage check's
+    miss, A within 15 % of its mean from 0.004 to 0.026 rad off the island's middle), so ``1 / (1 + margin)`` is a
+    parabola in ``x``; where the parabola through the samples' values dips below :data:`SHARP_U` (a margin above
+    -0.5 at its lowest point), the island is searched."""
+    if not (ma > -1.0 and mc > -1.0):
+        return False
+    ua = 1.0 / (1.0 + ma)
+    ub = 1.0 / (1.0 + mb)
+    uc = 1.0 / (1.0 + mc)
+    e2 = ua - 2.0 * ub + uc
+    return e2 > 0.0 and ub - (uc - ua) * (uc - ua) / (8.0 * e2) <= SHARP_U
+
+
 def _islands(kind, H, P, C, n, step, cnt, E, roots, m, out, pp, wk, mid):
     """A pair of branches that lives only between two samples (an *island*: SW, SM, SP3 has solutions on an
     interval of the searched joint narrower than a step; TI, TP, two roots of SP6's quartic turn real and back
@@ -343,8 +361,9 @@ def _islands(kind, H, P, C, n, step, cnt, E, roots, m, out, pp, wk, mid):
         if not (ma < mb and mc < mb and ma > -np.inf and mc > -np.inf and cnt[a] == cnt[c] and cnt[b] == cnt[c]):
             continue
         d2 = ma - 2.0 * mb + mc
-        if mb - (mc - ma) * (mc - ma) / (8.0 * d2) < d2 and not mb > STEEP:   # the parabola's peak below 0 by
-            continue                                                            # more than |d2|, the peak low
+        if mb - (mc - ma) * (mc - ma) / (8.0 * d2) < d2 and not mb > STEEP \
+                and (sp3 or not _sharp_peak(ma, mb, mc)):   # the parabola's peak below 0 by more than |d2|, the
+            continue                                         # peak low, and no sharp one in between
         base = cnt[c]
         xc = -_PI + c * step
         first = _island(kind, H, P, C, xc - step, xc + step, base)
@@ -967,8 +986,8 @@ def _search(kind, H, P, C, n, roots):
 
 
 KERNELS = ("_eval_ti", "_point5", "_eval_tp", "_eval_sw", "_eval_sm", "_eval", "_margin", "_island",
-           "_rim", "_adist", "_nearest", "_owned", "_pick", "_refine", "_add", "_dip", "_nearest_other", "_settled",
-           "_dip_roots", "_fold_dip", "_edge", "_dists", "_near", "_pair", "_ambiguous", "_match",
+           "_rim", "_sharp_peak", "_adist", "_nearest", "_owned", "_pick", "_refine", "_add", "_dip", "_nearest_other",
+           "_settled", "_dip_roots", "_fold_dip", "_edge", "_dists", "_near", "_pair", "_ambiguous", "_match",
            "_wiggle", "_extrema", "_seam", "_islands", "_scan", "_search")
 """The functions :func:`kernels` compiles, callees before callers (the scalar helpers: :mod:`._kernels`)."""
 _KERNELS: Optional[types.SimpleNamespace] = None
