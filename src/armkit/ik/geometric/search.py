@@ -59,7 +59,9 @@ Resolution: :data:`N` = 240 samples (1.5° apart), :data:`SUB_N` × finer in amb
 can be missed only when three or more roots of one branch lie within one step, two within 3e-10
 rad of a branch end, or a double root's residual stays above 1e-12, or two roots crowd within one
 step next to a branch end, or an island lies where the three samples about it differ in count, or the parabola
-of its margin through them peaks more than one second difference below 0 (measured against a dense scan of 20,000 samples on 200 random targets
+of its margin through them peaks more than one second difference below 0 while the margin at the middle sample
+is at most :data:`STEEP` and (TI, TP) the parabola of ``1 / (1 + margin)`` stays above :data:`SHARP_U`
+(:func:`_sharp_peak`) (measured against a dense scan of 20,000 samples on 200 random targets
 of each class, tests/ik/geometric/test_search_speed_free.py: 0 missing for all four; TI lost one target's
 near-double root, residual peak 2e-6, beside a step sampled finer, until the seams of those steps were looked at,
 :func:`_seam`). The
