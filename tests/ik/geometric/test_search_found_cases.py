@@ -397,6 +397,30 @@ SHARP_ISLAND_R_NT = np.array([[-0.09845632063117715, -0.6137186812557441, 0.7833
 SHARP_ISLAND_Q_GEN = np.array([2.5800846578624648, 1.3117223506780264, -1.0557418028986103, 0.7909555386225613,
                                -2.3501498866230874, 2.7196926833765342])
 
+# Found 2026-12-06 by bench_coverage.py --dense-only --seed=271: a '6R-general' arm whose 2-D search (100 x 100 grid)
+# found none of the target's 4 solutions and answered "out of reach". The (q3, q4, q5) problem had solutions at only
+# 7 of the grid's 10,000 points: it is solvable only in bands of (q1, q2) narrower than a grid step, and no point
+# beside a solution lay in one. Where no solution is found and that problem is solvable at fewer than one point in
+# search2d.THIN, a grid twice as fine is searched too (and four times as fine while the count is odd).
+THIN2D_H = np.array([[0.5750243610163802, -0.20126445615907168, -0.7929940749619109],
+                     [0.568398998836749, -0.5625205952442487, 0.6004108243922969],
+                     [0.20099830024068105, -0.15560267091082366, 0.9671543269332847],
+                     [-0.19766615180663633, 0.32539334831325534, 0.9246876560782264],
+                     [0.27705012283762664, 0.7244205660051752, -0.6312353546692374],
+                     [-0.40456726235011364, 0.7730936536113787, 0.48851973653102676]])
+THIN2D_P = np.array([[0.6031279843958832, -1.1429714754661244, -0.12525425529441322],
+                     [-0.5040009436364065, 0.08111995103771608, 0.07082775101257532],
+                     [-1.2184724407790979, 0.6463125477122522, 0.5349310467656158],
+                     [1.6913522311346365, -0.05714041164477013, -1.0024629072395441],
+                     [-1.0463938846530665, 0.4944322653114087, 0.4214937942942041],
+                     [0.15167124529225073, 0.39257216214137847, -0.34068512513565674],
+                     [-0.12025813161485677, 0.560722499425785, -0.23275887049516153]])
+THIN2D_R_NT = np.array([[-0.5881192748181897, 0.3143683809774159, 0.7451766499488324],
+                        [-0.42905866144924554, 0.6597512151168075, -0.6169578585181318],
+                        [-0.6855832433940523, -0.6825693043153457, -0.2531299294507795]])
+THIN2D_Q_GEN = np.array([-0.5604803666214367, -1.467540734841376, -2.481277027032133, 2.9633117124093404,
+                         -1.2965003195903706, 2.842172186499658])
+
 CASES = {   # name: (H, P, R_nT, the missed solution, the solver, even count, the dense search's seed)
     "island": (ISLAND_H, ISLAND_P, ISLAND_R_NT, ISLAND_Q_GEN, G.spherical_middle, False, 11),
     "twin2d": (TWIN2D_H, TWIN2D_P, TWIN2D_R_NT, TWIN2D_Q_GEN, gen_six_dof, True, 13),
@@ -415,6 +439,7 @@ CASES = {   # name: (H, P, R_nT, the missed solution, the solver, even count, th
                      61),
     "sharp_island": (SHARP_ISLAND_H, SHARP_ISLAND_P, SHARP_ISLAND_R_NT, SHARP_ISLAND_Q_GEN, G.two_intersecting, True,
                      67),
+    "thin2d": (THIN2D_H, THIN2D_P, THIN2D_R_NT, THIN2D_Q_GEN, gen_six_dof, True, 71),
 }
 
 
@@ -437,8 +462,9 @@ def test_the_missed_solution_is_found(name, jit):
     _check_solver(name, jit)
 
 
-def test_the_missed_solution_is_found_2d():
-    _check_solver("twin2d", None)   # the plain 2-D search takes seconds: the compiled one only
+@pytest.mark.parametrize("name", ["twin2d", "thin2d"])
+def test_the_missed_solution_is_found_2d(name):
+    _check_solver(name, None)   # the plain 2-D search takes seconds: the compiled one only
 
 
 def _check_solver(name, jit):
