@@ -411,3 +411,12 @@ def test_branches_give_the_wrist_direction():
             d = rotm(H[2], full[k, 0]) @ rotm(H[3], full[k, 1]) @ rotm(H[4], full[k, 2]) @ H[5]
             assert np.abs(full[k, 3:] - d).max() < 1e-12
         assert contains(full[:n, :3], t, 1e-6)
+
+
+@pytest.mark.parametrize("samples", [3, S.MAX_GRID + 1])
+def test_a_grid_too_coarse_or_too_fine_is_refused_before_allocating(samples):
+    """``samples`` outside 4..MAX_GRID is refused with the bound and the memory it stands for (an unbounded grid
+    would allocate 264 bytes a point, and its finer passes 4x and 16x that)."""
+    form = POE(np.eye(3)[[0, 1, 2, 0, 1, 2]], np.ones((7, 3)), np.eye(3), np.zeros(6, dtype=bool))
+    with pytest.raises(ValueError, match=f"from 4 to {S.MAX_GRID}"):
+        S.gen_six_dof(form, np.eye(3), np.zeros(3), samples=samples)

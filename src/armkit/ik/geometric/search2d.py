@@ -87,10 +87,14 @@ only when a combination of its two equations misses what its terms can reach by 
 equations' size; the closed form accepts residuals of 1e-9 of it)."""
 THIN = 100
 """Where no solution is found and the (q3, q4, q5) problem has solutions at fewer than one grid point in this many,
-the grid twice as fine is searched too (:func:`_search`): bench_coverage.py --dense-only --seed=271 found a target
-whose (q3, q4, q5) problem was solvable at 7 of the 10,000 points and whose 4 solutions the 100 x 100 grid missed
-(150 x 150 found 2, 200 x 200 all 4). Of 2,000 random targets (each the FK of a random configuration of its own
-random arm), 21 had fewer, and none of the 49 below one in 50 gained a solution on the finer grid."""
+the grid twice as fine is searched too, and four times as fine while the count is odd (:func:`_search`):
+bench_coverage.py --dense-only --seed=271 found a target whose (q3, q4, q5) problem was solvable at 7 of the 10,000
+points and whose 4 solutions the 100 x 100 grid missed (150 x 150 found 2, 200 x 200 3, 400 x 400 all 4). Of 2,000
+random targets (each the FK of a random configuration of its own random arm), 21 had fewer, and none of the 49
+below one in 50 gained a solution on the finer grid."""
+MAX_GRID = 800
+"""The finest grid searched, samples a side: its work arrays take 264 bytes a point (169 MB at 800 x 800). The
+``samples`` of :func:`gen_six_dof` may not exceed it, and a finer grid of :func:`_search` beyond it is left out."""
 MAXCAND = 512
 MAXSOL = 32
 NEWTON = 60
@@ -644,12 +648,12 @@ def _search(H, P, RnT, R, p, samples, tol, Qout, errs):
     thin = m == 0 and 0 < filled and filled * THIN < samples * samples
     if m % 2 == 1:
         m = _twins(H, P, RnT, R, p, scale, tol, Qout, m)
-    if m % 2 == 1 or thin:
+    if (m % 2 == 1 or thin) and 2 * samples <= MAX_GRID:
         m, nc2, _ = _pass(H, P, RnT, R, R06, p, 2 * samples, tol, scale, Qout, m, best, bestq)
         nc += nc2
         if m % 2 == 1:
             m = _twins(H, P, RnT, R, p, scale, tol, Qout, m)
-        if thin and m % 2 == 1:     # thin bands, and still a solution missing: a grid four times as fine
+        if thin and m % 2 == 1 and 4 * samples <= MAX_GRID:   # thin bands, a solution still missing: 4x as fine
             m, nc2, _ = _pass(H, P, RnT, R, R06, p, 4 * samples, tol, scale, Qout, m, best, bestq)
             nc += nc2
             if m % 2 == 1:
@@ -748,7 +752,8 @@ def kernels() -> Optional[types.SimpleNamespace]:
 def gen_six_dof(form: POE, R: Array, p: Array, q_ref: Optional[Array] = None, *, samples: int = N,
                 jit: Optional[bool] = None):  # type: ignore[no-untyped-def]
     """Every solution of a general 6R chain (all revolute; no relation between its axes is assumed) by the 2-D
-    search over q1, q2 described in the module docstring (``samples`` × ``samples`` grid, :func:`resolution`).
+    search over q1, q2 described in the module docstring (``samples`` × ``samples`` grid, :func:`resolution`;
+    ``samples`` from 4 to :data:`MAX_GRID`).
 
     Returns :class:`~.solvers.Solutions`: the solutions found, each verified by FK of ``form`` to
     :data:`~.solvers.TOL`; when none is found, the closest configuration reached (``ls`` True) or nothing.
@@ -773,8 +778,9 @@ def gen_six_dof(form: POE, R: Array, p: Array, q_ref: Optional[Array] = None, *,
     if form.n != 6 or np.any(form.prismatic):
         raise ValueError("gen_six_dof: for 6R chains (every joint revolute)")
     samples = int(samples)
-    if samples < 4:
-        raise ValueError("gen_six_dof: samples must be at least 4")
+    if not 4 <= samples <= MAX_GRID:
+        raise ValueError(f"gen_six_dof: samples must be from 4 to {MAX_GRID} (a grid of {MAX_GRID} x {MAX_GRID} "
+                         f"points takes {MAX_GRID ** 2 * 264 / 1e6:.0f} MB), got {samples}")
     K = kernels() if _use_jit(jit) else None
     search = K._search if K is not None else _search
     c = np.ascontiguousarray
