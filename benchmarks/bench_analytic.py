@@ -390,6 +390,8 @@ def main() -> None:
     ap.add_argument("--random-only", action="store_true",
                     help="only the random arms of each closed-form class, one target per call (EAIK where installed)")
     ap.add_argument("--random-arms", type=int, default=10)
+    ap.add_argument("--eaik-only", action="store_true",
+                    help="only the table against EAIK (branches, single calls, batched calls)")
     args = ap.parse_args()
     if args.random_only:
         G.kernels()
@@ -460,6 +462,8 @@ def main() -> None:
         print(f"| {label} | {fam} | {c['eaik branches']:,} | {c['armkit branches']:,} | {c['missing']} | {c['extra']} "
               f"| {c['armkit fails FK']} | {us(es)} | {us(raw)}{'' if raw is None else f' ({raw / es:.2g}x)'} | "
               f"{us(aa)} ({aa / es:.2g}x) | {us(a1)} ({a1 / es:.2g}x) | {us(eb)} | {us(ab)} ({ab / eb:.2g}x) |")
+    if args.eaik_only:
+        return
     single_calls(min(args.targets, 300), args.repeat)
     small_batches(args.repeat)
     searches(args.search_targets)

@@ -600,7 +600,7 @@ def test_parallel_kernels_equal_the_one_thread_ones():
             _jit.PAR = 1
             if kernel is _jit_verify.errors:    # its own threshold: call the parallel kernel itself
                 outs = (np.empty(B), np.empty(B), np.empty(B, bool))
-                _jit_verify._parallel(args[0], args[1], args[3], args[4], (args[2], 1e-12), *outs)
+                _jit_verify._parallel(args[0], args[1], args[3], args[4], (args[2], 1e-12, 1), *outs)
                 many = list(outs)
             else:
                 assert _jit_loader.parallel_ok()

@@ -292,3 +292,34 @@ def test_single_call_matches_numpy_backend_verify():
             assert np.allclose(a, c, rtol=0, atol=1e-12) and np.allclose(b[0], c, rtol=0, atol=1e-12)
         point = verify(arm, q[i], T[i, :3, 3] + [0, 0, 2e-9], True, (1e-9, 1e-9), True)
         assert np.isclose(point[0], 2e-9, rtol=1e-3) and point[1] == 0 and not point[2]
+
+
+@pytest.mark.parametrize("q_lead, t_lead", [((5, 8), (5, 1)), ((5, 8), ()), ((5, 8), (1, 8)), ((5, 8), (5, 8)),
+                                            ((2, 3, 4), (2, 1, 1)), ((2, 3, 4), (2, 3, 1)), ((2, 3, 4), (3, 1)),
+                                            ((5, 1), (5, 1)), ((7,), (1,)), ((7,), (7,))])
+@pytest.mark.parametrize("point", [False, True])
+def test_verify_of_broadcast_targets_equals_the_spelt_out_copy(q_lead, t_lead, point):
+    """verify reads a target shared by several candidates (every branch of a target: ``(B, 1, 4, 4)`` against
+    ``(B, m, n)``) from its own row, not from a copy per candidate: the same errors and flags, to the bit, as the
+    targets broadcast and copied out, and as the NumPy back end (to 1e-12)."""
+    from armkit.ik.result import verify
+
+    arm = armkit.load("ur5")
+    rng = np.random.default_rng(5)
+    q = arm.random_q(int(np.prod(q_lead)), rng=rng).reshape(q_lead + (6,))
+    T = armkit.fk(arm, arm.random_q(int(np.prod(t_lead)), rng=rng).reshape(t_lead + (6,)))
+    T[..., :3, 3] += rng.normal(0, 1e-3, T.shape[:-2] + (3,))
+    target = T[..., :3, 3] if point else T
+    tail = target.shape[len(t_lead):]
+    full = np.broadcast_to(target, q_lead + tail).copy()   # one copy per candidate: the plain reading
+    for tol in [(1e-9, 1e-9), (1e-2, 1e-2)]:
+        shared = verify(arm, q, target, point, tol, True)
+        spelt = verify(arm, q, full, point, tol, True)
+        armkit.set_backend("numpy")
+        try:
+            slow = verify(arm, q, target, point, tol, True)
+        finally:
+            armkit.set_backend("auto")
+        for a, b, c in zip(shared, spelt, slow):
+            assert a.shape == q_lead and np.array_equal(a, b)
+            assert np.allclose(a, c, rtol=0, atol=1e-12)

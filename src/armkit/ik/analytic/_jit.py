@@ -36,7 +36,11 @@ from ._layout import (BASE_INV, JOINT_LOWER, JOINT_PRISMATIC, JOINT_THETA, JOINT
                       UR_S1, UR_S4, UR_S5, UR_TINY)
 
 TWO_PI = 2.0 * math.pi
-PAR = 4096   # from this many targets on, the kernels run in parallel
+PAR = 64
+"""From this many targets on, the kernels run on all threads. Measured on the project's 2-core machine (``ik_all``,
+two threads against one for every pass): 64 targets 4.5 instead of 4.9 µs a target on the UR5, 5.0 instead of 5.6
+on the Puma 560; 1,000 targets 2.6 instead of 3.4 and 3.2 instead of 4.3; at 32 targets the two are within the
+noise (planar3 from 64-128). docs/performance.md."""
 
 
 @njit(cache=True, inline="always")
