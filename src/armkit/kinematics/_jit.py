@@ -48,10 +48,10 @@ from .._jit_twins import parallel_twin  # noqa: E402
 BLOCK = 128
 """Configurations per block of the batched kernels (sin/cos scratch: 2 x BLOCK x n doubles)."""
 
-PARALLEL_MIN = 2048
-"""Batches from this size on use all threads. Measured on the shared 2-core machine: below
-~1,000 configurations (~50 µs of work) starting the threads costs more than it saves; from
-2,048 on two threads win when the second core is free (docs/performance.md)."""
+PARALLEL_MIN = 256
+"""Batches from this size on use all threads. Measured on the project's 2-core machine (puma560, 2026-12-06, also
+with a busy loop on the other core): 128 configurations take 10-11 µs on one thread and 11 on two, 256 take 17
+and 11, 2,048 take 115 and 60 (FK; the Jacobian alike). docs/performance.md."""
 
 
 
