@@ -421,6 +421,30 @@ THIN2D_R_NT = np.array([[-0.5881192748181897, 0.3143683809774159, 0.745176649948
 THIN2D_Q_GEN = np.array([-0.5604803666214367, -1.467540734841376, -2.481277027032133, 2.9633117124093404,
                          -1.2965003195903706, 2.842172186499658])
 
+# Found 2026-12-06 by bench_coverage.py --dense-only --seed=379: a '6R-two-parallel' arm whose search gave 7 of the
+# target's 8 solutions (the odd count's finer searches did not find the eighth either). The missed root lies 1.5e-4
+# rad from where two branches of SP6 are born; one of them swings 1 rad (q4) within 7e-4 rad of its birth, so its
+# own trace towards the birth stopped a sample early, and the other's showed no sign change. The partner's residual
+# at the last sample, of the other sign than at the birth, is now followed to the root (search._fold_root).
+SWING_H = np.array([[0.24745491112385992, -0.9443295979770476, 0.21681253964010072],
+                    [-0.060250817661031957, 0.5679947047554431, 0.8208238875306653],
+                    [-0.06025081766103196, 0.5679947047554432, 0.8208238875306652],
+                    [-0.19081281779729625, 0.8338744913726768, -0.517922582247787],
+                    [0.827131307865135, -0.19928935788434368, 0.5254879174475444],
+                    [-0.26599560595172056, 0.6768805622555125, -0.686351981169311]])
+SWING_P = np.array([[0.03979562871750393, 0.32032589601268074, 0.08245896342032649],
+                    [-0.011028677780803721, -0.7107904187134269, 0.9653302375049888],
+                    [0.02968191185481444, 0.13912327959616572, -1.60927783693573],
+                    [0.6413660881069728, 0.7915996807866715, -0.06292092093967516],
+                    [-1.2247203227381545, -0.15003534746523517, -0.5542712026400868],
+                    [-0.010390047641234856, -1.4409305630978326, 1.1769970742232116],
+                    [0.04171109831147124, -0.22833236478676233, 0.08036843391874784]])
+SWING_R_NT = np.array([[-0.8298881175327824, -0.3584065428852791, 0.42758678931290417],
+                       [-0.5230280758213701, 0.232955230727075, -0.8198618739638336],
+                       [0.19423528073058757, -0.9040335228817107, -0.38078346238458466]])
+SWING_Q_GEN = np.array([-2.1110198813155403, -2.2936995646989766, -1.8719727609610448, -1.1833078263459778,
+                        1.1019310011970553, 1.9550693492373998])
+
 CASES = {   # name: (H, P, R_nT, the missed solution, the solver, even count, the dense search's seed)
     "island": (ISLAND_H, ISLAND_P, ISLAND_R_NT, ISLAND_Q_GEN, G.spherical_middle, False, 11),
     "twin2d": (TWIN2D_H, TWIN2D_P, TWIN2D_R_NT, TWIN2D_Q_GEN, gen_six_dof, True, 13),
@@ -440,6 +464,7 @@ CASES = {   # name: (H, P, R_nT, the missed solution, the solver, even count, th
     "sharp_island": (SHARP_ISLAND_H, SHARP_ISLAND_P, SHARP_ISLAND_R_NT, SHARP_ISLAND_Q_GEN, G.two_intersecting, True,
                      67),
     "thin2d": (THIN2D_H, THIN2D_P, THIN2D_R_NT, THIN2D_Q_GEN, gen_six_dof, True, 71),
+    "swing": (SWING_H, SWING_P, SWING_R_NT, SWING_Q_GEN, G.two_parallel, True, 73),
 }
 
 
@@ -457,7 +482,7 @@ def _case(name):
 @pytest.mark.parametrize("jit", [True, False], ids=["compiled", "plain"])
 @pytest.mark.parametrize("name", ["island", "odd", "island6", "end2", "gap", "fold", "far_twin",
                                   "wiggle", "islands2", "island_dip", "steep", "odd4",
-                                  "steep_island", "sharp_island"])
+                                  "steep_island", "sharp_island", "swing"])
 def test_the_missed_solution_is_found(name, jit):
     _check_solver(name, jit)
 

@@ -99,6 +99,12 @@ EDGE_N = 6
 """Samples (quadratically spaced) between the last sample of a branch and where it ends (was 10; with the end
 bracketed by :func:`_settled`, 6 lose nothing against the dense scan of the tests)."""
 MAXROOT = 64
+FOLD_IT = 48
+"""Bisection steps of :func:`_fold_root` (in the square-root parameter: the last step is under 1e-14 of the
+distance from the end to the last sample)."""
+FOLD_TOL = 1e-9
+"""The largest residual :func:`_fold_root` keeps as a root (its bisection ends at a sign change: a root, or a jump
+from one branch to another, whose residual stays large)."""
 ZERO = 1e-12
 """A residual at a sample within this of 0 is a root on the sample (its sign is rounding)."""
 NUDGE = 1e-6
@@ -603,6 +609,9 @@ def _edge(kind, H, P, C, x0, S0, c0, j0, x1, roots, m):
     mid = np.empty(3)
     rp = np.empty(3)      # the branch that meets this one at the end, at the last sample before it
     fp = 0.0
+    XU = np.empty((EDGE_N + 1, 3))   # this branch at each sample towards the end, the residual of the branch
+    FQ = np.zeros(EDGE_N + 1)        # nearest to it there (at the end: this one's), and whether there is one
+    HQ = np.zeros(EDGE_N + 1, np.bool_)   # (_fold_root)
     reached = False
     for k in range(1, EDGE_N + 1):
         t = 1.0 - k / EDGE_N
@@ -612,8 +621,12 @@ def _edge(kind, H, P, C, x0, S0, c0, j0, x1, roots, m):
         if i < 0 or d > 0.5:
             break
         fb = E[i]
+        jp, dp = _nearest_other(S, nb, i)
+        HQ[k] = jp >= 0 or k == EDGE_N
+        FQ[k] = fb if k == EDGE_N else (E[jp] if jp >= 0 else 0.0)
+        for j in range(3):
+            XU[k, j] = S[i, j]
         if k == EDGE_N - 1:
-            jp, dp = _nearest_other(S, nb, i)
             if jp >= 0 and dp < 0.5:
                 fp = E[jp]
                 for j in range(3):
@@ -646,7 +659,56 @@ def _edge(kind, H, P, C, x0, S0, c0, j0, x1, roots, m):
             prev[j] = S[i, j]
     if reached:   # (without a partner fp is 0: _fold_dip looks no further)
         m = _fold_dip(kind, H, P, C, xl, fl, pl, xa, fa, fp, rp, roots, m, out, mid)
+        for k in range(EDGE_N - 1, 0, -1):
+            if HQ[k] and HQ[k + 1] and FQ[k] * FQ[k + 1] < 0.0:
+                m = _fold_root(kind, H, P, C, good, far, 1.0 - (k + 1) / EDGE_N, XU[k + 1], FQ[k + 1],
+                               1.0 - k / EDGE_N, XU[k], FQ[k], roots, m, out, mid)
     return m
+
+
+def _fold_root(kind, H, P, C, xe, far, ua, ra, fa, ub, rb, fb, roots, m, out, mid):
+    """A root on the partner of an ending branch near the end. The ending branch (traced by :func:`_edge` towards
+    its end ``xe`` from ``far``, sampled at ``x = xe + (far − xe) u²``) is ``ra`` at ``u = ua`` and ``rb`` at ``ub``;
+    the branch nearest to it has residuals ``fa`` and ``fb`` there, of opposite signs (at the end, ``u = 0``, the
+    two are one). A branch swinging fast through a subproblem's near-singular configuration can move more than 0.5
+    rad between two samples, so that its own trace stops before the end and never sees its sign change:
+    bench_coverage found a ``6R-two-parallel`` target whose root lay 1.5e-4 rad from the end of such a branch (q4
+    swinging 1 rad within 3e-4 rad), and the partner's residuals at the ending branch's samples were the only sign
+    of it. Bisection in ``u``, the partner taken at each ``x`` as the branch nearest to the ending one, itself
+    located on its straight path between ``ra`` and ``rb``; a root is kept when the residual there is within
+    :data:`FOLD_TOL` of 0 (a jump between branches is not a root). Returns the new count of ``roots``."""
+    S = np.empty((4, 3))
+    E = np.empty(4)
+    lo = ua
+    hi = ub
+    x = xe
+    f = fb
+    j = -1
+    for _ in range(FOLD_IT):
+        u = 0.5 * (lo + hi)
+        x = xe + (far - xe) * u * u
+        n = _eval(kind, H, P, C, x, S, E)
+        w = (u - ua) / (ub - ua)
+        for k in range(3):
+            mid[k] = ra[k] + w * _wrap(rb[k] - ra[k])
+        i, _ = _nearest(S, n, mid)
+        if i < 0:
+            return m
+        j, _ = _nearest_other(S, n, i)
+        if j < 0:
+            return m
+        f = E[j]
+        if f * fa > 0.0:
+            lo = u
+        else:
+            hi = u
+    if not abs(f) <= FOLD_TOL:
+        return m
+    out[0] = x
+    out[1] = S[j, 0]
+    out[2] = S[j, 1]
+    out[3] = S[j, 2]
+    return _add(roots, m, out)
 
 
 def _fold_dip(kind, H, P, C, xl, fl, rl, xe, fe, fp, rp, roots, m, out, mid):
@@ -989,7 +1051,7 @@ def _search(kind, H, P, C, n, roots):
 
 KERNELS = ("_eval_ti", "_point5", "_eval_tp", "_eval_sw", "_eval_sm", "_eval", "_margin", "_island",
            "_rim", "_sharp_peak", "_adist", "_nearest", "_owned", "_pick", "_refine", "_add", "_dip", "_nearest_other",
-           "_settled", "_dip_roots", "_fold_dip", "_edge", "_dists", "_near", "_pair", "_ambiguous", "_match",
+           "_settled", "_dip_roots", "_fold_dip", "_fold_root", "_edge", "_dists", "_near", "_pair", "_ambiguous", "_match",
            "_wiggle", "_extrema", "_seam", "_islands", "_scan", "_search")
 """The functions :func:`kernels` compiles, callees before callers (the scalar helpers: :mod:`._kernels`)."""
 _KERNELS: Optional[types.SimpleNamespace] = None
