@@ -38,7 +38,9 @@ than any other, is sampled :data:`SUB_N` times finer). Then, along each branch:
   :data:`EDGE_N` more times towards it, quadratically spaced (from at least one step back), then as above
   (sign changes, and extrema turning back towards 0); the two branches that meet there are one curve
   through the end, evenly sampled in the square root of the distance to it, and a dip of that curve between
-  the last samples is searched too (:func:`_fold_dip`);
+  the last samples is searched too (:func:`_fold_dip`); where the residual of the branch nearest to the
+  ending one changes sign between two of those samples, that root is followed by bisection
+  (:func:`_fold_root`: a partner that swings more than 0.5 rad between two samples stops its own trace short);
 * a pair of branches that is born and dies between two samples (an *island*: SW, SM, SP3 has solutions
   only on an interval of the searched joint narrower than a step; TI, TP, two roots of SP6's quartic turn
   real there and back) is looked for where the subproblem's margin (how far it is from giving two more
