@@ -90,9 +90,10 @@ _parallel = parallel_twin(_serial)
 
 
 PARALLEL_MIN = 512
-"""Candidates from this many on are checked on all threads. Measured on the project's 2-core machine (UR5 and
-Puma 560 ``ik_all``, 8 candidates a target): 64 targets took 4.8 instead of 5.0 µs a target, 128 targets 3.0 instead
-of 3.1 (docs/performance.md)."""
+"""Candidates from this many on are checked on all threads. Measured on the project's 2-core machine (``ik_all``,
+8 candidates a target, the closed-form passes already on two threads): 64 targets took 4.3 instead of 4.5 µs a
+target on the UR5 and 4.6 instead of 5.0 on the Puma 560, 128 targets 3.0 instead of 3.1 and 3.4 instead of 3.8
+(docs/performance.md)."""
 
 
 def errors(T, tgt, pose, q, limits, tol=1e-12, per=1):

@@ -249,7 +249,8 @@ def verify(robot: Robot, q: NDArray[np.float64], target: NDArray[np.float64], po
         pose = target.shape[-2:] == (4, 4)
         rows, per = _target_rows(lead, target.shape[:-2] if pose else target.shape[:-1])
         tail = target.shape[-2:] if pose else target.shape[-1:]
-        own = target.reshape(rows + tail) if target.size == np.prod(rows + tail) else np.broadcast_to(target, rows + tail)
+        own = (target.reshape(rows + tail) if target.size == np.prod(rows + tail)
+               else np.broadcast_to(target, rows + tail))
         if pose:
             tgt, pose = own, not position_only
         else:  # a point target: put it in column 3 of an otherwise unused pose array
