@@ -1053,8 +1053,8 @@ def _search(kind, H, P, C, n, roots):
 
 KERNELS = ("_eval_ti", "_point5", "_eval_tp", "_eval_sw", "_eval_sm", "_eval", "_margin", "_island",
            "_rim", "_sharp_peak", "_adist", "_nearest", "_owned", "_pick", "_refine", "_add", "_dip", "_nearest_other",
-           "_settled", "_dip_roots", "_fold_dip", "_fold_root", "_edge", "_dists", "_near", "_pair", "_ambiguous", "_match",
-           "_wiggle", "_extrema", "_seam", "_islands", "_scan", "_search")
+           "_settled", "_dip_roots", "_fold_dip", "_fold_root", "_edge", "_dists", "_near", "_pair", "_ambiguous",
+           "_match", "_wiggle", "_extrema", "_seam", "_islands", "_scan", "_search")
 """The functions :func:`kernels` compiles, callees before callers (the scalar helpers: :mod:`._kernels`)."""
 _KERNELS: Optional[types.SimpleNamespace] = None
 
