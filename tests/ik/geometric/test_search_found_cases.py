@@ -445,6 +445,29 @@ SWING_R_NT = np.array([[-0.8298881175327824, -0.3584065428852791, 0.427586789312
 SWING_Q_GEN = np.array([-2.1110198813155403, -2.2936995646989766, -1.8719727609610448, -1.1833078263459778,
                         1.1019310011970553, 1.9550693492373998])
 
+# Found 2026-12-06 by bench_coverage.py --dense-only --seed=223: a '6R-two-intersecting' target whose only two
+# solutions lie 4e-5 rad apart in q1, within 0.0004 rad of where their branch is born; the search found none and the
+# target was answered "out of reach". A search that finds no solution now runs again once with twice the samples
+# (solvers_check.EMPTY_RETRY), which finds both.
+EMPTY_H = np.array([[-0.14147294313732908, 0.5847041346653125, 0.7988156741485174],
+                    [-0.6073271333748972, -0.7914917910617634, -0.0685164049587534],
+                    [-0.27337582707295077, -0.27477773075887996, 0.9218258272858169],
+                    [0.27515979737141033, -0.7082483771793624, -0.6501317728994056],
+                    [0.2483356397722416, 0.31323539565286385, 0.9166313309772395],
+                    [0.8240987722058457, -0.29739438261174067, -0.48209728773329485]])
+EMPTY_P = np.array([[-0.1604292905287425, 0.09214933801280019, 0.5506860353556097],
+                    [0.8003534753436095, 0.05708434407449599, 0.7153214705084997],
+                    [-0.6254572750715256, 0.3486059377110825, -1.174919902353512],
+                    [0.21920385977995538, -1.0640698523027878, 0.13731547200299488],
+                    [0.9626969490199575, 1.0296072605773348, -0.1319464643102702],
+                    [-0.348120993450312, 0.040277848514179704, -0.02132768045779368],
+                    [0.1568775976279415, -0.5046711919072673, -0.10052500290792614]])
+EMPTY_R_NT = np.array([[0.9184860395705235, -0.387552490107614, -0.07865406871511156],
+                       [-0.3938707064522449, -0.9143096534122602, -0.09435954787917432],
+                       [-0.035344896560375545, 0.11764746103737225, -0.9924262255697375]])
+EMPTY_Q_GEN = np.array([2.0746068927910475, 2.3848756353693465, -1.209324522355915, -2.2785179396399244,
+                        -2.342667673428045, 0.7784265280423579])
+
 CASES = {   # name: (H, P, R_nT, the missed solution, the solver, even count, the dense search's seed)
     "island": (ISLAND_H, ISLAND_P, ISLAND_R_NT, ISLAND_Q_GEN, G.spherical_middle, False, 11),
     "twin2d": (TWIN2D_H, TWIN2D_P, TWIN2D_R_NT, TWIN2D_Q_GEN, gen_six_dof, True, 13),
@@ -465,6 +488,7 @@ CASES = {   # name: (H, P, R_nT, the missed solution, the solver, even count, th
                      67),
     "thin2d": (THIN2D_H, THIN2D_P, THIN2D_R_NT, THIN2D_Q_GEN, gen_six_dof, True, 71),
     "swing": (SWING_H, SWING_P, SWING_R_NT, SWING_Q_GEN, G.two_parallel, True, 73),
+    "empty": (EMPTY_H, EMPTY_P, EMPTY_R_NT, EMPTY_Q_GEN, G.two_intersecting, True, 79),
 }
 
 
@@ -482,7 +506,7 @@ def _case(name):
 @pytest.mark.parametrize("jit", [True, False], ids=["compiled", "plain"])
 @pytest.mark.parametrize("name", ["island", "odd", "island6", "end2", "gap", "fold", "far_twin",
                                   "wiggle", "islands2", "island_dip", "steep", "odd4",
-                                  "steep_island", "sharp_island", "swing"])
+                                  "steep_island", "sharp_island", "swing", "empty"])
 def test_the_missed_solution_is_found(name, jit):
     _check_solver(name, jit)
 

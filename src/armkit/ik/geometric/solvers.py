@@ -79,10 +79,11 @@ from .search import MAXROOT, SM, SW, TI, TP, _search  # noqa: F401  (in the kern
 from .search import N as _SEARCH_N
 from .search import kernels as _search_kernels
 from .solvers_chain import _jacobian, _log_vec, _points, _size, align, polish, reverse  # noqa: F401
-from .solvers_check import (RETRIES, SHARP, _SPH_MID, _TI_END, _TWO_PAR, _check, _close, _copy_row,  # noqa: F401
-                            _merged, _newton_from, _paired, _promote, _put_passing, _repeats, _searched_core,
+from .solvers_check import (EMPTY_RETRY, RETRIES, SHARP, _SPH_MID, _TI_END, _TWO_PAR, _check, _close,  # noqa: F401
+                            _copy_row, _merged, _newton_from, _paired, _promote, _put_passing, _repeats, _searched_core,
                             _sharpen, _solve, _solve_searched, _solve_spherical, _solve_spherical_middle,
-                            _solve_three_parallel, _solve_two_intersecting_end, _solve_two_parallel, _sweep)
+                            _solve_three_parallel, _solve_two_intersecting_end, _solve_two_parallel, _sweep,
+                            _within_reach)
 from .solvers_parallel import _core_three_parallel  # noqa: F401
 from .solvers_search import (_core_spherical_middle, _core_two_intersecting_end, _core_two_parallel,  # noqa: F401
                              _target_rows)
@@ -119,7 +120,7 @@ KERNELS = ("_mv", "_mtv", "_mm", "_mtm", "_perp", "_rotm_to", "_mm_to", "_mtm_to
            "_pos_search", "_pos_general", "_core_spherical", "_core_three_parallel", "_close", "_repeats",
            "_put_passing", "_merged", "_newton_from", "_copy_row", "_promote", "_sharpen", "_check", "_solve_spherical",
            "_solve_three_parallel", "_target_rows", "_core_two_intersecting_end", "_core_two_parallel",
-           "_core_spherical_middle", "_paired", "_searched_core", "_solve_searched",
+           "_core_spherical_middle", "_paired", "_searched_core", "_within_reach", "_solve_searched",
            "_solve_two_intersecting_end", "_solve_two_parallel", "_solve_spherical_middle", "_solve", "_sweep")
 INLINE = ("_pos_search", "_pos_general", "_core_spherical", "_core_three_parallel", "_core_two_intersecting_end",
           "_core_two_parallel", "_core_spherical_middle", "_searched_core", "_solve")
