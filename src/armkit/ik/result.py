@@ -246,12 +246,12 @@ def verify(robot: Robot, q: NDArray[np.float64], target: NDArray[np.float64], po
     kernels = _jit_loader.kernels("ik._jit_verify")
     if kernels is not None:
         lead = T.shape[:-2]
-        pose = target.shape[-2:] == (4, 4)
-        rows, per = _target_rows(lead, target.shape[:-2] if pose else target.shape[:-1])
-        tail = target.shape[-2:] if pose else target.shape[-1:]
+        is_pose = target.shape[-2:] == (4, 4)
+        tail = target.shape[-2:] if is_pose else target.shape[-1:]
+        rows, per = _target_rows(lead, target.shape[:-len(tail)])
         own = (target.reshape(rows + tail) if target.size == np.prod(rows + tail)
                else np.broadcast_to(target, rows + tail))
-        if pose:
+        if is_pose:
             tgt, pose = own, not position_only
         else:  # a point target: put it in column 3 of an otherwise unused pose array
             tgt, pose = np.zeros(rows + (4, 4)), False

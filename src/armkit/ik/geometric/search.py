@@ -611,9 +611,8 @@ def _edge(kind, H, P, C, x0, S0, c0, j0, x1, roots, m):
     mid = np.empty(3)
     rp = np.empty(3)      # the branch that meets this one at the end, at the last sample before it
     fp = 0.0
-    XU = np.empty((EDGE_N + 1, 3))   # this branch at each sample towards the end, the residual of the branch
-    FQ = np.zeros(EDGE_N + 1)        # nearest to it there (at the end: this one's), and whether there is one
-    HQ = np.zeros(EDGE_N + 1, np.bool_)   # (_fold_root)
+    XU = np.empty((EDGE_N + 1, 3))   # this branch at each sample towards the end, and the residual of the branch
+    FQ = np.zeros(EDGE_N + 1)        # nearest to it there (at the end: this one's; 0 where none): _fold_root
     reached = False
     for k in range(1, EDGE_N + 1):
         t = 1.0 - k / EDGE_N
@@ -624,7 +623,6 @@ def _edge(kind, H, P, C, x0, S0, c0, j0, x1, roots, m):
             break
         fb = E[i]
         jp, dp = _nearest_other(S, nb, i)
-        HQ[k] = jp >= 0 or k == EDGE_N
         FQ[k] = fb if k == EDGE_N else (E[jp] if jp >= 0 else 0.0)
         for j in range(3):
             XU[k, j] = S[i, j]
@@ -662,7 +660,7 @@ def _edge(kind, H, P, C, x0, S0, c0, j0, x1, roots, m):
     if reached:   # (without a partner fp is 0: _fold_dip looks no further)
         m = _fold_dip(kind, H, P, C, xl, fl, pl, xa, fa, fp, rp, roots, m, out, mid)
         for k in range(EDGE_N - 1, 0, -1):
-            if HQ[k] and HQ[k + 1] and FQ[k] * FQ[k + 1] < 0.0:
+            if FQ[k] * FQ[k + 1] < 0.0:   # (a sample without a partner, 0, never counts)
                 m = _fold_root(kind, H, P, C, good, far, 1.0 - (k + 1) / EDGE_N, XU[k + 1], FQ[k + 1],
                                1.0 - k / EDGE_N, XU[k], FQ[k], roots, m, out, mid)
     return m
