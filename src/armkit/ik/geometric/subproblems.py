@@ -470,13 +470,20 @@ KERNELS = ("_dot", "_cross", "_norm", "_wrap", "rot", "rotm", "_lin", "sp1", "_t
 """The functions :func:`kernels` compiles, callees before callers."""
 
 
-def jit_namespace(namespace: dict[str, Any], names: tuple[str, ...], extra: Optional[dict[str, Any]] = None
-                  ) -> dict[str, Any]:
+def jit_namespace(namespace: dict[str, Any], names: tuple[str, ...], extra: Optional[dict[str, Any]] = None,
+                  uncounted: tuple[str, ...] = ()) -> dict[str, Any]:
     """``njit(cache=True)`` copies of ``namespace[name]`` for each name, compiled on first call.
 
     The copies share a new globals dict (a copy of ``namespace`` updated with ``extra`` and the
     compiled functions themselves), so that the plain functions keep calling plain functions
     and the compiled ones call compiled ones. Returns that dict.
+
+    The names in ``uncounted`` are compiled without Numba's reference counts (``_nrt=False``): a function that
+    takes arrays counts a reference to each up on entry and down on return, and to each view it makes (``S[i]``),
+    with an atomic instruction each time. In the 1-D searches, whose small functions are called ~500 times a
+    target with 5-12 arrays each, that was 13 % of the time (perf, 2026-12-06). Such a function must allocate
+    no array and return none, in its whole call tree; it may call a counted one (every other name is compiled with
+    ``_nrt=True`` said explicitly, so it does not take an uncounted caller's setting, as Numba's callees do).
     """
     from ... import _jit_loader
 
@@ -489,16 +496,16 @@ def jit_namespace(namespace: dict[str, Any], names: tuple[str, ...], extra: Opti
     for name in names:
         f = namespace[name]
         copy = types.FunctionType(f.__code__, ns, f.__name__, f.__defaults__, f.__closure__)
-        ns[name] = njit(cache=True)(copy)
+        ns[name] = njit(cache=True, _nrt=name not in uncounted)(copy)
     return ns
 
 
-def compiled(namespace: dict[str, Any], names: tuple[str, ...], extra: Optional[dict[str, Any]] = None
-             ) -> Optional[types.SimpleNamespace]:
-    """:func:`jit_namespace` of ``names`` (and ``extra``) as a namespace (attributes named as the functions, and
-    ``namespace``: the dict), or None when Numba cannot be imported."""
+def compiled(namespace: dict[str, Any], names: tuple[str, ...], extra: Optional[dict[str, Any]] = None,
+             uncounted: tuple[str, ...] = ()) -> Optional[types.SimpleNamespace]:
+    """:func:`jit_namespace` of ``names`` (and ``extra``, ``uncounted``) as a namespace (attributes named as the
+    functions, and ``namespace``: the dict), or None when Numba cannot be imported."""
     try:
-        ns = jit_namespace(namespace, names, extra)
+        ns = jit_namespace(namespace, names, extra, uncounted)
     except ImportError:
         return None
     return types.SimpleNamespace(**{name: ns[name] for name in names}, namespace=ns)
