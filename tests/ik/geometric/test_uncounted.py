@@ -66,3 +66,24 @@ def test_the_searches_free_every_array_they_make_and_agree_with_python() -> None
         assert got.q.shape == ref.q.shape and np.allclose(got.q, ref.q, rtol=0, atol=1e-9)
         assert np.array_equal(got.ls, ref.ls)
     assert len(grid.q) == len(S2.gen_six_dof(*general, samples=24, jit=False).q)
+
+
+def test_single_calls_free_every_array_they_make() -> None:
+    """The one-call kernels of ``armkit.ik`` / ``armkit.ik_all`` (``_single._nearest_first`` is uncounted too)."""
+    import armkit
+    from numba.core.runtime import _nrt_python as nrt
+
+    for name in ("ur5", "puma560", "stanford"):
+        arm = armkit.load(name)
+        T = armkit.fk(arm, arm.random_q(6, rng=5))
+        for t in T:
+            armkit.ik(arm, t), armkit.ik_all(arm, t)
+        nrt.memsys_enable_stats()
+        try:
+            before = _stats()
+            got = [(armkit.ik(arm, t), armkit.ik_all(arm, t)) for t in T]
+            made = _stats() - before
+        finally:
+            nrt.memsys_disable_stats()
+        assert made[0] > 0 and made[0] == made[1] and made[2] == made[3], name
+        assert all(bool(one.success) and bool(every.success.any()) for one, every in got), name

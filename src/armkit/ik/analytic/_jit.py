@@ -477,17 +477,14 @@ def wrap_dist(rawq, joints, q0):
 @njit(cache=True, inline="always")
 def stable_order(k_of, idx):
     """``idx (m,)`` := the indices that sort ``k_of (m,)`` ascending, ties in index order (an insertion sort:
-    ``m`` is a handful of branches)."""
+    ``m`` is a handful of branches). Makes no array (the kernels without reference counts call it)."""
     m = k_of.shape[0]
-    key = np.empty(m)
     for b in range(m):
         k = k_of[b]
         j = b - 1
-        while j >= 0 and key[j] > k:
-            key[j + 1] = key[j]
+        while j >= 0 and k_of[idx[j]] > k:
             idx[j + 1] = idx[j]
             j -= 1
-        key[j + 1] = k
         idx[j + 1] = b
 
 
