@@ -8,6 +8,12 @@ import tempfile
 from pathlib import Path
 
 os.environ.setdefault("MPLBACKEND", "Agg")
+# an idle OpenMP thread (Numba's multi-threaded kernels) sleeps at once instead of spinning for the next parallel
+# region: with two test workers on two cores, a worker's spinning thread took CPU from the other worker. The whole
+# suite with its kernels cached took 222-224 s instead of 239-241 (two runs each, alternating, 2026-12-06). armkit
+# itself keeps OpenMP's default: a spinning thread starts the next region sooner (a batched puma560 ik_all of 1,000
+# targets 2.2-2.4 µs a target against 2.4 passive, for 25 % more CPU).
+os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
 # compile Numba kernels in the test process on first use (no background warm-up process), so that the tests
 # that compare the NumPy and Numba back ends always run both (docs/performance.md, "First use")
 os.environ.setdefault("ARMKIT_JIT", "wait")
