@@ -17,6 +17,7 @@ from armkit.ik.geometric import search2d as S2
 from armkit.ik.geometric import solvers as G
 
 from test_search_speed_free import KINDS   # same folder, on pytest's path
+from test_solvers import random_arm
 
 pytest.importorskip("numba")
 
@@ -45,7 +46,7 @@ def test_the_searches_free_every_array_they_make_and_agree_with_python() -> None
             form = arm(g)
             R, p = form.fk(g.uniform(-np.pi, np.pi, 6))
             cases.append((getattr(G, name), form, R, p))
-    form = KINDS["TP"][1](g)                  # a general 6R: the 2-D search (a coarse grid: this is no speed test)
+    form = random_arm(g, "plain")             # a general 6R: the 2-D search (a coarse grid: this is no speed test)
     R, p = form.fk(g.uniform(-np.pi, np.pi, 6))
     general = (form, R, p)
     for solve, form, R, p in cases:           # compiled (or loaded) before the counts start
