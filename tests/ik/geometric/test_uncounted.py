@@ -11,7 +11,6 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from armkit.ik.geometric import _kernels as K
 from armkit.ik.geometric import search as S
 from armkit.ik.geometric import search2d as S2
 from armkit.ik.geometric import solvers as G
@@ -22,11 +21,11 @@ from test_solvers import random_arm
 pytest.importorskip("numba")
 
 
-@pytest.mark.parametrize("module", [K, S, S2], ids=lambda m: m.__name__.rsplit(".", 1)[-1])
+@pytest.mark.parametrize("module", [S, S2], ids=lambda m: m.__name__.rsplit(".", 1)[-1])
 def test_uncounted_names_are_kernels_of_their_module(module) -> None:
-    uncounted = getattr(module, "UNCOUNTED", module.KERNELS)
-    assert set(uncounted) <= set(module.KERNELS)
-    assert len(set(uncounted)) == len(uncounted)
+    """(``_kernels`` passes its whole ``KERNELS``: nothing to check there.)"""
+    assert set(module.UNCOUNTED) <= set(module.KERNELS)
+    assert len(set(module.UNCOUNTED)) == len(module.UNCOUNTED)
 
 
 def _stats():
