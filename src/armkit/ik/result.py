@@ -73,6 +73,9 @@ class IKResult:
     trace : ndarray or None
         Per-iteration error norms when the solver was asked for a trace.
 
+    The single-call paths of :func:`armkit.ik` and :func:`armkit.ik_all` make every field when one is first
+    read (:meth:`_deferred`): the same values, ``repr``, equality and pickling as a result built at once.
+
     Besides the fields, ``checked_against`` (a tuple of str, not a field) names what a success was
     checked against for collisions: ``("ground", "torso")`` for the fighter by default, ``()``
     when nothing was checked (see :func:`armkit.collision.resolve_scene`).
@@ -120,9 +123,25 @@ class IKResult:
             d["_later"] = later
         return self
 
-    def __getstate__(self) -> dict:
-        """Pickling and copying: the fields with the message made (:meth:`_later`)."""
+    @classmethod
+    def _deferred(cls, make: tuple) -> "IKResult":
+        """A result whose fields are made when one is first read: ``make[0](*make[1:])`` returns the result (an
+        :class:`IKResult`) whose fields it then takes, all at once. The single-call paths of :func:`armkit.ik` and
+        :func:`armkit.ik_all` answer this way: their compiled call leaves every number in three buffers of their
+        own, and the ~10 NumPy views, the label array and the result that a call would make from them cost about
+        as much as the solve itself (1.5-2 µs of a UR5's ``ik_all``). The values are those the result would have
+        had (the arguments in ``make`` are the call's own, copied where a caller could change them); the result is
+        the same in every way (value, type, repr, equality, pickling) as one built at once."""
+        self = _NEW(cls)
         d = self.__dict__
+        d["trace"] = None
+        d["_make"] = make
+        return self
+
+    def __getstate__(self) -> dict:
+        """Pickling and copying: the fields with the message made (:meth:`_later`, :meth:`_deferred`)."""
+        d = self.__dict__
+        _made(d)
         if "message" not in d:
             self.message   # noqa: B018 (made now)
         return {k: v for k, v in d.items() if k != "_later"}
@@ -131,6 +150,7 @@ class IKResult:
         """A result with ``per_target`` applied to every field but ``trace`` (given as is), built as :meth:`_of`."""
         new = object.__new__(IKResult)
         d, src = new.__dict__, self.__dict__
+        _made(src)
         for f in _PER_TARGET:
             if f != "message" or "message" in src:
                 d[f] = per_target(src[f])
@@ -165,6 +185,10 @@ class _LaterMessage:
         if obj is None:
             return None   # the field's default, as the dataclass left it on the class
         d = obj.__dict__
+        if "_make" in d:
+            _made(d)
+            if "message" in d:
+                return d["message"]
         later = d.get("_later")
         if later is None:
             if "message" in d:
@@ -177,6 +201,45 @@ class _LaterMessage:
 
 
 setattr(IKResult, "message", _LaterMessage())
+
+
+def _made(d: dict) -> None:
+    """Make the fields of a result built by :meth:`IKResult._deferred` (its ``__dict__`` ``d``), if not yet made.
+    The fields are all written before ``_make`` goes, so that another thread reading the result meanwhile makes
+    them too (the same values), never finds one missing."""
+    make = d.get("_make")
+    if make is not None:
+        built = make[0](*make[1:]).__dict__
+        for k, v in built.items():
+            if k != "trace":
+                d[k] = v
+        d.pop("_make", None)
+
+
+class _Deferred:
+    """A field of :class:`IKResult` (all but ``message`` and ``trace``) on the class: a non-data descriptor, so a
+    result that holds the field (every result but one of :meth:`IKResult._deferred` before its first read) reads
+    it from its ``__dict__`` as a plain attribute; a deferred one makes all its fields on first read."""
+
+    __slots__ = ("name",)
+
+    def __init__(self, name: str) -> None:
+        self.name = name
+
+    def __get__(self, obj: Any, owner: Any = None) -> Any:
+        if obj is None:
+            return self
+        d = obj.__dict__
+        _made(d)
+        try:
+            return d[self.name]
+        except KeyError:
+            raise AttributeError(self.name) from None
+
+
+for _f in fields(IKResult):
+    if _f.name not in ("message", "trace"):
+        setattr(IKResult, _f.name, _Deferred(_f.name))
 
 _NEW = object.__new__
 

@@ -476,9 +476,11 @@ def single_call(robot: Robot, solver: ClosedForm, target: Array, q0: Array | Non
 
 
 def run_one(robot: Robot, c: "_Single", target: Array, q0: Array | None, ctx: Array, tol: tuple[float, float] | None,
-            check: bool, nearest: bool, batch_axis: bool = False) -> IKResult | None:
+            check: bool, nearest: bool, batch_axis: bool = False, deferred: bool = True) -> IKResult | None:
     """:func:`single_call` once its record ``c`` and options ``ctx`` (:meth:`_Single.context` of ``tol`` and the
-    flags) are known: the path :func:`armkit.ik` and :func:`armkit.ik_all` take with their default options."""
+    flags) are known: the path :func:`armkit.ik` and :func:`armkit.ik_all` take with their default options.
+    With ``deferred``, the result's fields are made from the buffers when one is first read
+    (:meth:`IKResult._deferred`; the target is copied where the messages of failed branches need it)."""
     fb, ib, bb = np.empty(c.fsize), np.empty(c.isize, _I64), np.empty(c.bsize, _BOOL)
     if q0 is None:
         q0 = c.q0
@@ -499,6 +501,17 @@ def run_one(robot: Robot, c: "_Single", target: Array, q0: Array | None, ctx: Ar
         r = kernels.post(raw.q[0], raw.unreachable[0], missing, t, q0, ctx, fb, ib, bb)
     if r & 3:
         return None
+    if deferred:
+        kept = target if ((r & NEAREST) if nearest else (r == 0 and raw is None)) else target.copy()
+        return IKResult._deferred((_built, robot, c, raw, kept, fb, ib, bb, r, tol, nearest, batch_axis))
+    return _built(robot, c, raw, target, fb, ib, bb, r, tol, nearest, batch_axis)
+
+
+def _built(robot: Robot, c: "_Single", raw: Raw | None, target: Array, fb: Array, ib: NDArray[np.int64],
+           bb: NDArray[np.bool_], r: int, tol: tuple[float, float] | None, nearest: bool, batch_axis: bool
+           ) -> IKResult:
+    """The result of :func:`run_one` from the buffers its kernel filled (status ``r``; ``raw``: the Python
+    solve of a family without a kernel)."""
     m = c.m
     if nearest:
         if r & NEAREST:   # the nearest branch succeeded (its label index given with the status): no sentence
@@ -557,7 +570,8 @@ def run_small_batch(robot: Robot, c: "_Single", targets: Array, q0: Array | None
         q0 = np.ascontiguousarray(q0)
     parts = []
     for i in range(B):
-        one = run_one(robot, c, targets[i], q0 if q0 is None or q0.ndim == 1 else q0[i], ctx, None, check, nearest)
+        one = run_one(robot, c, targets[i], q0 if q0 is None or q0.ndim == 1 else q0[i], ctx, None, check, nearest,
+                      deferred=False)
         if one is None:
             return None
         parts.append(one)
