@@ -124,16 +124,21 @@ class IKResult:
         return self
 
     @classmethod
-    def _deferred(cls, make: tuple) -> "IKResult":
-        """A result whose fields are made when one is first read: ``make[0](*make[1:])`` returns the result (an
-        :class:`IKResult`) whose fields it then takes, all at once. The single-call paths of :func:`armkit.ik` and
+    def _deferred(cls, make: tuple, q: Any, success: Any) -> "IKResult":
+        """A result given ``q`` and ``success`` (the fields nearly every caller reads) whose other fields are each
+        made when first read: ``make[0](make, "rest")`` returns a dict of the fields but ``q``, ``success`` and
+        ``message`` (the first read of one makes them all), ``make[0](make, "message")`` the message's text or a
+        function that makes it (as :meth:`_later` takes). The single-call paths of :func:`armkit.ik` and
         :func:`armkit.ik_all` answer this way: their compiled call leaves every number in three buffers of their
-        own, and the ~10 NumPy views, the label array and the result that a call would make from them cost about
-        as much as the solve itself (1.5-2 µs of a UR5's ``ik_all``). The values are those the result would have
-        had (the arguments in ``make`` are the call's own, copied where a caller could change them); the result is
-        the same in every way (value, type, repr, equality, pickling) as one built at once."""
+        own, and the views, the label arrays and the texts a call would make of them cost about half as much as
+        the solve (2 µs of a UR5's ``ik_all``). The values are those the result would have held (the arguments in
+        ``make`` are the call's own, copied where a caller could change them); the result is the same in every
+        way (value, type, repr, equality, pickling) as one built at once. Two threads reading a field first at
+        the same time may each get their own view of the same numbers."""
         self = _NEW(cls)
         d = self.__dict__
+        d["q"] = q
+        d["success"] = success
         d["trace"] = None
         d["_make"] = make
         return self
@@ -185,15 +190,17 @@ class _LaterMessage:
         if obj is None:
             return None   # the field's default, as the dataclass left it on the class
         d = obj.__dict__
-        if "_make" in d:
-            _made(d)
-            if "message" in d:
-                return d["message"]
         later = d.get("_later")
         if later is None:
             if "message" in d:
                 return d["message"]
-            raise AttributeError("message")
+            make = d.get("_make")
+            if make is None:
+                raise AttributeError("message")
+            later = make[0](make, "message")   # a deferred result (IKResult._deferred): its text, or a maker
+            if not callable(later):
+                d["message"] = later
+                return later
         message = later()
         d["message"] = message
         d.pop("_later", None)
@@ -204,22 +211,23 @@ setattr(IKResult, "message", _LaterMessage())
 
 
 def _made(d: dict) -> None:
-    """Make the fields of a result built by :meth:`IKResult._deferred` (its ``__dict__`` ``d``), if not yet made.
-    The fields are all written before ``_make`` goes, so that another thread reading the result meanwhile makes
-    them too (the same values), never finds one missing."""
+    """Make every field of a result built by :meth:`IKResult._deferred` (its ``__dict__`` ``d``) not made yet
+    (``message`` perhaps left to :meth:`IKResult._later`)."""
     make = d.get("_make")
     if make is not None:
-        built = make[0](*make[1:]).__dict__
-        for k, v in built.items():
-            if k != "trace":
-                d[k] = v
+        if "reason" not in d:
+            d.update(make[0](make, "rest"))
+        if "message" not in d and "_later" not in d:
+            v = make[0](make, "message")
+            d["_later" if callable(v) else "message"] = v
         d.pop("_make", None)
 
 
 class _Deferred:
     """A field of :class:`IKResult` (all but ``message`` and ``trace``) on the class: a non-data descriptor, so a
-    result that holds the field (every result but one of :meth:`IKResult._deferred` before its first read) reads
-    it from its ``__dict__`` as a plain attribute; a deferred one makes all its fields on first read."""
+    result that holds the field (every result but one of :meth:`IKResult._deferred`, until it is read) reads it
+    from its ``__dict__`` as a plain attribute; a deferred one makes it (with the others but ``message``) on
+    first read and keeps them."""
 
     __slots__ = ("name",)
 
@@ -230,9 +238,11 @@ class _Deferred:
         if obj is None:
             return self
         d = obj.__dict__
-        _made(d)
+        make = d.get("_make")
+        if make is not None:
+            d.update(make[0](make, "rest"))
         try:
-            return d[self.name]
+            return d[self.name]   # (without _make: made meanwhile by another thread's _made)
         except KeyError:
             raise AttributeError(self.name) from None
 

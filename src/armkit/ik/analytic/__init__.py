@@ -503,50 +503,58 @@ def run_one(robot: Robot, c: "_Single", target: Array, q0: Array | None, ctx: Ar
         return None
     if deferred:
         kept = target if ((r & NEAREST) if nearest else (r == 0 and raw is None)) else target.copy()
-        return IKResult._deferred((_built, robot, c, raw, kept, fb, ib, bb, r, tol, nearest, batch_axis))
-    return _built(robot, c, raw, target, fb, ib, bb, r, tol, nearest, batch_axis)
+        made = (_later_fields, robot, c, raw, kept, fb, ib, bb, r, tol, nearest, batch_axis)
+        if nearest:       # q and success, which nearly every caller reads, made now (as _later_fields makes them)
+            return IKResult._deferred(made, fb[:c.n], bb[0, ...])
+        if not batch_axis:
+            return IKResult._deferred(made, fb[:c.mn].reshape(c.m, c.n), bb[:c.m])
+        return IKResult._deferred(made, fb[:c.mn].reshape(c.m, c.n)[None], bb[:c.m][None])
+    made = (_later_fields, robot, c, raw, target, fb, ib, bb, r, tol, nearest, batch_axis)
+    f = _later_fields(made, "all")
+    if callable(f["message"]):   # the sentences of failed branches: made when first read
+        return IKResult._later(tuple(f[k] for k in _STACKED) + (None,), f["message"])
+    return IKResult._later(tuple(f[k] for k in _STACKED) + (f["message"],))
 
 
-def _built(robot: Robot, c: "_Single", raw: Raw | None, target: Array, fb: Array, ib: NDArray[np.int64],
-           bb: NDArray[np.bool_], r: int, tol: tuple[float, float] | None, nearest: bool, batch_axis: bool
-           ) -> IKResult:
-    """The result of :func:`run_one` from the buffers its kernel filled (status ``r``; ``raw``: the Python
-    solve of a family without a kernel)."""
-    m = c.m
+def _later_fields(made: tuple, which: str) -> Any:
+    """Fields of the result of :func:`run_one` from the buffers its kernel filled, made when first read
+    (:meth:`IKResult._deferred`) or all at once. ``made``: the call's tuple (this function, robot, record ``c``,
+    ``raw`` (the Python solve of a family without a kernel, or None), target, fb, ib, bb, status ``r``, tol,
+    nearest, batch_axis). ``which``: "message" (its text, or where failed branches need sentences, the
+    :class:`_Messages` that make them when read: :meth:`IKResult._later`); "rest" (a dict of the fields
+    but q, success and message: one read makes them all, cheaper than one by one); "all" (a dict of every
+    field). With ``nearest`` (:func:`armkit.ik`): the first of the sorted branches, as 0-d arrays."""
+    _, robot, c, raw, target, fb, ib, bb, r, tol, nearest, axis = made
+    m, mn = c.m, c.mn
+    if which == "message":
+        if nearest:
+            if r & NEAREST or ib.item(0) == 0:
+                return "" if raw is None else str(raw.note[0][ib[3 * m]])
+            return _Messages(robot, c, raw, target, fb, ib, tol, True)
+        if (r != 0 or any(raw.note[0])) if raw is not None else r != 0:
+            return _Messages(robot, c, raw, target, fb, ib, tol, False, axis)
+        return c.blank[None] if axis else c.blank.copy()
     if nearest:
-        if r & NEAREST:   # the nearest branch succeeded (its label index given with the status): no sentence
-            n, dp, dr, it = c.near_at
-            return _result_of(fb[:n], bb[0, ...], fb[dp, ...], fb[dr, ...], ib[it, ...],
-                              c.labels0[r >> LABEL_SHIFT].copy() if raw is None else
-                              np.array(raw.label[0][ib[3 * m]], dtype=object), bb[m, ...], _CONVERGED.copy(),
-                              "" if raw is None else str(raw.note[0][ib[3 * m]]))
-        k = ib.item(0)
-        if raw is None:
-            label = c.labels0[ib.item(m)].copy()
-            message = "" if k == 0 else None
+        if raw is not None:
+            branch = np.array(raw.label[0][ib[3 * m]], dtype=object)
         else:
-            label = np.array(raw.label[0][ib[3 * m]], dtype=object)
-            message = str(raw.note[0][ib[3 * m]]) if k == 0 else None
-        values = (fb[:c.n], bb[0, ...], fb[c.mn, ...], fb[c.mn + m, ...], ib[2 * m, ...], label, bb[m, ...],
-                  _REASON_0D[k].copy(), message)
-        if message is None:
-            return IKResult._later(values, _Messages(robot, c, raw, target, fb, ib, tol, True))
-        return IKResult._later(values)
-    if raw is None:
-        labels = c.labels[ib[m:2 * m]]
-        texts = c.blank.copy() if r == 0 else None
+            branch = c.labels0[r >> LABEL_SHIFT if r & NEAREST else ib.item(m)].copy()
+        f = {"position_error": fb[mn, ...], "rotation_error": fb[mn + m, ...], "iterations": ib[2 * m, ...],
+             "branch": branch, "within_limits": bb[m, ...],
+             "reason": _CONVERGED.copy() if r & NEAREST else _REASON_0D[ib.item(0)].copy()}
+        if which == "all":
+            f["q"], f["success"] = fb[:c.n], bb[0, ...]
     else:
-        labels = raw.label[0][ib[3 * m:4 * m]]
-        texts = None if r or any(raw.note[0]) else c.blank.copy()
-    mn = c.mn
-    every: tuple[Any, ...] = (fb[:mn].reshape(m, c.n), bb[:m], fb[mn:mn + m], fb[mn + m:mn + 2 * m],
-                              ib[2 * m:3 * m], labels, bb[m:], _REASON_TEXT[ib[:m]] if r else c.converged.copy(),
-                              texts)
-    if batch_axis:
-        every = tuple(None if v is None else v[None] for v in every)
-    if texts is None:
-        return IKResult._later(every, _Messages(robot, c, raw, target, fb, ib, tol, False, batch_axis))
-    return IKResult._later(every)
+        f = {"position_error": fb[mn:mn + m], "rotation_error": fb[mn + m:mn + 2 * m], "iterations": ib[2 * m:3 * m],
+             "branch": c.labels[ib[m:2 * m]] if raw is None else raw.label[0][ib[3 * m:4 * m]],
+             "within_limits": bb[m:], "reason": _REASON_TEXT[ib[:m]] if r else c.converged.copy()}
+        if which == "all":
+            f["q"], f["success"] = fb[:mn].reshape(m, c.n), bb[:m]
+        if axis:
+            f = {k: v[None] for k, v in f.items()}
+    if which == "all":
+        f["message"] = _later_fields(made, "message")
+    return f
 
 
 SMALL_BATCH = 16

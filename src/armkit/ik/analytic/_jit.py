@@ -114,17 +114,18 @@ def _planar2_run(p, g, q, up, c, r, unreach, edge, lo, hi):
 
 @njit(cache=True, inline="always")
 def _chain(T, i, g, out):
-    """``out = B'^-1 @ T[i] @ T'^-1`` (rows 0-2 of 4x4 rigid poses; both frames read from ``g``)."""
-    tmp = np.empty((3, 4))
+    """``out = B'^-1 @ T[i] @ T'^-1`` (rows 0-2 of 4x4 rigid poses; both frames read from ``g``). Row ``a`` of
+    ``B'^-1 @ T[i]`` is held in four scalars, not an array: one array fewer to make per target (~0.1 µs of a
+    single call's 3.7)."""
     A, C = BASE_INV, TOOL_INV
     for a in range(3):
+        x0, x1, x2, x3 = g[A + 4 * a], g[A + 4 * a + 1], g[A + 4 * a + 2], g[A + 4 * a + 3]
+        t0 = x0 * T[i, 0, 0] + x1 * T[i, 1, 0] + x2 * T[i, 2, 0] + x3 * T[i, 3, 0]
+        t1 = x0 * T[i, 0, 1] + x1 * T[i, 1, 1] + x2 * T[i, 2, 1] + x3 * T[i, 3, 1]
+        t2 = x0 * T[i, 0, 2] + x1 * T[i, 1, 2] + x2 * T[i, 2, 2] + x3 * T[i, 3, 2]
+        t3 = x0 * T[i, 0, 3] + x1 * T[i, 1, 3] + x2 * T[i, 2, 3] + x3 * T[i, 3, 3]
         for b in range(4):
-            tmp[a, b] = (g[A + 4 * a] * T[i, 0, b] + g[A + 4 * a + 1] * T[i, 1, b] + g[A + 4 * a + 2] * T[i, 2, b]
-                         + g[A + 4 * a + 3] * T[i, 3, b])
-    for a in range(3):
-        for b in range(4):
-            out[a, b] = (tmp[a, 0] * g[C + b] + tmp[a, 1] * g[C + 4 + b] + tmp[a, 2] * g[C + 8 + b]
-                         + tmp[a, 3] * g[C + 12 + b])
+            out[a, b] = t0 * g[C + b] + t1 * g[C + 4 + b] + t2 * g[C + 8 + b] + t3 * g[C + 12 + b]
 
 
 @njit(cache=True)  # outputs: one array per argument, never a tuple (Numba 0.68's parfors loses writes through tuples)
