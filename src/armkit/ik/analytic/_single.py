@@ -433,18 +433,15 @@ def ur(t, q0, ctx, fb, ib, bb):
     if not good or not _usable_start(q0):
         return BAD_TARGET
     Tb = T.reshape((1, 4, 4))
-    fw, bw = np.empty(59), np.zeros(30, np.bool_)   # the arrays of _ur_run: views of one work vector per type
-    q0phi = fw[:6].reshape((1, 6))
-    for j in range(6):
-        q0phi[0, j] = q0[j] + joints[JOINT_THETA, j]
-    out, rho, r = fw[6:54].reshape((1, 2, 2, 2, 6)), fw[54:55], fw[55:59].reshape((1, 2, 2))
-    up, unreach = bw[:8].reshape((1, 2, 2, 2)), bw[8:16].reshape((1, 2, 2, 2))
-    lat, on_axis, singular, missing = bw[16:17], bw[17:18], bw[18:22].reshape((1, 2, 2)), bw[22:30]
+    q0phi = _q0phi(q0, joints)
+    out, up, unreach = np.empty((1, 2, 2, 2, 6)), np.empty((1, 2, 2, 2), np.bool_), np.empty((1, 2, 2, 2), np.bool_)
     lab = np.empty((1, 2, 2, 2), np.int64)
+    lat, rho, r = np.empty(1, np.bool_), np.empty(1), np.empty((1, 2, 2))
+    on_axis, singular = np.empty(1, np.bool_), np.empty((1, 2, 2), np.bool_)
     _ur_run(Tb, g, q0phi, out, up, lab, unreach, lat, rho, r, on_axis, singular, _FIRST, _ONE)
     if on_axis[0] or singular[0, 0, 0] or singular[0, 0, 1] or singular[0, 1, 0] or singular[0, 1, 1]:
         return FALLBACK
-    return _finish(out.reshape(8, 6), unreach.reshape(8), missing, lab.reshape(8), ctx, q0, T, _YES,
+    return _finish(out.reshape(8, 6), unreach.reshape(8), np.zeros(8, np.bool_), lab.reshape(8), ctx, q0, T, _YES,
                    lat[0], rho[0], r[0].reshape(4), np.int64(2), fb, ib, bb)
 
 
