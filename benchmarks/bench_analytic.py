@@ -192,6 +192,14 @@ def searches(targets: int) -> None:
 SINGLE_ARMS = ("ur5", "puma560", "fighter", "planar2", "planar3", "stanford", "ur5, axis 1 reversed")
 
 
+def _read_eaik(sol) -> tuple:
+    return sol.Q, sol.is_LS
+
+
+def _read_armkit(res) -> tuple:
+    return res.q, res.success
+
+
 def _cpu_best(fn, items, repeat: int) -> float:
     """Least CPU seconds of this thread per item over ``repeat`` rounds (``time.thread_time``: on a shared,
     loaded machine the wall clock also counts the other processes' turns)."""
@@ -440,6 +448,10 @@ def main() -> None:
         k = min(300, len(T))
         singles = list(T[:k])      # one call per target, CPU time of this thread (both run in it)
         e_single = _cpu_best(lambda t: eaik.IK(t), list(Tfix[:k]), args.repeat)
+        # the answer read as a caller reads it: EAIK's Q and is_LS (converted to NumPy when read), armkit's q and
+        # success (made with the call; its other fields are made when first read: IKResult._deferred)
+        e_read = _cpu_best(lambda t: _read_eaik(eaik.IK(t)), list(Tfix[:k]), args.repeat)
+        a_read = _cpu_best(lambda t: _read_armkit(armkit.ik_all(robot, t)), singles, args.repeat)
         a_all = _cpu_best(lambda t: armkit.ik_all(robot, t), singles, args.repeat)
         a_one = _cpu_best(lambda t: armkit.ik(robot, t), singles, args.repeat)
         raw = None
@@ -449,19 +461,21 @@ def main() -> None:
             raw = _cpu_best(lambda t: fn(f, t[:3, :3], t[:3, 3]), singles, args.repeat)
         e_batch = _best(lambda: eaik.IK_batched(Tfix, args.threads), args.repeat) / len(T)
         a_batch = _best(lambda: armkit.ik_all(robot, T), args.repeat) / len(T)
-        rows.append((label, cf.family if cf else "none", cmp, e_single, raw, a_all, a_one, e_batch, a_batch))
+        rows.append((label, cf.family if cf else "none", cmp, e_single, raw, a_all, a_one, e_batch, a_batch, e_read,
+                     a_read))
     us = lambda s: "-" if s is None else f"{s * 1e6:.1f}"  # noqa: E731
     print(f"\n{args.targets:,} targets per arm, limits off, {args.threads} EAIK threads; times in µs per target "
           "(ratio armkit/EAIK): single calls in CPU time of the thread, best of the rounds; batched calls in wall "
           "clock (EAIK's run on several threads)\n")
     print("| arm | armkit family | EAIK branches | armkit branches | missing | extra | armkit fails FK | "
-          "EAIK single | armkit raw solver | armkit ik_all single | armkit ik single | EAIK batched | "
-          "armkit ik_all batched |")
-    print("|" + "---|" * 13)
-    for label, fam, c, es, raw, aa, a1, eb, ab in rows:
+          "EAIK single | armkit raw solver | armkit ik_all single | armkit ik single | EAIK single, Q and is_LS read | "
+          "armkit ik_all single, q and success read | EAIK batched | armkit ik_all batched |")
+    print("|" + "---|" * 15)
+    for label, fam, c, es, raw, aa, a1, eb, ab, er, ar in rows:
         print(f"| {label} | {fam} | {c['eaik branches']:,} | {c['armkit branches']:,} | {c['missing']} | {c['extra']} "
               f"| {c['armkit fails FK']} | {us(es)} | {us(raw)}{'' if raw is None else f' ({raw / es:.2g}x)'} | "
-              f"{us(aa)} ({aa / es:.2g}x) | {us(a1)} ({a1 / es:.2g}x) | {us(eb)} | {us(ab)} ({ab / eb:.2g}x) |")
+              f"{us(aa)} ({aa / es:.2g}x) | {us(a1)} ({a1 / es:.2g}x) | {us(er)} | {us(ar)} ({ar / er:.2g}x) | "
+              f"{us(eb)} | {us(ab)} ({ab / eb:.2g}x) |")
     if args.eaik_only:
         return
     single_calls(min(args.targets, 300), args.repeat)
