@@ -73,8 +73,9 @@ class IKResult:
     trace : ndarray or None
         Per-iteration error norms when the solver was asked for a trace.
 
-    The single-call paths of :func:`armkit.ik` and :func:`armkit.ik_all` make every field when one is first
-    read (:meth:`_deferred`): the same values, ``repr``, equality and pickling as a result built at once.
+    A result of the single-call paths of :func:`armkit.ik` and :func:`armkit.ik_all` holds ``q`` and
+    ``success`` and makes its other fields when one is first read (:meth:`_deferred`): the same values,
+    ``repr``, equality and pickling as a result built at once.
 
     Besides the fields, ``checked_against`` (a tuple of str, not a field) names what a success was
     checked against for collisions: ``("ground", "torso")`` for the fighter by default, ``()``
@@ -125,7 +126,7 @@ class IKResult:
 
     @classmethod
     def _deferred(cls, make: tuple, q: Any, success: Any) -> "IKResult":
-        """A result given ``q`` and ``success`` (the fields nearly every caller reads) whose other fields are each
+        """A result given ``q`` and ``success`` (the fields nearly every caller reads) whose other fields are
         made when first read: ``make[0](make, "rest")`` returns a dict of the fields but ``q``, ``success`` and
         ``message`` (the first read of one makes them all), ``make[0](make, "message")`` the message's text or a
         function that makes it (as :meth:`_later` takes). The single-call paths of :func:`armkit.ik` and
