@@ -315,13 +315,13 @@ ONE_CALL = True
 """Single targets by one compiled call (:func:`_one_target`); False: the batched path (tests compare the two)."""
 
 
-def _one_target(robot: Robot, target: Any, q0: Any, tol: Any, enforce_limits: bool, check: bool, nearest: bool,
-                batch_axis: bool = False) -> IKResult | None:
+def _one_target(robot: Robot, target: Any, q0: Any, tol: Any, enforce_limits: bool, check: bool, nearest: bool
+                ) -> IKResult | None:
     """One float64 pose ``(4, 4)`` or position ``(3,)`` by the closed form in one compiled call
     (:func:`armkit.ik.analytic.single_call`): the result, shaped as :func:`ik` (``nearest``) or :func:`ik_all`
-    give it for one target (``batch_axis``: with a leading axis of 1), or None where the general path
-    answers (any other target or start, no closed form for it, a 7-joint arm, the NumPy back end, or a
-    case the compiled call leaves to the batched path). The same values either way."""
+    give it for one target, or None where the general path answers (any other target or start, no closed form
+    for it, a 7-joint arm, the NumPy back end, or a case the compiled call leaves to the batched path). The same
+    values either way."""
     global _single_call
     if not ONE_CALL or type(target) is not np.ndarray or target.dtype != _F64:
         return None
@@ -347,7 +347,7 @@ def _one_target(robot: Robot, target: Any, q0: Any, tol: Any, enforce_limits: bo
 
         _single_call = single_call
     return _single_call(robot, solver, target, q0, None if tol is None else _tolerance(robot, tol), enforce_limits,
-                        check, nearest, batch_axis)
+                        check, nearest)
 
 
 _run_one: Any = None   # analytic.run_one once imported

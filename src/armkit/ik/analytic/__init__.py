@@ -453,17 +453,17 @@ def one_call_record(robot: Robot, solver: ClosedForm) -> "_Single | None":
 
 
 def single_call(robot: Robot, solver: ClosedForm, target: Array, q0: Array | None, tol: tuple[float, float] | None,
-                enforce_limits: bool = True, check: bool = True, nearest: bool = False, batch_axis: bool = False
-                ) -> IKResult | None:
+                enforce_limits: bool = True, check: bool = True, nearest: bool = False) -> IKResult | None:
     """:func:`solve_all` (or with ``nearest``, :func:`solve_nearest`) for ONE target in one compiled call.
 
     ``target`` is a float64 pose ``(4, 4)`` or position ``(3,)`` the family takes, ``q0`` a float64 ``(n,)``
     (None: zeros clipped into the limits, as :func:`armkit.ik` takes it). Checks what the batched path
-    checks (``check``: the pose is rigid). Returns the result with fields ``(m,)`` (``nearest``: ``()``;
-    ``batch_axis``: ``(1, m)``), the same values as the batched path, or None where that path must answer
+    checks (``check``: the pose is rigid). Returns the result with fields ``(m,)`` (``nearest``: ``()``),
+    the same values as the batched path, or None where that path must answer
     (the Numba back end is not in use, a branch to polish, a note to give, a target or start to reject):
     the caller then takes it. See :mod:`._single`. The messages of failed branches are made when the
-    ``message`` field is first read (:class:`~armkit.ik.result.IKResult`).
+    ``message`` field is first read, its other fields but ``q`` and ``success`` when one of them is
+    (:meth:`~armkit.ik.result.IKResult._deferred`).
     """
     c = one_call_record(robot, solver)
     if c is None:
@@ -472,11 +472,11 @@ def single_call(robot: Robot, solver: ClosedForm, target: Array, q0: Array | Non
         ctx = c.ctx_near if nearest else c.ctx
     else:
         ctx = c.context(tol, enforce_limits, check, nearest)
-    return run_one(robot, c, target, q0, ctx, tol, check, nearest, batch_axis)
+    return run_one(robot, c, target, q0, ctx, tol, check, nearest)
 
 
 def run_one(robot: Robot, c: "_Single", target: Array, q0: Array | None, ctx: Array, tol: tuple[float, float] | None,
-            check: bool, nearest: bool, batch_axis: bool = False, deferred: bool = True) -> IKResult | None:
+            check: bool, nearest: bool, deferred: bool = True) -> IKResult | None:
     """:func:`single_call` once its record ``c`` and options ``ctx`` (:meth:`_Single.context` of ``tol`` and the
     flags) are known: the path :func:`armkit.ik` and :func:`armkit.ik_all` take with their default options.
     With ``deferred``, the result's fields are made from the buffers when one is first read
@@ -503,13 +503,11 @@ def run_one(robot: Robot, c: "_Single", target: Array, q0: Array | None, ctx: Ar
         return None
     if deferred:
         kept = target if ((r & NEAREST) if nearest else (r == 0 and raw is None)) else target.copy()
-        made = (_later_fields, robot, c, raw, kept, fb, ib, bb, r, tol, nearest, batch_axis)
+        made = (_later_fields, robot, c, raw, kept, fb, ib, bb, r, tol, nearest)
         if nearest:       # q and success, which nearly every caller reads, made now (as _later_fields makes them)
             return IKResult._deferred(made, fb[:c.n], bb[0, ...])
-        if not batch_axis:
-            return IKResult._deferred(made, fb[:c.mn].reshape(c.m, c.n), bb[:c.m])
-        return IKResult._deferred(made, fb[:c.mn].reshape(c.m, c.n)[None], bb[:c.m][None])
-    made = (_later_fields, robot, c, raw, target, fb, ib, bb, r, tol, nearest, batch_axis)
+        return IKResult._deferred(made, fb[:c.mn].reshape(c.m, c.n), bb[:c.m])
+    made = (_later_fields, robot, c, raw, target, fb, ib, bb, r, tol, nearest)
     f = _later_fields(made, "all")
     if callable(f["message"]):   # the sentences of failed branches: made when first read
         return IKResult._later(tuple(f[k] for k in _STACKED) + (None,), f["message"])
@@ -520,11 +518,11 @@ def _later_fields(made: tuple, which: str) -> Any:
     """Fields of the result of :func:`run_one` from the buffers its kernel filled, made when first read
     (:meth:`IKResult._deferred`) or all at once. ``made``: the call's tuple (this function, robot, record ``c``,
     ``raw`` (the Python solve of a family without a kernel, or None), target, fb, ib, bb, status ``r``, tol,
-    nearest, batch_axis). ``which``: "message" (its text, or where failed branches need sentences, the
+    nearest). ``which``: "message" (its text, or where failed branches need sentences, the
     :class:`_Messages` that make them when read: :meth:`IKResult._later`); "rest" (a dict of the fields
     but q, success and message: one read makes them all, cheaper than one by one); "all" (a dict of every
     field). With ``nearest`` (:func:`armkit.ik`): the first of the sorted branches, as 0-d arrays."""
-    _, robot, c, raw, target, fb, ib, bb, r, tol, nearest, axis = made
+    _, robot, c, raw, target, fb, ib, bb, r, tol, nearest = made
     m, mn = c.m, c.mn
     if which == "message":
         if nearest:
@@ -532,8 +530,8 @@ def _later_fields(made: tuple, which: str) -> Any:
                 return "" if raw is None else str(raw.note[0][ib[3 * m]])
             return _Messages(robot, c, raw, target, fb, ib, tol, True)
         if (r != 0 or any(raw.note[0])) if raw is not None else r != 0:
-            return _Messages(robot, c, raw, target, fb, ib, tol, False, axis)
-        return c.blank[None] if axis else c.blank.copy()
+            return _Messages(robot, c, raw, target, fb, ib, tol, False)
+        return c.blank.copy()
     if nearest:
         if raw is not None:
             branch = np.array(raw.label[0][ib[3 * m]], dtype=object)
@@ -550,8 +548,6 @@ def _later_fields(made: tuple, which: str) -> Any:
              "within_limits": bb[m:], "reason": _REASON_TEXT[ib[:m]] if r else c.converged.copy()}
         if which == "all":
             f["q"], f["success"] = fb[:mn].reshape(m, c.n), bb[:m]
-        if axis:
-            f = {k: v[None] for k, v in f.items()}
     if which == "all":
         f["message"] = _later_fields(made, "message")
     return f
@@ -619,14 +615,14 @@ class _Messages:
     :func:`solve_all` gives its failed branches (and the family's notes), from the numbers the kernel left in
     its private part of the buffers. With ``nearest``, the first branch's sentence only."""
 
-    __slots__ = ("robot", "c", "raw", "target", "fb", "ib", "tol", "nearest", "batch_axis")
+    __slots__ = ("robot", "c", "raw", "target", "fb", "ib", "tol", "nearest")
 
     def __init__(self, robot: Robot, c: _Single, raw: Raw | None, target: Array, fb: Array, ib: NDArray[np.int64],
-                 tol: tuple[float, float] | None, nearest: bool, batch_axis: bool = False) -> None:
+                 tol: tuple[float, float] | None, nearest: bool) -> None:
         self.robot, self.c, self.raw, self.fb, self.ib = robot, c, raw, fb, ib
         self.target = target.copy()   # the caller may change its array before the message is read
         self.tol = c.default_tol if tol is None else tol
-        self.nearest, self.batch_axis = nearest, batch_axis
+        self.nearest = nearest
 
     def __call__(self) -> Any:
         raw = self.raw
@@ -647,7 +643,7 @@ class _Messages:
                               fb[at["hdp"]:at["hdp"] + count], fb[at["hdr"]:at["hdr"] + count], self.tol)
         if self.nearest:
             return str(message[0])
-        return message[None] if self.batch_axis else message
+        return message
 
     def _from_kernel(self) -> Any:
         """:meth:`__call__` for a family solved by the kernel: the sentences of :func:`_few_failure_messages`
@@ -678,7 +674,7 @@ class _Messages:
             return str(texts[0])
         message = c.blank.copy()
         message[:] = texts
-        return message[None] if self.batch_axis else message
+        return message
 
 
 def _result(values: tuple, later: Any = None) -> IKResult:
