@@ -508,10 +508,10 @@ def run_one(robot: Robot, c: "_Single", target: Array, q0: Array | None, ctx: Ar
             return IKResult._deferred(made, fb[:c.n], bb[0, ...])
         return IKResult._deferred(made, fb[:c.mn].reshape(c.m, c.n), bb[:c.m])
     made = (_later_fields, robot, c, raw, target, fb, ib, bb, r, tol, nearest)
-    f = _later_fields(made, "all")
-    if callable(f["message"]):   # the sentences of failed branches: made when first read
-        return IKResult._later(tuple(f[k] for k in _STACKED) + (None,), f["message"])
-    return IKResult._later(tuple(f[k] for k in _STACKED) + (f["message"],))
+    values = _later_fields(made, "all")
+    if callable(values[-1]):   # the sentences of failed branches: made when first read
+        return IKResult._later(values[:-1] + (None,), values[-1])
+    return _result_of(*values)
 
 
 def _later_fields(made: tuple, which: str) -> Any:
@@ -520,37 +520,41 @@ def _later_fields(made: tuple, which: str) -> Any:
     ``raw`` (the Python solve of a family without a kernel, or None), target, fb, ib, bb, status ``r``, tol,
     nearest). ``which``: "message" (its text, or where failed branches need sentences, the
     :class:`_Messages` that make them when read: :meth:`IKResult._later`); "rest" (a dict of the fields
-    but q, success and message: one read makes them all, cheaper than one by one); "all" (a dict of every
-    field). With ``nearest`` (:func:`armkit.ik`): the first of the sorted branches, as 0-d arrays."""
+    but q, success and message: one read makes them all, cheaper than one by one); "all" (a tuple of every
+    field, in their order, ``message`` as "message" gives it). With ``nearest`` (:func:`armkit.ik`): the first of the sorted branches,
+    as 0-d arrays."""
     _, robot, c, raw, target, fb, ib, bb, r, tol, nearest = made
     m, mn = c.m, c.mn
-    if which == "message":
+    message: Any = None
+    if which != "rest":
         if nearest:
             if r & NEAREST or ib.item(0) == 0:
-                return "" if raw is None else str(raw.note[0][ib[3 * m]])
-            return _Messages(robot, c, raw, target, fb, ib, tol, True)
-        if (r != 0 or any(raw.note[0])) if raw is not None else r != 0:
-            return _Messages(robot, c, raw, target, fb, ib, tol, False)
-        return c.blank.copy()
+                message = "" if raw is None else str(raw.note[0][ib[3 * m]])
+            else:
+                message = _Messages(robot, c, raw, target, fb, ib, tol, True)
+        elif (r != 0 or any(raw.note[0])) if raw is not None else r != 0:
+            message = _Messages(robot, c, raw, target, fb, ib, tol, False)
+        else:
+            message = c.blank.copy()
+        if which == "message":
+            return message
     if nearest:
         if raw is not None:
             branch = np.array(raw.label[0][ib[3 * m]], dtype=object)
         else:
             branch = c.labels0[r >> LABEL_SHIFT if r & NEAREST else ib.item(m)].copy()
-        f = {"position_error": fb[mn, ...], "rotation_error": fb[mn + m, ...], "iterations": ib[2 * m, ...],
-             "branch": branch, "within_limits": bb[m, ...],
-             "reason": _CONVERGED.copy() if r & NEAREST else _REASON_0D[ib.item(0)].copy()}
-        if which == "all":
-            f["q"], f["success"] = fb[:c.n], bb[0, ...]
+        dp, dr, it, within = fb[mn, ...], fb[mn + m, ...], ib[2 * m, ...], bb[m, ...]
+        reason = _CONVERGED.copy() if r & NEAREST else _REASON_0D[ib.item(0)].copy()
     else:
-        f = {"position_error": fb[mn:mn + m], "rotation_error": fb[mn + m:mn + 2 * m], "iterations": ib[2 * m:3 * m],
-             "branch": c.labels[ib[m:2 * m]] if raw is None else raw.label[0][ib[3 * m:4 * m]],
-             "within_limits": bb[m:], "reason": _REASON_TEXT[ib[:m]] if r else c.converged.copy()}
-        if which == "all":
-            f["q"], f["success"] = fb[:mn].reshape(m, c.n), bb[:m]
-    if which == "all":
-        f["message"] = _later_fields(made, "message")
-    return f
+        branch = c.labels[ib[m:2 * m]] if raw is None else raw.label[0][ib[3 * m:4 * m]]
+        dp, dr, it, within = fb[mn:mn + m], fb[mn + m:mn + 2 * m], ib[2 * m:3 * m], bb[m:]
+        reason = _REASON_TEXT[ib[:m]] if r else c.converged.copy()
+    if which == "rest":
+        return {"position_error": dp, "rotation_error": dr, "iterations": it, "branch": branch,
+                "within_limits": within, "reason": reason}
+    if nearest:
+        return fb[:c.n], bb[0, ...], dp, dr, it, branch, within, reason, message
+    return fb[:mn].reshape(m, c.n), bb[:m], dp, dr, it, branch, within, reason, message
 
 
 SMALL_BATCH = 16
