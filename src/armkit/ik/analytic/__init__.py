@@ -367,7 +367,7 @@ class _Single:
     kernel, its ``ctx`` vectors (one per options: :func:`._single.context`), the buffer sizes and the label table."""
 
     __slots__ = ("kernels", "kernel", "solver", "geometry", "joints", "F", "labels", "labels0", "blank", "m", "n",
-                 "mn", "at", "near_at", "fsize", "isize", "bsize", "q0", "scale", "window", "above", "sign",
+                 "mn", "at", "fsize", "isize", "bsize", "q0", "scale", "window", "above", "sign",
                  "default_tol", "ctx", "ctx_near", "ctxs", "converged", "shapes", "entry", "small")
 
     def __init__(self, robot: Robot, solver: ClosedForm, kernels) -> None:
@@ -391,7 +391,6 @@ class _Single:
         self.small = min(SMALL_BATCH, MANY - 1) if has_batch_form(solver) else SMALL_BATCH
         lay = kernels.layout(self.m, self.n)
         self.at = lay
-        self.near_at = (self.n, lay["dp"], lay["dr"], 2 * self.m)   # armkit.ik's answer: q, errors, iterations
         self.fsize, self.isize, self.bsize = lay["fb"], lay["ib"], lay["bb"]
         self.q0 = np.clip(np.zeros(robot.n), robot.lower, robot.upper)   # armkit.ik's start when none is given
         self.scale = robot.reach
@@ -521,8 +520,8 @@ def _later_fields(made: tuple, which: str) -> Any:
     nearest). ``which``: "message" (its text, or where failed branches need sentences, the
     :class:`_Messages` that make them when read: :meth:`IKResult._later`); "rest" (a dict of the fields
     but q, success and message: one read makes them all, cheaper than one by one); "all" (a tuple of every
-    field, in their order, ``message`` as "message" gives it). With ``nearest`` (:func:`armkit.ik`): the first of the sorted branches,
-    as 0-d arrays."""
+    field, in their order, ``message`` as "message" gives it). With ``nearest`` (:func:`armkit.ik`): the first
+    of the sorted branches, as 0-d arrays."""
     _, robot, c, raw, target, fb, ib, bb, r, tol, nearest = made
     m, mn = c.m, c.mn
     message: Any = None
