@@ -51,7 +51,7 @@ from .errors import ArgumentError, ArmkitError
 __all__ = ["set_backend", "get_backend", "jit_module", "serve", "load_jit", "backend_choice", "ready", "parallel_ok",
            "cache_dir", "fallback_cache_dir", "install_cache_fallback", "module", "kernels", "forget_stale_cache",
            "compiling_here", "serial_only", "marker", "lock_alive", "forget_other_builds", "say_compiling", "release_lock",
-           "compiled_entry"]
+           "compiled_entry", "say_when_compiling"]
 
 _PKG = Path(__file__).resolve().parent
 _SOURCES = ("kinematics/_jit.py", "ik/_jit_lm.py", "ik/_jit_verify.py", "ik/analytic/_jit.py", "ik/analytic/_layout.py",
@@ -380,6 +380,33 @@ def say_compiling(hint: bool = True) -> None:
          + ("; `armkit warmup` does it ahead of time)" if hint else ")"))
 
 
+_here = 0   # how many compiling_here blocks are open (armkit warmup, the warm-up process)
+
+
+def say_when_compiling() -> None:
+    """:func:`say_compiling` when this process first compiles one of armkit's kernels, not before: kernels compiled
+    here on first use (``ARMKIT_JIT=wait``, no warm-up marker) may all be in Numba's cache already, and then nothing
+    is compiled and nothing is said. Numba's event API tells (its ``numba:compile`` event fires only for a kernel
+    not found in the cache); where it is missing, :func:`say_compiling` at once, as before."""
+    try:
+        from numba.core import event
+    except ImportError:
+        say_compiling()
+        return
+
+    class _FirstCompile(event.Listener):  # type: ignore[misc, name-defined]
+        def on_start(self, ev: Any) -> None:
+            if "compiling" not in _told and not _here:   # (compiling_here: its caller says what it does)
+                fn = getattr(ev.data.get("dispatcher"), "py_func", None)
+                if (getattr(fn, "__module__", None) or "").startswith("armkit"):
+                    say_compiling()
+
+        def on_end(self, ev: Any) -> None:
+            pass
+
+    event.register("numba:compile", _FirstCompile())
+
+
 def _decide() -> str:
     global _parallel, _worker
     try:
@@ -400,7 +427,7 @@ def _decide() -> str:
         return "ready"
     if _mode == "wait" or ready_marker is None:
         _parallel = True
-        say_compiling()
+        say_when_compiling()
         return "sync"
     if _take_lock():
         try:
@@ -408,7 +435,7 @@ def _decide() -> str:
         except (OSError, ValueError, TypeError):  # no usable interpreter to start (embedded Python)
             release_lock()
             _parallel = True
-            say_compiling()
+            say_when_compiling()
             return "sync"
     _say(f"compiling armkit's kernels once in the background, about {COMPILE_SECONDS} s; the NumPy back end "
          "answers meanwhile (`armkit warmup` does this ahead of time)")
@@ -506,14 +533,16 @@ def compiling_here(parallel: bool, backend: Optional[str] = None) -> Iterator[No
     Afterwards the back end chosen before is restored and, where Numba's cache is on, the
     state is ``"ready"`` (the threaded kernels serve if the second marker exists).
     """
-    global _state, _parallel
+    global _state, _parallel, _here
     before = _backend
     _state, _parallel = "sync", parallel
+    _here += 1
     if backend is not None:
         set_backend(backend)  # type: ignore[arg-type]
     try:
         yield
     finally:
+        _here -= 1
         if backend is not None:
             set_backend(before)  # type: ignore[arg-type]
         first, second = marker("ready"), marker("parallel")

@@ -13,7 +13,7 @@ import os
 import time
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Optional
+from typing import Callable, Optional
 
 import numpy as np
 
@@ -215,7 +215,7 @@ def _run_serial_phase() -> None:
         _exercise_serial()
 
 
-def warmup(*, parallel: bool = True) -> Warmup:
+def warmup(*, parallel: bool = True, say: Optional[Callable[[], None]] = None) -> Warmup:
     """Compile (or load from the cache) every Numba kernel armkit uses, now, in this process.
 
     For images and CI: run it (or ``armkit warmup``) once after installing, and later
@@ -226,6 +226,9 @@ def warmup(*, parallel: bool = True) -> Warmup:
     ----------
     parallel : bool
         Also the multi-threaded kernels of big batches (about half of the time).
+    say : callable, optional
+        Called (no arguments) when the compiling starts, to tell the user in their language (``armkit warmup``
+        does); None: the English note on stderr ("compiling armkit's kernels once, about 45 s in all").
 
     Returns
     -------
@@ -243,7 +246,10 @@ def warmup(*, parallel: bool = True) -> Warmup:
             time.sleep(0.2)
     compiled = not done()
     if compiled:
-        _jit_loader.say_compiling(hint=False)
+        if say is None:
+            _jit_loader.say_compiling(hint=False)
+        else:
+            say()
     with _jit_loader.compiling_here(parallel=True, backend="numba"):
         if compiled:
             if first is None or not first.exists():

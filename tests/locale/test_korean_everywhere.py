@@ -225,6 +225,27 @@ def test_every_command_speaks_korean(case, args, stdin, code, tmp_path, figure_t
     assert english_words("\n".join(figure_texts)) == [], figure_texts
 
 
+def test_warmup_says_it_is_compiling_in_korean(monkeypatch):
+    """`armkit warmup` that has kernels to compile says so in the user's language (the library's own stderr note
+    is English), and with --json says nothing besides the JSON."""
+    import importlib
+    import json
+
+    w = importlib.import_module("armkit.warmup")   # the module (armkit.warmup is also the function)
+
+    def fake(*, parallel, say):   # a warm-up that has to compile: it calls `say` first
+        say()
+        return w.Warmup(seconds=1.5, cache=None, compiled=True)
+
+    monkeypatch.setattr(w, "warmup", fake)
+    res = runner.invoke(app, ["warmup", "--lang", "ko"], env=ENV)
+    out = (res.stdout or "") + (res.stderr or "")
+    assert res.exit_code == 0, out
+    assert "컴파일합니다" in out and english_words(out) == [], out
+    res = runner.invoke(app, ["warmup", "--json", "--lang", "ko"], env=ENV)
+    assert res.exit_code == 0 and json.loads(res.stdout)["compiled"] is True and not res.stderr, res.output
+
+
 def test_a_bad_robot_file_is_reported_in_korean(tmp_path):
     bad = tmp_path / "arm.toml"
     bad.write_text("x = 1\n", encoding="utf-8")

@@ -84,7 +84,7 @@ def test_background_mode_answers_with_numpy_then_switches_at_an_fk_call(tmp_path
     assert res.stderr.count("armkit: compiling armkit's kernels once in the background") == 1
 
 
-def test_wait_mode_compiles_on_first_use_and_says_so_once(tmp_path):
+def test_wait_mode_compiles_on_first_use_and_says_so_once_and_only_then(tmp_path):
     code = """
         import armkit
         arm = armkit.load("fighter")
@@ -96,6 +96,10 @@ def test_wait_mode_compiles_on_first_use_and_says_so_once(tmp_path):
     assert res.returncode == 0, res.stderr
     assert res.stdout.split() == ["numba"]
     assert res.stderr.count("armkit: compiling armkit's kernels once, about") == 1
+    again = _run(code, {"NUMBA_CACHE_DIR": str(tmp_path / "cache"), "ARMKIT_JIT": "wait"})   # all in the cache now
+    assert again.returncode == 0, again.stderr
+    assert again.stdout.split() == ["numba"]
+    assert "compiling" not in again.stderr   # nothing compiled, nothing said (it said "about 45 s" before)
 
 
 def _unwritable(path: Path) -> None:

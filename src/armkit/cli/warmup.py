@@ -16,10 +16,14 @@ def warmup(parallel: bool = typer.Option(True, "--parallel/--no-parallel",
 
     Example: armkit warmup
     """
+    from .._jit_loader import COMPILE_SECONDS
     from ..warmup import warmup as run
 
+    def say() -> None:   # in the user's language (the library's own note is English)
+        console.print(_("compiling armkit's kernels once, about {seconds} s in all", seconds=COMPILE_SECONDS))
+
     try:
-        done = run(parallel=parallel)
+        done = run(parallel=parallel, say=(lambda: None) if json_out else say)   # --json: stdout JSON, stderr quiet
     except ImportError as exc:
         console.print(_("cannot compile armkit's kernels: {reason} (the NumPy back end works without them)",
                         reason=esc(exc)))
