@@ -500,17 +500,25 @@ def run_one(robot: Robot, c: "_Single", target: Array, q0: Array | None, ctx: Ar
         r = kernels.post(raw.q[0], raw.unreachable[0], missing, t, q0, ctx, fb, ib, bb)
     if r & 3:
         return None
+    if nearest:   # q and success, which nearly every caller reads: made now, the other fields by _later_fields
+        q, ok = fb[:c.n], bb[0, ...]
+    else:
+        q, ok = fb[:c.mn].reshape(c.m, c.n), bb[:c.m]
     if deferred:
-        kept = target if ((r & NEAREST) if nearest else (r == 0 and raw is None)) else target.copy()
-        made = (_later_fields, robot, c, raw, kept, fb, ib, bb, r, tol, nearest)
-        if nearest:       # q and success, which nearly every caller reads, made now (as _later_fields makes them)
-            return IKResult._deferred(made, fb[:c.n], bb[0, ...])
-        return IKResult._deferred(made, fb[:c.mn].reshape(c.m, c.n), bb[:c.m])
-    made = (_later_fields, robot, c, raw, target, fb, ib, bb, r, tol, nearest)
-    values = _later_fields(made, "all")
-    if callable(values[-1]):   # the sentences of failed branches: made when first read
-        return IKResult._later(values[:-1] + (None,), values[-1])
-    return _result_of(*values)
+        kept = target.copy() if _sentences(r, raw, ib, nearest) else target   # what the sentences will read
+        return IKResult._deferred((_later_fields, robot, c, raw, kept, fb, ib, bb, r, tol, nearest), q, ok)
+    rest = _later_fields((_later_fields, robot, c, raw, target, fb, ib, bb, r, tol, nearest), "all")
+    if callable(rest[-1]):   # the sentences of failed branches: made when first read
+        return IKResult._later((q, ok) + rest[:-1] + (None,), rest[-1])
+    return _result_of(q, ok, *rest)
+
+
+def _sentences(r: int, raw: Raw | None, ib: NDArray[np.int64], nearest: bool) -> bool:
+    """Whether the result of :func:`run_one` (status ``r``) needs sentences made by :class:`_Messages` (a failed
+    branch, or a note of the family solved in Python) rather than empty texts."""
+    if nearest:
+        return not (r & NEAREST or ib.item(0) == 0)
+    return r != 0 or (raw is not None and any(raw.note[0]))
 
 
 def _later_fields(made: tuple, which: str) -> Any:
@@ -519,20 +527,17 @@ def _later_fields(made: tuple, which: str) -> Any:
     ``raw`` (the Python solve of a family without a kernel, or None), target, fb, ib, bb, status ``r``, tol,
     nearest). ``which``: "message" (its text, or where failed branches need sentences, the
     :class:`_Messages` that make them when read: :meth:`IKResult._later`); "rest" (a dict of the fields
-    but q, success and message: one read makes them all, cheaper than one by one); "all" (a tuple of every
-    field, in their order, ``message`` as "message" gives it). With ``nearest`` (:func:`armkit.ik`): the first
-    of the sorted branches, as 0-d arrays."""
+    but q, success and message: one read makes them all, cheaper than one by one); "all" (a tuple of those
+    fields and then ``message``, in their order; :func:`run_one` makes q and success). With ``nearest``
+    (:func:`armkit.ik`): the first of the sorted branches, as 0-d arrays."""
     _, robot, c, raw, target, fb, ib, bb, r, tol, nearest = made
     m, mn = c.m, c.mn
     message: Any = None
     if which != "rest":
-        if nearest:
-            if r & NEAREST or ib.item(0) == 0:
-                message = "" if raw is None else str(raw.note[0][ib[3 * m]])
-            else:
-                message = _Messages(robot, c, raw, target, fb, ib, tol, True)
-        elif (r != 0 or any(raw.note[0])) if raw is not None else r != 0:
-            message = _Messages(robot, c, raw, target, fb, ib, tol, False)
+        if _sentences(r, raw, ib, nearest):
+            message = _Messages(robot, c, raw, target, fb, ib, tol, nearest)
+        elif nearest:
+            message = "" if raw is None else str(raw.note[0][ib[3 * m]])
         else:
             message = c.blank.copy()
         if which == "message":
@@ -551,9 +556,7 @@ def _later_fields(made: tuple, which: str) -> Any:
     if which == "rest":
         return {"position_error": dp, "rotation_error": dr, "iterations": it, "branch": branch,
                 "within_limits": within, "reason": reason}
-    if nearest:
-        return fb[:c.n], bb[0, ...], dp, dr, it, branch, within, reason, message
-    return fb[:mn].reshape(m, c.n), bb[:m], dp, dr, it, branch, within, reason, message
+    return dp, dr, it, branch, within, reason, message
 
 
 SMALL_BATCH = 16
