@@ -185,12 +185,17 @@ def _finish(rawq, unreach, missing, lab, ctx, q0, T, pose, lat, rho, r, per, fb,
     m, n = rawq.shape
     _, _, joints, F, opts = _parts(ctx)
     # one work vector for the floats (one for the ints, one for the flags) instead of a dozen small arrays: lo, hi
-    # (n), dist, dp, dr, key (m); each call has its own (a record is shared by threads)
-    w = np.empty(2 * n + 4 * m)
+    # (n), dist, dp, dr, key (m), the wrapped branches q (m, n); one pose Tq and every branch's Tm (m, 4, 4) as the
+    # rows of one array (each array made and freed costs ~40 ns); each call has its own (a record is shared by
+    # threads)
+    at = 2 * n + 4 * m
+    w = np.empty(at + m * n)
     lo, hi = w[:n], w[n:2 * n]
     dist, dp, dr = w[2 * n:2 * n + m], w[2 * n + m:2 * n + 2 * m], w[2 * n + 2 * m:2 * n + 3 * m]
-    k_of = w[2 * n + 3 * m:]
-    q, Tq = np.empty((m, n)), np.empty((4, 4))
+    k_of = w[2 * n + 3 * m:at]
+    q = w[at:].reshape((m, n))
+    T4 = np.empty((m + 1, 4, 4))
+    Tq, Tm = T4[0], T4[1:]
     for j in range(n):
         lo[j] = joints[JOINT_LOWER, j] - 1e-12
         hi[j] = joints[JOINT_UPPER, j] + 1e-12
@@ -219,7 +224,6 @@ def _finish(rawq, unreach, missing, lab, ctx, q0, T, pose, lat, rho, r, per, fb,
             return s
         # none succeeds: every branch was checked on the way, its errors are in dp, dr, within
     else:
-        Tm = np.empty((m, 4, 4))
         _fk_serial(F, q, Tm)   # every branch at once (the sines and cosines of all of them in one vector loop)
         for b in range(m):    # solve_all: verify and the polish test
             e_p, e_r, w_b = _check(Tm[b], T, pose, q[b], joints[JOINT_LOWER], joints[JOINT_UPPER], 1e-12)

@@ -120,15 +120,34 @@ def _geometric(t, q0, ctx, fb, ib, bb):
     n = 6
     which, kind, inverted, exact = int(g[WHICH]), int(g[KIND]), g[INV] != 0.0, g[EXACT] != 0.0
     tol_p, tol_r, N, m = g[TOL_P], g[TOL_R], int(g[NS]), int(g[M])
-    Hi = g[HI:PI].copy().reshape((6, 3))
-    Pi = g[PI:RNT].copy().reshape((7, 3))
-    RnT = g[RNT:PRISM].copy().reshape((3, 3))
-    Ht = g[HT:PT].copy().reshape((6, 3))
-    Pt = g[PT:SIZE].copy().reshape((7, 3))
-    prism = np.empty(n, np.bool_)
+    # five work arrays instead of 20 small ones (each made and freed costs ~40 ns; rows of 2-D arrays, not
+    # reshaped slices of one vector, whose reshape is a call of its own): the chains' writable copies (the solver
+    # kernels are compiled for those) and the target's R, p; qref and the empty reach radii of _finish (one
+    # zero); the solver's candidates Q (zero) and the branches rawq; the flags prism, LS, SG (false) and
+    # unreach; the ints ST (zero) and lab
+    v3 = np.empty((6 + 7 + 3 + 6 + 7 + 3 + 1, 3))
+    Hi, Pi, RnT, Ht, Pt, R, p = v3[0:6], v3[6:13], v3[13:16], v3[16:22], v3[22:29], v3[29:32], v3[32]
+    for i in range(6):
+        for j in range(3):
+            Hi[i, j] = g[HI + 3 * i + j]
+            Ht[i, j] = g[HT + 3 * i + j]
+    for i in range(7):
+        for j in range(3):
+            Pi[i, j] = g[PI + 3 * i + j]
+            Pt[i, j] = g[PT + 3 * i + j]
+    for i in range(3):
+        for j in range(3):
+            RnT[i, j] = g[RNT + 3 * i + j]
+    qb = np.zeros(n + 1)
+    qref, none = qb[:n], qb[n:]
+    qq = np.zeros((MAXSOL + m, n))
+    Q, rawq = qq[:MAXSOL], qq[MAXSOL:]
+    wb = np.zeros(n + 2 * MAXSOL + m, np.bool_)
+    prism, LS, SG, unreach = wb[:n], wb[n:n + MAXSOL], wb[n + MAXSOL:n + 2 * MAXSOL], wb[n + 2 * MAXSOL:]
     for k in range(n):
         prism[k] = g[PRISM + k] != 0.0
-    R, p, qref = np.empty((3, 3)), np.empty(3), np.empty(n)
+    wi = np.zeros(MAXSOL + m, np.int64)
+    ST, lab = wi[:MAXSOL], wi[MAXSOL:]
     if inverted:   # the reversed chain, for the inverse target (Geometric.solve's einsum, term by term)
         for i in range(3):
             for j in range(3):
@@ -144,10 +163,6 @@ def _geometric(t, q0, ctx, fb, ib, bb):
             p[i] = T[i, 3]
         for k in range(n):
             qref[k] = q0[k] + joints[THETA, k]
-    Q = np.zeros((MAXSOL, n))
-    LS = np.zeros(MAXSOL, np.bool_)
-    SG = np.zeros(MAXSOL, np.bool_)
-    ST = np.zeros(MAXSOL, np.int64)
     if which == 0:
         ng, nf = _solve_spherical(kind, Hi, Pi, RnT, prism, Ht, Pt, R, p, qref, N, tol_p, tol_r, Q, LS, SG, ST)  # noqa
     else:
@@ -161,8 +176,6 @@ def _geometric(t, q0, ctx, fb, ib, bb):
                 return FALLBACK
     count = ng if ng > 0 else nf
     k = min(count, m)
-    rawq = np.empty((m, n))
-    unreach = np.empty(m, np.bool_)
     for b in range(k):
         if ng > 0 and SG[b]:
             return FALLBACK   # a singular wrist: the branch has a note
@@ -173,11 +186,10 @@ def _geometric(t, q0, ctx, fb, ib, bb):
         for j in range(n):
             rawq[b, j] = rawq[0, j] if k > 0 else q0[j] + joints[THETA, j]
         unreach[b] = True
-    lab = np.empty(m, np.int64)
     for b in range(m):
         lab[b] = b
     found = float(k) if ng > 0 else 0.0
-    return _finish(rawq, unreach, unreach, lab, ctx, q0, T, _YES, _NO, found, np.zeros(1), m + 1,  # noqa: F821
+    return _finish(rawq, unreach, unreach, lab, ctx, q0, T, _YES, _NO, found, none, m + 1,  # noqa: F821
                    fb, ib, bb)
 
 

@@ -101,6 +101,8 @@ def _core_spherical_middle(kind, H, P, RnT, prism, R, p, qref, N, Q, LS, SG):
     roots = np.zeros((MAXROOT, 4))
     nr = _search(SM, H, P, C, N, roots)
     W = np.zeros((2, 3))
+    S = np.empty((5, 3))          # the wrist's work space (_wrist)
+    M = np.empty((3, 3, 3))
     m = 0
     for r in range(nr):
         x = roots[r, 0]
@@ -110,7 +112,7 @@ def _core_spherical_middle(kind, H, P, RnT, prism, R, p, qref, N, Q, LS, SG):
         d = u - rot(H[0], q0, P[1])
         phi, l4 = sp1(P[4], _mtv(R05, d), H[4])          # rot(h5, −q5) P5 = R_05ᵀ d
         R14 = _mtm(rotm(H[0], q0), _mm(R05, rotm(H[4], phi)))
-        mw, lsw, sing = _wrist(H[1], H[2], H[3], R14, qref[1], W)
+        mw, lsw, sing = _wrist(H[1], H[2], H[3], R14, qref[1], W, S, M)
         for j in range(mw):
             if m >= Q.shape[0]:
                 break

@@ -211,11 +211,11 @@ def _sp2s(a0, a1, a2, b0, b1, b2, k0, k1, k2, l0, l1, l2):
 
 
 # ------------------------------------------------------------------------------------ the wrist
-def _wrist(h3, h4, h5, R36, q3ref, W):
+def _wrist(h3, h4, h5, R36, q3ref, W, S, M):
     """q4, q5, q6 (0-based 3, 4, 5) with ``rot(h4, q4) rot(h5, q5) rot(h6, q6) = R36``, into ``W (2, 3)``:
-    ``(count, ls, singular)``. Its vectors and matrices live in two buffers made once per call."""
-    S = np.empty((5, 3))
-    M = np.empty((3, 3, 3))
+    ``(count, ls, singular)``. Its vectors and matrices live in the caller's work space ``S (5, 3)`` and
+    ``M (3, 3, 3)``, made once for all its calls (two arrays made and freed per call cost the Kinova's
+    ``armkit.ik`` 0.3 µs)."""
     v = S[0]
     x = S[1]
     y = S[2]
@@ -380,9 +380,20 @@ def _pos_search(H, P, p0W, N, Qp, LSp):
 def _core_spherical(kind, H, P, RnT, prism, R, p, qref, N, Q, LS, SG):
     """Spherical wrist at the end (P[4] = P[5] = 0): candidates into Q, LS, SG; returns their count.
     ``kind``: 0 axes 1, 2 meet; 1 axes 2 ∥ 3; 2 general (SP5)."""
-    R06 = _mm(R, RnT.T.copy())
-    p0W = p - P[0] - _mv(R06, P[6])
-    Qp = np.zeros((8, 3))
+    # two work arrays for the small vectors and matrices of the call (each array made and freed costs ~40 ns;
+    # the core made 13 and the wrist 2 per position; rows of a 2-D or 3-D array, not reshaped slices of one
+    # vector, whose reshape is a call of its own): the position solutions Qp (8, 3), the wrist's W (2, 3) and
+    # its work S (5, 3), p_0W (3); the wrist's work M (3, 3, 3), B (5, 3, 3): the rotations of joints 1-3, their
+    # products, R_36; R_06 (3, 3)
+    v3 = np.zeros((16, 3))
+    Qp, W, S, p0W = v3[0:8], v3[8:10], v3[10:15], v3[15]
+    m3 = np.zeros((9, 3, 3))
+    M, B, R06 = m3[0:3], m3[3:8], m3[8]
+    for i in range(3):   # R_06 = R RnTᵀ and p_0W = p - P_0 - R_06 P_6, term by term as _mm and _mv
+        for j in range(3):
+            R06[i, j] = R[i, 0] * RnT[j, 0] + R[i, 1] * RnT[j, 1] + R[i, 2] * RnT[j, 2]
+    for i in range(3):
+        p0W[i] = p[i] - P[0, i] - (R06[i, 0] * P[6, 0] + R06[i, 1] * P[6, 1] + R06[i, 2] * P[6, 2])
     LSp = np.zeros(8, dtype=np.bool_)
     if kind == 0:
         mp = _pos_two_intersecting(H, P, prism[2], p0W, Qp, LSp)
@@ -390,8 +401,6 @@ def _core_spherical(kind, H, P, RnT, prism, R, p, qref, N, Q, LS, SG):
         mp = _pos_two_parallel(H, P, p0W, Qp, LSp)
     else:
         mp = _pos_general(H, P, p0W, N, Qp, LSp)
-    W = np.zeros((2, 3))
-    B = np.empty((5, 3, 3))      # the rotations of joints 1-3, their products, R_36
     m = 0
     for i in range(mp):
         _rotm_to(H[0], Qp[i, 0], B[0])
@@ -403,7 +412,7 @@ def _core_spherical(kind, H, P, RnT, prism, R, p, qref, N, Q, LS, SG):
             _mm_to(B[2], B[3], B[4])
             R03 = B[4]
         _mtm_to(R03, R06, B[0])
-        mw, lsw, sing = _wrist(H[3], H[4], H[5], B[0], qref[3], W)
+        mw, lsw, sing = _wrist(H[3], H[4], H[5], B[0], qref[3], W, S, M)
         for j in range(mw):
             if m >= Q.shape[0]:
                 break
