@@ -320,7 +320,7 @@ class Geometric3R:
             return _second_two_meet(self.H, self.P, p0W, Q, LS)
         if self.case == "1, 2 meet":
             meet12 = K._pos_two_intersecting if K is not None else solvers._pos_two_intersecting
-            return int(meet12(self.H, self.P, False, p0W, Q, LS))
+            return int(meet12(self.H, self.P, False, p0W, Q, LS, np.empty((3, 3))))   # its work rows
         position = K._pos_general if K is not None else solvers._pos_general    # SP5, or SP4-SP3-SP1 (2 ∥ 3)
         return int(position(self.H, self.P, p0W, solvers.SEARCH_N, Q, LS))
 

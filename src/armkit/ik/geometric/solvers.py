@@ -89,7 +89,7 @@ from .solvers_search import (_core_spherical_middle, _core_two_intersecting_end,
                              _target_rows)
 from .solvers_wrist import (SING, _core_spherical, _mm, _mm_to, _mtm, _mtm_to, _mtv, _mtv_to, _mv,  # noqa: F401
                             _mv_to, _perp, _perp_to, _pos_general, _pos_search, _pos_two_intersecting,
-                            _pos_two_parallel, _rotm_to, _SP_TINY, _SP_TOL, _sp1s, _sp2s, _wrist)
+                            _pos_two_parallel, _rot_to, _rotm_to, _SP_TINY, _SP_TOL, _sp1s, _sp2s, _wrist)
 from .subproblems import _cross, _dot, _norm, _wrap, rot, rotm, sp1, sp2, sp3, sp4, sp5, sp6  # noqa: F401
 
 __all__ = ["Solutions", "solve_batch", "align", "reverse", "polish", "spherical_two_intersecting", "spherical_two_parallel",
@@ -115,8 +115,8 @@ class Solutions(NamedTuple):
 
 
 # ---------------------------------------------------------------------------------- wrappers
-KERNELS = ("_mv", "_mtv", "_mm", "_mtm", "_perp", "_rotm_to", "_mm_to", "_mtm_to", "_mv_to", "_mtv_to", "_perp_to",
-           "_sp1s", "_sp2s", "_wrist", "_pos_two_intersecting", "_pos_two_parallel",
+KERNELS = ("_mv", "_mtv", "_mm", "_mtm", "_perp", "_rotm_to", "_rot_to", "_mm_to", "_mtm_to", "_mv_to", "_mtv_to",
+           "_perp_to", "_sp1s", "_sp2s", "_wrist", "_pos_two_intersecting", "_pos_two_parallel",
            "_pos_search", "_pos_general", "_core_spherical", "_core_three_parallel", "_close", "_repeats",
            "_put_passing", "_merged", "_newton_from", "_copy_row", "_promote", "_sharpen", "_check", "_solve_spherical",
            "_solve_three_parallel", "_target_rows", "_core_two_intersecting_end", "_core_two_parallel",

@@ -85,6 +85,16 @@ def _rotm_to(k, theta, R):
     R[2, 2] = c + k[2] * k[2] * v
 
 
+def _rot_to(k, theta, p, out):
+    """:func:`.subproblems.rot` into ``out`` (3,)."""
+    c = math.cos(theta)
+    s = math.sin(theta)
+    kp = (k[0] * p[0] + k[1] * p[1] + k[2] * p[2]) * (1.0 - c)
+    out[0] = p[0] * c + (k[1] * p[2] - k[2] * p[1]) * s + k[0] * kp
+    out[1] = p[1] * c + (k[2] * p[0] - k[0] * p[2]) * s + k[1] * kp
+    out[2] = p[2] * c + (k[0] * p[1] - k[1] * p[0]) * s + k[2] * kp
+
+
 def _mm_to(A, B, C):
     """:func:`_mm` into ``C`` (not ``A`` or ``B``)."""
     for i in range(3):
@@ -256,15 +266,16 @@ def _wrist(h3, h4, h5, R36, q3ref, W, S, M):
 
 
 # ------------------------------------------------------------------ spherical wrist: position
-def _pos_two_intersecting(H, P, prism2, p0W, Qp, LSp):
+def _pos_two_intersecting(H, P, prism2, p0W, Qp, LSp, V):
     """Axes 1, 2 meet (P[1] = 0): ``p0W = rot(h1, q1) rot(h2, q2) (P2 + rot(h3, q3) P3)``
-    (joint 3 prismatic: ``P2 + q3 h3 + P3``)."""
+    (joint 3 prismatic: ``P2 + q3 h3 + P3``). ``V (3, 3)``: work rows (-P2, rot(h3, q3) P3, the point ``w``)."""
     h0 = H[0]
     h1 = H[1]
     h2 = H[2]
     d = _norm(p0W)
-    t2 = np.zeros(2)
+    mP2, r3, w = V[0], V[1], V[2]
     if prism2:
+        t2 = np.zeros(2)
         a = P[2] + P[3]
         b = _dot(h2, a)
         c = _dot(a, a) - d * d
@@ -280,13 +291,18 @@ def _pos_two_intersecting(H, P, prism2, p0W, Qp, LSp):
             n2 = 1
         ls2 = disc < -1e-12 * scale
     else:
-        t2, n2, ls2 = sp3(P[3], -P[2], h2, d)
+        for i in range(3):
+            mP2[i] = -P[2, i]
+        t2, n2, ls2 = sp3(P[3], mP2, h2, d)
     m = 0
     for j in range(n2):
         if prism2:
-            w = P[2] + t2[j] * h2 + P[3]
+            for i in range(3):
+                w[i] = P[2, i] + t2[j] * h2[i] + P[3, i]
         else:
-            w = P[2] + rot(h2, t2[j], P[3])
+            _rot_to(h2, t2[j], P[3], r3)
+            for i in range(3):
+                w[i] = P[2, i] + r3[i]
         a0, a1, b0, b1, n, ls = _sp2s(p0W[0], p0W[1], p0W[2], w[0], w[1], w[2], -h0[0], -h0[1], -h0[2],
                                       h1[0], h1[1], h1[2])
         for i in range(n):
@@ -384,9 +400,9 @@ def _core_spherical(kind, H, P, RnT, prism, R, p, qref, N, Q, LS, SG):
     # the core made 13 and the wrist 2 per position; rows of a 2-D or 3-D array, not reshaped slices of one
     # vector, whose reshape is a call of its own): the position solutions Qp (8, 3), the wrist's W (2, 3) and
     # its work S (5, 3), p_0W (3); the wrist's work M (3, 3, 3), B (5, 3, 3): the rotations of joints 1-3, their
-    # products, R_36; R_06 (3, 3)
-    v3 = np.zeros((16, 3))
-    Qp, W, S, p0W = v3[0:8], v3[8:10], v3[10:15], v3[15]
+    # products, R_36; R_06 (3, 3); the 3R position's work rows V (3, 3)
+    v3 = np.zeros((19, 3))
+    Qp, W, S, p0W, V = v3[0:8], v3[8:10], v3[10:15], v3[15], v3[16:19]
     m3 = np.zeros((9, 3, 3))
     M, B, R06 = m3[0:3], m3[3:8], m3[8]
     for i in range(3):   # R_06 = R RnTᵀ and p_0W = p - P_0 - R_06 P_6, term by term as _mm and _mv
@@ -396,7 +412,7 @@ def _core_spherical(kind, H, P, RnT, prism, R, p, qref, N, Q, LS, SG):
         p0W[i] = p[i] - P[0, i] - (R06[i, 0] * P[6, 0] + R06[i, 1] * P[6, 1] + R06[i, 2] * P[6, 2])
     LSp = np.zeros(8, dtype=np.bool_)
     if kind == 0:
-        mp = _pos_two_intersecting(H, P, prism[2], p0W, Qp, LSp)
+        mp = _pos_two_intersecting(H, P, prism[2], p0W, Qp, LSp, V)
     elif kind == 1:
         mp = _pos_two_parallel(H, P, p0W, Qp, LSp)
     else:
