@@ -38,3 +38,42 @@ def test_a_quick_arm_is_fully_simplified_with_no_note():
     assert "note" not in d.meta
     assert str(d.T[0, 3]) == "a1*cos(q1) + a2*cos(q1 + q2)"
     assert math.isclose(float(d.values[next(s for s in d.values if s.name == "a1")]), 1.0)
+
+
+def test_a_swallowed_timer_signal_does_not_lift_the_budget():
+    """A signal that lands in a garbage collector's callback has its exception swallowed there; the timer signals
+    again, so the work still stops near its budget instead of running to its end."""
+    from armkit.symbolic.derive import _timed, _Timeout
+
+    swallowed = []
+
+    def work() -> str:
+        t0 = time.process_time()
+        while time.process_time() - t0 < 10.0:      # 10 CPU-s of work, under a budget of 0.2 s
+            try:
+                sum(range(1000))
+            except _Timeout:                        # what the garbage collector's callback does with the first
+                if swallowed:
+                    raise
+                swallowed.append(time.process_time() - t0)
+        return "ran to its end"
+
+    t0 = time.process_time()
+    done, value = _timed(work, 0.2)
+    spent = time.process_time() - t0
+    assert (done, value) == (False, None)
+    assert len(swallowed) == 1 and 0.15 < swallowed[0] < 1.0, swallowed
+    assert spent < 2.0, spent
+
+
+def test_within_cpu_budget_leaves_no_timer_behind():
+    """After the budgeted work (finished or stopped), no profiling timer runs and the old handler is back."""
+    import signal
+
+    from armkit.symbolic.derive import within_cpu_budget
+
+    before = signal.getsignal(signal.SIGPROF)
+    assert within_cpu_budget(lambda: 6 * 7, 5.0) == 42
+    assert within_cpu_budget(lambda: [time.process_time() for _ in iter(int, 1)], 0.1) is None   # runs until stopped
+    assert signal.getitimer(signal.ITIMER_PROF) == (0.0, 0.0)
+    assert signal.getsignal(signal.SIGPROF) is before

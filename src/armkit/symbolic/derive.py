@@ -308,10 +308,20 @@ class _Simplifier:
         return found
 
 
+REPEAT = 0.05
+"""Seconds of CPU time between the profiling timer's later signals, once the budget is spent (see :func:`_timed`)."""
+
+
 def _timed(work: Callable[[], _R], seconds: float | None) -> tuple[bool, _R | None]:
     """``(True, work())``, or ``(False, None)`` when ``seconds`` of this process's CPU time run out first (none
     left: not started). Interrupted with ``SIGPROF`` (a profiling timer, which counts the same CPU time) where that
-    is available (the main thread of a Unix process); elsewhere ``work`` runs to its end."""
+    is available (the main thread of a Unix process); elsewhere ``work`` runs to its end.
+
+    The timer goes on signalling every :data:`REPEAT` seconds once the budget is spent: a signal that arrives while
+    Python runs a garbage collector's callback or a ``__del__`` has its exception printed and swallowed there (seen
+    once under load: the derivation then ran on to its end, past its budget), and the next one stops the work.
+    The handler raises only while the work runs (``armed``): the timer is stopped as the first step of leaving it,
+    and a signal still pending then does nothing."""
     if seconds is None:
         return True, work()
     if seconds <= 0:
@@ -321,18 +331,23 @@ def _timed(work: Callable[[], _R], seconds: float | None) -> tuple[bool, _R | No
 
     if not hasattr(signal, "setitimer") or threading.current_thread() is not threading.main_thread():
         return True, work()
+    armed = [True]
 
     def _alarm(signum: int, frame: Any) -> None:
-        raise _Timeout
+        if armed[0]:
+            raise _Timeout
 
     old = signal.signal(signal.SIGPROF, _alarm)
-    signal.setitimer(signal.ITIMER_PROF, seconds)
     try:
-        return True, work()
+        try:
+            signal.setitimer(signal.ITIMER_PROF, seconds, REPEAT)
+            return True, work()
+        finally:           # a signal here (before the timer stops) raises once more: the outer except takes it
+            armed[0] = False
+            signal.setitimer(signal.ITIMER_PROF, 0)
     except _Timeout:
         return False, None
     finally:
-        signal.setitimer(signal.ITIMER_PROF, 0)
         signal.signal(signal.SIGPROF, old)
 
 
