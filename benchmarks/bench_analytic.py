@@ -255,21 +255,21 @@ def single_calls(targets: int, repeat: int) -> None:
 
 def small_batches(repeat: int) -> None:
     """A few targets in one call (``armkit.ik_all`` / ``armkit.ik`` of ``(B, 4, 4)``): up to
-    ``armkit.ik.analytic.SMALL_BATCH`` they take the one-call path target by target, above it the batched path;
-    both columns of each size are timed (``api.ONE_CALL`` off: the batched path for every size), µs per call,
-    CPU time of the thread, and EAIK's batched call of the same poses where EAIK is installed."""
+    ``armkit.ik.analytic.ROWS`` (``ik_all``, ``ik``) they take the one-call path target by target, above it the
+    batched path; both columns of each size are timed (``api.ONE_CALL`` off: the batched path for every size), µs
+    per call, CPU time of the thread, and EAIK's batched call of the same poses where EAIK is installed."""
     import importlib
 
-    from armkit.ik.analytic import SMALL_BATCH
+    from armkit.ik.analytic import ROWS
 
     api = importlib.import_module("armkit.ik.api")
     try:
         import eaik  # noqa: F401
     except ImportError:
         eaik = None
-    sizes = (1, 2, 8, SMALL_BATCH, SMALL_BATCH + 1)
-    print(f"\nsmall batches: µs per call of B targets (one call answers up to B = {SMALL_BATCH}), best of {repeat}; "
-          "CPU time of the thread\n")
+    sizes = (1, 2, 8, 16, ROWS[0], ROWS[0] + 1, ROWS[1], ROWS[1] + 1)
+    print(f"\nsmall batches: µs per call of B targets (target by target up to B = {ROWS[0]} for ik_all and {ROWS[1]} "
+          f"for ik), best of {repeat}; CPU time of the thread\n")
     print("| arm | B | ik_all | ik_all batched path | ik | ik batched path | EAIK IK_batched (1 thread) |")
     print("|---|---|---|---|---|---|---|")
     for label in ("ur5", "puma560", "ur5, axis 1 reversed"):
@@ -394,7 +394,7 @@ def main() -> None:
     ap.add_argument("--scara-only", action="store_true",
                     help="only the SCARA's batches (cobra600), its whole-batch form against the loop (no EAIK needed)")
     ap.add_argument("--small-only", action="store_true",
-                    help="only the small batches (2-25 targets in one call), both paths, and EAIK's where installed")
+                    help="only the small batches (1-129 targets in one call), both paths, and EAIK's where installed")
     ap.add_argument("--random-only", action="store_true",
                     help="only the random arms of each closed-form class, one target per call (EAIK where installed)")
     ap.add_argument("--random-arms", type=int, default=10)

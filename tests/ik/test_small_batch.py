@@ -2,7 +2,7 @@
 as the batched path.
 
 ``armkit.ik(robot, T)`` and ``armkit.ik_all(robot, T)`` with ``T`` of shape ``(B, 4, 4)`` or ``(B, 3)`` (or any
-leading shape of at most :data:`armkit.ik.analytic.SMALL_BATCH` targets), default options, answer by one
+leading shape of at most :data:`armkit.ik.analytic.ROWS` targets), default options, answer by one
 compiled call per target and stack the results, instead of the batched NumPy path whose fixed cost (~0.3 ms)
 dwarfs a few targets. Every field, its dtype and shape, the messages (made when read) and the order of the
 branches must equal what the batched path gives (reached with ``api.ONE_CALL = False``), to the bit.
@@ -19,7 +19,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import armkit
-from armkit.ik.analytic import SMALL_BATCH
+from armkit.ik.analytic import ROWS
 
 from test_single_call import ARMS, _arm, _assert_same, _both, _target, compiled  # noqa: F401 (the fixture)
 
@@ -56,7 +56,7 @@ def test_a_few_targets_equal_the_batched_path(name, data, size, start, enforce):
 
 def test_any_leading_shape_and_the_path_is_taken(monkeypatch, rng):
     """(2, 3) targets come back as (2, 3) results, equal to the batched path's; the small path answered (counted);
-    more than SMALL_BATCH targets take the batched path."""
+    more than ROWS targets (ik_all, ik) take the batched path."""
     robot = _arm("ur5")
     targets = np.stack([armkit.fk(robot, robot.random_q(rng=rng)) for _ in range(6)]).reshape(2, 3, 4, 4)
     armkit.ik(robot, targets[0, 0])        # the robot's one-call record made first (it sets api._run_small)
@@ -68,9 +68,13 @@ def test_any_leading_shape_and_the_path_is_taken(monkeypatch, rng):
         assert fast.success.shape[:2] == (2, 3) and fast.q.shape[:2] == (2, 3)
         _assert_same(fast, slow)
     assert calls == [6, 6]
-    many = np.stack([armkit.fk(robot, robot.random_q(rng=rng)) for _ in range(SMALL_BATCH + 1)])
-    armkit.ik(robot, many)
-    assert calls == [6, 6]
+    for fn, limit in ((armkit.ik_all, ROWS[0]), (armkit.ik, ROWS[1])):
+        many = armkit.fk(robot, robot.random_q(limit + 1, rng=rng))
+        fn(robot, many)
+        assert calls == [6, 6]
+        fn(robot, many[:limit])
+        assert calls == [6, 6, limit]
+        calls.pop()
 
 
 def test_failures_say_why_in_a_small_batch():
@@ -84,3 +88,23 @@ def test_failures_say_why_in_a_small_batch():
     assert "_later" in fast.__dict__                    # nothing made until read
     _assert_same(fast, slow)
     assert fast.message[1] and fast.message[0] == ""
+
+
+def test_the_targets_changed_before_the_messages_are_read():
+    """The sentences of a small batch are made when first read, from the targets as they were at the call: a caller
+    that reuses its array in between changes nothing. The fields are arrays of their own (C order), not views of
+    the call's buffers."""
+    robot = _arm("ur5")
+    T = armkit.fk(robot, np.full(6, 0.4))
+    far = T.copy()
+    far[:3, 3] *= 4.0
+    for fn in (armkit.ik, armkit.ik_all):
+        targets = np.stack([T, far, far])
+        fast, slow = _both(lambda: fn(robot, targets))
+        targets[:] = T                                   # the caller's array reused before anyone reads a message
+        assert "_later" in fast.__dict__
+        _assert_same(fast, slow)
+        assert fast.message[1] != "" if fn is armkit.ik else any(fast.message[1])
+        for f in ("q", "success", "position_error", "rotation_error", "iterations", "within_limits"):
+            a = getattr(fast, f)
+            assert a.flags.c_contiguous and a.flags.owndata, f

@@ -394,7 +394,8 @@ def _fast(robot: Any, target: np.ndarray, q0: Any, enforce_limits: Any, check: A
     lead: tuple[int, ...] = ()
     if shape not in c.shapes:   # a few targets (..., 4, 4) or (..., 3): one call each (analytic.run_small_batch)
         lead = shape[:-2] if shape[-2:] == (4, 4) else shape[:-1]
-        if not lead or shape[len(lead):] not in c.shapes or not 0 < math.prod(lead) <= c.small:
+        if not lead or shape[len(lead):] not in c.shapes or not 0 < math.prod(lead) <= (c.small_near if nearest
+                                                                                       else c.small):
             return None
     if q0 is not None:
         if type(q0) is not _NDARRAY or q0.dtype is not _F64:

@@ -368,7 +368,7 @@ class _Single:
 
     __slots__ = ("kernels", "kernel", "solver", "geometry", "joints", "F", "labels", "labels0", "blank", "m", "n",
                  "mn", "at", "fsize", "isize", "bsize", "q0", "scale", "window", "above", "sign",
-                 "default_tol", "ctx", "ctx_near", "ctxs", "converged", "shapes", "entry", "small")
+                 "default_tol", "ctx", "ctx_near", "ctxs", "converged", "shapes", "entry", "small", "small_near")
 
     def __init__(self, robot: Robot, solver: ClosedForm, kernels) -> None:
         from ...kinematics import packed
@@ -386,9 +386,13 @@ class _Single:
         self.blank = np.full(self.m, "", dtype=object)
         self.converged = _REASON_TEXT[np.zeros(self.m, dtype=np.int64)]   # every branch's reason, copied per use
         self.shapes = ((4, 4),) if solver.pose_only else ((4, 4), (3,))   # the targets the family takes
-        # the most targets of one call answered target by target (run_small_batch): fewer where the family solves
-        # a batch faster as a whole (a whole-batch form, from geometric.MANY targets: the SCARA's)
-        self.small = min(SMALL_BATCH, MANY - 1) if has_batch_form(solver) else SMALL_BATCH
+        # the most targets of one call answered target by target (run_small_batch), for ik_all and for ik: more
+        # where the family has a kernel (ROWS), fewer where it solves a batch faster as a whole (a whole-batch form,
+        # from geometric.MANY targets: the SCARA's)
+        small, near = ROWS if self.kernel is not None else (SMALL_BATCH, SMALL_BATCH)
+        if has_batch_form(solver):
+            small, near = min(small, MANY - 1), min(near, MANY - 1)
+        self.small, self.small_near = small, near
         lay = kernels.layout(self.m, self.n)
         self.at = lay
         self.fsize, self.isize, self.bsize = lay["fb"], lay["ib"], lay["bb"]
@@ -560,11 +564,17 @@ def _later_fields(made: tuple, which: str) -> Any:
 
 
 SMALL_BATCH = 16
-"""Batches of at most this many targets take the one-call path target by target (:func:`run_small_batch`): the
-batched path starts at ~0.3-0.5 ms whatever the size (then ~0.01 ms a target), the one-call path costs ~0.02 ms
-a target for ``armkit.ik`` and ~0.03 ms for ``armkit.ik_all`` (UR5, Puma 560: the two are equal near 16-24
-targets for ``ik_all`` and 24-32 for ``ik`` on this project's 2-core machine; benchmarks/bench_analytic.py
---small-only)."""
+"""Batches of at most this many targets of a family solved in Python (the geometric classes of a 1-D search) take
+the one-call path target by target (:func:`run_small_batch`): the batched path starts at ~0.3-0.5 ms whatever the
+size (then ~0.01 ms a target), the one-call path costs ~0.02 ms a target for ``armkit.ik`` and ~0.03 ms for
+``armkit.ik_all`` (UR5, Puma 560: the two are equal near 16-24 targets for ``ik_all`` and 24-32 for ``ik`` on this
+project's 2-core machine; benchmarks/bench_analytic.py --small-only)."""
+ROWS = (48, 128)
+"""The same limits, ``(ik_all, ik)``, for a family with a kernel, whose calls write each target's numbers into a
+row of one set of buffers (:func:`_small_batch_from_rows`): 3.5-9 µs a target (UR5, Puma 560, Kinova), where the
+batched path costs 0.22-0.34 ms for 16 targets of ``ik_all`` and 0.35-0.49 ms of ``ik``. The two were level near
+48 targets for ``ik_all`` and 128-256 for ``ik`` (CPU time of the calling thread, 2026-12-06; the batched path's
+second thread not counted, so later in wall time)."""
 
 
 def run_small_batch(robot: Robot, c: "_Single", targets: Array, q0: Array | None, ctx: Array, check: bool,
@@ -578,6 +588,8 @@ def run_small_batch(robot: Robot, c: "_Single", targets: Array, q0: Array | None
     B = targets.shape[0]
     if q0 is not None:
         q0 = np.ascontiguousarray(q0)
+    if c.kernel is not None:
+        return _small_batch_from_rows(robot, c, targets, q0, ctx, nearest)
     parts = []
     for i in range(B):
         one = run_one(robot, c, targets[i], q0 if q0 is None or q0.ndim == 1 else q0[i], ctx, None, check, nearest,
@@ -589,6 +601,55 @@ def run_small_batch(robot: Robot, c: "_Single", targets: Array, q0: Array | None
     if all("message" in r.__dict__ for r in parts):   # every target succeeded: no sentence to make
         return IKResult._later((*values, _stacked_messages(parts)))
     return IKResult._later((*values, None), lambda: _stacked_messages(parts))
+
+
+def _small_batch_from_rows(robot: Robot, c: "_Single", targets: Array, q0: Array | None, ctx: Array,
+                           nearest: bool) -> IKResult | None:
+    """:func:`run_small_batch` for a family with a kernel: each target's compiled call writes into its own row of
+    three buffers ``(B, size)``, and every field is made once for all the rows, as :func:`_later_fields` makes it
+    for one (the label and reason of row ``i`` taken where the kernel wrote them for its first branch, which
+    :func:`armkit.ik`'s nearest-first status also names). Making each target's result and then stacking the
+    fields cost about as much as the compiled calls (the UR5's ``ik`` of 8 targets: 66 µs, 23 of them in
+    the calls)."""
+    B, m, n, mn = targets.shape[0], c.m, c.n, c.mn
+    FB, IB, BB = np.empty((B, c.fsize)), np.empty((B, c.isize), _I64), np.empty((B, c.bsize), _BOOL)
+    flat = np.ascontiguousarray(targets).reshape(B, -1)
+    entry, starts = c.entry, c.q0 if q0 is None else q0
+    each = starts.ndim == 2
+    status = []
+    for i in range(B):
+        r = entry(flat[i], starts[i] if each else starts, ctx, FB[i], IB[i], BB[i])
+        if r & 3:
+            return None
+        status.append(r)
+    if nearest:
+        q, ok, dp, dr = FB[:, :n].copy(), BB[:, 0].copy(), FB[:, mn].copy(), FB[:, mn + m].copy()
+        it, within, k = IB[:, 2 * m].copy(), BB[:, m].copy(), IB[:, m]
+        branch, reason = c.labels[k], _REASON_TEXT[IB[:, 0]]
+        pending = [i for i, r in enumerate(status) if not (r & NEAREST or IB[i, 0] == 0)]
+        message = np.empty(B, dtype=object)
+        message[:] = ""
+    else:
+        q, ok = FB[:, :mn].reshape(B, m, n).copy(), BB[:, :m].copy()
+        dp, dr, it, within = FB[:, mn:mn + m].copy(), FB[:, mn + m:mn + 2 * m].copy(), IB[:, 2 * m:3 * m].copy(), \
+            BB[:, m:2 * m].copy()
+        branch, reason = c.labels[IB[:, m:2 * m]], _REASON_TEXT[IB[:, :m]]
+        pending = [i for i, r in enumerate(status) if r != 0]
+        message = np.full((B, m), "", dtype=object)
+    values = (q, ok, dp, dr, it, branch, within, reason)
+    if not pending:
+        return IKResult._later((*values, message))
+    # the sentences of the rows with a failed branch (the others stay empty), made when first read; each maker
+    # copies its target now (the caller may change its array before then)
+    makers = [(i, _Messages(robot, c, None, flat[i].reshape(targets.shape[1:]), FB[i], IB[i], None, nearest))
+              for i in pending]
+
+    def messages() -> NDArray[np.object_]:
+        for i, make in makers:
+            message[i] = make()
+        return message
+
+    return IKResult._later((*values, None), messages)
 
 
 _STACKED = ("q", "success", "position_error", "rotation_error", "iterations", "branch", "within_limits", "reason")
