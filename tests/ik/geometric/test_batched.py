@@ -38,13 +38,15 @@ def compiled():
 
 
 def _nearly(rng: np.random.Generator) -> Robot:
-    """A spherical-wrist arm whose wrist axes only nearly meet (1e-9 apart, as in a calibrated file): the
-    solvers work on the ideal chain and the Python polish touches up the candidates on the true one."""
+    """A spherical-wrist arm whose wrist axes only nearly meet (1e-7 apart, as in a calibrated file): the
+    solvers work on the ideal chain, whose solutions miss the target on the true one by more than the check's
+    1e-9 (times the arm's size) and less than :func:`armkit.ik.geometric.solvers.polish_reach`, and the Python
+    polish touches them up."""
     robot = _random_arm(rng, "spherical-general")
     joints = list(robot.joints)
     j = joints[4]
     origin = np.array(j.origin)
-    origin[:3, 3] += 1e-9 * np.array([0.3, -0.7, 0.2])
+    origin[:3, 3] += 1e-7 * np.array([0.3, -0.7, 0.2])
     joints[4] = Joint(name=j.name, kind=j.kind, lower=j.lower, upper=j.upper, origin=_tup(origin), axis=j.axis)
     return Robot(joints, convention="urdf", name="nearly-spherical", tool=robot.chain.tool)
 
@@ -112,7 +114,8 @@ def test_threads_give_the_same_bits(name):
         o = (np.zeros((200, cf.m, 6)), np.zeros((200, cf.m), np.bool_), np.zeros((200, cf.m), np.bool_),
              np.zeros(200, np.int64), np.zeros(200, np.bool_))
         fn(solvers._WHICH[prep.solve], prep.kind, cf.inverted, prep.exact, prep.Hi, prep.Pi, prep.RnT, prep.prism,
-           prep.Ht, prep.Pt, np.ascontiguousarray(T), q0, solvers.SEARCH_N, solvers.TOL * prep.scale, solvers.TOL, *o)
+           prep.Ht, prep.Pt, np.ascontiguousarray(T), q0, solvers.SEARCH_N, solvers.TOL * prep.scale, solvers.TOL,
+           solvers.polish_reach(prep.dev) * prep.scale, solvers.polish_reach(prep.dev), *o)
         outs.append(o)
     for a, b in zip(*outs):
         assert np.array_equal(a, b)
@@ -142,3 +145,37 @@ def test_batched_ik_all_is_right(name):
     d = np.where(robot.prismatic, d, (d + np.pi) % (2 * np.pi) - np.pi)
     d = np.where(ok, np.abs(d).max(axis=-1), np.inf)
     assert (d.min(axis=1) < 1e-6).all()
+
+
+def test_an_unreachable_targets_candidates_are_not_polished(monkeypatch):
+    """On an arm whose ideal chain is not its true one, a failed candidate farther from the target than the chains'
+    difference explains (an out-of-reach target's closest point) is not polished: nothing Newton's steps do to it
+    passes the check. The answers, messages included, are those of polishing every failed candidate (the rule
+    before, ``polish_reach`` infinite), by every path: one target, a few, a batch; ``ik_all`` and ``ik``."""
+    from armkit.ik.geometric import solvers
+
+    polished = []
+    real = solvers.polish
+    monkeypatch.setattr(solvers, "polish", lambda *a, **k: polished.append(1) or real(*a, **k))
+    _, T = _targets(_nearly(np.random.default_rng(4)), np.random.default_rng(8), 60)
+    far = T[::7]                                            # the targets out of reach
+    answers = []
+    reach_now = solvers.polish_reach
+    for reach in (reach_now, lambda dev: np.inf):
+        monkeypatch.setattr(solvers, "polish_reach", reach)
+        robot = _nearly(np.random.default_rng(4))           # a new robot: its records made with this rule
+        before = len(polished)
+        got = [fn(robot, x) for fn in (armkit.ik_all, armkit.ik) for x in (far[0], far[:3], far, T)]
+        got = [(r.q, r.success, r.position_error, r.rotation_error, r.branch, r.reason, r.message) for r in got]
+        answers.append((got, len(polished) - before))
+    (new, n_new), (old, n_old) = answers
+    for a, b in zip(new, old):
+        for x, y in zip(a, b):
+            assert np.array_equal(np.asarray(x), np.asarray(y))
+    assert n_old > 0 and n_new < n_old
+    monkeypatch.setattr(solvers, "polish_reach", reach_now)
+    robot = _nearly(np.random.default_rng(4))
+    before = len(polished)
+    armkit.ik_all(robot, far)
+    armkit.ik(robot, far[1])
+    assert len(polished) == before                          # out of reach: no candidate polished at all

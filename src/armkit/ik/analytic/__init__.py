@@ -33,7 +33,7 @@ from numpy.typing import NDArray
 
 from ... import _jit_loader
 from ...model.robot import Robot
-from ..result import IKResult, _result_of, default_tolerance, verify
+from ..result import IKResult, _message as _message_of, _result_of, default_tolerance, verify
 from ._common import Raw, StandardForm, jit_kernels, keep_better, standard_form
 from ._layout import LABEL_SHIFT, NEAREST, joint_table
 from .geometric import MANY, Geometric, Geometric1R, Geometric2R, Geometric3R, GeometricGimbal, has_batch_form
@@ -809,12 +809,22 @@ def solve_nearest(robot: Robot, solver: ClosedForm, target: Array, q0: Array, po
     fields = {"q": qb, "success": ok, "position_error": dp, "rotation_error": dr,   # fresh arrays: redo writes
               "iterations": np.zeros(B, dtype=np.int64), "branch": raw.label[rows, pick], "within_limits": within,
               "reason": _REASON_TEXT[np.zeros(B, dtype=int)], "message": raw.note[rows, pick]}
-    if not fine.all():
-        redo = np.flatnonzero(~fine)
-        full = solve_all(robot, solver, target[redo], q0[redo], position_only, tol, enforce_limits)[:, 0]
-        for f in ("q", "success", "position_error", "rotation_error", "branch", "within_limits", "reason",
-                  "message"):
-            fields[f][redo] = getattr(full, f)
-    if lead is not None:
-        fields = {k: a.reshape(lead + a.shape[1:]) for k, a in fields.items()}
-    return IKResult(**fields)
+    if fine.all():
+        if lead is not None:
+            fields = {k: a.reshape(lead + a.shape[1:]) for k, a in fields.items()}
+        return IKResult(**fields)
+    redo = np.flatnonzero(~fine)
+    full = solve_all(robot, solver, target[redo], q0[redo], position_only, tol, enforce_limits)
+    for f in ("q", "success", "position_error", "rotation_error", "branch", "within_limits", "reason"):
+        fields[f][redo] = getattr(full, f)[:, 0]
+    message = fields.pop("message")
+    shape = (lambda a: a.reshape(lead + a.shape[1:])) if lead is not None else (lambda a: a)
+
+    def messages() -> NDArray[np.object_]:
+        """The redone targets' sentences, made when first read: solve_all makes those of every branch (a few µs
+        each; 4 ms of a Kinova's 1,000 targets with 100 out of reach), and most callers never read them."""
+        message[redo] = full.message[:, 0]
+        out = shape(message)
+        return _message_of(out, out.shape)
+
+    return IKResult._later(tuple(shape(fields[f]) for f in _STACKED) + (None,), messages)

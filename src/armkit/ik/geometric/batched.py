@@ -36,7 +36,7 @@ MAXSOL = 32
 """Rows of the solvers' candidate buffers (:data:`.solvers.MAXSOL`)."""
 
 
-def _layout(which, kind, inverted, exact, Hi, Pi, RnT, prism, Ht, Pt, T, q0phi, N, tol_p, tol_r,
+def _layout(which, kind, inverted, exact, Hi, Pi, RnT, prism, Ht, Pt, T, q0phi, N, tol_p, tol_r, reach_p, reach_r,
             q, unreach, sing, found, redo):
     """Solve and lay out every target of ``T (B, 4, 4)`` (``q0phi (B, 6)``: the start plus the DH offsets) into
     ``q (B, m, 6)``, ``unreach (B, m)``, ``sing (B, m)`` (a singular wrist's branch), ``found (B,)`` (solutions
@@ -83,12 +83,10 @@ def _layout(which, kind, inverted, exact, Hi, Pi, RnT, prism, Ht, Pt, T, q0phi, 
         else:
             ng, nf = _solve_spherical_middle(kind, Hi, Pi, RnT, prism, Ht, Pt, R, p, qref, N, tol_p,  # noqa: F821
                                              tol_r, Q, LS, SG, ST)
-        again = False    # solve_batch polishes failed candidates in Python unless each is a least-squares one of an exact chain
-        if nf > 0:
-            again = not exact
-            for i in range(ng, ng + nf):
-                if not LS[i]:
-                    again = True
+        # solve_batch polishes in Python a failed candidate (unless it is a least-squares one of an exact chain)
+        # that lies within reach_p, reach_r of the target (solvers.polish_reach)
+        again = nf > 0 and _polish_wanted(Ht, Pt, RnT, prism, R, p, Q, LS, ng, nf, exact, reach_p,  # noqa: F821
+                                          reach_r)
         redo[b] = again
         if not again:
             count = ng if ng > 0 else nf
@@ -127,7 +125,7 @@ def kernels() -> Optional[types.SimpleNamespace]:
 
         extra: dict[str, Any] = {name: getattr(K, name) for name in (
             "_solve_spherical", "_solve_three_parallel", "_solve_two_intersecting_end", "_solve_two_parallel",
-            "_solve_spherical_middle")}
+            "_solve_spherical_middle", "_polish_wanted")}
         extra["prange"] = prange
         ns = jit_namespace(globals(), ("_layout",), extra=extra)
         py = _layout
@@ -160,9 +158,11 @@ def solve(prep: Any, inverted: bool, m: int, target: NDArray[np.float64], q0phi:
     found = np.zeros(B, dtype=np.int64)
     redo = np.zeros(B, dtype=np.bool_)
     fn = K.parallel if B >= PARALLEL_MIN and _jit_loader.parallel_ok() else K.serial
+    reach = solvers.polish_reach(prep.dev)
     c = np.ascontiguousarray
     fn(solvers._WHICH[prep.solve], prep.kind, inverted, prep.exact, prep.Hi, prep.Pi, prep.RnT, prep.prism, prep.Ht,
-       prep.Pt, c(target, dtype=float), c(q0phi, dtype=float), N, tol_p, tol_r, q, unreach, sing, found, redo)
+       prep.Pt, c(target, dtype=float), c(q0phi, dtype=float), N, tol_p, tol_r, reach * prep.scale, reach, q, unreach,
+       sing, found, redo)
     return q, unreach, sing, found, redo
 
 

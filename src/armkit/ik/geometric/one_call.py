@@ -39,6 +39,8 @@ index       size   value
 ``PRISM``   6      1.0 for a prismatic joint
 ``HT``      18     the true chain's axes
 ``PT``      21     its offsets
+``REACH``   2      how far off a failed candidate is still polished: position, rotation
+                   (:func:`.solvers.polish_reach`; the position times the arm size)
 ==========  =====  =================================================================
 """
 
@@ -54,7 +56,7 @@ from . import solvers as _solvers
 __all__ = ["geometry", "kernel", "SIZE"]
 
 WHICH, KIND, INV, EXACT, TOL_P, TOL_R, NS, M = range(8)
-HI, PI, RNT, PRISM, HT, PT, SIZE = 8, 26, 47, 56, 62, 80, 101
+HI, PI, RNT, PRISM, HT, PT, REACH, SIZE = 8, 26, 47, 56, 62, 80, 101, 103
 DONE, FALLBACK, BAD_TARGET = 0, 1, 2
 """The statuses of :mod:`armkit.ik.analytic._single` (a test checks that they agree)."""
 THETA = 0
@@ -88,7 +90,9 @@ def geometry(form: Any, solver: str, m: int, inverted: bool) -> Optional[NDArray
     g[RNT:PRISM] = prep.RnT.ravel()
     g[PRISM:HT] = prep.prism
     g[HT:PT] = prep.Ht.ravel()
-    g[PT:SIZE] = prep.Pt.ravel()
+    g[PT:REACH] = prep.Pt.ravel()
+    g[REACH] = solvers.polish_reach(prep.dev) * prep.scale
+    g[REACH + 1] = solvers.polish_reach(prep.dev)
     g.setflags(write=False)
     return g
 
@@ -168,12 +172,9 @@ def _geometric(t, q0, ctx, fb, ib, bb):
     else:
         ng, nf = _solve_three_parallel(kind, Hi, Pi, RnT, prism, Ht, Pt, R, p, qref, N, tol_p, tol_r,  # noqa: F821
                                        Q, LS, SG, ST)
-    if nf > 0:     # solve_batch polishes these in Python unless every one is a least-squares candidate of an exact chain
-        if not exact:
-            return FALLBACK
-        for i in range(ng, ng + nf):
-            if not LS[i]:
-                return FALLBACK
+    if nf > 0 and _polish_wanted(Ht, Pt, RnT, prism, R, p, Q, LS, ng, nf, exact, g[REACH],  # noqa: F821
+                                 g[REACH + 1]):   # solve_batch would polish one in Python
+        return FALLBACK
     count = ng if ng > 0 else nf
     k = min(count, m)
     for b in range(k):
@@ -213,7 +214,7 @@ def kernel() -> Any:
         from .subproblems import jit_namespace
 
         assert (_single.DONE, _single.FALLBACK, _single.BAD_TARGET) == (DONE, FALLBACK, BAD_TARGET)
-        extra = {name: getattr(K, name) for name in ("_solve_spherical", "_solve_three_parallel")}
+        extra = {name: getattr(K, name) for name in ("_solve_spherical", "_solve_three_parallel", "_polish_wanted")}
         extra.update({name: getattr(_single, name) for name in ("_parts", "_target", "_usable_start", "_finish")})
         ns = jit_namespace(globals(), ("_geometric",), extra=extra)
         from ... import _jit_loader

@@ -155,6 +155,23 @@ def _promote(H, P, RnT, prism, R, p, tol_p, tol_r, Q, LS, SG, ST, ng, nf):
     return ng, nf
 
 
+def _polish_wanted(H, P, RnT, prism, R, p, Q, LS, ng, nf, exact, reach_p, reach_r):
+    """Whether :func:`.solvers._run` would polish one of the ``nf`` failing rows after the ``ng`` passing ones of
+    ``Q``: a row not both least-squares and of an exact chain, whose FK error on the true chain ``(H, P)`` is
+    within ``reach_p`` (position) and ``reach_r`` (rotation; :func:`.solvers.polish_reach`). The one-call and
+    batched kernels leave such a target to ``_run``; the others answer it as ``_run`` would."""
+    F = np.empty((3, 3))
+    RS = np.empty((7, 3, 3))
+    PS = np.empty((7, 3))
+    for i in range(ng, ng + nf):
+        if LS[i] and exact:
+            continue
+        ep, er = _fk_err_from(H, P, RnT, prism, Q[i], R, p, RS, PS, 0, F)
+        if ep <= reach_p and er <= reach_r:
+            return True
+    return False
+
+
 def _newton_from(H, P, RnT, prism, R, p, tol_p, tol_r, row, q, RS, PS, F):
     """Newton steps on the whole chain (:func:`.search2d._newton`) from ``row`` into ``q`` (6,), its angles then
     wrapped: ``(Newton's last error, position error, rotation error)``, the last two by the check's FK
