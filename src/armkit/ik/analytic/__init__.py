@@ -626,7 +626,6 @@ def _small_batch_from_rows(robot: Robot, c: "_Single", targets: Array, q0: Array
         q, ok, dp, dr = FB[:, :n].copy(), BB[:, 0].copy(), FB[:, mn].copy(), FB[:, mn + m].copy()
         it, within, k = IB[:, 2 * m].copy(), BB[:, m].copy(), IB[:, m]
         branch, reason = c.labels[k], _REASON_TEXT[IB[:, 0]]
-        pending = [i for i, r in enumerate(status) if not (r & NEAREST or IB[i, 0] == 0)]
         message = np.empty(B, dtype=object)
         message[:] = ""
     else:
@@ -634,9 +633,9 @@ def _small_batch_from_rows(robot: Robot, c: "_Single", targets: Array, q0: Array
         dp, dr, it, within = FB[:, mn:mn + m].copy(), FB[:, mn + m:mn + 2 * m].copy(), IB[:, 2 * m:3 * m].copy(), \
             BB[:, m:2 * m].copy()
         branch, reason = c.labels[IB[:, m:2 * m]], _REASON_TEXT[IB[:, :m]]
-        pending = [i for i, r in enumerate(status) if r != 0]
         message = np.full((B, m), "", dtype=object)
     values = (q, ok, dp, dr, it, branch, within, reason)
+    pending = [i for i, r in enumerate(status) if _sentences(r, None, IB[i], nearest)]
     if not pending:
         return IKResult._later((*values, message))
     # the sentences of the rows with a failed branch (the others stay empty), made when first read; each maker
