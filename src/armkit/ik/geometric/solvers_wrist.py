@@ -224,8 +224,8 @@ def _sp2s(a0, a1, a2, b0, b1, b2, k0, k1, k2, l0, l1, l2):
 def _wrist(h3, h4, h5, R36, q3ref, W, S, M):
     """q4, q5, q6 (0-based 3, 4, 5) with ``rot(h4, q4) rot(h5, q5) rot(h6, q6) = R36``, into ``W (2, 3)``:
     ``(count, ls, singular)``. Its vectors and matrices live in the caller's work space ``S (5, 3)`` and
-    ``M (3, 3, 3)``, made once for all its calls (two arrays made and freed per call cost the Kinova's
-    ``armkit.ik`` 0.3 µs)."""
+    ``M (3, 3, 3)``, made once for all its calls (the spherical core calls it once per position, up to four
+    times a target)."""
     v = S[0]
     x = S[1]
     y = S[2]
