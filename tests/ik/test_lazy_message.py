@@ -168,3 +168,30 @@ def test_batched_and_swept_results_make_their_sentences_when_read():
         assert "_later" in vars(swept)
         failed = [m for m, ok in zip(swept.message, swept.success) if not ok]
         assert failed and all(m for m in failed)        # every failed branch says why, once read
+
+
+@pytest.mark.parametrize("method", ["lm", "ccd", "fabrik"])
+def test_numeric_solvers_make_their_sentences_when_read(method):
+    """LM, CCD and FABRIK leave ``message`` for its first read too: a batch's sentences read after the caller
+    reused its target array, a copy was pickled and a part indexed are those of the same call read at once, and
+    each says the result's own numbers (its iterations when it converged, its position error in the arm's unit)."""
+    robot = armkit.load("planar3") if method != "lm" else armkit.load("puma560")
+    rng = np.random.default_rng(23)
+    T = armkit.fk(robot, rng.uniform(-1.5, 1.5, (5, robot.n)))
+    T[1, :3, 3] *= 4.0                                 # one target out of reach: a failure and its sentence
+    targets = T[:, :3, 3].copy() if method != "lm" else T.copy()
+    q0 = np.zeros(robot.n)
+    at_once = [str(m) for m in armkit.ik(robot, targets, q0=q0, method=method, seed=1).message]
+    res = armkit.ik(robot, targets, q0=q0, method=method, seed=1)
+    assert "_later" in vars(res)
+    targets[:] = 0.0
+    part = res[2:4]
+    kept = pickle.loads(pickle.dumps(res))
+    texts = [str(m) for m in res.message]
+    assert texts == [str(m) for m in kept.message] == at_once
+    assert [str(m) for m in part.message] == texts[2:4]
+    assert not res.success[1] and texts[1]
+    for i, text in enumerate(texts):
+        if res.success[i]:
+            assert text.startswith(f"converged in {int(res.iterations[i])} iterations")
+        assert f" {robot.unit}" in text and "position error" in text
