@@ -153,6 +153,22 @@ def type_number(page: Any, label: str, value: float) -> None:
     box.press("Enter")
 
 
+def type_joint(page: Any, view: Any, j: int, label: str, degrees: float) -> None:
+    """:func:`type_number` into joint ``j``'s box, then wait until the view holds the value and the page shows the
+    end point of the new configuration. The server answers a typed value by sending every slider's value back;
+    a box typed into while that reply is on its way (a loaded machine: seen once in a clean clone's run) can have
+    its text replaced by the old value before Enter commits it, so the next box waits for the reply."""
+    import numpy as np
+
+    from armkit import fk
+    from armkit.viz.view.panels import format_numbers
+
+    type_number(page, label, degrees)
+    wait_until(lambda: abs(view.q[j] - np.radians(degrees)) < 1e-12, what=f"{label} = {degrees}")
+    end = format_numbers(fk(view.robot, view.q)[:3, 3], 3)
+    wait_until(lambda: text_of(page, "end point (mm)") == end, what=f"the end point after {label} = {degrees}")
+
+
 def open_folder(page: Any, title: str) -> None:
     """Expand a collapsed panel folder."""
     page.get_by_text(title, exact=True).first.click()

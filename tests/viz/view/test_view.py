@@ -23,7 +23,8 @@ from armkit.viz.view import View, ViewError, free_port
 from armkit.viz.view.drawing import ARM_COLOUR
 from armkit.viz.view.panels import format_numbers
 
-from _browser import numbers_of, open_folder, open_page, picture, row, settled, text_of, type_number, wait_until
+from _browser import (numbers_of, open_folder, open_page, picture, row, settled, text_of, type_joint, type_number,
+                      wait_until)
 from _browser import pixels as _pixels
 
 pytestmark = pytest.mark.browser
@@ -51,10 +52,9 @@ def test_canvas_sliders_pose_screenshot(browser, docs_img: Path, tmp_path: Path)
         img = _pixels(page.locator("canvas").first.screenshot())
         assert img.std() > 10 and _arm_pixels(img) > 300
         # a joint typed in the page: the handle's q and the end-pose text follow, to the number
-        type_number(page, "yaw (°)", 30)
-        wait_until(lambda: abs(v.q[0] - math.radians(30)) < 1e-12, what="q[0] = 30°")
-        type_number(page, "shoulder (°)", 45)
-        type_number(page, "elbow (°)", 60)
+        type_joint(page, v, 0, "yaw (°)", 30)
+        type_joint(page, v, 1, "shoulder (°)", 45)
+        type_joint(page, v, 2, "elbow (°)", 60)
         wait_until(lambda: np.allclose(v.q, np.radians([30, 45, 60]), atol=1e-12), what="q = (30, 45, 60)°")
         expected = format_numbers(armkit.fk(v.robot, v.q)[:3, 3], 3)
         assert expected == "24.861, 14.353, 187.181"           # the club report's numbers

@@ -28,7 +28,7 @@ from armkit.viz.view.drawing import rotation_from_wxyz
 from armkit.viz.view.readouts import (
     MAX_STORED, STORAGE_KEY, camera_preset, configurations_toml, frame_number_groups, matrix_text, parse_configurations_toml)
 
-from _browser import open_folder, open_page, row, type_number, wait_until
+from _browser import open_folder, open_page, row, type_joint, wait_until
 from _browser import pixels as _pixels
 
 pytestmark = pytest.mark.browser
@@ -124,8 +124,8 @@ def test_t_and_j_readouts_and_copy(browser, docs_img: Path) -> None:
     with View("fighter", lang="en") as v:
         page = open_page(browser, v.url, "yaw (°)")
         browser.grant_permissions(["clipboard-read", "clipboard-write"], origin=v.url.rstrip("/"))
-        for name, value in (("yaw (°)", 30), ("shoulder (°)", 45), ("elbow (°)", 60)):
-            type_number(page, name, value)
+        for j, (name, value) in enumerate((("yaw (°)", 30), ("shoulder (°)", 45), ("elbow (°)", 60))):
+            type_joint(page, v, j, name, value)
         wait_until(lambda: np.allclose(v.q, np.radians([30, 45, 60]), atol=1e-12), what="q = (30, 45, 60)°")
         T = armkit.fk(v.robot, v.q)
         wait_until(lambda: _matrix(page, "armkit-T").shape == (4, 4)
