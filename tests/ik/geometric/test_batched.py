@@ -115,7 +115,7 @@ def test_threads_give_the_same_bits(name):
              np.zeros(200, np.int64), np.zeros(200, np.bool_))
         fn(solvers._WHICH[prep.solve], prep.kind, cf.inverted, prep.exact, prep.Hi, prep.Pi, prep.RnT, prep.prism,
            prep.Ht, prep.Pt, np.ascontiguousarray(T), q0, solvers.SEARCH_N, solvers.TOL * prep.scale, solvers.TOL,
-           solvers.polish_reach(prep.dev) * prep.scale, solvers.polish_reach(prep.dev), *o)
+           prep.reach * prep.scale, prep.reach, *o)
         outs.append(o)
     for a, b in zip(*outs):
         assert np.array_equal(a, b)

@@ -158,11 +158,10 @@ def solve(prep: Any, inverted: bool, m: int, target: NDArray[np.float64], q0phi:
     found = np.zeros(B, dtype=np.int64)
     redo = np.zeros(B, dtype=np.bool_)
     fn = K.parallel if B >= PARALLEL_MIN and _jit_loader.parallel_ok() else K.serial
-    reach = solvers.polish_reach(prep.dev)
     c = np.ascontiguousarray
     fn(solvers._WHICH[prep.solve], prep.kind, inverted, prep.exact, prep.Hi, prep.Pi, prep.RnT, prep.prism, prep.Ht,
-       prep.Pt, c(target, dtype=float), c(q0phi, dtype=float), N, tol_p, tol_r, reach * prep.scale, reach, q, unreach,
-       sing, found, redo)
+       prep.Pt, c(target, dtype=float), c(q0phi, dtype=float), N, tol_p, tol_r, prep.reach * prep.scale, prep.reach,
+       q, unreach, sing, found, redo)
     return q, unreach, sing, found, redo
 
 

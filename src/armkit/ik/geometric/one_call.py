@@ -91,8 +91,8 @@ def geometry(form: Any, solver: str, m: int, inverted: bool) -> Optional[NDArray
     g[PRISM:HT] = prep.prism
     g[HT:PT] = prep.Ht.ravel()
     g[PT:REACH] = prep.Pt.ravel()
-    g[REACH] = solvers.polish_reach(prep.dev) * prep.scale
-    g[REACH + 1] = solvers.polish_reach(prep.dev)
+    g[REACH] = prep.reach * prep.scale
+    g[REACH + 1] = prep.reach
     g.setflags(write=False)
     return g
 

@@ -196,7 +196,7 @@ class _Prepared(NamedTuple):
     Pt: Array
     exact: bool         # ideal == true (up to rounding)
     scale: float        # arm size
-    dev: float          # how far the ideal chain is from the true one (solvers_chain.align)
+    reach: float        # how far off a failed candidate is still polished (polish_reach of the chains' deviation)
 
 
 _PREPARED: dict[tuple[int, str], tuple[Any, Any]] = {}
@@ -245,7 +245,7 @@ def _prepare(form: POE, name: str) -> _Prepared:
         def c(x: Any, dtype: Any = float) -> Any:
             return np.array(x, dtype=dtype, order="C")
         return _Prepared(solve, kind, c(ideal.H), c(ideal.P), c(form.R_nT), c(form.prismatic, np.bool_), c(form.H),
-                         c(form.P), dev < 1e-13, _size(form), dev)
+                         c(form.P), dev < 1e-13, _size(form), polish_reach(dev))
     return _cached(form, name, make)
 
 
@@ -266,18 +266,13 @@ def _run(name: str, form: POE, R: Array, p: Array, q_ref: Optional[Array], jit: 
                 TOL, Q, LS, SG, ST)
     if nf and not (prep.exact and LS[ng:ng + nf].all()):
         # polish what the ideal chain got nearly right (nearly meeting / parallel axes, rounding); not a candidate
-        # farther from the target on the true chain than the chains' difference explains (polish_reach)
-        reach = polish_reach(prep.dev)
+        # farther from the target on the true chain than the chains' difference explains (polish_reach), by the
+        # test the one-call and batched kernels decide by
+        wanted = K._polish_wanted if K is not None else _polish_wanted
         for i in range(ng, ng + nf):
-            if LS[i] and prep.exact:
+            if not wanted(prep.Ht, prep.Pt, prep.RnT, prep.prism, R, p, Q, LS, i, 1, prep.exact,
+                          prep.reach * prep.scale, prep.reach):
                 continue
-            if K is not None and not K._polish_wanted(prep.Ht, prep.Pt, prep.RnT, prep.prism, R, p, Q, LS, i, 1,
-                                                      prep.exact, reach * prep.scale, reach):
-                continue   # the kernels' own test (the one-call and batched kernels decide by it)
-            if K is None:
-                Rq, pq = form.fk(Q[i])
-                if np.linalg.norm(pq - p) > reach * prep.scale or np.linalg.norm(Rq - R) / math.sqrt(2.0) > reach:
-                    continue
             qi = polish(form, Q[i], R, p)
             Rq, pq = form.fk(qi)
             if np.linalg.norm(pq - p) <= tol_p and np.linalg.norm(Rq - R) / math.sqrt(2.0) <= TOL:
@@ -349,13 +344,12 @@ def solve_batch(name: str, form: POE, R: Array, p: Array, q_ref: Array, *, jit: 
              np.array([TOL * prep.scale]), TOL, Q, LS, SG, ST, NG, NF)
     Q, LS, SG, NG, NF = Q[0], LS[0], SG[0], NG[0], NF[0]
     out: list[Solutions] = []
-    reach = polish_reach(prep.dev)
     R, p = c(R, dtype=float), c(p, dtype=float)
     for b in range(B):
         ng, nf = int(NG[b]), int(NF[b])
         if nf and not (prep.exact and LS[b, ng:ng + nf].all()) and K._polish_wanted(
                 prep.Ht, prep.Pt, prep.RnT, prep.prism, R[b], p[b], Q[b], LS[b], ng, nf, prep.exact,
-                reach * prep.scale, reach):
+                prep.reach * prep.scale, prep.reach):
             out.append(_run(name, form, R[b], p[b], q_ref[b], jit))     # the rare polish: as one call
         elif ng:
             out.append(Solutions(Q[b, :ng], np.zeros(ng, dtype=bool), SG[b, :ng]))
