@@ -80,15 +80,15 @@ def assemble(prob: Problem, q: Array, iterations: ArrayLike, branch: str, failur
     its: NDArray[np.int64] = np.broadcast_to(np.asarray(iterations, np.int64), (B,)).copy()
     reason = np.empty(B, dtype=object)
     rot = not (prob.position_only or prob.position_target)
-    dpl, drl, okl, itl, wl = dp.tolist(), dr.tolist(), ok.tolist(), its.tolist(), within.tolist()
+    dpl, drl, itl = dp.tolist(), dr.tolist(), its.tolist()
     known = dict(failure_reasons)     # the caller's dict may change before the messages are made
-    limits = prob.enforce_limits
-    for i in range(B):
+    okl, wl = ok.tolist(), within.tolist()
+    for i in range(B):                # the reason now; its sentence (by the same reason) when message is read
         if okl[i]:
             reason[i] = "converged"
         elif i in known:
             reason[i] = known[i][0]
-        elif limits and not wl[i]:
+        elif prob.enforce_limits and not wl[i]:
             reason[i] = "joint limits"
         else:
             reason[i] = "max iterations"
@@ -101,7 +101,7 @@ def assemble(prob: Problem, q: Array, iterations: ArrayLike, branch: str, failur
                 message[i] = Fielded.of("converged in {n} iterations: {residual}.", n=itl[i], residual=resid)
             elif i in known:
                 message[i] = Fielded.of("{text}; {residual}.", text=known[i][1], residual=resid)
-            elif limits and not wl[i]:
+            elif reason[i] == "joint limits":
                 message[i] = Fielded.of("the configuration breaks the joint limits; {residual}.", residual=resid)
             else:
                 message[i] = Fielded.of("no solution within {n} iterations; best {residual}.", n=itl[i],
