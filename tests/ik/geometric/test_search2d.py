@@ -65,7 +65,8 @@ def test_shared_trig2_meets_its_equations(seed):
     t1, t2 = g.uniform(-np.pi, np.pi, 2)
     e = A @ [math.cos(t1), math.sin(t1)] + B @ [math.cos(t2), math.sin(t2)]
     T1, T2 = np.zeros(4), np.zeros(4)
-    n, _ = K._trig2_rows(A[0, 0], A[0, 1], B[0, 0], B[0, 1], e[0], A[1, 0], A[1, 1], B[1, 0], B[1, 1], e[1], T1, T2)
+    n, _ = K._trig2_rows(A[0, 0], A[0, 1], B[0, 0], B[0, 1], e[0], A[1, 0], A[1, 1], B[1, 0], B[1, 1], e[1], T1, T2,
+                         None)
     assert 1 <= n <= 4
     for k in range(n):
         r = A @ [math.cos(T1[k]), math.sin(T1[k])] + B @ [math.cos(T2[k]), math.sin(T2[k])] - e
@@ -387,7 +388,8 @@ def test_early_rejection_only_where_there_is_no_solution(seed):
     r = (A @ c)[:, :, None] + (B @ c)[:, None, :] - e[:, None, None]
     assert np.hypot(r[0], r[1]).min() > 1e-3
     T1, T2 = np.zeros(4), np.zeros(4)
-    n, _ = K._trig2_rows(A[0, 0], A[0, 1], B[0, 0], B[0, 1], e[0], A[1, 0], A[1, 1], B[1, 0], B[1, 1], e[1], T1, T2)
+    n, _ = K._trig2_rows(A[0, 0], A[0, 1], B[0, 0], B[0, 1], e[0], A[1, 0], A[1, 1], B[1, 0], B[1, 1], e[1], T1, T2,
+                         None)
     assert n == 0
 
 

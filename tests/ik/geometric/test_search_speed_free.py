@@ -107,10 +107,11 @@ def dense_roots(kind: str, H, P, C) -> np.ndarray:
     residuals differ in sign, at the linear interpolation."""
     K = S.kernels()
     xs = np.linspace(-np.pi, np.pi, DENSE + 1)
-    Sx = np.zeros((DENSE + 1, 4, 3))
+    Sx = np.zeros((DENSE + 1, 4, S.WIDTH))
     E = np.zeros((DENSE + 1, 4))
     cnt = np.zeros(DENSE + 1, dtype=np.int64)
     K._scan(getattr(S, kind), H, P, C, xs, Sx, E, cnt)
+    Sx = Sx[..., :3]                                        # the branches (then cosines and sines, S.WIDTH)
     assert np.abs(Sx).max() <= np.pi                        # what _circle_distance takes
     valid = np.arange(4)[None, :] < cnt[:, None]
     D = _circle_distance(Sx[:-1, :, None, 0], Sx[1:, None, :, 0])              # (n, 4, 4): the largest of the
@@ -229,8 +230,13 @@ def test_branches_match_the_reference_subproblems():
             R06 = R @ form.R_nT.T
             C = _target_c(kind, H, P, R06, p)
             for x in g.uniform(-np.pi, np.pi, 20):
-                Sx, E = np.zeros((4, 3)), np.zeros(4)
+                Sx, E = np.zeros((4, S.WIDTH)), np.zeros(4)
                 n = S._eval(getattr(S, kind), H, P, C, x, Sx, E)
+                if kind in ("TI", "TP"):    # the cosines and sines kept with SP6's two joints are theirs
+                    a, b = (0, 2) if kind == "TI" else (0, 1)
+                    for i in range(n):
+                        want = [math.cos(Sx[i, a]), math.sin(Sx[i, a]), math.cos(Sx[i, b]), math.sin(Sx[i, b])]
+                        assert np.abs(Sx[i, 3:7] - want).max() < 1e-14, (kind, x, Sx[i], want)
                 if kind == "TI":
                     v = sp.rot(H[0], -x, C[1]) - P[1]
                     t1, t2, t3, m, ls = sp.sp5(-P[2], v, P[3], P[4], -H[1], H[2], H[3])

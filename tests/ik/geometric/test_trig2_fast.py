@@ -48,7 +48,12 @@ def _solver(which):
 def _solve(f, A, B, e):
     T1 = np.zeros(4)
     T2 = np.zeros(4)
-    n, _ = f(A[0, 0], A[0, 1], B[0, 0], B[0, 1], e[0], A[1, 0], A[1, 1], B[1, 0], B[1, 1], e[1], T1, T2)
+    CS = np.full((4, 4), np.nan)
+    n, _ = f(A[0, 0], A[0, 1], B[0, 0], B[0, 1], e[0], A[1, 0], A[1, 1], B[1, 0], B[1, 1], e[1], T1, T2, CS)
+    # the cosines and sines handed back with each answer are those of its angles (to rounding)
+    for i in range(n):
+        want = [math.cos(T1[i]), math.sin(T1[i]), math.cos(T2[i]), math.sin(T2[i])]
+        assert np.abs(CS[i] - want).max() < 1e-14, (CS[i], want)
     return [(T1[i], T2[i]) for i in range(n)]
 
 
@@ -298,7 +303,7 @@ def test_newton_step_off_to_overflow_is_refused_without_a_warning():
 def _count_margin(f, A, B, e):
     T1 = np.zeros(4)
     T2 = np.zeros(4)
-    return f(A[0, 0], A[0, 1], B[0, 0], B[0, 1], e[0], A[1, 0], A[1, 1], B[1, 0], B[1, 1], e[1], T1, T2)
+    return f(A[0, 0], A[0, 1], B[0, 0], B[0, 1], e[0], A[1, 0], A[1, 1], B[1, 0], B[1, 1], e[1], T1, T2, None)
 
 
 @pytest.mark.parametrize("which", _SOLVERS)

@@ -98,6 +98,20 @@ def _tsp1(p1, p2, k):
     return math.atan2(_tdot(_tcross(k, p1), p2), _tdot(y, p2))
 
 
+def _tsp1_cs(p1, p2, k):
+    """:func:`_tsp1` with its cosine and sine: ``(θ, cos θ, sin θ)``, the two from the same pair that gives θ (no
+    ``sin``/``cos`` calls; they differ from ``cos(θ)``, ``sin(θ)`` by rounding only)."""
+    kp1 = _tdot(k, p1)
+    y = (p1[0] - k[0] * kp1, p1[1] - k[1] * kp1, p1[2] - k[2] * kp1)
+    b = _tdot(_tcross(k, p1), p2)
+    a = _tdot(y, p2)
+    th = math.atan2(b, a)
+    r = math.sqrt(a * a + b * b)
+    if r > 0.0:
+        return th, a / r, b / r
+    return th, math.cos(th), math.sin(th)
+
+
 def _wrap(x):
     if -_PI < x <= _PI:
         return x
@@ -295,16 +309,18 @@ def _trig2(a00, a01, a10, a11, b00, b01, b10, b11, e0, e1, T1, T2):
     returns their count (0 when no exact solution). As :func:`.subproblems._trig2` (eliminate the better
     conditioned unknown, a quartic in the other), the quartic in closed form and shifted so that its root at
     infinity is far from every solution. :func:`_trig2m` with its margin dropped."""
-    return _trig2m(a00, a01, a10, a11, b00, b01, b10, b11, e0, e1, T1, T2)[0]
+    return _trig2m(a00, a01, a10, a11, b00, b01, b10, b11, e0, e1, T1, T2, None)[0]
 
 
-def _trig2m(a00, a01, a10, a11, b00, b01, b10, b11, e0, e1, T1, T2):
+def _trig2m(a00, a01, a10, a11, b00, b01, b10, b11, e0, e1, T1, T2, CS):
     """:func:`_trig2`, returning ``(count, margin)``: the margin is how near the quartic's nearest complex root
     is to being real, as an angle, ``2 |Im t| / (1 + |t|²)`` for ``t = tan(φ / 2)``, over the roots that give no
     solution of their own (complex, failing the check, or a repeat of one found: a pair about to turn complex);
     ``inf`` when every root gives one. Two more solutions appear where it reaches 0 (a pair of complex roots
     turning real): the 1-D search looks for pairs of branches born and dying between two of its samples where it
-    dips (``search._islands``)."""
+    dips (``search._islands``). ``CS``: None, or rows ``(≥ 4, 4)`` that get each solution's
+    ``(cos θ1, sin θ1, cos θ2, sin θ2)`` (equal to the cosines and sines of ``T1``, ``T2`` up to rounding; the 1-D
+    searches rotate by them next, without calling ``cos`` and ``sin`` again)."""
     na2 = a00 * a00 + a01 * a01 + a10 * a10 + a11 * a11
     nb2 = b00 * b00 + b01 * b01 + b10 * b10 + b11 * b11
     scale = max(math.sqrt(max(na2, nb2, e0 * e0 + e1 * e1)), 1e-300)
@@ -439,25 +455,30 @@ def _trig2m(a00, a01, a10, a11, b00, b01, b10, b11, e0, e1, T1, T2):
         if not dup:
             T1[count] = t1
             T2[count] = t2
+            if CS is not None:            # their cosines and sines, for callers that rotate by them next
+                CS[count, 0] = c1
+                CS[count, 1] = s1
+                CS[count, 2] = c2
+                CS[count, 3] = s2
             count += 1
         else:      # a pair that has nearly met (a double root): as near to turning complex as its roots are apart
             margin = min(margin, 2.0 * abs(ti) / (1.0 + t * t + ti * ti))
     return count, margin
 
 
-def _sp6(h0, k0, p0, h1, k1, p1, h2, k2, p2, h3, k3, p3, d1, d2, T1, T2):
-    """SP6 (as :func:`.subproblems.sp6`, exact solutions only) on scalar vectors: the count into ``T1``, ``T2``;
-    returns ``(count, margin)`` (:func:`_trig2m`)."""
+def _sp6(h0, k0, p0, h1, k1, p1, h2, k2, p2, h3, k3, p3, d1, d2, T1, T2, CS):
+    """SP6 (as :func:`.subproblems.sp6`, exact solutions only) on scalar vectors: the solutions into ``T1``, ``T2``
+    (their cosines and sines into ``CS`` unless it is None); returns ``(count, margin)`` (:func:`_trig2m`)."""
     a00, a01, c0 = _tlin(h0, k0, p0)
     b00, b01, c1 = _tlin(h1, k1, p1)
     a10, a11, c2 = _tlin(h2, k2, p2)
     b10, b11, c3 = _tlin(h3, k3, p3)
-    return _trig2_rows(a00, a01, b00, b01, d1 - c0 - c1, a10, a11, b10, b11, d2 - c2 - c3, T1, T2)
+    return _trig2_rows(a00, a01, b00, b01, d1 - c0 - c1, a10, a11, b10, b11, d2 - c2 - c3, T1, T2, CS)
 
 
-def _trig2_rows(a00, a01, b00, b01, e0, a10, a11, b10, b11, e1, T1, T2):
+def _trig2_rows(a00, a01, b00, b01, e0, a10, a11, b10, b11, e1, T1, T2, CS):
     """:func:`_trig2m` on the rows ``a0· (cos θ1, sin θ1) + b0· (cos θ2, sin θ2) = e0`` (and row 1) scaled to unit
-    size first, so that its tolerances mean the same in both equations: ``(count, margin)``."""
+    size first, so that its tolerances mean the same in both equations: ``(count, margin)`` (``CS`` as there)."""
     s = math.sqrt(a00 * a00 + a01 * a01 + b00 * b00 + b01 * b01)
     if s > 0.0:
         s = 1.0 / s
@@ -474,7 +495,7 @@ def _trig2_rows(a00, a01, b00, b01, e0, a10, a11, b10, b11, e1, T1, T2):
         b10 *= s
         b11 *= s
         e1 *= s
-    return _trig2m(a00, a01, a10, a11, b00, b01, b10, b11, e0, e1, T1, T2)
+    return _trig2m(a00, a01, a10, a11, b00, b01, b10, b11, e0, e1, T1, T2, CS)
 
 
 def _add_row(rows, m, x, tol):
@@ -621,7 +642,7 @@ def _fk_err_from(H, P, RnT, prism, q, Rt, pt, RS, PS, s, T):
 
 # ---------------------------------------------------------------------------------- compiled
 KERNELS = ("_t", "_tdot", "_tcross", "_tadd", "_tsub", "_tmul", "_tnorm", "_trot_cs", "_trot", "_tmv", "_tmtv",
-           "_tlin", "_tsp1", "_wrap", "_cubic_max", "_quad", "_newton4", "_polish", "_quartic4", "_quartic", "_res2",
+           "_tlin", "_tsp1", "_tsp1_cs", "_wrap", "_cubic_max", "_quad", "_newton4", "_polish", "_quartic4", "_quartic", "_res2",
            "_angle", "_trig2m", "_trig2", "_trig2_rows", "_sp6", "_add_row", "_sp3_cos", "_sp3", "_rot_entries",
            "_rmul_rot", "_move", "_fk_err_from")
 """The functions :func:`kernels` compiles, callees before callers."""

@@ -86,10 +86,10 @@ from numpy.typing import NDArray
 from . import _kernels as _kk
 from . import subproblems as _sp
 from ._kernels import (_PI, _add_row, _sp3, _sp3_cos, _sp6, _t, _tadd, _tdot, _tmul, _tmv, _tnorm, _trot, _trot_cs,
-                       _tsp1, _tsub, _wrap)
+                       _tsp1_cs, _tsub, _wrap)
 from .poe import POE
 
-__all__ = ["two_parallel", "N", "SUB_N", "EDGE_N", "MAXROOT", "kernels", "TI", "TP", "SW", "SM"]
+__all__ = ["two_parallel", "N", "SUB_N", "EDGE_N", "MAXROOT", "WIDTH", "kernels", "TI", "TP", "SW", "SM"]
 
 Array = NDArray[np.float64]
 
@@ -100,6 +100,9 @@ SUB_N = 16
 EDGE_N = 6
 """Samples (quadratically spaced) between the last sample of a branch and where it ends (was 10; with the end
 bracketed by :func:`_settled`, 6 lose nothing against the dense scan of the tests)."""
+WIDTH = 7
+"""Columns of a branch row ``S[i]``: the branch (three joints), then for TI and TP the cosines and sines of the two
+joints SP6 gives (:func:`._kernels._trig2m`), which the residual rotates by (no ``cos``/``sin`` calls for them)."""
 MAXROOT = 64
 FOLD_IT = 48
 """Bisection steps of :func:`_fold_root` (in the square-root parameter: the last step is under 1e-14 of the
@@ -128,7 +131,7 @@ constant would be a literal, and each kind would compile its own copy of every f
 
 # ------------------------------------------------------------------------------ the branches
 def _eval(kind, H, P, C, x, S, E):
-    """The branches at ``x`` into ``S (4, 3)``, their residuals into ``E (4,)``; returns their count.
+    """The branches at ``x`` into ``S (4, WIDTH)``, their residuals into ``E (4,)``; returns their count.
     ``C (4, 3)``: the target, per kind (TI: ``e6``, ``p0w``; TP, SM: the rows of ``R_06``, then ``p``;
     SW: ``p0W``)."""
     if kind == TI:
@@ -149,28 +152,28 @@ def _eval_ti(H, P, C, x, S, E):
     k2 = _t(H[2])
     k3 = _t(H[3])
     p0 = _tmul(_t(P[2]), -1.0)
-    p1 = _tsub(_trot(h0, -x, _t(C[1])), _t(P[1]))
+    cx = math.cos(x)
+    sx = math.sin(x)
+    p1 = _tsub(_trot_cs(h0, cx, -sx, _t(C[1])), _t(P[1]))
     p2 = _t(P[3])
     p3 = _t(P[4])
     n, mg = _sp6(k2, k1, p1, _tmul(k2, -1.0), k3, p3, _tmul(p0, 2.0), k1, p1, _tmul(p2, -2.0), k3, p3,
              _tdot(k2, p2) - _tdot(k2, p0), _tdot(p2, p2) + _tdot(p3, p3) - _tdot(p0, p0) - _tdot(p1, p1),
-             S[:, 0], S[:, 2])              # q2, q4 straight into the branch rows (no temporary arrays)
+             S[:, 0], S[:, 2], S[:, 3:])    # q2, q4 and their cosines, sines straight into the branch rows
     c = _tdot(_t(H[4]), _t(H[5]))
     e6 = _t(C[0])
     h4 = _t(H[4])
-    cx = math.cos(x)
-    sx = math.sin(x)
     for i in range(n):
-        c1 = math.cos(S[i, 0])
-        s1 = math.sin(S[i, 0])
-        c3 = math.cos(S[i, 2])
-        s3 = math.sin(S[i, 2])
+        c1 = S[i, 3]
+        s1 = S[i, 4]
+        c3 = S[i, 5]
+        s3 = S[i, 6]
         v = _tadd(p0, _trot_cs(k1, c1, s1, p1))
         w = _tadd(p2, _trot_cs(k3, c3, s3, p3))
-        t2 = _tsp1(w, v, k2)
+        t2, c2, s2 = _tsp1_cs(w, v, k2)
         S[i, 1] = t2
         a = _trot_cs(k3, c3, s3, h4)
-        a = _trot(k2, t2, a)
+        a = _trot_cs(k2, c2, s2, a)
         a = _trot_cs(k1, c1, -s1, a)      # rot(−h2, −q2) = rot(h2, q2)
         a = _trot_cs(h0, cx, sx, a)
         E[i] = _tdot(a, e6) - c
@@ -209,17 +212,17 @@ def _eval_tp(H, P, C, x, S, E):
     mh1 = _tmul(h1, -1.0)
     mh0 = _tmul(h0, -1.0)
     n, mg = _sp6(h1, mh0, w, mh1, h3, _t(P[4]), h1, mh0, v, mh1, h3, h4,
-             _tdot(h1, _tadd(_tadd(_t(P[1]), _t(P[2])), _t(P[3]))), 0.0, S[:, 0], S[:, 1])
+             _tdot(h1, _tadd(_tadd(_t(P[1]), _t(P[2])), _t(P[3]))), 0.0, S[:, 0], S[:, 1], S[:, 3:])
     n2 = _tnorm(_t(P[2]))
     for i in range(n):
-        c0 = math.cos(S[i, 0])
-        s0 = -math.sin(S[i, 0])          # rot(h1, −q1)
-        c3 = math.cos(S[i, 1])
-        s3 = math.sin(S[i, 1])
+        c0 = S[i, 3]
+        s0 = -S[i, 4]                    # rot(h1, −q1)
+        c3 = S[i, 5]
+        s3 = S[i, 6]
         u = _trot_cs(h3, c3, s3, h4)
-        th = _tsp1(u, _trot_cs(h0, c0, s0, v), h1)
+        th, ct, st = _tsp1_cs(u, _trot_cs(h0, c0, s0, v), h1)
         d = _tsub(_tsub(_trot_cs(h0, c0, s0, w), _t(P[1])),
-                  _trot(h1, th, _tadd(_t(P[3]), _trot_cs(h3, c3, s3, _t(P[4])))))
+                  _trot_cs(h1, ct, st, _tadd(_t(P[3]), _trot_cs(h3, c3, s3, _t(P[4])))))
         S[i, 2] = th
         E[i] = _tnorm(d) - n2
     if n < 4:      # how near SP6 is to two more branches, kept for the island check (_islands)
@@ -267,7 +270,7 @@ def _margin(kind, H, P, C, x, S, E, base):
     """1 where there are more than ``base`` branches at ``x``; else how far the subproblem is from giving two more
     (< 0; -inf where it cannot): for SP3 (SW, SM, ``base`` 0) ``1 − |x|`` of :func:`._kernels._sp3_cos`, which
     :func:`_eval` leaves in ``E[0]``; for SP6 (TI, TP) minus the square of :func:`._kernels._trig2m`'s margin (it
-    changes like the distance to where a complex pair of the quartic turns real), left in ``E[3]``. ``S (4, 3)``,
+    changes like the distance to where a complex pair of the quartic turns real), left in ``E[3]``. ``S (4, WIDTH)``,
     ``E (4,)``: work space."""
     c = _eval(kind, H, P, C, x, S, E)
     if c > base:
@@ -281,7 +284,7 @@ def _island(kind, H, P, C, a, b, base):
     """A point of ``[a, b]`` where the margin (:func:`_margin`) is >= 0, by golden section towards its maximum (the
     margin is below 0 at ``a``, at ``b`` and at their midpoint, and the midpoint's is the largest of the three);
     ``nan`` if the maximum stays below 0."""
-    S = np.empty((4, 3))
+    S = np.empty((4, WIDTH))
     E = np.empty(4)
     r = 0.6180339887498949
     c = b - r * (b - a)
@@ -309,7 +312,7 @@ def _island(kind, H, P, C, a, b, base):
 def _rim(kind, H, P, C, inside, outside, base):
     """The end of an island (:func:`_islands`) between ``inside`` (margin >= 0) and ``outside`` (< 0), by bisection
     of the margin to rounding: the last point found inside."""
-    S = np.empty((4, 3))
+    S = np.empty((4, WIDTH))
     E = np.empty(4)
     for _ in range(200):
         x = 0.5 * (inside + outside)
@@ -357,7 +360,7 @@ def _islands(kind, H, P, C, n, step, cnt, E, roots, m, out, pp, wk, mid):
             M[i] = E[i, 0]   # the margin, left there by _eval_sw / _eval_sm
         elif not sp3 and cnt[i] < 4:
             M[i] = E[i, 3]   # by _eval_ti / _eval_tp
-    Ss = np.zeros((SUB_N + 1, 4, 3))
+    Ss = np.zeros((SUB_N + 1, 4, WIDTH))
     Es = np.zeros((SUB_N + 1, 4))
     cs = np.zeros(SUB_N + 1, dtype=np.int64)
     xs = np.zeros(SUB_N + 1)
@@ -440,7 +443,7 @@ def _refine(kind, H, P, C, a, fa, ref, b, fb, out):
     """The zero between ``a`` (branch ``ref``, residual ``fa``) and ``b`` (residual ``fb`` of the same branch,
     opposite sign) by false position (Illinois), following the branch; ``(x, branch)`` into ``out (4,)``.
     False when the branch is lost."""
-    S = np.empty((4, 3))
+    S = np.empty((4, WIDTH))
     E = np.empty(4)
     cur = ref.copy()
     x = a
@@ -486,7 +489,7 @@ def _add(roots, m, out):
 def _dip(kind, H, P, C, a, b, ref, sg, out):
     """The minimum of ``sg`` × the residual of the branch through ``ref`` on [a, b] by golden section, stopped
     as soon as it is below 0: ``(x, residual)``, the branch there into ``out (3,)``; ``nan`` if lost."""
-    S = np.empty((4, 3))
+    S = np.empty((4, WIDTH))
     E = np.empty(4)
     r = 0.6180339887498949
     cur = ref.copy()
@@ -571,7 +574,7 @@ def _edge(kind, H, P, C, x0, S0, c0, j0, x1, roots, m):
     every other branch of ``x0`` (:func:`_owned`): a pair of branches born just before ``x0`` has one member end
     just after it, and the other member, 0.43 rad away in ``(q1, q4, θ)``, was taken for it by the nearest-branch
     rule alone (bench_coverage found such a target: the root on the ending member was missed)."""
-    S = np.empty((4, 3))
+    S = np.empty((4, WIDTH))
     E = np.empty(4)
     ref = S0[j0]
     cur = ref.copy()
@@ -677,7 +680,7 @@ def _fold_root(kind, H, P, C, xe, far, ua, ra, fa, ub, rb, fb, roots, m, out, mi
     of it. Bisection in ``u``, the partner taken at each ``x`` as the branch nearest to the ending one, itself
     located on its straight path between ``ra`` and ``rb``; a root is kept when the residual there is within
     :data:`FOLD_TOL` of 0 (a jump between branches is not a root). Returns the new count of ``roots``."""
-    S = np.empty((4, 3))
+    S = np.empty((4, WIDTH))
     E = np.empty(4)
     lo = ua
     hi = ub
@@ -802,7 +805,7 @@ def _pair(kind, H, P, C, xa, Sa, Ea, ca, xb, Sb, Eb, cb, D, roots, m, out, pp, w
 def _near(kind, H, P, C, x, ref, cur):
     """The residual at ``x`` of the branch nearest ``ref`` (within 0.5 rad; that branch into ``cur``), 0 if
     none (no sign change to refine then)."""
-    S = np.empty((4, 3))
+    S = np.empty((4, WIDTH))
     E = np.empty(4)
     i, d = _pick(kind, H, P, C, x, ref, S, E)
     if i < 0 or d > 0.5:
@@ -984,7 +987,7 @@ def _search(kind, H, P, C, n, roots):
     """Every root ``(x, branch)`` of the search ``kind`` into ``roots (MAXROOT, 4)``, ``n`` samples over a turn;
     returns their count."""
     step = 2.0 * _PI / n
-    S = np.zeros((n + 2, 4, 3))
+    S = np.zeros((n + 2, 4, WIDTH))
     E = np.zeros((n + 2, 4))
     cnt = np.zeros(n + 2, dtype=np.int64)
     xs = np.empty(n)
@@ -1003,7 +1006,7 @@ def _search(kind, H, P, C, n, roots):
         _dists(S[i], cnt[i], S[i + 1], cnt[i + 1], D[i])
     D[n] = D[0]                     # the first step a turn on
     m = np.int64(0)   # not the literal 0: the calls in the loop would be compiled for it as well as for int64
-    Ss = np.zeros((SUB_N + 1, 4, 3))
+    Ss = np.zeros((SUB_N + 1, 4, WIDTH))
     Es = np.zeros((SUB_N + 1, 4))
     cs = np.zeros(SUB_N + 1, dtype=np.int64)
     Ds = np.empty((SUB_N, 4, 4))

@@ -203,7 +203,8 @@ def _branches(H, P, k, u, T3, T5, out):
     if _reject(a_hu, -b_hu, k[8], k[9], e0, -2.0 * a_pu, 2.0 * b_pu, k[10], k[11], e1):
         return 0
     # the 2 x 2 trigonometric system in (q3, q5), rows scaled alike: the shared closed form (exact solutions)
-    n, _ = _trig2_rows(a_hu, -b_hu, k[8], k[9], e0, -2.0 * a_pu, 2.0 * b_pu, k[10], k[11], e1, T3, T5)
+    n, _ = _trig2_rows(a_hu, -b_hu, k[8], k[9], e0, -2.0 * a_pu, 2.0 * b_pu, k[10], k[11], e1, T3, T5,
+                       None)
     for b in range(n):
         q3 = T3[b]
         q5 = T5[b]
