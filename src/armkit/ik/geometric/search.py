@@ -45,7 +45,8 @@ than any other, is sampled :data:`SUB_N` times finer). Then, along each branch:
   only on an interval of the searched joint narrower than a step; TI, TP, two roots of SP6's quartic turn
   real there and back) is looked for where the subproblem's margin (how far it is from giving two more
   solutions: SP3's, or how near SP6's complex roots are to real, :func:`._kernels._trig2m`) peaks between
-  samples with as many branches: its maximum by golden section, the island's ends by bisection, then
+  samples with as many branches: its maximum by Brent's method (parabolas, golden section where they fail; to
+  :data:`ISLAND_TOL`), the island's ends by bisection, then
   :data:`SUB_N` samples between them (sign changes, and dips turning back towards 0), and the same in the other
   step beside that sample, which can sit in the gap between two islands (:func:`_islands`). benchmarks/bench_coverage.py found such targets
   (tests/ik/geometric/test_search_found_cases.py): an SM search had answered "unreachable" where four
@@ -63,7 +64,7 @@ rad of a branch end, or a double root's residual stays above 1e-12, or two roots
 step next to a branch end, or an island lies where the three samples about it differ in count, or the parabola
 of its margin through them peaks more than one second difference below 0 while the margin at the middle sample
 is at most :data:`STEEP` and (TI, TP) the parabola of ``1 / (1 + margin)`` stays above :data:`SHARP_U`
-(:func:`_sharp_peak`) (measured against a dense scan of 20,000 samples on 200 random targets
+(:func:`_sharp_peak`), or an island is narrower than :data:`ISLAND_TOL` (measured against a dense scan of 20,000 samples on 200 random targets
 of each class, tests/ik/geometric/test_search_speed_free.py: 0 missing for all four; TI lost one target's
 near-double root, residual peak 2e-6, beside a step sampled finer, until the seams of those steps were looked at,
 :func:`_seam`). The
@@ -119,6 +120,11 @@ STEEP = -0.9
 samples stays far below 0: the margin of SP5/SP6 lies near -1 away from an island and rises to 0 within a few
 thousandths of a radian of it (bench_coverage found islands 0.009-0.01 rad wide whose samples read -0.99, -0.77,
 -0.89), steeper than any parabola through the samples."""
+ISLAND_TOL = 1e-9
+"""How closely (rad) :func:`_island` locates a maximum of the margin that stays below 0 before it gives up (an
+island narrower than this can be missed; its solutions lie within it, a near double root, as at a branch end's
+3e-10). Golden section to 1e-12 took ~55 evaluations a peak; Brent's method to 1e-9, 13-18 at a smooth peak and
+~37 where the margin peaks at a jump (the nearest complex root changes)."""
 SHARP_U = 2.0
 """The level of ``1 / (1 + margin)`` below which :func:`_sharp_peak` sends a peak of SP6's margin to the island
 search (2: the margin's peak predicted above -0.5; an island is where it reaches 0, level 1)."""
@@ -281,31 +287,75 @@ def _margin(kind, H, P, C, x, S, E, base):
 
 
 def _island(kind, H, P, C, a, b, base):
-    """A point of ``[a, b]`` where the margin (:func:`_margin`) is >= 0, by golden section towards its maximum (the
-    margin is below 0 at ``a``, at ``b`` and at their midpoint, and the midpoint's is the largest of the three);
-    ``nan`` if the maximum stays below 0."""
+    """A point of ``[a, b]`` where the margin (:func:`_margin`) is >= 0, by Brent's method towards its maximum
+    (the margin is below 0 at ``a``, at ``b`` and at their midpoint, and the midpoint's is the largest of the
+    three): a parabola through the three best points so far where it moves inside the bracket and by less than
+    half the step before last, a golden-section step into the larger part otherwise; stopped as soon as the
+    margin is >= 0, or when the maximum is known to :data:`ISLAND_TOL`; ``nan`` if it stays below 0.
+
+    Near a maximum below 0 the margin is smooth (a complex pair of the quartic that comes near the real axis and
+    leaves it), where parabolas converge in a few steps; golden section alone took ~55 (to 1e-12 rad) on each of the
+    ~40 % of targets that look for an island and have none."""
     S = np.empty((4, WIDTH))
     E = np.empty(4)
-    r = 0.6180339887498949
-    c = b - r * (b - a)
-    d = a + r * (b - a)
-    fc = _margin(kind, H, P, C, c, S, E, base)
-    fd = _margin(kind, H, P, C, d, S, E, base)
-    for _ in range(80):
-        if fc >= 0.0:
-            return c
-        if fd >= 0.0:
-            return d
-        if b - a < 1e-12:
+    g = 0.3819660112501051                  # 1 - 1/φ: the golden-section step, as a fraction of the part
+    x = 0.5 * (a + b)
+    fx = -_margin(kind, H, P, C, x, S, E, base)   # minimised
+    if fx <= 0.0:
+        return x
+    w = x
+    v = x
+    fw = fx
+    fv = fx
+    d = 0.0
+    e = 0.0                                  # the step before last
+    for _ in range(100):
+        m = 0.5 * (a + b)
+        tol = ISLAND_TOL
+        if abs(x - m) <= 2.0 * tol - 0.5 * (b - a):
             break
-        if fc > fd:
-            b, d, fd = d, c, fc
-            c = b - r * (b - a)
-            fc = _margin(kind, H, P, C, c, S, E, base)
+        golden = True
+        if abs(e) > tol and math.isfinite(fx) and math.isfinite(fw) and math.isfinite(fv):
+            r = (x - w) * (fx - fv)
+            q = (x - v) * (fx - fw)
+            p = (x - v) * q - (x - w) * r
+            q = 2.0 * (q - r)
+            if q > 0.0:
+                p = -p
+            q = abs(q)
+            last = e
+            if abs(p) < abs(0.5 * q * last) and q * (a - x) < p < q * (b - x):
+                e = d
+                d = p / q                    # the parabola's vertex
+                u = x + d
+                if u - a < 2.0 * tol or b - u < 2.0 * tol:
+                    d = tol if m > x else -tol
+                golden = False
+        if golden:
+            e = a - x if x >= m else b - x
+            d = g * e
+        u = x + (d if abs(d) >= tol else (tol if d > 0.0 else -tol))
+        fu = -_margin(kind, H, P, C, u, S, E, base)
+        if fu <= 0.0:
+            return u
+        if fu <= fx:
+            if u >= x:
+                a = x
+            else:
+                b = x
+            v, fv = w, fw
+            w, fw = x, fx
+            x, fx = u, fu
         else:
-            a, c, fc = c, d, fd
-            d = a + r * (b - a)
-            fd = _margin(kind, H, P, C, d, S, E, base)
+            if u < x:
+                a = u
+            else:
+                b = u
+            if fu <= fw or w == x:
+                v, fv = w, fw
+                w, fw = u, fu
+            elif fu <= fv or v == x or v == w:
+                v, fv = u, fu
     return np.nan
 
 
