@@ -105,6 +105,11 @@ WIDTH = 7
 """Columns of a branch row ``S[i]``: the branch (three joints), then for TI and TP the cosines and sines of the two
 joints SP6 gives (:func:`._kernels._trig2m`), which the residual rotates by (no ``cos``/``sin`` calls for them)."""
 MAXROOT = 64
+MEMO = 64
+"""Evaluations :func:`_edges` remembers (:func:`_eval_memo`): the two branches that meet where they end between two
+samples are each traced to that end by :func:`_edge`, at the same points (half of its evaluations, counted)."""
+MEMO_COLS = 6 + 4 * WIDTH
+"""A remembered evaluation's row: ``x``, the branch count, the four residuals, then the branch rows ``S``."""
 FOLD_IT = 48
 """Bisection steps of :func:`_fold_root` (in the square-root parameter: the last step is under 1e-14 of the
 distance from the end to the last sample)."""
@@ -615,7 +620,45 @@ def _settled(S, E, i, n):
     return a * b > 0.0 and abs(a - b) < 0.25 * min(abs(a), abs(b))
 
 
-def _edge(kind, H, P, C, x0, S0, c0, j0, x1, roots, m):
+def _eval_memo(kind, H, P, C, x, S, E, MR, MC):
+    """:func:`_eval` at ``x`` unless the memo ``MR (MEMO, MEMO_COLS)`` holds that very ``x`` (in its first ``MC[0]``
+    rows, a ring of :data:`MEMO`), whose branches and residuals are then copied; a new evaluation is kept there.
+    The same answer as :func:`_eval` to the bit (the same ``x`` evaluated again)."""
+    k = MC[0]
+    cap = MR.shape[0]
+    w = S.shape[1]
+    for r in range(min(k, cap)):
+        if MR[r, 0] == x:
+            for i in range(4):
+                E[i] = MR[r, 2 + i]
+                for j in range(w):
+                    S[i, j] = MR[r, 6 + i * w + j]
+            return np.int64(MR[r, 1])
+    n = _eval(kind, H, P, C, x, S, E)
+    r = k % cap
+    MR[r, 0] = x
+    MR[r, 1] = n
+    for i in range(4):
+        MR[r, 2 + i] = E[i]
+        for j in range(w):
+            MR[r, 6 + i * w + j] = S[i, j]
+    MC[0] = k + 1
+    return n
+
+
+def _edges(kind, H, P, C, x0, S0, c0, link, x1, roots, m):
+    """:func:`_edge` for each branch ``j`` of the sample at ``x0`` with ``link[j] < 0`` (no partner at the
+    neighbouring sample ``x1``), sharing one memo of evaluations (:func:`_eval_memo`): the two branches that end
+    together are traced to their end at the same points. Returns the new count of ``roots``."""
+    MR = np.empty((MEMO, MEMO_COLS))
+    MC = np.zeros(1, dtype=np.int64)
+    for j in range(c0):
+        if link[j] < 0:
+            m = _edge(kind, H, P, C, x0, S0, c0, j, x1, roots, m, MR, MC)
+    return m
+
+
+def _edge(kind, H, P, C, x0, S0, c0, j0, x1, roots, m, MR, MC):
     """Branch ``j0`` of the sample at ``x0`` (its branches ``S0[:c0]``) without a match at the neighbouring
     sample ``x1``: find where it ends (bisection), sample it towards the end quadratically spaced (the residual
     changes like a square root there) and refine the sign changes. Returns the new count of ``roots``.
@@ -623,7 +666,8 @@ def _edge(kind, H, P, C, x0, S0, c0, j0, x1, roots, m):
     A branch found while bisecting is taken as this one only if it lies nearer to this one's last point than to
     every other branch of ``x0`` (:func:`_owned`): a pair of branches born just before ``x0`` has one member end
     just after it, and the other member, 0.43 rad away in ``(q1, q4, θ)``, was taken for it by the nearest-branch
-    rule alone (bench_coverage found such a target: the root on the ending member was missed)."""
+    rule alone (bench_coverage found such a target: the root on the ending member was missed). ``MR``, ``MC``: the
+    memo of :func:`_eval_memo`, shared with the other branches that end there (:func:`_edges`)."""
     S = np.empty((4, WIDTH))
     E = np.empty(4)
     ref = S0[j0]
@@ -632,7 +676,7 @@ def _edge(kind, H, P, C, x0, S0, c0, j0, x1, roots, m):
     bad = x1
     while abs(bad - good) > 3e-10:
         x = 0.5 * (good + bad)
-        n = _eval(kind, H, P, C, x, S, E)
+        n = _eval_memo(kind, H, P, C, x, S, E, MR, MC)
         i, d = _nearest(S, n, cur)
         if i >= 0 and d < 0.5 and _owned(S[i], d, S0, c0, j0):
             good = x
@@ -648,10 +692,10 @@ def _edge(kind, H, P, C, x0, S0, c0, j0, x1, roots, m):
     # between the last two sub-samples) were missed (bench_coverage found such a target)
     back = max(abs(x0 - good), abs(x1 - x0))
     far = x0 - back if x1 > x0 else x0 + back
-    i, d = _pick(kind, H, P, C, far, ref, S, E)
+    i, d = _nearest(S, _eval_memo(kind, H, P, C, far, S, E, MR, MC), ref)
     if i < 0 or d > 0.5 or not _owned(S[i], d, S0, c0, j0):
         far = x0
-        i, d = _pick(kind, H, P, C, x0, ref, S, E)
+        i, d = _nearest(S, _eval_memo(kind, H, P, C, x0, S, E, MR, MC), ref)
         if i < 0:
             return m
     xa = far
@@ -670,7 +714,7 @@ def _edge(kind, H, P, C, x0, S0, c0, j0, x1, roots, m):
     for k in range(1, EDGE_N + 1):
         t = 1.0 - k / EDGE_N
         xb = good + (far - good) * t * t
-        nb = _eval(kind, H, P, C, xb, S, E)
+        nb = _eval_memo(kind, H, P, C, xb, S, E, MR, MC)
         i, d = _nearest(S, nb, prev)
         if i < 0 or d > 0.5:
             break
@@ -822,11 +866,15 @@ def _pair(kind, H, P, C, xa, Sa, Ea, ca, xb, Sb, Eb, cb, D, roots, m, out, pp, w
         pb[bk] = bj
     for k in range(cb):             # branches that begin between the samples
         if pb[k] < 0:
-            m = _edge(kind, H, P, C, xb, Sb, cb, k, xa, roots, m)
+            m = _edges(kind, H, P, C, xb, Sb, cb, pb, xa, roots, m)
+            break
+    for j in range(ca):             # branches that end between the samples
+        if pa[j] < 0:
+            m = _edges(kind, H, P, C, xa, Sa, ca, pa, xb, roots, m)
+            break
     for j in range(ca):
         k = pa[j]
-        if k < 0:                   # the branch ends between the samples
-            m = _edge(kind, H, P, C, xa, Sa, ca, j, xb, roots, m)
+        if k < 0:
             continue
         fa = Ea[j]
         fb = Eb[k]
@@ -1104,14 +1152,14 @@ def _search(kind, H, P, C, n, roots):
 
 KERNELS = ("_eval_ti", "_point5", "_eval_tp", "_eval_sw", "_eval_sm", "_eval", "_margin", "_island",
            "_rim", "_sharp_peak", "_adist", "_nearest", "_owned", "_pick", "_refine", "_add", "_dip", "_nearest_other",
-           "_settled", "_dip_roots", "_fold_dip", "_fold_root", "_edge", "_dists", "_near", "_pair", "_ambiguous",
-           "_match", "_wiggle", "_extrema", "_seam", "_islands", "_scan", "_search")
+           "_settled", "_dip_roots", "_fold_dip", "_fold_root", "_eval_memo", "_edge", "_edges", "_dists", "_near",
+           "_pair", "_ambiguous", "_match", "_wiggle", "_extrema", "_seam", "_islands", "_scan", "_search")
 """The functions :func:`kernels` compiles, callees before callers (the scalar helpers: :mod:`._kernels`)."""
 UNCOUNTED = ("_eval_ti", "_point5", "_eval_tp", "_eval_sw", "_eval_sm", "_eval", "_margin", "_sharp_peak", "_adist",
-             "_nearest", "_owned", "_pick", "_add", "_nearest_other", "_settled", "_fold_dip", "_dists", "_pair",
-             "_ambiguous", "_match", "_wiggle", "_extrema", "_dip_roots", "_seam", "_scan")
+             "_nearest", "_owned", "_pick", "_add", "_nearest_other", "_settled", "_fold_dip", "_eval_memo", "_dists",
+             "_pair", "_ambiguous", "_match", "_wiggle", "_extrema", "_dip_roots", "_seam", "_scan")
 """The functions of :data:`KERNELS` compiled without reference counts (:func:`.subproblems.jit_namespace`): those
-that make no array (the others: ``_island``, ``_rim``, ``_islands``, ``_refine``, ``_dip``, ``_edge``,
+that make no array (the others: ``_island``, ``_rim``, ``_islands``, ``_refine``, ``_dip``, ``_edge``, ``_edges``,
 ``_fold_root``, ``_near``, ``_search`` make their work arrays). 13 % off the searches' time."""
 _KERNELS: Optional[types.SimpleNamespace] = None
 
