@@ -1081,37 +1081,22 @@ def _scan(kind, H, P, C, xs, S, E, cnt):
         cnt[i] = _eval(kind, H, P, C, xs[i], S[i], E[i])
 
 
-def _search(kind, H, P, C, n, roots):
-    """Every root ``(x, branch)`` of the search ``kind`` into ``roots (MAXROOT, 4)``, ``n`` samples over a turn;
-    returns their count."""
-    step = 2.0 * _PI / n
-    S = np.zeros((n + 2, 4, WIDTH))
-    E = np.zeros((n + 2, 4))
-    cnt = np.zeros(n + 2, dtype=np.int64)
-    xs = np.empty(n)
-    for i in range(n):
-        xs[i] = -_PI + i * step
-    _scan(kind, H, P, C, xs, S, E, cnt)
-    # the last two samples are the first two a turn on: the same branches, the same residuals (evaluated again at
-    # ``−π + n step`` ≈ π they differ by rounding, and a root at ±π would fall between the two copies); the second
-    # gives the triple of samples about ±π to _extrema (a dip there, both roots within one step of −π, was missed)
-    for k in range(2):
-        S[n + k] = S[k]
-        E[n + k] = E[k]
-        cnt[n + k] = cnt[k]
-    D = np.empty((n + 1, 4, 4))
-    for i in range(n):
-        _dists(S[i], cnt[i], S[i + 1], cnt[i + 1], D[i])
-    D[n] = D[0]                     # the first step a turn on
-    m = np.int64(0)   # not the literal 0: the calls in the loop would be compiled for it as well as for int64
-    Ss = np.zeros((SUB_N + 1, 4, WIDTH))
-    Es = np.zeros((SUB_N + 1, 4))
-    cs = np.zeros(SUB_N + 1, dtype=np.int64)
-    Ds = np.empty((SUB_N, 4, 4))
-    out = np.empty(4)
-    mid = np.empty(3)
-    pp = np.empty((2, 4), dtype=np.int64)
-    wk = np.empty((2, 3))
+def _take(Ss, Es, cs, k, S, E, cnt, i):
+    """Sample ``i`` (``S[i]``, ``E[i]``, ``cnt[i]``) into row ``k`` of ``Ss``, ``Es``, ``cs`` (element by element:
+    an array assigned to a row needs reference counts)."""
+    for r in range(S.shape[1]):
+        Es[k, r] = E[i, r]
+        for c in range(S.shape[2]):
+            Ss[k, r, c] = S[i, r, c]
+    cs[k] = cnt[i]
+
+
+def _walk(kind, H, P, C, n, step, S, E, cnt, D, Ss, Es, cs, Ds, roots, m, out, mid, pp, wk):
+    """The steps of :func:`_search` one after the other (its arrays; ``D[i]`` the distances of step ``i``): the
+    branches paired and sign changes refined (:func:`_pair`), a step whose branches do not pair up clearly sampled
+    :data:`SUB_N` times finer (and the seams with the steps beside it, :func:`_seam`), the dips of every three
+    samples (:func:`_extrema`). Makes no array (compiled without reference counts: the rows it hands on are
+    views, ~7 a step); returns the new count of ``roots``."""
     for i in range(n):
         xa = -_PI + i * step
         if cnt[i] == 0 and cnt[i + 1] == 0:
@@ -1120,13 +1105,9 @@ def _search(kind, H, P, C, n, roots):
             h = step / SUB_N
             for k in range(SUB_N + 1):
                 if k == 0:
-                    Ss[0] = S[i]
-                    Es[0] = E[i]
-                    cs[0] = cnt[i]
+                    _take(Ss, Es, cs, k, S, E, cnt, i)
                 elif k == SUB_N:
-                    Ss[k] = S[i + 1]
-                    Es[k] = E[i + 1]
-                    cs[k] = cnt[i + 1]
+                    _take(Ss, Es, cs, k, S, E, cnt, i + 1)
                 else:
                     cs[k] = _eval(kind, H, P, C, xa + k * h, Ss[k], Es[k])
             for k in range(SUB_N):
@@ -1147,17 +1128,59 @@ def _search(kind, H, P, C, n, roots):
             m = _pair(kind, H, P, C, xa, S[i], E[i], cnt[i], xa + step, S[i + 1], E[i + 1], cnt[i + 1], D[i], roots,
                       m, out, pp, wk)
         m = _extrema(kind, H, P, C, -_PI, step, S, E, cnt, D, i, roots, m, out, mid, _YES)
+    return m
+
+
+def _search(kind, H, P, C, n, roots):
+    """Every root ``(x, branch)`` of the search ``kind`` into ``roots (MAXROOT, 4)``, ``n`` samples over a turn;
+    returns their count."""
+    step = 2.0 * _PI / n
+    S = np.zeros((n + 2, 4, WIDTH))
+    E = np.zeros((n + 2, 4))
+    cnt = np.zeros(n + 2, dtype=np.int64)
+    xs = np.empty(n)
+    for i in range(n):
+        xs[i] = -_PI + i * step
+    _scan(kind, H, P, C, xs, S, E, cnt)
+    # the last two samples are the first two a turn on: the same branches, the same residuals (evaluated again at
+    # ``−π + n step`` ≈ π they differ by rounding, and a root at ±π would fall between the two copies); the second
+    # gives the triple of samples about ±π to _extrema (a dip there, both roots within one step of −π, was missed)
+    for k in range(2):
+        S[n + k] = S[k]
+        E[n + k] = E[k]
+        cnt[n + k] = cnt[k]
+    D = np.empty((n + 1, 4, 4))
+    _all_dists(S, cnt, n, D)
+    D[n] = D[0]                     # the first step a turn on
+    m = np.int64(0)   # not the literal 0: the calls in the loop would be compiled for it as well as for int64
+    Ss = np.zeros((SUB_N + 1, 4, WIDTH))
+    Es = np.zeros((SUB_N + 1, 4))
+    cs = np.zeros(SUB_N + 1, dtype=np.int64)
+    Ds = np.empty((SUB_N, 4, 4))
+    out = np.empty(4)
+    mid = np.empty(3)
+    pp = np.empty((2, 4), dtype=np.int64)
+    wk = np.empty((2, 3))
+    m = _walk(kind, H, P, C, n, step, S, E, cnt, D, Ss, Es, cs, Ds, roots, m, out, mid, pp, wk)
     return _islands(kind, H, P, C, n, step, cnt, E, roots, m, out, pp, wk, mid)
+
+
+def _all_dists(S, cnt, n, D):
+    """``D[i]``: the distances of :func:`_dists` from sample ``i`` to ``i + 1``, for ``i < n`` (no array made)."""
+    for i in range(n):
+        _dists(S[i], cnt[i], S[i + 1], cnt[i + 1], D[i])
 
 
 KERNELS = ("_eval_ti", "_point5", "_eval_tp", "_eval_sw", "_eval_sm", "_eval", "_margin", "_island",
            "_rim", "_sharp_peak", "_adist", "_nearest", "_owned", "_pick", "_refine", "_add", "_dip", "_nearest_other",
            "_settled", "_dip_roots", "_fold_dip", "_fold_root", "_eval_memo", "_edge", "_edges", "_dists", "_near",
-           "_pair", "_ambiguous", "_match", "_wiggle", "_extrema", "_seam", "_islands", "_scan", "_search")
+           "_pair", "_ambiguous", "_match", "_wiggle", "_extrema", "_seam", "_islands", "_scan", "_take", "_walk",
+           "_all_dists", "_search")
 """The functions :func:`kernels` compiles, callees before callers (the scalar helpers: :mod:`._kernels`)."""
 UNCOUNTED = ("_eval_ti", "_point5", "_eval_tp", "_eval_sw", "_eval_sm", "_eval", "_margin", "_sharp_peak", "_adist",
              "_nearest", "_owned", "_pick", "_add", "_nearest_other", "_settled", "_fold_dip", "_eval_memo", "_dists",
-             "_pair", "_ambiguous", "_match", "_wiggle", "_extrema", "_dip_roots", "_seam", "_scan")
+             "_pair", "_ambiguous", "_match", "_wiggle", "_extrema", "_dip_roots", "_seam", "_scan", "_take", "_walk",
+             "_all_dists")
 """The functions of :data:`KERNELS` compiled without reference counts (:func:`.subproblems.jit_namespace`): those
 that make no array (the others: ``_island``, ``_rim``, ``_islands``, ``_refine``, ``_dip``, ``_edge``, ``_edges``,
 ``_fold_root``, ``_near``, ``_search`` make their work arrays). 13 % off the searches' time."""
