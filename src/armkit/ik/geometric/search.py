@@ -86,8 +86,8 @@ from numpy.typing import NDArray
 
 from . import _kernels as _kk
 from . import subproblems as _sp
-from ._kernels import (_PI, _add_row, _sp3, _sp3_cos, _sp6, _t, _tadd, _tdot, _tmul, _tmv, _tnorm, _trot, _trot_cs,
-                       _tsp1_cs, _tsub, _wrap)
+from ._kernels import (_PI, _add_row, _sp3, _sp3_cos, _sp6, _t, _tadd, _tdot, _tlin, _tmul, _tmv, _tnorm,
+                       _trig2_rows, _trot, _trot_cs, _tsp1_cs, _tsub, _wrap)
 from .poe import POE
 
 __all__ = ["two_parallel", "N", "SUB_N", "EDGE_N", "MAXROOT", "WIDTH", "kernels", "TI", "TP", "SW", "SM"]
@@ -198,18 +198,41 @@ def _point5(H, P, C, x):
     of axis 5 seen from axis 1's point and axis 5's direction, for ``R_05 = R_06 rot(h6, −x)``."""
     cx = math.cos(x)
     sx = -math.sin(x)                     # rot(h6, −x)
-    c0 = _tmv(C[0:3], _trot_cs(_t(H[5]), cx, sx, (1.0, 0.0, 0.0)))
-    c1 = _tmv(C[0:3], _trot_cs(_t(H[5]), cx, sx, (0.0, 1.0, 0.0)))
-    c2 = _tmv(C[0:3], _trot_cs(_t(H[5]), cx, sx, (0.0, 0.0, 1.0)))
-    # R05: columns c0, c1, c2
-    p5 = _t(P[5])
-    h4 = _t(H[4])
-    R05p5 = (c0[0] * p5[0] + c1[0] * p5[1] + c2[0] * p5[2], c0[1] * p5[0] + c1[1] * p5[1] + c2[1] * p5[2],
-             c0[2] * p5[0] + c1[2] * p5[1] + c2[2] * p5[2])
-    w = _tsub(_tsub(_tsub(_t(C[3]), _t(P[0])), R05p5), _tmv(C[0:3], _t(P[6])))
-    v = (c0[0] * h4[0] + c1[0] * h4[1] + c2[0] * h4[2], c0[1] * h4[0] + c1[1] * h4[1] + c2[1] * h4[2],
-         c0[2] * h4[0] + c1[2] * h4[1] + c2[2] * h4[2])
+    h6 = _t(H[5])
+    R = C[0:3]
+    # R_05 u = R_06 (rot(h6, −x) u): two vectors rotated, not the three columns of R_05
+    R05p5 = _tmv(R, _trot_cs(h6, cx, sx, _t(P[5])))
+    w = _tsub(_tsub(_tsub(_t(C[3]), _t(P[0])), R05p5), _tmv(R, _t(P[6])))
+    v = _tmv(R, _trot_cs(h6, cx, sx, _t(H[4])))
     return w, v
+
+
+def _tp_terms(H, P):
+    """The terms of :func:`_eval_tp`'s SP6 that do not depend on the searched joint: ``(b00, b01, c1)`` and
+    ``(b10, b11, c3)`` of :func:`._kernels._tlin` for ``(−h2)ᵀ rot(h4, q4) P4`` and ``(−h2)ᵀ rot(h4, q4) h5``, and
+    ``d1 = h2ᵀ (P1 + P2 + P3)``."""
+    h1 = _t(H[1])
+    h3 = _t(H[3])
+    mh1 = _tmul(h1, -1.0)
+    b00, b01, c1 = _tlin(mh1, h3, _t(P[4]))
+    b10, b11, c3 = _tlin(mh1, h3, _t(H[4]))
+    return b00, b01, c1, b10, b11, c3, _tdot(h1, _tadd(_tadd(_t(P[1]), _t(P[2])), _t(P[3])))
+
+
+def _with_terms(kind, H, P, C):
+    """``C`` of the search ``kind``, for TP with three rows more: :func:`_tp_terms`, made once for the whole search
+    (``C (7, 3)``; :func:`_eval_tp` reads them there)."""
+    if kind != TP:
+        return C
+    C2 = np.zeros((7, 3))
+    for i in range(4):
+        for j in range(3):
+            C2[i, j] = C[i, j]
+    b00, b01, c1, b10, b11, c3, d1 = _tp_terms(H, P)
+    C2[4, 0], C2[4, 1], C2[4, 2] = b00, b01, c1
+    C2[5, 0], C2[5, 1], C2[5, 2] = b10, b11, c3
+    C2[6, 0] = d1
+    return C2
 
 
 def _eval_tp(H, P, C, x, S, E):
@@ -220,10 +243,18 @@ def _eval_tp(H, P, C, x, S, E):
     h3 = _t(H[3])
     h4 = _t(H[4])
     w, v = _point5(H, P, C, x)
-    mh1 = _tmul(h1, -1.0)
     mh0 = _tmul(h0, -1.0)
-    n, mg = _sp6(h1, mh0, w, mh1, h3, _t(P[4]), h1, mh0, v, mh1, h3, h4,
-             _tdot(h1, _tadd(_tadd(_t(P[1]), _t(P[2])), _t(P[3]))), 0.0, S[:, 0], S[:, 1], S[:, 3:])
+    if C.shape[0] >= 7:                   # SP6's terms that do not depend on x, made once (_tp_terms)
+        b00, b01, c1 = C[4, 0], C[4, 1], C[4, 2]
+        b10, b11, c3 = C[5, 0], C[5, 1], C[5, 2]
+        d1 = C[6, 0]
+    else:
+        b00, b01, c1, b10, b11, c3, d1 = _tp_terms(H, P)
+    # SP6 (as _kernels._sp6): h1ᵀ rot(−h0, q1) w + (−h1)ᵀ rot(h3, q4) P4 = d1, the same with v and h4 = 0
+    a00, a01, c0 = _tlin(h1, mh0, w)
+    a10, a11, c2 = _tlin(h1, mh0, v)
+    n, mg = _trig2_rows(a00, a01, b00, b01, d1 - c0 - c1, a10, a11, b10, b11, 0.0 - c2 - c3, S[:, 0], S[:, 1],
+                        S[:, 3:])
     n2 = _tnorm(_t(P[2]))
     for i in range(n):
         c0 = S[i, 3]
@@ -1134,6 +1165,7 @@ def _walk(kind, H, P, C, n, step, S, E, cnt, D, Ss, Es, cs, Ds, roots, m, out, m
 def _search(kind, H, P, C, n, roots):
     """Every root ``(x, branch)`` of the search ``kind`` into ``roots (MAXROOT, 4)``, ``n`` samples over a turn;
     returns their count."""
+    C = _with_terms(kind, H, P, C)
     step = 2.0 * _PI / n
     S = np.zeros((n + 2, 4, WIDTH))
     E = np.zeros((n + 2, 4))
@@ -1171,16 +1203,16 @@ def _all_dists(S, cnt, n, D):
         _dists(S[i], cnt[i], S[i + 1], cnt[i + 1], D[i])
 
 
-KERNELS = ("_eval_ti", "_point5", "_eval_tp", "_eval_sw", "_eval_sm", "_eval", "_margin", "_island",
-           "_rim", "_sharp_peak", "_adist", "_nearest", "_owned", "_pick", "_refine", "_add", "_dip", "_nearest_other",
-           "_settled", "_dip_roots", "_fold_dip", "_fold_root", "_eval_memo", "_edge", "_edges", "_dists", "_near",
-           "_pair", "_ambiguous", "_match", "_wiggle", "_extrema", "_seam", "_islands", "_scan", "_take", "_walk",
-           "_all_dists", "_search")
+KERNELS = ("_eval_ti", "_point5", "_tp_terms", "_with_terms", "_eval_tp", "_eval_sw", "_eval_sm", "_eval", "_margin",
+           "_island", "_rim", "_sharp_peak", "_adist", "_nearest", "_owned", "_pick", "_refine", "_add", "_dip",
+           "_nearest_other", "_settled", "_dip_roots", "_fold_dip", "_fold_root", "_eval_memo", "_edge", "_edges",
+           "_dists", "_near", "_pair", "_ambiguous", "_match", "_wiggle", "_extrema", "_seam", "_islands", "_scan",
+           "_take", "_walk", "_all_dists", "_search")
 """The functions :func:`kernels` compiles, callees before callers (the scalar helpers: :mod:`._kernels`)."""
-UNCOUNTED = ("_eval_ti", "_point5", "_eval_tp", "_eval_sw", "_eval_sm", "_eval", "_margin", "_sharp_peak", "_adist",
-             "_nearest", "_owned", "_pick", "_add", "_nearest_other", "_settled", "_fold_dip", "_eval_memo", "_dists",
-             "_pair", "_ambiguous", "_match", "_wiggle", "_extrema", "_dip_roots", "_seam", "_scan", "_take", "_walk",
-             "_all_dists")
+UNCOUNTED = ("_eval_ti", "_point5", "_tp_terms", "_eval_tp", "_eval_sw", "_eval_sm", "_eval", "_margin", "_sharp_peak",
+             "_adist", "_nearest", "_owned", "_pick", "_add", "_nearest_other", "_settled", "_fold_dip", "_eval_memo",
+             "_dists", "_pair", "_ambiguous", "_match", "_wiggle", "_extrema", "_dip_roots", "_seam", "_scan", "_take",
+             "_walk", "_all_dists")
 """The functions of :data:`KERNELS` compiled without reference counts (:func:`.subproblems.jit_namespace`): those
 that make no array (the others: ``_island``, ``_rim``, ``_islands``, ``_refine``, ``_dip``, ``_edge``, ``_edges``,
 ``_fold_root``, ``_near``, ``_search`` make their work arrays). 13 % off the searches' time."""
