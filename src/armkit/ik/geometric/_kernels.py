@@ -91,16 +91,10 @@ def _tlin(h, k, p):
     return _tdot(h, p) - c, _tdot(h, _tcross(k, p)), c
 
 
-def _tsp1(p1, p2, k):
-    """θ with ``rot(k, θ) p1`` nearest ``p2`` (SP1)."""
-    kp1 = _tdot(k, p1)
-    y = (p1[0] - k[0] * kp1, p1[1] - k[1] * kp1, p1[2] - k[2] * kp1)
-    return math.atan2(_tdot(_tcross(k, p1), p2), _tdot(y, p2))
-
-
 def _tsp1_cs(p1, p2, k):
-    """:func:`_tsp1` with its cosine and sine: ``(θ, cos θ, sin θ)``, the two from the same pair that gives θ (no
-    ``sin``/``cos`` calls; they differ from ``cos(θ)``, ``sin(θ)`` by rounding only)."""
+    """θ with ``rot(k, θ) p1`` nearest ``p2`` (SP1), and its cosine and sine: ``(θ, cos θ, sin θ)``, the two from
+    the same pair that gives θ (no ``sin``/``cos`` calls; they differ from ``cos(θ)``, ``sin(θ)`` by rounding
+    only)."""
     kp1 = _tdot(k, p1)
     y = (p1[0] - k[0] * kp1, p1[1] - k[1] * kp1, p1[2] - k[2] * kp1)
     b = _tdot(_tcross(k, p1), p2)
@@ -642,9 +636,9 @@ def _fk_err_from(H, P, RnT, prism, q, Rt, pt, RS, PS, s, T):
 
 # ---------------------------------------------------------------------------------- compiled
 KERNELS = ("_t", "_tdot", "_tcross", "_tadd", "_tsub", "_tmul", "_tnorm", "_trot_cs", "_trot", "_tmv", "_tmtv",
-           "_tlin", "_tsp1", "_tsp1_cs", "_wrap", "_cubic_max", "_quad", "_newton4", "_polish", "_quartic4", "_quartic", "_res2",
-           "_angle", "_trig2m", "_trig2", "_trig2_rows", "_sp6", "_add_row", "_sp3_cos", "_sp3", "_rot_entries",
-           "_rmul_rot", "_move", "_fk_err_from")
+           "_tlin", "_tsp1_cs", "_wrap", "_cubic_max", "_quad", "_newton4", "_polish", "_quartic4", "_quartic",
+           "_res2", "_angle", "_trig2m", "_trig2", "_trig2_rows", "_sp6", "_add_row", "_sp3_cos", "_sp3",
+           "_rot_entries", "_rmul_rot", "_move", "_fk_err_from")
 """The functions :func:`kernels` compiles, callees before callers."""
 _KERNELS: Optional[types.SimpleNamespace] = None
 

@@ -144,7 +144,7 @@ constant would be a literal, and each kind would compile its own copy of every f
 def _eval(kind, H, P, C, x, S, E):
     """The branches at ``x`` into ``S (4, WIDTH)``, their residuals into ``E (4,)``; returns their count.
     ``C (4, 3)``: the target, per kind (TI: ``e6``, ``p0w``; TP, SM: the rows of ``R_06``, then ``p``;
-    SW: ``p0W``)."""
+    SW: ``p0W``); TP's in :func:`_search` has three rows more (:func:`_with_terms`)."""
     if kind == TI:
         return _eval_ti(H, P, C, x, S, E)
     if kind == TP:
@@ -873,7 +873,7 @@ def _dists(Sa, ca, Sb, cb, D):
 def _pair(kind, H, P, C, xa, Sa, Ea, ca, xb, Sb, Eb, cb, D, roots, m, out, pp, wk):
     """Roots between two neighbouring samples: their branches paired one to one, nearest pairs first (within
     0.5 rad; ``D`` from :func:`_dists`), sign changes refined; a branch left without a partner ends in between
-    (:func:`_edge`). ``out (4,)``, ``pp (2, 4)``: work space."""
+    (:func:`_edges`). ``out (4,)``, ``pp (2, 4)``: work space."""
     pa = pp[0]
     pb = pp[1]
     for j in range(4):
@@ -1112,6 +1112,12 @@ def _scan(kind, H, P, C, xs, S, E, cnt):
         cnt[i] = _eval(kind, H, P, C, xs[i], S[i], E[i])
 
 
+def _all_dists(S, cnt, n, D):
+    """``D[i]``: the distances of :func:`_dists` from sample ``i`` to ``i + 1``, for ``i < n`` (no array made)."""
+    for i in range(n):
+        _dists(S[i], cnt[i], S[i + 1], cnt[i + 1], D[i])
+
+
 def _take(Ss, Es, cs, k, S, E, cnt, i):
     """Sample ``i`` (``S[i]``, ``E[i]``, ``cnt[i]``) into row ``k`` of ``Ss``, ``Es``, ``cs`` (element by element:
     an array assigned to a row needs reference counts)."""
@@ -1197,12 +1203,6 @@ def _search(kind, H, P, C, n, roots):
     return _islands(kind, H, P, C, n, step, cnt, E, roots, m, out, pp, wk, mid)
 
 
-def _all_dists(S, cnt, n, D):
-    """``D[i]``: the distances of :func:`_dists` from sample ``i`` to ``i + 1``, for ``i < n`` (no array made)."""
-    for i in range(n):
-        _dists(S[i], cnt[i], S[i + 1], cnt[i + 1], D[i])
-
-
 KERNELS = ("_eval_ti", "_point5", "_tp_terms", "_with_terms", "_eval_tp", "_eval_sw", "_eval_sm", "_eval", "_margin",
            "_island", "_rim", "_sharp_peak", "_adist", "_nearest", "_owned", "_pick", "_refine", "_add", "_dip",
            "_nearest_other", "_settled", "_dip_roots", "_fold_dip", "_fold_root", "_eval_memo", "_edge", "_edges",
@@ -1214,8 +1214,8 @@ UNCOUNTED = ("_eval_ti", "_point5", "_tp_terms", "_eval_tp", "_eval_sw", "_eval_
              "_dists", "_pair", "_ambiguous", "_match", "_wiggle", "_extrema", "_dip_roots", "_seam", "_scan", "_take",
              "_walk", "_all_dists")
 """The functions of :data:`KERNELS` compiled without reference counts (:func:`.subproblems.jit_namespace`): those
-that make no array (the others: ``_island``, ``_rim``, ``_islands``, ``_refine``, ``_dip``, ``_edge``, ``_edges``,
-``_fold_root``, ``_near``, ``_search`` make their work arrays). 13 % off the searches' time."""
+that make no array (the others: ``_with_terms``, ``_island``, ``_rim``, ``_islands``, ``_refine``, ``_dip``,
+``_edge``, ``_edges``, ``_fold_root``, ``_near``, ``_search`` make their work arrays). 13 % off the searches' time."""
 _KERNELS: Optional[types.SimpleNamespace] = None
 
 
