@@ -41,20 +41,20 @@ def test_the_memo_answers_as_the_evaluation_and_evaluates_only_what_it_lacks(kin
     order = [0, 1, 0, 2, 3, 0, 3]
     fresh = [True, True, False, True, True, True, False]
     calls = []
+    plain = S._eval
 
     def counted(*args):
         calls.append(args[4])
-        return S.__dict__["_plain_eval"](*args)
+        return plain(*args)
 
-    monkeypatch.setitem(S.__dict__, "_plain_eval", S._eval)
-    monkeypatch.setattr(S, "_eval", counted)
+    monkeypatch.setattr(S, "_eval", counted)    # what _eval_memo calls
     MR, MC = np.full((3, S.MEMO_COLS), np.nan), np.zeros(1, dtype=np.int64)
     for i, new in zip(order, fresh):
         before = len(calls)
         Sm, Em = np.full((4, S.WIDTH), np.nan), np.full(4, np.nan)
         n = S._eval_memo(getattr(S, kind), H, P, C, xs[i], Sm, Em, MR, MC)
         assert (len(calls) - before == 1) == new, (i, new)
-        n0, S0, E0 = _plain(kind, H, P, C, xs[i], S.__dict__["_plain_eval"])
+        n0, S0, E0 = _plain(kind, H, P, C, xs[i], plain)
         assert n == n0
         assert np.array_equal(Sm[:n], S0[:n], equal_nan=True) and np.array_equal(Em[:n], E0[:n])
 
