@@ -12,19 +12,8 @@ import numpy as np
 import pytest
 
 from armkit.ik.geometric import search as S
-from armkit.ik.geometric import solvers as G
 
-from test_search_speed_free import KINDS, _target_c   # same folder, on pytest's path
-from test_solvers import random_q
-
-
-def _setup(kind: str, seed: int):
-    name, make = KINDS[kind]
-    g = np.random.default_rng(seed)
-    form = make(g)
-    prep = G._prepare(form, name)
-    R, p = form.fk(random_q(g, form))
-    return prep.Hi, prep.Pi, _target_c(kind, prep.Hi, prep.Pi, R @ form.R_nT.T, p), g
+from test_search_speed_free import search_case   # same folder, on pytest's path
 
 
 def _plain(kind, H, P, C, x, ev=S._eval):
@@ -35,7 +24,7 @@ def _plain(kind, H, P, C, x, ev=S._eval):
 
 @pytest.mark.parametrize("kind", ["TI", "TP", "SW", "SM"])
 def test_the_memo_answers_as_the_evaluation_and_evaluates_only_what_it_lacks(kind, monkeypatch):
-    H, P, C, g = _setup(kind, {"TI": 1, "TP": 2, "SW": 3, "SM": 4}[kind])
+    H, P, C, g = search_case(kind, {"TI": 1, "TP": 2, "SW": 3, "SM": 4}[kind])
     xs = g.uniform(-np.pi, np.pi, 5)
     # a ring of 3: x0 x1 x0 (held) x2 x3 (x0 pushed out) x0 (evaluated again) x3 (held)
     order = [0, 1, 0, 2, 3, 0, 3]
@@ -63,7 +52,7 @@ def test_the_memo_answers_as_the_evaluation_and_evaluates_only_what_it_lacks(kin
 def test_the_compiled_memo_answers_as_the_compiled_evaluation(kind):
     pytest.importorskip("numba")
     K = S.kernels()
-    H, P, C, g = _setup(kind, 7)
+    H, P, C, g = search_case(kind, 7)
     MR, MC = np.empty((S.MEMO, S.MEMO_COLS)), np.zeros(1, dtype=np.int64)
     xs = g.uniform(-np.pi, np.pi, 40)
     for x in np.concatenate([xs, xs[::-1]]):       # each x twice: once evaluated, once read back

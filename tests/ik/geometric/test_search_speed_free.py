@@ -79,6 +79,17 @@ def _target_c(kind: str, H, P, R06, p) -> np.ndarray:
     return C
 
 
+def search_case(kind: str, seed: int):
+    """A random arm of the class ``kind`` and a random target of it, as one search sees them: ``(H, P, C, g)``,
+    the ideal chain, the search's ``C`` (:func:`_target_c`) and the generator, to draw joint values from."""
+    name, make = KINDS[kind]
+    g = np.random.default_rng(seed)
+    form = make(g)
+    prep = G._prepare(form, name)
+    R, p = form.fk(random_q(g, form))
+    return prep.Hi, prep.Pi, _target_c(kind, prep.Hi, prep.Pi, R @ form.R_nT.T, p), g
+
+
 def _coords(kind: str, Q: np.ndarray, H) -> np.ndarray:
     """Each solution as ``(x, branch)``: the searched joint and the branch values of the class."""
     Q = np.atleast_2d(Q)

@@ -11,19 +11,8 @@ import numpy as np
 import pytest
 
 from armkit.ik.geometric import search as S
-from armkit.ik.geometric import solvers as G
 
-from test_search_speed_free import KINDS, _target_c   # same folder, on pytest's path
-from test_solvers import random_q
-
-
-def _case(kind: str, seed: int):
-    name, make = KINDS[kind]
-    g = np.random.default_rng(seed)
-    form = make(g)
-    prep = G._prepare(form, name)
-    R, p = form.fk(random_q(g, form))
-    return prep.Hi, prep.Pi, _target_c(kind, prep.Hi, prep.Pi, R @ form.R_nT.T, p), g
+from test_search_speed_free import search_case   # same folder, on pytest's path
 
 
 @pytest.mark.parametrize("compiled", [False, True], ids=["python", "compiled"])
@@ -32,7 +21,7 @@ def test_terms_made_once_give_the_same_branches(compiled):
         pytest.importorskip("numba")
     K = S.kernels() if compiled else S
     for seed in range(5):
-        H, P, C, g = _case("TP", seed)
+        H, P, C, g = search_case("TP", seed)
         C7 = K._with_terms(S.TP, H, P, C)
         assert C7.shape == (7, 3) and np.array_equal(C7[:4], C)
         for x in g.uniform(-np.pi, np.pi, 30):
@@ -46,5 +35,5 @@ def test_terms_made_once_give_the_same_branches(compiled):
 
 @pytest.mark.parametrize("kind", ["TI", "SW", "SM"])
 def test_other_kinds_keep_their_target_rows(kind):
-    H, P, C, _ = _case(kind, 1)
+    H, P, C, _ = search_case(kind, 1)
     assert S._with_terms(getattr(S, kind), H, P, C) is C
