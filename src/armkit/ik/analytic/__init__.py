@@ -367,7 +367,7 @@ class _Single:
     kernel, its ``ctx`` vectors (one per options: :func:`._single.context`), the buffer sizes and the label table."""
 
     __slots__ = ("kernels", "kernel", "solver", "geometry", "joints", "F", "labels", "labels0", "blank", "m", "n",
-                 "mn", "at", "fsize", "isize", "bsize", "q0", "scale", "window", "above", "sign",
+                 "mn", "at", "fsize", "isize", "bsize", "wsize", "wk", "q0", "scale", "window", "above", "sign",
                  "default_tol", "ctx", "ctx_near", "ctxs", "converged", "shapes", "entry", "small", "small_near")
 
     def __init__(self, robot: Robot, solver: ClosedForm, kernels) -> None:
@@ -395,7 +395,12 @@ class _Single:
         self.small, self.small_near = small, near
         lay = kernels.layout(self.m, self.n)
         self.at = lay
-        self.fsize, self.isize, self.bsize = lay["fb"], lay["ib"], lay["bb"]
+        # the outputs, then the kernel's work space at the ends of ib and bb, and its float work vector wk
+        self.wsize, wi, wb = kernels.work(solver.family if self.kernel is not None else None, self.m, self.n)
+        self.fsize, self.isize, self.bsize = lay["fb"], lay["ib"] + wi, lay["bb"] + wb
+        # the float work vector, one for every call: a kernel holds the GIL from start to end (none is compiled
+        # with nogil; a test checks), so two threads never use it at once, and it keeps nothing between calls
+        self.wk = np.empty(self.wsize)
         self.q0 = np.clip(np.zeros(robot.n), robot.lower, robot.upper)   # armkit.ik's start when none is given
         self.scale = robot.reach
         self.window = POLISH_WINDOW[not solver.sf.exact]
@@ -409,7 +414,8 @@ class _Single:
         if self.kernel is not None:   # the compiled function itself, called without the dispatcher's typing
             # of six arrays (~0.35 us of a ~12 us call); see run_one for why it is safe
             self.entry = _jit_loader.compiled_entry(self.kernel, np.empty(16), self.q0, self.ctx, np.empty(self.fsize),
-                                                    np.empty(self.isize, np.int64), np.empty(self.bsize, np.bool_))
+                                                    np.empty(self.isize, np.int64), np.empty(self.bsize, np.bool_),
+                                                    self.wk)
 
     def __reduce__(self) -> tuple:
         """Pickled as None (a pickled robot's cache holds it): the copy makes its own record when first used,
@@ -492,7 +498,7 @@ def run_one(robot: Robot, c: "_Single", target: Array, q0: Array | None, ctx: Ar
         # which trusts the types of its one signature. Both callers hand over what it takes: a native float64
         # target and q0 (armkit.ik.api checks the dtype), each 1-D and C-contiguous (ravel of a (4, 4), a (3,)
         # or an (n,) array); ctx and the buffers are the record's own. The kernel writes only the buffers.
-        r = c.entry(target.ravel(), q0, ctx, fb, ib, bb)
+        r = c.entry(target.ravel(), q0, ctx, fb, ib, bb, c.wk)
     else:                      # a family solved in Python (the geometric family): its solve, then one call
         t = target.ravel()
         kernels = c.kernels
@@ -501,7 +507,7 @@ def run_one(robot: Robot, c: "_Single", target: Array, q0: Array | None, ctx: Ar
         solver = c.solver
         raw = solver.solve(target[None], (q0 + solver.sf.theta)[None])
         missing = raw.missing[0] if raw.missing is not None else np.zeros(c.m, dtype=bool)
-        r = kernels.post(raw.q[0], raw.unreachable[0], missing, t, q0, ctx, fb, ib, bb)
+        r = kernels.post(raw.q[0], raw.unreachable[0], missing, t, q0, ctx, fb, ib, bb, c.wk)
     if r & 3:
         return None
     if nearest:   # q and success, which nearly every caller reads: made now, the other fields by _later_fields
@@ -555,7 +561,7 @@ def _later_fields(made: tuple, which: str) -> Any:
         reason = _CONVERGED.copy() if r & NEAREST else _REASON_0D[ib.item(0)].copy()
     else:
         branch = c.labels[ib[m:2 * m]] if raw is None else raw.label[0][ib[3 * m:4 * m]]
-        dp, dr, it, within = fb[mn:mn + m], fb[mn + m:mn + 2 * m], ib[2 * m:3 * m], bb[m:]
+        dp, dr, it, within = fb[mn:mn + m], fb[mn + m:mn + 2 * m], ib[2 * m:3 * m], bb[m:2 * m]
         reason = _REASON_TEXT[ib[:m]] if r else c.converged.copy()
     if which == "rest":
         return {"position_error": dp, "rotation_error": dr, "iterations": it, "branch": branch,
@@ -612,13 +618,13 @@ def _small_batch_from_rows(robot: Robot, c: "_Single", targets: Array, q0: Array
     fields cost about as much as the compiled calls (the UR5's ``ik`` of 8 targets: 66 µs, 23 of them in
     the calls)."""
     B, m, n, mn = targets.shape[0], c.m, c.n, c.mn
-    FB, IB, BB = np.empty((B, c.fsize)), np.empty((B, c.isize), _I64), np.empty((B, c.bsize), _BOOL)
+    FB, IB, BB, wk = np.empty((B, c.fsize)), np.empty((B, c.isize), _I64), np.empty((B, c.bsize), _BOOL), c.wk
     flat = np.ascontiguousarray(targets).reshape(B, -1)
     entry, starts = c.entry, c.q0 if q0 is None else q0
     each = starts.ndim == 2
     status = []
     for i in range(B):
-        r = entry(flat[i], starts[i] if each else starts, ctx, FB[i], IB[i], BB[i])
+        r = entry(flat[i], starts[i] if each else starts, ctx, FB[i], IB[i], BB[i], wk)
         if r & 3:
             return None
         status.append(r)

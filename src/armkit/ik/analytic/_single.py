@@ -23,7 +23,7 @@ stretched or folded elbow) (:data:`FALLBACK`). Imported lazily, only when the Nu
 in use (:mod:`armkit._jit_loader`).
 
 The calling convention keeps Numba's own cost per call low (each argument is unboxed, each
-returned array boxed; the buffers are made by the caller): every kernel takes
+returned array boxed; the buffers are made by the caller): every kernel takes ``(t, q0, ctx, fb, ib, bb, wk)``:
 
 * ``t``: the target, flat (16 values of a pose, or 3 of a point), and ``q0`` ``(n,)``;
 * ``ctx``: everything of the robot and the call options in one read-only float64 vector
@@ -31,7 +31,8 @@ returned array boxed; the buffers are made by the caller): every kernel takes
   chain ``F`` of :func:`armkit.kinematics.packed` and the options :data:`OPTS`), built once per robot
   and options;
 * three output buffers the kernel fills, laid out by :func:`layout` for ``m`` branches of ``n``
-  joints: ``fb`` float64 (``q`` ``(m, n)`` sorted, position and rotation errors, then for the
+  joints (after those, ``ib`` and ``bb`` hold the kernel's int and flag work space): ``fb`` float64
+  (``q`` ``(m, n)`` sorted, position and rotation errors, then for the
   messages a private copy of both errors and the ``reach`` rows ``(m, 4)`` in sorted order: clipped
   (out of reach, 1.0/0.0), then the numbers of the family's out-of-reach sentence, its ``reach_why``:
   the target beside the first axis (1.0/0.0), its distance from that axis, its distance from the
@@ -39,6 +40,12 @@ returned array boxed; the buffers are made by the caller): every kernel takes
   2 joint limits; label index; zeros, the ``iterations`` field; the branch's index before sorting;
   the bits of the joints outside their limits, bit ``j``: joint ``j``, the test of
   ``_failure_messages``) and ``bb`` bool (success, within limits);
+* ``wk``: the float work vector (:func:`work` gives its size and the work ends of ``ib`` and ``bb``),
+  which the record keeps and every call uses: a kernel reads nothing there it did not write in the
+  same call, and holds the GIL from start to end (none is compiled with ``nogil``), so two threads never
+  use it at once. A kernel makes no array of its own: it is compiled without Numba's reference counts
+  (``_nrt=False``; each array made and freed cost ~40 ns, and each view and call counted its arrays up and
+  down with an atomic instruction: together ~0.6 µs of a UR5's 3.6 µs call, 2026-12-06);
 
 and returns one int: the status (:data:`DONE`, :data:`FALLBACK`, :data:`BAD_TARGET`) plus
 :data:`LIMIT_FAILURES` when a branch failed by the limits only and :data:`OTHER_FAILURES` when
@@ -58,7 +65,8 @@ _jit_loader.install_cache_fallback()  # before the first cache=True: read-only i
 
 from numba import njit  # noqa: E402
 
-from ...kinematics._jit import PRISMATIC, ROW, _fk_serial, _load, _move, _mul, _sincos, _store2  # noqa: E402
+from ...kinematics._jit import (PRISMATIC, ROW, _fk_rows, _load, _move, _mul, _sincos, _store2,  # noqa: E402
+                               sincos_block)
 from .._jit_verify import _check  # noqa: E402
 from ._jit import _planar2_run, _planar3_run, _puma_run, _ur_run, _wrap_one, _ypp_run, stable_order  # noqa: E402
 from ._layout import (JOINT_LOWER, JOINT_PRISMATIC, JOINT_ROWS, JOINT_THETA, JOINT_UPPER,  # noqa: E402
@@ -122,12 +130,11 @@ def _parts(ctx):
 
 
 @njit(cache=True)
-def _target(t, check):
-    """The target as a (4, 4) array (a point goes into column 3) and whether it is usable: finite, and a
-    rigid transform when ``check`` (the test of :func:`armkit.spatial.check_transform`). With an unusable
-    target or start (not finite, beyond 1e6) the kernels return :data:`BAD_TARGET`: the batched path
-    raises the error or wraps the start."""
-    T = np.zeros((4, 4))
+def _target(t, check, T):
+    """Write the target into ``T`` (4, 4) (a point goes into column 3 of the identity) and return whether it is
+    usable: finite, and a rigid transform when ``check`` (the test of :func:`armkit.spatial.check_transform`).
+    With an unusable target or start (not finite, beyond 1e6) the kernels return :data:`BAD_TARGET`: the batched
+    path raises the error or wraps the start."""
     good = True
     if t.shape[0] == 16:
         for k in range(16):
@@ -146,13 +153,15 @@ def _target(t, check):
             last = T[3, 0] == 0.0 and T[3, 1] == 0.0 and T[3, 2] == 0.0 and T[3, 3] == 1.0
             good = o <= RIGID_TOL and abs(det - 1.0) <= RIGID_TOL and last
     else:
+        for k in range(16):
+            T[k // 4, k % 4] = 0.0
         for k in range(3):
             v = t[k]
             if not math.isfinite(v):
                 good = False
             T[k, 3] = v
         T[3, 3] = 1.0
-    return T, good
+    return good
 
 
 @njit(cache=True, inline="always")
@@ -178,23 +187,34 @@ def _fk_row(F, q, s, out):
     _store2(X, out)
 
 
-@njit(cache=True)
-def _finish(rawq, unreach, missing, lab, ctx, q0, T, pose, lat, rho, r, per, fb, ib, bb):
+@njit(cache=True, inline="always")
+def _cut(w, at, size):
+    """``w[at:at + size]`` and the offset after it: the next piece of a work vector."""
+    return w[at:at + size], at + size
+
+
+@njit(cache=True, _nrt=False)
+def _finish(rawq, unreach, missing, lab, ctx, q0, T, pose, lat, rho, r, per, fb, ib, bb, wf, wi, wb):
     """Steps 2-4 of the module docstring for raw DH angles ``rawq`` (m, n) of one target ``T`` (4, 4), into
-    the buffers; ``lat, rho, r[b // per]``: the numbers of branch ``b``'s out-of-reach sentence."""
+    the buffers; ``lat, rho, r[b // per]``: the numbers of branch ``b``'s out-of-reach sentence. ``wf``, ``wi``,
+    ``wb``: its work space (float, int, bool; at least :func:`finish_work` long), the caller's."""
     m, n = rawq.shape
     _, _, joints, F, opts = _parts(ctx)
-    # one work vector for the floats (one for the ints, one for the flags) instead of a dozen small arrays: lo, hi
-    # (n), dist, dp, dr, key (m), the wrapped branches q (m, n); one pose Tq and every branch's Tm (m, 4, 4) as the
-    # rows of one array (each array made and freed costs ~40 ns); each call has its own (a record is shared by
-    # threads)
-    at = 2 * n + 4 * m
-    w = np.empty(at + m * n)
-    lo, hi = w[:n], w[n:2 * n]
-    dist, dp, dr = w[2 * n:2 * n + m], w[2 * n + m:2 * n + 2 * m], w[2 * n + 2 * m:2 * n + 3 * m]
-    k_of = w[2 * n + 3 * m:at]
-    q = w[at:].reshape((m, n))
-    T4 = np.empty((m + 1, 4, 4))
+    # lo, hi (n), dist, dp, dr, key (m), the wrapped branches q (m, n) and their sines and cosines, one pose Tq and
+    # every branch's Tm (m, 4, 4): pieces of the caller's work vector (each array made and freed costs ~40 ns, and
+    # a function that makes none is compiled without reference counts; see the module docstring)
+    lo, at = _cut(wf, 0, n)
+    hi, at = _cut(wf, at, n)
+    dist, at = _cut(wf, at, m)
+    dp, at = _cut(wf, at, m)
+    dr, at = _cut(wf, at, m)
+    k_of, at = _cut(wf, at, m)
+    qflat, at = _cut(wf, at, m * n)
+    sn, at = _cut(wf, at, m * n)
+    cs, at = _cut(wf, at, m * n)
+    T4, at = _cut(wf, at, 16 * (m + 1))
+    q = qflat.reshape((m, n))
+    T4 = T4.reshape((m + 1, 4, 4))
     Tq, Tm = T4[0], T4[1:]
     for j in range(n):
         lo[j] = joints[JOINT_LOWER, j] - 1e-12
@@ -213,10 +233,8 @@ def _finish(rawq, unreach, missing, lab, ctx, q0, T, pose, lat, rho, r, per, fb,
         dist[b] = math.sqrt(s)
     if not finite:   # a value that is not finite: the batched path says what
         return FALLBACK
-    iw = np.empty(2 * m, np.int64)   # the reason codes, the order
-    code, idx = iw[:m], iw[m:2 * m]
-    bw = np.empty(2 * m, np.bool_)
-    ok, within = bw[:m], bw[m:]
+    code, idx = wi[:m], wi[m:2 * m]   # the reason codes, the order
+    ok, within = wb[:m], wb[m:2 * m]
     if opts[9] != 0.0:   # armkit.ik: the nearest branch that succeeds, if there is one
         s = _nearest_first(q, dist, unreach, missing, lab, F, joints, opts, T, pose, lat, rho, r, per, lo, hi,
                            Tq, idx, dp, dr, within, fb, ib, bb)
@@ -224,7 +242,9 @@ def _finish(rawq, unreach, missing, lab, ctx, q0, T, pose, lat, rho, r, per, fb,
             return s
         # none succeeds: every branch was checked on the way, its errors are in dp, dr, within
     else:
-        _fk_serial(F, q, Tm)   # every branch at once (the sines and cosines of all of them in one vector loop)
+        # every branch at once (the sines and cosines of all of them in one vector loop), as _fk_serial does
+        sincos_block(qflat, sn, cs)
+        _fk_rows(F, q, 0, m, sn, cs, Tm)
         for b in range(m):    # solve_all: verify and the polish test
             e_p, e_r, w_b = _check(Tm[b], T, pose, q[b], joints[JOINT_LOWER], joints[JOINT_UPPER], 1e-12)
             if _polishable(e_p, e_r, opts):
@@ -251,6 +271,11 @@ def _finish(rawq, unreach, missing, lab, ctx, q0, T, pose, lat, rho, r, per, fb,
         s = idx[b]
         _put(b, s, q, dp[s], dr[s], ok[s], within[s], code[s], unreach, lab, lat, rho, r, per, lo, hi, fb, ib, bb)
     return flags
+
+
+def finish_work(m, n):
+    """The work space :func:`_finish` takes for ``m`` branches of ``n`` joints: ``(floats, ints, flags)``."""
+    return 2 * n + 4 * m + 3 * m * n + 16 * (m + 1), 2 * m, 2 * m
 
 
 @njit(cache=True, inline="always")
@@ -292,9 +317,7 @@ def _nearest_first(q, dist, unreach, missing, lab, F, joints, opts, T, pose, lat
     status (:data:`DONE` with :data:`NEAREST` and the label index; :data:`FALLBACK` for a nearer branch the polish
     would touch up, as :func:`_finish`), or -1 when no branch succeeds: then every branch has been checked, its
     errors left in ``dp``, ``dr`` and ``within`` (m,) for :func:`_finish` (the failures' sentences need each).
-    ``Tq`` (4, 4) and ``order`` (m,) are work space. It makes no array, so it is compiled without Numba's reference
-    counts (``_nrt=False``; :func:`armkit.ik.geometric.subproblems.jit_namespace` says why): its 18 array arguments
-    each counted up and down again cost 0.3 µs of the UR5's 6.1 µs ``armkit.ik`` (2026-12-06)."""
+    ``Tq`` (4, 4) and ``order`` (m,) are work space."""
     m = q.shape[0]
     stable_order(dist, order)   # by distance, as the sort (a successful branch's key is its distance)
     for i in range(m):
@@ -313,140 +336,218 @@ def _nearest_first(q, dist, unreach, missing, lab, F, joints, opts, T, pose, lat
 @njit(cache=True)
 def usable(t, q0, check):
     """Whether target ``t`` (flat: 16 or 3 values) and start ``q0`` are usable (see :func:`_target`)."""
-    return _target(t, check)[1] and _usable_start(q0)
+    return _target(t, check, np.empty((4, 4))) and _usable_start(q0)
 
 
-@njit(cache=True)
-def post(rawq, unreach, missing, t, q0, ctx, fb, ib, bb):
+@njit(cache=True, _nrt=False)
+def post(rawq, unreach, missing, t, q0, ctx, fb, ib, bb, wk):
     """Steps 2-4 for raw DH angles ``rawq`` (m, n) of one target ``t`` (flat: 16 or 3 values) that a family's
-    Python ``solve`` gave (the geometric family); label indices are the raw branch indices."""
-    m = rawq.shape[0]
+    Python ``solve`` gave (the geometric family); label indices are the raw branch indices. Work space: ``wk``
+    and the tails of ``ib`` and ``bb`` (:data:`WORK` ``["post"]``)."""
+    m, n = rawq.shape
     opts = _parts(ctx)[4]
-    T, good = _target(t, opts[8] != 0.0)
-    if not good or not _usable_start(q0):
+    T4, at = _cut(wk, 0, 16)
+    T = T4.reshape((4, 4))
+    if not _target(t, opts[8] != 0.0, T) or not _usable_start(q0):
         return BAD_TARGET
-    lab = np.empty(m, np.int64)
+    r, at = _cut(wk, at, 1)
+    r[0] = 0.0
+    lab, i_at = _cut(ib, 5 * m, m)
     for b in range(m):
         lab[b] = b
-    return _finish(rawq, unreach, missing, lab, ctx, q0, T, t.shape[0] == 16, _NO, 0.0, np.zeros(1), m + 1,
-                   fb, ib, bb)
+    return _finish(rawq, unreach, missing, lab, ctx, q0, T, t.shape[0] == 16, _NO, 0.0, r, m + 1,
+                   fb, ib, bb, wk[at:], ib[i_at:], bb[2 * m:])
 
 
 @njit(cache=True, inline="always")
-def _q0phi(q0, joints):
-    n = q0.shape[0]
-    out = np.empty((1, n))
-    for j in range(n):
+def _q0phi(q0, joints, out):
+    """``out`` (1, n) := ``q0 + theta``, the family kernels' reference joints."""
+    for j in range(q0.shape[0]):
         out[0, j] = q0[j] + joints[JOINT_THETA, j]
-    return out
 
 
-@njit(cache=True)
-def planar2(t, q0, ctx, fb, ib, bb):
+@njit(cache=True, _nrt=False)
+def planar2(t, q0, ctx, fb, ib, bb, wk):
     """Planar-2r (``_layout.P2_*``): ``t`` flat pose (16) or point (3)."""
     _, g, _, _, opts = _parts(ctx)
-    T, good = _target(t, opts[8] != 0.0)
-    if not good or not _usable_start(q0):
+    T4, at = _cut(wk, 0, 16)
+    T = T4.reshape((4, 4))
+    if not _target(t, opts[8] != 0.0, T) or not _usable_start(q0):
         return BAD_TARGET
-    p = np.empty((1, 3))
+    p, at = _cut(wk, at, 3)
+    q, at = _cut(wk, at, 4)
+    c, at = _cut(wk, at, 1)
+    r, at = _cut(wk, at, 1)
+    up, i_at = _cut(ib, 5 * 2, 2)
+    unreach, b_at = _cut(bb, 2 * 2, 2)
+    edge, b_at = _cut(bb, b_at, 1)
+    missing, b_at = _cut(bb, b_at, 2)
+    p2 = p.reshape((1, 3))
     for k in range(3):
-        p[0, k] = T[k, 3]
-    q, up, c, r = np.empty((1, 2, 2)), np.empty((1, 2), np.int64), np.empty(1), np.empty(1)
-    unreach, edge = np.empty((1, 2), np.bool_), np.empty(1, np.bool_)
-    _planar2_run(p, g, q, up, c, r, unreach, edge, _FIRST, _ONE)
+        p2[0, k] = T[k, 3]
+    q3 = q.reshape((1, 2, 2))
+    _planar2_run(p2, g, q3, up.reshape((1, 2)), c, r, unreach.reshape((1, 2)), edge, _FIRST, _ONE)
     if edge[0]:
         return FALLBACK
     if opts[7] < 0:
         for b in range(2):
-            q[0, b, 1] *= -1.0
-    return _finish(q[0], unreach[0], np.zeros(2, np.bool_), up[0], ctx, q0, T, t.shape[0] == 16, _NO, 0.0, r,
-                   np.int64(2), fb, ib, bb)
+            q3[0, b, 1] *= -1.0
+    missing[0] = missing[1] = False
+    return _finish(q3[0], unreach, missing, up, ctx, q0, T, t.shape[0] == 16, _NO, 0.0, r, np.int64(2),
+                   fb, ib, bb, wk[at:], ib[i_at:], bb[b_at:])
 
 
-@njit(cache=True)
-def planar3(t, q0, ctx, fb, ib, bb):
+@njit(cache=True, _nrt=False)
+def planar3(t, q0, ctx, fb, ib, bb, wk):
     """Planar-3r (``_layout.P3_*``): ``t`` flat pose (16)."""
     _, g, _, _, opts = _parts(ctx)
-    T, good = _target(t, opts[8] != 0.0)
-    if not good or not _usable_start(q0):
+    T4, at = _cut(wk, 0, 16)
+    T = T4.reshape((4, 4))
+    if not _target(t, opts[8] != 0.0, T) or not _usable_start(q0):
         return BAD_TARGET
-    Tb = T.reshape((1, 4, 4))
-    q, up, c, r = np.empty((1, 2, 3)), np.empty((1, 2), np.int64), np.empty(1), np.empty(1)
-    unreach, edge = np.empty((1, 2), np.bool_), np.empty(1, np.bool_)
-    _planar3_run(Tb, g, q, up, c, r, unreach, edge, _FIRST, _ONE)
+    q, at = _cut(wk, at, 6)
+    c, at = _cut(wk, at, 1)
+    r, at = _cut(wk, at, 1)
+    up, i_at = _cut(ib, 5 * 2, 2)
+    unreach, b_at = _cut(bb, 2 * 2, 2)
+    edge, b_at = _cut(bb, b_at, 1)
+    missing, b_at = _cut(bb, b_at, 2)
+    q3 = q.reshape((1, 2, 3))
+    _planar3_run(T4.reshape((1, 4, 4)), g, q3, up.reshape((1, 2)), c, r, unreach.reshape((1, 2)), edge, _FIRST,
+                 _ONE)
     if edge[0]:
         return FALLBACK
-    return _finish(q[0], unreach[0], np.zeros(2, np.bool_), up[0], ctx, q0, T, _YES, _NO, 0.0, r, np.int64(2), fb,
-                   ib, bb)
+    missing[0] = missing[1] = False
+    return _finish(q3[0], unreach, missing, up, ctx, q0, T, _YES, _NO, 0.0, r, np.int64(2), fb, ib, bb,
+                   wk[at:], ib[i_at:], bb[b_at:])
 
 
-@njit(cache=True)
-def yaw_pitch_pitch(t, q0, ctx, fb, ib, bb):
+@njit(cache=True, _nrt=False)
+def yaw_pitch_pitch(t, q0, ctx, fb, ib, bb, wk):
     """Yaw-pitch-pitch (``_layout.POS_*``): ``t`` flat pose (16) or point (3)."""
     _, g, joints, _, opts = _parts(ctx)
-    T, good = _target(t, opts[8] != 0.0)
-    if not good or not _usable_start(q0):
+    T4, at = _cut(wk, 0, 16)
+    T = T4.reshape((4, 4))
+    if not _target(t, opts[8] != 0.0, T) or not _usable_start(q0):
         return BAD_TARGET
-    p = np.empty((1, 3))
+    p, at = _cut(wk, at, 3)
+    yaw0, at = _cut(wk, at, 1)
+    phi, at = _cut(wk, at, 12)
+    c, at = _cut(wk, at, 2)
+    r, at = _cut(wk, at, 2)
+    rho, at = _cut(wk, at, 1)
+    lab, i_at = _cut(ib, 5 * 4, 4)
+    up, b_at = _cut(bb, 2 * 4, 4)
+    unreach, b_at = _cut(bb, b_at, 4)
+    lat, b_at = _cut(bb, b_at, 1)
+    on_axis, b_at = _cut(bb, b_at, 1)
+    edge, b_at = _cut(bb, b_at, 2)
+    missing, b_at = _cut(bb, b_at, 4)
+    p2 = p.reshape((1, 3))
     for k in range(3):
-        p[0, k] = T[k, 3]
-    yaw0 = np.empty(1)
+        p2[0, k] = T[k, 3]
     yaw0[0] = q0[0] + joints[JOINT_THETA, 0]
-    phi, up, unreach = np.empty((1, 4, 3)), np.empty((1, 4), np.bool_), np.empty((1, 4), np.bool_)
-    c, r, rho = np.empty((1, 2)), np.empty((1, 2)), np.empty(1)
-    lat, on_axis, edge, lab = np.empty(1, np.bool_), np.empty(1, np.bool_), np.empty((1, 2), np.bool_), \
-        np.empty((1, 4), np.int64)
-    _ypp_run(p, g, yaw0, phi, up, unreach, c, r, rho, lat, on_axis, edge, lab, _FIRST, _ONE)
-    if on_axis[0] or edge[0, 0] or edge[0, 1]:
+    _ypp_run(p2, g, yaw0, phi.reshape((1, 4, 3)), up.reshape((1, 4)), unreach.reshape((1, 4)), c.reshape((1, 2)),
+             r.reshape((1, 2)), rho, lat, on_axis, edge.reshape((1, 2)), lab.reshape((1, 4)), _FIRST, _ONE)
+    if on_axis[0] or edge[0] or edge[1]:
         return FALLBACK
-    return _finish(phi[0], unreach[0], np.zeros(4, np.bool_), lab[0], ctx, q0, T, t.shape[0] == 16, lat[0], rho[0],
-                   r[0], np.int64(2), fb, ib, bb)
+    for b in range(4):
+        missing[b] = False
+    return _finish(phi.reshape((4, 3)), unreach, missing, lab, ctx, q0, T, t.shape[0] == 16, lat[0], rho[0], r,
+                   np.int64(2), fb, ib, bb, wk[at:], ib[i_at:], bb[b_at:])
 
 
-@njit(cache=True)
-def spherical_wrist(t, q0, ctx, fb, ib, bb):
+@njit(cache=True, _nrt=False)
+def spherical_wrist(t, q0, ctx, fb, ib, bb, wk):
     """Spherical-wrist (``_layout.SW_*``): ``t`` flat pose (16)."""
     _, g, joints, _, opts = _parts(ctx)
-    T, good = _target(t, opts[8] != 0.0)
-    if not good or not _usable_start(q0):
+    T4, at = _cut(wk, 0, 16)
+    T = T4.reshape((4, 4))
+    if not _target(t, opts[8] != 0.0, T) or not _usable_start(q0):
         return BAD_TARGET
-    Tb = T.reshape((1, 4, 4))
-    q0phi = _q0phi(q0, joints)
-    out, lab, singular = np.empty((1, 4, 2, 6)), np.empty((1, 4, 2), np.int64), np.empty((1, 4), np.bool_)
-    phi, up, unreach4 = np.empty((1, 4, 3)), np.empty((1, 4), np.bool_), np.empty((1, 4), np.bool_)
-    c, r, rho = np.empty((1, 2)), np.empty((1, 2)), np.empty(1)
-    lat, on_axis, edge, lab4 = np.empty(1, np.bool_), np.empty(1, np.bool_), np.empty((1, 2), np.bool_), \
-        np.empty((1, 4), np.int64)
-    _puma_run(Tb, g, q0phi, out, lab, singular, phi, up, unreach4, c, r, rho, lat, on_axis, edge, lab4, _FIRST, _ONE)
-    if on_axis[0] or edge[0, 0] or edge[0, 1]:
+    q0phi, at = _cut(wk, at, 6)
+    out, at = _cut(wk, at, 48)
+    phi, at = _cut(wk, at, 12)
+    c, at = _cut(wk, at, 2)
+    r, at = _cut(wk, at, 2)
+    rho, at = _cut(wk, at, 1)
+    lab, i_at = _cut(ib, 5 * 8, 8)
+    lab4, i_at = _cut(ib, i_at, 4)
+    singular, b_at = _cut(bb, 2 * 8, 4)
+    up, b_at = _cut(bb, b_at, 4)
+    unreach4, b_at = _cut(bb, b_at, 4)
+    lat, b_at = _cut(bb, b_at, 1)
+    on_axis, b_at = _cut(bb, b_at, 1)
+    edge, b_at = _cut(bb, b_at, 2)
+    unreach, b_at = _cut(bb, b_at, 8)
+    missing, b_at = _cut(bb, b_at, 8)
+    q0p = q0phi.reshape((1, 6))
+    _q0phi(q0, joints, q0p)
+    _puma_run(T4.reshape((1, 4, 4)), g, q0p, out.reshape((1, 4, 2, 6)), lab.reshape((1, 4, 2)),
+              singular.reshape((1, 4)), phi.reshape((1, 4, 3)), up.reshape((1, 4)), unreach4.reshape((1, 4)),
+              c.reshape((1, 2)), r.reshape((1, 2)), rho, lat, on_axis, edge.reshape((1, 2)), lab4.reshape((1, 4)),
+              _FIRST, _ONE)
+    if on_axis[0] or edge[0] or edge[1]:
         return FALLBACK
-    unreach = np.empty(8, np.bool_)
     for b in range(4):
-        if singular[0, b]:
+        if singular[b]:
             return FALLBACK
-        unreach[2 * b] = unreach[2 * b + 1] = unreach4[0, b]
-    return _finish(out.reshape(8, 6), unreach, np.zeros(8, np.bool_), lab.reshape(8), ctx, q0, T, _YES, lat[0],
-                   rho[0], r[0], np.int64(4), fb, ib, bb)
+        unreach[2 * b] = unreach[2 * b + 1] = unreach4[b]
+    for b in range(8):
+        missing[b] = False
+    return _finish(out.reshape((8, 6)), unreach, missing, lab, ctx, q0, T, _YES, lat[0], rho[0], r, np.int64(4),
+                   fb, ib, bb, wk[at:], ib[i_at:], bb[b_at:])
 
 
-@njit(cache=True)
-def ur(t, q0, ctx, fb, ib, bb):
+@njit(cache=True, _nrt=False)
+def ur(t, q0, ctx, fb, ib, bb, wk):
     """UR (``_layout.UR_*``): ``t`` flat pose (16)."""
     _, g, joints, _, opts = _parts(ctx)
-    T, good = _target(t, opts[8] != 0.0)
-    if not good or not _usable_start(q0):
+    T4, at = _cut(wk, 0, 16)
+    T = T4.reshape((4, 4))
+    if not _target(t, opts[8] != 0.0, T) or not _usable_start(q0):
         return BAD_TARGET
-    Tb = T.reshape((1, 4, 4))
-    q0phi = _q0phi(q0, joints)
-    out, up, unreach = np.empty((1, 2, 2, 2, 6)), np.empty((1, 2, 2, 2), np.bool_), np.empty((1, 2, 2, 2), np.bool_)
-    lab = np.empty((1, 2, 2, 2), np.int64)
-    lat, rho, r = np.empty(1, np.bool_), np.empty(1), np.empty((1, 2, 2))
-    on_axis, singular = np.empty(1, np.bool_), np.empty((1, 2, 2), np.bool_)
-    _ur_run(Tb, g, q0phi, out, up, lab, unreach, lat, rho, r, on_axis, singular, _FIRST, _ONE)
-    if on_axis[0] or singular[0, 0, 0] or singular[0, 0, 1] or singular[0, 1, 0] or singular[0, 1, 1]:
+    q0phi, at = _cut(wk, at, 6)
+    out, at = _cut(wk, at, 48)
+    rho, at = _cut(wk, at, 1)
+    r, at = _cut(wk, at, 4)
+    lab, i_at = _cut(ib, 5 * 8, 8)
+    up, b_at = _cut(bb, 2 * 8, 8)
+    unreach, b_at = _cut(bb, b_at, 8)
+    lat, b_at = _cut(bb, b_at, 1)
+    on_axis, b_at = _cut(bb, b_at, 1)
+    singular, b_at = _cut(bb, b_at, 4)
+    missing, b_at = _cut(bb, b_at, 8)
+    q0p = q0phi.reshape((1, 6))
+    _q0phi(q0, joints, q0p)
+    _ur_run(T4.reshape((1, 4, 4)), g, q0p, out.reshape((1, 2, 2, 2, 6)), up.reshape((1, 2, 2, 2)),
+            lab.reshape((1, 2, 2, 2)), unreach.reshape((1, 2, 2, 2)), lat, rho, r.reshape((1, 2, 2)), on_axis,
+            singular.reshape((1, 2, 2)), _FIRST, _ONE)
+    if on_axis[0] or singular[0] or singular[1] or singular[2] or singular[3]:
         return FALLBACK
-    return _finish(out.reshape(8, 6), unreach.reshape(8), np.zeros(8, np.bool_), lab.reshape(8), ctx, q0, T, _YES,
-                   lat[0], rho[0], r[0].reshape(4), np.int64(2), fb, ib, bb)
+    for b in range(8):
+        missing[b] = False
+    return _finish(out.reshape((8, 6)), unreach, missing, lab, ctx, q0, T, _YES, lat[0], rho[0], r, np.int64(2),
+                   fb, ib, bb, wk[at:], ib[i_at:], bb[b_at:])
+
+
+WORK: dict = {"planar-2r": (25, 2, 5), "planar-3r": (24, 2, 5), "yaw-pitch-pitch": (37, 4, 16),
+        "spherical-wrist": (87, 12, 32), "ur": (75, 8, 30)}
+"""Family -> the work space its kernel cuts for itself before :func:`_finish`'s: ``(floats of wk, ints at the
+end of ib, flags at the end of bb)``, or a function of ``(m, n)`` that gives them (the geometric family registers
+one); :func:`work` adds ``_finish``'s."""
+
+
+def work(family, m, n):
+    """``(wk size, extra ib, extra bb)`` of the kernel of ``family`` (None: :func:`post`) for ``m`` branches of
+    ``n`` joints: its own work space (:data:`WORK`) and :func:`_finish`'s."""
+    f, i, b = finish_work(m, n)
+    if family is None:
+        return 17 + f, m + i, b
+    own = WORK[family]
+    if callable(own):
+        own = own(m, n)
+    return own[0] + f, own[1] + i, own[2] + b
 
 
 KERNELS = {"planar-2r": planar2, "planar-3r": planar3, "yaw-pitch-pitch": yaw_pitch_pitch,

@@ -113,23 +113,23 @@ def closed_form_only(Hi: NDArray[np.float64], kind: int) -> bool:
     return bool(_norm(_cross(Hi[1], Hi[2])) < 1e-9 or not _norm(_cross(Hi[0], Hi[1])) < 1e-9)
 
 
-def _geometric(t, q0, ctx, fb, ib, bb):
-    """The kernel ``(t, q0, ctx, fb, ib, bb) -> status`` of :mod:`armkit.ik.analytic._single` for the geometric
+def _geometric(t, q0, ctx, fb, ib, bb, wk):
+    """The kernel ``(t, q0, ctx, fb, ib, bb, wk) -> status`` of :mod:`armkit.ik.analytic._single` for the geometric
     family (steps 1-4 of the module docstring). Compiled by :func:`kernel` in a namespace that binds the names
-    of the solvers' and ``_single``'s compiled functions; never run as Python."""
+    of the solvers' and ``_single``'s compiled functions; never run as Python. It makes no array (its work space
+    is the caller's: :func:`work`), so it is compiled without reference counts."""
     _, g, joints, _, opts = _parts(ctx)  # noqa: F821
-    T, good = _target(t, opts[8] != 0.0)  # noqa: F821
-    if not good or not _usable_start(q0):  # noqa: F821
-        return BAD_TARGET
     n = 6
     which, kind, inverted, exact = int(g[WHICH]), int(g[KIND]), g[INV] != 0.0, g[EXACT] != 0.0
     tol_p, tol_r, N, m = g[TOL_P], g[TOL_R], int(g[NS]), int(g[M])
-    # five work arrays instead of 20 small ones (each made and freed costs ~40 ns; rows of 2-D arrays, not
-    # reshaped slices of one vector, whose reshape is a call of its own): the chains' writable copies (the solver
-    # kernels are compiled for those) and the target's R, p; qref and the empty reach radii of _finish (one
-    # zero); the solver's candidates Q (zero) and the branches rawq; the flags prism, LS, SG (false) and
-    # unreach; the ints ST (zero) and lab
-    v3 = np.empty((6 + 7 + 3 + 6 + 7 + 3 + 1, 3))
+    # pieces of the work vectors (rows of 2-D pieces where they can be: a reshape is a call of its own): the
+    # target; the chains' writable copies (the solver kernels are compiled for those) and the target's R, p; qref
+    # and the empty reach radii of _finish (one zero); the solver's candidates Q (zero) and the branches rawq; the
+    # flags prism, LS, SG (false) and unreach; the ints ST (zero) and lab; then _finish's
+    T = wk[:16].reshape((4, 4))
+    if not _target(t, opts[8] != 0.0, T) or not _usable_start(q0):  # noqa: F821
+        return BAD_TARGET
+    v3 = wk[16:16 + 3 * ROWS3].reshape((ROWS3, 3))
     Hi, Pi, RnT, Ht, Pt, R, p = v3[0:6], v3[6:13], v3[13:16], v3[16:22], v3[22:29], v3[29:32], v3[32]
     for i in range(6):
         for j in range(3):
@@ -142,15 +142,29 @@ def _geometric(t, q0, ctx, fb, ib, bb):
     for i in range(3):
         for j in range(3):
             RnT[i, j] = g[RNT + 3 * i + j]
-    qb = np.zeros(n + 1)
+    at = 16 + 3 * ROWS3
+    qb = wk[at:at + n + 1]
+    at += n + 1
+    qq = wk[at:at + (MAXSOL + m) * n].reshape((MAXSOL + m, n))
+    at += (MAXSOL + m) * n
+    for k in range(n + 1):
+        qb[k] = 0.0
+    for i in range(MAXSOL + m):
+        for k in range(n):
+            qq[i, k] = 0.0
     qref, none = qb[:n], qb[n:]
-    qq = np.zeros((MAXSOL + m, n))
     Q, rawq = qq[:MAXSOL], qq[MAXSOL:]
-    wb = np.zeros(n + 2 * MAXSOL + m, np.bool_)
+    b_at = 2 * m + n + 2 * MAXSOL + m
+    wb = bb[2 * m:b_at]
+    for k in range(wb.shape[0]):
+        wb[k] = False
     prism, LS, SG, unreach = wb[:n], wb[n:n + MAXSOL], wb[n + MAXSOL:n + 2 * MAXSOL], wb[n + 2 * MAXSOL:]
     for k in range(n):
         prism[k] = g[PRISM + k] != 0.0
-    wi = np.zeros(MAXSOL + m, np.int64)
+    i_at = 5 * m + MAXSOL + m
+    wi = ib[5 * m:i_at]
+    for k in range(wi.shape[0]):
+        wi[k] = 0
     ST, lab = wi[:MAXSOL], wi[MAXSOL:]
     if inverted:   # the reversed chain, for the inverse target (Geometric.solve's einsum, term by term)
         for i in range(3):
@@ -191,7 +205,16 @@ def _geometric(t, q0, ctx, fb, ib, bb):
         lab[b] = b
     found = float(k) if ng > 0 else 0.0
     return _finish(rawq, unreach, unreach, lab, ctx, q0, T, _YES, _NO, found, none, m + 1,  # noqa: F821
-                   fb, ib, bb)
+                   fb, ib, bb, wk[at:], ib[i_at:], bb[b_at:])
+
+
+ROWS3 = 6 + 7 + 3 + 6 + 7 + 3 + 1
+"""Rows of the kernel's (rows, 3) work piece: Hi, Pi, RnT, Ht, Pt, R, p."""
+
+
+def work(m: int, n: int) -> tuple[int, int, int]:
+    """The work space :func:`_geometric` cuts for itself (``_single.WORK``): ``(floats, ints, flags)``."""
+    return 16 + 3 * ROWS3 + n + 1 + (MAXSOL + m) * n, MAXSOL + m, n + 2 * MAXSOL + m
 
 
 _KERNEL: Any = None
@@ -216,12 +239,13 @@ def kernel() -> Any:
         assert (_single.DONE, _single.FALLBACK, _single.BAD_TARGET) == (DONE, FALLBACK, BAD_TARGET)
         extra = {name: getattr(K, name) for name in ("_solve_spherical", "_solve_three_parallel", "_polish_wanted")}
         extra.update({name: getattr(_single, name) for name in ("_parts", "_target", "_usable_start", "_finish")})
-        ns = jit_namespace(globals(), ("_geometric",), extra=extra)
+        ns = jit_namespace(globals(), ("_geometric",), extra=extra, uncounted=("_geometric",))
         from ... import _jit_loader
 
         _jit_loader.forget_stale_cache({"__file__": __file__, "_geometric": ns["_geometric"]}, SOURCES)
         _KERNEL = ns["_geometric"]
         _single.KERNELS.setdefault("geometric", _KERNEL)
+        _single.WORK.setdefault("geometric", work)
     return _KERNEL or None
 
 
