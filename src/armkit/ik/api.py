@@ -353,6 +353,7 @@ def _one_target(robot: Robot, target: Any, q0: Any, tol: Any, enforce_limits: bo
 _run_one: Any = None   # analytic.run_one once imported
 _run_small: Any = None   # analytic.run_small_batch once imported
 _NDARRAY = np.ndarray
+_POSE = (4, 4)
 
 
 def _fast_record(robot: Robot) -> Any:
@@ -384,6 +385,9 @@ def _fast(robot: Any, target: np.ndarray, q0: Any, enforce_limits: Any, check: A
     if not ONE_CALL or type(robot) is not Robot or target.dtype is not _F64:
         return None
     c = robot.cache.get("ik_fast")
+    if c and q0 is None and enforce_limits is True and check is True and c.one is not None \
+            and target.shape == _POSE and _jit_loader._ACTIVE is not None:   # the most common call: a pose
+        return c.one[nearest](robot, target)
     if c is None:
         c = _fast_record(robot)
     if not c or _jit_loader._ACTIVE is None:
