@@ -104,10 +104,10 @@ def test_kernels_read_no_work_space_they_did_not_write(name):
         for ctx in (c.ctx, c.ctx_near):
             got = []
             for fill in (np.nan, 0.0, 1e300, -7.0):
-                fb, ib, bb = np.full(c.fsize, fill), np.full(c.isize, -3, np.int64), np.full(c.bsize, fill != 0.0)
+                fb, ib, bb = np.full(c.fshape, fill), np.full(c.isize, -3, np.int64), np.full(c.bsize, fill != 0.0)
                 c.wk[:] = fill
                 r = c.entry(t.ravel(), c.q0, ctx, fb, ib, bb, c.wk)
-                got.append((r, fb[:lay["fb"]].copy(), ib[:5 * m].copy(), bb[:2 * m].copy()))
+                got.append((r, fb.reshape(-1)[:lay["fb"]].copy(), ib[:5 * m].copy(), bb[:2 * m].copy()))
             r0 = got[0][0]
             assert r0 & 3 == 0 or r0 & 3 == 1   # answered, or handed to the batched path
             for r, f, i, b in got[1:]:

@@ -200,6 +200,7 @@ def _finish(rawq, unreach, missing, lab, ctx, q0, T, pose, lat, rho, r, per, fb,
     ``wb``: its work space (float, int, bool; at least :func:`finish_work` long), the caller's."""
     m, n = rawq.shape
     _, _, joints, F, opts = _parts(ctx)
+    fb = fb.reshape(fb.size)   # made as rows (the caller's q is its first m rows); written by the flat layout
     # lo, hi (n), dist, dp, dr, key (m), the wrapped branches q (m, n) and their sines and cosines, one pose Tq and
     # every branch's Tm (m, 4, 4): pieces of the caller's work vector (each array made and freed costs ~40 ns, and
     # a function that makes none is compiled without reference counts; see the module docstring)
