@@ -1229,7 +1229,7 @@ def kernels() -> Optional[types.SimpleNamespace]:
             return None
         from ... import _jit_loader
 
-        _jit_loader.forget_stale_cache(ns, ("ik/geometric/_kernels.py",))
+        _jit_loader.forget_stale_cache(ns, ("ik/geometric/_kernels.py", "kinematics/_jit.py"))
         _KERNELS = types.SimpleNamespace(**{name: ns[name] for name in KERNELS}, namespace=ns)
     return _KERNELS
 

@@ -747,7 +747,8 @@ def kernels() -> Optional[types.SimpleNamespace]:
         ns = _sp.jit_namespace(globals(), KERNELS, extra=extra, uncounted=UNCOUNTED)
         from ... import _jit_loader
 
-        _jit_loader.forget_stale_cache(ns, ("ik/geometric/subproblems.py", "ik/geometric/_kernels.py"))
+        _jit_loader.forget_stale_cache(ns, ("ik/geometric/subproblems.py", "ik/geometric/_kernels.py",
+                                                 "kinematics/_jit.py"))
         _KERNELS = types.SimpleNamespace(**{name: ns[name] for name in KERNELS})
     return _KERNELS
 

@@ -132,7 +132,8 @@ Numba links a called kernel's whole compiled code into its caller and optimises 
 every level of calls between a kernel and its entry points repeats that work; inlining these removes a level
 (same operations, same results)."""
 _PARTS = ("solvers", "solvers_wrist", "solvers_parallel", "solvers_search", "solvers_check")
-SOURCES = tuple(f"ik/geometric/{name}.py" for name in _PARTS + ("subproblems", "search", "search2d", "_kernels"))
+SOURCES = tuple(f"ik/geometric/{name}.py" for name in _PARTS + ("subproblems", "search", "search2d", "_kernels")) + (
+    "kinematics/_jit.py",)
 """The files whose functions the compiled solver cores contain (relative to the package): a change to any of
 them makes the cached copies compile anew."""
 _KERNELS: Optional[types.SimpleNamespace] = None

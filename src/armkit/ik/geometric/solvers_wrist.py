@@ -11,6 +11,7 @@ import math
 
 import numpy as np
 
+from ._kernels import _sincos
 from .search import MAXROOT, SW, _search
 from .subproblems import TOL as _SP_TOL
 from .subproblems import _TINY as _SP_TINY
@@ -71,8 +72,7 @@ def _perp(h):
 # the same products into buffers the caller owns (no allocation; the same arithmetic, so the same bits)
 def _rotm_to(k, theta, R):
     """:func:`.subproblems.rotm` into ``R`` (3, 3)."""
-    c = math.cos(theta)
-    s = math.sin(theta)
+    s, c = _sincos(theta)
     v = 1.0 - c
     R[0, 0] = c + k[0] * k[0] * v
     R[0, 1] = k[0] * k[1] * v - k[2] * s
@@ -87,8 +87,7 @@ def _rotm_to(k, theta, R):
 
 def _rot_to(k, theta, p, out):
     """:func:`.subproblems.rot` into ``out`` (3,)."""
-    c = math.cos(theta)
-    s = math.sin(theta)
+    s, c = _sincos(theta)
     kp = (k[0] * p[0] + k[1] * p[1] + k[2] * p[2]) * (1.0 - c)
     out[0] = p[0] * c + (k[1] * p[2] - k[2] * p[1]) * s + k[0] * kp
     out[1] = p[1] * c + (k[2] * p[0] - k[0] * p[2]) * s + k[1] * kp
