@@ -394,22 +394,15 @@ def _sincos_of_block(q, qflat, b):
 
 
 @njit(cache=True, inline="always")
-def _fk_rows(F, q, i0, i1, s, c, out):
-    """FK of rows ``i0:i1`` of ``q`` into ``out[i0:i1]``, given the sines ``s`` and cosines ``c`` of those rows
-    (flat, from row ``i0``). Makes no array (the one-call kernels, compiled without reference counts, call it)."""
+def _fk_block(F, q, qflat, out, b):
     n = q.shape[1]
+    i0, i1, sc, bad = _sincos_of_block(q, qflat, b)
     for i in range(i0, i1):
         o = (i - i0) * n
         X = _load(F, 0)
         for k in range(n):
-            X = _mul(_move(X, q[i, k], s[o + k], c[o + k], F[k + 1, PRISMATIC] != 0.0), F, k + 1)
+            X = _mul(_move(X, q[i, k], sc[0, o + k], sc[1, o + k], F[k + 1, PRISMATIC] != 0.0), F, k + 1)
         _store(X, out, i)
-
-
-@njit(cache=True, inline="always")
-def _fk_block(F, q, qflat, out, b):
-    i0, i1, sc, bad = _sincos_of_block(q, qflat, b)
-    _fk_rows(F, q, i0, i1, sc[0], sc[1], out)
     return bad
 
 

@@ -65,7 +65,7 @@ _jit_loader.install_cache_fallback()  # before the first cache=True: read-only i
 
 from numba import njit  # noqa: E402
 
-from ...kinematics._jit import (PRISMATIC, ROW, _fk_rows, _load, _move, _mul, _sincos, _store2,  # noqa: E402
+from ...kinematics._jit import (PRISMATIC, ROW, _load, _move, _mul, _sincos, _store, _store2,  # noqa: E402
                                sincos_block)
 from .._jit_verify import _check  # noqa: E402
 from ._jit import _planar2_run, _planar3_run, _puma_run, _ur_run, _wrap_one, _ypp_run, stable_order  # noqa: E402
@@ -188,6 +188,34 @@ def _fk_row(F, q, s, out):
 
 
 @njit(cache=True, inline="always")
+def _fk_rows_shared(F, q, s, c, out, P):
+    """:func:`armkit.kinematics._jit._fk_rows` of every row of ``q`` (m, n) into ``out`` (m, 4, 4), each row taken
+    up after the joints it shares with the row before (a closed form's branches come in pairs that differ only in
+    the wrist: the Puma's 8 branches share 12 of their 48 joint steps): the same operations on the same values, the
+    same bits. ``s``, ``c``: the sines and cosines of ``q``'s values (flat); ``P`` ((n + 1) * 12): the pose after
+    each joint of the row before."""
+    m, n = q.shape
+    for i in range(m):
+        k0 = 0
+        if i > 0:
+            while k0 < n and q[i, k0] == q[i - 1, k0]:
+                k0 += 1
+        if k0 == 0:
+            X = _load(F, 0)
+        else:
+            a = 12 * k0
+            X = (P[a], P[a + 1], P[a + 2], P[a + 3], P[a + 4], P[a + 5], P[a + 6], P[a + 7], P[a + 8], P[a + 9],
+                 P[a + 10], P[a + 11])
+        o = i * n
+        for k in range(k0, n):
+            X = _mul(_move(X, q[i, k], s[o + k], c[o + k], F[k + 1, PRISMATIC] != 0.0), F, k + 1)
+            a = 12 * (k + 1)
+            for j in range(12):
+                P[a + j] = X[j]
+        _store(X, out, i)
+
+
+@njit(cache=True, inline="always")
 def _cut(w, at, size):
     """``w[at:at + size]`` and the offset after it: the next piece of a work vector."""
     return w[at:at + size], at + size
@@ -214,6 +242,7 @@ def _finish(rawq, unreach, missing, lab, ctx, q0, T, pose, lat, rho, r, per, fb,
     sn, at = _cut(wf, at, m * n)
     cs, at = _cut(wf, at, m * n)
     T4, at = _cut(wf, at, 16 * (m + 1))
+    P, at = _cut(wf, at, 12 * (n + 1))
     q = qflat.reshape((m, n))
     T4 = T4.reshape((m + 1, 4, 4))
     Tq, Tm = T4[0], T4[1:]
@@ -243,9 +272,10 @@ def _finish(rawq, unreach, missing, lab, ctx, q0, T, pose, lat, rho, r, per, fb,
             return s
         # none succeeds: every branch was checked on the way, its errors are in dp, dr, within
     else:
-        # every branch at once (the sines and cosines of all of them in one vector loop), as _fk_serial does
+        # every branch (the sines and cosines of all of them in one vector loop, as _fk_serial takes them), each
+        # taken up after the joints it shares with the branch before
         sincos_block(qflat, sn, cs)
-        _fk_rows(F, q, 0, m, sn, cs, Tm)
+        _fk_rows_shared(F, q, sn, cs, Tm, P)
         for b in range(m):    # solve_all: verify and the polish test
             e_p, e_r, w_b = _check(Tm[b], T, pose, q[b], joints[JOINT_LOWER], joints[JOINT_UPPER], 1e-12)
             if _polishable(e_p, e_r, opts):
@@ -276,7 +306,7 @@ def _finish(rawq, unreach, missing, lab, ctx, q0, T, pose, lat, rho, r, per, fb,
 
 def finish_work(m, n):
     """The work space :func:`_finish` takes for ``m`` branches of ``n`` joints: ``(floats, ints, flags)``."""
-    return 2 * n + 4 * m + 3 * m * n + 16 * (m + 1), 2 * m, 2 * m
+    return 2 * n + 4 * m + 3 * m * n + 16 * (m + 1) + 12 * (n + 1), 2 * m, 2 * m
 
 
 @njit(cache=True, inline="always")
