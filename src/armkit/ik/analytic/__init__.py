@@ -367,8 +367,9 @@ class _Single:
     kernel, its ``ctx`` vectors (one per options: :func:`._single.context`), the buffer sizes and the label table."""
 
     __slots__ = ("kernels", "kernel", "solver", "geometry", "joints", "F", "labels", "labels0", "blank", "m", "n",
-                 "mn", "at", "fsize", "fshape", "isize", "bsize", "wsize", "wk", "one", "q0", "scale", "window", "above", "sign",
-                 "default_tol", "ctx", "ctx_near", "ctxs", "converged", "shapes", "entry", "small", "small_near")
+                 "mn", "at", "fsize", "fshape", "isize", "bsize", "wsize", "wk", "one", "q0", "scale", "window",
+                 "above", "sign", "default_tol", "ctx", "ctx_near", "ctxs", "converged", "shapes", "entry", "small",
+                 "small_near")
 
     def __init__(self, robot: Robot, solver: ClosedForm, kernels) -> None:
         from ...kinematics import packed
@@ -415,7 +416,7 @@ class _Single:
         self.ctx_near = self.context(None, True, True, True)
         self.entry: Any = self.kernel
         if self.kernel is not None:   # the compiled function itself, called without the dispatcher's typing
-            # of six arrays (~0.35 us of a ~12 us call); see run_one for why it is safe
+            # of seven arrays (~0.35 us of a ~12 us call); see run_one for why it is safe
             self.entry = _jit_loader.compiled_entry(self.kernel, np.empty(16), self.q0, self.ctx, np.empty(self.fshape),
                                                     np.empty(self.isize, np.int64), np.empty(self.bsize, np.bool_),
                                                     self.wk)

@@ -132,8 +132,9 @@ def _chain(T, i, g, out):
             out[a, b] = t0 * g[C + b] + t1 * g[C + 4 + b] + t2 * g[C + 8 + b] + t3 * g[C + 12 + b]
 
 
-# counted (_nrt=True) said explicitly: it makes an array, and the one-call kernels of _single that call it are not
-@njit(cache=True, _nrt=True)  # outputs: one array per argument, never a tuple (Numba 0.68's parfors loses writes through tuples)
+# counted (_nrt=True) said explicitly: it makes an array, and the one-call kernels of _single that call it are not;
+# outputs: one array per argument, never a tuple (Numba 0.68's parfors loses writes through tuples)
+@njit(cache=True, _nrt=True)
 def _planar3_run(T, g, q, up, c, r, unreach, edge, lo, hi):
     for i in prange(lo, hi):
         Tc = np.empty((3, 4))
@@ -250,8 +251,9 @@ def _rotate_back(v0, v1, v2, c, s, ca, sa):
     return x, ca * y + sa * v2, -sa * y + ca * v2
 
 
-# counted (_nrt=True) said explicitly: it makes an array, and the one-call kernels of _single that call it are not
-@njit(cache=True, _nrt=True)  # outputs: one array per argument, never a tuple (Numba 0.68's parfors loses writes through tuples)
+# counted (_nrt=True) said explicitly: it makes an array, and the one-call kernels of _single that call it are not;
+# outputs: one array per argument, never a tuple (Numba 0.68's parfors loses writes through tuples)
+@njit(cache=True, _nrt=True)
 def _puma_run(T, g, q0phi, out, lab, singular, phi, up, unreach, c, r, rho, lat, on_axis, edge, lab4, lo, hi):
     d6, s4, s5, cs = g[SW_D6], g[SW_S4], g[SW_S5], SW_CS
     for i in prange(lo, hi):
@@ -301,8 +303,9 @@ def spherical_wrist(T, g, q0phi):
 
 
 # ----------------------------------------------------------------------------- UR
-# counted (_nrt=True) said explicitly: it makes an array, and the one-call kernels of _single that call it are not
-@njit(cache=True, _nrt=True)  # outputs: one array per argument, never a tuple (Numba 0.68's parfors loses writes through tuples)
+# counted (_nrt=True) said explicitly: it makes an array, and the one-call kernels of _single that call it are not;
+# outputs: one array per argument, never a tuple (Numba 0.68's parfors loses writes through tuples)
+@njit(cache=True, _nrt=True)
 def _ur_run(T, g, q0phi, out, up, lab, unreach, lat, rho, r, on_axis, singular, lo, hi):
     s1, s4, s5, D, tiny = g[UR_S1], g[UR_S4], g[UR_S5], g[UR_D], g[UR_TINY]
     d1, d4, d5, d6, a2, a3 = g[UR_D1], g[UR_D4], g[UR_D5], g[UR_D6], g[UR_A2], g[UR_A3]

@@ -597,7 +597,7 @@ def work(family, m, n):
 
 KERNELS = {"planar-2r": planar2, "planar-3r": planar3, "yaw-pitch-pitch": yaw_pitch_pitch,
            "spherical-wrist": spherical_wrist, "ur": ur}
-"""Family name -> its one-call kernel ``(t, q0, ctx, fb, ib, bb)``; other families: :func:`post` after their
+"""Family name -> its one-call kernel ``(t, q0, ctx, fb, ib, bb, wk)``; other families: :func:`post` after their
 ``solve``. A family here also has ``reach_why(lateral_out, rho, r, target)``: its out-of-reach sentence (the
 one its ``Raw.why`` gives) from the kernel's ``reach`` numbers, so that a target with a clipped branch is not
 solved a second time."""

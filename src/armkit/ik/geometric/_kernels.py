@@ -659,8 +659,9 @@ def kernels() -> Optional[types.SimpleNamespace]:
     if _KERNELS is None:
         from .subproblems import compiled
 
-        _KERNELS = compiled(globals(), KERNELS, extra=_compiled_sincos(), uncounted=KERNELS)   # none allocates or
-        if _KERNELS is not None:                                                                # returns an array
+        # none allocates or returns an array: all compiled without reference counts
+        _KERNELS = compiled(globals(), KERNELS, extra=_compiled_sincos(), uncounted=KERNELS)
+        if _KERNELS is not None:
             from ... import _jit_loader
 
             # they inline the FK's sine and cosine: compiled anew when kinematics/_jit.py changes

@@ -69,7 +69,8 @@ def _perp(h):
     return x / _norm(x)
 
 
-# the same products into buffers the caller owns (no allocation; the same arithmetic, so the same bits)
+# the same products into buffers the caller owns (no allocation; the same arithmetic, with the sine and cosine of
+# _kernels._sincos, the FK's polynomial, 1 ulp from libm's that .subproblems.rot and rotm take)
 def _rotm_to(k, theta, R):
     """:func:`.subproblems.rotm` into ``R`` (3, 3)."""
     s, c = _sincos(theta)
