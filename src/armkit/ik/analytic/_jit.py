@@ -244,6 +244,12 @@ def yaw_pitch_pitch(p, g, yaw0):
 
 # ------------------------------------------------------------------ spherical wrist
 @njit(cache=True, inline="always")
+def _half_turn(x):
+    """``x`` turned by pi, kept in ``(-pi, pi]`` where ``x`` is (as atan2 gives it)."""
+    return x - math.pi if x > 0.0 else x + math.pi
+
+
+@njit(cache=True, inline="always")
 def _rotate_back(v0, v1, v2, c, s, ca, sa):
     """:func:`~._common.rotate_back` with ``c, s`` the cosine and sine of phi."""
     x = c * v0 + s * v1
@@ -279,15 +285,21 @@ def _puma_run(T, g, q0phi, out, lab, singular, phi, up, unreach, c, r, rho, lat,
             for k in range(2):
                 w = 1.0 if k == 0 else -1.0
                 p5 = a5 if k == 0 else -a5
-                p4 = q0phi[i, 3] if sing else math.atan2((w * s5) * mz1, (w * s5) * mz0)
-                s4k, c4k = _sincos(p4)
-                e0, e1, e2 = _rotate_back(mx0, mx1, mx2, c4k, s4k, g[cs + 4], g[cs + 5])
-                f0, f1, f2 = _rotate_back(e0, e1, e2, ca5, sa5 if k == 0 else -sa5, g[cs + 6], g[cs + 7])
+                if k == 1 and not sing:   # the other wrist of the same rotation: (p4 +- pi, -p5, p6 +- pi), as
+                    # Rz(p4 + pi) Rx(a4) Rz(-p5) Rx(a5) Rz(p6 + pi) = Rz(p4) Rx(a4) Rz(p5) Rx(a5) Rz(p6) for a4, a5 =
+                    # +-90 deg (the family's twists); within 1 ulp of the atan2 of the negated pair, two calls fewer
+                    p4, p6 = _half_turn(out[i, b, 0, 3]), _half_turn(out[i, b, 0, 5])
+                else:
+                    p4 = q0phi[i, 3] if sing else math.atan2((w * s5) * mz1, (w * s5) * mz0)
+                    s4k, c4k = _sincos(p4)
+                    e0, e1, e2 = _rotate_back(mx0, mx1, mx2, c4k, s4k, g[cs + 4], g[cs + 5])
+                    f0, f1, f2 = _rotate_back(e0, e1, e2, ca5, sa5 if k == 0 else -sa5, g[cs + 6], g[cs + 7])
+                    p6 = math.atan2(f1, f0)
                 for j in range(3):
                     out[i, b, k, j] = phi[i, b, j]
                 out[i, b, k, 3] = p4
                 out[i, b, k, 4] = p5
-                out[i, b, k, 5] = math.atan2(f1, f0)
+                out[i, b, k, 5] = p6
                 lab[i, b, k] = (4 if b < 2 else 0) + 2 * (1 if up[i, b] else 0) + (1 if k == 0 else 0)
 
 
