@@ -344,6 +344,7 @@ def _ur_run(T, g, q0phi, out, up, lab, unreach, lat, rho, r, on_axis, singular, 
             sa5, ca5 = _sincos(a5)   # the two wrists' p5 = -+a5: sines -+sin a5, cosines cos a5
             wx = Tc[0, 0] * z1x + Tc[1, 0] * z1y
             wy = Tc[0, 1] * z1x + Tc[1, 1] * z1y
+            p6 = sn6 = c6 = 0.0   # the first wrist's, for the second
             for wi in range(2):
                 ws = -1.0 if wi == 0 else 1.0
                 p5 = a5 * ws
@@ -351,8 +352,11 @@ def _ur_run(T, g, q0phi, out, up, lab, unreach, lat, rho, r, on_axis, singular, 
                 sing = abs(sn5) <= 1e-12
                 singular[i, sh, wi] = sing
                 k = s4 * ws
-                p6 = q0phi[i, 5] if sing else math.atan2(-wy * k, wx * k)
-                sn6, c6 = _sincos(p6)
+                if wi == 1 and not sing:   # the other wrist: p6 turned by pi (its pair (wx, wy) k negated)
+                    p6, sn6, c6 = _half_turn(p6), -sn6, -c6
+                else:
+                    p6 = q0phi[i, 5] if sing else math.atan2(-wy * k, wx * k)
+                    sn6, c6 = _sincos(p6)
                 x40, x41, x42 = c6 * c5, -sn6 * c5, s5 * sn5
                 y40, y41, y42 = c6 * sn5, -sn6 * sn5, -s5 * c5
                 o0 = -s5 * d5 * sn6 - s4 * d4 * y40
