@@ -216,6 +216,16 @@ def _fk_rows_shared(F, q, s, c, out, P):
 
 
 @njit(cache=True, inline="always")
+def _begin(t, q0, opts, wk):
+    """What every kernel does first: the target written into the first piece of its work vector, as (4, 4) ``T``
+    (flat: ``T4``), by :func:`_target`. Returns ``(T4, T, the offset after it, usable)``: usable when the target
+    and the start ``q0`` are (else the kernel returns :data:`BAD_TARGET`)."""
+    T4 = wk[:16]
+    T = T4.reshape((4, 4))
+    return T4, T, 16, _target(t, opts[8] != 0.0, T) and _usable_start(q0)
+
+
+@njit(cache=True, inline="always")
 def _cut(w, at, size):
     """``w[at:at + size]`` and the offset after it: the next piece of a work vector."""
     return w[at:at + size], at + size
@@ -391,9 +401,8 @@ def post(rawq, unreach, missing, t, q0, ctx, fb, ib, bb, wk):
     and the tails of ``ib`` and ``bb`` (:data:`WORK` ``["post"]``)."""
     m, n = rawq.shape
     opts = _parts(ctx)[4]
-    T4, at = _cut(wk, 0, 16)
-    T = T4.reshape((4, 4))
-    if not _target(t, opts[8] != 0.0, T) or not _usable_start(q0):
+    T4, T, at, usable = _begin(t, q0, opts, wk)
+    if not usable:
         return BAD_TARGET
     r, at = _cut(wk, at, 1)
     r[0] = 0.0
@@ -415,9 +424,8 @@ def _q0phi(q0, joints, out):
 def planar2(t, q0, ctx, fb, ib, bb, wk):
     """Planar-2r (``_layout.P2_*``): ``t`` flat pose (16) or point (3)."""
     _, g, _, _, opts = _parts(ctx)
-    T4, at = _cut(wk, 0, 16)
-    T = T4.reshape((4, 4))
-    if not _target(t, opts[8] != 0.0, T) or not _usable_start(q0):
+    T4, T, at, usable = _begin(t, q0, opts, wk)
+    if not usable:
         return BAD_TARGET
     p, at = _cut(wk, at, 3)
     q, at = _cut(wk, at, 4)
@@ -446,9 +454,8 @@ def planar2(t, q0, ctx, fb, ib, bb, wk):
 def planar3(t, q0, ctx, fb, ib, bb, wk):
     """Planar-3r (``_layout.P3_*``): ``t`` flat pose (16)."""
     _, g, _, _, opts = _parts(ctx)
-    T4, at = _cut(wk, 0, 16)
-    T = T4.reshape((4, 4))
-    if not _target(t, opts[8] != 0.0, T) or not _usable_start(q0):
+    T4, T, at, usable = _begin(t, q0, opts, wk)
+    if not usable:
         return BAD_TARGET
     q, at = _cut(wk, at, 6)
     c, at = _cut(wk, at, 1)
@@ -471,9 +478,8 @@ def planar3(t, q0, ctx, fb, ib, bb, wk):
 def yaw_pitch_pitch(t, q0, ctx, fb, ib, bb, wk):
     """Yaw-pitch-pitch (``_layout.POS_*``): ``t`` flat pose (16) or point (3)."""
     _, g, joints, _, opts = _parts(ctx)
-    T4, at = _cut(wk, 0, 16)
-    T = T4.reshape((4, 4))
-    if not _target(t, opts[8] != 0.0, T) or not _usable_start(q0):
+    T4, T, at, usable = _begin(t, q0, opts, wk)
+    if not usable:
         return BAD_TARGET
     p, at = _cut(wk, at, 3)
     yaw0, at = _cut(wk, at, 1)
@@ -506,9 +512,8 @@ def yaw_pitch_pitch(t, q0, ctx, fb, ib, bb, wk):
 def spherical_wrist(t, q0, ctx, fb, ib, bb, wk):
     """Spherical-wrist (``_layout.SW_*``): ``t`` flat pose (16)."""
     _, g, joints, _, opts = _parts(ctx)
-    T4, at = _cut(wk, 0, 16)
-    T = T4.reshape((4, 4))
-    if not _target(t, opts[8] != 0.0, T) or not _usable_start(q0):
+    T4, T, at, usable = _begin(t, q0, opts, wk)
+    if not usable:
         return BAD_TARGET
     q0phi, at = _cut(wk, at, 6)
     out, at = _cut(wk, at, 48)
@@ -548,9 +553,8 @@ def spherical_wrist(t, q0, ctx, fb, ib, bb, wk):
 def ur(t, q0, ctx, fb, ib, bb, wk):
     """UR (``_layout.UR_*``): ``t`` flat pose (16)."""
     _, g, joints, _, opts = _parts(ctx)
-    T4, at = _cut(wk, 0, 16)
-    T = T4.reshape((4, 4))
-    if not _target(t, opts[8] != 0.0, T) or not _usable_start(q0):
+    T4, T, at, usable = _begin(t, q0, opts, wk)
+    if not usable:
         return BAD_TARGET
     q0phi, at = _cut(wk, at, 6)
     out, at = _cut(wk, at, 48)

@@ -126,10 +126,10 @@ def _geometric(t, q0, ctx, fb, ib, bb, wk):
     # target; the chains' writable copies (the solver kernels are compiled for those) and the target's R, p; qref
     # and the empty reach radii of _finish (one zero); the solver's candidates Q (zero) and the branches rawq; the
     # flags prism, LS, SG (false) and unreach; the ints ST (zero) and lab; then _finish's
-    T = wk[:16].reshape((4, 4))
-    if not _target(t, opts[8] != 0.0, T) or not _usable_start(q0):  # noqa: F821
+    _, T, at, usable = _begin(t, q0, opts, wk)  # noqa: F821
+    if not usable:
         return BAD_TARGET
-    v3 = wk[16:16 + 3 * ROWS3].reshape((ROWS3, 3))
+    v3 = wk[at:at + 3 * ROWS3].reshape((ROWS3, 3))
     Hi, Pi, RnT, Ht, Pt, R, p = v3[0:6], v3[6:13], v3[13:16], v3[16:22], v3[22:29], v3[29:32], v3[32]
     for i in range(6):
         for j in range(3):
@@ -142,7 +142,7 @@ def _geometric(t, q0, ctx, fb, ib, bb, wk):
     for i in range(3):
         for j in range(3):
             RnT[i, j] = g[RNT + 3 * i + j]
-    at = 16 + 3 * ROWS3
+    at += 3 * ROWS3
     qb = wk[at:at + n + 1]
     at += n + 1
     qq = wk[at:at + (MAXSOL + m) * n].reshape((MAXSOL + m, n))
@@ -238,7 +238,7 @@ def kernel() -> Any:
 
         assert (_single.DONE, _single.FALLBACK, _single.BAD_TARGET) == (DONE, FALLBACK, BAD_TARGET)
         extra = {name: getattr(K, name) for name in ("_solve_spherical", "_solve_three_parallel", "_polish_wanted")}
-        extra.update({name: getattr(_single, name) for name in ("_parts", "_target", "_usable_start", "_finish")})
+        extra.update({name: getattr(_single, name) for name in ("_parts", "_begin", "_finish")})
         ns = jit_namespace(globals(), ("_geometric",), extra=extra, uncounted=("_geometric",))
         from ... import _jit_loader
 
