@@ -43,6 +43,8 @@ from .. import _jit_loader
 _jit_loader.install_cache_fallback()  # before the first cache=True: read-only installs cache elsewhere
 
 from numba import njit, prange, types  # noqa: E402
+
+from .._jit_shaped import shaped  # noqa: E402
 from .._jit_twins import parallel_twin  # noqa: E402
 
 BLOCK = 128
@@ -336,7 +338,7 @@ def _jacobian_one(F, q, tool_frame, out):
         if not math.isfinite(q[k]):
             raise ValueError("q is not finite")
         out[0, k], out[1, k] = _sincos(q[k])
-    _jacobian_cols(F, q, 0, out[0:2], 0, tool_frame, out.reshape((1, 6, n)), 0)
+    _jacobian_cols(F, q, 0, out[0:2], 0, tool_frame, shaped(out, (1, 6, n)), 0)
 
 
 # armkit.fk / armkit.jacobian's q: as _Q1 but not assumed aligned: their entry points (below) take any float64
@@ -509,3 +511,7 @@ def rigidity(T, orth, det, last_ok):
 def parallel_twins():
     """``(one-thread kernel, multi-threaded kernel)`` pairs taking the same arguments (for the warm-up)."""
     return [(_fk_serial, _fk_parallel), (_jacobian_serial, _jacobian_parallel), (_frames_serial, _frames_parallel)]
+
+
+# the single Jacobian inlines armkit._jit_shaped's view: compiled anew when that file changes
+_jit_loader.forget_stale_cache(globals(), ("_jit_shaped.py",))

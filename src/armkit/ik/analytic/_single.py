@@ -65,6 +65,8 @@ _jit_loader.install_cache_fallback()  # before the first cache=True: read-only i
 
 from numba import njit  # noqa: E402
 
+from ..._jit_shaped import shaped  # noqa: E402
+
 from ...kinematics._jit import (PRISMATIC, ROW, _load, _move, _mul, _sincos, _store, _store2,  # noqa: E402
                                sincos_block)
 from .._jit_verify import _check, _within  # noqa: E402
@@ -126,7 +128,7 @@ def _parts(ctx):
     """``(n, geometry, joints (JOINT_ROWS, n), F (n + 1, ROW), opts)``: views of ``ctx``."""
     n = int(ctx[0])
     a, b, c, d = int(ctx[1]), int(ctx[2]), int(ctx[3]), int(ctx[4])
-    return n, ctx[a:b], ctx[b:c].reshape((JOINT_ROWS, n)), ctx[c:d].reshape((n + 1, ROW)), ctx[d:]
+    return n, ctx[a:b], shaped(ctx[b:c], (JOINT_ROWS, n)), shaped(ctx[c:d], (n + 1, ROW)), ctx[d:]
 
 
 @njit(cache=True)
@@ -221,7 +223,7 @@ def _begin(t, q0, opts, wk):
     (flat: ``T4``), by :func:`_target`. Returns ``(T4, T, the offset after it, usable)``: usable when the target
     and the start ``q0`` are (else the kernel returns :data:`BAD_TARGET`)."""
     T4 = wk[:16]
-    T = T4.reshape((4, 4))
+    T = shaped(T4, (4, 4))
     return T4, T, 16, _target(t, opts[8] != 0.0, T) and _usable_start(q0)
 
 
@@ -238,7 +240,7 @@ def _finish(rawq, unreach, missing, lab, ctx, q0, T, pose, lat, rho, r, per, fb,
     ``wb``: its work space (float, int, bool; at least :func:`finish_work` long), the caller's."""
     m, n = rawq.shape
     _, _, joints, F, opts = _parts(ctx)
-    fb = fb.reshape(fb.size)   # made as rows (the caller's q is its first m rows); written by the flat layout
+    fb = shaped(fb, (fb.size,))   # made as rows (the caller's q is its first m rows); written by the flat layout
     # lo, hi (n), dist, dp, dr, key (m), the wrapped branches q (m, n) and their sines and cosines, one pose Tq and
     # every branch's Tm (m, 4, 4): pieces of the caller's work vector (each array made and freed costs ~40 ns, and
     # a function that makes none is compiled without reference counts; see the module docstring)
@@ -253,8 +255,8 @@ def _finish(rawq, unreach, missing, lab, ctx, q0, T, pose, lat, rho, r, per, fb,
     cs, at = _cut(wf, at, m * n)
     T4, at = _cut(wf, at, 16 * (m + 1))
     P, at = _cut(wf, at, 12 * (n + 1))
-    q = qflat.reshape((m, n))
-    T4 = T4.reshape((m + 1, 4, 4))
+    q = shaped(qflat, (m, n))
+    T4 = shaped(T4, (m + 1, 4, 4))
     Tq, Tm = T4[0], T4[1:]
     for j in range(n):
         lo[j] = joints[JOINT_LOWER, j] - 1e-12
@@ -435,11 +437,11 @@ def planar2(t, q0, ctx, fb, ib, bb, wk):
     unreach, b_at = _cut(bb, 2 * 2, 2)
     edge, b_at = _cut(bb, b_at, 1)
     missing, b_at = _cut(bb, b_at, 2)
-    p2 = p.reshape((1, 3))
+    p2 = shaped(p, (1, 3))
     for k in range(3):
         p2[0, k] = T[k, 3]
-    q3 = q.reshape((1, 2, 2))
-    _planar2_run(p2, g, q3, up.reshape((1, 2)), c, r, unreach.reshape((1, 2)), edge, _FIRST, _ONE)
+    q3 = shaped(q, (1, 2, 2))
+    _planar2_run(p2, g, q3, shaped(up, (1, 2)), c, r, shaped(unreach, (1, 2)), edge, _FIRST, _ONE)
     if edge[0]:
         return FALLBACK
     if opts[7] < 0:
@@ -464,8 +466,8 @@ def planar3(t, q0, ctx, fb, ib, bb, wk):
     unreach, b_at = _cut(bb, 2 * 2, 2)
     edge, b_at = _cut(bb, b_at, 1)
     missing, b_at = _cut(bb, b_at, 2)
-    q3 = q.reshape((1, 2, 3))
-    _planar3_run(T4.reshape((1, 4, 4)), g, q3, up.reshape((1, 2)), c, r, unreach.reshape((1, 2)), edge, _FIRST,
+    q3 = shaped(q, (1, 2, 3))
+    _planar3_run(shaped(T4, (1, 4, 4)), g, q3, shaped(up, (1, 2)), c, r, shaped(unreach, (1, 2)), edge, _FIRST,
                  _ONE)
     if edge[0]:
         return FALLBACK
@@ -494,17 +496,17 @@ def yaw_pitch_pitch(t, q0, ctx, fb, ib, bb, wk):
     on_axis, b_at = _cut(bb, b_at, 1)
     edge, b_at = _cut(bb, b_at, 2)
     missing, b_at = _cut(bb, b_at, 4)
-    p2 = p.reshape((1, 3))
+    p2 = shaped(p, (1, 3))
     for k in range(3):
         p2[0, k] = T[k, 3]
     yaw0[0] = q0[0] + joints[JOINT_THETA, 0]
-    _ypp_run(p2, g, yaw0, phi.reshape((1, 4, 3)), up.reshape((1, 4)), unreach.reshape((1, 4)), c.reshape((1, 2)),
-             r.reshape((1, 2)), rho, lat, on_axis, edge.reshape((1, 2)), lab.reshape((1, 4)), _FIRST, _ONE)
+    _ypp_run(p2, g, yaw0, shaped(phi, (1, 4, 3)), shaped(up, (1, 4)), shaped(unreach, (1, 4)), shaped(c, (1, 2)),
+             shaped(r, (1, 2)), rho, lat, on_axis, shaped(edge, (1, 2)), shaped(lab, (1, 4)), _FIRST, _ONE)
     if on_axis[0] or edge[0] or edge[1]:
         return FALLBACK
     for b in range(4):
         missing[b] = False
-    return _finish(phi.reshape((4, 3)), unreach, missing, lab, ctx, q0, T, t.shape[0] == 16, lat[0], rho[0], r,
+    return _finish(shaped(phi, (4, 3)), unreach, missing, lab, ctx, q0, T, t.shape[0] == 16, lat[0], rho[0], r,
                    np.int64(2), fb, ib, bb, wk[at:], ib[i_at:], bb[b_at:])
 
 
@@ -531,11 +533,11 @@ def spherical_wrist(t, q0, ctx, fb, ib, bb, wk):
     edge, b_at = _cut(bb, b_at, 2)
     unreach, b_at = _cut(bb, b_at, 8)
     missing, b_at = _cut(bb, b_at, 8)
-    q0p = q0phi.reshape((1, 6))
+    q0p = shaped(q0phi, (1, 6))
     _q0phi(q0, joints, q0p)
-    _puma_run(T4.reshape((1, 4, 4)), g, q0p, out.reshape((1, 4, 2, 6)), lab.reshape((1, 4, 2)),
-              singular.reshape((1, 4)), phi.reshape((1, 4, 3)), up.reshape((1, 4)), unreach4.reshape((1, 4)),
-              c.reshape((1, 2)), r.reshape((1, 2)), rho, lat, on_axis, edge.reshape((1, 2)), lab4.reshape((1, 4)),
+    _puma_run(shaped(T4, (1, 4, 4)), g, q0p, shaped(out, (1, 4, 2, 6)), shaped(lab, (1, 4, 2)),
+              shaped(singular, (1, 4)), shaped(phi, (1, 4, 3)), shaped(up, (1, 4)), shaped(unreach4, (1, 4)),
+              shaped(c, (1, 2)), shaped(r, (1, 2)), rho, lat, on_axis, shaped(edge, (1, 2)), shaped(lab4, (1, 4)),
               _FIRST, _ONE)
     if on_axis[0] or edge[0] or edge[1]:
         return FALLBACK
@@ -545,7 +547,7 @@ def spherical_wrist(t, q0, ctx, fb, ib, bb, wk):
         unreach[2 * b] = unreach[2 * b + 1] = unreach4[b]
     for b in range(8):
         missing[b] = False
-    return _finish(out.reshape((8, 6)), unreach, missing, lab, ctx, q0, T, _YES, lat[0], rho[0], r, np.int64(4),
+    return _finish(shaped(out, (8, 6)), unreach, missing, lab, ctx, q0, T, _YES, lat[0], rho[0], r, np.int64(4),
                    fb, ib, bb, wk[at:], ib[i_at:], bb[b_at:])
 
 
@@ -567,16 +569,16 @@ def ur(t, q0, ctx, fb, ib, bb, wk):
     on_axis, b_at = _cut(bb, b_at, 1)
     singular, b_at = _cut(bb, b_at, 4)
     missing, b_at = _cut(bb, b_at, 8)
-    q0p = q0phi.reshape((1, 6))
+    q0p = shaped(q0phi, (1, 6))
     _q0phi(q0, joints, q0p)
-    _ur_run(T4.reshape((1, 4, 4)), g, q0p, out.reshape((1, 2, 2, 2, 6)), up.reshape((1, 2, 2, 2)),
-            lab.reshape((1, 2, 2, 2)), unreach.reshape((1, 2, 2, 2)), lat, rho, r.reshape((1, 2, 2)), on_axis,
-            singular.reshape((1, 2, 2)), _FIRST, _ONE)
+    _ur_run(shaped(T4, (1, 4, 4)), g, q0p, shaped(out, (1, 2, 2, 2, 6)), shaped(up, (1, 2, 2, 2)),
+            shaped(lab, (1, 2, 2, 2)), shaped(unreach, (1, 2, 2, 2)), lat, rho, shaped(r, (1, 2, 2)), on_axis,
+            shaped(singular, (1, 2, 2)), _FIRST, _ONE)
     if on_axis[0] or singular[0] or singular[1] or singular[2] or singular[3]:
         return FALLBACK
     for b in range(8):
         missing[b] = False
-    return _finish(out.reshape((8, 6)), unreach, missing, lab, ctx, q0, T, _YES, lat[0], rho[0], r, np.int64(2),
+    return _finish(shaped(out, (8, 6)), unreach, missing, lab, ctx, q0, T, _YES, lat[0], rho[0], r, np.int64(2),
                    fb, ib, bb, wk[at:], ib[i_at:], bb[b_at:])
 
 
@@ -608,4 +610,4 @@ solved a second time."""
 
 # the kernels inline helpers of these files: compiled anew when they change
 _jit_loader.forget_stale_cache(globals(), ("ik/analytic/_jit.py", "ik/analytic/_layout.py", "kinematics/_jit.py",
-                                           "ik/_jit_verify.py"))
+                                           "ik/_jit_verify.py", "_jit_shaped.py"))

@@ -129,7 +129,7 @@ def _geometric(t, q0, ctx, fb, ib, bb, wk):
     _, T, at, usable = _begin(t, q0, opts, wk)  # noqa: F821
     if not usable:
         return BAD_TARGET
-    v3 = wk[at:at + 3 * ROWS3].reshape((ROWS3, 3))
+    v3 = shaped(wk[at:at + 3 * ROWS3], (ROWS3, 3))  # noqa: F821
     Hi, Pi, RnT, Ht, Pt, R, p = v3[0:6], v3[6:13], v3[13:16], v3[16:22], v3[22:29], v3[29:32], v3[32]
     for i in range(6):
         for j in range(3):
@@ -145,7 +145,7 @@ def _geometric(t, q0, ctx, fb, ib, bb, wk):
     at += 3 * ROWS3
     qb = wk[at:at + n + 1]
     at += n + 1
-    qq = wk[at:at + (MAXSOL + m) * n].reshape((MAXSOL + m, n))
+    qq = shaped(wk[at:at + (MAXSOL + m) * n], (MAXSOL + m, n))  # noqa: F821
     at += (MAXSOL + m) * n
     for k in range(n + 1):
         qb[k] = 0.0
@@ -238,7 +238,7 @@ def kernel() -> Any:
 
         assert (_single.DONE, _single.FALLBACK, _single.BAD_TARGET) == (DONE, FALLBACK, BAD_TARGET)
         extra = {name: getattr(K, name) for name in ("_solve_spherical", "_solve_three_parallel", "_polish_wanted")}
-        extra.update({name: getattr(_single, name) for name in ("_parts", "_begin", "_finish")})
+        extra.update({name: getattr(_single, name) for name in ("_parts", "_begin", "_finish", "shaped")})
         ns = jit_namespace(globals(), ("_geometric",), extra=extra, uncounted=("_geometric",))
         from ... import _jit_loader
 
@@ -251,5 +251,5 @@ def kernel() -> Any:
 
 SOURCES = _solvers.SOURCES + (
     "ik/analytic/_single.py", "ik/analytic/_jit.py", "ik/analytic/_layout.py", "kinematics/_jit.py",
-    "ik/_jit_verify.py")
+    "ik/_jit_verify.py", "_jit_shaped.py")
 """The files whose compiled functions the kernel contains: a change to any of them compiles it anew."""
