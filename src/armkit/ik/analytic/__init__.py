@@ -542,7 +542,8 @@ def _one_target_calls(c: "_Single") -> tuple[Any, Any]:
         r = entry(target.ravel(), q0, ctx, fb, ib, bb, wk)
         if r & 3:
             return None
-        kept = target if r == 0 else target.copy()   # (_sentences, without a note of a Python solve)
+        kept = target if r == 0 else None   # (_sentences, without a note of a Python solve; None: the kernel's copy
+        # of the target in fb, read by _later_fields, instead of a copy of the caller's array made now)
         return deferred((later, robot, c, None, kept, fb, ib, bb, r, None, False), fb[:m], bb[:m])
 
     def nearest(robot: Robot, target: Array) -> IKResult | None:
@@ -550,7 +551,7 @@ def _one_target_calls(c: "_Single") -> tuple[Any, Any]:
         r = entry(target.ravel(), q0, ctx_near, fb, ib, bb, wk)
         if r & 3:
             return None
-        kept = target if r & NEAREST or ib.item(0) == 0 else target.copy()   # (_sentences)
+        kept = target if r & NEAREST or ib.item(0) == 0 else None   # (_sentences; None as in every)
         return deferred((later, robot, c, None, kept, fb, ib, bb, r, None, True), fb[0], bb[0, ...])
 
     return every, nearest
@@ -567,8 +568,8 @@ def _sentences(r: int, raw: Raw | None, ib: NDArray[np.int64], nearest: bool) ->
 def _later_fields(made: tuple, which: str) -> Any:
     """Fields of the result of :func:`run_one` from the buffers its kernel filled, made when first read
     (:meth:`IKResult._deferred`) or all at once. ``made``: the call's tuple (this function, robot, record ``c``,
-    ``raw`` (the Python solve of a family without a kernel, or None), target, fb, ib, bb, status ``r``, tol,
-    nearest). ``which``: "message" (its text, or where failed branches need sentences, the
+    ``raw`` (the Python solve of a family without a kernel, or None), target (None: the pose the kernel copied
+    into ``fb``), fb, ib, bb, status ``r``, tol, nearest). ``which``: "message" (its text, or where failed branches need sentences, the
     :class:`_Messages` that make them when read: :meth:`IKResult._later`); "rest" (a dict of the fields
     but q, success and message: one read makes them all, cheaper than one by one); "all" (a tuple of those
     fields and then ``message``, in their order; :func:`run_one` makes q and success). With ``nearest``
@@ -576,6 +577,8 @@ def _later_fields(made: tuple, which: str) -> Any:
     _, robot, c, raw, target, fb, ib, bb, r, tol, nearest = made
     m, mn = c.m, c.mn
     fb = fb.reshape(-1)   # (rows, n): the flat layout of _single.layout
+    if target is None:    # the pose as the kernel read it (_one_target_calls): its copy in fb
+        target = fb[c.at["target"]:c.at["target"] + 16].reshape(4, 4)
     message: Any = None
     if which != "rest":
         if _sentences(r, raw, ib, nearest):

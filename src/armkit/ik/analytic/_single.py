@@ -36,7 +36,8 @@ returned array boxed; the buffers are made by the caller): every kernel takes ``
   messages a private copy of both errors and the ``reach`` rows ``(m, 4)`` in sorted order: clipped
   (out of reach, 1.0/0.0), then the numbers of the family's out-of-reach sentence, its ``reach_why``:
   the target beside the first axis (1.0/0.0), its distance from that axis, its distance from the
-  shoulder; zeros for :func:`post`), ``ib`` int64 (reason code: 0 converged, 1 unreachable,
+  shoulder; zeros for :func:`post`), then the pose target as the kernel read it (16 values: the messages
+  of failed branches read it there, so that the caller need not copy its array), ``ib`` int64 (reason code: 0 converged, 1 unreachable,
   2 joint limits; label index; zeros, the ``iterations`` field; the branch's index before sorting;
   the bits of the joints outside their limits, bit ``j``: joint ``j``, the test of
   ``_failure_messages``) and ``bb`` bool (success, within limits);
@@ -117,10 +118,11 @@ def context(geometry, joints, F, opts):
 
 def layout(m, n):
     """Offsets in the output buffers for ``m`` branches of ``n`` joints: ``(fb size, ib size, bb size)`` and,
-    in ``fb``, where the errors, the private errors and the reach rows start (see the module docstring)."""
+    in ``fb``, where the errors, the private errors, the reach rows and the target start (see the module
+    docstring)."""
     mn = m * n
-    return {"fb": mn + 8 * m, "ib": 5 * m, "bb": 2 * m, "dp": mn, "dr": mn + m, "hdp": mn + 2 * m,
-            "hdr": mn + 3 * m, "reach": mn + 4 * m}
+    return {"fb": mn + 8 * m + 16, "ib": 5 * m, "bb": 2 * m, "dp": mn, "dr": mn + m, "hdp": mn + 2 * m,
+            "hdr": mn + 3 * m, "reach": mn + 4 * m, "target": mn + 8 * m}
 
 
 @njit(cache=True, inline="always")
@@ -241,6 +243,9 @@ def _finish(rawq, unreach, missing, lab, ctx, q0, T, pose, lat, rho, r, per, fb,
     m, n = rawq.shape
     _, _, joints, F, opts = _parts(ctx)
     fb = shaped(fb, (fb.size,))   # made as rows (the caller's q is its first m rows); written by the flat layout
+    tgt = m * n + 8 * m           # the target, for the messages (layout's "target")
+    for k in range(16):
+        fb[tgt + k] = T[k // 4, k % 4]
     # lo, hi (n), dist, dp, dr, key (m), the wrapped branches q (m, n) and their sines and cosines, one pose Tq and
     # every branch's Tm (m, 4, 4): pieces of the caller's work vector (each array made and freed costs ~40 ns, and
     # a function that makes none is compiled without reference counts; see the module docstring)
