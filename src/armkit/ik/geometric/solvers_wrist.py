@@ -11,7 +11,7 @@ import math
 
 import numpy as np
 
-from ._kernels import _sincos
+from ._kernels import _atan2, _sincos
 from .search import MAXROOT, SW, _search
 from .subproblems import TOL as _SP_TOL
 from .subproblems import _TINY as _SP_TINY
@@ -159,7 +159,7 @@ def _sp1s(p0, p1, p2, q0, q1, q2, k0, k1, k2):
     y2 = p2 - k2 * kp1
     s = x0 * q0 + x1 * q1 + x2 * q2
     c = y0 * q0 + y1 * q1 + y2 * q2
-    theta = math.atan2(s, c)
+    theta = _atan2(s, c)
     n1 = math.sqrt(y0 * y0 + y1 * y1 + y2 * y2)
     r0 = q0 - k0 * kp2
     r1 = q1 - k1 * kp2

@@ -51,6 +51,7 @@ from typing import Any, Optional
 import numpy as np
 
 from . import _kernels
+from ._kernels import _atan2
 from ._kernels import _trig2 as _trig2_exact
 
 __all__ = ["sp1", "sp2", "sp3", "sp4", "sp5", "sp6", "rot", "rotm", "kernels", "jit_namespace", "TOL", "KERNELS"]
@@ -141,7 +142,7 @@ def sp1(p1, p2, k):
     y2 = p1[2] - k[2] * kp1
     s = _dot(x, p2)
     c = y0 * p2[0] + y1 * p2[1] + y2 * p2[2]
-    theta = math.atan2(s, c)
+    theta = _atan2(s, c)
     n1 = math.sqrt(y0 * y0 + y1 * y1 + y2 * y2)
     q0 = p2[0] - k[0] * kp2
     q1 = p2[1] - k[1] * kp2
@@ -158,7 +159,7 @@ def _trig1(a, b, c, scale):
     r = math.sqrt(a * a + b * b)
     if r <= TOL * scale:                 # no dependence on θ: any θ (c ≈ 0) or none
         return t, 1, abs(c) > TOL * scale
-    phi = math.atan2(b, a)
+    phi = _atan2(b, a)
     x = c / r
     if abs(x) <= 1.0:
         w = math.acos(x)
@@ -365,7 +366,7 @@ def _trig2(A, B, e):
         sy = math.sin(ty)
         x0 = f0 - (m00 * cy + m01 * sy)
         x1 = f1 - (m10 * cy + m11 * sy)
-        tx = math.atan2(x1, x0)
+        tx = _atan2(x1, x0)
         t1 = ty if swap else tx
         t2 = tx if swap else ty
         r0, r1 = _res2(A, B, e, t1, t2)
@@ -522,7 +523,7 @@ def kernels() -> Optional[types.SimpleNamespace]:
         kk = _kernels.kernels()
         if kk is None:
             return None
-        _KERNELS = compiled(globals(), KERNELS, {"_trig2_exact": kk._trig2})
+        _KERNELS = compiled(globals(), KERNELS, {"_trig2_exact": kk._trig2, "_atan2": kk.namespace["_atan2"]})
         if _KERNELS is not None:
             from ... import _jit_loader
 
@@ -530,5 +531,6 @@ def kernels() -> Optional[types.SimpleNamespace]:
     return _KERNELS
 
 
-SOURCES = ("ik/geometric/subproblems.py", "ik/geometric/_kernels.py")
-"""The files whose functions the compiled subproblems contain: a change to either compiles them anew."""
+SOURCES = ("ik/geometric/subproblems.py", "ik/geometric/_kernels.py", "kinematics/_jit.py")
+"""The files whose functions the compiled subproblems contain (armkit's atan2 from the last): a change to any
+compiles them anew."""
