@@ -251,8 +251,14 @@ def forget_stale_cache(namespace: dict[str, Any], depends_on: tuple[str, ...]) -
         h.update((_PKG / rel).read_bytes())
     digest = h.hexdigest()
     stem = Path(namespace["__file__"]).stem
+    own = os.path.realpath(namespace["__file__"])
+    # the module's own kernels only: one it imported from another file (ik/analytic/_jit.py holds the sine and
+    # cosine of kinematics/_jit.py) caches in that file's folder, where a stamp of this stem (the same "_jit") would
+    # delete that module's files and fight its own stamp on every import
     dirs = {Path(p) for obj in list(namespace.values())
-            if (p := getattr(getattr(obj, "_cache", None), "_cache_path", None))}
+            if (p := getattr(getattr(obj, "_cache", None), "_cache_path", None))
+            and ((code := getattr(getattr(obj, "py_func", None), "__code__", None)) is None
+                 or os.path.realpath(code.co_filename) == own)}
     for d in dirs:
         stamp = d / f"{stem}.armkit-deps"
         try:

@@ -171,6 +171,39 @@ def test_kernel_cache_that_inlines_another_file_clears_itself(tmp_path, monkeypa
     assert files() == ["other.kernel-3.py311.nbi"]
 
 
+def test_kernel_imported_from_another_file_keeps_its_own_cache(tmp_path, monkeypatch):
+    """A module holds kernels of another file (ik/analytic/_jit.py holds kinematics/_jit.py's sine and cosine): the
+    stamp goes beside its own kernels only, so two modules of one stem ("_jit") never delete each other's cache
+    files nor rewrite each other's stamp on every import (which made every run compile kinematics anew)."""
+    from armkit import _jit_loader
+
+    pkg, mine, theirs = tmp_path / "pkg", tmp_path / "mine", tmp_path / "theirs"
+    for d in (pkg, mine, theirs):
+        d.mkdir()
+    (pkg / "helpers.py").write_text("A = 1\n")
+    monkeypatch.setattr(_jit_loader, "_PKG", pkg)
+    ns_other: dict = {}
+    exec(compile("def f():\n    return 1\n", str(pkg / "other" / "_jit.py"), "exec"), ns_other)
+    ns_mine: dict = {}
+    exec(compile("def g():\n    return 2\n", str(pkg / "_jit.py"), "exec"), ns_mine)
+
+    def kernel(fn, where):
+        class Kernel:
+            py_func = fn
+
+            class _cache:
+                _cache_path = str(where)
+        return Kernel()
+
+    (theirs / "_jit.f-1.py311.nbi").write_bytes(b"x")
+    (theirs / "_jit.armkit-deps").write_text("their own digest")
+    namespace = {"__file__": str(pkg / "_jit.py"), "g": kernel(ns_mine["g"], mine), "f": kernel(ns_other["f"], theirs)}
+    _jit_loader.forget_stale_cache(namespace, ("helpers.py",))
+    assert (theirs / "_jit.f-1.py311.nbi").exists()
+    assert (theirs / "_jit.armkit-deps").read_text() == "their own digest"
+    assert (mine / "_jit.armkit-deps").exists()
+
+
 def test_lm_kernels_cache_is_tied_to_the_kinematics_kernels():
     lm = pytest.importorskip("armkit.ik._jit_lm")
     path = getattr(getattr(lm.lm_serial, "_cache", None), "_cache_path", None)
