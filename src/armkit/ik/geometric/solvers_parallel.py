@@ -9,35 +9,67 @@ import math
 
 import numpy as np
 
-from .solvers_wrist import SING, _mm, _mtm, _mtv, _mv, _perp
-from .subproblems import _cross, _dot, _norm, _wrap, rot, rotm, sp1, sp3, sp4, sp6
+from .solvers_wrist import (SING, _mm, _mm_to, _mtm_to, _mtv, _mtv_to, _mv, _mv_to, _perp_to, _rot_to, _rotm_to,
+                            _sp1s)
+from .subproblems import _dot, _sp3s, _sp4s, _wrap, rotm, sp1, sp6
 
 
 # ------------------------------------------------------------------------ three parallel axes
+def _rot_libm_to(k, theta, p, out):
+    """:func:`.subproblems.rot` (libm's sine and cosine, its arithmetic) into ``out`` (3,)."""
+    c = math.cos(theta)
+    s = math.sin(theta)
+    kp = (k[0] * p[0] + k[1] * p[1] + k[2] * p[2]) * (1.0 - c)
+    out[0] = p[0] * c + (k[1] * p[2] - k[2] * p[1]) * s + k[0] * kp
+    out[1] = p[1] * c + (k[2] * p[0] - k[0] * p[2]) * s + k[1] * kp
+    out[2] = p[2] * c + (k[0] * p[1] - k[1] * p[0]) * s + k[2] * kp
+
+
 def _core_three_parallel(kind, H, P, RnT, prism, R, p, qref, N, Q, LS, SG):
     """Axes 2 ∥ 3 ∥ 4 (0-based 1, 2, 3; H[2], H[3] = ±H[1]). ``kind``: 3 general (SP6 for q1, q5),
-    4 axes 5, 6 meet (P[5] = 0: SP4, SP4)."""
+    4 axes 5, 6 meet (P[5] = 0: SP4, SP4).
+
+    Two work arrays for the call's small vectors and matrices (each array made and freed costs ~40 ns and is a call
+    the compiler cannot see through; this core made ~20 a branch pair, a fifth of a call's time), the rotations by
+    the FK's sine and cosine (:func:`.solvers_wrist._rotm_to`), the subproblems as scalars (``_sp1s``, ``_sp3s``,
+    ``_sp4s``)."""
     h0 = H[0]
     h1 = H[1]
     h4 = H[4]
     h5 = H[5]
     s2 = 1.0 if _dot(H[2], h1) > 0.0 else -1.0
     s3 = 1.0 if _dot(H[3], h1) > 0.0 else -1.0
-    R06 = _mm(R, RnT.T.copy())
-    p16 = p - P[0] - _mv(R06, P[6])
-    e6 = _mv(R06, h5)
-    d1 = _dot(h1, P[1] + P[2] + P[3] + P[4])
-    T0 = np.zeros(4)
-    T4 = np.zeros(4)
+    v3 = np.zeros((12, 3))
+    p16, e6, sP, mh0, x5, u, a, b, c, d, w, mP2 = (v3[0], v3[1], v3[2], v3[3], v3[4], v3[5], v3[6], v3[7], v3[8],
+                                                   v3[9], v3[10], v3[11])
+    m3 = np.zeros((6, 3, 3))
+    R06, Rt, R16, R45, Rth, R15 = m3[0], m3[1], m3[2], m3[3], m3[4], m3[5]
+    for i in range(3):   # R_06 = R RnTᵀ, p16 = p - P_0 - R_06 P_6, term by term as _mm and _mv
+        for j in range(3):
+            R06[i, j] = R[i, 0] * RnT[j, 0] + R[i, 1] * RnT[j, 1] + R[i, 2] * RnT[j, 2]
+    for i in range(3):
+        p16[i] = p[i] - P[0, i] - (R06[i, 0] * P[6, 0] + R06[i, 1] * P[6, 1] + R06[i, 2] * P[6, 2])
+        sP[i] = P[1, i] + P[2, i] + P[3, i] + P[4, i]
+        mh0[i] = -h0[i]
+        mP2[i] = -P[2, i]
+    _mv_to(R06, h5, e6)
+    d1 = _dot(h1, sP)
+    t14 = np.zeros((2, 4))   # the (q1, q5) pairs
+    T0, T4 = t14[0], t14[1]
     ls14 = np.zeros(4, dtype=np.bool_)
     m14 = 0
     if kind == 4:
-        t0, n0, l0 = sp4(h1, p16, -h0, d1 + _dot(h1, P[5]))
+        t00, t01, n0, l0 = _sp4s(h1, p16, mh0, d1 + _dot(h1, P[5]))
         for i in range(n0):
-            t4, n4, l4 = sp4(h1, h5, h4, _dot(h1, rot(h0, -t0[i], e6)))
+            t0 = t00 if i == 0 else t01
+            # rot(h1, -q1) e6 by libm's sine and cosine (subproblems.rot's arithmetic, not the FK's polynomial):
+            # at a singular wrist (q5 = 0) SP4's two roots meet, where 1 ulp more or less in its right side moves
+            # them 1e-8 apart and past the singularity test
+            _rot_libm_to(h0, -t0, e6, a)
+            t40, t41, n4, l4 = _sp4s(h1, h5, h4, _dot(h1, a))
             for j in range(n4):
-                T0[m14] = t0[i]
-                T4[m14] = t4[j]
+                T0[m14] = t0
+                T4[m14] = t40 if j == 0 else t41
                 ls14[m14] = bool(l0) or bool(l4)
                 m14 += 1
     else:
@@ -56,43 +88,60 @@ def _core_three_parallel(kind, H, P, RnT, prism, R, p, qref, N, Q, LS, SG):
         Ps[1] = P[5]
         Ps[2] = e6
         Ps[3] = h5
-        t0, t4, n, l6 = sp6(Hs, Ks, Ps, d1, 0.0)
+        t0s, t4s, n, l6 = sp6(Hs, Ks, Ps, d1, 0.0)
         for i in range(n):
-            T0[i] = t0[i]
-            T4[i] = t4[i]
+            T0[i] = t0s[i]
+            T4[i] = t4s[i]
             ls14[i] = l6
         m14 = n
-    x5 = _perp(h5)
+    _perp_to(h5, x5)
     m = 0
     for i in range(m14):
         q0 = T0[i]
         q4 = T4[i]
-        R16 = _mtm(rotm(h0, q0), R06)
-        R45 = rotm(h4, q4)
-        u = _mv(R45, h5)
+        _rotm_to(h0, q0, Rt)
+        _mtm_to(Rt, R06, R16)
+        _rotm_to(h4, q4, R45)
+        _mv_to(R45, h5, u)
         # SP6 gives the double root of the singular case to ~1e-8 only: a looser test there (Newton polishes)
-        sing = _norm(_cross(u, h1)) < (SING if kind == 4 else 1e-6)
+        cx = u[1] * h1[2] - u[2] * h1[1]
+        cy = u[2] * h1[0] - u[0] * h1[2]
+        cz = u[0] * h1[1] - u[1] * h1[0]
+        sing = math.sqrt(cx * cx + cy * cy + cz * cz) < (SING if kind == 4 else 1e-6)
         if sing:     # rot(h5, q5) h6 along h2: q6 free, take q_ref's, then the sum of q2..q4 from it
             q5 = qref[5]
             M = _mm(R45, rotm(h5, q5))
-            y = _perp(h1)
-            th, lt = sp1(y, _mv(R16, _mtv(M, y)), h1)   # rot(h2, th) M y' = R16 y' for y' = Mᵀ y
+            _perp_to(h1, b)
+            th, lt = sp1(b, _mv(R16, _mtv(M, b)), h1)   # rot(h2, th) M y' = R16 y' for y' = Mᵀ y
             l5 = False
         else:
-            th, lt = sp1(u, _mv(R16, h5), h1)
-            R15 = _mm(rotm(h1, th), R45)
-            q5, l5 = sp1(x5, _mtv(R15, _mv(R16, x5)), h5)
-        d = _mtv(rotm(h0, q0), p16) - P[1] - rot(h1, th, P[4] + _mv(R45, P[5]))
-        t2, n2, l2 = sp3(P[3], -P[2], H[2], _norm(d))
+            _mv_to(R16, h5, a)
+            th, lt = _sp1s(u[0], u[1], u[2], a[0], a[1], a[2], h1[0], h1[1], h1[2])
+            _rotm_to(h1, th, Rth)
+            _mm_to(Rth, R45, R15)
+            _mv_to(R16, x5, a)
+            _mtv_to(R15, a, b)
+            q5, l5 = _sp1s(x5[0], x5[1], x5[2], b[0], b[1], b[2], h5[0], h5[1], h5[2])
+        _mtv_to(Rt, p16, d)             # d = rot(h1, q0)ᵀ p16 - P1 - rot(h2, th) (P4 + R45 P5)
+        _mv_to(R45, P[5], a)
+        for k in range(3):
+            b[k] = P[4, k] + a[k]
+        _rot_to(h1, th, b, c)
+        for k in range(3):
+            d[k] = d[k] - P[1, k] - c[k]
+        t20, t21, n2, l2 = _sp3s(P[3], mP2, H[2], math.sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]))
         for j in range(n2):
-            w = P[2] + rot(H[2], t2[j], P[3])
-            q1, l1 = sp1(w, d, h1)
+            t2 = t20 if j == 0 else t21
+            _rot_to(H[2], t2, P[3], a)
+            for k in range(3):
+                w[k] = P[2, k] + a[k]
+            q1, l1 = _sp1s(w[0], w[1], w[2], d[0], d[1], d[2], h1[0], h1[1], h1[2])
             if m >= Q.shape[0]:
                 break
             Q[m, 0] = q0
             Q[m, 1] = q1
-            Q[m, 2] = t2[j]
-            Q[m, 3] = _wrap(s3 * (th - q1 - s2 * t2[j]))
+            Q[m, 2] = t2
+            Q[m, 3] = _wrap(s3 * (th - q1 - s2 * t2))
             Q[m, 4] = q4
             Q[m, 5] = _wrap(q5)
             LS[m] = ls14[i] or bool(lt) or bool(l5) or bool(l2) or bool(l1)

@@ -122,12 +122,12 @@ def rotm(k, theta):
 
 
 def _lin(h, k, p):
-    """``(a, b, c)`` with ``hᵀ rot(k, θ) p = c + a cos θ + b sin θ`` for every θ."""
+    """``(a, b, c)`` with ``hᵀ rot(k, θ) p = c + a cos θ + b sin θ`` for every θ (``hᵀ (k × p)`` term by term, as
+    ``_dot(h, _cross(k, p))``: no array made)."""
     kp = _dot(k, p)
     c = _dot(h, k) * kp
     a = _dot(h, p) - c
-    kx = _cross(k, p)
-    b = _dot(h, kx)
+    b = h[0] * (k[1] * p[2] - k[2] * p[1]) + h[1] * (k[2] * p[0] - k[0] * p[2]) + h[2] * (k[0] * p[1] - k[1] * p[0])
     return a, b, c
 
 
@@ -153,39 +153,62 @@ def sp1(p1, p2, k):
     return theta, ls
 
 
-def _trig1(a, b, c, scale):
-    """θ with ``a cos θ + b sin θ = c``: ``(θ (2,), count, ls)``; least squares past the extremes."""
-    t = np.zeros(2)
+def _trig1s(a, b, c, scale):
+    """θ with ``a cos θ + b sin θ = c`` as scalars ``(θ0, θ1, count, ls)`` (θ1 = 0 where there is one): :func:`_trig1`
+    without its array (the compiled solvers' cores call these); least squares past the extremes."""
     r = math.sqrt(a * a + b * b)
     if r <= TOL * scale:                 # no dependence on θ: any θ (c ≈ 0) or none
-        return t, 1, abs(c) > TOL * scale
+        return 0.0, 0.0, 1, abs(c) > TOL * scale
     phi = _atan2(b, a)
     x = c / r
     if abs(x) <= 1.0:
         w = math.acos(x)
         if w == 0.0 or w == math.pi:
-            t[0] = _wrap(phi + w)
-            return t, 1, False
-        t[0] = _wrap(phi + w)
-        t[1] = _wrap(phi - w)
-        return t, 2, False
-    t[0] = _wrap(phi if x > 0.0 else phi + math.pi)   # the extreme nearest to c
-    return t, 1, abs(abs(c) - r) > TOL * scale
+            return _wrap(phi + w), 0.0, 1, False
+        return _wrap(phi + w), _wrap(phi - w), 2, False
+    return _wrap(phi if x > 0.0 else phi + math.pi), 0.0, 1, abs(abs(c) - r) > TOL * scale   # the extreme nearest c
+
+
+def _trig1(a, b, c, scale):
+    """θ with ``a cos θ + b sin θ = c``: ``(θ (2,), count, ls)``; least squares past the extremes (:func:`_trig1s`)."""
+    t0, t1, n, ls = _trig1s(a, b, c, scale)
+    t = np.zeros(2)
+    t[0] = t0
+    t[1] = t1
+    return t, n, ls
 
 
 def sp4(h, p, k, d):
     """θ with ``hᵀ rot(k, θ) p = d``: ``(θ (2,), count, ls)``."""
+    t0, t1, n, ls = _sp4s(h, p, k, d)
+    t = np.zeros(2)
+    t[0] = t0
+    t[1] = t1
+    return t, n, ls
+
+
+def _sp4s(h, p, k, d):
+    """:func:`sp4` as scalars ``(θ0, θ1, count, ls)`` (:func:`_trig1s`; the same numbers, no array)."""
     a, b, c = _lin(h, k, p)
     scale = max(_norm(h) * _norm(p), abs(d), _TINY)
-    return _trig1(a, b, d - c, scale)
+    return _trig1s(a, b, d - c, scale)
 
 
 def sp3(p1, p2, k, d):
     """θ with ``‖rot(k, θ) p1 − p2‖ = d``: ``(θ (2,), count, ls)``."""
+    t0, t1, n, ls = _sp3s(p1, p2, k, d)
+    t = np.zeros(2)
+    t[0] = t0
+    t[1] = t1
+    return t, n, ls
+
+
+def _sp3s(p1, p2, k, d):
+    """:func:`sp3` as scalars ``(θ0, θ1, count, ls)`` (:func:`_trig1s`; the same numbers, no array)."""
     a, b, c = _lin(p2, k, p1)
     target = 0.5 * (_dot(p1, p1) + _dot(p2, p2) - d * d)
     scale = max(_dot(p1, p1) + _dot(p2, p2) + d * d, _TINY)
-    return _trig1(a, b, target - c, scale)
+    return _trig1s(a, b, target - c, scale)
 
 
 def sp2(p1, p2, k1, k2):
@@ -466,7 +489,8 @@ def sp5(p0, p1, p2, p3, k1, k2, k3):
 
 
 # ---------------------------------------------------------------------------------- compiling
-KERNELS = ("_dot", "_cross", "_norm", "_wrap", "rot", "rotm", "_lin", "sp1", "_trig1", "sp4", "sp3", "sp2",
+KERNELS = ("_dot", "_cross", "_norm", "_wrap", "rot", "rotm", "_lin", "sp1", "_trig1s", "_trig1", "_sp4s", "sp4",
+           "_sp3s", "sp3", "sp2",
            "_quartic_roots", "_res2", "_newton2", "_trig2", "sp6", "sp5")
 """The functions :func:`kernels` compiles, callees before callers."""
 
