@@ -61,7 +61,7 @@ _SOURCES = ("kinematics/_jit.py", "ik/_jit_lm.py", "ik/_jit_verify.py", "ik/anal
             "ik/geometric/batched.py", "ik/geometric/search.py",
             "ik/geometric/search2d.py", "ik/analytic/_yaw_pitch3_jit.py", "ik/analytic/_yaw_pitch3_teleop.py",
             "ik/analytic/_single.py", "ik/_ccd_jit.py", "ik/ccd.py", "collision/_jit.py", "collision/_jit_pairs.py",
-            "_jit_loader.py", "_jit_twins.py", "warmup.py")
+            "_jit_loader.py", "_jit_twins.py", "_jit_shaped.py", "warmup.py")
 COMPILE_SECONDS = 45
 """About how long compiling the one-thread kernels takes, the figure of the stderr note (the warm-up
 process switched the caller to them after 44-53 s in benchmarks/bench_first_call.py on the shared
