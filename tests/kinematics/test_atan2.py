@@ -43,7 +43,8 @@ def test_coefficients_are_the_chebyshev_fit():
     assert ours == [float(c) for c in poly[::-1]]
     assert float(err * b) < 1e-17          # relative to atan(u): below a tenth of an ulp
     assert K._TAN_PI8 == float(mp.tan(mp.pi / 8))
-    for hi, lo, c in ((K._PI4_HI, K._PI4_LO, mp.pi / 4), (K._PI2_HI, K._PI2_LO, mp.pi / 2), (K._PI_HI, K._PI_LO, mp.pi)):
+    for hi, lo, c in ((K._PI4_HI, K._PI4_LO, mp.pi / 4), (K._PI2_HI, K._PI2_LO, mp.pi / 2),
+                      (K._PI_HI, K._PI_LO, mp.pi)):
         assert hi == float(c) and abs(mp.mpf(hi) + mp.mpf(lo) - c) < mp.mpf(1e-32)
 
 

@@ -569,11 +569,11 @@ def _later_fields(made: tuple, which: str) -> Any:
     """Fields of the result of :func:`run_one` from the buffers its kernel filled, made when first read
     (:meth:`IKResult._deferred`) or all at once. ``made``: the call's tuple (this function, robot, record ``c``,
     ``raw`` (the Python solve of a family without a kernel, or None), target (None: the pose the kernel copied
-    into ``fb``), fb, ib, bb, status ``r``, tol, nearest). ``which``: "message" (its text, or where failed branches need sentences, the
-    :class:`_Messages` that make them when read: :meth:`IKResult._later`); "rest" (a dict of the fields
-    but q, success and message: one read makes them all, cheaper than one by one); "all" (a tuple of those
-    fields and then ``message``, in their order; :func:`run_one` makes q and success). With ``nearest``
-    (:func:`armkit.ik`): the first of the sorted branches, as 0-d arrays."""
+    into ``fb``), fb, ib, bb, status ``r``, tol, nearest). ``which``: "message" (its text, or where failed
+    branches need sentences, the :class:`_Messages` that make them when read: :meth:`IKResult._later`);
+    "rest" (a dict of the fields but q, success and message: one read makes them all, cheaper than one by one);
+    "all" (a tuple of those fields and then ``message``, in their order; :func:`run_one` makes q and success).
+    With ``nearest`` (:func:`armkit.ik`): the first of the sorted branches, as 0-d arrays."""
     _, robot, c, raw, target, fb, ib, bb, r, tol, nearest = made
     m, mn = c.m, c.mn
     fb = fb.reshape(-1)   # (rows, n): the flat layout of _single.layout

@@ -37,10 +37,10 @@ returned array boxed; the buffers are made by the caller): every kernel takes ``
   (out of reach, 1.0/0.0), then the numbers of the family's out-of-reach sentence, its ``reach_why``:
   the target beside the first axis (1.0/0.0), its distance from that axis, its distance from the
   shoulder; zeros for :func:`post`), then the pose target as the kernel read it (16 values: the messages
-  of failed branches read it there, so that the caller need not copy its array), ``ib`` int64 (reason code: 0 converged, 1 unreachable,
-  2 joint limits; label index; zeros, the ``iterations`` field; the branch's index before sorting;
-  the bits of the joints outside their limits, bit ``j``: joint ``j``, the test of
-  ``_failure_messages``) and ``bb`` bool (success, within limits);
+  of failed branches read it there, so that the caller need not copy its array), ``ib`` int64 (reason
+  code: 0 converged, 1 unreachable, 2 joint limits; label index; zeros, the ``iterations`` field; the
+  branch's index before sorting; the bits of the joints outside their limits, bit ``j``: joint ``j``, the
+  test of ``_failure_messages``) and ``bb`` bool (success, within limits);
 * ``wk``: the float work vector (:func:`work` gives its size and the work ends of ``ib`` and ``bb``),
   which the record keeps and every call uses: a kernel reads nothing there it did not write in the
   same call, and holds the GIL from start to end (none is compiled with ``nogil``), so two threads never

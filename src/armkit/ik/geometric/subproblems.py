@@ -169,22 +169,24 @@ def _trig1s(a, b, c, scale):
     return _wrap(phi if x > 0.0 else phi + math.pi), 0.0, 1, abs(abs(c) - r) > TOL * scale   # the extreme nearest c
 
 
-def _trig1(a, b, c, scale):
-    """θ with ``a cos θ + b sin θ = c``: ``(θ (2,), count, ls)``; least squares past the extremes (:func:`_trig1s`)."""
-    t0, t1, n, ls = _trig1s(a, b, c, scale)
+def _two(t0, t1):
+    """The array ``(t0, t1)`` (2,) that :func:`_trig1`, :func:`sp3` and :func:`sp4` return of their scalar forms."""
     t = np.zeros(2)
     t[0] = t0
     t[1] = t1
-    return t, n, ls
+    return t
+
+
+def _trig1(a, b, c, scale):
+    """θ with ``a cos θ + b sin θ = c``: ``(θ (2,), count, ls)``; least squares past the extremes (:func:`_trig1s`)."""
+    t0, t1, n, ls = _trig1s(a, b, c, scale)
+    return _two(t0, t1), n, ls
 
 
 def sp4(h, p, k, d):
     """θ with ``hᵀ rot(k, θ) p = d``: ``(θ (2,), count, ls)``."""
     t0, t1, n, ls = _sp4s(h, p, k, d)
-    t = np.zeros(2)
-    t[0] = t0
-    t[1] = t1
-    return t, n, ls
+    return _two(t0, t1), n, ls
 
 
 def _sp4s(h, p, k, d):
@@ -197,10 +199,7 @@ def _sp4s(h, p, k, d):
 def sp3(p1, p2, k, d):
     """θ with ``‖rot(k, θ) p1 − p2‖ = d``: ``(θ (2,), count, ls)``."""
     t0, t1, n, ls = _sp3s(p1, p2, k, d)
-    t = np.zeros(2)
-    t[0] = t0
-    t[1] = t1
-    return t, n, ls
+    return _two(t0, t1), n, ls
 
 
 def _sp3s(p1, p2, k, d):
@@ -489,9 +488,8 @@ def sp5(p0, p1, p2, p3, k1, k2, k3):
 
 
 # ---------------------------------------------------------------------------------- compiling
-KERNELS = ("_dot", "_cross", "_norm", "_wrap", "rot", "rotm", "_lin", "sp1", "_trig1s", "_trig1", "_sp4s", "sp4",
-           "_sp3s", "sp3", "sp2",
-           "_quartic_roots", "_res2", "_newton2", "_trig2", "sp6", "sp5")
+KERNELS = ("_dot", "_cross", "_norm", "_wrap", "rot", "rotm", "_lin", "sp1", "_trig1s", "_two", "_trig1", "_sp4s",
+           "sp4", "_sp3s", "sp3", "sp2", "_quartic_roots", "_res2", "_newton2", "_trig2", "sp6", "sp5")
 """The functions :func:`kernels` compiles, callees before callers."""
 
 
