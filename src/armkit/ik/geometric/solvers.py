@@ -85,7 +85,7 @@ from .solvers_check import (EMPTY_RETRY, RETRIES, SHARP, _SPH_MID, _TI_END, _TWO
                             _sharpen, _solve, _solve_searched, _solve_spherical, _solve_spherical_middle,
                             _solve_three_parallel, _solve_two_intersecting_end, _solve_two_parallel, _sweep,
                             _within_reach)
-from .solvers_parallel import _core_three_parallel, _rot_libm_to  # noqa: F401
+from .solvers_parallel import _core_three_parallel  # noqa: F401
 from .solvers_search import (_core_spherical_middle, _core_two_intersecting_end, _core_two_parallel,  # noqa: F401
                              _target_rows)
 from .solvers_wrist import (SING, _core_spherical, _mm, _mm_to, _mtm, _mtm_to, _mtv, _mtv_to, _mv,  # noqa: F401
@@ -118,7 +118,7 @@ class Solutions(NamedTuple):
 # ---------------------------------------------------------------------------------- wrappers
 KERNELS = ("_mv", "_mtv", "_mm", "_mtm", "_perp", "_rotm_to", "_rot_to", "_mm_to", "_mtm_to", "_mv_to", "_mtv_to",
            "_perp_to", "_sp1s", "_sp2s", "_wrist", "_pos_two_intersecting", "_pos_two_parallel",
-           "_pos_search", "_pos_general", "_core_spherical", "_rot_libm_to", "_core_three_parallel", "_close",
+           "_pos_search", "_pos_general", "_core_spherical", "_core_three_parallel", "_close",
            "_repeats", "_put_passing", "_merged", "_newton_from", "_copy_row", "_promote", "_sharpen", "_check",
            "_solve_spherical", "_solve_three_parallel", "_target_rows", "_core_two_intersecting_end",
            "_core_two_parallel", "_core_spherical_middle", "_paired", "_searched_core", "_within_reach",

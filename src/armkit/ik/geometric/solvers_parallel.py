@@ -11,20 +11,10 @@ import numpy as np
 
 from .solvers_wrist import (SING, _mm, _mm_to, _mtm_to, _mtv, _mtv_to, _mv, _mv_to, _perp_to, _rot_to, _rotm_to,
                             _sp1s)
-from .subproblems import _dot, _sp3s, _sp4s, _wrap, rotm, sp1, sp6
+from .subproblems import _dot, _rot_into, _sp3s, _sp4s, _wrap, rotm, sp1, sp6
 
 
 # ------------------------------------------------------------------------ three parallel axes
-def _rot_libm_to(k, theta, p, out):
-    """:func:`.subproblems.rot` (libm's sine and cosine, its arithmetic) into ``out`` (3,)."""
-    c = math.cos(theta)
-    s = math.sin(theta)
-    kp = (k[0] * p[0] + k[1] * p[1] + k[2] * p[2]) * (1.0 - c)
-    out[0] = p[0] * c + (k[1] * p[2] - k[2] * p[1]) * s + k[0] * kp
-    out[1] = p[1] * c + (k[2] * p[0] - k[0] * p[2]) * s + k[1] * kp
-    out[2] = p[2] * c + (k[0] * p[1] - k[1] * p[0]) * s + k[2] * kp
-
-
 def _core_three_parallel(kind, H, P, RnT, prism, R, p, qref, N, Q, LS, SG):
     """Axes 2 ∥ 3 ∥ 4 (0-based 1, 2, 3; H[2], H[3] = ±H[1]). ``kind``: 3 general (SP6 for q1, q5),
     4 axes 5, 6 meet (P[5] = 0: SP4, SP4).
@@ -62,10 +52,10 @@ def _core_three_parallel(kind, H, P, RnT, prism, R, p, qref, N, Q, LS, SG):
         t00, t01, n0, l0 = _sp4s(h1, p16, mh0, d1 + _dot(h1, P[5]))
         for i in range(n0):
             t0 = t00 if i == 0 else t01
-            # rot(h1, -q1) e6 by libm's sine and cosine (subproblems.rot's arithmetic, not the FK's polynomial):
+            # rot(h1, -q1) e6 by libm's sine and cosine (subproblems._rot_into, not the FK's polynomial):
             # at a singular wrist (q5 = 0) SP4's two roots meet, where 1 ulp more or less in its right side moves
             # them 1e-8 apart and past the singularity test
-            _rot_libm_to(h0, -t0, e6, a)
+            _rot_into(h0, -t0, e6, a)
             t40, t41, n4, l4 = _sp4s(h1, h5, h4, _dot(h1, a))
             for j in range(n4):
                 T0[m14] = t0

@@ -91,15 +91,20 @@ def _wrap(x):
     return y
 
 
-def rot(k, theta, p):
-    """``rot(k, theta) @ p`` (Rodrigues), without forming the matrix."""
+def _rot_into(k, theta, p, out):
+    """``rot(k, theta) @ p`` (Rodrigues) into ``out`` (3,), without forming the matrix (libm's sine and cosine)."""
     c = math.cos(theta)
     s = math.sin(theta)
     kp = _dot(k, p) * (1.0 - c)
-    out = np.empty(3)
     out[0] = p[0] * c + (k[1] * p[2] - k[2] * p[1]) * s + k[0] * kp
     out[1] = p[1] * c + (k[2] * p[0] - k[0] * p[2]) * s + k[1] * kp
     out[2] = p[2] * c + (k[0] * p[1] - k[1] * p[0]) * s + k[2] * kp
+
+
+def rot(k, theta, p):
+    """``rot(k, theta) @ p`` (Rodrigues), without forming the matrix (:func:`_rot_into`)."""
+    out = np.empty(3)
+    _rot_into(k, theta, p, out)
     return out
 
 
@@ -488,8 +493,8 @@ def sp5(p0, p1, p2, p3, k1, k2, k3):
 
 
 # ---------------------------------------------------------------------------------- compiling
-KERNELS = ("_dot", "_cross", "_norm", "_wrap", "rot", "rotm", "_lin", "sp1", "_trig1s", "_two", "_trig1", "_sp4s",
-           "sp4", "_sp3s", "sp3", "sp2", "_quartic_roots", "_res2", "_newton2", "_trig2", "sp6", "sp5")
+KERNELS = ("_dot", "_cross", "_norm", "_wrap", "_rot_into", "rot", "rotm", "_lin", "sp1", "_trig1s", "_two",
+           "_trig1", "_sp4s", "sp4", "_sp3s", "sp3", "sp2", "_quartic_roots", "_res2", "_newton2", "_trig2", "sp6", "sp5")
 """The functions :func:`kernels` compiles, callees before callers."""
 
 
