@@ -307,8 +307,10 @@ def test_fk_check_taken_up_after_shared_joints_is_bit_for_bit_the_whole_fk(seed)
     """The solvers' check (``solvers_check._check``) takes each candidate's FK up after the joints it shares with
     the one before (``_kernels._fk_err_from``): for candidates that share 0 to 6 leading joints (some prismatic),
     in a row, the errors are those of the FK from the base to the bit, and those of :meth:`POE.fk` (NumPy) to
-    rounding; compiled and plain."""
+    rounding; compiled and plain. With the sines and cosines of all rows taken in one vector loop first
+    (``_fk_err_sc`` after ``sincos_block``, as ``_check`` does), the same bits again."""
     from armkit.ik.geometric import _kernels as kk
+    from armkit.kinematics._jit import sincos_block
 
     rng = np.random.default_rng(seed)
     H = rng.normal(size=(6, 3))
@@ -322,16 +324,23 @@ def test_fk_check_taken_up_after_shared_joints_is_bit_for_bit_the_whole_fk(seed)
     for _ in range(12):                       # each row keeps the first s joints of the row before
         s = int(rng.integers(0, 7))
         rows.append(np.concatenate([rows[-1][:s], rng.uniform(-np.pi, np.pi, 6 - s)]))
+    flat = np.concatenate(rows)
+    sin, cos = np.empty_like(flat), np.empty_like(flat)
+    sincos_block(flat, sin, cos)
     K = kk.kernels()
-    for fn in (kk._fk_err_from,) + ((K._fk_err_from,) if K else ()):
-        RS, PS, T = np.empty((7, 3, 3)), np.empty((7, 3)), np.empty((3, 3))
+    pairs = ((kk._fk_err_from, kk._fk_err_sc),) + (((K._fk_err_from, K._fk_err_sc),) if K else ())
+    for fn, fn_sc in pairs:
+        RS, PS, SC = np.empty((7, 3, 3)), np.empty((7, 3)), np.empty((2, 6))
+        RS2, PS2 = np.empty((7, 3, 3)), np.empty((7, 3))
         for i, q in enumerate(rows):
             s = 0
             while i > 0 and s < 6 and q[s] == rows[i - 1][s]:
                 s += 1
-            got = fn(H, P, RnT, prism, q, Rt, pt, RS, PS, s, T)
-            base = fn(H, P, RnT, prism, q, Rt, pt, np.empty((7, 3, 3)), np.empty((7, 3)), 0, np.empty((3, 3)))
+            got = fn(H, P, RnT, prism, q, Rt, pt, RS, PS, s, SC)
+            base = fn(H, P, RnT, prism, q, Rt, pt, np.empty((7, 3, 3)), np.empty((7, 3)), 0, np.empty((2, 6)))
             assert got == base, (i, s, got, base)
+            block = fn_sc(H, P, RnT, prism, q, sin[6 * i:6 * i + 6], cos[6 * i:6 * i + 6], Rt, pt, RS2, PS2, s)
+            assert block == base, (i, s, block, base)
             Rq, pq = form.fk(q)
             assert got[0] == pytest.approx(np.linalg.norm(pq - pt), rel=1e-12, abs=1e-14)
             assert got[1] == pytest.approx(np.linalg.norm(Rq - Rt) / math.sqrt(2.0), rel=1e-12, abs=1e-14)

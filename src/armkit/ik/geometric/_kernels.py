@@ -69,6 +69,15 @@ def _sincos(x):
     return compiled_sincos.py_func(x)
 
 
+def _sincos_block(x, s, c):
+    """:func:`armkit.kinematics._jit.sincos_block`: ``s``, ``c`` the sines and cosines of the flat ``x`` (by
+    :func:`_sincos`'s polynomial, in one vector loop); returns how many were not finite. The compiled helpers call
+    that kernel itself (:func:`extra`); in plain Python this runs its Python function, the same bits."""
+    from ...kinematics._jit import sincos_block
+
+    return sincos_block.py_func(x, s, c)
+
+
 def _atan2(y, x):
     """``atan2(y, x)`` by armkit's polynomial (:func:`armkit.kinematics._jit._atan2`, ~2.6x faster than libm's, within
     1.5 ulp). The compiled helpers call that kernel itself (:func:`extra`); in plain Python this runs its Python
@@ -556,6 +565,11 @@ def _sp3(p1, p2, k, d, T):
 def _rot_entries(h0, h1, h2, q):
     """The nine entries of ``rot(h, q)`` (Rodrigues), row by row."""
     s, c = _sincos(q)
+    return _rot_entries_sc(h0, h1, h2, s, c)
+
+
+def _rot_entries_sc(h0, h1, h2, s, c):
+    """:func:`_rot_entries` of the angle whose sine and cosine are ``s``, ``c``."""
     v = 1.0 - c
     return (c + h0 * h0 * v, h0 * h1 * v - h2 * s, h0 * h2 * v + h1 * s,
             h1 * h0 * v + h2 * s, c + h1 * h1 * v, h1 * h2 * v - h0 * s,
@@ -586,7 +600,7 @@ def _move(R, P, k, p0, p1, p2):
             p2 + (R[2, 0] * x + R[2, 1] * y + R[2, 2] * z))
 
 
-def _fk_err_from(H, P, RnT, prism, q, Rt, pt, RS, PS, s, T):
+def _fk_err_from(H, P, RnT, prism, q, Rt, pt, RS, PS, s, SC):
     """``(position error, rotation error)`` of ``q`` for the target ``(Rt, pt)`` on the chain ``(H, P, RnT)`` (the
     formula of :meth:`.poe.POE.fk`, without temporary arrays; the rotation error ``‖ΔR‖_F / √2``).
 
@@ -594,7 +608,18 @@ def _fk_err_from(H, P, RnT, prism, q, Rt, pt, RS, PS, s, T):
     is taken up after joint ``s`` from what the previous call left there (``s = 0``: from the base): a caller
     checking candidates that share their first joints (the branches of a closed form come in pairs that differ
     only in the wrist) skips those joints' work. Each joint's operations are the same whatever ``s``: the same
-    bits. ``T (3, 3)``: unused (the rotation lives in scalars), kept so that no caller changes."""
+    bits. ``SC (2, n)``: work space for the sines and cosines of ``q``'s joints from ``s`` on (:func:`_sincos`),
+    which :func:`_fk_err_sc` then takes."""
+    for k in range(s, H.shape[0]):
+        SC[0, k], SC[1, k] = _sincos(q[k])
+    return _fk_err_sc(H, P, RnT, prism, q, SC[0], SC[1], Rt, pt, RS, PS, s)
+
+
+def _fk_err_sc(H, P, RnT, prism, q, S, C, Rt, pt, RS, PS, s):
+    """:func:`_fk_err_from` with the sines ``S`` and cosines ``C`` (n,) of ``q``'s revolute joints given (from
+    ``s`` on; the prismatic joints' entries are not read): the same operations, so the same bits where they are
+    :func:`_sincos`'s. A caller checking many candidates takes them in one vector loop
+    (:func:`armkit.kinematics._jit.sincos_block`, the same polynomial)."""
     n = H.shape[0]
     # the rotation in nine scalars and the position in three, stored after each joint for the next call; the
     # operations of _rmul_rot (its _rot_entries) and _move, in their order (the same bits), without reading back
@@ -620,7 +645,7 @@ def _fk_err_from(H, P, RnT, prism, q, Rt, pt, RS, PS, s, T):
             p1 += q[k] * (a10 * h0 + a11 * h1 + a12 * h2)
             p2 += q[k] * (a20 * h0 + a21 * h1 + a22 * h2)
         else:
-            r00, r01, r02, r10, r11, r12, r20, r21, r22 = _rot_entries(h0, h1, h2, q[k])
+            r00, r01, r02, r10, r11, r12, r20, r21, r22 = _rot_entries_sc(h0, h1, h2, S[k], C[k])
             a00, a01, a02 = (a00 * r00 + a01 * r10 + a02 * r20, a00 * r01 + a01 * r11 + a02 * r21,
                              a00 * r02 + a01 * r12 + a02 * r22)
             a10, a11, a12 = (a10 * r00 + a11 * r10 + a12 * r20, a10 * r01 + a11 * r11 + a12 * r21,
@@ -653,7 +678,7 @@ def _fk_err_from(H, P, RnT, prism, q, Rt, pt, RS, PS, s, T):
 KERNELS = ("_t", "_tdot", "_tcross", "_tadd", "_tsub", "_tmul", "_tnorm", "_trot_cs", "_trot", "_tmv", "_tmtv",
            "_tlin", "_tsp1_cs", "_wrap", "_cubic_max", "_quad", "_newton4", "_polish", "_quartic4", "_quartic",
            "_res2", "_angle", "_trig2m", "_trig2", "_trig2_rows", "_sp6", "_add_row", "_sp3_cos", "_sp3",
-           "_rot_entries", "_rmul_rot", "_move", "_fk_err_from")
+           "_rot_entries_sc", "_rot_entries", "_rmul_rot", "_move", "_fk_err_sc", "_fk_err_from")
 """The functions :func:`kernels` compiles, callees before callers."""
 _KERNELS: Optional[types.SimpleNamespace] = None
 
@@ -676,14 +701,15 @@ def kernels() -> Optional[types.SimpleNamespace]:
 
 
 def _compiled_sincos() -> dict[str, Any]:
-    """``{"_sincos": ..., "_atan2": ...}``, the compiled kernels, for the compiled namespaces ({} without Numba:
+    """``{"_sincos": ..., "_atan2": ..., "_sincos_block": ...}``, the compiled kernels, for the compiled namespaces ({} without Numba:
     compiled() says so)."""
     try:
         from ...kinematics._jit import _atan2 as compiled_atan2
         from ...kinematics._jit import _sincos as compiled_sincos
+        from ...kinematics._jit import sincos_block
     except ImportError:
         return {}
-    return {"_sincos": compiled_sincos, "_atan2": compiled_atan2}
+    return {"_sincos": compiled_sincos, "_atan2": compiled_atan2, "_sincos_block": sincos_block}
 
 
 def extra() -> dict[str, Any]:
@@ -692,4 +718,4 @@ def extra() -> dict[str, Any]:
     k = kernels()
     if k is None:
         raise ImportError("numba")
-    return {name: k.namespace[name] for name in KERNELS + ("_sincos", "_atan2")}
+    return {name: k.namespace[name] for name in KERNELS + ("_sincos", "_atan2", "_sincos_block")}

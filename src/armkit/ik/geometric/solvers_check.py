@@ -10,7 +10,7 @@ import math
 
 import numpy as np
 
-from ._kernels import _fk_err_from
+from ._kernels import _fk_err_from, _fk_err_sc, _sincos_block
 from .solvers_parallel import _core_three_parallel
 from .solvers_search import _core_spherical_middle, _core_two_intersecting_end, _core_two_parallel
 from .solvers_wrist import _core_spherical
@@ -85,7 +85,7 @@ def _sharpen(H, P, RnT, prism, R, p, tol_p, tol_r, Q, ng):
     target on an arm 6.7 long; Newton takes it to the last digits. The row keeps the new value only where its error
     is smaller and it repeats no other row."""
     q = np.empty(6)
-    F = np.empty((3, 3))
+    F = np.empty((2, 6))
     RS = np.empty((7, 3, 3))
     PS = np.empty((7, 3))
     for i in range(ng):
@@ -125,7 +125,7 @@ def _promote(H, P, RnT, prism, R, p, tol_p, tol_r, Q, LS, SG, ST, ng, nf):
     passing row, unless it repeats one (then it is dropped); the other failing rows stay, after the passing ones.
     Returns the new ``(passing, failing)``."""
     q = np.empty(6)
-    F = np.empty((3, 3))
+    F = np.empty((2, 6))
     RS = np.empty((7, 3, 3))
     PS = np.empty((7, 3))
     i = ng
@@ -160,7 +160,7 @@ def _polish_wanted(H, P, RnT, prism, R, p, Q, LS, ng, nf, exact, reach_p, reach_
     ``Q``: a row not both least-squares and of an exact chain, whose FK error on the true chain ``(H, P)`` is
     within ``reach_p`` (position) and ``reach_r`` (rotation; :func:`.solvers.polish_reach`). The one-call and
     batched kernels leave such a target to ``_run``; the others answer it as ``_run`` would."""
-    F = np.empty((3, 3))
+    F = np.empty((2, 6))
     RS = np.empty((7, 3, 3))
     PS = np.empty((7, 3))
     for i in range(ng, ng + nf):
@@ -175,7 +175,7 @@ def _polish_wanted(H, P, RnT, prism, R, p, Q, LS, ng, nf, exact, reach_p, reach_
 def _newton_from(H, P, RnT, prism, R, p, tol_p, tol_r, row, q, RS, PS, F):
     """Newton steps on the whole chain (:func:`.search2d._newton`) from ``row`` into ``q`` (6,), its angles then
     wrapped: ``(Newton's last error, position error, rotation error)``, the last two by the check's FK
-    (:func:`_fk_err_from`; ``RS``, ``PS``, ``F`` its work space)."""
+    (:func:`_fk_err_from`; ``RS``, ``PS``, ``F (2, 6)`` its work space)."""
     for k in range(6):
         q[k] = row[k]
     err = _newton(H, P, RnT, R, p, tol_p / tol_r, q)
@@ -199,22 +199,29 @@ def _check(m, H, P, RnT, prism, R, p, tol_p, tol_r, Q, LS, SG, ST):
     Returns ``(passing, failing)``."""
     n = Q.shape[1]
     # three work arrays instead of seven (each array made and freed costs ~40 ns): the FK's work space, made once
-    # for the m candidates: F (3, 3), the rotation RS (n + 1, 3, 3) and position PS (n + 1, 3) after each joint of
-    # the last candidate, taken up by the next where their first joints agree (the branches come in pairs that
-    # differ in the wrist); the candidates' copy for the reordering, C (m, n + 3): the angles, LS, SG, ST
-    m3 = np.empty((n + 2, 3, 3))
-    F, RS = m3[0], m3[1:]
+    # for the m candidates: the rotation RS (n + 1, 3, 3) and position PS (n + 1, 3) after each joint of the last
+    # candidate, taken up by the next where their first joints agree (the branches come in pairs that differ in
+    # the wrist); the candidates' copy for the reordering, C (m, n + 3): the angles, LS, SG, ST; and the wrapped
+    # angles of all m in one flat vector, then their sines and cosines (one vector loop for all, not one call a
+    # joint: the same polynomial, the same bits)
+    RS = np.empty((n + 1, 3, 3))
     PS = np.empty((n + 1, 3))
     C = np.empty((m, n + 3))
+    mn = m * n
+    A = np.empty(3 * mn)
     for i in range(m):
         for k in range(n):
             if not prism[k]:
                 Q[i, k] = _wrap(Q[i, k])
+            A[i * n + k] = Q[i, k]
+    _sincos_block(A[:mn], A[mn:2 * mn], A[2 * mn:])
+    for i in range(m):
         s = 0
         if i > 0:
             while s < n and Q[i, s] == Q[i - 1, s]:
                 s += 1
-        ep, er = _fk_err_from(H, P, RnT, prism, Q[i], R, p, RS, PS, s, F)
+        a = mn + i * n
+        ep, er = _fk_err_sc(H, P, RnT, prism, Q[i], A[a:a + n], A[a + mn:a + mn + n], R, p, RS, PS, s)
         ST[i] = 1 if (ep <= tol_p and er <= tol_r) else 0
         if ST[i] == 1:
             for j in range(i):
