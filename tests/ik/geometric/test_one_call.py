@@ -205,6 +205,31 @@ def test_limit_sentences_match():
     assert all("outside the joint limits" in str(m) for m in new.message)
 
 
+def test_the_shortcut_past_the_check_is_gated(rng):
+    """``ik_all``'s shortcut past the solver's check (:mod:`armkit.ik.geometric.one_call`) answers only where the FK
+    of the robot puts every branch within half the check's tolerances. With those tolerances made 1e-30 in the
+    kernel's geometry (its ``TOL_P``, ``TOL_R``), no branch is within the gate: the kernel goes the long way, where
+    the check fails every candidate and ``solve_batch`` would polish them (the Kinova's chain is not exact), so it
+    leaves the target to the batched path (``FALLBACK``); a shortcut without its gate would answer (``DONE``)."""
+    from armkit.ik.geometric import one_call
+
+    robot = _arm("kinova")
+    _family(robot)
+    _kernel_mode(robot, True)
+    for _ in range(5):
+        target = armkit.fk(robot, robot.random_q(rng=rng))
+        armkit.ik_all(robot, target)
+        c = robot.cache["ik_fast"]
+        g0 = int(c.ctx[1])
+        strict = c.ctx.copy()
+        strict[g0 + one_call.TOL_P] = strict[g0 + one_call.TOL_R] = 1e-30
+        statuses = []
+        for ctx in (c.ctx, strict):
+            fb, ib, bb = np.empty(c.fshape), np.empty(c.isize, np.int64), np.empty(c.bsize, np.bool_)
+            statuses.append(c.entry(target.ravel().copy(), c.q0, ctx, fb, ib, bb, c.wk) & 3)
+        assert statuses == [one_call.DONE, one_call.FALLBACK]
+
+
 def test_reach_why_counts_the_solutions():
     """``reach_why`` from the count the kernel leaves (its ``rho``) is the sentence of ``Raw.why``."""
     cf = _family(_arm("stanford"))

@@ -74,7 +74,9 @@ def _constant_args(call: ast.Call) -> list[object]:
 
 @pytest.mark.parametrize("path, callee, count", [
     (SRC / "ik" / "analytic" / "_single.py", "_finish", 6),
-    (SRC / "ik" / "geometric" / "one_call.py", "_finish", 1),
+    (SRC / "ik" / "geometric" / "one_call.py", "_finish", 2),
+    (SRC / "ik" / "geometric" / "solvers_check.py", "_closed_core", 2),
+    (SRC / "ik" / "geometric" / "one_call.py", "_closed_core", 1),
     (SRC / "ik" / "analytic" / "_single.py", "_planar2_run", 1),
     (SRC / "ik" / "analytic" / "_single.py", "_planar3_run", 1),
     (SRC / "ik" / "analytic" / "_single.py", "_ypp_run", 1),

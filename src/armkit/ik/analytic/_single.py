@@ -77,6 +77,10 @@ from ._layout import (JOINT_LOWER, JOINT_PRISMATIC, JOINT_ROWS, JOINT_THETA, JOI
 
 DONE, FALLBACK, BAD_TARGET = 0, 1, 2
 """Kernel status: answered; answer by the batched path (same result); target not finite or not rigid."""
+RECHECK = 3
+"""The status of a gated :func:`_finish` (a branch above the gate), inside a kernel only: never returned."""
+_NO_GATE = math.inf
+"""The gate of :func:`_finish` that lets every branch through (the family kernels')."""
 LIMIT_FAILURES, OTHER_FAILURES = 4, 8
 """Bits of a kernel's return value besides the status: some branch failed by the limits alone; some
 branch failed otherwise (unreachable)."""
@@ -236,10 +240,15 @@ def _cut(w, at, size):
 
 
 @njit(cache=True, _nrt=False)
-def _finish(rawq, unreach, missing, lab, ctx, q0, T, pose, lat, rho, r, per, fb, ib, bb, wf, wi, wb):
+def _finish(rawq, unreach, missing, lab, ctx, q0, T, pose, lat, rho, r, per, gate_p, gate_r, fb, ib, bb, wf, wi, wb):
     """Steps 2-4 of the module docstring for raw DH angles ``rawq`` (m, n) of one target ``T`` (4, 4), into
     the buffers; ``lat, rho, r[b // per]``: the numbers of branch ``b``'s out-of-reach sentence. ``wf``, ``wi``,
-    ``wb``: its work space (float, int, bool; at least :func:`finish_work` long), the caller's."""
+    ``wb``: its work space (float, int, bool; at least :func:`finish_work` long), the caller's.
+
+    ``gate_p``, ``gate_r``: where every branch is checked (not :func:`_nearest_first`), a branch whose FK error is
+    above them (position, rotation angle) ends the call with :data:`RECHECK` before any branch is written
+    (:data:`_NO_GATE`: none). The geometric kernel's shortcut (:mod:`armkit.ik.geometric.one_call`) gates its
+    unchecked candidates so."""
     m, n = rawq.shape
     _, _, joints, F, opts = _parts(ctx)
     fb = shaped(fb, (fb.size,))   # made as rows (the caller's q is its first m rows); written by the flat layout
@@ -295,6 +304,8 @@ def _finish(rawq, unreach, missing, lab, ctx, q0, T, pose, lat, rho, r, per, fb,
         _fk_rows_shared(F, q, sn, cs, Tm, P)
         for b in range(m):    # solve_all: verify and the polish test
             e_p, e_r, w_b = _check(Tm[b], T, pose, q[b], joints[JOINT_LOWER], joints[JOINT_UPPER], 1e-12)
+            if not (e_p <= gate_p and e_r <= gate_r):
+                return RECHECK
             if _polishable(e_p, e_r, opts):
                 return FALLBACK   # _polish would touch this branch up
             dp[b], dr[b], within[b] = e_p, e_r, w_b
@@ -417,7 +428,7 @@ def post(rawq, unreach, missing, t, q0, ctx, fb, ib, bb, wk):
     for b in range(m):
         lab[b] = b
     return _finish(rawq, unreach, missing, lab, ctx, q0, T, t.shape[0] == 16, _NO, 0.0, r, m + 1,
-                   fb, ib, bb, wk[at:], ib[i_at:], bb[2 * m:])
+                   _NO_GATE, _NO_GATE, fb, ib, bb, wk[at:], ib[i_at:], bb[2 * m:])
 
 
 @njit(cache=True, inline="always")
@@ -454,7 +465,7 @@ def planar2(t, q0, ctx, fb, ib, bb, wk):
             q3[0, b, 1] *= -1.0
     missing[0] = missing[1] = False
     return _finish(q3[0], unreach, missing, up, ctx, q0, T, t.shape[0] == 16, _NO, 0.0, r, np.int64(2),
-                   fb, ib, bb, wk[at:], ib[i_at:], bb[b_at:])
+                   _NO_GATE, _NO_GATE, fb, ib, bb, wk[at:], ib[i_at:], bb[b_at:])
 
 
 @njit(cache=True, _nrt=False)
@@ -477,8 +488,8 @@ def planar3(t, q0, ctx, fb, ib, bb, wk):
     if edge[0]:
         return FALLBACK
     missing[0] = missing[1] = False
-    return _finish(q3[0], unreach, missing, up, ctx, q0, T, _YES, _NO, 0.0, r, np.int64(2), fb, ib, bb,
-                   wk[at:], ib[i_at:], bb[b_at:])
+    return _finish(q3[0], unreach, missing, up, ctx, q0, T, _YES, _NO, 0.0, r, np.int64(2), _NO_GATE, _NO_GATE,
+                   fb, ib, bb, wk[at:], ib[i_at:], bb[b_at:])
 
 
 @njit(cache=True, _nrt=False)
@@ -512,7 +523,7 @@ def yaw_pitch_pitch(t, q0, ctx, fb, ib, bb, wk):
     for b in range(4):
         missing[b] = False
     return _finish(shaped(phi, (4, 3)), unreach, missing, lab, ctx, q0, T, t.shape[0] == 16, lat[0], rho[0], r,
-                   np.int64(2), fb, ib, bb, wk[at:], ib[i_at:], bb[b_at:])
+                   np.int64(2), _NO_GATE, _NO_GATE, fb, ib, bb, wk[at:], ib[i_at:], bb[b_at:])
 
 
 @njit(cache=True, _nrt=False)
@@ -553,7 +564,7 @@ def spherical_wrist(t, q0, ctx, fb, ib, bb, wk):
     for b in range(8):
         missing[b] = False
     return _finish(shaped(out, (8, 6)), unreach, missing, lab, ctx, q0, T, _YES, lat[0], rho[0], r, np.int64(4),
-                   fb, ib, bb, wk[at:], ib[i_at:], bb[b_at:])
+                   _NO_GATE, _NO_GATE, fb, ib, bb, wk[at:], ib[i_at:], bb[b_at:])
 
 
 @njit(cache=True, _nrt=False)
@@ -584,7 +595,7 @@ def ur(t, q0, ctx, fb, ib, bb, wk):
     for b in range(8):
         missing[b] = False
     return _finish(shaped(out, (8, 6)), unreach, missing, lab, ctx, q0, T, _YES, lat[0], rho[0], r, np.int64(2),
-                   fb, ib, bb, wk[at:], ib[i_at:], bb[b_at:])
+                   _NO_GATE, _NO_GATE, fb, ib, bb, wk[at:], ib[i_at:], bb[b_at:])
 
 
 WORK: dict = {"planar-2r": (25, 2, 5), "planar-3r": (24, 2, 5), "yaw-pitch-pitch": (37, 4, 16),

@@ -701,8 +701,8 @@ def kernels() -> Optional[types.SimpleNamespace]:
 
 
 def _compiled_sincos() -> dict[str, Any]:
-    """``{"_sincos": ..., "_atan2": ..., "_sincos_block": ...}``, the compiled kernels, for the compiled namespaces ({} without Numba:
-    compiled() says so)."""
+    """``{"_sincos": ..., "_atan2": ..., "_sincos_block": ...}``, the compiled kernels, for the compiled namespaces
+    ({} without Numba: compiled() says so)."""
     try:
         from ...kinematics._jit import _atan2 as compiled_atan2
         from ...kinematics._jit import _sincos as compiled_sincos

@@ -79,12 +79,11 @@ from .search import MAXROOT, SM, SW, TI, TP, _search  # noqa: F401  (in the kern
 from .search import N as _SEARCH_N
 from .search import kernels as _search_kernels
 from .solvers_chain import _jacobian, _log_vec, _points, _size, align, polish, reverse  # noqa: F401
-from .solvers_check import (EMPTY_RETRY, RETRIES, SHARP, _SPH_MID, _TI_END, _TWO_PAR, _check, _close,  # noqa: F401
-                            _copy_row, _merged, _newton_from, _paired, _polish_wanted, _promote, _put_passing, _repeats,
-                            _searched_core,
-                            _sharpen, _solve, _solve_searched, _solve_spherical, _solve_spherical_middle,
-                            _solve_three_parallel, _solve_two_intersecting_end, _solve_two_parallel, _sweep,
-                            _within_reach)
+from .solvers_check import (EMPTY_RETRY, RETRIES, SHARP, _SPH_MID, _SPHERICAL, _THREE_PARALLEL, _TI_END,  # noqa: F401
+                            _TWO_PAR, _check, _close, _closed_core, _copy_row, _distinct, _merged, _newton_from,
+                            _paired, _polish_wanted, _promote, _put_passing, _repeats, _searched_core, _sharpen,
+                            _solve, _solve_searched, _solve_spherical, _solve_spherical_middle, _solve_three_parallel,
+                            _solve_two_intersecting_end, _solve_two_parallel, _sweep, _within_reach)
 from .solvers_parallel import _core_three_parallel  # noqa: F401
 from .solvers_search import (_core_spherical_middle, _core_two_intersecting_end, _core_two_parallel,  # noqa: F401
                              _target_rows)
@@ -117,20 +116,20 @@ class Solutions(NamedTuple):
 
 # ---------------------------------------------------------------------------------- wrappers
 KERNELS = ("_mv", "_mtv", "_mm", "_mtm", "_perp", "_rotm_to", "_rot_to", "_mm_to", "_mtm_to", "_mv_to", "_mtv_to",
-           "_perp_to", "_sp1s", "_sp2s", "_wrist", "_pos_two_intersecting", "_pos_two_parallel",
-           "_pos_search", "_pos_general", "_core_spherical", "_core_three_parallel", "_close",
-           "_repeats", "_put_passing", "_merged", "_newton_from", "_copy_row", "_promote", "_sharpen", "_check",
-           "_solve_spherical", "_solve_three_parallel", "_target_rows", "_core_two_intersecting_end",
-           "_core_two_parallel", "_core_spherical_middle", "_paired", "_searched_core", "_within_reach",
-           "_solve_searched", "_solve_two_intersecting_end", "_solve_two_parallel", "_solve_spherical_middle", "_solve",
-           "_sweep", "_polish_wanted")
+           "_perp_to", "_sp1s", "_sp2s", "_wrist", "_pos_two_intersecting", "_pos_two_parallel", "_pos_search",
+           "_pos_general", "_core_spherical", "_core_three_parallel", "_close", "_repeats", "_put_passing", "_merged",
+           "_newton_from", "_copy_row", "_promote", "_sharpen", "_check", "_closed_core", "_solve_spherical",
+           "_solve_three_parallel", "_distinct", "_target_rows", "_core_two_intersecting_end", "_core_two_parallel",
+           "_core_spherical_middle", "_paired", "_searched_core", "_within_reach", "_solve_searched",
+           "_solve_two_intersecting_end", "_solve_two_parallel", "_solve_spherical_middle", "_solve", "_sweep",
+           "_polish_wanted")
 INLINE = ("_pos_search", "_pos_general", "_core_spherical", "_core_three_parallel", "_core_two_intersecting_end",
           "_core_two_parallel", "_core_spherical_middle", "_searched_core", "_solve")
-"""Kernels with one caller each (a core in its ``_solve_*``, the 3R position in the spherical core, the dispatch in
-the batch loops): compiled inline into that caller (Numba's ``inline="always"``), not as functions of their own.
-Numba links a called kernel's whole compiled code into its caller and optimises and compiles it there again, so
-every level of calls between a kernel and its entry points repeats that work; inlining these removes a level
-(same operations, same results)."""
+"""Kernels with one caller each (a searched core in its ``_solve_*``, a closed-form one in ``_closed_core``, the 3R
+position in the spherical core, the dispatch in the batch loops): compiled inline into that caller (Numba's
+``inline="always"``), not as functions of their own. Numba links a called kernel's whole compiled code into its
+caller and optimises and compiles it there again, so every level of calls between a kernel and its entry points
+repeats that work; inlining these removes a level (same operations, same results)."""
 _PARTS = ("solvers", "solvers_wrist", "solvers_parallel", "solvers_search", "solvers_check")
 SOURCES = tuple(f"ik/geometric/{name}.py" for name in _PARTS + ("subproblems", "search", "search2d", "_kernels")) + (
     "kinematics/_jit.py",)

@@ -323,14 +323,43 @@ def _close(a, b, prism):
     return True
 
 
+def _closed_core(which, kind, Hi, Pi, RnT, prism, R, p, qref, N, Q, LS, SG):
+    """The candidates of a closed-form core (``which`` 0: spherical wrist, 1: three parallel axes) into Q, LS, SG,
+    before the check; returns their count. Its own compiled function, counted (the cores make their work arrays),
+    so that the one-call kernel (:mod:`.one_call`, compiled without reference counts) can run a core without its
+    check."""
+    if which == 0:
+        return _core_spherical(kind, Hi, Pi, RnT, prism, R, p, qref, N, Q, LS, SG)
+    return _core_three_parallel(kind, Hi, Pi, RnT, prism, R, p, qref, N, Q, LS, SG)
+
+
 def _solve_spherical(kind, Hi, Pi, RnT, prism, Ht, Pt, R, p, qref, N, tol_p, tol_r, Q, LS, SG, ST):
-    m = _core_spherical(kind, Hi, Pi, RnT, prism, R, p, qref, N, Q, LS, SG)
+    m = _closed_core(_SPHERICAL, kind, Hi, Pi, RnT, prism, R, p, qref, N, Q, LS, SG)
     return _check(m, Ht, Pt, RnT, prism, R, p, tol_p, tol_r, Q, LS, SG, ST)
 
 
 def _solve_three_parallel(kind, Hi, Pi, RnT, prism, Ht, Pt, R, p, qref, N, tol_p, tol_r, Q, LS, SG, ST):
-    m = _core_three_parallel(kind, Hi, Pi, RnT, prism, R, p, qref, N, Q, LS, SG)
+    m = _closed_core(_THREE_PARALLEL, kind, Hi, Pi, RnT, prism, R, p, qref, N, Q, LS, SG)
     return _check(m, Ht, Pt, RnT, prism, R, p, tol_p, tol_r, Q, LS, SG, ST)
+
+
+_SPHERICAL, _THREE_PARALLEL = np.int64(0), np.int64(1)
+"""The closed-form cores of :func:`_closed_core`, typed ``int64`` (one compiled copy serves both)."""
+
+
+def _distinct(Q, SG, prism, m, W):
+    """Whether none of the ``m`` candidates of ``Q`` is singular (``SG``) and no two are the same up to
+    :func:`_close`, their angles wrapped into ``W (m, n)`` as :func:`_check` wraps them. Where they also all pass
+    the check, the check keeps them all, in their order: the one-call kernel's shortcut (:mod:`.one_call`)."""
+    for i in range(m):
+        if SG[i]:
+            return False
+        for k in range(Q.shape[1]):
+            W[i, k] = Q[i, k] if prism[k] else _wrap(Q[i, k])
+        for j in range(i):
+            if _close(W[i], W[j], prism):
+                return False
+    return True
 
 
 def _solve(which, kind, Hi, Pi, RnT, prism, Ht, Pt, R, p, qref, N, tol_p, tol_r, Q, LS, SG, ST):
