@@ -245,9 +245,10 @@ def _finish(rawq, unreach, missing, lab, ctx, q0, T, pose, lat, rho, r, per, gat
     the buffers; ``lat, rho, r[b // per]``: the numbers of branch ``b``'s out-of-reach sentence. ``wf``, ``wi``,
     ``wb``: its work space (float, int, bool; at least :func:`finish_work` long), the caller's.
 
-    ``gate_p``, ``gate_r``: where every branch is checked (not :func:`_nearest_first`), a branch whose FK error is
-    above them (position, rotation angle) ends the call with :data:`RECHECK` before any branch is written
-    (:data:`_NO_GATE`: none). The geometric kernel's shortcut (:mod:`armkit.ik.geometric.one_call`) gates its
+    ``gate_p``, ``gate_r``: a branch whose FK error is above them (position, rotation angle) ends the call with
+    :data:`RECHECK` before any branch is written (:data:`_NO_GATE`: none). A gated call checks every branch, also
+    for :func:`armkit.ik` (the all-branch check, not :func:`_nearest_first`: the same answer, see
+    :func:`_may_succeed`). The geometric kernel's shortcut (:mod:`armkit.ik.geometric.one_call`) gates its
     unchecked candidates so."""
     m, n = rawq.shape
     _, _, joints, F, opts = _parts(ctx)
@@ -291,7 +292,8 @@ def _finish(rawq, unreach, missing, lab, ctx, q0, T, pose, lat, rho, r, per, gat
         return FALLBACK
     code, idx = wi[:m], wi[m:2 * m]   # the reason codes, the order
     ok, within = wb[:m], wb[m:2 * m]
-    if opts[9] != 0.0 and _may_succeed(q, joints, opts):   # armkit.ik: the nearest branch that succeeds, if any
+    if opts[9] != 0.0 and not gate_p < _NO_GATE and _may_succeed(q, joints, opts):   # armkit.ik: the nearest branch
+        # that succeeds, if any (a gated call checks every branch)
         s = _nearest_first(q, dist, unreach, missing, lab, F, joints, opts, T, pose, lat, rho, r, per, lo, hi,
                            Tq, idx, dp, dr, within, fb, ib, bb)
         if s >= 0:

@@ -16,15 +16,15 @@ do in several:
    candidates, or the start);
 4. the steps of :func:`armkit.ik.analytic._single._finish`: wrap, FK of the robot, check, sort.
 
-For :func:`armkit.ik_all` (every branch checked) the kernel takes a shortcut past the check of step 2, which
-repeats the FK of step 4 on the same chain in another form: where the core gives every branch of the class, none
-singular and no two alike (:func:`.solvers_check._distinct`), they go to step 4 unchecked, gated at half the
-check's tolerances. If the FK of the robot puts each within the gate, the check of step 2 passes them all (the
-two FKs of one chain differ by rounding, ~1e-15 of the arm's size, and the check's rotation measure
-``‖ΔR‖_F / √2 = 2 sin(θ/2)`` is at most step 4's angle ``θ``), keeping every branch in its order: the same
-answer to the bit, with one FK instead of two (the Kinova's ``ik_all``: 7.3 -> 5.9 µs). A branch above the gate
-sends the target the long way (step 2's check, then step 3). Classes solved on the reversed chain keep the long
-way (the check's position error is then that of the inverse target).
+The kernel takes a shortcut past the check of step 2, which repeats the FK of step 4 on the same chain in another
+form: where the core gives every branch of the class, none singular and no two alike
+(:func:`.solvers_check._distinct`), they go to step 4 unchecked, gated at half the check's tolerances (every
+branch checked, also for :func:`armkit.ik`). If the FK of the robot puts each within the gate, the check of step 2
+passes them all (the two FKs of one chain differ by rounding, ~1e-15 of the arm's size, and the check's rotation
+measure ``‖ΔR‖_F / √2 = 2 sin(θ/2)`` is at most step 4's angle ``θ``), keeping every branch in its order: the same
+answer to the bit, with one FK instead of two (the Kinova's ``ik_all``: 7.3 -> 5.9 µs, ``ik`` 7.2 -> 6.1). A
+branch above the gate sends the target the long way (step 2's check, then step 3). Classes solved on the reversed
+chain keep the long way (the check's position error is then that of the inverse target).
 
 What the one call does not do the same way returns :data:`FALLBACK` (the caller answers by the
 batched path, with the same result): a candidate the Python polish of :func:`.solvers.solve_batch`
@@ -192,7 +192,7 @@ def _geometric(t, q0, ctx, fb, ib, bb, wk):
         for k in range(n):
             qref[k] = q0[k] + joints[THETA, k]
     mc = _closed_core(which, kind, Hi, Pi, RnT, prism, R, p, qref, N, Q, LS, SG)  # noqa: F821
-    if opts[9] == 0.0 and not inverted and mc == m and _distinct(Q, SG, prism, mc, rawq):  # noqa: F821
+    if not inverted and mc == m and _distinct(Q, SG, prism, mc, rawq):  # noqa: F821
         # the shortcut (module docstring): every branch found, none singular, no two alike; if _finish's FK of the
         # robot puts each within half the check's tolerances, the check on the true chain passes them all
         for b in range(m):
