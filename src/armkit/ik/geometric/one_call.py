@@ -17,14 +17,16 @@ do in several:
 4. the steps of :func:`armkit.ik.analytic._single._finish`: wrap, FK of the robot, check, sort.
 
 The kernel takes a shortcut past the check of step 2, which repeats the FK of step 4 on the same chain in another
-form: where the core gives every branch of the class, none singular and no two alike
-(:func:`.solvers_check._distinct`), they go to step 4 unchecked, gated at half the check's tolerances (every
-branch checked, also for :func:`armkit.ik`). If the FK of the robot puts each within the gate, the check of step 2
-passes them all (the two FKs of one chain differ by rounding, ~1e-15 of the arm's size, and the check's rotation
-measure ``‖ΔR‖_F / √2 = 2 sin(θ/2)`` is at most step 4's angle ``θ``), keeping every branch in its order: the same
-answer to the bit, with one FK instead of two (the Kinova's ``ik_all``: 7.3 -> 5.9 µs, ``ik`` 7.2 -> 6.1). A
-branch above the gate sends the target the long way (step 2's check, then step 3). Classes solved on the reversed
-chain keep the long way (the check's position error is then that of the inverse target).
+form: where the core gives branches, none least-squares or singular and no two alike
+(:func:`.solvers_check._distinct`), they go to step 4 unchecked (laid out as step 3 lays out passing ones), with a
+gate (every branch checked, also for :func:`armkit.ik`). If the FK of the robot puts each within half the check's
+tolerances, the check of step 2 passes them all (the two FKs of one chain differ by rounding, ~1e-15 of the arm's
+size, and the check's rotation measure ``‖ΔR‖_F / √2 = 2 sin(θ/2)`` is at most step 4's angle ``θ``), keeping
+every branch in its order: the same answer to the bit, with one FK instead of two (the Kinova's ``ik_all``: 7.3 ->
+5.9 µs, ``ik`` 7.2 -> 6.1). A branch above the gate sends the target the long way (step 2's check, then step 3).
+A class solved on the reversed chain is checked there against the inverse target ``(Rᵀ, -Rᵀp)``, whose position
+error is at most ``dp + θ |p|`` (``dp``, ``θ``: step 4's errors, ``p`` the target's position): its gate is a
+quarter of the position tolerance for ``dp`` and for ``θ |p|``, and half the rotation tolerance for ``θ``.
 
 What the one call does not do the same way returns :data:`FALLBACK` (the caller answers by the
 batched path, with the same result): a candidate the Python polish of :func:`.solvers.solve_batch`
@@ -56,6 +58,7 @@ index       size   value
 
 from __future__ import annotations
 
+import math
 from typing import Any, Optional
 
 import numpy as np
@@ -192,14 +195,27 @@ def _geometric(t, q0, ctx, fb, ib, bb, wk):
         for k in range(n):
             qref[k] = q0[k] + joints[THETA, k]
     mc = _closed_core(which, kind, Hi, Pi, RnT, prism, R, p, qref, N, Q, LS, SG)  # noqa: F821
-    if not inverted and mc == m and _distinct(Q, SG, prism, mc, rawq):  # noqa: F821
-        # the shortcut (module docstring): every branch found, none singular, no two alike; if _finish's FK of the
-        # robot puts each within half the check's tolerances, the check on the true chain passes them all
+    k = min(mc, m)
+    if k > 0 and _distinct(Q, LS, SG, prism, k, rawq):  # noqa: F821
+        # the shortcut (module docstring): branches found, none least-squares or singular, no two alike; if the FK
+        # of the robot puts each within the gate, the check on the true chain passes them all
+        gate_p, gate_r = 0.5 * tol_p, 0.5 * tol_r
+        if inverted:   # the branches in the robot's order; the check's position error is the inverse target's
+            for b in range(k):
+                for j in range(n // 2):
+                    rawq[b, j], rawq[b, n - 1 - j] = rawq[b, n - 1 - j], rawq[b, j]
+            gate_p = 0.25 * tol_p
+            p_norm = math.sqrt(T[0, 3] * T[0, 3] + T[1, 3] * T[1, 3] + T[2, 3] * T[2, 3])
+            if p_norm > 0.0:
+                gate_r = min(gate_r, 0.25 * tol_p / p_norm)
         for b in range(m):
-            unreach[b] = False
+            if b >= k:   # padding, as the long way pads
+                for j in range(n):
+                    rawq[b, j] = rawq[0, j]
+            unreach[b] = b >= k
             lab[b] = b
-        status = _finish(rawq, unreach, unreach, lab, ctx, q0, T, _YES, _NO, float(m), none, m + 1,  # noqa: F821
-                         0.5 * tol_p, 0.5 * tol_r, fb, ib, bb, wk[at:], ib[i_at:], bb[b_at:])
+        status = _finish(rawq, unreach, unreach, lab, ctx, q0, T, _YES, _NO, float(k), none, m + 1,  # noqa: F821
+                         gate_p, gate_r, fb, ib, bb, wk[at:], ib[i_at:], bb[b_at:])
         if status != RECHECK:  # noqa: F821
             return status
     ng, nf = _check(mc, Ht, Pt, RnT, prism, R, p, tol_p, tol_r, Q, LS, SG, ST)  # noqa: F821

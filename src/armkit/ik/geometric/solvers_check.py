@@ -347,12 +347,13 @@ _SPHERICAL, _THREE_PARALLEL = np.int64(0), np.int64(1)
 """The closed-form cores of :func:`_closed_core`, typed ``int64`` (one compiled copy serves both)."""
 
 
-def _distinct(Q, SG, prism, m, W):
-    """Whether none of the ``m`` candidates of ``Q`` is singular (``SG``) and no two are the same up to
-    :func:`_close`, their angles wrapped into ``W (m, n)`` as :func:`_check` wraps them. Where they also all pass
-    the check, the check keeps them all, in their order: the one-call kernel's shortcut (:mod:`.one_call`)."""
+def _distinct(Q, LS, SG, prism, m, W):
+    """Whether none of the ``m`` candidates of ``Q`` is a least-squares one (``LS``: it would fail the check) or
+    singular (``SG``) and no two are the same up to :func:`_close`, their angles wrapped into ``W (m, n)`` as
+    :func:`_check` wraps them. Where they also all pass the check, the check keeps them all, in their order: the
+    one-call kernel's shortcut (:mod:`.one_call`)."""
     for i in range(m):
-        if SG[i]:
+        if LS[i] or SG[i]:
             return False
         for k in range(Q.shape[1]):
             W[i, k] = Q[i, k] if prism[k] else _wrap(Q[i, k])
