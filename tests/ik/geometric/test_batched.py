@@ -109,16 +109,49 @@ def test_threads_give_the_same_bits(name):
     sname = cf.solver if cf.solver != "spherical_wrist" else solvers._wrist_case(cf.form)
     prep = solvers._prepare(cf.form, sname)
     K = batched.kernels()
+    from armkit.kinematics import packed
+
     outs = []
     for fn in (K.serial, K.parallel):
         o = (np.zeros((200, cf.m, 6)), np.zeros((200, cf.m), np.bool_), np.zeros((200, cf.m), np.bool_),
              np.zeros(200, np.int64), np.zeros(200, np.bool_))
         fn(solvers._WHICH[prep.solve], prep.kind, cf.inverted, prep.exact, prep.Hi, prep.Pi, prep.RnT, prep.prism,
            prep.Ht, prep.Pt, np.ascontiguousarray(T), q0, solvers.SEARCH_N, solvers.TOL * prep.scale, solvers.TOL,
-           prep.reach * prep.scale, prep.reach, *o)
+           prep.reach * prep.scale, prep.reach, packed(robot)[0], cf.sf.theta, *o)
         outs.append(o)
     for a, b in zip(*outs):
         assert np.array_equal(a, b)
+
+
+@pytest.mark.parametrize("name", ("kinova", "spherical-base/1", "three-parallel/2"))
+def test_the_shortcut_past_the_check_is_gated(name):
+    """The batch kernel's shortcut past the solver's check (the FK of the robot in place of the check's, module
+    docstring) keeps a target's branches only where that FK puts them within the gate. With the check's tolerances
+    made 1e-30, no branch is within it: every target goes the long way, where the check fails every candidate, so
+    each is left to the Python polish (``redo``: the Kinova's chain is not exact) or answered unreachable. A
+    shortcut without its gate would answer them found."""
+    robot = _arm(name)
+    cf = closed_form(robot)
+    if cf is None or cf.family != "geometric":
+        pytest.skip("degenerate random draw")
+    from armkit.ik.geometric import solvers
+    from armkit.kinematics import packed
+
+    rng = np.random.default_rng(6)
+    _, T = _targets(robot, rng, 50)
+    q0 = rng.uniform(-1.0, 1.0, (50, robot.n))
+    sname = cf.solver if cf.solver != "spherical_wrist" else solvers._wrist_case(cf.form)
+    prep = solvers._prepare(cf.form, sname)
+    for tol, found_some in ((solvers.TOL, True), (1e-30, False)):
+        o = (np.zeros((50, cf.m, 6)), np.zeros((50, cf.m), np.bool_), np.zeros((50, cf.m), np.bool_),
+             np.zeros(50, np.int64), np.zeros(50, np.bool_))
+        batched.kernels().serial(solvers._WHICH[prep.solve], prep.kind, cf.inverted, prep.exact, prep.Hi, prep.Pi,
+                                 prep.RnT, prep.prism, prep.Ht, prep.Pt, np.ascontiguousarray(T), q0, solvers.SEARCH_N,
+                                 tol * prep.scale, tol, prep.reach * prep.scale, prep.reach, packed(robot)[0],
+                                 cf.sf.theta, *o)
+        unreach, found, redo = o[1], o[3], o[4]
+        answered = ~redo & ~unreach.all(axis=1)
+        assert answered.any() == found_some and (found[~redo] > 0).any() == found_some
 
 
 @pytest.mark.parametrize("name", ("kinova", "stanford", "spherical-general/1", "spherical-base/1",

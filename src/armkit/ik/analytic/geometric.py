@@ -165,9 +165,13 @@ class Geometric:
             return None
         from ..geometric import batched
 
+        if batched.kernels() is None:
+            return None
+        from ...kinematics import packed
+
         prep = solvers._prepare(self.form, name)
         out = batched.solve(prep, self.inverted, self.m, target, q0phi, solvers.SEARCH_N, solvers.TOL * prep.scale,
-                            solvers.TOL)
+                            solvers.TOL, packed(self.robot)[0], self.sf.theta)
         return None if out is None else (name, out)
 
     def reach_why(self, lateral_out: bool, rho: float, r: float, target: Array | None) -> str:
