@@ -44,14 +44,14 @@ import tempfile
 import threading
 import time
 from pathlib import Path
-from typing import Any, Iterator, Literal, Optional
+from typing import Any, Callable, Iterator, Literal, Optional
 
 from .errors import ArgumentError, ArmkitError
 
 __all__ = ["set_backend", "get_backend", "jit_module", "serve", "load_jit", "backend_choice", "ready", "parallel_ok",
            "cache_dir", "fallback_cache_dir", "install_cache_fallback", "module", "kernels", "forget_stale_cache",
            "compiling_here", "serial_only", "marker", "lock_alive", "forget_other_builds", "say_compiling", "release_lock",
-           "compiled_entry"]
+           "compiled_entry", "set_renderer"]
 
 _PKG = Path(__file__).resolve().parent
 _SOURCES = ("kinematics/_jit.py", "ik/_jit_lm.py", "ik/_jit_verify.py", "ik/analytic/_jit.py", "ik/analytic/_layout.py",
@@ -314,11 +314,45 @@ def marker(suffix: str) -> Optional[Path]:
 
 
 # ------------------------------------------------------------------------------------ the state
-def _say(text: str, what: str = "compiling") -> None:
-    """Print ``armkit: text`` on stderr, once per process for each ``what``."""
-    if what not in _told:
-        _told.add(what)
-        print(f"armkit: {text}", file=sys.stderr, flush=True)
+def N_(text: str) -> str:
+    """Mark a note's English wording for the catalogue (``make locale-update``); :func:`_say` renders it."""
+    return text
+
+
+NOTE_COMPILING = N_("compiling armkit's kernels once, about {seconds} s in all (cached on disk for the next runs; "
+                    "`armkit warmup` does it ahead of time)")
+NOTE_COMPILING_NO_HINT = N_("compiling armkit's kernels once, about {seconds} s in all (cached on disk for the next "
+                            "runs)")
+NOTE_BACKGROUND = N_("compiling armkit's kernels once in the background, about {seconds} s; the NumPy back end "
+                     "answers meanwhile (`armkit warmup` does this ahead of time)")
+NOTE_FAILED = N_("the warm-up process failed (see {log}); compiling armkit's kernels here, on first use, about "
+                 "{seconds} s in all")
+"""The notes :func:`_say` prints: each a template and its fields, worded in the user's language by the front end's
+renderer (:func:`set_renderer`), in English without one."""
+
+_RENDER: list[Callable[[str, dict[str, Any]], str]] = []
+
+
+def set_renderer(render: Callable[[str, dict[str, Any]], str]) -> None:
+    """Have the notes on stderr worded by ``render(template, fields)``: the command line installs the catalogue's
+    (:func:`armkit.locale._`, the user's ``--lang``), so that a Korean session's note is Korean. The library alone
+    prints them in English, as its messages."""
+    _RENDER[:] = [render]
+
+
+def _say(template: str, what: str = "compiling", **fields: Any) -> None:
+    """Print ``armkit: <the note>`` on stderr, once per process for each ``what``: ``template`` with ``fields``, in
+    the renderer's language (:func:`set_renderer`; English when none is set, or when it fails)."""
+    if what in _told:
+        return
+    _told.add(what)
+    text = template.format(**fields)
+    if _RENDER:
+        try:
+            text = _RENDER[0](template, fields)
+        except Exception:  # noqa: BLE001  (a note must never stop the work it announces: the English)
+            pass
+    print(f"armkit: {text}", file=sys.stderr, flush=True)
 
 
 def ready(poll: bool = False) -> bool:
@@ -354,8 +388,7 @@ def ready(poll: bool = False) -> bool:
     if not lock_alive():
         # the warm-up process ended without its marker: compile here, on first use, as without it
         _state, _parallel = "sync", True
-        _say(f"the warm-up process failed (see {_log_path()}); compiling armkit's kernels here, on first use, "
-             f"about {COMPILE_SECONDS} s in all", "failed")
+        _say(NOTE_FAILED, "failed", log=_log_path(), seconds=COMPILE_SECONDS)
         return True
     return False
 
@@ -382,8 +415,7 @@ def parallel_ok() -> bool:
 
 def say_compiling(hint: bool = True) -> None:
     """Say once on stderr that the kernels are being compiled here (``hint``: name ``armkit warmup``)."""
-    _say(f"compiling armkit's kernels once, about {COMPILE_SECONDS} s in all (cached on disk for the next runs"
-         + ("; `armkit warmup` does it ahead of time)" if hint else ")"))
+    _say(NOTE_COMPILING if hint else NOTE_COMPILING_NO_HINT, seconds=COMPILE_SECONDS)
 
 
 _here = 0   # how many compiling_here blocks are open (armkit warmup, the warm-up process)
@@ -443,8 +475,7 @@ def _decide() -> str:
             _parallel = True
             say_when_compiling()
             return "sync"
-    _say(f"compiling armkit's kernels once in the background, about {COMPILE_SECONDS} s; the NumPy back end "
-         "answers meanwhile (`armkit warmup` does this ahead of time)")
+    _say(NOTE_BACKGROUND, seconds=COMPILE_SECONDS)
     return "warming"
 
 

@@ -239,3 +239,36 @@ def test_no_fstring_raise_is_left_in_these_modules():
                         and isinstance(node.exc.args[0], (ast.JoinedStr, ast.BinOp)):
                     left.append(f"{rel}:{node.lineno}")
     assert left == [], left
+
+
+def test_the_back_ends_notes_are_worded_in_the_users_language(monkeypatch, capsys):
+    """The notes on stderr about compiling the kernels (`armkit._jit_loader`: on first use, in the background, after
+    a failed warm-up) are templates with fields: a command line in Korean words them from the catalogue (they were
+    English in a Korean session, found when a command compiled a kernel), and the library alone prints the English
+    it printed."""
+    from armkit import _jit_loader as jl
+    from armkit.cli import _word_the_notes
+    from armkit.locale import LANG
+
+    notes = ((jl.NOTE_COMPILING, {"seconds": 45}), (jl.NOTE_COMPILING_NO_HINT, {"seconds": 45}),
+             (jl.NOTE_BACKGROUND, {"seconds": 45}), (jl.NOTE_FAILED, {"seconds": 45, "log": "/tmp/x.log"}))
+    monkeypatch.setattr(jl, "_RENDER", [])
+    monkeypatch.setattr(jl, "_told", set())
+    jl.say_compiling()
+    english = capsys.readouterr().err
+    assert english == ("armkit: compiling armkit's kernels once, about 45 s in all (cached on disk for the next "
+                       "runs; `armkit warmup` does it ahead of time)\n")
+    monkeypatch.setitem(LANG, "lang", "ko")
+    _word_the_notes()
+    for k, (template, fields) in enumerate(notes):
+        jl._say(template, f"note {k}", **fields)
+    lines = capsys.readouterr().err.splitlines()
+    assert len(lines) == len(notes)
+    for line in lines:
+        assert line.startswith("armkit: ") and re.search(r"[가-힣]", line), line
+        assert english_words(line) == [], line
+    assert "45 s" in lines[0] and "/tmp/x.log" in lines[3]
+    monkeypatch.setattr(jl, "_told", set())
+    jl._RENDER[:] = [lambda template, fields: 1 / 0]     # a renderer that fails: the English, never an error
+    jl.say_compiling(hint=False)
+    assert capsys.readouterr().err.startswith("armkit: compiling armkit's kernels once, about 45 s in all (cached")

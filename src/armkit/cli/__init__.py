@@ -92,6 +92,7 @@ class _ArmkitGroup(TyperGroup):
 
         shown = warnings.showwarning
         warnings.showwarning = show
+        _word_the_notes()
         try:
             return super().invoke(ctx)
         except ArmkitError as exc:
@@ -258,6 +259,15 @@ def _print_version(value: bool) -> None:
 
         typer.echo(f"armkit {__version__}")
         raise typer.Exit()
+
+
+def _word_the_notes() -> None:
+    """Have the back end's notes on stderr (compiling the kernels, the warm-up process) worded in the user's
+    language, from the catalogue like every other text of the command line."""
+    from .. import _jit_loader
+    from .common import _
+
+    _jit_loader.set_renderer(lambda template, fields: _(template, **fields))
 
 
 @app.callback()
