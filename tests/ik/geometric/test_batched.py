@@ -95,31 +95,35 @@ def test_same_raw_branches_as_the_path_before(name):
         assert out[4].any()
 
 
-@pytest.mark.parametrize("name", ("kinova", "stanford", "spherical-base/1", "three-parallel/2"))
-def test_threads_give_the_same_bits(name):
+def _kernel_run(name: str, seed: int, B: int, parallel: bool = False, tol: float | None = None) -> tuple:
+    """The batch kernel (one-thread, or threaded) on ``B`` targets of ``_targets`` for the arm ``name``, the solver's
+    check at ``tol`` (its own by default): ``(q, unreachable, singular, found, redo)``."""
     robot = _arm(name)
     cf = closed_form(robot)
     if cf is None or cf.family != "geometric":
         pytest.skip("degenerate random draw")
     from armkit.ik.geometric import solvers
-
-    rng = np.random.default_rng(5)
-    _, T = _targets(robot, rng, 200)
-    q0 = rng.uniform(-1.0, 1.0, (200, robot.n))
-    sname = cf.solver if cf.solver != "spherical_wrist" else solvers._wrist_case(cf.form)
-    prep = solvers._prepare(cf.form, sname)
-    K = batched.kernels()
     from armkit.kinematics import packed
 
-    outs = []
-    for fn in (K.serial, K.parallel):
-        o = (np.zeros((200, cf.m, 6)), np.zeros((200, cf.m), np.bool_), np.zeros((200, cf.m), np.bool_),
-             np.zeros(200, np.int64), np.zeros(200, np.bool_))
-        fn(solvers._WHICH[prep.solve], prep.kind, cf.inverted, prep.exact, prep.Hi, prep.Pi, prep.RnT, prep.prism,
-           prep.Ht, prep.Pt, np.ascontiguousarray(T), q0, solvers.SEARCH_N, solvers.TOL * prep.scale, solvers.TOL,
-           prep.reach * prep.scale, prep.reach, packed(robot)[0], cf.sf.theta, *o)
-        outs.append(o)
-    for a, b in zip(*outs):
+    rng = np.random.default_rng(seed)
+    _, T = _targets(robot, rng, B)
+    q0 = rng.uniform(-1.0, 1.0, (B, robot.n))
+    sname = cf.solver if cf.solver != "spherical_wrist" else solvers._wrist_case(cf.form)
+    prep = solvers._prepare(cf.form, sname)
+    tol = solvers.TOL if tol is None else tol
+    out = (np.zeros((B, cf.m, 6)), np.zeros((B, cf.m), np.bool_), np.zeros((B, cf.m), np.bool_),
+           np.zeros(B, np.int64), np.zeros(B, np.bool_))
+    K = batched.kernels()
+    (K.parallel if parallel else K.serial)(
+        solvers._WHICH[prep.solve], prep.kind, cf.inverted, prep.exact, prep.Hi, prep.Pi, prep.RnT, prep.prism,
+        prep.Ht, prep.Pt, np.ascontiguousarray(T), q0, solvers.SEARCH_N, tol * prep.scale, tol,
+        prep.reach * prep.scale, prep.reach, packed(robot)[0], cf.sf.theta, *out)
+    return out
+
+
+@pytest.mark.parametrize("name", ("kinova", "stanford", "spherical-base/1", "three-parallel/2"))
+def test_threads_give_the_same_bits(name):
+    for a, b in zip(_kernel_run(name, 5, 200), _kernel_run(name, 5, 200, parallel=True)):
         assert np.array_equal(a, b)
 
 
@@ -130,26 +134,8 @@ def test_the_shortcut_past_the_check_is_gated(name):
     made 1e-30, no branch is within it: every target goes the long way, where the check fails every candidate, so
     each is left to the Python polish (``redo``: the Kinova's chain is not exact) or answered unreachable. A
     shortcut without its gate would answer them found."""
-    robot = _arm(name)
-    cf = closed_form(robot)
-    if cf is None or cf.family != "geometric":
-        pytest.skip("degenerate random draw")
-    from armkit.ik.geometric import solvers
-    from armkit.kinematics import packed
-
-    rng = np.random.default_rng(6)
-    _, T = _targets(robot, rng, 50)
-    q0 = rng.uniform(-1.0, 1.0, (50, robot.n))
-    sname = cf.solver if cf.solver != "spherical_wrist" else solvers._wrist_case(cf.form)
-    prep = solvers._prepare(cf.form, sname)
-    for tol, found_some in ((solvers.TOL, True), (1e-30, False)):
-        o = (np.zeros((50, cf.m, 6)), np.zeros((50, cf.m), np.bool_), np.zeros((50, cf.m), np.bool_),
-             np.zeros(50, np.int64), np.zeros(50, np.bool_))
-        batched.kernels().serial(solvers._WHICH[prep.solve], prep.kind, cf.inverted, prep.exact, prep.Hi, prep.Pi,
-                                 prep.RnT, prep.prism, prep.Ht, prep.Pt, np.ascontiguousarray(T), q0, solvers.SEARCH_N,
-                                 tol * prep.scale, tol, prep.reach * prep.scale, prep.reach, packed(robot)[0],
-                                 cf.sf.theta, *o)
-        unreach, found, redo = o[1], o[3], o[4]
+    for tol, found_some in ((None, True), (1e-30, False)):
+        _, unreach, _, found, redo = _kernel_run(name, 6, 50, tol=tol)
         answered = ~redo & ~unreach.all(axis=1)
         assert answered.any() == found_some and (found[~redo] > 0).any() == found_some
 

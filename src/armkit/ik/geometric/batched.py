@@ -26,7 +26,6 @@ Compiled on first use with the solvers' kernels (:func:`.solvers.kernels`); ``nj
 
 from __future__ import annotations
 
-import math
 import types
 from typing import Any, Optional
 
@@ -152,20 +151,12 @@ def _shortcut(inverted, prism, T, b, tol_p, tol_r, F, theta, Q, LS, SG, mc, W, D
     """Whether the ``mc`` candidates of ``Q`` take the shortcut past the check (module docstring), their angles
     then in ``W`` (m, 6) in the robot's order: none least-squares or singular, no two alike
     (:func:`.solvers_check._distinct`), and the FK of the robot (``F``, DH angles ``W - theta``) puts each within
-    the gate of the one-call kernel (:mod:`.one_call`) of target ``T[b]``."""
+    the one-call kernel's gate (:func:`.solvers_check._gate`) of target ``T[b]``."""
     m, n = W.shape
     k = min(mc, m)
-    if k == 0 or not _distinct(Q, LS, SG, prism, k, W):  # noqa: F821
+    if k == 0 or not _distinct(Q, LS, SG, prism, k, W, inverted):  # noqa: F821
         return False
-    gate_p, gate_r = 0.5 * tol_p, 0.5 * tol_r
-    if inverted:
-        for r in range(k):
-            for j in range(n // 2):
-                W[r, j], W[r, n - 1 - j] = W[r, n - 1 - j], W[r, j]
-        gate_p = 0.25 * tol_p
-        p_norm = math.sqrt(T[b, 0, 3] * T[b, 0, 3] + T[b, 1, 3] * T[b, 1, 3] + T[b, 2, 3] * T[b, 2, 3])
-        if p_norm > 0.0:
-            gate_r = min(gate_r, 0.25 * tol_p / p_norm)
+    gate_p, gate_r = _gate(inverted, tol_p, tol_r, T[b, 0, 3], T[b, 1, 3], T[b, 2, 3])  # noqa: F821
     for r in range(k):
         for j in range(n):
             D[r * n + j] = W[r, j] - theta[j]
@@ -203,7 +194,7 @@ def kernels() -> Optional[types.SimpleNamespace]:
         from .subproblems import jit_namespace
 
         extra: dict[str, Any] = {name: getattr(K, name) for name in (
-            "_closed_core", "_distinct", "_check", "_solve_two_intersecting_end", "_solve_two_parallel",
+            "_closed_core", "_distinct", "_gate", "_check", "_solve_two_intersecting_end", "_solve_two_parallel",
             "_solve_spherical_middle", "_polish_wanted")}
         from .. import _jit_verify
         from ..analytic import _single

@@ -26,7 +26,8 @@ every branch in its order: the same answer to the bit, with one FK instead of tw
 5.9 µs, ``ik`` 7.2 -> 6.1). A branch above the gate sends the target the long way (step 2's check, then step 3).
 A class solved on the reversed chain is checked there against the inverse target ``(Rᵀ, -Rᵀp)``, whose position
 error is at most ``dp + θ |p|`` (``dp``, ``θ``: step 4's errors, ``p`` the target's position): its gate is a
-quarter of the position tolerance for ``dp`` and for ``θ |p|``, and half the rotation tolerance for ``θ``.
+quarter of the position tolerance for ``dp`` and for ``θ |p|``, and half the rotation tolerance for ``θ``
+(:func:`.solvers_check._gate`, which the batch kernel's shortcut shares, :mod:`.batched`).
 
 What the one call does not do the same way returns :data:`FALLBACK` (the caller answers by the
 batched path, with the same result): a candidate the Python polish of :func:`.solvers.solve_batch`
@@ -58,7 +59,6 @@ index       size   value
 
 from __future__ import annotations
 
-import math
 from typing import Any, Optional
 
 import numpy as np
@@ -196,18 +196,10 @@ def _geometric(t, q0, ctx, fb, ib, bb, wk):
             qref[k] = q0[k] + joints[THETA, k]
     mc = _closed_core(which, kind, Hi, Pi, RnT, prism, R, p, qref, N, Q, LS, SG)  # noqa: F821
     k = min(mc, m)
-    if k > 0 and _distinct(Q, LS, SG, prism, k, rawq):  # noqa: F821
+    if k > 0 and _distinct(Q, LS, SG, prism, k, rawq, inverted):  # noqa: F821
         # the shortcut (module docstring): branches found, none least-squares or singular, no two alike; if the FK
         # of the robot puts each within the gate, the check on the true chain passes them all
-        gate_p, gate_r = 0.5 * tol_p, 0.5 * tol_r
-        if inverted:   # the branches in the robot's order; the check's position error is the inverse target's
-            for b in range(k):
-                for j in range(n // 2):
-                    rawq[b, j], rawq[b, n - 1 - j] = rawq[b, n - 1 - j], rawq[b, j]
-            gate_p = 0.25 * tol_p
-            p_norm = math.sqrt(T[0, 3] * T[0, 3] + T[1, 3] * T[1, 3] + T[2, 3] * T[2, 3])
-            if p_norm > 0.0:
-                gate_r = min(gate_r, 0.25 * tol_p / p_norm)
+        gate_p, gate_r = _gate(inverted, tol_p, tol_r, T[0, 3], T[1, 3], T[2, 3])  # noqa: F821
         for b in range(m):
             if b >= k:   # padding, as the long way pads
                 for j in range(n):
@@ -271,7 +263,7 @@ def kernel() -> Any:
 
         assert (_single.DONE, _single.FALLBACK, _single.BAD_TARGET) == (DONE, FALLBACK, BAD_TARGET)
         assert _single.RECHECK not in (DONE, FALLBACK, BAD_TARGET)
-        extra = {name: getattr(K, name) for name in ("_closed_core", "_distinct", "_check", "_polish_wanted")}
+        extra = {name: getattr(K, name) for name in ("_closed_core", "_distinct", "_gate", "_check", "_polish_wanted")}
         extra.update({name: getattr(_single, name) for name in ("_parts", "_begin", "_finish", "shaped", "RECHECK",
                                                                 "_NO_GATE")})
         ns = jit_namespace(globals(), ("_geometric",), extra=extra, uncounted=("_geometric",))

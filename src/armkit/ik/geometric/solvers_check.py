@@ -347,20 +347,41 @@ _SPHERICAL, _THREE_PARALLEL = np.int64(0), np.int64(1)
 """The closed-form cores of :func:`_closed_core`, typed ``int64`` (one compiled copy serves both)."""
 
 
-def _distinct(Q, LS, SG, prism, m, W):
+def _distinct(Q, LS, SG, prism, m, W, reverse):
     """Whether none of the ``m`` candidates of ``Q`` is a least-squares one (``LS``: it would fail the check) or
     singular (``SG``) and no two are the same up to :func:`_close`, their angles wrapped into ``W (m, n)`` as
-    :func:`_check` wraps them. Where they also all pass the check, the check keeps them all, in their order: the
-    one-call kernel's shortcut (:mod:`.one_call`)."""
+    :func:`_check` wraps them (each row then reversed with ``reverse``: a chain solved reversed, in the robot's
+    order). Where they also all pass the check, the check keeps them all, in their order: the shortcut past it of
+    the one-call and batch kernels (:mod:`.one_call`, :mod:`.batched`)."""
+    n = Q.shape[1]
     for i in range(m):
         if LS[i] or SG[i]:
             return False
-        for k in range(Q.shape[1]):
+        for k in range(n):
             W[i, k] = Q[i, k] if prism[k] else _wrap(Q[i, k])
         for j in range(i):
             if _close(W[i], W[j], prism):
                 return False
+    if reverse:
+        for i in range(m):
+            for k in range(n // 2):
+                W[i, k], W[i, n - 1 - k] = W[i, n - 1 - k], W[i, k]
     return True
+
+
+def _gate(inverted, tol_p, tol_r, x, y, z):
+    """``(position, rotation)``: the FK errors of the robot below which every branch passes the check (tolerances
+    ``tol_p``, ``tol_r``) of a target at ``(x, y, z)``: the gate of the shortcut past the check (:mod:`.one_call`).
+    Half the check's tolerances (two FKs of one chain differ by rounding, and the check's rotation measure is at
+    most the angle); a chain solved reversed is checked against the inverse target, whose position error is at
+    most ``dp + θ |p|``: a quarter of the position tolerance for ``dp`` and for ``θ |p|``."""
+    if not inverted:
+        return 0.5 * tol_p, 0.5 * tol_r
+    gate_r = 0.5 * tol_r
+    p_norm = math.sqrt(x * x + y * y + z * z)
+    if p_norm > 0.0:
+        gate_r = min(gate_r, 0.25 * tol_p / p_norm)
+    return 0.25 * tol_p, gate_r
 
 
 def _solve(which, kind, Hi, Pi, RnT, prism, Ht, Pt, R, p, qref, N, tol_p, tol_r, Q, LS, SG, ST):
