@@ -348,11 +348,12 @@ _SPHERICAL, _THREE_PARALLEL = np.int64(0), np.int64(1)
 
 
 def _distinct(Q, LS, SG, prism, m, W, reverse):
-    """Whether none of the ``m`` candidates of ``Q`` is a least-squares one (``LS``: it would fail the check) or
-    singular (``SG``) and no two are the same up to :func:`_close`, their angles wrapped into ``W (m, n)`` as
-    :func:`_check` wraps them (each row then reversed with ``reverse``: a chain solved reversed, in the robot's
-    order). Where they also all pass the check, the check keeps them all, in their order: the shortcut past it of
-    the one-call and batch kernels (:mod:`.one_call`, :mod:`.batched`)."""
+    """Whether none of the ``m`` candidates of ``Q`` is a least-squares one (``LS``: most fail the check, which then
+    decides what becomes of them) or singular (``SG``: the long way gives a note) and no two are the same up to
+    :func:`_close`, their angles wrapped into ``W (m, n)`` as :func:`_check` wraps them (each row then reversed with
+    ``reverse``: a chain solved reversed, in the robot's order). Where they also all pass the check, the check keeps
+    them all, in their order: the shortcut past it of the one-call and batch kernels (:mod:`.one_call`,
+    :mod:`.batched`)."""
     n = Q.shape[1]
     for i in range(m):
         if LS[i] or SG[i]:
