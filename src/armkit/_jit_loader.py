@@ -315,7 +315,8 @@ def marker(suffix: str) -> Optional[Path]:
 
 # ------------------------------------------------------------------------------------ the state
 def N_(text: str) -> str:
-    """Mark a note's English wording for the catalogue (``make locale-update``); :func:`_say` renders it."""
+    """Mark a note's English wording for the catalogue (``make locale-update``); :func:`_say` renders it. (This
+    floor imports nothing of :mod:`armkit.locale`, whose ``N_`` is the same identity.)"""
     return text
 
 

@@ -292,7 +292,7 @@ def _finish(rawq, unreach, missing, lab, ctx, q0, T, pose, lat, rho, r, per, gat
         return FALLBACK
     code, idx = wi[:m], wi[m:2 * m]   # the reason codes, the order
     ok, within = wb[:m], wb[m:2 * m]
-    if opts[9] != 0.0 and not gate_p < _NO_GATE and _may_succeed(q, joints, opts):   # armkit.ik: the nearest branch
+    if opts[9] != 0.0 and gate_p == _NO_GATE and _may_succeed(q, joints, opts):   # armkit.ik: the nearest branch
         # that succeeds, if any (a gated call checks every branch)
         s = _nearest_first(q, dist, unreach, missing, lab, F, joints, opts, T, pose, lat, rho, r, per, lo, hi,
                            Tq, idx, dp, dr, within, fb, ib, bb)

@@ -198,12 +198,12 @@ def _check(m, H, P, RnT, prism, R, p, tol_p, tol_r, Q, LS, SG, ST):
     pass (repeats dropped) first and the ones that fail after them (rows of Q, LS, SG; ``ST`` 1 / 0).
     Returns ``(passing, failing)``."""
     n = Q.shape[1]
-    # three work arrays instead of seven (each array made and freed costs ~40 ns): the FK's work space, made once
-    # for the m candidates: the rotation RS (n + 1, 3, 3) and position PS (n + 1, 3) after each joint of the last
-    # candidate, taken up by the next where their first joints agree (the branches come in pairs that differ in
-    # the wrist); the candidates' copy for the reordering, C (m, n + 3): the angles, LS, SG, ST; and the wrapped
-    # angles of all m in one flat vector, then their sines and cosines (one vector loop for all, not one call a
-    # joint: the same polynomial, the same bits)
+    # four work arrays, made once for the m candidates (each array made and freed costs ~40 ns): the FK's work
+    # space: the rotation RS (n + 1, 3, 3) and position PS (n + 1, 3) after each joint of the last candidate, taken
+    # up by the next where their first joints agree (the branches come in pairs that differ in the wrist); the
+    # candidates' copy for the reordering, C (m, n + 3): the angles, LS, SG, ST; and the wrapped angles of all m in
+    # one flat vector, then their sines and cosines (one vector loop for all, not one call a joint: the same
+    # polynomial, the same bits)
     RS = np.empty((n + 1, 3, 3))
     PS = np.empty((n + 1, 3))
     C = np.empty((m, n + 3))
