@@ -188,7 +188,8 @@ def _exercise_parallel() -> None:
 def _parallel_core() -> None:
     """The multi-threaded twins of the kernels :func:`_exercise_arms` compiles (FK, the IK check, the closed forms,
     LM, CCD, the collision checks of the fighter's surroundings)."""
-    for name in ("kinematics._jit", "ik._jit_verify", "ik.analytic._jit", "ik._jit_lm", "ik._ccd_jit"):
+    for name in ("kinematics._jit", "ik._jit_verify", "ik.analytic._jit", "ik.analytic._single", "ik._jit_lm",
+                 "ik._ccd_jit"):
         for serial, parallel in _jit_loader.module(name).parallel_twins():
             for sig in list(serial.signatures):
                 parallel.compile(sig)

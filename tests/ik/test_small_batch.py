@@ -108,3 +108,49 @@ def test_the_targets_changed_before_the_messages_are_read():
         for f in ("q", "success", "position_error", "rotation_error", "iterations", "within_limits"):
             a = getattr(fast, f)
             assert a.flags.c_contiguous and a.flags.owndata, f
+
+
+def _with_kernel(name):
+    robot = _arm(name)
+    armkit.ik(robot, armkit.fk(robot, robot.random_q(rng=0)))     # the one-call record made
+    rec = robot.cache.get("ik_fast")
+    return bool(rec) and rec.kernel is not None
+
+
+@pytest.mark.parametrize("name", sorted(ARMS))
+def test_a_threaded_batch_equals_the_batched_path(name, monkeypatch, rng):
+    """From ROWS_PARALLEL targets the rows run on every thread (the driver's twin: its use counted) with one
+    start per target, targets out of reach and branches outside the limits: every field and message the batched
+    path's, to the bit."""
+    if not _with_kernel(name):
+        pytest.skip("a family without a kernel: one call per target up to SMALL_BATCH, then the batched path")
+    robot = _arm(name)
+    single = importlib.import_module("armkit.ik.analytic._single")
+    used = []
+    real = single.rows_entry
+    monkeypatch.setattr(single, "rows_entry", lambda parallel: used.append(parallel) or real(parallel))
+    B = analytic.ROWS_PARALLEL + 9
+    fars = rng.choice([1.0, 1.0, 1.0, 1.4, 3.0], B)
+    targets = np.stack([_target(robot, ARMS[name], q, far) for q, far in zip(robot.random_q(B, rng=rng), fars)])
+    starts = rng.uniform(-4.0, 4.0, (B, robot.n))
+    for fn in (armkit.ik_all, armkit.ik):
+        for q0 in (None, starts[0], starts):
+            fast, slow = _both(lambda: fn(robot, targets, q0))
+            _assert_same(fast, slow)
+            assert not fast.success.all() and fast.success.any()     # failures of both kinds were made
+    threaded = analytic._jit_loader.parallel_ok()
+    assert used == [threaded] * 6
+
+
+def test_one_target_for_the_batched_path_sends_the_whole_batch_there(monkeypatch, rng):
+    """A Puma target with its wrist straight (q5 = 0: a note to give) among many: the driver answers none of them,
+    the batched path all (its answer, to the bit), its note on that target's branches."""
+    robot = _arm("puma560")
+    q = robot.random_q(50, rng=rng)
+    q[17, 4] = 0.0
+    targets = armkit.fk(robot, q)
+    for fn in (armkit.ik_all, armkit.ik):
+        fast, slow = _both(lambda: fn(robot, targets))
+        _assert_same(fast, slow)
+    res = armkit.ik_all(robot, targets)
+    assert "singular" in " ".join(res.message[17]) or "wrist" in " ".join(res.message[17])

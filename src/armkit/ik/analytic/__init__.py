@@ -369,7 +369,7 @@ class _Single:
     __slots__ = ("kernels", "kernel", "solver", "geometry", "joints", "F", "labels", "labels0", "blank", "m", "n",
                  "mn", "at", "fsize", "fshape", "isize", "bsize", "wsize", "wk", "one", "q0", "scale", "window",
                  "above", "sign", "default_tol", "ctx", "ctx_near", "ctxs", "converged", "shapes", "entry", "small",
-                 "small_near")
+                 "small_near", "address")
 
     def __init__(self, robot: Robot, solver: ClosedForm, kernels) -> None:
         from ...kinematics import packed
@@ -390,7 +390,8 @@ class _Single:
         # the most targets of one call answered target by target (run_small_batch), for ik_all and for ik: more
         # where the family has a kernel (ROWS), fewer where it solves a batch faster as a whole (a whole-batch form,
         # from geometric.MANY targets: the SCARA's)
-        small, near = ROWS if self.kernel is not None else (SMALL_BATCH, SMALL_BATCH)
+        small, near = (ROWS_GEOMETRIC if solver.family == "geometric" else ROWS) if self.kernel is not None \
+            else (SMALL_BATCH, SMALL_BATCH)
         if has_batch_form(solver):
             small, near = min(small, MANY - 1), min(near, MANY - 1)
         self.small, self.small_near = small, near
@@ -415,11 +416,13 @@ class _Single:
         self.ctx = self.context(None, True, True)
         self.ctx_near = self.context(None, True, True, True)
         self.entry: Any = self.kernel
+        self.address = 0
         if self.kernel is not None:   # the compiled function itself, called without the dispatcher's typing
             # of seven arrays (~0.35 us of a ~12 us call); see run_one for why it is safe
-            self.entry = _jit_loader.compiled_entry(self.kernel, np.empty(16), self.q0, self.ctx, np.empty(self.fshape),
-                                                    np.empty(self.isize, np.int64), np.empty(self.bsize, np.bool_),
-                                                    self.wk)
+            sample = (np.empty(16), self.q0, self.ctx, np.empty(self.fshape), np.empty(self.isize, np.int64),
+                      np.empty(self.bsize, np.bool_), self.wk)
+            self.entry = _jit_loader.compiled_entry(self.kernel, *sample)
+            self.address = kernels.kernel_address(self.kernel, sample)   # for the batch driver (_batch_from_rows)
         # the most common call, ik_all(robot, pose) and ik(robot, pose) with their defaults, as two closures
         self.one = _one_target_calls(self) if self.kernel is not None else None
 
@@ -612,18 +615,30 @@ the one-call path target by target (:func:`run_small_batch`): the batched path s
 size (then ~0.01 ms a target), the one-call path costs ~0.02 ms a target for ``armkit.ik`` and ~0.03 ms for
 ``armkit.ik_all`` (UR5, Puma 560: the two are equal near 16-24 targets for ``ik_all`` and 24-32 for ``ik`` on this
 project's 2-core machine; benchmarks/bench_analytic.py --small-only)."""
-ROWS = (48, 128)
-"""The same limits, ``(ik_all, ik)``, for a family with a kernel, whose calls write each target's numbers into a
-row of one set of buffers (:func:`_small_batch_from_rows`): 3.5-9 µs a target (UR5, Puma 560, Kinova), where the
-batched path costs 0.22-0.34 ms for 16 targets of ``ik_all`` and 0.35-0.49 ms of ``ik``. The two were level near
-48 targets for ``ik_all`` and 128-256 for ``ik`` (CPU time of the calling thread, 2026-12-06; the batched path's
-second thread not counted, so later in wall time)."""
+ROWS = (384, 4096)
+"""The same limits, ``(ik_all, ik)``, for a family with a kernel. Its calls write each target's numbers into a row
+of one set of buffers, all rows by one compiled driver (:func:`_batch_from_rows`; the family's kernel called
+through its address, on every thread from :data:`ROWS_PARALLEL` targets). Against the batched path (wall clock,
+two threads, 2026-12-06), the Puma 560: 16 targets of ``ik_all`` 13 -> 3.4 µs a target, 64 targets 5.5 -> 2.5,
+256 targets 3.1 -> 2.4; ``ik`` 19 -> 3.1, 7.6 -> 2.3, and 4,000 targets 2.4 -> 1.6. From ~500 targets of
+``ik_all`` the batched path's passes over its compact arrays cost as little or less (the rows' buffers, with the
+kernel's work space, take ~1.7 KB a target of fresh pages; 1,000 targets: 3.1 against 2.8 µs in the benchmark's
+process, 1.8-2.2 against 2.1-2.5 alone), and from ~8,000 targets of ``ik`` (20,000: 3.5 against 2.1)."""
+ROWS_GEOMETRIC = (1024, 4096)
+""":data:`ROWS` for the geometric family, whose batched path costs more against its kernel: the Kinova j2s6s200's
+``ik_all`` of 256 targets 5.3 -> 3.4 µs, of 1,000 targets 4.0-4.9 -> 3.3-3.4, of 2,000 targets level (2.9)."""
+ROWS_PARALLEL = 32
+"""Batches of a family with a kernel from this many targets run on every thread (:func:`_batch_from_rows`; the
+Puma's ``ik_all`` of 32 targets 2.7 -> 2.6 µs a target, of 128 targets 2.3 -> 2.0)."""
+ROW_CHUNKS = 64
+"""The chunks of rows of a threaded batch, each with its own work vector (:func:`._single._rows`)."""
 
 
 def run_small_batch(robot: Robot, c: "_Single", targets: Array, q0: Array | None, ctx: Array, check: bool,
                     nearest: bool) -> IKResult | None:
     """:func:`run_one` for each of a few targets (``targets`` float64 ``(B,) + shape`` the family takes, ``B``
-    at most ``c.small``: :data:`SMALL_BATCH`, fewer for a family with a whole-batch form; ``q0`` None, one start
+    at most ``c.small``: :data:`SMALL_BATCH`, fewer for a family with a whole-batch form, :data:`ROWS` for a family
+    with a kernel; ``q0`` None, one start
     ``(n,)`` or one per target ``(B, n)``, float64), the results stacked as the batched path gives them: fields
     ``(B,)`` (``(B, m)`` for every branch), the same values and types (tests/ik/test_small_batch.py). None where
     any target needs the batched path (the caller then takes it for all: a branch to polish, a note to give, a
@@ -632,7 +647,7 @@ def run_small_batch(robot: Robot, c: "_Single", targets: Array, q0: Array | None
     if q0 is not None:
         q0 = np.ascontiguousarray(q0)
     if c.kernel is not None:
-        return _small_batch_from_rows(robot, c, targets, q0, ctx, nearest)
+        return _batch_from_rows(robot, c, targets, q0, ctx, nearest)
     parts = []
     for i in range(B):
         one = run_one(robot, c, targets[i], q0 if q0 is None or q0.ndim == 1 else q0[i], ctx, None, check, nearest,
@@ -646,25 +661,28 @@ def run_small_batch(robot: Robot, c: "_Single", targets: Array, q0: Array | None
     return IKResult._later((*values, None), lambda: _stacked_messages(parts))
 
 
-def _small_batch_from_rows(robot: Robot, c: "_Single", targets: Array, q0: Array | None, ctx: Array,
-                           nearest: bool) -> IKResult | None:
-    """:func:`run_small_batch` for a family with a kernel: each target's compiled call writes into its own row of
-    three buffers ``(B, size)``, and every field is made once for all the rows, as :func:`_later_fields` makes it
-    for one (the label and reason of row ``i`` taken where the kernel wrote them for its first branch, which
+def _batch_from_rows(robot: Robot, c: "_Single", targets: Array, q0: Array | None, ctx: Array,
+                     nearest: bool) -> IKResult | None:
+    """:func:`run_small_batch` for a family with a kernel: each target's kernel call writes into its own row of
+    three buffers ``(B, size)``, all the calls made by one compiled driver (:func:`._single._rows`, threaded from
+    :data:`ROWS_PARALLEL` targets), and every field is made once for all the rows, as :func:`_later_fields` makes
+    it for one (the label and reason of row ``i`` taken where the kernel wrote them for its first branch, which
     :func:`armkit.ik`'s nearest-first status also names). Making each target's result and then stacking the
     fields cost about as much as the compiled calls (the UR5's ``ik`` of 8 targets: 66 µs, 23 of them in
-    the calls)."""
+    the calls), and calling the kernel from Python ~1 µs a target more than from the driver."""
     B, m, n, mn = targets.shape[0], c.m, c.n, c.mn
-    FB, IB, BB, wk = np.empty((B,) + c.fshape), np.empty((B, c.isize), _I64), np.empty((B, c.bsize), _BOOL), c.wk
+    FB, IB, BB = np.empty((B,) + c.fshape), np.empty((B, c.isize), _I64), np.empty((B, c.bsize), _BOOL)
     flat = np.ascontiguousarray(targets).reshape(B, -1)
-    entry, starts = c.entry, c.q0 if q0 is None else q0
+    starts = c.q0 if q0 is None else q0
     each = starts.ndim == 2
-    status = []
-    for i in range(B):
-        r = entry(flat[i], starts[i] if each else starts, ctx, FB[i], IB[i], BB[i], wk)
-        if r & 3:
-            return None
-        status.append(r)
+    status = np.empty(B, _I64)
+    parallel = B >= ROWS_PARALLEL and _jit_loader.parallel_ok()
+    # the work vectors: the record's own on one thread (the driver, like a kernel, holds the GIL throughout), one
+    # per chunk of rows on several
+    WK = np.empty((min(B, ROW_CHUNKS), c.wsize)) if parallel else c.wk.reshape(1, -1)
+    c.kernels.rows_entry(parallel)(c.address, flat, starts.reshape(-1, n), each, ctx, FB, IB, BB, WK, status)
+    if (status & 3).any():
+        return None
     FB = FB.reshape(B, -1)   # each row's flat layout (_single.layout)
     if nearest:
         q, ok, dp, dr = FB[:, :n].copy(), BB[:, 0].copy(), FB[:, mn].copy(), FB[:, mn + m].copy()
@@ -679,17 +697,19 @@ def _small_batch_from_rows(robot: Robot, c: "_Single", targets: Array, q0: Array
         branch, reason = c.labels[IB[:, m:2 * m]], _REASON_TEXT[IB[:, :m]]
         message = np.full((B, m), "", dtype=object)
     values = (q, ok, dp, dr, it, branch, within, reason)
-    pending = [i for i, r in enumerate(status) if _sentences(r, None, IB[i], nearest)]
+    if nearest:   # the rows whose sentences _Messages makes (_sentences, row by row)
+        pending = np.flatnonzero(((status & NEAREST) == 0) & (IB[:, 0] != 0)).tolist()
+    else:
+        pending = np.flatnonzero(status).tolist()
     if not pending:
         return IKResult._later((*values, message))
-    # the sentences of the rows with a failed branch (the others stay empty), made when first read; each maker
-    # copies its target now (the caller may change its array before then)
-    makers = [(i, _Messages(robot, c, None, flat[i].reshape(targets.shape[1:]), FB[i], IB[i], None, nearest))
-              for i in pending]
+    # the sentences of the rows with a failed branch (the others stay empty), made when first read, from a copy of
+    # the targets made now (the caller may change its array before then)
+    kept, shape = flat.copy(), targets.shape[1:]
 
     def messages() -> NDArray[np.object_]:
-        for i, make in makers:
-            message[i] = make()
+        for i in pending:
+            message[i] = _Messages(robot, c, None, kept[i].reshape(shape), FB[i], IB[i], None, nearest)()
         return message
 
     return IKResult._later((*values, None), messages)

@@ -64,7 +64,12 @@ from ... import _jit_loader
 
 _jit_loader.install_cache_fallback()  # before the first cache=True: read-only installs cache elsewhere
 
-from numba import njit  # noqa: E402
+from numba import njit, prange  # noqa: E402
+from numba.core import cgutils  # noqa: E402
+from numba.core import types as nbtypes  # noqa: E402
+from numba.extending import intrinsic  # noqa: E402
+
+from ..._jit_twins import parallel_twin  # noqa: E402
 
 from ..._jit_shaped import shaped  # noqa: E402
 
@@ -598,6 +603,78 @@ def ur(t, q0, ctx, fb, ib, bb, wk):
         missing[b] = False
     return _finish(shaped(out, (8, 6)), unreach, missing, lab, ctx, q0, T, _YES, lat[0], rho[0], r, np.int64(2),
                    _NO_GATE, _NO_GATE, fb, ib, bb, wk[at:], ib[i_at:], bb[b_at:])
+
+
+@intrinsic
+def _call_at(typingctx, address, t, q0, ctx, fb, ib, bb, wk):
+    """The compiled kernel at ``address`` (:func:`kernel_address`) called on ``(t, q0, ctx, fb, ib, bb, wk)`` as
+    Numba calls one compiled function from another (its own calling convention; the kernels raise nothing, a
+    status would be passed on): its int64 status."""
+    sig = nbtypes.int64(address, t, q0, ctx, fb, ib, bb, wk)
+
+    def codegen(context, builder, signature, args):
+        kinds = signature.args[1:]
+        fnty = context.call_conv.get_function_type(nbtypes.int64, kinds)
+        fn = builder.inttoptr(args[0], fnty.as_pointer())
+        status, res = context.call_conv.call_function(builder, fn, nbtypes.int64, kinds, args[1:])
+        with cgutils.if_unlikely(builder, status.is_error):
+            context.call_conv.return_status_propagate(builder, status)
+        return res
+
+    return sig, codegen
+
+
+@njit(cache=True)
+def _rows(address, T, Q0, each, ctx, FB, IB, BB, WK, R):
+    """Target ``i`` of ``T (B, 16 or 3)`` by the one-call kernel at ``address`` (:func:`kernel_address`) into row
+    ``i`` of the buffers ``FB (B, rows, n)``, ``IB (B, isize)``, ``BB (B, bsize)``, its status into ``R[i]``;
+    start ``Q0[i]`` (``each``) or ``Q0[0]``. The rows are cut into chunks (``WK (chunks, wsize)``: the work vector of
+    each; a kernel reads nothing there it did not write in the same call), a ``prange`` over them (its twin runs
+    them on every thread).
+
+    The kernel comes in as the address of its compiled code (as compiled for the one-call path), so that one
+    driver serves every family and nothing of a kernel is compiled again: a driver that took the kernel itself
+    would compile and optimise a copy of it per family, and a Numba first-class function costs ~0.1 ms a call to
+    unbox (it asks the dispatcher for its addresses in Python)."""
+    B = T.shape[0]
+    chunks = min(B, WK.shape[0])
+    for k in prange(chunks):
+        for i in range(k * B // chunks, (k + 1) * B // chunks):
+            R[i] = _call_at(address, T[i], Q0[i if each else 0], ctx, FB[i], IB[i], BB[i], WK[k])
+
+
+_ROWS_PAR = parallel_twin(_rows)
+_ROWS_ENTRY: dict = {}
+
+
+def rows_entry(parallel):
+    """The compiled function of :func:`_rows` (``parallel``: of its twin) for the one set of argument types it
+    takes (read-only targets and starts, as the kernel only reads them, are the same to the compiled code),
+    called without the dispatcher's typing; compiled on first use (cached on disk)."""
+    entry = _ROWS_ENTRY.get(parallel)
+    if entry is None:
+        f64, i64, b1, A = nbtypes.float64, nbtypes.int64, nbtypes.boolean, nbtypes.Array
+        args = (i64, A(f64, 2, "C"), A(f64, 2, "C"), b1, A(f64, 1, "C", readonly=True), A(f64, 3, "C"),
+                A(i64, 2, "C"), A(b1, 2, "C"), A(f64, 2, "C"), A(i64, 1, "C"))
+        entry = _ROWS_ENTRY[parallel] = (_ROWS_PAR if parallel else _rows).compile(args)
+    return entry
+
+
+def kernel_address(kernel, sample):
+    """The address of the compiled code of the Numba ``kernel`` for the types of the arguments ``sample`` (compiled
+    now if it is not yet), for :func:`_rows`; it stays valid while the kernel lives (a module's: the process)."""
+    import numba
+    from numba.experimental.function_type import _get_jit_address
+
+    types = tuple(numba.typeof(a) for a in sample)
+    kernel.compile(types)
+    return _get_jit_address(kernel, nbtypes.int64(*types))
+
+
+def parallel_twins():
+    """``(one-thread kernel, multi-threaded kernel)`` pairs taking the same arguments (for the warm-up)."""
+    return [(_rows, _ROWS_PAR)]
+
 
 
 WORK: dict = {"planar-2r": (25, 2, 5), "planar-3r": (24, 2, 5), "yaw-pitch-pitch": (37, 4, 16),
