@@ -675,44 +675,59 @@ def _batch_from_rows(robot: Robot, c: "_Single", targets: Array, q0: Array | Non
     flat = np.ascontiguousarray(targets).reshape(B, -1)
     starts = c.q0 if q0 is None else q0
     each = starts.ndim == 2
-    status = np.empty(B, _I64)
+    marks = np.empty(B, _I64)
     parallel = B >= ROWS_PARALLEL and _jit_loader.parallel_ok()
     # the work vectors: the record's own on one thread (the driver, like a kernel, holds the GIL throughout), one
     # per chunk of rows on several
     WK = np.empty((min(B, ROW_CHUNKS), c.wsize)) if parallel else c.wk.reshape(1, -1)
-    c.kernels.rows_entry(parallel)(c.address, flat, starts.reshape(-1, n), each, ctx, FB, IB, BB, WK, status)
-    if (status & 3).any():
+    pending = c.kernels.rows_entry(parallel)(c.address, flat, starts.reshape(-1, n), each, ctx, FB, IB, BB, WK, marks)
+    if pending < 0:
         return None
     FB = FB.reshape(B, -1)   # each row's flat layout (_single.layout)
+    # q and success now, the other fields when one is first read (_rows_fields); the sentences of the rows with a
+    # failed branch (the others stay empty) when the message is read, from a copy of the targets made now (the
+    # caller may change its array before then)
+    rows = np.flatnonzero(marks).tolist() if pending else []
+    kept = flat.copy() if rows else None
+    made = (_rows_fields, robot, c, FB, IB, BB, rows, kept, targets.shape[1:], nearest)
     if nearest:
-        q, ok, dp, dr = FB[:, :n].copy(), BB[:, 0].copy(), FB[:, mn].copy(), FB[:, mn + m].copy()
-        it, within, k = IB[:, 2 * m].copy(), BB[:, m].copy(), IB[:, m]
-        branch, reason = c.labels[k], _REASON_TEXT[IB[:, 0]]
-        message = np.empty(B, dtype=object)
-        message[:] = ""
+        return IKResult._deferred(made, FB[:, :n].copy(), BB[:, 0].copy())
+    return IKResult._deferred(made, FB[:, :mn].reshape(B, m, n).copy(), BB[:, :m].copy())
+
+
+def _rows_fields(made: tuple, which: str) -> Any:
+    """The fields of :func:`_batch_from_rows`'s result but ``q`` and ``success``, made when first read
+    (:meth:`IKResult._deferred`) from the rows its driver filled, as :func:`_later_fields` makes them for one
+    target. ``made``: (this function, robot, record ``c``, the buffers ``FB (B, size)``, ``IB``, ``BB``, the rows
+    whose failed branches need sentences, a copy of the targets (flat) for those, the shape of one target,
+    ``nearest``). ``which``: "rest" (a dict of the fields but q, success and message) or "message" (the texts, or
+    the function that makes them)."""
+    _, robot, c, FB, IB, BB, rows, kept, shape, nearest = made
+    B, m, mn = FB.shape[0], c.m, c.mn
+    if which == "message":
+        if nearest:
+            message = np.empty(B, dtype=object)
+            message[:] = ""
+        else:
+            message = np.full((B, m), "", dtype=object)
+        if not rows:
+            return message
+
+        def messages() -> NDArray[np.object_]:
+            for i in rows:
+                message[i] = _Messages(robot, c, None, kept[i].reshape(shape), FB[i], IB[i], None, nearest)()
+            return message
+
+        return messages
+    if nearest:
+        dp, dr, it, within = FB[:, mn].copy(), FB[:, mn + m].copy(), IB[:, 2 * m].copy(), BB[:, m].copy()
+        branch, reason = c.labels[IB[:, m]], _REASON_TEXT[IB[:, 0]]
     else:
-        q, ok = FB[:, :mn].reshape(B, m, n).copy(), BB[:, :m].copy()
         dp, dr, it, within = FB[:, mn:mn + m].copy(), FB[:, mn + m:mn + 2 * m].copy(), IB[:, 2 * m:3 * m].copy(), \
             BB[:, m:2 * m].copy()
         branch, reason = c.labels[IB[:, m:2 * m]], _REASON_TEXT[IB[:, :m]]
-        message = np.full((B, m), "", dtype=object)
-    values = (q, ok, dp, dr, it, branch, within, reason)
-    if nearest:   # the rows whose sentences _Messages makes (_sentences, row by row)
-        pending = np.flatnonzero(((status & NEAREST) == 0) & (IB[:, 0] != 0)).tolist()
-    else:
-        pending = np.flatnonzero(status).tolist()
-    if not pending:
-        return IKResult._later((*values, message))
-    # the sentences of the rows with a failed branch (the others stay empty), made when first read, from a copy of
-    # the targets made now (the caller may change its array before then)
-    kept, shape = flat.copy(), targets.shape[1:]
-
-    def messages() -> NDArray[np.object_]:
-        for i in pending:
-            message[i] = _Messages(robot, c, None, kept[i].reshape(shape), FB[i], IB[i], None, nearest)()
-        return message
-
-    return IKResult._later((*values, None), messages)
+    return {"position_error": dp, "rotation_error": dr, "iterations": it, "branch": branch, "within_limits": within,
+            "reason": reason}
 
 
 _STACKED = ("q", "success", "position_error", "rotation_error", "iterations", "branch", "within_limits", "reason")

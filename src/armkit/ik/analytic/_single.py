@@ -627,10 +627,14 @@ def _call_at(typingctx, address, t, q0, ctx, fb, ib, bb, wk):
 @njit(cache=True)
 def _rows(address, T, Q0, each, ctx, FB, IB, BB, WK, R):
     """Target ``i`` of ``T (B, 16 or 3)`` by the one-call kernel at ``address`` (:func:`kernel_address`) into row
-    ``i`` of the buffers ``FB (B, rows, n)``, ``IB (B, isize)``, ``BB (B, bsize)``, its status into ``R[i]``;
-    start ``Q0[i]`` (``each``) or ``Q0[0]``. The rows are cut into chunks (``WK (chunks, wsize)``: the work vector of
-    each; a kernel reads nothing there it did not write in the same call), a ``prange`` over them (its twin runs
-    them on every thread).
+    ``i`` of the buffers ``FB (B, rows, n)``, ``IB (B, isize)``, ``BB (B, bsize)``; start ``Q0[i]`` (``each``) or
+    ``Q0[0]``. The rows are cut into chunks (``WK (chunks, wsize)``: the work vector of each; a kernel reads nothing
+    there it did not write in the same call), a ``prange`` over them (its twin runs them on every thread).
+
+    Returns -1 where a row's status asks for the batched path (any of them: the caller then answers every row
+    so), else the number of rows whose failed branches need sentences, each marked 1 in ``R (B,)`` (0 the others):
+    for :func:`armkit.ik_all` a row with a failed branch, for :func:`armkit.ik` (``ctx``'s option ``nearest``) a
+    row whose first branch failed (:func:`armkit.ik.analytic._sentences`, row by row).
 
     The kernel comes in as the address of its compiled code (as compiled for the one-call path), so that one
     driver serves every family and nothing of a kernel is compiled again: a driver that took the kernel itself
@@ -641,6 +645,16 @@ def _rows(address, T, Q0, each, ctx, FB, IB, BB, WK, R):
     for k in prange(chunks):
         for i in range(k * B // chunks, (k + 1) * B // chunks):
             R[i] = _call_at(address, T[i], Q0[i if each else 0], ctx, FB[i], IB[i], BB[i], WK[k])
+    nearest = _parts(ctx)[4][9] != 0.0
+    pending = 0
+    for i in range(B):
+        r = R[i]
+        if r & 3:
+            return -1
+        p = (r & NEAREST) == 0 and IB[i, 0] != 0 if nearest else r != 0
+        R[i] = 1 if p else 0
+        pending += R[i]
+    return pending
 
 
 _ROWS_PAR = parallel_twin(_rows)
