@@ -390,8 +390,7 @@ class _Single:
         # the most targets of one call answered target by target (run_small_batch), for ik_all and for ik: more
         # where the family has a kernel (ROWS), fewer where it solves a batch faster as a whole (a whole-batch form,
         # from geometric.MANY targets: the SCARA's)
-        small, near = (ROWS_GEOMETRIC if solver.family == "geometric" else ROWS) if self.kernel is not None \
-            else (SMALL_BATCH, SMALL_BATCH)
+        small, near = ROWS if self.kernel is not None else (SMALL_BATCH, SMALL_BATCH)
         if has_batch_form(solver):
             small, near = min(small, MANY - 1), min(near, MANY - 1)
         self.small, self.small_near = small, near
@@ -615,18 +614,17 @@ the one-call path target by target (:func:`run_small_batch`): the batched path s
 size (then ~0.01 ms a target), the one-call path costs ~0.02 ms a target for ``armkit.ik`` and ~0.03 ms for
 ``armkit.ik_all`` (UR5, Puma 560: the two are equal near 16-24 targets for ``ik_all`` and 24-32 for ``ik`` on this
 project's 2-core machine; benchmarks/bench_analytic.py --small-only)."""
-ROWS = (384, 4096)
+ROWS = (1024, 4096)
 """The same limits, ``(ik_all, ik)``, for a family with a kernel. Its calls write each target's numbers into a row
 of one set of buffers, all rows by one compiled driver (:func:`_batch_from_rows`; the family's kernel called
-through its address, on every thread from :data:`ROWS_PARALLEL` targets). Against the batched path (wall clock,
-two threads, 2026-12-06), the Puma 560: 16 targets of ``ik_all`` 13 -> 3.4 µs a target, 64 targets 5.5 -> 2.5,
-256 targets 3.1 -> 2.4; ``ik`` 19 -> 3.1, 7.6 -> 2.3, and 4,000 targets 2.4 -> 1.6. From ~500 targets of
-``ik_all`` the batched path's passes over its compact arrays cost as little or less (the rows' buffers, with the
-kernel's work space, take ~1.7 KB a target of fresh pages; 1,000 targets: 3.1 against 2.8 µs in the benchmark's
-process, 1.8-2.2 against 2.1-2.5 alone), and from ~8,000 targets of ``ik`` (20,000: 3.5 against 2.1)."""
-ROWS_GEOMETRIC = (1024, 4096)
-""":data:`ROWS` for the geometric family, whose batched path costs more against its kernel: the Kinova j2s6s200's
-``ik_all`` of 256 targets 5.3 -> 3.4 µs, of 1,000 targets 4.0-4.9 -> 3.3-3.4, of 2,000 targets level (2.9)."""
+through its address, on every thread from :data:`ROWS_PARALLEL` targets), the fields but ``q`` and ``success`` made
+when first read. Against the batched path (2026-12-06), the UR5's ``ik_all`` of 2 targets 27 -> 10 µs a call, of 8
+targets 57 -> 22, of 16 targets 64 -> 38, ``ik`` 20 -> 9, 27 -> 16, 46 -> 29 (CPU time of the thread). From ~500
+targets of ``ik_all`` the batched path's passes over its compact arrays cost about as much on the UR and Puma arms
+(the rows' buffers, with the kernel's work space, take ~1.7 KB a target of fresh pages: 512 and 1,000 targets,
+wall clock in the benchmark's process, 1.4-3.0 µs a target against 1.8-4.1, either ahead by turns), and on the
+Kinova, whose batched path costs more against its kernel, less (3.1-3.2 against 4.7-5.2 µs); from ~4,000 targets
+the batched path is ahead (the Puma's ``ik_all`` of 4,000 1.8 against 1.7 µs, ``ik`` of 20,000 3.5 against 2.1)."""
 ROWS_PARALLEL = 32
 """Batches of a family with a kernel from this many targets run on every thread (:func:`_batch_from_rows`; the
 Puma's ``ik_all`` of 32 targets 2.7 -> 2.6 µs a target, of 128 targets 2.3 -> 2.0)."""
