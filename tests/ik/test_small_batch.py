@@ -154,3 +154,23 @@ def test_one_target_for_the_batched_path_sends_the_whole_batch_there(monkeypatch
         _assert_same(fast, slow)
     res = armkit.ik_all(robot, targets)
     assert "singular" in " ".join(res.message[17]) or "wrist" in " ".join(res.message[17])
+
+
+def test_without_the_kernel_address_the_batched_path_answers(monkeypatch, rng):
+    """Where Numba does not give the kernel's address (``kernel_address`` 0: an internal renamed), the driver is
+    never called and the batched path answers a few targets, with its own answer."""
+    robot = _arm("ur5")
+    assert _with_kernel("ur5")
+    rec = robot.cache["ik_fast"]
+    assert rec.address > 0
+    single = importlib.import_module("armkit.ik.analytic._single")
+    used = []
+    real = single.rows_entry
+    monkeypatch.setattr(single, "rows_entry", lambda parallel: used.append(parallel) or real(parallel))
+    monkeypatch.setattr(rec, "address", 0)
+    targets = armkit.fk(robot, robot.random_q(5, rng=rng))
+    for fn in (armkit.ik_all, armkit.ik):
+        fast, slow = _both(lambda: fn(robot, targets))
+        _assert_same(fast, slow)
+    assert used == []
+    assert single.kernel_address(lambda *a: 0, (targets[0].ravel(),)) == 0   # not a Numba kernel: no address

@@ -668,6 +668,8 @@ def _batch_from_rows(robot: Robot, c: "_Single", targets: Array, q0: Array | Non
     :func:`armkit.ik`'s nearest-first status also names). Making each target's result and then stacking the
     fields cost about as much as the compiled calls (the UR5's ``ik`` of 8 targets: 66 µs, 23 of them in
     the calls), and calling the kernel from Python ~1 µs a target more than from the driver."""
+    if not c.address:
+        return None
     B, m, n, mn = targets.shape[0], c.m, c.n, c.mn
     FB, IB, BB = np.empty((B,) + c.fshape), np.empty((B, c.isize), _I64), np.empty((B, c.bsize), _BOOL)
     flat = np.ascontiguousarray(targets).reshape(B, -1)

@@ -676,13 +676,17 @@ def rows_entry(parallel):
 
 def kernel_address(kernel, sample):
     """The address of the compiled code of the Numba ``kernel`` for the types of the arguments ``sample`` (compiled
-    now if it is not yet), for :func:`_rows`; it stays valid while the kernel lives (a module's: the process)."""
+    now if it is not yet; Numba's own entry, not its C wrapper), for :func:`_rows`; it stays valid while the kernel
+    lives (a module's: the process). 0 where this Numba does not say it (the caller then takes the batched path)."""
     import numba
-    from numba.experimental.function_type import _get_jit_address
 
     types = tuple(numba.typeof(a) for a in sample)
-    kernel.compile(types)
-    return _get_jit_address(kernel, nbtypes.int64(*types))
+    try:
+        kernel.compile(types)
+        cres = kernel.overloads[types]
+        return int(cres.library.get_pointer_to_function(cres.fndesc.llvm_func_name))
+    except (AttributeError, KeyError, TypeError):   # an internal of Numba renamed: no driver, the same answers
+        return 0
 
 
 def parallel_twins():
