@@ -255,9 +255,11 @@ def single_calls(targets: int, repeat: int) -> None:
 
 def small_batches(repeat: int) -> None:
     """A few targets in one call (``armkit.ik_all`` / ``armkit.ik`` of ``(B, 4, 4)``): up to
-    ``armkit.ik.analytic.ROWS`` (``ik_all``, ``ik``) they take the one-call path target by target, above it the
-    batched path; both columns of each size are timed (``api.ONE_CALL`` off: the batched path for every size), µs
-    per call, CPU time of the thread, and EAIK's batched call of the same poses where EAIK is installed."""
+    ``armkit.ik.analytic.ROWS`` (``ik_all``, ``ik``) they take the one-call kernel, each target into its row of one
+    set of buffers by one compiled driver (threaded from ``ROWS_PARALLEL`` targets), above it the batched path;
+    both columns of each size are timed (``api.ONE_CALL`` off: the batched path for every size), µs per call, CPU
+    time of the thread (a threaded call's other thread not counted), and EAIK's batched call of the same poses
+    on one thread where EAIK is installed."""
     import importlib
 
     from armkit.ik.analytic import ROWS
@@ -268,7 +270,7 @@ def small_batches(repeat: int) -> None:
     except ImportError:
         eaik = None
     sizes = (1, 2, 8, 16, ROWS[0], ROWS[0] + 1, ROWS[1], ROWS[1] + 1)
-    print(f"\nsmall batches: µs per call of B targets (target by target up to B = {ROWS[0]} for ik_all and {ROWS[1]} "
+    print(f"\nsmall batches: µs per call of B targets (by the rows driver up to B = {ROWS[0]} for ik_all and {ROWS[1]} "
           f"for ik), best of {repeat}; CPU time of the thread\n")
     print("| arm | B | ik_all | ik_all batched path | ik | ik batched path | EAIK IK_batched (1 thread) |")
     print("|---|---|---|---|---|---|---|")
@@ -459,8 +461,13 @@ def main() -> None:
             fn = G.SOLVERS[cf.solver]
             f = cf.form
             raw = _cpu_best(lambda t: fn(f, t[:3, :3], t[:3, 3]), singles, args.repeat)
-        e_batch = _best(lambda: eaik.IK_batched(Tfix, args.threads), args.repeat) / len(T)
-        a_batch = _best(lambda: armkit.ik_all(robot, T), args.repeat) / len(T)
+        for _ in range(3):   # both batched calls warmed up first: the steady state of a loop over batches (the
+            # first rounds of a call whose buffers are new to the process touch fresh pages, slow on this machine)
+            eaik.IK_batched(Tfix, args.threads)
+            armkit.ik_all(robot, T)
+        rounds = max(args.repeat, 15)   # a batch takes milliseconds: more rounds against this machine's noise
+        e_batch = _best(lambda: eaik.IK_batched(Tfix, args.threads), rounds) / len(T)
+        a_batch = _best(lambda: armkit.ik_all(robot, T), rounds) / len(T)
         rows.append((label, cf.family if cf else "none", cmp, e_single, raw, a_all, a_one, e_batch, a_batch, e_read,
                      a_read))
     us = lambda s: "-" if s is None else f"{s * 1e6:.1f}"  # noqa: E731

@@ -174,3 +174,75 @@ def test_without_the_kernel_address_the_batched_path_answers(monkeypatch, rng):
         _assert_same(fast, slow)
     assert used == []
     assert single.kernel_address(lambda *a: 0, (targets[0].ravel(),)) == 0   # not a Numba kernel: no address
+
+
+def _expected(fn, robot, targets):
+    api.ONE_CALL = False
+    try:
+        return fn(robot, targets)
+    finally:
+        api.ONE_CALL = True
+
+
+def test_the_driver_buffers_are_reused_only_when_no_result_holds_them(rng):
+    """The batch driver keeps its buffers for the next batch (``analytic._row_buffers``): a set is taken again once
+    no result refers to it, and never while one does. Results kept unread while later batches run (of the same size,
+    smaller, larger) read every field and sentence of their own call, the batched path's; a result whose q alone was
+    read keeps its other fields; results dropped at once leave their set to the next call."""
+    robot = _arm("puma560")
+    assert _with_kernel("puma560")
+    rec = robot.cache["ik_fast"]
+
+    def batch(size):
+        T = armkit.fk(robot, robot.random_q(size, rng=rng))
+        T[::3, :3, 3] *= 3.0                               # out of reach: sentences to make later
+        return T
+
+    for fn in (armkit.ik_all, armkit.ik):
+        rec.pool.clear()
+        sizes = (40, 40, 20, 60, 40)
+        targets = [batch(s) for s in sizes]
+        results = [fn(robot, t) for t in targets]          # every one kept, none read
+        results[1].q                                       # noqa: B018 (only q read: made with the call)
+        for t, res in zip(targets, results):
+            _assert_same(res, _expected(fn, robot, t))
+        assert any("unreachable" in str(m) for m in np.ravel(results[0].message))
+    rec.pool.clear()
+    T = batch(50)
+    armkit.ik_all(robot, T)                                # dropped at once
+    first = id(rec.pool[0][0])                             # (its id: a reference here would hold it)
+    armkit.ik_all(robot, T)
+    assert len(rec.pool) == 1 and id(rec.pool[0][0]) == first   # the same set again
+    kept = armkit.ik_all(robot, T)
+    armkit.ik_all(robot, T)
+    assert len(rec.pool) == 2 and id(rec.pool[0][0]) == first   # another set meanwhile, for the second call
+    _assert_same(kept, _expected(armkit.ik_all, robot, T))
+    big = batch(analytic.POOL_ROWS + 1)                   # bigger than a kept set: new buffers, none kept
+    before = [id(w[0]) for w in rec.pool]
+    _assert_same(armkit.ik(robot, big), _expected(armkit.ik, robot, big))
+    assert [id(w[0]) for w in rec.pool] == before
+
+
+def test_threads_sharing_a_robot_get_their_own_answers(rng):
+    """Two threads calling the batch driver on one robot (its pool shared): each result is its own call's."""
+    import threading
+
+    robot = _arm("ur5")
+    assert _with_kernel("ur5")
+    targets = [armkit.fk(robot, robot.random_q(40 + k, rng=rng)) for k in range(6)]
+    expected = [_expected(armkit.ik_all, robot, t) for t in targets]
+    failures = []
+
+    def work(order):
+        for _ in range(15):
+            for k in order:
+                res = armkit.ik_all(robot, targets[k])
+                if not (np.array_equal(res.q, expected[k].q) and np.array_equal(res.branch, expected[k].branch)):
+                    failures.append(k)
+
+    threads = [threading.Thread(target=work, args=(order,)) for order in ((0, 1, 2, 3, 4, 5), (5, 4, 3, 2, 1, 0))]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    assert failures == []
