@@ -120,8 +120,8 @@ def _with_kernel(name):
 @pytest.mark.parametrize("name", sorted(ARMS))
 def test_a_threaded_batch_equals_the_batched_path(name, monkeypatch, rng):
     """From ROWS_PARALLEL targets the rows run on every thread (the driver's twin: its use counted) with one
-    start per target, targets out of reach and branches outside the limits: every field and message the batched
-    path's, to the bit."""
+    start per target, targets out of reach and branches outside the limits, read-only targets and starts: every field
+    and message the batched path's, to the bit."""
     if not _with_kernel(name):
         pytest.skip("a family without a kernel: one call per target up to SMALL_BATCH, then the batched path")
     robot = _arm(name)
@@ -133,6 +133,8 @@ def test_a_threaded_batch_equals_the_batched_path(name, monkeypatch, rng):
     fars = rng.choice([1.0, 1.0, 1.0, 1.4, 3.0], B)
     targets = np.stack([_target(robot, ARMS[name], q, far) for q, far in zip(robot.random_q(B, rng=rng), fars)])
     starts = rng.uniform(-4.0, 4.0, (B, robot.n))
+    targets.setflags(write=False)                              # read-only arrays: the driver only reads them
+    starts.setflags(write=False)
     for fn in (armkit.ik_all, armkit.ik):
         for q0 in (None, starts[0], starts):
             fast, slow = _both(lambda: fn(robot, targets, q0))
