@@ -175,7 +175,12 @@ def test_without_the_kernel_address_the_batched_path_answers(monkeypatch, rng):
         fast, slow = _both(lambda: fn(robot, targets))
         _assert_same(fast, slow)
     assert used == []
-    assert single.kernel_address(lambda *a: 0, (targets[0].ravel(),)) == 0   # not a Numba kernel: no address
+    sample = (targets[0].ravel(),)
+    assert single.kernel_address(lambda *a: 0, sample) == 0            # not a Numba kernel: no address
+    from numba import njit
+
+    assert single.kernel_address(njit(lambda t: t[0]), sample) == 0    # a kernel that returns a float: none
+    assert single.kernel_address(njit(lambda t: np.int64(1)), sample) > 0   # an int64: its address
 
 
 def _expected(fn, robot, targets):

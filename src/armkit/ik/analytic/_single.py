@@ -52,6 +52,11 @@ and returns one int: the status (:data:`DONE`, :data:`FALLBACK`, :data:`BAD_TARG
 :data:`LIMIT_FAILURES` when a branch failed by the limits only and :data:`OTHER_FAILURES` when
 one failed otherwise (for :func:`armkit.ik`, whose nearest successful branch is all it keeps:
 :data:`NEAREST` and that branch's label index instead, so that the caller reads nothing else of ``ib``).
+
+A batch of targets runs the same kernels through one compiled driver (:func:`_rows`, threaded in its twin),
+which takes a kernel as the address of its compiled code (:func:`kernel_address`) and gives each target a row of
+three ``(B, size)`` buffers: one driver for every family, compiled once
+(:func:`armkit.ik.analytic._batch_from_rows` makes the fields).
 """
 
 from __future__ import annotations
@@ -676,14 +681,17 @@ def rows_entry(parallel):
 
 def kernel_address(kernel, sample):
     """The address of the compiled code of the Numba ``kernel`` for the types of the arguments ``sample`` (compiled
-    now if it is not yet; Numba's own entry, not its C wrapper), for :func:`_rows`; it stays valid while the kernel
-    lives (a module's: the process). 0 where this Numba does not say it (the caller then takes the batched path)."""
+    now if it is not yet; Numba's own entry, not its C wrapper), for :func:`_rows`, which calls it as returning an
+    int64; it stays valid while the kernel lives (a module's: the process). 0 where this Numba does not say it or
+    the kernel returns another type (the caller then takes the batched path)."""
     import numba
 
     types = tuple(numba.typeof(a) for a in sample)
     try:
         kernel.compile(types)
         cres = kernel.overloads[types]
+        if cres.signature.return_type != nbtypes.int64:
+            return 0
         return int(cres.library.get_pointer_to_function(cres.fndesc.llvm_func_name))
     except (AttributeError, KeyError, TypeError):   # an internal of Numba renamed: no driver, the same answers
         return 0
@@ -692,7 +700,6 @@ def kernel_address(kernel, sample):
 def parallel_twins():
     """``(one-thread kernel, multi-threaded kernel)`` pairs taking the same arguments (for the warm-up)."""
     return [(_rows, _ROWS_PAR)]
-
 
 
 WORK: dict = {"planar-2r": (25, 2, 5), "planar-3r": (24, 2, 5), "yaw-pitch-pitch": (37, 4, 16),
