@@ -622,12 +622,12 @@ ROWS = (1024, 4096)
 of one set of buffers, all rows by one compiled driver (:func:`_batch_from_rows`; the family's kernel called
 through its address, on every thread from :data:`ROWS_PARALLEL` targets), the fields but ``q`` and ``success`` made
 when first read. Against the batched path (2026-12-06), the UR5's ``ik_all`` of 2 targets 27 -> 10 µs a call, of 8
-targets 57 -> 22, of 16 targets 64 -> 38, ``ik`` 20 -> 9, 27 -> 16, 46 -> 29 (CPU time of the thread). From ~500
-targets of ``ik_all`` the batched path's passes over its compact arrays cost about as much on the UR and Puma arms
-(the rows' buffers, with the kernel's work space, take ~1.7 KB a target of fresh pages: 512 and 1,000 targets,
-wall clock in the benchmark's process, 1.4-3.0 µs a target against 1.8-4.1, either ahead by turns), and on the
-Kinova, whose batched path costs more against its kernel, less (3.1-3.2 against 4.7-5.2 µs); from ~4,000 targets
-the batched path is ahead (the Puma's ``ik_all`` of 4,000 1.8 against 1.7 µs, ``ik`` of 20,000 3.5 against 2.1)."""
+targets 57 -> 22, of 16 targets 64 -> 38, ``ik`` 20 -> 9, 27 -> 16, 46 -> 29 (CPU time of the thread); the Puma's
+1,000 targets of ``ik_all`` 1.9-2.0 -> 1.5-1.6 µs a target (wall clock, two threads, with the buffers the robot
+keeps between batches, :func:`_row_buffers`). Above these limits the batched path: a batch bigger than a kept set
+takes new buffers (with the kernel's work space ~1.7 KB a target, slow to touch first on this machine), and the
+batched path's passes over its compact arrays cost less (20,000 targets of the Puma's ``ik``: 3.5 against 2.1
+µs a target)."""
 ROWS_PARALLEL = 32
 """Batches of a family with a kernel from this many targets run on every thread (:func:`_batch_from_rows`; the
 Puma's ``ik_all`` of 32 targets 2.7 -> 2.6 µs a target, of 128 targets 2.3 -> 2.0)."""
@@ -665,12 +665,13 @@ def run_small_batch(robot: Robot, c: "_Single", targets: Array, q0: Array | None
 def _batch_from_rows(robot: Robot, c: "_Single", targets: Array, q0: Array | None, ctx: Array,
                      nearest: bool) -> IKResult | None:
     """:func:`run_small_batch` for a family with a kernel: each target's kernel call writes into its own row of
-    three buffers ``(B, size)``, all the calls made by one compiled driver (:func:`._single._rows`, threaded from
-    :data:`ROWS_PARALLEL` targets), and every field is made once for all the rows, as :func:`_later_fields` makes
-    it for one (the label and reason of row ``i`` taken where the kernel wrote them for its first branch, which
-    :func:`armkit.ik`'s nearest-first status also names). Making each target's result and then stacking the
-    fields cost about as much as the compiled calls (the UR5's ``ik`` of 8 targets: 66 µs, 23 of them in
-    the calls), and calling the kernel from Python ~1 µs a target more than from the driver."""
+    three buffers ``(B, size)`` (:func:`_row_buffers`), all the calls made by one compiled driver
+    (:func:`._single._rows`, threaded from :data:`ROWS_PARALLEL` targets), and every field is made once for all the
+    rows, ``q`` and ``success`` now, the others when first read (:func:`_rows_fields`, as :func:`_later_fields`
+    makes them for one: the label and reason of row ``i`` taken where the kernel wrote them for its first branch,
+    which :func:`armkit.ik`'s nearest-first status also names). Making each target's result and then stacking the
+    fields cost about as much as the compiled calls (the UR5's ``ik`` of 8 targets: 66 µs, 23 of them in the
+    calls), and calling the kernel from Python ~1 µs a target more than from the driver."""
     if not c.address:
         return None
     B, m, n, mn = targets.shape[0], c.m, c.n, c.mn
@@ -711,16 +712,16 @@ POOL_ROWS = 1024
 def _row_buffers(c: "_Single", B: int) -> tuple:
     """The batch driver's buffers for ``B`` targets (``FB, IB, BB`` and the row marks, at least ``B`` rows, and the
     chunks' work vectors): a set of the record's pool that no result holds any more, taken out of it, or a new set
-    (the pool keeps the :data:`POOL` newest, of at most :data:`POOL_ROWS` rows). A result holds its set through the views it was given and the fields
-    and sentences it makes later; pages a batch touched before cost less than fresh ones (the kernels touch ~1.7 KB
-    a target; on this machine the Puma's 1,000 targets of ``ik_all`` took 2.2 µs a target with fresh buffers, 1.2
-    in the driver with buffers touched before). The caller puts the set back after its call."""
+    (the pool keeps the :data:`POOL` newest, of at most :data:`POOL_ROWS` rows). A result holds its set through the
+    views it was given and the fields and sentences it makes later. Pages a batch touched before cost less than
+    fresh ones (the kernels touch ~1.7 KB a target; on this machine the Puma's 1,000 targets of ``ik_all`` took 2.2
+    µs a target with new buffers, 1.5-1.6 with kept ones). The caller puts the set back after its call."""
     pool = c.pool
     if B > POOL_ROWS:
         return _new_row_buffers(c, B)
     with _POOL_LOCK:   # two threads never take one set
         for i, whole in enumerate(pool):
-            if len(whole[0]) >= B and _unheld(whole):
+            if len(whole[0]) >= B and _most_refs(whole) <= _FREE:
                 return pool.pop(i)
         if len(pool) >= POOL:
             del pool[0]   # the oldest, held by a result: it goes with that result
@@ -733,15 +734,18 @@ def _new_row_buffers(c: "_Single", B: int) -> tuple:
             np.empty(B, _I64), np.empty((ROW_CHUNKS, c.wsize)))
 
 
-def _unheld(whole: tuple) -> bool:
-    """Whether no array of the set ``whole`` is referred to but by the set (no view of it, no field made of it
+def _most_refs(whole: tuple) -> int:
+    """The most references to one array of the set ``whole`` (``sys.getrefcount``, counting its own argument and
+    this loop's name): :data:`_FREE` where nothing but the set refers to any (no view of it, no field made of it
     later, no sentence maker holds it)."""
+    most = 0
     for a in whole:
-        if sys.getrefcount(a) > 3:   # the set, ``a`` and getrefcount's argument
-            return False
-    return True
+        most = max(most, sys.getrefcount(a))
+    return most
 
 
+_FREE = _most_refs((np.empty(1),))
+""":func:`_most_refs` of a set that nothing else refers to, measured so on this Python (3 on CPython 3.11)."""
 _POOL_LOCK = threading.Lock()
 
 
