@@ -145,17 +145,22 @@ def test_a_threaded_batch_equals_the_batched_path(name, monkeypatch, rng):
 
 
 def test_one_target_for_the_batched_path_sends_the_whole_batch_there(monkeypatch, rng):
-    """A Puma target with its wrist straight (q5 = 0: a note to give) among many: the driver answers none of them,
-    the batched path all (its answer, to the bit), its note on that target's branches."""
+    """A Puma target with its wrist straight (q5 = 0: a note to give) among many: the driver runs (counted) and
+    answers none of them, the batched path all (its answer, to the bit), its note on that target's branches only."""
     robot = _arm("puma560")
+    single = importlib.import_module("armkit.ik.analytic._single")
+    used = []
+    real = single.rows_entry
+    monkeypatch.setattr(single, "rows_entry", lambda parallel: used.append(parallel) or real(parallel))
     q = robot.random_q(50, rng=rng)
     q[17, 4] = 0.0
     targets = armkit.fk(robot, q)
     for fn in (armkit.ik_all, armkit.ik):
         fast, slow = _both(lambda: fn(robot, targets))
         _assert_same(fast, slow)
-    res = armkit.ik_all(robot, targets)
-    assert "singular" in " ".join(res.message[17]) or "wrist" in " ".join(res.message[17])
+    assert len(used) == 2
+    notes = [[m.startswith("wrist singularity") for m in row] for row in armkit.ik_all(robot, targets).message]
+    assert any(notes[17]) and not any(any(row) for i, row in enumerate(notes) if i != 17)
 
 
 def test_without_the_kernel_address_the_batched_path_answers(monkeypatch, rng):
