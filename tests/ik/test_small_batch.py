@@ -110,6 +110,16 @@ def test_the_targets_changed_before_the_messages_are_read():
             assert a.flags.c_contiguous and a.flags.owndata, f
 
 
+@pytest.fixture
+def driver_runs(monkeypatch):
+    """The batch driver's runs in this test, each as its ``parallel`` flag (``_single.rows_entry`` counted)."""
+    single = importlib.import_module("armkit.ik.analytic._single")
+    used = []
+    real = single.rows_entry
+    monkeypatch.setattr(single, "rows_entry", lambda parallel: used.append(parallel) or real(parallel))
+    return used
+
+
 def _with_kernel(name):
     robot = _arm(name)
     armkit.ik(robot, armkit.fk(robot, robot.random_q(rng=0)))     # the one-call record made
@@ -118,17 +128,13 @@ def _with_kernel(name):
 
 
 @pytest.mark.parametrize("name", sorted(ARMS))
-def test_a_threaded_batch_equals_the_batched_path(name, monkeypatch, rng):
+def test_a_threaded_batch_equals_the_batched_path(name, driver_runs, rng):
     """From ROWS_PARALLEL targets the rows run on every thread (the driver's twin: its use counted) with one
     start per target, targets out of reach and branches outside the limits, read-only targets and starts: every field
     and message the batched path's, to the bit."""
     if not _with_kernel(name):
         pytest.skip("a family without a kernel: one call per target up to SMALL_BATCH, then the batched path")
     robot = _arm(name)
-    single = importlib.import_module("armkit.ik.analytic._single")
-    used = []
-    real = single.rows_entry
-    monkeypatch.setattr(single, "rows_entry", lambda parallel: used.append(parallel) or real(parallel))
     B = analytic.ROWS_PARALLEL + 9
     fars = rng.choice([1.0, 1.0, 1.0, 1.4, 3.0], B)
     targets = np.stack([_target(robot, ARMS[name], q, far) for q, far in zip(robot.random_q(B, rng=rng), fars)])
@@ -141,46 +147,39 @@ def test_a_threaded_batch_equals_the_batched_path(name, monkeypatch, rng):
             _assert_same(fast, slow)
             assert not fast.success.all() and fast.success.any()     # failures of both kinds were made
     threaded = analytic._jit_loader.parallel_ok()
-    assert used == [threaded] * 6
+    assert driver_runs == [threaded] * 6
 
 
-def test_one_target_for_the_batched_path_sends_the_whole_batch_there(monkeypatch, rng):
+def test_one_target_for_the_batched_path_sends_the_whole_batch_there(driver_runs, rng):
     """A Puma target with its wrist straight (q5 = 0: a note to give) among many: the driver runs (counted) and
     answers none of them, the batched path all (its answer, to the bit), its note on that target's branches only."""
     robot = _arm("puma560")
-    single = importlib.import_module("armkit.ik.analytic._single")
-    used = []
-    real = single.rows_entry
-    monkeypatch.setattr(single, "rows_entry", lambda parallel: used.append(parallel) or real(parallel))
     q = robot.random_q(50, rng=rng)
     q[17, 4] = 0.0
     targets = armkit.fk(robot, q)
     for fn in (armkit.ik_all, armkit.ik):
         fast, slow = _both(lambda: fn(robot, targets))
         _assert_same(fast, slow)
-    assert len(used) == 2
+    assert len(driver_runs) == 2
     notes = [[m.startswith("wrist singularity") for m in row] for row in armkit.ik_all(robot, targets).message]
     assert any(notes[17]) and not any(any(row) for i, row in enumerate(notes) if i != 17)
 
 
-def test_without_the_kernel_address_the_batched_path_answers(monkeypatch, rng):
+def test_without_the_kernel_address_the_batched_path_answers(driver_runs, monkeypatch, rng):
     """Where Numba does not give the kernel's address (``kernel_address`` 0: an internal renamed), the driver is
     never called and the batched path answers a few targets, with its own answer."""
     robot = _arm("ur5")
     assert _with_kernel("ur5")
     rec = robot.cache["ik_fast"]
     assert rec.address > 0
-    single = importlib.import_module("armkit.ik.analytic._single")
-    used = []
-    real = single.rows_entry
-    monkeypatch.setattr(single, "rows_entry", lambda parallel: used.append(parallel) or real(parallel))
     monkeypatch.setattr(rec, "address", 0)
     targets = armkit.fk(robot, robot.random_q(5, rng=rng))
     for fn in (armkit.ik_all, armkit.ik):
         fast, slow = _both(lambda: fn(robot, targets))
         _assert_same(fast, slow)
-    assert used == []
+    assert driver_runs == []
     sample = (targets[0].ravel(),)
+    single = importlib.import_module("armkit.ik.analytic._single")
     assert single.kernel_address(lambda *a: 0, sample) == 0            # not a Numba kernel: no address
     from numba import njit
 

@@ -685,9 +685,7 @@ def _batch_from_rows(robot: Robot, c: "_Single", targets: Array, q0: Array | Non
     # per chunk of rows on several
     WK = whole[4] if parallel else c.wk.reshape(1, -1)
     pending = c.kernels.rows_entry(parallel)(c.address, flat, starts.reshape(-1, n), each, ctx, FB, IB, BB, WK, marks)
-    if B <= POOL_ROWS:
-        with _POOL_LOCK:
-            c.pool.append(whole)   # for a later batch, once no result holds it
+    _put_back(c, whole)
     if pending < 0:
         return None
     FB = FB.reshape(B, -1)   # each row's flat layout (_single.layout)
@@ -715,7 +713,8 @@ def _row_buffers(c: "_Single", B: int) -> tuple:
     (the pool keeps the :data:`POOL` newest, of at most :data:`POOL_ROWS` rows). A result holds its set through the
     views it was given and the fields and sentences it makes later. Pages a batch touched before cost less than
     fresh ones (the kernels touch ~1.7 KB a target; on this machine the Puma's 1,000 targets of ``ik_all`` took 2.2
-    µs a target with new buffers, 1.5-1.6 with kept ones). The caller puts the set back after its call."""
+    µs a target with new buffers, 1.5-1.6 with kept ones). The caller puts the set back after its call
+    (:func:`_put_back`)."""
     pool = c.pool
     if B > POOL_ROWS:
         return _new_row_buffers(c, B)
@@ -726,6 +725,14 @@ def _row_buffers(c: "_Single", B: int) -> tuple:
         if len(pool) >= POOL:
             del pool[0]   # the oldest, held by a result: it goes with that result
     return _new_row_buffers(c, B)
+
+
+def _put_back(c: "_Single", whole: tuple) -> None:
+    """Return the set ``whole`` of :func:`_row_buffers` to the record's pool after its call, for a later batch once
+    no result holds it (a set of more than :data:`POOL_ROWS` rows is not kept)."""
+    if len(whole[0]) <= POOL_ROWS:
+        with _POOL_LOCK:
+            c.pool.append(whole)
 
 
 def _new_row_buffers(c: "_Single", B: int) -> tuple:
