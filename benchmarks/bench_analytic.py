@@ -54,6 +54,7 @@ ERD = Path(sys.prefix) / "lib" / f"python{sys.version_info[0]}.{sys.version_info
 ARMS = {"ur5": ("ur5", None), "puma560": ("puma560", None), "stanford": ("stanford", None),
         "ur5, axis 1 reversed": ("ur5", "flip"), "puma560, axis 1 reversed": ("puma560", "flip"),
         "kinova j2s6s200": (str(ERD / "kinova_description/robots/kinova.urdf"), "j2s6s200_end_effector"),
+        "kinova j2s6s200, DH table": (str(ERD / "kinova_description/robots/kinova.urdf"), "dh"),
         "ur5 (URDF)": (str(ERD / "ur_description/urdf/ur5_robot.urdf"), "tool0")}
 
 
@@ -67,6 +68,29 @@ def _flipped(robot):
     from armkit.model.axes import with_axes_reversed
 
     return with_axes_reversed(robot)
+
+
+def _arm(name: str, tip: str | None):
+    """The arm of an :data:`ARMS` entry: ``tip`` "flip" (:func:`_flipped`), "dh" (:func:`_dh_table`), a URDF's tip
+    link, or None."""
+    if tip == "flip":
+        return _flipped(armkit.load(name))
+    if tip == "dh":
+        return _dh_table(armkit.load(name, tip="j2s6s200_end_effector"))
+    return armkit.load(name, tip=tip) if tip else armkit.load(name)
+
+
+def _dh_table(robot):
+    """The arm as a standard-DH table: the DH twin of its URDF with the file's rounded twists (the Kinova's: 4.9e-12
+    off 90 deg) set to multiples of 90 deg, as a published DH table gives them (the Kinova's alpha_2 = 180 deg):
+    an exact arm for the DH families, where the URDF's is the ideal arm of a file (the geometric family's)."""
+    from armkit.ik.analytic._common import standard_form
+
+    sf = standard_form(robot)
+    rows = [armkit.Joint(theta=float(sf.theta[k]), d=float(sf.d[k]), a=float(sf.a[k]), alpha=float(sf.alpha[k]),
+                         lower=float(robot.lower[k]), upper=float(robot.upper[k]), name=robot.joint_names[k])
+            for k in range(robot.n)]
+    return armkit.Robot(rows, name=f"{robot.name}, DH table", base=sf.base, tool=sf.tool)
 
 
 def _best(fn, repeat: int) -> float:
@@ -229,7 +253,7 @@ def single_calls(targets: int, repeat: int) -> None:
     print("|---|---|---|---|---|---|---|---|")
     for label in SINGLE_ARMS:
         name, tip = ARMS.get(label, (label, None))
-        robot = _flipped(armkit.load(name)) if tip == "flip" else armkit.load(name)
+        robot = _arm(name, tip)
         cf = closed_form(robot)
         rng = np.random.default_rng(7)
         lo = np.where(np.isfinite(robot.lower), robot.lower, -np.pi)
@@ -276,7 +300,7 @@ def small_batches(repeat: int) -> None:
     print("|---|---|---|---|---|---|---|")
     for label in ("ur5", "puma560", "ur5, axis 1 reversed"):
         name, tip = ARMS.get(label, (label, None))
-        robot = _flipped(armkit.load(name)) if tip == "flip" else armkit.load(name)
+        robot = _arm(name, tip)
         rng = np.random.default_rng(11)
         T = armkit.fk(robot, rng.uniform(-np.pi, np.pi, (40 * max(sizes), robot.n)))
         e = None
@@ -432,7 +456,7 @@ def main() -> None:
         if name.endswith(".urdf") and not Path(name).is_file():
             print(f"skip {label}: example-robot-data is not installed")
             continue
-        robot = _flipped(armkit.load(name)) if tip == "flip" else armkit.load(name, tip=tip) if tip else armkit.load(name)
+        robot = _arm(name, tip)
         form = poe(robot)
         if robot.prismatic.any():
             print(f"skip {label}: EAIK's HPRobot takes revolute joints only")

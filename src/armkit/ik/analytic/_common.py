@@ -57,6 +57,15 @@ def inverse_pose(T: Array) -> Array:
     return out
 
 
+def _half_turned(angle: float) -> float:
+    """``angle + pi`` in ``(-pi, pi]``; exactly ``k pi/2`` where ``angle`` is exactly a multiple of 90 deg."""
+    k = round(angle / HALF_PI)
+    if angle == k * HALF_PI:
+        j = (k + 2) % 4
+        return (j if j < 3 else -1) * HALF_PI
+    return math.remainder(angle + math.pi, 2 * math.pi)
+
+
 @dataclass(frozen=True)
 class StandardForm:
     """The robot as standard-DH rows with the last row's ``a, alpha`` moved into the tool.
@@ -95,6 +104,32 @@ class StandardForm:
         if abs(al + HALF_PI) < ANGLE_TOL:
             return -1
         return None
+
+    def half_turn(self, i: int) -> bool:
+        """Whether twist ``i`` is 180 deg: axes ``i`` and ``i + 1`` parallel and opposite (a file that reverses one)."""
+        return abs(math.remainder(float(self.alpha[i]) - math.pi, 2 * math.pi)) < ANGLE_TOL
+
+    def reversed_joint(self, i: int) -> "StandardForm":
+        """The same arm with joint ``i``'s axis reversed (``0 < i``): its DH angle ``phi_i = q_i + theta_i`` is
+        minus the one of this arm, and the twist before it turns by pi. As ``R_x(pi) R_z(phi) = R_z(-phi) R_x(pi)``
+        and ``R_x(pi) T_z(d) = T_z(-d) R_x(pi)``,
+
+        ``R_x(alpha_{i-1}) R_z(phi_i) T_z(d_i) T_x(a_i) R_x(alpha_i)
+        = R_x(alpha_{i-1} - pi) R_z(-phi_i) T_z(-d_i) T_x(a_i) R_x(alpha_i + pi)``;
+
+        so ``theta_i, d_i`` change sign and ``alpha_{i-1}, alpha_i`` turn by pi (the last joint's ``R_x(pi)``
+        goes into the tool). A Kinova Jaco2 (``alpha_2 = 180`` deg) so becomes a Puma-like arm.
+        """
+        theta, d, alpha = self.theta.copy(), self.d.copy(), self.alpha.copy()
+        theta[i], d[i] = -theta[i], -d[i]
+        alpha[i - 1] = _half_turned(alpha[i - 1])
+        tool, tool_inv = self.tool, self.tool_inv
+        if i == self.n - 1:
+            tool = _rx(math.pi) @ tool
+            tool_inv = inverse_pose(tool)
+        else:
+            alpha[i] = _half_turned(alpha[i])
+        return StandardForm(theta, d, self.a, alpha, self.base, tool, self.base_inv, tool_inv, self.scale, self.exact)
 
     def to_chain(self, T: Array) -> Array:
         """World targets ``(..., 4, 4)`` -> poses of the last turning frame in ``B'``."""

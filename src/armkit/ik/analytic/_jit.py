@@ -34,8 +34,8 @@ from ...kinematics._jit import _atan2, _sincos  # noqa: E402  (the FK's sine and
 
 from ._layout import (BASE_INV, JOINT_LOWER, JOINT_PRISMATIC, JOINT_THETA, JOINT_UPPER, P2_BETA,  # noqa: E402
                       P2_ELL, P2_L1, P3_L1, P3_L2, POS_A1, POS_A2, POS_BETA, POS_D1, POS_ELL, POS_S1, POS_TINY,
-                      POS_Z, SW_CS, SW_D6, SW_S4, SW_S5, TOOL_INV, UR_A2, UR_A3, UR_D, UR_D1, UR_D4, UR_D5, UR_D6,
-                      UR_S1, UR_S4, UR_S5, UR_TINY)
+                      POS_Z, SW_CS, SW_D6, SW_F3, SW_S4, SW_S5, TOOL_INV, UR_A2, UR_A3, UR_D, UR_D1, UR_D4, UR_D5,
+                      UR_D6, UR_S1, UR_S4, UR_S5, UR_TINY)
 
 TWO_PI = 2.0 * math.pi
 PAR = 64
@@ -273,7 +273,7 @@ def _rotate_back(v0, v1, v2, c, s, ca, sa):
 # outputs: one array per argument, never a tuple (Numba 0.68's parfors loses writes through tuples)
 @njit(cache=True, _nrt=True)
 def _puma_run(T, g, q0phi, out, lab, singular, phi, up, unreach, c, r, rho, lat, on_axis, edge, lab4, lo, hi):
-    d6, s4, s5, cs = g[SW_D6], g[SW_S4], g[SW_S5], SW_CS
+    d6, s4, s5, cs, f3 = g[SW_D6], g[SW_S4], g[SW_S5], SW_CS, g[SW_F3]
     for i in prange(lo, hi):
         Tc = np.empty((3, 4))
         _chain(T, i, g, Tc)
@@ -307,8 +307,9 @@ def _puma_run(T, g, q0phi, out, lab, singular, phi, up, unreach, c, r, rho, lat,
                     e0, e1, e2 = _rotate_back(mx0, mx1, mx2, c4k, s4k, g[cs + 4], g[cs + 5])
                     f0, f1, f2 = _rotate_back(e0, e1, e2, ca5, sa5 if k == 0 else -sa5, g[cs + 6], g[cs + 7])
                     p6 = _atan2(f1, f0)
-                for j in range(3):
-                    out[i, b, k, j] = phi[i, b, j]
+                out[i, b, k, 0] = phi[i, b, 0]
+                out[i, b, k, 1] = phi[i, b, 1]
+                out[i, b, k, 2] = f3 * phi[i, b, 2]   # back to the arm as given (a reversed joint 3: f3 = -1)
                 out[i, b, k, 3] = p4
                 out[i, b, k, 4] = p5
                 out[i, b, k, 5] = p6

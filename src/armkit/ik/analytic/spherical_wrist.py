@@ -17,6 +17,10 @@ deg and ``a_4 = a_5 = d_5 = 0``, so that axes 4, 5 and 6 meet in the wrist centr
 At the wrist singularity (``sin q_5 = 0``) only ``q_4 +- q_6`` matters: the solver takes
 ``q_4`` from ``q0`` and says so.
 
+A file may reverse joint 3 (axes 2 and 3 parallel but opposite, ``alpha_2 = 180`` deg: the Kinova Jaco2's
+URDF). The solver then works on the same arm with joint 3 turned back
+(:meth:`~._common.StandardForm.reversed_joint`) and gives ``-phi_3``.
+
 References
 ----------
 D. L. Pieper, "The kinematics of manipulators under computer control", PhD thesis,
@@ -53,15 +57,22 @@ class SphericalWrist:
     target_kind = "pose"
     m = 8
 
-    def __init__(self, sf: StandardForm, pos: Positioner, signs: tuple[int, int, int], unit: str, names):
+    def __init__(self, sf: StandardForm, pos: Positioner, signs: tuple[int, int, int], unit: str, names,
+                 work: StandardForm | None = None):
         self.sf, self.pos, self.unit, self.names = sf, pos, unit, names
+        self.work = sf if work is None else work   # the arm solved: sf, or sf with joint 3 turned back
+        self.f3 = 1.0 if work is None else -1.0    # phi_3 of sf = f3 * phi_3 of work
         self.s3, self.s4, self.s5 = signs
-        self._cs = np.array([[math.cos(sf.alpha[i]), math.sin(sf.alpha[i])] for i in (0, 2, 3, 4)])
+        self._cs = np.array([[math.cos(self.work.alpha[i]), math.sin(self.work.alpha[i])] for i in (0, 2, 3, 4)])
 
     @classmethod
     def detect(cls, sf: StandardForm, robot) -> "SphericalWrist | None":
         if sf.n != 6:
             return None
+        if sf.half_turn(1):   # joint 3 reversed in the file: solve the arm with it turned back
+            found = cls.detect(sf.reversed_joint(2), robot)
+            return None if found is None else cls(sf, found.pos, (found.s3, found.s4, found.s5), robot.unit,
+                                                  robot.joint_names, found.sf)
         twists = (sf.twist(2), sf.twist(3), sf.twist(4))
         if any(s not in (1, -1) for s in twists):
             return None
@@ -75,14 +86,14 @@ class SphericalWrist:
     @cached_property
     def geometry(self) -> Array:
         """The packed geometry of the Numba kernel (layout ``_layout.POS_*`` then ``SW_*``), built once."""
-        g = self.pos.geometry(L.SW_SIZE, self.sf)
-        g[L.SW_D6], g[L.SW_S4], g[L.SW_S5] = self.sf.d[5], self.s4, self.s5
+        g = self.pos.geometry(L.SW_SIZE, self.work)
+        g[L.SW_D6], g[L.SW_S4], g[L.SW_S5], g[L.SW_F3] = self.work.d[5], self.s4, self.s5, self.f3
         g[L.SW_CS:L.SW_CS + 8] = self._cs.reshape(8)
         g.setflags(write=False)
         return g
 
     def _solve_numpy(self, target: Array, q0phi: Array) -> tuple[Array, Array, dict]:
-        sf = self.sf
+        sf = self.work
         B = len(target)
         Tc = sf.to_chain(target)
         R = Tc[:, :3, :3]
@@ -106,6 +117,7 @@ class SphericalWrist:
         phi6 = np.arctan2(rest[1], rest[0])
         out = np.empty((B, 4, 2, 6))
         out[..., :3] = phi[:, :, None, :]
+        out[..., 2] *= self.f3
         out[..., 3], out[..., 4], out[..., 5] = phi4, phi5, phi6
         return out, singular, sol
 

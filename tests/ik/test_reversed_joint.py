@@ -1,0 +1,180 @@
+"""A file that reverses joint 3 of a Puma-like arm (issue 19): the spherical-wrist family still answers.
+
+Axes 2 and 3 parallel but opposite give the DH twist ``alpha_2 = 180`` deg (the Kinova Jaco2's published DH
+table, and the DH twin of its URDF), which the family's pattern (``alpha_2 = 0``) refused: the geometric family
+answered instead. ``StandardForm.reversed_joint`` turns joint 3 back; the identity it rests on,
+
+    R_x(alpha_{i-1}) R_z(phi) T_z(d) T_x(a) R_x(alpha_i)
+        = R_x(alpha_{i-1} - pi) R_z(-phi) T_z(-d) T_x(a) R_x(alpha_i + pi),
+
+is checked here with a product of matrices written out in the test, and the arms with joint 3 reversed are
+built from that identity and checked against armkit's FK of the arm they came from (``q_3 -> -q_3``).
+
+An arm solved on its nearby *ideal* arm (a file's rounded twists) goes to the geometric family first: it solves
+on the file's own axes and polishes in compiled code, where a DH family's branches all took the Python touch-up.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+import armkit
+from armkit import Joint, Robot
+from armkit.ik.analytic import closed_form
+from armkit.ik.analytic._common import standard_form
+from armkit.model.erd import robots_folder
+from armkit.spatial import rotx, rotz, transl
+
+from test_ik_analytic import _random_arm, angle_gap
+
+
+def _row(phi: float, d: float, a: float, alpha: float) -> np.ndarray:
+    """One standard-DH link, written out: R_z(phi) T_z(d) T_x(a) R_x(alpha)."""
+    c, s, ca, sa = math.cos(phi), math.sin(phi), math.cos(alpha), math.sin(alpha)
+    return np.array([[c, -s * ca, s * sa, a * c], [s, c * ca, -c * sa, a * s], [0.0, sa, ca, d], [0, 0, 0, 1.0]])
+
+
+def _chain(sf, q) -> np.ndarray:
+    T = sf.base.copy()
+    for j in range(sf.n):
+        T = T @ _row(q[j] + sf.theta[j], sf.d[j], sf.a[j], sf.alpha[j])
+    return T @ sf.tool
+
+
+@settings(max_examples=40, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1), which=st.integers(1, 5))
+def test_reversed_joint_is_the_same_arm_with_that_joint_negated(seed, which):
+    rng = np.random.default_rng(seed)
+    arm = _random_arm("spherical-wrist", rng)
+    sf = standard_form(arm)
+    twin = sf.reversed_joint(which)
+    assert twin.reversed_joint(which).alpha == pytest.approx(sf.alpha, abs=1e-15)   # its own inverse
+    q = rng.uniform(-math.pi, math.pi, 6)
+    flipped = q.copy()
+    flipped[which] = -q[which]
+    assert np.allclose(_chain(twin, flipped), _chain(sf, q), rtol=0, atol=1e-13)
+    assert np.allclose(_chain(sf, q), armkit.fk(arm, q), rtol=0, atol=1e-13)
+
+
+def test_twists_that_are_multiples_of_90_deg_stay_exact():
+    sf = standard_form(armkit.load("puma560"))          # twists 90, 0, -90, 90, -90 deg
+    twin = sf.reversed_joint(2)
+    assert list(twin.alpha / (math.pi / 2)) == [1.0, 2.0, 1.0, 1.0, -1.0, 0.0]
+    assert twin.half_turn(1) and not sf.half_turn(1)
+    assert list(twin.reversed_joint(2).alpha) == list(sf.alpha)
+
+
+def _reversed_3(arm: Robot) -> Robot:
+    """``arm`` with joint 3 reversed, as a DH table gives it: the identity above, applied by hand."""
+    j = list(arm.joints)
+    j[1] = dataclasses.replace(j[1], alpha=j[1].alpha + math.pi)
+    j[2] = dataclasses.replace(j[2], theta=-j[2].theta, d=-j[2].d, alpha=j[2].alpha + math.pi,
+                               lower=-j[2].upper, upper=-j[2].lower)
+    return Robot(j, name=f"{arm.name}, joint 3 reversed", base=arm.base, tool=arm.tool)
+
+
+@settings(max_examples=15, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1))
+def test_a_puma_like_arm_with_joint_3_reversed_keeps_its_family_and_branches(seed):
+    rng = np.random.default_rng(seed)
+    arm = _random_arm("spherical-wrist", rng)
+    rev = _reversed_3(arm)
+    q = arm.random_q(6, rng=rng)
+    qr = q.copy()
+    qr[:, 2] *= -1
+    assert np.allclose(armkit.fk(rev, qr), armkit.fk(arm, q), rtol=0, atol=1e-12)
+    assert abs(abs(rev.joints[1].alpha) - math.pi) < 1e-12
+    assert closed_form(rev).family == "spherical-wrist"
+    T = armkit.fk(arm, q)
+    got = armkit.ik_all(rev, T, enforce_limits=False)
+    ref = armkit.ik_all(arm, T, enforce_limits=False)
+    assert got.success.any(axis=1).all()
+    back = armkit.fk(rev, got.q[got.success])
+    assert np.abs(back - np.repeat(T[:, None], 8, axis=1)[got.success]).max() <= 1e-12 * max(rev.reach, 1.0)
+    assert np.all(angle_gap(got.q, qr[:, None]).min(axis=1) < 1e-6)   # the configuration the target came from
+    for i in range(len(T)):    # the same branches as the arm as it was, joint 3 negated
+        mine = got.q[i][got.success[i]] * np.array([1, 1, -1, 1, 1, 1])
+        theirs = ref.q[i][ref.success[i]]
+        assert len(mine) == len(theirs)
+        assert all(angle_gap(theirs, x).min() < 1e-9 for x in mine)
+
+
+def test_numba_and_numpy_give_the_same_branches_on_a_reversed_joint():
+    from armkit.kinematics import get_backend
+
+    if get_backend() != "numba":
+        pytest.skip("numba not available")
+    rev = _reversed_3(armkit.load("puma560"))
+    T = armkit.fk(rev, rev.random_q(40, rng=3))
+    fast = armkit.ik_all(rev, T, enforce_limits=False)
+    armkit.set_backend("numpy")
+    try:
+        ref = armkit.ik_all(rev, T, enforce_limits=False)
+    finally:
+        armkit.set_backend("auto")
+    assert np.array_equal(fast.success, ref.success) and np.array_equal(fast.branch, ref.branch)
+    assert np.allclose(fast.q, ref.q, rtol=0, atol=1e-9)
+
+
+def _kinova_dh_twin() -> Robot:
+    """The Kinova Jaco2 j2s6s200 as a standard-DH table: the DH twin of its URDF (example-robot-data) with the
+    file's rounded twists (4.9e-12 off 90 deg) set to multiples of 90 deg. Its twist alpha_2 is 180 deg."""
+    kinova = armkit.load("example-robot-data:kinova")
+    sf = standard_form(kinova)          # the ideal arm: snapped values, base and tool
+    rows = [Joint(theta=float(sf.theta[k]), d=float(sf.d[k]), a=float(sf.a[k]), alpha=float(sf.alpha[k]),
+                  lower=float(kinova.lower[k]), upper=float(kinova.upper[k]), name=kinova.joint_names[k])
+            for k in range(6)]
+    return Robot(rows, name="kinova DH twin", base=sf.base, tool=sf.tool)
+
+
+def test_the_kinova_dh_table_is_a_puma_like_arm_and_its_urdf_stays_geometric():
+    if robots_folder() is None:
+        pytest.skip("example-robot-data is not installed (test extra)")
+    kinova = armkit.load("example-robot-data:kinova")
+    dh = _kinova_dh_twin()
+    assert closed_form(dh).family == "spherical-wrist" and closed_form(dh).sf.exact
+    assert closed_form(kinova).family == "geometric"   # the ideal arm of a file: the geometric family first
+    q = kinova.random_q(30, rng=11)
+    assert np.allclose(armkit.fk(dh, q), armkit.fk(kinova, q), rtol=0, atol=1e-9)   # the same arm, to 1e-11
+    T = armkit.fk(dh, q)
+    a = armkit.ik_all(dh, T, enforce_limits=False)
+    b = armkit.ik_all(kinova, T, enforce_limits=False)
+    assert (a.success.sum(axis=1) == 8).all() and (b.success.sum(axis=1) == 8).all()
+    for i in range(len(T)):
+        assert all(angle_gap(b.q[i][b.success[i]], x).min() < 1e-8 for x in a.q[i][a.success[i]])
+
+
+@pytest.mark.parametrize("off", [5e-12, 3.7e-6])
+def test_rounded_twists_go_to_the_geometric_family_and_keep_every_branch(off):
+    """A Puma whose file rounds its twists (``rpy="1.5708"``: 3.7e-6 off; 11 digits: 5e-12): the geometric family
+    answers, every branch to the FK of the true arm."""
+    puma = armkit.load("puma560")
+    rounded = Robot([dataclasses.replace(j, alpha=j.alpha + off if j.alpha else 0.0) for j in puma.joints],
+                    name="puma, rounded", base=puma.base, tool=puma.tool)
+    assert standard_form(rounded).exact is False
+    assert closed_form(rounded).family == "geometric"
+    q = rounded.random_q(20, rng=4)
+    T = armkit.fk(rounded, q)
+    res = armkit.ik_all(rounded, T, enforce_limits=False)
+    assert (res.success.sum(axis=1) == 8).all()
+    back = armkit.fk(rounded, res.q[res.success])
+    assert np.abs(back - np.repeat(T[:, None], 8, axis=1)[res.success]).max() <= 1e-12
+    assert np.all(angle_gap(res.q, q[:, None]).min(axis=1) < 1e-6)
+
+
+def test_joint_3_reversed_in_a_random_base_and_tool():
+    """The reversed arm's own tool and base are kept (a sanity check of the construction with a turned tool)."""
+    arm = Robot(list(armkit.load("puma560").joints), name="puma", base=transl(0.1, -0.2, 0.3) @ rotz(0.4),
+                tool=transl(0.0, 0.05, 0.1) @ rotx(0.3))
+    rev = _reversed_3(arm)
+    assert closed_form(rev).family == "spherical-wrist"
+    q = arm.random_q(10, rng=8)
+    T = armkit.fk(arm, q)
+    res = armkit.ik_all(rev, T)
+    assert res.success.any(axis=1).all()
