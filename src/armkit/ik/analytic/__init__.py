@@ -113,29 +113,18 @@ def closed_form(robot: Robot) -> ClosedForm | None:
         pass
     found: ClosedForm | None = None
     sf = standard_form(robot)
-    if sf is not None and not sf.exact:
-        # the nearby ideal arm of a file with rounded numbers: the families below solve it, and every branch then
-        # needs the Gauss-Newton touch-up on the true arm, in Python (a Puma whose twists are 5e-12 or 3.7e-6 off:
-        # 1.2 ms an ik_all). The geometric family solves on the file's own axes and polishes itself, compiled
-        # (6.5 µs); it answers first where it can
-        found = _geometric(sf, robot)
-    if sf is not None and found is None:
+    if sf is not None:
         for cls in FAMILIES:
             found = cls.detect(sf, robot)
             if found is not None:
                 break
     if found is None:      # any other arm whose axes allow it: subproblem decomposition (the geometric family)
-        found = _geometric(sf, robot)
+        found = (Geometric.detect(sf, robot) or Geometric3R.detect(sf, robot)  # type: ignore[assignment]
+                 or Geometric2R.detect(sf, robot) or Geometric1R.detect(sf, robot)
+                 or GeometricGimbal.detect(sf, robot) or GeometricPrismatic.detect(sf, robot)
+                 or GeometricPrismaticWrist.detect(sf, robot) or GeometricScara.detect(sf, robot))
     robot.cache["closed_form"] = found
     return found
-
-
-def _geometric(sf: StandardForm | None, robot: Robot) -> ClosedForm | None:
-    """The geometric family's solver for ``robot`` (subproblem decomposition on its axes), or None."""
-    return (Geometric.detect(sf, robot) or Geometric3R.detect(sf, robot)  # type: ignore[return-value]
-            or Geometric2R.detect(sf, robot) or Geometric1R.detect(sf, robot)
-            or GeometricGimbal.detect(sf, robot) or GeometricPrismatic.detect(sf, robot)
-            or GeometricPrismaticWrist.detect(sf, robot) or GeometricScara.detect(sf, robot))
 
 
 def wrap_to_limits(q: Array, q0: Array, lower: Array, upper: Array, revolute: NDArray[np.bool_]) -> Array:

@@ -17,8 +17,8 @@ deg and ``a_4 = a_5 = d_5 = 0``, so that axes 4, 5 and 6 meet in the wrist centr
 At the wrist singularity (``sin q_5 = 0``) only ``q_4 +- q_6`` matters: the solver takes
 ``q_4`` from ``q0`` and says so.
 
-A file may reverse joint 3 (axes 2 and 3 parallel but opposite, ``alpha_2 = 180`` deg: the Kinova Jaco2's
-URDF). The solver then works on the same arm with joint 3 turned back
+A DH table may reverse joint 3 (axes 2 and 3 parallel but opposite, ``alpha_2 = 180`` deg: the Kinova
+Jaco2's). The solver then works on the same arm with joint 3 turned back
 (:meth:`~._common.StandardForm.reversed_joint`) and gives ``-phi_3``.
 
 References
@@ -69,7 +69,10 @@ class SphericalWrist:
     def detect(cls, sf: StandardForm, robot) -> "SphericalWrist | None":
         if sf.n != 6:
             return None
-        if sf.half_turn(1):   # joint 3 reversed in the file: solve the arm with it turned back
+        if sf.half_turn(1) and sf.exact:   # joint 3 reversed in the file: solve the arm with it turned back.
+            # Not on the ideal arm of a file with rounded numbers (the Kinova's URDF): every branch would then need
+            # the Python touch-up (1.4 ms an ik_all), where the geometric family, which answers it, polishes
+            # compiled (6 µs)
             found = cls.detect(sf.reversed_joint(2), robot)
             return None if found is None else cls(sf, found.pos, (found.s3, found.s4, found.s5), robot.unit,
                                                   robot.joint_names, found.sf)
