@@ -99,20 +99,52 @@ def test_a_puma_like_arm_with_joint_3_reversed_keeps_its_family_and_branches(see
     back = armkit.fk(rev, got.q[got.success])
     assert np.abs(back - np.repeat(T[:, None], 8, axis=1)[got.success]).max() <= 1e-12 * max(rev.reach, 1.0)
     assert np.all(angle_gap(got.q, qr[:, None]).min(axis=1) < 1e-6)   # the configuration the target came from
-    for i in range(len(T)):    # the same branches as the arm as it was, joint 3 negated
-        mine = got.q[i][got.success[i]] * np.array([1, 1, -1, 1, 1, 1])
-        theirs = ref.q[i][ref.success[i]]
+    _same_branches(got, ref, 6)
+
+
+def _same_branches(got, ref, n):
+    """Each target's successful branches of ``got`` (joint 3 reversed) are those of ``ref`` with ``q3`` negated,
+    each under the same name (shoulder, elbow and wrist are the arm's, whichever way a file points an axis)."""
+    flip = np.ones(n)
+    flip[2] = -1
+    for i in range(len(got.q)):
+        mine, names = got.q[i][got.success[i]] * flip, got.branch[i][got.success[i]]
+        theirs, their_names = ref.q[i][ref.success[i]], ref.branch[i][ref.success[i]]
         assert len(mine) == len(theirs)
-        assert all(angle_gap(theirs, x).min() < 1e-9 for x in mine)
+        for x, name in zip(mine, names):
+            k = int(np.argmin(angle_gap(theirs, x)))
+            assert angle_gap(theirs[k], x) < 1e-9 and their_names[k] == name
 
 
-def test_numba_and_numpy_give_the_same_branches_on_a_reversed_joint():
+@settings(max_examples=15, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1))
+def test_a_yaw_pitch_pitch_arm_with_joint_3_reversed_keeps_its_family_and_branches(seed):
+    """The club's kind of arm with its second pitch axis pointed the other way in the DH table."""
+    rng = np.random.default_rng(seed)
+    arm = _random_arm("yaw-pitch-pitch", rng)
+    rev = _reversed_3(arm)
+    q = arm.random_q(6, rng=rng)
+    qr = q.copy()
+    qr[:, 2] *= -1
+    assert np.allclose(armkit.fk(rev, qr), armkit.fk(arm, q), rtol=0, atol=1e-12)
+    assert closed_form(rev).family == "yaw-pitch-pitch"
+    p = armkit.fk(arm, q)[:, :3, 3]
+    got = armkit.ik_all(rev, p, enforce_limits=False)
+    ref = armkit.ik_all(arm, p, enforce_limits=False)
+    assert got.success.any(axis=1).all()
+    assert np.all(angle_gap(got.q, qr[:, None]).min(axis=1) < 1e-6)
+    _same_branches(got, ref, 3)
+
+
+@pytest.mark.parametrize("name", ["puma560", "fighter"])
+def test_numba_and_numpy_give_the_same_branches_on_a_reversed_joint(name):
     from armkit.kinematics import get_backend
 
     if get_backend() != "numba":
         pytest.skip("numba not available")
-    rev = _reversed_3(armkit.load("puma560"))
+    rev = _reversed_3(armkit.load(name))
     T = armkit.fk(rev, rev.random_q(40, rng=3))
+    T = T if name == "puma560" else T[:, :3, 3]
     fast = armkit.ik_all(rev, T, enforce_limits=False)
     armkit.set_backend("numpy")
     try:

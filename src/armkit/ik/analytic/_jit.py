@@ -35,7 +35,7 @@ from ...kinematics._jit import _atan2, _sincos  # noqa: E402  (the FK's sine and
 from ._layout import (BASE_INV, JOINT_LOWER, JOINT_PRISMATIC, JOINT_THETA, JOINT_UPPER, P2_BETA,  # noqa: E402
                       P2_ELL, P2_L1, P3_L1, P3_L2, POS_A1, POS_A2, POS_BETA, POS_D1, POS_ELL, POS_S1, POS_TINY,
                       POS_Z, SW_CS, SW_D6, SW_F3, SW_S4, SW_S5, TOOL_INV, UR_A2, UR_A3, UR_D, UR_D1, UR_D4, UR_D5,
-                      UR_D6, UR_S1, UR_S4, UR_S5, UR_TINY)
+                      UR_D6, UR_S1, UR_S4, UR_S5, UR_TINY, YPP_F3)
 
 TWO_PI = 2.0 * math.pi
 PAR = 64
@@ -239,9 +239,12 @@ def _pos_arrays(B):
 
 @njit(cache=True)  # outputs: one array per argument, never a tuple (Numba 0.68's parfors loses writes through tuples)
 def _ypp_run(p, g, yaw0, phi, up, unreach, c, r, rho, lat, on_axis, edge, lab, lo, hi):
+    f3 = g[YPP_F3]
     for i in prange(lo, hi):
         x, y, z = _point(p, i, g)
         _positioner(i, x, y, z, yaw0[i], g, phi, up, unreach, c, r, rho, lat, on_axis, edge, lab)
+        for b in range(4):   # back to the arm as given (a reversed joint 3: f3 = -1)
+            phi[i, b, 2] = f3 * phi[i, b, 2]
 
 
 def yaw_pitch_pitch(p, g, yaw0):

@@ -28,6 +28,9 @@ P2_L1, P2_ELL, P2_BETA, P2_SIZE = 32, 33, 34, 35
 P3_L1, P3_L2, P3_SIZE = 32, 33, 34
 # yaw-pitch-pitch positioner (also the first part of spherical-wrist): see yaw_pitch_pitch.Positioner
 POS_S1, POS_D1, POS_A1, POS_A2, POS_Z, POS_ELL, POS_BETA, POS_TINY, POS_SIZE = 32, 33, 34, 35, 36, 37, 38, 39, 40
+# yaw-pitch-pitch: the positioner, then the sign of joint 3 (-1 where the DH table reverses it: YawPitchPitch solves
+# the arm with it turned back)
+YPP_F3, YPP_SIZE = 40, 41
 # spherical-wrist: the positioner, then d_6, the twist signs s_4, s_5, cos/sin of alpha 1, 3, 4, 5 and the sign of
 # joint 3 (-1 where the file reverses it: SphericalWrist solves the arm with it turned back)
 SW_D6, SW_S4, SW_S5, SW_CS, SW_F3, SW_SIZE = 40, 41, 42, 43, 51, 52

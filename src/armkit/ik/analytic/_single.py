@@ -506,7 +506,7 @@ def planar3(t, q0, ctx, fb, ib, bb, wk):
 
 @njit(cache=True, _nrt=False)
 def yaw_pitch_pitch(t, q0, ctx, fb, ib, bb, wk):
-    """Yaw-pitch-pitch (``_layout.POS_*``): ``t`` flat pose (16) or point (3)."""
+    """Yaw-pitch-pitch (``_layout.POS_*``, ``YPP_F3``): ``t`` flat pose (16) or point (3)."""
     _, g, joints, _, opts = _parts(ctx)
     T4, T, at, usable = _begin(t, q0, opts, wk)
     if not usable:

@@ -17,6 +17,10 @@ a planar two-link problem (:func:`~._common.two_link`).
 
 On the yaw axis (``rho = 0`` with no lateral offset) every yaw angle works: the solver
 returns the family member with the yaw of ``q0`` and says so.
+
+A DH table may reverse joint 3 (``alpha_2 = 180`` deg: the two pitch axes parallel but opposite, as a club's
+table gets them when it points ``z_2`` the other way). The solver then works on the same arm with joint 3 turned
+back (:meth:`~._common.StandardForm.reversed_joint`) and gives ``-phi_3``.
 """
 
 from __future__ import annotations
@@ -148,21 +152,29 @@ class YawPitchPitch:
     target_kind = "position"
     m = 4
 
-    def __init__(self, sf: StandardForm, pos: Positioner, robot_unit: str, yaw_name: str):
+    def __init__(self, sf: StandardForm, pos: Positioner, robot_unit: str, yaw_name: str,
+                 work: StandardForm | None = None):
         self.sf, self.pos, self.unit, self.yaw_name = sf, pos, robot_unit, yaw_name
+        self.work = sf if work is None else work   # the arm solved: sf, or sf with joint 3 turned back
+        self.f3 = 1.0 if work is None else -1.0    # phi_3 of sf = f3 * phi_3 of work
 
     @classmethod
     def detect(cls, sf: StandardForm, robot) -> "YawPitchPitch | None":
         if sf.n != 3:
             return None
+        if sf.half_turn(1) and sf.exact:   # joint 3 reversed in the table: solve the arm with it turned back (not on
+            # the ideal arm of a file: see SphericalWrist.detect)
+            found = cls.detect(sf.reversed_joint(2), robot)
+            return None if found is None else cls(sf, found.pos, robot.unit, robot.joint_names[0], found.sf)
         v = sf.tool[:3, 3] + np.array([0.0, 0.0, sf.d[2]])
         pos = Positioner.build(sf, v)
         return None if pos is None else cls(sf, pos, robot.unit, robot.joint_names[0])
 
     @cached_property
     def geometry(self) -> Array:
-        """The packed geometry of the Numba kernel (layout ``_layout.POS_*``), built once."""
-        g = self.pos.geometry(L.POS_SIZE, self.sf)
+        """The packed geometry of the Numba kernel (layout ``_layout.POS_*``, then ``YPP_F3``), built once."""
+        g = self.pos.geometry(L.YPP_SIZE, self.work)
+        g[L.YPP_F3] = self.f3
         g.setflags(write=False)
         return g
 
@@ -177,7 +189,8 @@ class YawPitchPitch:
             sol = self.pos.as_dict(jit.yaw_pitch_pitch(np.ascontiguousarray(pts), self.geometry,
                                                        np.ascontiguousarray(q0phi[:, 0])))
         else:
-            sol = self.pos.solve(self.sf.point_to_chain(pts), q0phi[:, 0])
+            sol = self.pos.solve(self.work.point_to_chain(pts), q0phi[:, 0])
+            sol["phi"][..., 2] *= self.f3
         idx = sol["label"] if "label" in sol else 2 * sol["front"].astype(int) + sol["up"].astype(int)
         why, note = self.pos.explain(sol, self.unit, "target", "yaw")
         if not sol["on_axis"].any():
