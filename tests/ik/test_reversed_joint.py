@@ -1,4 +1,4 @@
-"""A file that reverses joint 3 of a Puma-like arm (issue 19): the spherical-wrist family still answers.
+"""A DH table that reverses joint 3 of a Puma-like arm (issue 19): the spherical-wrist family still answers.
 
 Axes 2 and 3 parallel but opposite give the DH twist ``alpha_2 = 180`` deg (the Kinova Jaco2's published DH
 table, and the DH twin of its URDF), which the family's pattern (``alpha_2 = 0``) refused: the geometric family
@@ -8,7 +8,8 @@ answered instead. ``StandardForm.reversed_joint`` turns joint 3 back; the identi
         = R_x(alpha_{i-1} - pi) R_z(-phi) T_z(-d) T_x(a) R_x(alpha_i + pi),
 
 is checked here with a product of matrices written out in the test, and the arms with joint 3 reversed are
-built from that identity and checked against armkit's FK of the arm they came from (``q_3 -> -q_3``).
+built from that identity and checked against armkit's FK of the arm they came from (``q_3 -> -q_3``). The same
+for the yaw-pitch-pitch family (the club's arm) and the UR family (any of its parallel axes 2, 3, 4 reversed).
 
 Not on the nearby *ideal* arm of a file with rounded numbers (the Kinova's URDF, twists 4.9e-12 off): there the
 family's branches would all take the Python touch-up (1.4 ms a call), and the geometric family, which solves on the
@@ -71,13 +72,18 @@ def test_twists_that_are_multiples_of_90_deg_stay_exact():
     assert list(twin.reversed_joint(2).alpha) == list(sf.alpha)
 
 
-def _reversed_3(arm: Robot) -> Robot:
-    """``arm`` with joint 3 reversed, as a DH table gives it: the identity above, applied by hand."""
+def _reversed(arm: Robot, *joints: int) -> Robot:
+    """``arm`` with ``joints`` (indices, from 1) reversed, as a DH table gives it: the identity above, by hand."""
     j = list(arm.joints)
-    j[1] = dataclasses.replace(j[1], alpha=j[1].alpha + math.pi)
-    j[2] = dataclasses.replace(j[2], theta=-j[2].theta, d=-j[2].d, alpha=j[2].alpha + math.pi,
-                               lower=-j[2].upper, upper=-j[2].lower)
-    return Robot(j, name=f"{arm.name}, joint 3 reversed", base=arm.base, tool=arm.tool)
+    for k in joints:
+        j[k - 1] = dataclasses.replace(j[k - 1], alpha=j[k - 1].alpha + math.pi)
+        j[k] = dataclasses.replace(j[k], theta=-j[k].theta, d=-j[k].d, alpha=j[k].alpha + math.pi,
+                                   lower=-j[k].upper, upper=-j[k].lower)
+    return Robot(j, name=f"{arm.name}, joints {joints} reversed", base=arm.base, tool=arm.tool)
+
+
+def _reversed_3(arm: Robot) -> Robot:
+    return _reversed(arm, 2)
 
 
 @settings(max_examples=15, deadline=None)
@@ -102,11 +108,12 @@ def test_a_puma_like_arm_with_joint_3_reversed_keeps_its_family_and_branches(see
     _same_branches(got, ref, 6)
 
 
-def _same_branches(got, ref, n):
-    """Each target's successful branches of ``got`` (joint 3 reversed) are those of ``ref`` with ``q3`` negated,
-    each under the same name (shoulder, elbow and wrist are the arm's, whichever way a file points an axis)."""
+def _same_branches(got, ref, n, joints=(2,)):
+    """Each target's successful branches of ``got`` (``joints`` reversed) are those of ``ref`` with those joints
+    negated, each under the same name (shoulder, elbow and wrist are the arm's, whichever way a table points an
+    axis)."""
     flip = np.ones(n)
-    flip[2] = -1
+    flip[list(joints)] = -1
     for i in range(len(got.q)):
         mine, names = got.q[i][got.success[i]] * flip, got.branch[i][got.success[i]]
         theirs, their_names = ref.q[i][ref.success[i]], ref.branch[i][ref.success[i]]
@@ -136,15 +143,37 @@ def test_a_yaw_pitch_pitch_arm_with_joint_3_reversed_keeps_its_family_and_branch
     _same_branches(got, ref, 3)
 
 
-@pytest.mark.parametrize("name", ["puma560", "fighter"])
+@pytest.mark.parametrize("joints", [(2,), (3,), (2, 3), (1,), (1, 2), (1, 3)])
+@settings(max_examples=8, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1))
+def test_a_ur_arm_with_a_parallel_axis_reversed_keeps_its_family_and_branches(joints, seed):
+    """Axes 2, 3 and 4 of the UR family are parallel: a table may point any of them the other way (joint 2
+    reversed flips the twist before it, +-90 deg, and puts 180 deg between axes 2 and 3)."""
+    rng = np.random.default_rng(seed)
+    arm = _random_arm("ur", rng)
+    rev = _reversed(arm, *joints)
+    q = arm.random_q(6, rng=rng)
+    qr = q.copy()
+    qr[:, list(joints)] *= -1
+    assert np.allclose(armkit.fk(rev, qr), armkit.fk(arm, q), rtol=0, atol=1e-12)
+    assert closed_form(rev).family == "ur"
+    T = armkit.fk(arm, q)
+    got = armkit.ik_all(rev, T, enforce_limits=False)
+    ref = armkit.ik_all(arm, T, enforce_limits=False)
+    assert got.success.any(axis=1).all()
+    assert np.all(angle_gap(got.q, qr[:, None]).min(axis=1) < 1e-6)
+    _same_branches(got, ref, 6, joints)
+
+
+@pytest.mark.parametrize("name", ["puma560", "fighter", "ur5"])
 def test_numba_and_numpy_give_the_same_branches_on_a_reversed_joint(name):
     from armkit.kinematics import get_backend
 
     if get_backend() != "numba":
         pytest.skip("numba not available")
-    rev = _reversed_3(armkit.load(name))
+    rev = _reversed(armkit.load(name), *((2, 3) if name == "ur5" else (2,)))
     T = armkit.fk(rev, rev.random_q(40, rng=3))
-    T = T if name == "puma560" else T[:, :3, 3]
+    T = T if name != "fighter" else T[:, :3, 3]
     fast = armkit.ik_all(rev, T, enforce_limits=False)
     armkit.set_backend("numpy")
     try:

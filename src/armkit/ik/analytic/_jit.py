@@ -35,7 +35,7 @@ from ...kinematics._jit import _atan2, _sincos  # noqa: E402  (the FK's sine and
 from ._layout import (BASE_INV, JOINT_LOWER, JOINT_PRISMATIC, JOINT_THETA, JOINT_UPPER, P2_BETA,  # noqa: E402
                       P2_ELL, P2_L1, P3_L1, P3_L2, POS_A1, POS_A2, POS_BETA, POS_D1, POS_ELL, POS_S1, POS_TINY,
                       POS_Z, SW_CS, SW_D6, SW_F3, SW_S4, SW_S5, TOOL_INV, UR_A2, UR_A3, UR_D, UR_D1, UR_D4, UR_D5,
-                      UR_D6, UR_S1, UR_S4, UR_S5, UR_TINY, YPP_F3)
+                      UR_D6, UR_F3, UR_F4, UR_S1, UR_S4, UR_S5, UR_TINY, YPP_F3)
 
 TWO_PI = 2.0 * math.pi
 PAR = 64
@@ -337,6 +337,7 @@ def spherical_wrist(T, g, q0phi):
 def _ur_run(T, g, q0phi, out, up, lab, unreach, lat, rho, r, on_axis, singular, lo, hi):
     s1, s4, s5, D, tiny = g[UR_S1], g[UR_S4], g[UR_S5], g[UR_D], g[UR_TINY]
     d1, d4, d5, d6, a2, a3 = g[UR_D1], g[UR_D4], g[UR_D5], g[UR_D6], g[UR_A2], g[UR_A3]
+    f3, f4 = g[UR_F3], g[UR_F4]
     for i in prange(lo, hi):
         Tc = np.empty((3, 4))
         _chain(T, i, g, Tc)
@@ -395,8 +396,8 @@ def _ur_run(T, g, q0phi, out, up, lab, unreach, lat, rho, r, on_axis, singular, 
                 for e in range(2):
                     out[i, sh, wi, e, 0] = p1
                     out[i, sh, wi, e, 1] = t1[e]
-                    out[i, sh, wi, e, 2] = t2[e]
-                    out[i, sh, wi, e, 3] = total - t1[e] - t2[e]
+                    out[i, sh, wi, e, 2] = f3 * t2[e]   # back to the arm as given (reversed joints: -1)
+                    out[i, sh, wi, e, 3] = f4 * (total - t1[e] - t2[e])
                     out[i, sh, wi, e, 4] = p5
                     out[i, sh, wi, e, 5] = p6
                     up[i, sh, wi, e] = _up(f, s1, sg, 1.0 if e == 0 else -1.0)

@@ -34,8 +34,9 @@ YPP_F3, YPP_SIZE = 40, 41
 # spherical-wrist: the positioner, then d_6, the twist signs s_4, s_5, cos/sin of alpha 1, 3, 4, 5 and the sign of
 # joint 3 (-1 where the file reverses it: SphericalWrist solves the arm with it turned back)
 SW_D6, SW_S4, SW_S5, SW_CS, SW_F3, SW_SIZE = 40, 41, 42, 43, 51, 52
-# ur: twist signs s_1, s_4, s_5, the shoulder offset D, lengths d_1, d_4, d_5, d_6, a_2, a_3, and zero length
-UR_S1, UR_S4, UR_S5, UR_D, UR_D1, UR_D4, UR_D5, UR_D6, UR_A2, UR_A3, UR_TINY, UR_SIZE = range(32, 44)
+# ur: twist signs s_1, s_4, s_5, the shoulder offset D, lengths d_1, d_4, d_5, d_6, a_2, a_3, zero length, and the
+# signs of joints 3 and 4 (-1 where the DH table reverses them: ParallelAxes solves the arm with them turned back)
+UR_S1, UR_S4, UR_S5, UR_D, UR_D1, UR_D4, UR_D5, UR_D6, UR_A2, UR_A3, UR_TINY, UR_F3, UR_F4, UR_SIZE = range(32, 46)
 
 NEAREST, LABEL_SHIFT = 16, 5
 """In the return value of a one-call kernel (:mod:`._single`) with ``nearest`` (:func:`armkit.ik`), when the

@@ -24,6 +24,10 @@ angle) to the edge of the band of ``q_6`` that brings that point within reach
 (:meth:`ParallelAxes._fix_wrist_singular`). On the base axis (``rho = 0`` with ``D = 0``)
 ``q_1`` is taken from ``q0``.
 
+A DH table may point axis 3 or 4 against axis 2 (a twist of 180 deg between two of the parallel axes). The
+solver then works on the same arm with joint 3 and/or 4 turned back (:meth:`~._common.StandardForm.reversed_joint`,
+from joint 3 on) and gives their DH angles negated.
+
 References
 ----------
 K. P. Hawkins, "Analytic inverse kinematics for the Universal Robots UR-5/UR-10 arms",
@@ -56,13 +60,26 @@ class ParallelAxes:
     target_kind = "pose"
     m = 8
 
-    def __init__(self, sf: StandardForm, signs: tuple[int, int, int], unit: str, names):
+    def __init__(self, sf: StandardForm, signs: tuple[int, int, int], unit: str, names,
+                 work: StandardForm | None = None, flips: tuple[float, float] = (1.0, 1.0)):
         self.sf, self.unit, self.names = sf, unit, names
+        self.work = sf if work is None else work   # the arm solved: sf, or sf with joints 3, 4 turned back
+        self.f3, self.f4 = flips                   # phi_3, phi_4 of sf = f3, f4 times those of work
         self.s1, self.s4, self.s5 = signs
-        self.D = float(sf.d[1] + sf.d[2] + sf.d[3])
+        self.D = float(self.work.d[1] + self.work.d[2] + self.work.d[3])
 
     @classmethod
     def detect(cls, sf: StandardForm, robot) -> "ParallelAxes | None":
+        if sf.n == 6 and sf.exact and (sf.half_turn(1) or sf.half_turn(2)):
+            # axis 3 or 4 reversed in the table: turn joint 3, then joint 4, back where a twist before it is
+            # 180 deg (not on the ideal arm of a file: see SphericalWrist.detect)
+            work, flips = sf, [1.0, 1.0]
+            for k in (0, 1):
+                if work.half_turn(1 + k):
+                    work, flips[k] = work.reversed_joint(2 + k), -1.0
+            found = cls.detect(work, robot)
+            return None if found is None else cls(sf, (found.s1, found.s4, found.s5), robot.unit, robot.joint_names,
+                                                  work, (flips[0], flips[1]))
         if sf.n != 6 or sf.twist(1) != 0 or sf.twist(2) != 0:
             return None
         signs = (sf.twist(0), sf.twist(3), sf.twist(4))
@@ -77,16 +94,17 @@ class ParallelAxes:
     @cached_property
     def geometry(self) -> Array:
         """The packed geometry of the Numba kernel (layout ``_layout.UR_*``), built once."""
-        sf = self.sf
+        sf = self.work
         g = L.header(L.UR_SIZE, sf.base_inv, sf.tool_inv)
         g[L.UR_S1], g[L.UR_S4], g[L.UR_S5], g[L.UR_D] = self.s1, self.s4, self.s5, self.D
         g[L.UR_D1], g[L.UR_D4], g[L.UR_D5], g[L.UR_D6] = sf.d[0], sf.d[3], sf.d[4], sf.d[5]
         g[L.UR_A2], g[L.UR_A3], g[L.UR_TINY] = sf.a[1], sf.a[2], LENGTH_TOL * sf.scale
+        g[L.UR_F3], g[L.UR_F4] = self.f3, self.f4
         g.setflags(write=False)
         return g
 
     def _solve_numpy(self, target: Array, q0phi: Array, want_xy: bool = False) -> tuple:
-        sf, s1, s4, s5, D = self.sf, self.s1, self.s4, self.s5, self.D
+        sf, s1, s4, s5, D = self.work, self.s1, self.s4, self.s5, self.D
         d1, d4, d5, d6 = sf.d[0], sf.d[3], sf.d[4], sf.d[5]
         a2, a3 = sf.a[1], sf.a[2]
         B = len(target)
@@ -132,8 +150,8 @@ class ParallelAxes:
         t1, t2, c, r = two_link(x, y, a2, a3)                              # (B, 2, 2, 2)
         out = np.empty((B, 2, 2, 2, 6))
         out[..., 0] = phi1[:, :, None, None]
-        out[..., 1], out[..., 2] = t1, t2
-        out[..., 3] = total[..., None] - t1 - t2
+        out[..., 1], out[..., 2] = t1, self.f3 * t2
+        out[..., 3] = self.f4 * (total[..., None] - t1 - t2)
         out[..., 4] = phi5[..., None]
         out[..., 5] = phi6[..., None]
         up = elbow_up(forward_sign(x)[..., None], s1, a2, a3, np.array([0, 1]))
