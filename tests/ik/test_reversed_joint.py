@@ -242,3 +242,29 @@ def test_joint_3_reversed_in_a_random_base_and_tool():
     T = armkit.fk(arm, q)
     res = armkit.ik_all(rev, T)
     assert res.success.any(axis=1).all()
+
+
+def test_armkit_info_names_the_family_and_the_joint_turned_back(tmp_path):
+    """``armkit info`` says which family answers ``armkit ik`` and which joint it solves turned back (text, Korean
+    and JSON); an arm without a closed form says nothing of the kind."""
+    import json
+
+    from typer.testing import CliRunner
+
+    from armkit.cli import app
+
+    runner = CliRunner()
+    rev = _reversed(armkit.load("puma560"), 2)
+    armkit.save(rev, tmp_path / "puma_rev.toml")
+    path = str(tmp_path / "puma_rev.toml")
+    text = runner.invoke(app, ["info", path], env={"COLUMNS": "300", "ARMKIT_LANG": "en"})
+    assert text.exit_code == 0
+    assert "closed form, family spherical-wrist, 8 branches; solved with elbow turned back" in text.output
+    ko = runner.invoke(app, ["--lang", "ko", "info", path], env={"COLUMNS": "300"})
+    assert "spherical-wrist 계열, 해 8개; elbow 관절을 반대 방향으로 돌려서 풂" in ko.output
+    data = json.loads(runner.invoke(app, ["info", path, "--json"]).stdout)
+    assert data["closed_form"] == {"family": "spherical-wrist", "branches": 8, "turned_back": ["elbow"]}
+    plain = json.loads(runner.invoke(app, ["info", "puma560", "--json"]).stdout)
+    assert plain["closed_form"]["turned_back"] == []
+    assert json.loads(runner.invoke(app, ["info", "panda", "--json"]).stdout)["closed_form"] is None
+    assert "family" not in runner.invoke(app, ["info", "panda"], env={"COLUMNS": "300"}).output

@@ -171,6 +171,26 @@ def _class_line(r: Robot) -> str:
              line=esc(describe(cls, lambda text, **fields: _(text, **fields))))
 
 
+def _closed_form(r: Robot):
+    """The closed-form family's solver for ``r`` (:func:`armkit.ik.analytic.closed_form`), or None."""
+    from ..ik.analytic import closed_form
+
+    return closed_form(r)
+
+
+def _family_line(r: Robot) -> str:
+    """Which closed-form family answers ``armkit ik`` on ``r`` (and the joints it solves turned back), or ""."""
+    cf = _closed_form(r)
+    if cf is None:
+        return ""
+    line = _("armkit ik: closed form, family {family}, {m} branches", family=cf.family, m=cf.m)
+    back = getattr(cf, "turned_back", ())
+    if back:
+        line += _("; solved with {joints} turned back (the DH table points each against the axis before it: a "
+                  "twist of 180 deg)", joints=", ".join(esc(r.joint_names[j - 1]) for j in back))
+    return line
+
+
 def _held_position(r: Robot):
     """The closed form of a position target with the arm's idle wrist held at q0 (:mod:`armkit.ik.analytic.held`),
     or None."""
@@ -206,6 +226,7 @@ def info(robot: RobotArg,
             joints.append(row)
         cls = _chain_class(r)
         held = _held_position(r)
+        cf = _closed_form(r)
         print_json({"name": shown.name, "description": shown.description, "source": shown.source,
                     "convention": shown.convention, "unit": shown.unit, "joints": joints, "base": shown.base,
                     "tool": shown.tool, "links": [lk.name for lk in r.links],
@@ -214,6 +235,9 @@ def info(robot: RobotArg,
                               "intersecting": [list(g) for g in cls.intersecting],
                               "parallel": [list(g) for g in cls.parallel], "max_solutions": cls.max_solutions,
                               "near": cls.near, "locked": cls.locked},
+                    "closed_form": None if cf is None else {
+                        "family": cf.family, "branches": cf.m,
+                        "turned_back": [r.joint_names[j - 1] for j in getattr(cf, "turned_back", ())]},
                     "position_held": None if held is None else {
                         "held": [r.joint_names[k] for k in sorted(held.held)], "family": held.inner.family,
                         "max_solutions": held.m}})
@@ -237,6 +261,9 @@ def info(robot: RobotArg,
         else:
             _urdf_joints_records(shown)
     console.print(_class_line(r))
+    family = _family_line(r)
+    if family:
+        console.print(family)
     held = _held_position(r)
     if held is not None:
         console.print(_("a position alone: closed form ({family}) with {joints} held at q0 (turning about the tool "

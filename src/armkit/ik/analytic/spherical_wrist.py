@@ -62,6 +62,7 @@ class SphericalWrist:
         self.sf, self.pos, self.unit, self.names = sf, pos, unit, names
         self.work = sf if work is None else work   # the arm solved: sf, or sf with joint 3 turned back
         self.f3 = 1.0 if work is None else -1.0    # phi_3 of sf = f3 * phi_3 of work
+        self.turned_back = () if work is None else (3,)   # the joints solved turned back (from 1; armkit info)
         self.s3, self.s4, self.s5 = signs
         self._cs = np.array([[math.cos(self.work.alpha[i]), math.sin(self.work.alpha[i])] for i in (0, 2, 3, 4)])
 

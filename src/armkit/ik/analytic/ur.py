@@ -65,6 +65,7 @@ class ParallelAxes:
         self.sf, self.unit, self.names = sf, unit, names
         self.work = sf if work is None else work   # the arm solved: sf, or sf with joints 3, 4 turned back
         self.f3, self.f4 = flips                   # phi_3, phi_4 of sf = f3, f4 times those of work
+        self.turned_back = tuple(j for j, f in ((3, self.f3), (4, self.f4)) if f < 0)   # from 1 (armkit info)
         self.s1, self.s4, self.s5 = signs
         self.D = float(self.work.d[1] + self.work.d[2] + self.work.d[3])
 

@@ -157,6 +157,7 @@ class YawPitchPitch:
         self.sf, self.pos, self.unit, self.yaw_name = sf, pos, robot_unit, yaw_name
         self.work = sf if work is None else work   # the arm solved: sf, or sf with joint 3 turned back
         self.f3 = 1.0 if work is None else -1.0    # phi_3 of sf = f3 * phi_3 of work
+        self.turned_back = () if work is None else (3,)   # the joints solved turned back (from 1; armkit info)
 
     @classmethod
     def detect(cls, sf: StandardForm, robot) -> "YawPitchPitch | None":
