@@ -1,6 +1,6 @@
 """A DH table that reverses joint 3 of a Puma-like arm (issue 19): the spherical-wrist family still answers.
 
-Axes 2 and 3 parallel but opposite give the DH twist ``alpha_2 = 180`` deg (the Kinova Jaco2's published DH
+Axes 2 and 3 parallel but opposite give the DH twist ``alpha_2 = 180`` deg (the Kinova Jaco2's DH
 table, and the DH twin of its URDF), which the family's pattern (``alpha_2 = 0``) refused: the geometric family
 answered instead. ``StandardForm.reversed_joint`` turns joint 3 back; the identity it rests on,
 
@@ -73,39 +73,14 @@ def test_twists_that_are_multiples_of_90_deg_stay_exact():
 
 
 def _reversed(arm: Robot, *joints: int) -> Robot:
-    """``arm`` with ``joints`` (indices, from 1) reversed, as a DH table gives it: the identity above, by hand."""
+    """``arm`` with ``joints`` (0-based indices, from 1 on) reversed, as a DH table gives it: the identity above,
+    applied by hand (the twist before each and its own row; its limits negated)."""
     j = list(arm.joints)
     for k in joints:
         j[k - 1] = dataclasses.replace(j[k - 1], alpha=j[k - 1].alpha + math.pi)
         j[k] = dataclasses.replace(j[k], theta=-j[k].theta, d=-j[k].d, alpha=j[k].alpha + math.pi,
                                    lower=-j[k].upper, upper=-j[k].lower)
     return Robot(j, name=f"{arm.name}, joints {joints} reversed", base=arm.base, tool=arm.tool)
-
-
-def _reversed_3(arm: Robot) -> Robot:
-    return _reversed(arm, 2)
-
-
-@settings(max_examples=15, deadline=None)
-@given(seed=st.integers(0, 2**32 - 1))
-def test_a_puma_like_arm_with_joint_3_reversed_keeps_its_family_and_branches(seed):
-    rng = np.random.default_rng(seed)
-    arm = _random_arm("spherical-wrist", rng)
-    rev = _reversed_3(arm)
-    q = arm.random_q(6, rng=rng)
-    qr = q.copy()
-    qr[:, 2] *= -1
-    assert np.allclose(armkit.fk(rev, qr), armkit.fk(arm, q), rtol=0, atol=1e-12)
-    assert abs(abs(rev.joints[1].alpha) - math.pi) < 1e-12
-    assert closed_form(rev).family == "spherical-wrist"
-    T = armkit.fk(arm, q)
-    got = armkit.ik_all(rev, T, enforce_limits=False)
-    ref = armkit.ik_all(arm, T, enforce_limits=False)
-    assert got.success.any(axis=1).all()
-    back = armkit.fk(rev, got.q[got.success])
-    assert np.abs(back - np.repeat(T[:, None], 8, axis=1)[got.success]).max() <= 1e-12 * max(rev.reach, 1.0)
-    assert np.all(angle_gap(got.q, qr[:, None]).min(axis=1) < 1e-6)   # the configuration the target came from
-    _same_branches(got, ref, 6)
 
 
 def _same_branches(got, ref, n, joints=(2,)):
@@ -123,46 +98,35 @@ def _same_branches(got, ref, n, joints=(2,)):
             assert angle_gap(theirs[k], x) < 1e-9 and their_names[k] == name
 
 
-@settings(max_examples=15, deadline=None)
-@given(seed=st.integers(0, 2**32 - 1))
-def test_a_yaw_pitch_pitch_arm_with_joint_3_reversed_keeps_its_family_and_branches(seed):
-    """The club's kind of arm with its second pitch axis pointed the other way in the DH table."""
-    rng = np.random.default_rng(seed)
-    arm = _random_arm("yaw-pitch-pitch", rng)
-    rev = _reversed_3(arm)
-    q = arm.random_q(6, rng=rng)
-    qr = q.copy()
-    qr[:, 2] *= -1
-    assert np.allclose(armkit.fk(rev, qr), armkit.fk(arm, q), rtol=0, atol=1e-12)
-    assert closed_form(rev).family == "yaw-pitch-pitch"
-    p = armkit.fk(arm, q)[:, :3, 3]
-    got = armkit.ik_all(rev, p, enforce_limits=False)
-    ref = armkit.ik_all(arm, p, enforce_limits=False)
-    assert got.success.any(axis=1).all()
-    assert np.all(angle_gap(got.q, qr[:, None]).min(axis=1) < 1e-6)
-    _same_branches(got, ref, 3)
-
-
-@pytest.mark.parametrize("joints", [(2,), (3,), (2, 3), (1,), (1, 2), (1, 3)])
+@pytest.mark.parametrize("kind, joints", [
+    ("spherical-wrist", (2,)), ("yaw-pitch-pitch", (2,)),
+    # axes 2, 3, 4 of the UR family are parallel: a table may point any of them the other way (joint 2 reversed
+    # flips the twist before it, +-90 deg, and puts 180 deg between axes 2 and 3)
+    ("ur", (2,)), ("ur", (3,)), ("ur", (2, 3)), ("ur", (1,)), ("ur", (1, 2)), ("ur", (1, 3))])
 @settings(max_examples=8, deadline=None)
 @given(seed=st.integers(0, 2**32 - 1))
-def test_a_ur_arm_with_a_parallel_axis_reversed_keeps_its_family_and_branches(joints, seed):
-    """Axes 2, 3 and 4 of the UR family are parallel: a table may point any of them the other way (joint 2
-    reversed flips the twist before it, +-90 deg, and puts 180 deg between axes 2 and 3)."""
+def test_an_arm_with_a_joint_reversed_keeps_its_family_and_branches(kind, joints, seed):
+    """A random arm of a family with ``joints`` (0-based) pointed the other way in its DH table: the same family,
+    every branch of the arm it came from with those joints negated, under the same names, each checked by FK."""
     rng = np.random.default_rng(seed)
-    arm = _random_arm("ur", rng)
+    arm = _random_arm(kind, rng)
     rev = _reversed(arm, *joints)
     q = arm.random_q(6, rng=rng)
     qr = q.copy()
     qr[:, list(joints)] *= -1
     assert np.allclose(armkit.fk(rev, qr), armkit.fk(arm, q), rtol=0, atol=1e-12)
-    assert closed_form(rev).family == "ur"
+    assert closed_form(rev).family == kind
     T = armkit.fk(arm, q)
-    got = armkit.ik_all(rev, T, enforce_limits=False)
-    ref = armkit.ik_all(arm, T, enforce_limits=False)
+    target = T if kind != "yaw-pitch-pitch" else T[:, :3, 3]
+    got = armkit.ik_all(rev, target, enforce_limits=False)
+    ref = armkit.ik_all(arm, target, enforce_limits=False)
     assert got.success.any(axis=1).all()
-    assert np.all(angle_gap(got.q, qr[:, None]).min(axis=1) < 1e-6)
-    _same_branches(got, ref, 6, joints)
+    back = armkit.fk(rev, got.q[got.success])
+    want = np.repeat(T[:, None], got.q.shape[1], axis=1)[got.success]
+    part = (slice(None), slice(0, 3), slice(None)) if kind != "yaw-pitch-pitch" else (slice(None), slice(0, 3), 3)
+    assert np.abs(back[part] - want[part]).max() <= 1e-12 * max(rev.reach, 1.0)   # FK of the reversed arm
+    assert np.all(angle_gap(got.q, qr[:, None]).min(axis=1) < 1e-6)   # the configuration the target came from
+    _same_branches(got, ref, arm.n, joints)
 
 
 @pytest.mark.parametrize("name", ["puma560", "fighter", "ur5"])
@@ -217,7 +181,7 @@ def test_a_reversed_joint_3_with_rounded_twists_stays_geometric_and_keeps_every_
     """The Puma with joint 3 reversed, its twists rounded as a file rounds them (``rpy="1.5708"``: 3.7e-6 off;
     11 digits: 5e-12): the ideal arm of a file, answered by the geometric family, every branch to the FK of the
     true arm."""
-    rev = _reversed_3(armkit.load("puma560"))
+    rev = _reversed(armkit.load("puma560"), 2)
     rounded = Robot([dataclasses.replace(j, alpha=j.alpha + off if j.alpha else 0.0) for j in rev.joints],
                     name="puma, joint 3 reversed, rounded", base=rev.base, tool=rev.tool)
     sf = standard_form(rounded)
@@ -236,7 +200,7 @@ def test_joint_3_reversed_in_a_random_base_and_tool():
     """The reversed arm's own tool and base are kept (a sanity check of the construction with a turned tool)."""
     arm = Robot(list(armkit.load("puma560").joints), name="puma", base=transl(0.1, -0.2, 0.3) @ rotz(0.4),
                 tool=transl(0.0, 0.05, 0.1) @ rotx(0.3))
-    rev = _reversed_3(arm)
+    rev = _reversed(arm, 2)
     assert closed_form(rev).family == "spherical-wrist"
     q = arm.random_q(10, rng=8)
     T = armkit.fk(arm, q)
