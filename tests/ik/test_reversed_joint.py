@@ -12,7 +12,7 @@ built from that identity and checked against armkit's FK of the arm they came fr
 for the yaw-pitch-pitch family (the club's arm) and the UR family (any of its parallel axes 2, 3, 4 reversed).
 
 Not on the nearby *ideal* arm of a file with rounded numbers (the Kinova's URDF, twists 4.9e-12 off): there the
-family's branches would all take the Python touch-up (1.4 ms a call), and the geometric family, which solves on the
+family's branches would all take the Python touch-up (0.6-0.7 ms a call), and the geometric family, which solves on the
 file's own axes and polishes compiled, keeps answering it (6 µs).
 """
 
