@@ -232,3 +232,22 @@ def test_armkit_info_names_the_family_and_the_joint_turned_back(tmp_path):
     assert plain["closed_form"]["turned_back"] == []
     assert json.loads(runner.invoke(app, ["info", "panda", "--json"]).stdout)["closed_form"] is None
     assert "family" not in runner.invoke(app, ["info", "panda"], env={"COLUMNS": "300"}).output
+
+
+@pytest.mark.parametrize("name, joints", [("puma560", (2,)), ("fighter", (2,)), ("ur5", (2, 3))])
+def test_the_same_reversed_arm_in_modified_dh_gives_the_same_branches(name, joints):
+    """Standard DH == modified DH of the same arm: the reversed arm written in modified DH (its 180 deg twist now
+    on the row of the joint after it) keeps the family and gives the same branches."""
+    rev = _reversed(armkit.load(name), *joints)
+    mod = rev.to_dh("modified")
+    assert mod.convention == "modified"
+    assert any(abs(abs(j.alpha) - math.pi) < 1e-12 for j in mod.joints)
+    assert closed_form(mod).family == closed_form(rev).family
+    q = rev.random_q(10, rng=6)
+    T = armkit.fk(rev, q)
+    assert np.allclose(armkit.fk(mod, q), T, rtol=0, atol=1e-12)
+    target = T if name != "fighter" else T[:, :3, 3]
+    a = armkit.ik_all(rev, target, enforce_limits=False)
+    b = armkit.ik_all(mod, target, enforce_limits=False)
+    assert np.array_equal(a.success, b.success) and np.array_equal(a.branch, b.branch)
+    assert np.allclose(a.q, b.q, rtol=0, atol=1e-9)
