@@ -5,7 +5,8 @@ EAIK; example-robot-data comes with the test extra). No times here: benchmarks/b
 
 Arms:
 
-* the bundled 6-joint arms and the example-robot-data arms armkit knows by name (UR3/5/10, Kinova Jaco2);
+* the bundled 6-joint arms and the example-robot-data arms armkit knows by name (UR3/5/10, Kinova Jaco2), and
+  the bundled Puma and UR5 with joints turning the other way (:data:`REVERSED`: their own DH families answer);
 * the 7-joint arms (Panda, iiwa14, TIAGo's and Talos's arms, xArm7, Z1) with the joint armkit's class names
   (``sweep joint k``) held at a value: armkit's ``ik_all(robot, T, fixed={name: value})`` against EAIK's
   ``HPRobot(H, P, fixed_axes=[(k - 1, value)])`` (8 values drawn per arm, the targets split between them);
@@ -44,11 +45,15 @@ import numpy as np
 os.environ.setdefault("ARMKIT_JIT", "wait")
 
 import armkit  # noqa: E402
+from armkit.ik import closed_form_family  # noqa: E402
 from armkit.ik.geometric.classify import classify  # noqa: E402
 from armkit.ik.geometric.poe import poe  # noqa: E402
 
 NAMED = ("ur5", "puma560", "example-robot-data:ur3", "example-robot-data:ur5", "example-robot-data:ur10",
          "example-robot-data:kinova")
+REVERSED = (("puma560", (2,)), ("ur5", (2,)), ("ur5", (3,)), ("ur5", (1, 2)))
+"""Bundled arms with joints (0-based) turning the other way (:func:`armkit.model.axes.with_axes_reversed`): the DH
+families solve them with those joints turned back (180 deg twists between parallel axes)."""
 SEVEN = ("panda", "iiwa14", "example-robot-data:tiago", "example-robot-data:talos", "example-robot-data:xarm7",
          "example-robot-data:z1")
 KINDS = {   # class drawn -> (which axes meet, which are parallel); joints numbered from 0
@@ -167,8 +172,11 @@ def _add(total: dict, part: dict) -> None:
         total[k] = total.get(k, 0) + v
 
 
-def named(name: str, targets: int, g: np.random.Generator) -> tuple[str, dict] | None:
+def named(name: str, targets: int, g: np.random.Generator, reversed_joints: tuple[int, ...] = ()
+          ) -> tuple[str, dict] | None:
     robot = armkit.load(name)
+    if reversed_joints:
+        robot = _reversed(name, reversed_joints)
     form = poe(robot)
     cls = classify(robot)
     eaik = _eaik(form)
@@ -176,6 +184,12 @@ def named(name: str, targets: int, g: np.random.Generator) -> tuple[str, dict] |
         return cls.name, {"refused by EAIK": 1}
     T = armkit.fk(robot, g.uniform(-np.pi, np.pi, (targets, robot.n)))
     return cls.name, compare(robot, form, T, eaik, armkit.ik_all(robot, T, enforce_limits=False))
+
+
+def _reversed(name: str, joints: tuple[int, ...]):
+    from armkit.model.axes import with_axes_reversed
+
+    return with_axes_reversed(armkit.load(name), joints)
 
 
 def seven(name: str, targets: int, g: np.random.Generator, values: int = 8) -> tuple[str, dict] | None:
@@ -322,6 +336,11 @@ def against_eaik(args: argparse.Namespace, g: np.random.Generator, tmp: Path) ->
     for kind in KINDS:
         cls, c = random_class(kind, args.targets, args.arms, g, tmp)
         row(f"random: {kind}", cls, c)
+    own = np.random.default_rng(7)   # their own draws: the rows above and the dense search below as before
+    for name, joints in REVERSED:
+        cls, c = named(name, args.targets, own, joints)
+        row(f"{name}, joint{'s' if len(joints) > 1 else ''} {', '.join(str(k + 1) for k in joints)} reversed "
+            f"(family {closed_form_family(_reversed(name, joints))})", cls, c)
 
 
 if __name__ == "__main__":
