@@ -231,6 +231,10 @@ def test_armkit_info_names_the_family_and_the_joint_turned_back(tmp_path):
     plain = json.loads(runner.invoke(app, ["info", "puma560", "--json"]).stdout)
     assert plain["closed_form"]["turned_back"] == []
     assert json.loads(runner.invoke(app, ["info", "panda", "--json"]).stdout)["closed_form"] is None
+    armkit.save(_reversed(armkit.load("planar2"), 1), tmp_path / "planar_rev.toml")   # planar-2r's own sign
+    data = json.loads(runner.invoke(app, ["info", str(tmp_path / "planar_rev.toml"), "--json"]).stdout)
+    assert data["closed_form"]["family"] == "planar-2r"
+    assert data["closed_form"]["turned_back"] == [armkit.load("planar2").joint_names[1]]
     assert "family" not in runner.invoke(app, ["info", "panda"], env={"COLUMNS": "300"}).output
 
 

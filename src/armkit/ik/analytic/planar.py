@@ -66,6 +66,7 @@ class Planar2R:
     def __init__(self, sf: StandardForm, ell: float, beta: float, unit: str, sign: int = 1):
         self.sf, self.ell, self.beta, self.unit = sf, ell, beta, unit
         self.sign = sign     # -1: antiparallel axes (alpha_1 = 180 deg), joint 2 turns the other way
+        self.turned_back = (2,) if sign < 0 else ()   # the joints solved turned back (from 1; armkit info)
 
     @classmethod
     def detect(cls, sf: StandardForm, robot) -> "Planar2R | None":
