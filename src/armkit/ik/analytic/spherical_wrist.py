@@ -58,11 +58,11 @@ class SphericalWrist:
     m = 8
 
     def __init__(self, sf: StandardForm, pos: Positioner, signs: tuple[int, int, int], unit: str, names,
-                 work: StandardForm | None = None):
+                 work: StandardForm | None = None, turned_back: tuple[int, ...] = ()):
         self.sf, self.pos, self.unit, self.names = sf, pos, unit, names
         self.work = sf if work is None else work   # the arm solved: sf, or sf with joint 3 turned back
-        self.f3 = 1.0 if work is None else -1.0    # phi_3 of sf = f3 * phi_3 of work
-        self.turned_back = () if work is None else (3,)   # the joints solved turned back (from 1; armkit info)
+        self.turned_back = turned_back             # (3,) then (StandardForm.turned_back; armkit info names it)
+        self.f3 = -1.0 if 3 in turned_back else 1.0   # phi_3 of sf = f3 * phi_3 of work
         self.s3, self.s4, self.s5 = signs
         self._cs = np.array([[math.cos(self.work.alpha[i]), math.sin(self.work.alpha[i])] for i in (0, 2, 3, 4)])
 
@@ -70,13 +70,11 @@ class SphericalWrist:
     def detect(cls, sf: StandardForm, robot) -> "SphericalWrist | None":
         if sf.n != 6:
             return None
-        if sf.half_turn(1) and sf.exact:   # joint 3 reversed in the file: solve the arm with it turned back.
-            # Not on the ideal arm of a file with rounded numbers (the Kinova's URDF): every branch would then need
-            # the Python touch-up (0.6-0.7 ms an ik_all), where the geometric family, which answers it, polishes
-            # compiled (6 µs)
-            found = cls.detect(sf.reversed_joint(2), robot)
+        turned = sf.turned_back((2,))   # joint 3 reversed in the table: solve the arm with it turned back
+        if turned is not None:
+            found = cls.detect(turned[0], robot)
             return None if found is None else cls(sf, found.pos, (found.s3, found.s4, found.s5), robot.unit,
-                                                  robot.joint_names, found.sf)
+                                                  robot.joint_names, *turned)
         twists = (sf.twist(2), sf.twist(3), sf.twist(4))
         if any(s not in (1, -1) for s in twists):
             return None

@@ -61,26 +61,23 @@ class ParallelAxes:
     m = 8
 
     def __init__(self, sf: StandardForm, signs: tuple[int, int, int], unit: str, names,
-                 work: StandardForm | None = None, flips: tuple[float, float] = (1.0, 1.0)):
+                 work: StandardForm | None = None, turned_back: tuple[int, ...] = ()):
         self.sf, self.unit, self.names = sf, unit, names
         self.work = sf if work is None else work   # the arm solved: sf, or sf with joints 3, 4 turned back
-        self.f3, self.f4 = flips                   # phi_3, phi_4 of sf = f3, f4 times those of work
-        self.turned_back = tuple(j for j, f in ((3, self.f3), (4, self.f4)) if f < 0)   # from 1 (armkit info)
+        self.turned_back = turned_back             # those joints, from 1 (StandardForm.turned_back; armkit info)
+        # phi_3, phi_4 of sf = f3, f4 times those of work
+        self.f3, self.f4 = (-1.0 if j in turned_back else 1.0 for j in (3, 4))
         self.s1, self.s4, self.s5 = signs
         self.D = float(self.work.d[1] + self.work.d[2] + self.work.d[3])
 
     @classmethod
     def detect(cls, sf: StandardForm, robot) -> "ParallelAxes | None":
-        if sf.n == 6 and sf.exact and (sf.half_turn(1) or sf.half_turn(2)):
-            # axis 3 or 4 reversed in the table: turn joint 3, then joint 4, back where a twist before it is
-            # 180 deg (not on the ideal arm of a file: see SphericalWrist.detect)
-            work, flips = sf, [1.0, 1.0]
-            for k in (0, 1):
-                if work.half_turn(1 + k):
-                    work, flips[k] = work.reversed_joint(2 + k), -1.0
-            found = cls.detect(work, robot)
+        # axis 3 or 4 reversed in the table: turn joint 3, then joint 4, back where a twist before it is 180 deg
+        turned = sf.turned_back((2, 3)) if sf.n == 6 else None
+        if turned is not None:
+            found = cls.detect(turned[0], robot)
             return None if found is None else cls(sf, (found.s1, found.s4, found.s5), robot.unit, robot.joint_names,
-                                                  work, (flips[0], flips[1]))
+                                                  *turned)
         if sf.n != 6 or sf.twist(1) != 0 or sf.twist(2) != 0:
             return None
         signs = (sf.twist(0), sf.twist(3), sf.twist(4))

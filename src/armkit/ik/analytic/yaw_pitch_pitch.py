@@ -153,20 +153,20 @@ class YawPitchPitch:
     m = 4
 
     def __init__(self, sf: StandardForm, pos: Positioner, robot_unit: str, yaw_name: str,
-                 work: StandardForm | None = None):
+                 work: StandardForm | None = None, turned_back: tuple[int, ...] = ()):
         self.sf, self.pos, self.unit, self.yaw_name = sf, pos, robot_unit, yaw_name
         self.work = sf if work is None else work   # the arm solved: sf, or sf with joint 3 turned back
-        self.f3 = 1.0 if work is None else -1.0    # phi_3 of sf = f3 * phi_3 of work
-        self.turned_back = () if work is None else (3,)   # the joints solved turned back (from 1; armkit info)
+        self.turned_back = turned_back             # (3,) then (StandardForm.turned_back; armkit info names it)
+        self.f3 = -1.0 if 3 in turned_back else 1.0   # phi_3 of sf = f3 * phi_3 of work
 
     @classmethod
     def detect(cls, sf: StandardForm, robot) -> "YawPitchPitch | None":
         if sf.n != 3:
             return None
-        if sf.half_turn(1) and sf.exact:   # joint 3 reversed in the table: solve the arm with it turned back (not on
-            # the ideal arm of a file: see SphericalWrist.detect)
-            found = cls.detect(sf.reversed_joint(2), robot)
-            return None if found is None else cls(sf, found.pos, robot.unit, robot.joint_names[0], found.sf)
+        turned = sf.turned_back((2,))   # joint 3 reversed in the table: solve the arm with it turned back
+        if turned is not None:
+            found = cls.detect(turned[0], robot)
+            return None if found is None else cls(sf, found.pos, robot.unit, robot.joint_names[0], *turned)
         v = sf.tool[:3, 3] + np.array([0.0, 0.0, sf.d[2]])
         pos = Positioner.build(sf, v)
         return None if pos is None else cls(sf, pos, robot.unit, robot.joint_names[0])
