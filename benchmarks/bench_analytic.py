@@ -54,7 +54,7 @@ ERD = Path(sys.prefix) / "lib" / f"python{sys.version_info[0]}.{sys.version_info
 ARMS = {"ur5": ("ur5", None), "puma560": ("puma560", None), "stanford": ("stanford", None),
         "ur5, axis 1 reversed": ("ur5", "flip"), "puma560, axis 1 reversed": ("puma560", "flip"),
         "kinova j2s6s200": (str(ERD / "kinova_description/robots/kinova.urdf"), "j2s6s200_end_effector"),
-        "kinova j2s6s200, DH table": (str(ERD / "kinova_description/robots/kinova.urdf"), "dh"),
+        "kinova j2s6s200, DH table": (str(ERD / "kinova_description/robots/kinova.urdf"), "dh:j2s6s200_end_effector"),
         "ur5 (URDF)": (str(ERD / "ur_description/urdf/ur5_robot.urdf"), "tool0")}
 
 
@@ -71,18 +71,18 @@ def _flipped(robot):
 
 
 def _arm(name: str, tip: str | None):
-    """The arm of an :data:`ARMS` entry: ``tip`` "flip" (:func:`_flipped`), "dh" (:func:`_dh_table`), a URDF's tip
-    link, or None."""
+    """The arm of an :data:`ARMS` entry: ``tip`` "flip" (:func:`_flipped`), "dh:LINK" (:func:`_dh_table` of the
+    URDF's chain to LINK), a URDF's tip link, or None."""
     if tip == "flip":
         return _flipped(armkit.load(name))
-    if tip == "dh":
-        return _dh_table(armkit.load(name, tip="j2s6s200_end_effector"))
+    if tip and tip.startswith("dh:"):
+        return _dh_table(armkit.load(name, tip=tip[3:]))
     return armkit.load(name, tip=tip) if tip else armkit.load(name)
 
 
 def _dh_table(robot):
     """The arm as a standard-DH table: the DH twin of its URDF with the file's rounded twists (the Kinova's: 4.9e-12
-    off 90 deg) set to multiples of 90 deg, as a published DH table gives them (the Kinova's alpha_2 = 180 deg):
+    off 90 deg) set to multiples of 90 deg, as a DH table gives them (the Kinova's alpha_2 = 180 deg):
     an exact arm for the DH families, where the URDF's is the ideal arm of a file (the geometric family's)."""
     from armkit.ik.analytic._common import standard_form
 
@@ -294,8 +294,8 @@ def small_batches(repeat: int) -> None:
     except ImportError:
         eaik = None
     sizes = (1, 2, 8, 16, ROWS[0], ROWS[0] + 1, ROWS[1], ROWS[1] + 1)
-    print(f"\nsmall batches: µs per call of B targets (by the rows driver up to B = {ROWS[0]} for ik_all and {ROWS[1]} "
-          f"for ik), best of {repeat}; CPU time of the thread\n")
+    print(f"\nsmall batches: µs per call of B targets (by the rows driver up to B = {ROWS[0]} for ik_all and "
+          f"{ROWS[1]} for ik), best of {repeat}; CPU time of the thread\n")
     print("| arm | B | ik_all | ik_all batched path | ik | ik batched path | EAIK IK_batched (1 thread) |")
     print("|---|---|---|---|---|---|---|")
     for label in ("ur5", "puma560", "ur5, axis 1 reversed"):

@@ -174,9 +174,7 @@ def _add(total: dict, part: dict) -> None:
 
 def named(name: str, targets: int, g: np.random.Generator, reversed_joints: tuple[int, ...] = ()
           ) -> tuple[str, dict] | None:
-    robot = armkit.load(name)
-    if reversed_joints:
-        robot = _reversed(name, reversed_joints)
+    robot = _reversed(name, reversed_joints) if reversed_joints else armkit.load(name)
     form = poe(robot)
     cls = classify(robot)
     eaik = _eaik(form)

@@ -25,7 +25,7 @@ from armkit.ik.analytic import closed_form, single_call
 from armkit.model.robot import Joint, Robot
 
 sys.path.insert(0, str(Path(__file__).parent))
-from test_family import KINOVA, _random_arm, _tup, _urdf_twin  # noqa: E402
+from test_family import KINOVA, _random_arm, _tup  # noqa: E402
 
 api = importlib.import_module("armkit.ik.api")
 geometric = importlib.import_module("armkit.ik.analytic.geometric")
