@@ -60,11 +60,16 @@ def _same(a, b, arm):
     back ends order the same floating-point operations differently, and a degenerate arm amplifies the difference
     sweep after sweep. Two coaxial joints share one rotation, any split of it between them is as good, and CCD's
     split follows the round-off (1.1e-8 rad after 60 sweeps; three coaxial joints and a link 2**-23 long gave 1.15e-9
-    rad; hypothesis found both on 2026-12-04). The end point does not depend on the split.
+    rad; hypothesis found both on 2026-12-04). The end point does not depend on the split. Nor, to speak of, on a
+    joint whose axis passes within 1e-6 of it (its column of the position Jacobian below 1e-6 per rad: a 6R arm
+    whose last two axes are parallel 1e-10 apart, the end point on them, left joint 5 to round-off, 2.8e-6 rad
+    apart; hypothesis, 2026-12-06): such a joint's value is not compared.
     """
     assert np.array_equal(a.success, b.success)
     ok = a.success
-    assert np.allclose(a.q[ok], b.q[ok], atol=1e-6, rtol=0), np.abs(a.q[ok] - b.q[ok]).max()
+    moves = np.linalg.norm(armkit.jacobian(arm, a.q[ok])[..., :3, :], axis=-2) > 1e-6   # (k, n)
+    gap = np.abs(a.q[ok] - b.q[ok])
+    assert (gap[moves] <= 1e-6).all(), gap[moves].max()
     ends = [armkit.fk(arm, r.q[ok])[..., :3, 3] for r in (a, b)]
     assert np.allclose(ends[0], ends[1], atol=1e-9, rtol=0)
     assert np.allclose(a.position_error, b.position_error, atol=1e-12, rtol=0)

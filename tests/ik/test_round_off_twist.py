@@ -99,26 +99,50 @@ def test_the_touch_ups_rotation_log_is_scipys_below_90_deg(axis, angle):
     assert np.array_equal(_small_log(np.eye(3)[None]), np.zeros((1, 3)))
 
 
-def test_the_touch_up_of_a_rounded_file_stops_when_converged(monkeypatch):
-    """A Puma whose file rounds its twists (``rpy="1.5708"``: 3.7e-6 off) is solved on its ideal arm and every
-    branch touched up by Gauss-Newton steps on the true arm: they converge in about three steps (~1e-5, 1e-10,
-    1e-15 rad; a batch ends when all have), and the touch-up stops there instead of taking all six (1.3 -> 0.66 ms
-    a call), at full precision."""
+def _rounded_puma() -> armkit.Robot:
+    """The Puma 560 of a file that rounds its twists (``rpy="1.5708"``: 3.7e-6 off 90 deg)."""
     import dataclasses
 
-    import armkit.kinematics as kin
-
     puma = armkit.load("puma560")
-    rounded = armkit.Robot([dataclasses.replace(j, alpha=j.alpha + 3.7e-6 if j.alpha else 0.0) for j in puma.joints],
-                           name="puma, rounded", base=puma.base, tool=puma.tool)
+    return armkit.Robot([dataclasses.replace(j, alpha=j.alpha + 3.7e-6 if j.alpha else 0.0) for j in puma.joints],
+                        name="puma, rounded", base=puma.base, tool=puma.tool)
+
+
+def test_the_touch_up_of_a_rounded_file_stops_when_converged(monkeypatch):
+    """A Puma whose file rounds its twists is solved on its ideal arm and every branch touched up by Gauss-Newton
+    steps on the true arm: they converge in about three steps (~1e-5, 1e-10, 1e-15 rad; a batch ends when all
+    have), and the touch-up stops there instead of taking all six (1.3 -> 0.66 ms a call), at full precision.
+    The NumPy touch-up (the NumPy back end's, and the Numba back end's for a Jacobian too near singular), on rows
+    1e-5 rad off well-conditioned solutions; the compiled one: test_touch_up_compiled.py."""
+    import armkit.kinematics as kin
+    from armkit.ik.analytic import _gauss_newton
+
+    rounded = _rounded_puma()
     assert closed_form(rounded).family == "spherical-wrist" and not closed_form(rounded).sf.exact
-    q = rounded.random_q(20, rng=4)
+    rng = np.random.default_rng(4)
+    q = rounded.random_q(200, rng=rng)
+    q = q[np.linalg.svd(armkit.jacobian(rounded, q), compute_uv=False).min(axis=-1) > 0.05][:20]
     T = armkit.fk(rounded, q)
     steps = []
     real = kin.jacobian
     monkeypatch.setattr(kin, "jacobian", lambda *a, **k: steps.append(1) or real(*a, **k))
+    armkit.set_backend("numpy")
+    try:
+        got = _gauss_newton(rounded, q + rng.uniform(-1e-5, 1e-5, q.shape), T, True, 6)
+        back = armkit.fk(rounded, got)
+    finally:
+        armkit.set_backend("auto")
+    assert len(q) == 20 and 2 <= len(steps) < 6     # one Jacobian a step, all rows at once (six before)
+    assert np.abs(back[:, :3, 3] - T[:, :3, 3]).max() <= 1e-15 * rounded.reach
+    assert np.abs(back[:, :3, :3] - T[:, :3, :3]).max() <= 2e-15
+
+
+def test_every_branch_of_a_rounded_file_is_exact_on_the_true_arm():
+    """The whole call (the compiled touch-up with the Numba back end): all 8 branches of every target, each to
+    rounding on the true arm."""
+    rounded = _rounded_puma()
+    T = armkit.fk(rounded, rounded.random_q(20, rng=4))
     res = armkit.ik_all(rounded, T, enforce_limits=False)
-    assert 2 <= len(steps) < 6        # one Jacobian a step, all branches of the batch at once (six before)
     assert (res.success.sum(axis=1) == 8).all()
     back = armkit.fk(rounded, res.q[res.success])
     want = np.repeat(T[:, None], 8, axis=1)[res.success]

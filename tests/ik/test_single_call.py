@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import importlib
 import importlib.util
+import math
 from dataclasses import replace
 
 import numpy as np
@@ -41,14 +42,27 @@ def _flipped(robot: Robot) -> Robot:
                  name=flipped.name, unit=flipped.unit, tool=flipped.chain.tool)
 
 
+def rounded(robot: Robot, off: float = 3.7e-6) -> Robot:
+    """``robot`` as a file that rounds its twists (``rpy="1.5708"``: 3.7e-6 off 90 deg): solved on its ideal arm,
+    every branch touched up on the true one (by the one compiled call, since 2026-12-06)."""
+    return Robot([replace(j, alpha=j.alpha + math.copysign(off, j.alpha) if j.alpha else 0.0) for j in robot.joints],
+                 name=robot.name + ", rounded", base=robot.base, tool=robot.tool)
+
+
 ARMS = {"planar2": "point", "planar3": "pose", "fighter": "point", "puma560": "pose", "ur5": "pose",
-        "stanford": "pose", "ur5-flipped": "pose"}
+        "stanford": "pose", "ur5-flipped": "pose", "puma560-rounded": "pose", "ur5-rounded": "pose",
+        "fighter-rounded": "point"}
 _LOADED: dict = {}
 
 
 def _arm(name: str) -> Robot:
     if name not in _LOADED:
-        _LOADED[name] = _flipped(armkit.load("ur5")) if name == "ur5-flipped" else armkit.load(name)
+        if name == "ur5-flipped":
+            _LOADED[name] = _flipped(armkit.load("ur5"))
+        elif name.endswith("-rounded"):
+            _LOADED[name] = rounded(armkit.load(name.removesuffix("-rounded")))
+        else:
+            _LOADED[name] = armkit.load(name)
     return _LOADED[name]
 
 

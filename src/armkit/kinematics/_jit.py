@@ -326,6 +326,7 @@ def _jacobian_cols(F, q, qo, sc, o, tool_frame, J, i):
     Walking the FK chain ``F``, the pose before joint ``k``'s motion is the frame whose z
     axis is joint ``k``'s axis, so one affine product per joint gives every axis.
     Sines/cosines come from sc[0, o:o+n], sc[1, o:o+n] when ``o >= 0``, else are computed here.
+    Returns the end pose (12 scalars, the bits of :func:`_fk_one` for the same sines and cosines).
     """
     n = F.shape[0] - 1
     # first pass: J[i, 0:3, k] <- axis origin p_k, J[i, 3:6, k] <- axis direction z_k
@@ -358,6 +359,7 @@ def _jacobian_cols(F, q, qo, sc, o, tool_frame, J, i):
                 J[i, o3, k] = r00 * a + r10 * b + r20 * cc
                 J[i, o3 + 1, k] = r01 * a + r11 * b + r21 * cc
                 J[i, o3 + 2, k] = r02 * a + r12 * b + r22 * cc
+    return X
 
 
 @njit(cache=True)  # compiled for one signature only, on first use: see __getattr__

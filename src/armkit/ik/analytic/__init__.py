@@ -285,6 +285,33 @@ def _small_log(R: Array) -> Array:
     return v * ratio[:, None]
 
 
+def _steps(ideal: bool) -> int:
+    """The most Gauss-Newton steps of the touch-up: six for the branches of a file's ideal arm, two else."""
+    return 6 if ideal else 2
+
+
+def _gauss_newton(robot: Robot, qc: Array, tgt: Array, pose: bool, steps: int) -> Array:
+    """The touch-up's steps for the rows ``qc`` (k, n) towards ``tgt`` (k, 4, 4) or (k, 3), in NumPy (the least-
+    squares step of ``pinv``), all rows at once until the largest step is :data:`POLISH_DONE` or less."""
+    from ...kinematics import fk, jacobian
+
+    for _ in range(steps):
+        T = fk(robot, qc)
+        J = jacobian(robot, qc)
+        p_t = tgt[:, :3, 3] if tgt.ndim == 3 else tgt
+        e = p_t - T[:, :3, 3]
+        if pose:
+            w = _small_log(tgt[:, :3, :3] @ np.swapaxes(T[:, :3, :3], -1, -2))
+            e = np.concatenate([e, w], axis=-1)
+        else:
+            J = J[:, :3]
+        step = np.einsum("bij,bj->bi", np.linalg.pinv(J, rcond=1e-10), e)
+        qc = qc + step
+        if np.abs(step).max() <= POLISH_DONE:   # converged: a further step would move q by rounding only
+            break
+    return qc
+
+
 def _polish(robot: Robot, branches: tuple, target: Array, position_only: bool, tol: tuple[float, float],
             enforce_limits: bool, ideal: bool = False, above: float = POLISH_ABOVE):
     """A few Gauss-Newton steps on the true model for the branches that are close but not exact.
@@ -300,7 +327,6 @@ def _polish(robot: Robot, branches: tuple, target: Array, position_only: bool, t
     """
     if above == math.inf:     # no branch is above it (a family that polishes itself, e.g. a sweep's 32 x 8 branches)
         return branches
-    from ...kinematics import fk, jacobian
 
     q, dp, dr, ok, within = branches
     scale = robot.reach
@@ -312,20 +338,19 @@ def _polish(robot: Robot, branches: tuple, target: Array, position_only: bool, t
     tgt = target[bi]
     qc = q[bi, mi].copy()
     pose = tgt.ndim == 3 and not position_only
-    for _ in range(6 if ideal else 2):
-        T = fk(robot, qc)
-        J = jacobian(robot, qc)
-        p_t = tgt[:, :3, 3] if tgt.ndim == 3 else tgt
-        e = p_t - T[:, :3, 3]
-        if pose:
-            w = _small_log(tgt[:, :3, :3] @ np.swapaxes(T[:, :3, :3], -1, -2))
-            e = np.concatenate([e, w], axis=-1)
-        else:
-            J = J[:, :3]
-        step = np.einsum("bij,bj->bi", np.linalg.pinv(J, rcond=1e-10), e)
-        qc = qc + step
-        if np.abs(step).max() <= POLISH_DONE:   # converged: a further step would move q by rounding only
-            break
+    rest = np.ones(len(qc), dtype=bool)
+    one = _jit_loader.kernels("ik.analytic._single")
+    if one is not None and robot.n == (6 if pose else 3):   # compiled, row by row: the one-call path's bits
+        from ...kinematics import packed
+
+        if tgt.ndim == 3:
+            T = np.ascontiguousarray(tgt)
+        else:   # a point: column 3 of a pose, as the one-call kernels hold it
+            T = np.zeros((len(tgt), 4, 4))
+            T[:, :3, 3] = tgt
+        rest = one.touch_up_rows(packed(robot)[0], qc, T, pose, _steps(ideal), POLISH_DONE)
+    if rest.any():   # the NumPy back end, a system that is not square, or a Jacobian too near singular
+        qc[rest] = _gauss_newton(robot, qc[rest], tgt[rest], pose, _steps(ideal))
     dpn, drn, okn, wn = verify(robot, qc, tgt, position_only, tol, enforce_limits)
     return keep_better((q, dp, dr, ok, within), bi, mi, (qc, dpn, drn, okn, wn), scale)
 
@@ -353,9 +378,11 @@ def solve_all(robot: Robot, solver: ClosedForm, target: Array, q0: Array, positi
                                     ideal=not solver.sf.exact, above=getattr(solver, "polish_above", POLISH_ABOVE))
     if dist is None:
         dist = np.linalg.norm(np.where(robot.prismatic, 0.0, q - q0[:, None, :]), axis=-1)
-    elif q is not q_before:   # polished branches: their distances again
+    elif q is not q_before:   # polished branches: their distances again, summed as the one-call kernels sum them
         bi, mi = np.nonzero((q != q_before).any(axis=-1))
-        dist[bi, mi] = np.linalg.norm(np.where(robot.prismatic, 0.0, q[bi, mi] - q0[bi]), axis=-1)
+        new = np.empty(len(bi))
+        _jit_loader.kernels("ik.analytic._single").row_distances(q[bi, mi], q0[bi], _joint_table(robot, solver), new)
+        dist[bi, mi] = new
     fk_ok = (dp <= tol[0]) & (dr <= tol[1])
     if raw.missing is not None:     # a branch that does not exist for this target is never a success
         ok = ok & ~raw.missing
@@ -461,7 +488,7 @@ class _Single:
         if ctx is None:
             k = self.kernels
             opts = k.options(self.default_tol if tol is None else tol, enforce_limits, self.window, self.above,
-                             self.scale, self.sign, check, nearest)
+                             self.scale, self.sign, check, nearest, _steps(not self.solver.sf.exact), POLISH_DONE)
             ctx = self.ctxs[key] = k.context(self.geometry, self.joints, self.F, opts)
         return ctx
 

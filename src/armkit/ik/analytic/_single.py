@@ -78,8 +78,8 @@ from ..._jit_twins import parallel_twin  # noqa: E402
 
 from ..._jit_shaped import shaped  # noqa: E402
 
-from ...kinematics._jit import (PRISMATIC, ROW, _load, _move, _mul, _sincos, _store, _store2,  # noqa: E402
-                               sincos_block)
+from ...kinematics._jit import (PRISMATIC, ROW, _jacobian_cols, _load, _move, _mul, _sincos, _store,  # noqa: E402
+                               _store2, sincos_block)
 from .._jit_verify import _check, _within  # noqa: E402
 from ._jit import _planar2_run, _planar3_run, _puma_run, _ur_run, _wrap_one, _ypp_run, stable_order  # noqa: E402
 from ._layout import (JOINT_LOWER, JOINT_PRISMATIC, JOINT_ROWS, JOINT_THETA, JOINT_UPPER,  # noqa: E402
@@ -94,11 +94,12 @@ _NO_GATE = math.inf
 LIMIT_FAILURES, OTHER_FAILURES = 4, 8
 """Bits of a kernel's return value besides the status: some branch failed by the limits alone; some
 branch failed otherwise (unreachable)."""
-OPTS = ("tol_p", "tol_r", "enforce", "window_p", "window_r", "above_p", "above_r", "sign", "check", "nearest")
+OPTS = ("tol_p", "tol_r", "enforce", "window_p", "window_r", "above_p", "above_r", "sign", "check", "nearest",
+        "scale", "steps", "done")
 """The options at the end of ``ctx``: FK tolerances, enforce limits (1.0/0.0), the polish window and
 threshold of ``solve_all`` (position entries already times the reach), the planar-2r joint-2 sign,
-check rigidity (1.0/0.0), and whether only the nearest branch is wanted (1.0/0.0: :func:`armkit.ik`; see
-:func:`_nearest_first`)."""
+check rigidity (1.0/0.0), whether only the nearest branch is wanted (1.0/0.0: :func:`armkit.ik`; see
+:func:`_nearest_first`), and the touch-up's reach, most steps and converged step (:func:`_touch_up`)."""
 CTX = ("n", "geometry", "joints", "F", "opts")
 """The header of ``ctx``: the number of joints, then where the geometry, the joint table, the packed
 chain and the options start."""
@@ -110,10 +111,10 @@ _FIRST, _ONE = np.int64(0), np.int64(1)   # the family kernels' row range (0, 1)
 (a literal argument compiles a copy of :func:`_finish` per value)."""
 
 
-def options(tol, enforce, window, above, scale, sign, check, nearest=False):
+def options(tol, enforce, window, above, scale, sign, check, nearest=False, steps=2, done=0.0):
     """The options (:data:`OPTS`), products formed as ``solve_all`` forms them."""
     return np.array([tol[0], tol[1], 1.0 if enforce else 0.0, window * scale, window, above * scale, above,
-                     float(sign), 1.0 if check else 0.0, 1.0 if nearest else 0.0])
+                     float(sign), 1.0 if check else 0.0, 1.0 if nearest else 0.0, scale, float(steps), done])
 
 
 def context(geometry, joints, F, opts):
@@ -280,6 +281,7 @@ def _finish(rawq, unreach, missing, lab, ctx, q0, T, pose, lat, rho, r, per, gat
     cs, at = _cut(wf, at, m * n)
     T4, at = _cut(wf, at, 16 * (m + 1))
     P, at = _cut(wf, at, 12 * (n + 1))
+    wt, at = _cut(wf, at, 8 * n + 36)
     q = shaped(qflat, (m, n))
     T4 = shaped(T4, (m + 1, 4, 4))
     Tq, Tm = T4[0], T4[1:]
@@ -302,14 +304,17 @@ def _finish(rawq, unreach, missing, lab, ctx, q0, T, pose, lat, rho, r, per, gat
         return FALLBACK
     code, idx = wi[:m], wi[m:2 * m]   # the reason codes, the order
     ok, within = wb[:m], wb[m:2 * m]
+    every = True
     if opts[9] != 0.0 and gate_p == _NO_GATE and _may_succeed(q, joints, opts):   # armkit.ik: the nearest branch
         # that succeeds, if any (a gated call checks every branch)
         s = _nearest_first(q, dist, unreach, missing, lab, F, joints, opts, T, pose, lat, rho, r, per, lo, hi,
                            Tq, idx, dp, dr, within, fb, ib, bb)
         if s >= 0:
             return s
-        # none succeeds: every branch was checked on the way, its errors are in dp, dr, within
-    else:   # every branch (also for armkit.ik where none is within the limits: none can succeed, all are checked)
+        # -1: none succeeds, every branch was checked on the way, its errors are in dp, dr, within; -2: a branch to
+        # touch up first (solve_all's answer): every branch, below
+        every = s == -2
+    if every:   # every branch (also for armkit.ik where none is within the limits: none can succeed, all are checked)
         # every branch (the sines and cosines of all of them in one vector loop, as _fk_serial takes them), each
         # taken up after the joints it shares with the branch before
         sincos_block(qflat, sn, cs)
@@ -318,8 +323,12 @@ def _finish(rawq, unreach, missing, lab, ctx, q0, T, pose, lat, rho, r, per, gat
             e_p, e_r, w_b = _check(Tm[b], T, pose, q[b], joints[JOINT_LOWER], joints[JOINT_UPPER], 1e-12)
             if not (e_p <= gate_p and e_r <= gate_r):
                 return RECHECK
-            if _polishable(e_p, e_r, opts):
-                return FALLBACK   # _polish would touch this branch up
+            if _polishable(e_p, e_r, opts):   # solve_all's touch-up (a gated call: the caller's own path)
+                if gate_p != _NO_GATE:
+                    return FALLBACK
+                taken, e_p, e_r, w_b = _touch_branch(F, q, b, T, pose, joints, opts, q0, dist, Tq, e_p, e_r, w_b, wt)
+                if not taken:
+                    return FALLBACK
             dp[b], dr[b], within[b] = e_p, e_r, w_b
     flags = DONE
     for b in range(m):    # solve_all: the reason codes
@@ -346,7 +355,7 @@ def _finish(rawq, unreach, missing, lab, ctx, q0, T, pose, lat, rho, r, per, gat
 
 def finish_work(m, n):
     """The work space :func:`_finish` takes for ``m`` branches of ``n`` joints: ``(floats, ints, flags)``."""
-    return 2 * n + 4 * m + 3 * m * n + 16 * (m + 1) + 12 * (n + 1), 2 * m, 2 * m
+    return 2 * n + 4 * m + 3 * m * n + 16 * (m + 1) + 12 * (n + 1) + 8 * n + 36, 2 * m, 2 * m
 
 
 @njit(cache=True, inline="always")
@@ -368,6 +377,136 @@ def _polishable(e_p, e_r, opts):
     """Whether ``solve_all``'s Gauss-Newton touch-up would polish a branch with these FK errors (in its window,
     above its threshold): then the batched path answers."""
     return e_p <= opts[3] and e_r <= opts[4] and (e_p > opts[5] or e_r > opts[6])
+
+
+PIVOT = 1e-7
+"""A pivot of :func:`_touch_up`'s elimination below this share of the largest Jacobian entry refuses the branch:
+the Python touch-up (``np.linalg.pinv`` with ``rcond=1e-10``) then takes it, near a singularity as before."""
+
+
+@njit(cache=True, inline="always")
+def _touch_up(F, q, T, pose, steps, done, w):
+    """The Gauss-Newton touch-up of ``solve_all`` (:func:`armkit.ik.analytic._polish`) of one branch ``q`` (n,), in
+    place, compiled: at most ``steps`` steps on the true chain ``F`` towards ``T`` (4, 4; only column 3 read unless
+    ``pose``), each solving ``J dq = e`` (the world-frame Jacobian, the position error and, for a pose, the rotation
+    vector of ``R_target R^T``) by elimination with partial pivoting, ending after a step no larger than ``done``.
+    Square systems only (six joints for a pose, three for a point): returns False where it does not take the branch
+    (another shape, a pivot below :data:`PIVOT`, a value not finite), ``q`` then partly moved (the caller keeps a
+    copy). ``w``: work space of at least ``7 n + 36`` floats."""
+    n = q.shape[0]
+    d = 6 if pose else 3
+    if n != d:
+        return False
+    J = shaped(w[:6 * n], (1, 6, n))
+    A = shaped(w[6 * n:6 * n + d * d], (d, d))
+    e = w[6 * n + d * d:6 * n + d * d + d]
+    for _ in range(steps):
+        X = _jacobian_cols(F, q, 0, A, -1, False, J, 0)   # (A: an unread sine table, o = -1)
+        e[0], e[1], e[2] = T[0, 3] - X[3], T[1, 3] - X[7], T[2, 3] - X[11]
+        if pose:   # the rotation vector of M = R_target R^T (_small_log): (M - M^T) / 2 = sin(t) [u]x
+            m21 = T[2, 0] * X[4] + T[2, 1] * X[5] + T[2, 2] * X[6]
+            m12 = T[1, 0] * X[8] + T[1, 1] * X[9] + T[1, 2] * X[10]
+            m02 = T[0, 0] * X[8] + T[0, 1] * X[9] + T[0, 2] * X[10]
+            m20 = T[2, 0] * X[0] + T[2, 1] * X[1] + T[2, 2] * X[2]
+            m10 = T[1, 0] * X[0] + T[1, 1] * X[1] + T[1, 2] * X[2]
+            m01 = T[0, 0] * X[4] + T[0, 1] * X[5] + T[0, 2] * X[6]
+            vx, vy, vz = 0.5 * (m21 - m12), 0.5 * (m02 - m20), 0.5 * (m10 - m01)
+            sn = math.sqrt(vx * vx + vy * vy + vz * vz)
+            ratio = math.asin(min(sn, 1.0)) / sn if sn > 0.0 else 1.0
+            e[3], e[4], e[5] = vx * ratio, vy * ratio, vz * ratio
+        big = 0.0
+        for r in range(d):
+            for c in range(d):
+                A[r, c] = J[0, r, c]
+                big = max(big, abs(A[r, c]))
+        for c in range(d):   # elimination with partial pivoting
+            p = c
+            for r in range(c + 1, d):
+                if abs(A[r, c]) > abs(A[p, c]):
+                    p = r
+            if not abs(A[p, c]) > PIVOT * big:
+                return False
+            if p != c:
+                for k in range(c, d):
+                    A[c, k], A[p, k] = A[p, k], A[c, k]
+                e[c], e[p] = e[p], e[c]
+            for r in range(c + 1, d):
+                f = A[r, c] / A[c, c]
+                for k in range(c + 1, d):
+                    A[r, k] -= f * A[c, k]
+                e[r] -= f * e[c]
+        largest = 0.0
+        for c in range(d - 1, -1, -1):   # back substitution: the step, in e
+            x = e[c]
+            for k in range(c + 1, d):
+                x -= A[c, k] * e[k]
+            e[c] = x / A[c, c]
+        for j in range(n):
+            q[j] += e[j]
+            if not math.isfinite(q[j]):
+                return False
+            largest = max(largest, abs(e[j]))
+        if largest <= done:   # converged: a further step would move q by rounding only
+            break
+    return True
+
+
+@njit(cache=True, inline="always")
+def _touch_branch(F, q, b, T, pose, joints, opts, q0, dist, Tq, e_p, e_r, w_b, wt):
+    """:func:`_touch_up` of branch ``b`` of ``q`` (m, n), then what ``solve_all`` does with it: its FK check, and
+    the touched-up values kept (with their distance from ``q0`` in ``dist[b]``) only where they lower the error
+    (position / reach + rotation: :func:`armkit.ik.analytic._common.keep_better`). Returns ``(taken, errors and
+    within-limits flag of the branch kept)``; not taken (:func:`_touch_up` refused it): ``q`` unchanged. ``Tq``
+    (4, 4) and ``wt`` (:func:`finish_work`'s share) are work space."""
+    n = q.shape[1]
+    qb = wt[:n]
+    for j in range(n):
+        qb[j] = q[b, j]
+    if not _touch_up(F, qb, T, pose, int(opts[11]), opts[12], wt[n:]):
+        return False, e_p, e_r, w_b
+    _fk_row(F, shaped(qb, (1, n)), 0, Tq)
+    p2, r2, w2 = _check(Tq, T, pose, qb, joints[JOINT_LOWER], joints[JOINT_UPPER], 1e-12)
+    scale = opts[10]
+    if not p2 / scale + r2 < e_p / scale + e_r:
+        return True, e_p, e_r, w_b
+    s = 0.0
+    for j in range(n):
+        q[b, j] = qb[j]
+        if joints[JOINT_PRISMATIC, j] == 0.0:
+            s += (qb[j] - q0[j]) ** 2
+    dist[b] = math.sqrt(s)
+    return True, p2, r2, w2
+
+
+@njit(cache=True)
+def touch_up_rows(F, q, T, pose, steps, done):
+    """:func:`_touch_up` of every row of ``q`` (k, n) towards ``T`` (k, 4, 4), in place (the batched path's
+    touch-up with the Numba back end, so that it and the one-call path give the same bits). Returns the rows it
+    did not take (k,) bool, left unchanged."""
+    k, n = q.shape
+    refused = np.zeros(k, np.bool_)
+    w = np.empty(7 * n + 36)
+    keep = np.empty(n)
+    for i in range(k):
+        for j in range(n):
+            keep[j] = q[i, j]
+        if not _touch_up(F, q[i], T[i], pose, steps, done, w):
+            refused[i] = True
+            for j in range(n):
+                q[i, j] = keep[j]
+    return refused
+
+
+@njit(cache=True)
+def row_distances(q, q0, joints, out):
+    """``out[i]``: the distance of row ``q[i]`` from ``q0[i]`` over the revolute joints, summed as
+    :func:`_finish` sums it (the batched path's distances of touched-up branches, the same bits)."""
+    for i in range(q.shape[0]):
+        s = 0.0
+        for j in range(q.shape[1]):
+            if joints[JOINT_PRISMATIC, j] == 0.0:
+                s += (q[i, j] - q0[i, j]) ** 2
+        out[i] = math.sqrt(s)
 
 
 @njit(cache=True, inline="always")
@@ -399,23 +538,28 @@ def _nearest_first(q, dist, unreach, missing, lab, F, joints, opts, T, pose, lat
     """:func:`_finish` for :func:`armkit.ik`, which keeps only the first branch of the sorted ones: the branches
     are verified in order of distance from ``q0`` (stable, as the sort), and the first that succeeds is that
     first branch, written as :func:`_finish` writes it; the branches beyond it are never checked. Returns the
-    status (:data:`DONE` with :data:`NEAREST` and the label index; :data:`FALLBACK` for a nearer branch the polish
-    would touch up, as :func:`_finish`), or -1 when no branch succeeds: then every branch has been checked, its
-    errors left in ``dp``, ``dr`` and ``within`` (m,) for :func:`_finish` (the failures' sentences need each).
-    ``Tq`` (4, 4) and ``order`` (m,) are work space."""
+    status (:data:`DONE` with :data:`NEAREST` and the label index), -1 when no branch succeeds: then every branch
+    has been checked, its errors left in ``dp``, ``dr`` and ``within`` (m,) for :func:`_finish` (the failures'
+    sentences need each), or -2 where the touch-up of ``solve_all`` would move a nearer branch that may succeed
+    (or, none succeeding, any branch): :func:`_finish` then checks and touches up every branch, as ``solve_all``.
+    A nearer branch to touch up that the limits rule out anyway is passed over: ``solve_nearest`` never looks at
+    it either. ``Tq`` (4, 4) and ``order`` (m,) are work space."""
     m = q.shape[0]
     stable_order(dist, order)   # by distance, as the sort (a successful branch's key is its distance)
+    touch = False
     for i in range(m):
         s = order[i]
         _fk_row(F, q, s, Tq)
         e_p, e_r, w = _check(Tq, T, pose, q[s], joints[JOINT_LOWER], joints[JOINT_UPPER], 1e-12)
-        if _polishable(e_p, e_r, opts):
-            return FALLBACK   # _polish would touch this branch up
-        if e_p <= opts[0] and e_r <= opts[1] and not missing[s] and (w or opts[2] == 0.0):
+        if _polishable(e_p, e_r, opts):   # solve_all's touch-up would move this branch
+            if w or opts[2] == 0.0:
+                return -2
+            touch = True
+        elif e_p <= opts[0] and e_r <= opts[1] and not missing[s] and (w or opts[2] == 0.0):
             _put(0, s, q, e_p, e_r, True, w, 0, unreach, lab, lat, rho, r, per, lo, hi, fb, ib, bb)
             return DONE | NEAREST | (lab[s] << LABEL_SHIFT)
         dp[s], dr[s], within[s] = e_p, e_r, w
-    return -1
+    return -2 if touch else -1
 
 
 @njit(cache=True)

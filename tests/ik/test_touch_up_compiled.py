@@ -1,0 +1,130 @@
+"""The compiled Gauss-Newton touch-up of the closed forms (issue 19: a file with rounded numbers).
+
+A file that rounds its twists (``rpy="1.5708"``) is solved on its ideal arm and every branch is then
+touched up by Gauss-Newton steps on the true arm. With the Numba back end these steps are compiled
+(:func:`armkit.ik.analytic._single._touch_up`) and run inside the one compiled call of a single target,
+instead of sending it to the batched path's NumPy steps (1.5 ms -> ~15 µs a Puma call, bench_analytic).
+
+Checked here against definitions, not stored numbers: a touched-up branch reaches the target on the
+true arm to rounding (FK of the true model); the compiled steps and NumPy's least-squares steps (``pinv``)
+land on the same root; a system that is not square, or a Jacobian with a singular direction, is left to
+NumPy; a batch gives each target the bits a single call gives it; the NumPy back end gives the same
+branches. (The one-call path against the batched path, bit for bit, on rounded arms: test_single_call.)
+"""
+
+from __future__ import annotations
+
+import importlib.util
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+import armkit
+from armkit.ik.analytic import POLISH_DONE, _gauss_newton, closed_form
+from armkit.kinematics import packed
+from test_single_call import rounded
+
+pytestmark = pytest.mark.skipif(importlib.util.find_spec("numba") is None, reason="Numba is not available")
+
+
+@pytest.fixture(scope="module", autouse=True)
+def compiled():
+    armkit.set_backend("numba")
+    yield
+    armkit.set_backend("auto")
+
+
+def _kernels():
+    from armkit.ik.analytic import _single
+
+    return _single
+
+
+@settings(max_examples=25, deadline=None)
+@given(name=st.sampled_from(["puma560", "ur5"]), seed=st.integers(0, 2**16), size=st.sampled_from([1e-9, 1e-6, 1e-4]))
+def test_touch_up_reaches_the_target_and_agrees_with_numpy(name, seed, size):
+    """Rows moved off a true solution by ``size`` rad come back to the target, to rounding, as NumPy's pinv steps
+    bring them (the same root: within 1e-12 rad)."""
+    arm = rounded(armkit.load(name))
+    rng = np.random.default_rng(seed)
+    q = rng.uniform(-2.5, 2.5, (6, arm.n))
+    T = armkit.fk(arm, q)
+    start = q + rng.uniform(-size, size, q.shape)
+    mine = start.copy()
+    refused = _kernels().touch_up_rows(packed(arm)[0], mine, T, True, 6, POLISH_DONE)
+    theirs = _gauss_newton(arm, start.copy(), T, True, 6)
+    J = armkit.jacobian(arm, q)
+    well = np.linalg.svd(J, compute_uv=False).min(axis=-1) > 1e-3   # away from the arm's singular configurations
+    assert not refused[well].any()
+    ok = well & ~refused
+    back = armkit.fk(arm, mine[ok])
+    assert np.abs(back[:, :3, 3] - T[ok, :3, 3]).max(initial=0.0) <= 4e-16 * arm.reach
+    assert np.abs(back[:, :3, :3] - T[ok, :3, :3]).max(initial=0.0) <= 4e-15
+    assert np.abs(mine[ok] - theirs[ok]).max(initial=0.0) <= 1e-12
+    assert np.array_equal(mine[refused], start[refused])   # a refused row is left as it came
+
+
+def test_point_targets_of_a_three_joint_arm():
+    """The fighter arm (yaw-pitch-pitch, position targets): a 3 x 3 system."""
+    arm = rounded(armkit.load("fighter"))
+    rng = np.random.default_rng(3)
+    q = arm.random_q(8, rng=rng)
+    p = armkit.fk(arm, q)[:, :3, 3]
+    T = np.zeros((8, 4, 4))
+    T[:, :3, 3] = p
+    start = q + rng.uniform(-1e-5, 1e-5, q.shape)
+    mine = start.copy()
+    refused = _kernels().touch_up_rows(packed(arm)[0], mine, T, False, 6, POLISH_DONE)
+    assert not refused.any()
+    assert np.abs(armkit.fk(arm, mine)[:, :3, 3] - p).max() <= 4e-16 * arm.reach
+    assert np.abs(mine - _gauss_newton(arm, start.copy(), p, False, 6)).max() <= 1e-12
+
+
+def test_what_is_not_square_or_singular_is_left_to_numpy():
+    """A planar 2R with point targets (3 x 2) and a UR5 with its wrist straight (q5 = 0: joints 4 and 6 in line,
+    the Jacobian of rank 5): refused, the rows unchanged."""
+    one = _kernels()
+    planar = armkit.load("planar2")
+    q = np.array([[0.3, 0.7], [1.0, -0.4]])
+    T = armkit.fk(planar, q + 0.01)
+    start = q.copy()
+    assert one.touch_up_rows(packed(planar)[0], q, T, False, 6, POLISH_DONE).all()
+    assert np.array_equal(q, start)
+    ur5 = armkit.load("ur5")
+    q = np.array([[0.3, -1.0, 1.2, 0.4, 0.0, 0.5], [0.3, -1.0, 1.2, 0.4, 0.7, 0.5]])
+    assert np.linalg.matrix_rank(armkit.jacobian(ur5, q[0]), tol=1e-10) == 5
+    T = armkit.fk(ur5, q + 1e-6)
+    start = q.copy()
+    refused = one.touch_up_rows(packed(ur5)[0], q, T, True, 6, POLISH_DONE)
+    assert refused.tolist() == [True, False]
+    assert np.array_equal(q[0], start[0]) and not np.array_equal(q[1], start[1])
+
+
+@pytest.mark.parametrize("name", ["puma560", "ur5", "fighter"])
+def test_batch_equals_single_calls_and_numpy(name):
+    """A batch of targets gives each the bits of its single (one-call) answer; the NumPy back end gives the same
+    branches, within 1e-12 rad; every successful branch reaches its target on the true arm."""
+    arm = rounded(armkit.load(name))
+    q = arm.random_q(12, rng=5)
+    T = armkit.fk(arm, q)
+    target = T if name != "fighter" else T[:, :3, 3]
+    batch = armkit.ik_all(arm, target)
+    for i in range(len(target)):
+        one = armkit.ik_all(arm, target[i])
+        for f in ("q", "success", "position_error", "rotation_error", "branch", "reason"):
+            assert np.array_equal(getattr(batch, f)[i], getattr(one, f)), (f, i)
+    assert closed_form(arm) is not None and not closed_form(arm).sf.exact
+    armkit.set_backend("numpy")
+    try:
+        slow = armkit.ik_all(arm, target)
+    finally:
+        armkit.set_backend("numba")
+    assert np.array_equal(slow.success, batch.success) and np.array_equal(slow.branch, batch.branch)
+    assert np.abs(slow.q - batch.q).max() <= 1e-12
+    good = batch.success
+    assert good.sum(axis=1).min() >= 1   # FK of random joint values: at least that branch
+    back = armkit.fk(arm, batch.q[good])
+    want = np.repeat(T[:, None], batch.q.shape[1], axis=1)[good]
+    assert np.abs(back[:, :3, 3] - want[:, :3, 3]).max() <= 1e-15 * arm.reach
