@@ -128,3 +128,40 @@ def test_batch_equals_single_calls_and_numpy(name):
     back = armkit.fk(arm, batch.q[good])
     want = np.repeat(T[:, None], batch.q.shape[1], axis=1)[good]
     assert np.abs(back[:, :3, 3] - want[:, :3, 3]).max() <= 1e-15 * arm.reach
+
+
+@pytest.mark.parametrize("backend", ["numba", "numpy"])
+def test_a_target_beside_a_fold_of_the_ideal_arm_keeps_every_branch(backend, monkeypatch):
+    """Where the ideal arm of a rounded file misses a target by a hair (its wrist centre inside the true arm's
+    sideways offset, outside the ideal arm's), its branches are clipped onto a fold (the Jacobian of rank 4 or 5) and
+    Newton's steps from there cannot choose a side: ``_unfold`` starts off the fold. On the Puma every random target
+    has 8 branches (FK of the true arm at rounding), and without ``_unfold`` some do not (so the test reaches it)."""
+    import importlib
+
+    analytic = importlib.import_module("armkit.ik.analytic")
+    arm = rounded(armkit.load("puma560"))
+    q = np.random.default_rng(7).uniform(-np.pi, np.pi, (1000, arm.n))
+    T = armkit.fk(arm, q)
+    armkit.set_backend(backend)
+    try:
+        res = armkit.ik_all(arm, T, enforce_limits=False)
+        monkeypatch.setattr(analytic, "_unfold", lambda robot, branches, *a: branches)
+        without = armkit.ik_all(arm, T, enforce_limits=False)
+    finally:
+        armkit.set_backend("numba")
+    assert res.success.all()
+    back = armkit.fk(arm, res.q)
+    assert np.abs(back[..., :3, 3] - T[:, None, :3, 3]).max() <= 1e-15 * arm.reach
+    assert np.abs(back[..., :3, :3] - T[:, None, :3, :3]).max() <= 2e-15
+    for i in range(len(T)):   # eight different configurations, each named once
+        assert len(set(res.branch[i])) == 8
+        gap = np.abs(np.remainder(res.q[i, :, None] - res.q[i, None] + np.pi, 2 * np.pi) - np.pi).max(axis=-1)
+        assert (gap + np.eye(8) * 9 > 1e-6).all()
+    unfolded = ~without.success
+    assert 0 < unfolded.sum() <= 40
+    exact = armkit.load("puma560")   # the arm the rounded file rounds: its own branch names for the same joints
+    for i, k in zip(*np.nonzero(unfolded)):
+        named = armkit.ik_all(exact, armkit.fk(exact, res.q[i, k]), res.q[i, k], enforce_limits=False)
+        gap = np.abs(np.remainder(named.q - res.q[i, k] + np.pi, 2 * np.pi) - np.pi).max(axis=-1)
+        near = np.sort(gap)   # (beside a fold the exact arm's own answer is ill-conditioned too: ~1e-9)
+        assert near[0] <= 1e-6 < 1e-3 < near[1] and named.branch[np.argmin(gap)] == res.branch[i, k]

@@ -25,6 +25,7 @@ the path ``armkit.ik_all`` and ``armkit.ik`` take for a single pose or position.
 
 from __future__ import annotations
 
+import itertools
 import math
 import sys
 import threading
@@ -312,8 +313,106 @@ def _gauss_newton(robot: Robot, qc: Array, tgt: Array, pose: bool, steps: int) -
     return qc
 
 
+FOLD_STEPS, FOLD_STEP = 10, 0.03
+"""The most Gauss-Newton steps from each start of :func:`_unfold`, and how far (rad) off the fold it starts: the
+Puma of a rounded file converged in ~7 steps from 0.01-0.1 rad, and diverged from 0.003 (its Jacobian there still
+nearly singular)."""
+
+
+def _touch_up(robot: Robot, qc: Array, tgt: Array, pose: bool, steps: int) -> tuple[Array, NDArray[np.bool_]]:
+    """At most ``steps`` Gauss-Newton steps for the rows ``qc`` (k, n) towards ``tgt`` (k, 4, 4) or (k, 3), in place:
+    compiled row by row with the Numba back end (:func:`._single._touch_up`, the one-call path's bits), by
+    :func:`_gauss_newton` for the rows it refuses (every row with the NumPy back end, a system that is not square,
+    a Jacobian too near singular). Returns ``(qc, refused)``, ``refused`` (k,) bool."""
+    rest = np.ones(len(qc), dtype=bool)
+    one = _jit_loader.kernels("ik.analytic._single")
+    if one is not None and robot.n == (6 if pose else 3):
+        from ...kinematics import packed
+
+        if tgt.ndim == 3:
+            T = np.ascontiguousarray(tgt)
+        else:   # a point: column 3 of a pose, as the one-call kernels hold it
+            T = np.zeros((len(tgt), 4, 4))
+            T[:, :3, 3] = tgt
+        rest = one.touch_up_rows(packed(robot)[0], qc, T, pose, steps, POLISH_DONE)
+    if rest.any():
+        qc[rest] = _gauss_newton(robot, qc[rest], tgt[rest], pose, steps)
+    return qc, rest
+
+
+def _unfold(robot: Robot, branches: tuple, target: Array, position_only: bool, tol: tuple[float, float],
+            enforce_limits: bool, window: float, slots: Any, singular: NDArray[np.bool_]) -> tuple:
+    """Branches of a file's ideal arm that the touch-up left failing within its window, split off a fold.
+
+    Where the ideal arm misses a target by a hair (the wrist centre 1e-6 m inside the shoulder's sideways offset
+    on the true arm, outside it on the ideal one), its branches are clipped onto the fold between two solutions,
+    a configuration where the Jacobian loses rank: Newton's steps from there cannot choose a side. From each such
+    configuration, starts :data:`FOLD_STEP` off it along every direction of the Jacobian's kernel (each sign, and
+    the sums where the kernel has more than one: the elbow stretched as well) find the true arm's solutions on
+    either side (:data:`FOLD_STEPS` steps);
+    ``slots(b, q)`` names the branch each verified one is (the ideal arm's branch equal to it), and it takes that
+    branch's place if the touch-up left that one failing. ``singular`` (B, m): the branches the compiled touch-up
+    refused (a pivot too small; with the NumPy back end every branch it touched), the only ones looked at, so that
+    the one-call path, which leaves those to this path, gives the same answers. Returns ``branches`` (``(q, dp, dr,
+    ok, within)``), new arrays where one changed. A few targets in a thousand: the Puma of a file with
+    ``rpy="1.5708"`` (3 of 1,000, 24 branches that EAIK finds and the touch-up alone did not)."""
+    q, dp, dr, ok, within = branches
+    scale = robot.reach
+    stuck = singular & ~((dp <= tol[0]) & (dr <= tol[1])) & (dp <= window * scale) & (dr <= window)
+    if not stuck.any():
+        return branches
+    from ...kinematics import jacobian
+
+    pose = target.ndim == 3 and not position_only
+    q, dp, dr, ok, within = q.copy(), dp.copy(), dr.copy(), ok.copy(), within.copy()
+    for b in np.unique(np.nonzero(stuck)[0]):
+        starts = []
+        for qk in np.unique(q[b, stuck[b]], axis=0):
+            J = jacobian(robot, qk)
+            _, S, Vt = np.linalg.svd(J if pose else J[:3])
+            kernel = Vt[len(S) - (S <= 1e-6 * S[0]).sum():]
+            for signs in itertools.product((-1.0, 0.0, 1.0), repeat=len(kernel)):   # every direction of it, and
+                if any(signs):                                                       # their sums: 2, 8, 26 starts
+                    starts.append(qk + FOLD_STEP * np.dot(signs, kernel) / np.linalg.norm(signs))
+        if not starts:
+            continue
+        aim = np.repeat(target[b][None], len(starts), axis=0)
+        found = _touch_up(robot, np.array(starts), aim, pose, FOLD_STEPS)[0]
+        dpn, drn, okn, wn = verify(robot, found, aim, position_only, tol, enforce_limits)
+        good = np.flatnonzero((dpn <= tol[0]) & (drn <= tol[1]))
+        if not len(good):
+            continue
+        for k, s in zip(good, slots(b, found[good])):
+            if stuck[b, s]:
+                q[b, s], dp[b, s], dr[b, s], ok[b, s], within[b, s] = found[k], dpn[k], drn[k], okn[k], wn[k]
+                stuck[b, s] = False
+    return q, dp, dr, ok, within
+
+
+def _slots(robot: Robot, solver: ClosedForm, q0: Array, points: bool) -> Any:
+    """``slots(b, q)`` for :func:`_unfold`: the branch of ``solver`` each configuration ``q`` (k, n) of target ``b``
+    is, found as the branch of the ideal arm (``solver.sf``, a DH table) equal to it for the pose (``points``: the
+    position) the ideal arm reaches there."""
+    def slots(b: int, q: Array) -> NDArray[np.intp]:
+        from ...kinematics import fk
+        from ...model.robot import Joint
+
+        sf = solver.sf
+        ideal = robot.cache.get("ideal_arm")
+        if ideal is None:
+            rows = [Joint(theta=float(sf.theta[k]), d=float(sf.d[k]), a=float(sf.a[k]), alpha=float(sf.alpha[k]))
+                    for k in range(sf.n)]
+            ideal = robot.cache["ideal_arm"] = Robot(rows, base=sf.base, tool=sf.tool)
+        T = fk(ideal, q)
+        raw = solver.solve(T[:, :3, 3] if points else T, np.repeat((q0[b] + sf.theta)[None], len(q), 0))
+        gap = np.abs(np.remainder(raw.q - sf.theta - q[:, None] + math.pi, 2 * math.pi) - math.pi).max(axis=-1)
+        return np.argmin(gap, axis=-1)
+
+    return slots
+
+
 def _polish(robot: Robot, branches: tuple, target: Array, position_only: bool, tol: tuple[float, float],
-            enforce_limits: bool, ideal: bool = False, above: float = POLISH_ABOVE):
+            enforce_limits: bool, ideal: bool = False, above: float = POLISH_ABOVE, slots: Any = None):
     """A few Gauss-Newton steps on the true model for the branches that are close but not exact.
 
     ``branches`` is ``(q, dp, dr, ok, within)`` ``(B, m, ...)``, returned anew (see :func:`._common.keep_better`).
@@ -338,21 +437,14 @@ def _polish(robot: Robot, branches: tuple, target: Array, position_only: bool, t
     tgt = target[bi]
     qc = q[bi, mi].copy()
     pose = tgt.ndim == 3 and not position_only
-    rest = np.ones(len(qc), dtype=bool)
-    one = _jit_loader.kernels("ik.analytic._single")
-    if one is not None and robot.n == (6 if pose else 3):   # compiled, row by row: the one-call path's bits
-        from ...kinematics import packed
-
-        if tgt.ndim == 3:
-            T = np.ascontiguousarray(tgt)
-        else:   # a point: column 3 of a pose, as the one-call kernels hold it
-            T = np.zeros((len(tgt), 4, 4))
-            T[:, :3, 3] = tgt
-        rest = one.touch_up_rows(packed(robot)[0], qc, T, pose, _steps(ideal), POLISH_DONE)
-    if rest.any():   # the NumPy back end, a system that is not square, or a Jacobian too near singular
-        qc[rest] = _gauss_newton(robot, qc[rest], tgt[rest], pose, _steps(ideal))
+    qc, rest = _touch_up(robot, qc, tgt, pose, _steps(ideal))
     dpn, drn, okn, wn = verify(robot, qc, tgt, position_only, tol, enforce_limits)
-    return keep_better((q, dp, dr, ok, within), bi, mi, (qc, dpn, drn, okn, wn), scale)
+    out = keep_better((q, dp, dr, ok, within), bi, mi, (qc, dpn, drn, okn, wn), scale)
+    if ideal and slots is not None and rest.any():
+        singular = np.zeros(cand.shape, dtype=bool)
+        singular[bi[rest], mi[rest]] = True
+        out = _unfold(robot, out, target, position_only, tol, enforce_limits, window, slots, singular)
+    return out
 
 
 def solve_all(robot: Robot, solver: ClosedForm, target: Array, q0: Array, position_only: bool,
@@ -375,7 +467,8 @@ def solve_all(robot: Robot, solver: ClosedForm, target: Array, q0: Array, positi
     dp, dr, ok, within = verify(robot, q, target[:, None], position_only, tol, enforce_limits)
     q_before = q
     q, dp, dr, ok, within = _polish(robot, (q, dp, dr, ok, within), target, position_only, tol, enforce_limits,
-                                    ideal=not solver.sf.exact, above=getattr(solver, "polish_above", POLISH_ABOVE))
+                                    ideal=not solver.sf.exact, above=getattr(solver, "polish_above", POLISH_ABOVE),
+                                    slots=None if solver.sf.exact else _slots(robot, solver, q0, target.ndim == 2))
     if dist is None:
         dist = np.linalg.norm(np.where(robot.prismatic, 0.0, q - q0[:, None, :]), axis=-1)
     elif q is not q_before:   # polished branches: their distances again, summed as the one-call kernels sum them

@@ -456,8 +456,9 @@ def _touch_branch(F, q, b, T, pose, joints, opts, q0, dist, Tq, e_p, e_r, w_b, w
     """:func:`_touch_up` of branch ``b`` of ``q`` (m, n), then what ``solve_all`` does with it: its FK check, and
     the touched-up values kept (with their distance from ``q0`` in ``dist[b]``) only where they lower the error
     (position / reach + rotation: :func:`armkit.ik.analytic._common.keep_better`). Returns ``(taken, errors and
-    within-limits flag of the branch kept)``; not taken (:func:`_touch_up` refused it): ``q`` unchanged. ``Tq``
-    (4, 4) and ``wt`` (:func:`finish_work`'s share) are work space."""
+    within-limits flag of the branch kept)``; not taken (:func:`_touch_up` refused it: the batched path takes it, by
+    NumPy's steps and on the ideal arm of a file ``_unfold``): ``q`` unchanged. ``Tq`` (4, 4) and ``wt``
+    (:func:`finish_work`'s share) are work space."""
     n = q.shape[1]
     qb = wt[:n]
     for j in range(n):
