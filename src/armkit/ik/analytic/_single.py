@@ -281,7 +281,7 @@ def _finish(rawq, unreach, missing, lab, ctx, q0, T, pose, lat, rho, r, per, gat
     cs, at = _cut(wf, at, m * n)
     T4, at = _cut(wf, at, 16 * (m + 1))
     P, at = _cut(wf, at, 12 * (n + 1))
-    wt, at = _cut(wf, at, 8 * n + 36)
+    wt, at = _cut(wf, at, 9 * n + 36)
     q = shaped(qflat, (m, n))
     T4 = shaped(T4, (m + 1, 4, 4))
     Tq, Tm = T4[0], T4[1:]
@@ -355,7 +355,7 @@ def _finish(rawq, unreach, missing, lab, ctx, q0, T, pose, lat, rho, r, per, gat
 
 def finish_work(m, n):
     """The work space :func:`_finish` takes for ``m`` branches of ``n`` joints: ``(floats, ints, flags)``."""
-    return 2 * n + 4 * m + 3 * m * n + 16 * (m + 1) + 12 * (n + 1) + 8 * n + 36, 2 * m, 2 * m
+    return 2 * n + 4 * m + 3 * m * n + 16 * (m + 1) + 12 * (n + 1) + 9 * n + 36, 2 * m, 2 * m
 
 
 @njit(cache=True, inline="always")
@@ -390,9 +390,12 @@ def _touch_up(F, q, T, pose, steps, done, w):
     place, compiled: at most ``steps`` steps on the true chain ``F`` towards ``T`` (4, 4; only column 3 read unless
     ``pose``), each solving ``J dq = e`` (the world-frame Jacobian, the position error and, for a pose, the rotation
     vector of ``R_target R^T``) by elimination with partial pivoting, ending after a step no larger than ``done``.
+    A step that shrank by 1e3 or more from the one before (the first: to 1e-4 or less) keeps the Jacobian's factors
+    for the next (a chord step: the FK alone, ~0.2 against ~0.4 µs a branch; the steps still shrink ~1e-5, 1e-10,
+    1e-15 on the ideal arm of a file with rounded twists); else the next step takes a new Jacobian.
     Square systems only (six joints for a pose, three for a point): returns False where it does not take the branch
     (another shape, a pivot below :data:`PIVOT`, a value not finite), ``q`` then partly moved (the caller keeps a
-    copy). ``w``: work space of at least ``7 n + 36`` floats."""
+    copy). ``w``: work space of at least ``8 n + 36`` floats."""
     n = q.shape[0]
     d = 6 if pose else 3
     if n != d:
@@ -400,8 +403,17 @@ def _touch_up(F, q, T, pose, steps, done, w):
     J = shaped(w[:6 * n], (1, 6, n))
     A = shaped(w[6 * n:6 * n + d * d], (d, d))
     e = w[6 * n + d * d:6 * n + d * d + d]
+    pivots = w[6 * n + d * d + d:6 * n + d * d + 2 * d]   # the row each column's elimination took (as floats)
+    fresh = True
+    last = 0.1   # (a first step of 1e-4 or less keeps its factors: a start far off, e.g. _unfold's, takes new ones)
     for _ in range(steps):
-        X = _jacobian_cols(F, q, 0, A, -1, False, J, 0)   # (A: an unread sine table, o = -1)
+        if fresh:
+            X = _jacobian_cols(F, q, 0, A, -1, False, J, 0)   # (A: an unread sine table, o = -1)
+        else:
+            X = _load(F, 0)
+            for k in range(n):
+                sk, ck = _sincos(q[k])
+                X = _mul(_move(X, q[k], sk, ck, F[k + 1, PRISMATIC] != 0.0), F, k + 1)
         e[0], e[1], e[2] = T[0, 3] - X[3], T[1, 3] - X[7], T[2, 3] - X[11]
         if pose:   # the rotation vector of M = R_target R^T (_small_log): (M - M^T) / 2 = sin(t) [u]x
             m21 = T[2, 0] * X[4] + T[2, 1] * X[5] + T[2, 2] * X[6]
@@ -414,33 +426,43 @@ def _touch_up(F, q, T, pose, steps, done, w):
             sn = math.sqrt(vx * vx + vy * vy + vz * vz)
             ratio = math.asin(min(sn, 1.0)) / sn if sn > 0.0 else 1.0
             e[3], e[4], e[5] = vx * ratio, vy * ratio, vz * ratio
-        big = 0.0
-        for r in range(d):
+        if fresh:   # A := its LU factors (the multipliers below the diagonal), rows swapped as pivots says
+            big = 0.0
+            for r in range(d):
+                for c in range(d):
+                    A[r, c] = J[0, r, c]
+                    big = max(big, abs(A[r, c]))
             for c in range(d):
-                A[r, c] = J[0, r, c]
-                big = max(big, abs(A[r, c]))
-        for c in range(d):   # elimination with partial pivoting
-            p = c
-            for r in range(c + 1, d):
-                if abs(A[r, c]) > abs(A[p, c]):
-                    p = r
-            if not abs(A[p, c]) > PIVOT * big:
-                return False
+                p = c
+                for r in range(c + 1, d):
+                    if abs(A[r, c]) > abs(A[p, c]):
+                        p = r
+                if not abs(A[p, c]) > PIVOT * big:
+                    return False
+                pivots[c] = p
+                if p != c:
+                    for k in range(d):
+                        A[c, k], A[p, k] = A[p, k], A[c, k]
+                for r in range(c + 1, d):
+                    f = A[r, c] / A[c, c]
+                    A[r, c] = f
+                    for k in range(c + 1, d):
+                        A[r, k] -= f * A[c, k]
+        for c in range(d):   # the step, in e: the swaps, then L, then U
+            p = int(pivots[c])
             if p != c:
-                for k in range(c, d):
-                    A[c, k], A[p, k] = A[p, k], A[c, k]
                 e[c], e[p] = e[p], e[c]
-            for r in range(c + 1, d):
-                f = A[r, c] / A[c, c]
-                for k in range(c + 1, d):
-                    A[r, k] -= f * A[c, k]
-                e[r] -= f * e[c]
-        largest = 0.0
-        for c in range(d - 1, -1, -1):   # back substitution: the step, in e
+        for r in range(1, d):
+            x = e[r]
+            for k in range(r):
+                x -= A[r, k] * e[k]
+            e[r] = x
+        for c in range(d - 1, -1, -1):
             x = e[c]
             for k in range(c + 1, d):
                 x -= A[c, k] * e[k]
             e[c] = x / A[c, c]
+        largest = 0.0
         for j in range(n):
             q[j] += e[j]
             if not math.isfinite(q[j]):
@@ -448,6 +470,8 @@ def _touch_up(F, q, T, pose, steps, done, w):
             largest = max(largest, abs(e[j]))
         if largest <= done:   # converged: a further step would move q by rounding only
             break
+        fresh = not largest <= 1e-3 * last
+        last = largest
     return True
 
 
@@ -486,7 +510,7 @@ def touch_up_rows(F, q, T, pose, steps, done):
     did not take (k,) bool, left unchanged."""
     k, n = q.shape
     refused = np.zeros(k, np.bool_)
-    w = np.empty(7 * n + 36)
+    w = np.empty(8 * n + 36)
     keep = np.empty(n)
     for i in range(k):
         for j in range(n):
