@@ -6,7 +6,9 @@ EAIK; example-robot-data comes with the test extra). No times here: benchmarks/b
 Arms:
 
 * the bundled 6-joint arms and the example-robot-data arms armkit knows by name (UR3/5/10, Kinova Jaco2), and
-  the bundled Puma and UR5 with joints turning the other way (:data:`REVERSED`: their own DH families answer);
+  the bundled Puma and UR5 with joints turning the other way (:data:`REVERSED`: their own DH families answer),
+  and as files that round their twists (:data:`ROUNDED`, ``rpy="1.5708"``: solved on the ideal arm, every branch
+  touched up on the true one);
 * the 7-joint arms (Panda, iiwa14, TIAGo's and Talos's arms, xArm7, Z1) with the joint armkit's class names
   (``sweep joint k``) held at a value: armkit's ``ik_all(robot, T, fixed={name: value})`` against EAIK's
   ``HPRobot(H, P, fixed_axes=[(k - 1, value)])`` (8 values drawn per arm, the targets split between them);
@@ -52,6 +54,7 @@ from armkit.ik.geometric.poe import poe  # noqa: E402
 NAMED = ("ur5", "puma560", "example-robot-data:ur3", "example-robot-data:ur5", "example-robot-data:ur10",
          "example-robot-data:kinova")
 REVERSED = (("puma560", (2,)), ("ur5", (2,)), ("ur5", (3,)), ("ur5", (1, 2)))
+ROUNDED = ("puma560", "ur5")
 """Bundled arms with joints (0-based) turning the other way (:func:`armkit.model.axes.with_axes_reversed`): the DH
 families solve them with those joints turned back (180 deg twists between parallel axes)."""
 SEVEN = ("panda", "iiwa14", "example-robot-data:tiago", "example-robot-data:talos", "example-robot-data:xarm7",
@@ -172,9 +175,11 @@ def _add(total: dict, part: dict) -> None:
         total[k] = total.get(k, 0) + v
 
 
-def named(name: str, targets: int, g: np.random.Generator, reversed_joints: tuple[int, ...] = ()
-          ) -> tuple[str, dict] | None:
+def named(name: str, targets: int, g: np.random.Generator, reversed_joints: tuple[int, ...] = (),
+          rounded: bool = False) -> tuple[str, dict] | None:
     robot = _reversed(name, reversed_joints) if reversed_joints else armkit.load(name)
+    if rounded:
+        robot = _rounded(robot)
     form = poe(robot)
     cls = classify(robot)
     eaik = _eaik(form)
@@ -182,6 +187,14 @@ def named(name: str, targets: int, g: np.random.Generator, reversed_joints: tupl
         return cls.name, {"refused by EAIK": 1}
     T = armkit.fk(robot, g.uniform(-np.pi, np.pi, (targets, robot.n)))
     return cls.name, compare(robot, form, T, eaik, armkit.ik_all(robot, T, enforce_limits=False))
+
+
+def _rounded(robot):
+    """``robot`` as a file that rounds its twists to 1.5708 (3.7e-6 off 90 deg)."""
+    from dataclasses import replace
+
+    return armkit.Robot([replace(j, alpha=j.alpha + np.copysign(3.7e-6, j.alpha) if j.alpha else 0.0)
+                         for j in robot.joints], name=f"{robot.name}, rounded", base=robot.base, tool=robot.tool)
 
 
 def _reversed(name: str, joints: tuple[int, ...]):
@@ -339,6 +352,10 @@ def against_eaik(args: argparse.Namespace, g: np.random.Generator, tmp: Path) ->
         cls, c = named(name, args.targets, own, joints)
         row(f"{name}, joint{'s' if len(joints) > 1 else ''} {', '.join(str(k + 1) for k in joints)} reversed "
             f"(family {closed_form_family(_reversed(name, joints))})", cls, c)
+    for name in ROUNDED:
+        cls, c = named(name, args.targets, own, rounded=True)
+        row(f"{name}, a file with rounded twists (family {closed_form_family(_rounded(armkit.load(name)))}, "
+            "ideal arm)", cls, c)
 
 
 if __name__ == "__main__":

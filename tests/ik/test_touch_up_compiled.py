@@ -134,8 +134,10 @@ def test_batch_equals_single_calls_and_numpy(name):
 def test_a_target_beside_a_fold_of_the_ideal_arm_keeps_every_branch(backend, monkeypatch):
     """Where the ideal arm of a rounded file misses a target by a hair (its wrist centre inside the true arm's
     sideways offset, outside the ideal arm's), its branches are clipped onto a fold (the Jacobian of rank 4 or 5) and
-    Newton's steps from there cannot choose a side: ``_unfold`` starts off the fold. On the Puma every random target
-    has 8 branches (FK of the true arm at rounding), and without ``_unfold`` some do not (so the test reaches it)."""
+    Newton's steps from there cannot choose a side: ``_retarget`` solves the ideal arm again for the target moved by
+    the two arms' difference. On the Puma every random target has 8 branches (FK of the true arm at rounding), and
+    without ``_retarget`` some do not (so the test reaches it); each such branch has the name the exact Puma gives
+    the same joint values."""
     import importlib
 
     analytic = importlib.import_module("armkit.ik.analytic")
@@ -145,7 +147,7 @@ def test_a_target_beside_a_fold_of_the_ideal_arm_keeps_every_branch(backend, mon
     armkit.set_backend(backend)
     try:
         res = armkit.ik_all(arm, T, enforce_limits=False)
-        monkeypatch.setattr(analytic, "_unfold", lambda robot, branches, *a: branches)
+        monkeypatch.setattr(analytic, "_retarget", lambda robot, branches, *a: branches)
         without = armkit.ik_all(arm, T, enforce_limits=False)
     finally:
         armkit.set_backend("numba")

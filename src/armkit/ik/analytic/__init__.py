@@ -25,7 +25,6 @@ the path ``armkit.ik_all`` and ``armkit.ik`` take for a single pose or position.
 
 from __future__ import annotations
 
-import itertools
 import math
 import sys
 import threading
@@ -313,10 +312,9 @@ def _gauss_newton(robot: Robot, qc: Array, tgt: Array, pose: bool, steps: int) -
     return qc
 
 
-FOLD_STEPS, FOLD_STEP = 10, 0.03
-"""The most Gauss-Newton steps from each start of :func:`_unfold`, and how far (rad) off the fold it starts: the
-Puma of a rounded file converged in ~7 steps from 0.01-0.1 rad, and diverged from 0.003 (its Jacobian there still
-nearly singular)."""
+RETARGET_ROUNDS = 4
+"""Rounds of :func:`_retarget`: each moves a branch ~1e-5 times as far as the one before on a file that rounds its
+twists (3.7e-6 rad), so four leave it well inside the touch-up's reach."""
 
 
 def _touch_up(robot: Robot, qc: Array, tgt: Array, pose: bool, steps: int) -> tuple[Array, NDArray[np.bool_]]:
@@ -340,79 +338,62 @@ def _touch_up(robot: Robot, qc: Array, tgt: Array, pose: bool, steps: int) -> tu
     return qc, rest
 
 
-def _unfold(robot: Robot, branches: tuple, target: Array, position_only: bool, tol: tuple[float, float],
-            enforce_limits: bool, window: float, slots: Any, singular: NDArray[np.bool_]) -> tuple:
-    """Branches of a file's ideal arm that the touch-up left failing within its window, split off a fold.
+def _retarget(robot: Robot, branches: tuple, target: Array, position_only: bool, tol: tuple[float, float],
+              enforce_limits: bool, window: float, solver: ClosedForm, q0: Array, labels: NDArray[np.str_]
+              ) -> tuple:
+    """Branches of a file's ideal arm that the touch-up left failing, solved again in closed form for a target moved
+    by the two arms' difference.
 
-    Where the ideal arm misses a target by a hair (the wrist centre 1e-6 m inside the shoulder's sideways offset
-    on the true arm, outside it on the ideal one), its branches are clipped onto the fold between two solutions,
-    a configuration where the Jacobian loses rank: Newton's steps from there cannot choose a side. From each such
-    configuration, starts :data:`FOLD_STEP` off it along every direction of the Jacobian's kernel (each sign, and
-    the sums where the kernel has more than one: the elbow stretched as well) find the true arm's solutions on
-    either side (:data:`FOLD_STEPS` steps);
-    ``slots(b, q)`` names the branch each verified one is (the ideal arm's branch equal to it), and it takes that
-    branch's place if the touch-up left that one failing. ``singular`` (B, m): the branches the compiled touch-up
-    refused (a pivot too small; with the NumPy back end every branch it touched), the only ones looked at, so that
-    the one-call path, which leaves those to this path, gives the same answers. Returns ``branches`` (``(q, dp, dr,
-    ok, within)``), new arrays where one changed. A few targets in a thousand: the Puma of a file with
-    ``rpy="1.5708"`` (3 of 1,000, 24 branches that EAIK finds and the touch-up alone did not)."""
+    Where the ideal arm misses a target by a hair (the wrist centre a micrometre inside the shoulder's sideways
+    offset on the true arm, outside it on the ideal one), its branches are clipped onto a fold between two
+    solutions, where the Jacobian loses rank and Newton's steps cannot choose a side. But where the true arm reaches
+    ``T`` at ``q*``, the ideal arm reaches ``T E(q*)``, ``E(q) = FK_true(q)^-1 FK_ideal(q)`` (a point target:
+    ``p + p_ideal(q) - p_true(q)``), which the closed form solves, every branch by its name: so each such branch is
+    solved for ``T E(q)`` at its latest ``q``, :data:`RETARGET_ROUNDS` rounds (``E`` changes ~1e-5 as fast as
+    ``q`` does), then touched up on the true arm and kept where it passes the FK check (a target out of reach stays
+    as it was). ``labels`` (B, m): the branches' names as the solve gave them. The one-call path leaves every
+    target with such a branch to this path. Returns ``branches`` (``(q, dp, dr, ok, within)``), new arrays where one
+    changed. A few targets in a thousand on a Puma of a file with ``rpy="1.5708"``: 50 branches of 80,000 that EAIK
+    finds, 0 after."""
     q, dp, dr, ok, within = branches
     scale = robot.reach
-    stuck = singular & ~((dp <= tol[0]) & (dr <= tol[1])) & (dp <= window * scale) & (dr <= window)
+    stuck = ~((dp <= tol[0]) & (dr <= tol[1])) & (dp <= window * scale) & (dr <= window)
     if not stuck.any():
         return branches
-    from ...kinematics import jacobian
+    from ...kinematics import fk
+    from ...spatial import inverse
 
-    pose = target.ndim == 3 and not position_only
-    q, dp, dr, ok, within = q.copy(), dp.copy(), dr.copy(), ok.copy(), within.copy()
-    for b in np.unique(np.nonzero(stuck)[0]):
-        starts = []
-        for qk in np.unique(q[b, stuck[b]], axis=0):
-            J = jacobian(robot, qk)
-            _, S, Vt = np.linalg.svd(J if pose else J[:3])
-            kernel = Vt[len(S) - (S <= 1e-6 * S[0]).sum():]
-            for signs in itertools.product((-1.0, 0.0, 1.0), repeat=len(kernel)):   # every direction of it, and
-                if any(signs):                                                       # their sums: 2, 8, 26 starts
-                    starts.append(qk + FOLD_STEP * np.dot(signs, kernel) / np.linalg.norm(signs))
-        if not starts:
-            continue
-        aim = np.repeat(target[b][None], len(starts), axis=0)
-        found = _touch_up(robot, np.array(starts), aim, pose, FOLD_STEPS)[0]
-        dpn, drn, okn, wn = verify(robot, found, aim, position_only, tol, enforce_limits)
-        good = np.flatnonzero((dpn <= tol[0]) & (drn <= tol[1]))
-        if not len(good):
-            continue
-        for k, s in zip(good, slots(b, found[good])):
-            if stuck[b, s]:
-                q[b, s], dp[b, s], dr[b, s], ok[b, s], within[b, s] = found[k], dpn[k], drn[k], okn[k], wn[k]
-                stuck[b, s] = False
-    return q, dp, dr, ok, within
-
-
-def _slots(robot: Robot, solver: ClosedForm, q0: Array, points: bool) -> Any:
-    """``slots(b, q)`` for :func:`_unfold`: the branch of ``solver`` each configuration ``q`` (k, n) of target ``b``
-    is, found as the branch of the ideal arm (``solver.sf``, a DH table) equal to it for the pose (``points``: the
-    position) the ideal arm reaches there."""
-    def slots(b: int, q: Array) -> NDArray[np.intp]:
-        from ...kinematics import fk
+    sf = solver.sf
+    ideal = robot.cache.get("ideal_arm")
+    if ideal is None:   # the ideal arm as a DH table (the solver's, with the file's joint names)
         from ...model.robot import Joint
 
-        sf = solver.sf
-        ideal = robot.cache.get("ideal_arm")
-        if ideal is None:
-            rows = [Joint(theta=float(sf.theta[k]), d=float(sf.d[k]), a=float(sf.a[k]), alpha=float(sf.alpha[k]))
-                    for k in range(sf.n)]
-            ideal = robot.cache["ideal_arm"] = Robot(rows, base=sf.base, tool=sf.tool)
-        T = fk(ideal, q)
-        raw = solver.solve(T[:, :3, 3] if points else T, np.repeat((q0[b] + sf.theta)[None], len(q), 0))
-        gap = np.abs(np.remainder(raw.q - sf.theta - q[:, None] + math.pi, 2 * math.pi) - math.pi).max(axis=-1)
-        return np.argmin(gap, axis=-1)
-
-    return slots
+        ideal = robot.cache["ideal_arm"] = Robot(
+            [Joint(theta=float(sf.theta[k]), d=float(sf.d[k]), a=float(sf.a[k]), alpha=float(sf.alpha[k]))
+             for k in range(sf.n)], base=sf.base, tool=sf.tool)
+    bi, mi = np.nonzero(stuck)
+    qs, aim, want = q[bi, mi].copy(), target[bi], labels[bi, mi]
+    rows = np.arange(len(bi))
+    revolute = ~robot.prismatic
+    for _ in range(RETARGET_ROUNDS):
+        Tt, Ti = fk(robot, qs), fk(ideal, qs)
+        moved = aim + Ti[:, :3, 3] - Tt[:, :3, 3] if aim.ndim == 2 else aim @ inverse(Tt) @ Ti
+        raw = solver.solve(moved, q0[bi] + sf.theta)
+        same = raw.label == want[:, None]
+        j = np.argmax(same, axis=1)
+        new = raw.q[rows, j] - sf.theta
+        new = np.where(revolute, new + 2 * math.pi * np.round((qs - new) / (2 * math.pi)), new)   # the same turn
+        qs = np.where(same.any(axis=1)[:, None], new, qs)
+    pose = aim.ndim == 3 and not position_only
+    qs = _touch_up(robot, qs, aim, pose, _steps(True))[0]
+    dpn, drn, okn, wn = verify(robot, qs, aim, position_only, tol, enforce_limits)
+    good = (dpn <= tol[0]) & (drn <= tol[1])
+    return keep_better((q, dp, dr, ok, within), bi[good], mi[good], (qs[good], dpn[good], drn[good], okn[good],
+                                                                       wn[good]), scale)
 
 
 def _polish(robot: Robot, branches: tuple, target: Array, position_only: bool, tol: tuple[float, float],
-            enforce_limits: bool, ideal: bool = False, above: float = POLISH_ABOVE, slots: Any = None):
+            enforce_limits: bool, ideal: bool = False, above: float = POLISH_ABOVE, retarget: tuple | None = None):
     """A few Gauss-Newton steps on the true model for the branches that are close but not exact.
 
     ``branches`` is ``(q, dp, dr, ok, within)`` ``(B, m, ...)``, returned anew (see :func:`._common.keep_better`).
@@ -440,10 +421,8 @@ def _polish(robot: Robot, branches: tuple, target: Array, position_only: bool, t
     qc, rest = _touch_up(robot, qc, tgt, pose, _steps(ideal))
     dpn, drn, okn, wn = verify(robot, qc, tgt, position_only, tol, enforce_limits)
     out = keep_better((q, dp, dr, ok, within), bi, mi, (qc, dpn, drn, okn, wn), scale)
-    if ideal and slots is not None and rest.any():
-        singular = np.zeros(cand.shape, dtype=bool)
-        singular[bi[rest], mi[rest]] = True
-        out = _unfold(robot, out, target, position_only, tol, enforce_limits, window, slots, singular)
+    if ideal and retarget is not None:   # (solver, q0, labels): see _retarget
+        out = _retarget(robot, out, target, position_only, tol, enforce_limits, window, *retarget)
     return out
 
 
@@ -468,7 +447,7 @@ def solve_all(robot: Robot, solver: ClosedForm, target: Array, q0: Array, positi
     q_before = q
     q, dp, dr, ok, within = _polish(robot, (q, dp, dr, ok, within), target, position_only, tol, enforce_limits,
                                     ideal=not solver.sf.exact, above=getattr(solver, "polish_above", POLISH_ABOVE),
-                                    slots=None if solver.sf.exact else _slots(robot, solver, q0, target.ndim == 2))
+                                    retarget=None if solver.sf.exact else (solver, q0, raw.label))
     if dist is None:
         dist = np.linalg.norm(np.where(robot.prismatic, 0.0, q - q0[:, None, :]), axis=-1)
     elif q is not q_before:   # polished branches: their distances again, summed as the one-call kernels sum them
@@ -581,7 +560,8 @@ class _Single:
         if ctx is None:
             k = self.kernels
             opts = k.options(self.default_tol if tol is None else tol, enforce_limits, self.window, self.above,
-                             self.scale, self.sign, check, nearest, _steps(not self.solver.sf.exact), POLISH_DONE)
+                             self.scale, self.sign, check, nearest, _steps(not self.solver.sf.exact), POLISH_DONE,
+                             not self.solver.sf.exact)
             ctx = self.ctxs[key] = k.context(self.geometry, self.joints, self.F, opts)
         return ctx
 
