@@ -95,13 +95,13 @@ LIMIT_FAILURES, OTHER_FAILURES = 4, 8
 """Bits of a kernel's return value besides the status: some branch failed by the limits alone; some
 branch failed otherwise (unreachable)."""
 OPTS = ("tol_p", "tol_r", "enforce", "window_p", "window_r", "above_p", "above_r", "sign", "check", "nearest",
-        "scale", "steps", "done", "ideal")
+        "scale", "steps", "done", "retarget")
 """The options at the end of ``ctx``: FK tolerances, enforce limits (1.0/0.0), the polish window and
 threshold of ``solve_all`` (position entries already times the reach), the planar-2r joint-2 sign,
 check rigidity (1.0/0.0), whether only the nearest branch is wanted (1.0/0.0: :func:`armkit.ik`; see
-:func:`_nearest_first`), the touch-up's reach, most steps and converged step (:func:`_touch_up`), and whether the
-family solves the ideal arm of a file (1.0/0.0: a branch the touch-up leaves failing is the batched path's, whose
-``_retarget`` takes it up)."""
+:func:`_nearest_first`), the touch-up's reach, most steps and converged step (:func:`_touch_up`), and where the
+family solves the ideal arm of a file, the window of ``_retarget`` (0.0 else: a branch the touch-up leaves failing
+within it is the batched path's)."""
 CTX = ("n", "geometry", "joints", "F", "opts")
 """The header of ``ctx``: the number of joints, then where the geometry, the joint table, the packed
 chain and the options start."""
@@ -113,11 +113,11 @@ _FIRST, _ONE = np.int64(0), np.int64(1)   # the family kernels' row range (0, 1)
 (a literal argument compiles a copy of :func:`_finish` per value)."""
 
 
-def options(tol, enforce, window, above, scale, sign, check, nearest=False, steps=2, done=0.0, ideal=False):
+def options(tol, enforce, window, above, scale, sign, check, nearest=False, steps=2, done=0.0, retarget=0.0):
     """The options (:data:`OPTS`), products formed as ``solve_all`` forms them."""
     return np.array([tol[0], tol[1], 1.0 if enforce else 0.0, window * scale, window, above * scale, above,
                      float(sign), 1.0 if check else 0.0, 1.0 if nearest else 0.0, scale, float(steps), done,
-                     1.0 if ideal else 0.0])
+                     retarget])
 
 
 def context(geometry, joints, F, opts):
@@ -484,8 +484,8 @@ def _touch_branch(F, q, b, T, pose, joints, opts, q0, dist, Tq, e_p, e_r, w_b, w
     the touched-up values kept (with their distance from ``q0`` in ``dist[b]``) only where they lower the error
     (position / reach + rotation: :func:`armkit.ik.analytic._common.keep_better`). Returns ``(taken, errors and
     within-limits flag of the branch kept)``; not taken (:func:`_touch_up` refused it, or on the ideal arm of a file
-    the branch still fails: the batched path takes it, by NumPy's steps and ``_retarget``): ``q`` unchanged. ``Tq``
-    (4, 4) and ``wt`` (:func:`finish_work`'s share) are work space."""
+    the branch still fails within the window of ``_retarget``: the batched path takes it, by NumPy's steps and
+    ``_retarget``): ``q`` unchanged. ``Tq`` (4, 4) and ``wt`` (:func:`finish_work`'s share) are work space."""
     n = q.shape[1]
     qb = wt[:n]
     for j in range(n):
@@ -496,7 +496,8 @@ def _touch_branch(F, q, b, T, pose, joints, opts, q0, dist, Tq, e_p, e_r, w_b, w
     p2, r2, w2 = _check(Tq, T, pose, qb, joints[JOINT_LOWER], joints[JOINT_UPPER], 1e-12)
     scale = opts[10]
     better = p2 / scale + r2 < e_p / scale + e_r
-    if opts[13] != 0.0 and not ((p2 <= opts[0] and r2 <= opts[1]) if better else (e_p <= opts[0] and e_r <= opts[1])):
+    f_p, f_r = (p2, r2) if better else (e_p, e_r)
+    if not (f_p <= opts[0] and f_r <= opts[1]) and f_p <= opts[13] * scale and f_r <= opts[13]:
         return False, e_p, e_r, w_b
     if not better:
         return True, e_p, e_r, w_b
