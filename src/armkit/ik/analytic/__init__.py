@@ -321,13 +321,11 @@ into solutions missed by up to 2e-6 (the UR5) and 2.9e-4 (the Puma: a fold of th
 one-call path leaves only the targets within it to the batched path)."""
 
 
-def _touch_up(robot: Robot, qc: Array, tgt: Array, pose: bool, steps: int, leave: NDArray[np.bool_] | None = None
-              ) -> tuple[Array, NDArray[np.bool_]]:
+def _touch_up(robot: Robot, qc: Array, tgt: Array, pose: bool, steps: int) -> tuple[Array, NDArray[np.bool_]]:
     """At most ``steps`` Gauss-Newton steps for the rows ``qc`` (k, n) towards ``tgt`` (k, 4, 4) or (k, 3), in place:
     compiled row by row with the Numba back end (:func:`._single._touch_up`, the one-call path's bits), by
     :func:`_gauss_newton` for the rows it refuses (every row with the NumPy back end, a system that is not square,
-    a Jacobian too near singular), but for those of ``leave`` (k,) that it refuses, left as they are. Returns
-    ``(qc, refused)``, ``refused`` (k,) bool."""
+    a Jacobian too near singular). Returns ``(qc, refused)``, ``refused`` (k,) bool."""
     rest = np.ones(len(qc), dtype=bool)
     one = _jit_loader.kernels("ik.analytic._single")
     if one is not None and robot.n == (6 if pose else 3):
@@ -339,8 +337,6 @@ def _touch_up(robot: Robot, qc: Array, tgt: Array, pose: bool, steps: int, leave
             T = np.zeros((len(tgt), 4, 4))
             T[:, :3, 3] = tgt
         rest = one.touch_up_rows(packed(robot)[0], qc, T, pose, steps, POLISH_DONE)
-        if leave is not None:
-            rest = rest & ~leave
     if rest.any():
         qc[rest] = _gauss_newton(robot, qc[rest], tgt[rest], pose, steps)
     return qc, rest
@@ -425,11 +421,7 @@ def _polish(robot: Robot, branches: tuple, target: Array, position_only: bool, t
     tgt = target[bi]
     qc = q[bi, mi].copy()
     pose = tgt.ndim == 3 and not position_only
-    # a branch of a file's ideal arm that misses by more than RETARGET_WINDOW is out of reach; where its Jacobian is
-    # too near singular for the compiled steps (a branch clipped onto the edge of the workspace) it is left as it is,
-    # as the geometric family leaves such a branch (solvers.polish_reach): NumPy's steps cannot make it a solution
-    far = (dp[bi, mi] > RETARGET_WINDOW * scale) | (dr[bi, mi] > RETARGET_WINDOW) if ideal else None
-    qc, rest = _touch_up(robot, qc, tgt, pose, _steps(ideal), far)
+    qc, rest = _touch_up(robot, qc, tgt, pose, _steps(ideal))
     dpn, drn, okn, wn = verify(robot, qc, tgt, position_only, tol, enforce_limits)
     out = keep_better((q, dp, dr, ok, within), bi, mi, (qc, dpn, drn, okn, wn), scale)
     if ideal and retarget is not None:   # (solver, q0, labels): see _retarget

@@ -485,16 +485,13 @@ def _touch_branch(F, q, b, T, pose, joints, opts, q0, dist, Tq, e_p, e_r, w_b, w
     (position / reach + rotation: :func:`armkit.ik.analytic._common.keep_better`). Returns ``(taken, errors and
     within-limits flag of the branch kept)``; not taken (:func:`_touch_up` refused it, or on the ideal arm of a file
     the branch still fails within the window of ``_retarget``: the batched path takes it, by NumPy's steps and
-    ``_retarget``): ``q`` unchanged. A branch of an ideal arm that it refuses beyond that window is taken as it is
-    (out of reach; ``_polish`` leaves it so). ``Tq`` (4, 4) and ``wt`` (:func:`finish_work`'s share) are work
-    space."""
+    ``_retarget``): ``q`` unchanged. ``Tq`` (4, 4) and ``wt`` (:func:`finish_work`'s share) are work space."""
     n = q.shape[1]
     qb = wt[:n]
     for j in range(n):
         qb[j] = q[b, j]
-    if not _touch_up(F, qb, T, pose, int(opts[11]), opts[12], wt[n:]):   # (refused: near a singularity)
-        # a branch of a file's ideal arm beyond the window of _retarget is out of reach: left as it is (_polish)
-        return opts[13] != 0.0 and not (e_p <= opts[13] * opts[10] and e_r <= opts[13]), e_p, e_r, w_b
+    if not _touch_up(F, qb, T, pose, int(opts[11]), opts[12], wt[n:]):
+        return False, e_p, e_r, w_b
     _fk_row(F, shaped(qb, (1, n)), 0, Tq)
     p2, r2, w2 = _check(Tq, T, pose, qb, joints[JOINT_LOWER], joints[JOINT_UPPER], 1e-12)
     scale = opts[10]
