@@ -167,3 +167,27 @@ def test_a_target_beside_a_fold_of_the_ideal_arm_keeps_every_branch(backend, mon
         gap = np.abs(np.remainder(named.q - res.q[i, k] + np.pi, 2 * np.pi) - np.pi).max(axis=-1)
         near = np.sort(gap)   # (beside a fold the exact arm's own answer is ill-conditioned too: ~1e-9)
         assert near[0] <= 1e-6 < 1e-3 < near[1] and named.branch[np.argmin(gap)] == res.branch[i, k]
+
+
+def test_armkit_info_says_a_rounded_file_is_solved_on_its_ideal_arm(tmp_path):
+    """``armkit info`` tells a user that the file's numbers are a little off the arm its closed form solves (text,
+    Korean, ``--json``), and says nothing of the kind for an exact arm."""
+    import json
+
+    from typer.testing import CliRunner
+
+    from armkit.cli import app
+
+    runner = CliRunner()
+    path = str(tmp_path / "puma_rounded.urdf")
+    armkit.save(rounded(armkit.load("puma560")), path)
+    text = runner.invoke(app, ["info", path], env={"COLUMNS": "300", "ARMKIT_LANG": "en"})
+    assert text.exit_code == 0
+    assert "8 branches; solved on the file's ideal arm" in text.output
+    assert "touched up on the true arm" in text.output
+    ko = runner.invoke(app, ["--lang", "ko", "info", path], env={"COLUMNS": "300"})
+    assert "파일의 이상적인 팔로 풂" in ko.output and "ideal arm" not in ko.output
+    assert json.loads(runner.invoke(app, ["info", path, "--json"]).stdout)["closed_form"]["ideal_arm"] is True
+    exact = runner.invoke(app, ["info", "puma560"], env={"COLUMNS": "300", "ARMKIT_LANG": "en"})
+    assert "ideal arm" not in exact.output
+    assert json.loads(runner.invoke(app, ["info", "puma560", "--json"]).stdout)["closed_form"]["ideal_arm"] is False

@@ -188,6 +188,9 @@ def _family_line(r: Robot) -> str:
     if back:
         line += _("; solved with {joints} turned back (the DH table points each against the axis before it: a "
                   "twist of 180 deg)", joints=", ".join(esc(r.joint_names[j - 1]) for j in back))
+    if not cf.sf.exact:
+        line += _("; solved on the file's ideal arm (its twists and offsets are rounded or calibrated a little off "
+                  "it), every branch then touched up on the true arm")
     return line
 
 
@@ -237,7 +240,8 @@ def info(robot: RobotArg,
                               "near": cls.near, "locked": cls.locked},
                     "closed_form": None if cf is None else {
                         "family": cf.family, "branches": cf.m,
-                        "turned_back": [r.joint_names[j - 1] for j in getattr(cf, "turned_back", ())]},
+                        "turned_back": [r.joint_names[j - 1] for j in getattr(cf, "turned_back", ())],
+                        "ideal_arm": not cf.sf.exact},
                     "position_held": None if held is None else {
                         "held": [r.joint_names[k] for k in sorted(held.held)], "family": held.inner.family,
                         "max_solutions": held.m}})
