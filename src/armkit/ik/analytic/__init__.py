@@ -368,7 +368,7 @@ def _retarget(robot: Robot, branches: tuple, target: Array, position_only: bool,
 
     sf = solver.sf
     ideal = robot.cache.get("ideal_arm")
-    if ideal is None:   # the ideal arm as a DH table (the solver's, with the file's joint names)
+    if ideal is None:   # the ideal arm as a DH table (the solver's): its FK for the same joint values
         from ...model.robot import Joint
 
         ideal = robot.cache["ideal_arm"] = Robot(

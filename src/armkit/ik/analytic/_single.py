@@ -18,9 +18,11 @@ A pose target is checked for rigidity in the same pass (the measures of
 :func:`armkit.spatial.check_transform`). What one call cannot do the same way ends it early with
 a status, and the caller answers by the batched path: a target that is not finite or not rigid
 (:data:`BAD_TARGET`: the batched path raises the error), a branch the Gauss-Newton touch-up of
-``solve_all`` would polish, or a note to give (a singular wrist, a target on the first axis, a
-stretched or folded elbow) (:data:`FALLBACK`). Imported lazily, only when the Numba back end is
-in use (:mod:`armkit._jit_loader`).
+``solve_all`` polishes where its compiled steps (:func:`_touch_up`, run in the call otherwise) find
+the Jacobian too near singular, or a file's ideal-arm branch still failing within the window of
+``_retarget``, or a note to give (a singular wrist, a target on the first axis, a stretched or folded
+elbow) (:data:`FALLBACK`). Imported lazily, only when the Numba back end is in use
+(:mod:`armkit._jit_loader`).
 
 The calling convention keeps Numba's own cost per call low (each argument is unboxed, each
 returned array boxed; the buffers are made by the caller): every kernel takes ``(t, q0, ctx, fb, ib, bb, wk)``:
@@ -408,7 +410,7 @@ def _touch_up(F, q, T, pose, steps, done, w):
     e = w[6 * n + d * d:6 * n + d * d + d]
     pivots = w[6 * n + d * d + d:6 * n + d * d + 2 * d]   # the row each column's elimination took (as floats)
     fresh = True
-    last = 0.1   # (a first step of 1e-4 or less keeps its factors: a start far off, e.g. _unfold's, takes new ones)
+    last = 0.1   # (a first step of 1e-4 or less keeps its factors: from a start far off, the next takes new ones)
     for _ in range(steps):
         if fresh:
             X = _jacobian_cols(F, q, 0, A, -1, False, J, 0)   # (A: an unread sine table, o = -1)
