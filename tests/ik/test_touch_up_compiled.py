@@ -82,9 +82,11 @@ def test_point_targets_of_a_three_joint_arm():
     assert np.abs(mine - _gauss_newton(arm, start.copy(), p, False, 6)).max() <= 1e-12
 
 
-def test_what_is_not_square_or_singular_is_left_to_numpy():
-    """A planar 2R with point targets (3 x 2) and a UR5 with its wrist straight (q5 = 0: joints 4 and 6 in line,
-    the Jacobian of rank 5): refused, the rows unchanged."""
+def test_what_is_not_square_is_left_to_numpy_and_a_singular_jacobian_takes_pinvs_step():
+    """A planar 2R with point targets (3 x 2): refused, the rows unchanged. A UR5 with its wrist straight (q5 = 0:
+    joints 4 and 6 in line, the Jacobian of rank 5) is too near singular for the elimination: its steps are pinv's
+    (rcond 1e-10), compiled, as NumPy's touch-up takes them: the target to rounding, the same rows within 1e-9 rad
+    (joints 4 and 6 nearly in line share their turn as rounding splits it: 2e-11 to 4e-11 apart)."""
     one = _kernels()
     planar = armkit.load("planar2")
     q = np.array([[0.3, 0.7], [1.0, -0.4]])
@@ -96,10 +98,36 @@ def test_what_is_not_square_or_singular_is_left_to_numpy():
     q = np.array([[0.3, -1.0, 1.2, 0.4, 0.0, 0.5], [0.3, -1.0, 1.2, 0.4, 0.7, 0.5]])
     assert np.linalg.matrix_rank(armkit.jacobian(ur5, q[0]), tol=1e-10) == 5
     T = armkit.fk(ur5, q + 1e-6)
-    start = q.copy()
-    refused = one.touch_up_rows(packed(ur5)[0], q, T, True, 6, POLISH_DONE)
-    assert refused.tolist() == [True, False]
-    assert np.array_equal(q[0], start[0]) and not np.array_equal(q[1], start[1])
+    for steps in (1, 2, 6):
+        mine = q.copy()
+        assert not one.touch_up_rows(packed(ur5)[0], mine, T, True, steps, POLISH_DONE).any()
+        assert np.abs(mine - _gauss_newton(ur5, q.copy(), T, True, steps)).max() <= 1e-9
+    assert np.abs(armkit.fk(ur5, mine) - T).max() <= 1e-15 * ur5.reach
+
+
+@settings(max_examples=40, deadline=None)
+@given(seed=st.integers(0, 2**16), rank=st.integers(0, 6), d=st.sampled_from([3, 6]))
+def test_the_compiled_pinv_step_is_numpys_pinv(seed, rank, d):
+    """``_pinv_step`` (a one-sided Jacobi SVD) against ``np.linalg.pinv(J, rcond=1e-10) @ e`` on random matrices of
+    every rank, scaled rows as a Jacobian's (lengths and angles), and exactly singular ones."""
+    from numba import njit
+
+    step = _kernels()._pinv_step
+
+    @njit
+    def run(J, e, d):
+        A, V, g = np.empty((d, d)), np.empty((d, d)), np.empty(d)
+        step(J, A, V, e, g, d)
+
+    rng = np.random.default_rng(seed)
+    rank = min(rank, d)
+    J = rng.normal(size=(d, rank)) @ rng.normal(size=(rank, d)) if rank else np.zeros((d, d))
+    J *= rng.uniform(0.1, 2.0, size=(d, 1))
+    e = rng.normal(size=d)
+    want = np.linalg.pinv(J, rcond=1e-10) @ e
+    got = e.copy()
+    run(J[None].copy(), got, d)
+    assert np.abs(got - want).max() <= 1e-9 * max(1.0, np.abs(want).max())
 
 
 @pytest.mark.parametrize("name", ["puma560", "ur5", "fighter"])

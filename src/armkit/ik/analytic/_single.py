@@ -286,7 +286,7 @@ def _finish(rawq, unreach, missing, lab, ctx, q0, T, pose, lat, rho, r, per, gat
     cs, at = _cut(wf, at, m * n)
     T4, at = _cut(wf, at, 16 * (m + 1))
     P, at = _cut(wf, at, 12 * (n + 1))
-    wt, at = _cut(wf, at, 9 * n + 36)
+    wt, at = _cut(wf, at, 10 * n + 72)
     q = shaped(qflat, (m, n))
     T4 = shaped(T4, (m + 1, 4, 4))
     Tq, Tm = T4[0], T4[1:]
@@ -360,7 +360,7 @@ def _finish(rawq, unreach, missing, lab, ctx, q0, T, pose, lat, rho, r, per, gat
 
 def finish_work(m, n):
     """The work space :func:`_finish` takes for ``m`` branches of ``n`` joints: ``(floats, ints, flags)``."""
-    return 2 * n + 4 * m + 3 * m * n + 16 * (m + 1) + 12 * (n + 1) + 9 * n + 36, 2 * m, 2 * m
+    return 2 * n + 4 * m + 3 * m * n + 16 * (m + 1) + 12 * (n + 1) + 10 * n + 72, 2 * m, 2 * m
 
 
 @njit(cache=True, inline="always")
@@ -385,8 +385,62 @@ def _polishable(e_p, e_r, opts):
 
 
 PIVOT = 1e-7
-"""A pivot of :func:`_touch_up`'s elimination below this share of the largest Jacobian entry refuses the branch:
-the Python touch-up (``np.linalg.pinv`` with ``rcond=1e-10``) then takes it, near a singularity as before."""
+"""A pivot of :func:`_touch_up`'s elimination below this share of the largest Jacobian entry: the Jacobian is too near
+singular for it, and the step is ``pinv``'s (rcond 1e-10) by a Jacobi SVD instead (:func:`_pinv_step`)."""
+
+
+@njit(cache=True, inline="always")
+def _pinv_step(J, A, V, e, g, d):
+    """``e`` := ``np.linalg.pinv(J[0, :d, :d], rcond=1e-10) @ e``, by a one-sided Jacobi SVD (Hestenes: plane
+    rotations of the columns of ``A = J V`` until they are orthogonal; ``J = U S V^T`` with ``A = U S``), for a
+    Jacobian too near singular for :func:`_touch_up`'s elimination. ``A``, ``V`` (d, d) and ``g`` (d,) are work
+    space."""
+    for r in range(d):
+        for c in range(d):
+            A[r, c] = J[0, r, c]
+            V[r, c] = 1.0 if r == c else 0.0
+    for _ in range(60):
+        turned = False
+        for i in range(d - 1):
+            for j in range(i + 1, d):
+                a = b = c = 0.0
+                for k in range(d):
+                    a += A[k, i] * A[k, i]
+                    b += A[k, j] * A[k, j]
+                    c += A[k, i] * A[k, j]
+                if not abs(c) > 1e-16 * math.sqrt(a * b):
+                    continue
+                turned = True
+                zeta = (b - a) / (2.0 * c)
+                t = math.copysign(1.0, zeta) / (abs(zeta) + math.sqrt(1.0 + zeta * zeta))
+                cs = 1.0 / math.sqrt(1.0 + t * t)
+                sn = cs * t
+                for k in range(d):
+                    x, y = A[k, i], A[k, j]
+                    A[k, i], A[k, j] = cs * x - sn * y, sn * x + cs * y
+                    x, y = V[k, i], V[k, j]
+                    V[k, i], V[k, j] = cs * x - sn * y, sn * x + cs * y
+        if not turned:
+            break
+    top = 0.0
+    for i in range(d):   # the singular values: the columns' norms
+        x = 0.0
+        for k in range(d):
+            x += A[k, i] * A[k, i]
+        g[i] = math.sqrt(x)
+        top = max(top, g[i])
+    for i in range(d):   # (U^T e)_i / s_i, over s_i^2 since A's column i is U_i s_i; 0 below rcond
+        x = 0.0
+        if g[i] > 1e-10 * top:
+            for k in range(d):
+                x += A[k, i] * e[k]
+            x /= g[i] * g[i]
+        g[i] = x
+    for r in range(d):   # V (U^T e / s)
+        x = 0.0
+        for i in range(d):
+            x += V[r, i] * g[i]
+        e[r] = x
 
 
 @njit(cache=True, inline="always")
@@ -394,13 +448,14 @@ def _touch_up(F, q, T, pose, steps, done, w):
     """The Gauss-Newton touch-up of ``solve_all`` (:func:`armkit.ik.analytic._polish`) of one branch ``q`` (n,), in
     place, compiled: at most ``steps`` steps on the true chain ``F`` towards ``T`` (4, 4; only column 3 read unless
     ``pose``), each solving ``J dq = e`` (the world-frame Jacobian, the position error and, for a pose, the rotation
-    vector of ``R_target R^T``) by elimination with partial pivoting, ending after a step no larger than ``done``.
+    vector of ``R_target R^T``) by elimination with partial pivoting (where a pivot is below :data:`PIVOT`, the
+    least-squares step of ``pinv``, :func:`_pinv_step`), ending after a step no larger than ``done``.
     A step that shrank by 1e3 or more from the one before (the first: to 1e-4 or less) keeps the Jacobian's factors
     for the next (a chord step: the FK alone, ~0.2 against ~0.4 µs a branch; the steps still shrink ~1e-5, 1e-10,
     1e-15 on the ideal arm of a file with rounded twists); else the next step takes a new Jacobian.
     Square systems only (six joints for a pose, three for a point): returns False where it does not take the branch
-    (another shape, a pivot below :data:`PIVOT`, a value not finite), ``q`` then partly moved (the caller keeps a
-    copy). ``w``: work space of at least ``8 n + 36`` floats."""
+    (another shape, a value not finite), ``q`` then partly moved (the caller keeps a
+    copy). ``w``: work space of at least ``9 n + 72`` floats."""
     n = q.shape[0]
     d = 6 if pose else 3
     if n != d:
@@ -409,6 +464,8 @@ def _touch_up(F, q, T, pose, steps, done, w):
     A = shaped(w[6 * n:6 * n + d * d], (d, d))
     e = w[6 * n + d * d:6 * n + d * d + d]
     pivots = w[6 * n + d * d + d:6 * n + d * d + 2 * d]   # the row each column's elimination took (as floats)
+    V = shaped(w[6 * n + d * d + 2 * d:6 * n + 2 * d * d + 2 * d], (d, d))   # (the SVD's right factor, its norms)
+    g = w[6 * n + 2 * d * d + 2 * d:6 * n + 2 * d * d + 3 * d]
     fresh = True
     last = 0.1   # (a first step of 1e-4 or less keeps its factors: from a start far off, the next takes new ones)
     for _ in range(steps):
@@ -431,6 +488,7 @@ def _touch_up(F, q, T, pose, steps, done, w):
             sn = math.sqrt(vx * vx + vy * vy + vz * vz)
             ratio = math.asin(min(sn, 1.0)) / sn if sn > 0.0 else 1.0
             e[3], e[4], e[5] = vx * ratio, vy * ratio, vz * ratio
+        singular = False
         if fresh:   # A := its LU factors (the multipliers below the diagonal), rows swapped as pivots says
             big = 0.0
             for r in range(d):
@@ -443,7 +501,8 @@ def _touch_up(F, q, T, pose, steps, done, w):
                     if abs(A[r, c]) > abs(A[p, c]):
                         p = r
                 if not abs(A[p, c]) > PIVOT * big:
-                    return False
+                    singular = True
+                    break
                 pivots[c] = p
                 if p != c:
                     for k in range(d):
@@ -453,20 +512,23 @@ def _touch_up(F, q, T, pose, steps, done, w):
                     A[r, c] = f
                     for k in range(c + 1, d):
                         A[r, k] -= f * A[c, k]
-        for c in range(d):   # the step, in e: the swaps, then L, then U
-            p = int(pivots[c])
-            if p != c:
-                e[c], e[p] = e[p], e[c]
-        for r in range(1, d):
-            x = e[r]
-            for k in range(r):
-                x -= A[r, k] * e[k]
-            e[r] = x
-        for c in range(d - 1, -1, -1):
-            x = e[c]
-            for k in range(c + 1, d):
-                x -= A[c, k] * e[k]
-            e[c] = x / A[c, c]
+        if singular:   # the least-squares step of pinv (rcond 1e-10), by a Jacobi SVD; its factors are not kept
+            _pinv_step(J, A, V, e, g, d)
+        else:   # the step, in e: the swaps, then L, then U
+            for c in range(d):
+                p = int(pivots[c])
+                if p != c:
+                    e[c], e[p] = e[p], e[c]
+            for r in range(1, d):
+                x = e[r]
+                for k in range(r):
+                    x -= A[r, k] * e[k]
+                e[r] = x
+            for c in range(d - 1, -1, -1):
+                x = e[c]
+                for k in range(c + 1, d):
+                    x -= A[c, k] * e[k]
+                e[c] = x / A[c, c]
         largest = 0.0
         for j in range(n):
             q[j] += e[j]
@@ -475,7 +537,7 @@ def _touch_up(F, q, T, pose, steps, done, w):
             largest = max(largest, abs(e[j]))
         if largest <= done:   # converged: a further step would move q by rounding only
             break
-        fresh = not largest <= 1e-3 * last
+        fresh = singular or not largest <= 1e-3 * last
         last = largest
     return True
 
@@ -519,7 +581,7 @@ def touch_up_rows(F, q, T, pose, steps, done):
     did not take (k,) bool, left unchanged."""
     k, n = q.shape
     refused = np.zeros(k, np.bool_)
-    w = np.empty(8 * n + 36)
+    w = np.empty(9 * n + 72)
     keep = np.empty(n)
     for i in range(k):
         for j in range(n):
