@@ -325,7 +325,7 @@ def _touch_up(robot: Robot, qc: Array, tgt: Array, pose: bool, steps: int) -> tu
     """At most ``steps`` Gauss-Newton steps for the rows ``qc`` (k, n) towards ``tgt`` (k, 4, 4) or (k, 3), in place:
     compiled row by row with the Numba back end (:func:`._single._touch_up`, the one-call path's bits), by
     :func:`_gauss_newton` for the rows it refuses (every row with the NumPy back end, a system that is not square,
-    a Jacobian too near singular). Returns ``(qc, refused)``, ``refused`` (k,) bool."""
+    a value not finite). Returns ``(qc, refused)``, ``refused`` (k,) bool."""
     rest = np.ones(len(qc), dtype=bool)
     one = _jit_loader.kernels("ik.analytic._single")
     if one is not None and robot.n == (6 if pose else 3):

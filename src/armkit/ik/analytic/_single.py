@@ -17,9 +17,8 @@ the answers are the same to the last bit:
 A pose target is checked for rigidity in the same pass (the measures of
 :func:`armkit.spatial.check_transform`). What one call cannot do the same way ends it early with
 a status, and the caller answers by the batched path: a target that is not finite or not rigid
-(:data:`BAD_TARGET`: the batched path raises the error), a branch the Gauss-Newton touch-up of
-``solve_all`` polishes where its compiled steps (:func:`_touch_up`, run in the call otherwise) find
-the Jacobian too near singular, or a file's ideal-arm branch still failing within the window of
+(:data:`BAD_TARGET`: the batched path raises the error), a file's ideal-arm branch that the
+Gauss-Newton touch-up (:func:`_touch_up`, run in the call) leaves failing within the window of
 ``_retarget``, or a note to give (a singular wrist, a target on the first axis, a stretched or folded
 elbow) (:data:`FALLBACK`). Imported lazily, only when the Numba back end is in use
 (:mod:`armkit._jit_loader`).
