@@ -3,7 +3,7 @@
 A file that rounds its twists (``rpy="1.5708"``) is solved on its ideal arm and every branch is then
 touched up by Gauss-Newton steps on the true arm. With the Numba back end these steps are compiled
 (:func:`armkit.ik.analytic._single._touch_up`) and run inside the one compiled call of a single target,
-instead of sending it to the batched path's NumPy steps (1.5 ms -> ~18 µs a Puma call, bench_analytic).
+instead of sending it to the batched path's NumPy steps (0.56 ms -> ~16 µs a Puma call, bench_analytic).
 
 Checked here against definitions, not stored numbers: a touched-up branch reaches the target on the
 true arm to rounding (FK of the true model); the compiled steps and NumPy's least-squares steps (``pinv``)
