@@ -99,11 +99,7 @@ def _dh_table(robot):
     an exact arm for the DH families, where the URDF's is the ideal arm of a file (the geometric family's)."""
     from armkit.ik.analytic._common import standard_form
 
-    sf = standard_form(robot)
-    rows = [armkit.Joint(theta=float(sf.theta[k]), d=float(sf.d[k]), a=float(sf.a[k]), alpha=float(sf.alpha[k]),
-                         lower=float(robot.lower[k]), upper=float(robot.upper[k]), name=robot.joint_names[k])
-            for k in range(robot.n)]
-    return armkit.Robot(rows, name=f"{robot.name}, DH table", base=sf.base, tool=sf.tool)
+    return standard_form(robot).as_robot(robot, f"{robot.name}, DH table")
 
 
 def _best(fn, repeat: int) -> float:

@@ -50,6 +50,7 @@ import armkit  # noqa: E402
 from armkit.ik import closed_form_family  # noqa: E402
 from armkit.ik.geometric.classify import classify  # noqa: E402
 from armkit.ik.geometric.poe import poe  # noqa: E402
+from bench_analytic import _rounded  # noqa: E402  (the arm of a file that rounds its twists: one builder)
 
 NAMED = ("ur5", "puma560", "example-robot-data:ur3", "example-robot-data:ur5", "example-robot-data:ur10",
          "example-robot-data:kinova")
@@ -187,14 +188,6 @@ def named(name: str, targets: int, g: np.random.Generator, reversed_joints: tupl
         return cls.name, {"refused by EAIK": 1}
     T = armkit.fk(robot, g.uniform(-np.pi, np.pi, (targets, robot.n)))
     return cls.name, compare(robot, form, T, eaik, armkit.ik_all(robot, T, enforce_limits=False))
-
-
-def _rounded(robot):
-    """``robot`` as a file that rounds its twists to 1.5708 (3.7e-6 off 90 deg)."""
-    from dataclasses import replace
-
-    return armkit.Robot([replace(j, alpha=j.alpha + np.copysign(3.7e-6, j.alpha) if j.alpha else 0.0)
-                         for j in robot.joints], name=f"{robot.name}, rounded", base=robot.base, tool=robot.tool)
 
 
 def _reversed(name: str, joints: tuple[int, ...]):

@@ -27,7 +27,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import armkit
-from armkit import Joint, Robot
+from armkit import Robot
 from armkit.ik.analytic import closed_form
 from armkit.ik.analytic._common import standard_form
 from armkit.model.erd import robots_folder
@@ -152,11 +152,7 @@ def _kinova_dh_twin() -> Robot:
     """The Kinova Jaco2 j2s6s200 as a standard-DH table: the DH twin of its URDF (example-robot-data) with the
     file's rounded twists (4.9e-12 off 90 deg) set to multiples of 90 deg. Its twist alpha_2 is 180 deg."""
     kinova = armkit.load("example-robot-data:kinova")
-    sf = standard_form(kinova)          # the ideal arm: snapped values, base and tool
-    rows = [Joint(theta=float(sf.theta[k]), d=float(sf.d[k]), a=float(sf.a[k]), alpha=float(sf.alpha[k]),
-                  lower=float(kinova.lower[k]), upper=float(kinova.upper[k]), name=kinova.joint_names[k])
-            for k in range(6)]
-    return Robot(rows, name="kinova DH twin", base=sf.base, tool=sf.tool)
+    return standard_form(kinova).as_robot(kinova, "kinova DH twin")   # the ideal arm: snapped values, base and tool
 
 
 def test_the_kinova_dh_table_is_a_puma_like_arm_and_its_urdf_stays_geometric():

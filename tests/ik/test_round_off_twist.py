@@ -21,7 +21,7 @@ from hypothesis import strategies as st
 import armkit
 from armkit.ik.analytic import closed_form, single_call
 from armkit.ik.analytic._common import HALF_PI, IDEAL_ANGLE_TOL, _snap
-from test_single_call import _flipped          # the reversed-axis arm, built once for both files
+from test_single_call import _flipped, rounded   # the reversed-axis and rounded arms, built one way for these files
 
 
 @settings(max_examples=200, deadline=None)
@@ -101,11 +101,7 @@ def test_the_touch_ups_rotation_log_is_scipys_below_90_deg(axis, angle):
 
 def _rounded_puma() -> armkit.Robot:
     """The Puma 560 of a file that rounds its twists (``rpy="1.5708"``: 3.7e-6 off 90 deg)."""
-    import dataclasses
-
-    puma = armkit.load("puma560")
-    return armkit.Robot([dataclasses.replace(j, alpha=j.alpha + 3.7e-6 if j.alpha else 0.0) for j in puma.joints],
-                        name="puma, rounded", base=puma.base, tool=puma.tool)
+    return rounded(armkit.load("puma560"))
 
 
 def test_the_touch_up_of_a_rounded_file_stops_when_converged(monkeypatch):

@@ -369,11 +369,7 @@ def _retarget(robot: Robot, branches: tuple, target: Array, position_only: bool,
     sf = solver.sf
     ideal = robot.cache.get("ideal_arm")
     if ideal is None:   # the ideal arm as a DH table (the solver's): its FK for the same joint values
-        from ...model.robot import Joint
-
-        ideal = robot.cache["ideal_arm"] = Robot(
-            [Joint(theta=float(sf.theta[k]), d=float(sf.d[k]), a=float(sf.a[k]), alpha=float(sf.alpha[k]))
-             for k in range(sf.n)], base=sf.base, tool=sf.tool)
+        ideal = robot.cache["ideal_arm"] = sf.as_robot(robot, f"{robot.name}, ideal arm")
     bi, mi = np.nonzero(stuck)
     qs, aim, want = q[bi, mi].copy(), target[bi], labels[bi, mi]
     rows = np.arange(len(bi))

@@ -201,13 +201,18 @@ def _fk_row(F, q, s, out):
     """FK of row ``s`` of ``q`` (m, n) into ``out`` (4, 4): the operations of
     :func:`armkit.kinematics._jit._fk_serial` for one configuration, in the same order (the same bits), without
     its block of sines and cosines. The caller has checked that the row is finite."""
-    n = q.shape[1]
+    _store2(_end_pose(F, q, s), out)
+
+
+@njit(cache=True, inline="always")
+def _end_pose(F, q, s):
+    """The pose (12 scalars) of :func:`_fk_row`."""
     X = _load(F, 0)
-    for k in range(n):
+    for k in range(q.shape[1]):
         t = q[s, k]
         sk, ck = _sincos(t)
         X = _mul(_move(X, t, sk, ck, F[k + 1, PRISMATIC] != 0.0), F, k + 1)
-    _store2(X, out)
+    return X
 
 
 @njit(cache=True, inline="always")
@@ -470,11 +475,8 @@ def _touch_up(F, q, T, pose, steps, done, w):
     for _ in range(steps):
         if fresh:
             X = _jacobian_cols(F, q, 0, A, -1, False, J, 0)   # (A: an unread sine table, o = -1)
-        else:
-            X = _load(F, 0)
-            for k in range(n):
-                sk, ck = _sincos(q[k])
-                X = _mul(_move(X, q[k], sk, ck, F[k + 1, PRISMATIC] != 0.0), F, k + 1)
+        else:   # a chord step: the FK alone
+            X = _end_pose(F, shaped(q, (1, n)), 0)
         e[0], e[1], e[2] = T[0, 3] - X[3], T[1, 3] - X[7], T[2, 3] - X[11]
         if pose:   # the rotation vector of M = R_target R^T (_small_log): (M - M^T) / 2 = sin(t) [u]x
             m21 = T[2, 0] * X[4] + T[2, 1] * X[5] + T[2, 2] * X[6]
@@ -542,6 +544,16 @@ def _touch_up(F, q, T, pose, steps, done, w):
 
 
 @njit(cache=True, inline="always")
+def _distance(v, q0, joints):
+    """The distance of ``v`` (n,) from ``q0`` over the revolute joints, summed as :func:`_finish` sums it."""
+    s = 0.0
+    for j in range(v.shape[0]):
+        if joints[JOINT_PRISMATIC, j] == 0.0:
+            s += (v[j] - q0[j]) ** 2
+    return math.sqrt(s)
+
+
+@njit(cache=True, inline="always")
 def _touch_branch(F, q, b, T, pose, joints, opts, q0, dist, Tq, e_p, e_r, w_b, wt):
     """:func:`_touch_up` of branch ``b`` of ``q`` (m, n), then what ``solve_all`` does with it: its FK check, and
     the touched-up values kept (with their distance from ``q0`` in ``dist[b]``) only where they lower the error
@@ -564,12 +576,9 @@ def _touch_branch(F, q, b, T, pose, joints, opts, q0, dist, Tq, e_p, e_r, w_b, w
         return False, e_p, e_r, w_b
     if not better:
         return True, e_p, e_r, w_b
-    s = 0.0
     for j in range(n):
         q[b, j] = qb[j]
-        if joints[JOINT_PRISMATIC, j] == 0.0:
-            s += (qb[j] - q0[j]) ** 2
-    dist[b] = math.sqrt(s)
+    dist[b] = _distance(qb, q0, joints)
     return True, p2, r2, w2
 
 
@@ -597,11 +606,7 @@ def row_distances(q, q0, joints, out):
     """``out[i]``: the distance of row ``q[i]`` from ``q0[i]`` over the revolute joints, summed as
     :func:`_finish` sums it (the batched path's distances of touched-up branches, the same bits)."""
     for i in range(q.shape[0]):
-        s = 0.0
-        for j in range(q.shape[1]):
-            if joints[JOINT_PRISMATIC, j] == 0.0:
-                s += (q[i, j] - q0[i, j]) ** 2
-        out[i] = math.sqrt(s)
+        out[i] = _distance(q[i], q0[i], joints)
 
 
 @njit(cache=True, inline="always")
