@@ -22,7 +22,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ... import _jit_loader
-from ...model.robot import Robot
+from ...model.robot import Joint, Robot
 
 Array = NDArray[np.float64]
 HALF_PI = 0.5 * math.pi
@@ -90,8 +90,6 @@ class StandardForm:
     def as_robot(self, like: Robot, name: str) -> Robot:
         """This arm as a standard-DH :class:`Robot` with the joint names and limits of ``like`` (the robot it was
         made from, revolute joints): the same joint values, its own FK (the ideal arm's, for a file's)."""
-        from ...model.robot import Joint
-
         return Robot([Joint(theta=float(self.theta[k]), d=float(self.d[k]), a=float(self.a[k]),
                             alpha=float(self.alpha[k]), lower=float(like.lower[k]), upper=float(like.upper[k]),
                             name=like.joint_names[k]) for k in range(self.n)],
