@@ -1,8 +1,9 @@
-"""The one-call path shares one record per robot (``robot.cache``) between threads: every call makes its own
-output buffers, and the record's work vector is used by one compiled call at a time (a kernel holds the GIL from
-start to end), so threads calling :func:`armkit.ik` / :func:`armkit.ik_all` on one robot at once get the answers a
-single thread gets, field by field (issue 19). A kernel reads nothing of its work space that it did not write in
-the same call."""
+"""The one-call path shares one record per robot (``robot.cache``) between threads: every call takes output
+buffers no other call or result holds (a kept set where none refers to it, taken out of the record's deque in one
+step: tests/ik/test_one_call_buffers.py), and the record's work vector is used by one compiled call at a time (a
+kernel holds the GIL from start to end), so threads calling :func:`armkit.ik` / :func:`armkit.ik_all` on one robot
+at once get the answers a single thread gets, field by field (issue 19). A kernel reads nothing of its work space
+that it did not write in the same call."""
 
 from __future__ import annotations
 
