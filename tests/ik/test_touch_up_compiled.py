@@ -14,6 +14,7 @@ branches. (The one-call path against the batched path, bit for bit, on rounded a
 
 from __future__ import annotations
 
+import functools
 import importlib.util
 
 import numpy as np
@@ -105,11 +106,10 @@ def test_what_is_not_square_is_left_to_numpy_and_a_singular_jacobian_takes_pinvs
     assert np.abs(armkit.fk(ur5, mine) - T).max() <= 1e-15 * ur5.reach
 
 
-@settings(max_examples=40, deadline=None)
-@given(seed=st.integers(0, 2**16), rank=st.integers(0, 6), d=st.sampled_from([3, 6]))
-def test_the_compiled_pinv_step_is_numpys_pinv(seed, rank, d):
-    """``_pinv_step`` (a one-sided Jacobi SVD) against ``np.linalg.pinv(J, rcond=1e-10) @ e`` on random matrices of
-    every rank, scaled rows as a Jacobian's (lengths and angles), and exactly singular ones."""
+@functools.cache
+def _pinv_runner():
+    """``_pinv_step`` with its work arrays, compiled once (a kernel made in the test compiled again for every example:
+    35 s of the suite)."""
     from numba import njit
 
     step = _kernels()._pinv_step
@@ -119,6 +119,15 @@ def test_the_compiled_pinv_step_is_numpys_pinv(seed, rank, d):
         A, V, g = np.empty((d, d)), np.empty((d, d)), np.empty(d)
         step(J, A, V, e, g, d)
 
+    return run
+
+
+@settings(max_examples=40, deadline=None)
+@given(seed=st.integers(0, 2**16), rank=st.integers(0, 6), d=st.sampled_from([3, 6]))
+def test_the_compiled_pinv_step_is_numpys_pinv(seed, rank, d):
+    """``_pinv_step`` (a one-sided Jacobi SVD) against ``np.linalg.pinv(J, rcond=1e-10) @ e`` on random matrices of
+    every rank, scaled rows as a Jacobian's (lengths and angles), and exactly singular ones."""
+    run = _pinv_runner()
     rng = np.random.default_rng(seed)
     rank = min(rank, d)
     J = rng.normal(size=(d, rank)) @ rng.normal(size=(rank, d)) if rank else np.zeros((d, d))
