@@ -46,6 +46,18 @@ def pytest_configure(config: pytest.Config) -> None:
             _compile_kernels_once(config)
 
 
+def pytest_sessionfinish(session: pytest.Session, exitstatus: int) -> None:
+    """After a whole-suite run, the controller adds what the tests compiled on first use (the searches' kernels) to
+    the kernel store (armkit._kernel_store), where the store held fewer of this build's files."""
+    config = session.config
+    if not hasattr(config, "workerinput") and _wants_kernels_first(config) and exitstatus == 0:
+        try:
+            from armkit import _jit_loader
+        except ImportError:
+            return
+        _jit_loader.save_kernels()
+
+
 def pytest_unconfigure(config: pytest.Config) -> None:
     folder = config.stash.get(_cache_key, None)
     if folder is not None:
@@ -120,6 +132,10 @@ def _compile_kernels_once(config: pytest.Config) -> None:
     import time
 
     try:
+        from armkit import _jit_loader
+
+        _stamps()
+        _jit_loader.restore_kernels()   # compiled by another clone of the same sources on this machine (the store)
         if _kernels_cached():
             return
     except ImportError:        # no Numba: nothing to compile
@@ -151,6 +167,7 @@ def _compile_kernels_once(config: pytest.Config) -> None:
     ours = _stamps()[2]
     if not failed and ours is not None:
         ours.touch()      # armkit's forget_other_builds() removes it with the other files of an older build
+        _jit_loader.save_kernels()   # for the next clone of the same sources (armkit._kernel_store)
     say(f"armkit tests: the kernel warm-up took {time.perf_counter() - t0:.0f} s")
 
 

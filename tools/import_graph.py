@@ -48,8 +48,8 @@ from typing import Any
 ROOT = Path(__file__).resolve().parents[1] / "src" / "armkit"
 
 FLOORS: tuple[tuple[str, tuple[str, ...]], ...] = (
-    ("ground", ("_jit_loader", "_jit_twins", "_jit_shaped", "_arith", "errors", "_checks", "_text", "_io", "_extras",
-                "_limits", "_version", "locale")),
+    ("ground", ("_jit_loader", "_kernel_store", "_jit_twins", "_jit_shaped", "_arith", "errors", "_checks", "_text",
+                "_io", "_extras", "_limits", "_version", "locale")),
     ("spatial", ("spatial",)),
     ("model", ("model",)),
     ("kinematics", ("kinematics",)),

@@ -46,12 +46,13 @@ import time
 from pathlib import Path
 from typing import Any, Callable, Iterator, Literal, Optional
 
+from . import _kernel_store
 from .errors import ArgumentError, ArmkitError
 
 __all__ = ["set_backend", "get_backend", "jit_module", "serve", "load_jit", "backend_choice", "ready", "parallel_ok",
            "cache_dir", "fallback_cache_dir", "install_cache_fallback", "module", "kernels", "forget_stale_cache",
            "compiling_here", "serial_only", "marker", "lock_alive", "forget_other_builds", "say_compiling", "release_lock",
-           "compiled_entry", "set_renderer"]
+           "compiled_entry", "set_renderer", "restore_kernels", "save_kernels"]
 
 _PKG = Path(__file__).resolve().parent
 _SOURCES = ("kinematics/_jit.py", "ik/_jit_lm.py", "ik/_jit_verify.py", "ik/analytic/_jit.py", "ik/analytic/_layout.py",
@@ -313,6 +314,48 @@ def marker(suffix: str) -> Optional[Path]:
     return None if d is None else d / f"armkit-kernels-{_key()}.{suffix}"
 
 
+# ------------------------------------------------------------------------------- the kernel store
+def _store() -> Optional[tuple[Path, str, list[Path]]]:
+    """``(store folder, build, this build's marker files)`` of :mod:`armkit._kernel_store` for the package's own
+    cache, or None where there is none to share: the store is off, Numba's cache is off or not in the package's
+    ``__pycache__`` folders (``NUMBA_CACHE_DIR``, a read-only install)."""
+    store = _kernel_store.store_root()
+    d = cache_dir()
+    if store is None or d is None or not d.resolve().is_relative_to(_PKG):
+        return None
+    import llvmlite
+    import numba
+
+    versions = f"{numba.__version__} {llvmlite.__version__} {sys.version} {sys.platform} " \
+               f"{os.uname().machine if hasattr(os, 'uname') else ''}"
+    markers = [m for m in (marker("ready"), marker("parallel"), marker("tests")) if m is not None]
+    return store, _kernel_store.build_id(_PKG, versions), markers
+
+
+def restore_kernels() -> bool:
+    """Copy this build's compiled kernels from the kernel store (:mod:`armkit._kernel_store`) into the package's
+    cache, where the store has them and the cache has none of this build's marker files and no warm-up process at
+    work: a new install of the same sources then compiles nothing. True where kernels were copied; never raises (a
+    store that fails is no store)."""
+    try:
+        where = _store()
+        if where is None or lock_alive():   # a warm-up process compiles into this cache now
+            return False
+        return _kernel_store.restore(where[0], where[1], _PKG, where[2])
+    except (OSError, ImportError, ValueError):
+        return False
+
+
+def save_kernels() -> bool:
+    """Copy the package's kernel cache into the kernel store (:mod:`armkit._kernel_store`) for later installs of
+    the same sources, where the store holds fewer of this build's files. True where a copy was made; never raises."""
+    try:
+        where = _store()
+        return where is not None and _kernel_store.save(where[0], where[1], _PKG, where[2])
+    except (OSError, ImportError, ValueError):
+        return False
+
+
 # ------------------------------------------------------------------------------------ the state
 def N_(text: str) -> str:
     """Mark a note's English wording for the catalogue (``make locale-update``); :func:`_say` renders it. (This
@@ -453,6 +496,8 @@ def _decide() -> str:
     except ImportError:   # no Numba: nothing to compile; module() finds no kernels and NumPy answers
         return "sync"
     ready_marker = marker("ready")
+    if ready_marker is not None and not ready_marker.exists():
+        restore_kernels()   # compiled by another install of the same sources: copied, not compiled again
     if ready_marker is not None and ready_marker.exists():
         p = marker("parallel")
         _parallel = bool(p and p.exists())

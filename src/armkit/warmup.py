@@ -237,6 +237,7 @@ def warmup(*, parallel: bool = True, say: Optional[Callable[[], None]] = None) -
     """
     t0 = time.perf_counter()
     _jit_loader.install_cache_fallback()
+    _jit_loader.restore_kernels()
     first, second = _jit_loader.marker("ready"), _jit_loader.marker("parallel")
 
     def done() -> bool:
@@ -263,6 +264,8 @@ def warmup(*, parallel: bool = True, say: Optional[Callable[[], None]] = None) -
                 _exercise_parallel()
                 if second is not None:
                     second.touch()
+    if compiled and done():
+        _jit_loader.save_kernels()   # for the next install of the same sources on this machine
     return Warmup(seconds=time.perf_counter() - t0, cache=_jit_loader.cache_dir(), compiled=compiled)
 
 
@@ -286,6 +289,7 @@ def _worker_main(parent: str) -> int:
             _exercise_later()
             _exercise_parallel()
             second.touch()
+            _jit_loader.save_kernels()
             print(f"all kernels compiled in {time.perf_counter() - t0:.1f} s", flush=True)
             return 0
     finally:

@@ -27,15 +27,18 @@ def _graph():
     return mod
 
 
-def test_the_loader_imports_only_the_standard_library_and_the_errors():
-    tree = ast.parse((PKG / "_jit_loader.py").read_text(encoding="utf-8"))
+@pytest.mark.parametrize(("name", "siblings"), [("_jit_loader", {"errors", "_kernel_store"}), ("_kernel_store", set())])
+def test_the_loader_imports_only_the_standard_library_and_the_errors(name, siblings):
+    """The loader: the standard library, the errors and the kernel store; the store: the standard library."""
+    tree = ast.parse((PKG / f"{name}.py").read_text(encoding="utf-8"))
     stdlib = set(sys.stdlib_module_names)
     for node in tree.body:     # module level (Numba is imported inside functions, on first use)
         if isinstance(node, ast.Import):
             assert all(a.name.split(".")[0] in stdlib for a in node.names), ast.unparse(node)
         elif isinstance(node, ast.ImportFrom):
             if node.level:
-                assert node.module == "errors", ast.unparse(node)
+                assert (node.module or "") in siblings or not node.module and {a.name for a in node.names} <= siblings, \
+                    ast.unparse(node)
             else:
                 assert (node.module or "").split(".")[0] in stdlib | {"__future__"}, ast.unparse(node)
 
