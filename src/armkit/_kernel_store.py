@@ -114,17 +114,19 @@ def save(store: Path, build: str, root: Path, markers: list[Path]) -> bool:
     if _count(target) >= len(files):
         return False
     tmp = store / f".tmp-{build}-{os.getpid()}"
-    shutil.rmtree(tmp, ignore_errors=True)
-    for f in files:
-        dest = tmp / f.relative_to(root)
-        dest.parent.mkdir(parents=True, exist_ok=True)
-        shutil.copyfile(f, dest)
-    (tmp / _MANIFEST).write_text(f"{len(files)}\n")
     old = store / f".old-{build}-{os.getpid()}"
-    if target.exists():
-        os.replace(target, old)
-    os.replace(tmp, target)
-    shutil.rmtree(old, ignore_errors=True)
+    try:
+        for f in files:
+            dest = tmp / f.relative_to(root)
+            dest.parent.mkdir(parents=True, exist_ok=True)
+            shutil.copyfile(f, dest)
+        (tmp / _MANIFEST).write_text(f"{len(files)}\n")
+        if target.exists():
+            os.replace(target, old)
+        os.replace(tmp, target)   # (another process's copy put there meanwhile: OSError, its copy stays)
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+        shutil.rmtree(old, ignore_errors=True)
     _prune(store)
     return True
 

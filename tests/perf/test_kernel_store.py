@@ -195,3 +195,24 @@ def test_where_the_store_is():
         assert ks.store_root({"ARMKIT_KERNEL_STORE": off}) is None
     assert ks.store_root({"NUMBA_CACHE_DIR": "/n"}) is None            # its owner manages that cache
     assert ks.store_root({"NUMBA_CACHE_DIR": "/n", "ARMKIT_KERNEL_STORE": "/s"}) == Path("/s")
+
+
+def test_a_save_that_fails_leaves_nothing_half_made(tmp_path, monkeypatch):
+    """Two processes saving one build at once: the one whose rename fails (the other's copy took the place) removes
+    its temporary folder, and the other's copy stays whole."""
+    _, markers = _tree(tmp_path / "a")
+    store = tmp_path / "store"
+    real = os.replace
+
+    def taken(src, dst):
+        if Path(src).name.startswith(".tmp-"):
+            shutil.copytree(src, dst)             # the other process's copy lands first
+            real(src, dst)                         # and this rename then fails: a folder that is not empty
+        real(src, dst)
+
+    monkeypatch.setattr(ks.os, "replace", taken)
+    with pytest.raises(OSError):
+        ks.save(store, "b1", tmp_path / "a", markers)
+    monkeypatch.undo()
+    assert sorted(p.name for p in store.iterdir()) == ["b1"]
+    assert ks._count(store / "b1") == len(ks.cache_files(tmp_path / "a", markers))
