@@ -328,8 +328,13 @@ def _store() -> Optional[tuple[Path, str, list[Path]]]:
 
     versions = f"{numba.__version__} {llvmlite.__version__} {sys.version} {sys.platform} " \
                f"{os.uname().machine if hasattr(os, 'uname') else ''}"
-    markers = [m for m in (marker("ready"), marker("parallel"), marker("tests")) if m is not None]
-    return store, _kernel_store.build_id(_PKG, versions), markers
+    return store, _kernel_store.build_id(_PKG, versions), _store_markers()
+
+
+def _store_markers() -> list[Path]:
+    """This build's marker files that the kernel store keeps with the kernels (``armkit warmup``'s two and the test
+    suite's), where Numba's cache is on."""
+    return [m for m in (marker("ready"), marker("parallel"), marker("tests")) if m is not None]
 
 
 def restore_kernels() -> bool:
@@ -338,10 +343,10 @@ def restore_kernels() -> bool:
     work: a new install of the same sources then compiles nothing. True where kernels were copied; never raises (a
     store that fails is no store)."""
     try:
+        if lock_alive() or any(m.exists() for m in _store_markers()):   # a warm-up process at work, or this
+            return False          # cache's own kernels: said before the build's hash is taken (5-9 ms)
         where = _store()
-        if where is None or lock_alive():   # a warm-up process compiles into this cache now
-            return False
-        return _kernel_store.restore(where[0], where[1], _PKG, where[2])
+        return where is not None and _kernel_store.restore(where[0], where[1], _PKG, where[2])
     except (OSError, ImportError, ValueError):
         return False
 
