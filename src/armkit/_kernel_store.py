@@ -6,10 +6,12 @@ keeps a copy of those cache files, per *build* (a hash of every ``.py`` file of 
 llvmlite and Python versions and the machine), in ``$ARMKIT_KERNEL_STORE``, else ``$XDG_CACHE_HOME/armkit/kernels``
 or ``~/.cache/armkit/kernels``; an install whose cache lacks them copies them back before it would compile.
 
-Why a copy is safe: Numba stamps each cache index with the SHA-256 of its source file's contents (Numba 0.59 and
-later) and each compiled overload with the machine's CPU and features, so a copied entry loads only where both
-match; the build hash covers the files a kernel inlines from other files too (which Numba's stamp does not,
-see :func:`armkit._jit_loader.forget_stale_cache`). A store folder not owned by this user, or writable by others, is
+Why a copy is safe: the build hash covers every source file (a kernel inlines helpers of other files, which
+Numba's own stamp does not follow, see :func:`armkit._jit_loader.forget_stale_cache`), and Numba checks each entry
+again when it loads it: each compiled overload carries the machine's CPU and features, and each cache index a stamp
+of its source file, the SHA-256 of its contents in Numba 0.68 (checked 2026-12-07; where a Numba stamps the file's
+modification time instead, a copied entry does not match the new file's and is compiled again: slower, never
+wrong). A store folder not owned by this user, or writable by others, is
 never read (its pickles would run as code). Nothing is copied where ``NUMBA_CACHE_DIR`` is set (its owner manages
 that cache), and ``ARMKIT_KERNEL_STORE=off`` turns the store off.
 
