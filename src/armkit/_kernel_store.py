@@ -38,7 +38,7 @@ _MANIFEST = "armkit-store-files"
 
 def store_root(env: Optional[Mapping[str, str]] = None) -> Optional[Path]:
     """The store's folder (not created here), or None where it is off: ``ARMKIT_KERNEL_STORE`` set to ``off``, ``0``
-    or an empty string, or ``NUMBA_CACHE_DIR`` set (the caller manages Numba's cache)."""
+    or an empty string, ``NUMBA_CACHE_DIR`` set (the caller manages Numba's cache), or no home folder to be found."""
     if env is None:
         env = os.environ
     chosen = env.get("ARMKIT_KERNEL_STORE")
@@ -46,8 +46,14 @@ def store_root(env: Optional[Mapping[str, str]] = None) -> Optional[Path]:
         return None if chosen.strip().lower() in ("", "0", "off") else Path(chosen)
     if env.get("NUMBA_CACHE_DIR"):
         return None
-    base = env.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
-    return Path(base) / "armkit" / "kernels"
+    xdg = env.get("XDG_CACHE_HOME")
+    if xdg and Path(xdg).is_absolute():   # (a relative one is to be ignored, says the XDG specification)
+        return Path(xdg) / "armkit" / "kernels"
+    try:
+        home = Path.home()
+    except RuntimeError:                  # no home to be found: no store (not a folder named "~" here)
+        return None
+    return home / ".cache" / "armkit" / "kernels" if home.is_absolute() else None
 
 
 def build_id(root: Path, versions: str) -> str:

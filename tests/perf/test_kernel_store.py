@@ -188,8 +188,19 @@ def test_the_build_follows_every_source_file_and_the_versions(tmp_path):
     assert ks.build_id(tmp_path / "a", "numba 0.68.1") != one
 
 
-def test_where_the_store_is():
+def test_where_the_store_is(monkeypatch):
     assert ks.store_root({"HOME": "/h", "XDG_CACHE_HOME": "/c"}) == Path("/c/armkit/kernels")
+    monkeypatch.setattr(Path, "home", classmethod(lambda cls: Path("/h")))
+    assert ks.store_root({"XDG_CACHE_HOME": "relative"}) == Path("/h/.cache/armkit/kernels")   # ignored, as XDG says
+    monkeypatch.setattr(Path, "home", classmethod(lambda cls: Path("~")))                     # Python 3.11, no home
+    assert ks.store_root({}) is None
+
+    def nowhere(cls):
+        raise RuntimeError("Could not determine home directory.")                              # Python 3.12 and later
+
+    monkeypatch.setattr(Path, "home", classmethod(nowhere))
+    assert ks.store_root({}) is None
+    monkeypatch.undo()
     assert ks.store_root({"ARMKIT_KERNEL_STORE": "/s"}) == Path("/s")
     for off in ("off", "0", "", "OFF"):
         assert ks.store_root({"ARMKIT_KERNEL_STORE": off}) is None
