@@ -89,7 +89,7 @@ def cache_files(root: Path, markers: list[Path]) -> list[Path]:
         for index in sorted(folder.glob("*.nbi")):
             out.append(index)
             names = _referenced(index)
-            stem = index.name[:-len(".nbi")]
+            stem = glob.escape(index.name[:-len(".nbi")])
             data = [folder / n for n in names] if names is not None else sorted(folder.glob(f"{stem}.*.nbc"))
             out.extend(p for p in data if p.is_file())
         out.extend(sorted(folder.glob("*.armkit-deps")))
@@ -98,7 +98,7 @@ def cache_files(root: Path, markers: list[Path]) -> list[Path]:
 
 
 def _safe(folder: Path) -> bool:
-    """True where ``folder`` is ours and writable by nobody else (its pickles are loaded as code)."""
+    """True where ``folder`` (or a file) is ours and writable by nobody else (its pickles are loaded as code)."""
     try:
         st = folder.stat()
     except OSError:
@@ -129,6 +129,8 @@ def save(store: Path, build: str, root: Path, markers: list[Path]) -> bool:
             dest.parent.mkdir(parents=True, exist_ok=True)
             shutil.copyfile(f, dest)
         (tmp / _MANIFEST).write_text(f"{len(files)}\n")
+        for p in [tmp, *tmp.rglob("*")]:   # the user's alone, whatever the umask (restore reads no other)
+            p.chmod(0o700 if p.is_dir() else 0o600)
         if target.exists():
             os.replace(target, old)
         os.replace(tmp, target)   # (another process's copy put there meanwhile: OSError, its copy stays)
@@ -148,7 +150,7 @@ def _count(target: Path) -> int:
 
 
 def _prune(store: Path) -> None:
-    """Remove all but the :data:`KEEP` newest builds (and left-over temporary folders of dead saves)."""
+    """Remove all but the :data:`KEEP` newest builds (a folder whose name starts with a dot is a save at work)."""
     builds = sorted((p for p in store.iterdir() if p.is_dir() and not p.name.startswith(".")),
                     key=lambda p: p.stat().st_mtime, reverse=True)
     for old in builds[KEEP:]:
@@ -164,6 +166,8 @@ def restore(store: Path, build: str, root: Path, markers: list[Path]) -> bool:
     a kernel was copied."""
     src = store / build
     if not (_safe(store) and _safe(src)) or any(m.exists() for m in markers):
+        return False
+    if not all(_safe(p) for p in src.rglob("*")):   # every file and folder of the copy: none another user could change
         return False
     copied = False
     for index in sorted(src.rglob("*.nbi")):
@@ -181,9 +185,9 @@ def restore(store: Path, build: str, root: Path, markers: list[Path]) -> bool:
             _copy(deps, dest)
     if copied:
         for m in markers:
-            kept = src / m.relative_to(root)
-            if kept.is_file():
-                _copy(kept, m)
+            mark = src / m.relative_to(root)
+            if mark.is_file():
+                _copy(mark, m)
     return copied
 
 

@@ -164,6 +164,14 @@ def test_a_store_others_may_write_is_never_read_nor_written(tmp_path):
     assert not any(other.rglob("*"))
     (store / "b1").chmod(0o757)
     assert not ks.restore(store, "b1", other, want)
+    (store / "b1").chmod(0o700)
+    inner = store / "b1" / "k" / "__pycache__"
+    for bad, mode in ((inner, 0o777), (inner / "_jit.f-10.py311.1.nbc", 0o666)):   # a folder or a file inside
+        bad.chmod(mode)
+        assert not ks.restore(store, "b1", other, want)
+        bad.chmod(0o700 if bad.is_dir() else 0o600)
+    assert not any(other.rglob("*"))
+    assert ks.restore(store, "b1", other, want)                  # all the user's own again: copied
 
 
 def test_the_newest_builds_are_kept(tmp_path):
@@ -227,3 +235,19 @@ def test_a_save_that_fails_leaves_nothing_half_made(tmp_path, monkeypatch):
     monkeypatch.undo()
     assert sorted(p.name for p in store.iterdir()) == ["b1"]
     assert ks._count(store / "b1") == len(ks.cache_files(tmp_path / "a", markers))
+
+
+@pytest.mark.skipif(not hasattr(os, "getuid"), reason="POSIX permissions")
+def test_a_store_saved_under_a_group_writable_umask_is_still_read(tmp_path):
+    """Debian gives users the umask 002: files and folders the save makes would be writable by the group, and
+    restore would refuse them. The save makes its copy the user's alone."""
+    _, markers = _tree(tmp_path / "a")
+    store = tmp_path / "store"
+    before = os.umask(0o002)
+    try:
+        assert ks.save(store, "b1", tmp_path / "a", markers)
+    finally:
+        os.umask(before)
+    other = tmp_path / "b"
+    other.mkdir()
+    assert ks.restore(store, "b1", other, [other / m.relative_to(tmp_path / "a") for m in markers])
