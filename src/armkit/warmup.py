@@ -29,10 +29,13 @@ __all__ = ["warmup", "Warmup"]
 @dataclass(frozen=True)
 class Warmup:
     """What :func:`warmup` did: ``seconds`` it took, the ``cache`` directory (None: not cached),
-    and whether anything had to be ``compiled`` (False: everything was cached already)."""
+    whether anything had to be ``compiled`` (False: everything was cached already), and whether kernels were
+    ``restored``: copied from the kernel store, compiled by another install of the same sources
+    (:mod:`armkit._kernel_store`)."""
     seconds: float
     cache: Optional[Path]
     compiled: bool
+    restored: bool = False
 
 
 def _exercise_serial() -> None:
@@ -237,7 +240,7 @@ def warmup(*, parallel: bool = True, say: Optional[Callable[[], None]] = None) -
     """
     t0 = time.perf_counter()
     _jit_loader.install_cache_fallback()
-    _jit_loader.restore_kernels()
+    restored = _jit_loader.restore_kernels()
     first, second = _jit_loader.marker("ready"), _jit_loader.marker("parallel")
 
     def done() -> bool:
@@ -266,7 +269,8 @@ def warmup(*, parallel: bool = True, say: Optional[Callable[[], None]] = None) -
                     second.touch()
     if compiled and done():
         _jit_loader.save_kernels()   # for the next install of the same sources on this machine
-    return Warmup(seconds=time.perf_counter() - t0, cache=_jit_loader.cache_dir(), compiled=compiled)
+    return Warmup(seconds=time.perf_counter() - t0, cache=_jit_loader.cache_dir(), compiled=compiled,
+                  restored=restored)
 
 
 def _worker_main(parent: str) -> int:

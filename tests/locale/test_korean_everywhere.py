@@ -246,6 +246,27 @@ def test_warmup_says_it_is_compiling_in_korean(monkeypatch):
     assert res.exit_code == 0 and json.loads(res.stdout)["compiled"] is True and not res.stderr, res.output
 
 
+def test_warmup_says_its_kernels_came_from_the_store(monkeypatch, tmp_path):
+    """`armkit warmup` whose kernels were copied from the kernel store (armkit._kernel_store) says so, in English
+    and in Korean, and --json carries "restored"."""
+    import importlib
+    import json
+
+    w = importlib.import_module("armkit.warmup")
+
+    def fake(*, parallel, say):   # nothing compiled: no `say`
+        return w.Warmup(seconds=0.4, cache=tmp_path, compiled=False, restored=True)
+
+    monkeypatch.setattr(w, "warmup", fake)
+    res = runner.invoke(app, ["warmup"], env=ENV)
+    assert res.exit_code == 0 and "copied from the kernel store" in res.stdout, res.output
+    res = runner.invoke(app, ["warmup", "--lang", "ko"], env=ENV)
+    out = ((res.stdout or "") + (res.stderr or "")).replace(str(tmp_path), "")
+    assert res.exit_code == 0 and "커널 저장소에서 복사했습니다" in out and english_words(out) == [], out
+    res = runner.invoke(app, ["warmup", "--json"], env=ENV)
+    assert res.exit_code == 0 and json.loads(res.stdout)["restored"] is True, res.output
+
+
 def test_a_bad_robot_file_is_reported_in_korean(tmp_path):
     bad = tmp_path / "arm.toml"
     bad.write_text("x = 1\n", encoding="utf-8")

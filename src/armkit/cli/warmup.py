@@ -12,7 +12,7 @@ def warmup(parallel: bool = typer.Option(True, "--parallel/--no-parallel",
            json_out: JsonOut = False) -> None:
     """Compile armkit's Numba kernels once and cache them on disk, so that no later run waits for it.
 
-    Run it after installing armkit into an image or a CI environment. The cache goes to NUMBA_CACHE_DIR if set, else next to the package, else ~/.cache/numba, else a private directory in the temp directory (read-only installs).
+    Run it after installing armkit into an image or a CI environment. The cache goes to NUMBA_CACHE_DIR if set, else next to the package, else ~/.cache/numba, else a private directory in the temp directory (read-only installs). Kernels another install of the same sources compiled on this machine are copied from the kernel store (~/.cache/armkit/kernels; ARMKIT_KERNEL_STORE=off turns it off).
 
     Example: armkit warmup
     """
@@ -30,13 +30,16 @@ def warmup(parallel: bool = typer.Option(True, "--parallel/--no-parallel",
         raise SystemExit(EXIT_FAILED) from None
     if json_out:
         print_json({"seconds": round(done.seconds, 3), "cache": None if done.cache is None else str(done.cache),
-                    "compiled": done.compiled})
+                    "compiled": done.compiled, "restored": done.restored})
         return
     where = _("not cached (Numba's cache is off)") if done.cache is None else _("cached in {path}",
                                                                               path=esc(done.cache))
     if done.compiled:
         console.print(_("armkit's kernels compiled in {seconds} s, {where}", seconds=f"{done.seconds:.1f}",
                         where=where))
+    elif done.restored:
+        console.print(_("armkit's kernels copied from the kernel store (compiled by another install of the same "
+                        "sources), {where}: nothing to compile", where=where))
     else:
         console.print(_("armkit's kernels were already compiled, {where}: nothing to do", where=where))
 
