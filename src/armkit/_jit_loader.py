@@ -284,14 +284,20 @@ def cache_dir() -> Optional[Path]:
 @functools.lru_cache(maxsize=None)  # a fact of this build (hash of the kernel sources), not of a robot
 def _key() -> str:
     """This build's kernels: their sources, the Numba and Python versions, the machine."""
-    import numba
-
     h = hashlib.sha1()
     for rel in _SOURCES:
         h.update((_PKG / rel).read_bytes())
-    h.update(f"{numba.__version__} {sys.version} {sys.platform} {os.uname().machine if hasattr(os, 'uname') else ''}"
-             .encode())
+    h.update(_versions().encode())
     return h.hexdigest()[:16]
+
+
+@functools.lru_cache(maxsize=None)
+def _versions() -> str:
+    """The Numba and Python versions, the platform and the machine: what a build's kernels depend on besides their
+    sources (:func:`_key`, and the kernel store's build with llvmlite's version)."""
+    import numba
+
+    return f"{numba.__version__} {sys.version} {sys.platform} {os.uname().machine if hasattr(os, 'uname') else ''}"
 
 
 def forget_other_builds() -> None:
@@ -324,10 +330,8 @@ def _store() -> Optional[tuple[Path, str, list[Path]]]:
     if store is None or d is None or not d.resolve().is_relative_to(_PKG):
         return None
     import llvmlite
-    import numba
 
-    versions = f"{numba.__version__} {llvmlite.__version__} {sys.version} {sys.platform} " \
-               f"{os.uname().machine if hasattr(os, 'uname') else ''}"
+    versions = f"{_versions()} llvmlite {llvmlite.__version__}"
     return store, _kernel_store.build_id(_PKG, versions), _store_markers()
 
 
