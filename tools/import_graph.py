@@ -261,6 +261,17 @@ def robot_undeclared() -> list[str]:
     return sorted(found)
 
 
+def _imported_names(module: str, line: int) -> list[str]:
+    """The names the import statement at ``line`` of ``module`` binds (its ``import`` or ``from ... import``)."""
+    path = ROOT.parent / (module.replace(".", "/") + ".py")
+    if not path.exists():
+        path = ROOT.parent / module.replace(".", "/") / "__init__.py"
+    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+        if isinstance(node, (ast.Import, ast.ImportFrom)) and node.lineno == line:
+            return [a.name for a in node.names]
+    return []
+
+
 def loaded_by_import() -> set[str]:
     """The armkit modules in ``sys.modules`` after ``import armkit`` (a fresh interpreter)."""
     code = "import sys, armkit; print('\\n'.join(m for m in sys.modules if m.split('.')[0] == 'armkit'))"
@@ -307,6 +318,8 @@ def analyse(with_loaded: bool = False) -> dict[str, Any]:
         already = {(i.source, i.line) for i in fn_imports if i.target in loaded
                    and not any(j.source == i.source and j.line == i.line and j.target not in loaded for j in fn_imports)}
         result["function_level_imports"]["of_modules_loaded_by_import_armkit"] = len(already)
+        result["function_level_imports"]["loaded_already"] = [
+            {"module": m, "line": line, "names": _imported_names(m, line)} for m, line in sorted(already)]
     return result
 
 
@@ -342,6 +355,8 @@ def main(argv: list[str] | None = None) -> int:
     loaded = fl.get("of_modules_loaded_by_import_armkit")
     print(f"imports inside functions: {fl['statements']} statements, {fl['of_armkit_modules']} of armkit modules"
           + ("" if loaded is None else f", {loaded} of modules `import armkit` loaded already"))
+    for imp in fl.get("loaded_already", []):
+        print(f"  {imp['module']}:{imp['line']} imports {', '.join(imp['names'])}")
     und = r["robot_undeclared_attributes"]
     print(f"undeclared attributes on Robot: {len(und)}" + (f" ({', '.join(und)})" if und else ""))
     if args.verbose:

@@ -16,6 +16,11 @@ import numpy as np
 
 from . import _jit_loader
 from .errors import ArgumentError, UnreachableError
+from .ik import closed_form_family, ik
+from .ik.result import IKResult, default_tolerance
+from .kinematics import fk
+from .model import load
+from .spatial import check_transform
 
 __all__ = ["RobotKinematics"]
 
@@ -114,8 +119,6 @@ class RobotKinematics:
 
     def __init__(self, urdf_path: str, target_frame_name: str = "gripper_frame_link",
                  joint_names: list[str] | None = None, *, strict: bool = False):
-        from .model import load
-
         if not isinstance(target_frame_name, str):
             raise ArgumentError.of("target_frame_name must be a link name, got {value}",
                                    value=repr(target_frame_name)[:100])
@@ -151,14 +154,10 @@ class RobotKinematics:
         self._fast_answer: tuple[np.ndarray, str] | None = None   # (info, stage): last_result, built when read
         self._pose_error: Any = None    # a tuple, or the compiled call's info (its first two values)
         self.last_stage: str | None = None
-        from .ik import closed_form_family
 
         self._pitch = closed_form_family(self.robot) == "yaw-pitch3"
         if self._pitch:
-            from .kinematics import fk
-
             self._pan_point = fk(self.robot, np.zeros(self.robot.n), link=self.robot.links[1].name)[:3, 3]
-        from .ik.result import default_tolerance
 
         self._tol = default_tolerance(self.robot)
         self._ctx: np.ndarray | None = None    # the compiled call's constants (geometry, tolerances, indices)
@@ -172,7 +171,6 @@ class RobotKinematics:
         """The last ``inverse_kinematics`` call's :class:`~armkit.IKResult` (None before the first call)."""
         if self._last_result is None and self._fast_answer is not None:
             from .ik.analytic.yaw_pitch3 import branch_label
-            from .ik.result import IKResult
 
             info, stage = self._fast_answer
             err = {"pose": info[1], "direction": info[2], "pitch": info[2]}.get(stage, 0.0)
@@ -217,8 +215,6 @@ class RobotKinematics:
 
         Extra values beyond ``joint_names`` are ignored, as LeRobot does; ``(..., k)`` input gives ``(..., 4, 4)``.
         """
-        from .kinematics import fk
-
         return np.asarray(fk(self.robot, self._chain_q(joint_pos_deg, "joint_pos_deg")))
 
     def inverse_kinematics(self, current_joint_pos: Any, desired_ee_pose: Any, position_weight: float = 1.0,
@@ -256,9 +252,6 @@ class RobotKinematics:
                         fast = self._position_only(cc, Tc)
                         if fast is not None:
                             return fast
-        from .ik import ik
-        from .kinematics import fk
-        from .spatial import check_transform
 
         self._numpy = True
         cur = _finite(current_joint_pos, "current_joint_pos")
@@ -330,9 +323,7 @@ class RobotKinematics:
         position's closed form nearest the current joints (:func:`armkit.ik.analytic.yaw_pitch3.position_ik`; LM
         where it leaves the target to LM). A target beyond the reach from the shoulder fails here at once: no
         stage can meet its position, so the NumPy path would end in the same failure, ~100x slower."""
-        from .ik import ik
         from .ik.analytic.yaw_pitch3 import position_ik
-        from .kinematics import fk
 
         q0 = np.clip(np.radians(cur[self._index]), self.robot.lower, self.robot.upper)
         p = np.ascontiguousarray(T[:3, 3])

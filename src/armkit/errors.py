@@ -6,6 +6,8 @@ matching builtin, so ``except ValueError`` keeps working for generic code.
 
 from __future__ import annotations
 
+from ._text import Fielded
+
 __all__ = [
     "ArmkitError",
     "ArgumentError",
@@ -84,8 +86,6 @@ class RobotFileError(RobotDefinitionError):
         location = self.path if line is None else f"{self.path}:{line}"
         where: str = location
         if field and getattr(field, "template", None):      # a field in words (joint 'x'): its own template
-            from ._text import Fielded
-
             where = Fielded.of("{location}: {field}", location=location, field=field)
         elif field:
             where += f": {field}"

@@ -110,7 +110,7 @@ def test_the_touch_up_of_a_rounded_file_stops_when_converged(monkeypatch):
     have), and the touch-up stops there instead of taking all six (1.3 -> 0.66 ms a call), at full precision.
     The NumPy touch-up (the NumPy back end's, and the Numba back end's for a Jacobian too near singular), on rows
     1e-5 rad off well-conditioned solutions; the compiled one: test_touch_up_compiled.py."""
-    import armkit.kinematics as kin
+    from armkit.ik import analytic
     from armkit.ik.analytic import _gauss_newton
 
     rounded = _rounded_puma()
@@ -120,8 +120,8 @@ def test_the_touch_up_of_a_rounded_file_stops_when_converged(monkeypatch):
     q = q[np.linalg.svd(armkit.jacobian(rounded, q), compute_uv=False).min(axis=-1) > 0.05][:20]
     T = armkit.fk(rounded, q)
     steps = []
-    real = kin.jacobian
-    monkeypatch.setattr(kin, "jacobian", lambda *a, **k: steps.append(1) or real(*a, **k))
+    real = analytic.jacobian
+    monkeypatch.setattr(analytic, "jacobian", lambda *a, **k: steps.append(1) or real(*a, **k))
     armkit.set_backend("numpy")
     try:
         got = _gauss_newton(rounded, q + rng.uniform(-1e-5, 1e-5, q.shape), T, True, 6)

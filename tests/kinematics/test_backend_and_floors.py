@@ -80,6 +80,15 @@ def test_the_floors_hold():
     assert r["robot_undeclared_attributes"] == []
 
 
+def test_what_import_armkit_loads_is_imported_at_the_top():
+    """An import inside a function is for what ``import armkit`` does not load (optional and heavy packages, the
+    rooms it leaves out, the lazy pairs inside a room): one of a module it loads anyway saves nothing and hides the
+    module's dependencies (161 of them before 2026-12-07, docs/architecture.md)."""
+    r = _graph().analyse(with_loaded=True)
+    assert r["function_level_imports"]["loaded_already"] == []
+    assert r["function_level_imports"]["of_modules_loaded_by_import_armkit"] == 0
+
+
 def test_the_graph_tool_finds_a_planted_circle_and_back_arrow(tmp_path):
     """The tool can fail: a lower floor importing a higher one is an arrow and a circle."""
     pkg = tmp_path / "armkit"

@@ -237,7 +237,7 @@ def test_warmup_says_it_is_compiling_in_korean(monkeypatch):
         say()
         return w.Warmup(seconds=1.5, cache=None, compiled=True)
 
-    monkeypatch.setattr(w, "warmup", fake)
+    monkeypatch.setattr(importlib.import_module("armkit.cli.warmup"), "run", fake)   # the name the command calls
     res = runner.invoke(app, ["warmup", "--lang", "ko"], env=ENV)
     out = (res.stdout or "") + (res.stderr or "")
     assert res.exit_code == 0, out
@@ -257,7 +257,7 @@ def test_warmup_says_its_kernels_came_from_the_store(monkeypatch, tmp_path):
     def fake(*, parallel, say):   # nothing compiled: no `say`
         return w.Warmup(seconds=0.4, cache=tmp_path, compiled=False, restored=True)
 
-    monkeypatch.setattr(w, "warmup", fake)
+    monkeypatch.setattr(importlib.import_module("armkit.cli.warmup"), "run", fake)   # the name the command calls
     res = runner.invoke(app, ["warmup"], env=ENV)
     assert res.exit_code == 0 and "copied from the kernel store" in res.stdout, res.output
     res = runner.invoke(app, ["warmup", "--lang", "ko"], env=ENV)

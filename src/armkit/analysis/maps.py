@@ -25,6 +25,7 @@ from numpy.typing import ArrayLike, NDArray
 from .._limits import CHUNK, check_memory
 from .._text import Fielded
 from ..errors import ArgumentError, ShapeError
+from ..ik import closed_form_family, ik_all
 from ..kinematics import fk
 from ..model.robot import Robot
 
@@ -185,7 +186,6 @@ def ik_maps(robot: Robot, x_grid: ArrayLike, y_grid: ArrayLike, z: float | None 
     IKMaps
         ``q[i, j, b]`` solves the target ``(x[i], y[j])`` on branch ``b``; NaN where it fails.
     """
-    from ..ik import closed_form_family, ik_all
     from .workspace import is_planar, shoulder_point
 
     gx, gy = _grid(x_grid, "x_grid"), _grid(y_grid, "y_grid")

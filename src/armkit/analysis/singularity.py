@@ -41,6 +41,7 @@ from .._text import Fielded
 require("sympy", "singularity analysis")
 import sympy as sp  # noqa: E402 - after the check that names the missing extra
 
+from ..errors import ArgumentError, LimitError
 from ..kinematics import fk_frames, jacobian, manipulability
 from ..model.robot import Robot
 from ..symbolic.derive import SIMPLIFY_BUDGET, within_cpu_budget
@@ -439,7 +440,6 @@ def analyze_singularities(robot: Robot, derivation: Any = None, samples: int = 4
     >>> [(round(float(np.degrees(v))), label) for v, label in res.singular_factors[0].solutions]
     [(0, 'stretched'), (180, 'folded')]
     """
-    from ..errors import ArgumentError, LimitError
     from ..symbolic import derive
     from ..symbolic.export import shorthand
 
@@ -534,7 +534,6 @@ def plot_manipulability(robot: Robot, out_path: str | Path | None = None, joints
         matplotlib.use("Agg", force=False)
     import matplotlib.pyplot as plt
 
-    from ..errors import ArgumentError
 
     if robot.n < 2:
         raise ArgumentError.of("robot {robot!r} has one joint; the manipulability map needs two", robot=robot.name)

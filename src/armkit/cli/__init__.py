@@ -17,6 +17,8 @@ from typing import Optional
 
 import typer
 from typer.core import TyperGroup
+from .. import __version__, _jit_loader, kinematics
+from ..errors import ArmkitError, WriteInterrupted
 
 __all__ = ["app", "main"]
 
@@ -81,7 +83,6 @@ class _ArmkitGroup(TyperGroup):
     def invoke(self, ctx):  # type: ignore[no-untyped-def]
         import warnings
 
-        from ..errors import ArmkitError, WriteInterrupted
 
         def show(message, category, filename, lineno, file=None, line=None):  # type: ignore[no-untyped-def]
             from ..locale import current_language
@@ -255,8 +256,6 @@ app = typer.Typer(
 
 def _print_version(value: bool) -> None:
     if value:
-        from .. import __version__
-
         typer.echo(f"armkit {__version__}")
         raise typer.Exit()
 
@@ -264,7 +263,6 @@ def _print_version(value: bool) -> None:
 def _word_the_notes() -> None:
     """Have the back end's notes on stderr (compiling the kernels, the warm-up process) worded in the user's
     language, from the catalogue like every other text of the command line."""
-    from .. import _jit_loader
     from .common import _
 
     _jit_loader.set_renderer(lambda template, fields: _(template, **fields))
@@ -306,7 +304,6 @@ _register_commands(app)
 def main() -> None:
     """Entry point of the ``armkit`` command (NumPy kernels unless ARMKIT_BACKEND says otherwise)."""
     os.environ.setdefault("ARMKIT_BACKEND", "numpy")
-    from .. import kinematics
 
     kinematics.set_backend(os.environ["ARMKIT_BACKEND"])  # type: ignore[arg-type]
     try:

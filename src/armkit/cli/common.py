@@ -23,6 +23,7 @@ from rich.console import Console
 from rich.table import Table
 from rich.text import Text
 
+from .._io import OS_REASONS, check_writable
 from .._text import esc, name_list, plain, shorten
 from ..errors import JointLimitError
 from ..locale import LANG, LANGUAGES, N_, _, choices, current_language  # noqa: F401  (re-exported for the commands)
@@ -63,8 +64,6 @@ NUMERIC_ARGS = {"ignore_unknown_options": True, "allow_extra_args": False}
 def os_reason(exc: OSError) -> str:
     """Why the system refused, in the current language for the errors armkit words itself
     (:data:`armkit._io.OS_REASONS`), in the system's own words for the others."""
-    from .._io import OS_REASONS
-
     key = OS_REASONS.get(exc.errno or 0)
     return _(key) if key else (exc.strerror or type(exc).__name__)
 
@@ -122,8 +121,6 @@ def output_path(path: str | Path, suffixes: Sequence[str], what: str = "--output
 
     The message is ``cannot write PATH: reason``; see :func:`armkit._io.check_writable`.
     """
-    from .._io import check_writable
-
     return check_writable(path, suffixes, what)
 
 

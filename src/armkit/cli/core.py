@@ -9,7 +9,11 @@ import numpy as np
 import typer
 from rich.table import Table
 
+from ..kinematics import (SINGULAR_THRESHOLD, condition_number, fk as fk_pose, fk_frames, is_singular, jacobian as jac,
+                          manipulability)
+from ..model import bundled_robots, load, save
 from ..model.robot import Joint, Robot
+from ..spatial import inverse, rotation_to_rpy
 from .common import (NOISE, NUMERIC_ARGS, N_, _, console, current_language, esc, fail, fixed, get_robot, message,
                      natural_width,
                      out_width, parse_q, pose_table, print_fitted, print_json, print_records, print_table, q_display)
@@ -21,8 +25,6 @@ def robots(json_out: JsonOut = False) -> None:
 
     Example: armkit robots
     """
-    from ..model import bundled_robots, load
-
     rows: list[dict[str, str | int]] = []
     for name in bundled_robots():
         robot = load(name)
@@ -108,8 +110,6 @@ def _limits_text(r: Robot, j: Joint, units: bool = True) -> str:
 
 def _urdf_joints_table(r: Robot) -> Table:
     """The moving joints of a URDF chain: origin (fixed joints folded in) and axis."""
-    from ..spatial import rotation_to_rpy
-
     t = Table(title=_("joints (origin in the previous moving link's frame, fixed joints folded in)"),
               header_style="bold")
     for col in ("i", _("joint"), _("type"), _("origin xyz ({unit})", unit=r.unit), _("origin rpy (deg)"), _("axis"),
@@ -127,8 +127,6 @@ def _urdf_joints_table(r: Robot) -> Table:
 
 def _urdf_joints_records(r: Robot) -> None:
     """The joints of a URDF chain one record each (terminals too narrow for the table)."""
-    from ..spatial import rotation_to_rpy
-
     records = []
     for i, j in enumerate(r.joints, 1):
         O = j.origin_matrix()
@@ -310,8 +308,6 @@ def convert(src: str = typer.Argument(..., help="Robot to read: bundled name, .t
     Example: armkit convert ur5.urdf ur5.toml --tip tool0;  armkit convert fighter fighter.urdf;
     armkit convert fighter fighter_craig.toml --convention modified
     """
-    from ..model import save
-
     if convention is not None and convention not in ("standard", "modified"):
         fail(_("--convention must be 'standard' or 'modified', got {value!r}", value=convention))
     to_urdf = dst.lower().endswith((".urdf", ".xml"))
@@ -352,9 +348,6 @@ def fk(robot: RobotArg,
 
     Example: armkit fk fighter 30 45 60 --deg --links   (A_1, A_2, A_3 for a homework check)
     """
-    from ..kinematics import fk as fk_pose, fk_frames
-    from ..spatial import rotation_to_rpy
-
     r = get_robot(robot)
     qv = parse_q(r, q, deg, strict)
     F = fk_frames(r, qv)
@@ -395,8 +388,6 @@ def link_transforms(r: Robot, F: np.ndarray) -> np.ndarray:
     ``A_n = F[n-1]^-1 F[n] tool^-1``: then ``base A_1 ... A_n tool`` is the tool pose. For a DH arm ``A_i`` is the
     DH link transform of row ``i``; for a URDF chain, the fixed joints before moving joint ``i`` folded in.
     """
-    from ..spatial import inverse
-
     A = inverse(F[:-1]) @ F[1:]
     A[-1] = A[-1] @ inverse(r.tool)
     return np.asarray(A)
@@ -443,7 +434,6 @@ def jacobian(robot: RobotArg,
 
     Example: armkit jacobian ur5 0.1 -1 1 0 0.5 0 --frame tool
     """
-    from ..kinematics import SINGULAR_THRESHOLD, condition_number, is_singular, jacobian as jac, manipulability
     from .common import fail
 
     if frame not in ("base", "tool"):

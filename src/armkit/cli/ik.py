@@ -9,6 +9,10 @@ import numpy as np
 import typer
 from rich.table import Table
 
+from ..errors import ArmkitError
+from ..ik import ik as solve, ik_all
+from ..ik.api import _analytic_solver
+from ..spatial import make_pose, quaternion_to_rotation, rpy_to_rotation
 from .common import (EXIT_BAD_INPUT, EXIT_FAILED, NUMERIC_ARGS, N_, _, console, esc, fail, get_robot, parse_numbers,
                      checked_line, message, parse_vector, print_json, scene_off, scene_option, warn)
 
@@ -20,8 +24,6 @@ METHOD_CHOICES = ("auto", "analytic", "lm", "newton", "ccd", "fabrik")
 
 def _target(robot, coords: List[str], rpy, quat, deg: bool, phi: Optional[float]):
     """(target array, phi in rad or None, a short description) from the command-line words."""
-    from ..spatial import make_pose, quaternion_to_rotation, rpy_to_rotation
-
     p = parse_numbers(coords, N_("target coordinates"))
     if len(p) not in (2, 3):
         fail(_("give the target as X Y (planar arms) or X Y Z in {unit}; got {k} number(s)", unit=robot.unit,
@@ -171,8 +173,6 @@ def _trace_table(trace) -> Table:
 def _partial_target(r, target, where: str, pitch: Optional[float], direction, deg: bool, method: str,
                     seed: Optional[int], json_out: bool, scene: Any = None) -> None:
     """``--pitch`` (every closed-form branch) or ``--direction`` (LM): a position plus part of an orientation."""
-    from ..ik import ik as solve, ik_all
-
     if target.ndim != 1 or len(target) != 3:
         fail(_("--pitch and --direction go with an X Y Z position (no --rpy/--quat/--phi)"))
     if pitch is not None and direction is not None:
@@ -237,7 +237,6 @@ def _fixed_values(robot, words: List[str], deg: bool) -> Optional[dict]:
 def _locked(r, target, where: str, fixed: Optional[dict], sweep: Optional[int], json_out: bool, scene: Any) -> None:
     """``--sweep`` / ``--fixed`` (a 7-joint arm): every verified branch of :func:`armkit.ik_all` with held or swept
     joints, the swept joint's value first; exit 1 when none is found."""
-    from ..ik import ik_all
     from ..ik.geometric.locked import DEFAULT_SWEEP, resolve
 
     position_only = np.ndim(target) == 1
@@ -353,11 +352,8 @@ def ik(robot: RobotArg,
 
     Example: armkit ik panda 0.4 0.1 0.5 --rpy 180 0 0 --deg --fixed panda_joint7=45
     """
-    from ..errors import ArmkitError
-    from ..ik import ik as solve, ik_all
     from ..ik.analytic import closed_form
     from ..ik.analytic.held import Held
-    from ..ik.api import _analytic_solver
 
     if method not in METHOD_CHOICES:
         fail(_("--method must be one of {choices}; got {value!r}", choices=", ".join(METHOD_CHOICES), value=method))

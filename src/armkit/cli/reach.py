@@ -16,6 +16,8 @@ import typer
 from rich.markup import escape
 from rich.table import Table
 
+from .._io import atomic_path
+from ..spatial import rpy_to_rotation
 from .common import (EXIT_FAILED, LANG, NUMERIC_ARGS, N_, _, console, current_language, fail,
                      get_robot, parse_numbers, parse_vector, print_json)
 from .common import print_table
@@ -246,7 +248,6 @@ def _picture(m: Any, path: Path) -> None:
     fig.suptitle(_("{robot}: {n} orientations per voxel, {size} {unit} voxels", robot=m.robot.name, n=g.n_orient,
                     size=f"{g.resolution:g}", unit=unit))
     fig.tight_layout()
-    from .._io import atomic_path
 
     try:
         with atomic_path(path, None, "--output") as tmp:
@@ -298,8 +299,6 @@ def query(map_path: str = typer.Argument(..., metavar="MAP", help="Zarr store wr
 
     Example: armkit reach query ur5.zarr 0.4 0.1 0.3 --rpy 180,0,0 --deg
     """
-    from ..spatial import rpy_to_rotation
-
     lg = _lang(lang)
     p = parse_numbers(xyz, N_("position"))
     if p.shape != (3,):
@@ -329,8 +328,6 @@ def read_tasks(path: str) -> np.ndarray:
     A first row that is not numbers is a header; blank lines and ``#`` lines are skipped.
     Bad rows exit 2 naming the file, the line and the field.
     """
-    from ..spatial import rpy_to_rotation
-
     p = Path(path)
     if not p.is_file():
         fail(_("task file {path!r} not found", path=path))

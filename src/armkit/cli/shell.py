@@ -56,6 +56,7 @@ from ..errors import ArgumentError, ParseError
 from ..locale import LANGUAGES, default_language, message
 from ..kinematics import fk
 from ..model.robot import Robot
+from ..spatial import rotation_to_rpy
 from .common import VECTOR_SPLIT
 from .shell_commands import ShellCommands, _clip
 
@@ -408,7 +409,6 @@ class Shell(ShellCommands):
     def _show(self, emit: Any) -> None:
         from rich.table import Table
 
-        from ..spatial import rotation_to_rpy
 
         r = self.robot
         T = fk(r, self.q)

@@ -24,9 +24,11 @@ import numpy as np
 
 from .._text import esc, name_list
 from ..errors import ArmkitError, ParseError
+from ..ik import ik, ik_all
 from ..kinematics import fk
 from ..locale import LANGUAGES, N_, SOURCE, message, translate
 from ..model.robot import Robot
+from ..spatial import make_pose, rpy_to_rotation
 
 __all__ = ["ShellCommands"]
 
@@ -230,10 +232,6 @@ class ShellCommands:
     def _all_branches(self, target: np.ndarray) -> Optional[Any]:
         """``ik_all`` of ``target`` from the current q, or None when the arm has no closed form."""
         try:
-            from .. import ik_all  # type: ignore[attr-defined]
-        except ImportError:
-            return None
-        try:
             return ik_all(self.robot, target, q0=self.q, scene=self._scene_arg())
         except (ArmkitError, ValueError, NotImplementedError):
             return None
@@ -308,8 +306,6 @@ class ShellCommands:
             if k == 3:
                 return np.array(values, dtype=float), None
             if k == 6:
-                from ..spatial import make_pose, rpy_to_rotation
-
                 rpy = [v if self.units == "rad" else math.radians(v) for v in values[3:]]
                 return make_pose(rpy_to_rotation(rpy), values[:3]), None
             forms = self._t("forms_spatial")
@@ -317,11 +313,6 @@ class ShellCommands:
 
     def _cmd_goto(self, values: list[float], emit: Any) -> str:
         target, phi = self._goto_target(values)
-        try:
-            from .. import ik, ik_all  # type: ignore[attr-defined]
-        except ImportError as exc:  # the IK package not built yet
-            emit(self._t("ik_error", detail=str(exc)), "red")
-            return "error"
         kwargs: dict[str, Any] = {"phi": phi} if phi is not None else {}
         try:
             try:

@@ -14,6 +14,9 @@ import numpy as np
 import typer
 from rich.table import Table
 
+from ..kinematics import fk
+from ..model import load
+from ..spatial import rotation_to_rpy
 from .common import N_, NUMERIC_ARGS, _, console, esc, fail, parse_numbers, pose_table, print_json, print_table, warn
 from .common import JsonOut  # noqa: E402  (the shared options)
 
@@ -44,10 +47,7 @@ def pose(values: List[str] = typer.Argument(..., metavar="VALUE...",
 
     Example: armkit so101 pose --calibration examples/so101_calibration.json --ticks 2048 2048 2048 2048 2048
     """
-    from ..kinematics import fk
     from ..lerobot import ARM_MOTORS, GRIPPER, Calibration, CalibrationInputError, CalibrationRangeWarning
-    from ..model import load
-    from ..spatial import rotation_to_rpy
 
     chosen = [name for name, on in (("ticks", ticks), ("degrees", degrees), ("range_m100_100", m100)) if on]
     if len(chosen) != 1:

@@ -15,6 +15,8 @@ import numpy as np
 import typer
 from rich.table import Table
 
+from .._io import atomic_path
+from ..errors import ArgumentError, UnreachableError
 from .common import (EXIT_FAILED, NUMERIC_ARGS, console, esc, fail, name_list, output_path, get_robot, parse_numbers, parse_q, print_json,
                      checked_line, count, message, q_display, scene_option, sig, warn)
 
@@ -114,7 +116,6 @@ def derive(robot: RobotArg,
     if png is not None:
         output_path(png, (".png", ".pdf", ".svg"), "--png")
     if ik_export:
-        from ..errors import ArgumentError
         from ..symbolic.ik_equations import equations_latex, equations_text, ik_equations
         from ..symbolic.ik_export import to_ik_source
 
@@ -134,7 +135,6 @@ def derive(robot: RobotArg,
         _write_text(to_latex(d, standalone=not fragment) if latex else to_numpy_source(d), output)
         return
     if png is not None:
-        from .._io import atomic_path
         from ..symbolic.export import render_png
 
         with atomic_path(png, (".png", ".pdf", ".svg"), "--png") as tmp:
@@ -188,7 +188,6 @@ def _write_text(text: str, output: Optional[Path]) -> None:
     if output is None:
         sys.stdout.write(text)
         return
-    from .._io import atomic_path
 
     with atomic_path(output, (output.suffix,), "--output") as tmp:
         tmp.write_text(text, encoding="utf-8")
@@ -273,7 +272,6 @@ def singular(robot: RobotArg,
             warn(_("the manipulability map is for 2-3 joint arms; {robot} has {n}: plotting joints 2 and 3",
                    robot=r.name, n=r.n))
         joints = (1, 2) if r.n == 2 else (2, 3)
-        from .._io import atomic_path
 
         with atomic_path(plot, (".png", ".pdf", ".svg"), "--output") as tmp:
             fig = plot_manipulability(r, tmp, joints=joints, analysis=res)
@@ -378,7 +376,6 @@ def _compute_traj(r: Any, P: np.ndarray, joint: bool, line: bool, arc: Optional[
                   duration: Optional[float], qd_max: Optional[float], qdd_max: Optional[float], dt: float,
                   cart: dict[str, Any]) -> Any:
     """The trajectory ``traj`` asked for (``cart``: the Cartesian options blend, blend_shape, speed, steps, method)."""
-    from ..errors import UnreachableError
     from ..motion.trajectory import cartesian_arc, cartesian_waypoints, joint_trajectory
 
     try:

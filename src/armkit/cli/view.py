@@ -8,6 +8,7 @@ from typing import Optional
 
 import typer
 
+from ..errors import ArmkitError
 from .common import _, console, current_language, fail, get_robot
 
 from .common import Lang, RobotArg, check_lang  # noqa: E402  (the shared options)
@@ -88,7 +89,6 @@ def view(robot: RobotArg,
     check_port(port)
     check_host(host)
     r = get_robot(robot)
-    from ..errors import ArmkitError
     from ..viz.view import ViewError
     from ..viz.view import view as open_view
     from .common import scene_option

@@ -9,6 +9,8 @@ from typing import Any, List, Optional
 import numpy as np
 import typer
 
+from ..ik import closed_form_family, ik_all
+from ..kinematics import fk
 from .common import (EXIT_FAILED, NUMERIC_ARGS, console, esc, fail, get_robot, parse_numbers, parse_q, name_list, output_path,
                      checked_line, count, message, parse_vector, print_json, scene_off, scene_option, warn)
 
@@ -58,7 +60,6 @@ def plot(robot: RobotArg,
     if all_branches is not None:
         if q:
             fail(_("give either joint values or --all-branches, not both"))
-        from .. import ik_all
         from ..analysis.workspace import is_planar
 
         planar = is_planar(r)
@@ -82,8 +83,6 @@ def plot(robot: RobotArg,
         labels = [f"{b}: {angle_text(r, qq, names=False)}" for b, qq in zip(labels, qs)]
         tp = np.append(target, 0.0) if planar else target
         if planar:
-            from ..kinematics import fk
-
             tp[2] = fk(r, qs[0])[2, 3]
         unit = r.unit
         from ..locale.fonts import plot_text
@@ -304,7 +303,6 @@ def maps(robot: RobotArg,
             grids.append(_range(text, what, scale, steps))
     ik_grid = None
     if not no_ik:
-        from ..ik import closed_form_family
         from ..ik.analytic.held import position_solver
 
         if (closed_form_family(r) is None or r.n > 3) and position_solver(r) is None:   # a held wrist: a SCARA

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import typer
 
+from .._jit_loader import COMPILE_SECONDS
+from ..warmup import warmup as run
 from .common import EXIT_FAILED, JsonOut, _, console, esc, print_json
 
 
@@ -16,9 +18,6 @@ def warmup(parallel: bool = typer.Option(True, "--parallel/--no-parallel",
 
     Example: armkit warmup
     """
-    from .._jit_loader import COMPILE_SECONDS
-    from ..warmup import warmup as run
-
     def say() -> None:   # in the user's language (the library's own note is English)
         console.print(_("compiling armkit's kernels once, about {seconds} s in all", seconds=COMPILE_SECONDS))
 

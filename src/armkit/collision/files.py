@@ -34,7 +34,7 @@ import sys
 from pathlib import Path
 from typing import Any, Callable
 
-from ..errors import SceneFileError
+from ..errors import LimitError, SceneFileError
 from ..model.files import finite_number
 from .shapes import KIND_TABLE, Scene, SceneError, Shape
 
@@ -155,7 +155,6 @@ class _Fields:
             full = Path(p) if Path(p).is_absolute() or self.base_dir is None else self.base_dir / p
             raise fail("mesh file not found: {path!r}", f"{where}.{key}", key, path=_short(str(full)))
         from .._limits import check_mesh_file
-        from ..errors import LimitError
 
         try:
             check_mesh_file(found)           # a 3 GB file is refused here, unread

@@ -15,7 +15,9 @@ from typing import Any, Sequence
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from .._jit_loader import kernels
 from .._text import Fielded
+from ..kinematics import fk_frames
 from ..model.robot import Robot
 from . import kernels as K
 from .geometry import ArmGeometry, Solid, arm_geometry, robot_collision, robot_scene
@@ -136,8 +138,6 @@ def checked_note(names: Sequence[str]) -> str:
 # ------------------------------------------------------------------ solids in the world
 def chain_frames(robot: Robot, q: Array) -> Array:
     """:func:`armkit.fk_frames` ``(B, n+1, 4, 4)`` of flat ``q`` ``(B, n)``, plus the flange (frame n without the tool)."""
-    from ..kinematics import fk_frames
-
     frames = fk_frames(robot, q)
     n = robot.n
     if not np.any(np.asarray(robot.tool)[:3, 3]):   # the flange point is the tool point: no copy
@@ -335,8 +335,6 @@ def shape_distance(a: Shape, b: Shape) -> float:
 
 def _kernels() -> Any:
     """The Numba kernels (:mod:`armkit.collision._jit`) while the Numba back end is in use, else None."""
-    from .._jit_loader import kernels
-
     return kernels("collision._jit")
 
 
@@ -392,8 +390,6 @@ def _prepared(robot: Robot, sc: Scene, self_collision: bool) -> _Prepared:
 
 def _frames(robot: Robot, q: Array, flange: Array | None) -> Array:
     """:func:`chain_frames` with the inverse tool pose given (``None``: no flange frame to add)."""
-    from ..kinematics import fk_frames
-
     frames = fk_frames(robot, q)
     if flange is None:
         return frames

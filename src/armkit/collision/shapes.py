@@ -17,6 +17,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from .._text import Fielded
 from ..errors import SceneError
+from ..spatial import make_pose, rotation_to_rpy, rpy_to_rotation
 from . import kernels as K
 
 __all__ = ["Shape", "Scene", "SceneError", "KINDS", "KIND_TABLE", "ShapeKind", "Part", "kind_of"]
@@ -57,8 +58,6 @@ def kind_of(kind: str) -> "ShapeKind":
 
 
 def _pose(center: ArrayLike, rpy: ArrayLike) -> Array:
-    from ..spatial import make_pose, rpy_to_rotation
-
     return make_pose(rpy_to_rotation(_vec(rpy, 3, "rpy")), _vec(center, 3, Fielded.of("center")))
 
 
@@ -376,8 +375,6 @@ class ShapeKind:
 
 
 def _rpy_of(s: Shape) -> list[float]:
-    from ..spatial import rotation_to_rpy
-
     return [float(v) for v in rotation_to_rpy(np.asarray(s.pose)[:3, :3])]
 
 

@@ -13,6 +13,7 @@ import math
 import numpy as np
 from numpy.typing import NDArray
 
+from ..kinematics import fk, jacobian
 from ._numeric_inputs import Problem
 
 Array = NDArray[np.float64]
@@ -44,8 +45,6 @@ def _rotation_vector(M: Array) -> Array:
 
 def _evaluate(prob: Problem, q: Array, idx: NDArray[np.intp]) -> tuple[Array, Array, Array]:
     """Residual e (k, 6), weighted cost E (k,) and task Jacobian J (k, 6, n) at q (k, n) for targets idx."""
-    from ..kinematics import fk, jacobian
-
     T = fk(prob.robot, q)
     J = jacobian(prob.robot, q).copy()
     Tt = prob.poses[idx]

@@ -18,7 +18,9 @@ from numpy.typing import ArrayLike, NDArray
 
 from .. import _jit_loader
 from .._checks import real_array, short_repr
+from .._text import Fielded
 from ..errors import IKInputError, ShapeError, UnreachableError
+from ..kinematics import fk, jacobian
 from ..model.robot import Robot
 from ..spatial import check_transform
 from .result import IKResult, default_tolerance
@@ -49,8 +51,6 @@ def closed_form_family(robot: Robot) -> Optional[str]:
 # ----------------------------------------------------------------------------- targets
 def _planar_plane(robot: Robot) -> tuple[float, Array, float]:
     """For an arm moving in the world xy plane: its height z, tool rotation at q = 0 and end angle there."""
-    from ..kinematics import fk, jacobian
-
     J = jacobian(robot, robot.random_q(rng=0))
     # every turn about z and every slide across it (J's z row and its x, y turning rows are 0): a planar arm, its
     # slides included (a polar arm's turn and reach)
@@ -250,7 +250,6 @@ def _analytic_solver(robot: Robot, position_only: bool, why_not: list[str] | Non
     ``why_not`` (None: the caller falls back to LM and reads no reason, so none is written)."""
     from .analytic import closed_form
 
-    from .._text import Fielded   # the why-not sentences keep their template and fields (any language)
 
     solver = closed_form(robot)
     if position_only and not pitch and (solver is None or solver.target_kind != "position"):

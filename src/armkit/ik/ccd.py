@@ -34,6 +34,7 @@ from numpy.typing import ArrayLike
 from .. import _jit_loader
 from .._text import Fielded
 from ..errors import IKInputError
+from ..kinematics import fk, fk_frames, packed
 from ..model.robot import Robot
 from .numeric import _TOL_FACTOR, Problem, _project, _seeds, _trace_array, assemble, unreachable_note
 from .result import DEFAULT_MAX_SWEEPS, DEFAULT_SWEEP_RESTARTS, IKResult
@@ -151,7 +152,6 @@ def _run_jit(prob: Problem, tol_p: float, max_iterations: int, restarts: int, se
              unreachable: np.ndarray, trace: bool) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, list]:
     """The compiled back end: ``(q, sweeps, attempts used, best error, trace rows)``."""
     K = _jit_loader.module("ik._ccd_jit")
-    from ..kinematics import packed
 
     B = prob.B
     params = np.empty(K.N_PARAMS)
@@ -185,8 +185,6 @@ def _run_numpy(prob: Problem, tol_p: float, max_iterations: int, restarts: int, 
     convergence, stall) runs only after its own sweeps and restarts, so a target's answer does not depend on
     the other targets of its batch.
     """
-    from ..kinematics import fk
-
     robot, goal = prob.robot, prob.target
     n, B = robot.n, prob.B
     q = _project(prob, prob.q0.copy())
@@ -243,7 +241,6 @@ def _sweep(prob: Problem, q: np.ndarray, k: np.ndarray) -> np.ndarray:
     """One CCD sweep (last joint to first) of the configurations ``q[k]``, in place; their tool points ``(len(k), 3)``."""
     robot = prob.robot
     c, n = robot.chain, robot.n
-    from ..kinematics import fk_frames
 
     F = fk_frames(robot, q[k])
     e = F[:, n, :3, 3].copy()

@@ -42,6 +42,7 @@ from numpy.typing import ArrayLike
 
 from .._text import Fielded
 from ..errors import IKInputError
+from ..kinematics import fk_frames
 from ..model.robot import Robot
 from .ccd import _position_problem
 from .numeric import _TOL_FACTOR, Problem, _project, _trace_array, assemble, unreachable_note
@@ -55,8 +56,6 @@ _STALL_PASSES = 200  # an attempt ends when its error has not fallen by 0.1 % in
 
 
 def _joint_frames_at_zero(robot: Robot) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    from ..kinematics import fk_frames
-
     c = robot.chain
     F = fk_frames(robot, np.zeros(robot.n))
     frames = np.stack([F[j] @ c.pre[j] for j in range(robot.n)])

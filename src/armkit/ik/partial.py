@@ -19,8 +19,10 @@ from numpy.typing import ArrayLike, NDArray
 
 from .._text import Fielded
 from ..errors import ShapeError
+from ..kinematics import fk
 from ..model.robot import Robot
-from .result import IKResult, default_tolerance
+from .api import IKInputError, _analytic_solver, _normalise_q0, _numeric, _reshape, _tolerance
+from .result import IKResult, default_tolerance, verify
 
 Array = NDArray[np.float64]
 DIRECTION_MASK = (1.0, 1.0, 1.0, 1.0, 1.0, 0.0)
@@ -63,8 +65,6 @@ def _frames(robot: Robot, p: Array, z: Array, q: Array) -> Array:
     The rotation about z is free (masked), but the rotation-vector error the solvers use is
     well-behaved only while that rotation stays below ~90 deg; starting it at 0 keeps it so.
     """
-    from ..kinematics import fk
-
     x = fk(robot, q)[:, :3, 0]
     x = x - np.einsum("bi,bi->b", x, z)[:, None] * z
     norm = np.linalg.norm(x, axis=-1)
@@ -88,8 +88,6 @@ def ik_direction(robot: Robot, target: ArrayLike, q0: ArrayLike | None, directio
     turned to that configuration's tool x (twice at most), so the free rotation never
     reaches the far side of the rotation-vector error.
     """
-    from .api import IKInputError, _normalise_q0, _reshape
-
     if method not in ("auto", "analytic", "lm", "newton"):
         raise IKInputError.of("direction= is solved in closed form ('analytic', for a yaw + three pitch joints arm "
                               "such as the SO-101) or by the numeric methods 'lm' and 'newton' (or 'auto'); got method "
@@ -136,8 +134,6 @@ def _direction_flat(robot: Robot, p: Array, z: Array, q: Array, method: str, sol
                     numeric: dict[str, Any]) -> IKResult:
     """:func:`ik_direction` on flat rows ``p``, ``z`` (B, 3), ``q`` (B, n) by NumPy: the closed form of
     ``solver`` (None: none), then Levenberg-Marquardt where it fails (``method`` 'auto'); fields (B, ...)."""
-    from .api import _numeric
-
     closed = None
     if method in ("auto", "analytic"):
         if solver is not None:
@@ -237,8 +233,6 @@ def _pitch_solver(robot: Robot) -> Any:
 
 
 def _direction_tol(robot: Robot, tol: Any) -> tuple[float, float]:
-    from .result import default_tolerance
-
     return default_tolerance(robot) if tol is None else (float(tol[0]), float(tol[1]))
 
 
@@ -258,7 +252,6 @@ def ik_direction_all(robot: Robot, target: ArrayLike, q0: ArrayLike | None, dire
     """:func:`armkit.ik_all` with ``direction=``: every closed-form branch of a yaw-pitch3 arm (front/back x
     elbow), the tool's z axis along ``direction`` (:func:`armkit.ik.analytic.yaw_pitch3.solve_direction`)."""
     from .analytic.yaw_pitch3_direction import solve_direction
-    from .api import IKInputError, _normalise_q0, _reshape, _tolerance
 
     if phi is not None:
         raise IKInputError.of("phi= is for planar (x, y) targets; it does not go with direction=")
@@ -286,7 +279,6 @@ def ik_pitch(robot: Robot, target: ArrayLike, q0: ArrayLike | None, pitch: Array
              enforce_limits: bool = True, scene: Any = None, every: bool = False) -> IKResult:
     """:func:`armkit.ik` / :func:`armkit.ik_all` (``every``) for a position and the tool pitch (closed form)."""
     from .analytic.yaw_pitch3 import solve_pitch
-    from .api import IKInputError, _analytic_solver, _normalise_q0, _reshape, _tolerance
 
     if method not in ("auto", "analytic"):
         raise IKInputError.of("pitch= is solved in closed form (method 'auto' or 'analytic'), got method {method!r}; "
@@ -370,8 +362,6 @@ def _one_start(robot: Robot, target: Any, q0: Any) -> Array | None:
     if not math.isfinite(target @ target):   # finite values (one that overflows the sum goes the batched way too)
         return None
     if q0 is None:
-        from .api import _normalise_q0
-
         return _normalise_q0(robot, None, ())
     if type(q0) is not np.ndarray or q0.dtype != _F64 or q0.shape != (robot.n,):
         return None
@@ -395,8 +385,6 @@ def _pitch_one(robot: Robot, target: Any, q0: Any, pitch: Any, tol: Any, enforce
     if tol is None:
         t = default_tolerance(robot)
     else:
-        from .api import _tolerance
-
         t = _tolerance(robot, tol)
     Q, DP, DR = np.empty((1, 4, 5)), np.empty((1, 4)), np.empty((1, 4))
     OK, WI = np.empty((1, 4), dtype=bool), np.empty((1, 4), dtype=bool)
@@ -451,7 +439,6 @@ def too_few_joints(prob: Any, res: IKResult, failed: NDArray[np.intp], seed: Any
     search does not meet the position, the sentence gives the best compromise found (``res``).
     """
     from .numeric import _solve, _subproblem
-    from .result import verify
 
     robot = prob.robot
     n, weights = robot.n, int(np.count_nonzero(prob.w > 0))

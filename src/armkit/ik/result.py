@@ -13,7 +13,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from .. import _jit_loader
+from ..kinematics import fk, get_backend
 from ..model.robot import Robot
+from ..spatial import pose_error
 
 __all__ = ["IKResult", "REASONS", "default_tolerance", "verify", "DEFAULT_TOLERANCE", "DEFAULT_MAX_ITERATIONS",
            "DEFAULT_RESTARTS", "DEFAULT_NEWTON_RESTARTS", "DEFAULT_MAX_SWEEPS", "DEFAULT_SWEEP_RESTARTS"]
@@ -312,8 +314,6 @@ def verify(robot: Robot, q: NDArray[np.float64], target: NDArray[np.float64], po
         one = _verify_one(robot, q, target, position_only, tol, enforce_limits)
         if one is not None:
             return one
-    from ..kinematics import fk
-    from ..spatial import pose_error
 
     T = fk(robot, q)
     target = np.asarray(target, dtype=float)
@@ -394,8 +394,6 @@ def _verify_one(robot: Robot, q: NDArray[np.float64], target: NDArray[np.float64
     else:
         return None
     if not _ONE:
-        from ..kinematics import fk, get_backend
-
         if get_backend() != "numba":
             return None
         kernels = _jit_loader.module("ik._jit_verify")

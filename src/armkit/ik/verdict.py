@@ -18,6 +18,7 @@ from numpy.typing import NDArray
 from .._text import Fielded
 from ..errors import ArmkitError
 from ..model.robot import Robot
+from .api import _analytic_solver, ik_all
 
 __all__ = ["Verdict", "closed_form_verdict", "of_problem", "reason_of", "settle", "settles", "SOLVABLE", "LIMITS", "UNREACHABLE"]
 
@@ -36,8 +37,6 @@ class Verdict(NamedTuple):
 
 def _exact_solver(robot: Robot, position_only: bool) -> Any:
     """The closed form that answers this kind of target with every branch, exactly (no search, no sweep), or None."""
-    from .api import _analytic_solver
-
     if robot.n > 6:
         return None
     solver = _analytic_solver(robot, position_only, None)
@@ -67,8 +66,6 @@ def closed_form_verdict(robot: Robot, target: Any, position_only: bool,
     >>> v.code.tolist(), v.inside.tolist(), v.family      # inside the inner hole (radius 0.5), and reachable
     ([2, 0], [0, 2], 'planar-2r')
     """
-    from .api import ik_all
-
     solver = _exact_solver(robot, position_only)
     if solver is None:
         return None

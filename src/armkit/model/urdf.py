@@ -44,6 +44,7 @@ from numpy.typing import NDArray
 from .._text import Fielded
 from ..errors import RobotDefinitionError, RobotFileError, warning_of
 from ..spatial import rotation_to_rpy
+from .files import MAX_FILE_BYTES, MAX_JOINTS
 from .robot import Joint, Link, Robot, Shape, collision_keys
 
 __all__ = ["load_urdf", "dumps_urdf", "resolve_mesh", "PACKAGE_PATH_VARIABLES", "ALLOW_OUTSIDE_VARIABLE"]
@@ -81,7 +82,6 @@ def _check_xml(root: Any, path: str) -> tuple[dict[str, Any], dict[str, Any]]:
     """Structural checks with line numbers, before yourdfpy reads the values; the link and joint elements by name."""
     if root.tag != "robot":
         raise RobotFileError(path, "the root element must be <robot>, got <{tag}>", root.sourceline, tag=root.tag)
-    from .files import MAX_JOINTS
 
     for tag, most in (("joint", MAX_JOINTS), ("link", MAX_JOINTS + 1)):   # counted before anything is built
         count = sum(1 for _ in root.iterchildren(tag))
@@ -483,7 +483,6 @@ def _read_xml(p: Path, spath: str) -> tuple[Any, list[str]]:
     """The ``<robot>`` element (comments removed, a name set) and the comments written before it."""
     from lxml import etree
 
-    from .files import MAX_FILE_BYTES
 
     try:
         size = p.stat().st_size

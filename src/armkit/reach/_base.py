@@ -17,6 +17,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ..errors import ArgumentError, ShapeError
+from ..ik import ik
 from ._map import ReachabilityMap
 
 __all__ = ["BasePlacement", "base_placement"]
@@ -106,8 +107,6 @@ def base_placement(map: ReachabilityMap, task_poses: ArrayLike, candidates: Arra
     list of BasePlacement
         Best first: by the IK count, then the map count, then the map rank.
     """
-    from ..ik import ik
-
     if not isinstance(map, ReachabilityMap):
         raise ArgumentError.of("map must be an armkit.ReachabilityMap, got {type}", type=type(map).__name__)
     T = np.asarray(task_poses, dtype=float)

@@ -29,7 +29,10 @@ import numpy as np
 from numpy.typing import NDArray
 
 from .._extras import require
+from .._version import __version__
 from ..errors import ReachabilityError, warning_of
+from ..kinematics import fk
+from ..model import load
 from ..model.robot import Robot
 from ._grid import Grid
 from ._map import DEFAULT_COVERAGE, ReachabilityMap, decide, robot_to_toml
@@ -349,11 +352,9 @@ def reachability(robot: Robot | str, resolution: float | None = None, orientatio
     -------
     ReachabilityMap
     """
-    from .._version import __version__
     from ._scene import check_scene
 
     if isinstance(robot, str):
-        from ..model import load
         robot = load(robot)
     if not isinstance(robot, Robot):
         raise ReachabilityError.of("robot must be an armkit.Robot or a robot name, got {type}",
@@ -502,7 +503,6 @@ def _merge(results: Iterator[tuple[int, Any]], close: Callable[[], None], counts
 
 def _check_round_trip(robot: Robot, toml: str) -> None:
     """The stored robot file must give the same FK, or a reopened map would answer for another arm."""
-    from ..kinematics import fk
     from ._map import robot_from_toml
 
     back = robot_from_toml(toml, robot.name)

@@ -31,7 +31,12 @@ from numpy.typing import ArrayLike, NDArray
 
 from .._extras import require
 from ..errors import ArmkitError, MapFileError, ShapeError
+from ..ik import ik, ik_all
+from ..ik.api import closed_form_family
+from ..model import dumps
+from ..model.files import _parse
 from ..model.robot import Robot
+from ..spatial import check_transform
 from ._grid import Grid
 from ._store import FORMAT, grid_of, load_arrays, read_attrs, robot_of
 
@@ -42,14 +47,10 @@ Array = NDArray[np.float64]
 
 def robot_from_toml(text: str, name: str) -> Robot:
     """The robot of a robot file's text; no file is written (the text may come from a downloaded map)."""
-    from ..model.files import _parse
-
     return _parse(text, f"{name or 'robot'} (stored robot)")
 
 
 def robot_to_toml(robot: Robot) -> str:
-    from ..model import dumps
-
     return dumps(robot)
 
 
@@ -167,8 +168,6 @@ class ReachabilityMap:
 
     # ------------------------------------------------------------------ queries
     def _poses(self, poses: ArrayLike, what: str) -> tuple[Array, tuple[int, ...]]:
-        from ..spatial import check_transform   # the one pose validator
-
         T = check_transform(poses, what=what)
         return T.reshape(-1, 4, 4), T.shape[:-2]
 
@@ -190,9 +189,6 @@ class ReachabilityMap:
         return b  # type: ignore[no-any-return]
 
     def _ik_reachable(self, T: Array, seed: int) -> NDArray[np.bool_]:
-        from ..ik import ik, ik_all
-        from ..ik.api import closed_form_family
-
         target = T[:, :3, 3] if self.grid.position_only else T
         if closed_form_family(self.robot) is not None:
             try:

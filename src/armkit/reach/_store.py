@@ -31,7 +31,9 @@ from numpy.typing import NDArray
 
 from .._limits import check_memory
 from ..errors import ArmkitError, MapFileError, ReachabilityError, warning_of
+from ..model.files import MAX_FILE_BYTES, _parse
 from ..model.robot import Robot
+from ..spatial import check_transform
 from ._grid import Grid
 
 __all__ = ["FORMAT", "OLD_FORMATS", "ARRAYS", "checksum", "read_attrs", "robot_of", "grid_of", "load_arrays",
@@ -121,8 +123,6 @@ def read_attrs(path: str | os.PathLike[str], *, complete: bool = True) -> dict[s
 
 def robot_of(attrs: dict[str, Any], path: str) -> Robot:
     """The stored robot, parsed from its text (no file is written), checked against its fingerprint and name."""
-    from ..model.files import MAX_FILE_BYTES, _parse
-
     text = attrs["robot_toml"]
     if len(text) > MAX_FILE_BYTES:
         raise MapFileError.of("{path!r}: the stored robot file has {n:,} characters (at most {limit:,})",
@@ -161,8 +161,6 @@ def grid_of(attrs: dict[str, Any], path: str) -> Grid:
               and all(d >= 1 for d in grid.dims) and grid.directions >= 1 and grid.rolls >= 1
               and (not grid.symmetric or grid.dims[1] == 1))
         if ok:
-            from ..spatial import check_transform
-
             check_transform(grid.T_world_A, what="the grid's frame")
     except (KeyError, TypeError, ValueError, OverflowError):     # NotRigidError and ShapeError are ValueErrors
         ok = False

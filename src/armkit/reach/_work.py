@@ -15,6 +15,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from ..ik import ik
 from ..kinematics import fk, manipulability
 from ..model.robot import Robot
 from ._grid import Grid
@@ -112,8 +113,6 @@ def ik_block(robot: Robot, grid_attrs: dict[str, Any], seed: int, block: int, sl
     configuration with ``restarts`` seeded random restarts. Manipulability of each solution
     found, the maximum per voxel.
     """
-    from ..ik import ik
-
     grid = Grid.from_attrs(grid_attrs)
     nx, ny, nz = grid.dims
     ix = np.arange(block * slabs, min(nx, (block + 1) * slabs))

@@ -8,6 +8,7 @@ from typing import Any, Optional
 import numpy as np
 from numpy.typing import ArrayLike
 
+from .._io import atomic_path
 from ..analysis.workspace import skeleton_batch
 from .._extras import require
 from ..errors import ArgumentError, ShapeError
@@ -154,7 +155,6 @@ class _Stage:
 
 def _write_frames(out: Path, stage: _Stage, fps: int, progress: bool, console: Any) -> None:
     """Stream every frame of ``stage`` into ``out`` (GIF or MP4), with a progress bar."""
-    from .._io import atomic_path
     from rich.progress import BarColumn, Progress, TextColumn, TimeRemainingColumn
 
     F = len(stage.Q)

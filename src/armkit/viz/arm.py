@@ -9,6 +9,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ..analysis.workspace import is_planar, joint_axes, skeleton
+from ..errors import ShapeError
 from ..kinematics import fk_frames
 from ..model.robot import Robot
 from ..locale.fonts import plot_text as _      # the pictures' labels, in Korean only with a Korean font
@@ -185,8 +186,6 @@ def plot_arm(robot: Robot, q: ArrayLike, ax: Any = None, frames: bool = True,
     single = Q.ndim == 1
     Q = Q.reshape(-1, robot.n)
     if labels is not None and len(labels) != len(Q):
-        from ..errors import ShapeError
-
         raise ShapeError.of("labels must have one entry per configuration ({n}), got {got}", n=len(Q), got=len(labels))
     ax = setup_axes(robot, ax, figsize=figsize)
     planar = ax.name != "3d"

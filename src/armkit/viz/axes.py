@@ -18,6 +18,7 @@ from typing import Any, Optional, Sequence, Union
 
 import numpy as np
 
+from ..model import load
 from ..ik.geometric.classify import ChainClass, axis_points, classify, common_point
 from ..ik.geometric.poe import POE, poe
 from ..locale import N_
@@ -131,8 +132,6 @@ without a robot draws :func:`random_chain` with those groups (0-based joints).""
 
 def class_gallery(seed: int = 3) -> Any:
     """One figure, one panel per class in :data:`GALLERY` (bundled arms and random chains); returns it."""
-    from .. import load
-
     plt = pyplot()
     cols = 5
     rows = -(-len(GALLERY) // cols)

@@ -5,6 +5,8 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
+from ..ik import ik_all
+from ..model import load
 
 __all__ = ["write_demo_pictures"]
 
@@ -27,8 +29,6 @@ def write_demo_pictures(out_dir: str | Path = "out", progress: bool = False,
 
     Takes a few seconds (well under 20 s on a laptop).
     """
-    from ..ik import ik_all
-    from ..model import load
     from ..analysis.maps import fk_maps, ik_maps
     from ..analysis.workspace import workspace
     from .animation import render_animation

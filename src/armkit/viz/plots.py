@@ -8,8 +8,10 @@ from typing import Any, Optional
 
 import numpy as np
 
+from .._io import atomic_path
 from ..analysis.maps import FKMaps, IKMaps
 from ..analysis.workspace import WorkspaceResult
+from ..errors import ArgumentError
 from ..locale.fonts import plot_text as _      # the pictures' labels, in Korean only with a Korean font
 from ._mpl import pyplot
 
@@ -37,8 +39,6 @@ def save_figure(fig: Any, path: str | Path, dpi: int = 110) -> Path:
     (:func:`armkit._io.atomic_path`): an error or Ctrl-C leaves any old file intact and
     raises :class:`~armkit.errors.WriteError` / :class:`~armkit.errors.WriteInterrupted`.
     """
-    from .._io import atomic_path
-
     out = Path(path)
     try:
         with atomic_path(out, IMAGE_SUFFIXES, "a picture file") as tmp:
@@ -222,8 +222,6 @@ def plot_maps(fk: Optional[FKMaps] = None, ik: Optional[IKMaps] = None, levels: 
     matplotlib.figure.Figure
     """
     if fk is None and ik is None:
-        from ..errors import ArgumentError
-
         raise ArgumentError("plot_maps needs fk maps, ik maps or both")
     plt = pyplot()
     fk_panels: list[tuple[str, np.ndarray]] = []

@@ -27,6 +27,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..errors import ArgumentError, LimitError, ShapeError
+from ..ik import ik, ik_all
+from ..ik.api import _analytic_solver
 from ..kinematics import fk
 from ..model.robot import Robot
 
@@ -223,7 +225,6 @@ def _check_analytic(robot: Robot) -> None:
     that work, in words that fit the API and the command line alike."""
     from ..analysis.workspace import is_planar
     from ..ik.analytic import closed_form
-    from ..ik.api import _analytic_solver
 
     own = closed_form(robot)
     if (own is not None and is_planar(robot)) or _analytic_solver(robot, True, None) is not None:
@@ -302,7 +303,6 @@ def track(robot: Robot, path: str = "random", method: str = "ccd", frames: int =
     -------
     TrackResult
     """
-    from ..ik import ik, ik_all
     from ..ik.verdict import settles
 
     if method not in TRACK_METHODS:

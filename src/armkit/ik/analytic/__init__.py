@@ -35,7 +35,10 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ... import _jit_loader
+from ..._text import Fielded
+from ...kinematics import fk, jacobian, packed
 from ...model.robot import Robot
+from ...spatial import inverse
 from ..result import IKResult, _message as _message_of, _result_of, default_tolerance, verify
 from ._common import Raw, StandardForm, jit_kernels, keep_better, standard_form
 from ._layout import LABEL_SHIFT, NEAREST, joint_table
@@ -175,8 +178,6 @@ def _failure_messages(robot: Robot, message: NDArray[np.object_], code: NDArray[
                       raw: Raw, q: Array, dp: Array, dr: Array, tol: tuple[float, float]) -> None:
     """Fill ``message`` in place for the failed branches (``code``: index into ``_REASON_TEXT``; 0 only where
     the branch succeeded). Each message keeps its template and fields (:class:`armkit._text.Fielded`)."""
-    from ..._text import Fielded
-
     if code.size <= FEW:
         _few_failure_messages(robot, message, code, raw, q, dp, dr, tol)
         return
@@ -218,8 +219,6 @@ per-call overhead on a few elements cost more than the messages); the same messa
 
 
 def _unreachable_text(robot: Robot, dp: float, dr: float, tol: tuple[float, float]):
-    from ..._text import Fielded
-
     return Fielded.of(
         "unreachable: the closest configuration of this branch misses the target by {distance} and {angle} "
         "(this arm cannot turn to that orientation there)." if dp <= tol[0] else
@@ -230,8 +229,6 @@ def _unreachable_text(robot: Robot, dp: float, dr: float, tol: tuple[float, floa
 def _few_failure_messages(robot: Robot, message: NDArray[np.object_], code: NDArray[np.int_],
                           raw: Raw, q: Array, dp: Array, dr: Array, tol: tuple[float, float]) -> None:
     """:func:`_failure_messages` for a few branches, element by element."""
-    from ..._text import Fielded
-
     flat_code = code.reshape(-1).tolist()
     if not any(flat_code):
         return
@@ -256,8 +253,6 @@ def _few_failure_messages(robot: Robot, message: NDArray[np.object_], code: NDAr
 
 def _limit_text(robot: Robot, joints) -> Any:
     """The sentence of a branch outside the limits of ``joints`` (indices)."""
-    from ..._text import Fielded
-
     return Fielded.of("outside the joint limits: {names} (see armkit info for the limits).",
                       names=", ".join(robot.joint_names[j] for j in joints))
 
@@ -294,8 +289,6 @@ def _steps(ideal: bool) -> int:
 def _gauss_newton(robot: Robot, qc: Array, tgt: Array, pose: bool, steps: int) -> Array:
     """The touch-up's steps for the rows ``qc`` (k, n) towards ``tgt`` (k, 4, 4) or (k, 3), in NumPy (the least-
     squares step of ``pinv``), all rows at once until the largest step is :data:`POLISH_DONE` or less."""
-    from ...kinematics import fk, jacobian
-
     for _ in range(steps):
         T = fk(robot, qc)
         J = jacobian(robot, qc)
@@ -330,8 +323,6 @@ def _touch_up(robot: Robot, qc: Array, tgt: Array, pose: bool, steps: int) -> tu
     rest = np.ones(len(qc), dtype=bool)
     one = _jit_loader.kernels("ik.analytic._single")
     if one is not None and robot.n == (6 if pose else 3):
-        from ...kinematics import packed
-
         if tgt.ndim == 3:
             T = np.ascontiguousarray(tgt)
         else:   # a point: column 3 of a pose, as the one-call kernels hold it
@@ -364,8 +355,6 @@ def _retarget(robot: Robot, branches: tuple, target: Array, position_only: bool,
     stuck = ~((dp <= tol[0]) & (dr <= tol[1])) & (dp <= RETARGET_WINDOW * scale) & (dr <= RETARGET_WINDOW)
     if not stuck.any():
         return branches
-    from ...kinematics import fk
-    from ...spatial import inverse
 
     sf = solver.sf
     ideal = robot.cache.get("ideal_arm")
@@ -492,8 +481,6 @@ class _Single:
                  "small_near", "address", "pool", "spare")
 
     def __init__(self, robot: Robot, solver: ClosedForm, kernels) -> None:
-        from ...kinematics import packed
-
         self.kernels = kernels
         self.solver = solver
         self.kernel = kernels.KERNELS.get(solver.family) if solver.geometry is not None else None
@@ -1015,8 +1002,6 @@ class _Messages:
     def _from_kernel(self) -> Any:
         """:meth:`__call__` for a family solved by the kernel: the sentences of :func:`_few_failure_messages`
         (the same objects' values), made in one Python loop from the kernel's numbers."""
-        from ..._text import Fielded
-
         c, fb, ib, robot = self.c, self.fb, self.ib, self.robot
         m, at = c.m, c.at
         count = 1 if self.nearest else m

@@ -34,6 +34,7 @@ _jit_loader.install_cache_fallback()  # before the first cache=True: read-only i
 
 from numba import njit  # noqa: E402
 
+from ...kinematics import fk
 from ._jit import _rint  # noqa: E402  (round half to even, shared with the closed-form kernels)
 
 TWO_PI = 2.0 * math.pi
@@ -82,7 +83,6 @@ def pack(robot, solver) -> np.ndarray:
     g[G_U:G_U + 3], g[G_O:G_O + 3], g[G_ATOOL:G_ATOOL + 3] = u, o, a_tool
     g[G_K1:G_K1 + 3] = robot.chain.fixed[1][:3, 2]
     g[G_R0:G_R0 + 9] = robot.chain.fixed[0][:3, :3].reshape(9)
-    from ...kinematics import fk
 
     g[G_PAN:G_PAN + 3] = fk(robot, np.zeros(robot.n), link=robot.links[1].name)[:3, 3]
     g[G_EXACT] = 1.0 if sf.exact else 0.0

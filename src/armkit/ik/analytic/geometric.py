@@ -28,6 +28,8 @@ from typing import Any, Callable
 import numpy as np
 from numpy.typing import NDArray
 
+from ..._text import Fielded
+from ...kinematics import packed
 from ...model.robot import Robot
 from ._common import Raw, StandardForm
 
@@ -95,8 +97,6 @@ _SINGULAR = "singular wrist: a family of solutions; this one keeps the free join
 def _why(found: int, m: int) -> str:
     """Why a branch is out of reach when the target has ``found`` solutions (0: none) of the class's ``m``: a sentence
     that keeps its template and fields (rendered in the user's language)."""
-    from ..._text import Fielded
-
     if found == 1:
         return Fielded.of("this target has 1 solution; the arm's class allows up to {m}, and this branch is not one "
                           "of them.", m=m)
@@ -167,7 +167,6 @@ class Geometric:
 
         if batched.kernels() is None:
             return None
-        from ...kinematics import packed
 
         prep = solvers._prepare(self.form, name)
         out = batched.solve(prep, self.inverted, self.m, target, q0phi, solvers.SEARCH_N, solvers.TOL * prep.scale,

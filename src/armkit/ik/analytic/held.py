@@ -39,6 +39,7 @@ from numpy.typing import NDArray
 from ..._text import Fielded
 from ...model.axes import joint_motion
 from ...model.robot import Joint, Robot
+from ..result import default_tolerance, verify
 from ._common import Built, Raw, StandardForm
 
 __all__ = ["Held", "reduced", "idle_tail", "position_solver", "held_solver", "MAX_LEFT"]
@@ -154,7 +155,6 @@ class Held(Built):
         branches are polished on the reduced arm, so the held joints never move); the held values go back
         in their places (at the start: each target's ``q0``)."""
         from . import POLISH_ABOVE, _polish
-        from ..result import default_tolerance, verify
 
         inner, small = self.inner, self.small
         q0 = q0phi - self.sf.theta

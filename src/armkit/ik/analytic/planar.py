@@ -29,6 +29,7 @@ from functools import cached_property
 
 import numpy as np
 
+from ...kinematics import fk
 from . import _layout as L
 
 from ._common import (ANGLE_TOL, Array, Raw, StandardForm, add_messages, elbow_edge, elbow_up, forward_sign, jit_kernels,
@@ -83,7 +84,6 @@ class Planar2R:
         if sf.is_zero(ell):
             return None
         solver = cls(sf, ell, math.atan2(sign * v[1], v[0]), robot.unit, sign)
-        from ...kinematics import fk
 
         solver.z_plane = float(sf.point_to_chain(fk(robot, np.zeros(robot.n))[:3, 3])[2])   # the arm's plane in B'
         return solver

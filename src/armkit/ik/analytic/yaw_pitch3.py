@@ -48,6 +48,8 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
+from ... import _jit_loader
+from ...kinematics import fk, jacobian
 from ...model.robot import Robot
 from ..result import IKResult, default_tolerance, verify
 from ._common import (LENGTH_TOL, Array, Raw, StandardForm, add_messages, elbow_edge, elbow_up, forward_sign,
@@ -297,8 +299,6 @@ def pitch_of(robot: Robot, q: Array, target_point: Array | None = None) -> Array
     >>> round(float(np.degrees(pitch_of(arm, np.radians([0, 0, 0, 90, 0])))), 3)   # wrist bent down
     -90.0
     """
-    from ...kinematics import fk
-
     q = np.asarray(q, dtype=float)
     return _pitch_parts(robot, q, fk(robot, q), target_point)[0]
 
@@ -324,8 +324,6 @@ def _pitch_parts(robot: Robot, q: Array, T: Array, target_point: Array | None = 
 
 def _check(robot: Robot, q: Array, pts: Array, psi: Array, tol: tuple[float, float], enforce_limits: bool):
     """Position error (FK of the true model), pitch error (rad), ok, within limits; ``q`` (..., n)."""
-    from ...kinematics import fk
-
     dp, _, ok, within = verify(robot, q, pts, True, tol, enforce_limits)
     dr = np.abs(np.remainder(_pitch_parts(robot, q, fk(robot, q), pts)[0] - psi + math.pi, 2 * math.pi) - math.pi)
     return dp, dr, ok & (dr <= tol[1]), within
@@ -341,8 +339,6 @@ def _polish(robot: Robot, branches: tuple, target: tuple[Array, Array], tol: tup
     ``start``: where to start them (default ``q``). A branch takes the result only where it
     lowers the FK error. Returns new ``(q, dp, dr, ok, within)``.
     """
-    from ...kinematics import fk, jacobian
-
     q, dp, dr, ok, within = branches
     pts, psi = target
     scale = robot.reach
@@ -598,8 +594,6 @@ def fast_geometry(robot: Robot) -> Array | None:
     None when the Numba back end is not in use, or ``robot`` is not a 5-joint revolute yaw-pitch3
     arm with finite limits. Built once per robot (kept in ``robot.cache``).
     """
-    from ... import _jit_loader
-
     kern = _jit_loader.kernels(_FAST_MODULE)
     if kern is None:
         return None
@@ -615,8 +609,6 @@ def fast_geometry(robot: Robot) -> Array | None:
 
 def fast_kernels() -> object:
     """The compiled kernel module of this family (None while the Numba back end is not in use)."""
-    from ... import _jit_loader
-
     return _jit_loader.kernels(_FAST_MODULE)
 
 

@@ -18,6 +18,7 @@ import math
 import numpy as np
 from numpy.typing import NDArray
 
+from ...kinematics import fk, jacobian
 from ...model.robot import Robot
 from ..result import IKResult, default_tolerance
 from ._common import Array
@@ -34,8 +35,6 @@ _VERTICAL = 1e-6    # a direction whose horizontal part is below this points str
 def _direction_check(robot: Robot, q: Array, pts: Array, dirs: Array, tol: tuple[float, float],
                      enforce_limits: bool):
     """Position error, angle (rad) between the tool's z axis and ``dirs``, ok, within limits; ``q`` (..., n)."""
-    from ...kinematics import fk
-
     T = fk(robot, q)
     dp = np.linalg.norm(T[..., :3, 3] - pts, axis=-1)
     z = T[..., :3, 2]
@@ -46,8 +45,6 @@ def _direction_check(robot: Robot, q: Array, pts: Array, dirs: Array, tol: tuple
 
 
 def _direction_residual(robot: Robot, q: Array, pts: Array, dirs: Array) -> tuple[Array, Array]:
-    from ...kinematics import fk
-
     T = fk(robot, q)
     return np.concatenate([pts - T[:, :3, 3], dirs - T[:, :3, 2]], axis=1), T[:, :3, 2]
 
@@ -57,8 +54,6 @@ def _polish_direction(robot: Robot, q: Array, pts: Array, dirs: Array, steps: in
 
     Near straight up or down the roll moves the tool's z axis by micro-radians only: a step is
     cut to 0.3 rad at most and halved until it lowers the error (up to 8 times)."""
-    from ...kinematics import jacobian
-
     q = q.copy()
     n = robot.n
     eye = np.eye(n)

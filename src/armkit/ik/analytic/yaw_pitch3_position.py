@@ -23,7 +23,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ... import _jit_loader
+from ..._text import Fielded
 from ...model.robot import Robot
+from ..api import _normalise_q0, _normalise_target
 from ..result import IKResult, _message, default_tolerance
 from ._common import Array
 from .yaw_pitch3 import _LABELS, fast_geometry, shoulder_reach
@@ -81,7 +83,6 @@ def _position_record(robot: Robot) -> Any:
     rec = robot.cache.get("yaw_pitch3_position")
     if rec is not None:
         return rec
-    from ... import _jit_loader
 
     kern = _jit_loader.kernels(_POSITION_MODULE)
     if kern is None:
@@ -96,7 +97,6 @@ def _unreachable_message(robot: Robot, rec: Any, info: Array) -> Any:
     """The message of a target beyond the reach from the shoulder (``info``: the kernel's), as armkit.ik's LM
     path words it."""
     from .._numeric_report import _fmt, residual_note, unreachable_note
-    from ..._text import Fielded
 
     unit = robot.unit
     text = unreachable_note(f"{_fmt(float(info[1]))} {unit}", f"{_fmt(rec.reach)} {unit}", "the shoulder")
@@ -230,8 +230,6 @@ def position_route(robot: Robot, target: Any, q0: Any) -> IKResult | None:
     if not rec:
         return None
     if type(target) is not np.ndarray or target.dtype is not _F64:
-        from ..api import _normalise_target
-
         flat, lead, position_only = _normalise_target(robot, target, None, True)
         if lead or not position_only or flat.shape != (1, 3):
             return None
@@ -239,7 +237,5 @@ def position_route(robot: Robot, target: Any, q0: Any) -> IKResult | None:
     elif target.shape != (3,):
         return None
     if q0 is not None and (type(q0) is not np.ndarray or q0.dtype is not _F64):
-        from ..api import _normalise_q0
-
         q0 = _normalise_q0(robot, q0, ())[0]
     return _one(robot, rec, target, q0, False)

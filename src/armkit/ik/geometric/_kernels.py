@@ -21,6 +21,7 @@ import types
 from typing import Any, Optional
 
 import numpy as np
+from ... import _jit_loader
 
 __all__ = ["kernels", "KERNELS"]
 
@@ -693,8 +694,6 @@ def kernels() -> Optional[types.SimpleNamespace]:
         # none allocates or returns an array: all compiled without reference counts
         _KERNELS = compiled(globals(), KERNELS, extra=_compiled_sincos(), uncounted=KERNELS)
         if _KERNELS is not None:
-            from ... import _jit_loader
-
             # they inline the FK's sine and cosine and armkit's atan2: compiled anew when kinematics/_jit.py changes
             _jit_loader.forget_stale_cache(_KERNELS.namespace, ("kinematics/_jit.py",))
     return _KERNELS

@@ -32,6 +32,7 @@ from typing import Any, Optional
 import numpy as np
 from numpy.typing import NDArray
 
+from ... import _jit_loader
 from . import solvers as _solvers
 
 __all__ = ["solve", "kernels", "PARALLEL_MIN"]
@@ -207,7 +208,6 @@ def kernels() -> Optional[types.SimpleNamespace]:
         twin = types.FunctionType(py.__code__, ns, "_layout_parallel", py.__defaults__, py.__closure__)
         twin.__qualname__ = "_layout_parallel"
         ns["_layout_parallel"] = njit(cache=True, parallel=True)(twin)
-        from ... import _jit_loader
 
         _jit_loader.forget_stale_cache({"__file__": __file__, **{name: ns[name] for name in (
             "_shortcut", "_one_target", "_layout", "_layout_parallel")}}, SOURCES)
@@ -224,7 +224,6 @@ def solve(prep: Any, inverted: bool, m: int, target: NDArray[np.float64], q0phi:
     if K is None:
         return None
     from . import solvers
-    from ... import _jit_loader
 
     B = len(target)
     q = np.zeros((B, m, 6))

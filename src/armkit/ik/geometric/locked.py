@@ -38,7 +38,12 @@ from typing import Any, Mapping, Sequence
 import numpy as np
 from numpy.typing import NDArray
 
+from ... import _jit_loader
+from ..._checks import short_repr
 from ..._text import Fielded
+from ...errors import IKInputError
+from ...kinematics import fk, jacobian
+from ...spatial import so3_log
 from ..analytic._common import Built
 from ...model.robot import Robot
 from .poe import POE, poe
@@ -291,8 +296,6 @@ class Locked(Built):
                      q0: Array) -> None:
         """Newton steps on the free joints of the full arm (its compiled FK and Jacobian) for the candidates
         ``near (V, B, M)``; those that then pass the solvers' check join the good solutions in ``Q`` (in place)."""
-        from ...kinematics import fk, jacobian
-        from ...spatial import so3_log
         from . import solvers
 
         v, b, i = np.nonzero(near)
@@ -420,8 +423,6 @@ class Locked(Built):
 
 def _layout_kernels() -> Any:
     """:mod:`.locked_jit` while the Numba back end serves, else None (the NumPy layout of :meth:`Locked.solve`)."""
-    from ... import _jit_loader
-
     return _jit_loader.kernels("ik.geometric.locked_jit")
 
 
@@ -492,8 +493,6 @@ def resolve(robot: Robot, fixed: Any, sweep: Any, position_only: bool) -> Any:
     Raises :class:`~armkit.errors.IKInputError` for bad ``fixed``/``sweep`` values, a position target of a sweep,
     or a chain that holding the joints does not make solvable; the message says which and why.
     """
-    from ..._checks import short_repr
-    from ...errors import IKInputError
     from .classify import classify, described
 
     if fixed is not None and not isinstance(fixed, Mapping):
@@ -543,9 +542,6 @@ def resolve(robot: Robot, fixed: Any, sweep: Any, position_only: bool) -> Any:
 def held_values(robot: Robot, fixed: Mapping[str, Any]) -> dict[int, float]:
     """``fixed=`` as ``{0-based joint index: value}``, each name and value checked; raises
     :class:`~armkit.errors.IKInputError` naming the joints or the value at fault."""
-    from ..._checks import short_repr
-    from ...errors import IKInputError
-
     held: dict[int, float] = {}
     for name, value in fixed.items():
         if not isinstance(name, str) or name not in robot.joint_names:
@@ -570,7 +566,6 @@ def held_position(robot: Robot, fixed: Mapping[str, Any]) -> Any:
     """The solver of a position target with the joints ``fixed`` (name -> value, already a non-empty mapping)
     held: the joints left, 1 to 3, by a closed form for a position (:func:`armkit.ik.analytic.held.held_solver`).
     Raises :class:`~armkit.errors.IKInputError` when they have none (too many left, or a class without one)."""
-    from ...errors import IKInputError
     from ..analytic.held import MAX_LEFT, held_solver
     from .classify import classify, described
 

@@ -64,6 +64,7 @@ from typing import Any, Optional
 import numpy as np
 from numpy.typing import NDArray
 
+from ... import _jit_loader
 from . import solvers as _solvers
 
 __all__ = ["geometry", "kernel", "SIZE"]
@@ -267,7 +268,6 @@ def kernel() -> Any:
         extra.update({name: getattr(_single, name) for name in ("_parts", "_begin", "_finish", "shaped", "RECHECK",
                                                                 "_NO_GATE")})
         ns = jit_namespace(globals(), ("_geometric",), extra=extra, uncounted=("_geometric",))
-        from ... import _jit_loader
 
         _jit_loader.forget_stale_cache({"__file__": __file__, "_geometric": ns["_geometric"]}, SOURCES)
         _KERNEL = ns["_geometric"]

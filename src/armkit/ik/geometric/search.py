@@ -84,6 +84,7 @@ from typing import Any, Optional
 import numpy as np
 from numpy.typing import NDArray
 
+from ... import _jit_loader
 from . import _kernels as _kk
 from . import subproblems as _sp
 from ._kernels import (_PI, _add_row, _sp3, _sp3_cos, _sp6, _t, _tadd, _tdot, _tlin, _tmul, _tmv, _tnorm,
@@ -1227,7 +1228,6 @@ def kernels() -> Optional[types.SimpleNamespace]:
             ns = _sp.jit_namespace(globals(), KERNELS, extra=_kk.extra(), uncounted=UNCOUNTED)
         except ImportError:
             return None
-        from ... import _jit_loader
 
         _jit_loader.forget_stale_cache(ns, ("ik/geometric/_kernels.py", "kinematics/_jit.py"))
         _KERNELS = types.SimpleNamespace(**{name: ns[name] for name in KERNELS}, namespace=ns)

@@ -60,6 +60,7 @@ from typing import Optional
 import numpy as np
 from numpy.typing import NDArray
 
+from ... import _jit_loader
 from . import _kernels as _kk
 from . import subproblems as _sp
 from ._kernels import (_add_row, _move, _rmul_rot, _t, _tadd, _tcross, _tdot, _tmtv, _tmul, _tmv, _tnorm,
@@ -745,7 +746,6 @@ def kernels() -> Optional[types.SimpleNamespace]:
             return None
         extra.update({name: sk.namespace[name] for name in _sp.KERNELS})
         ns = _sp.jit_namespace(globals(), KERNELS, extra=extra, uncounted=UNCOUNTED)
-        from ... import _jit_loader
 
         _jit_loader.forget_stale_cache(ns, ("ik/geometric/subproblems.py", "ik/geometric/_kernels.py",
                                                  "kinematics/_jit.py"))

@@ -70,6 +70,7 @@ from typing import Any, Callable, NamedTuple, Optional
 import numpy as np
 from numpy.typing import NDArray
 
+from ... import _jit_loader, kinematics
 from . import _kernels as _kk
 from . import search2d as _search2d
 from . import subproblems as _sp
@@ -168,7 +169,6 @@ def kernels() -> Optional[types.SimpleNamespace]:
             f = globals()[name]
             ns[name] = njit(cache=True, inline="always")(types.FunctionType(f.__code__, ns, f.__name__, f.__defaults__,
                                                                              f.__closure__))
-        from ... import _jit_loader
 
         for stem in _PARTS:     # each file's cached copies follow every file they call into
             _jit_loader.forget_stale_cache(dict(ns, __file__=ns["__file__"].replace("solvers.py", stem + ".py")),
@@ -182,7 +182,6 @@ def _use_jit(jit: Optional[bool]) -> bool:
     Numba back end serves (for ``"auto"``: once armkit's kernels are ready), the plain functions otherwise."""
     if jit is not None:
         return jit
-    from ... import kinematics
 
     return kinematics._jit_module() is not None
 

@@ -50,6 +50,7 @@ from typing import Any, Optional
 
 import numpy as np
 
+from ... import _jit_loader
 from . import _kernels
 from ._kernels import _atan2
 from ._kernels import _trig2 as _trig2_exact
@@ -513,8 +514,6 @@ def jit_namespace(namespace: dict[str, Any], names: tuple[str, ...], extra: Opti
     no array and return none, in its whole call tree; it may call a counted one (every other name is compiled with
     ``_nrt=True`` said explicitly, so it does not take an uncounted caller's setting, as Numba's callees do).
     """
-    from ... import _jit_loader
-
     _jit_loader.install_cache_fallback()
     from numba import njit
 
@@ -552,8 +551,6 @@ def kernels() -> Optional[types.SimpleNamespace]:
             return None
         _KERNELS = compiled(globals(), KERNELS, {"_trig2_exact": kk._trig2, "_atan2": kk.namespace["_atan2"]})
         if _KERNELS is not None:
-            from ... import _jit_loader
-
             _jit_loader.forget_stale_cache(_KERNELS.namespace, SOURCES)
     return _KERNELS
 

@@ -20,7 +20,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ...analysis.workspace import skeleton_batch
-from ...kinematics import fk_frames
+from ...kinematics import fk_frames, link_frames
 from ...model.robot import Robot
 
 __all__ = ["ArmDrawing", "ARM_COLOUR", "add_primitive", "nice_grid", "wxyz_from_rotation", "rotation_from_wxyz",
@@ -215,8 +215,6 @@ class ArmDrawing:
         robot, s, sc = self.robot, self.s, self.server.scene
         F = fk_frames(robot, q) if frames is None else frames
         if self.meshes:
-            from ...kinematics import link_frames
-
             L = np.asarray(link_frames(robot, q))
             for node, T in zip(self._mesh_links, L):
                 node.position = tuple(T[:3, 3] * s)

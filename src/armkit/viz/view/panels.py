@@ -21,7 +21,8 @@ from numpy.typing import NDArray
 
 from ...errors import ArmkitError
 from ...ik import IKResult
-from ...kinematics import fk
+from ...kinematics import condition_number, fk, manipulability
+from ...spatial import rotation_to_rpy, rpy_to_rotation
 from .drawing import rotation_from_wxyz, wxyz_from_rotation
 from .labels import label
 
@@ -134,7 +135,6 @@ class Panels:
                                             initial_value=self._modes[0 if self.position_only else 1])
             self.target_xyz = gui.add_vector3(f"xyz ({r.unit})", tuple(np.round(T0[:3, 3], self.dec)),
                                               step=10.0 ** -self.dec)
-            from ...spatial import rotation_to_rpy
 
             self.target_rpy = gui.add_vector3(L("rpy"), tuple(np.round(rotation_to_rpy(T0[:3, :3], degrees=True),
                                                                         3)), step=0.001)
@@ -229,9 +229,6 @@ class Panels:
     # ------------------------------------------------------------------ state
     def show_state(self, q: Array, F: Array) -> None:
         """Sliders, end pose and manipulability for ``q`` (frames ``F``); called inside ``server.atomic()``."""
-        from ...kinematics import condition_number, manipulability
-        from ...spatial import rotation_to_rpy
-
         r = self.robot
         for k, s in enumerate(self.sliders):
             v = float(q[k]) if r.joints[k].is_prismatic else math.degrees(float(q[k]))
@@ -248,8 +245,6 @@ class Panels:
     def show_follow(self, T: Array) -> None:
         """The joints were set directly: the target (gizmo, typed target) moves to the end pose ``T`` (4, 4),
         the branch list empties and the IK status says so; called inside ``server.atomic()``."""
-        from ...spatial import rotation_to_rpy
-
         r = self.robot
         self.gizmo.position = tuple(T[:3, 3] * r.unit_scale)
         self.gizmo.wxyz = tuple(wxyz_from_rotation(T[:3, :3]))
@@ -270,8 +265,6 @@ class Panels:
 
     def show_target(self, t: Array, res: IKResult, move_gizmo: bool) -> None:
         """Target marker colour, branch list and the IK status line for result ``res``."""
-        from ...spatial import rotation_to_rpy
-
         r = self.robot
         ok = bool(np.asarray(res.success))
         self.target_ball.color = (40, 180, 80) if ok else (220, 30, 30)
@@ -352,7 +345,6 @@ class Panels:
     def _typed_target(self, event: Any) -> None:
         if event.client is None:
             return
-        from ...spatial import rpy_to_rotation
 
         p = np.asarray(self.target_xyz.value, dtype=float)
         if self.position_only:

@@ -15,6 +15,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ..._extras import require
+from ..._io import atomic_path
 from ...errors import ViewError
 
 if TYPE_CHECKING:
@@ -75,8 +76,6 @@ class Screenshots:
 
     def write_png(self, png: bytes, path: Any = None) -> Path:
         """Write PNG bytes to ``path`` (default: a new name in :attr:`screenshot_dir`) atomically."""
-        from ..._io import atomic_path
-
         if path is None:
             safe = re.sub(r"[^A-Za-z0-9_.-]", "_", self.robot.name) or "arm"
             stem = f"armkit-{safe}-{time.strftime('%Y%m%d-%H%M%S')}"

@@ -32,12 +32,14 @@ from numpy.typing import ArrayLike, NDArray
 
 from ..._extras import require
 from ...errors import ArmkitError, JointLimitError, ShapeError, ViewError
+from ...ik.api import IKInputError
 from ...locale import LANGUAGES, default_language
 from ...kinematics import condition_number, fk, fk_frames, manipulability
 from ...model import Robot, load
 from ...ik import IKResult, ik, ik_all
 from ...ik.analytic import closed_form
 # the view's parts, re-exported here (the panels, the tests and armkit.viz.view import them from this module)
+from ...spatial import rotation_to_rpy
 from .home import HOME_STEPS, NEAR_SINGULAR, SINGULAR, home_pose
 from .network import _port_free, _quiet, drop_unopened_connections, free_port
 from .players import MAX_SWEEPS, Players
@@ -324,8 +326,6 @@ class View(Players, Screenshots):
 
     def state_numbers(self, q: Optional[Array] = None) -> dict[str, Any]:
         """End point, roll-pitch-yaw (deg), manipulability and condition number of ``q`` (default: now)."""
-        from ...spatial import rotation_to_rpy
-
         qq = self.q if q is None else q
         T = fk(self.robot, qq)
         return {"position": T[:3, 3].copy(), "rpy_deg": rotation_to_rpy(T[:3, :3], degrees=True),
@@ -347,8 +347,6 @@ class View(Players, Screenshots):
 
     def _solve(self, T: Array, position_only: bool, method: str) -> IKResult:
         """One IK solve from the current q; fills ``self.branches`` for closed forms."""
-        from ...ik.api import IKInputError
-
         r = self.robot
         tgt = T[:3, 3] if (position_only and T.shape == (4, 4)) else T
         q0 = self.q
