@@ -115,7 +115,7 @@ _C12, _C14, _C16, _C18 = 1.0 / 479001600.0, -1.0 / 87178291200.0, 1.0 / 20922789
 @njit(cache=True, inline="always")
 def _sincos_poly(x):
     """(sin x, cos x) for |x| <= _SINCOS_MAX, branch-free so that loops over it vectorise."""
-    k = math.floor(x * _TWO_OVER_PI + 0.5)
+    k = np.floor(x * _TWO_OVER_PI + 0.5)   # a float (math.floor's integer costs two conversions), the same value
     r = (x - k * _PIO2_HI) - k * _PIO2_LO
     z = r * r
     z2 = z * z
@@ -125,7 +125,7 @@ def _sincos_poly(x):
     pc = (_C4 + z * _C6) + z2 * (_C8 + z * _C10) + z4 * ((_C12 + z * _C14) + z2 * (_C16 + z * _C18))
     s = r + r * z * ps
     c = (1.0 - 0.5 * z) + z2 * pc
-    m = k - 4.0 * math.floor(k * 0.25)  # quadrant 0..3
+    m = k - 4.0 * np.floor(k * 0.25)  # quadrant 0..3
     odd = (m == 1.0) | (m == 3.0)
     sa = c if odd else s
     ca = s if odd else c

@@ -47,12 +47,10 @@ noise (planar3 from 64-128). docs/performance.md."""
 
 @njit(cache=True, inline="always")
 def _rint(x):
-    """Round half to even, like ``np.round``."""
-    r = math.floor(x)
-    d = x - r
-    if d > 0.5 or (d == 0.5 and r % 2.0 != 0.0):
-        return r + 1.0
-    return r
+    """Round half to even, like ``np.round``: ``np.rint``, one ``roundsd`` instruction (0.5 ns in a loop). The
+    version before it (``math.floor``, a test of the remainder) took ~7 ns: a branch that random angles mispredict
+    half the time, and ``math.floor`` returns an integer in Numba (two conversions; garbage above 2**63)."""
+    return np.rint(x)
 
 
 @njit(cache=True, inline="always")
@@ -430,9 +428,9 @@ def _wrap_one(v, q0, lo, hi, revolute):
         return near
     v = near
     if v < lo:
-        cand = v + TWO_PI * math.ceil((lo - v) / TWO_PI)
+        cand = v + TWO_PI * np.ceil((lo - v) / TWO_PI)    # np.ceil, np.floor: floats, no integer round trip
     else:
-        cand = v + TWO_PI * math.floor((hi - v) / TWO_PI)
+        cand = v + TWO_PI * np.floor((hi - v) / TWO_PI)
     if cand >= lo and cand <= hi:
         return cand
     mid = 0.5 * (lo + hi) if (math.isfinite(lo) and math.isfinite(hi)) else v

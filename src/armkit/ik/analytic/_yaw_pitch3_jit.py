@@ -172,9 +172,9 @@ def _wrap_joint(g, k, x, ref):
     lo, hi = g[G_LOWER + k] - 1e-12, g[G_UPPER + k] + 1e-12
     if v < lo or v > hi:
         if v < lo:
-            cand = v + TWO_PI * math.ceil((lo - v) / TWO_PI)
+            cand = v + TWO_PI * np.ceil((lo - v) / TWO_PI)
         else:
-            cand = v + TWO_PI * math.floor((hi - v) / TWO_PI)
+            cand = v + TWO_PI * np.floor((hi - v) / TWO_PI)
         if lo <= cand <= hi:
             v = cand
         else:
