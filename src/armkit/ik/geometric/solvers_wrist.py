@@ -15,7 +15,7 @@ from ._kernels import _atan2, _sincos
 from .search import MAXROOT, SW, _search
 from .subproblems import TOL as _SP_TOL
 from .subproblems import _TINY as _SP_TINY
-from .subproblems import _cross, _dot, _norm, _wrap, rot, rotm, sp1, sp2, sp3, sp4, sp5
+from .subproblems import _cross, _dot, _norm, _sp3s, _wrap, rot, rotm, sp1, sp2, sp3, sp4, sp5
 
 SING = 1e-10
 """``‖h4 × R_36 h6‖`` below this: the wrist is singular (axes 4 and 6 in line)."""
@@ -225,7 +225,8 @@ def _wrist(h3, h4, h5, R36, q3ref, W, S, M):
     """q4, q5, q6 (0-based 3, 4, 5) with ``rot(h4, q4) rot(h5, q5) rot(h6, q6) = R36``, into ``W (2, 3)``:
     ``(count, ls, singular)``. Its vectors and matrices live in the caller's work space ``S (5, 3)`` and
     ``M (3, 3, 3)``, made once for all its calls (the spherical core calls it once per position, up to four
-    times a target)."""
+    times a target). It makes no array, in none of its calls, so it is compiled without reference counts
+    (:data:`.solvers.UNCOUNTED`)."""
     v = S[0]
     x = S[1]
     y = S[2]
@@ -238,13 +239,14 @@ def _wrist(h3, h4, h5, R36, q3ref, W, S, M):
     c2 = h3[0] * v[1] - h3[1] * v[0]
     if math.sqrt(c0 * c0 + c1 * c1 + c2 * c2) < SING:     # axes 4 and 6 in line: q4 free
         q3 = q3ref
-        u = rot(h3, -q3, v)
-        q4, l1 = sp1(h5, u, h4)
+        u = S[4]
+        _rot_to(h3, -q3, v, u)
+        q4, l1 = _sp1s(h5[0], h5[1], h5[2], u[0], u[1], u[2], h4[0], h4[1], h4[2])
         _rotm_to(h3, q3, M[0])
         _rotm_to(h4, q4, M[1])
         _mm_to(M[0], M[1], M[2])
         _mtv_to(M[2], y, w)
-        q5, l2 = sp1(x, w, h5)
+        q5, l2 = _sp1s(x[0], x[1], x[2], w[0], w[1], w[2], h5[0], h5[1], h5[2])
         W[0, 0] = _wrap(q3)
         W[0, 1] = q4
         W[0, 2] = q5
@@ -268,39 +270,42 @@ def _wrist(h3, h4, h5, R36, q3ref, W, S, M):
 # ------------------------------------------------------------------ spherical wrist: position
 def _pos_two_intersecting(H, P, prism2, p0W, Qp, LSp, V):
     """Axes 1, 2 meet (P[1] = 0): ``p0W = rot(h1, q1) rot(h2, q2) (P2 + rot(h3, q3) P3)``
-    (joint 3 prismatic: ``P2 + q3 h3 + P3``). ``V (3, 3)``: work rows (-P2, rot(h3, q3) P3, the point ``w``)."""
+    (joint 3 prismatic: ``P2 + q3 h3 + P3``). ``V (3, 3)``: work rows (-P2, rot(h3, q3) P3, the point ``w``).
+    Makes no array (SP3 as scalars, :func:`.subproblems._sp3s`): compiled without reference counts."""
     h0 = H[0]
     h1 = H[1]
     h2 = H[2]
     d = _norm(p0W)
     mP2, r3, w = V[0], V[1], V[2]
     if prism2:
-        t2 = np.zeros(2)
-        a = P[2] + P[3]
-        b = _dot(h2, a)
-        c = _dot(a, a) - d * d
+        a0, a1, a2 = P[2, 0] + P[3, 0], P[2, 1] + P[3, 1], P[2, 2] + P[3, 2]
+        b = h2[0] * a0 + h2[1] * a1 + h2[2] * a2
+        aa = a0 * a0 + a1 * a1 + a2 * a2
+        c = aa - d * d
         disc = b * b - c
-        scale = max(_dot(a, a) + d * d, 1e-300)
+        scale = max(aa + d * d, 1e-300)
+        t21 = 0.0
         if disc > 1e-12 * scale:
             s = math.sqrt(disc)
-            t2[0] = -b + s
-            t2[1] = -b - s
+            t20 = -b + s
+            t21 = -b - s
             n2 = 2
         else:
-            t2[0] = -b
+            t20 = -b
             n2 = 1
         ls2 = disc < -1e-12 * scale
     else:
         for i in range(3):
             mP2[i] = -P[2, i]
-        t2, n2, ls2 = sp3(P[3], mP2, h2, d)
+        t20, t21, n2, ls2 = _sp3s(P[3], mP2, h2, d)
     m = 0
     for j in range(n2):
+        t2j = t20 if j == 0 else t21
         if prism2:
             for i in range(3):
-                w[i] = P[2, i] + t2[j] * h2[i] + P[3, i]
+                w[i] = P[2, i] + t2j * h2[i] + P[3, i]
         else:
-            _rot_to(h2, t2[j], P[3], r3)
+            _rot_to(h2, t2j, P[3], r3)
             for i in range(3):
                 w[i] = P[2, i] + r3[i]
         a0, a1, b0, b1, n, ls = _sp2s(p0W[0], p0W[1], p0W[2], w[0], w[1], w[2], -h0[0], -h0[1], -h0[2],
@@ -308,7 +313,7 @@ def _pos_two_intersecting(H, P, prism2, p0W, Qp, LSp, V):
         for i in range(n):
             Qp[m, 0] = a0 if i == 0 else a1
             Qp[m, 1] = b0 if i == 0 else b1
-            Qp[m, 2] = t2[j]
+            Qp[m, 2] = t2j
             LSp[m] = bool(ls) or bool(ls2)
             m += 1
     return m
