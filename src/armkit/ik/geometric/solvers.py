@@ -125,7 +125,7 @@ KERNELS = ("_mv", "_mtv", "_mm", "_mtm", "_perp", "_rotm_to", "_rot_to", "_mm_to
            "_solve_searched", "_solve_two_intersecting_end", "_solve_two_parallel", "_solve_spherical_middle", "_solve",
            "_sweep", "_polish_wanted")
 UNCOUNTED = ("_mv_to", "_mtv_to", "_mm_to", "_mtm_to", "_rotm_to", "_rot_to", "_perp_to", "_sp1s", "_sp2s", "_wrist",
-             "_pos_two_intersecting")
+             "_pos_two_intersecting", "_pos_two_parallel")
 """Kernels compiled without Numba's reference counts (:func:`.subproblems.jit_namespace`): they make no array in
 their whole call tree. The spherical core calls the wrist up to four times a target, each call the small helpers
 ~10 times with 2-8 arrays each, and every array passed or sliced was counted up and down with an atomic

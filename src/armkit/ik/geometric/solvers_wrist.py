@@ -15,7 +15,7 @@ from ._kernels import _atan2, _sincos
 from .search import MAXROOT, SW, _search
 from .subproblems import TOL as _SP_TOL
 from .subproblems import _TINY as _SP_TINY
-from .subproblems import _cross, _dot, _norm, _sp3s, _wrap, rot, rotm, sp1, sp2, sp3, sp4, sp5
+from .subproblems import _cross, _dot, _norm, _rot_into, _sp3s, _sp4s, _wrap, rot, rotm, sp1, sp2, sp3, sp4, sp5
 
 SING = 1e-10
 """``‖h4 × R_36 h6‖`` below this: the wrist is singular (axes 4 and 6 in line)."""
@@ -319,39 +319,55 @@ def _pos_two_intersecting(H, P, prism2, p0W, Qp, LSp, V):
     return m
 
 
-def _pos_two_parallel(H, P, p0W, Qp, LSp):
-    """Axes 2 ∥ 3: the axis-2 component of ``rot(h1, q1)ᵀ p0W`` fixes q1 (SP4), then SP3, SP1."""
+def _pos_two_parallel(H, P, p0W, Qp, LSp, V):
+    """Axes 2 ∥ 3: the axis-2 component of ``rot(h1, q1)ᵀ p0W`` fixes q1 (SP4), then SP3, SP1. ``V (5, 3)``: work
+    rows (-h1, -P2, the point ``v``, ``rot(h3, q3) P3``, the point ``w``). Makes no array (the subproblems as
+    scalars, the rotations by :func:`.subproblems._rot_into`: the numbers of ``sp4``, ``rot``, ``sp3`` and ``sp1``):
+    compiled without reference counts."""
     h0 = H[0]
     h1 = H[1]
     h2 = H[2]
-    t0, n0, ls0 = sp4(h1, p0W, -h0, _dot(h1, P[1] + P[2] + P[3]))
+    mh0, mP2, v, r3, w = V[0], V[1], V[2], V[3], V[4]
+    for k in range(3):
+        mh0[k] = -h0[k]
+        mP2[k] = -P[2, k]
+    d1 = h1[0] * ((P[1, 0] + P[2, 0]) + P[3, 0]) + h1[1] * ((P[1, 1] + P[2, 1]) + P[3, 1]) \
+        + h1[2] * ((P[1, 2] + P[2, 2]) + P[3, 2])                      # _dot(h1, P[1] + P[2] + P[3])
+    t00, t01, n0, ls0 = _sp4s(h1, p0W, mh0, d1)
     m = 0
     for i in range(n0):
-        v = rot(h0, -t0[i], p0W) - P[1]
-        t2, n2, ls2 = sp3(P[3], -P[2], h2, _norm(v))
+        t0 = t00 if i == 0 else t01
+        _rot_into(h0, -t0, p0W, v)
+        for k in range(3):
+            v[k] = v[k] - P[1, k]
+        t20, t21, n2, ls2 = _sp3s(P[3], mP2, h2, _norm(v))
         for j in range(n2):
-            w = P[2] + rot(h2, t2[j], P[3])
-            t1, ls1 = sp1(w, v, h1)
-            Qp[m, 0] = t0[i]
+            t2 = t20 if j == 0 else t21
+            _rot_into(h2, t2, P[3], r3)
+            for k in range(3):
+                w[k] = P[2, k] + r3[k]
+            t1, ls1 = _sp1s(w[0], w[1], w[2], v[0], v[1], v[2], h1[0], h1[1], h1[2])
+            Qp[m, 0] = t0
             Qp[m, 1] = t1
-            Qp[m, 2] = t2[j]
+            Qp[m, 2] = t2
             LSp[m] = bool(ls0) or bool(ls2) or bool(ls1)
             m += 1
     return m
 
 
-def _pos_general(H, P, p0W, N, Qp, LSp):
+def _pos_general(H, P, p0W, N, Qp, LSp, V):
     """General 3R position ``p0W = rot(h1, q1) (P1 + rot(h2, q2) (P2 + rot(h3, q3) P3))`` in closed form:
     moved to ``-P1 + rot(h1, -q1) p0W = rot(h2, q2) (P2 + rot(h3, q3) P3)``, which is SP5 (a quartic; up to
     4 solutions, least-squares ones flagged). SP5's length equation depends on q1 only through the distance of
     the point chosen on axis 2 from axis 1, so that point is slid along axis 2 (``P1 + s h2``, ``P2 - s h2``: the
     same chain) until that distance is about the arm's size; where axes 1 and 2 meet it would be 0 and the
     system singular. Axes 2 ∥ 3 make its component equation independent of q3: :func:`_pos_two_parallel`
-    answers. Axes 1 ∥ 2 make it independent of q1: that chain takes the 1-D search (:func:`_pos_search`)."""
+    answers (``V (5, 3)``: its work rows). Axes 1 ∥ 2 make it independent of q1: that chain takes the 1-D search
+    (:func:`_pos_search`)."""
     h0 = H[0]
     h1 = H[1]
     if _norm(_cross(h1, H[2])) < 1e-9:
-        return _pos_two_parallel(H, P, p0W, Qp, LSp)
+        return _pos_two_parallel(H, P, p0W, Qp, LSp, V)
     if _norm(_cross(h0, h1)) < 1e-9:
         return _pos_search(H, P, p0W, N, Qp, LSp)
     size = _norm(P[1]) + _norm(P[2]) + _norm(P[3]) + _norm(p0W) + 1e-300
@@ -405,9 +421,9 @@ def _core_spherical(kind, H, P, RnT, prism, R, p, qref, N, Q, LS, SG):
     # the core made 13 and the wrist 2 per position; rows of a 2-D or 3-D array, not reshaped slices of one
     # vector, whose reshape is a call of its own): the position solutions Qp (8, 3), the wrist's W (2, 3) and
     # its work S (5, 3), p_0W (3); the wrist's work M (3, 3, 3), B (5, 3, 3): the rotations of joints 1-3, their
-    # products, R_36; R_06 (3, 3); the 3R position's work rows V (3, 3)
-    v3 = np.zeros((19, 3))
-    Qp, W, S, p0W, V = v3[0:8], v3[8:10], v3[10:15], v3[15], v3[16:19]
+    # products, R_36; R_06 (3, 3); the 3R position's work rows V (5, 3)
+    v3 = np.zeros((21, 3))
+    Qp, W, S, p0W, V = v3[0:8], v3[8:10], v3[10:15], v3[15], v3[16:21]
     m3 = np.zeros((9, 3, 3))
     M, B, R06 = m3[0:3], m3[3:8], m3[8]
     for i in range(3):   # R_06 = R RnTᵀ and p_0W = p - P_0 - R_06 P_6, term by term as _mm and _mv
@@ -419,9 +435,9 @@ def _core_spherical(kind, H, P, RnT, prism, R, p, qref, N, Q, LS, SG):
     if kind == 0:
         mp = _pos_two_intersecting(H, P, prism[2], p0W, Qp, LSp, V)
     elif kind == 1:
-        mp = _pos_two_parallel(H, P, p0W, Qp, LSp)
+        mp = _pos_two_parallel(H, P, p0W, Qp, LSp, V)
     else:
-        mp = _pos_general(H, P, p0W, N, Qp, LSp)
+        mp = _pos_general(H, P, p0W, N, Qp, LSp, V)
     m = 0
     for i in range(mp):
         _rotm_to(H[0], Qp[i, 0], B[0])
