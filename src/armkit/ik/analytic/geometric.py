@@ -325,7 +325,7 @@ class Geometric3R:
             meet12 = K._pos_two_intersecting if K is not None else solvers._pos_two_intersecting
             return int(meet12(self.H, self.P, False, p0W, Q, LS, np.empty((3, 3))))   # its work rows
         position = K._pos_general if K is not None else solvers._pos_general    # SP5, or SP4-SP3-SP1 (2 ∥ 3)
-        return int(position(self.H, self.P, p0W, solvers.SEARCH_N, Q, LS))
+        return int(position(self.H, self.P, p0W, solvers.SEARCH_N, Q, LS, np.empty((5, 3))))   # its work rows
 
     buffer = (8, 3)
     """The shape of the candidates' buffer ``Q`` that :meth:`_candidates` fills (rows: candidates)."""
