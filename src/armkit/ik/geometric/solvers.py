@@ -125,13 +125,14 @@ KERNELS = ("_mv", "_mtv", "_mm", "_mtm", "_perp", "_rotm_to", "_rot_to", "_mm_to
            "_solve_searched", "_solve_two_intersecting_end", "_solve_two_parallel", "_solve_spherical_middle", "_solve",
            "_sweep", "_polish_wanted")
 UNCOUNTED = ("_mv_to", "_mtv_to", "_mm_to", "_mtm_to", "_rotm_to", "_rot_to", "_perp_to", "_sp1s", "_sp2s", "_wrist",
-             "_pos_two_intersecting", "_pos_two_parallel")
+             "_pos_two_intersecting", "_pos_two_parallel", "_core_spherical")
 """Kernels compiled without Numba's reference counts (:func:`.subproblems.jit_namespace`): they make no array in
 their whole call tree. The spherical core calls the wrist up to four times a target, each call the small helpers
 ~10 times with 2-8 arrays each, and every array passed or sliced was counted up and down with an atomic
-instruction: the wrist took 0.40 µs a call, 0.29 without the counts (the Kinova's wrist, a loop of 300 targets);
-its position part the same way."""
-INLINE = ("_fk_err_sc", "_pos_search", "_pos_general", "_core_spherical", "_core_three_parallel",
+instruction: the wrist took 0.40 µs a call, 0.29 without the counts (the Kinova's wrist, a loop of 300 targets),
+0.21 with its 3 x 3 helpers and SP1 inlined (:data:`INLINE`); its position parts the same way; the spherical core
+itself (its work arrays made by ``_closed_core``) 1.66 -> 1.49 µs a target."""
+INLINE = ("_fk_err_sc", "_pos_search", "_core_three_parallel",
           "_core_two_intersecting_end", "_core_two_parallel", "_core_spherical_middle", "_searched_core", "_solve",
           "_mv_to", "_mtv_to", "_mm_to", "_mtm_to", "_rotm_to", "_rot_to", "_perp_to", "_sp1s")
 """Kernels with one caller each (the FK of the candidates in ``_check``, a searched core in its ``_solve_*``, a
@@ -140,7 +141,9 @@ compiled inline into that caller (Numba's ``inline="always"``), not as functions
 called kernel's whole compiled code into its caller and optimises and compiles it there again, so every level of
 calls between a kernel and its entry points repeats that work; inlining these removes a level; in ``_check``, the
 call of each of up to 32 candidates with its twelve arrays too (the Kinova's core and check: 4.0 -> 3.8 µs)
-(same operations, same results)."""
+(same operations, same results). The 3 x 3 helpers and SP1 have many callers, but each is a few lines: inlined,
+the compiler keeps their rows in registers between them (the Kinova's wrist 0.29 -> 0.21 µs a call; the solvers'
+first compile ~20 s longer)."""
 _PARTS = ("solvers", "solvers_wrist", "solvers_parallel", "solvers_search", "solvers_check")
 SOURCES = tuple(f"ik/geometric/{name}.py" for name in _PARTS + ("subproblems", "search", "search2d", "_kernels")) + (
     "kinematics/_jit.py",)

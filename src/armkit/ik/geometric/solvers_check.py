@@ -328,8 +328,9 @@ def _closed_core(which, kind, Hi, Pi, RnT, prism, R, p, qref, N, Q, LS, SG):
     before the check; returns their count. Its own compiled function, counted (the cores make their work arrays),
     so that the one-call kernel (:mod:`.one_call`, compiled without reference counts) can run a core without its
     check."""
-    if which == 0:
-        return _core_spherical(kind, Hi, Pi, RnT, prism, R, p, qref, N, Q, LS, SG)
+    if which == 0:   # its work arrays (each made and freed costs ~40 ns; the core itself makes none)
+        return _core_spherical(kind, Hi, Pi, RnT, prism, R, p, qref, N, Q, LS, SG, np.zeros((21, 3)),
+                               np.zeros((9, 3, 3)), np.zeros(8, dtype=np.bool_))
     return _core_three_parallel(kind, Hi, Pi, RnT, prism, R, p, qref, N, Q, LS, SG)
 
 

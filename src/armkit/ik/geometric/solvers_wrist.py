@@ -414,24 +414,25 @@ def _pos_search(H, P, p0W, N, Qp, LSp):
     return m
 
 
-def _core_spherical(kind, H, P, RnT, prism, R, p, qref, N, Q, LS, SG):
+def _core_spherical(kind, H, P, RnT, prism, R, p, qref, N, Q, LS, SG, v3, m3, LSp):
     """Spherical wrist at the end (P[4] = P[5] = 0): candidates into Q, LS, SG; returns their count.
-    ``kind``: 0 axes 1, 2 meet; 1 axes 2 ∥ 3; 2 general (SP5)."""
-    # two work arrays for the small vectors and matrices of the call (each array made and freed costs ~40 ns;
-    # the core made 13 and the wrist 2 per position; rows of a 2-D or 3-D array, not reshaped slices of one
-    # vector, whose reshape is a call of its own): the position solutions Qp (8, 3), the wrist's W (2, 3) and
-    # its work S (5, 3), p_0W (3); the wrist's work M (3, 3, 3), B (5, 3, 3): the rotations of joints 1-3, their
-    # products, R_36; R_06 (3, 3); the 3R position's work rows V (5, 3)
-    v3 = np.zeros((21, 3))
+    ``kind``: 0 axes 1, 2 meet; 1 axes 2 ∥ 3; 2 general (SP5).
+
+    Its work arrays come from the caller (:func:`.solvers_check._closed_core`), zeros: ``v3 (21, 3)`` for the small
+    vectors (rows of a 2-D or 3-D array, not reshaped slices of one vector, whose reshape is a call of its own:
+    the position solutions Qp (8, 3), the wrist's W (2, 3) and its work S (5, 3), p_0W (3), the 3R position's
+    work rows V (5, 3)), ``m3 (9, 3, 3)`` for the matrices (the wrist's work M (3, 3, 3), B (5, 3, 3): the
+    rotations of joints 1-3, their products, R_36; R_06 (3, 3)), ``LSp (8,)`` the positions' least-squares flags.
+    It makes no array itself (the general position's SP5 makes its own, in a function of its own), so it is
+    compiled without reference counts: every row it takes of these arrays, ~40 a target, was counted up and down
+    with an atomic instruction."""
     Qp, W, S, p0W, V = v3[0:8], v3[8:10], v3[10:15], v3[15], v3[16:21]
-    m3 = np.zeros((9, 3, 3))
     M, B, R06 = m3[0:3], m3[3:8], m3[8]
     for i in range(3):   # R_06 = R RnTᵀ and p_0W = p - P_0 - R_06 P_6, term by term as _mm and _mv
         for j in range(3):
             R06[i, j] = R[i, 0] * RnT[j, 0] + R[i, 1] * RnT[j, 1] + R[i, 2] * RnT[j, 2]
     for i in range(3):
         p0W[i] = p[i] - P[0, i] - (R06[i, 0] * P[6, 0] + R06[i, 1] * P[6, 1] + R06[i, 2] * P[6, 2])
-    LSp = np.zeros(8, dtype=np.bool_)
     if kind == 0:
         mp = _pos_two_intersecting(H, P, prism[2], p0W, Qp, LSp, V)
     elif kind == 1:
