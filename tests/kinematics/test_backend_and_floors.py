@@ -71,20 +71,25 @@ def test_import_armkit_does_not_load_collision_motion_or_viz():
     assert not loaded & {"collision", "motion", "viz", "analysis", "reach", "symbolic", "cli"}, loaded
 
 
-def test_the_floors_hold():
+@pytest.fixture(scope="module")
+def analysis():
+    """The tool's reading of this tree, with the modules ``import armkit`` loads (a fresh interpreter): ~1.7 s, once."""
+    return _graph().analyse(with_loaded=True)
+
+
+def test_the_floors_hold(analysis):
     """No circle through more than one room, at most 4 back arrows, no undeclared Robot attributes."""
-    graph = _graph()
-    r = graph.analyse()
+    r = analysis
     assert r["circles_through_several_rooms"] == []
     assert len(r["back_arrows"]) <= 4, r["back_arrows"]
     assert r["robot_undeclared_attributes"] == []
 
 
-def test_what_import_armkit_loads_is_imported_at_the_top():
+def test_what_import_armkit_loads_is_imported_at_the_top(analysis):
     """An import inside a function is for what ``import armkit`` does not load (optional and heavy packages, the
     rooms it leaves out, the lazy pairs inside a room): one of a module it loads anyway saves nothing and hides the
     module's dependencies (161 of them before 2026-12-07, docs/architecture.md)."""
-    r = _graph().analyse(with_loaded=True)
+    r = analysis
     assert r["function_level_imports"]["loaded_already"] == []
     assert r["function_level_imports"]["of_modules_loaded_by_import_armkit"] == 0
 
