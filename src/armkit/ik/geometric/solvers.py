@@ -124,14 +124,14 @@ KERNELS = ("_mv", "_mtv", "_mm", "_mtm", "_perp", "_rotm_to", "_rot_to", "_mm_to
            "_core_two_parallel", "_core_spherical_middle", "_paired", "_searched_core", "_within_reach",
            "_solve_searched", "_solve_two_intersecting_end", "_solve_two_parallel", "_solve_spherical_middle", "_solve",
            "_sweep", "_polish_wanted")
-UNCOUNTED = ("_mv_to", "_mtv_to", "_mm_to", "_mtm_to", "_rotm_to", "_rot_to", "_perp_to", "_sp1s", "_sp2s", "_wrist",
-             "_pos_two_intersecting", "_pos_two_parallel", "_core_spherical")
+UNCOUNTED = ("_sp2s", "_wrist", "_pos_two_intersecting", "_pos_two_parallel", "_core_spherical")
 """Kernels compiled without Numba's reference counts (:func:`.subproblems.jit_namespace`): they make no array in
 their whole call tree. The spherical core calls the wrist up to four times a target, each call the small helpers
 ~10 times with 2-8 arrays each, and every array passed or sliced was counted up and down with an atomic
 instruction: the wrist took 0.40 µs a call, 0.29 without the counts (the Kinova's wrist, a loop of 300 targets),
-0.21 with its 3 x 3 helpers and SP1 inlined (:data:`INLINE`); its position parts the same way; the spherical core
-itself (its work arrays made by ``_closed_core``) 1.66 -> 1.49 µs a target."""
+0.21 with its 3 x 3 helpers and SP1 inlined (:data:`INLINE`: code inlined into a function compiled without counts
+has none either); its position parts the same way; the spherical core itself (its work arrays made by
+``_closed_core``) 1.66 -> 1.49 µs a target."""
 INLINE = ("_fk_err_sc", "_pos_search", "_core_three_parallel",
           "_core_two_intersecting_end", "_core_two_parallel", "_core_spherical_middle", "_searched_core", "_solve",
           "_mv_to", "_mtv_to", "_mm_to", "_mtm_to", "_rotm_to", "_rot_to", "_perp_to", "_sp1s")
