@@ -85,7 +85,7 @@ from .solvers_check import (EMPTY_RETRY, RETRIES, SHARP, _SPH_MID, _SPHERICAL, _
                             _paired, _polish_wanted, _promote, _put_passing, _repeats, _searched_core, _sharpen,
                             _solve, _solve_searched, _solve_spherical, _solve_spherical_middle, _solve_three_parallel,
                             _solve_two_intersecting_end, _solve_two_parallel, _sweep, _within_reach)
-from .solvers_parallel import _core_three_parallel  # noqa: F401
+from .solvers_parallel import _core_three_parallel, _pairs_sp6, _singular_wrist  # noqa: F401
 from .solvers_search import (_core_spherical_middle, _core_two_intersecting_end, _core_two_parallel,  # noqa: F401
                              _target_rows)
 from .solvers_wrist import (SING, _core_spherical, _mm, _mm_to, _mtm, _mtm_to, _mtv, _mtv_to, _mv,  # noqa: F401
@@ -118,13 +118,14 @@ class Solutions(NamedTuple):
 # ---------------------------------------------------------------------------------- wrappers
 KERNELS = ("_mv", "_mtv", "_mm", "_mtm", "_perp", "_rotm_to", "_rot_to", "_mm_to", "_mtm_to", "_mv_to", "_mtv_to",
            "_perp_to", "_sp1s", "_sp2s", "_wrist", "_pos_two_intersecting", "_pos_two_parallel", "_pos_search",
-           "_pos_general", "_core_spherical", "_core_three_parallel", "_close", "_repeats", "_put_passing", "_merged",
-           "_newton_from", "_copy_row", "_promote", "_sharpen", "_check", "_closed_core", "_solve_spherical",
+           "_pos_general", "_core_spherical", "_pairs_sp6", "_singular_wrist", "_core_three_parallel", "_close",
+           "_repeats", "_put_passing", "_merged", "_newton_from", "_copy_row", "_promote", "_sharpen", "_check", "_closed_core", "_solve_spherical",
            "_solve_three_parallel", "_distinct", "_gate", "_target_rows", "_core_two_intersecting_end",
            "_core_two_parallel", "_core_spherical_middle", "_paired", "_searched_core", "_within_reach",
            "_solve_searched", "_solve_two_intersecting_end", "_solve_two_parallel", "_solve_spherical_middle", "_solve",
            "_sweep", "_polish_wanted")
-UNCOUNTED = ("_sp2s", "_wrist", "_pos_two_intersecting", "_pos_two_parallel", "_core_spherical")
+UNCOUNTED = ("_sp2s", "_wrist", "_pos_two_intersecting", "_pos_two_parallel", "_core_spherical",
+             "_core_three_parallel")
 """Kernels compiled without Numba's reference counts (:func:`.subproblems.jit_namespace`): they make no array in
 their whole call tree. The spherical core calls the wrist up to four times a target, each call the small helpers
 ~10 times with 2-8 arrays each, and every array passed or sliced was counted up and down with an atomic
@@ -132,7 +133,7 @@ instruction: the wrist took 0.40 µs a call, 0.29 without the counts (the Kinova
 0.21 with its 3 x 3 helpers and SP1 inlined (:data:`INLINE`: code inlined into a function compiled without counts
 has none either); its position parts the same way; the spherical core itself (its work arrays made by
 ``_closed_core``) 1.66 -> 1.49 µs a target."""
-INLINE = ("_fk_err_sc", "_pos_search", "_core_three_parallel",
+INLINE = ("_fk_err_sc", "_pos_search",
           "_core_two_intersecting_end", "_core_two_parallel", "_core_spherical_middle", "_searched_core", "_solve",
           "_mv_to", "_mtv_to", "_mm_to", "_mtm_to", "_rotm_to", "_rot_to", "_perp_to", "_sp1s")
 """Kernels with one caller each (the FK of the candidates in ``_check``, a searched core in its ``_solve_*``, a

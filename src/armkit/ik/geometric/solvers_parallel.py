@@ -15,24 +15,25 @@ from .subproblems import _dot, _rot_into, _sp3s, _sp4s, _wrap, rotm, sp1, sp6
 
 
 # ------------------------------------------------------------------------ three parallel axes
-def _core_three_parallel(kind, H, P, RnT, prism, R, p, qref, N, Q, LS, SG):
+def _core_three_parallel(kind, H, P, RnT, prism, R, p, qref, N, Q, LS, SG, v3, m3, t14, ls14):
     """Axes 2 ∥ 3 ∥ 4 (0-based 1, 2, 3; H[2], H[3] = ±H[1]). ``kind``: 3 general (SP6 for q1, q5),
     4 axes 5, 6 meet (P[5] = 0: SP4, SP4).
 
-    Two work arrays for the call's small vectors and matrices (each array made and freed costs ~40 ns and is a call
-    the compiler cannot see through; this core made ~20 a branch pair, a fifth of a call's time), the rotations by
-    the FK's sine and cosine (:func:`.solvers_wrist._rotm_to`), the subproblems as scalars (``_sp1s``, ``_sp3s``,
-    ``_sp4s``)."""
+    Its work arrays come from the caller (:func:`.solvers_check._closed_core`): ``v3 (12, 3)`` for the call's small
+    vectors, ``m3 (6, 3, 3)`` for its matrices, ``t14 (2, 4)`` and ``ls14 (4,)`` for the (q1, q5) pairs (each array
+    made and freed costs ~40 ns and is a call the compiler cannot see through); the rotations by the FK's sine and
+    cosine (:func:`.solvers_wrist._rotm_to`), the subproblems as scalars (``_sp1s``, ``_sp3s``, ``_sp4s``). What
+    makes arrays of its own, SP6 of the general case (:func:`_pairs_sp6`) and the singular wrist
+    (:func:`_singular_wrist`), is a function of its own, so this one makes none and is compiled without reference
+    counts (:data:`.solvers.UNCOUNTED`)."""
     h0 = H[0]
     h1 = H[1]
     h4 = H[4]
     h5 = H[5]
     s2 = 1.0 if _dot(H[2], h1) > 0.0 else -1.0
     s3 = 1.0 if _dot(H[3], h1) > 0.0 else -1.0
-    v3 = np.zeros((12, 3))
     p16, e6, sP, mh0, x5, u, a, b, c, d, w, mP2 = (v3[0], v3[1], v3[2], v3[3], v3[4], v3[5], v3[6], v3[7], v3[8],
                                                    v3[9], v3[10], v3[11])
-    m3 = np.zeros((6, 3, 3))
     R06, Rt, R16, R45, Rth, R15 = m3[0], m3[1], m3[2], m3[3], m3[4], m3[5]
     for i in range(3):   # R_06 = R RnTᵀ, p16 = p - P_0 - R_06 P_6, term by term as _mm and _mv
         for j in range(3):
@@ -44,9 +45,7 @@ def _core_three_parallel(kind, H, P, RnT, prism, R, p, qref, N, Q, LS, SG):
         mP2[i] = -P[2, i]
     _mv_to(R06, h5, e6)
     d1 = _dot(h1, sP)
-    t14 = np.zeros((2, 4))   # the (q1, q5) pairs
-    T0, T4 = t14[0], t14[1]
-    ls14 = np.zeros(4, dtype=np.bool_)
+    T0, T4 = t14[0], t14[1]   # the (q1, q5) pairs
     m14 = 0
     if kind == 4:
         t00, t01, n0, l0 = _sp4s(h1, p16, mh0, d1 + _dot(h1, P[5]))
@@ -63,27 +62,7 @@ def _core_three_parallel(kind, H, P, RnT, prism, R, p, qref, N, Q, LS, SG):
                 ls14[m14] = bool(l0) or bool(l4)
                 m14 += 1
     else:
-        Hs = np.empty((4, 3))
-        Ks = np.empty((4, 3))
-        Ps = np.empty((4, 3))
-        Hs[0] = h1
-        Hs[1] = -h1
-        Hs[2] = h1
-        Hs[3] = -h1
-        Ks[0] = -h0
-        Ks[1] = h4
-        Ks[2] = -h0
-        Ks[3] = h4
-        Ps[0] = p16
-        Ps[1] = P[5]
-        Ps[2] = e6
-        Ps[3] = h5
-        t0s, t4s, n, l6 = sp6(Hs, Ks, Ps, d1, 0.0)
-        for i in range(n):
-            T0[i] = t0s[i]
-            T4[i] = t4s[i]
-            ls14[i] = l6
-        m14 = n
+        m14 = _pairs_sp6(h0, h1, h4, h5, p16, P[5], e6, d1, T0, T4, ls14)
     _perp_to(h5, x5)
     m = 0
     for i in range(m14):
@@ -100,9 +79,7 @@ def _core_three_parallel(kind, H, P, RnT, prism, R, p, qref, N, Q, LS, SG):
         sing = math.sqrt(cx * cx + cy * cy + cz * cz) < (SING if kind == 4 else 1e-6)
         if sing:     # rot(h5, q5) h6 along h2: q6 free, take q_ref's, then the sum of q2..q4 from it
             q5 = qref[5]
-            M = _mm(R45, rotm(h5, q5))
-            _perp_to(h1, b)
-            th, lt = sp1(b, _mv(R16, _mtv(M, b)), h1)   # rot(h2, th) M y' = R16 y' for y' = Mᵀ y
+            th, lt = _singular_wrist(h1, h5, q5, R45, R16, b)
             l5 = False
         else:
             _mv_to(R16, h5, a)
@@ -138,3 +115,39 @@ def _core_three_parallel(kind, H, P, RnT, prism, R, p, qref, N, Q, LS, SG):
             SG[m] = sing
             m += 1
     return m
+
+
+def _pairs_sp6(h0, h1, h4, h5, p16, P5, e6, d1, T0, T4, ls14):
+    """The (q1, q5) pairs of the general three-parallel case by SP6 into ``T0``, ``T4``, ``ls14``; their count. A
+    function of its own (it makes SP6's arrays), counted, called by the uncounted core."""
+    Hs = np.empty((4, 3))
+    Ks = np.empty((4, 3))
+    Ps = np.empty((4, 3))
+    Hs[0] = h1
+    Hs[1] = -h1
+    Hs[2] = h1
+    Hs[3] = -h1
+    Ks[0] = -h0
+    Ks[1] = h4
+    Ks[2] = -h0
+    Ks[3] = h4
+    Ps[0] = p16
+    Ps[1] = P5
+    Ps[2] = e6
+    Ps[3] = h5
+    t0s, t4s, n, l6 = sp6(Hs, Ks, Ps, d1, 0.0)
+    for i in range(n):
+        T0[i] = t0s[i]
+        T4[i] = t4s[i]
+        ls14[i] = l6
+    return n
+
+
+def _singular_wrist(h1, h5, q5, R45, R16, b):
+    """``(θ, ls)`` of the singular wrist of the three-parallel core (``rot(h5, q5) h6`` along h2, q6 = ``q5`` taken
+    from q_ref): ``rot(h2, θ) M y' = R16 y'`` for ``y' = Mᵀ y`` with ``M = R45 rot(h5, q5)`` and ``y = b``, a vector
+    across h2 (written into ``b``). A function of its own (it makes arrays), counted, called by the uncounted
+    core."""
+    M = _mm(R45, rotm(h5, q5))
+    _perp_to(h1, b)
+    return sp1(b, _mv(R16, _mtv(M, b)), h1)   # rot(h2, th) M y' = R16 y' for y' = Mᵀ y
