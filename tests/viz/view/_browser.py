@@ -174,6 +174,21 @@ def open_folder(page: Any, title: str) -> None:
     page.get_by_text(title, exact=True).first.click()
 
 
+def tick(page: Any, text: str, done: Any, tries: int = 3, wait: float = 10.0) -> None:
+    """Click the checkbox labelled ``text`` until the server says so (``done()`` true). A click that lands while the
+    folder around it is still opening is lost now and then (a full suite's run on 2026-12-07 waited 20 s for the
+    workspace cloud of a click that never arrived); the next try clicks again only where the first did not reach the
+    server within ``wait`` seconds."""
+    for k in range(tries):
+        page.get_by_text(text).first.click()
+        try:
+            wait_until(done, wait, f"the box {text!r} ticked")
+            return
+        except AssertionError:
+            if k == tries - 1:
+                raise
+
+
 def picture(page: Any, path: str) -> None:
     """Save a screenshot of ``page`` to ``path``; for the docs (``make pictures``) once the page has settled.
 

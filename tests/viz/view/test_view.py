@@ -23,8 +23,8 @@ from armkit.viz.view import View, ViewError, free_port
 from armkit.viz.view.drawing import ARM_COLOUR
 from armkit.viz.view.panels import format_numbers
 
-from _browser import (numbers_of, open_folder, open_page, picture, row, settled, text_of, type_joint, type_number,
-                      wait_until)
+from _browser import (numbers_of, open_folder, open_page, picture, row, settled, text_of, tick, type_joint,
+                      type_number, wait_until)
 from _browser import pixels as _pixels
 
 pytestmark = pytest.mark.browser
@@ -89,8 +89,8 @@ def test_canvas_sliders_pose_screenshot(browser, docs_img: Path, tmp_path: Path)
         assert Image.open(shot).size == (320, 200)
         # workspace overlay coloured by manipulability
         open_folder(page, "Workspace")
-        page.get_by_text("reach cloud (colour: manipulability)").click()
-        wait_until(lambda: v.panels._ws_cloud is not None, 20, "workspace cloud")
+        tick(page, "reach cloud (colour: manipulability)", lambda: bool(v.panels.ws_cb.value))
+        wait_until(lambda: v.panels._ws_cloud is not None, 60, "workspace cloud")
         page.close()
 
 

@@ -28,7 +28,7 @@ from armkit.viz.view.drawing import rotation_from_wxyz
 from armkit.viz.view.readouts import (
     MAX_STORED, STORAGE_KEY, camera_preset, configurations_toml, frame_number_groups, matrix_text, parse_configurations_toml)
 
-from _browser import open_folder, open_page, row, type_joint, wait_until
+from _browser import open_folder, open_page, row, tick, type_joint, wait_until
 from _browser import pixels as _pixels
 
 pytestmark = pytest.mark.browser
@@ -451,7 +451,7 @@ def test_reach_cloud_colour_bar(browser) -> None:
         page = open_page(browser, v.url, "q1 (°)")
         open_folder(page, "Workspace")
         assert page.locator(".armkit-colour-bar").count() == 0
-        page.get_by_text("reach cloud (colour: manipulability)").click()
+        tick(page, "reach cloud (colour: manipulability)", lambda: bool(v.panels.ws_cb.value))
         wait_until(lambda: page.locator(".armkit-colour-bar").count() == 1, 60, "the colour bar")
         ws = workspace(v.robot, samples=20_000, seed=0, manipulability=True,
                                                  scene=False if v.ik_scene is None else v.ik_scene)
