@@ -15,7 +15,7 @@ from ._kernels import _atan2, _sincos
 from .search import MAXROOT, SW, _search
 from .subproblems import TOL as _SP_TOL
 from .subproblems import _TINY as _SP_TINY
-from .subproblems import _cross, _dot, _norm, _rot_into, _sp3s, _sp4s, _wrap, rot, rotm, sp1, sp2, sp3, sp4, sp5
+from .subproblems import _cross, _dot, _norm, _rot_into, _sp3s, _sp4s, _wrap, rot, sp1, sp5
 
 SING = 1e-10
 """``‖h4 × R_36 h6‖`` below this: the wrist is singular (axes 4 and 6 in line)."""
