@@ -35,7 +35,8 @@ def test_round_half_to_even_is_numpys_everywhere():
 def test_the_compiled_wrap_is_the_numpy_wrap(limits):
     n = 6
     if limits == "puma560":
-        lower, upper = armkit.load("puma560").lower, armkit.load("puma560").upper
+        puma = armkit.load("puma560")
+        lower, upper = puma.lower, puma.upper
     elif limits == "none":
         lower, upper = np.full(n, -np.inf), np.full(n, np.inf)
     elif limits == "narrow":       # intervals no turn of most values reaches: the middle's nearest turn

@@ -180,7 +180,7 @@ def tick(page: Any, text: str, done: Any, tries: int = 3, wait: float = 10.0) ->
     workspace cloud of a click that never arrived); the next try clicks again only where the first did not reach the
     server within ``wait`` seconds."""
     for k in range(tries):
-        page.get_by_text(text).first.click()
+        page.get_by_text(text).click()
         try:
             wait_until(done, wait, f"the box {text!r} ticked")
             return
