@@ -8,7 +8,8 @@ solvers get the same 4x4 poses. Reported per arm:
   ``ik_all`` does not (after wrapping angles to (-pi, pi]), and the reverse; limits off on both;
 * **armkit fails FK**: branches armkit calls successful whose FK misses the target by more than
   1e-9 (must be 0); **EAIK fails FK**: EAIK's answers it does not flag least-squares that miss so
-  (the rounded files: twists 3.7e-6 off 90 deg, which EAIK solves as if they were 90 deg);
+  (0 on every arm here: the rounded files, twists 3.7e-6 off 90 deg, keep their axes meeting and parallel, and
+  EAIK solves them on their own axes, as armkit's geometric family does since 2026-12-07);
 * times: one target per call (all branches; CPU time of the thread, which runs both), EAIK ``IK``
   against armkit's raw subproblem solver and armkit's public ``ik_all`` / ``ik`` (which also wrap,
   verify, polish and sort every branch; the sentences of failed branches are made when read); batched
@@ -73,8 +74,10 @@ def _flipped(robot):
 
 
 def _rounded(robot):
-    """The arm of a file that rounds its twists (``rpy="1.5708"``: 3.7e-6 off 90 deg): solved on its ideal arm, every
-    branch touched up on the true one."""
+    """The arm of a file that rounds its twists (``rpy="1.5708"``: 3.7e-6 off 90 deg): its axes still meet and lie
+    parallel where the ideal arm's do, so the geometric family solves its own axes, naming the branches as the DH
+    family of its ideal arm does (before 2026-12-07, third session: that family on the ideal arm, every branch
+    touched up on the true one)."""
     from dataclasses import replace
 
     return armkit.Robot([replace(j, alpha=j.alpha + np.copysign(3.7e-6, j.alpha) if j.alpha else 0.0)

@@ -7,8 +7,8 @@ Arms:
 
 * the bundled 6-joint arms and the example-robot-data arms armkit knows by name (UR3/5/10, Kinova Jaco2), and
   the bundled Puma and UR5 with joints turning the other way (:data:`REVERSED`: their own DH families answer),
-  and as files that round their twists (:data:`ROUNDED`, ``rpy="1.5708"``: solved on the ideal arm, every branch
-  touched up on the true one);
+  and as files that round their twists (:data:`ROUNDED`, ``rpy="1.5708"``: solved on their own axes by the
+  geometric family, the branches named by the DH family of the ideal arm);
 * the 7-joint arms (Panda, iiwa14, TIAGo's and Talos's arms, xArm7, Z1) with the joint armkit's class names
   (``sweep joint k``) held at a value: armkit's ``ik_all(robot, T, fixed={name: value})`` against EAIK's
   ``HPRobot(H, P, fixed_axes=[(k - 1, value)])`` (8 values drawn per arm, the targets split between them);
@@ -48,6 +48,7 @@ os.environ.setdefault("ARMKIT_JIT", "wait")
 
 import armkit  # noqa: E402
 from armkit.ik import closed_form_family  # noqa: E402
+from armkit.ik.analytic import closed_form  # noqa: E402
 from armkit.ik.geometric.classify import classify  # noqa: E402
 from armkit.ik.geometric.poe import poe  # noqa: E402
 from bench_analytic import _rounded  # noqa: E402  (the arm of a file that rounds its twists: one builder)
@@ -347,8 +348,10 @@ def against_eaik(args: argparse.Namespace, g: np.random.Generator, tmp: Path) ->
             f"(family {closed_form_family(_reversed(name, joints))})", cls, c)
     for name in ROUNDED:
         cls, c = named(name, args.targets, own, rounded=True)
-        row(f"{name}, a file with rounded twists (family {closed_form_family(_rounded(armkit.load(name)))}, "
-            "ideal arm)", cls, c)
+        cf = closed_form(_rounded(armkit.load(name)))
+        named_by = getattr(cf, "names_from", None)
+        row(f"{name}, a file with rounded twists (family {cf.family}"
+            f"{', names of ' + named_by.family if named_by is not None else ''})", cls, c)
 
 
 if __name__ == "__main__":

@@ -224,7 +224,7 @@ def test_armkit_info_names_the_family_and_the_joint_turned_back(tmp_path):
     assert "spherical-wrist 계열, 해 8개; elbow 관절을 반대 방향으로 돌려서 풂" in ko.output
     data = json.loads(runner.invoke(app, ["info", path, "--json"]).stdout)
     assert data["closed_form"] == {"family": "spherical-wrist", "branches": 8, "turned_back": ["elbow"],
-                                   "ideal_arm": False}
+                                   "ideal_arm": False, "names_from": None}
     plain = json.loads(runner.invoke(app, ["info", "puma560", "--json"]).stdout)
     assert plain["closed_form"]["turned_back"] == []
     assert json.loads(runner.invoke(app, ["info", "panda", "--json"]).stdout)["closed_form"] is None

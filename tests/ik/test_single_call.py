@@ -25,7 +25,8 @@ from hypothesis import strategies as st
 
 import armkit
 from armkit.errors import IKInputError, ShapeError
-from armkit.ik.analytic import closed_form, single_call
+from armkit.ik.analytic import _hand_written, closed_form, single_call
+from armkit.ik.analytic._common import standard_form
 from armkit.model.axes import with_axes_reversed
 from armkit.model.robot import Robot
 
@@ -42,11 +43,34 @@ def _flipped(robot: Robot) -> Robot:
                  name=flipped.name, unit=flipped.unit, tool=flipped.chain.tool)
 
 
-def rounded(robot: Robot, off: float = 3.7e-6) -> Robot:
-    """``robot`` as a file that rounds its twists (``rpy="1.5708"``: 3.7e-6 off 90 deg): solved on its ideal arm,
-    every branch touched up on the true one (by the one compiled call, since 2026-12-06)."""
+def twists_rounded(robot: Robot, off: float = 3.7e-6) -> Robot:
+    """``robot`` as a file that rounds its twists (``rpy="1.5708"``: 3.7e-6 off 90 deg) and nothing else: its axes
+    still meet and lie parallel where the arm's do, so the geometric family solves it on its own axes, naming the
+    branches as the hand-written family of its ideal arm (tests/ik/test_rounded_file.py)."""
     return Robot([replace(j, alpha=j.alpha + math.copysign(off, j.alpha) if j.alpha else 0.0) for j in robot.joints],
                  name=robot.name + ", rounded", base=robot.base, tool=robot.tool)
+
+
+def rounded(robot: Robot, off: float = 3.7e-6) -> Robot:
+    """:func:`twists_rounded`, solved as a calibrated file is (one whose axes no longer meet or lie parallel where
+    the ideal arm's do, :func:`calibrated`): by the hand-written family of its ideal arm, every branch touched up on
+    the true one (by the one compiled call, since 2026-12-06). Its closed form is set to that family, which
+    ``closed_form`` would leave for the geometric family on this arm; the same steps, on an arm whose every
+    target has all its branches."""
+    arm = twists_rounded(robot, off)
+    arm.cache["closed_form"] = _hand_written(standard_form(arm), arm)
+    assert not arm.cache["closed_form"].sf.exact
+    return arm
+
+
+def calibrated(robot: Robot, off: float = 3.7e-6) -> Robot:
+    """:func:`twists_rounded` with its zero twists 2e-6 rad off too (parallel axes no longer parallel) and joint 5's
+    length 1e-6 off (a wrist whose axes no longer meet): no closed form holds on its own axes, so ``closed_form``
+    gives the hand-written family of its ideal arm (as :func:`rounded` sets it)."""
+    twisted = twists_rounded(robot, off)
+    return Robot([replace(j, alpha=j.alpha or 2e-6, a=j.a + 1e-6 if k == 4 else j.a)
+                  for k, j in enumerate(twisted.joints)], name=robot.name + ", calibrated", base=robot.base,
+                 tool=robot.tool)
 
 
 ARMS = {"planar2": "point", "planar3": "pose", "fighter": "point", "puma560": "pose", "ur5": "pose",

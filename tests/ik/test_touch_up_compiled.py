@@ -1,7 +1,9 @@
 """The compiled Gauss-Newton touch-up of the closed forms (issue 19: a file with rounded numbers).
 
-A file that rounds its twists (``rpy="1.5708"``) is solved on its ideal arm and every branch is then
-touched up by Gauss-Newton steps on the true arm. With the Numba back end these steps are compiled
+A file whose numbers are a little off its ideal arm in a way that leaves no closed form on its own axes (a
+calibrated file: :func:`test_single_call.calibrated`) is solved on its ideal arm and every branch is then
+touched up by Gauss-Newton steps on the true arm. The arms here round their twists (``rpy="1.5708"``) and are
+set to take that path (:func:`test_single_call.rounded`): every target keeps all its branches. With the Numba back end these steps are compiled
 (:func:`armkit.ik.analytic._single._touch_up`) and run inside the one compiled call of a single target,
 instead of sending it to the batched path's NumPy steps (0.56 ms -> ~16 µs a Puma call, bench_analytic).
 
@@ -25,7 +27,7 @@ from hypothesis import strategies as st
 import armkit
 from armkit.ik.analytic import POLISH_DONE, _gauss_newton, closed_form
 from armkit.kinematics import packed
-from test_single_call import rounded
+from test_single_call import calibrated, rounded
 
 pytestmark = pytest.mark.skipif(importlib.util.find_spec("numba") is None, reason="Numba is not available")
 
@@ -206,9 +208,10 @@ def test_a_target_beside_a_fold_of_the_ideal_arm_keeps_every_branch(backend, mon
         assert near[0] <= 1e-6 < 1e-3 < near[1] and named.branch[np.argmin(gap)] == res.branch[i, k]
 
 
-def test_armkit_info_says_a_rounded_file_is_solved_on_its_ideal_arm(tmp_path):
+def test_armkit_info_says_a_calibrated_file_is_solved_on_its_ideal_arm(tmp_path):
     """``armkit info`` tells a user that the file's numbers are a little off the arm its closed form solves (text,
-    Korean, ``--json``), and says nothing of the kind for an exact arm."""
+    Korean, ``--json``), and says nothing of the kind for an exact arm. (A file that only rounds its twists is
+    solved on its own axes: tests/ik/test_rounded_file.py.)"""
     import json
 
     from typer.testing import CliRunner
@@ -216,8 +219,8 @@ def test_armkit_info_says_a_rounded_file_is_solved_on_its_ideal_arm(tmp_path):
     from armkit.cli import app
 
     runner = CliRunner()
-    path = str(tmp_path / "puma_rounded.urdf")
-    armkit.save(rounded(armkit.load("puma560")), path)
+    path = str(tmp_path / "puma_calibrated.urdf")
+    armkit.save(calibrated(armkit.load("puma560")), path)
     text = runner.invoke(app, ["info", path], env={"COLUMNS": "300", "ARMKIT_LANG": "en"})
     assert text.exit_code == 0
     assert "8 branches; solved on the file's ideal arm" in text.output

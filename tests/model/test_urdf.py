@@ -20,6 +20,7 @@ from hypothesis import strategies as st
 
 import armkit
 from armkit import RobotFileError
+from armkit.ik.analytic import closed_form
 from armkit.ik.api import closed_form_family
 from armkit.model.axes import joint_axes
 from armkit.model.robot import Joint, Robot
@@ -220,7 +221,12 @@ def test_closed_form_family_found_on_perturbed_urdf_export(name, family, positio
     exact = armkit.load(tmp_path / f"{name}.urdf")
     assert closed_form_family(exact) == family
     r = _perturbed(exact, 1e-5, seed=11)
-    assert closed_form_family(r) == family
+    # the family's closed form on the export's ideal arm, or where the export keeps every axis meeting and parallel
+    # where the ideal arm's are (frames turned about their origins leave the Puma's wrist spherical and its axes 1
+    # and 2 meeting), the geometric family on the export's own axes, its branches named by the family
+    cf = closed_form(r)
+    assert (cf.names_from.family if getattr(cf, "names_from", None) is not None else cf.family) == family
+    assert cf.family == ("geometric" if name == "puma560" else family)
     q = r.random_q(200, rng=5)
     T = armkit.fk(r, q)
     target = T[:, :3, 3] if position_only else T

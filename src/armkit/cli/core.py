@@ -189,6 +189,10 @@ def _family_line(r: Robot) -> str:
     if not cf.sf.exact:
         line += _("; solved on the file's ideal arm (its twists and offsets are rounded or calibrated a little off "
                   "it), every branch then touched up on the true arm")
+    named = getattr(cf, "names_from", None)
+    if named is not None:
+        line += _("; solved on the file's own axes, its branches named as family {family} names them on the arm's "
+                  "DH table", family=named.family)
     return line
 
 
@@ -239,7 +243,8 @@ def info(robot: RobotArg,
                     "closed_form": None if cf is None else {
                         "family": cf.family, "branches": cf.m,
                         "turned_back": [r.joint_names[j - 1] for j in getattr(cf, "turned_back", ())],
-                        "ideal_arm": not cf.sf.exact},
+                        "ideal_arm": not cf.sf.exact,
+                        "names_from": getattr(getattr(cf, "names_from", None), "family", None)},
                     "position_held": None if held is None else {
                         "held": [r.joint_names[k] for k in sorted(held.held)], "family": held.inner.family,
                         "max_solutions": held.m}})

@@ -29,7 +29,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..._text import Fielded
-from ...kinematics import packed
+from ...kinematics import fk, packed
 from ...model.robot import Robot
 from ._common import Raw, StandardForm
 
@@ -106,6 +106,37 @@ def _why(found: int, m: int) -> str:
     return Fielded.of("no configuration of this arm reaches the target (the closest is shown).")
 
 
+def _turns(q: Array, other: Array) -> Array:
+    """Squared distances ``(B, k, m)`` of branches ``q`` ``(B, k, n)`` from ``other`` ``(B, m, n)``, each joint's
+    difference taken modulo 2 pi into [-pi, pi)."""
+    diff = np.remainder(q[:, :, None, :] - other[:, None, :, :] + np.pi, 2.0 * np.pi) - np.pi
+    return np.einsum("bkmn,bkmn->bkm", diff, diff)
+
+
+def _settle(named: NDArray[np.object_], q: Array, ideal: Array, label: NDArray[np.object_]) -> None:
+    """Names given twice in one target's branches settled, in place: ``named`` ``(k,)`` the names of branches ``q``
+    ``(k, n)`` by the rule, ``ideal`` ``(m, n)`` the naming family's branches of the target with names ``label``
+    ``(m,)``. A name given once stays; the branches that share a name, and the names no branch kept, are paired
+    nearest first (angles modulo 2 pi, each branch against the family's branch of that name; a tie goes to the
+    branch first in the order of their joint values, then to the name first in ``label``), so the pairing does not
+    depend on the order the branches come in."""
+    count: dict = {}
+    for name in named:
+        count[name] = count.get(name, 0) + 1
+    shared = [i for i, name in enumerate(named) if count[name] > 1]
+    # in the order of their joint values (to 1e-9 rad, modulo 2 pi), not the order they come in; identical ones
+    # keep theirs (a stable sort: the sorted branches keep the order of the raw ones where their keys tie)
+    key = np.round(np.remainder(q[shared] + np.pi, 2.0 * np.pi) * 1e9)
+    shared = [shared[i] for i in np.lexsort(key.T[::-1])]
+    free = [j for j, name in enumerate(label) if count.get(name, 0) != 1]
+    d = _turns(q[None, shared], ideal[None, free])[0]
+    for _ in range(len(shared)):
+        i, j = np.unravel_index(int(np.argmin(d)), d.shape)
+        named[shared[i]] = label[free[j]]
+        d[i, :] = np.inf
+        d[:, j] = np.inf
+
+
 class Geometric:
     """A :class:`~armkit.ik.analytic.ClosedFormFamily` built on the subproblem solvers."""
 
@@ -132,6 +163,10 @@ class Geometric:
         self._geometry: Array | None = _UNSET
         self.branch_labels = tuple(f"s{k + 1}" for k in range(m))
         self.sf = chain_form(robot, exact=True)   # the solvers polish on the true chain themselves
+        self.names_from: Any = None
+        """The hand-written family whose branch names this arm's branches take (:meth:`name_branches`; it solves
+        the arm's ideal DH twin), or None: the branches are ``s1``, ``s2``, ... (set by
+        :func:`armkit.ik.analytic.closed_form`)."""
 
     @classmethod
     def detect(cls, sf: StandardForm | None, robot: Robot) -> "Geometric | None":
@@ -140,6 +175,76 @@ class Geometric:
             return None
         solver, m, inverted, chain_class = found
         return cls(robot, solver, m, inverted, chain_class)
+
+    def solves_exactly(self) -> bool:
+        """Whether the one-call kernel serves this class (a closed form, not a search) on the arm's own axes (its
+        ideal chain is the true one up to rounding): then no branch needs a touch-up. Compiles nothing."""
+        from ..geometric import one_call
+
+        g = one_call.geometry(self.form, self.solver, self.m, self.inverted)
+        return g is not None and g[one_call.EXACT] == 1.0
+
+    def name_branches(self, q: Array, target: Array) -> NDArray[np.object_]:
+        """The names ``(B, k)`` of branches ``q`` ``(B, k, n)`` (joint values) of the pose targets ``(B, 4, 4)``.
+
+        With :attr:`names_from` (a hand-written family solving the arm's ideal DH twin, within ~1e-5 of this arm):
+        a branch ``q`` takes the name that family gives ``q`` itself as a solution of the pose its ideal arm reaches
+        at ``q`` (its sign rules: ``noflip`` where ``sin q5 >= 0``, ...), so a file that rounds its numbers names
+        the branches it solves on its own axes as its exact DH table names them (``left/elbow-up/noflip``). Where
+        that would give one target two branches of one name (a branch that does not reach the target, padded with
+        another's values; a hair from the ideal arm's fold), those branches and the names left over are paired by
+        distance to the family's branches of the target (:func:`_settle`), in any order of the branches the same;
+        fewer than ``m`` branches of a target (:func:`armkit.ik`'s one) take the names they have among all of
+        them. Without it: ``s1``, ``s2``, ... in the solver's order.
+
+        Examples
+        --------
+        >>> from dataclasses import replace
+        >>> import armkit
+        >>> from armkit.ik.analytic import closed_form
+        >>> puma = armkit.load("puma560")   # a file that writes its 90 deg twists rpy="1.5708" (3.7e-6 off):
+        >>> file = armkit.Robot([replace(j, alpha=j.alpha + np.copysign(3.7e-6, j.alpha) if j.alpha else 0.0)
+        ...                      for j in puma.joints], name="puma560, rounded")
+        >>> closed_form(file).family, closed_form(file).names_from.family
+        ('geometric', 'spherical-wrist')
+        >>> q = np.array([0.3, -0.8, 0.4, 0.5, 0.9, -0.2])
+        >>> def name_of(arm):   # the name of the branch at q
+        ...     r = armkit.ik_all(arm, armkit.fk(arm, q))
+        ...     return r.branch[np.argmin(np.abs(r.q - q).sum(axis=1))]
+        >>> name_of(file), name_of(file) == name_of(puma)
+        ('right/elbow-down/noflip', True)
+        """
+        names = self.names_from
+        B, k, n = q.shape
+        if names is None:
+            return np.broadcast_to(np.array(self.branch_labels, dtype=object)[:k], (B, k)).copy()
+        target = np.ascontiguousarray(target, dtype=float)
+        if k < self.m:   # among every branch of the target (solve names them all)
+            every = self.solve(target, q[:, 0])
+            pick = _turns(q, every.q).argmin(axis=-1)
+            return np.take_along_axis(np.asarray(every.label, dtype=object), pick, axis=1)
+        ideal = self.robot.cache.get("ideal_arm")
+        if ideal is None:   # the ideal arm as a DH table (the naming family's): its FK for the same joint values
+            ideal = self.robot.cache["ideal_arm"] = names.sf.as_robot(self.robot, f"{self.robot.name}, ideal arm")
+        flat = np.ascontiguousarray(q.reshape(B * k, n))
+        theta = names.sf.theta
+        raw = names.solve(fk(ideal, flat), flat + theta)
+        # the family's branch at q: the nearest; where several are as near (to 1e-7 rad: on a fold, where two
+        # branches meet and rounding of 1e-16 moves them by its square root), the first of them in the family's
+        # table, whatever rounding says
+        d = _turns(flat[:, None, :], raw.q - theta)[:, 0]
+        index = {name: i for i, name in enumerate(names.branch_labels)}
+        table = np.vectorize(index.__getitem__, otypes=[np.int64])(np.asarray(raw.label, dtype=object))
+        tie = d <= d.min(axis=1, keepdims=True) + 1e-14
+        first = np.where(tie, table, len(index)).min(axis=1)
+        named = np.array(names.branch_labels, dtype=object)[first].reshape(B, k)
+        idx = np.sort(first.reshape(B, k), axis=1)
+        twice = np.flatnonzero((idx[:, 1:] == idx[:, :-1]).any(axis=1))
+        if len(twice):   # the family's branches of those targets, to settle the names given twice
+            own = names.solve(target[twice], q[twice, 0] + theta)
+            for r, b in enumerate(twice):
+                _settle(named[b], q[b], own.q[r] - theta, np.asarray(own.label[r], dtype=object))
+        return named
 
     @property
     def geometry(self) -> Array | None:
@@ -219,7 +324,7 @@ class Geometric:
                 else:
                     q[b] = q0phi[b]
                 unreachable[b] = True
-        label = np.broadcast_to(np.array(self.branch_labels, dtype=object), (B, m)).copy()
+        label = self.name_branches(q, target)
 
         def why(i: int) -> str:
             return _why(int(found[i // m]), m)
