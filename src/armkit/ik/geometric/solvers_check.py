@@ -329,7 +329,7 @@ def _closed_core(which, kind, Hi, Pi, RnT, prism, R, p, qref, N, Q, LS, SG):
     so that the one-call kernel (:mod:`.one_call`, compiled without reference counts) can run a core without its
     check."""
     if which == 0:   # the core's work arrays (each made and freed costs ~40 ns; the cores make none themselves)
-        return _core_spherical(kind, Hi, Pi, RnT, prism, R, p, qref, N, Q, LS, SG, np.zeros((21, 3)),
+        return _core_spherical(kind, Hi, Pi, RnT, prism, R, p, qref, N, Q, LS, SG, np.zeros((25, 3)),
                                np.zeros((9, 3, 3)), np.zeros(8, dtype=np.bool_))
     return _core_three_parallel(kind, Hi, Pi, RnT, prism, R, p, qref, N, Q, LS, SG, np.zeros((12, 3)),
                                 np.zeros((6, 3, 3)), np.zeros((2, 4)), np.zeros(4, dtype=np.bool_))

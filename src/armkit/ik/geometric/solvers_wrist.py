@@ -95,6 +95,19 @@ def _rot_to(k, theta, p, out):
     out[2] = p[2] * c + (k[0] * p[1] - k[1] * p[0]) * s + k[2] * kp
 
 
+def _rot2_to(k, theta, a, b, oa, ob):
+    """:func:`_rot_to` of ``a`` into ``oa`` and of ``b`` into ``ob`` (3,) by one angle: one sine and cosine."""
+    s, c = _sincos(theta)
+    ka = (k[0] * a[0] + k[1] * a[1] + k[2] * a[2]) * (1.0 - c)
+    oa[0] = a[0] * c + (k[1] * a[2] - k[2] * a[1]) * s + k[0] * ka
+    oa[1] = a[1] * c + (k[2] * a[0] - k[0] * a[2]) * s + k[1] * ka
+    oa[2] = a[2] * c + (k[0] * a[1] - k[1] * a[0]) * s + k[2] * ka
+    kb = (k[0] * b[0] + k[1] * b[1] + k[2] * b[2]) * (1.0 - c)
+    ob[0] = b[0] * c + (k[1] * b[2] - k[2] * b[1]) * s + k[0] * kb
+    ob[1] = b[1] * c + (k[2] * b[0] - k[0] * b[2]) * s + k[1] * kb
+    ob[2] = b[2] * c + (k[0] * b[1] - k[1] * b[0]) * s + k[2] * kb
+
+
 def _mm_to(A, B, C):
     """:func:`_mm` into ``C`` (not ``A`` or ``B``)."""
     for i in range(3):
@@ -224,16 +237,23 @@ def _sp2s(a0, a1, a2, b0, b1, b2, k0, k1, k2, l0, l1, l2):
 def _wrist(h3, h4, h5, R36, q3ref, W, S, M):
     """q4, q5, q6 (0-based 3, 4, 5) with ``rot(h4, q4) rot(h5, q5) rot(h6, q6) = R36``, into ``W (2, 3)``:
     ``(count, ls, singular)``. Its vectors and matrices live in the caller's work space ``S (5, 3)`` and
-    ``M (3, 3, 3)``, made once for all its calls (the spherical core calls it once per position, up to four
-    times a target). It makes no array, in none of its calls, so it is compiled without reference counts
-    (:data:`.solvers.UNCOUNTED`)."""
+    ``M (3, 3, 3)``. :func:`_wrist_from` with ``R36 h6`` and ``R36 x`` (``x`` across axis 6) made here."""
+    _mv_to(R36, h5, S[0])
+    _perp_to(h5, S[1])
+    _mv_to(R36, S[1], S[2])
+    return _wrist_from(h3, h4, h5, q3ref, W, S, M)
+
+
+def _wrist_from(h3, h4, h5, q3ref, W, S, M):
+    """:func:`_wrist` from the rows of ``S (5, 3)``: ``v = R36 h6``, ``x`` a unit vector across axis 6
+    (:func:`_perp_to`) and ``y = R36 x`` (rows 3 and 4: its work). Where R36 is ``R03ᵀ R06``, the spherical core
+    takes ``v`` and ``y`` from ``R06 h6`` and ``R06 x`` (made once a target) turned back through joints 1-3 for each
+    position, not from R03 and R36 (:func:`_core_spherical`). It makes no array, in none of its calls, so it is
+    compiled without reference counts (:data:`.solvers.UNCOUNTED`)."""
     v = S[0]
     x = S[1]
     y = S[2]
     w = S[3]
-    _mv_to(R36, h5, v)
-    _perp_to(h5, x)
-    _mv_to(R36, x, y)
     c0 = h3[1] * v[2] - h3[2] * v[1]     # _norm(_cross(h3, v))
     c1 = h3[2] * v[0] - h3[0] * v[2]
     c2 = h3[0] * v[1] - h3[1] * v[0]
@@ -252,13 +272,12 @@ def _wrist(h3, h4, h5, R36, q3ref, W, S, M):
         W[0, 2] = q5
         return 1, bool(l1) or bool(l2), True
     a0, a1, b0, b1, m, ls = _sp2s(v[0], v[1], v[2], h5[0], h5[1], h5[2], -h3[0], -h3[1], -h3[2], h4[0], h4[1], h4[2])
+    u = S[4]
     for i in range(m):
         t3 = a0 if i == 0 else a1
         t4 = b0 if i == 0 else b1
-        _rotm_to(h3, t3, M[0])
-        _rotm_to(h4, t4, M[1])
-        _mm_to(M[0], M[1], M[2])
-        _mtv_to(M[2], y, w)
+        _rot_to(h3, -t3, y, u)    # w = (rot(h4, t3) rot(h5, t4))ᵀ y: the two turns undone, vector by vector
+        _rot_to(h4, -t4, u, w)
         q5, l2 = _sp1s(x[0], x[1], x[2], w[0], w[1], w[2], h5[0], h5[1], h5[2])
         W[i, 0] = t3
         W[i, 1] = t4
@@ -418,21 +437,27 @@ def _core_spherical(kind, H, P, RnT, prism, R, p, qref, N, Q, LS, SG, v3, m3, LS
     """Spherical wrist at the end (P[4] = P[5] = 0): candidates into Q, LS, SG; returns their count.
     ``kind``: 0 axes 1, 2 meet; 1 axes 2 ∥ 3; 2 general (SP5).
 
-    Its work arrays come from the caller (:func:`.solvers_check._closed_core`), zeros: ``v3 (21, 3)`` for the small
+    Its work arrays come from the caller (:func:`.solvers_check._closed_core`), zeros: ``v3 (25, 3)`` for the small
     vectors (rows of a 2-D or 3-D array, not reshaped slices of one vector, whose reshape is a call of its own:
     the position solutions Qp (8, 3), the wrist's W (2, 3) and its work S (5, 3), p_0W (3), the 3R position's
-    work rows V (5, 3)), ``m3 (9, 3, 3)`` for the matrices (the wrist's work M (3, 3, 3), B (5, 3, 3): the
-    rotations of joints 1-3, their products, R_36; R_06 (3, 3)), ``LSp (8,)`` the positions' least-squares flags.
+    work rows V (5, 3), R_06 h6 and R_06 x and their turns (4, 3)), ``m3 (9, 3, 3)`` for the matrices (the wrist's
+    work M (3, 3, 3); R_06 (3, 3); rows 3-7 unused), ``LSp (8,)`` the positions' least-squares flags.
     It makes no array itself (the general position's SP5 makes its own, in a function of its own), so it is
     compiled without reference counts: every row it takes of these arrays, ~40 a target, was counted up and down
     with an atomic instruction."""
     Qp, W, S, p0W, V = v3[0:8], v3[8:10], v3[10:15], v3[15], v3[16:21]
-    M, B, R06 = m3[0:3], m3[3:8], m3[8]
+    a, b, ta, tb = v3[21], v3[22], v3[23], v3[24]
+    M, R06 = m3[0:3], m3[8]
     for i in range(3):   # R_06 = R RnTᵀ and p_0W = p - P_0 - R_06 P_6, term by term as _mm and _mv
         for j in range(3):
             R06[i, j] = R[i, 0] * RnT[j, 0] + R[i, 1] * RnT[j, 1] + R[i, 2] * RnT[j, 2]
     for i in range(3):
         p0W[i] = p[i] - P[0, i] - (R06[i, 0] * P[6, 0] + R06[i, 1] * P[6, 1] + R06[i, 2] * P[6, 2])
+    # the wrist's v = R36 h6 and y = R36 x (R36 = R03ᵀ R06): R06 h6 and R06 x, turned back through joints 3, 2, 1
+    # for each position (two vectors, one sine and cosine a joint, where R03 and R36 took three 3 x 3 products)
+    _perp_to(H[5], S[1])
+    _mv_to(R06, H[5], a)
+    _mv_to(R06, S[1], b)
     if kind == 0:
         mp = _pos_two_intersecting(H, P, prism[2], p0W, Qp, LSp, V)
     elif kind == 1:
@@ -441,16 +466,13 @@ def _core_spherical(kind, H, P, RnT, prism, R, p, qref, N, Q, LS, SG, v3, m3, LS
         mp = _pos_general(H, P, p0W, N, Qp, LSp, V)
     m = 0
     for i in range(mp):
-        _rotm_to(H[0], Qp[i, 0], B[0])
-        _rotm_to(H[1], Qp[i, 1], B[1])
-        _mm_to(B[0], B[1], B[2])
-        R03 = B[2]
-        if not prism[2]:
-            _rotm_to(H[2], Qp[i, 2], B[3])
-            _mm_to(B[2], B[3], B[4])
-            R03 = B[4]
-        _mtm_to(R03, R06, B[0])
-        mw, lsw, sing = _wrist(H[3], H[4], H[5], B[0], qref[3], W, S, M)
+        _rot2_to(H[0], -Qp[i, 0], a, b, ta, tb)   # R03ᵀ = rot(h3, -q3) rot(h2, -q2) rot(h1, -q1)
+        if prism[2]:
+            _rot2_to(H[1], -Qp[i, 1], ta, tb, S[0], S[2])
+        else:
+            _rot2_to(H[1], -Qp[i, 1], ta, tb, S[3], S[4])
+            _rot2_to(H[2], -Qp[i, 2], S[3], S[4], S[0], S[2])
+        mw, lsw, sing = _wrist_from(H[3], H[4], H[5], qref[3], W, S, M)
         for j in range(mw):
             if m >= Q.shape[0]:
                 break
