@@ -9,8 +9,8 @@ import math
 
 import numpy as np
 
-from .solvers_wrist import (SING, _mm, _mm_to, _mtm_to, _mtv, _mtv_to, _mv, _mv_to, _perp_to, _rot_to, _rotm_to,
-                            _sp1s)
+from ._kernels import _sincos
+from .solvers_wrist import SING, _mm, _mtm_to, _mtv, _mv, _mv_to, _perp_to, _rot_to, _rotm_to, _sp1s, _turn_to
 from .subproblems import _dot, _rot_into, _sp3s, _sp4s, _wrap, rotm, sp1, sp6
 
 
@@ -19,8 +19,8 @@ def _core_three_parallel(kind, H, P, RnT, prism, R, p, qref, N, Q, LS, SG, v3, m
     """Axes 2 ∥ 3 ∥ 4 (0-based 1, 2, 3; H[2], H[3] = ±H[1]). ``kind``: 3 general (SP6 for q1, q5),
     4 axes 5, 6 meet (P[5] = 0: SP4, SP4).
 
-    Its work arrays come from the caller (:func:`.solvers_check._closed_core`): ``v3 (12, 3)`` for the call's small
-    vectors, ``m3 (6, 3, 3)`` for its matrices, ``t14 (2, 4)`` and ``ls14 (4,)`` for the (q1, q5) pairs (each array
+    Its work arrays come from the caller (:func:`.solvers_check._closed_core`): ``v3 (14, 3)`` for the call's small
+    vectors, ``m3 (6, 3, 3)`` for its matrices (those of a singular wrist), ``t14 (2, 4)`` and ``ls14 (4,)`` for the (q1, q5) pairs (each array
     made and freed costs ~40 ns and is a call the compiler cannot see through); the rotations by the FK's sine and
     cosine (:func:`.solvers_wrist._rotm_to`), the subproblems as scalars (``_sp1s``, ``_sp3s``, ``_sp4s``). What
     makes arrays of its own, SP6 of the general case (:func:`_pairs_sp6`) and the singular wrist
@@ -34,7 +34,8 @@ def _core_three_parallel(kind, H, P, RnT, prism, R, p, qref, N, Q, LS, SG, v3, m
     s3 = 1.0 if _dot(H[3], h1) > 0.0 else -1.0
     p16, e6, sP, mh0, x5, u, a, b, c, d, w, mP2 = (v3[0], v3[1], v3[2], v3[3], v3[4], v3[5], v3[6], v3[7], v3[8],
                                                    v3[9], v3[10], v3[11])
-    R06, Rt, R16, R45, Rth, R15 = m3[0], m3[1], m3[2], m3[3], m3[4], m3[5]
+    g6, f = v3[12], v3[13]
+    R06, Rt, R16, R45 = m3[0], m3[1], m3[2], m3[3]
     for i in range(3):   # R_06 = R RnTᵀ, p16 = p - P_0 - R_06 P_6, term by term as _mm and _mv
         for j in range(3):
             R06[i, j] = R[i, 0] * RnT[j, 0] + R[i, 1] * RnT[j, 1] + R[i, 2] * RnT[j, 2]
@@ -64,14 +65,20 @@ def _core_three_parallel(kind, H, P, RnT, prism, R, p, qref, N, Q, LS, SG, v3, m
     else:
         m14 = _pairs_sp6(h0, h1, h4, h5, p16, P[5], e6, d1, T0, T4, ls14)
     _perp_to(h5, x5)
+    _mv_to(R06, x5, g6)
     m = 0
     for i in range(m14):
         q0 = T0[i]
         q4 = T4[i]
-        _rotm_to(h0, q0, Rt)
-        _mtm_to(Rt, R06, R16)
-        _rotm_to(h4, q4, R45)
-        _mv_to(R45, h5, u)
+        # R_16 = rot(h1, q0)ᵀ R_06 and R_45 = rot(h5, q4) act on vectors only: R_16 h6 (a), R_16 x (f) and
+        # rot(h1, q0)ᵀ p16 (d) turned by -q0, R_45 h6 (u) and R_45 P5 (c) by q4; the matrices only for a singular wrist
+        s0, c0 = _sincos(q0)
+        s4, c4 = _sincos(q4)
+        _turn_to(h0, -s0, c0, e6, a)
+        _turn_to(h0, -s0, c0, g6, f)
+        _turn_to(h0, -s0, c0, p16, d)
+        _turn_to(h4, s4, c4, h5, u)
+        _turn_to(h4, s4, c4, P[5], c)
         # SP6 gives the double root of the singular case to ~1e-8 only: a looser test there (Newton polishes)
         cx = u[1] * h1[2] - u[2] * h1[1]
         cy = u[2] * h1[0] - u[0] * h1[2]
@@ -79,21 +86,24 @@ def _core_three_parallel(kind, H, P, RnT, prism, R, p, qref, N, Q, LS, SG, v3, m
         sing = math.sqrt(cx * cx + cy * cy + cz * cz) < (SING if kind == 4 else 1e-6)
         if sing:     # rot(h5, q5) h6 along h2: q6 free, take q_ref's, then the sum of q2..q4 from it
             q5 = qref[5]
+            _rotm_to(h0, q0, Rt)
+            _mtm_to(Rt, R06, R16)
+            _rotm_to(h4, q4, R45)
             th, lt = _singular_wrist(h1, h5, q5, R45, R16, b)
             l5 = False
         else:
-            _mv_to(R16, h5, a)
             th, lt = _sp1s(u[0], u[1], u[2], a[0], a[1], a[2], h1[0], h1[1], h1[2])
-            _rotm_to(h1, th, Rth)
-            _mm_to(Rth, R45, R15)
-            _mv_to(R16, x5, a)
-            _mtv_to(R15, a, b)
+            sh, ch = _sincos(th)
+            _turn_to(h1, -sh, ch, f, w)      # (rot(h2, th) R_45)ᵀ R_16 x, turn by turn
+            _turn_to(h4, -s4, c4, w, b)
             q5, l5 = _sp1s(x5[0], x5[1], x5[2], b[0], b[1], b[2], h5[0], h5[1], h5[2])
-        _mtv_to(Rt, p16, d)             # d = rot(h1, q0)ᵀ p16 - P1 - rot(h2, th) (P4 + R45 P5)
-        _mv_to(R45, P[5], a)
+        # d = rot(h1, q0)ᵀ p16 - P1 - rot(h2, th) (P4 + R45 P5)
         for k in range(3):
-            b[k] = P[4, k] + a[k]
-        _rot_to(h1, th, b, c)
+            b[k] = P[4, k] + c[k]
+        if sing:
+            _rot_to(h1, th, b, c)
+        else:
+            _turn_to(h1, sh, ch, b, c)
         for k in range(3):
             d[k] = d[k] - P[1, k] - c[k]
         t20, t21, n2, l2 = _sp3s(P[3], mP2, H[2], math.sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]))

@@ -98,14 +98,16 @@ def _rot_to(k, theta, p, out):
 def _rot2_to(k, theta, a, b, oa, ob):
     """:func:`_rot_to` of ``a`` into ``oa`` and of ``b`` into ``ob`` (3,) by one angle: one sine and cosine."""
     s, c = _sincos(theta)
+    _turn_to(k, s, c, a, oa)
+    _turn_to(k, s, c, b, ob)
+
+
+def _turn_to(k, s, c, a, oa):
+    """:func:`_rot_to` of ``a`` into ``oa`` (not ``a``) by the angle whose sine and cosine are ``s``, ``c``."""
     ka = (k[0] * a[0] + k[1] * a[1] + k[2] * a[2]) * (1.0 - c)
     oa[0] = a[0] * c + (k[1] * a[2] - k[2] * a[1]) * s + k[0] * ka
     oa[1] = a[1] * c + (k[2] * a[0] - k[0] * a[2]) * s + k[1] * ka
     oa[2] = a[2] * c + (k[0] * a[1] - k[1] * a[0]) * s + k[2] * ka
-    kb = (k[0] * b[0] + k[1] * b[1] + k[2] * b[2]) * (1.0 - c)
-    ob[0] = b[0] * c + (k[1] * b[2] - k[2] * b[1]) * s + k[0] * kb
-    ob[1] = b[1] * c + (k[2] * b[0] - k[0] * b[2]) * s + k[1] * kb
-    ob[2] = b[2] * c + (k[0] * b[1] - k[1] * b[0]) * s + k[2] * kb
 
 
 def _mm_to(A, B, C):
