@@ -141,3 +141,20 @@ def test_armkit_info_says_a_rounded_file_is_solved_on_its_own_axes(tmp_path):
     assert data["family"] == "geometric" and data["names_from"] == "spherical-wrist" and data["ideal_arm"] is False
     plain = json.loads(runner.invoke(app, ["info", "puma560", "--json"]).stdout)["closed_form"]
     assert plain["names_from"] is None
+
+
+@pytest.mark.parametrize("name", ARMS)
+def test_the_lean_branches_are_the_solve_s(name):
+    """The families' ``branches`` (the angles and label indices that name another family's branches, without
+    sentences) give what their ``solve`` gives: the same angles to the bit and the same names."""
+    exact, _ = _arms(name)
+    cf = closed_form(exact)
+    q = exact.random_q(200, rng=np.random.default_rng(9))
+    T = armkit.fk(exact, q)
+    T[::5, :3, 3] *= 2.0   # some out of reach
+    q0phi = q + cf.sf.theta
+    got = cf.branches(T, q0phi)
+    raw = cf.solve(T, q0phi)
+    assert got is not None
+    assert np.array_equal(got[0], raw.q)
+    assert np.array_equal(np.asarray(cf.branch_labels, dtype=object)[got[1]], raw.label)

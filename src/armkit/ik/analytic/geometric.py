@@ -228,22 +228,32 @@ class Geometric:
             ideal = self.robot.cache["ideal_arm"] = names.sf.as_robot(self.robot, f"{self.robot.name}, ideal arm")
         flat = np.ascontiguousarray(q.reshape(B * k, n))
         theta = names.sf.theta
-        raw = names.solve(fk(ideal, flat), flat + theta)
+        poses, start = fk(ideal, flat), flat + theta
+        lean = getattr(names, "branches", None)   # its angles and label indices alone (no sentences), or None
+        got = lean(poses, start) if lean is not None else None
+        if got is None:
+            raw = names.solve(poses, start)
+            index = {name: i for i, name in enumerate(names.branch_labels)}
+            got = raw.q, np.vectorize(index.__getitem__, otypes=[np.int64])(np.asarray(raw.label, dtype=object))
+        angles, table = got
         # the family's branch at q: the nearest; where several are as near (to 1e-7 rad: on a fold, where two
         # branches meet and rounding of 1e-16 moves them by its square root), the first of them in the family's
         # table, whatever rounding says
-        d = _turns(flat[:, None, :], raw.q - theta)[:, 0]
-        index = {name: i for i, name in enumerate(names.branch_labels)}
-        table = np.vectorize(index.__getitem__, otypes=[np.int64])(np.asarray(raw.label, dtype=object))
+        d = _turns(flat[:, None, :], angles - theta)[:, 0]
         tie = d <= d.min(axis=1, keepdims=True) + 1e-14
-        first = np.where(tie, table, len(index)).min(axis=1)
+        first = np.where(tie, table, len(names.branch_labels)).min(axis=1)
         named = np.array(names.branch_labels, dtype=object)[first].reshape(B, k)
         idx = np.sort(first.reshape(B, k), axis=1)
         twice = np.flatnonzero((idx[:, 1:] == idx[:, :-1]).any(axis=1))
         if len(twice):   # the family's branches of those targets, to settle the names given twice
-            own = names.solve(target[twice], q[twice, 0] + theta)
+            got = lean(target[twice], q[twice, 0] + theta) if lean is not None else None
+            if got is None:
+                own = names.solve(target[twice], q[twice, 0] + theta)
+                got = own.q, np.asarray(own.label, dtype=object)
+            else:
+                got = got[0], np.array(names.branch_labels, dtype=object)[got[1]]
             for r, b in enumerate(twice):
-                _settle(named[b], q[b], own.q[r] - theta, np.asarray(own.label[r], dtype=object))
+                _settle(named[b], q[b], got[0][r] - theta, got[1][r])
         return named
 
     @property

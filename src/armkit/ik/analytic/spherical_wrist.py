@@ -127,6 +127,19 @@ class SphericalWrist:
         """Why a branch is out of reach, from the numbers of the kernel (:meth:`Positioner.reach_why`)."""
         return self.pos.reach_why(lateral_out, rho, r, self.unit, "the wrist centre", "first joint's")
 
+    def branches(self, target: Array, q0phi: Array) -> tuple[Array, Array]:
+        """:meth:`solve`'s DH angles ``(B, 8, 6)`` and label indices into :attr:`branch_labels` ``(B, 8)``, without
+        its sentences and notes: what names another family's branches (``Geometric.name_branches``)."""
+        B = len(target)
+        jit = jit_kernels()
+        if jit is not None:
+            out, idx, _, _ = jit.spherical_wrist(np.ascontiguousarray(target), self.geometry,
+                                                 np.ascontiguousarray(q0phi))
+        else:
+            out, _, sol = self._solve_numpy(target, q0phi)
+            idx = _FRONT_FLIP + 2 * sol["up"].astype(int)[:, :, None]
+        return out.reshape(B, 8, 6), idx.reshape(B, 8)
+
     def solve(self, target: Array, q0phi: Array) -> Raw:
         sf = self.sf
         B = len(target)

@@ -218,6 +218,20 @@ class ParallelAxes:
         return (f"the point on joint 4's axis is {r:.6g} {u} from the shoulder; the arm "
                 f"reaches {abs(a2) + abs(a3):.6g} {u} (outer) and {abs(abs(a2) - abs(a3)):.6g} {u} (inner).")
 
+    def branches(self, target: Array, q0phi: Array) -> tuple[Array, Array] | None:
+        """:meth:`solve`'s DH angles ``(B, 8, 6)`` and label indices into :attr:`branch_labels` ``(B, 8)``, without
+        its sentences and notes (what names another family's branches, ``Geometric.name_branches``); None where
+        :meth:`solve` must answer (no Numba, or a singular wrist, whose branches it fixes)."""
+        jit = jit_kernels()
+        if jit is None:
+            return None
+        B = len(target)
+        out, idx, _, _, _, _, _, singular = jit.ur(np.ascontiguousarray(target), self.geometry,
+                                                   np.ascontiguousarray(q0phi))
+        if np.any(singular):
+            return None
+        return out.reshape(B, 8, 6), idx.reshape(B, 8)
+
     def solve(self, target: Array, q0phi: Array) -> Raw:
         B = len(target)
         jit = jit_kernels()
