@@ -972,17 +972,18 @@ def _rows_fields(made: tuple, which: str) -> Any:
             return message
 
         return messages
+    if c.namer is not None:   # the names of the sorted branches, of the poses as the kernel read them
+        k, at = 1 if nearest else m, c.at["target"]
+        named = c.namer(FB[:, :k * c.n].reshape(B, k, c.n), FB[:, at:at + 16].reshape(B, 4, 4))
     if nearest:
         dp, dr, it, within = FB[:, mn].copy(), FB[:, mn + m].copy(), IB[:, 2 * m].copy(), BB[:, m].copy()
-        branch, reason = c.labels[IB[:, m]], _REASON_TEXT[IB[:, 0]]
+        branch = c.labels[IB[:, m]] if c.namer is None else named[:, 0]
+        reason = _REASON_TEXT[IB[:, 0]]
     else:
         dp, dr, it, within = FB[:, mn:mn + m].copy(), FB[:, mn + m:mn + 2 * m].copy(), IB[:, 2 * m:3 * m].copy(), \
             BB[:, m:2 * m].copy()
-        branch, reason = c.labels[IB[:, m:2 * m]], _REASON_TEXT[IB[:, :m]]
-    if c.namer is not None:   # the names of the sorted branches, of the poses as the kernel read them
-        k, at = 1 if nearest else m, c.at["target"]
-        branch = c.namer(FB[:, :k * c.n].reshape(B, k, c.n), FB[:, at:at + 16].reshape(B, 4, 4))
-        branch = branch[:, 0] if nearest else branch
+        branch = c.labels[IB[:, m:2 * m]] if c.namer is None else named
+        reason = _REASON_TEXT[IB[:, :m]]
     return {"position_error": dp, "rotation_error": dr, "iterations": it, "branch": branch, "within_limits": within,
             "reason": reason}
 
