@@ -330,9 +330,9 @@ def _closed_core(which, kind, Hi, Pi, RnT, prism, R, p, qref, N, Q, LS, SG):
     check."""
     if which == 0:   # the core's work arrays (each made and freed costs ~40 ns; the cores make none themselves)
         return _core_spherical(kind, Hi, Pi, RnT, prism, R, p, qref, N, Q, LS, SG, np.zeros((25, 3)),
-                               np.zeros((9, 3, 3)), np.zeros(8, dtype=np.bool_))
+                               np.zeros((4, 3, 3)), np.zeros(8, dtype=np.bool_))
     return _core_three_parallel(kind, Hi, Pi, RnT, prism, R, p, qref, N, Q, LS, SG, np.zeros((14, 3)),
-                                np.zeros((6, 3, 3)), np.zeros((2, 4)), np.zeros(4, dtype=np.bool_))
+                                np.zeros((4, 3, 3)), np.zeros((2, 4)), np.zeros(4, dtype=np.bool_))
 
 
 def _solve_spherical(kind, Hi, Pi, RnT, prism, Ht, Pt, R, p, qref, N, tol_p, tol_r, Q, LS, SG, ST):

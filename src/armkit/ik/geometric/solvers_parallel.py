@@ -20,7 +20,8 @@ def _core_three_parallel(kind, H, P, RnT, prism, R, p, qref, N, Q, LS, SG, v3, m
     4 axes 5, 6 meet (P[5] = 0: SP4, SP4).
 
     Its work arrays come from the caller (:func:`.solvers_check._closed_core`): ``v3 (14, 3)`` for the call's small
-    vectors, ``m3 (6, 3, 3)`` for its matrices (those of a singular wrist), ``t14 (2, 4)`` and ``ls14 (4,)`` for the (q1, q5) pairs (each array
+    vectors, ``m3 (4, 3, 3)`` for its matrices (R_06, and those of a singular wrist), ``t14 (2, 4)`` and
+    ``ls14 (4,)`` for the (q1, q5) pairs (each array
     made and freed costs ~40 ns and is a call the compiler cannot see through); the rotations by the FK's sine and
     cosine (:func:`.solvers_wrist._rotm_to`), the subproblems as scalars (``_sp1s``, ``_sp3s``, ``_sp4s``). What
     makes arrays of its own, SP6 of the general case (:func:`_pairs_sp6`) and the singular wrist
@@ -70,8 +71,9 @@ def _core_three_parallel(kind, H, P, RnT, prism, R, p, qref, N, Q, LS, SG, v3, m
     for i in range(m14):
         q0 = T0[i]
         q4 = T4[i]
-        # R_16 = rot(h1, q0)ᵀ R_06 and R_45 = rot(h5, q4) act on vectors only: R_16 h6 (a), R_16 x (f) and
-        # rot(h1, q0)ᵀ p16 (d) turned by -q0, R_45 h6 (u) and R_45 P5 (c) by q4; the matrices only for a singular wrist
+        # R_16 = rot(H[0], q0)ᵀ R_06 and R_45 = rot(H[4], q4) act on vectors only: R_16 H[5] (a), R_16 x (f) and
+        # rot(H[0], q0)ᵀ p16 (d) turned by -q0, R_45 H[5] (u) and R_45 P5 (c) by q4; the matrices for a singular
+        # wrist alone
         s0, c0 = _sincos(q0)
         s4, c4 = _sincos(q4)
         _turn_to(h0, -s0, c0, e6, a)
@@ -93,17 +95,15 @@ def _core_three_parallel(kind, H, P, RnT, prism, R, p, qref, N, Q, LS, SG, v3, m
             l5 = False
         else:
             th, lt = _sp1s(u[0], u[1], u[2], a[0], a[1], a[2], h1[0], h1[1], h1[2])
-            sh, ch = _sincos(th)
-            _turn_to(h1, -sh, ch, f, w)      # (rot(h2, th) R_45)ᵀ R_16 x, turn by turn
+        sh, ch = _sincos(th)
+        if not sing:
+            _turn_to(h1, -sh, ch, f, w)      # (rot(H[1], th) R_45)ᵀ R_16 x, turn by turn
             _turn_to(h4, -s4, c4, w, b)
             q5, l5 = _sp1s(x5[0], x5[1], x5[2], b[0], b[1], b[2], h5[0], h5[1], h5[2])
-        # d = rot(h1, q0)ᵀ p16 - P1 - rot(h2, th) (P4 + R45 P5)
+        # d = rot(H[0], q0)ᵀ p16 - P1 - rot(H[1], th) (P4 + R45 P5)
         for k in range(3):
             b[k] = P[4, k] + c[k]
-        if sing:
-            _rot_to(h1, th, b, c)
-        else:
-            _turn_to(h1, sh, ch, b, c)
+        _turn_to(h1, sh, ch, b, c)
         for k in range(3):
             d[k] = d[k] - P[1, k] - c[k]
         t20, t21, n2, l2 = _sp3s(P[3], mP2, H[2], math.sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]))

@@ -249,7 +249,7 @@ def _wrist(h3, h4, h5, R36, q3ref, W, S, M):
 def _wrist_from(h3, h4, h5, q3ref, W, S, M):
     """:func:`_wrist` from the rows of ``S (5, 3)``: ``v = R36 h6``, ``x`` a unit vector across axis 6
     (:func:`_perp_to`) and ``y = R36 x`` (rows 3 and 4: its work). Where R36 is ``R03ᵀ R06``, the spherical core
-    takes ``v`` and ``y`` from ``R06 h6`` and ``R06 x`` (made once a target) turned back through joints 1-3 for each
+    takes ``v`` and ``y`` from ``R06 h6`` and ``R06 x`` (made once a target), turned by -q1, -q2, -q3 for each
     position, not from R03 and R36 (:func:`_core_spherical`). It makes no array, in none of its calls, so it is
     compiled without reference counts (:data:`.solvers.UNCOUNTED`)."""
     v = S[0]
@@ -442,21 +442,22 @@ def _core_spherical(kind, H, P, RnT, prism, R, p, qref, N, Q, LS, SG, v3, m3, LS
     Its work arrays come from the caller (:func:`.solvers_check._closed_core`), zeros: ``v3 (25, 3)`` for the small
     vectors (rows of a 2-D or 3-D array, not reshaped slices of one vector, whose reshape is a call of its own:
     the position solutions Qp (8, 3), the wrist's W (2, 3) and its work S (5, 3), p_0W (3), the 3R position's
-    work rows V (5, 3), R_06 h6 and R_06 x and their turns (4, 3)), ``m3 (9, 3, 3)`` for the matrices (the wrist's
-    work M (3, 3, 3); R_06 (3, 3); rows 3-7 unused), ``LSp (8,)`` the positions' least-squares flags.
+    work rows V (5, 3), R_06 h6 and R_06 x and their turns (4, 3)), ``m3 (4, 3, 3)`` for the matrices (the wrist's
+    work M (3, 3, 3), R_06 (3, 3)), ``LSp (8,)`` the positions' least-squares flags.
     It makes no array itself (the general position's SP5 makes its own, in a function of its own), so it is
     compiled without reference counts: every row it takes of these arrays, ~40 a target, was counted up and down
     with an atomic instruction."""
     Qp, W, S, p0W, V = v3[0:8], v3[8:10], v3[10:15], v3[15], v3[16:21]
     a, b, ta, tb = v3[21], v3[22], v3[23], v3[24]
-    M, R06 = m3[0:3], m3[8]
+    M, R06 = m3[0:3], m3[3]
     for i in range(3):   # R_06 = R RnTᵀ and p_0W = p - P_0 - R_06 P_6, term by term as _mm and _mv
         for j in range(3):
             R06[i, j] = R[i, 0] * RnT[j, 0] + R[i, 1] * RnT[j, 1] + R[i, 2] * RnT[j, 2]
     for i in range(3):
         p0W[i] = p[i] - P[0, i] - (R06[i, 0] * P[6, 0] + R06[i, 1] * P[6, 1] + R06[i, 2] * P[6, 2])
-    # the wrist's v = R36 h6 and y = R36 x (R36 = R03ᵀ R06): R06 h6 and R06 x, turned back through joints 3, 2, 1
-    # for each position (two vectors, one sine and cosine a joint, where R03 and R36 took three 3 x 3 products)
+    # the wrist's v = R36 h6 and y = R36 x (R36 = R03ᵀ R06): R03ᵀ applied to R06 h6 and R06 x for each position,
+    # a turn by -q1, then -q2, then -q3 (two vectors, one sine and cosine a joint, where R03 and R36 took three 3 x 3
+    # products)
     _perp_to(H[5], S[1])
     _mv_to(R06, H[5], a)
     _mv_to(R06, S[1], b)
