@@ -85,5 +85,8 @@ def test_single_calls_free_every_array_they_make() -> None:
             made = _stats() - before
         finally:
             nrt.memsys_disable_stats()
-        assert made[0] > 0 and made[0] == made[1] and made[2] == made[3], name
+        assert made[0] == made[1] and made[2] == made[3], name
+        # the hand-written families' kernels make arrays (so the stats count here); the geometric family's one-call
+        # kernel (the Stanford arm's) cuts its cores' work arrays from its work vector and makes none
+        assert (made[0] == 0) if name == "stanford" else (made[0] > 0), name
         assert all(bool(one.success) and bool(every.success.any()) for one, every in got), name

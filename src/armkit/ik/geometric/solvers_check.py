@@ -326,8 +326,9 @@ def _close(a, b, prism):
 def _closed_core(which, kind, Hi, Pi, RnT, prism, R, p, qref, N, Q, LS, SG):
     """The candidates of a closed-form core (``which`` 0: spherical wrist, 1: three parallel axes) into Q, LS, SG,
     before the check; returns their count. Its own compiled function, counted (it makes the cores' work arrays),
-    so that the one-call kernel (:mod:`.one_call`, compiled without reference counts) can run a core without its
-    check."""
+    so that the batch kernel (:mod:`.batched`, compiled without reference counts) can run a core without its
+    check. The one-call kernel (:mod:`.one_call`) runs the cores itself, their work arrays cut from its work vector
+    (``one_call.CORE_WORK``, the same sizes, zeros)."""
     if which == 0:   # the core's work arrays (each made and freed costs ~40 ns; the cores make none themselves)
         return _core_spherical(kind, Hi, Pi, RnT, prism, R, p, qref, N, Q, LS, SG, np.zeros((25, 3)),
                                np.zeros((4, 3, 3)), np.zeros(8, dtype=np.bool_))

@@ -439,14 +439,14 @@ def _core_spherical(kind, H, P, RnT, prism, R, p, qref, N, Q, LS, SG, v3, m3, LS
     """Spherical wrist at the end (P[4] = P[5] = 0): candidates into Q, LS, SG; returns their count.
     ``kind``: 0 axes 1, 2 meet; 1 axes 2 ∥ 3; 2 general (SP5).
 
-    Its work arrays come from the caller (:func:`.solvers_check._closed_core`), zeros: ``v3 (25, 3)`` for the small
-    vectors (rows of a 2-D or 3-D array, not reshaped slices of one vector, whose reshape is a call of its own:
-    the position solutions Qp (8, 3), the wrist's W (2, 3) and its work S (5, 3), p_0W (3), the 3R position's
-    work rows V (5, 3), R_06 h6 and R_06 x and their turns (4, 3)), ``m3 (4, 3, 3)`` for the matrices (the wrist's
-    work M (3, 3, 3), R_06 (3, 3)), ``LSp (8,)`` the positions' least-squares flags.
-    It makes no array itself (the general position's SP5 makes its own, in a function of its own), so it is
-    compiled without reference counts: every row it takes of these arrays, ~40 a target, was counted up and down
-    with an atomic instruction."""
+    Its work arrays come from the caller (:func:`.solvers_check._closed_core`, or the one-call kernel), zeros:
+    ``v3 (25, 3)`` for the small vectors (rows of a 2-D or 3-D array, not reshaped slices of one vector, whose
+    reshape is a call of its own: the position solutions Qp (8, 3), the wrist's W (2, 3) and its work S (5, 3), p_0W
+    (3), the 3R position's work rows V (5, 3), R_06 h6 and R_06 x and their turns (4, 3)), ``m3 (4, 3, 3)`` for the
+    matrices (the wrist's work M (3, 3, 3), R_06 (3, 3)), ``LSp (8,)`` the positions' least-squares flags. It makes
+    no array itself (the general position's SP5 makes its own, in a function of its own), so it is compiled without
+    reference counts: every row it takes of these arrays, ~40 a target, was counted up and down with an atomic
+    instruction."""
     Qp, W, S, p0W, V = v3[0:8], v3[8:10], v3[10:15], v3[15], v3[16:21]
     a, b, ta, tb = v3[21], v3[22], v3[23], v3[24]
     M, R06 = m3[0:3], m3[3]
