@@ -155,9 +155,21 @@ class IKResult:
         return {k: v for k, v in d.items() if k != "_later"}
 
     def _map(self, per_target: Any, trace: Any) -> "IKResult":
-        """A result with ``per_target`` applied to every field but ``trace`` (given as is), built as :meth:`_of`."""
+        """A result with ``per_target`` applied to every field but ``trace`` (given as is), built as :meth:`_of`.
+        Of a result whose fields but ``q`` and ``success`` are not made yet (:meth:`_deferred`), those two now and the
+        others when first read (a batch's branch names can cost more than its solve: ``Geometric.name_branches``)."""
         new = object.__new__(IKResult)
         d, src = new.__dict__, self.__dict__
+        if src.get("_make") is not None and "reason" not in src and "checked_against" not in src:
+            d["q"], d["success"], d["trace"] = per_target(src["q"]), per_target(src["success"]), trace
+            shape = np.shape(d["success"])
+
+            def make(made: tuple, which: str) -> Any:
+                if which == "message":
+                    return lambda: _message(per_target(self.message), shape)
+                return {f: per_target(getattr(self, f)) for f in _PER_TARGET if f not in ("q", "success", "message")}
+            d["_make"] = (make,)
+            return new
         _made(src)
         for f in _PER_TARGET:
             if f != "message" or "message" in src:

@@ -457,7 +457,8 @@ def solve_all(robot: Robot, solver: ClosedForm, target: Array, q0: Array, positi
     """
     theta = solver.sf.theta
     target = target.copy()   # the branches' sentences are made later, from this copy (a caller may reuse its array)
-    raw = solver.solve(target, q0 + theta)
+    named_later = _names_later(solver)
+    raw = _solve_unnamed(solver, target, q0 + theta) if named_later else solver.solve(target, q0 + theta)
     jit = jit_kernels()
     dist = None
     if jit is not None:
@@ -500,8 +501,32 @@ def solve_all(robot: Robot, solver: ClosedForm, target: Array, q0: Array, positi
         _failure_messages(robot, message, code, raw, q_, dp_, dr_, tol)
         return take(message)
 
-    return IKResult._later((q, ok, dp, dr, np.zeros(ok.shape, dtype=np.int64), take(raw.label), within,
-                            _REASON_TEXT[take(code)], None), messages)
+    iterations, reason = np.zeros(ok.shape, dtype=np.int64), _REASON_TEXT[take(code)]
+    if named_later:   # the branches' names made when a field but q and success is first read (Geometric.name_branches)
+        def make(made: tuple, which: str) -> Any:
+            if which == "message":
+                return messages
+            return {"position_error": dp, "rotation_error": dr, "iterations": iterations,
+                    "branch": _name(solver, q, target), "within_limits": within, "reason": reason}
+        return IKResult._deferred((make,), q, ok)
+    return IKResult._later((q, ok, dp, dr, iterations, take(raw.label), within, reason, None), messages)
+
+
+def _solve_unnamed(solver: Any, target: Array, q0phi: Array) -> Raw:
+    """``solver.solve`` with its plain labels (``named=False``: the geometric family, :func:`_names_later`)."""
+    return solver.solve(target, q0phi, named=False)  # type: ignore[no-any-return]
+
+
+def _name(solver: Any, q: Array, target: Array) -> NDArray[np.object_]:
+    """``solver.name_branches(q, target)`` (the geometric family, :func:`_names_later`)."""
+    return solver.name_branches(q, target)  # type: ignore[no-any-return]
+
+
+def _names_later(solver: ClosedForm) -> bool:
+    """Whether ``solver`` names its branches from their joint values (the geometric family of an arm whose ideal DH
+    twin a hand-written family matches: ``Geometric.name_branches``, tens of µs a target): the batched paths then
+    solve with its plain labels and make the names when the branch field is first read."""
+    return getattr(solver, "names_from", None) is not None
 
 
 # ------------------------------------------------------------------ one target, one compiled call
@@ -661,7 +686,8 @@ def run_one(robot: Robot, c: "_Single", target: Array, q0: Array | None, ctx: Ar
         if not kernels.usable(t, q0, check):
             return None
         solver = c.solver
-        raw = solver.solve(target[None], (q0 + solver.sf.theta)[None])
+        q0phi = (q0 + solver.sf.theta)[None]   # (a family that names its branches: named when read, _later_fields)
+        raw = _solve_unnamed(solver, target[None], q0phi) if c.namer is not None else solver.solve(target[None], q0phi)
         missing = raw.missing[0] if raw.missing is not None else np.zeros(c.m, dtype=bool)
         r = kernels.post(raw.q[0], raw.unreachable[0], missing, t, q0, ctx, fb, ib, bb, c.wk)
     c.spare.append(bufs)   # for a later call, once no result holds them
@@ -744,20 +770,20 @@ def _later_fields(made: tuple, which: str) -> Any:
             message = c.blank.copy()
         if which == "message":
             return message
-    if nearest:
-        if raw is not None:
-            branch = np.array(raw.label[0][ib[3 * m]], dtype=object)
-        elif c.namer is not None:
+    if nearest:   # (a family that names its branches: from the branches as answered, touched up where they were)
+        if c.namer is not None:
             branch = np.array(c.namer(fb[:c.n].reshape(1, 1, c.n), target[None])[0, 0], dtype=object)
+        elif raw is not None:
+            branch = np.array(raw.label[0][ib[3 * m]], dtype=object)
         else:
             branch = c.labels0[r >> LABEL_SHIFT if r & NEAREST else ib.item(m)].copy()
         dp, dr, it, within = fb[mn, ...], fb[mn + m, ...], ib[2 * m, ...], bb[m, ...]
         reason = _CONVERGED.copy() if r & NEAREST else _REASON_0D[ib.item(0)].copy()
     else:
-        if raw is not None:
-            branch = raw.label[0][ib[3 * m:4 * m]]
-        elif c.namer is not None:
+        if c.namer is not None:
             branch = c.namer(fb[:mn].reshape(1, m, c.n), target[None])[0]
+        elif raw is not None:
+            branch = raw.label[0][ib[3 * m:4 * m]]
         else:
             branch = c.labels[ib[m:2 * m]]
         dp, dr, it, within = fb[mn:mn + m], fb[mn + m:mn + 2 * m], ib[2 * m:3 * m], bb[m:2 * m]
@@ -1117,7 +1143,8 @@ def solve_nearest(robot: Robot, solver: ClosedForm, target: Array, q0: Array, po
     if tol is None:
         tol = default_tolerance(robot)
     theta = solver.sf.theta
-    raw = solver.solve(target, q0 + theta)
+    named_later = _names_later(solver)
+    raw = _solve_unnamed(solver, target, q0 + theta) if named_later else solver.solve(target, q0 + theta)
     B = len(target)
     rows = np.arange(B)
     jit = jit_kernels()
@@ -1143,6 +1170,8 @@ def solve_nearest(robot: Robot, solver: ClosedForm, target: Array, q0: Array, po
     fields = {"q": qb, "success": ok, "position_error": dp, "rotation_error": dr,   # fresh arrays: redo writes
               "iterations": np.zeros(B, dtype=np.int64), "branch": raw.label[rows, pick], "within_limits": within,
               "reason": _REASON_TEXT[np.zeros(B, dtype=int)], "message": raw.note[rows, pick]}
+    if named_later:   # the names of the branches picked, made when read (solve_all's, for the targets it redoes)
+        return _nearest_named_later(robot, solver, target, q0, position_only, tol, enforce_limits, lead, fields, fine)
     if fine.all():
         if lead is not None:
             fields = {k: a.reshape(lead + a.shape[1:]) for k, a in fields.items()}
@@ -1162,3 +1191,33 @@ def solve_nearest(robot: Robot, solver: ClosedForm, target: Array, q0: Array, po
         return _message_of(out, out.shape)
 
     return IKResult._later(tuple(shape(fields[f]) for f in _STACKED) + (None,), messages)
+
+
+def _nearest_named_later(robot: Robot, solver: ClosedForm, target: Array, q0: Array, position_only: bool,
+                         tol: tuple[float, float] | None, enforce_limits: bool, lead: tuple[int, ...] | None,
+                         fields: dict, fine: NDArray[np.bool_]) -> IKResult:
+    """:func:`solve_nearest`'s answer for a family that names its branches from their joint values
+    (:func:`_names_later`): the targets it cannot answer by the first branch redone by :func:`solve_all`, then every
+    field but ``q`` and ``success`` made when first read, the names among all of each target's branches
+    (``Geometric.name_branches``)."""
+    redo = np.flatnonzero(~fine)
+    full = solve_all(robot, solver, target[redo], q0[redo], position_only, tol, enforce_limits) if len(redo) \
+        else None
+    if full is not None:
+        for f in ("q", "success"):
+            fields[f][redo] = getattr(full, f)[:, 0]
+    shape = (lambda a: a.reshape(lead + a.shape[1:])) if lead is not None else (lambda a: a)
+    kept = target.copy()
+
+    def make(made: tuple, which: str) -> Any:
+        if full is not None:   # the redone targets' other fields, from solve_all's first branch
+            for f in ("position_error", "rotation_error", "branch", "within_limits", "reason", "message"):
+                fields[f][redo] = getattr(full, f)[:, 0]
+        if which == "message":
+            return _message_of(shape(fields["message"]), shape(fields["success"]).shape)
+        named = _name(solver, fields["q"][:, None, :], kept)[:, 0]
+        return {"position_error": shape(fields["position_error"]), "rotation_error": shape(fields["rotation_error"]),
+                "iterations": shape(fields["iterations"]), "branch": shape(named),
+                "within_limits": shape(fields["within_limits"]), "reason": shape(fields["reason"])}
+
+    return IKResult._deferred((make,), shape(fields["q"]), shape(fields["success"]))

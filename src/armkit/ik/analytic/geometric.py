@@ -293,8 +293,10 @@ class Geometric:
         target has (0: none); the sentence :meth:`solve`'s ``why`` gives."""
         return _why(int(rho), self.m)
 
-    def solve(self, target: Array, q0phi: Array) -> Raw:
-        """Every branch for pose targets ``(B, 4, 4)``; ``q0phi`` ``(B, n)`` (the singular wrist's free joint)."""
+    def solve(self, target: Array, q0phi: Array, named: bool = True) -> Raw:
+        """Every branch for pose targets ``(B, 4, 4)``; ``q0phi`` ``(B, n)`` (the singular wrist's free joint).
+        ``named`` False: the labels ``s1``, ``s2``, ... in the solver's order even where :meth:`name_branches` names
+        them (the batched paths make the names when they are read)."""
         B, m, n = len(target), self.m, self.robot.n
         q = np.zeros((B, m, n))
         unreachable = np.zeros((B, m), dtype=bool)
@@ -334,7 +336,8 @@ class Geometric:
                 else:
                     q[b] = q0phi[b]
                 unreachable[b] = True
-        label = self.name_branches(q, target)
+        label = self.name_branches(q, target) if named else \
+            np.broadcast_to(np.array(self.branch_labels, dtype=object), (B, m)).copy()
 
         def why(i: int) -> str:
             return _why(int(found[i // m]), m)

@@ -73,15 +73,23 @@ def _layout(which, kind, inverted, exact, Hi, Pi, RnT, prism, Ht, Pt, T, q0phi, 
         C = np.empty(m * n)
         Tm = np.empty((m, 4, 4))
         X = np.empty(12 * (n + 1))
+        # the closed-form cores' work arrays, as _closed_core makes them (made once a chunk; zeroed for each target)
+        V3 = np.empty((25, 3))
+        M3 = np.empty((4, 3, 3))
+        T14 = np.empty((2, 4))
+        CL = np.empty(8, np.bool_)
         for b in range(c * B // chunks, (c + 1) * B // chunks):
             _one_target(which, kind, inverted, exact, Hi, Pi, RnT, prism, Ht, Pt, T, q0phi, N, tol_p, tol_r,  # noqa
                         reach_p, reach_r, F, theta, q, unreach, sing, found, redo, b, R, p, qref, Q, LS, SG, ST, W,
-                        D, S, C, Tm, X)
+                        D, S, C, Tm, X, V3, M3, T14, CL)
 
 
 def _one_target(which, kind, inverted, exact, Hi, Pi, RnT, prism, Ht, Pt, T, q0phi, N, tol_p, tol_r, reach_p,
-                reach_r, F, theta, q, unreach, sing, found, redo, b, R, p, qref, Q, LS, SG, ST, W, D, S, C, Tm, X):
-    """Target ``b`` of :func:`_layout`, in its chunk's work arrays (``R`` ... ``X``)."""
+                reach_r, F, theta, q, unreach, sing, found, redo, b, R, p, qref, Q, LS, SG, ST, W, D, S, C, Tm, X, V3,
+                M3, T14, CL):
+    """Target ``b`` of :func:`_layout`, in its chunk's work arrays (``R`` ... ``X``; ``V3`` ... ``CL``: a closed-form
+    core's, zeros for each target as :func:`.solvers_check._closed_core` makes them, where it made three arrays a
+    target)."""
     m = q.shape[1]
     n = 6
     if inverted:     # the reversed chain, for the inverse target (as Geometric.solve and the one call do it)
@@ -106,7 +114,23 @@ def _one_target(which, kind, inverted, exact, Hi, Pi, RnT, prism, Ht, Pt, T, q0p
         SG[i] = False
         ST[i] = 0
     if which <= 1:   # a closed form: its core, then the shortcut past the check, or the check
-        mc = _closed_core(which, kind, Hi, Pi, RnT, prism, R, p, qref, N, Q, LS, SG)  # noqa: F821
+        for i in range(25):
+            for j in range(3):
+                V3[i, j] = 0.0
+        for i in range(4):
+            for j in range(3):
+                for k in range(3):
+                    M3[i, j, k] = 0.0
+        for i in range(2):
+            for j in range(4):
+                T14[i, j] = 0.0
+        for i in range(8):
+            CL[i] = False
+        if which == 0:
+            mc = _core_spherical(kind, Hi, Pi, RnT, prism, R, p, qref, N, Q, LS, SG, V3, M3, CL)  # noqa: F821
+        else:
+            mc = _core_three_parallel(kind, Hi, Pi, RnT, prism, R, p, qref, N, Q, LS, SG, V3[:14], M3,  # noqa: F821
+                                      T14, CL[:4])
         if _shortcut(inverted, prism, T, b, tol_p, tol_r, F, theta, Q, LS, SG, mc, W, D, S, C, Tm, X):
             k = min(mc, m)
             for r in range(m):
@@ -195,7 +219,8 @@ def kernels() -> Optional[types.SimpleNamespace]:
         from .subproblems import jit_namespace
 
         extra: dict[str, Any] = {name: getattr(K, name) for name in (
-            "_closed_core", "_distinct", "_gate", "_check", "_solve_two_intersecting_end", "_solve_two_parallel",
+            "_core_spherical", "_core_three_parallel", "_distinct", "_gate", "_check", "_solve_two_intersecting_end",
+            "_solve_two_parallel",
             "_solve_spherical_middle", "_polish_wanted")}
         from .. import _jit_verify
         from ..analytic import _single
