@@ -1210,11 +1210,13 @@ def _nearest_named_later(robot: Robot, solver: ClosedForm, target: Array, q0: Ar
     kept = target.copy()
 
     def make(made: tuple, which: str) -> Any:
-        if full is not None:   # the redone targets' other fields, from solve_all's first branch
-            for f in ("position_error", "rotation_error", "branch", "within_limits", "reason", "message"):
-                fields[f][redo] = getattr(full, f)[:, 0]
-        if which == "message":
+        if which == "message":   # the redone targets' sentences from solve_all's first branch
+            if full is not None:
+                fields["message"][redo] = full.message[:, 0]
             return _message_of(shape(fields["message"]), shape(fields["success"]).shape)
+        if full is not None:     # the redone targets' other fields (their names below, with every target's)
+            for f in ("position_error", "rotation_error", "within_limits", "reason"):
+                fields[f][redo] = getattr(full, f)[:, 0]
         named = _name(solver, fields["q"][:, None, :], kept)[:, 0]
         return {"position_error": shape(fields["position_error"]), "rotation_error": shape(fields["rotation_error"]),
                 "iterations": shape(fields["iterations"]), "branch": shape(named),
