@@ -550,7 +550,7 @@ class _Single:
         self.labels0 = [self.labels[k:k + 1].reshape(()) for k in range(len(self.labels))]   # 0-d, copied per use
         # a family that names its branches from their joint values (the geometric family of a file whose ideal arm
         # a hand-written family matches): its names, made when the branch field is read; else the label table
-        self.namer = getattr(solver, "name_branches") if getattr(solver, "names_from", None) is not None else None
+        self.namer = getattr(solver, "name_branches") if _names_later(solver) else None
         self.m, self.n = solver.m, robot.n
         self.mn = self.m * self.n
         self.blank = np.full(self.m, "", dtype=object)

@@ -34,6 +34,7 @@ from numpy.typing import NDArray
 
 from ... import _jit_loader
 from . import solvers as _solvers
+from .solvers_check import CORE_M, CORE_V
 
 __all__ = ["solve", "kernels", "PARALLEL_MIN"]
 
@@ -73,9 +74,9 @@ def _layout(which, kind, inverted, exact, Hi, Pi, RnT, prism, Ht, Pt, T, q0phi, 
         C = np.empty(m * n)
         Tm = np.empty((m, 4, 4))
         X = np.empty(12 * (n + 1))
-        # the closed-form cores' work arrays, as _closed_core makes them (made once a chunk; zeroed for each target)
-        V3 = np.empty((25, 3))
-        M3 = np.empty((4, 3, 3))
+        # the closed-form cores' work arrays, as _closed_core makes them (made once a chunk; _core_in zeroes them)
+        V3 = np.empty((CORE_V, 3))
+        M3 = np.empty((CORE_M, 3, 3))
         T14 = np.empty((2, 4))
         CL = np.empty(8, np.bool_)
         for b in range(c * B // chunks, (c + 1) * B // chunks):
@@ -88,8 +89,7 @@ def _one_target(which, kind, inverted, exact, Hi, Pi, RnT, prism, Ht, Pt, T, q0p
                 reach_r, F, theta, q, unreach, sing, found, redo, b, R, p, qref, Q, LS, SG, ST, W, D, S, C, Tm, X, V3,
                 M3, T14, CL):
     """Target ``b`` of :func:`_layout`, in its chunk's work arrays (``R`` ... ``X``; ``V3`` ... ``CL``: a closed-form
-    core's, zeros for each target as :func:`.solvers_check._closed_core` makes them, where it made three arrays a
-    target)."""
+    core's, :func:`.solvers_check._core_in`, where ``_closed_core`` made three arrays a target)."""
     m = q.shape[1]
     n = 6
     if inverted:     # the reversed chain, for the inverse target (as Geometric.solve and the one call do it)
@@ -114,23 +114,7 @@ def _one_target(which, kind, inverted, exact, Hi, Pi, RnT, prism, Ht, Pt, T, q0p
         SG[i] = False
         ST[i] = 0
     if which <= 1:   # a closed form: its core, then the shortcut past the check, or the check
-        for i in range(25):
-            for j in range(3):
-                V3[i, j] = 0.0
-        for i in range(4):
-            for j in range(3):
-                for k in range(3):
-                    M3[i, j, k] = 0.0
-        for i in range(2):
-            for j in range(4):
-                T14[i, j] = 0.0
-        for i in range(8):
-            CL[i] = False
-        if which == 0:
-            mc = _core_spherical(kind, Hi, Pi, RnT, prism, R, p, qref, N, Q, LS, SG, V3, M3, CL)  # noqa: F821
-        else:
-            mc = _core_three_parallel(kind, Hi, Pi, RnT, prism, R, p, qref, N, Q, LS, SG, V3[:14], M3,  # noqa: F821
-                                      T14, CL[:4])
+        mc = _core_in(which, kind, Hi, Pi, RnT, prism, R, p, qref, N, Q, LS, SG, V3, M3, T14, CL)  # noqa: F821
         if _shortcut(inverted, prism, T, b, tol_p, tol_r, F, theta, Q, LS, SG, mc, W, D, S, C, Tm, X):
             k = min(mc, m)
             for r in range(m):
@@ -219,8 +203,7 @@ def kernels() -> Optional[types.SimpleNamespace]:
         from .subproblems import jit_namespace
 
         extra: dict[str, Any] = {name: getattr(K, name) for name in (
-            "_core_spherical", "_core_three_parallel", "_distinct", "_gate", "_check", "_solve_two_intersecting_end",
-            "_solve_two_parallel",
+            "_core_in", "_distinct", "_gate", "_check", "_solve_two_intersecting_end", "_solve_two_parallel",
             "_solve_spherical_middle", "_polish_wanted")}
         from .. import _jit_verify
         from ..analytic import _single

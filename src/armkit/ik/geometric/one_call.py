@@ -9,9 +9,9 @@ do in several:
 
 1. the target checked and, for a class solved on the reversed chain, inverted;
 2. the solver's kernel of :mod:`.solvers` (the core and its FK check on the true chain, the same
-   functions :func:`.solvers.solve_batch` loops over; the core's work arrays cut from the kernel's work vector,
-   :data:`CORE_WORK`, where ``_closed_core`` makes them), for the classes solved in closed form (spherical
-   wrist, three parallel axes; :func:`closed_form_only`);
+   functions :func:`.solvers.solve_batch` loops over; the core run by :func:`.solvers_check._core_in` in work
+   arrays cut from the kernel's work vector, :data:`CORE_WORK`, where ``_closed_core`` makes them), for the
+   classes solved in closed form (spherical wrist, three parallel axes; :func:`closed_form_only`);
 3. the branches laid out as :meth:`Geometric.solve` lays them out (solutions in the solver's order,
    the rest padded with the first and marked unreachable; an unreachable target: the least-squares
    candidates, or the start);
@@ -67,6 +67,7 @@ from numpy.typing import NDArray
 
 from ... import _jit_loader
 from . import solvers as _solvers
+from .solvers_check import CORE_M, CORE_V
 
 __all__ = ["geometry", "kernel", "SIZE"]
 
@@ -169,11 +170,9 @@ def _geometric(t, q0, ctx, fb, ib, bb, wk):
             qq[i, k] = 0.0
     qref, none = qb[:n], qb[n:]
     Q, rawq = qq[:MAXSOL], qq[MAXSOL:]
-    # the core's work arrays (what _closed_core makes for the batched path: three arrays made and freed a call,
-    # ~0.1 µs), zeros as it makes them: vectors, matrices, the three-parallel core's (q1, q5) pairs
+    # the core's work arrays (what _closed_core makes: three arrays made and freed a call, ~0.1 µs; _core_in zeroes
+    # them): vectors, matrices, the three-parallel core's (q1, q5) pairs
     cw = wk[at:at + CORE_WORK]
-    for k in range(CORE_WORK):
-        cw[k] = 0.0
     cv3 = shaped(cw[:3 * CORE_V], (CORE_V, 3))  # noqa: F821
     cm3 = shaped(cw[3 * CORE_V:3 * CORE_V + 9 * CORE_M], (CORE_M, 3, 3))  # noqa: F821
     t14 = shaped(cw[3 * CORE_V + 9 * CORE_M:], (2, 4))  # noqa: F821
@@ -183,9 +182,7 @@ def _geometric(t, q0, ctx, fb, ib, bb, wk):
     for k in range(wb.shape[0]):
         wb[k] = False
     prism, LS, SG, unreach = wb[:n], wb[n:n + MAXSOL], wb[n + MAXSOL:n + 2 * MAXSOL], wb[n + 2 * MAXSOL:]
-    cls = bb[b_at:b_at + 8]   # the core's least-squares flags of its positions (or pairs), false
-    for k in range(8):
-        cls[k] = False
+    cls = bb[b_at:b_at + 8]   # the core's least-squares flags of its positions (or pairs)
     b_at += 8
     for k in range(n):
         prism[k] = g[PRISM + k] != 0.0
@@ -209,11 +206,7 @@ def _geometric(t, q0, ctx, fb, ib, bb, wk):
             p[i] = T[i, 3]
         for k in range(n):
             qref[k] = q0[k] + joints[THETA, k]
-    if which == 0:
-        mc = _core_spherical(kind, Hi, Pi, RnT, prism, R, p, qref, N, Q, LS, SG, cv3, cm3, cls)  # noqa: F821
-    else:
-        mc = _core_three_parallel(kind, Hi, Pi, RnT, prism, R, p, qref, N, Q, LS, SG, cv3[:14], cm3, t14,  # noqa: F821
-                                  cls[:4])
+    mc = _core_in(which, kind, Hi, Pi, RnT, prism, R, p, qref, N, Q, LS, SG, cv3, cm3, t14, cls)  # noqa: F821
     k = min(mc, m)
     if k > 0 and _distinct(Q, LS, SG, prism, k, rawq, inverted):  # noqa: F821
         # the shortcut (module docstring): branches found, none least-squares or singular, no two alike; if the FK
@@ -254,9 +247,6 @@ def _geometric(t, q0, ctx, fb, ib, bb, wk):
 
 ROWS3 = 6 + 7 + 3 + 6 + 7 + 3 + 1
 """Rows of the kernel's (rows, 3) work piece: Hi, Pi, RnT, Ht, Pt, R, p."""
-CORE_V, CORE_M = 25, 4
-"""The closed-form cores' work vectors (rows of 3) and matrices, as :func:`.solvers_check._closed_core` makes them
-(the spherical core's; the three-parallel core takes the first 14 vectors)."""
 CORE_WORK = 3 * CORE_V + 9 * CORE_M + 8
 """Floats of the cores' work: the vectors, the matrices, the three-parallel core's (q1, q5) pairs (2, 4)."""
 
@@ -287,8 +277,7 @@ def kernel() -> Any:
 
         assert (_single.DONE, _single.FALLBACK, _single.BAD_TARGET) == (DONE, FALLBACK, BAD_TARGET)
         assert _single.RECHECK not in (DONE, FALLBACK, BAD_TARGET)
-        extra = {name: getattr(K, name) for name in ("_core_spherical", "_core_three_parallel", "_distinct", "_gate",
-                                                     "_check", "_polish_wanted")}
+        extra = {name: getattr(K, name) for name in ("_core_in", "_distinct", "_gate", "_check", "_polish_wanted")}
         extra.update({name: getattr(_single, name) for name in ("_parts", "_begin", "_finish", "shaped", "RECHECK",
                                                                 "_NO_GATE")})
         ns = jit_namespace(globals(), ("_geometric",), extra=extra, uncounted=("_geometric",))

@@ -80,9 +80,9 @@ from .search import MAXROOT, SM, SW, TI, TP, _search  # noqa: F401  (in the kern
 from .search import N as _SEARCH_N
 from .search import kernels as _search_kernels
 from .solvers_chain import _jacobian, _log_vec, _points, _size, align, polish, reverse  # noqa: F401
-from .solvers_check import (EMPTY_RETRY, RETRIES, SHARP, _SPH_MID, _SPHERICAL, _THREE_PARALLEL, _TI_END,  # noqa: F401
-                            _TWO_PAR, _check, _close, _closed_core, _copy_row, _distinct, _gate, _merged, _newton_from,
-                            _paired, _polish_wanted, _promote, _put_passing, _repeats, _searched_core, _sharpen,
+from .solvers_check import (CORE_M, CORE_V, EMPTY_RETRY, RETRIES, SHARP, _SPH_MID, _SPHERICAL,  # noqa: F401
+                            _THREE_PARALLEL, _TI_END, _TWO_PAR, _check, _close, _core_in, _closed_core, _copy_row,
+                            _distinct, _gate, _merged, _newton_from, _paired, _polish_wanted, _promote, _put_passing, _repeats, _searched_core, _sharpen,
                             _solve, _solve_searched, _solve_spherical, _solve_spherical_middle, _solve_three_parallel,
                             _solve_two_intersecting_end, _solve_two_parallel, _sweep, _within_reach)
 from .solvers_parallel import _core_three_parallel, _pairs_sp6, _singular_wrist  # noqa: F401
@@ -121,13 +121,13 @@ KERNELS = ("_mv", "_mtv", "_mm", "_mtm", "_perp", "_rotm_to", "_rot_to", "_mm_to
            "_perp_to", "_rot2_to", "_turn_to", "_sp1s", "_sp2s", "_wrist", "_wrist_from", "_pos_two_intersecting",
            "_pos_two_parallel", "_pos_search", "_pos_general", "_core_spherical", "_pairs_sp6", "_singular_wrist",
            "_core_three_parallel", "_close", "_repeats", "_put_passing", "_merged", "_newton_from", "_copy_row",
-           "_promote", "_sharpen", "_check", "_closed_core", "_solve_spherical",
+           "_promote", "_sharpen", "_check", "_core_in", "_closed_core", "_solve_spherical",
            "_solve_three_parallel", "_distinct", "_gate", "_target_rows", "_core_two_intersecting_end",
            "_core_two_parallel", "_core_spherical_middle", "_paired", "_searched_core", "_within_reach",
            "_solve_searched", "_solve_two_intersecting_end", "_solve_two_parallel", "_solve_spherical_middle", "_solve",
            "_sweep", "_polish_wanted")
 UNCOUNTED = ("_sp2s", "_wrist", "_wrist_from", "_pos_two_intersecting", "_pos_two_parallel", "_core_spherical",
-             "_core_three_parallel")
+             "_core_three_parallel", "_core_in")
 """Kernels compiled without Numba's reference counts (:func:`.subproblems.jit_namespace`): they make no array in
 their whole call tree. The spherical core calls the wrist up to four times a target, each call the small helpers
 ~10 times with 2-8 arrays each, and every array passed or sliced was counted up and down with an atomic

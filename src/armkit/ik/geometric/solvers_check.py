@@ -323,17 +323,39 @@ def _close(a, b, prism):
     return True
 
 
-def _closed_core(which, kind, Hi, Pi, RnT, prism, R, p, qref, N, Q, LS, SG):
+CORE_V, CORE_M = 25, 4
+"""Rows of a closed-form core's work vectors (rows of 3) and matrices (:func:`_core_in`): the spherical core's; the
+three-parallel core takes the first 14 vectors, and its (q1, q5) pairs ``(2, 4)``."""
+
+
+def _core_in(which, kind, Hi, Pi, RnT, prism, R, p, qref, N, Q, LS, SG, V3, M3, T14, CL):
     """The candidates of a closed-form core (``which`` 0: spherical wrist, 1: three parallel axes) into Q, LS, SG,
-    before the check; returns their count. Its own compiled function, counted (it makes the cores' work arrays),
-    so that the batch kernel (:mod:`.batched`, compiled without reference counts) can run a core without its
-    check. The one-call kernel (:mod:`.one_call`) runs the cores itself, their work arrays cut from its work vector
-    (``one_call.CORE_WORK``, the same sizes, zeros)."""
-    if which == 0:   # the core's work arrays (each made and freed costs ~40 ns; the cores make none themselves)
-        return _core_spherical(kind, Hi, Pi, RnT, prism, R, p, qref, N, Q, LS, SG, np.zeros((25, 3)),
-                               np.zeros((4, 3, 3)), np.zeros(8, dtype=np.bool_))
-    return _core_three_parallel(kind, Hi, Pi, RnT, prism, R, p, qref, N, Q, LS, SG, np.zeros((14, 3)),
-                                np.zeros((4, 3, 3)), np.zeros((2, 4)), np.zeros(4, dtype=np.bool_))
+    before the check; returns their count. The core's work arrays are the caller's, ``V3 (CORE_V, 3)``,
+    ``M3 (CORE_M, 3, 3)``, ``T14 (2, 4)`` and ``CL (8,)`` flags, zeroed here as the cores take them: the one-call
+    and batch kernels (:mod:`.one_call`, :mod:`.batched`) keep theirs (each array made and freed costs ~40 ns),
+    :func:`_closed_core` makes them. It makes no array, so it is compiled without reference counts."""
+    for i in range(CORE_V):
+        for j in range(3):
+            V3[i, j] = 0.0
+    for i in range(CORE_M):
+        for j in range(3):
+            for k in range(3):
+                M3[i, j, k] = 0.0
+    for i in range(2):
+        for j in range(4):
+            T14[i, j] = 0.0
+    for i in range(8):
+        CL[i] = False
+    if which == 0:
+        return _core_spherical(kind, Hi, Pi, RnT, prism, R, p, qref, N, Q, LS, SG, V3, M3, CL)
+    return _core_three_parallel(kind, Hi, Pi, RnT, prism, R, p, qref, N, Q, LS, SG, V3[:14], M3, T14, CL[:4])
+
+
+def _closed_core(which, kind, Hi, Pi, RnT, prism, R, p, qref, N, Q, LS, SG):
+    """:func:`_core_in` in work arrays of its own: its own compiled function, counted (it makes them), for the
+    checked solvers (:func:`_solve_spherical`, :func:`_solve_three_parallel`)."""
+    return _core_in(which, kind, Hi, Pi, RnT, prism, R, p, qref, N, Q, LS, SG, np.empty((CORE_V, 3)),
+                    np.empty((CORE_M, 3, 3)), np.empty((2, 4)), np.empty(8, dtype=np.bool_))
 
 
 def _solve_spherical(kind, Hi, Pi, RnT, prism, Ht, Pt, R, p, qref, N, tol_p, tol_r, Q, LS, SG, ST):
