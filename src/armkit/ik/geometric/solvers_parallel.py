@@ -19,7 +19,7 @@ def _core_three_parallel(kind, H, P, RnT, prism, R, p, qref, N, Q, LS, SG, v3, m
     """Axes 2 ∥ 3 ∥ 4 (0-based 1, 2, 3; H[2], H[3] = ±H[1]). ``kind``: 3 general (SP6 for q1, q5),
     4 axes 5, 6 meet (P[5] = 0: SP4, SP4).
 
-    Its work arrays come from the caller (:func:`.solvers_check._closed_core`, or the one-call kernel):
+    Its work arrays come from the caller (:func:`.solvers_check._core_in`, which zeroes them):
     ``v3 (14, 3)`` for the call's small vectors, ``m3 (4, 3, 3)`` for its matrices (R_06, and those of a singular
     wrist), ``t14 (2, 4)`` and ``ls14 (4,)`` for the (q1, q5) pairs (each array made and freed costs ~40 ns and is a
     call the compiler cannot see through); the rotations by the FK's sine and cosine

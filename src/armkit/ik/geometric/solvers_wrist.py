@@ -439,7 +439,7 @@ def _core_spherical(kind, H, P, RnT, prism, R, p, qref, N, Q, LS, SG, v3, m3, LS
     """Spherical wrist at the end (P[4] = P[5] = 0): candidates into Q, LS, SG; returns their count.
     ``kind``: 0 axes 1, 2 meet; 1 axes 2 ∥ 3; 2 general (SP5).
 
-    Its work arrays come from the caller (:func:`.solvers_check._closed_core`, or the one-call kernel), zeros:
+    Its work arrays come from the caller (:func:`.solvers_check._core_in`, which zeroes them), zeros:
     ``v3 (25, 3)`` for the small vectors (rows of a 2-D or 3-D array, not reshaped slices of one vector, whose
     reshape is a call of its own: the position solutions Qp (8, 3), the wrist's W (2, 3) and its work S (5, 3), p_0W
     (3), the 3R position's work rows V (5, 3), R_06 h6 and R_06 x and their turns (4, 3)), ``m3 (4, 3, 3)`` for the
