@@ -81,8 +81,9 @@ from .search import N as _SEARCH_N
 from .search import kernels as _search_kernels
 from .solvers_chain import _jacobian, _log_vec, _points, _size, align, polish, reverse  # noqa: F401
 from .solvers_check import (CORE_M, CORE_V, EMPTY_RETRY, RETRIES, SHARP, _SPH_MID, _SPHERICAL,  # noqa: F401
-                            _THREE_PARALLEL, _TI_END, _TWO_PAR, _check, _close, _core_in, _closed_core, _copy_row,
-                            _distinct, _gate, _merged, _newton_from, _paired, _polish_wanted, _promote, _put_passing, _repeats, _searched_core, _sharpen,
+                            _THREE_PARALLEL, _TI_END, _TWO_PAR, _check, _close, _close_wrapped, _core_in, _closed_core,
+                            _copy_row, _distinct, _gate, _merged, _newton_from, _paired, _polish_wanted, _promote,
+                            _put_passing, _repeats, _searched_core, _sharpen,
                             _solve, _solve_searched, _solve_spherical, _solve_spherical_middle, _solve_three_parallel,
                             _solve_two_intersecting_end, _solve_two_parallel, _sweep, _within_reach)
 from .solvers_parallel import _core_three_parallel, _pairs_sp6, _singular_wrist  # noqa: F401
@@ -91,7 +92,7 @@ from .solvers_search import (_core_spherical_middle, _core_two_intersecting_end,
 from .solvers_wrist import (SING, _core_spherical, _mm, _mm_to, _mtm, _mtm_to, _mtv, _mtv_to, _mv,  # noqa: F401
                             _mv_to, _perp, _perp_to, _pos_general, _pos_search, _pos_two_intersecting,
                             _pos_two_parallel, _rot2_to, _rot_to, _rotm_to, _turn_to, _SP_TINY, _SP_TOL, _sp1s, _sp2s,
-                            _wrist, _wrist_from)
+                            _wrist, _wrist_from, _wrist_sp2)
 from .subproblems import _cross, _dot, _norm, _wrap, rot, rotm, sp1, sp2, sp3, sp4, sp5, sp6  # noqa: F401
 
 __all__ = ["Solutions", "solve_batch", "align", "reverse", "polish", "spherical_two_intersecting", "spherical_two_parallel",
@@ -118,16 +119,16 @@ class Solutions(NamedTuple):
 
 # ---------------------------------------------------------------------------------- wrappers
 KERNELS = ("_mv", "_mtv", "_mm", "_mtm", "_perp", "_rotm_to", "_rot_to", "_mm_to", "_mtm_to", "_mv_to", "_mtv_to",
-           "_perp_to", "_rot2_to", "_turn_to", "_sp1s", "_sp2s", "_wrist", "_wrist_from", "_pos_two_intersecting",
-           "_pos_two_parallel", "_pos_search", "_pos_general", "_core_spherical", "_pairs_sp6", "_singular_wrist",
+           "_perp_to", "_rot2_to", "_turn_to", "_sp1s", "_sp2s", "_wrist", "_wrist_from", "_wrist_sp2",
+           "_pos_two_intersecting", "_pos_two_parallel", "_pos_search", "_pos_general", "_core_spherical", "_pairs_sp6", "_singular_wrist",
            "_core_three_parallel", "_close", "_repeats", "_put_passing", "_merged", "_newton_from", "_copy_row",
            "_promote", "_sharpen", "_check", "_core_in", "_closed_core", "_solve_spherical",
            "_solve_three_parallel", "_distinct", "_gate", "_target_rows", "_core_two_intersecting_end",
            "_core_two_parallel", "_core_spherical_middle", "_paired", "_searched_core", "_within_reach",
            "_solve_searched", "_solve_two_intersecting_end", "_solve_two_parallel", "_solve_spherical_middle", "_solve",
-           "_sweep", "_polish_wanted")
-UNCOUNTED = ("_sp2s", "_wrist", "_wrist_from", "_pos_two_intersecting", "_pos_two_parallel", "_core_spherical",
-             "_core_three_parallel", "_core_in")
+           "_sweep", "_polish_wanted", "_close_wrapped")
+UNCOUNTED = ("_sp2s", "_wrist", "_wrist_from", "_wrist_sp2", "_pos_two_intersecting", "_pos_two_parallel",
+             "_core_spherical", "_core_three_parallel", "_core_in", "_distinct")
 """Kernels compiled without Numba's reference counts (:func:`.subproblems.jit_namespace`): they make no array in
 their whole call tree. The spherical core calls the wrist up to four times a target, each call the small helpers
 ~10 times with 2-8 arrays each, and every array passed or sliced was counted up and down with an atomic
@@ -138,7 +139,7 @@ has none either); its position parts the same way; the spherical core itself (it
 INLINE = ("_fk_err_sc", "_pos_search",
           "_core_two_intersecting_end", "_core_two_parallel", "_core_spherical_middle", "_searched_core", "_solve",
           "_mv_to", "_mtv_to", "_mm_to", "_mtm_to", "_rotm_to", "_rot_to", "_rot2_to", "_turn_to", "_perp_to",
-          "_sp1s")
+          "_sp1s", "_close_wrapped")
 """Kernels with one caller each (the FK of the candidates in ``_check``, a searched core in its ``_solve_*``, a
 closed-form one in ``_closed_core``, the 3R position in the spherical core, the dispatch in the batch loops):
 compiled inline into that caller (Numba's ``inline="always"``), not as functions of their own. Numba links a
