@@ -441,7 +441,8 @@ class Geometric3R:
             return _second_two_meet(self.H, self.P, p0W, Q, LS)
         if self.case == "1, 2 meet":
             meet12 = K._pos_two_intersecting if K is not None else solvers._pos_two_intersecting
-            return int(meet12(self.H, self.P, False, p0W, Q, LS, np.empty((3, 3))))   # its work rows
+            w = np.empty((19, 3))   # its work rows, and the cosines and sines of the angles (unused here)
+            return int(meet12(self.H, self.P, False, p0W, Q, LS, w[:3], w[3:11], w[11:]))
         position = K._pos_general if K is not None else solvers._pos_general    # SP5, or SP4-SP3-SP1 (2 ∥ 3)
         return int(position(self.H, self.P, p0W, solvers.SEARCH_N, Q, LS, np.empty((5, 3))))   # its work rows
 

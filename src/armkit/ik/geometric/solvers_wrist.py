@@ -11,7 +11,7 @@ import math
 
 import numpy as np
 
-from ._kernels import _atan2, _sincos, _tsp1_cs
+from ._kernels import _atan2, _sincos, _trot_cs, _tsp1_cs
 from .search import MAXROOT, SW, _search
 from .subproblems import TOL as _SP_TOL
 from .subproblems import _TINY as _SP_TINY
@@ -273,42 +273,19 @@ def _wrist_from(h3, h4, h5, q3ref, W, S, M):
         W[0, 1] = q4
         W[0, 2] = q5
         return 1, bool(l1) or bool(l2), True
-    # q5 first (0-based t4), from the one equation it meets alone: h4ᵀ v = h4ᵀ rot(h5, t4) h6 (rot(h4, t3) keeps h4,
-    # rot(h6, t5) keeps h6), i.e. α cos t4 + β sin t4 = e; its cosine and sine in closed form (no sine or cosine
-    # called), then q4 by SP1 of rot(h5, t4) h6 onto v, q6 by SP1 of x onto rot(h5, -t4) rot(h4, -t3) y (the turns
-    # by the cosines and sines the angles came from: each answer carries the rounding of the one before, so the
-    # three make R36 to rounding also near the singular wrist, as the SP2 of h6 onto v did, :func:`_wrist_sp2`; its
-    # four SP1s and two turns by sine and cosine a branch took 172 ns a call, this 164; the Kinova's spherical core
-    # 1.37 -> 1.25 µs a target, 2026-12-07; the answers within 6e-12 of that form's)
-    bc0 = h4[1] * h5[2] - h4[2] * h5[1]          # h5 × h6
-    bc1 = h4[2] * h5[0] - h4[0] * h5[2]
-    bc2 = h4[0] * h5[1] - h4[1] * h5[0]
-    ab = h3[0] * h4[0] + h3[1] * h4[1] + h3[2] * h4[2]
-    bc = h4[0] * h5[0] + h4[1] * h5[1] + h4[2] * h5[2]
-    gam = ab * bc
-    al = h3[0] * h5[0] + h3[1] * h5[1] + h3[2] * h5[2] - gam
-    be = h3[0] * bc0 + h3[1] * bc1 + h3[2] * bc2
-    r2 = al * al + be * be
-    if r2 < 1e-20:       # h4 ∥ h5 or h5 ∥ h6: no wrist of the class; the SP2 form answers
+    # q4, q5 (0-based t3, t4) by :func:`_sp2cs` (no sine or cosine called), q6 by SP1 of x onto
+    # rot(h5, -t4) rot(h4, -t3) y, turned by the cosines and sines the two angles came from: each answer carries the
+    # rounding of the one before, so the three make R36 to rounding also near the singular wrist, as the SP2 form did
+    # (:func:`_wrist_sp2`, which still answers where this has not two exact answers: a tangent, none, axes in line).
+    # That form's four SP1s and two turns by sine and cosine a branch took 172 ns a call, this 164; the Kinova's
+    # spherical core 1.37 -> 1.25 µs a target, 2026-12-07; the answers within 6e-12 of that form's.
+    ok, r0, r1 = _sp2cs(v[0], v[1], v[2], h5[0], h5[1], h5[2], h3, h4)
+    if not ok:
         return _wrist_sp2(h3, h4, h5, W, S)
-    e = h3[0] * v[0] + h3[1] * v[1] + h3[2] * v[2] - gam
-    disc = r2 - e * e
-    ls = disc < -1e-14 * r2
-    if disc > 0.0:
-        m = 2
-        sq = math.sqrt(disc)
-    else:                # tangent, or no solution (least squares: the nearest t4)
-        m = 1
-        sq = 0.0
-        e = math.copysign(math.sqrt(r2), e)
+    ls = False
     w = S[3]
-    for i in range(m):
-        sg = sq if i == 0 else -sq
-        c4 = (al * e - be * sg) / r2
-        s4 = (be * e + al * sg) / r2
-        t4 = _atan2(s4, c4)
-        _turn_to(h4, s4, c4, h5, w)            # rot(h5, t4) h6
-        t3, c3, s3 = _tsp1_cs(w, v, h3)
+    for i in range(2):
+        t3, c3, s3, t4, c4, s4 = r0 if i == 0 else r1
         _turn_to(h3, -s3, c3, y, w)            # rot(h4, -t3) y
         _turn_to(h4, -s4, c4, w, S[4])         # then rot(h5, -t4)
         u = S[4]
@@ -316,13 +293,14 @@ def _wrist_from(h3, h4, h5, q3ref, W, S, M):
         W[i, 0] = t3
         W[i, 1] = t4
         W[i, 2] = q5
-        ls = bool(ls) or bool(l2)
-    return m, ls, False
+        ls = ls or bool(l2)
+    return 2, ls, False
 
 
 def _wrist_sp2(h3, h4, h5, W, S):
-    """The non-singular wrist of :func:`_wrist_from` by SP2 of ``h6`` onto ``v`` (t3, t4), then SP1 for t5: the
-    form for axes in line (h4 ∥ h5 or h5 ∥ h6), where the closed form of :func:`_wrist_from` has no equation."""
+    """The non-singular wrist of :func:`_wrist_from` by SP2 of ``h6`` onto ``v`` (t3, t4: :func:`_sp2s`), then SP1
+    for t5: where :func:`_sp2cs` has not two exact answers (a tangent, none: its least-squares answers; axes in
+    line)."""
     v = S[0]
     x = S[1]
     y = S[2]
@@ -342,11 +320,50 @@ def _wrist_sp2(h3, h4, h5, W, S):
     return m, ls, False
 
 
+def _sp2cs(v0, v1, v2, c0, c1, c2, A, B):
+    """``rot(A, a) rot(B, b) c = v`` for unit ``v``, ``c`` (SP2 in the form of :func:`.subproblems.sp2`):
+    ``(True, s0, s1)``, its two solutions ``s = (a, cos a, sin a, b, cos b, sin b)`` in ``sp2``'s order, or
+    ``(False, ...)`` where it has not two exact ones (a tangent, none, ``A ∥ B`` or ``B ∥ c``: the caller then takes
+    ``sp2`` itself, whose least-squares answers stay as they were).
+
+    ``b`` first, from the one equation it meets alone, ``Aᵀ rot(B, b) c = Aᵀ v`` (``rot(A, a)`` keeps A):
+    ``α cos b + β sin b = e``, its cosine and sine in closed form; then ``a`` by SP1 of ``rot(B, b) c`` onto
+    ``v``, turned by that cosine and sine. No sine or cosine called (``sp2``: four SP1s, and the callers' turns a
+    sine and cosine each). Compiled inline into its callers (:data:`.solvers.INLINE`)."""
+    bc0 = B[1] * c2 - B[2] * c1          # B × c
+    bc1 = B[2] * c0 - B[0] * c2
+    bc2 = B[0] * c1 - B[1] * c0
+    ab = A[0] * B[0] + A[1] * B[1] + A[2] * B[2]
+    gam = ab * (B[0] * c0 + B[1] * c1 + B[2] * c2)
+    al = A[0] * c0 + A[1] * c1 + A[2] * c2 - gam
+    be = A[0] * bc0 + A[1] * bc1 + A[2] * bc2
+    r2 = al * al + be * be
+    e = A[0] * v0 + A[1] * v1 + A[2] * v2 - gam
+    disc = r2 - e * e
+    if not (r2 >= 1e-20 and disc > 1e-14 * r2):
+        z = (0.0, 1.0, 0.0, 0.0, 1.0, 0.0)
+        return False, z, z
+    sq = math.sqrt(disc)
+    return True, _sp2cs_one(v0, v1, v2, c0, c1, c2, A, B, al, be, e, r2, sq), \
+        _sp2cs_one(v0, v1, v2, c0, c1, c2, A, B, al, be, e, r2, -sq)
+
+
+def _sp2cs_one(v0, v1, v2, c0, c1, c2, A, B, al, be, e, r2, sg):
+    """One solution of :func:`_sp2cs` (``sg``: ± the root of its discriminant)."""
+    cb = (al * e - be * sg) / r2
+    sb = (be * e + al * sg) / r2
+    u = _trot_cs(B, cb, sb, (c0, c1, c2))        # rot(B, b) c
+    ta, ca, sa = _tsp1_cs(u, (v0, v1, v2), A)
+    return ta, ca, sa, _atan2(sb, cb), cb, sb
+
+
 # ------------------------------------------------------------------ spherical wrist: position
-def _pos_two_intersecting(H, P, prism2, p0W, Qp, LSp, V):
+def _pos_two_intersecting(H, P, prism2, p0W, Qp, LSp, V, Cp, Sp):
     """Axes 1, 2 meet (P[1] = 0): ``p0W = rot(h1, q1) rot(h2, q2) (P2 + rot(h3, q3) P3)``
     (joint 3 prismatic: ``P2 + q3 h3 + P3``). ``V (3, 3)``: work rows (-P2, rot(h3, q3) P3, the point ``w``).
-    Makes no array (SP3 as scalars, :func:`.subproblems._sp3s`): compiled without reference counts."""
+    ``Cp``, ``Sp`` (8, 3): the cosines and sines of each solution's angles, for the spherical core's turns (q1, q2
+    from :func:`_sp2cs`'s algebra; q3's from the one sine and cosine its own turn takes). Makes no array (SP3 as
+    scalars, :func:`.subproblems._sp3s`): compiled without reference counts."""
     h0 = H[0]
     h1 = H[1]
     h2 = H[2]
@@ -376,19 +393,48 @@ def _pos_two_intersecting(H, P, prism2, p0W, Qp, LSp, V):
     m = 0
     for j in range(n2):
         t2j = t20 if j == 0 else t21
+        s3 = 0.0
+        c3 = 1.0
         if prism2:
             for i in range(3):
                 w[i] = P[2, i] + t2j * h2[i] + P[3, i]
         else:
-            _rot_to(h2, t2j, P[3], r3)
+            s3, c3 = _sincos(t2j)
+            _turn_to(h2, s3, c3, P[3], r3)
             for i in range(3):
                 w[i] = P[2, i] + r3[i]
+        # (q1, q2) by SP2 of w onto p0W: _sp2cs where it has two exact answers and the lengths agree, else sp2's
+        # scalar form (its least-squares answers as they were), the cosines and sines then by _sincos
+        n1 = d
+        nw = _norm(w)
+        ok = n1 > _SP_TINY and nw > _SP_TINY and not abs(n1 - nw) > _SP_TOL * max(n1, nw)
+        if ok:
+            ok, r0, r1 = _sp2cs(p0W[0] / n1, p0W[1] / n1, p0W[2] / n1, w[0] / nw, w[1] / nw, w[2] / nw, h0, h1)
+        if ok:
+            for i in range(2):
+                a, ca, sa, b, cb, sb = r0 if i == 0 else r1
+                Qp[m, 0] = a
+                Qp[m, 1] = b
+                Qp[m, 2] = t2j
+                Cp[m, 0] = ca
+                Sp[m, 0] = sa
+                Cp[m, 1] = cb
+                Sp[m, 1] = sb
+                Cp[m, 2] = c3
+                Sp[m, 2] = s3
+                LSp[m] = bool(ls2)
+                m += 1
+            continue
         a0, a1, b0, b1, n, ls = _sp2s(p0W[0], p0W[1], p0W[2], w[0], w[1], w[2], -h0[0], -h0[1], -h0[2],
                                       h1[0], h1[1], h1[2])
         for i in range(n):
             Qp[m, 0] = a0 if i == 0 else a1
             Qp[m, 1] = b0 if i == 0 else b1
             Qp[m, 2] = t2j
+            Sp[m, 0], Cp[m, 0] = _sincos(Qp[m, 0])
+            Sp[m, 1], Cp[m, 1] = _sincos(Qp[m, 1])
+            Cp[m, 2] = c3
+            Sp[m, 2] = s3
             LSp[m] = bool(ls) or bool(ls2)
             m += 1
     return m
@@ -494,15 +540,17 @@ def _core_spherical(kind, H, P, RnT, prism, R, p, qref, N, Q, LS, SG, v3, m3, LS
     ``kind``: 0 axes 1, 2 meet; 1 axes 2 ∥ 3; 2 general (SP5).
 
     Its work arrays come from the caller (:func:`.solvers_check._core_in`, which zeroes them), zeros:
-    ``v3 (25, 3)`` for the small vectors (rows of a 2-D or 3-D array, not reshaped slices of one vector, whose
+    ``v3 (41, 3)`` for the small vectors (rows of a 2-D or 3-D array, not reshaped slices of one vector, whose
     reshape is a call of its own: the position solutions Qp (8, 3), the wrist's W (2, 3) and its work S (5, 3), p_0W
-    (3), the 3R position's work rows V (5, 3), R_06 h6 and R_06 x and their turns (4, 3)), ``m3 (4, 3, 3)`` for the
+    (3), the 3R position's work rows V (5, 3), R_06 h6 and R_06 x and their turns (4, 3), the cosines and sines of
+    the positions' angles Cp, Sp (8, 3)), ``m3 (4, 3, 3)`` for the
     matrices (the wrist's work M (3, 3, 3), R_06 (3, 3)), ``LSp (8,)`` the positions' least-squares flags. It makes
     no array itself (the general position's SP5 makes its own, in a function of its own), so it is compiled without
     reference counts: every row it takes of these arrays, ~40 a target, was counted up and down with an atomic
     instruction."""
     Qp, W, S, p0W, V = v3[0:8], v3[8:10], v3[10:15], v3[15], v3[16:21]
     a, b, ta, tb = v3[21], v3[22], v3[23], v3[24]
+    Cp, Sp = v3[25:33], v3[33:41]
     M, R06 = m3[0:3], m3[3]
     for i in range(3):   # R_06 = R RnTᵀ and p_0W = p - P_0 - R_06 P_6, term by term as _mm and _mv
         for j in range(3):
@@ -515,20 +563,29 @@ def _core_spherical(kind, H, P, RnT, prism, R, p, qref, N, Q, LS, SG, v3, m3, LS
     _perp_to(H[5], S[1])
     _mv_to(R06, H[5], a)
     _mv_to(R06, S[1], b)
-    if kind == 0:
-        mp = _pos_two_intersecting(H, P, prism[2], p0W, Qp, LSp, V)
-    elif kind == 1:
-        mp = _pos_two_parallel(H, P, p0W, Qp, LSp, V)
+    if kind == 0:   # (the cosines and sines of the angles come with them)
+        mp = _pos_two_intersecting(H, P, prism[2], p0W, Qp, LSp, V, Cp, Sp)
     else:
-        mp = _pos_general(H, P, p0W, N, Qp, LSp, V)
+        if kind == 1:
+            mp = _pos_two_parallel(H, P, p0W, Qp, LSp, V)
+        else:
+            mp = _pos_general(H, P, p0W, N, Qp, LSp, V)
+        for i in range(mp):
+            for k in range(3):
+                Sp[i, k], Cp[i, k] = _sincos(Qp[i, k])
     m = 0
     for i in range(mp):
-        _rot2_to(H[0], -Qp[i, 0], a, b, ta, tb)   # R03ᵀ = rot(h3, -q3) rot(h2, -q2) rot(h1, -q1)
+        # R03ᵀ = rot(h3, -q3) rot(h2, -q2) rot(h1, -q1), each turn of the two vectors by the angle's cosine and sine
+        _turn_to(H[0], -Sp[i, 0], Cp[i, 0], a, ta)
+        _turn_to(H[0], -Sp[i, 0], Cp[i, 0], b, tb)
         if prism[2]:
-            _rot2_to(H[1], -Qp[i, 1], ta, tb, S[0], S[2])
+            _turn_to(H[1], -Sp[i, 1], Cp[i, 1], ta, S[0])
+            _turn_to(H[1], -Sp[i, 1], Cp[i, 1], tb, S[2])
         else:
-            _rot2_to(H[1], -Qp[i, 1], ta, tb, S[3], S[4])
-            _rot2_to(H[2], -Qp[i, 2], S[3], S[4], S[0], S[2])
+            _turn_to(H[1], -Sp[i, 1], Cp[i, 1], ta, S[3])
+            _turn_to(H[1], -Sp[i, 1], Cp[i, 1], tb, S[4])
+            _turn_to(H[2], -Sp[i, 2], Cp[i, 2], S[3], S[0])
+            _turn_to(H[2], -Sp[i, 2], Cp[i, 2], S[4], S[2])
         mw, lsw, sing = _wrist_from(H[3], H[4], H[5], qref[3], W, S, M)
         for j in range(mw):
             if m >= Q.shape[0]:
