@@ -141,3 +141,31 @@ def test_close_wrapped_is_close_on_wrapped_rows(a, shift, sign, prism):
     pr = np.array(prism)
     W = np.stack([np.where(pr, a, [SC._wrap(x) for x in a]), np.where(pr, b, [SC._wrap(x) for x in b])])
     assert SC._close_wrapped(W, 0, 1, pr) == SC._close(W[0], W[1], pr)
+
+
+coef = st.floats(-3.0, 3.0, allow_nan=False)
+
+
+@settings(max_examples=400, deadline=None)
+@given(coef, coef, coef, st.sampled_from([None, "tangent+", "tangent-", "flat"]))
+def test_trig1cs_is_trig1s_with_cosines(a, b, c, case):
+    """:func:`_trig1cs` (the closed-form cores' ``a cos θ + b sin θ = c``) gives :func:`_trig1s`'s count, flag and
+    angles (to rounding, in its order), each with its own cosine and sine; every exact answer meets the equation."""
+    from armkit.ik.geometric import subproblems as SP
+
+    if case == "tangent+":
+        c = math.hypot(a, b)
+    elif case == "tangent-":
+        c = -math.hypot(a, b)
+    elif case == "flat":
+        a = b = 0.0
+    scale = max(abs(a) + abs(b) + abs(c), 1.0)
+    t0, t1, n, ls = SP._trig1s(a, b, c, scale)
+    n2, ls2, r0, r1 = SP._trig1cs(a, b, c, scale)
+    assert (n2, ls2) == (n, ls)
+    for want, (th, ct, sn) in zip((t0, t1)[:n], (r0, r1)[:n]):
+        assert abs((th - want + np.pi) % (2 * np.pi) - np.pi) < 1e-7 + 1e-9 / max(math.hypot(a, b), 1e-300)
+        assert -math.pi < th <= math.pi
+        assert ct == pytest.approx(math.cos(th), abs=1e-12) and sn == pytest.approx(math.sin(th), abs=1e-12)
+        if not ls and math.hypot(a, b) > 1e-6:
+            assert a * ct + b * sn == pytest.approx(c, abs=1e-12 * scale)

@@ -10,8 +10,8 @@ import math
 import numpy as np
 
 from ._kernels import _sincos
-from .solvers_wrist import SING, _mm, _mtm_to, _mtv, _mv, _mv_to, _perp_to, _rot_to, _rotm_to, _sp1s, _turn_to
-from .subproblems import _dot, _rot_into, _sp3s, _sp4s, _wrap, rotm, sp1, sp6
+from .solvers_wrist import SING, _mm, _mtm_to, _mtv, _mv, _mv_to, _perp_to, _rotm_to, _sp1s, _sp1s_cs, _turn_to
+from .subproblems import _dot, _sp3cs, _sp4cs, _wrap, rotm, sp1, sp6
 
 
 # ------------------------------------------------------------------------ three parallel axes
@@ -20,7 +20,7 @@ def _core_three_parallel(kind, H, P, RnT, prism, R, p, qref, N, Q, LS, SG, v3, m
     4 axes 5, 6 meet (P[5] = 0: SP4, SP4).
 
     Its work arrays come from the caller (:func:`.solvers_check._core_in`, which zeroes them):
-    ``v3 (14, 3)`` for the call's small vectors, ``m3 (4, 3, 3)`` for its matrices (R_06, and those of a singular
+    ``v3 (22, 3)`` for the call's small vectors (rows 14-21: the pairs' cosines and sines), ``m3 (4, 3, 3)`` for its matrices (R_06, and those of a singular
     wrist), ``t14 (2, 4)`` and ``ls14 (4,)`` for the (q1, q5) pairs (each array made and freed costs ~40 ns and is a
     call the compiler cannot see through); the rotations by the FK's sine and cosine
     (:func:`.solvers_wrist._rotm_to`), the subproblems as scalars (``_sp1s``, ``_sp3s``, ``_sp4s``). What makes
@@ -48,23 +48,31 @@ def _core_three_parallel(kind, H, P, RnT, prism, R, p, qref, N, Q, LS, SG, v3, m
     _mv_to(R06, h5, e6)
     d1 = _dot(h1, sP)
     T0, T4 = t14[0], t14[1]   # the (q1, q5) pairs
+    CS0, CS4 = v3[14:18], v3[18:22]   # their cosines and sines (columns 0, 1)
     m14 = 0
-    if kind == 4:
-        t00, t01, n0, l0 = _sp4s(h1, p16, mh0, d1 + _dot(h1, P[5]))
+    if kind == 4:   # each angle with its cosine and sine (_sp4cs: no acos, no sine or cosine called)
+        n0, l0, r00, r01 = _sp4cs(h1, p16, mh0, d1 + _dot(h1, P[5]))
         for i in range(n0):
-            t0 = t00 if i == 0 else t01
-            # rot(h1, -q1) e6 by libm's sine and cosine (subproblems._rot_into, not the FK's polynomial):
-            # at a singular wrist (q5 = 0) SP4's two roots meet, where 1 ulp more or less in its right side moves
-            # them 1e-8 apart and past the singularity test
-            _rot_into(h0, -t0, e6, a)
-            t40, t41, n4, l4 = _sp4s(h1, h5, h4, _dot(h1, a))
+            t0, ct0, st0 = r00 if i == 0 else r01
+            # rot(h0, -t0) e6 (t0: the angle about -h0, as SP4 was asked), by t0's cosine and sine (before
+            # 2026-12-07: libm's sin and cos of t0)
+            _turn_to(h0, -st0, ct0, e6, a)
+            n4, l4, r40, r41 = _sp4cs(h1, h5, h4, _dot(h1, a))
             for j in range(n4):
+                t4, ct4, st4 = r40 if j == 0 else r41
                 T0[m14] = t0
-                T4[m14] = t40 if j == 0 else t41
+                T4[m14] = t4
+                CS0[m14, 0] = ct0
+                CS0[m14, 1] = st0
+                CS4[m14, 0] = ct4
+                CS4[m14, 1] = st4
                 ls14[m14] = bool(l0) or bool(l4)
                 m14 += 1
     else:
         m14 = _pairs_sp6(h0, h1, h4, h5, p16, P[5], e6, d1, T0, T4, ls14)
+        for i in range(m14):
+            CS0[i, 1], CS0[i, 0] = _sincos(T0[i])
+            CS4[i, 1], CS4[i, 0] = _sincos(T4[i])
     _perp_to(h5, x5)
     _mv_to(R06, x5, g6)
     m = 0
@@ -74,8 +82,8 @@ def _core_three_parallel(kind, H, P, RnT, prism, R, p, qref, N, Q, LS, SG, v3, m
         # R_16 = rot(H[0], q0)ᵀ R_06 and R_45 = rot(H[4], q4) act on vectors only: R_16 H[5] (a), R_16 x (f) and
         # rot(H[0], q0)ᵀ p16 (d) turned by -q0, R_45 H[5] (u) and R_45 P5 (c) by q4; the matrices for a singular
         # wrist alone
-        s0, c0 = _sincos(q0)
-        s4, c4 = _sincos(q4)
+        c0, s0 = CS0[i, 0], CS0[i, 1]
+        c4, s4 = CS4[i, 0], CS4[i, 1]
         _turn_to(h0, -s0, c0, e6, a)
         _turn_to(h0, -s0, c0, g6, f)
         _turn_to(h0, -s0, c0, p16, d)
@@ -93,10 +101,9 @@ def _core_three_parallel(kind, H, P, RnT, prism, R, p, qref, N, Q, LS, SG, v3, m
             _rotm_to(h4, q4, R45)
             th, lt = _singular_wrist(h1, h5, q5, R45, R16, b)
             l5 = False
+            sh, ch = _sincos(th)
         else:
-            th, lt = _sp1s(u[0], u[1], u[2], a[0], a[1], a[2], h1[0], h1[1], h1[2])
-        sh, ch = _sincos(th)
-        if not sing:
+            th, ch, sh, lt = _sp1s_cs(u[0], u[1], u[2], a[0], a[1], a[2], h1[0], h1[1], h1[2])
             _turn_to(h1, -sh, ch, f, w)      # (rot(H[1], th) R_45)ᵀ R_16 x, turn by turn
             _turn_to(h4, -s4, c4, w, b)
             q5, l5 = _sp1s(x5[0], x5[1], x5[2], b[0], b[1], b[2], h5[0], h5[1], h5[2])
@@ -106,10 +113,10 @@ def _core_three_parallel(kind, H, P, RnT, prism, R, p, qref, N, Q, LS, SG, v3, m
         _turn_to(h1, sh, ch, b, c)
         for k in range(3):
             d[k] = d[k] - P[1, k] - c[k]
-        t20, t21, n2, l2 = _sp3s(P[3], mP2, H[2], math.sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]))
+        n2, l2, r20, r21 = _sp3cs(P[3], mP2, H[2], math.sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]))
         for j in range(n2):
-            t2 = t20 if j == 0 else t21
-            _rot_to(H[2], t2, P[3], a)
+            t2, ct2, st2 = r20 if j == 0 else r21
+            _turn_to(H[2], st2, ct2, P[3], a)
             for k in range(3):
                 w[k] = P[2, k] + a[k]
             q1, l1 = _sp1s(w[0], w[1], w[2], d[0], d[1], d[2], h1[0], h1[1], h1[2])

@@ -163,7 +163,15 @@ def _perp_to(h, out):
 # SP1 and SP2 on scalars (no temporary arrays: the wrist and the position of the sweep call them ~10 times per
 # chain); the arithmetic of :func:`.subproblems.sp1` and :func:`.subproblems.sp2`, so the same bits
 def _sp1s(p0, p1, p2, q0, q1, q2, k0, k1, k2):
-    """:func:`.subproblems.sp1` of ``p1 = (p0, p1, p2)``, ``p2 = (q0, q1, q2)``, ``k = (k0, k1, k2)``: ``(θ, ls)``."""
+    """:func:`.subproblems.sp1` of ``p1 = (p0, p1, p2)``, ``p2 = (q0, q1, q2)``, ``k = (k0, k1, k2)``: ``(θ, ls)``
+    (:func:`_sp1s_cs` without the cosine and sine, which the compiler then drops)."""
+    theta, _, _, ls = _sp1s_cs(p0, p1, p2, q0, q1, q2, k0, k1, k2)
+    return theta, ls
+
+
+def _sp1s_cs(p0, p1, p2, q0, q1, q2, k0, k1, k2):
+    """:func:`_sp1s` with the angle's cosine and sine from the pair ``atan2`` took (as :func:`._kernels._tsp1_cs`):
+    ``(θ, cos θ, sin θ, ls)``."""
     kp1 = k0 * p0 + k1 * p1 + k2 * p2
     kp2 = k0 * q0 + k1 * q1 + k2 * q2
     x0 = k1 * p2 - k2 * p1               # k × p1
@@ -182,7 +190,10 @@ def _sp1s(p0, p1, p2, q0, q1, q2, k0, k1, k2):
     n2 = math.sqrt(r0 * r0 + r1 * r1 + r2 * r2)
     scale = max(math.sqrt(p0 * p0 + p1 * p1 + p2 * p2), math.sqrt(q0 * q0 + q1 * q1 + q2 * q2), _SP_TINY)
     ls = abs(n1 - n2) > _SP_TOL * scale or abs(kp1 - kp2) > _SP_TOL * scale
-    return theta, ls
+    r = math.sqrt(s * s + c * c)
+    if r > 0.0:
+        return theta, c / r, s / r, ls
+    return theta, 1.0, 0.0, ls
 
 
 def _sp2s(a0, a1, a2, b0, b1, b2, k0, k1, k2, l0, l1, l2):

@@ -175,6 +175,52 @@ def _trig1s(a, b, c, scale):
     return _wrap(phi if x > 0.0 else phi + math.pi), 0.0, 1, abs(abs(c) - r) > TOL * scale   # the extreme nearest c
 
 
+def _trig1cs(a, b, c, scale):
+    """:func:`_trig1s` with each angle's cosine and sine: ``(count, ls, (θ0, cos θ0, sin θ0), (θ1, cos θ1, sin θ1))``,
+    in its order (θ0 = φ + w, θ1 = φ − w for ``φ = atan2(b, a)``, ``w = acos(c / r)``), the cosines and sines by
+    the sum formulas from ``a / r``, ``b / r``, ``c / r`` and ``√(1 − (c / r)²)``, each angle by ``atan2`` of its
+    own: no ``acos`` (libm's, ~20 ns) and no sine or cosine for the caller's turns. The angles agree with
+    :func:`_trig1s`'s to rounding; one answer where ``c / r`` is ±1 exactly, as there. For the closed-form cores
+    (:mod:`.solvers_parallel`); the searches keep :func:`_trig1s`."""
+    r = math.sqrt(a * a + b * b)
+    if r <= TOL * scale:                 # no dependence on θ: any θ (c ≈ 0) or none
+        z = (0.0, 1.0, 0.0)
+        return 1, abs(c) > TOL * scale, z, z
+    ca = a / r
+    sa = b / r
+    x = c / r
+    if abs(x) <= 1.0:
+        sw = math.sqrt(1.0 - x * x)
+        c0 = ca * x - sa * sw
+        s0 = sa * x + ca * sw
+        t0 = (_wrap(_atan2(s0, c0)), c0, s0)
+        if sw == 0.0:
+            return 1, False, t0, t0
+        c1 = ca * x + sa * sw
+        s1 = sa * x - ca * sw
+        return 2, False, t0, (_wrap(_atan2(s1, c1)), c1, s1)
+    if x < 0.0:                          # the extreme nearest c
+        ca = -ca
+        sa = -sa
+    t0 = (_wrap(_atan2(sa, ca)), ca, sa)
+    return 1, abs(abs(c) - r) > TOL * scale, t0, t0
+
+
+def _sp4cs(h, p, k, d):
+    """:func:`_sp4s` by :func:`_trig1cs` (each angle with its cosine and sine)."""
+    a, b, c = _lin(h, k, p)
+    scale = max(_norm(h) * _norm(p), abs(d), _TINY)
+    return _trig1cs(a, b, d - c, scale)
+
+
+def _sp3cs(p1, p2, k, d):
+    """:func:`_sp3s` by :func:`_trig1cs` (each angle with its cosine and sine)."""
+    a, b, c = _lin(p2, k, p1)
+    target = 0.5 * (_dot(p1, p1) + _dot(p2, p2) - d * d)
+    scale = max(_dot(p1, p1) + _dot(p2, p2) + d * d, _TINY)
+    return _trig1cs(a, b, target - c, scale)
+
+
 def _two(t0, t1):
     """The array ``(t0, t1)`` (2,) that :func:`_trig1`, :func:`sp3` and :func:`sp4` return of their scalar forms."""
     t = np.zeros(2)
@@ -494,8 +540,9 @@ def sp5(p0, p1, p2, p3, k1, k2, k3):
 
 
 # ---------------------------------------------------------------------------------- compiling
-KERNELS = ("_dot", "_cross", "_norm", "_wrap", "_rot_into", "rot", "rotm", "_lin", "sp1", "_trig1s", "_two",
-           "_trig1", "_sp4s", "sp4", "_sp3s", "sp3", "sp2", "_quartic_roots", "_res2", "_newton2", "_trig2", "sp6", "sp5")
+KERNELS = ("_dot", "_cross", "_norm", "_wrap", "_rot_into", "rot", "rotm", "_lin", "sp1", "_trig1s", "_trig1cs",
+           "_two", "_trig1", "_sp4s", "_sp4cs", "sp4", "_sp3s", "_sp3cs", "sp3", "sp2", "_quartic_roots", "_res2",
+           "_newton2", "_trig2", "sp6", "sp5")
 """The functions :func:`kernels` compiles, callees before callers."""
 
 
