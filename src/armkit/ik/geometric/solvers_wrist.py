@@ -15,7 +15,7 @@ from ._kernels import _atan2, _sincos, _trot_cs, _tsp1_cs
 from .search import MAXROOT, SW, _search
 from .subproblems import TOL as _SP_TOL
 from .subproblems import _TINY as _SP_TINY
-from .subproblems import _cross, _dot, _norm, _rot_into, _sp3s, _sp4s, _wrap, rot, sp1, sp5
+from .subproblems import _cross, _dot, _norm, _sp3cs, _sp3s, _sp4cs, _wrap, rot, sp1, sp5
 
 SING = 1e-10
 """``‖h4 × R_36 h6‖`` below this: the wrist is singular (axes 4 and 6 in line)."""
@@ -451,11 +451,12 @@ def _pos_two_intersecting(H, P, prism2, p0W, Qp, LSp, V, Cp, Sp):
     return m
 
 
-def _pos_two_parallel(H, P, p0W, Qp, LSp, V):
+def _pos_two_parallel(H, P, p0W, Qp, LSp, V, Cp, Sp):
     """Axes 2 ∥ 3: the axis-2 component of ``rot(h1, q1)ᵀ p0W`` fixes q1 (SP4), then SP3, SP1. ``V (5, 3)``: work
-    rows (-h1, -P2, the point ``v``, ``rot(h3, q3) P3``, the point ``w``). Makes no array (the subproblems as
-    scalars, the rotations by :func:`.subproblems._rot_into`: the numbers of ``sp4``, ``rot``, ``sp3`` and ``sp1``):
-    compiled without reference counts."""
+    rows (-h1, -P2, the point ``v``, ``rot(h3, q3) P3``, the point ``w``). ``Cp``, ``Sp`` (8, 3): each solution's
+    cosines and sines, which the subproblems give with the angles (:func:`.subproblems._sp4cs`, ``_sp3cs``,
+    :func:`_sp1s_cs`) and the turns here and in the spherical core take (before 2026-12-07: libm's sine and cosine
+    for the turns here, the FK's for the core's). Makes no array: compiled without reference counts."""
     h0 = H[0]
     h1 = H[1]
     h2 = H[2]
@@ -465,23 +466,29 @@ def _pos_two_parallel(H, P, p0W, Qp, LSp, V):
         mP2[k] = -P[2, k]
     d1 = h1[0] * ((P[1, 0] + P[2, 0]) + P[3, 0]) + h1[1] * ((P[1, 1] + P[2, 1]) + P[3, 1]) \
         + h1[2] * ((P[1, 2] + P[2, 2]) + P[3, 2])                      # _dot(h1, P[1] + P[2] + P[3])
-    t00, t01, n0, ls0 = _sp4s(h1, p0W, mh0, d1)
+    n0, ls0, r00, r01 = _sp4cs(h1, p0W, mh0, d1)
     m = 0
     for i in range(n0):
-        t0 = t00 if i == 0 else t01
-        _rot_into(h0, -t0, p0W, v)
+        t0, c0, s0 = r00 if i == 0 else r01
+        _turn_to(h0, -s0, c0, p0W, v)       # rot(h1, -q1) p0W
         for k in range(3):
             v[k] = v[k] - P[1, k]
-        t20, t21, n2, ls2 = _sp3s(P[3], mP2, h2, _norm(v))
+        n2, ls2, r20, r21 = _sp3cs(P[3], mP2, h2, _norm(v))
         for j in range(n2):
-            t2 = t20 if j == 0 else t21
-            _rot_into(h2, t2, P[3], r3)
+            t2, c2, s2 = r20 if j == 0 else r21
+            _turn_to(h2, s2, c2, P[3], r3)
             for k in range(3):
                 w[k] = P[2, k] + r3[k]
-            t1, ls1 = _sp1s(w[0], w[1], w[2], v[0], v[1], v[2], h1[0], h1[1], h1[2])
+            t1, c1, s1, ls1 = _sp1s_cs(w[0], w[1], w[2], v[0], v[1], v[2], h1[0], h1[1], h1[2])
             Qp[m, 0] = t0
             Qp[m, 1] = t1
             Qp[m, 2] = t2
+            Cp[m, 0] = c0
+            Sp[m, 0] = s0
+            Cp[m, 1] = c1
+            Sp[m, 1] = s1
+            Cp[m, 2] = c2
+            Sp[m, 2] = s2
             LSp[m] = bool(ls0) or bool(ls2) or bool(ls1)
             m += 1
     return m
@@ -498,8 +505,8 @@ def _pos_general(H, P, p0W, N, Qp, LSp, V):
     (:func:`_pos_search`)."""
     h0 = H[0]
     h1 = H[1]
-    if _norm(_cross(h1, H[2])) < 1e-9:
-        return _pos_two_parallel(H, P, p0W, Qp, LSp, V)
+    if _norm(_cross(h1, H[2])) < 1e-9:   # (the cosines and sines: rows this caller does not read)
+        return _pos_two_parallel(H, P, p0W, Qp, LSp, V, np.empty((8, 3)), np.empty((8, 3)))
     if _norm(_cross(h0, h1)) < 1e-9:
         return _pos_search(H, P, p0W, N, Qp, LSp)
     size = _norm(P[1]) + _norm(P[2]) + _norm(P[3]) + _norm(p0W) + 1e-300
@@ -576,11 +583,10 @@ def _core_spherical(kind, H, P, RnT, prism, R, p, qref, N, Q, LS, SG, v3, m3, LS
     _mv_to(R06, S[1], b)
     if kind == 0:   # (the cosines and sines of the angles come with them)
         mp = _pos_two_intersecting(H, P, prism[2], p0W, Qp, LSp, V, Cp, Sp)
+    elif kind == 1:
+        mp = _pos_two_parallel(H, P, p0W, Qp, LSp, V, Cp, Sp)
     else:
-        if kind == 1:
-            mp = _pos_two_parallel(H, P, p0W, Qp, LSp, V)
-        else:
-            mp = _pos_general(H, P, p0W, N, Qp, LSp, V)
+        mp = _pos_general(H, P, p0W, N, Qp, LSp, V)
         for i in range(mp):
             for k in range(3):
                 Sp[i, k], Cp[i, k] = _sincos(Qp[i, k])
