@@ -159,3 +159,27 @@ def test_the_lean_branches_are_the_solve_s(name):
     assert got is not None
     assert np.array_equal(got[0], raw.q)
     assert np.array_equal(np.asarray(cf.branch_labels, dtype=object)[got[1]], raw.label)
+
+
+def test_near_the_singular_wrist_few_targets_leave_the_one_call_kernel():
+    """Targets with ``|q5| < 1e-3`` on the rounded Puma: the one-call kernel answers nearly all itself. A branch whose
+    FK error asks for the touch-up sends its target the batched way (and a batch holding one such target, whole).
+    Near the singular wrist the second wrist angle is ill-conditioned: ``_sp2cs`` leaves the wrist to SP2 there
+    (``solvers_wrist.NEAR_TANGENT``); without that bound 20 % of these targets left the kernel (2026-12-07), with it
+    6 %, as with SP2 alone."""
+    from armkit.ik.analytic import _one_buffers, one_call_record
+
+    _, rounded = _arms("puma560")
+    rng = np.random.default_rng(5)
+    q = rng.uniform(-np.pi, np.pi, (2000, 6))
+    q[:, 4] = rng.uniform(-1e-3, 1e-3, 2000)
+    T = armkit.fk(rounded, q)
+    armkit.ik_all(rounded, T[0])
+    c = one_call_record(rounded, closed_form(rounded))
+    assert c is not None and c.kernel is not None
+    fb, ib, bb = _one_buffers(c)
+    left = sum(bool(c.entry(np.ascontiguousarray(t).ravel(), c.q0, c.ctx, fb, ib, bb, c.wk) & 3) for t in T)
+    assert left <= 0.10 * len(T), left
+    # and every branch the batched way gives for them is verified
+    res = armkit.ik_all(rounded, T[:200], enforce_limits=False)
+    assert (res.success.any(axis=1)).all()

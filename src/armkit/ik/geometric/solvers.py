@@ -89,7 +89,7 @@ from .solvers_check import (CORE_M, CORE_V, EMPTY_RETRY, RETRIES, SHARP, _SPH_MI
 from .solvers_parallel import _core_three_parallel, _pairs_sp6, _singular_wrist  # noqa: F401
 from .solvers_search import (_core_spherical_middle, _core_two_intersecting_end, _core_two_parallel,  # noqa: F401
                              _target_rows)
-from .solvers_wrist import (SING, _core_spherical, _mm, _mm_to, _mtm, _mtm_to, _mtv, _mtv_to, _mv,  # noqa: F401
+from .solvers_wrist import (NEAR_TANGENT, SING, _core_spherical, _mm, _mm_to, _mtm, _mtm_to, _mtv, _mtv_to, _mv,  # noqa: F401
                             _mv_to, _perp, _perp_to, _pos_general, _pos_search, _pos_two_intersecting,
                             _pos_two_parallel, _rot2_to, _rot_to, _rotm_to, _turn_to, _SP_TINY, _SP_TOL, _sp1s,
                             _sp1s_cs, _sp2s, _sp2cs, _sp2cs_one, _wrist, _wrist_from, _wrist_sp2)

@@ -189,6 +189,10 @@ def _trig1cs(a, b, c, scale):
     ca = a / r
     sa = b / r
     x = c / r
+    if abs(x) <= 1.0 and 1.0 - x * x < 1e-4:   # near the tangent: _trig1s's angles (by acos, whose rounding there
+        # is no worse than √(1 − x²)'s and keeps the answers of before), their cosines and sines by libm
+        t0, t1, n, ls = _trig1s(a, b, c, scale)
+        return n, ls, (t0, math.cos(t0), math.sin(t0)), (t1, math.cos(t1), math.sin(t1))
     if abs(x) <= 1.0:
         sw = math.sqrt(1.0 - x * x)
         c0 = ca * x - sa * sw
