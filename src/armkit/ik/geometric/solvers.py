@@ -92,7 +92,7 @@ from .solvers_search import (_core_spherical_middle, _core_two_intersecting_end,
 from .solvers_wrist import (NEAR_TANGENT, SING, _core_spherical, _mm, _mm_to, _mtm, _mtm_to, _mtv, _mtv_to, _mv,  # noqa: F401
                             _mv_to, _perp, _perp_to, _pos_general, _pos_search, _pos_two_intersecting,
                             _pos_two_parallel, _rot2_to, _rot_to, _rotm_to, _turn_to, _SP_TINY, _SP_TOL, _sp1s,
-                            _sp1s_cs, _sp2s, _sp2cs, _sp2cs_one, _wrist, _wrist_from, _wrist_sp2)
+                            _sp1s_cs, _sp2s, _sp2cs, _sp2cs_one, _put_position, _wrist, _wrist_from, _wrist_sp2)
 from .subproblems import _cross, _dot, _norm, _wrap, rot, rotm, sp1, sp2, sp3, sp4, sp5, sp6  # noqa: F401
 
 __all__ = ["Solutions", "solve_batch", "align", "reverse", "polish", "spherical_two_intersecting", "spherical_two_parallel",
@@ -140,7 +140,7 @@ has none either); its position parts the same way; the spherical core itself (it
 INLINE = ("_fk_err_sc", "_pos_search",
           "_core_two_intersecting_end", "_core_two_parallel", "_core_spherical_middle", "_searched_core", "_solve",
           "_mv_to", "_mtv_to", "_mm_to", "_mtm_to", "_rotm_to", "_rot_to", "_rot2_to", "_turn_to", "_perp_to",
-          "_sp1s", "_sp1s_cs", "_close_wrapped", "_sp2cs", "_sp2cs_one", "_tsp1_cs")
+          "_sp1s", "_sp1s_cs", "_close_wrapped", "_sp2cs", "_sp2cs_one", "_tsp1_cs", "_put_position")
 """Kernels with one caller each (the FK of the candidates in ``_check``, a searched core in its ``_solve_*``, a
 closed-form one in ``_closed_core``, the 3R position in the spherical core, the dispatch in the batch loops):
 compiled inline into that caller (Numba's ``inline="always"``), not as functions of their own. Numba links a

@@ -376,6 +376,21 @@ def _sp2cs_one(v0, v1, v2, c0, c1, c2, A, B, al, be, e, r2, sg):
 
 
 # ------------------------------------------------------------------ spherical wrist: position
+def _put_position(Qp, Cp, Sp, LSp, m, q1, c1, s1, q2, c2, s2, q3, c3, s3, ls):
+    """Row ``m`` of a 3R position's solutions: the angles into ``Qp``, their cosines and sines into ``Cp``, ``Sp``,
+    the least-squares flag into ``LSp`` (compiled inline into the positions, :data:`.solvers.INLINE`)."""
+    Qp[m, 0] = q1
+    Qp[m, 1] = q2
+    Qp[m, 2] = q3
+    Cp[m, 0] = c1
+    Sp[m, 0] = s1
+    Cp[m, 1] = c2
+    Sp[m, 1] = s2
+    Cp[m, 2] = c3
+    Sp[m, 2] = s3
+    LSp[m] = ls
+
+
 def _pos_two_intersecting(H, P, prism2, p0W, Qp, LSp, V, Cp, Sp):
     """Axes 1, 2 meet (P[1] = 0): ``p0W = rot(h1, q1) rot(h2, q2) (P2 + rot(h3, q3) P3)``
     (joint 3 prismatic: ``P2 + q3 h3 + P3``). ``V (3, 3)``: work rows (-P2, rot(h3, q3) P3, the point ``w``).
@@ -431,29 +446,17 @@ def _pos_two_intersecting(H, P, prism2, p0W, Qp, LSp, V, Cp, Sp):
         if ok:
             for i in range(2):
                 a, ca, sa, b, cb, sb = r0 if i == 0 else r1
-                Qp[m, 0] = a
-                Qp[m, 1] = b
-                Qp[m, 2] = t2j
-                Cp[m, 0] = ca
-                Sp[m, 0] = sa
-                Cp[m, 1] = cb
-                Sp[m, 1] = sb
-                Cp[m, 2] = c3
-                Sp[m, 2] = s3
-                LSp[m] = bool(ls2)
+                _put_position(Qp, Cp, Sp, LSp, m, a, ca, sa, b, cb, sb, t2j, c3, s3, bool(ls2))
                 m += 1
             continue
         a0, a1, b0, b1, n, ls = _sp2s(p0W[0], p0W[1], p0W[2], w[0], w[1], w[2], -h0[0], -h0[1], -h0[2],
                                       h1[0], h1[1], h1[2])
         for i in range(n):
-            Qp[m, 0] = a0 if i == 0 else a1
-            Qp[m, 1] = b0 if i == 0 else b1
-            Qp[m, 2] = t2j
-            Sp[m, 0], Cp[m, 0] = _sincos(Qp[m, 0])
-            Sp[m, 1], Cp[m, 1] = _sincos(Qp[m, 1])
-            Cp[m, 2] = c3
-            Sp[m, 2] = s3
-            LSp[m] = bool(ls) or bool(ls2)
+            a = a0 if i == 0 else a1
+            b = b0 if i == 0 else b1
+            sa, ca = _sincos(a)
+            sb, cb = _sincos(b)
+            _put_position(Qp, Cp, Sp, LSp, m, a, ca, sa, b, cb, sb, t2j, c3, s3, bool(ls) or bool(ls2))
             m += 1
     return m
 
@@ -487,16 +490,7 @@ def _pos_two_parallel(H, P, p0W, Qp, LSp, V, Cp, Sp):
             for k in range(3):
                 w[k] = P[2, k] + r3[k]
             t1, c1, s1, ls1 = _sp1s_cs(w[0], w[1], w[2], v[0], v[1], v[2], h1[0], h1[1], h1[2])
-            Qp[m, 0] = t0
-            Qp[m, 1] = t1
-            Qp[m, 2] = t2
-            Cp[m, 0] = c0
-            Sp[m, 0] = s0
-            Cp[m, 1] = c1
-            Sp[m, 1] = s1
-            Cp[m, 2] = c2
-            Sp[m, 2] = s2
-            LSp[m] = bool(ls0) or bool(ls2) or bool(ls1)
+            _put_position(Qp, Cp, Sp, LSp, m, t0, c0, s0, t1, c1, s1, t2, c2, s2, bool(ls0) or bool(ls2) or bool(ls1))
             m += 1
     return m
 
