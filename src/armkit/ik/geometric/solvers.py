@@ -80,18 +80,18 @@ from .search import MAXROOT, SM, SW, TI, TP, _search  # noqa: F401  (in the kern
 from .search import N as _SEARCH_N
 from .search import kernels as _search_kernels
 from .solvers_chain import _jacobian, _log_vec, _points, _size, align, polish, reverse  # noqa: F401
-from .solvers_check import (CORE_M, CORE_V, EMPTY_RETRY, RETRIES, SHARP, _SPH_MID, _SPHERICAL,  # noqa: F401
-                            _THREE_PARALLEL, _TI_END, _TWO_PAR, _check, _close, _close_wrapped, _core_in, _closed_core,
-                            _copy_row, _distinct, _gate, _merged, _newton_from, _paired, _polish_wanted, _promote,
-                            _put_passing, _repeats, _searched_core, _sharpen,
+from .solvers_check import (CORE_M, CORE_V, CORE_V_PARALLEL, EMPTY_RETRY, RETRIES, SHARP, _SPH_MID,  # noqa: F401
+                            _SPHERICAL, _THREE_PARALLEL, _TI_END, _TWO_PAR, _check, _close, _close_wrapped, _core_in,
+                            _closed_core, _copy_row, _distinct, _gate, _merged, _newton_from, _paired, _polish_wanted,
+                            _promote, _put_passing, _repeats, _searched_core, _sharpen,
                             _solve, _solve_searched, _solve_spherical, _solve_spherical_middle, _solve_three_parallel,
                             _solve_two_intersecting_end, _solve_two_parallel, _sweep, _within_reach)
 from .solvers_parallel import _core_three_parallel, _pairs_sp6, _singular_wrist  # noqa: F401
 from .solvers_search import (_core_spherical_middle, _core_two_intersecting_end, _core_two_parallel,  # noqa: F401
                              _target_rows)
-from .solvers_wrist import (NEAR_TANGENT, SING, _core_spherical, _mm, _mm_to, _mtm, _mtm_to, _mtv, _mtv_to, _mv,  # noqa: F401
-                            _mv_to, _perp, _perp_to, _pos_general, _pos_search, _pos_two_intersecting,
-                            _pos_two_parallel, _rot2_to, _rot_to, _rotm_to, _turn_to, _SP_TINY, _SP_TOL, _sp1s,
+from .solvers_wrist import (NEAR_TANGENT, SING, _core_spherical, _mm, _mm_to, _mtm, _mtm_to, _mtv,  # noqa: F401
+                            _mtv_to, _mv, _mv_to, _perp, _perp_to, _pos_general, _pos_search, _pos_two_intersecting,
+                            _pos_two_parallel, _rot_to, _rotm_to, _turn_to, _SP_TINY, _SP_TOL, _sp1s,
                             _sp1s_cs, _sp2s, _sp2cs, _sp2cs_one, _put_position, _wrist, _wrist_from, _wrist_sp2)
 from .subproblems import _cross, _dot, _norm, _wrap, rot, rotm, sp1, sp2, sp3, sp4, sp5, sp6  # noqa: F401
 
@@ -119,7 +119,7 @@ class Solutions(NamedTuple):
 
 # ---------------------------------------------------------------------------------- wrappers
 KERNELS = ("_mv", "_mtv", "_mm", "_mtm", "_perp", "_rotm_to", "_rot_to", "_mm_to", "_mtm_to", "_mv_to", "_mtv_to",
-           "_perp_to", "_rot2_to", "_turn_to", "_sp1s", "_sp1s_cs", "_sp2s", "_sp2cs", "_sp2cs_one", "_wrist",
+           "_perp_to", "_turn_to", "_sp1s", "_sp1s_cs", "_sp2s", "_sp2cs", "_sp2cs_one", "_wrist",
            "_wrist_from", "_wrist_sp2", "_pos_two_intersecting", "_pos_two_parallel", "_pos_search", "_pos_general",
            "_core_spherical", "_pairs_sp6", "_singular_wrist",
            "_core_three_parallel", "_close", "_repeats", "_put_passing", "_merged", "_newton_from", "_copy_row",
@@ -139,7 +139,7 @@ has none either); its position parts the same way; the spherical core itself (it
 ``_closed_core``) 1.66 -> 1.49 µs a target."""
 INLINE = ("_fk_err_sc", "_pos_search",
           "_core_two_intersecting_end", "_core_two_parallel", "_core_spherical_middle", "_searched_core", "_solve",
-          "_mv_to", "_mtv_to", "_mm_to", "_mtm_to", "_rotm_to", "_rot_to", "_rot2_to", "_turn_to", "_perp_to",
+          "_mv_to", "_mtv_to", "_mm_to", "_mtm_to", "_rotm_to", "_rot_to", "_turn_to", "_perp_to",
           "_sp1s", "_sp1s_cs", "_close_wrapped", "_sp2cs", "_sp2cs_one", "_tsp1_cs", "_put_position")
 """Kernels with one caller each (the FK of the candidates in ``_check``, a searched core in its ``_solve_*``, a
 closed-form one in ``_closed_core``, the 3R position in the spherical core, the dispatch in the batch loops):

@@ -325,7 +325,9 @@ def _close(a, b, prism):
 
 CORE_V, CORE_M = 41, 4
 """Rows of a closed-form core's work vectors (rows of 3) and matrices (:func:`_core_in`): the spherical core's; the
-three-parallel core takes the first 22 vectors, and its (q1, q5) pairs ``(2, 4)``."""
+three-parallel core takes the first :data:`CORE_V_PARALLEL` vectors, and its (q1, q5) pairs ``(2, 4)``."""
+CORE_V_PARALLEL = 22
+"""The work vectors the three-parallel core takes (its small vectors, then its pairs' cosines and sines)."""
 
 
 def _core_in(which, kind, Hi, Pi, RnT, prism, R, p, qref, N, Q, LS, SG, V3, M3, T14, CL):
@@ -334,7 +336,7 @@ def _core_in(which, kind, Hi, Pi, RnT, prism, R, p, qref, N, Q, LS, SG, V3, M3, 
     ``M3 (CORE_M, 3, 3)``, ``T14 (2, 4)`` and ``CL (8,)`` flags, zeroed here as the cores take them: the one-call
     and batch kernels (:mod:`.one_call`, :mod:`.batched`) keep theirs (each array made and freed costs ~40 ns),
     :func:`_closed_core` makes them. It makes no array, so it is compiled without reference counts."""
-    for i in range(CORE_V if which == 0 else 22):   # (the three-parallel core takes the first 22)
+    for i in range(CORE_V if which == 0 else CORE_V_PARALLEL):
         for j in range(3):
             V3[i, j] = 0.0
     for i in range(CORE_M):
@@ -348,7 +350,8 @@ def _core_in(which, kind, Hi, Pi, RnT, prism, R, p, qref, N, Q, LS, SG, V3, M3, 
         CL[i] = False
     if which == 0:
         return _core_spherical(kind, Hi, Pi, RnT, prism, R, p, qref, N, Q, LS, SG, V3, M3, CL)
-    return _core_three_parallel(kind, Hi, Pi, RnT, prism, R, p, qref, N, Q, LS, SG, V3[:22], M3, T14, CL[:4])
+    return _core_three_parallel(kind, Hi, Pi, RnT, prism, R, p, qref, N, Q, LS, SG, V3[:CORE_V_PARALLEL], M3, T14,
+                                CL[:4])
 
 
 def _closed_core(which, kind, Hi, Pi, RnT, prism, R, p, qref, N, Q, LS, SG):

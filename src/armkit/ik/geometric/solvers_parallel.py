@@ -20,10 +20,11 @@ def _core_three_parallel(kind, H, P, RnT, prism, R, p, qref, N, Q, LS, SG, v3, m
     4 axes 5, 6 meet (P[5] = 0: SP4, SP4).
 
     Its work arrays come from the caller (:func:`.solvers_check._core_in`, which zeroes them):
-    ``v3 (22, 3)`` for the call's small vectors (rows 14-21: the pairs' cosines and sines), ``m3 (4, 3, 3)`` for its matrices (R_06, and those of a singular
-    wrist), ``t14 (2, 4)`` and ``ls14 (4,)`` for the (q1, q5) pairs (each array made and freed costs ~40 ns and is a
-    call the compiler cannot see through); the rotations by the FK's sine and cosine
-    (:func:`.solvers_wrist._rotm_to`), the subproblems as scalars (``_sp1s``, ``_sp3s``, ``_sp4s``). What makes
+    ``v3 (22, 3)`` for the call's small vectors (rows 14-21: the pairs' cosines and sines), ``m3 (4, 3, 3)`` for
+    its matrices (R_06, and those of a singular wrist), ``t14 (2, 4)`` and ``ls14 (4,)`` for the (q1, q5) pairs
+    (each array made and freed costs ~40 ns and is a call the compiler cannot see through); the subproblems as
+    scalars, each angle with its cosine and sine (``_sp4cs``, ``_sp3cs``, ``_sp1s_cs``: no sine or cosine called but
+    for SP6's case and a singular wrist), the rotations as turns of vectors by those (``_turn_to``). What makes
     arrays of its own, SP6 of the general case (:func:`_pairs_sp6`) and the singular wrist
     (:func:`_singular_wrist`), is a function of its own, so this one makes none and is compiled without reference
     counts (:data:`.solvers.UNCOUNTED`)."""

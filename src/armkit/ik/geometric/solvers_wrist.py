@@ -102,13 +102,6 @@ def _rot_to(k, theta, p, out):
     out[2] = p[2] * c + (k[0] * p[1] - k[1] * p[0]) * s + k[2] * kp
 
 
-def _rot2_to(k, theta, a, b, oa, ob):
-    """:func:`_rot_to` of ``a`` into ``oa`` and of ``b`` into ``ob`` (3,) by one angle: one sine and cosine."""
-    s, c = _sincos(theta)
-    _turn_to(k, s, c, a, oa)
-    _turn_to(k, s, c, b, ob)
-
-
 def _turn_to(k, s, c, a, oa):
     """:func:`_rot_to` of ``a`` into ``oa`` (not ``a``) by the angle whose sine and cosine are ``s``, ``c``."""
     ka = (k[0] * a[0] + k[1] * a[1] + k[2] * a[2]) * (1.0 - c)
@@ -294,7 +287,8 @@ def _wrist_from(h3, h4, h5, q3ref, W, S, M):
     # q4, q5 (0-based t3, t4) by :func:`_sp2cs` (no sine or cosine called), q6 by SP1 of x onto
     # rot(h5, -t4) rot(h4, -t3) y, turned by the cosines and sines the two angles came from: each answer carries the
     # rounding of the one before, so the three make R36 to rounding also near the singular wrist, as the SP2 form did
-    # (:func:`_wrist_sp2`, which still answers where this has not two exact answers: a tangent, none, axes in line).
+    # (:func:`_wrist_sp2`, which still answers where this has not two exact answers, a tangent, none, axes in line,
+    # and near the tangent: a wrist near its singularity, :data:`NEAR_TANGENT`).
     # That form's four SP1s and two turns by sine and cosine a branch took 172 ns a call, this 164; the Kinova's
     # spherical core 1.37 -> 1.25 µs a target, 2026-12-07; the answers within 6e-12 of that form's.
     ok, r0, r1 = _sp2cs(v[0], v[1], v[2], h5[0], h5[1], h5[2], h3, h4)
@@ -318,7 +312,7 @@ def _wrist_from(h3, h4, h5, q3ref, W, S, M):
 def _wrist_sp2(h3, h4, h5, W, S):
     """The non-singular wrist of :func:`_wrist_from` by SP2 of ``h6`` onto ``v`` (t3, t4: :func:`_sp2s`), then SP1
     for t5: where :func:`_sp2cs` has not two exact answers (a tangent, none: its least-squares answers; axes in
-    line)."""
+    line) or is near the tangent (:data:`NEAR_TANGENT`)."""
     v = S[0]
     x = S[1]
     y = S[2]

@@ -180,8 +180,10 @@ def _trig1cs(a, b, c, scale):
     in its order (θ0 = φ + w, θ1 = φ − w for ``φ = atan2(b, a)``, ``w = acos(c / r)``), the cosines and sines by
     the sum formulas from ``a / r``, ``b / r``, ``c / r`` and ``√(1 − (c / r)²)``, each angle by ``atan2`` of its
     own: no ``acos`` (libm's, ~20 ns) and no sine or cosine for the caller's turns. The angles agree with
-    :func:`_trig1s`'s to rounding; one answer where ``c / r`` is ±1 exactly, as there. For the closed-form cores
-    (:mod:`.solvers_parallel`); the searches keep :func:`_trig1s`."""
+    :func:`_trig1s`'s to rounding; one answer where ``c / r`` is ±1 exactly, as there. Near the tangent
+    (``1 − (c / r)² < 1e-4``, as :data:`.solvers_wrist.NEAR_TANGENT` for SP2) it answers by :func:`_trig1s` itself,
+    with libm's cosines and sines. For the closed-form cores (:mod:`.solvers_parallel`, :mod:`.solvers_wrist`); the
+    searches keep :func:`_trig1s`."""
     r = math.sqrt(a * a + b * b)
     if r <= TOL * scale:                 # no dependence on θ: any θ (c ≈ 0) or none
         z = (0.0, 1.0, 0.0)
