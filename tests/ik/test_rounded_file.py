@@ -165,7 +165,7 @@ def test_near_the_singular_wrist_few_targets_leave_the_one_call_kernel():
     """Targets with ``|q5| < 1e-3`` on the rounded Puma: the one-call kernel answers nearly all itself. A branch whose
     FK error asks for the touch-up sends its target the batched way (and a batch holding one such target, whole).
     Near the singular wrist the second wrist angle is ill-conditioned: ``_sp2cs`` leaves the wrist to SP2 there
-    (``solvers_wrist.NEAR_TANGENT``); without that bound 20 % of these targets left the kernel (2026-12-07), with it
+    (``subproblems.NEAR_TANGENT``); without that bound 20 % of these targets left the kernel (2026-12-07), with it
     6 %, as with SP2 alone."""
     from armkit.ik.analytic import _one_buffers, one_call_record
 

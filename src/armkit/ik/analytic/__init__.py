@@ -458,7 +458,7 @@ def solve_all(robot: Robot, solver: ClosedForm, target: Array, q0: Array, positi
     theta = solver.sf.theta
     target = target.copy()   # the branches' sentences are made later, from this copy (a caller may reuse its array)
     named_later = _names_later(solver)
-    raw = _solve_unnamed(solver, target, q0 + theta) if named_later else solver.solve(target, q0 + theta)
+    raw = _solve_raw(solver, target, q0 + theta)
     jit = jit_kernels()
     dist = None
     if jit is not None:
@@ -512,9 +512,12 @@ def solve_all(robot: Robot, solver: ClosedForm, target: Array, q0: Array, positi
     return IKResult._later((q, ok, dp, dr, iterations, take(raw.label), within, reason, None), messages)
 
 
-def _solve_unnamed(solver: Any, target: Array, q0phi: Array) -> Raw:
-    """``solver.solve`` with its plain labels (``named=False``: the geometric family, :func:`_names_later`)."""
-    return solver.solve(target, q0phi, named=False)  # type: ignore[no-any-return]
+def _solve_raw(solver: Any, target: Array, q0phi: Array) -> Raw:
+    """``solver.solve``; with its plain labels (``named=False``) where the family names its branches when they are
+    read (the geometric family, :func:`_names_later`)."""
+    if _names_later(solver):
+        return solver.solve(target, q0phi, named=False)  # type: ignore[no-any-return]
+    return solver.solve(target, q0phi)  # type: ignore[no-any-return]
 
 
 def _name(solver: Any, q: Array, target: Array) -> NDArray[np.object_]:
@@ -687,7 +690,7 @@ def run_one(robot: Robot, c: "_Single", target: Array, q0: Array | None, ctx: Ar
             return None
         solver = c.solver
         q0phi = (q0 + solver.sf.theta)[None]   # (a family that names its branches: named when read, _later_fields)
-        raw = _solve_unnamed(solver, target[None], q0phi) if c.namer is not None else solver.solve(target[None], q0phi)
+        raw = _solve_raw(solver, target[None], q0phi)
         missing = raw.missing[0] if raw.missing is not None else np.zeros(c.m, dtype=bool)
         r = kernels.post(raw.q[0], raw.unreachable[0], missing, t, q0, ctx, fb, ib, bb, c.wk)
     c.spare.append(bufs)   # for a later call, once no result holds them
@@ -1144,7 +1147,7 @@ def solve_nearest(robot: Robot, solver: ClosedForm, target: Array, q0: Array, po
         tol = default_tolerance(robot)
     theta = solver.sf.theta
     named_later = _names_later(solver)
-    raw = _solve_unnamed(solver, target, q0 + theta) if named_later else solver.solve(target, q0 + theta)
+    raw = _solve_raw(solver, target, q0 + theta)
     B = len(target)
     rows = np.arange(B)
     jit = jit_kernels()

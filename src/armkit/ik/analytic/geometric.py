@@ -113,6 +113,19 @@ def _turns(q: Array, other: Array) -> Array:
     return np.einsum("bkmn,bkmn->bkm", diff, diff)
 
 
+def _family_branches(names: Any, target: Array, q0phi: Array) -> tuple[Array, NDArray[np.int64]]:
+    """The DH angles ``(B, m, n)`` of the naming family ``names``'s branches of ``target`` and their indices into its
+    ``branch_labels`` ``(B, m)``: its lean ``branches`` (no sentences) where it has one that answers, else its
+    ``solve`` (:meth:`Geometric.name_branches`)."""
+    lean = getattr(names, "branches", None)
+    got = lean(target, q0phi) if lean is not None else None
+    if got is not None:
+        return got  # type: ignore[no-any-return]
+    raw = names.solve(target, q0phi)
+    index = {name: i for i, name in enumerate(names.branch_labels)}
+    return raw.q, np.vectorize(index.__getitem__, otypes=[np.int64])(np.asarray(raw.label, dtype=object))
+
+
 def _settle(named: NDArray[np.object_], q: Array, ideal: Array, label: NDArray[np.object_]) -> None:
     """Names given twice in one target's branches settled, in place: ``named`` ``(k,)`` the names of branches ``q``
     ``(k, n)`` by the rule, ``ideal`` ``(m, n)`` the naming family's branches of the target with names ``label``
@@ -229,31 +242,21 @@ class Geometric:
         flat = np.ascontiguousarray(q.reshape(B * k, n))
         theta = names.sf.theta
         poses, start = fk(ideal, flat), flat + theta
-        lean = getattr(names, "branches", None)   # its angles and label indices alone (no sentences), or None
-        got = lean(poses, start) if lean is not None else None
-        if got is None:
-            raw = names.solve(poses, start)
-            index = {name: i for i, name in enumerate(names.branch_labels)}
-            got = raw.q, np.vectorize(index.__getitem__, otypes=[np.int64])(np.asarray(raw.label, dtype=object))
-        angles, table = got
+        angles, table = _family_branches(names, poses, start)
         # the family's branch at q: the nearest; where several are as near (to 1e-7 rad: on a fold, where two
         # branches meet and rounding of 1e-16 moves them by its square root), the first of them in the family's
         # table, whatever rounding says
         d = _turns(flat[:, None, :], angles - theta)[:, 0]
         tie = d <= d.min(axis=1, keepdims=True) + 1e-14
         first = np.where(tie, table, len(names.branch_labels)).min(axis=1)
-        named = np.array(names.branch_labels, dtype=object)[first].reshape(B, k)
+        labels = np.array(names.branch_labels, dtype=object)
+        named = labels[first].reshape(B, k)
         idx = np.sort(first.reshape(B, k), axis=1)
         twice = np.flatnonzero((idx[:, 1:] == idx[:, :-1]).any(axis=1))
         if len(twice):   # the family's branches of those targets, to settle the names given twice
-            got = lean(target[twice], q[twice, 0] + theta) if lean is not None else None
-            if got is None:
-                own = names.solve(target[twice], q[twice, 0] + theta)
-                got = own.q, np.asarray(own.label, dtype=object)
-            else:
-                got = got[0], np.array(names.branch_labels, dtype=object)[got[1]]
+            own, own_table = _family_branches(names, target[twice], q[twice, 0] + theta)
             for r, b in enumerate(twice):
-                _settle(named[b], q[b], got[0][r] - theta, got[1][r])
+                _settle(named[b], q[b], own[r] - theta, labels[own_table[r]])
         return named
 
     @property

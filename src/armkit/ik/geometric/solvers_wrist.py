@@ -15,17 +15,11 @@ from ._kernels import _atan2, _sincos, _trot_cs, _tsp1_cs
 from .search import MAXROOT, SW, _search
 from .subproblems import TOL as _SP_TOL
 from .subproblems import _TINY as _SP_TINY
+from .subproblems import NEAR_TANGENT
 from .subproblems import _cross, _dot, _norm, _sp3cs, _sp3s, _sp4cs, _wrap, rot, sp1, sp5
 
 SING = 1e-10
 """``‖h4 × R_36 h6‖`` below this: the wrist is singular (axes 4 and 6 in line)."""
-NEAR_TANGENT = 1e-4
-""":func:`_sp2cs` answers where its discriminant is above this share of ``α² + β²`` (the sine of the second angle's
-distance from the tangent above ~0.01); nearer the tangent (a wrist near its singularity, an arm near full reach) the
-second angle, from ``√(r² − e²)``, takes the rounding of ``e`` times ``1 / sin``, and :func:`.subproblems.sp2`
-answers, as before 2026-12-07. With the bound at 1e-14, 17-20 % of the Kinova's and the rounded Puma's targets with
-``|q5| < 1e-3`` gave a branch whose FK error (~1e-12) asked for the touch-up (6 % with sp2), and a batch holding one
-such target went the batched path whole (the Kinova's 1,000 targets: 2.5 -> 3.5 ms)."""
 
 
 # ------------------------------------------------------------------------------ small helpers

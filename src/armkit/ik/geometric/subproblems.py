@@ -175,15 +175,24 @@ def _trig1s(a, b, c, scale):
     return _wrap(phi if x > 0.0 else phi + math.pi), 0.0, 1, abs(abs(c) - r) > TOL * scale   # the extreme nearest c
 
 
+NEAR_TANGENT = 1e-4
+"""The closed-form cores' SP2 (:func:`.solvers_wrist._sp2cs`) and ``a cos θ + b sin θ = c`` (:func:`_trig1cs`) answer
+by their cosines and sines where the answer is farther from the tangent than this share (of ``r²``, of ``1`` for
+``1 − (c / r)²``: the sine of the distance above ~0.01); nearer, the angle from ``√(r² − e²)`` takes the rounding of
+``e`` times ``1 / sin``, and :func:`sp2` and :func:`_trig1s` answer, as before 2026-12-07. With the bound at 1e-14,
+17-20 % of the Kinova's and the rounded Puma's targets with ``|q5| < 1e-3`` gave a branch whose FK error (~1e-12)
+asked for the touch-up (6 % with sp2), and a batch holding one such target went the batched path whole (the
+Kinova's 1,000 targets: 2.5 -> 3.5 ms)."""
+
+
 def _trig1cs(a, b, c, scale):
     """:func:`_trig1s` with each angle's cosine and sine: ``(count, ls, (θ0, cos θ0, sin θ0), (θ1, cos θ1, sin θ1))``,
     in its order (θ0 = φ + w, θ1 = φ − w for ``φ = atan2(b, a)``, ``w = acos(c / r)``), the cosines and sines by
     the sum formulas from ``a / r``, ``b / r``, ``c / r`` and ``√(1 − (c / r)²)``, each angle by ``atan2`` of its
     own: no ``acos`` (libm's, ~20 ns) and no sine or cosine for the caller's turns. The angles agree with
     :func:`_trig1s`'s to rounding; one answer where ``c / r`` is ±1 exactly, as there. Near the tangent
-    (``1 − (c / r)² < 1e-4``, as :data:`.solvers_wrist.NEAR_TANGENT` for SP2) it answers by :func:`_trig1s` itself,
-    with libm's cosines and sines. For the closed-form cores (:mod:`.solvers_parallel`, :mod:`.solvers_wrist`); the
-    searches keep :func:`_trig1s`."""
+    (:data:`NEAR_TANGENT`) it answers by :func:`_trig1s` itself, with libm's cosines and sines. For the closed-form
+    cores (:mod:`.solvers_parallel`, :mod:`.solvers_wrist`); the searches keep :func:`_trig1s`."""
     r = math.sqrt(a * a + b * b)
     if r <= TOL * scale:                 # no dependence on θ: any θ (c ≈ 0) or none
         z = (0.0, 1.0, 0.0)
@@ -191,8 +200,8 @@ def _trig1cs(a, b, c, scale):
     ca = a / r
     sa = b / r
     x = c / r
-    if abs(x) <= 1.0 and 1.0 - x * x < 1e-4:   # near the tangent: _trig1s's angles (by acos, whose rounding there
-        # is no worse than √(1 − x²)'s and keeps the answers of before), their cosines and sines by libm
+    if abs(x) <= 1.0 and 1.0 - x * x < NEAR_TANGENT:   # near the tangent: _trig1s's angles (by acos, whose rounding
+        # there is no worse than √(1 − x²)'s and keeps the answers of before), their cosines and sines by libm
         t0, t1, n, ls = _trig1s(a, b, c, scale)
         return n, ls, (t0, math.cos(t0), math.sin(t0)), (t1, math.cos(t1), math.sin(t1))
     if abs(x) <= 1.0:
