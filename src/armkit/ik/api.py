@@ -416,10 +416,25 @@ def _fast(robot: Any, target: np.ndarray, q0: Any, enforce_limits: Any, check: A
         return _run_one(robot, c, target, q0, ctx, None, check, nearest)
     tail = shape[len(lead):]
     starts = q0 if q0 is None or q0.ndim == 1 else q0.reshape(-1, c.n)
-    res = _run_small(robot, c, target.reshape((-1,) + tail), starts, ctx, check, nearest)
+    res = _run_small(robot, c, target.reshape((-1,) + tail), starts, ctx, check, nearest,
+                     lambda t, s: _batched(robot, t, s, enforce_limits, check, nearest))
     if res is None or len(lead) == 1:
         return res
     return res._map(lambda a: a.reshape(lead + np.shape(a)[1:]), None)
+
+
+def _batched(robot: Robot, target: Array, q0: Array | None, enforce_limits: bool, check: bool, nearest: bool
+             ) -> IKResult:
+    """:func:`ik` (``nearest``) or :func:`ik_all` of float64 targets ``(B, 4, 4)`` or ``(B, 3)`` by the batched
+    path, with the default options but ``q0``, ``enforce_limits`` and ``check``: what their general code answers
+    (for the targets of a batch whose compiled call asked for it: :func:`armkit.ik.analytic.run_small_batch`)."""
+    flat, lead, position_only, q0f = _targets_and_start(robot, target, q0, None, check)
+    if nearest:
+        res = _nearest_branch(robot, flat, q0f, position_only, None, enforce_limits,
+                              _analytic_solver(robot, position_only, None), lead)
+    else:
+        res = _reshape(_all_branches(robot, flat, q0f, position_only, None, enforce_limits), lead)
+    return _checked(robot, res, None)
 
 
 def _nearest_branch(robot: Robot, target: Array, q0: Array, position_only: bool, tol: Any,

@@ -37,6 +37,7 @@ from numpy.typing import NDArray
 
 from ... import _jit_loader
 from ..._text import Fielded
+from ...errors import ArmkitError
 from ...kinematics import fk, jacobian, packed
 from ...model.robot import Robot
 from ...spatial import inverse
@@ -822,19 +823,21 @@ ROW_CHUNKS = 64
 
 
 def run_small_batch(robot: Robot, c: "_Single", targets: Array, q0: Array | None, ctx: Array, check: bool,
-                    nearest: bool) -> IKResult | None:
+                    nearest: bool, batched: Any = None) -> IKResult | None:
     """:func:`run_one` for each of a few targets (``targets`` float64 ``(B,) + shape`` the family takes, ``B``
     at most ``c.small``: :data:`SMALL_BATCH`, fewer for a family with a whole-batch form, :data:`ROWS` for a family
     with a kernel; ``q0`` None, one start
     ``(n,)`` or one per target ``(B, n)``, float64), the results stacked as the batched path gives them: fields
     ``(B,)`` (``(B, m)`` for every branch), the same values and types (tests/ik/test_small_batch.py). None where
     any target needs the batched path (the caller then takes it for all: a branch to polish, a note to give, a
-    target or start to reject)."""
+    target or start to reject), except where a family with a kernel is given ``batched``: the batched path for some
+    of the targets, ``batched(targets, q0)`` (``q0`` as given here, of those targets), which then answers the
+    targets whose kernel call asked for it, alone (:func:`_batch_from_rows`)."""
     B = targets.shape[0]
     if q0 is not None:
         q0 = np.ascontiguousarray(q0)
     if c.kernel is not None:
-        return _batch_from_rows(robot, c, targets, q0, ctx, nearest)
+        return _batch_from_rows(robot, c, targets, q0, ctx, nearest, batched)
     parts = []
     for i in range(B):
         one = run_one(robot, c, targets[i], q0 if q0 is None or q0.ndim == 1 else q0[i], ctx, None, check, nearest,
@@ -849,7 +852,7 @@ def run_small_batch(robot: Robot, c: "_Single", targets: Array, q0: Array | None
 
 
 def _batch_from_rows(robot: Robot, c: "_Single", targets: Array, q0: Array | None, ctx: Array,
-                     nearest: bool) -> IKResult | None:
+                     nearest: bool, batched: Any = None) -> IKResult | None:
     """:func:`run_small_batch` for a family with a kernel: each target's kernel call writes into its own row of
     three buffers ``(B, size)`` (:func:`_row_buffers`), all the calls made by one compiled driver
     (:func:`._single._rows`, threaded from :data:`ROWS_PARALLEL` targets), and every field is made once for all the
@@ -857,7 +860,13 @@ def _batch_from_rows(robot: Robot, c: "_Single", targets: Array, q0: Array | Non
     makes them for one: the label and reason of row ``i`` taken where the kernel wrote them for its first branch,
     which :func:`armkit.ik`'s nearest-first status also names). Making each target's result and then stacking the
     fields cost about as much as the compiled calls (the UR5's ``ik`` of 8 targets: 66 µs, 23 of them in the
-    calls), and calling the kernel from Python ~1 µs a target more than from the driver."""
+    calls), and calling the kernel from Python ~1 µs a target more than from the driver.
+
+    Rows whose kernel call asks for the batched path (a singular wrist's note, a branch to polish further) are
+    answered by ``batched`` (:func:`run_small_batch`) for those targets alone and spliced in (:func:`_spliced`):
+    one target at the home pose of a wrist among 1,000 made the whole batch take the batched path, 3-4x the
+    time. None where a target is to be rejected (the batched path raises its error, naming the target), where
+    every row asks for the batched path, or where ``batched`` is None and some row does."""
     if not c.address:
         return None
     B, m, n, mn = targets.shape[0], c.m, c.n, c.mn
@@ -874,16 +883,57 @@ def _batch_from_rows(robot: Robot, c: "_Single", targets: Array, q0: Array | Non
     _put_back(c, whole)
     if pending < 0:
         return None
+    rows, redo = [], None
+    if pending:
+        rows = np.flatnonzero(marks == 1).tolist()
+        redo = np.flatnonzero(marks == 2)
+        if not len(redo):
+            redo = None
+        elif batched is None or len(redo) == B:
+            return None
+        else:   # the rows the batched path answers: a row the kernel answered copied there, so that the fields
+            good = np.flatnonzero(marks != 2)[0]   # made of the buffers read valid numbers and labels (replaced)
+            FB[redo], IB[redo], BB[redo] = FB[good], IB[good], BB[good]
     FB = FB.reshape(B, -1)   # each row's flat layout (_single.layout)
     # q and success now, the other fields when one is first read (_rows_fields); the sentences of the rows with a
     # failed branch (the others stay empty) when the message is read, from a copy of the targets made now (the
     # caller may change its array before then)
-    rows = np.flatnonzero(marks).tolist() if pending else []
     kept = flat.copy() if rows else None
-    made = (_rows_fields, robot, c, FB, IB, BB, rows, kept, targets.shape[1:], nearest)
+    made: tuple = (_rows_fields, robot, c, FB, IB, BB, rows, kept, targets.shape[1:], nearest)
     if nearest:
-        return IKResult._deferred(made, FB[:, :n].copy(), BB[:, 0].copy())
-    return IKResult._deferred(made, FB[:, :mn].reshape(B, m, n).copy(), BB[:, :m].copy())
+        q, ok = FB[:, :n].copy(), BB[:, 0].copy()
+    else:
+        q, ok = FB[:, :mn].reshape(B, m, n).copy(), BB[:, :m].copy()
+    if redo is not None:
+        try:
+            sub = batched(targets[redo], q0[redo] if q0 is not None and q0.ndim == 2 else q0)
+        except ArmkitError:   # (none is known) the batched path of the whole batch raises it, naming the target
+            return None
+        q[redo], ok[redo] = sub.q, sub.success
+        made = (_spliced, made, redo, sub)
+    return IKResult._deferred(made, q, ok)
+
+
+def _spliced(made: tuple, which: str) -> Any:
+    """The fields of :func:`_batch_from_rows`'s result but ``q`` and ``success`` where the batched path answered
+    some rows: ``made`` (this function, the made tuple of :func:`_rows_fields`, those rows, the batched path's
+    result for them). ``which`` as :func:`_rows_fields` takes it; its fields with those rows put in (a text array
+    widened where the batched path's texts are longer)."""
+    _, inner, redo, sub = made
+    out = inner[0](inner, which)
+    if which == "rest":
+        return {k: _put_rows(v, redo, getattr(sub, k)) for k, v in out.items()}
+    if callable(out):
+        return lambda: _put_rows(out(), redo, sub.message)
+    return _put_rows(out, redo, sub.message)
+
+
+def _put_rows(a: NDArray, rows: NDArray[np.intp], values: NDArray) -> NDArray:
+    """``a`` with ``a[rows] = values``, in place where the dtype holds them (a text array widened first)."""
+    if a.dtype.kind == "U" and values.dtype.kind == "U" and values.dtype.itemsize > a.dtype.itemsize:
+        a = a.astype(values.dtype)
+    a[rows] = values
+    return a
 
 
 POOL = 2

@@ -880,10 +880,12 @@ def _rows(address, T, Q0, each, ctx, FB, IB, BB, WK, R):
     ``Q0[0]``. The rows are cut into chunks (``WK (chunks, wsize)``: the work vector of each; a kernel reads nothing
     there it did not write in the same call), a ``prange`` over them (its twin runs them on every thread).
 
-    Returns -1 where a row's status asks for the batched path (any of them: the caller then answers every row
-    so), else the number of rows whose failed branches need sentences, each marked 1 in ``R (B,)`` (0 the others):
-    for :func:`armkit.ik_all` a row with a failed branch, for :func:`armkit.ik` (``ctx``'s option ``nearest``) a
-    row whose first branch failed (:func:`armkit.ik.analytic._sentences`, row by row).
+    Returns -1 where a row's target is to be rejected (:data:`BAD_TARGET`: the caller answers every row by the
+    batched path, which raises the error naming it), else the number of rows marked in ``R (B,)`` (0 the others):
+    1 where failed branches need sentences (for :func:`armkit.ik_all` a row with a failed branch, for
+    :func:`armkit.ik` (``ctx``'s option ``nearest``) a row whose first branch failed:
+    :func:`armkit.ik.analytic._sentences`, row by row), 2 where the status asks for the batched path
+    (:data:`FALLBACK`: a singular wrist's note, a branch to polish further), which answers those rows alone.
 
     The kernel comes in as the address of its compiled code (as compiled for the one-call path), so that one
     driver serves every family and nothing of a kernel is compiled again: a driver that took the kernel itself
@@ -898,6 +900,10 @@ def _rows(address, T, Q0, each, ctx, FB, IB, BB, WK, R):
     pending = 0
     for i in range(B):
         r = R[i]
+        if r & 3 == FALLBACK:
+            R[i] = 2
+            pending += 1
+            continue
         if r & 3:
             return -1
         p = (r & NEAREST) == 0 and IB[i, 0] != 0 if nearest else r != 0
