@@ -26,6 +26,9 @@ random '6R-two-intersecting' arms, median milliseconds per target.
 Then (also alone: ``--random-only``) random arms of each closed-form 6R class, one target per call, against
 EAIK where installed: the classes without a DH pattern are solved by the geometric family.
 
+Then (also alone: ``--small-only``, ``--big-only``) a few targets and many in one call: the rows driver against
+the batched path (and EAIK's batched call).
+
 Then (also alone: ``--scara-only``) the SCARA (cobra600), which EAIK does not take: a batch of poses in one call,
 its whole-batch form against the target-by-target loop, and LM.
 
@@ -292,30 +295,31 @@ def single_calls(targets: int, repeat: int) -> None:
 
 def small_batches(repeat: int) -> None:
     """A few targets in one call (``armkit.ik_all`` / ``armkit.ik`` of ``(B, 4, 4)``): up to
-    ``armkit.ik.analytic.ROWS`` (``ik_all``, ``ik``) they take the one-call kernel, each target into its row of one
-    set of buffers by one compiled driver (threaded from ``ROWS_PARALLEL`` targets), above it the batched path;
+    ``armkit.ik.analytic.ROWS[1]`` for ``ik`` (any number for ``ik_all``; in pieces of ``POOL_ROWS``) they take the
+    one-call kernel, each target into its row of one set of buffers by one compiled driver (threaded from
+    ``ROWS_PARALLEL`` targets), above it the batched path;
     both columns of each size are timed (``api.ONE_CALL`` off: the batched path for every size), µs per call, CPU
     time of the thread (a threaded call's other thread not counted), and EAIK's batched call of the same poses
     on one thread where EAIK is installed."""
     import importlib
 
-    from armkit.ik.analytic import ROWS
+    from armkit.ik.analytic import POOL_ROWS, ROWS
 
     api = importlib.import_module("armkit.ik.api")
     try:
         import eaik  # noqa: F401
     except ImportError:
         eaik = None
-    sizes = (1, 2, 8, 16, ROWS[0], ROWS[0] + 1, ROWS[1], ROWS[1] + 1)
-    print(f"\nsmall batches: µs per call of B targets (by the rows driver up to B = {ROWS[0]} for ik_all and "
-          f"{ROWS[1]} for ik), best of {repeat}; CPU time of the thread\n")
+    sizes = (1, 2, 8, 16, 1024, ROWS[1], ROWS[1] + 1)
+    print(f"\nsmall batches: µs per call of B targets (by the rows driver: any B for ik_all, in pieces of {POOL_ROWS}, "
+          f"up to B = {ROWS[1]} for ik), best of {repeat}; CPU time of the thread\n")
     print("| arm | B | ik_all | ik_all batched path | ik | ik batched path | EAIK IK_batched (1 thread) |")
     print("|---|---|---|---|---|---|---|")
     for label in ("ur5", "puma560", "ur5, axis 1 reversed"):
         name, tip = ARMS.get(label, (label, None))
         robot = _arm(name, tip)
         rng = np.random.default_rng(11)
-        T = armkit.fk(robot, rng.uniform(-np.pi, np.pi, (40 * max(sizes), robot.n)))
+        T = armkit.fk(robot, rng.uniform(-np.pi, np.pi, (40_000, robot.n)))
         e = None
         if eaik is not None:
             form = poe(robot)
@@ -323,7 +327,8 @@ def small_batches(repeat: int) -> None:
             Tfix = T.copy()
             Tfix[:, :3, :3] = T[:, :3, :3] @ form.R_nT.T
         for B in sizes:
-            batches = list(T[:40 * B].reshape(40, B, 4, 4))
+            k = max(2, min(40, len(T) // B))   # batches of B targets (40, fewer of the biggest)
+            batches = list(T[:k * B].reshape(k, B, 4, 4))
             cells = []
             for fn in (armkit.ik_all, armkit.ik):
                 for one in (True, False):
@@ -332,11 +337,57 @@ def small_batches(repeat: int) -> None:
                     cells.append(f"{_cpu_best(lambda t: fn(robot, t), batches, repeat) * 1e6:.0f}")
                 api.ONE_CALL = True
             if e is not None:
-                eb = list(Tfix[:40 * B].reshape(40, B, 4, 4))
+                eb = list(Tfix[:k * B].reshape(k, B, 4, 4))
                 cells.append(f"{_cpu_best(lambda t: e.IK_batched(t, 1), eb, repeat) * 1e6:.0f}")
             else:
                 cells.append("-")
             print(f"| {label} | {B} | " + " | ".join(cells) + " |", flush=True)
+    print(f"\nload average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores")
+
+
+def big_batches(targets: int, threads: int, repeat: int) -> None:
+    """Many targets in one call (``armkit.ik_all`` / ``armkit.ik`` of ``(B, 4, 4)``, default options, wall clock,
+    best of ``repeat``): the rows driver (in pieces of ``armkit.ik.analytic.POOL_ROWS`` rows; ``ik`` up
+    to ``ROWS[1]`` targets, the batched path above) against the batched path (``api.ONE_CALL`` off), and EAIK's
+    ``IK_batched`` on ``threads`` threads where installed (limits off there, on for armkit), µs per target."""
+    import importlib
+
+    api = importlib.import_module("armkit.ik.api")
+    try:
+        import eaik  # noqa: F401
+    except ImportError:
+        eaik = None
+    print(f"\nbig batches: {targets:,} targets in one call, µs per target, wall clock, best of {repeat} "
+          f"(ratio to the batched path; EAIK on {threads} threads)\n")
+    print("| arm | ik_all | ik_all batched path | ik | ik batched path | EAIK IK_batched |")
+    print("|---|---|---|---|---|---|")
+    for label in ("ur5", "puma560", "kinova j2s6s200", "puma560, rounded file"):
+        name, tip = ARMS[label]
+        if name.endswith(".urdf") and not Path(name).is_file():
+            continue
+        robot = _arm(name, tip)
+        T = armkit.fk(robot, np.random.default_rng(13).uniform(-np.pi, np.pi, (targets, robot.n)))
+        cells = []
+        for fn in (armkit.ik_all, armkit.ik):
+            times = []
+            for one in (True, False):
+                api.ONE_CALL = one
+                try:
+                    fn(robot, T)
+                    times.append(_best(lambda: fn(robot, T), repeat) / targets)
+                finally:
+                    api.ONE_CALL = True
+            cells += [f"{times[0] * 1e6:.2f} ({times[0] / times[1]:.2g}x)", f"{times[1] * 1e6:.2f}"]
+        if eaik is not None:
+            form = poe(robot)
+            e = _eaik_robot(form)
+            Tfix = T.copy()
+            Tfix[:, :3, :3] = T[:, :3, :3] @ form.R_nT.T
+            e.IK_batched(Tfix, threads)
+            cells.append(f"{_best(lambda: e.IK_batched(Tfix, threads), repeat) / targets * 1e6:.2f}")
+        else:
+            cells.append("-")
+        print(f"| {label} | " + " | ".join(cells) + " |", flush=True)
     print(f"\nload average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores")
 
 
@@ -437,6 +488,9 @@ def main() -> None:
     ap.add_argument("--random-only", action="store_true",
                     help="only the random arms of each closed-form class, one target per call (EAIK where installed)")
     ap.add_argument("--random-arms", type=int, default=10)
+    ap.add_argument("--big-only", action="store_true",
+                    help="only the big batches (--big-targets in one call), both paths, and EAIK's where installed")
+    ap.add_argument("--big-targets", type=int, default=50_000)
     ap.add_argument("--eaik-only", action="store_true",
                     help="only the table against EAIK (branches, single calls, batched calls)")
     args = ap.parse_args()
@@ -450,6 +504,10 @@ def main() -> None:
     if args.small_only:
         G.kernels()
         small_batches(args.repeat)
+        return
+    if args.big_only:
+        G.kernels()
+        big_batches(args.big_targets, args.threads, args.repeat)
         return
     if args.single_only:
         G.kernels()
@@ -524,6 +582,7 @@ def main() -> None:
         return
     single_calls(min(args.targets, 300), args.repeat)
     small_batches(args.repeat)
+    big_batches(args.big_targets, args.threads, args.repeat)
     searches(args.search_targets)
     random_classes(args.random_arms, 100, args.repeat)
     scara_batches(args.repeat)

@@ -25,7 +25,7 @@ from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
 import armkit
-from armkit.ik.analytic import ROWS, closed_form
+from armkit.ik.analytic import POOL_ROWS, closed_form
 from test_single_call import calibrated, twists_rounded
 
 pytestmark = pytest.mark.skipif(importlib.util.find_spec("numba") is None, reason="Numba is not available")
@@ -104,17 +104,24 @@ def test_every_branch_reaches_the_target_and_every_name_is_given_once(name):
 
 @pytest.mark.parametrize("name", ARMS)
 def test_one_target_a_few_and_many_give_the_same_branches_and_names(name):
-    """One call per target (the one compiled call), a batch of a few (its rows) and a batch beyond :data:`ROWS`
-    (the batched path): the same joint values, successes and names."""
+    """One call per target (the one compiled call), a batch of a few (its rows), a batch beyond :data:`POOL_ROWS` (in
+    pieces of that many rows) and the batched path: the same joint values, successes and names."""
     _, rounded = _arms(name)
-    q = rounded.random_q(ROWS[0] + 30, rng=np.random.default_rng(5))
+    q = rounded.random_q(POOL_ROWS + 30, rng=np.random.default_rng(5))
     T = armkit.fk(rounded, q)
     many = armkit.ik_all(rounded, T)
-    assert "branch" not in vars(many)   # the batched path's names are made when read (tens of µs a target)
+    assert "branch" not in vars(many)   # the names are made when read (tens of µs a target)
     few = armkit.ik_all(rounded, T[:30])
+    api = importlib.import_module("armkit.ik.api")
+    api.ONE_CALL = False
+    try:
+        batched = armkit.ik_all(rounded, T[:100])
+    finally:
+        api.ONE_CALL = True
+    assert "branch" not in vars(batched)
     for i in range(0, 30, 3):
         one = armkit.ik_all(rounded, T[i])
-        for other in (few, many):
+        for other in (few, many, batched):
             assert np.array_equal(other.success[i], one.success)
             assert np.abs(other.q[i] - one.q).max() <= 1e-12
             assert list(other.branch[i]) == list(one.branch)

@@ -56,7 +56,7 @@ def test_a_few_targets_equal_the_batched_path(name, data, size, start, enforce):
 
 def test_any_leading_shape_and_the_path_is_taken(monkeypatch, rng):
     """(2, 3) targets come back as (2, 3) results, equal to the batched path's; the small path answered (counted);
-    more than ROWS targets (ik_all, ik) take the batched path."""
+    more than ROWS[1] targets of ik take the batched path, ik_all's any number the small path (in pieces)."""
     robot = _arm("ur5")
     targets = np.stack([armkit.fk(robot, robot.random_q(rng=rng)) for _ in range(6)]).reshape(2, 3, 4, 4)
     armkit.ik(robot, targets[0, 0])        # the robot's one-call record made first (it sets api._run_small)
@@ -68,13 +68,39 @@ def test_any_leading_shape_and_the_path_is_taken(monkeypatch, rng):
         assert fast.success.shape[:2] == (2, 3) and fast.q.shape[:2] == (2, 3)
         _assert_same(fast, slow)
     assert calls == [6, 6]
-    for fn, limit in ((armkit.ik_all, ROWS[0]), (armkit.ik, ROWS[1])):
-        many = armkit.fk(robot, robot.random_q(limit + 1, rng=rng))
-        fn(robot, many)
-        assert calls == [6, 6]
-        fn(robot, many[:limit])
-        assert calls == [6, 6, limit]
-        calls.pop()
+    many = armkit.fk(robot, robot.random_q(ROWS[1] + 1, rng=rng))
+    armkit.ik(robot, many)
+    assert calls == [6, 6]
+    armkit.ik(robot, many[:ROWS[1]])
+    assert calls == [6, 6, ROWS[1]]
+    armkit.ik_all(robot, many)
+    assert calls == [6, 6, ROWS[1], ROWS[1] + 1]
+
+
+@pytest.mark.parametrize("name", ["puma560", "ur5", "puma560-rounded"])
+def test_many_targets_in_pieces_equal_the_batched_path(name, monkeypatch, driver_runs, rng):
+    """More targets than POOL_ROWS (made 40 here) are answered in pieces of that many rows, joined
+    (``_in_pieces``): with targets out of reach, a target at the home pose in the second piece (the batched path
+    answers it alone) and no start, one, or one per target, every field and message the batched path's to the bit;
+    one driver run per piece."""
+    monkeypatch.setattr(analytic, "POOL_ROWS", 40)
+    robot = _arm(name)
+    B = 100
+    q = robot.random_q(B, rng=rng)
+    q[57] = 0.0
+    targets = armkit.fk(robot, q)
+    targets[::7, :3, 3] *= 3.0
+    starts = rng.uniform(-4.0, 4.0, (B, robot.n))
+    for fn in (armkit.ik_all, armkit.ik):
+        for q0 in (None, starts[0], starts):
+            driver_runs.clear()
+            fast, slow = _both(lambda: fn(robot, targets, q0))
+            assert len(driver_runs) == 3
+            _assert_same(fast, slow)
+            assert not fast.success.all() and fast.success.any()
+    joined = armkit.ik_all(robot, targets)
+    assert "reason" not in vars(joined) and "message" not in vars(joined)   # made when read
+    assert joined.reason.shape == joined.message.shape == (B, joined.q.shape[1])
 
 
 def test_failures_say_why_in_a_small_batch():
@@ -233,7 +259,7 @@ def test_the_driver_buffers_are_reused_only_when_no_result_holds_them(rng):
     """The batch driver keeps its buffers for the next batch (``analytic._row_buffers``): a set is taken again once
     no result refers to it, and never while one does. Results kept unread while later batches run (of the same size,
     smaller, larger) read every field and sentence of their own call, the batched path's; a result whose q alone was
-    read keeps its other fields; results dropped at once leave their set to the next call."""
+    read keeps its other fields; results dropped at once leave their set to the next call, a batch in pieces too."""
     robot = _arm("puma560")
     assert _with_kernel("puma560")
     rec = robot.cache["ik_fast"]
@@ -262,10 +288,12 @@ def test_the_driver_buffers_are_reused_only_when_no_result_holds_them(rng):
     armkit.ik_all(robot, T)
     assert len(rec.pool) == 2 and id(rec.pool[0][0]) == first   # another set meanwhile, for the second call
     _assert_same(kept, _expected(armkit.ik_all, robot, T))
-    big = batch(analytic.POOL_ROWS + 1)                   # bigger than a kept set: new buffers, none kept
-    before = [id(w[0]) for w in rec.pool]
-    _assert_same(armkit.ik(robot, big), _expected(armkit.ik, robot, big))
-    assert [id(w[0]) for w in rec.pool] == before
+    big = batch(analytic.POOL_ROWS + 1)                   # bigger than a kept set: in pieces, each in a set
+    _assert_same(armkit.ik(robot, big), _expected(armkit.ik, robot, big))   # of the pool's size, dropped at once
+    assert len(rec.pool) == analytic.POOL and max(len(w[0]) for w in rec.pool) == analytic.POOL_ROWS
+    first = sorted(id(w[0]) for w in rec.pool)
+    armkit.ik_all(robot, big)                              # the next call's pieces take those two sets again
+    assert sorted(id(w[0]) for w in rec.pool) == first
 
 
 def test_threads_sharing_a_robot_get_their_own_answers(rng):

@@ -831,17 +831,19 @@ the one-call path target by target (:func:`run_small_batch`): the batched path s
 size (then ~0.01 ms a target), the one-call path costs ~0.02 ms a target for ``armkit.ik`` and ~0.03 ms for
 ``armkit.ik_all`` (UR5, Puma 560: the two are equal near 16-24 targets for ``ik_all`` and 24-32 for ``ik`` on this
 project's 2-core machine; benchmarks/bench_analytic.py --small-only)."""
-ROWS = (1024, 4096)
+ROWS = (sys.maxsize, 16384)
 """The same limits, ``(ik_all, ik)``, for a family with a kernel. Its calls write each target's numbers into a row
 of one set of buffers, all rows by one compiled driver (:func:`_batch_from_rows`; the family's kernel called
 through its address, on every thread from :data:`ROWS_PARALLEL` targets), the fields but ``q`` and ``success`` made
-when first read. Against the batched path (2026-12-06), the UR5's ``ik_all`` of 2 targets 27 -> 10 µs a call, of 8
-targets 57 -> 22, of 16 targets 64 -> 38, ``ik`` 20 -> 9, 27 -> 16, 46 -> 29 (CPU time of the thread); the Puma's
-1,000 targets of ``ik_all`` 1.9-2.0 -> 1.5-1.6 µs a target (wall clock, two threads, with the buffers the robot
-keeps between batches, :func:`_row_buffers`). Above these limits the batched path: a batch bigger than a kept set
-takes new buffers (with the kernel's work space ~1.7 KB a target, slow to touch first on this machine), and the
-batched path's passes over its compact arrays cost less (20,000 targets of the Puma's ``ik``: 3.5 against 2.1
-µs a target)."""
+when first read; more than :data:`POOL_ROWS` targets in pieces of that many rows (:func:`_in_pieces`). Against the
+batched path (2026-12-06), the UR5's ``ik_all`` of 2 targets 27 -> 10 µs a call, of 8 targets 57 -> 22, of 16
+targets 64 -> 38, ``ik`` 20 -> 9, 27 -> 16, 46 -> 29 (CPU time of the thread); the Puma's 1,000 targets of
+``ik_all`` 1.9-2.0 -> 1.5-1.6 µs a target (wall clock, two threads, with the buffers the robot keeps between
+batches, :func:`_row_buffers`). The limits were 1,024 and 4,096 until the fifth session of 2026-12-07, when the
+kernels had become fast enough that the rows beat the batched path at every size (``bench_analytic.py
+--big-only``). The buffers (~1.7 KB a target) stay with the result until its fields are made: the results kept
+2.8-3.2 KB a target against the batched path's 2.3-2.4 (``ik_all``), 1.8-2.2 against 0.4-1.5 (``ik``, whose
+batched path keeps little: it answers more than ``ROWS[1]`` targets, ~36 MB of buffers)."""
 ROWS_PARALLEL = 32
 """Batches of a family with a kernel from this many targets run on every thread (:func:`_batch_from_rows`; the
 Puma's ``ik_all`` of 32 targets 2.7 -> 2.6 µs a target, of 128 targets 2.3 -> 2.0)."""
@@ -852,9 +854,10 @@ ROW_CHUNKS = 64
 def run_small_batch(robot: Robot, c: "_Single", targets: Array, q0: Array | None, ctx: Array, check: bool,
                     nearest: bool, batched: Any = None) -> IKResult | None:
     """:func:`run_one` for each of a few targets (``targets`` float64 ``(B,) + shape`` the family takes, ``B``
-    at most ``c.small``: :data:`SMALL_BATCH`, fewer for a family with a whole-batch form, :data:`ROWS` for a family
-    with a kernel; ``q0`` None, one start
-    ``(n,)`` or one per target ``(B, n)``, float64), the results stacked as the batched path gives them: fields
+    at most ``c.small``: :data:`SMALL_BATCH`, fewer for a family with a whole-batch form; for a family with a
+    kernel :data:`ROWS` (any number for :func:`armkit.ik_all`), in pieces of :data:`POOL_ROWS` rows;
+    ``q0`` None, one start ``(n,)`` or one per target ``(B, n)``, float64), the results stacked as the batched path
+    gives them: fields
     ``(B,)`` (``(B, m)`` for every branch), the same values and types (tests/ik/test_small_batch.py). None where
     any target needs the batched path (the caller then takes it for all: a branch to polish, a note to give, a
     target or start to reject), except where a family with a kernel is given ``batched``: the batched path for some
@@ -864,6 +867,8 @@ def run_small_batch(robot: Robot, c: "_Single", targets: Array, q0: Array | None
     if q0 is not None:
         q0 = np.ascontiguousarray(q0)
     if c.kernel is not None:
+        if B > POOL_ROWS:
+            return _in_pieces(robot, c, targets, q0, ctx, nearest, batched)
         return _batch_from_rows(robot, c, targets, q0, ctx, nearest, batched)
     parts = []
     for i in range(B):
@@ -879,7 +884,7 @@ def run_small_batch(robot: Robot, c: "_Single", targets: Array, q0: Array | None
 
 
 def _batch_from_rows(robot: Robot, c: "_Single", targets: Array, q0: Array | None, ctx: Array,
-                     nearest: bool, batched: Any = None) -> IKResult | None:
+                     nearest: bool, batched: Any = None, size: int = 0) -> IKResult | None:
     """:func:`run_small_batch` for a family with a kernel: each target's kernel call writes into its own row of
     three buffers ``(B, size)`` (:func:`_row_buffers`), all the calls made by one compiled driver
     (:func:`._single._rows`, threaded from :data:`ROWS_PARALLEL` targets), and every field is made once for all the
@@ -897,7 +902,7 @@ def _batch_from_rows(robot: Robot, c: "_Single", targets: Array, q0: Array | Non
     if not c.address:
         return None
     B, m, n, mn = targets.shape[0], c.m, c.n, c.mn
-    whole = _row_buffers(c, B)
+    whole = _row_buffers(c, B, size)   # (size: a new set's rows, at least B)
     FB, IB, BB, marks = (a[:B] for a in whole[:4])
     flat = np.ascontiguousarray(targets).reshape(B, -1)
     starts = c.q0 if q0 is None else q0
@@ -941,6 +946,43 @@ def _batch_from_rows(robot: Robot, c: "_Single", targets: Array, q0: Array | Non
     return IKResult._deferred(made, q, ok)
 
 
+def _in_pieces(robot: Robot, c: "_Single", targets: Array, q0: Array | None, ctx: Array, nearest: bool,
+               batched: Any) -> IKResult | None:
+    """:func:`_batch_from_rows` of more than :data:`POOL_ROWS` targets: pieces of that many, one after the other
+    (each with its set of buffers, held by the result until its fields are made), joined. ``q`` and ``success``
+    now, the other fields when first read (:func:`_joined`). None where a piece is (the batched path answers every
+    target). Pieces of the size of a kept set: the sets of a loop over batches are the process's memory already,
+    where one set of 50,000 rows (~85 MB) came fresh from the system in some calls, with a page fault every 4 KB
+    (the UR5's 50,000 targets 2.7-3.1 µs a target in those calls, 0.96-1.4 in the others; in pieces of 1,024 rows
+    0.96-1.02 after the first call)."""
+    B, step = targets.shape[0], POOL_ROWS
+    parts = []
+    for s in range(0, B, step):
+        starts = q0[s:s + step] if q0 is not None and q0.ndim == 2 else q0
+        part = _batch_from_rows(robot, c, targets[s:s + step], starts, ctx, nearest, batched, step)
+        if part is None:
+            return None
+        parts.append(part)
+    q, ok = np.concatenate([p.q for p in parts]), np.concatenate([p.success for p in parts])
+    return IKResult._deferred((_joined, [p.__dict__["_make"] for p in parts]), q, ok)
+
+
+def _joined(made: tuple, which: str) -> Any:
+    """The fields of :func:`_in_pieces`'s result but ``q`` and ``success``, made when first read: ``made`` (this
+    function, the makers of its pieces' deferred fields, in order: only those are kept of the pieces, so no field
+    is held twice); ``which`` as :func:`_rows_fields` takes it (the message made when read)."""
+    makers = made[1]
+    if which == "rest":
+        rests = [make[0](make, "rest") for make in makers]
+        return {f: np.concatenate([r[f] for r in rests]) for f in _STACKED[2:]}
+
+    def message() -> NDArray[np.object_]:
+        texts = [make[0](make, "message") for make in makers]
+        return np.concatenate([t() if callable(t) else t for t in texts])
+
+    return message
+
+
 def _spliced(made: tuple, which: str) -> Any:
     """The fields of :func:`_batch_from_rows`'s result but ``q`` and ``success`` where the batched path answered
     some rows: ``made`` (this function, the made tuple of :func:`_rows_fields`, those rows, the batched path's
@@ -970,10 +1012,11 @@ POOL_ROWS = 1024
 """The largest set kept (~1.7 MB for a 6-joint arm with 8 branches): bigger batches of ``ik`` take new buffers."""
 
 
-def _row_buffers(c: "_Single", B: int) -> tuple:
+def _row_buffers(c: "_Single", B: int, rows: int = 0) -> tuple:
     """The batch driver's buffers for ``B`` targets (``FB, IB, BB`` and the row marks, at least ``B`` rows, and the
     chunks' work vectors): a set of the record's pool that no result holds any more, taken out of it, or a new set
-    (the pool keeps the :data:`POOL` newest, of at most :data:`POOL_ROWS` rows). A result holds its set through the
+    of ``max(B, rows)`` rows (the pool keeps the :data:`POOL` newest, of at most :data:`POOL_ROWS` rows; the last
+    piece of a batch in pieces asks for a whole piece's, so that the next batch's pieces can take it). A result holds its set through the
     views it was given and the fields and sentences it makes later. Pages a batch touched before cost less than
     fresh ones (the kernels touch ~1.7 KB a target; on this machine the Puma's 1,000 targets of ``ik_all`` took 2.2
     µs a target with new buffers, 1.5-1.6 with kept ones). The caller puts the set back after its call
@@ -987,7 +1030,7 @@ def _row_buffers(c: "_Single", B: int) -> tuple:
                 return pool.pop(i)
         if len(pool) >= POOL:
             del pool[0]   # the oldest, held by a result: it goes with that result
-    return _new_row_buffers(c, B)
+    return _new_row_buffers(c, max(B, rows))
 
 
 def _put_back(c: "_Single", whole: tuple) -> None:
