@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import os
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Callable, Optional
 
@@ -110,6 +110,11 @@ def _exercise_families() -> None:
     ik(stanford, T)
     ik_all(stanford, T)
     ik_all(stanford, fk(stanford, stanford.random_q(4, rng=5)))   # a few targets: one call each
+    for name in ("puma560", "ur5"):            # a file that rounds its twists: its branches named by the ideal DH
+        exact = load(name)                     # twin's family (_single.name_rows, each of its two kernels)
+        rounded = Robot([replace(j, alpha=j.alpha + np.copysign(3.7e-6, j.alpha) if j.alpha else 0.0)
+                         for j in exact.joints], name=f"{name}, rounded", base=exact.base, tool=exact.tool)
+        ik_all(rounded, fk(rounded, rounded.random_q(rng=6))).branch   # noqa: B018 (the names made)
     iiwa = load("iiwa14")                      # the sweep of 7-joint arms (solvers._sweep, ik.geometric.locked)
     ik_all(iiwa, fk(iiwa, iiwa.random_q(rng=3)))
     for a1 in (0.3, 0.0):                      # any other 3R arm (ik.analytic.geometric.Geometric3R): SP5, and SP3

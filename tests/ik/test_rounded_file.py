@@ -190,3 +190,40 @@ def test_near_the_singular_wrist_few_targets_leave_the_one_call_kernel():
     # and every branch the batched way gives for them is verified
     res = armkit.ik_all(rounded, T[:200], enforce_limits=False)
     assert (res.success.any(axis=1)).all()
+
+
+@pytest.mark.parametrize("name", ARMS)
+def test_the_compiled_names_are_the_numpy_steps(name, monkeypatch):
+    """The names of a rounded file's branches by one compiled call (``_single.name_rows``: the ideal arm's FK, its
+    family's kernel, the nearest branch) and by the NumPy steps it replaced, on the same branches: equal, for
+    random targets, targets on the wrist's and the elbow's folds and out of reach (branches padded: names given
+    twice, settled), and the compiled call did answer (the UR's wrist straight: its kernel leaves the batch to the
+    NumPy steps, which its family's solve answers)."""
+    _, rounded = _arms(name)
+    solver = closed_form(rounded)
+    rng = np.random.default_rng(8)
+    q = rounded.random_q(400, rng=rng)
+    if name != "ur5":
+        q[::5, 4] = rng.choice([0.0, 1e-9, -1e-7, np.pi], len(q[::5]))   # the wrist straight, or nearly
+    q[1::5, 2] = rng.choice([0.0, np.pi, 1e-8], len(q[1::5]))            # the elbow on (or by) a fold
+    T = armkit.fk(rounded, q)
+    T[2::11, :3, 3] *= 2.5                                               # out of reach
+    Q = armkit.ik_all(rounded, T, enforce_limits=False).q
+    geometric = importlib.import_module("armkit.ik.analytic.geometric")
+    answered = []
+    real = geometric._named_compiled
+    monkeypatch.setattr(geometric, "_named_compiled", lambda *a: answered.append(1) or real(*a))
+    compiled = solver.name_branches(Q, T)
+    answered_now = [] if real(rounded, solver.names_from, rounded.cache["ideal_arm"],
+                              np.ascontiguousarray(Q.reshape(-1, 6)), 8) is None else [1]
+    monkeypatch.setattr(geometric, "_named_compiled", lambda *a: None)
+    steps = solver.name_branches(Q, T)
+    assert answered and answered_now == [1]
+    assert np.array_equal(compiled, steps)
+    assert len({tuple(row) for row in compiled}) > 1
+    if name == "ur5":   # a branch with the wrist exactly straight: the UR's kernel leaves the batch to the steps
+        Q0 = Q[:20].copy()
+        Q0[3, 2, 4] = 0.0
+        assert real(rounded, solver.names_from, rounded.cache["ideal_arm"],
+                    np.ascontiguousarray(Q0.reshape(-1, 6)), 8) is None
+        assert solver.name_branches(Q0, T[:20]).shape == (20, 8)

@@ -947,6 +947,73 @@ def kernel_address(kernel, sample):
         return 0
 
 
+TWO_PI = 2.0 * math.pi
+NAME_WRIST, NAME_UR = 0, 1
+"""The naming families :func:`name_rows` runs: the spherical wrist's kernel, the UR's."""
+TIE = 1e-14
+"""Distances (rad², squared) within this of the nearest are as near (:func:`name_rows`)."""
+
+
+@njit(cache=True)
+def name_rows(q, theta, F, g, kind, k, first, dup):
+    """The compiled core of ``Geometric.name_branches`` for branches ``q`` (R, 6) (``k`` a target, R = B k) of
+    an arm named by a family of its ideal DH twin: row ``i``'s pose on the ideal arm (``F``: its packed chain;
+    :func:`_fk_row`, the bits of ``armkit.fk``), that family's branches of the pose (its kernel, ``kind``:
+    :data:`NAME_WRIST` or :data:`NAME_UR`, geometry ``g``, started at ``q[i] + theta``, as its ``branches``
+    method runs it), and the index into its ``branch_labels`` of the branch nearest ``q[i]`` (joint differences
+    less the nearest whole turns, squared and summed; within :data:`TIE` of the nearest, the first in the
+    family's table) into ``first[i]``; ``dup[b]``: whether two of target ``b``'s ``k`` branches got one index.
+    Returns False where the family's kernel does not answer alone (a UR wrist singular: its ``solve`` fixes it),
+    leaving the outputs unset."""
+    R, n = q.shape
+    T = np.empty((R, 4, 4))
+    q0p = np.empty((R, n))
+    for i in range(R):
+        _fk_row(F, q, i, T[i])
+        for j in range(n):
+            q0p[i, j] = q[i, j] + theta[j]
+    angles = np.empty((R, 8, 6))
+    table = np.empty((R, 8), np.int64)
+    if kind == NAME_WRIST:
+        _puma_run(T, g, q0p, angles.reshape(R, 4, 2, 6), table.reshape(R, 4, 2), np.empty((R, 4), np.bool_),
+                  np.empty((R, 4, 3)), np.empty((R, 4), np.bool_), np.empty((R, 4), np.bool_), np.empty((R, 2)),
+                  np.empty((R, 2)), np.empty(R), np.empty(R, np.bool_), np.empty(R, np.bool_),
+                  np.empty((R, 2), np.bool_), np.empty((R, 4), np.int64), 0, R)
+    else:
+        singular = np.empty((R, 2, 2), np.bool_)
+        _ur_run(T, g, q0p, angles.reshape(R, 2, 2, 2, 6), np.empty((R, 2, 2, 2), np.bool_), table.reshape(R, 2, 2, 2),
+                np.empty((R, 2, 2, 2), np.bool_), np.empty(R, np.bool_), np.empty(R), np.empty((R, 2, 2)),
+                np.empty(R, np.bool_), singular, 0, R)
+        for i in range(R):
+            for a in range(2):
+                for b in range(2):
+                    if singular[i, a, b]:
+                        return False
+    d = np.empty(8)
+    for i in range(R):
+        near = math.inf
+        for b in range(8):
+            s = 0.0
+            for j in range(n):
+                x = q[i, j] - (angles[i, b, j] - theta[j])
+                x -= TWO_PI * np.rint(x / TWO_PI)   # (as geometric._turns: a float remainder took ~25 ns)
+                s += x * x
+            d[b] = s
+            near = min(near, s)
+        best = 1 << 30
+        for b in range(8):
+            if d[b] <= near + TIE:
+                best = min(best, table[i, b])
+        first[i] = best
+    for t in range(R // k):
+        dup[t] = False
+        for a in range(k):
+            for b in range(a):
+                if first[t * k + a] == first[t * k + b]:
+                    dup[t] = True
+    return True
+
+
 def parallel_twins():
     """``(one-thread kernel, multi-threaded kernel)`` pairs taking the same arguments (for the warm-up)."""
     return [(_rows, _ROWS_PAR)]
