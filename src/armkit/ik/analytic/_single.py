@@ -978,12 +978,12 @@ def name_rows(q, theta, F, g, kind, k, first, dup):
         _puma_run(T, g, q0p, angles.reshape(R, 4, 2, 6), table.reshape(R, 4, 2), np.empty((R, 4), np.bool_),
                   np.empty((R, 4, 3)), np.empty((R, 4), np.bool_), np.empty((R, 4), np.bool_), np.empty((R, 2)),
                   np.empty((R, 2)), np.empty(R), np.empty(R, np.bool_), np.empty(R, np.bool_),
-                  np.empty((R, 2), np.bool_), np.empty((R, 4), np.int64), 0, R)
+                  np.empty((R, 2), np.bool_), np.empty((R, 4), np.int64), _FIRST, R)
     else:
         singular = np.empty((R, 2, 2), np.bool_)
         _ur_run(T, g, q0p, angles.reshape(R, 2, 2, 2, 6), np.empty((R, 2, 2, 2), np.bool_), table.reshape(R, 2, 2, 2),
                 np.empty((R, 2, 2, 2), np.bool_), np.empty(R, np.bool_), np.empty(R), np.empty((R, 2, 2)),
-                np.empty(R, np.bool_), singular, 0, R)
+                np.empty(R, np.bool_), singular, _FIRST, R)
         for i in range(R):
             for a in range(2):
                 for b in range(2):

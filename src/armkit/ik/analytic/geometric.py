@@ -28,6 +28,7 @@ from typing import Any, Callable
 import numpy as np
 from numpy.typing import NDArray
 
+from ... import _jit_loader
 from ..._text import Fielded
 from ...kinematics import fk, packed
 from ...model.robot import Robot
@@ -128,8 +129,6 @@ def _named_compiled(robot: Robot, names: Any, ideal: Robot, flat: Array, k: int
     kind = _NAME_KINDS.get(names.family)
     if kind is None:
         return None
-    from ... import _jit_loader
-
     kernels = _jit_loader.kernels("ik.analytic._single")
     if kernels is None:
         return None
