@@ -227,3 +227,30 @@ def test_the_compiled_names_are_the_numpy_steps(name, monkeypatch):
         assert real(rounded, solver.names_from, rounded.cache["ideal_arm"],
                     np.ascontiguousarray(Q0.reshape(-1, 6)), 8) is None
         assert solver.name_branches(Q0, T[:20]).shape == (20, 8)
+
+
+@pytest.mark.parametrize("name", ARMS)
+def test_the_nearest_branch_is_named_among_the_kernel_s_branches_as_among_solve_s(name, monkeypatch):
+    """:func:`armkit.ik`'s one branch a target is named among every branch of the target: those of the one-call
+    kernel (``geometric._kernel_branches``, named as ``ik_all`` names them) and those of ``Geometric.solve`` (the
+    way before, and where the kernel does not serve) give the same names, with starts far off, limits on and off,
+    targets out of reach; and the name is the one ``ik_all`` gives the same joint values."""
+    _, rounded = _arms(name)
+    solver = closed_form(rounded)
+    rng = np.random.default_rng(9)
+    T = armkit.fk(rounded, rounded.random_q(120, rng=rng))
+    T[::7, :3, 3] *= 2.5
+    geometric = importlib.import_module("armkit.ik.analytic.geometric")
+    for q0, enforce in ((None, True), (rng.uniform(-4.0, 4.0, 6), False)):
+        near = armkit.ik(rounded, T, q0, enforce_limits=enforce)
+        Q = near.q[:, None, :]
+        kernel = solver.name_branches(Q, T)
+        assert geometric._kernel_branches(rounded, T) is not None
+        with monkeypatch.context() as m:
+            m.setattr(geometric, "_kernel_branches", lambda *a: None)
+            solved = solver.name_branches(Q, T)
+        assert np.array_equal(kernel, solved)
+        every = armkit.ik_all(rounded, T, q0, enforce_limits=enforce)
+        for i in np.flatnonzero(near.success):
+            j = int(np.argmin(np.abs(every.q[i] - near.q[i]).max(axis=1)))
+            assert np.abs(every.q[i, j] - near.q[i]).max() <= 1e-12 and every.branch[i, j] == near.branch[i]

@@ -115,6 +115,26 @@ def _turns(q: Array, other: Array) -> Array:
     return np.einsum("bkmn,bkmn->bkm", diff, diff)
 
 
+def _kernel_branches(robot: Robot, target: Array) -> Array | None:
+    """Every branch ``(B, m, n)`` of the pose targets ``(B, 4, 4)`` as :func:`armkit.ik_all` answers them (the
+    robot's one-call kernel, every row by the batch driver: wrapped near the default start, touched up, sorted),
+    for :meth:`Geometric.name_branches` of fewer than ``m`` branches a target; None where the one-call path does
+    not serve (no record or kernel, Numba off) or a target's call asks for the batched path. One target's branches
+    took ~35 µs by :meth:`Geometric.solve`, ~3 this way."""
+    c = robot.cache.get("ik_fast")
+    if not c or c.kernel is None or not c.address or _jit_loader._ACTIVE is None:
+        return None
+    B = len(target)
+    FB, IB, BB = np.empty((B,) + c.fshape), np.empty((B, c.isize), np.int64), np.empty((B, c.bsize), np.bool_)
+    marks = np.empty(B, np.int64)
+    flat = np.ascontiguousarray(target, dtype=float).reshape(B, -1)
+    pending = c.kernels.rows_entry(False)(c.address, flat, c.q0.reshape(1, -1), False, c.ctx, FB, IB, BB,
+                                          c.wk.reshape(1, -1), marks)
+    if pending < 0 or (pending and (marks == 2).any()):
+        return None
+    return FB.reshape(B, -1)[:, :c.mn].reshape(B, c.m, c.n)
+
+
 _NAME_KINDS = {"spherical-wrist": 0, "ur": 1}
 """The naming families with a compiled naming core (``_single.name_rows``: ``NAME_WRIST``, ``NAME_UR``)."""
 
@@ -263,10 +283,14 @@ class Geometric:
         if names is None:
             return np.broadcast_to(np.array(self.branch_labels, dtype=object)[:k], (B, k)).copy()
         target = np.ascontiguousarray(target, dtype=float)
-        if k < self.m:   # among every branch of the target (solve names them all)
-            every = self.solve(target, q[:, 0])
-            pick = _turns(q, every.q).argmin(axis=-1)
-            return np.take_along_axis(np.asarray(every.label, dtype=object), pick, axis=1)
+        if k < self.m:   # among every branch of the target: the one-call kernel's (named as ik_all names them),
+            every = _kernel_branches(self.robot, target)   # else solve's
+            if every is not None:
+                pick = _turns(q, every).argmin(axis=-1)
+                return np.take_along_axis(self.name_branches(every, target), pick, axis=1)
+            raw = self.solve(target, q[:, 0])
+            pick = _turns(q, raw.q).argmin(axis=-1)
+            return np.take_along_axis(np.asarray(raw.label, dtype=object), pick, axis=1)
         ideal = self.robot.cache.get("ideal_arm")
         if ideal is None:   # the ideal arm as a DH table (the naming family's): its FK for the same joint values
             ideal = self.robot.cache["ideal_arm"] = names.sf.as_robot(self.robot, f"{self.robot.name}, ideal arm")
