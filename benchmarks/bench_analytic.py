@@ -29,6 +29,9 @@ EAIK where installed: the classes without a DH pattern are solved by the geometr
 Then (also alone: ``--small-only``, ``--big-only``) a few targets and many in one call: the rows driver against
 the batched path (and EAIK's batched call).
 
+Then (also alone: ``--names-only``) the branch names read on arms a DH family names (files that round their
+twists, the Kinova's URDF): the compiled naming against the NumPy steps it replaced.
+
 Then (also alone: ``--scara-only``) the SCARA (cobra600), which EAIK does not take: a batch of poses in one call,
 its whole-batch form against the target-by-target loop, and LM.
 
@@ -391,6 +394,48 @@ def big_batches(targets: int, threads: int, repeat: int) -> None:
     print(f"\nload average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores")
 
 
+def names_read(repeat: int) -> None:
+    """The branch names of arms the geometric family solves and a DH family names (files that round their twists,
+    the Kinova's URDF): ``ik_all`` and ``ik`` of one target with ``branch`` read (CPU time of the thread, µs a
+    call), and of 1,000 targets in one call (wall clock, µs a target), by the compiled naming
+    (``_single.name_rows``, the one-call kernel's branches for ``ik``) against the NumPy steps it replaced
+    (``geometric._named_compiled`` and ``geometric._kernel_branches`` set to answer None), in the same run."""
+    import importlib
+
+    geometric = importlib.import_module("armkit.ik.analytic.geometric")
+    named, kernel = geometric._named_compiled, geometric._kernel_branches
+    print(f"\nbranch names read: µs a call of one target (CPU time, best of {repeat}) and µs a target of 1,000 in "
+          "one call (wall clock); compiled naming / the NumPy steps\n")
+    print("| arm | ik_all | ik_all, branch read | ik | ik, branch read | 1,000 ik_all, branch read |")
+    print("|---|---|---|---|---|---|")
+    for label in ("puma560, rounded file", "ur5, rounded file", "kinova j2s6s200"):
+        name, tip = ARMS[label]
+        if name.endswith(".urdf") and not Path(name).is_file():
+            continue
+        robot = _arm(name, tip)
+        T = armkit.fk(robot, np.random.default_rng(17).uniform(-np.pi, np.pi, (1000, robot.n)))
+        singles = list(T[:200])
+        cells = [f"{_cpu_best(lambda t: armkit.ik_all(robot, t), singles, repeat) * 1e6:.1f}", "", "", "", ""]
+        times: list = [[], [], []]
+        for steps in (False, True):
+            if steps:
+                geometric._named_compiled = lambda *a: None
+                geometric._kernel_branches = lambda *a: None
+            try:
+                armkit.ik_all(robot, T[:3]).branch
+                armkit.ik(robot, T[:3]).branch
+                times[0].append(_cpu_best(lambda t: armkit.ik_all(robot, t).branch, singles, repeat))
+                times[1].append(_cpu_best(lambda t: armkit.ik(robot, t).branch, singles, repeat))
+                times[2].append(_best(lambda: armkit.ik_all(robot, T).branch, repeat) / len(T))
+            finally:
+                geometric._named_compiled, geometric._kernel_branches = named, kernel
+        cells[1] = f"{times[0][0] * 1e6:.1f} / {times[0][1] * 1e6:.1f}"
+        cells[2] = f"{_cpu_best(lambda t: armkit.ik(robot, t), singles, repeat) * 1e6:.1f}"
+        cells[3] = f"{times[1][0] * 1e6:.1f} / {times[1][1] * 1e6:.1f}"
+        cells[4] = f"{times[2][0] * 1e6:.1f} / {times[2][1] * 1e6:.1f}"
+        print(f"| {label} | " + " | ".join(cells) + " |", flush=True)
+
+
 def scara_batches(repeat: int) -> None:
     """The SCARA (cobra600, ``geometric-scara``; EAIK takes revolute joints only): ``ik_all`` and ``ik`` of a batch
     of poses in one call, its whole-batch form against the target-by-target loop it replaced (forced by raising
@@ -491,6 +536,8 @@ def main() -> None:
     ap.add_argument("--big-only", action="store_true",
                     help="only the big batches (--big-targets in one call), both paths, and EAIK's where installed")
     ap.add_argument("--big-targets", type=int, default=50_000)
+    ap.add_argument("--names-only", action="store_true",
+                    help="only the branch names read (rounded files, the Kinova's URDF), compiled against NumPy steps")
     ap.add_argument("--eaik-only", action="store_true",
                     help="only the table against EAIK (branches, single calls, batched calls)")
     args = ap.parse_args()
@@ -504,6 +551,10 @@ def main() -> None:
     if args.small_only:
         G.kernels()
         small_batches(args.repeat)
+        return
+    if args.names_only:
+        G.kernels()
+        names_read(args.repeat)
         return
     if args.big_only:
         G.kernels()
@@ -583,6 +634,7 @@ def main() -> None:
     single_calls(min(args.targets, 300), args.repeat)
     small_batches(args.repeat)
     big_batches(args.big_targets, args.threads, args.repeat)
+    names_read(args.repeat)
     searches(args.search_targets)
     random_classes(args.random_arms, 100, args.repeat)
     scara_batches(args.repeat)

@@ -968,43 +968,50 @@ def name_rows(q, theta, F, g, kind, k, first, dup):
     R, n = q.shape
     T = np.empty((R, 4, 4))
     q0p = np.empty((R, n))
-    for i in range(R):
-        _fk_row(F, q, i, T[i])
-        for j in range(n):
-            q0p[i, j] = q[i, j] + theta[j]
     angles = np.empty((R, 8, 6))
     table = np.empty((R, 8), np.int64)
-    if kind == NAME_WRIST:
-        _puma_run(T, g, q0p, angles.reshape(R, 4, 2, 6), table.reshape(R, 4, 2), np.empty((R, 4), np.bool_),
-                  np.empty((R, 4, 3)), np.empty((R, 4), np.bool_), np.empty((R, 4), np.bool_), np.empty((R, 2)),
-                  np.empty((R, 2)), np.empty(R), np.empty(R, np.bool_), np.empty(R, np.bool_),
-                  np.empty((R, 2), np.bool_), np.empty((R, 4), np.int64), _FIRST, R)
-    else:
-        singular = np.empty((R, 2, 2), np.bool_)
-        _ur_run(T, g, q0p, angles.reshape(R, 2, 2, 2, 6), np.empty((R, 2, 2, 2), np.bool_), table.reshape(R, 2, 2, 2),
-                np.empty((R, 2, 2, 2), np.bool_), np.empty(R, np.bool_), np.empty(R), np.empty((R, 2, 2)),
-                np.empty(R, np.bool_), singular, _FIRST, R)
+    A4, L4 = angles.reshape(R, 4, 2, 6), table.reshape(R, 4, 2)               # the spherical wrist's layout
+    A5, L5 = angles.reshape(R, 2, 2, 2, 6), table.reshape(R, 2, 2, 2)         # the UR's
+    # the kernels' other outputs, not read (each chunk writes its own rows)
+    sing4, phi, up, unreach = np.empty((R, 4), np.bool_), np.empty((R, 4, 3)), np.empty((R, 4), np.bool_), \
+        np.empty((R, 4), np.bool_)
+    cw, rw, rho, lat, axis, edge, lab4 = np.empty((R, 2)), np.empty((R, 2)), np.empty(R), np.empty(R, np.bool_), \
+        np.empty(R, np.bool_), np.empty((R, 2), np.bool_), np.empty((R, 4), np.int64)
+    up5, unreach5, r5, singular = np.empty((R, 2, 2, 2), np.bool_), np.empty((R, 2, 2, 2), np.bool_), \
+        np.empty((R, 2, 2)), np.zeros((R, 2, 2), np.bool_)
+    chunks = min(R, NAME_CHUNKS)
+    for c in prange(chunks):   # rows cut into chunks (its twin runs them on every thread)
+        lo, hi = c * R // chunks, (c + 1) * R // chunks
+        for i in range(lo, hi):
+            _fk_row(F, q, i, T[i])
+            for j in range(n):
+                q0p[i, j] = q[i, j] + theta[j]
+        if kind == NAME_WRIST:
+            _puma_run(T, g, q0p, A4, L4, sing4, phi, up, unreach, cw, rw, rho, lat, axis, edge, lab4, lo, hi)
+        else:
+            _ur_run(T, g, q0p, A5, up5, L5, unreach5, lat, rho, r5, axis, singular, lo, hi)
+        d = np.empty(8)
+        for i in range(lo, hi):
+            near = math.inf
+            for b in range(8):
+                s = 0.0
+                for j in range(n):
+                    x = q[i, j] - (angles[i, b, j] - theta[j])
+                    x -= TWO_PI * np.rint(x / TWO_PI)   # (as geometric._turns: a float remainder took ~25 ns)
+                    s += x * x
+                d[b] = s
+                near = min(near, s)
+            best = 1 << 30
+            for b in range(8):
+                if d[b] <= near + TIE:
+                    best = min(best, table[i, b])
+            first[i] = best
+    if kind != NAME_WRIST:
         for i in range(R):
             for a in range(2):
                 for b in range(2):
                     if singular[i, a, b]:
                         return False
-    d = np.empty(8)
-    for i in range(R):
-        near = math.inf
-        for b in range(8):
-            s = 0.0
-            for j in range(n):
-                x = q[i, j] - (angles[i, b, j] - theta[j])
-                x -= TWO_PI * np.rint(x / TWO_PI)   # (as geometric._turns: a float remainder took ~25 ns)
-                s += x * x
-            d[b] = s
-            near = min(near, s)
-        best = 1 << 30
-        for b in range(8):
-            if d[b] <= near + TIE:
-                best = min(best, table[i, b])
-        first[i] = best
     for t in range(R // k):
         dup[t] = False
         for a in range(k):
@@ -1014,9 +1021,21 @@ def name_rows(q, theta, F, g, kind, k, first, dup):
     return True
 
 
+_NAME_PAR = parallel_twin(name_rows)
+NAME_CHUNKS = 64
+"""The chunks of rows of :func:`name_rows` (each with its own scratch), on every thread in its twin."""
+NAME_PARALLEL = 64
+"""Rows from which ``Geometric.name_branches`` calls the twin of :func:`name_rows` (8 a target of ``ik_all``)."""
+
+
+def name_entry(rows):
+    """:func:`name_rows`, or its multi-threaded twin for :data:`NAME_PARALLEL` rows or more (where threads serve)."""
+    return _NAME_PAR if rows >= NAME_PARALLEL and _jit_loader.parallel_ok() else name_rows
+
+
 def parallel_twins():
     """``(one-thread kernel, multi-threaded kernel)`` pairs taking the same arguments (for the warm-up)."""
-    return [(_rows, _ROWS_PAR)]
+    return [(_rows, _ROWS_PAR), (name_rows, _NAME_PAR)]
 
 
 WORK: dict = {"planar-2r": (25, 2, 5), "planar-3r": (24, 2, 5), "yaw-pitch-pitch": (37, 4, 16),

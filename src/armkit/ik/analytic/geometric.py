@@ -159,7 +159,7 @@ def _named_compiled(robot: Robot, names: Any, ideal: Robot, flat: Array, k: int
     _, F, g, theta = consts
     first = np.empty(len(flat), np.int64)
     dup = np.empty(len(flat) // k, np.bool_)
-    if not kernels.name_rows(flat, theta, F, g, kind, k, first, dup):
+    if not kernels.name_entry(len(flat))(flat, theta, F, g, kind, k, first, dup):
         return None
     return first, dup
 
