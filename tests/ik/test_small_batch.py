@@ -12,6 +12,7 @@ Timing lives in benchmarks/bench_analytic.py.
 from __future__ import annotations
 
 import importlib
+import sys
 
 import numpy as np
 import pytest
@@ -21,7 +22,7 @@ from hypothesis import strategies as st
 import armkit
 from armkit.ik.analytic import ROWS
 
-from test_single_call import ARMS, _arm, _assert_same, _both, _target, compiled  # noqa: F401 (the fixture)
+from test_single_call import ARMS, _arm, _assert_same, _both, _target, compiled, twists_rounded  # noqa: F401
 
 api = importlib.import_module("armkit.ik.api")
 analytic = importlib.import_module("armkit.ik.analytic")
@@ -56,7 +57,7 @@ def test_a_few_targets_equal_the_batched_path(name, data, size, start, enforce):
 
 def test_any_leading_shape_and_the_path_is_taken(monkeypatch, rng):
     """(2, 3) targets come back as (2, 3) results, equal to the batched path's; the small path answered (counted);
-    more than ROWS[1] targets of ik take the batched path, ik_all's any number the small path (in pieces)."""
+    any number of targets takes the small path (in pieces above POOL_ROWS), but with api.ONE_CALL off."""
     robot = _arm("ur5")
     targets = np.stack([armkit.fk(robot, robot.random_q(rng=rng)) for _ in range(6)]).reshape(2, 3, 4, 4)
     armkit.ik(robot, targets[0, 0])        # the robot's one-call record made first (it sets api._run_small)
@@ -68,23 +69,31 @@ def test_any_leading_shape_and_the_path_is_taken(monkeypatch, rng):
         assert fast.success.shape[:2] == (2, 3) and fast.q.shape[:2] == (2, 3)
         _assert_same(fast, slow)
     assert calls == [6, 6]
-    many = armkit.fk(robot, robot.random_q(ROWS[1] + 1, rng=rng))
+    many = armkit.fk(robot, robot.random_q(3 * analytic.POOL_ROWS + 5, rng=rng))
+    assert ROWS == (sys.maxsize, sys.maxsize)
     armkit.ik(robot, many)
-    assert calls == [6, 6]
-    armkit.ik(robot, many[:ROWS[1]])
-    assert calls == [6, 6, ROWS[1]]
     armkit.ik_all(robot, many)
-    assert calls == [6, 6, ROWS[1], ROWS[1] + 1]
+    assert calls == [6, 6, len(many), len(many)]
+    _both(lambda: armkit.ik(robot, many))                 # (the batched path: not counted)
+    assert calls == [6, 6, len(many), len(many), len(many)]
 
 
-@pytest.mark.parametrize("name", ["puma560", "ur5", "puma560-rounded"])
+_TWISTS: dict = {}
+
+
+@pytest.mark.parametrize("name", ["puma560", "ur5", "puma560-rounded", "puma560-twists"])
 def test_many_targets_in_pieces_equal_the_batched_path(name, monkeypatch, driver_runs, rng):
     """More targets than POOL_ROWS (made 40 here) are answered in pieces of that many rows, joined
     (``_in_pieces``): with targets out of reach, a target at the home pose in the second piece (the batched path
     answers it alone) and no start, one, or one per target, every field and message the batched path's to the bit;
-    one driver run per piece."""
+    one driver run per piece. ("puma560-twists": a file that rounds its twists, solved by the geometric family and
+    named by the Puma's: ik's pieces keep what names it, not their buffers.)"""
     monkeypatch.setattr(analytic, "POOL_ROWS", 40)
-    robot = _arm(name)
+    if name == "puma560-twists":
+        robot = _TWISTS.get(name) or _TWISTS.setdefault(name, twists_rounded(armkit.load("puma560")))
+        assert analytic.closed_form(robot).names_from is not None
+    else:
+        robot = _arm(name)
     B = 100
     q = robot.random_q(B, rng=rng)
     q[57] = 0.0

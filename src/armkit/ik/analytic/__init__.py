@@ -831,7 +831,7 @@ the one-call path target by target (:func:`run_small_batch`): the batched path s
 size (then ~0.01 ms a target), the one-call path costs ~0.02 ms a target for ``armkit.ik`` and ~0.03 ms for
 ``armkit.ik_all`` (UR5, Puma 560: the two are equal near 16-24 targets for ``ik_all`` and 24-32 for ``ik`` on this
 project's 2-core machine; benchmarks/bench_analytic.py --small-only)."""
-ROWS = (sys.maxsize, 16384)
+ROWS = (sys.maxsize, sys.maxsize)
 """The same limits, ``(ik_all, ik)``, for a family with a kernel. Its calls write each target's numbers into a row
 of one set of buffers, all rows by one compiled driver (:func:`_batch_from_rows`; the family's kernel called
 through its address, on every thread from :data:`ROWS_PARALLEL` targets), the fields but ``q`` and ``success`` made
@@ -841,9 +841,10 @@ targets 64 -> 38, ``ik`` 20 -> 9, 27 -> 16, 46 -> 29 (CPU time of the thread); t
 ``ik_all`` 1.9-2.0 -> 1.5-1.6 µs a target (wall clock, two threads, with the buffers the robot keeps between
 batches, :func:`_row_buffers`). The limits were 1,024 and 4,096 until the fifth session of 2026-12-07, when the
 kernels had become fast enough that the rows beat the batched path at every size (``bench_analytic.py
---big-only``). The buffers (~1.7 KB a target) stay with the result until its fields are made: the results kept
-2.8-3.2 KB a target against the batched path's 2.3-2.4 (``ik_all``), 1.8-2.2 against 0.4-1.5 (``ik``, whose
-batched path keeps little: it answers more than ``ROWS[1]`` targets, ~36 MB of buffers)."""
+--big-only``). The buffers of :func:`armkit.ik_all`'s pieces (~1.7 KB a target) stay with the result until its
+fields are made (kept: 2.8-3.1 KB a target against the batched path's 2.3-2.4; at their peak the batched path's
+arrays took as much, or 8-17 KB a target on the geometric family); :func:`armkit.ik`'s pieces are made compact
+as they come (:func:`_compact`), their sets used again by the next piece."""
 ROWS_PARALLEL = 32
 """Batches of a family with a kernel from this many targets run on every thread (:func:`_batch_from_rows`; the
 Puma's ``ik_all`` of 32 targets 2.7 -> 2.6 µs a target, of 128 targets 2.3 -> 2.0)."""
@@ -956,15 +957,66 @@ def _in_pieces(robot: Robot, c: "_Single", targets: Array, q0: Array | None, ctx
     (the UR5's 50,000 targets 2.7-3.1 µs a target in those calls, 0.96-1.4 in the others; in pieces of 1,024 rows
     0.96-1.02 after the first call)."""
     B, step = targets.shape[0], POOL_ROWS
-    parts = []
+    qs, oks, makers = [], [], []
     for s in range(0, B, step):
         starts = q0[s:s + step] if q0 is not None and q0.ndim == 2 else q0
         part = _batch_from_rows(robot, c, targets[s:s + step], starts, ctx, nearest, batched, step)
         if part is None:
             return None
-        parts.append(part)
-    q, ok = np.concatenate([p.q for p in parts]), np.concatenate([p.success for p in parts])
-    return IKResult._deferred((_joined, [p.__dict__["_make"] for p in parts]), q, ok)
+        d = part.__dict__
+        make = d["_make"]
+        if nearest:   # its fields now but the names, its sentences' rows copied: its set free for the next piece
+            make = _compact(make)
+        qs.append(d["q"])
+        oks.append(d["success"])
+        makers.append(make)
+        del part, d, make
+    return IKResult._deferred((_joined, makers), np.concatenate(qs), np.concatenate(oks))
+
+
+def _compact(made: tuple) -> tuple:
+    """The made tuple of a piece of :func:`armkit.ik`'s rows (:func:`_rows_fields`', or :func:`_spliced`'s around
+    it) made to hold no buffer of the piece's set: the fields (one branch a target: ~30 ns a target) now, copied,
+    but the names of a family that names its branches when read (from copies of the joint values and the poses
+    the kernel read), and the rows of the sentences to make (a target whose branch failed: ~1.7 KB each) copied.
+    The buffers go back to the pool for the next piece: a batch of any size keeps ~0.2 KB a target besides those
+    rows, as the batched path's (0.4-1.5 KB), where the sets took ~1.7 KB."""
+    if made[0] is _spliced:
+        return (_spliced, _compact(made[1])) + made[2:]
+    _, robot, c, FB, IB, BB, rows, kept, shape, nearest = made
+    m, n, mn = c.m, c.n, c.mn
+    branch = Q = P = None
+    if c.namer is None:
+        branch = c.labels[IB[:, m]]
+    else:
+        at = c.at["target"]
+        Q, P = FB[:, :n].copy(), FB[:, at:at + 16].copy()
+    fields = (FB[:, mn].copy(), FB[:, mn + m].copy(), IB[:, 2 * m].copy(), BB[:, m].copy(), _REASON_TEXT[IB[:, 0]])
+    sentences = (FB[rows].copy(), IB[rows].copy(), kept[rows]) if rows else None
+    return (_compact_fields, robot, c, len(FB), fields, branch, Q, P, rows, sentences, shape)
+
+
+def _compact_fields(made: tuple, which: str) -> Any:
+    """:func:`_rows_fields` of a piece made compact by :func:`_compact`: the same fields, the same sentences."""
+    _, robot, c, B, fields, branch, Q, P, rows, sentences, shape = made
+    if which == "rest":
+        if branch is None:
+            branch = c.namer(Q.reshape(B, 1, c.n), P.reshape(B, 4, 4))[:, 0]
+        dp, dr, it, within, reason = fields
+        return {"position_error": dp, "rotation_error": dr, "iterations": it, "branch": branch,
+                "within_limits": within, "reason": reason}
+    message = np.empty(B, dtype=object)
+    message[:] = ""
+    if not rows:
+        return message
+
+    def messages() -> NDArray[np.object_]:
+        FBr, IBr, kept = sentences
+        for j, i in enumerate(rows):
+            message[i] = _Messages(robot, c, None, kept[j].reshape(shape), FBr[j], IBr[j], None, True)()
+        return message
+
+    return messages
 
 
 def _joined(made: tuple, which: str) -> Any:
