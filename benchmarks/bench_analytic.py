@@ -297,25 +297,25 @@ def single_calls(targets: int, repeat: int) -> None:
 
 
 def small_batches(repeat: int) -> None:
-    """A few targets in one call (``armkit.ik_all`` / ``armkit.ik`` of ``(B, 4, 4)``): up to
-    ``armkit.ik.analytic.ROWS[1]`` for ``ik`` (any number for ``ik_all``; in pieces of ``POOL_ROWS``) they take the
-    one-call kernel, each target into its row of one set of buffers by one compiled driver (threaded from
-    ``ROWS_PARALLEL`` targets), above it the batched path;
+    """A few targets in one call (``armkit.ik_all`` / ``armkit.ik`` of ``(B, 4, 4)``): any number
+    (``armkit.ik.analytic.ROWS``; in pieces of ``POOL_ROWS`` above that) take the one-call kernel,
+    each target into its row of one set of buffers by one compiled driver (threaded from ``ROWS_PARALLEL``
+    targets);
     both columns of each size are timed (``api.ONE_CALL`` off: the batched path for every size), µs per call, CPU
     time of the thread (a threaded call's other thread not counted), and EAIK's batched call of the same poses
     on one thread where EAIK is installed."""
     import importlib
 
-    from armkit.ik.analytic import POOL_ROWS, ROWS
+    from armkit.ik.analytic import POOL_ROWS
 
     api = importlib.import_module("armkit.ik.api")
     try:
         import eaik  # noqa: F401
     except ImportError:
         eaik = None
-    sizes = (1, 2, 8, 16, 1024, ROWS[1], ROWS[1] + 1)
-    print(f"\nsmall batches: µs per call of B targets (by the rows driver: any B for ik_all, in pieces of {POOL_ROWS}, "
-          f"up to B = {ROWS[1]} for ik), best of {repeat}; CPU time of the thread\n")
+    sizes = (1, 2, 8, 16, POOL_ROWS, POOL_ROWS + 1, 4 * POOL_ROWS)
+    print(f"\nsmall batches: µs per call of B targets (by the rows driver, in pieces of {POOL_ROWS} above that), "
+          f"best of {repeat}; CPU time of the thread\n")
     print("| arm | B | ik_all | ik_all batched path | ik | ik batched path | EAIK IK_batched (1 thread) |")
     print("|---|---|---|---|---|---|---|")
     for label in ("ur5", "puma560", "ur5, axis 1 reversed"):
@@ -350,8 +350,8 @@ def small_batches(repeat: int) -> None:
 
 def big_batches(targets: int, threads: int, repeat: int) -> None:
     """Many targets in one call (``armkit.ik_all`` / ``armkit.ik`` of ``(B, 4, 4)``, default options, wall clock,
-    best of ``repeat``): the rows driver (in pieces of ``armkit.ik.analytic.POOL_ROWS`` rows; ``ik`` up
-    to ``ROWS[1]`` targets, the batched path above) against the batched path (``api.ONE_CALL`` off), and EAIK's
+    best of ``repeat``): the rows driver (in pieces of ``armkit.ik.analytic.POOL_ROWS`` rows) against the batched
+    path (``api.ONE_CALL`` off), and EAIK's
     ``IK_batched`` on ``threads`` threads where installed (limits off there, on for armkit), µs per target."""
     import importlib
 

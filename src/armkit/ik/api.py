@@ -430,11 +430,9 @@ def _batched(robot: Robot, target: Array, q0: Array | None, enforce_limits: bool
     (for the targets of a batch whose compiled call asked for it: :func:`armkit.ik.analytic.run_small_batch`)."""
     flat, lead, position_only, q0f = _targets_and_start(robot, target, q0, None, check)
     if nearest:
-        res = _nearest_branch(robot, flat, q0f, position_only, None, enforce_limits,
-                              _analytic_solver(robot, position_only, None), lead)
-    else:
-        res = _reshape(_all_branches(robot, flat, q0f, position_only, None, enforce_limits), lead)
-    return _checked(robot, res, None)
+        return _nearest_branch(robot, flat, q0f, position_only, None, enforce_limits,
+                               _analytic_solver(robot, position_only, None), lead)
+    return _reshape(_all_branches(robot, flat, q0f, position_only, None, enforce_limits), lead)
 
 
 def _nearest_branch(robot: Robot, target: Array, q0: Array, position_only: bool, tol: Any,

@@ -856,7 +856,7 @@ def run_small_batch(robot: Robot, c: "_Single", targets: Array, q0: Array | None
                     nearest: bool, batched: Any = None) -> IKResult | None:
     """:func:`run_one` for each of a few targets (``targets`` float64 ``(B,) + shape`` the family takes, ``B``
     at most ``c.small``: :data:`SMALL_BATCH`, fewer for a family with a whole-batch form; for a family with a
-    kernel :data:`ROWS` (any number for :func:`armkit.ik_all`), in pieces of :data:`POOL_ROWS` rows;
+    kernel any number (:data:`ROWS`), in pieces of :data:`POOL_ROWS` rows above that;
     ``q0`` None, one start ``(n,)`` or one per target ``(B, n)``, float64), the results stacked as the batched path
     gives them: fields
     ``(B,)`` (``(B, m)`` for every branch), the same values and types (tests/ik/test_small_batch.py). None where
@@ -949,10 +949,11 @@ def _batch_from_rows(robot: Robot, c: "_Single", targets: Array, q0: Array | Non
 
 def _in_pieces(robot: Robot, c: "_Single", targets: Array, q0: Array | None, ctx: Array, nearest: bool,
                batched: Any) -> IKResult | None:
-    """:func:`_batch_from_rows` of more than :data:`POOL_ROWS` targets: pieces of that many, one after the other
-    (each with its set of buffers, held by the result until its fields are made), joined. ``q`` and ``success``
-    now, the other fields when first read (:func:`_joined`). None where a piece is (the batched path answers every
-    target). Pieces of the size of a kept set: the sets of a loop over batches are the process's memory already,
+    """:func:`_batch_from_rows` of more than :data:`POOL_ROWS` targets: pieces of that many, one after the other,
+    joined. ``q`` and ``success`` now, the other fields when first read (:func:`_joined`): :func:`armkit.ik_all`'s
+    from each piece's set of buffers, which the result holds until then; :func:`armkit.ik`'s pieces are made compact
+    at once (:func:`_compact`), their sets free for the next piece. None where a piece is (the batched path answers
+    every target). Pieces of the size of a kept set: the sets of a loop over batches are the process's memory already,
     where one set of 50,000 rows (~85 MB) came fresh from the system in some calls, with a page fault every 4 KB
     (the UR5's 50,000 targets 2.7-3.1 µs a target in those calls, 0.96-1.4 in the others; in pieces of 1,024 rows
     0.96-1.02 after the first call)."""
@@ -1061,16 +1062,17 @@ POOL = 2
 """Sets of the batch driver's buffers a record keeps (:func:`_row_buffers`): two serve a loop that keeps each result
 until the next call's returns."""
 POOL_ROWS = 1024
-"""The largest set kept (~1.7 MB for a 6-joint arm with 8 branches): bigger batches of ``ik`` take new buffers."""
+"""The largest set kept (~1.7 MB for a 6-joint arm with 8 branches): bigger batches go in pieces of this many rows
+(:func:`_in_pieces`)."""
 
 
 def _row_buffers(c: "_Single", B: int, rows: int = 0) -> tuple:
     """The batch driver's buffers for ``B`` targets (``FB, IB, BB`` and the row marks, at least ``B`` rows, and the
     chunks' work vectors): a set of the record's pool that no result holds any more, taken out of it, or a new set
     of ``max(B, rows)`` rows (the pool keeps the :data:`POOL` newest, of at most :data:`POOL_ROWS` rows; the last
-    piece of a batch in pieces asks for a whole piece's, so that the next batch's pieces can take it). A result holds its set through the
-    views it was given and the fields and sentences it makes later. Pages a batch touched before cost less than
-    fresh ones (the kernels touch ~1.7 KB a target; on this machine the Puma's 1,000 targets of ``ik_all`` took 2.2
+    piece of a batch in pieces asks for a whole piece's, so that the next batch's pieces can take it). A result
+    holds its set through the views it was given and the fields and sentences it makes later. Pages a batch
+    touched before cost less than fresh ones (the kernels touch ~1.7 KB a target; on this machine the Puma's 1,000 targets of ``ik_all`` took 2.2
     µs a target with new buffers, 1.5-1.6 with kept ones). The caller puts the set back after its call
     (:func:`_put_back`)."""
     pool = c.pool
