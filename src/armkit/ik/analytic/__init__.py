@@ -916,17 +916,17 @@ def _batch_from_rows(robot: Robot, c: "_Single", targets: Array, q0: Array | Non
     _put_back(c, whole)
     if pending < 0:
         return None
-    rows, redo = [], None
-    if pending:
-        rows = np.flatnonzero(marks == 1).tolist()
-        redo = np.flatnonzero(marks == 2)
-        if not len(redo):
-            redo = None
-        elif batched is None or len(redo) == B:
+    rows: list = []
+    redo = None
+    if pending >> 32:   # rows for the batched path (marked 2)
+        if batched is None or pending >> 32 == B:
             return None
-        else:   # the rows the batched path answers: a row the kernel answered copied there, so that the fields
-            good = np.flatnonzero(marks != 2)[0]   # made of the buffers read valid numbers and labels (replaced)
-            FB[redo], IB[redo], BB[redo] = FB[good], IB[good], BB[good]
+        redo = np.flatnonzero(marks == 2)
+        rows = np.flatnonzero(marks == 1).tolist()
+        good = np.flatnonzero(marks != 2)[0]   # a row the kernel answered copied to those rows, so that the fields
+        FB[redo], IB[redo], BB[redo] = FB[good], IB[good], BB[good]   # made of the buffers read valid numbers
+    elif pending:
+        rows = np.flatnonzero(marks).tolist()
     FB = FB.reshape(B, -1)   # each row's flat layout (_single.layout)
     # q and success now, the other fields when one is first read (_rows_fields); the sentences of the rows with a
     # failed branch (the others stay empty) when the message is read, from a copy of the targets made now (the

@@ -881,10 +881,10 @@ def _rows(address, T, Q0, each, ctx, FB, IB, BB, WK, R):
     there it did not write in the same call), a ``prange`` over them (its twin runs them on every thread).
 
     Returns -1 where a row's target is to be rejected (:data:`BAD_TARGET`: the caller answers every row by the
-    batched path, which raises the error naming it), else the number of rows marked in ``R (B,)`` (0 the others):
-    1 where failed branches need sentences (for :func:`armkit.ik_all` a row with a failed branch, for
-    :func:`armkit.ik` (``ctx``'s option ``nearest``) a row whose first branch failed:
-    :func:`armkit.ik.analytic._sentences`, row by row), 2 where the status asks for the batched path
+    batched path, which raises the error naming it), else the number of rows marked 1 in ``R (B,)`` (0 the others),
+    plus ``2**32`` times the number marked 2: 1 where failed branches need sentences (for :func:`armkit.ik_all` a
+    row with a failed branch, for :func:`armkit.ik` (``ctx``'s option ``nearest``) a row whose first branch
+    failed: :func:`armkit.ik.analytic._sentences`, row by row), 2 where the status asks for the batched path
     (:data:`FALLBACK`: a singular wrist's note, a branch to polish further), which answers those rows alone.
 
     The kernel comes in as the address of its compiled code (as compiled for the one-call path), so that one
@@ -898,18 +898,19 @@ def _rows(address, T, Q0, each, ctx, FB, IB, BB, WK, R):
             R[i] = _call_at(address, T[i], Q0[i if each else 0], ctx, FB[i], IB[i], BB[i], WK[k])
     nearest = _parts(ctx)[4][9] != 0.0
     pending = 0
+    redo = 0
     for i in range(B):
         r = R[i]
         if r & 3 == FALLBACK:
             R[i] = 2
-            pending += 1
+            redo += 1
             continue
         if r & 3:
             return -1
         p = (r & NEAREST) == 0 and IB[i, 0] != 0 if nearest else r != 0
         R[i] = 1 if p else 0
         pending += R[i]
-    return pending
+    return pending + (redo << 32)
 
 
 _ROWS_PAR = parallel_twin(_rows)

@@ -130,7 +130,7 @@ def _kernel_branches(robot: Robot, target: Array) -> Array | None:
     flat = np.ascontiguousarray(target, dtype=float).reshape(B, -1)
     pending = c.kernels.rows_entry(False)(c.address, flat, c.q0.reshape(1, -1), False, c.ctx, FB, IB, BB,
                                           c.wk.reshape(1, -1), marks)
-    if pending < 0 or (pending and (marks == 2).any()):
+    if pending < 0 or pending >> 32:   # (a target to reject, or rows for the batched path)
         return None
     return FB.reshape(B, -1)[:, :c.mn].reshape(B, c.m, c.n)
 
