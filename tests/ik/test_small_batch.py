@@ -328,3 +328,26 @@ def test_threads_sharing_a_robot_get_their_own_answers(rng):
     for t in threads:
         t.join()
     assert failures == []
+
+
+def test_ik_in_pieces_keeps_no_buffer_of_its_pieces(monkeypatch, rng):
+    """ik's pieces are made compact as they come (``analytic._compact``): while its result lives, unread and then
+    read, no set of the pool is held by it, and the next piece took the set the one before gave back (two sets at
+    most for any number of pieces); ik_all's result holds its pieces' sets until it is dropped."""
+    monkeypatch.setattr(analytic, "POOL_ROWS", 40)
+    robot = _arm("puma560")
+    armkit.ik(robot, armkit.fk(robot, robot.random_q(rng=rng)))   # the robot's one-call record made
+    rec = robot.cache["ik_fast"]
+    targets = armkit.fk(robot, robot.random_q(200, rng=rng))
+    targets[::9, :3, 3] *= 3.0                                  # out of reach: sentences kept for later
+    rec.pool.clear()
+    res = armkit.ik(robot, targets)
+    assert 1 <= len(rec.pool) <= analytic.POOL
+    assert all(analytic._most_refs(w) <= analytic._FREE for w in rec.pool)
+    assert "unreachable" in " ".join(res.message) and res.branch.shape == (200,)
+    assert all(analytic._most_refs(w) <= analytic._FREE for w in rec.pool)
+    rec.pool.clear()
+    every = armkit.ik_all(robot, targets)
+    assert any(analytic._most_refs(w) > analytic._FREE for w in rec.pool)   # held by the result
+    del every
+    assert all(analytic._most_refs(w) <= analytic._FREE for w in rec.pool)
