@@ -977,47 +977,31 @@ def _in_pieces(robot: Robot, c: "_Single", targets: Array, q0: Array | None, ctx
 
 def _compact(made: tuple) -> tuple:
     """The made tuple of a piece of :func:`armkit.ik`'s rows (:func:`_rows_fields`', or :func:`_spliced`'s around
-    it) made to hold no buffer of the piece's set: the fields (one branch a target: ~30 ns a target) now, copied,
-    but the names of a family that names its branches when read (from copies of the joint values and the poses
-    the kernel read), and the rows of the sentences to make (a target whose branch failed: ~1.7 KB each) copied.
-    The buffers go back to the pool for the next piece: a batch of any size keeps ~0.2 KB a target besides those
-    rows, as the batched path's (0.4-1.5 KB), where the sets took ~1.7 KB."""
+    it) made to hold no buffer of the piece's set: the fields (one branch a target: ~30 ns a target) now
+    (:func:`_rows_rest`), but the names of a family that names its branches when read (from copies of the joint
+    values and the poses the kernel read), and the rows of the sentences to make (a target whose branch failed:
+    ~1.7 KB each) copied. The buffers go back to the pool for the next piece: a batch of any size keeps ~0.2 KB a
+    target besides those rows, as the batched path's (0.4-1.5 KB), where the sets took ~1.7 KB."""
     if made[0] is _spliced:
         return (_spliced, _compact(made[1])) + made[2:]
     _, robot, c, FB, IB, BB, rows, kept, shape, nearest = made
-    m, n, mn = c.m, c.n, c.mn
-    branch = Q = P = None
-    if c.namer is None:
-        branch = c.labels[IB[:, m]]
-    else:
+    Q = P = None
+    if c.namer is not None:
         at = c.at["target"]
-        Q, P = FB[:, :n].copy(), FB[:, at:at + 16].copy()
-    fields = (FB[:, mn].copy(), FB[:, mn + m].copy(), IB[:, 2 * m].copy(), BB[:, m].copy(), _REASON_TEXT[IB[:, 0]])
-    sentences = (FB[rows].copy(), IB[rows].copy(), kept[rows]) if rows else None
-    return (_compact_fields, robot, c, len(FB), fields, branch, Q, P, rows, sentences, shape)
+        Q, P = FB[:, :c.n].copy(), FB[:, at:at + 16].copy()
+    rest = _rows_rest(c, FB, IB, BB, True, c.labels[IB[:, c.m]] if c.namer is None else None)
+    sentences = (FB[rows].copy(), IB[rows].copy(), kept[rows]) if rows else (None, None, None)
+    return (_compact_fields, robot, c, len(FB), rest, Q, P, rows, sentences, shape)
 
 
 def _compact_fields(made: tuple, which: str) -> Any:
     """:func:`_rows_fields` of a piece made compact by :func:`_compact`: the same fields, the same sentences."""
-    _, robot, c, B, fields, branch, Q, P, rows, sentences, shape = made
-    if which == "rest":
-        if branch is None:
-            branch = c.namer(Q.reshape(B, 1, c.n), P.reshape(B, 4, 4))[:, 0]
-        dp, dr, it, within, reason = fields
-        return {"position_error": dp, "rotation_error": dr, "iterations": it, "branch": branch,
-                "within_limits": within, "reason": reason}
-    message = np.empty(B, dtype=object)
-    message[:] = ""
-    if not rows:
-        return message
-
-    def messages() -> NDArray[np.object_]:
-        FBr, IBr, kept = sentences
-        for j, i in enumerate(rows):
-            message[i] = _Messages(robot, c, None, kept[j].reshape(shape), FBr[j], IBr[j], None, True)()
-        return message
-
-    return messages
+    _, robot, c, B, rest, Q, P, rows, (FB, IB, kept), shape = made
+    if which == "message":
+        return _rows_messages(robot, c, B, rows, range(len(rows)), FB, IB, kept, shape, True)
+    if rest["branch"] is None:
+        return {**rest, "branch": c.namer(Q.reshape(B, 1, c.n), P.reshape(B, 4, 4))[:, 0]}
+    return rest
 
 
 def _joined(made: tuple, which: str) -> Any:
@@ -1159,36 +1143,51 @@ def _rows_fields(made: tuple, which: str) -> Any:
     ``nearest``). ``which``: "rest" (a dict of the fields but q, success and message) or "message" (the texts, or
     the function that makes them)."""
     _, robot, c, FB, IB, BB, rows, kept, shape, nearest = made
-    B, m, mn = FB.shape[0], c.m, c.mn
     if which == "message":
-        if nearest:
-            message = np.empty(B, dtype=object)
-            message[:] = ""
-        else:
-            message = np.full((B, m), "", dtype=object)
-        if not rows:
-            return message
-
-        def messages() -> NDArray[np.object_]:
-            for i in rows:
-                message[i] = _Messages(robot, c, None, kept[i].reshape(shape), FB[i], IB[i], None, nearest)()
-            return message
-
-        return messages
+        return _rows_messages(robot, c, FB.shape[0], rows, rows, FB, IB, kept, shape, nearest)
+    m = c.m
     if c.namer is not None:   # the names of the sorted branches, of the poses as the kernel read them
         k, at = 1 if nearest else m, c.at["target"]
-        named = c.namer(FB[:, :k * c.n].reshape(B, k, c.n), FB[:, at:at + 16].reshape(B, 4, 4))
+        named = c.namer(FB[:, :k * c.n].reshape(-1, k, c.n), FB[:, at:at + 16].reshape(-1, 4, 4))
+        branch = named[:, 0] if nearest else named
+    else:
+        branch = c.labels[IB[:, m]] if nearest else c.labels[IB[:, m:2 * m]]
+    return _rows_rest(c, FB, IB, BB, nearest, branch)
+
+
+def _rows_rest(c: "_Single", FB: Array, IB: NDArray[np.int64], BB: NDArray[np.bool_], nearest: bool,
+               branch: Any) -> dict:
+    """The fields but q, success, message and ``branch`` (given) of the rows of ``FB, IB, BB`` (:func:`_rows_fields`,
+    :func:`_compact`), copied out of them."""
+    m, mn = c.m, c.mn
     if nearest:
         dp, dr, it, within = FB[:, mn].copy(), FB[:, mn + m].copy(), IB[:, 2 * m].copy(), BB[:, m].copy()
-        branch = c.labels[IB[:, m]] if c.namer is None else named[:, 0]
         reason = _REASON_TEXT[IB[:, 0]]
     else:
         dp, dr, it, within = FB[:, mn:mn + m].copy(), FB[:, mn + m:mn + 2 * m].copy(), IB[:, 2 * m:3 * m].copy(), \
             BB[:, m:2 * m].copy()
-        branch = c.labels[IB[:, m:2 * m]] if c.namer is None else named
         reason = _REASON_TEXT[IB[:, :m]]
     return {"position_error": dp, "rotation_error": dr, "iterations": it, "branch": branch, "within_limits": within,
             "reason": reason}
+
+
+def _rows_messages(robot: Robot, c: "_Single", B: int, rows: list, at: Any, FB: Any, IB: Any, kept: Any,
+                   shape: tuple, nearest: bool) -> Any:
+    """The ``message`` field of ``B`` rows (:func:`_rows_fields`, :func:`_compact_fields`): empty texts, or where
+    ``rows`` need sentences the function that makes them when read, each row ``rows[j]``'s from ``FB``, ``IB`` and
+    ``kept`` at ``at[j]`` (the rows themselves, or a compact copy of them)."""
+    message = np.empty(B, dtype=object) if nearest else np.full((B, c.m), "", dtype=object)
+    if nearest:
+        message[:] = ""
+    if not rows:
+        return message
+
+    def messages() -> NDArray[np.object_]:
+        for i, j in zip(rows, at):
+            message[i] = _Messages(robot, c, None, kept[j].reshape(shape), FB[j], IB[j], None, nearest)()
+        return message
+
+    return messages
 
 
 _STACKED = ("q", "success", "position_error", "rotation_error", "iterations", "branch", "within_limits", "reason")
