@@ -12,7 +12,8 @@ solvers get the same 4x4 poses. Reported per arm:
   EAIK solves them on their own axes, as armkit's geometric family does since 2026-12-07);
 * times: one target per call (all branches; CPU time of the thread, which runs both), EAIK ``IK``
   against armkit's raw subproblem solver and armkit's public ``ik_all`` / ``ik`` (which also wrap,
-  verify, polish and sort every branch; the sentences of failed branches are made when read); batched
+  verify, polish and sort every branch; the sentences of failed branches are made when read), with the
+  results dropped at once and, in two more columns, kept in a list (armkit's call then makes new buffers); batched
   (wall clock), EAIK ``IK_batched`` with ``--threads`` against armkit ``ik_all`` on
   the whole batch. The ratio is armkit / EAIK (below 1: armkit faster).
 
@@ -243,15 +244,24 @@ def _read_armkit(res) -> tuple:
     return res.q, res.success
 
 
-def _cpu_best(fn, items, repeat: int) -> float:
+def _cpu_best(fn, items, repeat: int, keep: bool = False) -> float:
     """Least CPU seconds of this thread per item over ``repeat`` rounds (``time.thread_time``: on a shared,
-    loaded machine the wall clock also counts the other processes' turns)."""
+    loaded machine the wall clock also counts the other processes' turns). ``keep``: every result kept in a list
+    until the round ends, as ``[ik_all(arm, T) for T in poses]`` keeps them (a call then finds no kept buffers
+    free: armkit's single call makes new ones)."""
     best = np.inf
     for _ in range(repeat):
+        kept: list = []
+        add = kept.append
         t0 = time.thread_time()
-        for it in items:
-            fn(it)
+        if keep:
+            for it in items:
+                add(fn(it))
+        else:
+            for it in items:
+                fn(it)
         best = min(best, (time.thread_time() - t0) / len(items))
+        del kept
     return best
 
 
@@ -601,6 +611,8 @@ def main() -> None:
         e_read = _cpu_best(lambda t: _read_eaik(eaik.IK(t)), list(Tfix[:k]), args.repeat)
         a_read = _cpu_best(lambda t: _read_armkit(armkit.ik_all(robot, t)), singles, args.repeat)
         a_all = _cpu_best(lambda t: armkit.ik_all(robot, t), singles, args.repeat)
+        e_kept = _cpu_best(lambda t: eaik.IK(t), list(Tfix[:k]), args.repeat, keep=True)
+        a_kept = _cpu_best(lambda t: armkit.ik_all(robot, t), singles, args.repeat, keep=True)
         a_one = _cpu_best(lambda t: armkit.ik(robot, t), singles, args.repeat)
         raw = None
         if cf is not None and cf.family == "geometric":
@@ -615,20 +627,21 @@ def main() -> None:
         e_batch = _best(lambda: eaik.IK_batched(Tfix, args.threads), rounds) / len(T)
         a_batch = _best(lambda: armkit.ik_all(robot, T), rounds) / len(T)
         rows.append((label, cf.family if cf else "none", cmp, e_single, raw, a_all, a_one, e_batch, a_batch, e_read,
-                     a_read))
+                     a_read, e_kept, a_kept))
     us = lambda s: "-" if s is None else f"{s * 1e6:.1f}"  # noqa: E731
     print(f"\n{args.targets:,} targets per arm, limits off, {args.threads} EAIK threads; times in µs per target "
           "(ratio armkit/EAIK): single calls in CPU time of the thread, best of the rounds; batched calls in wall "
           "clock (EAIK's run on several threads)\n")
     print("| arm | armkit family | EAIK branches | armkit branches | missing | extra | armkit fails FK | EAIK fails FK | "
           "EAIK single | armkit raw solver | armkit ik_all single | armkit ik single | EAIK single, Q and is_LS read | "
-          "armkit ik_all single, q and success read | EAIK batched | armkit ik_all batched |")
-    print("|" + "---|" * 16)
-    for label, fam, c, es, raw, aa, a1, eb, ab, er, ar in rows:
+          "armkit ik_all single, q and success read | EAIK single, results kept | armkit ik_all single, results kept "
+          "| EAIK batched | armkit ik_all batched |")
+    print("|" + "---|" * 18)
+    for label, fam, c, es, raw, aa, a1, eb, ab, er, ar, ek, ak in rows:
         print(f"| {label} | {fam} | {c['eaik branches']:,} | {c['armkit branches']:,} | {c['missing']} | {c['extra']} "
               f"| {c['armkit fails FK']} | {c['eaik fails FK']:,} | {us(es)} | {us(raw)}{'' if raw is None else f' ({raw / es:.2g}x)'} | "
               f"{us(aa)} ({aa / es:.2g}x) | {us(a1)} ({a1 / es:.2g}x) | {us(er)} | {us(ar)} ({ar / er:.2g}x) | "
-              f"{us(eb)} | {us(ab)} ({ab / eb:.2g}x) |")
+              f"{us(ek)} | {us(ak)} ({ak / ek:.2g}x) | {us(eb)} | {us(ab)} ({ab / eb:.2g}x) |")
     if args.eaik_only:
         return
     single_calls(min(args.targets, 300), args.repeat)

@@ -133,8 +133,10 @@ class IKResult:
         ``message`` (the first read of one makes them all), ``make[0](make, "message")`` the message's text or a
         function that makes it (as :meth:`_later` takes). The single-call paths of :func:`armkit.ik` and
         :func:`armkit.ik_all` answer this way: their compiled call leaves every number in three buffers that the
-        result holds (kept for a later call once nothing refers to them: ``analytic._one_buffers``), and the views, the label arrays and the texts a call would make of them cost about half as much as
-        the solve (2 µs of a UR5's ``ik_all``). The values are those the result would have held (the arguments in
+        result holds (kept for a later call once nothing refers to them: ``analytic._one_buffers``; with every
+        default, the result object too, handed out again with its fields cleared: ``analytic._one_target_calls``),
+        and the views, the label arrays and the texts a call would make of them cost about half as much as the
+        solve (2 µs of a UR5's ``ik_all``). The values are those the result would have held (the arguments in
         ``make`` are the call's own, copied where a caller could change them); the result is the same in every
         way (value, type, repr, equality, pickling) as one built at once. Two threads reading a field first at
         the same time may each get their own view of the same numbers."""

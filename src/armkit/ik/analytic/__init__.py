@@ -28,6 +28,7 @@ from __future__ import annotations
 import math
 import sys
 import threading
+import weakref
 from collections import deque
 from dataclasses import replace
 from typing import Any, Protocol, runtime_checkable
@@ -541,7 +542,7 @@ class _Single:
     __slots__ = ("kernels", "kernel", "solver", "geometry", "joints", "F", "labels", "labels0", "blank", "m", "n",
                  "mn", "at", "fsize", "fshape", "isize", "bsize", "wsize", "wk", "one", "q0", "scale", "window",
                  "above", "sign", "default_tol", "ctx", "ctx_near", "ctxs", "converged", "shapes", "entry", "small",
-                 "small_near", "address", "pool", "spare", "namer")
+                 "small_near", "address", "pool", "spare", "kept", "namer")
 
     def __init__(self, robot: Robot, solver: ClosedForm, kernels) -> None:
         self.kernels = kernels
@@ -591,6 +592,8 @@ class _Single:
         self.address = 0
         self.pool: list = []   # the batch driver's buffers, kept for the next batch (_row_buffers)
         self.spare: deque = deque(maxlen=2)   # a single call's buffers, kept for the next call (_one_buffers)
+        # the sets of the two closures of _one_target_calls (ik_all, ik: each its own views), the two newest each
+        self.kept: tuple[deque, deque] = (deque(maxlen=2), deque(maxlen=2))
         if self.kernel is not None:   # the compiled function itself, called without the dispatcher's typing
             # of seven arrays (~0.35 us of a ~12 us call); see run_one for why it is safe
             sample = (np.empty(16), self.q0, self.ctx, np.empty(self.fshape), np.empty(self.isize, np.int64),
@@ -628,6 +631,7 @@ def _no_record() -> None:
 _REASON_0D = [_REASON_TEXT[k:k + 1].reshape(()) for k in range(3)]   # 0-d reasons, copied per use
 _CONVERGED = _REASON_0D[0]
 _I64, _BOOL = np.dtype(np.int64), np.dtype(np.bool_)   # dtype objects: np.empty takes them faster than types
+_NEW = object.__new__
 
 
 def one_call_record(robot: Robot, solver: ClosedForm) -> "_Single | None":
@@ -714,59 +718,80 @@ def _one_target_calls(c: "_Single") -> tuple[Any, Any]:
     """``(every, nearest)``: :func:`run_one` for ``(robot, pose)`` with the default options (no ``q0``, limits
     enforced, the pose checked; ``nearest``: :func:`armkit.ik`), the record's values bound once (its attribute
     reads and run_one's tests cost ~0.3 µs of a 5 µs call). The same result, to the bit, as run_one's.
-    :func:`_one_buffers` and :meth:`IKResult._deferred` are written out in them: their two calls cost ~0.1 µs of
-    a 3 µs call (the same set taken, the same result made)."""
+
+    Each keeps the two newest of its own sets (``c.kept``): the buffers ``fb, ib, bb`` and the result that hands
+    them out, with its views ``q`` and ``success``. A call takes a set that nothing refers to any more
+    (:func:`_free_counts`): the result itself dropped by the caller (and no weak reference to it), then, once the
+    fields it made when read are dropped with it, no view of a buffer held elsewhere. It then
+    hands out the same result object with the new call's numbers, its fields made again when read: making the
+    result and its two views cost ~0.3 µs of a 2-3 µs call (2026-12-07). A set still held stays where it is, and a
+    new one is made; a caller that keeps every result makes a new set each call."""
     entry, ctx, ctx_near, q0, wk = c.entry, c.ctx, c.ctx_near, c.q0, c.wk
-    m, spare, new_set = c.m, c.spare, _new_one_buffers
-    take, keep, refs, free = spare.popleft, spare.append, sys.getrefcount, _FREE_ONE
-    new, cls, later = object.__new__, IKResult, _later_fields
+    refs, weak, later = sys.getrefcount, weakref.getweakrefcount, _later_fields
 
-    def every(robot: Robot, target: Array) -> IKResult | None:
-        try:   # a kept set where no result holds it (_one_buffers): 0.3 us of a 3.5 us call less than a new one
-            bufs = take()
-        except IndexError:
-            bufs = new_set(c)
-        else:
-            fb, ib, bb = bufs   # (refs counts as _held counts: the set, these names, its own argument)
-            if refs(fb) > free or refs(ib) > free or refs(bb) > free:
-                keep(bufs)
-                bufs = new_set(c)
-        fb, ib, bb = bufs
-        r = entry(target.ravel(), q0, ctx, fb, ib, bb, wk)
-        keep(bufs)
-        if r & 3:
-            return None
-        kept = target if r == 0 else None   # (_sentences, without a note of a Python solve; None: the kernel's copy
-        # of the target in fb, read by _later_fields, instead of a copy of the caller's array made now)
-        res = new(cls)   # IKResult._deferred
-        d = res.__dict__
-        d["q"], d["success"], d["trace"] = fb[:m], bb[:m], None
-        d["_make"] = (later, robot, c, None, kept, fb, ib, bb, r, None, False)
-        return res
+    def calls(nearest: bool) -> Any:
+        spare = c.kept[nearest]
+        take, keep = spare.popleft, spare.append
+        context = ctx_near if nearest else ctx
+        m, fshape, isize, bsize, new, cls = c.m, c.fshape, c.isize, c.bsize, _NEW, IKResult
 
-    def nearest(robot: Robot, target: Array) -> IKResult | None:
-        try:
-            bufs = take()
-        except IndexError:
-            bufs = new_set(c)
-        else:
-            fb, ib, bb = bufs
-            if refs(fb) > free or refs(ib) > free or refs(bb) > free:
-                keep(bufs)
-                bufs = new_set(c)
-        fb, ib, bb = bufs
-        r = entry(target.ravel(), q0, ctx_near, fb, ib, bb, wk)
-        keep(bufs)
-        if r & 3:
-            return None
-        kept = target if r & NEAREST or ib.item(0) == 0 else None   # (_sentences; None as in every)
-        res = new(cls)
-        d = res.__dict__
-        d["q"], d["success"], d["trace"] = fb[0], bb[0, ...], None
-        d["_make"] = (later, robot, c, None, kept, fb, ib, bb, r, None, True)
-        return res
+        def new_set() -> tuple:
+            """``(fb, ib, bb, result, q, success, result's __dict__)``: the buffers (:func:`_new_one_buffers`), the
+            result made as :meth:`IKResult._deferred` makes it (``_make`` None until a call fills the buffers),
+            ``q`` and ``success`` its views of ``fb`` and ``bb`` (``nearest``: the first branch's, ``success``
+            0-d). Written out: three calls more cost ~0.2 µs of a call that keeps every result."""
+            fb, ib, bb = np.empty(fshape), np.empty(isize, _I64), np.empty(bsize, _BOOL)
+            q, ok = (fb[0], bb[0, ...]) if nearest else (fb[:m], bb[:m])
+            res = new(cls)
+            d = res.__dict__
+            d["q"], d["success"], d["trace"], d["_make"] = q, ok, None, None
+            return fb, ib, bb, res, q, ok, d
 
-    return every, nearest
+        f_res, f_fb, f_ib, f_bb, f_q, f_ok = _free_counts(new_set())
+
+        def one(robot: Robot, target: Array) -> IKResult | None:
+            try:
+                s = take()
+            except IndexError:
+                s = new_set()
+            else:
+                fb, ib, bb, res, q, ok, d = s   # (unpacked as _free_counts unpacks: the same counts)
+                if refs(res) > f_res or weak(res):
+                    keep(s)   # a result the caller holds: kept for later, or dropped from the deque by newer sets
+                    s = new_set()
+                else:
+                    if len(d) != 4:   # fields made when read: dropped, and made again from this call's numbers
+                        d.clear()
+                        d["q"], d["success"], d["trace"] = q, ok, None
+                    d["_make"] = None
+                    if refs(fb) > f_fb or refs(ib) > f_ib or refs(bb) > f_bb or refs(q) > f_q or refs(ok) > f_ok:
+                        keep(s)   # a field or a view of one outlives its result
+                        s = new_set()
+            fb, ib, bb, res, q, ok, d = s
+            r = entry(target.ravel(), q0, context, fb, ib, bb, wk)
+            keep(s)
+            if r & 3:
+                return None
+            if nearest:
+                kept = target if r & NEAREST or ib.item(0) == 0 else None   # (_sentences; None as below)
+            else:   # (_sentences, without a note of a Python solve; None: the kernel's copy of the target in fb,
+                # read by _later_fields, instead of a copy of the caller's array made now)
+                kept = target if r == 0 else None
+            d["_make"] = (later, robot, c, None, kept, fb, ib, bb, r, None, nearest)
+            return res
+
+        return one
+
+    return calls(False), calls(True)
+
+
+def _free_counts(s: tuple) -> tuple[int, ...]:
+    """``sys.getrefcount`` of the result and the arrays of a new set ``s`` of :func:`_one_target_calls`, where
+    nothing but the set refers to them: the most each may have for a call to take the set again. Unpacked as
+    those calls unpack a set they take, so the counts are theirs."""
+    fb, ib, bb, res, q, ok, d = s
+    return sys.getrefcount(res), sys.getrefcount(fb), sys.getrefcount(ib), sys.getrefcount(bb), \
+        sys.getrefcount(q), sys.getrefcount(ok)
 
 
 def _sentences(r: int, raw: Raw | None, ib: NDArray[np.int64], nearest: bool) -> bool:
