@@ -25,6 +25,10 @@ tolerances, the check of step 2 passes them all (the two FKs of one chain differ
 size, and the check's rotation measure ``‖ΔR‖_F / √2 = 2 sin(θ/2)`` is at most step 4's angle ``θ``), keeping
 every branch in its order: the same answer to the bit, with one FK instead of two (the Kinova's ``ik_all``: 7.3 ->
 5.9 µs, ``ik`` 7.2 -> 6.1). A branch above the gate sends the target the long way (step 2's check, then step 3).
+Where some candidates are least-squares ones (a position or a wrist out of reach: a random arm of a class with a
+meeting or parallel pair has 4-6 branches of 8) on a chain whose ideal form is the true one, the shortcut takes the
+others where the check would fail each least-squares one (:func:`.solvers_check._apart`, one FK of the check's
+for each of those): the check would drop them, and it never polishes them on such a chain.
 A class solved on the reversed chain is checked there against the inverse target ``(Rᵀ, -Rᵀp)``, whose position
 error is at most ``dp + θ |p|`` (``dp``, ``θ``: step 4's errors, ``p`` the target's position): its gate is a
 quarter of the position tolerance for ``dp`` and for ``θ |p|``, and half the rotation tolerance for ``θ``
@@ -177,6 +181,11 @@ def _geometric(t, q0, ctx, fb, ib, bb, wk):
     cm3 = shaped(cw[3 * CORE_V:3 * CORE_V + 9 * CORE_M], (CORE_M, 3, 3))  # noqa: F821
     t14 = shaped(cw[3 * CORE_V + 9 * CORE_M:], (2, 4))  # noqa: F821
     at += CORE_WORK
+    # _apart's: a candidate's angles with their sines and cosines, the FK's rotations and positions after each joint
+    a3 = wk[at:at + 3 * n]
+    aR = shaped(wk[at + 3 * n:at + 3 * n + 9 * (n + 1)], (n + 1, 3, 3))  # noqa: F821
+    aP = shaped(wk[at + 3 * n + 9 * (n + 1):at + APART_WORK], (n + 1, 3))  # noqa: F821
+    at += APART_WORK
     b_at = 2 * m + n + 2 * MAXSOL + m
     wb = bb[2 * m:b_at]
     for k in range(wb.shape[0]):
@@ -208,7 +217,12 @@ def _geometric(t, q0, ctx, fb, ib, bb, wk):
             qref[k] = q0[k] + joints[THETA, k]
     mc = _core_in(which, kind, Hi, Pi, RnT, prism, R, p, qref, N, Q, LS, SG, cv3, cm3, t14, cls)  # noqa: F821
     k = min(mc, m)
-    if k > 0 and _distinct(Q, LS, SG, prism, k, rawq, inverted):  # noqa: F821
+    if k > 0 and not _distinct(Q, LS, SG, prism, k, rawq, inverted):  # noqa: F821
+        # least-squares candidates (or a singular or repeated one) on an exact chain: the others, where the check
+        # fails every least-squares one (module docstring)
+        k = _apart(Q, LS, SG, prism, mc, rawq, inverted, Ht, Pt, RnT, R, p, tol_p, tol_r, a3, aR, aP) \
+            if exact and mc <= m else 0  # noqa: F821
+    if k > 0:
         # the shortcut (module docstring): branches found, none least-squares or singular, no two alike; if the FK
         # of the robot puts each within the gate, the check on the true chain passes them all
         gate_p, gate_r = _gate(inverted, tol_p, tol_r, T[0, 3], T[1, 3], T[2, 3])  # noqa: F821
@@ -251,9 +265,14 @@ CORE_WORK = 3 * CORE_V + 9 * CORE_M + 8
 """Floats of the cores' work: the vectors, the matrices, the three-parallel core's (q1, q5) pairs (2, 4)."""
 
 
+APART_WORK = 3 * 6 + 12 * 7
+"""Floats of :func:`.solvers_check._apart`'s work: angles, sines, cosines (6 each), rotations (7, 3, 3), positions
+(7, 3)."""
+
+
 def work(m: int, n: int) -> tuple[int, int, int]:
     """The work space :func:`_geometric` cuts for itself (``_single.WORK``): ``(floats, ints, flags)``."""
-    return 16 + 3 * ROWS3 + n + 1 + (MAXSOL + m) * n + CORE_WORK, MAXSOL + m, n + 2 * MAXSOL + m + 8
+    return 16 + 3 * ROWS3 + n + 1 + (MAXSOL + m) * n + CORE_WORK + APART_WORK, MAXSOL + m, n + 2 * MAXSOL + m + 8
 
 
 _KERNEL: Any = None
@@ -277,7 +296,8 @@ def kernel() -> Any:
 
         assert (_single.DONE, _single.FALLBACK, _single.BAD_TARGET) == (DONE, FALLBACK, BAD_TARGET)
         assert _single.RECHECK not in (DONE, FALLBACK, BAD_TARGET)
-        extra = {name: getattr(K, name) for name in ("_core_in", "_distinct", "_gate", "_check", "_polish_wanted")}
+        extra = {name: getattr(K, name) for name in ("_core_in", "_distinct", "_apart", "_gate", "_check",
+                                                     "_polish_wanted")}
         extra.update({name: getattr(_single, name) for name in ("_parts", "_begin", "_finish", "shaped", "RECHECK",
                                                                 "_NO_GATE")})
         ns = jit_namespace(globals(), ("_geometric",), extra=extra, uncounted=("_geometric",))

@@ -81,7 +81,8 @@ from .search import N as _SEARCH_N
 from .search import kernels as _search_kernels
 from .solvers_chain import _jacobian, _log_vec, _points, _size, align, polish, reverse  # noqa: F401
 from .solvers_check import (CORE_M, CORE_V, CORE_V_PARALLEL, EMPTY_RETRY, RETRIES, SHARP, _SPH_MID,  # noqa: F401
-                            _SPHERICAL, _THREE_PARALLEL, _TI_END, _TWO_PAR, _check, _close, _close_wrapped, _core_in,
+                            _SPHERICAL, _THREE_PARALLEL, _TI_END, _TWO_PAR, _apart, _check, _close, _close_wrapped,
+                            _core_in,
                             _closed_core, _copy_row, _distinct, _gate, _merged, _newton_from, _paired, _polish_wanted,
                             _promote, _put_passing, _repeats, _searched_core, _sharpen,
                             _solve, _solve_searched, _solve_spherical, _solve_spherical_middle, _solve_three_parallel,
@@ -127,9 +128,9 @@ KERNELS = ("_mv", "_mtv", "_mm", "_mtm", "_perp", "_rotm_to", "_rot_to", "_mm_to
            "_solve_three_parallel", "_distinct", "_gate", "_target_rows", "_core_two_intersecting_end",
            "_core_two_parallel", "_core_spherical_middle", "_paired", "_searched_core", "_within_reach",
            "_solve_searched", "_solve_two_intersecting_end", "_solve_two_parallel", "_solve_spherical_middle", "_solve",
-           "_sweep", "_polish_wanted", "_close_wrapped")
+           "_sweep", "_polish_wanted", "_close_wrapped", "_apart")
 UNCOUNTED = ("_sp2s", "_wrist", "_wrist_from", "_wrist_sp2", "_pos_two_intersecting", "_pos_two_parallel",
-             "_core_spherical", "_core_three_parallel", "_core_in", "_distinct")
+             "_core_spherical", "_core_three_parallel", "_core_in", "_distinct", "_apart")
 """Kernels compiled without Numba's reference counts (:func:`.subproblems.jit_namespace`): they make no array in
 their whole call tree. The spherical core calls the wrist up to four times a target, each call the small helpers
 ~10 times with 2-8 arrays each, and every array passed or sliced was counted up and down with an atomic

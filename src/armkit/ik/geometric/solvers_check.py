@@ -399,6 +399,44 @@ def _distinct(Q, LS, SG, prism, m, W, reverse):
     return True
 
 
+def _apart(Q, LS, SG, prism, m, W, reverse, H, P, RnT, R, p, tol_p, tol_r, A, RS, PS):
+    """:func:`_distinct` where some of the ``m`` candidates are least-squares ones (a position or wrist out of reach)
+    on a chain whose ideal form is the true one: the count of the others, none singular and no two alike, their
+    angles wrapped into ``W`` in their order (each row reversed with ``reverse``), where every least-squares one
+    fails the check of :func:`_check` (its angles wrapped and their sines and cosines taken as that check takes
+    them, its FK on the true chain ``(H, P, RnT)`` from the base against ``(R, p)``: the same bits); else -1.
+
+    The check would then drop each least-squares candidate (a failed one of such a chain is not polished:
+    :func:`_polish_wanted`) and keep the others in their order where they pass: the shortcut's branches
+    (:mod:`.one_call`), with one FK for each least-squares candidate where the check took one for every candidate.
+    ``A (3 n)``, ``RS (n + 1, 3, 3)``, ``PS (n + 1, 3)``: work space. Makes no array: compiled without reference
+    counts."""
+    n = Q.shape[1]
+    k = 0
+    for i in range(m):
+        if LS[i]:
+            for j in range(n):
+                A[j] = Q[i, j] if prism[j] else _wrap(Q[i, j])
+            _sincos_block(A[:n], A[n:2 * n], A[2 * n:3 * n])
+            ep, er = _fk_err_sc(H, P, RnT, prism, A[:n], A[n:2 * n], A[2 * n:3 * n], R, p, RS, PS, 0)
+            if ep <= tol_p and er <= tol_r:
+                return -1   # it passes: the check keeps it in its place
+            continue
+        if SG[i] or k >= W.shape[0]:
+            return -1
+        for j in range(n):
+            W[k, j] = Q[i, j] if prism[j] else _wrap(Q[i, j])
+        for j in range(k):
+            if _close_wrapped(W, k, j, prism):
+                return -1
+        k += 1
+    if reverse:
+        for i in range(k):
+            for j in range(n // 2):
+                W[i, j], W[i, n - 1 - j] = W[i, n - 1 - j], W[i, j]
+    return k
+
+
 def _close_wrapped(W, i, j, prism):
     """:func:`_close` of rows ``i`` and ``j`` of ``W``, whose revolute angles are wrapped into (-π, π]: a difference
     ``x`` of two such lies in (-2π, 2π), where ``_wrap(x)`` is ``x ∓ 2π`` past ±π, exactly (the two are within a
