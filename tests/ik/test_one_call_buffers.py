@@ -139,6 +139,25 @@ def test_a_result_read_and_dropped_is_handed_out_again_with_the_new_answer(name,
 
 @pytest.mark.usefixtures("compiled")
 @pytest.mark.parametrize("call", ["ik_all", "ik"])
+def test_a_result_whose_dict_is_held_is_never_handed_out_again(call):
+    """``vars(result)`` kept, the result dropped: the dict is the result's own, so its set is not taken again."""
+    robot = armkit.load("puma560")
+    fn = getattr(armkit, call)
+    targets = _targets(robot, 12, 17)
+    _record(robot, targets[0])
+    res = fn(robot, targets[0])
+    fields = vars(res)
+    want = {k: copy.deepcopy(v) for k, v in fields.items() if k != "_make"}
+    del res
+    for t in targets[1:] * 3:
+        fn(robot, t)
+    for k, v in want.items():
+        got = fields[k]
+        assert np.array_equal(got, v) if isinstance(v, np.ndarray) else got == v, k
+
+
+@pytest.mark.usefixtures("compiled")
+@pytest.mark.parametrize("call", ["ik_all", "ik"])
 def test_a_result_under_a_weak_reference_is_never_handed_out_again(call):
     robot = armkit.load("puma560")
     fn = getattr(armkit, call)

@@ -721,11 +721,11 @@ def _one_target_calls(c: "_Single") -> tuple[Any, Any]:
 
     Each keeps the two newest of its own sets (``c.kept``): the buffers ``fb, ib, bb`` and the result that hands
     them out, with its views ``q`` and ``success``. A call takes a set that nothing refers to any more
-    (:func:`_free_counts`): the result itself dropped by the caller (and no weak reference to it), then, once the
-    fields it made when read are dropped with it, no view of a buffer held elsewhere. It then
-    hands out the same result object with the new call's numbers, its fields made again when read: making the
-    result and its two views cost ~0.3 µs of a 2-3 µs call (2026-12-07). A set still held stays where it is, and a
-    new one is made; a caller that keeps every result makes a new set each call."""
+    (:func:`_free_counts`): the result dropped by the caller (no weak reference to it, its ``__dict__`` not held),
+    then, once the fields it made when read are dropped with it, no view of a buffer held elsewhere. It then hands
+    out the same result object with the new call's numbers, its fields made again when read: making the result and
+    its two views cost ~0.3 µs of a 2-3 µs call (2026-12-07). A set still held stays where it is, and a new one is
+    made; a caller that keeps every result makes a new set each call."""
     entry, ctx, ctx_near, q0, wk = c.entry, c.ctx, c.ctx_near, c.q0, c.wk
     refs, weak, later = sys.getrefcount, weakref.getweakrefcount, _later_fields
 
@@ -747,7 +747,7 @@ def _one_target_calls(c: "_Single") -> tuple[Any, Any]:
             d["q"], d["success"], d["trace"], d["_make"] = q, ok, None, None
             return fb, ib, bb, res, q, ok, d
 
-        f_res, f_fb, f_ib, f_bb, f_q, f_ok = _free_counts(new_set())
+        f_res, f_d, f_fb, f_ib, f_bb, f_q, f_ok = _free_counts(new_set())
 
         def one(robot: Robot, target: Array) -> IKResult | None:
             try:
@@ -756,8 +756,9 @@ def _one_target_calls(c: "_Single") -> tuple[Any, Any]:
                 s = new_set()
             else:
                 fb, ib, bb, res, q, ok, d = s   # (unpacked as _free_counts unpacks: the same counts)
-                if refs(res) > f_res or weak(res):
-                    keep(s)   # a result the caller holds: kept for later, or dropped from the deque by newer sets
+                if refs(res) > f_res or weak(res) or refs(d) > f_d:
+                    keep(s)   # a result the caller holds (or its __dict__, vars(result)): kept for later, or dropped
+                    # from the deque by newer sets
                     s = new_set()
                 else:
                     if len(d) != 4:   # fields made when read: dropped, and made again from this call's numbers
@@ -786,11 +787,11 @@ def _one_target_calls(c: "_Single") -> tuple[Any, Any]:
 
 
 def _free_counts(s: tuple) -> tuple[int, ...]:
-    """``sys.getrefcount`` of the result and the arrays of a new set ``s`` of :func:`_one_target_calls`, where
-    nothing but the set refers to them: the most each may have for a call to take the set again. Unpacked as
-    those calls unpack a set they take, so the counts are theirs."""
+    """``sys.getrefcount`` of the result, its ``__dict__`` and the arrays of a new set ``s`` of
+    :func:`_one_target_calls`, where nothing but the set refers to them: the most each may have for a call to take
+    the set again. Unpacked as those calls unpack a set they take, so the counts are theirs."""
     fb, ib, bb, res, q, ok, d = s
-    return sys.getrefcount(res), sys.getrefcount(fb), sys.getrefcount(ib), sys.getrefcount(bb), \
+    return sys.getrefcount(res), sys.getrefcount(d), sys.getrefcount(fb), sys.getrefcount(ib), sys.getrefcount(bb), \
         sys.getrefcount(q), sys.getrefcount(ok)
 
 
