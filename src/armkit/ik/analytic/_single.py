@@ -1034,6 +1034,87 @@ def name_entry(rows):
     return _NAME_PAR if rows >= NAME_PARALLEL and _jit_loader.parallel_ok() else name_rows
 
 
+@njit(cache=True)
+def settle_rows(first, q, twice, ideal, table, labels, tie):
+    """``geometric._settle`` of the targets ``twice`` (their rows of ``first`` (B, k), indices into the naming
+    family's ``branch_labels``, one index given twice) in one call, in place: ``q`` (B, k, n) their branches,
+    ``ideal`` (len(twice), m, n) the family's branches of each such target (its DH angles less theta) and ``table``
+    (len(twice), m) their indices; ``labels`` the number of names. The same rules and steps: the branches whose
+    index is given more than once, ordered by their joint values (``rint`` of the angle plus pi modulo 2 pi, times
+    1e9; by the first joint, then the next, the order they came in where all tie: a stable sort), and the family's
+    branches whose index is not given exactly once, paired nearest first (joint differences less the nearest whole
+    turns, squared and summed; the first pair in row order within ``tie`` times one plus the nearest of it: the
+    sums' last bits differ from ``np.einsum``'s; once every distance is used up, the first pair)."""
+    B, k, n = q.shape
+    m = ideal.shape[1]
+    count = np.empty(labels, np.int64)
+    shared = np.empty(k, np.int64)
+    free = np.empty(m, np.int64)
+    key = np.empty((k, n))
+    d = np.empty((k, m))
+    for r in range(twice.shape[0]):
+        b = twice[r]
+        for j in range(labels):
+            count[j] = 0
+        for i in range(k):
+            count[first[b, i]] += 1
+        ns = 0
+        for i in range(k):
+            if count[first[b, i]] > 1:
+                shared[ns] = i
+                ns += 1
+        for s in range(ns):
+            for j in range(n):
+                key[s, j] = np.rint(np.remainder(q[b, shared[s], j] + np.pi, 2.0 * np.pi) * 1e9)
+        for s in range(1, ns):   # insertion sort: stable, by the first differing key
+            i, ks = shared[s], key[s].copy()
+            t = s - 1
+            while t >= 0 and _key_after(key[t], ks):
+                shared[t + 1] = shared[t]
+                key[t + 1] = key[t]
+                t -= 1
+            shared[t + 1] = i
+            key[t + 1] = ks
+        nf = 0
+        for j in range(m):
+            if count[table[r, j]] != 1:
+                free[nf] = j
+                nf += 1
+        for s in range(ns):
+            for f in range(nf):
+                acc = 0.0
+                for j in range(n):
+                    x = q[b, shared[s], j] - ideal[r, free[f], j]
+                    x -= TWO_PI * np.rint(x / TWO_PI)
+                    acc += x * x
+                d[s, f] = acc
+        for _ in range(ns):
+            near = math.inf
+            for s in range(ns):
+                for f in range(nf):
+                    near = min(near, d[s, f])
+            lim = near + tie * (1.0 + near)
+            bi, bj = 0, 0
+            for s in range(ns * nf):
+                if d[s // nf, s % nf] <= lim:
+                    bi, bj = s // nf, s % nf
+                    break
+            first[b, shared[bi]] = table[r, free[bj]]
+            for f in range(nf):
+                d[bi, f] = math.inf
+            for s in range(ns):
+                d[s, bj] = math.inf
+
+
+@njit(cache=True, inline="always")
+def _key_after(a, b):
+    """Whether key row ``a`` sorts after ``b`` (the first differing entry larger)."""
+    for j in range(a.shape[0]):
+        if a[j] != b[j]:
+            return a[j] > b[j]
+    return False
+
+
 def parallel_twins():
     """``(one-thread kernel, multi-threaded kernel)`` pairs taking the same arguments (for the warm-up)."""
     return [(_rows, _ROWS_PAR), (name_rows, _NAME_PAR)]
