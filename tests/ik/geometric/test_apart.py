@@ -8,9 +8,6 @@ otherwise the others in their order, wrapped as the check wraps them: the passin
 
 from __future__ import annotations
 
-import sys
-from pathlib import Path
-
 import numpy as np
 import pytest
 
@@ -19,9 +16,9 @@ from armkit.ik.analytic import closed_form
 from armkit.ik.geometric import one_call as OC
 from armkit.ik.geometric import solvers as G
 
+from test_family import _random_arm   # same folder, on pytest's path
+
 pytest.importorskip("numba")
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))   # tests/ik: the pair arms
-from test_pair_classes_one_call import _pair_arm  # noqa: E402
 
 
 def _parts(robot):
@@ -40,7 +37,7 @@ def test_apart_answers_as_the_check(seed):
     if K is None:
         pytest.skip("no Numba")
     rng = np.random.default_rng(seed)
-    robot = _pair_arm(rng, "meet")
+    robot = _random_arm(rng, "spherical-wrist-meet")
     which, kind, Hi, Pi, RnT, prism, Ht, Pt, tol_p, tol_r = _parts(robot)
     seen = {"kept": 0, "apart": 0}
     for _ in range(30):

@@ -119,6 +119,15 @@ def _random_arm(rng: np.random.Generator, kind: str) -> Robot:
     elif kind == "spherical-base":             # 1, 2, 3 meet
         pts[1] = pts[0]
         pts[2] = pts[0]
+    elif kind == "spherical-wrist-meet":       # 4, 5, 6 meet and 1, 2 meet
+        pts[1] = pts[0]
+        pts[4] = pts[5] = pts[3]
+    elif kind == "spherical-wrist-parallel":   # 4, 5, 6 meet and 2 || 3
+        H[2] = H[1]
+        pts[4] = pts[5] = pts[3]
+    elif kind == "three-parallel-meet":        # 2 || 3 || 4 and 5, 6 meet
+        H[2] = H[3] = H[1]
+        pts[5] = pts[4]
     joints = []
     prev = np.eye(4)
     for k in range(6):

@@ -10,55 +10,28 @@ and every branch is FK-checked.
 
 from __future__ import annotations
 
+import sys
+from pathlib import Path
+
 import numpy as np
 import pytest
-from test_single_call import _assert_same, _both, compiled  # noqa: F401 (the fixture: the Numba back end)
+from test_family import _random_arm   # same folder, on pytest's path
 
 import armkit
 from armkit.ik.analytic import closed_form
-from armkit.model import Joint, Robot
 
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))   # tests/ik: the one-call path against the batched one
+from test_single_call import _assert_same, _both, compiled  # noqa: E402, F401 (the fixture: the Numba back end)
 
-def _unit(v):
-    return v / np.linalg.norm(v)
-
-
-def _pair_arm(rng: np.random.Generator, kind: str) -> Robot:
-    """A random 6R arm with a spherical wrist (4, 5, 6 meet) and axes 1, 2 meeting (``"meet"``) or axes 2, 3
-    parallel (``"parallel"``), or three parallel axes (2, 3, 4) with 5, 6 meeting (``"three"``): URDF joints."""
-    H = np.array([_unit(rng.normal(size=3)) for _ in range(6)])
-    pts = rng.normal(size=(6, 3)) * 0.3
-    if kind == "meet":
-        pts[1] = pts[0]
-        pts[4] = pts[5] = pts[3]
-    elif kind == "parallel":
-        H[2] = H[1]
-        pts[4] = pts[5] = pts[3]
-    else:
-        H[2] = H[3] = H[1]
-        pts[5] = pts[4]
-    joints, prev = [], np.eye(4)
-    for k in range(6):
-        A = np.eye(4)
-        z = H[k]
-        x = _unit(np.cross(z, [0.3, 0.5, 0.8]))
-        A[:3, :3] = np.column_stack([x, np.cross(z, x), z])
-        A[:3, 3] = pts[k]
-        origin = np.linalg.inv(prev) @ A
-        joints.append(Joint(name=f"j{k + 1}", kind="revolute", lower=-np.inf, upper=np.inf,
-                            origin=tuple(map(tuple, origin)), axis=(0.0, 0.0, 1.0)))
-        prev = A
-    tool = np.eye(4)
-    tool[:3, 3] = rng.normal(size=3) * 0.1
-    return Robot(joints, convention="urdf", name=f"random pair arm ({kind})", tool=tool)
+KINDS = ("spherical-wrist-meet", "spherical-wrist-parallel", "three-parallel-meet")
 
 
 @pytest.mark.usefixtures("compiled")
-@pytest.mark.parametrize("kind", ["meet", "parallel", "three"])
+@pytest.mark.parametrize("kind", KINDS)
 @pytest.mark.parametrize("seed", [1, 2, 3])
 def test_random_pair_arms_equal_the_batched_path(kind, seed):
     rng = np.random.default_rng(seed)
-    robot = _pair_arm(rng, kind)
+    robot = _random_arm(rng, kind)
     cf = closed_form(robot)
     if cf is None or cf.family != "geometric":
         pytest.skip("a degenerate draw")
