@@ -1035,11 +1035,11 @@ def name_entry(rows):
 
 
 @njit(cache=True)
-def settle_rows(first, q, twice, ideal, table, labels, tie):
+def settle_rows(first, q, twice, ideal, table, names, tie):
     """``geometric._settle`` of the targets ``twice`` (their rows of ``first`` (B, k), indices into the naming
     family's ``branch_labels``, one index given twice) in one call, in place: ``q`` (B, k, n) their branches,
     ``ideal`` (len(twice), m, n) the family's branches of each such target (its DH angles less theta) and ``table``
-    (len(twice), m) their indices; ``labels`` the number of names. The same rules and steps: the branches whose
+    (len(twice), m) their indices; ``names`` the number of names. The same rules and steps: the branches whose
     index is given more than once, ordered by their joint values (``rint`` of the angle plus pi modulo 2 pi, times
     1e9; by the first joint, then the next, the order they came in where all tie: a stable sort), and the family's
     branches whose index is not given exactly once, paired nearest first (joint differences less the nearest whole
@@ -1047,14 +1047,14 @@ def settle_rows(first, q, twice, ideal, table, labels, tie):
     sums' last bits differ from ``np.einsum``'s; once every distance is used up, the first pair)."""
     B, k, n = q.shape
     m = ideal.shape[1]
-    count = np.empty(labels, np.int64)
+    count = np.empty(names, np.int64)
     shared = np.empty(k, np.int64)
     free = np.empty(m, np.int64)
     key = np.empty((k, n))
     d = np.empty((k, m))
     for r in range(twice.shape[0]):
         b = twice[r]
-        for j in range(labels):
+        for j in range(names):
             count[j] = 0
         for i in range(k):
             count[first[b, i]] += 1

@@ -220,8 +220,10 @@ def _geometric(t, q0, ctx, fb, ib, bb, wk):
     if k > 0 and not _distinct(Q, LS, SG, prism, k, rawq, inverted):  # noqa: F821
         # least-squares candidates (or a singular or repeated one) on an exact chain: the others, where the check
         # fails every least-squares one (module docstring)
-        k = _apart(Q, LS, SG, prism, mc, rawq, inverted, Ht, Pt, RnT, R, p, tol_p, tol_r, a3, aR, aP) \
-            if exact and mc <= m else 0  # noqa: F821
+        k = 0
+        if exact and mc <= m:
+            k = _apart(Q, LS, SG, prism, mc, rawq, inverted, Ht, Pt, RnT, R, p, tol_p, tol_r,  # noqa: F821
+                       a3, aR, aP)
     if k > 0:
         # the shortcut (module docstring): branches found, none least-squares or singular, no two alike; if the FK
         # of the robot puts each within the gate, the check on the true chain passes them all

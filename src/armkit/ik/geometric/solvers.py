@@ -82,9 +82,8 @@ from .search import kernels as _search_kernels
 from .solvers_chain import _jacobian, _log_vec, _points, _size, align, polish, reverse  # noqa: F401
 from .solvers_check import (CORE_M, CORE_V, CORE_V_PARALLEL, EMPTY_RETRY, RETRIES, SHARP, _SPH_MID,  # noqa: F401
                             _SPHERICAL, _THREE_PARALLEL, _TI_END, _TWO_PAR, _apart, _check, _close, _close_wrapped,
-                            _core_in,
-                            _closed_core, _copy_row, _distinct, _gate, _merged, _newton_from, _paired, _polish_wanted,
-                            _promote, _put_passing, _repeats, _searched_core, _sharpen,
+                            _core_in, _closed_core, _copy_row, _distinct, _gate, _merged, _newton_from, _paired,
+                            _polish_wanted, _promote, _put_passing, _repeats, _searched_core, _sharpen,
                             _solve, _solve_searched, _solve_spherical, _solve_spherical_middle, _solve_three_parallel,
                             _solve_two_intersecting_end, _solve_two_parallel, _sweep, _within_reach)
 from .solvers_parallel import _core_three_parallel, _pairs_sp6, _singular_wrist  # noqa: F401
