@@ -955,6 +955,13 @@ TIE = 1e-14
 """Distances (rad², squared) within this of the nearest are as near (:func:`name_rows`)."""
 
 
+@njit(cache=True, inline="always")
+def _less_turns(x):
+    """``x`` less its nearest whole turns, as ``geometric._turns`` takes a joint's difference (a float remainder
+    took ~25 ns)."""
+    return x - TWO_PI * np.rint(x / TWO_PI)
+
+
 @njit(cache=True)
 def name_rows(q, theta, F, g, kind, k, first, dup):
     """The compiled core of ``Geometric.name_branches`` for branches ``q`` (R, 6) (``k`` a target, R = B k) of
@@ -997,8 +1004,7 @@ def name_rows(q, theta, F, g, kind, k, first, dup):
             for b in range(8):
                 s = 0.0
                 for j in range(n):
-                    x = q[i, j] - (angles[i, b, j] - theta[j])
-                    x -= TWO_PI * np.rint(x / TWO_PI)   # (as geometric._turns: a float remainder took ~25 ns)
+                    x = _less_turns(q[i, j] - (angles[i, b, j] - theta[j]))
                     s += x * x
                 d[b] = s
                 near = min(near, s)
@@ -1084,8 +1090,7 @@ def settle_rows(first, q, twice, ideal, table, names, tie):
             for f in range(nf):
                 acc = 0.0
                 for j in range(n):
-                    x = q[b, shared[s], j] - ideal[r, free[f], j]
-                    x -= TWO_PI * np.rint(x / TWO_PI)
+                    x = _less_turns(q[b, shared[s], j] - ideal[r, free[f], j])
                     acc += x * x
                 d[s, f] = acc
         for _ in range(ns):
