@@ -62,3 +62,23 @@ def test_the_compiled_wrap_is_the_numpy_wrap(limits):
     near = q + 2 * np.pi * np.round((q0 - q) / (2 * np.pi))
     if limits in ("puma560", "narrow"):
         assert inside.any() and (~inside).any() and (inside & ~((near >= lo) & (near <= hi))).any()
+
+
+def test_values_near_the_start_take_no_turn_to_the_bit():
+    """Within 3 rad of ``q0`` the compiled wrap adds a zero of the sign of ``q0 - v`` instead of dividing and
+    rounding: the same bits as the NumPy wrap, zeros' signs too (``-0.0`` against ``+0.0`` and ``-0.0`` starts,
+    ``v`` equal to ``q0``), on both sides of the 3 rad edge, and for values a tiny step from the start."""
+    rng = np.random.default_rng(23)
+    q0 = np.concatenate([rng.uniform(-4.0, 4.0, 3000), [0.0, -0.0, 0.0, -0.0, 1.0, -1.0, 2.5, 0.0, 0.0, 0.0]])
+    step = np.concatenate([rng.uniform(-3.2, 3.2, 3000), [-0.0, 0.0, 0.0, -0.0, 0.0, -0.0, 0.0, 3.0, -3.0, 5e-324]])
+    v = q0 - step   # q0 - v: the step, up to rounding
+    v[-10:] = [-0.0, 0.0, 0.0, -0.0, 1.0, -1.0, 2.5, -3.0, 3.0, -5e-324]
+    edge = np.array([np.nextafter(3.0, 0.0), 3.0, np.nextafter(3.0, 4.0)])
+    v = np.concatenate([v, -edge, edge])
+    q0 = np.concatenate([q0, np.zeros(6)])
+    for lo, hi in ((-np.inf, np.inf), (-np.pi, np.pi), (-1.0, 1.0)):
+        want = wrap_to_limits(v[:, None], q0[:, None], np.full(1, lo), np.full(1, hi), np.array([True]))[:, 0]
+        got = np.array([_wrap_one(v[i], q0[i], lo - 1e-12, hi + 1e-12, True) for i in range(len(v))])
+        assert _same_bits(got, want)
+    near = np.abs(q0 - v) < 3.0
+    assert near.sum() > 2000 and (~near).sum() > 100   # both ways of finding the nearest turn were taken
