@@ -748,6 +748,10 @@ def _one_target_calls(c: "_Single") -> tuple[Any, Any]:
             return fb, ib, bb, res, q, ok, d
 
         f_res, f_d, f_fb, f_ib, f_bb, f_q, f_ok = _free_counts(new_set())
+        # each count is at least its free one (the set holds each object), so a sum above the sum of the free counts
+        # means one of them is above its own: one test for the result and its __dict__, one for the arrays (~40 ns
+        # less than a test each, 2026-12-07)
+        f_top, f_arrays = f_res + f_d, f_fb + f_ib + f_bb + f_q + f_ok
 
         def one(robot: Robot, target: Array) -> IKResult | None:
             try:
@@ -756,7 +760,7 @@ def _one_target_calls(c: "_Single") -> tuple[Any, Any]:
                 s = new_set()
             else:
                 fb, ib, bb, res, q, ok, d = s   # (unpacked as _free_counts unpacks: the same counts)
-                if refs(res) > f_res or weak(res) or refs(d) > f_d:
+                if refs(res) + refs(d) > f_top or weak(res):
                     keep(s)   # a result the caller holds (or its __dict__, vars(result)): kept for later, or dropped
                     # from the deque by newer sets
                     s = new_set()
@@ -765,7 +769,7 @@ def _one_target_calls(c: "_Single") -> tuple[Any, Any]:
                         d.clear()
                         d["q"], d["success"], d["trace"] = q, ok, None
                     d["_make"] = None
-                    if refs(fb) > f_fb or refs(ib) > f_ib or refs(bb) > f_bb or refs(q) > f_q or refs(ok) > f_ok:
+                    if refs(fb) + refs(ib) + refs(bb) + refs(q) + refs(ok) > f_arrays:
                         keep(s)   # a field or a view of one outlives its result
                         s = new_set()
             fb, ib, bb, res, q, ok, d = s
