@@ -113,11 +113,19 @@ def _dh_table(robot):
 
 
 def _best(fn, repeat: int) -> float:
-    best = np.inf
+    return _best_each([fn], repeat)[0]
+
+
+def _best_each(fns, repeat: int) -> list[float]:
+    """Least wall-clock seconds of each of ``fns`` over ``repeat`` rounds, the rounds taken in turn (one of each,
+    then again): a peer and armkit see the same spells of this shared machine, so a slow spell cannot fall on
+    one side only."""
+    best = [np.inf] * len(fns)
     for _ in range(repeat):
-        t0 = time.perf_counter()
-        fn()
-        best = min(best, time.perf_counter() - t0)
+        for i, fn in enumerate(fns):
+            t0 = time.perf_counter()
+            fn()
+            best[i] = min(best[i], time.perf_counter() - t0)
     return best
 
 
@@ -249,19 +257,26 @@ def _cpu_best(fn, items, repeat: int, keep: bool = False) -> float:
     loaded machine the wall clock also counts the other processes' turns). ``keep``: every result kept in a list
     until the round ends, as ``[ik_all(arm, T) for T in poses]`` keeps them (a call then finds no kept buffers
     free: armkit's single call makes new ones)."""
-    best = np.inf
+    return _cpu_best_each([(fn, items)], repeat, keep)[0]
+
+
+def _cpu_best_each(runs, repeat: int, keep: bool = False) -> list[float]:
+    """:func:`_cpu_best` of each ``(fn, items)`` of ``runs``, the rounds taken in turn as :func:`_best_each`
+    takes them (before 2026-12-07, seventh session: all of one side's rounds, then the other's)."""
+    best = [np.inf] * len(runs)
     for _ in range(repeat):
-        kept: list = []
-        add = kept.append
-        t0 = time.thread_time()
-        if keep:
-            for it in items:
-                add(fn(it))
-        else:
-            for it in items:
-                fn(it)
-        best = min(best, (time.thread_time() - t0) / len(items))
-        del kept
+        for i, (fn, items) in enumerate(runs):
+            kept: list = []
+            add = kept.append
+            t0 = time.thread_time()
+            if keep:
+                for it in items:
+                    add(fn(it))
+            else:
+                for it in items:
+                    fn(it)
+            best[i] = min(best[i], (time.thread_time() - t0) / len(items))
+            del kept
     return best
 
 
@@ -508,9 +523,8 @@ def random_classes(arms: int, targets: int, repeat: int) -> None:
                 T = list(armkit.fk(robot, g.uniform(-np.pi, np.pi, (targets, 6))))
                 armkit.ik_all(robot, T[0])
                 armkit.ik(robot, T[0])
-                a_t.append(_cpu_best(lambda t: armkit.ik_all(robot, t), T, repeat))
-                o_t.append(_cpu_best(lambda t: armkit.ik(robot, t), T, repeat))
                 count.append(np.mean([armkit.ik_all(robot, t, enforce_limits=False).success.sum() for t in T]))
+                runs = [(lambda t: armkit.ik_all(robot, t), T), (lambda t: armkit.ik(robot, t), T)]
                 if eaik is not None:
                     form = poe(robot)
                     e = _eaik_robot(form)
@@ -518,7 +532,13 @@ def random_classes(arms: int, targets: int, repeat: int) -> None:
                     for t in Tfix:
                         t[:3, :3] = t[:3, :3] @ form.R_nT.T
                     e.IK(Tfix[0])
-                    e_t.append(_cpu_best(lambda t: e.IK(t), Tfix, repeat))
+                    runs.append((lambda t: e.IK(t), Tfix))
+                # 100 targets make a round of ~0.3 ms: at least 5 rounds, taken in turn, against this machine's noise
+                best = _cpu_best_each(runs, max(repeat, 5))
+                a_t.append(best[0])
+                o_t.append(best[1])
+                if eaik is not None:
+                    e_t.append(best[2])
             es = float(np.median(e_t)) if e_t else None
             aa, oo = float(np.median(a_t)), float(np.median(o_t))
             ratio = (lambda x: "" if es is None else f" ({x / es:.2g}x)")  # noqa: E731
@@ -605,15 +625,16 @@ def main() -> None:
         cmp = _compare(robot, form, T, eaik)
         k = min(300, len(T))
         singles = list(T[:k])      # one call per target, CPU time of this thread (both run in it)
-        e_single = _cpu_best(lambda t: eaik.IK(t), list(Tfix[:k]), args.repeat)
+        e_singles = list(Tfix[:k])
+        e_single, a_all, a_one = _cpu_best_each([(lambda t: eaik.IK(t), e_singles),
+                                                 (lambda t: armkit.ik_all(robot, t), singles),
+                                                 (lambda t: armkit.ik(robot, t), singles)], args.repeat)
         # the answer read as a caller reads it: EAIK's Q and is_LS (converted to NumPy when read), armkit's q and
         # success (made with the call; its other fields are made when first read: IKResult._deferred)
-        e_read = _cpu_best(lambda t: _read_eaik(eaik.IK(t)), list(Tfix[:k]), args.repeat)
-        a_read = _cpu_best(lambda t: _read_armkit(armkit.ik_all(robot, t)), singles, args.repeat)
-        a_all = _cpu_best(lambda t: armkit.ik_all(robot, t), singles, args.repeat)
-        e_kept = _cpu_best(lambda t: eaik.IK(t), list(Tfix[:k]), args.repeat, keep=True)
-        a_kept = _cpu_best(lambda t: armkit.ik_all(robot, t), singles, args.repeat, keep=True)
-        a_one = _cpu_best(lambda t: armkit.ik(robot, t), singles, args.repeat)
+        e_read, a_read = _cpu_best_each([(lambda t: _read_eaik(eaik.IK(t)), e_singles),
+                                         (lambda t: _read_armkit(armkit.ik_all(robot, t)), singles)], args.repeat)
+        e_kept, a_kept = _cpu_best_each([(lambda t: eaik.IK(t), e_singles),
+                                         (lambda t: armkit.ik_all(robot, t), singles)], args.repeat, keep=True)
         raw = None
         if cf is not None and cf.family == "geometric":
             fn = G.SOLVERS[cf.solver]
@@ -624,8 +645,8 @@ def main() -> None:
             eaik.IK_batched(Tfix, args.threads)
             armkit.ik_all(robot, T)
         rounds = max(args.repeat, 15)   # a batch takes milliseconds: more rounds against this machine's noise
-        e_batch = _best(lambda: eaik.IK_batched(Tfix, args.threads), rounds) / len(T)
-        a_batch = _best(lambda: armkit.ik_all(robot, T), rounds) / len(T)
+        e_batch, a_batch = (b / len(T) for b in _best_each([lambda: eaik.IK_batched(Tfix, args.threads),
+                                                             lambda: armkit.ik_all(robot, T)], rounds))
         rows.append((label, cf.family if cf else "none", cmp, e_single, raw, a_all, a_one, e_batch, a_batch, e_read,
                      a_read, e_kept, a_kept))
     us = lambda s: "-" if s is None else f"{s * 1e6:.1f}"  # noqa: E731
