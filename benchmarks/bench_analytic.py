@@ -113,19 +113,11 @@ def _dh_table(robot):
 
 
 def _best(fn, repeat: int) -> float:
-    return _best_each([fn], repeat)[0]
-
-
-def _best_each(fns, repeat: int) -> list[float]:
-    """Least wall-clock seconds of each of ``fns`` over ``repeat`` rounds, the rounds taken in turn (one of each,
-    then again): a peer and armkit see the same spells of this shared machine, so a slow spell cannot fall on
-    one side only."""
-    best = [np.inf] * len(fns)
+    best = np.inf
     for _ in range(repeat):
-        for i, fn in enumerate(fns):
-            t0 = time.perf_counter()
-            fn()
-            best[i] = min(best[i], time.perf_counter() - t0)
+        t0 = time.perf_counter()
+        fn()
+        best = min(best, time.perf_counter() - t0)
     return best
 
 
@@ -263,8 +255,10 @@ def _cpu_best(fn, items, repeat: int, keep: bool = False, clock=time.thread_time
 
 
 def _cpu_best_each(runs, repeat: int, keep: bool = False, clock=time.thread_time) -> list[float]:
-    """:func:`_cpu_best` of each ``(fn, items)`` of ``runs``, the rounds taken in turn as :func:`_best_each`
-    takes them (before 2026-12-07, seventh session: all of one side's rounds, then the other's)."""
+    """:func:`_cpu_best` of each ``(fn, items)`` of ``runs``, the rounds taken in turn (one of each, then again): a
+    peer and armkit see the same spells of this shared machine, so a slow spell cannot fall on one side only
+    (before 2026-12-07, seventh session: all of one side's rounds, then the other's). For calls on one thread:
+    the batched calls keep their rounds apart (see :func:`main`)."""
     best = [np.inf] * len(runs)
     for _ in range(repeat):
         for i, (fn, items) in enumerate(runs):
