@@ -420,20 +420,10 @@ def ur(T, g, q0phi):
 # ---------------------------------------------------------------- wrap and pick
 @njit(cache=True, inline="always")
 def _wrap_one(v, q0, lo, hi, revolute):
-    """:func:`~armkit.ik.analytic.wrap_to_limits` for one value (``lo, hi``: limits widened by 1e-12).
-
-    Within 3 rad of ``q0`` (nearly every value: a closed form's angles come from ``atan2``, ``q0`` is most often
-    zeros) the nearest turn is none, and ``v + copysign(0, q0 - v)`` is ``v + 2 pi rint((q0 - v) / 2 pi)`` to the
-    bit: the quotient is below 0.48 in size, so it rounds to a zero of its sign, which ``2 pi`` keeps, and adding a
-    zero of either sign gives what adding that zero gives (``-0.0 + 0.0`` is ``+0.0``). It skips a division and a
-    rounding on the call's dependency chain (the rounded Puma's 48 values: 0.12 -> 0.08 µs, 2026-12-07)."""
+    """:func:`~armkit.ik.analytic.wrap_to_limits` for one value (``lo, hi``: limits widened by 1e-12)."""
     if not revolute:
         return v
-    d = q0 - v
-    if abs(d) < 3.0:
-        near = v + math.copysign(0.0, d)
-    else:
-        near = v + TWO_PI * _rint(d / TWO_PI)
+    near = v + TWO_PI * _rint((q0 - v) / TWO_PI)
     if near >= lo and near <= hi:
         return near
     v = near
