@@ -21,9 +21,11 @@ __all__ = ["parallel_twin"]
 
 
 def parallel_twin(serial: Any) -> Any:
-    """The ``parallel=True`` copy of the Numba kernel ``serial`` (named ``<name>_parallel``), compiled on first use."""
+    """The ``parallel=True`` copy of the Numba kernel ``serial`` (named ``<name>_parallel``), compiled on first use,
+    with the serial one's reference counting (``_nrt``: a kernel compiled without counts has a twin without them)."""
     py = serial.py_func
     copy = types.FunctionType(py.__code__, py.__globals__, py.__name__ + "_parallel", py.__defaults__, py.__closure__)
     copy.__qualname__ = py.__qualname__ + "_parallel"
     copy.__doc__ = py.__doc__
-    return njit(cache=True, parallel=True)(copy)
+    counts = {"_nrt": serial.targetoptions["_nrt"]} if "_nrt" in serial.targetoptions else {}
+    return njit(cache=True, parallel=True, **counts)(copy)
