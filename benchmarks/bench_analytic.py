@@ -257,8 +257,8 @@ def _cpu_best(fn, items, repeat: int, keep: bool = False, clock=time.thread_time
 def _cpu_best_each(runs, repeat: int, keep: bool = False, clock=time.thread_time) -> list[float]:
     """:func:`_cpu_best` of each ``(fn, items)`` of ``runs``, the rounds taken in turn (one of each, then again): a
     peer and armkit see the same spells of this shared machine, so a slow spell cannot fall on one side only
-    (before 2026-12-07, seventh session: all of one side's rounds, then the other's). For calls on one thread:
-    the batched calls keep their rounds apart (see :func:`main`)."""
+    (before 2026-12-07, seventh session: all of one side's rounds, then the other's). For calls that run on the
+    calling thread only; the threaded batches keep their rounds apart (see :func:`main`)."""
     best = [np.inf] * len(runs)
     for _ in range(repeat):
         for i, (fn, items) in enumerate(runs):
