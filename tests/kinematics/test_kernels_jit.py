@@ -215,3 +215,23 @@ def test_lm_kernels_cache_is_tied_to_the_kinematics_kernels():
     stamp = Path(path) / "_jit_lm.armkit-deps"
     expected = hashlib.sha1((Path(jit.__file__)).read_bytes()).hexdigest()
     assert stamp.read_text() == expected
+
+
+@pytest.mark.parametrize("name", ["puma560", "stanford", "planar2", "so101"])
+def test_batched_fk_gives_each_configuration_the_bits_of_its_single_call(name):
+    """The batch kernel takes ``jit.LANES`` configurations side by side (``_fk_lanes``), in blocks of
+    ``jit.BLOCK``: every size around both, angles beyond a turn and beyond the polynomial's range, each row the
+    single call's pose to the bit (the same operations, in the same order)."""
+    robot = armkit.load(name)
+    rng = np.random.default_rng(5)
+    kinematics.set_backend("numba")
+    try:
+        for B in (1, jit.LANES - 1, jit.LANES, jit.LANES + 1, jit.BLOCK - 1, jit.BLOCK + 3, jit.PARALLEL_MIN + 5):
+            Q = rng.uniform(-8.0, 8.0, (B, robot.n))
+            Q[::3] *= 1e5
+            if robot.prismatic.any():
+                Q[:, robot.prismatic] = rng.uniform(0.0, 0.5, (B, int(robot.prismatic.sum())))
+            batch = armkit.fk(robot, Q)
+            assert all(np.array_equal(batch[i], armkit.fk(robot, Q[i])) for i in range(B))
+    finally:
+        kinematics.set_backend("auto")

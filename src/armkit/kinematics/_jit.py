@@ -431,6 +431,67 @@ def __getattr__(name):
 
 
 # ---------------------------------------------------------------------------- batches
+LANES = 8
+"""Configurations :func:`_fk_lanes` takes side by side: the batches' groups (:func:`_fk_block`), and the closed
+forms' branches (a 6R arm's closed form gives at most 8; :func:`armkit.ik.analytic._single._finish`)."""
+
+
+@njit(cache=True, inline="always")
+def _fk_lanes(F, qt, s, c, m, n, X):
+    """FK of ``m`` (at most :data:`LANES`) configurations side by side: ``qt`` ((n * m), joint ``k`` of
+    configuration ``i`` at ``k * m + i``) their joint values, ``s``, ``c`` their sines and cosines (the same
+    layout), ``X`` (12 * LANES) their 12-scalar poses, entry ``j`` of configuration ``i`` at ``LANES * j + i``.
+
+    The operations of :func:`_fk_one` for each configuration (``_move``, then ``_mul`` by the joint's constants,
+    joint by joint), in the same order (the same bits), written as loops over the configurations with a fixed
+    stride between a pose's entries, so that the compiler turns each joint's step into vector instructions, four
+    configurations an instruction: a Puma's 8 closed-form branches 0.50 -> 0.26 µs with their sines and cosines
+    (against :func:`armkit.ik.analytic._single._fk_rows_shared`, which takes each branch after the joints it
+    shares with the one before), a batch of 100,000 on one thread 15.5-16.2 -> 19.4-20.2 million a second
+    (2026-12-07)."""
+    L = LANES
+    for j in range(12):
+        f = F[0, j]
+        for i in range(m):
+            X[L * j + i] = f
+    for k in range(n):
+        f00, f01, f02, f03 = F[k + 1, 0], F[k + 1, 1], F[k + 1, 2], F[k + 1, 3]
+        f10, f11, f12, f13 = F[k + 1, 4], F[k + 1, 5], F[k + 1, 6], F[k + 1, 7]
+        f20, f21, f22, f23 = F[k + 1, 8], F[k + 1, 9], F[k + 1, 10], F[k + 1, 11]
+        o = m * k
+        if F[k + 1, PRISMATIC] != 0.0:    # _move's X · Tz(t)
+            for i in range(m):
+                t = qt[o + i]
+                X[3 * L + i] = X[3 * L + i] + t * X[2 * L + i]
+                X[7 * L + i] = X[7 * L + i] + t * X[6 * L + i]
+                X[11 * L + i] = X[11 * L + i] + t * X[10 * L + i]
+        else:                              # _move's X · Rz(t)
+            for i in range(m):
+                sk, ck = s[o + i], c[o + i]
+                a00, a01 = X[i], X[L + i]
+                a10, a11 = X[4 * L + i], X[5 * L + i]
+                a20, a21 = X[8 * L + i], X[9 * L + i]
+                X[i], X[L + i] = ck * a00 + sk * a01, ck * a01 - sk * a00
+                X[4 * L + i], X[5 * L + i] = ck * a10 + sk * a11, ck * a11 - sk * a10
+                X[8 * L + i], X[9 * L + i] = ck * a20 + sk * a21, ck * a21 - sk * a20
+        for i in range(m):                 # _mul: X · F[k + 1]
+            a00, a01, a02, a03 = X[i], X[L + i], X[2 * L + i], X[3 * L + i]
+            a10, a11, a12, a13 = X[4 * L + i], X[5 * L + i], X[6 * L + i], X[7 * L + i]
+            a20, a21, a22, a23 = X[8 * L + i], X[9 * L + i], X[10 * L + i], X[11 * L + i]
+            X[i] = a00 * f00 + a01 * f10 + a02 * f20
+            X[L + i] = a00 * f01 + a01 * f11 + a02 * f21
+            X[2 * L + i] = a00 * f02 + a01 * f12 + a02 * f22
+            X[3 * L + i] = a00 * f03 + a01 * f13 + a02 * f23 + a03
+            X[4 * L + i] = a10 * f00 + a11 * f10 + a12 * f20
+            X[5 * L + i] = a10 * f01 + a11 * f11 + a12 * f21
+            X[6 * L + i] = a10 * f02 + a11 * f12 + a12 * f22
+            X[7 * L + i] = a10 * f03 + a11 * f13 + a12 * f23 + a13
+            X[8 * L + i] = a20 * f00 + a21 * f10 + a22 * f20
+            X[9 * L + i] = a20 * f01 + a21 * f11 + a22 * f21
+            X[10 * L + i] = a20 * f02 + a21 * f12 + a22 * f22
+            X[11 * L + i] = a20 * f03 + a21 * f13 + a22 * f23 + a23
+
+
 @njit(cache=True, inline="always")
 def _sincos_of_block(q, qflat, b):
     B, n = q.shape
@@ -442,24 +503,38 @@ def _sincos_of_block(q, qflat, b):
 
 
 @njit(cache=True, inline="always")
-def _fk_block(F, q, qflat, out, b):
-    n = q.shape[1]
-    i0, i1, sc, bad = _sincos_of_block(q, qflat, b)
-    for i in range(i0, i1):
-        o = (i - i0) * n
-        X = _load(F, 0)
+def _fk_block(F, q, out, b):
+    """FK of block ``b`` of ``q`` (B, n) into ``out`` (B, 4, 4), :data:`LANES` configurations at a time
+    (:func:`_fk_lanes`); returns how many of its values are not finite (:func:`sincos_block`)."""
+    B, n = q.shape
+    i0 = b * BLOCK
+    i1 = min(i0 + BLOCK, B)
+    w = np.empty(LANES * (3 * n + 12))
+    qt, s, c, X = w[:LANES * n], w[LANES * n:2 * LANES * n], w[2 * LANES * n:3 * LANES * n], w[3 * LANES * n:]
+    bad = 0
+    for g in range(i0, i1, LANES):
+        m = min(LANES, i1 - g)
         for k in range(n):
-            X = _mul(_move(X, q[i, k], sc[0, o + k], sc[1, o + k], F[k + 1, PRISMATIC] != 0.0), F, k + 1)
-        _store(X, out, i)
+            for i in range(m):
+                qt[k * m + i] = q[g + i, k]
+        bad += sincos_block(qt[:m * n], s, c)
+        _fk_lanes(F, qt, s, c, m, n, X)
+        for i in range(m):
+            out[g + i, 0, 0], out[g + i, 0, 1], out[g + i, 0, 2], out[g + i, 0, 3] = \
+                X[i], X[LANES + i], X[2 * LANES + i], X[3 * LANES + i]
+            out[g + i, 1, 0], out[g + i, 1, 1], out[g + i, 1, 2], out[g + i, 1, 3] = \
+                X[4 * LANES + i], X[5 * LANES + i], X[6 * LANES + i], X[7 * LANES + i]
+            out[g + i, 2, 0], out[g + i, 2, 1], out[g + i, 2, 2], out[g + i, 2, 3] = \
+                X[8 * LANES + i], X[9 * LANES + i], X[10 * LANES + i], X[11 * LANES + i]
+            out[g + i, 3, 0], out[g + i, 3, 1], out[g + i, 3, 2], out[g + i, 3, 3] = 0.0, 0.0, 0.0, 1.0
     return bad
 
 
 @njit(cache=True)
 def _fk_serial(F, q, out):
     bad = 0
-    qflat = q.reshape(q.size)
     for b in prange((q.shape[0] + BLOCK - 1) // BLOCK):
-        bad += _fk_block(F, q, qflat, out, b)
+        bad += _fk_block(F, q, out, b)
     return bad
 
 

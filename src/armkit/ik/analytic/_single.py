@@ -9,9 +9,9 @@ the answers are the same to the last bit:
 2. every branch wrapped by 2 pi into the limits nearest ``q0`` (:func:`._jit._wrap_one`) with its
    distance to ``q0``;
 3. forward kinematics of every branch (the steps of :func:`armkit.kinematics._jit._fk_serial`, the batch
-   kernel ``verify`` uses, for the branches side by side: :func:`_fk_lanes`; for :func:`armkit.ik`, branch by
-   branch nearest first, :func:`_fk_row`: its steps for one row; the same bits) and its check (the steps of
-   :func:`armkit.ik._jit_verify._check`);
+   kernel ``verify`` uses, the branches side by side as its batches are: :func:`armkit.kinematics._jit._fk_lanes`;
+   for :func:`armkit.ik`, branch by branch nearest first, :func:`_fk_row`: its steps for one row; the same bits)
+   and its check (the steps of :func:`armkit.ik._jit_verify._check`);
 4. the reason code of each branch and the sort: successful branches first, each group by distance
    (the stable insertion sort of :func:`._jit.sort_branches`).
 
@@ -80,8 +80,8 @@ from ..._jit_twins import parallel_twin  # noqa: E402
 
 from ..._jit_shaped import shaped  # noqa: E402
 
-from ...kinematics._jit import (PRISMATIC, ROW, _jacobian_cols, _load, _move, _mul, _sincos, _store,  # noqa: E402
-                               _store2, sincos_block)
+from ...kinematics._jit import (LANES, PRISMATIC, ROW, _fk_lanes, _jacobian_cols, _load, _move, _mul,  # noqa: E402
+                               _sincos, _store, _store2, sincos_block)
 from .._jit_verify import _angle_of, _check, _within  # noqa: E402
 from ._jit import _planar2_run, _planar3_run, _puma_run, _ur_run, _wrap_one, _ypp_run, stable_order  # noqa: E402
 from ._layout import (JOINT_LOWER, JOINT_PRISMATIC, JOINT_ROWS, JOINT_THETA, JOINT_UPPER,  # noqa: E402
@@ -244,71 +244,12 @@ def _fk_rows_shared(F, q, s, c, out, P):
         _store(X, out, i)
 
 
-LANES = 8
-"""Branches :func:`_fk_lanes` takes side by side (a 6R arm's closed form gives at most 8); more take
-:func:`_fk_rows_shared`."""
-
-
-@njit(cache=True, inline="always")
-def _fk_lanes(F, qt, s, c, m, n, X):
-    """FK of ``m`` (at most :data:`LANES`) configurations side by side: ``qt`` ((n * m), joint ``k`` of
-    configuration ``i`` at ``k * m + i``) their joint values, ``s``, ``c`` their sines and cosines (the same
-    layout), ``X`` (12 * LANES) their 12-scalar poses, entry ``j`` of configuration ``i`` at ``LANES * j + i``.
-
-    The operations of :func:`armkit.kinematics._jit._fk_serial` for each configuration, in the same order (the
-    same bits), written as loops over the configurations with a fixed stride between a pose's entries, so that the
-    compiler turns each joint's step into vector instructions, four configurations an instruction: a Puma's 8
-    branches 0.50 -> 0.26 µs with their sines and cosines (against :func:`_fk_rows_shared`, which takes each
-    branch after the joints it shares with the one before; 2026-12-07)."""
-    L = LANES
-    for j in range(12):
-        f = F[0, j]
-        for i in range(m):
-            X[L * j + i] = f
-    for k in range(n):
-        f00, f01, f02, f03 = F[k + 1, 0], F[k + 1, 1], F[k + 1, 2], F[k + 1, 3]
-        f10, f11, f12, f13 = F[k + 1, 4], F[k + 1, 5], F[k + 1, 6], F[k + 1, 7]
-        f20, f21, f22, f23 = F[k + 1, 8], F[k + 1, 9], F[k + 1, 10], F[k + 1, 11]
-        o = m * k
-        if F[k + 1, PRISMATIC] != 0.0:    # _move's X · Tz(t)
-            for i in range(m):
-                t = qt[o + i]
-                X[3 * L + i] = X[3 * L + i] + t * X[2 * L + i]
-                X[7 * L + i] = X[7 * L + i] + t * X[6 * L + i]
-                X[11 * L + i] = X[11 * L + i] + t * X[10 * L + i]
-        else:                              # _move's X · Rz(t)
-            for i in range(m):
-                sk, ck = s[o + i], c[o + i]
-                a00, a01 = X[i], X[L + i]
-                a10, a11 = X[4 * L + i], X[5 * L + i]
-                a20, a21 = X[8 * L + i], X[9 * L + i]
-                X[i], X[L + i] = ck * a00 + sk * a01, ck * a01 - sk * a00
-                X[4 * L + i], X[5 * L + i] = ck * a10 + sk * a11, ck * a11 - sk * a10
-                X[8 * L + i], X[9 * L + i] = ck * a20 + sk * a21, ck * a21 - sk * a20
-        for i in range(m):                 # _mul: X · F[k + 1]
-            a00, a01, a02, a03 = X[i], X[L + i], X[2 * L + i], X[3 * L + i]
-            a10, a11, a12, a13 = X[4 * L + i], X[5 * L + i], X[6 * L + i], X[7 * L + i]
-            a20, a21, a22, a23 = X[8 * L + i], X[9 * L + i], X[10 * L + i], X[11 * L + i]
-            X[i] = a00 * f00 + a01 * f10 + a02 * f20
-            X[L + i] = a00 * f01 + a01 * f11 + a02 * f21
-            X[2 * L + i] = a00 * f02 + a01 * f12 + a02 * f22
-            X[3 * L + i] = a00 * f03 + a01 * f13 + a02 * f23 + a03
-            X[4 * L + i] = a10 * f00 + a11 * f10 + a12 * f20
-            X[5 * L + i] = a10 * f01 + a11 * f11 + a12 * f21
-            X[6 * L + i] = a10 * f02 + a11 * f12 + a12 * f22
-            X[7 * L + i] = a10 * f03 + a11 * f13 + a12 * f23 + a13
-            X[8 * L + i] = a20 * f00 + a21 * f10 + a22 * f20
-            X[9 * L + i] = a20 * f01 + a21 * f11 + a22 * f21
-            X[10 * L + i] = a20 * f02 + a21 * f12 + a22 * f22
-            X[11 * L + i] = a20 * f03 + a21 * f13 + a22 * f23 + a23
-
-
 @njit(cache=True, inline="always")
 def _errors_lanes(X, T, pose, m, dp, sr, cr):
-    """The position errors ``dp`` of the ``m`` poses of :func:`_fk_lanes`' ``X`` against ``T`` (4, 4), and where
-    ``pose`` the sine ``sr`` and cosine ``cr`` of each rotation error's angle: the operations of
-    :func:`armkit.ik._jit_verify._check`, side by side as in :func:`_fk_lanes` (:func:`armkit.ik._jit_verify._angle_of`
-    takes the angle from them)."""
+    """The position errors ``dp`` of the ``m`` poses ``X`` of :func:`armkit.kinematics._jit._fk_lanes` against
+    ``T`` (4, 4), and where ``pose`` the sine ``sr`` and cosine ``cr`` of each rotation error's angle: the
+    operations of :func:`armkit.ik._jit_verify._check`, side by side as in ``_fk_lanes``
+    (:func:`armkit.ik._jit_verify._angle_of` takes the angle from them)."""
     L = LANES
     t03, t13, t23 = T[0, 3], T[1, 3], T[2, 3]
     for i in range(m):
