@@ -295,6 +295,29 @@ def _cut(w, at, size):
     return w[at:at + size], at + size
 
 
+@njit(cache=True, inline="always")
+def _repeats_from(rawq):
+    """The number of rows of ``rawq`` (m, n) before the last ones that repeat row 0 to the bit (the sign of a zero
+    too; a NaN repeats nothing): ``m`` where the last row differs from row 0, at least 1."""
+    m, n = rawq.shape
+    real = m
+    while real > 1:
+        for j in range(n):
+            a, b = rawq[real - 1, j], rawq[0, j]
+            if not (a == b and math.copysign(1.0, a) == math.copysign(1.0, b)):
+                return real
+        real -= 1
+    return real
+
+
+@njit(cache=True, inline="always")
+def _copy_branch(q, dist, a, b):
+    """Row ``a`` of ``q`` and its distance ``dist[a]`` into row ``b``."""
+    for j in range(q.shape[1]):
+        q[b, j] = q[a, j]
+    dist[b] = dist[a]
+
+
 @njit(cache=True, _nrt=False)
 def _finish(rawq, unreach, missing, lab, ctx, q0, T, pose, lat, rho, r, per, gate_p, gate_r, fb, ib, bb, wf, wi, wb):
     """Steps 2-4 of the module docstring for raw DH angles ``rawq`` (m, n) of one target ``T`` (4, 4), into
@@ -337,8 +360,11 @@ def _finish(rawq, unreach, missing, lab, ctx, q0, T, pose, lat, rho, r, per, gat
     for j in range(n):
         lo[j] = joints[JOINT_LOWER, j] - 1e-12
         hi[j] = joints[JOINT_UPPER, j] + 1e-12
+    # the rows after ``real`` repeat row 0 to the bit (the padding of a target with fewer branches than m): their
+    # wrap, FK, check and touch-up are row 0's, copied, not computed again (the same bits)
+    real = _repeats_from(rawq)
     finite = True
-    for b in range(m):    # solve_all: jit.wrap_dist
+    for b in range(real):    # solve_all: jit.wrap_dist
         s = 0.0
         for j in range(n):
             revolute = joints[JOINT_PRISMATIC, j] == 0.0
@@ -349,6 +375,8 @@ def _finish(rawq, unreach, missing, lab, ctx, q0, T, pose, lat, rho, r, per, gat
             if revolute:
                 s += (v - q0[j]) ** 2
         dist[b] = math.sqrt(s)
+    for b in range(real, m):
+        _copy_branch(q, dist, 0, b)
     if not finite:   # a value that is not finite: the batched path says what
         return FALLBACK
     code, idx = wi[:m], wi[m:2 * m]   # the reason codes, the order
@@ -367,18 +395,22 @@ def _finish(rawq, unreach, missing, lab, ctx, q0, T, pose, lat, rho, r, per, gat
         # every branch's FK (the sines and cosines of all of them in one vector loop, as _fk_serial takes them):
         # the branches side by side, their errors too (_fk_lanes), or beyond LANES each taken up after the joints
         # it shares with the branch before (_fk_rows_shared); the same bits
-        lanes = m <= LANES
+        lanes = real <= LANES
         if lanes:
             for k in range(n):
-                for b in range(m):
-                    qt[k * m + b] = q[b, k]
-            sincos_block(qt, sn, cs)
-            _fk_lanes(F, qt, sn, cs, m, n, X)
-            _errors_lanes(X, T, pose, m, dp, sr, cr)
+                for b in range(real):
+                    qt[k * real + b] = q[b, k]
+            sincos_block(qt[:real * n], sn, cs)
+            _fk_lanes(F, qt, sn, cs, real, n, X)
+            _errors_lanes(X, T, pose, real, dp, sr, cr)
         else:
-            sincos_block(qflat, sn, cs)
-            _fk_rows_shared(F, q, sn, cs, Tm, P)
+            sincos_block(qflat[:real * n], sn, cs)
+            _fk_rows_shared(F, q[:real], sn, cs, Tm, P)
         for b in range(m):    # solve_all: verify and the polish test
+            if b >= real:   # row 0 again: its answer (after its touch-up)
+                _copy_branch(q, dist, 0, b)
+                dp[b], dr[b], within[b] = dp[0], dr[0], within[0]
+                continue
             if lanes:
                 e_p, e_r = dp[b], (_angle_of(sr[b], cr[b]) if pose else 0.0)
                 w_b = _within(q[b], joints[JOINT_LOWER], joints[JOINT_UPPER], 1e-12)
