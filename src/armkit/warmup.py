@@ -114,10 +114,10 @@ def _exercise_families() -> None:
         exact = load(name)                     # twin's family (_single.name_rows, each of its two kernels)
         rounded = Robot([replace(j, alpha=j.alpha + np.copysign(3.7e-6, j.alpha) if j.alpha else 0.0)
                          for j in exact.joints], name=f"{name}, rounded", base=exact.base, tool=exact.tool)
-        far = fk(rounded, rounded.random_q(rng=6))
-        far[:3, 3] *= 2.5                      # out of reach: padded branches, a name given twice (settle_rows)
-        ik_all(rounded, fk(rounded, rounded.random_q(rng=6))).branch   # noqa: B018 (the names made)
-        ik_all(rounded, far).branch            # noqa: B018
+        pose = fk(rounded, rounded.random_q(rng=6))
+        ik_all(rounded, pose).branch           # noqa: B018 (the names made)
+        pose[:3, 3] *= 2.5                     # out of reach: padded branches, a name given twice (settle_rows)
+        ik_all(rounded, pose).branch           # noqa: B018
     iiwa = load("iiwa14")                      # the sweep of 7-joint arms (solvers._sweep, ik.geometric.locked)
     ik_all(iiwa, fk(iiwa, iiwa.random_q(rng=3)))
     for a1 in (0.3, 0.0):                      # any other 3R arm (ik.analytic.geometric.Geometric3R): SP5, and SP3

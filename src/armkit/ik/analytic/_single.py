@@ -83,7 +83,8 @@ from ..._jit_shaped import shaped  # noqa: E402
 from ...kinematics._jit import (LANES, PRISMATIC, ROW, _fk_lanes, _jacobian_cols, _load, _move, _mul,  # noqa: E402
                                _sincos, _store, _store2, sincos_block)
 from .._jit_verify import _angle_of, _check, _within  # noqa: E402
-from ._jit import _planar2_run, _planar3_run, _puma_run, _ur_run, _wrap_one, _ypp_run, stable_order  # noqa: E402
+from ._jit import (TWO_PI, _planar2_run, _planar3_run, _puma_run, _ur_run, _wrap_one, _ypp_run,  # noqa: E402
+                   stable_order)
 from ._layout import (JOINT_LOWER, JOINT_PRISMATIC, JOINT_ROWS, JOINT_THETA, JOINT_UPPER,  # noqa: E402
                       LABEL_SHIFT, NEAREST)
 
@@ -1038,7 +1039,6 @@ def kernel_address(kernel, sample):
         return 0
 
 
-TWO_PI = 2.0 * math.pi
 NAME_WRIST, NAME_UR = 0, 1
 """The naming families :func:`name_rows` runs: the spherical wrist's kernel, the UR's."""
 TIE = 1e-14
