@@ -124,15 +124,27 @@ def _tsp1_cs(p1, p2, k):
     """θ with ``rot(k, θ) p1`` nearest ``p2`` (SP1), and its cosine and sine: ``(θ, cos θ, sin θ)``, the two from
     the same pair that gives θ (no ``sin``/``cos`` calls; they differ from ``cos(θ)``, ``sin(θ)`` by rounding
     only)."""
+    th, a, b, r = _tsp1_abr(p1, p2, k)
+    return _cs_from(th, a, b, r)
+
+
+def _cs_from(th, a, b, r):
+    """``(θ, cos θ, sin θ)`` of ``θ = atan2(b, a)`` and ``r = |(a, b)|``: the pair divided by its length, or where
+    that is 0, the cosine and sine of θ."""
+    if r > 0.0:
+        return th, a / r, b / r
+    return th, math.cos(th), math.sin(th)
+
+
+def _tsp1_abr(p1, p2, k):
+    """:func:`_tsp1_cs` before its division: ``(θ, a, b, r)`` with ``θ = atan2(b, a)``, ``r = |(a, b)|`` (where
+    ``r > 0``, ``cos θ = a / r``, ``sin θ = b / r``). It calls no function but armkit's inline ``atan2``, so loops
+    of it over lanes compile to vector instructions (:func:`.solvers_wrist._wrist_lanes`)."""
     kp1 = _tdot(k, p1)
     y = (p1[0] - k[0] * kp1, p1[1] - k[1] * kp1, p1[2] - k[2] * kp1)
     b = _tdot(_tcross(k, p1), p2)
     a = _tdot(y, p2)
-    th = _atan2(b, a)
-    r = math.sqrt(a * a + b * b)
-    if r > 0.0:
-        return th, a / r, b / r
-    return th, math.cos(th), math.sin(th)
+    return _atan2(b, a), a, b, math.sqrt(a * a + b * b)
 
 
 def _wrap(x):
@@ -677,7 +689,8 @@ def _fk_err_sc(H, P, RnT, prism, q, S, C, Rt, pt, RS, PS, s):
 
 # ---------------------------------------------------------------------------------- compiled
 KERNELS = ("_t", "_tdot", "_tcross", "_tadd", "_tsub", "_tmul", "_tnorm", "_trot_cs", "_trot", "_tmv", "_tmtv",
-           "_tlin", "_tsp1_cs", "_wrap", "_cubic_max", "_quad", "_newton4", "_polish", "_quartic4", "_quartic",
+           "_tlin", "_tsp1_abr", "_cs_from", "_tsp1_cs", "_wrap", "_cubic_max", "_quad", "_newton4", "_polish",
+           "_quartic4", "_quartic",
            "_res2", "_angle", "_trig2m", "_trig2", "_trig2_rows", "_sp6", "_add_row", "_sp3_cos", "_sp3",
            "_rot_entries_sc", "_rot_entries", "_rmul_rot", "_move", "_fk_err_sc", "_fk_err_from")
 """The functions :func:`kernels` compiles, callees before callers."""

@@ -34,7 +34,7 @@ from numpy.typing import NDArray
 
 from ... import _jit_loader
 from . import solvers as _solvers
-from .solvers_check import CORE_M, CORE_V
+from .solvers_check import CORE_M, CORE_T, CORE_V
 
 __all__ = ["solve", "kernels", "PARALLEL_MIN"]
 
@@ -77,7 +77,7 @@ def _layout(which, kind, inverted, exact, Hi, Pi, RnT, prism, Ht, Pt, T, q0phi, 
         # the closed-form cores' work arrays, as _closed_core makes them (made once a chunk; _core_in zeroes them)
         V3 = np.empty((CORE_V, 3))
         M3 = np.empty((CORE_M, 3, 3))
-        T14 = np.empty((2, 4))
+        T14 = np.empty((CORE_T, 4))
         CL = np.empty(8, np.bool_)
         for b in range(c * B // chunks, (c + 1) * B // chunks):
             _one_target(which, kind, inverted, exact, Hi, Pi, RnT, prism, Ht, Pt, T, q0phi, N, tol_p, tol_r,  # noqa

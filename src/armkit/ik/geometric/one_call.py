@@ -71,7 +71,7 @@ from numpy.typing import NDArray
 
 from ... import _jit_loader
 from . import solvers as _solvers
-from .solvers_check import CORE_M, CORE_V
+from .solvers_check import CORE_M, CORE_T, CORE_V
 
 __all__ = ["geometry", "kernel", "SIZE"]
 
@@ -179,7 +179,7 @@ def _geometric(t, q0, ctx, fb, ib, bb, wk):
     cw = wk[at:at + CORE_WORK]
     cv3 = shaped(cw[:3 * CORE_V], (CORE_V, 3))  # noqa: F821
     cm3 = shaped(cw[3 * CORE_V:3 * CORE_V + 9 * CORE_M], (CORE_M, 3, 3))  # noqa: F821
-    t14 = shaped(cw[3 * CORE_V + 9 * CORE_M:], (2, 4))  # noqa: F821
+    t14 = shaped(cw[3 * CORE_V + 9 * CORE_M:], (CORE_T, 4))  # noqa: F821
     at += CORE_WORK
     # _apart's: a candidate's angles with their sines and cosines, the FK's rotations and positions after each joint
     a3 = wk[at:at + 3 * n]
@@ -263,8 +263,9 @@ def _geometric(t, q0, ctx, fb, ib, bb, wk):
 
 ROWS3 = 6 + 7 + 3 + 6 + 7 + 3 + 1
 """Rows of the kernel's (rows, 3) work piece: Hi, Pi, RnT, Ht, Pt, R, p."""
-CORE_WORK = 3 * CORE_V + 9 * CORE_M + 8
-"""Floats of the cores' work: the vectors, the matrices, the three-parallel core's (q1, q5) pairs (2, 4)."""
+CORE_WORK = 3 * CORE_V + 9 * CORE_M + 4 * CORE_T
+"""Floats of the cores' work: the vectors, the matrices, the rows of 4 (the wrists' lanes, the three-parallel core's
+(q1, q5) pairs)."""
 
 
 APART_WORK = 3 * 6 + 12 * 7

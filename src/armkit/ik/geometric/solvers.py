@@ -74,25 +74,27 @@ from ... import _jit_loader, kinematics
 from . import _kernels as _kk
 from . import search2d as _search2d
 from . import subproblems as _sp
-from ._kernels import _fk_err_from, _fk_err_sc, _tsp1_cs  # noqa: F401  (in the kernels' namespace; _tsp1_cs inlined)
+from ._kernels import _cs_from, _fk_err_from, _fk_err_sc, _t, _tsp1_abr, _tsp1_cs  # noqa: F401  (in the kernels'
+# namespace; the SP1 helpers inlined)
 from .poe import POE
 from .search import MAXROOT, SM, SW, TI, TP, _search  # noqa: F401  (in the kernels' namespace)
 from .search import N as _SEARCH_N
 from .search import kernels as _search_kernels
 from .solvers_chain import _jacobian, _log_vec, _points, _size, align, polish, reverse  # noqa: F401
-from .solvers_check import (CORE_M, CORE_V, CORE_V_PARALLEL, EMPTY_RETRY, RETRIES, SHARP, _SPH_MID,  # noqa: F401
-                            _SPHERICAL, _THREE_PARALLEL, _TI_END, _TWO_PAR, _apart, _check, _close, _close_wrapped,
-                            _core_in, _closed_core, _copy_row, _distinct, _gate, _merged, _newton_from, _paired,
-                            _polish_wanted, _promote, _put_passing, _repeats, _searched_core, _sharpen,
-                            _solve, _solve_searched, _solve_spherical, _solve_spherical_middle, _solve_three_parallel,
+from .solvers_check import (CORE_M, CORE_T, CORE_V, CORE_V_PARALLEL, EMPTY_RETRY, RETRIES, SHARP,  # noqa: F401
+                            _SPH_MID, _SPHERICAL, _THREE_PARALLEL, _TI_END, _TWO_PAR, _apart, _check, _close,
+                            _close_wrapped, _core_in, _closed_core, _copy_row, _distinct, _gate, _merged, _newton_from,
+                            _paired, _polish_wanted, _promote, _put_passing, _repeats, _searched_core, _sharpen, _solve,
+                            _solve_searched, _solve_spherical, _solve_spherical_middle, _solve_three_parallel,
                             _solve_two_intersecting_end, _solve_two_parallel, _sweep, _within_reach)
 from .solvers_parallel import _core_three_parallel, _pairs_sp6, _singular_wrist  # noqa: F401
 from .solvers_search import (_core_spherical_middle, _core_two_intersecting_end, _core_two_parallel,  # noqa: F401
                              _target_rows)
-from .solvers_wrist import (NEAR_TANGENT, SING, _core_spherical, _mm, _mm_to, _mtm, _mtm_to, _mtv,  # noqa: F401
-                            _mtv_to, _mv, _mv_to, _perp, _perp_to, _pos_general, _pos_search, _pos_two_intersecting,
-                            _pos_two_parallel, _rot_to, _rotm_to, _turn_to, _SP_TINY, _SP_TOL, _sp1s,
-                            _sp1s_cs, _sp2s, _sp2cs, _sp2cs_one, _put_position, _wrist, _wrist_from, _wrist_sp2)
+from .solvers_wrist import (NEAR_TANGENT, SING, WRIST_LANES, _core_spherical, _mm, _mm_to, _mtm, _mtm_to,  # noqa: F401
+                            _mtv, _mtv_to, _mv, _mv_to, _perp, _perp_to, _pos_general, _pos_search,
+                            _pos_two_intersecting, _pos_two_parallel, _rot_to, _rotm_to, _turn_to, _SP_TINY, _SP_TOL,
+                            _sp1s, _sp1s_cs, _sp2s, _sp2cs, _sp2cs_abr, _sp2cs_disc, _sp2cs_one, _put_position, _wrist,
+                            _wrist_from, _wrist_half, _wrist_lanes, _wrist_sp2)
 from .subproblems import _cross, _dot, _norm, _wrap, rot, rotm, sp1, sp2, sp3, sp4, sp5, sp6  # noqa: F401
 
 __all__ = ["Solutions", "solve_batch", "align", "reverse", "polish", "spherical_two_intersecting", "spherical_two_parallel",
@@ -119,8 +121,9 @@ class Solutions(NamedTuple):
 
 # ---------------------------------------------------------------------------------- wrappers
 KERNELS = ("_mv", "_mtv", "_mm", "_mtm", "_perp", "_rotm_to", "_rot_to", "_mm_to", "_mtm_to", "_mv_to", "_mtv_to",
-           "_perp_to", "_turn_to", "_sp1s", "_sp1s_cs", "_sp2s", "_sp2cs", "_sp2cs_one", "_wrist",
-           "_wrist_from", "_wrist_sp2", "_pos_two_intersecting", "_pos_two_parallel", "_pos_search", "_pos_general",
+           "_perp_to", "_turn_to", "_sp1s", "_sp1s_cs", "_sp2s", "_sp2cs_disc", "_sp2cs_abr", "_sp2cs_one", "_sp2cs",
+           "_wrist", "_wrist_from", "_wrist_sp2", "_wrist_half", "_wrist_lanes", "_pos_two_intersecting",
+           "_pos_two_parallel", "_pos_search", "_pos_general",
            "_core_spherical", "_pairs_sp6", "_singular_wrist",
            "_core_three_parallel", "_close", "_repeats", "_put_passing", "_merged", "_newton_from", "_copy_row",
            "_promote", "_sharpen", "_check", "_core_in", "_closed_core", "_solve_spherical",
@@ -137,10 +140,15 @@ instruction: the wrist took 0.40 µs a call, 0.29 without the counts (the Kinova
 0.21 with its 3 x 3 helpers and SP1 inlined (:data:`INLINE`: code inlined into a function compiled without counts
 has none either); its position parts the same way; the spherical core itself (its work arrays made by
 ``_closed_core``) 1.66 -> 1.49 µs a target."""
+VECTOR = ("_core_spherical",)
+"""Kernels compiled with NumPy's error model (:func:`.subproblems.jit_namespace`): a division by zero does not raise,
+so the loop of the wrists side by side (:func:`.solvers_wrist._wrist_lanes`, inlined there) compiles to vector
+instructions; with Python's model it stayed scalar (four wrists 0.41 µs, against 0.17 with it, 2026-12-07)."""
 INLINE = ("_fk_err_sc", "_pos_search",
           "_core_two_intersecting_end", "_core_two_parallel", "_core_spherical_middle", "_searched_core", "_solve",
           "_mv_to", "_mtv_to", "_mm_to", "_mtm_to", "_rotm_to", "_rot_to", "_turn_to", "_perp_to",
-          "_sp1s", "_sp1s_cs", "_close_wrapped", "_sp2cs", "_sp2cs_one", "_tsp1_cs", "_put_position")
+          "_sp1s", "_sp1s_cs", "_close_wrapped", "_sp2cs", "_sp2cs_disc", "_sp2cs_abr", "_sp2cs_one", "_tsp1_abr",
+          "_t", "_cs_from", "_tsp1_cs", "_put_position", "_wrist_half", "_wrist_lanes")
 """Kernels with one caller each (the FK of the candidates in ``_check``, a searched core in its ``_solve_*``, a
 closed-form one in ``_closed_core``, the 3R position in the spherical core, the dispatch in the batch loops):
 compiled inline into that caller (Numba's ``inline="always"``), not as functions of their own. Numba links a
@@ -179,7 +187,7 @@ def kernels() -> Optional[types.SimpleNamespace]:
             return None
         extra["_twins"] = s2._twins   # the odd-count step of the 1-D searches (solvers_check._paired)
         extra["_newton"] = s2._newton   # failing candidates and rough solutions (_promote, _sharpen)
-        ns = _sp.jit_namespace(globals(), KERNELS, extra=extra, uncounted=UNCOUNTED)
+        ns = _sp.jit_namespace(globals(), KERNELS, extra=extra, uncounted=UNCOUNTED, vector=VECTOR)
         from numba import njit
 
         for name in INLINE:     # the same copies, compiled inline into their callers (they share ns as globals)

@@ -562,7 +562,7 @@ KERNELS = ("_dot", "_cross", "_norm", "_wrap", "_rot_into", "rot", "rotm", "_lin
 
 
 def jit_namespace(namespace: dict[str, Any], names: tuple[str, ...], extra: Optional[dict[str, Any]] = None,
-                  uncounted: tuple[str, ...] = ()) -> dict[str, Any]:
+                  uncounted: tuple[str, ...] = (), vector: tuple[str, ...] = ()) -> dict[str, Any]:
     """``njit(cache=True)`` copies of ``namespace[name]`` for each name, compiled on first call.
 
     The copies share a new globals dict (a copy of ``namespace`` updated with ``extra`` and the
@@ -575,6 +575,11 @@ def jit_namespace(namespace: dict[str, Any], names: tuple[str, ...], extra: Opti
     target with 5-12 arrays each, that was 13 % of the time (perf, 2026-12-06). Such a function must allocate
     no array and return none, in its whole call tree; it may call a counted one (every other name is compiled with
     ``_nrt=True`` said explicitly, so it does not take an uncounted caller's setting, as Numba's callees do).
+
+    The names in ``vector`` are compiled with NumPy's error model: a float division by zero gives an infinity or
+    not-a-number, as in C, where Python's model raises ``ZeroDivisionError``, a branch out of every loop with a
+    division, which keeps the loop from being compiled to vector instructions
+    (:func:`.solvers_wrist._wrist_lanes`). Results where no division by zero happens are the same.
     """
     _jit_loader.install_cache_fallback()
     from numba import njit
@@ -585,7 +590,8 @@ def jit_namespace(namespace: dict[str, Any], names: tuple[str, ...], extra: Opti
     for name in names:
         f = namespace[name]
         copy = types.FunctionType(f.__code__, ns, f.__name__, f.__defaults__, f.__closure__)
-        ns[name] = njit(cache=True, _nrt=name not in uncounted)(copy)
+        options = {"error_model": "numpy"} if name in vector else {}
+        ns[name] = njit(cache=True, _nrt=name not in uncounted, **options)(copy)
     return ns
 
 
