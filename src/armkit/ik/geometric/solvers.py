@@ -87,7 +87,8 @@ from .solvers_check import (CORE_M, CORE_T, CORE_V, CORE_V_PARALLEL, EMPTY_RETRY
                             _paired, _polish_wanted, _promote, _put_passing, _repeats, _searched_core, _sharpen, _solve,
                             _solve_searched, _solve_spherical, _solve_spherical_middle, _solve_three_parallel,
                             _solve_two_intersecting_end, _solve_two_parallel, _sweep, _within_reach)
-from .solvers_parallel import _core_three_parallel, _pairs_sp6, _singular_wrist  # noqa: F401
+from .solvers_parallel import (PAIR_LANES, _core_three_parallel, _pair_q2, _pairs_lanes, _pairs_sp6,  # noqa: F401
+                               _singular_wrist)
 from .solvers_search import (_core_spherical_middle, _core_two_intersecting_end, _core_two_parallel,  # noqa: F401
                              _target_rows)
 from .solvers_wrist import (NEAR_TANGENT, SING, WRIST_LANES, _core_spherical, _mm, _mm_to, _mtm, _mtm_to,  # noqa: F401
@@ -95,7 +96,7 @@ from .solvers_wrist import (NEAR_TANGENT, SING, WRIST_LANES, _core_spherical, _m
                             _pos_two_intersecting, _pos_two_parallel, _rot_to, _rotm_to, _turn_to, _SP_TINY, _SP_TOL,
                             _sp1s, _sp1s_cs, _sp2s, _sp2cs, _sp2cs_abr, _sp2cs_disc, _sp2cs_one, _put_position, _wrist,
                             _wrist_from, _wrist_half, _wrist_lanes, _wrist_sp2)
-from .subproblems import _cross, _dot, _norm, _wrap, rot, rotm, sp1, sp2, sp3, sp4, sp5, sp6  # noqa: F401
+from .subproblems import _cross, _dot, _lin, _norm, _wrap, rot, rotm, sp1, sp2, sp3, sp4, sp5, sp6  # noqa: F401
 
 __all__ = ["Solutions", "solve_batch", "align", "reverse", "polish", "spherical_two_intersecting", "spherical_two_parallel",
            "spherical", "spherical_wrist", "three_parallel", "three_parallel_two_intersecting", "spherical_base",
@@ -124,7 +125,7 @@ KERNELS = ("_mv", "_mtv", "_mm", "_mtm", "_perp", "_rotm_to", "_rot_to", "_mm_to
            "_perp_to", "_turn_to", "_sp1s", "_sp1s_cs", "_sp2s", "_sp2cs_disc", "_sp2cs_abr", "_sp2cs_one", "_sp2cs",
            "_wrist", "_wrist_from", "_wrist_sp2", "_wrist_half", "_wrist_lanes", "_pos_two_intersecting",
            "_pos_two_parallel", "_pos_search", "_pos_general",
-           "_core_spherical", "_pairs_sp6", "_singular_wrist",
+           "_core_spherical", "_pairs_sp6", "_singular_wrist", "_pair_q2", "_pairs_lanes",
            "_core_three_parallel", "_close", "_repeats", "_put_passing", "_merged", "_newton_from", "_copy_row",
            "_promote", "_sharpen", "_check", "_core_in", "_closed_core", "_solve_spherical",
            "_solve_three_parallel", "_distinct", "_gate", "_target_rows", "_core_two_intersecting_end",
@@ -140,15 +141,16 @@ instruction: the wrist took 0.40 µs a call, 0.29 without the counts (the Kinova
 0.21 with its 3 x 3 helpers and SP1 inlined (:data:`INLINE`: code inlined into a function compiled without counts
 has none either); its position parts the same way; the spherical core itself (its work arrays made by
 ``_closed_core``) 1.66 -> 1.49 µs a target."""
-VECTOR = ("_core_spherical",)
+VECTOR = ("_core_spherical", "_core_three_parallel")
 """Kernels compiled with NumPy's error model (:func:`.subproblems.jit_namespace`): a division by zero does not raise,
-so the loop of the wrists side by side (:func:`.solvers_wrist._wrist_lanes`, inlined there) compiles to vector
-instructions; with Python's model it stayed scalar (four wrists 0.41 µs, against 0.17 with it, 2026-12-07)."""
+so the loops of their lanes (:func:`.solvers_wrist._wrist_lanes`, :func:`.solvers_parallel._pairs_lanes`, inlined
+there) compile to vector instructions; with Python's model the wrists' loop stayed scalar (four wrists 0.41 µs,
+against 0.17 with it, 2026-12-07)."""
 INLINE = ("_fk_err_sc", "_pos_search",
           "_core_two_intersecting_end", "_core_two_parallel", "_core_spherical_middle", "_searched_core", "_solve",
           "_mv_to", "_mtv_to", "_mm_to", "_mtm_to", "_rotm_to", "_rot_to", "_turn_to", "_perp_to",
           "_sp1s", "_sp1s_cs", "_close_wrapped", "_sp2cs", "_sp2cs_disc", "_sp2cs_abr", "_sp2cs_one", "_tsp1_abr",
-          "_t", "_cs_from", "_tsp1_cs", "_put_position", "_wrist_half", "_wrist_lanes")
+          "_t", "_cs_from", "_tsp1_cs", "_put_position", "_wrist_half", "_wrist_lanes", "_pair_q2", "_pairs_lanes")
 """Kernels with one caller each (the FK of the candidates in ``_check``, a searched core in its ``_solve_*``, a
 closed-form one in ``_closed_core``, the 3R position in the spherical core, the dispatch in the batch loops):
 compiled inline into that caller (Numba's ``inline="always"``), not as functions of their own. Numba links a

@@ -323,10 +323,11 @@ def _close(a, b, prism):
     return True
 
 
-CORE_V, CORE_M, CORE_T = 41, 4, 14
+CORE_V, CORE_M, CORE_T = 41, 4, 15
 """Rows of a closed-form core's work vectors (rows of 3), matrices and rows of 4 (:func:`_core_in`): the spherical
-core's (its wrists side by side, :func:`.solvers_wrist._wrist_lanes`, take the rows of 4); the three-parallel core
-takes the first :data:`CORE_V_PARALLEL` vectors, and two rows of 4 for its (q1, q5) pairs."""
+core's (its wrists side by side, :func:`.solvers_wrist._wrist_lanes`, take 14 rows of 4); the three-parallel core
+takes the first :data:`CORE_V_PARALLEL` vectors, two rows of 4 for its (q1, q5) pairs and 13 for those pairs side
+by side (:func:`.solvers_parallel._pairs_lanes`)."""
 CORE_V_PARALLEL = 22
 """The work vectors the three-parallel core takes (its small vectors, then its pairs' cosines and sines)."""
 
@@ -335,7 +336,7 @@ def _core_in(which, kind, Hi, Pi, RnT, prism, R, p, qref, N, Q, LS, SG, V3, M3, 
     """The candidates of a closed-form core (``which`` 0: spherical wrist, 1: three parallel axes) into Q, LS, SG,
     before the check; returns their count. The core's work arrays are the caller's, ``V3 (CORE_V, 3)``,
     ``M3 (CORE_M, 3, 3)``, ``T14 (CORE_T, 4)`` and ``CL (8,)`` flags, zeroed here as the cores take them (the
-    rows of ``T14`` after the first two: the wrists' lanes, written before they are read): the one-call
+    rows of ``T14`` after the first two: the lanes, written before they are read): the one-call
     and batch kernels (:mod:`.one_call`, :mod:`.batched`) keep theirs (each array made and freed costs ~40 ns),
     :func:`_closed_core` makes them. It makes no array, so it is compiled without reference counts."""
     for i in range(CORE_V if which == 0 else CORE_V_PARALLEL):
@@ -352,7 +353,7 @@ def _core_in(which, kind, Hi, Pi, RnT, prism, R, p, qref, N, Q, LS, SG, V3, M3, 
         CL[i] = False
     if which == 0:
         return _core_spherical(kind, Hi, Pi, RnT, prism, R, p, qref, N, Q, LS, SG, V3, M3, CL, T14)
-    return _core_three_parallel(kind, Hi, Pi, RnT, prism, R, p, qref, N, Q, LS, SG, V3[:CORE_V_PARALLEL], M3, T14[:2],
+    return _core_three_parallel(kind, Hi, Pi, RnT, prism, R, p, qref, N, Q, LS, SG, V3[:CORE_V_PARALLEL], M3, T14,
                                 CL[:4])
 
 

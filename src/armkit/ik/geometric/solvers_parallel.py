@@ -9,9 +9,11 @@ import math
 
 import numpy as np
 
-from ._kernels import _sincos
+from ._kernels import _atan2, _sincos, _t, _trot_cs
 from .solvers_wrist import SING, _mm, _mtm_to, _mtv, _mv, _mv_to, _perp_to, _rotm_to, _sp1s, _sp1s_cs, _turn_to
-from .subproblems import _dot, _sp3cs, _sp4cs, _wrap, rotm, sp1, sp6
+from .subproblems import TOL as _SP_TOL
+from .subproblems import _TINY as _SP_TINY
+from .subproblems import NEAR_TANGENT, _dot, _lin, _sp3cs, _sp4cs, _wrap, rotm, sp1, sp6
 
 
 # ------------------------------------------------------------------------ three parallel axes
@@ -21,7 +23,8 @@ def _core_three_parallel(kind, H, P, RnT, prism, R, p, qref, N, Q, LS, SG, v3, m
 
     Its work arrays come from the caller (:func:`.solvers_check._core_in`, which zeroes them):
     ``v3 (22, 3)`` for the call's small vectors (rows 14-21: the pairs' cosines and sines), ``m3 (4, 3, 3)`` for
-    its matrices (R_06, and those of a singular wrist), ``t14 (2, 4)`` and ``ls14 (4,)`` for the (q1, q5) pairs
+    its matrices (R_06, and those of a singular wrist), ``t14 (15, 4)``: rows 0 and 1 and ``ls14 (4,)`` for the
+    (q1, q5) pairs, rows 2-14 the pairs side by side (:func:`_pairs_lanes`; written before they are read)
     (each array made and freed costs ~40 ns and is a call the compiler cannot see through); the subproblems as
     scalars, each angle with its cosine and sine (``_sp4cs``, ``_sp3cs``, ``_sp1s_cs``: no sine or cosine called but
     for SP6's case and a singular wrist), the rotations as turns of vectors by those (``_turn_to``). What makes
@@ -76,10 +79,36 @@ def _core_three_parallel(kind, H, P, RnT, prism, R, p, qref, N, Q, LS, SG, v3, m
             CS4[i, 1], CS4[i, 0] = _sincos(T4[i])
     _perp_to(h5, x5)
     _mv_to(R06, x5, g6)
+    # the pairs side by side, each taken where the common case holds (the same bits)
+    L = t14[2:]
+    lanes = m14 > 0
+    if lanes:
+        for i in range(PAIR_LANES):     # (rows past m14: zeroes, _core_in's)
+            L[9, i] = CS0[i, 0]
+            L[10, i] = CS0[i, 1]
+            L[11, i] = CS4[i, 0]
+            L[12, i] = CS4[i, 1]
+        _pairs_lanes(H, P, e6, g6, p16, x5, SING if kind == 4 else 1e-6, L)
     m = 0
     for i in range(m14):
         q0 = T0[i]
         q4 = T4[i]
+        if lanes and i < PAIR_LANES and L[0, i] != 0.0:
+            th, q5 = L[3, i], L[4, i]
+            for j in range(2):
+                if m >= Q.shape[0]:
+                    break
+                q1, t2 = L[6 + 2 * j, i], L[5 + 2 * j, i]
+                Q[m, 0] = q0
+                Q[m, 1] = q1
+                Q[m, 2] = t2
+                Q[m, 3] = _wrap(s3 * (th - q1 - s2 * t2))
+                Q[m, 4] = q4
+                Q[m, 5] = _wrap(q5)
+                LS[m] = ls14[i] or L[1 + j, i] != 0.0
+                SG[m] = False
+                m += 1
+            continue
         # R_16 = rot(H[0], q0)ᵀ R_06 and R_45 = rot(H[4], q4) act on vectors only: R_16 H[5] (a), R_16 x (f) and
         # rot(H[0], q0)ᵀ p16 (d) turned by -q0, R_45 H[5] (u) and R_45 P5 (c) by q4; the matrices for a singular
         # wrist alone
@@ -133,6 +162,85 @@ def _core_three_parallel(kind, H, P, RnT, prism, R, p, qref, N, Q, LS, SG, v3, m
             SG[m] = sing
             m += 1
     return m
+
+
+PAIR_LANES = 4
+"""(q1, q5) pairs whose rest :func:`_pairs_lanes` solves side by side (SP6 and two SP4s give at most 4)."""
+
+
+def _pairs_lanes(H, P, e6, g6, p16, x5, sing_tol, L):
+    """The rest of the three-parallel core for the first :data:`PAIR_LANES` (q1, q5) pairs side by side, by its
+    common case: a wrist that is not singular and an SP3 for q3 with two exact answers away from its tangent.
+    ``L (13, PAIR_LANES)``, pair ``i`` in column ``i``. Rows 9-12 are the caller's: the cosine and sine of q1, then
+    of q5. Rows 0-8 are the answers: row 0 whether the common case holds (1.0; 0.0: the caller takes that pair one
+    by one), rows 1 and 2 whether an SP1 of the first or second branch is least squares, row 3 the sum of q2..q4
+    (``th``), row 4 q6 (not wrapped), rows 5, 6 the first branch's q3, q2 and rows 7, 8 the second's.
+
+    The operations of :func:`_core_three_parallel`'s loop and of ``_sp3cs`` for such a pair, in the same order (the
+    same bits), written with no function called but the inline ``atan2``, square roots and ``floor``, so that the
+    loop compiles to vector instructions (its caller is compiled with NumPy's error model, as the spherical core:
+    :data:`.solvers.VECTOR`). The axes and vectors are tuples, the loop's length ``L.shape[1]`` (see
+    :func:`.solvers_wrist._wrist_lanes` for why)."""
+    h0, h1, H2, h4, h5 = _t(H[0]), _t(H[1]), _t(H[2]), _t(H[4]), _t(H[5])
+    P1, P2, P3, P4, P5 = _t(P[1]), _t(P[2]), _t(P[3]), _t(P[4]), _t(P[5])
+    mP2 = (-P2[0], -P2[1], -P2[2])
+    e6, g6, p16, x5 = _t(e6), _t(g6), _t(p16), _t(x5)
+    pp = _dot(P3, P3) + _dot(mP2, mP2)
+    a3, b3, c3 = _lin(mP2, H2, P3)        # (_sp3cs(P[3], -P[2], H[2], ‖d‖): its terms that do not depend on d)
+    for i in range(L.shape[1]):
+        c0, s0, c4, s4 = L[9, i], L[10, i], L[11, i], L[12, i]
+        a = _trot_cs(h0, c0, -s0, e6)
+        f = _trot_cs(h0, c0, -s0, g6)
+        d = _trot_cs(h0, c0, -s0, p16)
+        u = _trot_cs(h4, c4, s4, h5)
+        c = _trot_cs(h4, c4, s4, P5)
+        cx = u[1] * h1[2] - u[2] * h1[1]
+        cy = u[2] * h1[0] - u[0] * h1[2]
+        cz = u[0] * h1[1] - u[1] * h1[0]
+        sing = math.sqrt(cx * cx + cy * cy + cz * cz) < sing_tol
+        th, ch, sh, lt = _sp1s_cs(u[0], u[1], u[2], a[0], a[1], a[2], h1[0], h1[1], h1[2])
+        w = _trot_cs(h1, ch, -sh, f)
+        b = _trot_cs(h4, c4, -s4, w)
+        q5, l5 = _sp1s(x5[0], x5[1], x5[2], b[0], b[1], b[2], h5[0], h5[1], h5[2])
+        c = _trot_cs(h1, ch, sh, (P4[0] + c[0], P4[1] + c[1], P4[2] + c[2]))
+        d = (d[0] - P1[0] - c[0], d[1] - P1[1] - c[1], d[2] - P1[2] - c[2])
+        nd = math.sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2])
+        # _sp3cs, then _trig1cs's case of two answers
+        target = 0.5 * (pp - nd * nd)
+        scale = max(pp + nd * nd, _SP_TINY)
+        x = target - c3
+        r = math.sqrt(a3 * a3 + b3 * b3)
+        good = r > _SP_TOL * scale
+        r = r if good else 1.0          # (a lane that is not taken divides by 1: no error raised)
+        ca = a3 / r
+        sa = b3 / r
+        x = x / r
+        good = good & (abs(x) <= 1.0)
+        good = good & (not 1.0 - x * x < NEAR_TANGENT) & (not sing)
+        sw = math.sqrt(1.0 - x * x if good else 1.0)
+        ct2 = ca * x - sa * sw
+        st2 = sa * x + ca * sw
+        t2 = _wrap(_atan2(st2, ct2))
+        q1, l1 = _pair_q2(H2, P2, P3, h1, d, ct2, st2)
+        ct2 = ca * x + sa * sw
+        st2 = sa * x - ca * sw
+        u2 = _wrap(_atan2(st2, ct2))
+        v1, m1 = _pair_q2(H2, P2, P3, h1, d, ct2, st2)
+        L[0, i] = 1.0 if good else 0.0
+        L[1, i] = 1.0 if lt | l5 | l1 else 0.0
+        L[2, i] = 1.0 if lt | l5 | m1 else 0.0
+        L[3, i] = th
+        L[4, i] = q5
+        L[5, i] = t2
+        L[6, i] = q1
+        L[7, i] = u2
+        L[8, i] = v1
+
+
+def _pair_q2(H2, P2, P3, h1, d, ct2, st2):
+    """q2 of one branch of :func:`_pairs_lanes` (SP1 of ``P2 + rot(h3, q3) P3`` onto ``d``): ``(q2, ls)``."""
+    a = _trot_cs(H2, ct2, st2, P3)
+    return _sp1s(P2[0] + a[0], P2[1] + a[1], P2[2] + a[2], d[0], d[1], d[2], h1[0], h1[1], h1[2])
 
 
 def _pairs_sp6(h0, h1, h4, h5, p16, P5, e6, d1, T0, T4, ls14):

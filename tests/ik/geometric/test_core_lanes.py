@@ -1,4 +1,5 @@
-"""The wrists of a spherical core side by side (:func:`armkit.ik.geometric.solvers_wrist._wrist_lanes`).
+"""The closed-form cores' lanes: a spherical core's wrists side by side
+(:func:`armkit.ik.geometric.solvers_wrist._wrist_lanes`), and the three-parallel core's pairs.
 
 The lanes take up to four positions at once by the common case of :func:`._wrist_from` (a non-singular wrist
 with two exact answers), and flag the others for the one-by-one path. Checked here:
@@ -6,9 +7,10 @@ with two exact answers), and flag the others for the one-by-one path. Checked he
 - lane by lane against the one-by-one path itself (the six turns of ``_core_spherical``, then ``_wrist_from``):
   a flagged lane is exactly the lane that path solves by its common case, and its answers are that path's, bit
   for bit (plain Python and compiled);
-- through the compiled spherical core, where the lanes are compiled to vector instructions: the candidates are
-  those of the same core run as plain Python, bit for bit, also for singular wrists, targets out of reach and a
-  prismatic joint 3 (whose positions take the one-by-one path).
+- through the compiled spherical and three-parallel cores, where the lanes (also the three-parallel core's (q1, q5)
+  pairs side by side, :func:`.solvers_parallel._pairs_lanes`) are compiled to vector instructions: the candidates
+  are those of the same cores run as plain Python with the lanes switched off, bit for bit, also for singular
+  wrists, targets out of reach and a prismatic joint 3 (whose positions take the one-by-one path).
 """
 
 from __future__ import annotations
@@ -126,17 +128,29 @@ def test_each_lane_is_the_one_by_one_path(compiled, kind):
         assert not taken.any()
 
 
-arms = st.sampled_from(["sw12", "sw23", "sw12 prismatic"])
+CORES = {"sw12": ("spherical_two_intersecting", 0), "sw23": ("spherical_two_parallel", 0),
+         "3p": ("three_parallel", 1), "3p56": ("three_parallel_two_intersecting", 1)}
 
 
-@settings(max_examples=60, deadline=None)
-@given(arms, st.integers(0, 2 ** 31 - 1), st.sampled_from(["random", "wrist straight", "far"]))
-def test_the_compiled_core_is_the_python_core(arm, seed, target):
-    """``_core_in`` compiled (the lanes in vector instructions) against the same core as plain Python: the same
-    candidates, flags and order, bit for bit. A straight wrist (q5 = 0) is singular; a far target is out of reach
-    (least-squares positions: the wrists then often leave the common case)."""
+def _no_lanes(*args):
+    """A stand-in for the lanes that takes none: every position or pair goes the one-by-one path."""
+    L = args[-1]
+    L[0, :] = 0.0
+
+
+@settings(max_examples=80, deadline=None)
+@given(st.sampled_from(["sw12", "sw23", "sw12 prismatic", "3p", "3p56"]), st.integers(0, 2 ** 31 - 1),
+       st.sampled_from(["random", "wrist straight", "far"]))
+def test_the_compiled_cores_are_the_one_by_one_path(arm, seed, target):
+    """``_core_in`` compiled (the lanes in vector instructions) against the same core as plain Python with the lanes
+    switched off (every position's wrist, every (q1, q5) pair one by one): the same candidates, flags and order, bit
+    for bit. A straight wrist (q5 = 0) is singular; a far target is out of reach (least-squares positions: the
+    wrists then often leave the common case)."""
+    from armkit.ik.geometric import solvers_parallel as SPar
+
     K = _kernels(True)
     g = np.random.default_rng(seed)
+    name, which = CORES[arm.split()[0]]
     form = random_arm(g, arm.split()[0], prismatic3=arm.endswith("prismatic"))
     q = random_q(g, form)
     if target == "wrist straight":
@@ -144,17 +158,21 @@ def test_the_compiled_core_is_the_python_core(arm, seed, target):
     R, p = form.fk(q)
     if target == "far":
         p = 3.0 * p
-    kind = {"sw12": 0, "sw23": 1}[arm.split()[0]]
-    prep = G._prepare(form, "spherical_two_intersecting" if kind == 0 else "spherical_two_parallel")
-    out = []
-    for core in (K._core_in, SC._core_in):
+    prep = G._prepare(form, name)
+
+    def run(core):
         Q, LS, SG = np.zeros((G.MAXSOL, 6)), np.zeros(G.MAXSOL, bool), np.zeros(G.MAXSOL, bool)
         V3, M3 = np.full((SC.CORE_V, 3), np.nan), np.full((SC.CORE_M, 3, 3), np.nan)
         T14, CL = np.full((SC.CORE_T, 4), np.nan), np.zeros(8, bool)
-        m = core(0, prep.kind, prep.Hi, prep.Pi, prep.RnT, prep.prism, R, p, np.zeros(6), G.SEARCH_N, Q, LS, SG,
-                 V3, M3, T14, CL)
-        out.append((m, Q[:m].copy(), LS[:m].copy(), SG[:m].copy()))
-    (m1, Q1, LS1, SG1), (m2, Q2, LS2, SG2) = out
+        m = core(which, prep.kind, prep.Hi, prep.Pi, prep.RnT, prep.prism, R, p, np.zeros(6), G.SEARCH_N, Q, LS,
+                 SG, V3, M3, T14, CL)
+        return m, Q[:m].copy(), LS[:m].copy(), SG[:m].copy()
+
+    m1, Q1, LS1, SG1 = run(K._core_in)
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(SW, "_wrist_lanes", _no_lanes)
+        mp.setattr(SPar, "_pairs_lanes", _no_lanes)
+        m2, Q2, LS2, SG2 = run(SC._core_in)
     assert m1 == m2 and m1 > 0
     assert np.array_equal(Q1, Q2), np.abs(Q1 - Q2).max()
     assert np.array_equal(LS1, LS2) and np.array_equal(SG1, SG2)
