@@ -88,7 +88,7 @@ from .solvers_check import (CORE_M, CORE_T, CORE_V, CORE_V_PARALLEL, EMPTY_RETRY
                             _solve_searched, _solve_spherical, _solve_spherical_middle, _solve_three_parallel,
                             _solve_two_intersecting_end, _solve_two_parallel, _sweep, _within_reach)
 from .solvers_parallel import (PAIR_LANES, _core_three_parallel, _pair_q2, _pairs_lanes, _pairs_sp6,  # noqa: F401
-                               _singular_wrist)
+                               _put_branch, _singular_wrist)
 from .solvers_search import (_core_spherical_middle, _core_two_intersecting_end, _core_two_parallel,  # noqa: F401
                              _target_rows)
 from .solvers_wrist import (NEAR_TANGENT, SING, WRIST_LANES, _core_spherical, _mm, _mm_to, _mtm, _mtm_to,  # noqa: F401
@@ -125,7 +125,7 @@ KERNELS = ("_mv", "_mtv", "_mm", "_mtm", "_perp", "_rotm_to", "_rot_to", "_mm_to
            "_perp_to", "_turn_to", "_sp1s", "_sp1s_cs", "_sp2s", "_sp2cs_disc", "_sp2cs_abr", "_sp2cs_one", "_sp2cs",
            "_wrist", "_wrist_from", "_wrist_sp2", "_wrist_half", "_wrist_lanes", "_pos_two_intersecting",
            "_pos_two_parallel", "_pos_search", "_pos_general",
-           "_core_spherical", "_pairs_sp6", "_singular_wrist", "_pair_q2", "_pairs_lanes",
+           "_core_spherical", "_pairs_sp6", "_singular_wrist", "_pair_q2", "_pairs_lanes", "_put_branch",
            "_core_three_parallel", "_close", "_repeats", "_put_passing", "_merged", "_newton_from", "_copy_row",
            "_promote", "_sharpen", "_check", "_core_in", "_closed_core", "_solve_spherical",
            "_solve_three_parallel", "_distinct", "_gate", "_target_rows", "_core_two_intersecting_end",
@@ -150,7 +150,8 @@ INLINE = ("_fk_err_sc", "_pos_search",
           "_core_two_intersecting_end", "_core_two_parallel", "_core_spherical_middle", "_searched_core", "_solve",
           "_mv_to", "_mtv_to", "_mm_to", "_mtm_to", "_rotm_to", "_rot_to", "_turn_to", "_perp_to",
           "_sp1s", "_sp1s_cs", "_close_wrapped", "_sp2cs", "_sp2cs_disc", "_sp2cs_abr", "_sp2cs_one", "_tsp1_abr",
-          "_t", "_cs_from", "_tsp1_cs", "_put_position", "_wrist_half", "_wrist_lanes", "_pair_q2", "_pairs_lanes")
+          "_t", "_cs_from", "_tsp1_cs", "_put_position", "_wrist_half", "_wrist_lanes", "_pair_q2", "_pairs_lanes",
+          "_put_branch")
 """Kernels with one caller each (the FK of the candidates in ``_check``, a searched core in its ``_solve_*``, a
 closed-form one in ``_closed_core``, the 3R position in the spherical core, the dispatch in the batch loops):
 compiled inline into that caller (Numba's ``inline="always"``), not as functions of their own. Numba links a

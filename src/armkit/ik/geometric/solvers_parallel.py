@@ -98,15 +98,8 @@ def _core_three_parallel(kind, H, P, RnT, prism, R, p, qref, N, Q, LS, SG, v3, m
             for j in range(2):
                 if m >= Q.shape[0]:
                     break
-                q1, t2 = L[6 + 2 * j, i], L[5 + 2 * j, i]
-                Q[m, 0] = q0
-                Q[m, 1] = q1
-                Q[m, 2] = t2
-                Q[m, 3] = _wrap(s3 * (th - q1 - s2 * t2))
-                Q[m, 4] = q4
-                Q[m, 5] = _wrap(q5)
-                LS[m] = ls14[i] or L[1 + j, i] != 0.0
-                SG[m] = False
+                _put_branch(Q, LS, SG, m, q0, L[6 + 2 * j, i], L[5 + 2 * j, i], th, q4, q5, s2, s3,
+                            ls14[i] or L[1 + j, i] != 0.0, False)
                 m += 1
             continue
         # R_16 = rot(H[0], q0)ᵀ R_06 and R_45 = rot(H[4], q4) act on vectors only: R_16 H[5] (a), R_16 x (f) and
@@ -152,16 +145,23 @@ def _core_three_parallel(kind, H, P, RnT, prism, R, p, qref, N, Q, LS, SG, v3, m
             q1, l1 = _sp1s(w[0], w[1], w[2], d[0], d[1], d[2], h1[0], h1[1], h1[2])
             if m >= Q.shape[0]:
                 break
-            Q[m, 0] = q0
-            Q[m, 1] = q1
-            Q[m, 2] = t2
-            Q[m, 3] = _wrap(s3 * (th - q1 - s2 * t2))
-            Q[m, 4] = q4
-            Q[m, 5] = _wrap(q5)
-            LS[m] = ls14[i] or bool(lt) or bool(l5) or bool(l2) or bool(l1)
-            SG[m] = sing
+            _put_branch(Q, LS, SG, m, q0, q1, t2, th, q4, q5, s2, s3,
+                        ls14[i] or bool(lt) or bool(l5) or bool(l2) or bool(l1), sing)
             m += 1
     return m
+
+
+def _put_branch(Q, LS, SG, m, q0, q1, t2, th, q4, q5, s2, s3, ls, sing):
+    """Candidate ``m`` of :func:`_core_three_parallel`: q1, q2, q3, then q4 from the sum ``th`` of q2, q3, q4 (``s2``,
+    ``s3``: axes 3 and 4 along axis 2 or against it), q5, q6 wrapped; its flags."""
+    Q[m, 0] = q0
+    Q[m, 1] = q1
+    Q[m, 2] = t2
+    Q[m, 3] = _wrap(s3 * (th - q1 - s2 * t2))
+    Q[m, 4] = q4
+    Q[m, 5] = _wrap(q5)
+    LS[m] = ls
+    SG[m] = sing
 
 
 PAIR_LANES = 4
