@@ -74,8 +74,8 @@ from ... import _jit_loader, kinematics
 from . import _kernels as _kk
 from . import search2d as _search2d
 from . import subproblems as _sp
-from ._kernels import _cs_from, _fk_err_from, _fk_err_sc, _t, _tsp1_abr, _tsp1_cs  # noqa: F401  (in the kernels'
-# namespace; the SP1 helpers inlined)
+from ._kernels import _cs_from, _fk_err_from, _fk_err_sc, _t, _tcross, _tnorm, _tsp1_abr, _tsp1_cs  # noqa: F401
+# (in the kernels' namespace; the SP1 and vector helpers inlined)
 from .poe import POE
 from .search import MAXROOT, SM, SW, TI, TP, _search  # noqa: F401  (in the kernels' namespace)
 from .search import N as _SEARCH_N
@@ -151,7 +151,7 @@ INLINE = ("_fk_err_sc", "_pos_search",
           "_mv_to", "_mtv_to", "_mm_to", "_mtm_to", "_rotm_to", "_rot_to", "_turn_to", "_perp_to",
           "_sp1s", "_sp1s_cs", "_close_wrapped", "_sp2cs", "_sp2cs_disc", "_sp2cs_abr", "_sp2cs_one", "_tsp1_abr",
           "_t", "_cs_from", "_tsp1_cs", "_put_position", "_wrist_half", "_wrist_lanes", "_pair_q2", "_pairs_lanes",
-          "_put_branch")
+          "_put_branch", "_tcross", "_tnorm")
 """Kernels with one caller each (the FK of the candidates in ``_check``, a searched core in its ``_solve_*``, a
 closed-form one in ``_closed_core``, the 3R position in the spherical core, the dispatch in the batch loops):
 compiled inline into that caller (Numba's ``inline="always"``), not as functions of their own. Numba links a

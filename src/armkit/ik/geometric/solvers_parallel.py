@@ -9,7 +9,7 @@ import math
 
 import numpy as np
 
-from ._kernels import _atan2, _sincos, _t, _trot_cs
+from ._kernels import _atan2, _sincos, _t, _tcross, _tnorm, _trot_cs
 from .solvers_wrist import SING, _mm, _mtm_to, _mtv, _mv, _mv_to, _perp_to, _rotm_to, _sp1s, _sp1s_cs, _turn_to
 from .subproblems import TOL as _SP_TOL
 from .subproblems import _TINY as _SP_TINY
@@ -79,6 +79,8 @@ def _core_three_parallel(kind, H, P, RnT, prism, R, p, qref, N, Q, LS, SG, v3, m
             CS4[i, 1], CS4[i, 0] = _sincos(T4[i])
     _perp_to(h5, x5)
     _mv_to(R06, x5, g6)
+    # SP6 gives the double root of the singular case to ~1e-8 only: a looser test there (Newton polishes)
+    sing_tol = SING if kind == 4 else 1e-6
     # the pairs side by side, each taken where the common case holds (the same bits)
     L = t14[2:]
     lanes = m14 > 0
@@ -88,7 +90,7 @@ def _core_three_parallel(kind, H, P, RnT, prism, R, p, qref, N, Q, LS, SG, v3, m
             L[10, i] = CS0[i, 1]
             L[11, i] = CS4[i, 0]
             L[12, i] = CS4[i, 1]
-        _pairs_lanes(H, P, e6, g6, p16, x5, SING if kind == 4 else 1e-6, L)
+        _pairs_lanes(H, P, e6, g6, p16, x5, sing_tol, L)
     m = 0
     for i in range(m14):
         q0 = T0[i]
@@ -112,11 +114,7 @@ def _core_three_parallel(kind, H, P, RnT, prism, R, p, qref, N, Q, LS, SG, v3, m
         _turn_to(h0, -s0, c0, p16, d)
         _turn_to(h4, s4, c4, h5, u)
         _turn_to(h4, s4, c4, P[5], c)
-        # SP6 gives the double root of the singular case to ~1e-8 only: a looser test there (Newton polishes)
-        cx = u[1] * h1[2] - u[2] * h1[1]
-        cy = u[2] * h1[0] - u[0] * h1[2]
-        cz = u[0] * h1[1] - u[1] * h1[0]
-        sing = math.sqrt(cx * cx + cy * cy + cz * cz) < (SING if kind == 4 else 1e-6)
+        sing = _tnorm(_tcross(u, h1)) < sing_tol
         if sing:     # rot(h5, q5) h6 along h2: q6 free, take q_ref's, then the sum of q2..q4 from it
             q5 = qref[5]
             _rotm_to(h0, q0, Rt)
@@ -136,7 +134,7 @@ def _core_three_parallel(kind, H, P, RnT, prism, R, p, qref, N, Q, LS, SG, v3, m
         _turn_to(h1, sh, ch, b, c)
         for k in range(3):
             d[k] = d[k] - P[1, k] - c[k]
-        n2, l2, r20, r21 = _sp3cs(P[3], mP2, H[2], math.sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]))
+        n2, l2, r20, r21 = _sp3cs(P[3], mP2, H[2], _tnorm(d))
         for j in range(n2):
             t2, ct2, st2 = r20 if j == 0 else r21
             _turn_to(H[2], st2, ct2, P[3], a)
@@ -194,17 +192,14 @@ def _pairs_lanes(H, P, e6, g6, p16, x5, sing_tol, L):
         d = _trot_cs(h0, c0, -s0, p16)
         u = _trot_cs(h4, c4, s4, h5)
         c = _trot_cs(h4, c4, s4, P5)
-        cx = u[1] * h1[2] - u[2] * h1[1]
-        cy = u[2] * h1[0] - u[0] * h1[2]
-        cz = u[0] * h1[1] - u[1] * h1[0]
-        sing = math.sqrt(cx * cx + cy * cy + cz * cz) < sing_tol
+        sing = _tnorm(_tcross(u, h1)) < sing_tol
         th, ch, sh, lt = _sp1s_cs(u[0], u[1], u[2], a[0], a[1], a[2], h1[0], h1[1], h1[2])
         w = _trot_cs(h1, ch, -sh, f)
         b = _trot_cs(h4, c4, -s4, w)
         q5, l5 = _sp1s(x5[0], x5[1], x5[2], b[0], b[1], b[2], h5[0], h5[1], h5[2])
         c = _trot_cs(h1, ch, sh, (P4[0] + c[0], P4[1] + c[1], P4[2] + c[2]))
         d = (d[0] - P1[0] - c[0], d[1] - P1[1] - c[1], d[2] - P1[2] - c[2])
-        nd = math.sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2])
+        nd = _tnorm(d)
         # _sp3cs, then _trig1cs's case of two answers
         target = 0.5 * (pp - nd * nd)
         scale = max(pp + nd * nd, _SP_TINY)

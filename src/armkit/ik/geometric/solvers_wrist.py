@@ -11,7 +11,7 @@ import math
 
 import numpy as np
 
-from ._kernels import _atan2, _cs_from, _sincos, _t, _trot_cs, _tsp1_abr
+from ._kernels import _atan2, _cs_from, _sincos, _t, _tcross, _tnorm, _trot_cs, _tsp1_abr
 from .search import MAXROOT, SW, _search
 from .subproblems import TOL as _SP_TOL
 from .subproblems import _TINY as _SP_TINY
@@ -261,10 +261,7 @@ def _wrist_from(h3, h4, h5, q3ref, W, S, M):
     x = S[1]
     y = S[2]
     w = S[3]
-    c0 = h3[1] * v[2] - h3[2] * v[1]     # _norm(_cross(h3, v))
-    c1 = h3[2] * v[0] - h3[0] * v[2]
-    c2 = h3[0] * v[1] - h3[1] * v[0]
-    if math.sqrt(c0 * c0 + c1 * c1 + c2 * c2) < SING:     # axes 4 and 6 in line: q4 free
+    if _tnorm(_tcross(h3, v)) < SING:     # axes 4 and 6 in line: q4 free
         q3 = q3ref
         u = S[4]
         _rot_to(h3, -q3, v, u)
@@ -412,10 +409,7 @@ def _wrist_lanes(H, a, b, x, L):
         c, s = L[12, i], -L[13, i]
         v = _trot_cs(h2, c, s, ua)
         y = _trot_cs(h2, c, s, ub)
-        c0 = h3[1] * v[2] - h3[2] * v[1]     # as _wrist_from
-        c1 = h3[2] * v[0] - h3[0] * v[2]
-        c2 = h3[0] * v[1] - h3[1] * v[0]
-        free = math.sqrt(c0 * c0 + c1 * c1 + c2 * c2) < SING
+        free = _tnorm(_tcross(h3, v)) < SING     # as _wrist_from
         al, be, e, r2, disc = _sp2cs_disc(v[0], v[1], v[2], h5[0], h5[1], h5[2], h3, h4)
         good = (not free) & (r2 >= 1e-20) & (disc > NEAR_TANGENT * r2)
         # (a lane that is not taken divides by 1 and takes the root of 0: the same flags, no error raised)
