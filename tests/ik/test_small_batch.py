@@ -346,8 +346,10 @@ def test_ik_in_pieces_keeps_no_buffer_of_its_pieces(monkeypatch, rng):
     assert all(analytic._most_refs(w) <= analytic._FREE for w in rec.pool)
     assert "unreachable" in " ".join(res.message) and res.branch.shape == (200,)
     assert all(analytic._most_refs(w) <= analytic._FREE for w in rec.pool)
+    _assert_same(res, _expected(armkit.ik, robot, targets))
     rec.pool.clear()
     every = armkit.ik_all(robot, targets)
     assert any(analytic._most_refs(w) > analytic._FREE for w in rec.pool)   # held by the result
+    _assert_same(every, _expected(armkit.ik_all, robot, targets))
     del every
     assert all(analytic._most_refs(w) <= analytic._FREE for w in rec.pool)

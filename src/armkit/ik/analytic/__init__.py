@@ -915,7 +915,7 @@ def run_small_batch(robot: Robot, c: "_Single", targets: Array, q0: Array | None
 
 
 def _batch_from_rows(robot: Robot, c: "_Single", targets: Array, q0: Array | None, ctx: Array,
-                     nearest: bool, batched: Any = None, size: int = 0) -> IKResult | None:
+                     nearest: bool, batched: Any = None, size: int = 0, out: tuple | None = None) -> IKResult | None:
     """:func:`run_small_batch` for a family with a kernel: each target's kernel call writes into its own row of
     three buffers ``(B, size)`` (:func:`_row_buffers`), all the calls made by one compiled driver
     (:func:`._single._rows`, threaded from :data:`ROWS_PARALLEL` targets), and every field is made once for all the
@@ -929,7 +929,9 @@ def _batch_from_rows(robot: Robot, c: "_Single", targets: Array, q0: Array | Non
     answered by ``batched`` (:func:`run_small_batch`) for those targets alone and spliced in (:func:`_spliced`):
     one target at the home pose of a wrist among 1,000 made the whole batch take the batched path, 3-4x the
     time. None where a target is to be rejected (the batched path raises its error, naming the target), where
-    every row asks for the batched path, or where ``batched`` is None and some row does."""
+    every row asks for the batched path, or where ``batched`` is None and some row does. ``out``: the arrays
+    ``(q, success)`` to write those fields into (:func:`_in_pieces`' rows of the whole batch's), or None for new
+    ones."""
     if not c.address:
         return None
     B, m, n, mn = targets.shape[0], c.m, c.n, c.mn
@@ -963,10 +965,12 @@ def _batch_from_rows(robot: Robot, c: "_Single", targets: Array, q0: Array | Non
     # caller may change its array before then)
     kept = flat.copy() if rows else None
     made: tuple = (_rows_fields, robot, c, FB, IB, BB, rows, kept, targets.shape[1:], nearest)
-    if nearest:
-        q, ok = FB[:, :n].copy(), BB[:, 0].copy()
-    else:
-        q, ok = FB[:, :mn].reshape(B, m, n).copy(), BB[:, :m].copy()
+    q, ok = (FB[:, :n], BB[:, 0]) if nearest else (FB[:, :mn].reshape(B, m, n), BB[:, :m])
+    if out is None:
+        q, ok = q.copy(), ok.copy()
+    else:   # (views of the pool's set: copied into the caller's arrays)
+        out[0][...], out[1][...] = q, ok
+        q, ok = out
     if redo is not None:
         try:
             sub = batched(targets[redo], q0[redo] if q0 is not None and q0.ndim == 2 else q0)
@@ -980,58 +984,55 @@ def _batch_from_rows(robot: Robot, c: "_Single", targets: Array, q0: Array | Non
 def _in_pieces(robot: Robot, c: "_Single", targets: Array, q0: Array | None, ctx: Array, nearest: bool,
                batched: Any) -> IKResult | None:
     """:func:`_batch_from_rows` of more than :data:`POOL_ROWS` targets: pieces of that many, one after the other,
-    joined. ``q`` and ``success`` now, the other fields when first read (:func:`_joined`): :func:`armkit.ik_all`'s
-    from each piece's set of buffers, which the result holds until then; :func:`armkit.ik`'s pieces are made compact
-    at once (:func:`_compact`), their sets free for the next piece. None where a piece is (the batched path answers
-    every target). Pieces of the size of a kept set: the sets of a loop over batches are the process's memory already,
-    where one set of 50,000 rows (~85 MB) came fresh from the system in some calls, with a page fault every 4 KB
-    (the UR5's 50,000 targets 2.7-3.1 µs a target in those calls, 0.96-1.4 in the others; in pieces of 1,024 rows
-    0.96-1.02 after the first call)."""
-    B, step = targets.shape[0], POOL_ROWS
-    qs, oks, makers = [], [], []
+    each writing ``q`` and ``success`` into its rows of the whole batch's arrays; the other fields made when first
+    read (:func:`_joined`): :func:`armkit.ik_all`'s from each piece's set of buffers, which the result holds until
+    then; :func:`armkit.ik`'s pieces are made compact at once (:func:`_compact`), their sets free for the next piece.
+    None where a piece is (the batched path answers every target). Pieces of the size of a kept set: the sets of a
+    loop over batches are the process's memory already, where one set of 50,000 rows (~85 MB) came fresh from the
+    system in some calls, with a page fault every 4 KB (the UR5's 50,000 targets 2.7-3.1 µs a target in those calls,
+    0.96-1.4 in the others; in pieces of 1,024 rows 0.96-1.02 after the first call). Until the tenth session of
+    2026-12-07 each piece copied its ``q`` and ``success`` and the pieces' were joined at the end: the Puma's 50,000
+    targets of ``ik_all`` took 1.15-1.20 µs a target so, 1.10-1.15 now. Making ``ik_all``'s pieces compact too
+    gains nothing: 97 % of the Puma's targets have a branch outside the limits, whose sentence needs most of the
+    row (copying the rows of the sentences to make took that call to 1.6-2.4 µs a target)."""
+    B, step, m, n = targets.shape[0], POOL_ROWS, c.m, c.n
+    q = np.empty((B, n) if nearest else (B, m, n))
+    ok = np.empty(B if nearest else (B, m), _BOOL)
+    makers = []
     for s in range(0, B, step):
         starts = q0[s:s + step] if q0 is not None and q0.ndim == 2 else q0
-        part = _batch_from_rows(robot, c, targets[s:s + step], starts, ctx, nearest, batched, step)
+        part = _batch_from_rows(robot, c, targets[s:s + step], starts, ctx, nearest, batched, step,
+                                (q[s:s + step], ok[s:s + step]))
         if part is None:
             return None
-        d = part.__dict__
-        make = d["_make"]
-        if nearest:   # its fields now but the names, its sentences' rows copied: its set free for the next piece
-            make = _compact(make)
-        qs.append(d["q"])
-        oks.append(d["success"])
-        makers.append(make)
-        del part, d, make
-    return IKResult._deferred((_joined, makers), np.concatenate(qs), np.concatenate(oks))
+        make = part.__dict__["_make"]
+        makers.append(_compact(make) if nearest else make)
+        del part
+    return IKResult._deferred((_joined, makers), q, ok)
 
 
 def _compact(made: tuple) -> tuple:
     """The made tuple of a piece of :func:`armkit.ik`'s rows (:func:`_rows_fields`', or :func:`_spliced`'s around
-    it) made to hold no buffer of the piece's set: the fields (one branch a target: ~30 ns a target) now
-    (:func:`_rows_rest`), but the names of a family that names its branches when read (from copies of the joint
-    values and the poses the kernel read), and the rows of the sentences to make (a target whose branch failed:
-    ~1.7 KB each) copied. The buffers go back to the pool for the next piece: a batch of any size keeps ~0.2 KB a
-    target besides those rows, as the batched path's (0.4-1.5 KB), where the sets took ~1.7 KB."""
+    it) made to hold no buffer of the piece's set: copies of the numbers its fields but q and success are made of
+    (:func:`_raw`: 41 bytes a target; with the joint values and the pose that a family naming its branches when
+    read names them by), and of the rows of the sentences to make (a target whose branch failed: ~1.7 KB each). The
+    set goes back to the pool for the next piece: a batch of any size keeps ~0.1 KB a target besides those rows (and
+    ``q``), where the sets took ~1.7 KB."""
     if made[0] is _spliced:
         return (_spliced, _compact(made[1])) + made[2:]
     _, robot, c, FB, IB, BB, rows, kept, shape, nearest = made
-    Q = P = None
-    if c.namer is not None:
-        at = c.at["target"]
-        Q, P = FB[:, :c.n].copy(), FB[:, at:at + 16].copy()
-    rest = _rows_rest(c, FB, IB, BB, True, c.labels[IB[:, c.m]] if c.namer is None else None)
+    raw = tuple(a.copy() for a in _raw(c, FB, IB, BB, nearest))
+    named = None if c.namer is None else tuple(a.copy() for a in _named_by(c, FB, nearest))
     sentences = (FB[rows].copy(), IB[rows].copy(), kept[rows]) if rows else (None, None, None)
-    return (_compact_fields, robot, c, len(FB), rest, Q, P, rows, sentences, shape)
+    return (_compact_fields, robot, c, len(FB), raw, named, rows, sentences, shape, nearest)
 
 
 def _compact_fields(made: tuple, which: str) -> Any:
     """:func:`_rows_fields` of a piece made compact by :func:`_compact`: the same fields, the same sentences."""
-    _, robot, c, B, rest, Q, P, rows, (FB, IB, kept), shape = made
+    _, robot, c, B, raw, named, rows, (FB, IB, kept), shape, nearest = made
     if which == "message":
-        return _rows_messages(robot, c, B, rows, range(len(rows)), FB, IB, kept, shape, True)
-    if rest["branch"] is None:
-        return {**rest, "branch": c.namer(Q.reshape(B, 1, c.n), P.reshape(B, 4, 4))[:, 0]}
-    return rest
+        return _rows_messages(robot, c, B, rows, range(len(rows)), FB, IB, kept, shape, nearest)
+    return _rows_rest(c, raw, named, nearest)
 
 
 def _joined(made: tuple, which: str) -> Any:
@@ -1175,30 +1176,40 @@ def _rows_fields(made: tuple, which: str) -> Any:
     _, robot, c, FB, IB, BB, rows, kept, shape, nearest = made
     if which == "message":
         return _rows_messages(robot, c, FB.shape[0], rows, rows, FB, IB, kept, shape, nearest)
-    m = c.m
-    if c.namer is not None:   # the names of the sorted branches, of the poses as the kernel read them
-        k, at = 1 if nearest else m, c.at["target"]
-        named = c.namer(FB[:, :k * c.n].reshape(-1, k, c.n), FB[:, at:at + 16].reshape(-1, 4, 4))
-        branch = named[:, 0] if nearest else named
-    else:
-        branch = c.labels[IB[:, m]] if nearest else c.labels[IB[:, m:2 * m]]
-    return _rows_rest(c, FB, IB, BB, nearest, branch)
+    return _rows_rest(c, _raw(c, FB, IB, BB, nearest), None if c.namer is None else _named_by(c, FB, nearest),
+                      nearest)
 
 
-def _rows_rest(c: "_Single", FB: Array, IB: NDArray[np.int64], BB: NDArray[np.bool_], nearest: bool,
-               branch: Any) -> dict:
-    """The fields but q, success, message and ``branch`` (given) of the rows of ``FB, IB, BB`` (:func:`_rows_fields`,
-    :func:`_compact`), copied out of them."""
+def _raw(c: "_Single", FB: Array, IB: NDArray[np.int64], BB: NDArray[np.bool_], nearest: bool) -> tuple:
+    """Views of the rows' numbers that the fields but q, success, message and a named family's ``branch`` are made
+    of (:func:`_rows_rest`), for ``k`` branches a target (1 for ``nearest``, else ``c.m``): the position and rotation
+    errors ``(B, 2k)``; the reason codes, the label indices and the iterations ``(B, 3k)``; within the limits
+    ``(B, k)`` (:func:`._single.layout`: each field's ``m`` columns, of which ``nearest`` reads the first)."""
     m, mn = c.m, c.mn
-    if nearest:
-        dp, dr, it, within = FB[:, mn].copy(), FB[:, mn + m].copy(), IB[:, 2 * m].copy(), BB[:, m].copy()
-        reason = _REASON_TEXT[IB[:, 0]]
+    step = m if nearest else 1
+    return FB[:, mn:mn + 2 * m:step], IB[:, :3 * m:step], BB[:, m:m + (1 if nearest else m)]
+
+
+def _named_by(c: "_Single", FB: Array, nearest: bool) -> tuple:
+    """Views of what a family that names its branches when read names them by (``c.namer``): the rows' sorted
+    joint values ``(B, k n)`` and the poses as the kernel read them ``(B, 16)``."""
+    at = c.at["target"]
+    return FB[:, :(1 if nearest else c.m) * c.n], FB[:, at:at + 16]
+
+
+def _rows_rest(c: "_Single", raw: tuple, named: tuple | None, nearest: bool) -> dict:
+    """The fields but q, success and message of rows, copied out of their numbers ``raw`` (:func:`_raw`) and, for a
+    family that names its branches when read, ``named`` (:func:`_named_by`): fields ``(B,)`` for ``nearest``, else
+    ``(B, m)``."""
+    E, I, W = raw
+    B, k = len(W), W.shape[1]
+    if named is None:
+        branch = c.labels[I[:, k:2 * k]]
     else:
-        dp, dr, it, within = FB[:, mn:mn + m].copy(), FB[:, mn + m:mn + 2 * m].copy(), IB[:, 2 * m:3 * m].copy(), \
-            BB[:, m:2 * m].copy()
-        reason = _REASON_TEXT[IB[:, :m]]
-    return {"position_error": dp, "rotation_error": dr, "iterations": it, "branch": branch, "within_limits": within,
-            "reason": reason}
+        branch = c.namer(named[0].reshape(B, k, c.n), named[1].reshape(B, 4, 4))
+    fields = {"position_error": E[:, :k], "rotation_error": E[:, k:], "iterations": I[:, 2 * k:],
+              "branch": branch, "within_limits": W, "reason": _REASON_TEXT[I[:, :k]]}
+    return {f: (v[:, 0] if nearest else v).copy() for f, v in fields.items()}
 
 
 def _rows_messages(robot: Robot, c: "_Single", B: int, rows: list, at: Any, FB: Any, IB: Any, kept: Any,
