@@ -1203,10 +1203,11 @@ def _rows_rest(c: "_Single", raw: tuple, named: tuple | None, nearest: bool) -> 
     ``(B, m)``."""
     E, I, W = raw
     B, k = len(W), W.shape[1]
-    if named is None:
+    namer = c.namer
+    if named is None or namer is None:
         branch = c.labels[I[:, k:2 * k]]
     else:
-        branch = c.namer(named[0].reshape(B, k, c.n), named[1].reshape(B, 4, 4))
+        branch = namer(named[0].reshape(B, k, c.n), named[1].reshape(B, 4, 4))
     fields = {"position_error": E[:, :k], "rotation_error": E[:, k:], "iterations": I[:, 2 * k:],
               "branch": branch, "within_limits": W, "reason": _REASON_TEXT[I[:, :k]]}
     return {f: (v[:, 0] if nearest else v).copy() for f, v in fields.items()}
