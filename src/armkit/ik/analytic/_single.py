@@ -961,11 +961,13 @@ def _call_at(typingctx, address, t, q0, ctx, fb, ib, bb, wk):
 
 
 @njit(cache=True, _nrt=False)
-def _rows(address, T, Q0, each, ctx, FB, IB, BB, WK, R):
+def _rows(address, T, Q0, each, ctx, FB, IB, BB, WK, R, Q, OK):
     """Target ``i`` of ``T (B, 16 or 3)`` by the one-call kernel at ``address`` (:func:`kernel_address`) into row
     ``i`` of the buffers ``FB (B, rows, n)``, ``IB (B, isize)``, ``BB (B, bsize)``; start ``Q0[i]`` (``each``) or
     ``Q0[0]``. The rows are cut into chunks (``WK (chunks, wsize)``: the work vector of each; a kernel reads nothing
-    there it did not write in the same call), a ``prange`` over them (its twin runs them on every thread).
+    there it did not write in the same call), a ``prange`` over them (its twin runs them on every thread). After
+    each call the row's first ``k`` branches (``k``: ``OK``'s columns, 1 or ``m``) are copied into ``Q[i]`` (their
+    joint values, ``(B, k n)``) and ``OK[i]`` (their success, ``(B, k)``): the result's ``q`` and ``success``.
 
     Returns -1 where a row's target is to be rejected (:data:`BAD_TARGET`: the caller answers every row by the
     batched path, which raises the error naming it), else the number of rows marked 1 in ``R (B,)`` (0 the others),
@@ -984,9 +986,14 @@ def _rows(address, T, Q0, each, ctx, FB, IB, BB, WK, R):
     2.2 µs on one thread (its twin: 1.11-1.14 -> 1.05-1.09 µs a row on two; 2026-12-07)."""
     B = T.shape[0]
     chunks = min(B, WK.shape[0])
+    kept, n = OK.shape[1], FB.shape[2]
     for k in prange(chunks):
         for i in range(k * B // chunks, (k + 1) * B // chunks):
             R[i] = _call_at(address, T[i], Q0[i if each else 0], ctx, FB[i], IB[i], BB[i], WK[k])
+            for b in range(kept):
+                OK[i, b] = BB[i, b]
+                for j in range(n):
+                    Q[i, b * n + j] = FB[i, b, j]
     nearest = _parts(ctx)[4][9] != 0.0
     pending = 0
     redo = 0
@@ -1016,7 +1023,7 @@ def rows_entry(parallel):
     if entry is None:
         f64, i64, b1, A = nbtypes.float64, nbtypes.int64, nbtypes.boolean, nbtypes.Array
         args = (i64, A(f64, 2, "C"), A(f64, 2, "C"), b1, A(f64, 1, "C", readonly=True), A(f64, 3, "C"),
-                A(i64, 2, "C"), A(b1, 2, "C"), A(f64, 2, "C"), A(i64, 1, "C"))
+                A(i64, 2, "C"), A(b1, 2, "C"), A(f64, 2, "C"), A(i64, 1, "C"), A(f64, 2, "C"), A(b1, 2, "C"))
         entry = _ROWS_ENTRY[parallel] = (_ROWS_PAR if parallel else _rows).compile(args)
     return entry
 

@@ -127,13 +127,13 @@ def _kernel_branches(robot: Robot, target: Array) -> Array | None:
         return None
     B = len(target)
     FB, IB, BB = np.empty((B,) + c.fshape), np.empty((B, c.isize), np.int64), np.empty((B, c.bsize), np.bool_)
-    marks = np.empty(B, np.int64)
+    marks, q = np.empty(B, np.int64), np.empty((B, c.m, c.n))
     flat = np.ascontiguousarray(target, dtype=float).reshape(B, -1)
     pending = c.kernels.rows_entry(False)(c.address, flat, c.q0.reshape(1, -1), False, c.ctx, FB, IB, BB,
-                                          c.wk.reshape(1, -1), marks)
+                                          c.wk.reshape(1, -1), marks, q.reshape(B, -1), np.empty((B, c.m), np.bool_))
     if pending < 0 or pending >> 32:   # (a target to reject, or rows for the batched path)
         return None
-    return FB.reshape(B, -1)[:, :c.mn].reshape(B, c.m, c.n)
+    return q
 
 
 _NAME_KINDS = {"spherical-wrist": 0, "ur": 1}
