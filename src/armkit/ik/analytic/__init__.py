@@ -542,7 +542,7 @@ class _Single:
     __slots__ = ("kernels", "kernel", "solver", "geometry", "joints", "F", "labels", "labels0", "blank", "m", "n",
                  "mn", "at", "fsize", "fshape", "isize", "bsize", "wsize", "wk", "one", "q0", "scale", "window",
                  "above", "sign", "default_tol", "ctx", "ctx_near", "ctxs", "converged", "shapes", "entry", "small",
-                 "small_near", "address", "pool", "spare", "kept", "namer")
+                 "small_near", "address", "pool", "spare", "kept", "namer", "wk_rows")
 
     def __init__(self, robot: Robot, solver: ClosedForm, kernels) -> None:
         self.kernels = kernels
@@ -579,6 +579,7 @@ class _Single:
         # the float work vector, one for every call: a kernel holds the GIL from start to end (none is compiled
         # with nogil; a test checks), so two threads never use it at once, and it keeps nothing between calls
         self.wk = np.empty(self.wsize)
+        self.wk_rows: list = []   # the batch driver's work vectors on several threads, free (_batch_from_rows)
         self.q0 = np.clip(np.zeros(robot.n), robot.lower, robot.upper)   # armkit.ik's start when none is given
         self.scale = robot.reach
         self.window = POLISH_WINDOW[not solver.sf.exact]
@@ -937,14 +938,23 @@ def _batch_from_rows(robot: Robot, c: "_Single", targets: Array, q0: Array | Non
         return None
     B, m, n = targets.shape[0], c.m, c.n
     whole = _row_buffers(c, B, size)   # (size: a new set's rows, at least B)
-    FB, IB, BB, marks = (a[:B] for a in whole[:4])
+    FB, IB, BB, marks = (a[:B] for a in whole)
     flat = np.ascontiguousarray(targets).reshape(B, -1)
     starts = c.q0 if q0 is None else q0
     each = starts.ndim == 2
     parallel = B >= ROWS_PARALLEL and _jit_loader.parallel_ok()
-    # the work vectors: the record's own on one thread (the driver, like a kernel, holds the GIL throughout), one
-    # per chunk of rows on several
-    WK = whole[4] if parallel else c.wk.reshape(1, -1)
+    # the work vectors: on one thread the record's own (the serial driver, like a kernel, holds the GIL
+    # throughout); on several one per chunk of rows, a set the record keeps free between calls (the threaded driver
+    # lets the GIL go: two threads' batches take two sets; list.pop and append are each one step under the GIL).
+    # Until the tenth session of 2026-12-07 each set of row buffers had its own (0.4-0.7 MB, fresh for each piece of
+    # a big batch, whose result holds its pieces' sets)
+    if parallel:
+        try:
+            WK = c.wk_rows.pop()
+        except IndexError:
+            WK = np.empty((ROW_CHUNKS, c.wsize))
+    else:
+        WK = c.wk.reshape(1, -1)
     # q and success, which nearly every caller reads, written by the driver as each row is solved (a copy of the
     # rows' views made after it took ~0.09 µs a target of a 50,000-target batch's 1.1, on one thread)
     if out is None:
@@ -955,6 +965,8 @@ def _batch_from_rows(robot: Robot, c: "_Single", targets: Array, q0: Array | Non
     pending = c.kernels.rows_entry(parallel)(c.address, flat, starts.reshape(-1, n), each, ctx, FB, IB, BB, WK, marks,
                                              q.reshape(B, -1), ok.reshape(B, -1))
     _put_back(c, whole)
+    if parallel:
+        c.wk_rows.append(WK)
     if pending < 0:
         return None
     rows: list = []
@@ -1085,8 +1097,8 @@ POOL_ROWS = 1024
 
 
 def _row_buffers(c: "_Single", B: int, rows: int = 0) -> tuple:
-    """The batch driver's buffers for ``B`` targets (``FB, IB, BB`` and the row marks, at least ``B`` rows, and the
-    chunks' work vectors): a set of the record's pool that no result holds any more, taken out of it, or a new set
+    """The batch driver's buffers for ``B`` targets (``FB, IB, BB`` and the row marks, at least ``B`` rows; the
+    chunks' work vectors are the record's, ``c.wk_rows``): a set of the record's pool that no result holds any more, taken out of it, or a new set
     of ``max(B, rows)`` rows (the pool keeps the :data:`POOL` newest, of at most :data:`POOL_ROWS` rows; the last
     piece of a batch in pieces asks for a whole piece's, so that the next batch's pieces can take it). A result
     holds its set through the views it was given and the fields and sentences it makes later. Pages a batch
@@ -1138,8 +1150,7 @@ def _new_one_buffers(c: "_Single") -> tuple:
 
 def _new_row_buffers(c: "_Single", B: int) -> tuple:
     """A new set of :func:`_row_buffers` for ``B`` targets."""
-    return (np.empty((B,) + c.fshape), np.empty((B, c.isize), _I64), np.empty((B, c.bsize), _BOOL),
-            np.empty(B, _I64), np.empty((ROW_CHUNKS, c.wsize)))
+    return np.empty((B,) + c.fshape), np.empty((B, c.isize), _I64), np.empty((B, c.bsize), _BOOL), np.empty(B, _I64)
 
 
 def _most_refs(whole: tuple) -> int:
