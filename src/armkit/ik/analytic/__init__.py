@@ -1212,9 +1212,9 @@ def _named_by(c: "_Single", FB: Array, nearest: bool) -> tuple:
 
 
 def _rows_rest(c: "_Single", raw: tuple, named: tuple | None, nearest: bool) -> dict:
-    """The fields but q, success and message of rows, copied out of their numbers ``raw`` (:func:`_raw`) and, for a
-    family that names its branches when read, ``named`` (:func:`_named_by`): fields ``(B,)`` for ``nearest``, else
-    ``(B, m)``."""
+    """The fields but q, success and message of rows, made of their numbers ``raw`` (:func:`_raw`; copied, the
+    rows may be a kept set's) and, for a family that names its branches when read, ``named`` (:func:`_named_by`):
+    fields ``(B,)`` for ``nearest``, else ``(B, m)``."""
     E, I, W = raw
     B, k = len(W), W.shape[1]
     namer = c.namer
@@ -1222,9 +1222,12 @@ def _rows_rest(c: "_Single", raw: tuple, named: tuple | None, nearest: bool) -> 
         branch = c.labels[I[:, k:2 * k]]
     else:
         branch = namer(named[0].reshape(B, k, c.n), named[1].reshape(B, 4, 4))
-    fields = {"position_error": E[:, :k], "rotation_error": E[:, k:], "iterations": I[:, 2 * k:],
-              "branch": branch, "within_limits": W, "reason": _REASON_TEXT[I[:, :k]]}
-    return {f: (v[:, 0] if nearest else v).copy() for f, v in fields.items()}
+    def pick(a: NDArray) -> NDArray:   # (the first branch's column for nearest)
+        return a[:, 0] if nearest else a
+
+    return {"position_error": pick(E[:, :k]).copy(), "rotation_error": pick(E[:, k:]).copy(),
+            "iterations": pick(I[:, 2 * k:]).copy(), "branch": pick(branch), "within_limits": pick(W).copy(),
+            "reason": pick(_REASON_TEXT[I[:, :k]])}
 
 
 def _rows_messages(robot: Robot, c: "_Single", B: int, rows: list, at: Any, FB: Any, IB: Any, kept: Any,
