@@ -57,8 +57,8 @@ one failed otherwise (for :func:`armkit.ik`, whose nearest successful branch is 
 
 A batch of targets runs the same kernels through one compiled driver (:func:`_rows`, threaded in its twin),
 which takes a kernel as the address of its compiled code (:func:`kernel_address`) and gives each target a row of
-three ``(B, size)`` buffers: one driver for every family, compiled once
-(:func:`armkit.ik.analytic._batch_from_rows` makes the fields).
+three ``(B, size)`` buffers, copying each row's ``q`` and ``success`` into the result's arrays as it goes: one
+driver for every family, compiled once (:func:`armkit.ik.analytic._batch_from_rows` makes the other fields).
 """
 
 from __future__ import annotations
