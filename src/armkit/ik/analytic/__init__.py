@@ -1099,13 +1099,13 @@ POOL_ROWS = 1024
 
 def _row_buffers(c: "_Single", B: int, rows: int = 0) -> tuple:
     """The batch driver's buffers for ``B`` targets (``FB, IB, BB`` and the row marks, at least ``B`` rows; the
-    chunks' work vectors are the record's, ``c.wk_rows``): a set of the record's pool that no result holds any more, taken out of it, or a new set
-    of ``max(B, rows)`` rows (the pool keeps the :data:`POOL` newest, of at most :data:`POOL_ROWS` rows; the last
-    piece of a batch in pieces asks for a whole piece's, so that the next batch's pieces can take it). A result
-    holds its set through the views it was given and the fields and sentences it makes later. Pages a batch
-    touched before cost less than fresh ones (the kernels touch ~1.7 KB a target; on this machine the Puma's 1,000 targets of ``ik_all`` took 2.2
-    µs a target with new buffers, 1.5-1.6 with kept ones). The caller puts the set back after its call
-    (:func:`_put_back`)."""
+    chunks' work vectors are the record's, ``c.wk_rows``): a set of the record's pool that no result holds any more,
+    taken out of it, or a new set of ``max(B, rows)`` rows (the pool keeps the :data:`POOL` newest, of at most
+    :data:`POOL_ROWS` rows; the last piece of a batch in pieces asks for a whole piece's, so that the next batch's
+    pieces can take it). A result holds its set through the views it was given and the fields and sentences it makes
+    later. Pages a batch touched before cost less than fresh ones (the kernels touch ~1.7 KB a target; on this
+    machine the Puma's 1,000 targets of ``ik_all`` took 2.2 µs a target with new buffers, 1.5-1.6 with kept ones).
+    The caller puts the set back after its call (:func:`_put_back`)."""
     pool = c.pool
     if B > POOL_ROWS:
         return _new_row_buffers(c, B)
@@ -1223,6 +1223,7 @@ def _rows_rest(c: "_Single", raw: tuple, named: tuple | None, nearest: bool) -> 
         branch = c.labels[I[:, k:2 * k]]
     else:
         branch = namer(named[0].reshape(B, k, c.n), named[1].reshape(B, 4, 4))
+
     def pick(a: NDArray) -> NDArray:   # (the first branch's column for nearest)
         return a[:, 0] if nearest else a
 
