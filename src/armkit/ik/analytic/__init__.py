@@ -936,7 +936,7 @@ def _batch_from_rows(robot: Robot, c: "_Single", targets: Array, q0: Array | Non
     for new ones."""
     if not c.address:
         return None
-    B, m, n = targets.shape[0], c.m, c.n
+    B, n = targets.shape[0], c.n
     whole = _row_buffers(c, B, size)   # (size: a new set's rows, at least B)
     FB, IB, BB, marks = (a[:B] for a in whole)
     flat = np.ascontiguousarray(targets).reshape(B, -1)
@@ -957,11 +957,7 @@ def _batch_from_rows(robot: Robot, c: "_Single", targets: Array, q0: Array | Non
         WK = c.wk.reshape(1, -1)
     # q and success, which nearly every caller reads, written by the driver as each row is solved (a copy of the
     # rows' views made after it took ~0.09 µs a target of a 50,000-target batch's 1.1, on one thread)
-    if out is None:
-        q = np.empty((B, n) if nearest else (B, m, n))
-        ok = np.empty(B if nearest else (B, m), _BOOL)
-    else:
-        q, ok = out
+    q, ok = _answer_arrays(c, B, nearest) if out is None else out
     pending = c.kernels.rows_entry(parallel)(c.address, flat, starts.reshape(-1, n), each, ctx, FB, IB, BB, WK, marks,
                                              q.reshape(B, -1), ok.reshape(B, -1))
     _put_back(c, whole)
@@ -996,6 +992,14 @@ def _batch_from_rows(robot: Robot, c: "_Single", targets: Array, q0: Array | Non
     return IKResult._deferred(made, q, ok)
 
 
+def _answer_arrays(c: "_Single", B: int, nearest: bool) -> tuple[Array, NDArray[np.bool_]]:
+    """New arrays ``(q, success)`` of ``B`` targets' answers, which the batch driver fills (:func:`._single._rows`):
+    float64 ``(B, n)`` and bool ``(B,)`` for ``nearest``, else ``(B, m, n)`` and ``(B, m)``."""
+    if nearest:
+        return np.empty((B, c.n)), np.empty(B, _BOOL)
+    return np.empty((B, c.m, c.n)), np.empty((B, c.m), _BOOL)
+
+
 def _in_pieces(robot: Robot, c: "_Single", targets: Array, q0: Array | None, ctx: Array, nearest: bool,
                batched: Any) -> IKResult | None:
     """:func:`_batch_from_rows` of more than :data:`POOL_ROWS` targets: pieces of that many, one after the other,
@@ -1011,9 +1015,8 @@ def _in_pieces(robot: Robot, c: "_Single", targets: Array, q0: Array | None, ctx
     batch's arrays (:func:`_batch_from_rows`) and keeps its work vectors. Making ``ik_all``'s pieces compact too
     gains nothing: 97 % of the Puma's targets have a branch outside the limits, whose sentence needs most of the
     row (copying the rows of the sentences to make took that call to 1.6-2.4 µs a target)."""
-    B, step, m, n = targets.shape[0], POOL_ROWS, c.m, c.n
-    q = np.empty((B, n) if nearest else (B, m, n))
-    ok = np.empty(B if nearest else (B, m), _BOOL)
+    B, step = targets.shape[0], POOL_ROWS
+    q, ok = _answer_arrays(c, B, nearest)
     makers = []
     for s in range(0, B, step):
         starts = q0[s:s + step] if q0 is not None and q0.ndim == 2 else q0
